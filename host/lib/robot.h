@@ -1,0 +1,67 @@
+// host/lib/robot.h - a robot as the host tools see it: the core's structures (double)
+// plus names, home pose, link geometry and gripper from the robot file.
+#ifndef ARTICULA_HOST_ROBOT_H
+#define ARTICULA_HOST_ROBOT_H
+
+#include <articula/actuation.h>
+#include <articula/dh.h>
+
+#include <array>
+#include <string>
+#include <vector>
+
+namespace articula::host {
+
+// What one host binary supports; more in a robot file is a load error.
+inline constexpr int kMaxJoints = 12;
+inline constexpr int kMaxRows = 16;
+
+using HostModel = Model<double, kMaxJoints, kMaxRows>;
+using HostActuation = Actuation<double, kMaxJoints>;
+using HostFrames = Frames<double, kMaxRows>;
+
+// A collision/drawing primitive attached to the frame of one DH row (row 0 = the base).
+struct Shape {
+  enum class Type { kBox, kCylinder, kCapsule, kSphere, kMesh };
+  Type type = Type::kBox;
+  std::array<double, 3> size{};  // box: x y z; cylinder/capsule: radius, length, 0; sphere: radius, 0, 0 (mm)
+  std::string mesh;              // kMesh: path relative to the robot file
+  Transform<double> T_frame_shape = Transform<double>::identity();  // pose in the row's frame (mm, rad)
+  double mass = 0;     // kg; 0 = from density
+  double density = 0;  // kg/m^3; used when mass is 0
+};
+
+struct LinkGeometry {
+  int frame = 0;  // index into Frames::T_base_frame
+  std::vector<Shape> shapes;
+};
+
+struct Gripper {
+  bool present = false;
+  double max_opening_mm = 0;    // finger gap when fully open
+  double finger_length_mm = 0;  // for drawing and physics
+  double servo_open_deg = 0;    // servo angle for fully open
+  double servo_closed_deg = 0;  // servo angle for fully closed
+};
+
+struct Robot {
+  std::string name;
+  std::string description;
+  std::string source;  // the file it was loaded from
+
+  HostModel model{};
+  std::vector<std::string> joint_names;  // one per joint variable, in model order
+
+  bool has_motors = false;  // false: a purely kinematic robot (no steps, no prediction)
+  HostActuation actuation{};
+  std::vector<std::string> motor_names;
+
+  std::vector<double> home;  // joint variables, rad or mm, in model order
+
+  std::vector<LinkGeometry> links;
+  Gripper gripper;
+};
+
+}  // namespace articula::host
+
+#endif  // ARTICULA_HOST_ROBOT_H

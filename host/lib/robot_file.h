@@ -1,0 +1,37 @@
+// host/lib/robot_file.h - reads a robot file (robots/README.md) into a Robot.
+#ifndef ARTICULA_HOST_ROBOT_FILE_H
+#define ARTICULA_HOST_ROBOT_FILE_H
+
+#include <stdexcept>
+#include <string>
+
+#include "robot.h"
+
+namespace articula::host {
+
+// A robot file that cannot be used. what() names the file, the JSON path and the
+// problem: "robots/arm.json: /dh/2/theta/min: limits inverted (min 130 > max 36)".
+class RobotFileError : public std::runtime_error {
+ public:
+  RobotFileError(const std::string& file, const std::string& json_path, const std::string& problem);
+  const std::string& file() const { return file_; }
+  const std::string& json_path() const { return json_path_; }
+  const std::string& problem() const { return problem_; }
+
+ private:
+  std::string file_, json_path_, problem_;
+};
+
+// Loads and checks a robot file. Throws RobotFileError.
+Robot load_robot_file(const std::string& path);
+
+// The same from text already in memory; `name` stands for the file in messages.
+Robot parse_robot(const std::string& json_text, const std::string& name);
+
+// A robot given by name ("mk2plus") is looked up in the shipped robots/ folder; a path
+// ("robots/mk2plus.json", "./my.json") is used as it is.
+std::string resolve_robot_path(const std::string& name_or_path);
+
+}  // namespace articula::host
+
+#endif  // ARTICULA_HOST_ROBOT_FILE_H

@@ -1,0 +1,13 @@
+// articula/articula.h - the whole portable core in one include.
+#ifndef ARTICULA_ARTICULA_H
+#define ARTICULA_ARTICULA_H
+
+#include "platform.h"
+#include "transform.h"
+#include "dh.h"
+#include "actuation.h"
+#include "ik_ypp.h"
+#include "status.h"
+#include "protocol.h"
+
+#endif  // ARTICULA_ARTICULA_H

@@ -1,0 +1,241 @@
+// articula/ik_ypp.h - closed-form inverse kinematics for yaw-pitch-pitch arms.
+//
+// The family: a base that turns about the vertical (yaw), a shoulder and an elbow that
+// pitch in the vertical plane of the yaw, and a tool kept level (mechanically, as the MK2
+// arm's parallelogram does) at a fixed offset from the wrist. In modified DH:
+//
+//   row  a(i-1)  alpha(i-1)  d(i)   theta(i)
+//   1    0       0           h      q0 (yaw)
+//   2    s       +90 deg     0      q1 (upper arm elevation above the horizontal)
+//   3    L1      0           0      q2 (elbow, relative to the upper arm)
+//   4    L2      0           0      -(q1 + q2)   (linked: keeps the tool level)
+//   tool: translation (f, u, 0) in frame 4 (x4 points forward, y4 up), any rotation.
+//
+// The actuated coordinates are q itself, or, with the parallelogram coupling, the forearm's
+// elevation q1 + q2 instead of q2. Limits are given on the actuated coordinates.
+//
+// Geometry (all planar once the yaw is fixed): with r the signed horizontal distance of the
+// target along the yaw direction and z its height, the wrist sits at
+//   (r - f - s, z - u - h) relative to the shoulder,
+// and the two-link solution is the law of cosines (Craig 4.4, the planar RR arm):
+//   cos q2 = (D^2 - L1^2 - L2^2) / (2 L1 L2),  q1 = atan2(v, w) - atan2(L2 sin q2, L1 + L2 cos q2).
+// Two yaws (facing the target, or facing away and reaching back over the top) times two
+// elbows give up to four solutions.
+//
+// Float-safe: no subtraction of nearly equal large numbers beyond the law of cosines, whose
+// argument is clamped; a target a hair beyond full reach (rounding) counts as reached.
+#ifndef ARTICULA_IK_YPP_H
+#define ARTICULA_IK_YPP_H
+
+#include "dh.h"
+
+namespace articula {
+
+template <typename Scalar>
+struct YppArm {
+  Scalar base_height;      // h, mm: height of the shoulder axis
+  Scalar shoulder_offset;  // s, mm: from the yaw axis to the shoulder axis, forward
+  Scalar upper;            // L1, mm: shoulder to elbow
+  Scalar fore;             // L2, mm: elbow to wrist
+  Scalar tool_forward;     // f, mm: wrist to tool point, horizontal
+  Scalar tool_up;          // u, mm: wrist to tool point, vertical
+  bool parallelogram;      // actuated coordinate 2 is the forearm elevation q1 + q2
+  Scalar lo[3], hi[3];     // limits of the actuated coordinates, rad
+};
+
+enum YppStatus : uint8_t {
+  kYppReached = 0,    // at least one solution within the limits
+  kYppOutOfReach,     // too far (or too close to the shoulder) for any pose
+  kYppLimited,        // reachable in geometry, but every solution breaks a limit
+};
+
+template <typename Scalar>
+struct YppSolution {
+  Scalar q[3];     // DH joint values (q0, q1, q2), rad
+  bool in_limits;  // the actuated coordinates are within the limits
+};
+
+template <typename Scalar>
+struct YppResult {
+  YppStatus status;
+  uint8_t count;                   // geometric solutions found (0 when out of reach)
+  YppSolution<Scalar> solutions[4];  // in-limits ones first
+  // When not reached: the pose that comes nearest (within limits) and where it puts the
+  // tool. When reached: the first in-limits solution and the target itself.
+  Scalar nearest_q[3];
+  Vec3<Scalar> nearest;
+  Scalar distance;  // mm from the target to `nearest` (0 when reached)
+};
+
+// The tool position of a YPP arm, closed form (agrees with the DH chain; tested).
+template <typename S>
+inline Vec3<S> ypp_tool_position(const YppArm<S>& arm, const S* q) {
+  const S r = arm.shoulder_offset + arm.upper * Math<S>::cos(q[1]) + arm.fore * Math<S>::cos(q[1] + q[2]) + arm.tool_forward;
+  const S z = arm.base_height + arm.upper * Math<S>::sin(q[1]) + arm.fore * Math<S>::sin(q[1] + q[2]) + arm.tool_up;
+  return make_vec3(r * Math<S>::cos(q[0]), r * Math<S>::sin(q[0]), z);
+}
+
+template <typename S>
+inline void ypp_actuated(S* act, const YppArm<S>& arm, const S* q) {
+  act[0] = q[0];
+  act[1] = q[1];
+  act[2] = arm.parallelogram ? q[1] + q[2] : q[2];
+}
+
+template <typename S>
+inline bool ypp_within_limits(const YppArm<S>& arm, const S* q) {
+  S act[3];
+  ypp_actuated(act, arm, q);
+  for (int i = 0; i < 3; ++i)
+    if (!(act[i] >= arm.lo[i] && act[i] <= arm.hi[i])) return false;
+  return true;
+}
+
+namespace detail {
+// Wraps an angle into (-pi, pi].
+template <typename S>
+inline S wrap_angle(S a) {
+  while (a > pi<S>()) a -= S(2) * pi<S>();
+  while (a <= -pi<S>()) a += S(2) * pi<S>();
+  return a;
+}
+
+// Clamps the actuated coordinates into the limits and returns the DH values.
+template <typename S>
+inline void ypp_clamp(S* q, const YppArm<S>& arm) {
+  S act[3];
+  ypp_actuated(act, arm, q);
+  for (int i = 0; i < 3; ++i) act[i] = clamp(act[i], arm.lo[i], arm.hi[i]);
+  q[0] = act[0];
+  q[1] = act[1];
+  q[2] = arm.parallelogram ? act[2] - act[1] : act[2];
+}
+}  // namespace detail
+
+// Solves for the tool point p_base_tool (mm, base frame), which must be finite: callers
+// reject NaN and inf before they get here.
+template <typename S>
+inline void ypp_solve(YppResult<S>& out, const YppArm<S>& arm, const Vec3<S>& p_base_tool) {
+  const S L1 = arm.upper, L2 = arm.fore;
+  const S rho = Math<S>::sqrt(p_base_tool.x * p_base_tool.x + p_base_tool.y * p_base_tool.y);
+  const S yaw = rho > S(0) ? Math<S>::atan2(p_base_tool.y, p_base_tool.x) : S(0);
+  const S reach_max = L1 + L2;
+  const S reach_min = Math<S>::fabs(L1 - L2);
+  const S tol = S(64) * Math<S>::epsilon() * (reach_max + rho + Math<S>::fabs(p_base_tool.z));
+
+  out.count = 0;
+  S best_q[3] = {S(0), S(0), S(0)};
+  S best_d2 = S(-1);
+  bool any_geometric = false;
+
+  for (int facing = 0; facing < 2; ++facing) {
+    const S q0 = facing == 0 ? yaw : detail::wrap_angle(yaw + pi<S>());
+    const S r = facing == 0 ? rho : -rho;
+    const S w = r - arm.tool_forward - arm.shoulder_offset;
+    const S v = p_base_tool.z - arm.tool_up - arm.base_height;
+    const S D = Math<S>::sqrt(w * w + v * v);
+    const S toward = Math<S>::atan2(v, w);
+
+    if (D > reach_max + tol || D < reach_min - tol) {
+      // Out of reach for this facing: stretch (or fold) toward the target.
+      S q[3];
+      q[0] = q0;
+      if (D > reach_max) {
+        q[1] = toward;
+        q[2] = S(0);
+      } else {
+        q[2] = L1 >= L2 ? pi<S>() : -pi<S>();
+        q[1] = L1 >= L2 ? toward : detail::wrap_angle(toward + pi<S>());
+      }
+      detail::ypp_clamp(q, arm);
+      const Vec3<S> e = ypp_tool_position(arm, q) - p_base_tool;
+      const S d2 = dot(e, e);
+      if (best_d2 < S(0) || d2 < best_d2) {
+        best_d2 = d2;
+        for (int i = 0; i < 3; ++i) best_q[i] = q[i];
+      }
+      continue;
+    }
+    any_geometric = true;
+    const S c2 = clamp((D * D - L1 * L1 - L2 * L2) / (S(2) * L1 * L2), S(-1), S(1));
+    const S base_q2 = Math<S>::acos(c2);
+    for (int elbow = 0; elbow < 2; ++elbow) {
+      const S q2 = elbow == 0 ? base_q2 : -base_q2;
+      if (elbow == 1 && base_q2 == S(0)) break;  // stretched: both elbows are one pose
+      YppSolution<S>& sol = out.solutions[out.count++];
+      sol.q[0] = q0;
+      sol.q[2] = q2;
+      sol.q[1] = detail::wrap_angle(toward - Math<S>::atan2(L2 * Math<S>::sin(q2), L1 + L2 * Math<S>::cos(q2)));
+      sol.in_limits = ypp_within_limits(arm, sol.q);
+    }
+  }
+
+  // In-limits solutions first, keeping the order otherwise (facing target, elbow up first).
+  int first_out = 0;
+  for (int i = 0; i < out.count; ++i) {
+    if (!out.solutions[i].in_limits) continue;
+    const YppSolution<S> t = out.solutions[i];
+    for (int k = i; k > first_out; --k) out.solutions[k] = out.solutions[k - 1];
+    out.solutions[first_out++] = t;
+  }
+
+  if (first_out > 0) {
+    out.status = kYppReached;
+    for (int i = 0; i < 3; ++i) out.nearest_q[i] = out.solutions[0].q[i];
+    out.nearest = ypp_tool_position(arm, out.nearest_q);
+    out.distance = S(0);
+    return;
+  }
+  // Reachable only outside the limits: the clamped geometric solutions are candidates too.
+  for (int i = 0; i < out.count; ++i) {
+    S q[3] = {out.solutions[i].q[0], out.solutions[i].q[1], out.solutions[i].q[2]};
+    detail::ypp_clamp(q, arm);
+    const Vec3<S> e = ypp_tool_position(arm, q) - p_base_tool;
+    const S d2 = dot(e, e);
+    if (best_d2 < S(0) || d2 < best_d2) {
+      best_d2 = d2;
+      for (int k = 0; k < 3; ++k) best_q[k] = q[k];
+    }
+  }
+  out.status = any_geometric ? kYppLimited : kYppOutOfReach;
+  for (int i = 0; i < 3; ++i) out.nearest_q[i] = best_q[i];
+  out.nearest = ypp_tool_position(arm, best_q);
+  out.distance = norm(out.nearest - p_base_tool);
+}
+
+// Recognises a model of the YPP family (the table above, with the joint order q0, q1, q2)
+// and fills `arm` from it; the limits come from the joint specs unless the caller passes
+// actuated limits afterwards. False for any other model.
+template <typename S, int J, int R>
+inline bool ypp_from_model(YppArm<S>& arm, const Model<S, J, R>& m) {
+  const S eps = S(1e-6);
+  if (m.num_rows != 4 || m.num_joints != 3 || m.num_linked != 1) return false;
+  for (int j = 0; j < 3; ++j)
+    if (m.joints[j].row != j || m.joints[j].param != kParamTheta) return false;
+  const LinkedParam<S, J>& l = m.linked[0];
+  if (l.row != 3 || l.param != kParamTheta || Math<S>::fabs(l.offset) > eps) return false;
+  if (Math<S>::fabs(l.gain[0]) > eps || Math<S>::fabs(l.gain[1] + S(1)) > eps || Math<S>::fabs(l.gain[2] + S(1)) > eps)
+    return false;
+  const DhRow<S>* r = m.rows;
+  if (Math<S>::fabs(r[0].a) > eps || Math<S>::fabs(r[0].alpha) > eps) return false;
+  if (Math<S>::fabs(r[1].alpha - pi<S>() / S(2)) > eps || Math<S>::fabs(r[1].d) > eps) return false;
+  if (Math<S>::fabs(r[2].alpha) > eps || Math<S>::fabs(r[2].d) > eps) return false;
+  if (Math<S>::fabs(r[3].alpha) > eps || Math<S>::fabs(r[3].d) > eps) return false;
+  if (Math<S>::fabs(m.T_last_tool.p.z) > eps) return false;  // no sideways tool offset
+  arm.base_height = r[0].d;
+  arm.shoulder_offset = r[1].a;
+  arm.upper = r[2].a;
+  arm.fore = r[3].a;
+  arm.tool_forward = m.T_last_tool.p.x;
+  arm.tool_up = m.T_last_tool.p.y;
+  arm.parallelogram = false;
+  for (int j = 0; j < 3; ++j) {
+    arm.lo[j] = m.joints[j].lo;
+    arm.hi[j] = m.joints[j].hi;
+  }
+  return arm.upper > S(0) && arm.fore > S(0);
+}
+
+}  // namespace articula
+
+#endif  // ARTICULA_IK_YPP_H

@@ -1,0 +1,20 @@
+// The sizes the firmware uses: float, three joints, four DH rows (the MK2 arm).
+#ifndef ARTICULA_AVR_CHECK_COMMON_H
+#define ARTICULA_AVR_CHECK_COMMON_H
+typedef float Real;
+static const int kJoints = 3;
+static const int kRows = 4;
+// Each check_*.cpp defines one of these; main() calls them so nothing is dropped before
+// the compiler has seen every instantiation.
+void check_platform();
+void check_transform();
+void check_dh();
+void check_actuation();
+void check_ik_ypp();
+void check_status();
+void check_protocol();
+void check_articula();
+// Inputs and outputs the optimiser cannot see through.
+extern volatile float g_in;
+extern volatile long g_out;
+#endif
