@@ -18,7 +18,10 @@
 //
 //   steps = round_half_away_from_zero( dir * (u - zero) * steps_per_turn * num / (360 deg * den) )
 //
-// applied to the *absolute* commanded angle. Relative moves add to the commanded angle
+// applied to the *absolute* commanded angle, with one exception at the limits: a commanded
+// angle within the limits whose nearest step lies just past a limit takes the last whole
+// step inside instead (quantize_within_limits), so the arm never steps past a limit and a
+// move to exactly a limit is still accepted. Relative moves add to the commanded angle
 // (exactly) and quantize once, so they never drift.
 #ifndef ARTICULA_ACTUATION_H
 #define ARTICULA_ACTUATION_H
@@ -68,7 +71,8 @@ enum MotorError : uint8_t {
   kMotorBadGear,       // gear ratio not positive
   kMotorBadDirection,  // direction not +1/-1
   kMotorBadLimits,     // min > max, zero outside them, or beyond +-kMaxAbsMillideg
-  kMotorTooFine,       // steps per joint turn too large for exact integer arithmetic
+  kMotorTooFine,       // steps per joint turn too large for exact integer arithmetic, or
+                       // the step counts within the limits beyond an int32
 };
 
 inline const char* motor_error_text(MotorError e) {
@@ -78,7 +82,7 @@ inline const char* motor_error_text(MotorError e) {
     case kMotorBadGear: return "gear ratio must be a positive fraction";
     case kMotorBadDirection: return "direction must be +1 or -1";
     case kMotorBadLimits: return "limits inverted, zero outside the limits, or beyond 1,000,000 degrees";
-    case kMotorTooFine: return "steps per joint turn exceed 2^31";
+    case kMotorTooFine: return "steps per joint turn exceed 2^31, or the step count between the limits exceeds 2^31";
   }
   return "unknown motor error";
 }
@@ -90,10 +94,16 @@ inline MotorError validate(const MotorSpec& m) {
   if (m.min > m.max || m.zero < m.min || m.zero > m.max) return kMotorBadLimits;
   if (m.min < -kMaxAbsMillideg || m.max > kMaxAbsMillideg) return kMotorBadLimits;
   if (detail::steps_num(m) > 2147483647LL) return kMotorTooFine;
+  // Every angle within the limits must quantize to an int32 step count. (Both factors are
+  // below 2^31, so the product fits an int64.)
+  const int64_t span = max_of(int64_t(m.max) - m.zero, int64_t(m.zero) - m.min);
+  if (detail::div_round_half_away(span * detail::steps_num(m), detail::steps_den(m)) > 2147483647LL)
+    return kMotorTooFine;
   return kMotorOk;
 }
 
-// The step an absolute actuator angle quantizes to (the rounding rule above).
+// The step an absolute actuator angle quantizes to (the rounding rule above). For an angle
+// within the limits of a validated motor the result always fits; far outside them it may not.
 inline int32_t quantize(const MotorSpec& m, Millideg angle) {
   const int64_t n = int64_t(m.direction) * (int64_t(angle) - m.zero) * detail::steps_num(m);
   return int32_t(detail::div_round_half_away(n, detail::steps_den(m)));
@@ -108,6 +118,14 @@ inline int32_t min_steps(const MotorSpec& m) {
 inline int32_t max_steps(const MotorSpec& m) {
   const int64_t hi = int64_t(m.direction) * (int64_t(m.direction > 0 ? m.max : m.min) - m.zero);
   return int32_t(detail::div_floor(hi * detail::steps_num(m), detail::steps_den(m)));
+}
+
+// The step a commanded angle within the limits drives to: the nearest step, but never one
+// past a limit (the rule at the top of this file). Outside the limits: the nearest step.
+inline int32_t quantize_within_limits(const MotorSpec& m, Millideg angle) {
+  const int32_t s = quantize(m, angle);
+  if (angle < m.min || angle > m.max) return s;
+  return clamp(s, min_steps(m), max_steps(m));
 }
 
 // Degrees per step at the actuator (the resolution a user sees).
@@ -137,7 +155,13 @@ inline bool to_millideg(Millideg& out, Scalar degrees) {
   if (!is_finite(degrees)) return false;
   const Scalar m = degrees * Scalar(1000);
   if (m > Scalar(kMaxAbsMillideg) || m < -Scalar(kMaxAbsMillideg)) return false;
-  out = Millideg(m >= Scalar(0) ? m + Scalar(0.5) : m - Scalar(0.5));
+  // Truncate, then round on the exact remainder (m - r is exact for |m| < 2^31): m + 0.5
+  // would itself round, e.g. to the even neighbour where a float holds only integers.
+  Millideg r = Millideg(m);
+  const Scalar frac = m - Scalar(r);
+  if (frac >= Scalar(0.5)) ++r;
+  if (frac <= Scalar(-0.5)) --r;
+  out = r;
   return true;
 }
 
@@ -217,7 +241,7 @@ inline void joints_from_steps(S* q, const Actuation<S, J>& a, const int32_t* ste
 }
 
 // Where the motors are: the exact commanded actuator angles and the steps they quantize
-// to. steps[i] == quantize(motors[i], commanded[i]) always holds.
+// to. steps[i] == quantize_within_limits(motors[i], commanded[i]) always holds.
 template <int MaxJoints>
 struct MotorState {
   Millideg commanded[MaxJoints];
@@ -233,15 +257,16 @@ inline void reset(MotorState<J>& st, const Actuation<S, J>& a) {
   }
 }
 
-// Sets every motor's commanded angle at once. All targets are checked against the
-// limits (in steps) before anything changes: on an error the state is untouched.
+// Sets every motor's commanded angle at once. All targets are checked before anything
+// changes (on an error the state is untouched): each angle must lie within its motor's
+// limits; its step is quantize_within_limits(), so never past a limit.
 template <typename S, int J>
 inline Status move_absolute(MotorState<J>& st, const Actuation<S, J>& a, const Millideg* target) {
   int32_t steps[J];
   for (int i = 0; i < a.num_motors; ++i) {
     if (target[i] < -kMaxAbsMillideg || target[i] > kMaxAbsMillideg) return kValueOutOfRange;
-    steps[i] = quantize(a.motors[i], target[i]);
-    if (steps[i] < min_steps(a.motors[i]) || steps[i] > max_steps(a.motors[i])) return kJointLimit;
+    if (target[i] < a.motors[i].min || target[i] > a.motors[i].max) return kJointLimit;
+    steps[i] = quantize_within_limits(a.motors[i], target[i]);
   }
   for (int i = 0; i < a.num_motors; ++i) {
     st.commanded[i] = target[i];

@@ -60,8 +60,9 @@ struct YppResult {
   YppStatus status;
   uint8_t count;                   // geometric solutions found (0 when out of reach)
   YppSolution<Scalar> solutions[4];  // in-limits ones first
-  // When not reached: the pose that comes nearest (within limits) and where it puts the
-  // tool. When reached: the first in-limits solution and the target itself.
+  // When not reached: the pose within the limits that comes nearest, found by polishing
+  // the clamped closed-form candidates and six other starts (the best of several local
+  // optima, not a proof of the global one), and where it puts the tool. When reached: the first in-limits solution and the target itself.
   Scalar nearest_q[3];
   Vec3<Scalar> nearest;
   Scalar distance;  // mm from the target to `nearest` (0 when reached)
@@ -110,12 +111,113 @@ inline void ypp_clamp(S* q, const YppArm<S>& arm) {
   q[1] = act[1];
   q[2] = arm.parallelogram ? act[2] - act[1] : act[2];
 }
+
+// Tool position and its Jacobian with respect to the actuated coordinates act[3].
+template <typename S>
+inline Vec3<S> ypp_position_and_jacobian(S J[3][3], const YppArm<S>& arm, const S* act) {
+  const S q1 = act[1];
+  const S q12 = arm.parallelogram ? act[2] : act[1] + act[2];  // forearm elevation
+  const S c0 = Math<S>::cos(act[0]), s0 = Math<S>::sin(act[0]);
+  const S c1 = Math<S>::cos(q1), s1 = Math<S>::sin(q1);
+  const S c12 = Math<S>::cos(q12), s12 = Math<S>::sin(q12);
+  const S r = arm.shoulder_offset + arm.upper * c1 + arm.fore * c12 + arm.tool_forward;
+  const S z = arm.base_height + arm.upper * s1 + arm.fore * s12 + arm.tool_up;
+  // d(r, z)/d act1 and d act2; act1 moves the forearm too unless the parallelogram holds it.
+  const S dr2 = -arm.fore * s12, dz2 = arm.fore * c12;
+  const S dr1 = -arm.upper * s1 + (arm.parallelogram ? S(0) : dr2);
+  const S dz1 = arm.upper * c1 + (arm.parallelogram ? S(0) : dz2);
+  J[0][0] = -r * s0; J[1][0] = r * c0; J[2][0] = S(0);
+  J[0][1] = dr1 * c0; J[1][1] = dr1 * s0; J[2][1] = dz1;
+  J[0][2] = dr2 * c0; J[1][2] = dr2 * s0; J[2][2] = dz2;
+  return make_vec3(r * c0, r * s0, z);
+}
+
+// Solves the 3x3 system A[.][0..2] x = A[.][3] by Gaussian elimination with partial
+// pivoting (A is overwritten). False when it is singular. Loops, not Cramer's rule: on the
+// AVR this is a fraction of the code.
+template <typename S>
+inline bool solve3(S* x, S A[3][4]) {
+  for (int c = 0; c < 3; ++c) {
+    int p = c;
+    for (int r = c + 1; r < 3; ++r)
+      if (Math<S>::fabs(A[r][c]) > Math<S>::fabs(A[p][c])) p = r;
+    if (!(Math<S>::fabs(A[p][c]) > S(0))) return false;
+    for (int k = 0; k < 4; ++k) {
+      const S t = A[c][k];
+      A[c][k] = A[p][k];
+      A[p][k] = t;
+    }
+    for (int r = c + 1; r < 3; ++r) {
+      const S f = A[r][c] / A[c][c];
+      for (int k = c; k < 4; ++k) A[r][k] -= f * A[c][k];
+    }
+  }
+  for (int r = 2; r >= 0; --r) {
+    S v = A[r][3];
+    for (int k = r + 1; k < 3; ++k) v -= A[r][k] * x[k];
+    x[r] = v / A[r][r];
+  }
+  return true;
+}
+
+// Moves a pose within the limits closer to the target: damped Gauss-Newton steps on the
+// tool's distance, projected into the box of actuated limits, each kept only if it helps
+// (Levenberg-Marquardt's rule). Turns the clamped closed-form candidates into the nearest
+// reachable points they lead to. q: DH values in and out, within limits on entry.
+template <typename S>
+inline void ypp_polish(S* q, const YppArm<S>& arm, const Vec3<S>& target) {
+  S act[3];
+  ypp_actuated(act, arm, q);
+  S J[3][3];
+  Vec3<S> e = target - ypp_position_and_jacobian(J, arm, act);
+  S err2 = dot(e, e);
+  S lambda = S(1e-3);
+  for (int iter = 0; iter < 80 && lambda < S(1e8); ++iter) {
+    // (J^T J + lambda (diag(J^T J) + 1)) dx = J^T e.
+    S A[3][4];  // the system with its right-hand side
+    for (int i = 0; i < 3; ++i) {
+      A[i][3] = J[0][i] * e.x + J[1][i] * e.y + J[2][i] * e.z;
+      for (int k = 0; k < 3; ++k) A[i][k] = J[0][i] * J[0][k] + J[1][i] * J[1][k] + J[2][i] * J[2][k];
+      A[i][i] += lambda * (A[i][i] + S(1));
+    }
+    S dx[3];
+    if (!solve3(dx, A)) break;
+    // At most 0.2 rad a step: a long Gauss-Newton jump can leave the basin it started in,
+    // and the starts are chosen to cover the basins.
+    const S longest = max_of(Math<S>::fabs(dx[0]), max_of(Math<S>::fabs(dx[1]), Math<S>::fabs(dx[2])));
+    if (longest > S(0.2))
+      for (int i = 0; i < 3; ++i) dx[i] *= S(0.2) / longest;
+    S trial[3];
+    for (int i = 0; i < 3; ++i) trial[i] = clamp(act[i] + dx[i], arm.lo[i], arm.hi[i]);
+    S Jt[3][3];
+    const Vec3<S> et = target - ypp_position_and_jacobian(Jt, arm, trial);
+    const S trial_err2 = dot(et, et);
+    if (trial_err2 < err2) {
+      const bool converged = err2 - trial_err2 <= S(1e-7) * err2;
+      for (int i = 0; i < 3; ++i) act[i] = trial[i];
+      for (int i = 0; i < 3; ++i)
+        for (int k = 0; k < 3; ++k) J[i][k] = Jt[i][k];
+      e = et;
+      err2 = trial_err2;
+      lambda *= S(0.3);
+      if (converged) break;
+    } else {
+      lambda *= S(10);
+    }
+  }
+  q[0] = act[0];
+  q[1] = act[1];
+  q[2] = arm.parallelogram ? act[2] - act[1] : act[2];
+}
 }  // namespace detail
 
 // Solves for the tool point p_base_tool (mm, base frame), which must be finite: callers
-// reject NaN and inf before they get here.
+// reject NaN and inf before they get here. With polish = false an unreachable target's
+// `nearest` is only the best clamped candidate (cheap: what the Nano needs to say "no");
+// with polish = true each candidate, and six more starts, are polished into a local
+// optimum within the limits (the host's "stretch toward the target").
 template <typename S>
-inline void ypp_solve(YppResult<S>& out, const YppArm<S>& arm, const Vec3<S>& p_base_tool) {
+inline void ypp_solve(YppResult<S>& out, const YppArm<S>& arm, const Vec3<S>& p_base_tool, bool polish = true) {
   const S L1 = arm.upper, L2 = arm.fore;
   const S rho = Math<S>::sqrt(p_base_tool.x * p_base_tool.x + p_base_tool.y * p_base_tool.y);
   const S yaw = rho > S(0) ? Math<S>::atan2(p_base_tool.y, p_base_tool.x) : S(0);
@@ -148,6 +250,7 @@ inline void ypp_solve(YppResult<S>& out, const YppArm<S>& arm, const Vec3<S>& p_
         q[1] = L1 >= L2 ? toward : detail::wrap_angle(toward + pi<S>());
       }
       detail::ypp_clamp(q, arm);
+      if (polish) detail::ypp_polish(q, arm, p_base_tool);
       const Vec3<S> e = ypp_tool_position(arm, q) - p_base_tool;
       const S d2 = dot(e, e);
       if (best_d2 < S(0) || d2 < best_d2) {
@@ -190,6 +293,24 @@ inline void ypp_solve(YppResult<S>& out, const YppArm<S>& arm, const Vec3<S>& p_
   for (int i = 0; i < out.count; ++i) {
     S q[3] = {out.solutions[i].q[0], out.solutions[i].q[1], out.solutions[i].q[2]};
     detail::ypp_clamp(q, arm);
+    if (polish) detail::ypp_polish(q, arm, p_base_tool);
+    const Vec3<S> e = ypp_tool_position(arm, q) - p_base_tool;
+    const S d2 = dot(e, e);
+    if (best_d2 < S(0) || d2 < best_d2) {
+      best_d2 = d2;
+      for (int k = 0; k < 3; ++k) best_q[k] = q[k];
+    }
+  }
+  // More starts, facing the target as nearly as the base allows, with the shoulder at
+  // either limit and mid-range: far below or behind the base the nearest point is often
+  // reached back over the top, which the stretched and clamped candidates never try.
+  for (int start = 0; polish && start < 6; ++start) {
+    const int facing = start / 3, shoulder = start % 3;
+    S act[3] = {clamp(facing == 0 ? yaw : detail::wrap_angle(yaw + pi<S>()), arm.lo[0], arm.hi[0]),
+                shoulder == 0 ? arm.lo[1] : (shoulder == 1 ? (arm.lo[1] + arm.hi[1]) / S(2) : arm.hi[1]),
+                (arm.lo[2] + arm.hi[2]) / S(2)};
+    S q[3] = {act[0], act[1], arm.parallelogram ? act[2] - act[1] : act[2]};
+    detail::ypp_polish(q, arm, p_base_tool);
     const Vec3<S> e = ypp_tool_position(arm, q) - p_base_tool;
     const S d2 = dot(e, e);
     if (best_d2 < S(0) || d2 < best_d2) {

@@ -106,16 +106,19 @@ inline Status parse_line(Command& out, const char* line, uint8_t len, uint8_t nu
     }
     if ((c < 0x20 && c != '\t') || c >= 0x7f) return kBadCharacter;
   }
-  // Split into words: start offsets and lengths.
-  uint8_t start[kMaxArgs + 2], size[kMaxArgs + 2], words = 0;
+  // Split into words: start offsets and lengths of the first 1 + kMaxArgs, a count of all
+  // (so an unknown word is reported as such however many words follow it).
+  uint8_t start[kMaxArgs + 1], size[kMaxArgs + 1], words = 0;
   for (uint8_t i = 0; i < end;) {
     while (i < end && detail::is_space(line[i])) ++i;
     if (i == end) break;
-    if (words == kMaxArgs + 2) return kExtraArgument;
-    start[words] = i;
+    const uint8_t first = i;
     while (i < end && !detail::is_space(line[i])) ++i;
-    size[words] = uint8_t(i - start[words]);
-    ++words;
+    if (words < kMaxArgs + 1) {
+      start[words] = first;
+      size[words] = uint8_t(i - first);
+    }
+    ++words;  // at most kMaxLineLength / 2
   }
   out.argc = 0;
   if (words == 0) {
@@ -212,8 +215,9 @@ inline bool parse_reply(uint8_t& code, const char* line, uint8_t len) {
   return true;
 }
 
-// Assembles bytes into lines. A line longer than kMaxLineLength is drained to its LF
-// and then reported once as too long; its bytes are never parsed.
+// Assembles bytes into lines. A line longer than kMaxLineLength (not counting one CR before
+// its LF) is drained to its LF and then reported once as too long; its bytes are never
+// handed out.
 enum LineEvent : uint8_t { kLineNone = 0, kLineReady, kLineTooLongEnded };
 
 class LineAssembler {
@@ -222,11 +226,12 @@ class LineAssembler {
 
   LineEvent feed(char c) {
     if (c == '\n') {
-      const bool was_overflow = overflow_;
+      // kMaxLineLength + 1 bytes fit only when the last is the CR of a CRLF.
+      const bool too_long = overflow_ || (len_ == kMaxLineLength + 1 && buf_[kMaxLineLength] != '\r');
       overflow_ = false;
-      ready_len_ = len_;
+      ready_len_ = too_long ? 0 : len_;
       len_ = 0;
-      return was_overflow ? kLineTooLongEnded : kLineReady;
+      return too_long ? kLineTooLongEnded : kLineReady;
     }
     if (overflow_) return kLineNone;
     if (len_ == kMaxLineLength + 1) {  // room for one CR before the LF

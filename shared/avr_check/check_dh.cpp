@@ -24,11 +24,11 @@ void check_dh() {
   m.linked[0].gain[2] = -1;
   m.T_last_tool = Transform<Real>::identity();
   const Real q[kJoints] = {g_in, g_in, g_in};
-  const double qd[kJoints] = {g_in, g_in, g_in};
   Frames<Real, kRows> f;
   forward_kinematics(f, m, q);
   Real J[6][kJoints];
   jacobian(J, m, f);
   const Model<double, kJoints, kRows> md = cast_model<double>(m);
-  g_out = long(J[0][0] + f.T_base_tool.p.x + tool_position(md, qd).x) + validate(m) + within_limits(m, q);
+  // The double model is the host's; here it only has to compile.
+  g_out = long(J[0][0] + f.T_base_tool.p.x + md.rows[0].a) + validate(m) + within_limits(m, q);
 }
