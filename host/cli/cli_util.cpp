@@ -1,0 +1,116 @@
+#include "cli_util.h"
+
+#include <cmath>
+#include <cstdio>
+#include <cxxopts.hpp>
+#include <iostream>
+#include <sstream>
+
+#include "robot_file.h"
+
+namespace articula::cli {
+
+std::vector<double> parse_number_list(const std::string& text, const std::string& what) {
+  std::vector<double> out;
+  std::stringstream ss(text);
+  std::string item;
+  int index = 0;
+  while (std::getline(ss, item, ',')) {
+    ++index;
+    size_t used = 0;
+    double v = 0;
+    try {
+      v = std::stod(item, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    while (used < item.size() && std::isspace(static_cast<unsigned char>(item[used]))) ++used;
+    if (item.empty() || used != item.size() || !std::isfinite(v))
+      throw UsageError(what + ": entry " + std::to_string(index) + " ('" + item + "') is not a finite number");
+    out.push_back(v);
+  }
+  if (out.empty()) throw UsageError(what + ": no numbers given");
+  return out;
+}
+
+bool joint_is_angle(const host::Robot& robot, int joint) { return robot.model.joints[joint].param != kParamD; }
+
+double joint_to_model(const host::Robot& robot, int joint, double value) {
+  return joint_is_angle(robot, joint) ? deg_to_rad(value) : value;
+}
+
+double joint_from_model(const host::Robot& robot, int joint, double value) {
+  return joint_is_angle(robot, joint) ? rad_to_deg(value) : value;
+}
+
+std::string fmt(double v, int decimals) {
+  if (std::fabs(v) < 0.5 * std::pow(10.0, -decimals)) v = 0;  // no "-0.000"
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
+  return buf;
+}
+
+std::string Table::str() const {
+  std::vector<size_t> width;
+  for (const auto& r : rows_)
+    for (size_t c = 0; c < r.size(); ++c) {
+      if (width.size() <= c) width.push_back(0);
+      width[c] = std::max(width[c], r[c].size());
+    }
+  auto numeric = [](const std::string& s) {
+    return !s.empty() && (std::isdigit(static_cast<unsigned char>(s[0])) || ((s[0] == '-' || s[0] == '+') && s.size() > 1));
+  };
+  std::ostringstream os;
+  for (size_t i = 0; i < rows_.size(); ++i) {
+    const auto& r = rows_[i];
+    for (size_t c = 0; c < r.size(); ++c) {
+      const std::string pad(width[c] - r[c].size(), ' ');
+      if (c) os << "  ";
+      os << (i > 0 && numeric(r[c]) ? pad + r[c] : r[c] + (c + 1 < r.size() ? pad : ""));
+    }
+    os << '\n';
+    if (i == 0) {
+      for (size_t c = 0; c < width.size(); ++c) os << (c ? "  " : "") << std::string(width[c], '-');
+      os << '\n';
+    }
+  }
+  return os.str();
+}
+
+namespace {
+// cxxopts wants long options of two letters or more; the CLI's documented spelling uses one
+// (--q), so "--q VALUE" and "--q=VALUE" become the short form "-q VALUE" before parsing.
+std::vector<std::string> normalise_args(int argc, char** argv) {
+  std::vector<std::string> out;
+  for (int i = 0; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a.size() >= 3 && a[0] == '-' && a[1] == '-' && std::isalpha(static_cast<unsigned char>(a[2])) &&
+        (a.size() == 3 || a[3] == '=')) {
+      out.push_back(std::string("-") + a[2]);
+      if (a.size() > 4) out.push_back(a.substr(4));
+    } else {
+      out.push_back(a);
+    }
+  }
+  return out;
+}
+}  // namespace
+
+int guarded(const char* command, int (*body)(int, char**), int argc, char** argv) {
+  try {
+    std::vector<std::string> args = normalise_args(argc, argv);
+    std::vector<char*> ptrs;
+    for (auto& a : args) ptrs.push_back(a.data());
+    ptrs.push_back(nullptr);
+    return body(int(args.size()), ptrs.data());
+  } catch (const host::RobotFileError& e) {
+    std::cerr << "articula " << command << ": " << e.what() << '\n';
+  } catch (const UsageError& e) {
+    std::cerr << "articula " << command << ": " << e.what() << " (see: articula " << command << " --help)\n";
+  } catch (const cxxopts::exceptions::exception& e) {
+    std::cerr << "articula " << command << ": " << e.what() << " (see: articula " << command << " --help)\n";
+  }
+  return 2;
+}
+
+}  // namespace articula::cli

@@ -1,0 +1,46 @@
+// host/cli/cli_util.h - what several commands share: errors, number lists, tables.
+#ifndef ARTICULA_CLI_UTIL_H
+#define ARTICULA_CLI_UTIL_H
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <articula/transform.h>
+#include "robot.h"
+
+namespace articula::cli {
+
+// A user error: printed as one line "articula <command>: <message>", exit code 2.
+struct UsageError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// "1,2.5,-3" -> {1, 2.5, -3}. Throws UsageError naming `what` on a bad entry.
+std::vector<double> parse_number_list(const std::string& text, const std::string& what);
+
+// Joint values in file units (deg for angles, mm for lengths) -> model units, and back.
+double joint_to_model(const host::Robot& robot, int joint, double value);
+double joint_from_model(const host::Robot& robot, int joint, double value);
+bool joint_is_angle(const host::Robot& robot, int joint);
+
+// A plain text table: columns padded to their widest cell, numbers right-aligned.
+class Table {
+ public:
+  explicit Table(std::vector<std::string> header) : rows_{std::move(header)} {}
+  void add(std::vector<std::string> row) { rows_.push_back(std::move(row)); }
+  std::string str() const;
+
+ private:
+  std::vector<std::vector<std::string>> rows_;
+};
+
+std::string fmt(double v, int decimals = 3);
+
+// Runs a command body: catches UsageError, RobotFileError and cxxopts errors and turns
+// them into one line on stderr and a non-zero exit code.
+int guarded(const char* command, int (*body)(int, char**), int argc, char** argv);
+
+}  // namespace articula::cli
+
+#endif

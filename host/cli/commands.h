@@ -1,0 +1,14 @@
+// host/cli/commands.h - the sub-commands of `articula`. Each owns its options, prints
+// its own --help, and returns the process exit code.
+#ifndef ARTICULA_CLI_COMMANDS_H
+#define ARTICULA_CLI_COMMANDS_H
+
+namespace articula::cli {
+
+int cmd_info(int argc, char** argv);
+int cmd_fk(int argc, char** argv);
+int cmd_quantize(int argc, char** argv);
+
+}  // namespace articula::cli
+
+#endif

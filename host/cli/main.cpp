@@ -1,0 +1,48 @@
+// articula - the host command line. `main` looks argv[1] up in one table of commands;
+// each command owns its options and its --help.
+#include <cstring>
+#include <iostream>
+
+#include "cli_util.h"
+#include "commands.h"
+
+namespace {
+
+struct CommandEntry {
+  const char* name;
+  int (*run)(int, char**);
+  const char* help;
+};
+
+const CommandEntry kCommands[] = {
+    {"info", articula::cli::cmd_info, "the robot's DH table, joints, limits, motors and reach"},
+    {"fk", articula::cli::cmd_fk, "forward kinematics: every frame and the tool pose for joint values"},
+    {"quantize", articula::cli::cmd_quantize, "what whole motor steps make of protocol moves (L lines), in degrees and mm"},
+};
+
+void usage(std::ostream& os) {
+  os << "usage: articula <command> [options]\n\n"
+        "Simulate and predict articulate robot arms described by modified DH tables.\n"
+        "Robots are JSON files (robots/README.md); a shipped one can be named without path (mk2plus).\n"
+        "Lengths are in mm and angles in degrees at every interface.\n\ncommands:\n";
+  for (const auto& c : kCommands) os << "  " << c.name << std::string(10 - std::strlen(c.name), ' ') << c.help << '\n';
+  os << "\n'articula <command> --help' describes a command's options.\n";
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2) {
+    usage(std::cerr);
+    return 2;
+  }
+  const std::string name = argv[1];
+  if (name == "--help" || name == "-h" || name == "help") {
+    usage(std::cout);
+    return 0;
+  }
+  for (const auto& c : kCommands)
+    if (name == c.name) return articula::cli::guarded(c.name, c.run, argc - 1, argv + 1);
+  std::cerr << "articula: unknown command '" << name << "' (see: articula --help)\n";
+  return 2;
+}
