@@ -5,6 +5,7 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <random>
+#include <sstream>
 
 #include "cli_util.h"
 #include "commands.h"
@@ -34,6 +35,20 @@ std::string param_cell(const host::Robot& r, int row, uint8_t param, double cons
     return s.empty() ? "0" : s;
   }
   return fmt(angle ? rad_to_deg(constant) : constant, 3);
+}
+
+// Words re-flowed into lines of at most `width` characters.
+std::string wrap(const std::string& text, size_t width) {
+  std::istringstream words(text);
+  std::string word, line, out;
+  while (words >> word) {
+    if (!line.empty() && line.size() + 1 + word.size() > width) {
+      out += line + '\n';
+      line.clear();
+    }
+    line += (line.empty() ? "" : " ") + word;
+  }
+  return line.empty() ? out : out + line + '\n';
 }
 
 struct Reach {
@@ -125,7 +140,7 @@ int run(int argc, char** argv) {
   }
 
   std::cout << r.name << "  (" << r.source << ")\n";
-  if (!r.description.empty()) std::cout << r.description << '\n';
+  if (!r.description.empty()) std::cout << wrap(r.description, 90);
   std::cout << "\nDH table (modified DH, Craig): row i holds a(i-1), alpha(i-1), d(i), theta(i)\n";
   Table dh({"row", "a(i-1) mm", "alpha(i-1) deg", "d(i) mm", "theta(i) deg"});
   for (int i = 0; i < m.num_rows; ++i)
@@ -182,7 +197,7 @@ int run(int argc, char** argv) {
   } else {
     std::cout << "\nNo motors: a kinematic model only.\n";
   }
-  std::cout << "\nReach over " << reach.poses << " in-limit poses: " << fmt(reach.horizontal, 1)
+  std::cout << "\nReach within the limits (" << reach.poses << " poses sampled): " << fmt(reach.horizontal, 1)
             << " mm horizontally, tool height " << fmt(reach.lowest, 1) << " .. " << fmt(reach.highest, 1)
             << " mm\n";
   return 0;
