@@ -211,6 +211,27 @@ inline void ypp_polish(S* q, const YppArm<S>& arm, const Vec3<S>& target) {
 }
 }  // namespace detail
 
+namespace detail {
+// The best pose within the limits seen so far, for an unreachable target.
+template <typename S>
+struct YppBest {
+  S q[3];
+  S d2;  // squared distance to the target; negative until a pose was considered
+
+  // Clamps q into the limits, polishes it if asked, and keeps it if it is the nearest yet.
+  void consider(S* q_in, const YppArm<S>& arm, const Vec3<S>& target, bool polish) {
+    ypp_clamp(q_in, arm);
+    if (polish) ypp_polish(q_in, arm, target);
+    const Vec3<S> e = ypp_tool_position(arm, q_in) - target;
+    const S e2 = dot(e, e);
+    if (d2 < S(0) || e2 < d2) {
+      d2 = e2;
+      for (int i = 0; i < 3; ++i) q[i] = q_in[i];
+    }
+  }
+};
+}  // namespace detail
+
 // Solves for the tool point p_base_tool (mm, base frame), which must be finite: callers
 // reject NaN and inf before they get here. With polish = false an unreachable target's
 // `nearest` is only the best clamped candidate (cheap: what the Nano needs to say "no");
@@ -226,8 +247,7 @@ inline void ypp_solve(YppResult<S>& out, const YppArm<S>& arm, const Vec3<S>& p_
   const S tol = S(64) * Math<S>::epsilon() * (reach_max + rho + Math<S>::fabs(p_base_tool.z));
 
   out.count = 0;
-  S best_q[3] = {S(0), S(0), S(0)};
-  S best_d2 = S(-1);
+  detail::YppBest<S> best = {{S(0), S(0), S(0)}, S(-1)};
   bool any_geometric = false;
 
   for (int facing = 0; facing < 2; ++facing) {
@@ -249,14 +269,7 @@ inline void ypp_solve(YppResult<S>& out, const YppArm<S>& arm, const Vec3<S>& p_
         q[2] = L1 >= L2 ? pi<S>() : -pi<S>();
         q[1] = L1 >= L2 ? toward : detail::wrap_angle(toward + pi<S>());
       }
-      detail::ypp_clamp(q, arm);
-      if (polish) detail::ypp_polish(q, arm, p_base_tool);
-      const Vec3<S> e = ypp_tool_position(arm, q) - p_base_tool;
-      const S d2 = dot(e, e);
-      if (best_d2 < S(0) || d2 < best_d2) {
-        best_d2 = d2;
-        for (int i = 0; i < 3; ++i) best_q[i] = q[i];
-      }
+      best.consider(q, arm, p_base_tool, polish);
       continue;
     }
     any_geometric = true;
@@ -292,14 +305,7 @@ inline void ypp_solve(YppResult<S>& out, const YppArm<S>& arm, const Vec3<S>& p_
   // Reachable only outside the limits: the clamped geometric solutions are candidates too.
   for (int i = 0; i < out.count; ++i) {
     S q[3] = {out.solutions[i].q[0], out.solutions[i].q[1], out.solutions[i].q[2]};
-    detail::ypp_clamp(q, arm);
-    if (polish) detail::ypp_polish(q, arm, p_base_tool);
-    const Vec3<S> e = ypp_tool_position(arm, q) - p_base_tool;
-    const S d2 = dot(e, e);
-    if (best_d2 < S(0) || d2 < best_d2) {
-      best_d2 = d2;
-      for (int k = 0; k < 3; ++k) best_q[k] = q[k];
-    }
+    best.consider(q, arm, p_base_tool, polish);
   }
   // More starts, facing the target as nearly as the base allows, with the shoulder at
   // either limit and mid-range: far below or behind the base the nearest point is often
@@ -310,17 +316,11 @@ inline void ypp_solve(YppResult<S>& out, const YppArm<S>& arm, const Vec3<S>& p_
                 shoulder == 0 ? arm.lo[1] : (shoulder == 1 ? (arm.lo[1] + arm.hi[1]) / S(2) : arm.hi[1]),
                 (arm.lo[2] + arm.hi[2]) / S(2)};
     S q[3] = {act[0], act[1], arm.parallelogram ? act[2] - act[1] : act[2]};
-    detail::ypp_polish(q, arm, p_base_tool);
-    const Vec3<S> e = ypp_tool_position(arm, q) - p_base_tool;
-    const S d2 = dot(e, e);
-    if (best_d2 < S(0) || d2 < best_d2) {
-      best_d2 = d2;
-      for (int k = 0; k < 3; ++k) best_q[k] = q[k];
-    }
+    best.consider(q, arm, p_base_tool, true);
   }
   out.status = any_geometric ? kYppLimited : kYppOutOfReach;
-  for (int i = 0; i < 3; ++i) out.nearest_q[i] = best_q[i];
-  out.nearest = ypp_tool_position(arm, best_q);
+  for (int i = 0; i < 3; ++i) out.nearest_q[i] = best.q[i];
+  out.nearest = ypp_tool_position(arm, best.q);
   out.distance = norm(out.nearest - p_base_tool);
 }
 
