@@ -17,6 +17,7 @@ namespace {
 const char* param_name(uint8_t p) { return p == kParamTheta ? "theta" : (p == kParamD ? "d" : "alpha"); }
 
 // The cell of one DH parameter: its constant, the joint's name, or the linked formula.
+// Only theta, d and alpha can vary; a(i-1) is always a constant (length_cell).
 std::string param_cell(const host::Robot& r, int row, uint8_t param, double constant, bool angle) {
   for (int j = 0; j < r.model.num_joints; ++j)
     if (r.model.joints[j].row == row && r.model.joints[j].param == param) return r.joint_names[j];
@@ -50,6 +51,8 @@ std::string wrap(const std::string& text, size_t width) {
   }
   return line.empty() ? out : out + line + '\n';
 }
+
+std::string length_cell(double a) { return fmt(a, 3); }
 
 struct Reach {
   double horizontal = 0, highest = -1e300, lowest = 1e300;
@@ -104,7 +107,7 @@ int run(int argc, char** argv) {
     j["file"] = r.source;
     for (int i = 0; i < m.num_rows; ++i)
       j["dh"].push_back({{"row", i + 1},
-                         {"a", param_cell(r, i, 99, m.rows[i].a, false)},
+                         {"a", length_cell(m.rows[i].a)},
                          {"alpha", param_cell(r, i, kParamAlpha, m.rows[i].alpha, true)},
                          {"d", param_cell(r, i, kParamD, m.rows[i].d, false)},
                          {"theta", param_cell(r, i, kParamTheta, m.rows[i].theta, true)}});
@@ -144,7 +147,7 @@ int run(int argc, char** argv) {
   std::cout << "\nDH table (modified DH, Craig): row i holds a(i-1), alpha(i-1), d(i), theta(i)\n";
   Table dh({"row", "a(i-1) mm", "alpha(i-1) deg", "d(i) mm", "theta(i) deg"});
   for (int i = 0; i < m.num_rows; ++i)
-    dh.add({std::to_string(i + 1), param_cell(r, i, 99, m.rows[i].a, false),
+    dh.add({std::to_string(i + 1), length_cell(m.rows[i].a),
             param_cell(r, i, kParamAlpha, m.rows[i].alpha, true), param_cell(r, i, kParamD, m.rows[i].d, false),
             param_cell(r, i, kParamTheta, m.rows[i].theta, true)});
   std::cout << dh.str();

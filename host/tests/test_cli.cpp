@@ -74,8 +74,8 @@ TEST(Cli, InfoJsonIsOneDocument) {
   const auto j = nlohmann::json::parse(r.out);
   EXPECT_EQ(j["joints"].size(), 3u);
   EXPECT_NEAR(j["motors"][0]["deg_per_step"].get<double>(), 360.0 * 19 / (200 * 108), 1e-12);
-  // Fully stretched forward at the lowest shoulder angle the arm reaches 135 cos36 + 147 + 88 mm... the
-  // sampled reach can only be at most the sum of the horizontal links.
+  // No pose reaches further than all links in a line (135 + 147 + 88 mm); the pose with the
+  // shoulder at its lowest limit (36 deg) and the forearm level reaches 135 cos36 + 147 + 88.
   EXPECT_LE(j["reach"]["horizontal_mm"].get<double>(), 135 + 147 + 88 + 1e-9);
   EXPECT_GT(j["reach"]["horizontal_mm"].get<double>(), 135 * std::cos(36 * M_PI / 180) + 147 + 88 - 5);
 }
