@@ -9,5 +9,6 @@
 #include "ik_ypp.h"
 #include "status.h"
 #include "protocol.h"
+#include "motion.h"
 
 #endif  // ARTICULA_ARTICULA_H

@@ -4,8 +4,8 @@
 typedef float Real;
 static const int kJoints = 3;
 static const int kRows = 4;
-// Each check_*.cpp defines one of these; main() calls them so nothing is dropped before
-// the compiler has seen every instantiation.
+// Each check_*.cpp defines one of these; the generated main of its ELF calls it, so the
+// instantiations are compiled and linked.
 void check_platform();
 void check_transform();
 void check_dh();
@@ -13,6 +13,7 @@ void check_actuation();
 void check_ik_ypp();
 void check_status();
 void check_protocol();
+void check_motion();
 void check_articula();
 // Inputs and outputs the optimiser cannot see through.
 extern volatile float g_in;

@@ -35,6 +35,14 @@ static_assert(sizeof(Actuation<float, 3>) <= 160, "the MK2 actuation is small");
 static_assert(sizeof(MotorState<3>) == 24, "three commanded angles and three step counts");
 static_assert(sizeof(LineAssembler) <= kMaxLineLength + 8, "one line buffer");
 
+// Step timing in motion.h: the interrupt's state is small, and the fixed-point limits hold.
+static_assert(sizeof(StepProfile) == 25, "six uint32 and a flag");
+static_assert(sizeof(LineStepper<3>) == 34, "the line of three motors");
+static_assert(2ULL * (kMaxStepTicks << 8) + 4ULL * (1ULL << 25) + 1 < 4294967296ULL,
+              "2C + r of the recurrence fits a uint32 (ramp levels stay below 2^24, margin 2x)");
+static_assert((uint64_t(kMaxTickHz) * kMaxTickHz << 16) >> 16 == uint64_t(kMaxTickHz) * kMaxTickHz,
+              "2^16 f^2 fits a uint64");
+
 // A C++11 constexpr body is a single return statement in GCC 5.4: the core has none that
 // are longer, and this one shows the compiler accepts the form it uses.
 constexpr int twice(int x) { return 2 * x; }
