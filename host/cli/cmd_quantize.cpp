@@ -36,7 +36,10 @@ int run(int argc, char** argv) {
     std::cout << opts.help()
               << "The arm starts with every motor at step 0 (its zero angle). Each `L <joint> <deg>` turns one\n"
                  "motor's joint by a relative angle; the commanded angle is kept exactly and quantized once,\n"
-                 "nearest step, ties away from zero (shared/articula/actuation.h). A rejected line moves nothing.\n";
+                 "nearest step, ties away from zero (shared/articula/actuation.h). A rejected line moves nothing.\n"
+                 "Only L and S are simulated; the other commands (M, P, G, H, Z, I, $) are parsed and checked\n"
+                 "like the firmware does, then reported as not simulated by quantize (they move nothing and\n"
+                 "do not count as rejected).\n";
     return 0;
   }
   if (!args.count("robot")) throw UsageError("no robot given");
@@ -68,7 +71,8 @@ int run(int argc, char** argv) {
   const bool json = args.count("json") > 0;
   Table table({"line", "command", "reply", "motor", "commanded deg", "steps", "reached deg", "error deg", "tool x",
                "tool y", "tool z", "tool error mm"});
-  int rejected = 0;
+  const char* const kNotSimulated = "not simulated by quantize";
+  int rejected = 0, not_simulated = 0;
   double worst_mm = 0;
   for (const Line& line : lines) {
     Command cmd;
@@ -79,6 +83,9 @@ int run(int argc, char** argv) {
       motor = cmd.arg[0];
       st = move_relative(state, r.actuation, uint8_t(motor), cmd.arg[1]);
     }
+    // A valid line quantize has no model for (M, P, G, H, Z, I, $): accepted, nothing moves.
+    const bool simulated = st != kOk || cmd.type == kCmdNone || cmd.type == kCmdRotate || cmd.type == kCmdGripper;
+    if (!simulated) ++not_simulated;
     // Ideal: the exact commanded angles; quantized: the steps.
     std::vector<double> u(n), q_ideal(n), q_real(n);
     for (int k = 0; k < n; ++k) u[k] = deg_to_rad(state.commanded[k] / 1000.0);
@@ -97,6 +104,7 @@ int run(int argc, char** argv) {
       nlohmann::json j = {{"where", line.where}, {"line", line.text}, {"reply", st == kOk ? "ok" : "error"},
                           {"code", int(st)}};
       if (st != kOk) j["error"] = status_text(st);
+      if (!simulated) j["note"] = kNotSimulated;
       if (moved) {
         j["motor"] = r.motor_names[motor];
         j["commanded_deg"] = cmd_deg;
@@ -115,10 +123,14 @@ int run(int argc, char** argv) {
                  moved ? fmt(real_deg, 4) : "", moved ? fmt(real_deg - cmd_deg, 4) : "", fmt(p_real.x), fmt(p_real.y),
                  fmt(p_real.z), fmt(err_mm, 3)});
       if (st != kOk) std::cerr << line.where << ": '" << line.text << "': " << reply << " (nothing moved)\n";
+      if (!simulated)
+        std::cerr << line.where << ": '" << line.text << "': ok, " << kNotSimulated << " (nothing moved)\n";
     }
   }
   if (!json) {
-    std::cout << r.name << ": " << lines.size() << " lines, " << rejected << " rejected\n" << table.str();
+    std::cout << r.name << ": " << lines.size() << " lines, " << rejected << " rejected";
+    if (not_simulated) std::cout << ", " << not_simulated << " not simulated";
+    std::cout << '\n' << table.str();
     std::cout << "worst tool position error from whole steps: " << fmt(worst_mm, 3) << " mm\n";
   }
   return rejected ? 1 : 0;

@@ -143,3 +143,37 @@ TEST(Cli, QuantizeRejectsBeyondLimitsAndMovesNothing) {
   EXPECT_EQ(lines[1]["all_steps"], nlohmann::json::array({32, 0, 0}));
   EXPECT_EQ(lines[2]["code"].get<int>(), 6);  // no such joint
 }
+
+TEST(Cli, QuantizeReportsCommandsItDoesNotSimulate) {
+  // M, P, G, H, Z, I and $ are parsed and checked, then reported; they move nothing and do not
+  // count as rejected (exit code 0), while their malformed forms are rejected as the firmware
+  // would reject them.
+  Result r = run_stdout("quantize mk2plus \"M 0 90 0\" \"L 0 10\" \"G 50\" H '$1=5' --json");
+  EXPECT_EQ(r.code, 0) << r.out;
+  std::vector<nlohmann::json> lines;
+  for (size_t start = 0; start < r.out.size();) {
+    const size_t end = r.out.find('\n', start);
+    lines.push_back(nlohmann::json::parse(r.out.substr(start, end - start)));
+    start = end + 1;
+  }
+  ASSERT_EQ(lines.size(), 5u);
+  EXPECT_EQ(lines[0]["note"], "not simulated by quantize");
+  EXPECT_EQ(lines[0]["reply"], "ok");
+  EXPECT_EQ(lines[0]["all_steps"], nlohmann::json::array({0, 0, 0}));
+  EXPECT_FALSE(lines[1].contains("note"));
+  EXPECT_EQ(lines[1]["all_steps"], nlohmann::json::array({32, 0, 0}));
+  for (int i : {2, 3, 4}) {
+    EXPECT_EQ(lines[i]["note"], "not simulated by quantize") << i;
+    EXPECT_EQ(lines[i]["all_steps"], nlohmann::json::array({32, 0, 0})) << i;
+  }
+  r = run("quantize mk2plus \"M 0 90\" \"G 101\" P");
+  EXPECT_EQ(r.code, 1) << r.out;
+  EXPECT_NE(r.out.find("3 lines, 3 rejected"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("error:4"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("error:8"), std::string::npos) << r.out;
+  r = run("quantize mk2plus \"L 0 1?0\" I");
+  EXPECT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("2 lines, 0 rejected, 1 not simulated"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("'I': ok, not simulated by quantize"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("10.1333"), std::string::npos) << r.out;  // the '?' dropped: L 0 10, 32 steps
+}

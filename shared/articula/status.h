@@ -1,8 +1,9 @@
 // articula/status.h - the one table of protocol status codes.
 //
-// Every reply on the serial line is `ok` or `error:<code>`; the firmware prints only the
-// number, host tools print the text from this same table. Codes are never renumbered and
-// never reused: a new condition gets the next free number (GRBL's rule).
+// Every reply on the serial line is `ok` or `error:<code>` (a report's `W:<code>` field
+// carries a code too); the firmware prints only the number, host tools print the text from
+// this same table. Codes are never renumbered and never reused: a new condition gets the
+// next free number (GRBL's rule).
 // docs/protocol.md lists the same table; a test checks that the two agree.
 #ifndef ARTICULA_STATUS_H
 #define ARTICULA_STATUS_H
@@ -24,7 +25,11 @@ namespace articula {
   X(8, kValueOutOfRange, "value out of range")                                         \
   X(9, kJointLimit, "target beyond a joint limit")                                     \
   X(10, kUnreachable, "target out of reach")                                           \
-  X(11, kBadCharacter, "character not allowed (control or non-ASCII byte)")
+  X(11, kBadCharacter, "character not allowed (control or non-ASCII byte)")            \
+  X(12, kNotHomed, "not homed: send H or Z first")                                     \
+  X(13, kSettingUnknown, "no such setting")                                            \
+  X(14, kSettingsReset, "settings reset to defaults")                                  \
+  X(15, kStopped, "discarded by stop (!)")
 
 enum Status : uint8_t {
 #define ARTICULA_STATUS_ENUM(code, name, text) name = code,

@@ -1,12 +1,16 @@
 // Tests shared/articula/protocol.h: number parsing into thousandths, the line grammar and its
-// error codes, the byte-to-line assembler (CRLF, overlong lines, random noise) and the
-// `ok` / `error:<code>` replies.
+// error codes (every command of the table), realtime bytes, the byte-to-line assembler (CRLF,
+// overlong lines, realtime bytes, random noise), the `ok` / `error:<code>` replies and the
+// status, info and setting reports (exact texts, round trips).
 #include <articula/protocol.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <random>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -17,6 +21,8 @@ namespace articula {
 void PrintTo(Status s, std::ostream* os) { *os << int(s) << " (" << status_name(s) << ")"; }
 void PrintTo(LineEvent e, std::ostream* os) { *os << int(e); }
 void PrintTo(CommandType t, std::ostream* os) { *os << int(t); }
+void PrintTo(RealtimeCommand r, std::ostream* os) { *os << int(r); }
+void PrintTo(MachineState s, std::ostream* os) { *os << int(s); }
 }  // namespace articula
 
 namespace {
@@ -27,9 +33,9 @@ Status parse(Command& c, const std::string& s, uint8_t joints = 3) {
   return parse_line(c, s.data(), uint8_t(s.size()), joints);
 }
 
-Status parse(const std::string& s) {
+Status parse(const std::string& s, uint8_t joints = 3) {
   Command c;
-  return parse(c, s);
+  return parse(c, s, joints);
 }
 
 // An independent reference for numbers: the exact decimal value, rounded to thousandths
@@ -252,8 +258,8 @@ TEST(ParseLine, BadCharacters) {
   for (int b = 0; b < 256; ++b) {
     const std::string s = std::string("L 0 1 ") + char(b);
     const Status st = parse(s);
-    if (b == '\t' || b == ' ' || b == '#' || b == '\r')
-      EXPECT_EQ(st, kOk) << b;  // separator, comment, or the CR before the LF
+    if (b == '\t' || b == ' ' || b == '#' || b == '\r' || b == '?' || b == '!')
+      EXPECT_EQ(st, kOk) << b;  // separator, comment, the CR before the LF, or a realtime byte
     else if (b < 0x20 || b >= 0x7f)
       EXPECT_EQ(st, kBadCharacter) << b;
     else
@@ -390,21 +396,24 @@ TEST(LineAssembler, Clear) {
 TEST(LineAssembler, RandomByteSoup) {
   // 100,000 random bytes against a reference: a line (its bytes up to LF, one CR before the
   // LF not counted) of at most 64 bytes is handed out whole, a longer one reported once.
+  // Realtime bytes ('?', '!') are dropped wherever they come and do not count.
   std::mt19937 rng(4242);
   std::uniform_int_distribution<int> byte(0, 255), pick(0, 99);
   std::string soup;
   for (int i = 0; i < 100000; ++i) {
     const int p = pick(rng);
-    soup += p < 2 ? '\n' : p < 4 ? '\r' : p < 50 ? char(byte(rng)) : char(' ' + pick(rng) % 95);
+    soup += p < 2 ? '\n' : p < 4 ? '\r' : p < 6 ? "?!"[p - 4] : p < 50 ? char(byte(rng)) : char(' ' + pick(rng) % 95);
   }
   LineAssembler a;
   std::string current;
-  int lfs = 0, ready = 0, too_long = 0, parsed_ok = 0;
+  std::string raw;  // the bytes since the last LF, realtime ones included
+  int lfs = 0, ready = 0, too_long = 0, parsed_ok = 0, compared = 0;
   for (char c : soup) {
     const LineEvent e = a.feed(c);
     if (c != '\n') {
       ASSERT_EQ(e, kLineNone);
-      current += c;
+      if (realtime_command(c) == kRealtimeNone) current += c;
+      raw += c;
       continue;
     }
     ++lfs;
@@ -417,15 +426,34 @@ TEST(LineAssembler, RandomByteSoup) {
       ASSERT_EQ(e, kLineReady) << current.size();
       ASSERT_LE(a.length(), kMaxLineLength + 1);
       ASSERT_EQ(std::string(a.line(), a.length()), current);
-      Command cmd;
+      Command cmd, direct;
       const Status st = parse_line(cmd, a.line(), a.length(), 3);
       ASSERT_NE(st, kLineTooLong);
+      ASSERT_EQ(parse_line(direct, a, 3), st);  // the firmware's overload
+      if (st == kOk) {
+        ASSERT_EQ(direct.type, cmd.type);
+      }
       parsed_ok += st == kOk;
       ++ready;
     }
+    // parse_line on the raw bytes drops the realtime bytes as the assembler did.
+    if (raw.size() <= 255) {
+      Command from_raw, from_line;
+      const Status st_raw = parse_line(from_raw, raw.data(), uint8_t(raw.size()), 3);
+      const Status st_line = e == kLineReady ? parse_line(from_line, a.line(), a.length(), 3) : kLineTooLong;
+      ASSERT_EQ(st_raw, st_line) << raw.size();
+      if (st_raw == kOk) {
+        ASSERT_EQ(from_raw.type, from_line.type);
+        ASSERT_EQ(from_raw.argc, from_line.argc);
+        for (int k = 0; k < from_raw.argc; ++k) ASSERT_EQ(from_raw.arg[k], from_line.arg[k]);
+      }
+      ++compared;
+    }
+    raw.clear();
     current.clear();
   }
   EXPECT_EQ(ready + too_long, lfs);
+  EXPECT_GT(compared, 1000);
   EXPECT_GT(ready, 500);
   EXPECT_GT(too_long, 300);
   EXPECT_GT(lfs, 1500);
@@ -483,4 +511,539 @@ TEST(Replies, ParseRejects) {
     EXPECT_FALSE(parse_reply(code, s, uint8_t(std::strlen(s)))) << '"' << s << '"';
     EXPECT_EQ(code, 99) << s;
   }
+}
+
+// ---- The commands added in protocol version 2 ----
+
+namespace {
+
+// Parses and checks the type and arguments in one go.
+::testing::AssertionResult parses_to(const std::string& line, CommandType type, const std::vector<int32_t>& args,
+                                     uint8_t joints = 3) {
+  Command cmd;
+  cmd.type = kCmdNone;
+  const Status st = parse(cmd, line, joints);
+  if (st != kOk) return ::testing::AssertionFailure() << '"' << line << "\" gives " << int(st);
+  if (cmd.type != type) return ::testing::AssertionFailure() << '"' << line << "\" is type " << int(cmd.type);
+  if (std::vector<int32_t>(cmd.arg, cmd.arg + cmd.argc) != args)
+    return ::testing::AssertionFailure() << '"' << line << "\" has " << int(cmd.argc) << " other arguments";
+  return ::testing::AssertionSuccess();
+}
+
+}  // namespace
+
+TEST(ParseLine, MoveAbsolute) {
+  EXPECT_TRUE(parses_to("M 10 -20.5 +.25", kCmdMoveAbsolute, {10000, -20500, 250}));
+  EXPECT_TRUE(parses_to("m 0 0 0", kCmdMoveAbsolute, {0, 0, 0}));
+  EXPECT_TRUE(parses_to("  M\t1  2 \t 3  # to the start\r", kCmdMoveAbsolute, {1000, 2000, 3000}));
+  EXPECT_TRUE(parses_to("M 1 2 3#", kCmdMoveAbsolute, {1000, 2000, 3000}));
+  EXPECT_TRUE(parses_to("M 12.3456 -0.0005 1000000", kCmdMoveAbsolute, {12346, -1, 1000000000}));
+  // One number per joint, however many joints.
+  EXPECT_TRUE(parses_to("M 7", kCmdMoveAbsolute, {7000}, 1));
+  EXPECT_TRUE(parses_to("M 1 2 3 4 5 6 7 8 9 10 11 12", kCmdMoveAbsolute,
+                        {1000, 2000, 3000, 4000, 5000, 6000, 7000, 8000, 9000, 10000, 11000, 12000}, 12));
+  EXPECT_EQ(parse(std::string("M 1 2 3"), 12), kMissingArgument);
+  EXPECT_EQ(parse(std::string("M 1 2 3 4 5 6 7 8 9 10 11 12"), 3), kExtraArgument);
+  const std::pair<const char*, Status> bad[] = {
+      {"M", kMissingArgument},      {"M 1", kMissingArgument},     {"M 1 2", kMissingArgument},
+      {"M 1 2 # 3", kMissingArgument}, {"M 1 2 3 4", kExtraArgument}, {"M 1 2 3 x", kExtraArgument},
+      {"M 1 x 3", kBadNumber},      {"M 1 2 nan", kBadNumber},     {"M inf 2 3", kBadNumber},
+      {"M 1 2 1e3", kBadNumber},    {"M 1 2 1000000.001", kBadNumber}, {"M x", kBadNumber},
+      {"M1 2 3", kUnknownCommand},  {"MM 1 2 3", kUnknownCommand},
+  };
+  for (const auto& c : bad) EXPECT_EQ(parse(c.first), c.second) << '"' << c.first << '"';
+}
+
+TEST(ParseLine, MoveAbsoluteNeedsRoomForEveryJoint) {
+  // A command sized for fewer joints than the arm has cannot hold an M line.
+  BasicCommand<3> small;
+  EXPECT_EQ(parse_line(small, "M 1 2 3", 7, 3), kOk);
+  EXPECT_EQ(small.argc, 3);
+  EXPECT_EQ(parse_line(small, "M 1 2 3 4", 9, 4), kExtraArgument);
+  EXPECT_EQ(parse_line(small, "M 1 2 3", 7, 4), kMissingArgument);  // the line's own fault comes first
+  EXPECT_EQ(parse_line(small, "L 3 1", 5, 4), kOk);
+  EXPECT_LE(sizeof(BasicCommand<3>), 4 + 3 * sizeof(int32_t));  // 14 bytes on AVR (no padding there)
+  EXPECT_EQ(sizeof(Command::arg) / sizeof(int32_t), 12u);        // M on a 12-joint host robot
+}
+
+TEST(ParseLine, MoveTool) {
+  EXPECT_TRUE(parses_to("P 100 -20.5 30", kCmdMoveTool, {100000, -20500, 30000}));
+  EXPECT_TRUE(parses_to("p\t.5\t-.5\t0\r", kCmdMoveTool, {500, -500, 0}));
+  EXPECT_TRUE(parses_to(" P 1 2 3 # mm", kCmdMoveTool, {1000, 2000, 3000}));
+  EXPECT_TRUE(parses_to("P 1 2 3", kCmdMoveTool, {1000, 2000, 3000}, 12));  // not per joint
+  const std::pair<const char*, Status> bad[] = {
+      {"P", kMissingArgument},   {"P 1 2", kMissingArgument}, {"P 1 2 3 4", kExtraArgument},
+      {"P nan 0 0", kBadNumber}, {"P 0 NaN 0", kBadNumber},   {"P 0 0 -inf", kBadNumber},
+      {"P 1 2 3.4.5", kBadNumber}, {"P 1 2 1000001", kBadNumber},
+  };
+  for (const auto& c : bad) EXPECT_EQ(parse(c.first), c.second) << '"' << c.first << '"';
+}
+
+TEST(ParseLine, Aperture) {
+  EXPECT_TRUE(parses_to("G 0", kCmdAperture, {0}));
+  EXPECT_TRUE(parses_to("g 100", kCmdAperture, {100000}));
+  EXPECT_TRUE(parses_to("G 50.5 # half open\r", kCmdAperture, {50500}));
+  EXPECT_TRUE(parses_to("G -0", kCmdAperture, {0}));
+  EXPECT_TRUE(parses_to("G -0.0004", kCmdAperture, {0}));        // rounds to 0
+  EXPECT_TRUE(parses_to("G 100.0004", kCmdAperture, {100000}));  // rounds to 100
+  const std::pair<const char*, Status> bad[] = {
+      {"G 101", kValueOutOfRange},     {"G -1", kValueOutOfRange},  {"G 100.001", kValueOutOfRange},
+      {"G 100.0005", kValueOutOfRange}, {"G -0.001", kValueOutOfRange}, {"G -0.0005", kValueOutOfRange},
+      {"G 1000000", kValueOutOfRange}, {"G x", kBadNumber},         {"G nan", kBadNumber},
+      {"G 2000000", kBadNumber},       {"G", kMissingArgument},     {"G 1 2", kExtraArgument},
+      {"G1", kUnknownCommand},         {"G1 X10", kUnknownCommand},
+  };
+  for (const auto& c : bad) EXPECT_EQ(parse(c.first), c.second) << '"' << c.first << '"';
+}
+
+TEST(ParseLine, CommandsWithoutArguments) {
+  const std::pair<const char*, CommandType> good[] = {
+      {"H", kCmdHome},   {"h", kCmdHome},       {" H # home\r", kCmdHome}, {"Z", kCmdSetZero},
+      {"z\r", kCmdSetZero}, {"\tZ\t", kCmdSetZero}, {"I", kCmdInfo},        {"i # who?", kCmdInfo},
+  };
+  for (const auto& c : good) EXPECT_TRUE(parses_to(c.first, c.second, {}));
+  const std::pair<const char*, Status> bad[] = {
+      {"H 1", kExtraArgument},   {"Z 0", kExtraArgument}, {"I x", kExtraArgument},
+      {"HZ", kUnknownCommand},   {"Home", kUnknownCommand}, {"I2", kUnknownCommand},
+  };
+  for (const auto& c : bad) EXPECT_EQ(parse(c.first), c.second) << '"' << c.first << '"';
+}
+
+TEST(ParseLine, Settings) {
+  EXPECT_TRUE(parses_to("$", kCmdListSettings, {}));
+  EXPECT_TRUE(parses_to("  $  # list\r", kCmdListSettings, {}));
+  EXPECT_TRUE(parses_to("$#", kCmdListSettings, {}));
+  EXPECT_TRUE(parses_to("$1=5", kCmdSetSetting, {1, 5000}));
+  EXPECT_TRUE(parses_to("$12=-0.5\r", kCmdSetSetting, {12, -500}));
+  EXPECT_TRUE(parses_to("$ 3=200 # steps", kCmdSetSetting, {3, 200000}));  // "$" is a word by itself
+  EXPECT_TRUE(parses_to("\t$007=+.25", kCmdSetSetting, {7, 250}));
+  EXPECT_TRUE(parses_to("$999=1000000", kCmdSetSetting, {999, 1000000000}));
+  EXPECT_TRUE(parses_to("$0=0", kCmdSetSetting, {0, 0}));
+  const std::pair<const char*, Status> bad[] = {
+      {"$x=1", kSettingUnknown},   {"$=5", kSettingUnknown},     {"$-1=1", kSettingUnknown},
+      {"$1000=1", kSettingUnknown}, {"$1.5=1", kSettingUnknown},  {"$$", kSettingUnknown},
+      {"$x", kSettingUnknown},     {"$1=", kMissingArgument},    {"$1", kMissingArgument},
+      {"$1 =5", kMissingArgument}, {"$1= 5", kMissingArgument},  {"$1=abc", kBadNumber},
+      {"$1=nan", kBadNumber},      {"$1=1e3", kBadNumber},       {"$1=5=6", kBadNumber},
+      {"$1=-", kBadNumber},        {"$1=5 6", kExtraArgument},   {"$1=5 $2=6", kExtraArgument},
+  };
+  for (const auto& c : bad) EXPECT_EQ(parse(c.first), c.second) << '"' << c.first << '"';
+}
+
+TEST(ParseLine, EveryTableRowIsReachable) {
+  // A valid line built from each row's pattern parses to that row's type: no row is shadowed
+  // by another with the same word.
+  std::set<int> types;
+  for (uint8_t r = 0; r < kCommandCount; ++r) {
+    const CommandSpec& row = kCommandTable[r];
+    std::string line(1, row.word);
+    std::vector<int32_t> args;
+    for (const char* k = row.args; *k; ++k) {
+      const int repeat = k[1] == '*' ? 3 : 1;
+      for (int i = 0; i < repeat; ++i) {
+        switch (*k) {
+          case 'j': line += " 2", args.push_back(2); break;
+          case 'b': line += " 1", args.push_back(1); break;
+          case 's': line += " 4=7", args.push_back(4), args.push_back(7000); break;
+          default: line += " 7", args.push_back(7000);
+        }
+      }
+      if (k[1] == '*') ++k;
+    }
+    EXPECT_TRUE(parses_to(line, row.type, args)) << line;
+    types.insert(row.type);
+  }
+  EXPECT_EQ(types.size(), size_t(kCommandCount));
+  EXPECT_EQ(kCommandCount, 10);
+}
+
+// ---- Realtime bytes ----
+
+TEST(Realtime, ClassifiesEveryByte) {
+  for (int b = 0; b < 256; ++b) {
+    const RealtimeCommand r = realtime_command(char(b));
+    if (b == '?')
+      EXPECT_EQ(r, kRealtimeStatus);
+    else if (b == '!')
+      EXPECT_EQ(r, kRealtimeStop);
+    else
+      EXPECT_EQ(r, kRealtimeNone) << b;
+  }
+}
+
+TEST(Realtime, ParseLineDropsThem) {
+  EXPECT_TRUE(parses_to("L 0 1?0", kCmdRotate, {0, 10000}));
+  EXPECT_TRUE(parses_to("?L 0 10!", kCmdRotate, {0, 10000}));
+  EXPECT_TRUE(parses_to("L !0 1?0\r?", kCmdRotate, {0, 10000}));  // after the CR too
+  EXPECT_TRUE(parses_to("S 1 # done?", kCmdGripper, {1}));
+  EXPECT_TRUE(parses_to("$?1=5", kCmdSetSetting, {1, 5000}));
+  EXPECT_TRUE(parses_to("?!# comment", kCmdNone, {}));
+  EXPECT_EQ(parse(std::string("?")), kEmptyLine);  // the LF after a lone '?' ends an empty line
+  EXPECT_EQ(parse(std::string("!\r")), kEmptyLine);
+  EXPECT_EQ(parse(std::string("L 0 ?")), kMissingArgument);
+  // They do not count towards the 64 bytes.
+  std::string s = "L 0 1";
+  s.resize(64, ' ');
+  EXPECT_EQ(parse(s + std::string(100, '?')), kOk);
+  EXPECT_EQ(parse(std::string(100, '!') + s + "\r"), kOk);
+  EXPECT_EQ(parse(s + "?x"), kLineTooLong);
+  EXPECT_EQ(parse(s + "?x\r"), kLineTooLong);
+  EXPECT_EQ(parse(std::string(250, 'x') + "?"), kLineTooLong);  // stops copying at the limit
+  EXPECT_EQ(parse("?" + std::string(254, '\r')), kLineTooLong);
+  // Still a bad character where one is.
+  EXPECT_EQ(parse(std::string("L 0 ?\x01") + "1"), kBadCharacter);
+}
+
+TEST(Realtime, LineAssemblerDropsThem) {
+  LineAssembler a;
+  std::vector<Event> ev = feed_all(a, "L 0 1?0\n?!S 1!\n# why?\n");
+  ASSERT_EQ(ev.size(), 3u);
+  EXPECT_EQ(ev[0].line, "L 0 10");
+  EXPECT_EQ(ev[1].line, "S 1");
+  EXPECT_EQ(ev[2].line, "# why");
+  Command cmd;
+  ASSERT_EQ(parse(cmd, ev[0].line), kOk);
+  EXPECT_EQ(cmd.arg[1], 10000);
+  // The firmware's path: parse what the assembler holds.
+  BasicCommand<3> fw;
+  for (char c : std::string("M 1?0 2! 3\n")) a.feed(c);
+  ASSERT_EQ(parse_line(fw, a, 3), kOk);
+  EXPECT_EQ(fw.type, kCmdMoveAbsolute);
+  EXPECT_EQ(fw.arg[0], 10000);
+  EXPECT_EQ(fw.arg[2], 3000);
+  // A lone '?' and its LF: the LF ends an empty line.
+  ev = feed_all(a, "?\n");
+  ASSERT_EQ(ev.size(), 1u);
+  EXPECT_EQ(ev[0].kind, kLineReady);
+  EXPECT_EQ(ev[0].line, "");
+  // Not counted towards the length: 64 bytes with 200 realtime bytes among them still fit.
+  std::string s64 = "L 0 1";
+  s64.resize(64, ' ');
+  std::string mixed;
+  for (size_t i = 0; i < s64.size(); ++i) mixed += s64[i] + std::string(i % 2 ? "???" : "!!!!");
+  ev = feed_all(a, mixed + "\r\n" + mixed + "y\n");
+  ASSERT_EQ(ev.size(), 2u);
+  EXPECT_EQ(ev[0].kind, kLineReady);
+  EXPECT_EQ(ev[0].line, s64 + "\r");
+  EXPECT_EQ(ev[1].kind, kLineTooLongEnded);
+}
+
+// ---- Reports ----
+
+namespace {
+
+template <uint8_t J>
+std::string status_text_of(const StatusReport<J>& r) {
+  char buf[status_report_size(J)];
+  const uint16_t n = format_status(buf, sizeof buf, r);
+  return std::string(buf, n);
+}
+
+std::string setting_text(uint16_t number, int32_t value) {
+  char buf[kSettingLineSize];
+  return std::string(buf, format_setting(buf, sizeof buf, number, value));
+}
+
+StatusReport<3> example_status() {
+  StatusReport<3> r;
+  r.state = kStateIdle;
+  r.num_joints = 3;
+  const int32_t steps[] = {0, 32, -5}, mdeg[] = {0, 10133, -3639};
+  for (int i = 0; i < 3; ++i) r.steps[i] = steps[i], r.millideg[i] = mdeg[i];
+  r.gripper = 100;
+  r.free_slots = 15;
+  r.coils = true;
+  r.warning = 0;
+  return r;
+}
+
+}  // namespace
+
+TEST(Reports, FixedPointIsExact) {
+  // Thousandths written by hand, through the setting line (the same writer as every report).
+  const std::pair<int32_t, const char*> cases[] = {
+      {-5, "-0.005"},       {-12000, "-12.000"},   {0, "0.000"},          {5, "0.005"},
+      {-1, "-0.001"},       {999, "0.999"},        {-999, "-0.999"},      {1000, "1.000"},
+      {-1001, "-1.001"},    {10133, "10.133"},     {-3639, "-3.639"},     {120, "0.120"},
+      {1000000000, "1000000.000"}, {-1000000000, "-1000000.000"},
+      {2147483647, "2147483.647"}, {-2147483647 - 1, "-2147483.648"},
+  };
+  for (const auto& c : cases) EXPECT_EQ(setting_text(3, c.first), std::string("$3=") + c.second + "\n") << c.first;
+  // Against the host's printf for many values.
+  std::mt19937 rng(11);
+  std::uniform_int_distribution<int32_t> any(-2147483647 - 1, 2147483647), small(-20000, 20000);
+  for (int t = 0; t < 20000; ++t) {
+    const int32_t v = t % 2 ? any(rng) : small(rng);
+    const int64_t m = v < 0 ? -int64_t(v) : v;
+    char expected[32];
+    std::snprintf(expected, sizeof expected, "$999=%s%lld.%03lld\n", v < 0 ? "-" : "", (long long)(m / 1000),
+                  (long long)(m % 1000));
+    ASSERT_EQ(setting_text(999, v), expected);
+  }
+}
+
+TEST(Reports, StatusExactText) {
+  StatusReport<3> r = example_status();
+  EXPECT_EQ(status_text_of(r), "<Idle|S:0,32,-5|A:0.000,10.133,-3.639|G:100|Q:15|C:1>\n");
+  r.state = kStateAlarm;
+  r.coils = false;
+  r.gripper = 0;
+  r.free_slots = 0;
+  r.warning = kSettingsReset;
+  r.millideg[0] = -5;
+  r.millideg[2] = -12000;
+  EXPECT_EQ(status_text_of(r), "<Alarm|S:0,32,-5|A:-0.005,10.133,-12.000|G:0|Q:0|C:0|W:14>\n");
+  const char* words[] = {"Idle", "Run", "Stop", "Home", "Alarm"};
+  ASSERT_EQ(kStateCount, 5);
+  for (uint8_t s = 0; s < kStateCount; ++s) {
+    r.state = MachineState(s);
+    EXPECT_EQ(status_text_of(r).substr(0, 1 + std::strlen(words[s]) + 1), std::string("<") + words[s] + "|");
+  }
+  r.num_joints = 0;
+  r.state = kStateRun;
+  r.warning = 0;
+  EXPECT_EQ(status_text_of(r), "<Run|S:|A:|G:0|Q:0|C:0>\n");
+}
+
+TEST(Reports, StatusBufferSizeIsTightAndSafe) {
+  // The longest report of 3 and of 12 joints fills status_report_size() exactly (with NUL).
+  for (uint8_t joints : {uint8_t(3), uint8_t(12)}) {
+    StatusReport<12> r;
+    r.state = kStateAlarm;
+    r.num_joints = joints;
+    for (int i = 0; i < 12; ++i) r.steps[i] = -2147483647 - 1, r.millideg[i] = -2147483647 - 1;
+    r.gripper = 100;
+    r.free_slots = 255;
+    r.coils = true;
+    r.warning = 255;
+    std::vector<char> buf(status_report_size(joints) + 8, '#');
+    const uint16_t n = format_status(buf.data(), status_report_size(joints), r);
+    ASSERT_EQ(n, status_report_size(joints) - 1u) << int(joints);
+    EXPECT_EQ(buf[n - 1], '\n');
+    EXPECT_EQ(buf[n], '\0');
+    EXPECT_EQ(buf[n + 1], '#');
+    // One byte less: no room for the NUL, still complete. Two less: refused, no overrun.
+    std::fill(buf.begin(), buf.end(), '#');
+    EXPECT_EQ(format_status(buf.data(), uint16_t(n), r), n);
+    EXPECT_EQ(buf[n], '#');
+    std::fill(buf.begin(), buf.end(), '#');
+    EXPECT_EQ(format_status(buf.data(), uint16_t(n - 1), r), 0);
+    EXPECT_EQ(buf[n - 1], '#');
+  }
+  // What a report cannot hold.
+  StatusReport<3> r = example_status();
+  char buf[status_report_size(3)];
+  r.state = MachineState(kStateCount);
+  EXPECT_EQ(format_status(buf, sizeof buf, r), 0);
+  r = example_status();
+  r.num_joints = 4;
+  EXPECT_EQ(format_status(buf, sizeof buf, r), 0);
+}
+
+TEST(Reports, StatusRoundTripRandom) {
+  std::mt19937 rng(2024);
+  std::uniform_int_distribution<int32_t> steps(-2147483647 - 1, 2147483647), mdeg(-1000000000, 1000000000),
+      near(-40000, 40000);
+  std::uniform_int_distribution<int> joints(0, 12), state(0, kStateCount - 1), pct(0, 100), byte(0, 255), coin(0, 3);
+  for (int t = 0; t < 20000; ++t) {
+    StatusReport<12> r;
+    r.state = MachineState(state(rng));
+    r.num_joints = uint8_t(joints(rng));
+    for (int i = 0; i < r.num_joints; ++i) {
+      r.steps[i] = coin(rng) ? near(rng) : steps(rng);
+      r.millideg[i] = coin(rng) ? near(rng) : mdeg(rng);
+    }
+    r.gripper = uint8_t(pct(rng));
+    r.free_slots = uint8_t(byte(rng));
+    r.coils = coin(rng) & 1;
+    r.warning = coin(rng) == 0 ? uint8_t(1 + byte(rng) % 255) : 0;
+    char buf[status_report_size(12)];
+    const uint16_t n = format_status(buf, sizeof buf, r);
+    ASSERT_GT(n, 0);
+    StatusReport<12> back;
+    std::memset(&back, 0x5a, sizeof back);
+    ASSERT_TRUE(parse_status(back, buf, n)) << std::string(buf, n);
+    ASSERT_EQ(back.state, r.state);
+    ASSERT_EQ(back.num_joints, r.num_joints);
+    for (int i = 0; i < r.num_joints; ++i) {
+      ASSERT_EQ(back.steps[i], r.steps[i]);
+      ASSERT_EQ(back.millideg[i], r.millideg[i]);
+    }
+    ASSERT_EQ(back.gripper, r.gripper);
+    ASSERT_EQ(back.free_slots, r.free_slots);
+    ASSERT_EQ(back.coils, r.coils);
+    ASSERT_EQ(back.warning, r.warning);
+    // The controller's line as the host reads it: without LF, or with CRLF.
+    ASSERT_TRUE(parse_status(back, buf, uint16_t(n - 1)));
+    const std::string crlf = std::string(buf, n - 1) + "\r\n";
+    ASSERT_TRUE(parse_status(back, crlf.data(), uint16_t(crlf.size())));
+    // Never mistaken for an ok / error reply.
+    uint8_t code = 0;
+    ASSERT_FALSE(parse_reply(code, buf, uint8_t(std::min<uint16_t>(n, 255))));
+  }
+}
+
+TEST(Reports, StatusParseTolerantAndStrict) {
+  StatusReport<3> r;
+  // Field order is free and unknown fields are skipped.
+  const std::string shuffled = "<Run|C:0|Q:3|X:whatever|A:1.5,2,-3|G:7|S:1,2,3|F:1,2>";
+  ASSERT_TRUE(parse_status(r, shuffled.data(), uint16_t(shuffled.size())));
+  EXPECT_EQ(r.state, kStateRun);
+  EXPECT_EQ(r.num_joints, 3);
+  EXPECT_EQ(r.millideg[0], 1500);
+  EXPECT_EQ(r.millideg[1], 2000);
+  EXPECT_EQ(r.steps[2], 3);
+  EXPECT_EQ(r.gripper, 7);
+  EXPECT_EQ(r.free_slots, 3);
+  EXPECT_FALSE(r.coils);
+  EXPECT_EQ(r.warning, 0);
+  const std::string good = "<Idle|S:0,32,-5|A:0.000,10.133,-3.639|G:100|Q:15|C:1>";
+  const std::string bad[] = {
+      "",
+      "<>",
+      "<Idle>",                                                    // no fields
+      "Idle|S:0,32,-5|A:0.000,10.133,-3.639|G:100|Q:15|C:1>",      // no '<'
+      "<Idle|S:0,32,-5|A:0.000,10.133,-3.639|G:100|Q:15|C:1",      // no '>'
+      "<idle|S:0,32,-5|A:0.000,10.133,-3.639|G:100|Q:15|C:1>",     // state words are exact
+      "<Hold|S:0,32,-5|A:0.000,10.133,-3.639|G:100|Q:15|C:1>",     // no such state
+      "<Idle|S:0,32,-5|A:0.000,10.133|G:100|Q:15|C:1>",            // fewer angles than steps
+      "<Idle|S:0,32,-5,1|A:0.000,10.133,-3.639,1|G:100|Q:15|C:1>", // more joints than 3
+      "<Idle|S:0,32,-5|G:100|Q:15|C:1>",                           // no angles
+      "<Idle|S:0,32,-5|A:0.000,10.133,-3.639|Q:15|C:1>",           // no gripper
+      "<Idle|S:0,32,-5|A:0.000,10.133,-3.639|G:100|C:1>",          // no queue
+      "<Idle|S:0,32,-5|A:0.000,10.133,-3.639|G:100|Q:15>",         // no coils
+      "<Idle|S:0,32,-5|A:0.000,10.133,-3.639|G:101|Q:15|C:1>",
+      "<Idle|S:0,32,-5|A:0.000,10.133,-3.639|G:100|Q:256|C:1>",
+      "<Idle|S:0,32,-5|A:0.000,10.133,-3.639|G:100|Q:15|C:2>",
+      "<Idle|S:0,32,-5|A:0.000,10.133,-3.639|G:100|Q:15|C:1|W:0>",
+      "<Idle|S:0,32,-5|A:0.000,10.133,-3.639|G:100|Q:15|C:1|W:256>",
+      "<Idle|S:0,32,-5|A:0.000,10.133,-3.639|G:100|Q:15|C:1|C:1>", // twice
+      "<Idle|S:0,32,-5|A:0.000,10.133,-3.639|G:100|Q:15|C:1|>",    // empty field
+      "<Idle|S:0,32,,-5|A:0.000,10.133,-3.639|G:100|Q:15|C:1>",
+      "<Idle|S:0,32,-5,|A:0.000,10.133,-3.639,|G:100|Q:15|C:1>",
+      "<Idle|S:0,32,2147483648|A:0.000,10.133,-3.639|G:100|Q:15|C:1>",
+      "<Idle|S:0,32,-5|A:0.000,10.133,nan|G:100|Q:15|C:1>",
+      "<Idle|S:0,32,-5|A:0.000,10.133,-3.639|G:+1|Q:15|C:1>",
+      "<Idle|S 0,32,-5|A:0.000,10.133,-3.639|G:100|Q:15|C:1>",
+  };
+  for (const std::string& s : bad) {
+    StatusReport<3> out = example_status();
+    out.gripper = 42;
+    EXPECT_FALSE(parse_status(out, s.data(), uint16_t(s.size()))) << s;
+    EXPECT_EQ(out.gripper, 42) << s;  // untouched
+  }
+  EXPECT_TRUE(parse_status(r, good.data(), uint16_t(good.size())));
+}
+
+TEST(Reports, Info) {
+  InfoReport info = {{0, 1, 0}, kProtocolVersion, 3, "MK2 Plus", 0};
+  char buf[kInfoReportSize];
+  uint16_t n = format_info(buf, sizeof buf, info);
+  EXPECT_EQ(std::string(buf, n), "[Articula|V:0.1.0|P:2|J:3|R:MK2 Plus]\n");
+  InfoReport back;
+  ASSERT_TRUE(parse_info(back, buf, n));
+  EXPECT_EQ(back.version[0], 0);
+  EXPECT_EQ(back.version[1], 1);
+  EXPECT_EQ(back.version[2], 0);
+  EXPECT_EQ(back.protocol, 2);
+  EXPECT_EQ(back.num_joints, 3);
+  EXPECT_STREQ(back.name, "MK2 Plus");
+  EXPECT_EQ(back.warning, 0);
+  // The longest info line fills kInfoReportSize exactly.
+  InfoReport big = {{255, 255, 255}, 255, 255, "", kSettingsReset};
+  std::memset(big.name, '[', kMaxRobotName);
+  big.name[kMaxRobotName] = '\0';
+  big.warning = 255;
+  n = format_info(buf, sizeof buf, big);
+  ASSERT_EQ(n, kInfoReportSize - 1);
+  EXPECT_EQ(buf[n], '\0');
+  EXPECT_EQ(format_info(buf, uint16_t(kInfoReportSize - 2), big), 0);
+  ASSERT_TRUE(parse_info(back, buf, n));
+  EXPECT_EQ(std::string(back.name), std::string(kMaxRobotName, '['));
+  EXPECT_EQ(back.warning, 255);
+  // Names the line cannot carry.
+  for (const char* name : {"a|b", "a]b", "tab\there", "\x7f"}) {
+    InfoReport bad = info;
+    std::strcpy(bad.name, name);
+    EXPECT_EQ(format_info(buf, sizeof buf, bad), 0) << name;
+  }
+  InfoReport unterminated = info;
+  std::memset(unterminated.name, 'x', sizeof unterminated.name);  // no NUL within the array
+  EXPECT_EQ(format_info(buf, sizeof buf, unterminated), 0);
+  // Reading: fields in any order, unknown ones skipped; V, P, J, R required.
+  const std::string odd = "[Articula|R:arm 2|Z:9|J:6|P:3|W:14|V:1.22.333]";
+  EXPECT_FALSE(parse_info(back, odd.data(), uint16_t(odd.size())));  // 333 is not a byte
+  const std::string ok = "[Articula|R:arm 2|Z:9|J:6|P:3|W:14|V:1.22.33]\r\n";
+  ASSERT_TRUE(parse_info(back, ok.data(), uint16_t(ok.size())));
+  EXPECT_STREQ(back.name, "arm 2");
+  EXPECT_EQ(back.num_joints, 6);
+  EXPECT_EQ(back.protocol, 3);
+  EXPECT_EQ(back.warning, kSettingsReset);
+  EXPECT_EQ(back.version[2], 33);
+  const char* bad[] = {"[Articula|V:0.1.0|P:2|J:3]",          // no name
+                       "[Articula|V:0.1|P:2|J:3|R:x]",        // two version parts
+                       "[Articula|V:0.1.0.0|P:2|J:3|R:x]",    // four
+                       "[Articula|V:0.-1.0|P:2|J:3|R:x]",     // a negative part
+                       "[articula|V:0.1.0|P:2|J:3|R:x]",      // the tag is exact
+                       "[Articula|V:0.1.0|P:2|J:3|R:x",       // no ']'
+                       "<Articula|V:0.1.0|P:2|J:3|R:x>",      // a status bracket
+                       "[Articula|V:0.1.0|P:2|P:2|J:3|R:x]",  // twice
+                       "[Articula|V:0.1.0|P:2|J:3|R:0123456789012345678901234]"};  // 25 characters
+  for (const char* s : bad) {
+    InfoReport out = info;
+    EXPECT_FALSE(parse_info(out, s, uint16_t(std::strlen(s)))) << s;
+    EXPECT_STREQ(out.name, "MK2 Plus") << s;
+  }
+  uint8_t code = 0;
+  EXPECT_FALSE(parse_reply(code, buf, uint8_t(n)));
+}
+
+TEST(Reports, SettingLineIsTheCommandThatSetsIt) {
+  EXPECT_EQ(setting_text(3, 200000), "$3=200.000\n");
+  EXPECT_EQ(setting_text(12, -5), "$12=-0.005\n");
+  EXPECT_EQ(setting_text(0, 0), "$0=0.000\n");
+  char buf[kSettingLineSize + 4];
+  std::memset(buf, '#', sizeof buf);
+  const uint16_t n = format_setting(buf, kSettingLineSize, 999, -2147483647 - 1);  // the longest
+  EXPECT_EQ(std::string(buf, n), "$999=-2147483.648\n");
+  EXPECT_EQ(n, kSettingLineSize - 1);
+  EXPECT_EQ(buf[n], '\0');
+  EXPECT_EQ(format_setting(buf, 5, 999, 1), 0);
+  EXPECT_EQ(format_setting(buf, sizeof buf, 1000, 1), 0);  // setting numbers have 3 digits
+  // A listing sent back sets the same values.
+  std::mt19937 rng(5);
+  std::uniform_int_distribution<int32_t> value(-1000000000, 1000000000);
+  std::uniform_int_distribution<int> number(0, 999);
+  for (int t = 0; t < 10000; ++t) {
+    const int num = number(rng);
+    const int32_t v = value(rng);
+    const std::string line = setting_text(uint16_t(num), v);
+    Command cmd;
+    ASSERT_EQ(parse(cmd, line.substr(0, line.size() - 1)), kOk) << line;
+    ASSERT_EQ(cmd.type, kCmdSetSetting);
+    ASSERT_EQ(cmd.argc, 2);
+    ASSERT_EQ(cmd.arg[0], num);
+    ASSERT_EQ(cmd.arg[1], v);
+  }
+}
+
+TEST(Reports, SinkFormIsTheBufferForm) {
+  // What the firmware streams to its serial port is what format_* puts in a buffer.
+  struct StringSink {
+    std::string s;
+    void put(char c) { s += c; }
+  } sink;
+  const StatusReport<3> r = example_status();
+  ASSERT_TRUE(write_status(sink, r));
+  EXPECT_EQ(sink.s, status_text_of(r));
+  sink.s.clear();
+  const InfoReport info = {{1, 2, 3}, kProtocolVersion, 3, "x", 0};
+  ASSERT_TRUE(write_info(sink, info));
+  EXPECT_EQ(sink.s, "[Articula|V:1.2.3|P:2|J:3|R:x]\n");
+  sink.s.clear();
+  ASSERT_TRUE(write_setting(sink, 5, -1500));
+  EXPECT_EQ(sink.s, "$5=-1.500\n");
+  sink.s.clear();
+  EXPECT_FALSE(write_setting(sink, 1000, 0));
+  EXPECT_EQ(sink.s, "");
 }

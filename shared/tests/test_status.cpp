@@ -91,6 +91,11 @@ TEST(Status, EnumValuesAreTheCodes) {
   EXPECT_EQ(kJointLimit, 9);
   EXPECT_EQ(kUnreachable, 10);
   EXPECT_EQ(kBadCharacter, 11);
+  EXPECT_EQ(kNotHomed, 12);
+  EXPECT_EQ(kSettingUnknown, 13);
+  EXPECT_EQ(kSettingsReset, 14);
+  EXPECT_EQ(kStopped, 15);
+  EXPECT_EQ(kStatusCount, 16);
   EXPECT_STREQ(status_name(kLineTooLong), "LineTooLong");
   EXPECT_STREQ(status_text(kOk), "ok");
 }
