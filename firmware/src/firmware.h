@@ -1,0 +1,27 @@
+// firmware/src/firmware.h - the firmware's entry points, called by the HAL's main loop
+// and interrupts (hal_avr.cpp / main.cpp on the Nano, the fake HAL in native tests).
+#ifndef ARTICULA_FIRMWARE_FIRMWARE_H
+#define ARTICULA_FIRMWARE_FIRMWARE_H
+
+#include <stdint.h>
+
+namespace firmware {
+
+// Once, after hal::init(): loads the settings from EEPROM, sets up the arm's state.
+void setup();
+
+// One pass of the main loop: reads serial bytes, runs and answers commands, feeds the
+// motion queue, sends requested status reports, releases idle coils. Never blocks for
+// longer than a command's own computation.
+void poll();
+
+// From the step timer interrupt: puts out the step that is due and returns the ticks to the
+// next one (0: nothing more; the timer stops until the firmware starts it again).
+uint32_t on_step_timer();
+
+// From the serial receive interrupt, for the realtime bytes '?' (status) and '!' (stop).
+void on_realtime(char c);
+
+}  // namespace firmware
+
+#endif  // ARTICULA_FIRMWARE_FIRMWARE_H
