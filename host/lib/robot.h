@@ -44,6 +44,13 @@ struct Gripper {
   double servo_closed_deg = 0;  // servo angle for fully closed
 };
 
+// The range RoboSim's `l` command may set a row's a(i-1) to (robot file: "a" as
+// {"value", "min", "max"}); rows with a plain number are not adjustable.
+struct LengthRange {
+  bool adjustable = false;
+  double min = 0, max = 0;  // mm
+};
+
 struct Robot {
   std::string name;
   std::string description;
@@ -57,6 +64,8 @@ struct Robot {
   std::vector<std::string> motor_names;
 
   std::vector<double> home;  // joint variables, rad or mm, in model order
+
+  std::vector<LengthRange> length_ranges;  // one per DH row
 
   std::vector<LinkGeometry> links;
   Gripper gripper;

@@ -28,6 +28,7 @@ const std::map<std::string, std::vector<std::string>>& robot_file_fields() {
   static const std::map<std::string, std::vector<std::string>> fields = {
       {"robot", {"$schema", "name", "description", "dh", "tool", "motors", "coupling", "home", "links", "gripper"}},
       {"dh_row", {"a", "alpha", "d", "theta"}},
+      {"length", {"value", "min", "max"}},
       {"joint", {"joint", "min", "max"}},
       {"linked", {"linked", "offset"}},
       {"tool", {"xyz", "rpy"}},
@@ -362,11 +363,26 @@ class Loader {
       const std::string path = child("/dh", i);
       const json& row = dh[i];
       fields(row, path, "dh_row");
-      m.rows[i].a = length(required(row, path, "a"), child(path, "a"));
+      m.rows[i].a = link_length(required(row, path, "a"), child(path, "a"), i);
       // Joint variables are numbered in this order: theta, d, alpha.
       for (int param : {int(kParamTheta), int(kParamD), int(kParamAlpha)})
         load_param(required(row, path, param_name(param)), child(path, param_name(param)), int(i), param);
     }
+  }
+
+  // "a": a length in mm, or {"value", "min", "max"}: a length RoboSim's `l` may change
+  // within the range.
+  double link_length(const json& j, const std::string& path, std::size_t row) {
+    robot_.length_ranges.resize(row + 1);
+    if (!j.is_object()) return length(j, path);
+    fields(j, path, "length");
+    const double v = length(required(j, path, "value"), child(path, "value"));
+    const double lo = length(required(j, path, "min"), child(path, "min"));
+    const double hi = length(required(j, path, "max"), child(path, "max"));
+    if (lo > hi) fail(child(path, "min"), "limits inverted (min " + num(lo) + " > max " + num(hi) + ")");
+    if (v < lo || v > hi) fail(child(path, "value"), num(v) + " mm is outside its range " + num(lo) + " .. " + num(hi));
+    robot_.length_ranges[row] = LengthRange{true, lo, hi};
+    return v;
   }
 
   void load_param(const json& j, const std::string& path, int row, int param) {

@@ -1,0 +1,200 @@
+// host/lib/program.cpp - reading RoboSim and protocol programs (program.h).
+#include "program.h"
+
+#include <articula/protocol.h>
+
+#include <cctype>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+namespace articula::host {
+
+ProgramError::ProgramError(const std::string& file, int line, const std::string& problem)
+    : std::runtime_error(file + ":" + std::to_string(line) + ": " + problem), line_(line) {}
+
+namespace {
+
+struct Line {
+  int number;
+  std::string text;  // comment and surrounding blanks removed; never empty
+};
+
+std::string trim(const std::string& s) {
+  size_t b = 0, e = s.size();
+  while (b < e && std::isspace(static_cast<unsigned char>(s[b]))) ++b;
+  while (e > b && std::isspace(static_cast<unsigned char>(s[e - 1]))) --e;
+  return s.substr(b, e - b);
+}
+
+// The lines that hold something, with `#` comments removed.
+std::vector<Line> content_lines(const std::string& text) {
+  std::vector<Line> out;
+  std::istringstream in(text);
+  std::string s;
+  for (int n = 1; std::getline(in, s); ++n) {
+    const size_t hash = s.find('#');
+    if (hash != std::string::npos) s.erase(hash);
+    s = trim(s);
+    if (!s.empty()) out.push_back({n, s});
+  }
+  return out;
+}
+
+bool ends_with(const std::string& s, const std::string& tail) {
+  return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
+}
+
+std::string lower(std::string s) {
+  for (char& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+// One number alone on a line (RoboSim puts every argument on a line of its own).
+double number_line(const std::string& file, const Line& l, const std::string& what) {
+  size_t used = 0;
+  double v = 0;
+  try {
+    v = std::stod(l.text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used == 0 || used != l.text.size() || !std::isfinite(v))
+    throw ProgramError(file, l.number, what + ": expected one number, got '" + l.text + "'");
+  return v;
+}
+
+std::string fmt(double v) {
+  std::ostringstream o;
+  o << v;
+  return o.str();
+}
+
+void check_range(const std::string& file, int line, const std::string& what, double v, double lo, double hi) {
+  if (v < lo || v > hi)
+    throw ProgramError(file, line, what + " " + fmt(v) + " is outside " + fmt(lo) + " .. " + fmt(hi));
+}
+
+}  // namespace
+
+Program::Format detect_format(const std::string& text, const std::string& name) {
+  const std::string n = lower(name);
+  if (ends_with(n, ".robosim") || ends_with(n, ".file")) return Program::Format::kRoboSim;
+  if (ends_with(n, ".arm") || ends_with(n, ".txt")) return Program::Format::kProtocol;
+  for (const Line& l : content_lines(text)) {
+    const bool single = l.text.size() == 1 && std::isalpha(static_cast<unsigned char>(l.text[0]));
+    // Letters that are protocol commands without arguments (H, Z, I) and RoboSim commands
+    // at once would be ambiguous alone: only RoboSim's own letters decide for RoboSim.
+    if (single && std::string("malwshz").find(char(std::tolower(l.text[0]))) != std::string::npos &&
+        std::string("hzi").find(char(std::tolower(l.text[0]))) == std::string::npos)
+      return Program::Format::kRoboSim;
+    return Program::Format::kProtocol;
+  }
+  return Program::Format::kProtocol;
+}
+
+Program parse_robosim(const std::string& text, const std::string& name, const Robot& robot) {
+  Program p;
+  p.format = Program::Format::kRoboSim;
+  p.source = name;
+  const std::vector<Line> lines = content_lines(text);
+  const int joints = robot.model.num_joints;
+  int adjustable_rows = 0;
+  for (const auto& r : robot.length_ranges) adjustable_rows += r.adjustable;
+
+  for (size_t i = 0; i < lines.size();) {
+    const Line& cmd = lines[i++];
+    if (cmd.text.size() != 1)
+      throw ProgramError(name, cmd.number,
+                         "expected a command letter alone on its line (m, a, l, w, s, h, z), got '" + cmd.text + "'");
+    const char c = char(std::tolower(static_cast<unsigned char>(cmd.text[0])));
+    Statement st;
+    st.line = cmd.number;
+    int count = 0;
+    std::string what;
+    switch (c) {
+      case 'm': st.kind = Statement::Kind::kJoints, count = joints, what = "m (joint value)"; break;
+      case 'a': st.kind = Statement::Kind::kTarget, count = 3, what = "a (target coordinate)"; break;
+      case 'l': st.kind = Statement::Kind::kLinkLengths, count = adjustable_rows, what = "l (link length)"; break;
+      case 'w': st.kind = Statement::Kind::kWeights, count = joints, what = "w (angle weight)"; break;
+      case 's': st.kind = Statement::Kind::kSpeed, count = 1, what = "s (speed)"; break;
+      case 'h': st.kind = Statement::Kind::kHand, count = 1, what = "h (hand aperture)"; break;
+      case 'z': st.kind = Statement::Kind::kZoom, count = 1, what = "z (zoom)"; break;
+      default:
+        throw ProgramError(name, cmd.number, std::string("unknown command '") + cmd.text + "' (m, a, l, w, s, h, z)");
+    }
+    if (c == 'l' && count == 0)
+      throw ProgramError(name, cmd.number, robot.name + " has no link with an allowed length range (robot file: \"a\" as {\"value\", \"min\", \"max\"})");
+    for (int k = 0; k < count; ++k) {
+      if (i >= lines.size() || (lines[i].text.size() == 1 && std::isalpha(static_cast<unsigned char>(lines[i].text[0]))))
+        throw ProgramError(name, i < lines.size() ? lines[i].number : cmd.number,
+                           what + ": " + std::to_string(count) + " values expected, " + std::to_string(k) + " given");
+      const Line& l = lines[i++];
+      const double v = number_line(name, l, what);
+      switch (st.kind) {
+        case Statement::Kind::kJoints: {
+          const bool angle = robot.model.joints[k].param != kParamD;
+          const double lo = robot.model.joints[k].lo, hi = robot.model.joints[k].hi;
+          check_range(name, l.number, "joint " + robot.joint_names[k], v, angle ? rad_to_deg(lo) : lo,
+                      angle ? rad_to_deg(hi) : hi);
+          break;
+        }
+        case Statement::Kind::kLinkLengths: {
+          int seen = -1;
+          for (const auto& r : robot.length_ranges)
+            if (r.adjustable && ++seen == k) check_range(name, l.number, "link length", v, r.min, r.max);
+          break;
+        }
+        case Statement::Kind::kWeights:
+          if (v < 0 || v != std::floor(v))
+            throw ProgramError(name, l.number, "w: weights are whole numbers >= 0, got " + fmt(v));
+          break;
+        case Statement::Kind::kSpeed: check_range(name, l.number, "speed", v, 1, 82); break;
+        case Statement::Kind::kHand: check_range(name, l.number, "hand aperture", v, 0.0, 0.5); break;
+        case Statement::Kind::kZoom: check_range(name, l.number, "zoom", v, 0.1, 3.5); break;
+        default: break;
+      }
+      st.values.push_back(v);
+    }
+    p.statements.push_back(st);
+  }
+  return p;
+}
+
+Program parse_protocol_program(const std::string& text, const std::string& name, const Robot& robot) {
+  Program p;
+  p.format = Program::Format::kProtocol;
+  p.source = name;
+  const int joints = robot.has_motors ? robot.actuation.num_motors : robot.model.num_joints;
+  std::istringstream in(text);
+  std::string s;
+  for (int n = 1; std::getline(in, s); ++n) {
+    if (!s.empty() && s.back() == '\r') s.pop_back();
+    const std::string t = trim(s);
+    if (t.empty() || t[0] == '#') continue;
+    if (t.size() > kMaxLineLength)
+      throw ProgramError(name, n, "line longer than " + std::to_string(kMaxLineLength) + " bytes (error:7)");
+    Command cmd;
+    const Status st = parse_line(cmd, t.data(), uint8_t(t.size()), uint8_t(joints));
+    if (st != kOk)
+      throw ProgramError(name, n, "'" + t + "': error:" + std::to_string(int(st)) + " " + status_text(st));
+    Statement statement;
+    statement.kind = Statement::Kind::kProtocol;
+    statement.text = t;
+    statement.line = n;
+    p.statements.push_back(statement);
+  }
+  return p;
+}
+
+Program load_program(const std::string& path, const Robot& robot) {
+  std::ifstream f(path, std::ios::binary);
+  if (!f) throw ProgramError(path, 0, "cannot read the file");
+  std::ostringstream ss;
+  ss << f.rdbuf();
+  const std::string text = ss.str();
+  return detect_format(text, path) == Program::Format::kRoboSim ? parse_robosim(text, path, robot)
+                                                                 : parse_protocol_program(text, path, robot);
+}
+
+}  // namespace articula::host

@@ -1,0 +1,71 @@
+// host/lib/program.h - programs: the RoboSim language of the thesis's appendix B, and the
+// arm's own serial protocol (docs/protocol.md), read into one list of statements that
+// `articula run` / `predict` and the harness execute.
+#ifndef ARTICULA_HOST_PROGRAM_H
+#define ARTICULA_HOST_PROGRAM_H
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "robot.h"
+
+namespace articula::host {
+
+struct Statement {
+  enum class Kind {
+    // RoboSim (appendix B)
+    kJoints,       // m: one value per joint variable (deg or mm), absolute
+    kTarget,       // a: x y z (mm) through IK
+    kLinkLengths,  // l: a(i-1) of every row that has an allowed range (mm)
+    kWeights,      // w: one IK weight per joint variable
+    kSpeed,        // s: 1 (slow) .. 82 (fast)
+    kHand,         // h: aperture 0.0 (open) .. 0.5 (closed)
+    kZoom,         // z: 0.1 .. 3.5, for a viewer; no effect on the arm
+    // The serial protocol: the line itself, executed by the shared codec.
+    kProtocol,
+  };
+  Kind kind;
+  std::vector<double> values;  // RoboSim arguments in file units; empty for kProtocol
+  std::string text;            // kProtocol: the line as written (without comment-only lines)
+  int line = 0;                // 1-based line of the command in its file
+};
+
+struct Program {
+  enum class Format { kRoboSim, kProtocol };
+  Format format = Format::kRoboSim;
+  std::string source;  // the file (or name) it was read from
+  std::vector<Statement> statements;
+};
+
+// A program that cannot be read: what() is "<file>:<line>: <problem>".
+class ProgramError : public std::runtime_error {
+ public:
+  ProgramError(const std::string& file, int line, const std::string& problem);
+  int line() const { return line_; }
+
+ private:
+  int line_;
+};
+
+// Which language a text is in. A file ending in .robosim or .file (the thesis's name for
+// RoboSim programs) is RoboSim, one ending in .arm or .txt the protocol; otherwise the first
+// command decides: a command letter alone on its line is RoboSim, a letter followed by its
+// arguments (or a protocol command without any, like H or $) is the protocol.
+Program::Format detect_format(const std::string& text, const std::string& name);
+
+// Reads a RoboSim program for `robot`: argument counts follow the robot (m and w take one
+// value per joint variable, l one per row with an allowed length range), and every value
+// is checked against its range. Throws ProgramError.
+Program parse_robosim(const std::string& text, const std::string& name, const Robot& robot);
+
+// Reads a protocol program: every line is checked with the shared codec now, so a program
+// with a malformed line is rejected before anything runs. Throws ProgramError.
+Program parse_protocol_program(const std::string& text, const std::string& name, const Robot& robot);
+
+// Reads a program file in either language (detect_format). Throws ProgramError.
+Program load_program(const std::string& path, const Robot& robot);
+
+}  // namespace articula::host
+
+#endif  // ARTICULA_HOST_PROGRAM_H

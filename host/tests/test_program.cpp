@@ -1,0 +1,142 @@
+// Tests host/lib/program.cpp: the RoboSim language (thesis appendix B) and protocol
+// programs, valid forms and every error with its line, and format detection.
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "program.h"
+#include "robot_file.h"
+
+using namespace articula::host;
+using Kind = Statement::Kind;
+
+namespace {
+const Robot& mk2() {
+  static const Robot r = load_robot_file(std::string(ARTICULA_SOURCE_DIR) + "/robots/mk2plus.json");
+  return r;
+}
+
+// A two-row arm whose first link length RoboSim's `l` may change (100 .. 200 mm).
+Robot adjustable() {
+  return parse_robot(R"({"name": "adj", "dh": [
+      {"a": 0, "alpha": 0, "d": 0, "theta": {"joint": "j1", "min": -90, "max": 90}},
+      {"a": {"value": 150, "min": 100, "max": 200}, "alpha": 0, "d": 0, "theta": {"joint": "j2", "min": -90, "max": 90}}]})",
+                     "adj.json");
+}
+
+std::string error_of(const std::string& text, const Robot& r, bool robosim = true) {
+  try {
+    if (robosim)
+      parse_robosim(text, "prog.robosim", r);
+    else
+      parse_protocol_program(text, "prog.arm", r);
+  } catch (const ProgramError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+}  // namespace
+
+TEST(RoboSim, EveryCommandOneItemALine) {
+  const Program p = parse_robosim(
+      "# the thesis's form: a command letter, then each argument on its own line\n"
+      "m\n0\n90\n-90\n"
+      "A\n235\n0\n213   # comments anywhere\n"
+      "w\n1\n1\n0\n"
+      "s\n82\n"
+      "h\n0.5\n"
+      "\n"
+      "Z\n1.5\n",
+      "demo.robosim", mk2());
+  ASSERT_EQ(p.statements.size(), 6u);
+  EXPECT_EQ(p.statements[0].kind, Kind::kJoints);
+  EXPECT_EQ(p.statements[0].values, (std::vector<double>{0, 90, -90}));
+  EXPECT_EQ(p.statements[0].line, 2);
+  EXPECT_EQ(p.statements[1].kind, Kind::kTarget);  // upper case accepted
+  EXPECT_EQ(p.statements[1].values, (std::vector<double>{235, 0, 213}));
+  EXPECT_EQ(p.statements[2].kind, Kind::kWeights);
+  EXPECT_EQ(p.statements[3].kind, Kind::kSpeed);
+  EXPECT_EQ(p.statements[4].values, (std::vector<double>{0.5}));
+  EXPECT_EQ(p.statements[5].kind, Kind::kZoom);
+  EXPECT_EQ(p.statements[5].line, 19);
+}
+
+TEST(RoboSim, ErrorsNameTheLineAndTheProblem) {
+  EXPECT_EQ(error_of("m\n0\n90\n", mk2()), "prog.robosim:1: m (joint value): 3 values expected, 2 given");
+  EXPECT_EQ(error_of("m\n0\n90\na\n1\n2\n3\n", mk2()), "prog.robosim:4: m (joint value): 3 values expected, 2 given");
+  EXPECT_EQ(error_of("q\n", mk2()), "prog.robosim:1: unknown command 'q' (m, a, l, w, s, h, z)");
+  EXPECT_EQ(error_of("m 0 90 -90\n", mk2()),
+            "prog.robosim:1: expected a command letter alone on its line (m, a, l, w, s, h, z), got 'm 0 90 -90'");
+  EXPECT_EQ(error_of("s\nfast\n", mk2()), "prog.robosim:2: s (speed): expected one number, got 'fast'");
+  EXPECT_EQ(error_of("s\n83\n", mk2()), "prog.robosim:2: speed 83 is outside 1 .. 82");
+  EXPECT_EQ(error_of("h\n0.6\n", mk2()), "prog.robosim:2: hand aperture 0.6 is outside 0 .. 0.5");
+  EXPECT_EQ(error_of("z\n4\n", mk2()), "prog.robosim:2: zoom 4 is outside 0.1 .. 3.5");
+  EXPECT_EQ(error_of("m\n0\n20\n-90\n", mk2()), "prog.robosim:3: joint shoulder 20 is outside 36 .. 130");
+  EXPECT_EQ(error_of("w\n1\n0.5\n1\n", mk2()), "prog.robosim:3: w: weights are whole numbers >= 0, got 0.5");
+  EXPECT_EQ(error_of("a\n1\nnan\n3\n", mk2()), "prog.robosim:3: a (target coordinate): expected one number, got 'nan'");
+  EXPECT_NE(error_of("l\n100\n", mk2()).find("MK2 Plus has no link with an allowed length range"), std::string::npos);
+}
+
+TEST(RoboSim, LinkLengthsWithinTheirRange) {
+  const Robot r = adjustable();
+  ASSERT_EQ(r.length_ranges.size(), 2u);
+  EXPECT_TRUE(r.length_ranges[1].adjustable);
+  EXPECT_EQ(r.model.rows[1].a, 150);
+  const Program p = parse_robosim("l\n120\n", "l.robosim", r);
+  EXPECT_EQ(p.statements[0].values, std::vector<double>{120});
+  EXPECT_EQ(error_of("l\n99\n", r), "prog.robosim:2: link length 99 is outside 100 .. 200");
+}
+
+TEST(RoboSim, LoaderChecksAdjustableLengths) {
+  auto load_error = [](const std::string& a) {
+    try {
+      parse_robot(R"({"name": "x", "dh": [{"a": )" + a + R"(, "alpha": 0, "d": 0, "theta": {"joint": "j", "min": 0, "max": 1}}]})",
+                  "x.json");
+    } catch (const RobotFileError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_EQ(load_error(R"({"value": 50, "min": 100, "max": 200})"), "x.json: /dh/0/a/value: 50 mm is outside its range 100 .. 200");
+  EXPECT_EQ(load_error(R"({"value": 150, "min": 200, "max": 100})"), "x.json: /dh/0/a/min: limits inverted (min 200 > max 100)");
+  EXPECT_EQ(load_error(R"({"value": 150, "min": 100})"), "x.json: /dh/0/a/max: missing required field \"max\"");
+  EXPECT_EQ(load_error(R"({"value": -1, "min": -2, "max": 0})"), "x.json: /dh/0/a/value: negative length (-1 mm)");
+}
+
+TEST(ProtocolProgram, EveryLineCheckedBeforeAnythingRuns) {
+  const Program p = parse_protocol_program("# a program in the arm's own protocol\nL 0 10\r\n\nS 1\nM 0 90 0 # home\n",
+                                           "moves.arm", mk2());
+  ASSERT_EQ(p.statements.size(), 3u);
+  EXPECT_EQ(p.statements[0].text, "L 0 10");
+  EXPECT_EQ(p.statements[0].line, 2);
+  EXPECT_EQ(p.statements[2].text, "M 0 90 0 # home");
+  EXPECT_EQ(p.statements[2].line, 5);
+  EXPECT_EQ(error_of("L 0 10\nL 5 1\n", mk2(), false), "prog.arm:2: 'L 5 1': error:6 no such joint");
+  EXPECT_EQ(error_of("M 0 90\n", mk2(), false), "prog.arm:1: 'M 0 90': error:4 missing argument");
+  EXPECT_EQ(error_of("X\n", mk2(), false), "prog.arm:1: 'X': error:2 unknown command");
+  EXPECT_EQ(error_of("L 0 " + std::string(70, '1') + "\n", mk2(), false), "prog.arm:1: line longer than 64 bytes (error:7)");
+}
+
+TEST(Programs, FormatDetection) {
+  using F = Program::Format;
+  EXPECT_EQ(detect_format("L 0 10\n", "x.robosim"), F::kRoboSim);  // the name decides first
+  EXPECT_EQ(detect_format("m\n1\n", "x.arm"), F::kProtocol);
+  EXPECT_EQ(detect_format("# hi\nm\n0\n", "x"), F::kRoboSim);
+  EXPECT_EQ(detect_format("\nL 0 10\n", "x"), F::kProtocol);
+  EXPECT_EQ(detect_format("H\n", "x"), F::kProtocol);  // the protocol's home, not RoboSim's hand
+  EXPECT_EQ(detect_format("s\n10\n", "x"), F::kRoboSim);
+}
+
+TEST(Programs, LoadProgramReadsFilesAndNamesMissingOnes) {
+  const std::string path = testing::TempDir() + "/p.file";
+  std::ofstream(path) << "m\n0\n90\n-90\n";
+  const Program p = load_program(path, mk2());
+  EXPECT_EQ(p.format, Program::Format::kRoboSim);
+  EXPECT_EQ(p.statements.size(), 1u);
+  try {
+    load_program(testing::TempDir() + "/nope.arm", mk2());
+    FAIL() << "no error";
+  } catch (const ProgramError& e) {
+    EXPECT_NE(std::string(e.what()).find("nope.arm:0: cannot read the file"), std::string::npos);
+  }
+}
