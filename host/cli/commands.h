@@ -8,6 +8,7 @@ namespace articula::cli {
 int cmd_info(int argc, char** argv);
 int cmd_fk(int argc, char** argv);
 int cmd_quantize(int argc, char** argv);
+int cmd_import_legacy(int argc, char** argv);
 
 }  // namespace articula::cli
 

@@ -18,6 +18,7 @@ const CommandEntry kCommands[] = {
     {"info", articula::cli::cmd_info, "the robot's DH table, joints, limits, motors and reach"},
     {"fk", articula::cli::cmd_fk, "forward kinematics: every frame and the tool pose for joint values"},
     {"quantize", articula::cli::cmd_quantize, "what whole motor steps make of protocol moves (L lines), in degrees and mm"},
+    {"import-legacy", articula::cli::cmd_import_legacy, "convert the original system's robot text file (thesis appendix C)"},
 };
 
 void usage(std::ostream& os) {
@@ -25,7 +26,7 @@ void usage(std::ostream& os) {
         "Simulate and predict articulate robot arms described by modified DH tables.\n"
         "Robots are JSON files (robots/README.md); a shipped one can be named without path (mk2plus).\n"
         "Lengths are in mm and angles in degrees at every interface.\n\ncommands:\n";
-  for (const auto& c : kCommands) os << "  " << c.name << std::string(10 - std::strlen(c.name), ' ') << c.help << '\n';
+  for (const auto& c : kCommands) os << "  " << c.name << std::string(15 - std::strlen(c.name), ' ') << c.help << '\n';
   os << "\n'articula <command> --help' describes a command's options.\n";
 }
 

@@ -41,7 +41,7 @@ TEST(Cli, NoArgumentsPrintsUsageAndFails) {
 TEST(Cli, HelpListsEveryCommand) {
   const Result r = run("--help");
   EXPECT_EQ(r.code, 0);
-  for (const char* c : {"info", "fk", "quantize"}) EXPECT_NE(r.out.find(c), std::string::npos) << c;
+  for (const char* c : {"info", "fk", "quantize", "import-legacy"}) EXPECT_NE(r.out.find(c), std::string::npos) << c;
 }
 
 TEST(Cli, UnknownCommandIsNamed) {
@@ -176,4 +176,20 @@ TEST(Cli, QuantizeReportsCommandsItDoesNotSimulate) {
   EXPECT_NE(r.out.find("2 lines, 0 rejected, 1 not simulated"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("'I': ok, not simulated by quantize"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("10.1333"), std::string::npos) << r.out;  // the '?' dropped: L 0 10, 32 steps
+}
+
+TEST(Cli, ImportLegacyWritesALoadableRobotAndListsTheRest) {
+  const std::string out = testing::TempDir() + "/imported.json";
+  const Result r = run("import-legacy " + std::string(ARTICULA_SOURCE_DIR) +
+                       "/docs/examples/thesis-example.legacy.txt --scale 10 -o " + out);
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("have no place in a robot file"), std::string::npos);
+  EXPECT_NE(r.out.find("hand model path 'Models/hand1.obj'"), std::string::npos);
+  // What it wrote is a robot the other commands take: row 2's a = 6 units = 60 mm.
+  const Result info = run_stdout("info " + out + " --json");
+  ASSERT_EQ(info.code, 0) << info.out;
+  EXPECT_EQ(nlohmann::json::parse(info.out)["dh"][1]["a"], "60.000");
+  const Result bad = run("import-legacy " + std::string(ARTICULA_SOURCE_DIR) + "/robots/mk2plus.json");
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_NE(bad.out.find("mk2plus.json:1: set 1 (number of arms)"), std::string::npos) << bad.out;
 }
