@@ -1,16 +1,29 @@
 # Articula - the commands a user types. Each target installs what it needs first
 # (scripts/bootstrap is idempotent and quick when everything is there).
 #
-#   make          build everything (host tools and AVR targets)
+#   make          build everything (host tools, AVR targets, the Nano firmware and its sizes)
 #   make test     install, build, run every test, print a summary
 #   make demo     install, build, run the main job on the MK2 arm
+#   make firmware build only the Nano firmware (HEX and ELF)
+#   make flash PORT=/dev/ttyUSB0 [BOOTLOADER=new]
+#                 flash the HEX into a Nano through its USB bootloader
 #   make clean    remove the build tree
 
 BUILD ?= build
 JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 ARTICULA = $(BUILD)/host/cli/articula
 
-.PHONY: all build bootstrap test demo clean format
+# The Nano firmware, built by the AVR external project of the CMake build.
+FIRMWARE_DIR = $(BUILD)/avr/firmware
+HEX = $(FIRMWARE_DIR)/articula-nano.hex
+# Nanos with the old bootloader (ATmegaBOOT, most clones) take 57,600 baud; those with the
+# new one (Optiboot) 115,200. BAUD overrides both.
+BOOTLOADER ?= old
+BAUD_old = 57600
+BAUD_new = 115200
+BAUD ?= $(BAUD_$(BOOTLOADER))
+
+.PHONY: all build bootstrap test demo firmware flash clean format
 
 all: build
 
@@ -22,11 +35,22 @@ $(BUILD)/build.ninja:
 
 build: bootstrap $(BUILD)/build.ninja
 	cmake --build $(BUILD) -j $(JOBS)
+	@echo "firmware: $(HEX)"
+
+firmware: bootstrap $(BUILD)/build.ninja
+	cmake --build $(BUILD) --target avr-configure
+	cmake --build $(BUILD)/avr --target articula-nano-hex -j $(JOBS)
+	@echo "firmware: $(HEX) (flash it with: make flash PORT=/dev/ttyUSB0, see firmware/README.md)"
+
+flash: firmware
+	@[ -n "$(PORT)" ] || { echo "make flash: name the Nano's serial port, e.g. make flash PORT=/dev/ttyUSB0"; exit 2; }
+	@[ -n "$(BAUD)" ] || { echo "make flash: BOOTLOADER is old or new (or give BAUD=...)"; exit 2; }
+	avrdude -p atmega328p -c arduino -P $(PORT) -b $(BAUD) -D -U flash:w:$(HEX):i
 
 test: build
 	@echo "== tests (ctest) =="
-	ctest --test-dir $(BUILD) -j $(JOBS) --output-on-failure
-	@bash scripts/test-summary $(BUILD)
+	ctest --test-dir $(BUILD) -j $(JOBS) --output-on-failure --output-junit ctest-junit.xml
+	@bash scripts/test-summary $(BUILD)/ctest-junit.xml
 
 demo: build
 	@echo "== the MK2 Plus arm: its DH table =="
@@ -39,7 +63,8 @@ demo: build
 	@$(ARTICULA) quantize mk2plus "L 0 10" "L 1 -12.5" "L 2 7.3" "L 0 -10" "L 0 0.1" "S 1"
 
 format:
-	clang-format -i shared/articula/*.h shared/tests/*.cpp shared/avr_check/*.cpp host/*/*.cpp host/*/*.h
+	clang-format -i shared/articula/*.h shared/tests/*.cpp shared/avr_check/*.cpp host/*/*.cpp host/*/*.h \
+	  firmware/src/*.cpp firmware/src/*.h
 
 clean:
 	rm -rf $(BUILD)

@@ -140,6 +140,17 @@ inline Scalar steps_to_degrees(const MotorSpec& m, int32_t steps) {
   return Scalar(m.zero) / Scalar(1000) + Scalar(m.direction) * Scalar(steps) * degrees_per_step<Scalar>(m);
 }
 
+// The actuator angle a step count gives, in exact thousandths of a degree: the step's angle
+// rounded to the nearest millidegree, a half away from zero (integer arithmetic, so the Nano
+// and the host agree). What a status report's A field shows, and the commanded angle the
+// firmware takes after a stop. For step counts within the limits of a validated motor (the
+// product below then fits an int64). quantize() of the result gives the step back whenever
+// a step is more than 0.002 degrees.
+inline Millideg steps_to_millideg(const MotorSpec& m, int32_t steps) {
+  const int64_t n = int64_t(m.direction) * steps * detail::steps_den(m);
+  return Millideg(m.zero + detail::div_round_half_away(n, detail::steps_num(m)));
+}
+
 // What quantization leaves: (angle reached) - (angle commanded), in degrees.
 template <typename Scalar>
 inline Scalar quantization_error_degrees(const MotorSpec& m, Millideg angle) {

@@ -27,6 +27,7 @@
 #ifndef ARTICULA_IK_YPP_H
 #define ARTICULA_IK_YPP_H
 
+#include "actuation.h"
 #include "dh.h"
 
 namespace articula {
@@ -232,61 +233,65 @@ struct YppBest {
 };
 }  // namespace detail
 
-// Solves for the tool point p_base_tool (mm, base frame), which must be finite: callers
-// reject NaN and inf before they get here. With polish = false an unreachable target's
-// `nearest` is only the best clamped candidate (cheap: what the Nano needs to say "no");
-// with polish = true each candidate, and six more starts, are polished into a local
-// optimum within the limits (the host's "stretch toward the target").
+namespace detail {
+// The target as one facing of the base sees it: the yaw q0 (facing the target, or facing
+// away and reaching back over the top), and in the arm's vertical plane the distance D
+// from the shoulder to the wrist and its direction `toward`.
 template <typename S>
-inline void ypp_solve(YppResult<S>& out, const YppArm<S>& arm, const Vec3<S>& p_base_tool, bool polish = true) {
+struct YppFacing {
+  S q0, D, toward;
+  bool in_reach;  // the two links can span D (a hair beyond, from rounding, counts)
+};
+
+template <typename S>
+inline void ypp_facings(YppFacing<S>* f, const YppArm<S>& arm, const Vec3<S>& p_base_tool) {
   const S L1 = arm.upper, L2 = arm.fore;
   const S rho = Math<S>::sqrt(p_base_tool.x * p_base_tool.x + p_base_tool.y * p_base_tool.y);
   const S yaw = rho > S(0) ? Math<S>::atan2(p_base_tool.y, p_base_tool.x) : S(0);
   const S reach_max = L1 + L2;
   const S reach_min = Math<S>::fabs(L1 - L2);
   const S tol = S(64) * Math<S>::epsilon() * (reach_max + rho + Math<S>::fabs(p_base_tool.z));
-
-  out.count = 0;
-  detail::YppBest<S> best = {{S(0), S(0), S(0)}, S(-1)};
-  bool any_geometric = false;
-
   for (int facing = 0; facing < 2; ++facing) {
-    const S q0 = facing == 0 ? yaw : detail::wrap_angle(yaw + pi<S>());
     const S r = facing == 0 ? rho : -rho;
     const S w = r - arm.tool_forward - arm.shoulder_offset;
     const S v = p_base_tool.z - arm.tool_up - arm.base_height;
-    const S D = Math<S>::sqrt(w * w + v * v);
-    const S toward = Math<S>::atan2(v, w);
+    YppFacing<S>& fa = f[facing];
+    fa.q0 = facing == 0 ? yaw : wrap_angle(yaw + pi<S>());
+    fa.D = Math<S>::sqrt(w * w + v * v);
+    fa.toward = Math<S>::atan2(v, w);
+    fa.in_reach = !(fa.D > reach_max + tol || fa.D < reach_min - tol);
+  }
+}
+}  // namespace detail
 
-    if (D > reach_max + tol || D < reach_min - tol) {
-      // Out of reach for this facing: stretch (or fold) toward the target.
-      S q[3];
-      q[0] = q0;
-      if (D > reach_max) {
-        q[1] = toward;
-        q[2] = S(0);
-      } else {
-        q[2] = L1 >= L2 ? pi<S>() : -pi<S>();
-        q[1] = L1 >= L2 ? toward : detail::wrap_angle(toward + pi<S>());
-      }
-      best.consider(q, arm, p_base_tool, polish);
-      continue;
-    }
-    any_geometric = true;
+// The closed form alone: every geometric solution for the tool point p_base_tool (mm, base
+// frame, finite), at most four (two facings times two elbows), the ones within the limits
+// first, and otherwise in the order facing the target, elbow up. Sets out.count and
+// out.solutions only, and returns how many solutions are within the limits. What the
+// firmware needs for P (none within the limits: refused, no search for the nearest pose);
+// ypp_solve starts with it.
+template <typename S>
+inline int ypp_closed_form(YppResult<S>& out, const YppArm<S>& arm, const Vec3<S>& p_base_tool) {
+  const S L1 = arm.upper, L2 = arm.fore;
+  detail::YppFacing<S> f[2];
+  detail::ypp_facings(f, arm, p_base_tool);
+  out.count = 0;
+  for (int facing = 0; facing < 2; ++facing) {
+    if (!f[facing].in_reach) continue;
+    const S D = f[facing].D;
     const S c2 = clamp((D * D - L1 * L1 - L2 * L2) / (S(2) * L1 * L2), S(-1), S(1));
     const S base_q2 = Math<S>::acos(c2);
     for (int elbow = 0; elbow < 2; ++elbow) {
       const S q2 = elbow == 0 ? base_q2 : -base_q2;
       if (elbow == 1 && base_q2 == S(0)) break;  // stretched: both elbows are one pose
       YppSolution<S>& sol = out.solutions[out.count++];
-      sol.q[0] = q0;
+      sol.q[0] = f[facing].q0;
       sol.q[2] = q2;
-      sol.q[1] = detail::wrap_angle(toward - Math<S>::atan2(L2 * Math<S>::sin(q2), L1 + L2 * Math<S>::cos(q2)));
+      sol.q[1] = detail::wrap_angle(f[facing].toward - Math<S>::atan2(L2 * Math<S>::sin(q2), L1 + L2 * Math<S>::cos(q2)));
       sol.in_limits = ypp_within_limits(arm, sol.q);
     }
   }
-
-  // In-limits solutions first, keeping the order otherwise (facing target, elbow up first).
+  // In-limits solutions first, keeping the order otherwise.
   int first_out = 0;
   for (int i = 0; i < out.count; ++i) {
     if (!out.solutions[i].in_limits) continue;
@@ -294,13 +299,41 @@ inline void ypp_solve(YppResult<S>& out, const YppArm<S>& arm, const Vec3<S>& p_
     for (int k = i; k > first_out; --k) out.solutions[k] = out.solutions[k - 1];
     out.solutions[first_out++] = t;
   }
+  return first_out;
+}
 
-  if (first_out > 0) {
+// Solves for the tool point p_base_tool (mm, base frame), which must be finite: callers
+// reject NaN and inf before they get here. The closed form (ypp_closed_form), and when no
+// solution is within the limits, a search for the nearest pose within them: with
+// polish = false an unreachable target's `nearest` is only the best clamped candidate;
+// with polish = true each candidate, and six more starts, are polished into a local
+// optimum within the limits (the host's "stretch toward the target").
+template <typename S>
+inline void ypp_solve(YppResult<S>& out, const YppArm<S>& arm, const Vec3<S>& p_base_tool, bool polish = true) {
+  if (ypp_closed_form(out, arm, p_base_tool) > 0) {
     out.status = kYppReached;
     for (int i = 0; i < 3; ++i) out.nearest_q[i] = out.solutions[0].q[i];
     out.nearest = ypp_tool_position(arm, out.nearest_q);
     out.distance = S(0);
     return;
+  }
+  const S L1 = arm.upper, L2 = arm.fore;
+  detail::YppFacing<S> f[2];
+  detail::ypp_facings(f, arm, p_base_tool);
+  detail::YppBest<S> best = {{S(0), S(0), S(0)}, S(-1)};
+  // Out of reach for a facing: stretch (or fold) toward the target.
+  for (int facing = 0; facing < 2; ++facing) {
+    if (f[facing].in_reach) continue;
+    S q[3];
+    q[0] = f[facing].q0;
+    if (f[facing].D > L1 + L2) {
+      q[1] = f[facing].toward;
+      q[2] = S(0);
+    } else {
+      q[2] = L1 >= L2 ? pi<S>() : -pi<S>();
+      q[1] = L1 >= L2 ? f[facing].toward : detail::wrap_angle(f[facing].toward + pi<S>());
+    }
+    best.consider(q, arm, p_base_tool, polish);
   }
   // Reachable only outside the limits: the clamped geometric solutions are candidates too.
   for (int i = 0; i < out.count; ++i) {
@@ -312,13 +345,13 @@ inline void ypp_solve(YppResult<S>& out, const YppArm<S>& arm, const Vec3<S>& p_
   // reached back over the top, which the stretched and clamped candidates never try.
   for (int start = 0; polish && start < 6; ++start) {
     const int facing = start / 3, shoulder = start % 3;
-    S act[3] = {clamp(facing == 0 ? yaw : detail::wrap_angle(yaw + pi<S>()), arm.lo[0], arm.hi[0]),
+    S act[3] = {clamp(f[facing].q0, arm.lo[0], arm.hi[0]),
                 shoulder == 0 ? arm.lo[1] : (shoulder == 1 ? (arm.lo[1] + arm.hi[1]) / S(2) : arm.hi[1]),
                 (arm.lo[2] + arm.hi[2]) / S(2)};
     S q[3] = {act[0], act[1], arm.parallelogram ? act[2] - act[1] : act[2]};
     best.consider(q, arm, p_base_tool, true);
   }
-  out.status = any_geometric ? kYppLimited : kYppOutOfReach;
+  out.status = out.count > 0 ? kYppLimited : kYppOutOfReach;
   for (int i = 0; i < 3; ++i) out.nearest_q[i] = best.q[i];
   out.nearest = ypp_tool_position(arm, best.q);
   out.distance = norm(out.nearest - p_base_tool);
@@ -355,6 +388,30 @@ inline bool ypp_from_model(YppArm<S>& arm, const Model<S, J, R>& m) {
     arm.hi[j] = m.joints[j].hi;
   }
   return arm.upper > S(0) && arm.fore > S(0);
+}
+
+// Puts the limits of the motors (what the firmware enforces, on the actuated coordinates)
+// into a YPP arm (from ypp_from_model) and recognises how the motors drive the joints: the
+// identity coupling (each motor turns its own DH joint) or the MK2's parallelogram,
+// C = [[1,0,0],[0,1,0],[0,-1,1]] (motor 2 sets the forearm's elevation q1 + q2). False, and
+// the arm untouched, for any other coupling or a motor count other than three.
+template <typename S, int J>
+inline bool ypp_limits_from_actuation(YppArm<S>& arm, const Actuation<S, J>& a) {
+  static const int8_t kParallelogram[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, -1, 1}};
+  if (a.num_motors != 3) return false;
+  bool identity = true, parallelogram = true;
+  for (int i = 0; i < 3 && i < J; ++i)
+    for (int j = 0; j < 3 && j < J; ++j) {
+      identity = identity && a.coupling[i][j] == S(i == j ? 1 : 0);
+      parallelogram = parallelogram && a.coupling[i][j] == S(kParallelogram[i][j]);
+    }
+  if (!identity && !parallelogram) return false;
+  arm.parallelogram = parallelogram;
+  for (int i = 0; i < 3 && i < J; ++i) {
+    arm.lo[i] = deg_to_rad(S(a.motors[i].min) / S(1000));
+    arm.hi[i] = deg_to_rad(S(a.motors[i].max) / S(1000));
+  }
+  return true;
 }
 
 }  // namespace articula

@@ -152,6 +152,30 @@ inline MotionError validate(const MotionSettings& s) {
   return detail::motion_constants(cruise, c0, s);
 }
 
+// What a StepProfile starts from, which depends on the settings only: computing it costs a
+// 64-bit division and a 32-round square root (1.3 ms on the Nano), so the firmware does it
+// once per settings change, in its main loop, and starts each move in the step interrupt
+// from these (StepProfile::start(total_steps, constants)). All zero for invalid settings.
+struct ProfileConstants {
+  uint32_t cruise;  // cruise interval round(f / max_rate), whole ticks
+  uint32_t first;   // the first interval c0 in whole ticks, never below the cruise interval
+  uint32_t c0r;     // the recurrence's start c0' = 0.675978 c0, ticks * 256
+};
+
+inline MotionError profile_constants(ProfileConstants& out, const MotionSettings& s) {
+  uint32_t cruise, c0;
+  const MotionError e = detail::motion_constants(cruise, c0, s);
+  if (e != kMotionOk) {
+    out.cruise = out.first = out.c0r = 0;
+    return e;
+  }
+  out.cruise = cruise;
+  out.first = max_of(detail::whole_ticks(c0), cruise);
+  // c0' = c0 G(3/4) / (2 G(5/4)) = 0.675978 c0 = c0 * 44301 / 2^16, rounded.
+  out.c0r = uint32_t((uint64_t(c0) * 44301UL + 0x8000UL) >> 16);
+  return kMotionOk;
+}
+
 // The intervals of one move of the dominant motor. start(), then next_interval() until
 // done(). Small enough to live in the firmware's interrupt state (25 bytes on the Nano).
 class StepProfile {
@@ -160,17 +184,24 @@ class StepProfile {
 
   // A move of total_steps from rest to rest. Invalid settings (validate()) give an empty
   // move. Costs a 64-bit division and a 32-round square root: call it outside the
-  // interrupt if that matters.
+  // interrupt if that matters, or use the overload below.
   void start(uint32_t total_steps, const MotionSettings& s) {
-    uint32_t cruise, c0;
-    left_ = detail::motion_constants(cruise, c0, s) == kMotionOk ? total_steps : 0;
+    ProfileConstants k;
+    profile_constants(k, s);
+    start(total_steps, k);
+  }
+
+  // The same move from constants computed beforehand (profile_constants()): a few
+  // assignments, cheap enough for an interrupt. Constants of invalid settings (all zero)
+  // give an empty move.
+  void start(uint32_t total_steps, const ProfileConstants& k) {
+    left_ = k.cruise != 0 ? total_steps : 0;
     level_ = 0;
     rem_ = 0;
     cruising_ = false;
-    cruise_ = cruise << detail::kMotionFracBits;
-    first_ = max_of(detail::whole_ticks(c0), cruise);
-    // c0' = c0 G(3/4) / (2 G(5/4)) = 0.675978 c0 = c0 * 44301 / 2^16, rounded.
-    c_ = uint32_t((uint64_t(c0) * 44301UL + 0x8000UL) >> 16);
+    cruise_ = k.cruise << detail::kMotionFracBits;
+    first_ = k.first;
+    c_ = k.c0r;
   }
 
   bool done() const { return left_ == 0; }

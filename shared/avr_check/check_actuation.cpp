@@ -20,5 +20,6 @@ void check_actuation() {
   joints_from_steps(q, a, st.steps);
   actuators_from_joints(u, a, q);
   g_out = long(u[0] + quantization_error_degrees<Real>(a.motors[0], delta)) + s + inverted + validate(a.motors[0]) +
-          min_steps(a.motors[1]) + max_steps(a.motors[2]) + quantize(a.motors[0], delta);
+          min_steps(a.motors[1]) + max_steps(a.motors[2]) + quantize(a.motors[0], delta) +
+          steps_to_millideg(a.motors[1], st.steps[1]);
 }

@@ -7,5 +7,15 @@ void check_ik_ypp() {
   ypp_solve(r, arm, make_vec3(Real(200) * g_in, Real(10), Real(100)));
   Model<Real, kJoints, kRows> m;
   m.num_rows = 0;
-  g_out = long(r.nearest.x + r.distance) + r.count + r.status + ypp_from_model(arm, m);
+  Actuation<Real, kJoints> a;
+  a.num_motors = kJoints;
+  for (int i = 0; i < kJoints; ++i) {
+    MotorSpec ms = {200, 1, 1, 47, 19, 0, -43000, long(g_in)};
+    a.motors[i] = ms;
+    for (int j = 0; j < kJoints; ++j) a.coupling[i][j] = i == j ? Real(1) : Real(0);
+  }
+  YppResult<Real> c;
+  const int in_limits = ypp_closed_form(c, arm, make_vec3(Real(100), Real(10) * g_in, Real(200)));
+  g_out = long(r.nearest.x + r.distance) + r.count + r.status + ypp_from_model(arm, m) + in_limits + c.count +
+          ypp_limits_from_actuation(arm, a) + long(arm.hi[2]);
 }

@@ -14,6 +14,15 @@ __attribute__((noinline)) static long check_profile() {
   return out + long(p.stop_steps() + p.steps_left()) + p.done();
 }
 
+// The firmware's split: constants once per settings change, a cheap start per move.
+__attribute__((noinline)) static long check_constants() {
+  ProfileConstants k;
+  const MotionError e = profile_constants(k, s_settings);
+  StepProfile p;
+  p.start(uint32_t(g_out), k);
+  return long(p.next_interval()) + e;
+}
+
 __attribute__((noinline)) static long check_line() {
   int32_t delta[kJoints];
   for (int i = 0; i < kJoints; ++i) delta[i] = int32_t(g_out);
@@ -29,5 +38,5 @@ void check_motion() {
   uint64_t times[2] = {0, 0};
   const long host = long(profile_duration_ticks(uint32_t(g_out), s_settings)) +
                     long(profile_step_times(times, 2, 10, s_settings)) + long(times[1]);
-  g_out = host + check_profile() + check_line() + motion_error_text(validate(s_settings))[0];
+  g_out = host + check_profile() + check_constants() + check_line() + motion_error_text(validate(s_settings))[0];
 }

@@ -157,6 +157,35 @@ TEST(Actuation, RoundTripWithinHalfStep) {
   }
 }
 
+TEST(Actuation, StepsToMillidegHandComputedAndRoundTrips) {
+  // 32 base steps: 32 * 0.316666.. = 10.1333.. deg; -8 elbow steps: -5.8212.. deg.
+  EXPECT_EQ(steps_to_millideg(kBase, 32), 10133);
+  EXPECT_EQ(steps_to_millideg(kElbow, -8), -5821);
+  EXPECT_EQ(steps_to_millideg(kShoulder, 0), 90000);
+  EXPECT_EQ(steps_to_millideg(kShoulder, 54), 129294);  // 90 + 54 * 0.7276.. = 129.2936..
+  EXPECT_EQ(steps_to_millideg(with_direction(kBase, -1), 32), -10133);
+  // Ties round away from zero: 400 steps a turn through a 1000:1 gear is 0.9 millideg a
+  // step, so step 5 is at 4.5 millideg (-> 5) and step -5 at -4.5 (-> -5).
+  const MotorSpec fine = {400, 1, 1, 1000, 1, 0, -180000, 180000};
+  EXPECT_EQ(steps_to_millideg(fine, 5), 5);
+  EXPECT_EQ(steps_to_millideg(fine, -5), -5);
+  EXPECT_EQ(steps_to_millideg(fine, 3), 3);  // 2.7 -> 3
+  // Every step within the limits: exact to half a millidegree (checked against the exact
+  // rational angle), and back to the same step.
+  for (const MotorSpec& m : {kBase, kShoulder, kElbow, kDirect, with_direction(kElbow, -1)}) {
+    for (int32_t st = min_steps(m); st <= max_steps(m); ++st) {
+      const Millideg a = steps_to_millideg(m, st);
+      const int64_t num = int64_t(m.full_steps_per_rev) * m.microsteps * m.gear_num;
+      const int64_t exact2 = 2 * (int64_t(m.direction) * st * 360000 * m.gear_den);  // 2 (angle - zero) num
+      const int64_t err2 = 2 * (int64_t(a) - m.zero) * num - exact2;                 // 2 (a - exact) num
+      EXPECT_LE(std::llabs(err2), num) << st;
+      EXPECT_EQ(quantize(m, a), st);
+      EXPECT_GE(a, m.min);
+      EXPECT_LE(a, m.max);
+    }
+  }
+}
+
 TEST(Actuation, MinMaxStepsHandComputed) {
   EXPECT_EQ(max_steps(kBase), 284);   // floor(284.21)
   EXPECT_EQ(min_steps(kBase), -284);  // ceil(-284.21)

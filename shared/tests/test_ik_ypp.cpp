@@ -106,6 +106,70 @@ double dist(const Vec3<double>& a, const Vec3<double>& b) { return norm(a - b); 
 
 }  // namespace
 
+// The firmware's path: the model's arm, then the motors' limits and the coupling.
+TEST(IkYpp, LimitsFromActuationRecogniseTheCoupling) {
+  Actuation<double, 3> a{};
+  a.num_motors = 3;
+  a.motors[0] = MotorSpec{200, 1, 1, 108, 19, 0, -90000, 90000};
+  a.motors[1] = MotorSpec{200, 1, 1, 47, 19, 90000, 36000, 130000};
+  a.motors[2] = MotorSpec{200, 1, -1, 47, 19, 0, -43000, 15000};
+  const double par[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, -1, 1}};
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) a.coupling[i][j] = par[i][j];
+  YppArm<double> arm{};
+  ASSERT_TRUE(ypp_from_model(arm, mk2_model()));
+  ASSERT_TRUE(ypp_limits_from_actuation(arm, a));
+  EXPECT_TRUE(arm.parallelogram);
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_NEAR(arm.lo[i], deg(kActLo[i]), 1e-12);
+    EXPECT_NEAR(arm.hi[i], deg(kActHi[i]), 1e-12);
+  }
+  EXPECT_DOUBLE_EQ(arm.upper, 135);  // the geometry stays
+  // The limits then agree with the hand-made MK2 arm: the same solutions.
+  const YppArm<double> hand = mk2_arm(true);
+  YppResult<double> r1, r2;
+  ypp_solve(r1, arm, make_vec3(235.0, 0.0, 213.0), false);
+  ypp_solve(r2, hand, make_vec3(235.0, 0.0, 213.0), false);
+  ASSERT_EQ(r1.status, kYppReached);
+  ASSERT_EQ(r1.count, r2.count);
+  for (int k = 0; k < r1.count; ++k)
+    for (int i = 0; i < 3; ++i) EXPECT_NEAR(r1.solutions[k].q[i], r2.solutions[k].q[i], 1e-12);
+
+  // The identity: each motor its own joint, limits on the DH variables.
+  Actuation<double, 3> id = a;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) id.coupling[i][j] = i == j ? 1 : 0;
+  id.motors[2].min = -173000;
+  id.motors[2].max = -21000;
+  ASSERT_TRUE(ypp_limits_from_actuation(arm, id));
+  EXPECT_FALSE(arm.parallelogram);
+  EXPECT_NEAR(arm.lo[2], deg(-173), 1e-12);
+  EXPECT_NEAR(arm.hi[2], deg(-21), 1e-12);
+
+  // Anything else is refused and leaves the arm alone.
+  const YppArm<double> before = arm;
+  Actuation<double, 3> other = a;
+  other.coupling[2][1] = -0.5;
+  EXPECT_FALSE(ypp_limits_from_actuation(arm, other));
+  other = a;
+  other.coupling[0][1] = 1;
+  EXPECT_FALSE(ypp_limits_from_actuation(arm, other));
+  other = a;
+  other.num_motors = 2;
+  EXPECT_FALSE(ypp_limits_from_actuation(arm, other));
+  EXPECT_FALSE(arm.parallelogram);
+  for (int i = 0; i < 3; ++i) EXPECT_EQ(arm.lo[i], before.lo[i]);
+  // A larger host actuation with three motors in use works too.
+  Actuation<double, 12> big{};
+  big.num_motors = 3;
+  for (int i = 0; i < 3; ++i) {
+    big.motors[i] = a.motors[i];
+    for (int j = 0; j < 3; ++j) big.coupling[i][j] = par[i][j];
+  }
+  EXPECT_TRUE(ypp_limits_from_actuation(arm, big));
+  EXPECT_TRUE(arm.parallelogram);
+}
+
 TEST(IkYpp, RecognisesMk2Model) {
   const ModelD m = mk2_model();
   ASSERT_EQ(validate(m), kModelOk);
@@ -249,6 +313,53 @@ TEST_P(IkYppModes, ReachableTargetsEverySolutionChecked) {
   }
   EXPECT_GT(out_of_limit_solutions, 1000);  // the out-of-limits ones were checked as well
   std::cout << "[ solved   ] 20000 targets, " << solutions_checked << " solutions checked by FK\n";
+}
+
+// The firmware's P runs the closed form alone: the same solutions as ypp_solve, in the
+// same order, its return the count within the limits, nonzero exactly when reached.
+TEST_P(IkYppModes, ClosedFormIsTheStartOfSolve) {
+  const bool par = GetParam();
+  const YppArm<double> arm = mk2_arm(par);
+  YppArm<float> armf{};
+  armf.base_height = 78;
+  armf.upper = 135;
+  armf.fore = 147;
+  armf.tool_forward = 88;
+  armf.parallelogram = par;
+  for (int i = 0; i < 3; ++i) {
+    armf.lo[i] = float(arm.lo[i]);
+    armf.hi[i] = float(arm.hi[i]);
+  }
+  std::mt19937 rng(par ? 31 : 32);
+  std::uniform_real_distribution<double> u(-450, 450);
+  int counts[3] = {0, 0, 0};  // reached, limited, out of reach
+  for (int t = 0; t < 20000; ++t) {
+    double q[3];
+    random_pose(q, rng, par);
+    const Vec3<double> target = t % 2 ? dh_tool(q) : make_vec3(u(rng), u(rng), u(rng) / 2 + 150);
+    YppResult<double> full, closed;
+    ypp_solve(full, arm, target, t % 3 == 0);
+    const int in_limits = ypp_closed_form(closed, arm, target);
+    ASSERT_EQ(closed.count, full.count) << t;
+    int n = 0;
+    for (int i = 0; i < closed.count; ++i) {
+      n += closed.solutions[i].in_limits;
+      ASSERT_EQ(closed.solutions[i].in_limits, full.solutions[i].in_limits) << t;
+      for (int k = 0; k < 3; ++k) ASSERT_EQ(closed.solutions[i].q[k], full.solutions[i].q[k]) << t;
+    }
+    ASSERT_EQ(in_limits, n) << t;
+    ASSERT_EQ(in_limits > 0, full.status == kYppReached) << t;
+    ++counts[full.status];
+    // The float path the Nano runs agrees with its own ypp_solve too.
+    YppResult<float> ff, cf;
+    const Vec3<float> tf = make_vec3(float(target.x), float(target.y), float(target.z));
+    ypp_solve(ff, armf, tf, false);
+    ASSERT_EQ(ypp_closed_form(cf, armf, tf) > 0, ff.status == kYppReached) << t;
+    ASSERT_EQ(cf.count, ff.count) << t;
+  }
+  EXPECT_GT(counts[kYppReached], 10000);
+  EXPECT_GT(counts[kYppLimited], 100);
+  EXPECT_GT(counts[kYppOutOfReach], 100);
 }
 
 TEST_P(IkYppModes, BeyondFullReach) {

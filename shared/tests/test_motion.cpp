@@ -318,6 +318,47 @@ TEST(StepProfile, DeterministicAndTheHelpersAgree) {
   }
 }
 
+// The firmware starts moves in its step interrupt from constants it computed beforehand:
+// the same intervals as starting from the settings, for every length, after a stop too.
+TEST(StepProfile, StartFromPrecomputedConstantsIsTheSame) {
+  for (const MotionSettings& s : kAll) {
+    ProfileConstants k;
+    ASSERT_EQ(profile_constants(k, s), kMotionOk) << name(s);
+    EXPECT_EQ(k.cruise, uint32_t(cruise_ticks(s))) << name(s);
+    EXPECT_NEAR(double(k.first), std::max(ideal_c0(s), cruise_ticks(s)), 0.5) << name(s);
+    EXPECT_NEAR(k.c0r / 256.0, 0.675978 * ideal_c0(s), 0.01 * ideal_c0(s) / 256 + 1) << name(s);
+    for (uint32_t n : {0u, 1u, 2u, 3u, 7u, 100u, 2345u}) {
+      for (uint32_t stop_at : {0u, 1u, 2u, 50u, 100000u}) {
+        StepProfile a, b;
+        a.start(n, s);
+        b.start(77, s);  // reused: the start must reset everything
+        b.next_interval();
+        b.start(n, k);
+        for (uint32_t i = 0; !a.done() || !b.done(); ++i) {
+          if (i == stop_at) {
+            a.stop();
+            b.stop();
+          }
+          ASSERT_EQ(a.done(), b.done());
+          ASSERT_EQ(a.next_interval(), b.next_interval()) << name(s) << " n=" << n << " step " << i;
+        }
+      }
+    }
+  }
+  // Invalid settings: all zero, and an empty move.
+  ProfileConstants k;
+  EXPECT_EQ(profile_constants(k, MotionSettings{2000000, 0, 4000}), kMotionZero);
+  EXPECT_EQ(k.cruise, 0u);
+  EXPECT_EQ(k.first, 0u);
+  EXPECT_EQ(k.c0r, 0u);
+  EXPECT_EQ(profile_constants(k, MotionSettings{2000000, 5789, 1}), kMotionRampTooLong);
+  EXPECT_EQ(k.cruise, 0u);
+  StepProfile p;
+  p.start(1000, k);
+  EXPECT_TRUE(p.done());
+  EXPECT_EQ(p.next_interval(), 0u);
+}
+
 // Runs n steps, stops after `before` of them, returns the intervals after the stop.
 std::vector<uint32_t> stop_after(uint32_t n, uint32_t before, const MotionSettings& s, std::vector<uint32_t>* head,
                                  uint32_t* predicted) {

@@ -1,0 +1,103 @@
+# The Nano firmware, built with the AVR toolchain (cmake/avr-gcc.cmake); included by
+# firmware/CMakeLists.txt. Makes:
+#   arduino_core       Debian's Arduino AVR core 1.8 (cores/arduino + the Nano's variant),
+#                      with the flags of its platform.txt, as a static LTO library;
+#   articula-nano.elf  every firmware/src/*.cpp + the core; runs unchanged in simavr;
+#   articula-nano.hex  what goes to the board (without the simavr and EEPROM sections),
+#                      after a size check that prints flash and RAM use and fails the
+#                      build above the budgets below.
+enable_language(ASM)
+
+set(ARDUINO_AVR_DIR /usr/share/arduino/hardware/arduino/avr CACHE PATH
+    "Arduino AVR core 1.8.x (Debian package arduino-core-avr)")
+set(ARTICULA_FLASH_BUDGET 24576 CACHE STRING "firmware flash budget in bytes (the Nano has 30,720)")
+set(ARTICULA_RAM_BUDGET 1536 CACHE STRING "firmware static RAM (.data + .bss) budget in bytes (the Nano has 2,048)")
+
+set(core_dir ${ARDUINO_AVR_DIR}/cores/arduino)
+set(variant_dir ${ARDUINO_AVR_DIR}/variants/eightanaloginputs)
+if(NOT EXISTS ${core_dir}/Arduino.h OR NOT EXISTS ${variant_dir}/pins_arduino.h)
+  message(FATAL_ERROR "no Arduino AVR core in ${ARDUINO_AVR_DIR}: install the Debian package "
+                      "arduino-core-avr (scripts/bootstrap does), or set ARDUINO_AVR_DIR")
+endif()
+
+# What platform.txt and boards.txt (nano, atmega328) pass to every file of a sketch.
+set(arduino_defines ARDUINO=10807 ARDUINO_AVR_NANO ARDUINO_ARCH_AVR)
+
+# ---- the Arduino core ----
+file(GLOB arduino_core_sources ${core_dir}/*.c ${core_dir}/*.cpp ${core_dir}/*.S)
+add_library(arduino_core STATIC ${arduino_core_sources})
+# Plain -I: avr-gcc wraps -isystem headers in extern "C", which breaks the core's C++ headers.
+# PRIVATE: the firmware's own sources do not include Arduino headers.
+target_include_directories(arduino_core PRIVATE ${core_dir} ${variant_dir})
+target_compile_definitions(arduino_core PRIVATE ${arduino_defines}
+  # WString.cpp needs DECIMAL_DIG, which avr-libc 2.0's float.h leaves to GCC 5.4 under
+  # another name.
+  DECIMAL_DIG=__DECIMAL_DIG__)
+# platform.txt's compiler.{c,cpp,S}.flags, less -g and -MMD; -w is the IDE's default warning
+# level for the core. (-fpermissive is not needed by this core with GCC 5.4: left out.)
+target_compile_options(arduino_core PRIVATE -w
+  $<$<COMPILE_LANGUAGE:C>:-Os -std=gnu11 -ffunction-sections -fdata-sections -flto -fno-fat-lto-objects>
+  $<$<COMPILE_LANGUAGE:CXX>:-Os -fno-exceptions -ffunction-sections -fdata-sections -fno-threadsafe-statics -flto>
+  $<$<COMPILE_LANGUAGE:ASM>:-x assembler-with-cpp -flto>)
+
+# ---- robot_config.h, from the robot file ----
+find_package(Python3 REQUIRED COMPONENTS Interpreter)
+get_filename_component(robot_file ${ARTICULA_ROBOT} ABSOLUTE BASE_DIR ${PROJECT_SOURCE_DIR})
+if(NOT EXISTS ${robot_file})
+  message(FATAL_ERROR "ARTICULA_ROBOT: no robot file ${robot_file}")
+endif()
+set(generated_dir ${CMAKE_CURRENT_BINARY_DIR}/generated)
+add_custom_command(
+  OUTPUT ${generated_dir}/robot_config.h
+  COMMAND ${Python3_EXECUTABLE} ${ARTICULA_FIRMWARE_DIR}/tools/robot_config.py ${robot_file}
+          ${generated_dir}/robot_config.h
+  DEPENDS ${robot_file} ${ARTICULA_FIRMWARE_DIR}/tools/robot_config.py
+  COMMENT "robot_config.h from ${robot_file}"
+  VERBATIM)
+add_custom_target(robot_config_avr DEPENDS ${generated_dir}/robot_config.h)
+message(STATUS "Nano firmware for the robot ${robot_file}")
+
+# ---- the firmware ----
+# Every source in src/: the AVR HAL and main.cpp, and the portable logic.
+file(GLOB firmware_sources CONFIGURE_DEPENDS ${ARTICULA_FIRMWARE_DIR}/src/*.cpp)
+add_executable(articula-nano ${firmware_sources})
+set_target_properties(articula-nano PROPERTIES SUFFIX ".elf")
+add_dependencies(articula-nano robot_config_avr)
+target_include_directories(articula-nano PRIVATE ${ARTICULA_FIRMWARE_DIR}/src ${ARTICULA_SHARED_DIR} ${generated_dir})
+target_compile_definitions(articula-nano PRIVATE ${arduino_defines})
+target_compile_options(articula-nano PRIVATE ${ARTICULA_WARNINGS} -Os -ffunction-sections -fdata-sections
+                                             -fno-exceptions -fno-threadsafe-statics -flto)
+target_link_options(articula-nano PRIVATE -Os -flto -fuse-linker-plugin -Wl,--gc-sections)
+target_link_libraries(articula-nano PRIVATE arduino_core m)
+
+# The simavr metadata (MCU name and clock) in a .mmcu section, so simavr and the virtual Nano
+# run this very ELF without being told what it is. simavr 1.6 needs the section at 0x910000
+# (elsewhere it loads .data from the wrong place); the HEX leaves it out. The section comes
+# from simavr's own header (Debian package libsimavr-dev), compiled from a C file outside
+# src/, so PlatformIO (which has no simavr) never sees it; it is compiled without LTO, which
+# would drop the tags that nothing refers to.
+set(simavr_header /usr/include/simavr/avr/avr_mcu_section.h)
+if(EXISTS ${simavr_header})
+  # Only this one header, not /usr/include (the host's libc must not shadow avr-libc).
+  configure_file(${simavr_header} ${CMAKE_CURRENT_BINARY_DIR}/simavr_include/simavr/avr/avr_mcu_section.h COPYONLY)
+  add_library(simavr_mcu_section OBJECT ${ARTICULA_FIRMWARE_DIR}/sim/simavr_mcu_section.c)
+  target_include_directories(simavr_mcu_section PRIVATE ${CMAKE_CURRENT_BINARY_DIR}/simavr_include)
+  target_compile_options(simavr_mcu_section PRIVATE ${ARTICULA_WARNINGS} -fno-lto)
+  target_sources(articula-nano PRIVATE $<TARGET_OBJECTS:simavr_mcu_section>)
+  target_link_options(articula-nano PRIVATE -Wl,--undefined=_mmcu,--section-start=.mmcu=0x910000)
+else()
+  message(STATUS "no ${simavr_header} (libsimavr-dev): the ELF has no simavr metadata; "
+                 "run it with simavr -m atmega328p -f 16000000")
+endif()
+
+# The HEX, after the size check (runs at every build, so every build shows the figures).
+set(elf ${CMAKE_CURRENT_BINARY_DIR}/articula-nano.elf)
+set(hex ${CMAKE_CURRENT_BINARY_DIR}/articula-nano.hex)
+add_custom_target(articula-nano-hex ALL
+  COMMAND ${CMAKE_COMMAND} -DELF=${elf} -DAVR_SIZE=${AVR_SIZE} -DFLASH_BUDGET=${ARTICULA_FLASH_BUDGET}
+          -DRAM_BUDGET=${ARTICULA_RAM_BUDGET} -P ${ARTICULA_FIRMWARE_DIR}/tools/avr_size_check.cmake
+  COMMAND ${AVR_OBJCOPY} -O ihex -R .eeprom -R .mmcu ${elf} ${hex}
+  BYPRODUCTS ${hex}
+  DEPENDS articula-nano
+  COMMENT "articula-nano.hex"
+  VERBATIM)

@@ -1,0 +1,45 @@
+// firmware/src/coils.cpp - the coil sequences.
+#include "coils.h"
+
+#include "hal.h"
+#include "robot.h"
+
+namespace coils {
+
+const uint8_t kSequence[8] = {0x1, 0x5, 0x4, 0x6, 0x2, 0xA, 0x8, 0x9};
+
+namespace {
+uint8_t g_phase[robot::kJoints];
+uint8_t g_stride[robot::kJoints];  // 2 in full steps, 1 in half steps
+bool g_on;
+}  // namespace
+
+void setup() {
+  for (uint8_t i = 0; i < robot::kJoints; ++i) {
+    g_phase[i] = 1;
+    g_stride[i] = robot::motor(i).microsteps == 2 ? 1 : 2;
+  }
+  release();
+}
+
+void step(uint8_t motor, bool negative) {
+  const uint8_t p = uint8_t((g_phase[motor] + (negative ? 8 - g_stride[motor] : g_stride[motor])) & 7);
+  g_phase[motor] = p;
+  hal::write_coils(motor, kSequence[p]);
+}
+
+void energise() {
+  for (uint8_t i = 0; i < robot::kJoints; ++i) hal::write_coils(i, kSequence[g_phase[i]]);
+  g_on = true;
+}
+
+void release() {
+  for (uint8_t i = 0; i < robot::kJoints; ++i) hal::write_coils(i, 0);
+  g_on = false;
+}
+
+bool on() { return g_on; }
+
+uint8_t phase(uint8_t motor) { return g_phase[motor]; }
+
+}  // namespace coils

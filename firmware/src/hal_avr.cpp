@@ -1,0 +1,406 @@
+// firmware/src/hal_avr.cpp - hal.h on the ATmega328P of the Arduino Nano.
+//
+// The only file with the firmware's interrupt handlers:
+//   TIMER1_COMPA  the step timer: calls firmware::on_step_timer() at each deadline;
+//   TIMER1_COMPB  the gripper servo's pulses (no Servo library: the Debian core has none);
+//   USART_RX      a received byte: '?' and '!' to firmware::on_realtime(), others queued;
+//   USART_UDRE    sends the next queued byte.
+// Arduino's core provides init() and millis() (Timer0) and nothing else: its
+// HardwareSerial is never linked, so the USART vectors are ours.
+//
+// Timer1 runs free at 2 MHz (prescaler 8) in normal mode and is never reset or written:
+// both channels move their compare register forward from the previous deadline
+// (OCR1x += interval), so an interrupt's own latency never adds up, and no behaviour of a
+// compare register rewritten in the middle of a count is relied upon (simavr has bugs
+// there). Intervals longer than the 16-bit counter wait whole laps of 65,536 ticks first.
+//
+// Rules for the firmware's callbacks:
+//   - firmware::on_step_timer() runs with interrupts enabled, but only the servo's compare
+//     and Timer0 (millis) can interrupt it: the serial interrupts and the step interrupt
+//     itself stay masked, so on_step_timer() and on_realtime() never overlap, and the
+//     servo's pulse edges keep their time even while a step takes long to compute.
+//   - firmware::on_realtime() runs in the receive interrupt with interrupts off: it should
+//     only note the request (the report itself is written from poll()).
+//   - serial_write() belongs to the main loop. It also works with interrupts off or inside
+//     on_step_timer() (it then sends by polling when the buffer is full), but the transmit
+//     buffer is not shared safely between two writers that interrupt each other.
+#if defined(__AVR__)
+
+#include "hal.h"
+
+#include <avr/cpufunc.h>
+#include <avr/eeprom.h>
+#include <avr/interrupt.h>
+#include <avr/io.h>
+
+#include "articula/protocol.h"
+#include "firmware.h"
+#include "pins.h"
+
+// From the Arduino core (wiring.c): Timer0's millisecond count, started by init().
+extern "C" unsigned long millis(void);
+
+namespace {
+
+static_assert(F_CPU / 8 == hal::kTickHz, "Timer1 runs at F_CPU / 8");
+
+// ---------------------------------------------------------------------------------------
+// The step timer (Timer1, channel A)
+
+// A deadline this close (or closer, or past) when it is armed may be missed by the compare
+// unit; the interrupt then runs the step at once instead. 2 ticks = 1 us.
+const uint16_t kMinLead = 2;
+// The first deadline after start_step_timer() is at least this far away, so that the
+// compare register is written before the counter gets there. 16 ticks = 8 us.
+const uint16_t kStartLead = 16;
+// Steps run back to back at most this many times in one interrupt when their deadlines
+// are already past; after that the schedule slips (restarts from now + kSlipTicks), so a
+// firmware asking for more than the CPU can do still leaves time for the main loop.
+const uint8_t kMaxCatchUp = 4;
+const uint16_t kSlipTicks = 40;  // 20 us
+
+volatile bool g_step_running;
+uint16_t g_step_laps;  // whole 65,536-tick laps still to wait (OCR1A unchanged meanwhile)
+uint16_t g_step_rest;  // then the last part of the interval, below one lap (0: none)
+// True while on_step_timer() runs with the serial interrupts masked (see call_firmware).
+volatile bool g_serial_masked;
+
+// Moves OCR1A `rest` ticks past its current value, the previous deadline. Returns false when
+// the new deadline is already due (past, or under kMinLead ahead): then no compare interrupt
+// will come for it, and the caller runs the step itself.
+bool arm_rest(uint16_t rest) {
+  const uint16_t from = OCR1A;
+  const uint16_t at = uint16_t(from + rest);
+  OCR1A = at;
+  const uint16_t elapsed = uint16_t(TCNT1 - from);  // since the previous deadline
+  if (elapsed < rest && uint16_t(rest - elapsed) >= kMinLead) return true;
+  // Due already. Wait until the counter is 2 ticks past `at`, so that a match the compare
+  // unit may have seen has set its flag by now, and clear that flag: one step, one call.
+  while (int16_t(TCNT1 - at) < 2) {
+  }
+  TIFR1 = _BV(OCF1A);
+  return false;
+}
+
+// Arms the deadline `ticks` after the previous one; false when it is already due.
+bool schedule(uint32_t ticks) {
+  g_step_laps = uint16_t(ticks >> 16);
+  g_step_rest = uint16_t(ticks);
+  if (g_step_laps != 0) return true;  // OCR1A unchanged: it matches again one lap later
+  return arm_rest(g_step_rest);
+}
+
+// Calls the firmware with interrupts enabled except the serial ones and this one, so the
+// servo's compare can interrupt a long step computation. Interrupts are off again on return.
+uint32_t call_firmware() {
+  const uint8_t ucsr = UCSR0B;
+  UCSR0B = ucsr & uint8_t(~(_BV(RXCIE0) | _BV(UDRIE0)));
+  TIMSK1 &= uint8_t(~_BV(OCIE1A));
+  g_serial_masked = true;
+  sei();
+  const uint32_t next = firmware::on_step_timer();
+  cli();
+  g_serial_masked = false;
+  // Keep a transmit request made meanwhile (serial_write sets UDRIE0).
+  UCSR0B = uint8_t(ucsr | (UCSR0B & _BV(UDRIE0)));
+  return next;
+}
+
+void stop_in_isr() {
+  TIMSK1 &= uint8_t(~_BV(OCIE1A));
+  g_step_running = false;
+  ARTICULA_LED_PORT &= uint8_t(~_BV(ARTICULA_LED_BIT));
+}
+
+// Runs the step that is due and arms the next deadline; catches up on deadlines that are
+// already past. Interrupts are off on entry and on return.
+void run_due_steps() {
+  for (uint8_t runs = 1;; ++runs) {
+    const uint32_t next = call_firmware();
+    if (next == 0 || !g_step_running) {  // the firmware is done, or stopped the timer itself
+      stop_in_isr();
+      return;
+    }
+    if (schedule(next)) break;
+    if (runs == kMaxCatchUp) {
+      // Overloaded: the due step waits kSlipTicks from now, and the schedule restarts there.
+      // (schedule() only fails for an interval under one lap, so no laps are pending.)
+      OCR1A = uint16_t(TCNT1 + kSlipTicks);
+      break;
+    }
+    // The next step is due at once. First let in the interrupts that have been waiting (a
+    // received byte, the transmitter, millis; this one stays masked), so that a run of late
+    // steps cannot hold the receiver off long enough to lose a byte. The instruction after
+    // sei() always runs before a pending interrupt, hence the nop.
+    sei();
+    _NOP();
+    cli();
+  }
+  TIMSK1 |= _BV(OCIE1A);
+}
+
+// ---------------------------------------------------------------------------------------
+// The servo (Timer1, channel B): the pin goes high at the start of each 20 ms period and low
+// `width` ticks later. The width is taken at the start of a period, so a change never cuts
+// a pulse short.
+
+const uint16_t kServoPeriodTicks = 20000U * 2;      // 20 ms
+const uint16_t kServoMinUs = 200, kServoMaxUs = 3000;  // keeps the pulse inside the period
+
+volatile uint16_t g_servo_width;  // ticks; 0: no more pulses
+uint16_t g_servo_pulse;           // the width of the pulse being output
+bool g_servo_high;
+
+// ---------------------------------------------------------------------------------------
+// Serial (USART0): two ring buffers, sizes powers of two below 256.
+
+const uint8_t kRxSize = 64;   // a whole protocol line (the host waits for each reply)
+const uint8_t kTxSize = 128;  // a whole status report (110 bytes on the MK2) without waiting
+static_assert((kRxSize & (kRxSize - 1)) == 0 && (kTxSize & (kTxSize - 1)) == 0, "powers of two");
+
+char g_rx[kRxSize];
+volatile uint8_t g_rx_head;  // written by the receive interrupt
+volatile uint8_t g_rx_tail;  // written by serial_read
+char g_tx[kTxSize];
+volatile uint8_t g_tx_head;  // written by serial_write
+volatile uint8_t g_tx_tail;  // written by the UDRE interrupt (or serial_write when polling)
+
+// Moves one queued byte to the USART (UDR0 must be empty); with none left, masks UDRE.
+inline void tx_send_one() {
+  const uint8_t tail = g_tx_tail;
+  if (tail == g_tx_head) {
+    UCSR0B &= uint8_t(~_BV(UDRIE0));
+    return;
+  }
+  UDR0 = g_tx[tail];
+  g_tx_tail = uint8_t((tail + 1) & (kTxSize - 1));
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------
+// Interrupts
+
+ISR(TIMER1_COMPA_vect) {
+  // A real deadline is never more than half a lap behind the counter; a flag left over from
+  // an earlier compare value (or an emulator's extra match) is ahead of it: ignore it.
+  if (uint16_t(TCNT1 - OCR1A) >= 0x8000U) return;
+  if (g_step_laps != 0) {
+    if (--g_step_laps != 0) return;                       // more whole laps to wait
+    if (g_step_rest != 0 && arm_rest(g_step_rest)) return;  // the last part is armed
+    // else the end of this lap is the deadline (or the last part is due already)
+  }
+  run_due_steps();
+}
+
+ISR(TIMER1_COMPB_vect) {
+  if (g_servo_high) {
+    ARTICULA_SERVO_PORT &= uint8_t(~_BV(ARTICULA_SERVO_BIT));
+    g_servo_high = false;
+    OCR1B += uint16_t(kServoPeriodTicks - g_servo_pulse);
+    return;
+  }
+  g_servo_pulse = g_servo_width;
+  if (g_servo_pulse == 0) {  // stopped: the pin stays low, no more interrupts
+    TIMSK1 &= uint8_t(~_BV(OCIE1B));
+    return;
+  }
+  ARTICULA_SERVO_PORT |= _BV(ARTICULA_SERVO_BIT);
+  g_servo_high = true;
+  OCR1B += g_servo_pulse;
+}
+
+ISR(USART_RX_vect) {
+  const uint8_t status = UCSR0A;
+  const char c = char(UDR0);
+  if (status & _BV(FE0)) return;  // a framing error: noise or a wrong baud rate, not a byte
+  if (articula::realtime_command(c) != articula::kRealtimeNone) {
+    firmware::on_realtime(c);
+    return;
+  }
+  const uint8_t head = g_rx_head;
+  const uint8_t next = uint8_t((head + 1) & (kRxSize - 1));
+  if (next == g_rx_tail) return;  // full: dropped (a host that waits for replies never fills it)
+  g_rx[head] = c;
+  g_rx_head = next;
+}
+
+ISR(USART_UDRE_vect) { tx_send_one(); }
+
+// ---------------------------------------------------------------------------------------
+// hal.h
+
+namespace hal {
+
+void init() {
+  const uint8_t sreg = interrupts_off();
+
+  // Coils off before the pins become outputs, so no motor twitches at start-up.
+  ARTICULA_MOTOR0_PORT &= uint8_t(~ARTICULA_COIL_MASK(ARTICULA_MOTOR0_SHIFT));
+  ARTICULA_MOTOR0_DDR |= ARTICULA_COIL_MASK(ARTICULA_MOTOR0_SHIFT);
+  ARTICULA_MOTOR1_PORT &= uint8_t(~ARTICULA_COIL_MASK(ARTICULA_MOTOR1_SHIFT));
+  ARTICULA_MOTOR1_DDR |= ARTICULA_COIL_MASK(ARTICULA_MOTOR1_SHIFT);
+  ARTICULA_MOTOR2_PORT &= uint8_t(~ARTICULA_COIL_MASK(ARTICULA_MOTOR2_SHIFT));
+  ARTICULA_MOTOR2_DDR |= ARTICULA_COIL_MASK(ARTICULA_MOTOR2_SHIFT);
+
+  ARTICULA_SERVO_PORT &= uint8_t(~_BV(ARTICULA_SERVO_BIT));
+  ARTICULA_SERVO_DDR |= _BV(ARTICULA_SERVO_BIT);
+  ARTICULA_LED_PORT &= uint8_t(~_BV(ARTICULA_LED_BIT));
+  ARTICULA_LED_DDR |= _BV(ARTICULA_LED_BIT);
+
+  // Endstops: inputs with pull-ups.
+  ARTICULA_ENDSTOP0_DDR &= uint8_t(~_BV(ARTICULA_ENDSTOP0_BIT));
+  ARTICULA_ENDSTOP0_PORT |= _BV(ARTICULA_ENDSTOP0_BIT);
+  ARTICULA_ENDSTOP1_DDR &= uint8_t(~_BV(ARTICULA_ENDSTOP1_BIT));
+  ARTICULA_ENDSTOP1_PORT |= _BV(ARTICULA_ENDSTOP1_BIT);
+  ARTICULA_ENDSTOP2_DDR &= uint8_t(~_BV(ARTICULA_ENDSTOP2_BIT));
+  ARTICULA_ENDSTOP2_PORT |= _BV(ARTICULA_ENDSTOP2_BIT);
+
+  // Timer1: normal mode, clk/8, no output pins (init() had set it up for analogWrite).
+  TCCR1A = 0;
+  TCCR1B = _BV(CS11);
+  TCCR1C = 0;
+  TIMSK1 = 0;
+  TIFR1 = _BV(ICF1) | _BV(OCF1B) | _BV(OCF1A) | _BV(TOV1);
+  g_step_running = false;
+  g_servo_width = 0;
+  g_servo_high = false;
+
+  // USART0: 115200 8N1. With U2X0 the divisor 16 gives 117,647 baud (+2.1 %), closer than
+  // the 111,111 (-3.5 %) without it; the Arduino core makes the same choice.
+  g_rx_head = g_rx_tail = 0;
+  g_tx_head = g_tx_tail = 0;
+  UCSR0A = _BV(U2X0);
+  UBRR0 = uint16_t((F_CPU / (8UL * ARTICULA_SERIAL_BAUD)) - 1);
+  UCSR0C = _BV(UCSZ01) | _BV(UCSZ00);
+  UCSR0B = _BV(RXEN0) | _BV(TXEN0) | _BV(RXCIE0);
+
+  interrupts_restore(sreg);
+}
+
+void write_coils(uint8_t motor, uint8_t pattern) {
+  const uint8_t sreg = interrupts_off();  // a port's other bits belong to others (servo, endstop pull-ups, LED)
+  switch (motor) {
+    case 0: {
+      const uint8_t mask = ARTICULA_COIL_MASK(ARTICULA_MOTOR0_SHIFT);
+      ARTICULA_MOTOR0_PORT = uint8_t((ARTICULA_MOTOR0_PORT & ~mask) | ((pattern << ARTICULA_MOTOR0_SHIFT) & mask));
+      break;
+    }
+    case 1: {
+      const uint8_t mask = ARTICULA_COIL_MASK(ARTICULA_MOTOR1_SHIFT);
+      ARTICULA_MOTOR1_PORT = uint8_t((ARTICULA_MOTOR1_PORT & ~mask) | ((pattern << ARTICULA_MOTOR1_SHIFT) & mask));
+      break;
+    }
+    case 2: {
+      const uint8_t mask = ARTICULA_COIL_MASK(ARTICULA_MOTOR2_SHIFT);
+      ARTICULA_MOTOR2_PORT = uint8_t((ARTICULA_MOTOR2_PORT & ~mask) | ((pattern << ARTICULA_MOTOR2_SHIFT) & mask));
+      break;
+    }
+    default:
+      break;
+  }
+  interrupts_restore(sreg);
+}
+
+void set_servo_pulse(uint16_t microseconds) {
+  uint16_t us = microseconds;
+  if (us != 0 && us < kServoMinUs) us = kServoMinUs;
+  if (us > kServoMaxUs) us = kServoMaxUs;
+  const uint8_t sreg = interrupts_off();
+  g_servo_width = uint16_t(us * 2);
+  if (us != 0 && !(TIMSK1 & _BV(OCIE1B))) {
+    // Not pulsing: the first period starts shortly; the chain runs from there.
+    g_servo_high = false;
+    OCR1B = uint16_t(TCNT1 + kStartLead);
+    TIFR1 = _BV(OCF1B);
+    TIMSK1 |= _BV(OCIE1B);
+  }
+  interrupts_restore(sreg);
+}
+
+bool endstop(uint8_t motor) {
+  switch (motor) {
+    case 0:
+      return !(ARTICULA_ENDSTOP0_PIN & _BV(ARTICULA_ENDSTOP0_BIT));
+    case 1:
+      return !(ARTICULA_ENDSTOP1_PIN & _BV(ARTICULA_ENDSTOP1_BIT));
+    case 2:
+      return !(ARTICULA_ENDSTOP2_PIN & _BV(ARTICULA_ENDSTOP2_BIT));
+    default:
+      return false;
+  }
+}
+
+void start_step_timer(uint32_t first_ticks) {
+  uint32_t t = first_ticks < kStartLead ? kStartLead : first_ticks;
+  if (t > 0xFFFEFFFFUL) t = 0xFFFEFFFFUL;  // 35 minutes: keeps the lap count in 16 bits
+  t -= kStartLead;
+  const uint8_t sreg = interrupts_off();
+  // The chain starts with a compare kStartLead ticks from now, counted as one more lap; the
+  // rest of the interval follows from there as from any deadline.
+  g_step_laps = uint16_t((t >> 16) + 1);
+  g_step_rest = uint16_t(t);
+  OCR1A = uint16_t(TCNT1 + kStartLead);
+  TIFR1 = _BV(OCF1A);
+  g_step_running = true;
+  TIMSK1 |= _BV(OCIE1A);
+  ARTICULA_LED_PORT |= _BV(ARTICULA_LED_BIT);  // the LED shows the step timer running
+  interrupts_restore(sreg);
+}
+
+void stop_step_timer() {
+  const uint8_t sreg = interrupts_off();
+  stop_in_isr();
+  interrupts_restore(sreg);
+}
+
+bool step_timer_running() { return g_step_running; }
+
+uint32_t millis() { return ::millis(); }
+
+int16_t serial_read() {
+  const uint8_t tail = g_rx_tail;
+  if (tail == g_rx_head) return -1;
+  const uint8_t c = uint8_t(g_rx[tail]);
+  g_rx_tail = uint8_t((tail + 1) & (kRxSize - 1));
+  return c;
+}
+
+void serial_write(char c) {
+  const uint8_t head = g_tx_head;
+  const uint8_t next = uint8_t((head + 1) & (kTxSize - 1));
+  while (next == g_tx_tail) {
+    // Full. Normally the UDRE interrupt makes room; when it cannot run (interrupts off, or
+    // inside on_step_timer), send a byte by polling.
+    if ((!(SREG & _BV(SREG_I)) || g_serial_masked) && (UCSR0A & _BV(UDRE0))) tx_send_one();
+  }
+  g_tx[head] = c;
+  g_tx_head = next;
+  const uint8_t sreg = interrupts_off();
+  UCSR0B |= _BV(UDRIE0);
+  interrupts_restore(sreg);
+}
+
+void eeprom_read(uint16_t address, void* data, uint16_t size) {
+  if (address > E2END) return;
+  if (size > E2END + 1 - address) size = uint16_t(E2END + 1 - address);
+  eeprom_read_block(data, reinterpret_cast<const void*>(address), size);
+}
+
+void eeprom_write(uint16_t address, const void* data, uint16_t size) {
+  if (address > E2END) return;
+  if (size > E2END + 1 - address) size = uint16_t(E2END + 1 - address);
+  eeprom_update_block(data, reinterpret_cast<void*>(address), size);
+}
+
+uint8_t interrupts_off() {
+  const uint8_t sreg = SREG;
+  cli();
+  return sreg;
+}
+
+void interrupts_restore(uint8_t sreg) { SREG = sreg; }
+
+}  // namespace hal
+
+#endif  // __AVR__

@@ -1,0 +1,37 @@
+// firmware/src/queue.cpp - the motion queue's ring.
+#include "queue.h"
+
+#include "hal.h"
+
+namespace queue {
+
+namespace {
+Action g_ring[kSize];
+uint8_t g_head;            // the front
+volatile uint8_t g_count;  // changed by both sides
+}  // namespace
+
+void clear() {
+  const uint8_t s = hal::interrupts_off();
+  g_head = 0;
+  g_count = 0;
+  hal::interrupts_restore(s);
+}
+
+uint8_t count() { return g_count; }
+
+void push(const Action& a) {
+  const uint8_t s = hal::interrupts_off();
+  g_ring[(g_head + g_count) % kSize] = a;
+  g_count = uint8_t(g_count + 1);
+  hal::interrupts_restore(s);
+}
+
+const Action& front() { return g_ring[g_head]; }
+
+void pop() {
+  g_head = uint8_t((g_head + 1) % kSize);
+  g_count = uint8_t(g_count - 1);
+}
+
+}  // namespace queue

@@ -1,0 +1,53 @@
+// firmware/src/queue.h - the motion queue: actions accepted (answered ok) and not yet
+// started, in a ring. The main loop pushes, the step interrupt takes from the front; both
+// sides touch the indices with interrupts off.
+#ifndef ARTICULA_FIRMWARE_QUEUE_H
+#define ARTICULA_FIRMWARE_QUEUE_H
+
+#include <stdint.h>
+
+#include "robot.h"
+
+namespace queue {
+
+static const uint8_t kSize = 8;  // what the status report's Q counts down from
+
+enum Kind : uint8_t {
+  kMove,     // every motor to target[] (absolute steps), along a line, one StepProfile
+  kGripper,  // a servo pulse width, then a pause for the servo to get there
+  kHome,     // seek the switches of `mask`, then move to target[] (the switch motors'
+             // targets are the steps their switch stands for)
+};
+
+struct Gripper {
+  uint16_t pulse_us;      // servo pulse, microseconds
+  uint8_t percent;        // aperture for status reports, whole percent
+  uint32_t settle_ticks;  // pause after it, step-timer ticks
+};
+
+// 2 + 4 * joints bytes on the Nano (14 for three motors).
+struct Action {
+  uint8_t kind;
+  uint8_t mask;  // kHome: motors with a switch
+  union {
+    int32_t target[robot::kJoints];
+    Gripper grip;
+  };
+};
+
+void clear();
+uint8_t count();
+inline bool empty() { return count() == 0; }
+inline bool full() { return count() == kSize; }
+inline uint8_t free_slots() { return uint8_t(kSize - count()); }
+
+// The main loop: adds at the back (the caller checked !full()).
+void push(const Action& a);
+
+// The step interrupt (or the main loop with interrupts off): the front action, then pop().
+const Action& front();
+void pop();
+
+}  // namespace queue
+
+#endif  // ARTICULA_FIRMWARE_QUEUE_H

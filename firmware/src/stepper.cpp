@@ -1,0 +1,232 @@
+// firmware/src/stepper.cpp - the step interrupt: moves, gripper pauses, homing.
+#include "stepper.h"
+
+#include "coils.h"
+#include "hal.h"
+#include "queue.h"
+#include "settings.h"
+
+using namespace articula;
+
+namespace stepper {
+
+namespace {
+const uint8_t kJ = robot::kJoints;
+
+enum Mode : uint8_t { kIdle, kMove, kPause, kSeek };
+
+volatile uint8_t g_running;  // set by the main loop (kick), cleared by the interrupt
+volatile uint8_t g_stop;     // '!' until the main loop has handled it at rest
+volatile uint8_t g_fault;    // homing failed or stopped
+volatile uint8_t g_mode;
+volatile uint8_t g_homing;
+uint8_t g_gripper;
+
+int32_t g_pos[kJ];
+LineStepper<kJ> g_line;
+StepProfile g_profile;
+
+// From update_constants().
+MotionSettings g_motion;
+ProfileConstants g_constants;
+uint32_t g_homing_ticks;
+uint32_t g_seek_range[kJ];  // steps to search for a switch before giving up
+
+// Homing.
+uint8_t g_seek_mask;  // switch motors not yet found
+uint8_t g_seek_motor;
+uint32_t g_seek_left;
+int32_t g_home_target[kJ];
+
+// Stops the interrupt's work: nothing runs until the main loop kicks again.
+uint32_t halt() {
+  g_mode = kIdle;
+  g_homing = 0;
+  g_running = 0;
+  return 0;
+}
+
+// Starts a move to absolute steps; 0 when there is nothing to step.
+uint32_t begin_move(const int32_t* target) {
+  int32_t delta[kJ];
+  for (uint8_t i = 0; i < kJ; ++i) delta[i] = target[i] - g_pos[i];
+  g_line.start(delta, kJ);
+  if (g_line.dominant == 0) return 0;
+  if (!coils::on()) coils::energise();
+  g_profile.start(g_line.dominant, g_constants);
+  g_mode = kMove;
+  return g_profile.next_interval();
+}
+
+// The next switch motor to seek, or the final move of a Home action.
+uint32_t next_seek() {
+  for (uint8_t i = 0; i < kJ; ++i) {
+    if (g_seek_mask & (1u << i)) {
+      g_seek_motor = i;
+      g_seek_left = g_seek_range[i];
+      g_mode = kSeek;
+      return g_homing_ticks;
+    }
+  }
+  return begin_move(g_home_target);
+}
+
+uint32_t begin(const queue::Action& a) {
+  switch (a.kind) {
+    case queue::kMove:
+      return begin_move(a.target);
+    case queue::kGripper:
+      hal::set_servo_pulse(a.grip.pulse_us);
+      g_gripper = a.grip.percent;
+      if (a.grip.settle_ticks == 0) return 0;
+      g_mode = kPause;
+      return a.grip.settle_ticks;
+    case queue::kHome: {
+      g_homing = 1;
+      for (uint8_t i = 0; i < kJ; ++i) g_home_target[i] = a.target[i];
+      g_seek_mask = a.mask;
+      if (a.mask != 0 && !coils::on()) coils::energise();
+      const uint32_t t = next_seek();
+      if (t == 0) g_homing = 0;
+      return t;
+    }
+  }
+  return 0;
+}
+
+// Starts queued actions until one takes time; stops the timer (0) when none is left or a
+// stop or fault says to start nothing more.
+uint32_t next_action() {
+  g_mode = kIdle;
+  g_homing = 0;
+  while (!g_stop && !g_fault && !queue::empty()) {
+    const uint32_t t = begin(queue::front());
+    queue::pop();
+    if (t != 0) return t;
+  }
+  return halt();
+}
+
+uint32_t seek_tick() {
+  const uint8_t m = g_seek_motor;
+  if (g_stop) {
+    g_fault = 1;
+    return halt();
+  }
+  if (hal::endstop(m)) {
+    g_pos[m] = g_home_target[m];  // the step of the motor's minimum angle
+    g_seek_mask = uint8_t(g_seek_mask & ~(1u << m));
+    const uint32_t t = next_seek();
+    if (t != 0) return t;
+    return next_action();
+  }
+  if (g_seek_left == 0) {
+    g_fault = 1;
+    return halt();
+  }
+  --g_seek_left;
+  // Towards the minimum angle: fewer steps unless the motor turns the other way.
+  const bool negative = robot::motor(m).direction > 0;
+  coils::step(m, negative);
+  g_pos[m] += negative ? -1 : 1;
+  return g_homing_ticks;
+}
+
+uint32_t move_tick() {
+  const uint8_t mask = g_line.next();
+  uint8_t bit = 1;
+  for (uint8_t i = 0; i < kJ; ++i, bit = uint8_t(bit << 1)) {
+    if ((mask & bit) == 0) continue;
+    const bool negative = (g_line.negative & bit) != 0;
+    coils::step(i, negative);
+    g_pos[i] += negative ? -1 : 1;
+  }
+  if (g_stop) g_profile.stop();
+  if (!g_profile.done()) return g_profile.next_interval();
+  return next_action();
+}
+}  // namespace
+
+void setup() {
+  hal::stop_step_timer();
+  g_running = g_stop = g_fault = g_homing = 0;
+  g_mode = kIdle;
+  g_gripper = 0;
+  for (uint8_t i = 0; i < kJ; ++i) {
+    g_pos[i] = 0;
+    const MotorSpec& m = robot::motor(i);
+    g_seek_range[i] = 2 * uint32_t(max_steps(m) - min_steps(m)) + 16;
+  }
+  update_constants();
+}
+
+void update_constants() {
+  g_motion.tick_hz = hal::kTickHz;
+  g_motion.max_rate = settings::value[settings::kMaxRate];
+  g_motion.accel = settings::value[settings::kAccel];
+  profile_constants(g_constants, g_motion);  // valid for every value the settings allow
+  const uint32_t rate = settings::value[settings::kHomingRate];
+  g_homing_ticks = (hal::kTickHz + rate / 2) / rate;
+}
+
+const MotionSettings& motion_settings() { return g_motion; }
+
+void kick() {
+  if (g_running || g_stop || g_fault || queue::empty()) return;
+  const uint8_t s = hal::interrupts_off();
+  g_running = 1;
+  const uint32_t t = next_action();
+  if (t != 0) hal::start_step_timer(t);
+  hal::interrupts_restore(s);
+}
+
+bool busy() { return g_running != 0; }
+bool homing() { return g_homing != 0; }
+
+void read_positions(int32_t* steps) {
+  const uint8_t s = hal::interrupts_off();
+  for (uint8_t i = 0; i < kJ; ++i) steps[i] = g_pos[i];
+  hal::interrupts_restore(s);
+}
+
+void set_positions(const int32_t* steps) {
+  const uint8_t s = hal::interrupts_off();
+  for (uint8_t i = 0; i < kJ; ++i) g_pos[i] = steps[i];
+  hal::interrupts_restore(s);
+}
+
+void request_stop() { g_stop = 1; }
+bool stop_requested() { return g_stop != 0; }
+void clear_stop() { g_stop = 0; }
+
+void cut_pause() {
+  const uint8_t s = hal::interrupts_off();
+  if (g_mode == kPause) {
+    hal::stop_step_timer();
+    halt();
+  }
+  hal::interrupts_restore(s);
+}
+
+bool take_fault() {
+  if (!g_fault) return false;
+  g_fault = 0;
+  return true;
+}
+
+uint8_t gripper_percent() { return g_gripper; }
+
+uint32_t on_timer() {
+  switch (g_mode) {
+    case kMove:
+      return move_tick();
+    case kSeek:
+      return seek_tick();
+    case kPause:
+      return next_action();
+    default:
+      return halt();
+  }
+}
+
+}  // namespace stepper

@@ -1,0 +1,62 @@
+// firmware/src/stepper.h - runs the motion queue from the step timer's interrupt.
+//
+// One action at a time: a move (LineStepper spreads the steps of every motor over the
+// dominant motor's steps, a StepProfile times those), a gripper pulse and its pause, or
+// homing (seek each switch at the homing rate, then a move). When an action ends the
+// interrupt starts the next one from the queue at once, so queued moves follow each other
+// without a gap: each starts from rest where the last one ended.
+//
+// Shared with the main loop: positions (read with interrupts off), the stop and fault flags.
+// Everything the interrupt needs that takes real arithmetic (the profile constants, the
+// homing interval, the switch search range) is computed by update_constants() in the main
+// loop while the arm is at rest.
+#ifndef ARTICULA_FIRMWARE_STEPPER_H
+#define ARTICULA_FIRMWARE_STEPPER_H
+
+#include <articula/motion.h>
+
+#include "robot.h"
+
+namespace stepper {
+
+// Positions 0, nothing running, constants from the settings.
+void setup();
+// After a settings change (only while nothing runs).
+void update_constants();
+// The constants a move's StepProfile starts from (the host's prediction uses the same).
+const articula::MotionSettings& motion_settings();
+
+// From the main loop: starts the queue when nothing runs.
+void kick();
+// An action is under way (the timer runs).
+bool busy();
+// A Home action (seek or its final move) is under way.
+bool homing();
+
+// Motor positions in steps, as stepped.
+void read_positions(int32_t* steps);
+// Sets them without moving (Z); only while nothing runs.
+void set_positions(const int32_t* steps);
+
+// '!': from the receive interrupt. The step interrupt decelerates the move under way
+// (StepProfile::stop) and starts nothing more; a homing search or a gripper pause ends at
+// once. The main loop empties the queue, and once nothing runs, clear_stop().
+void request_stop();
+bool stop_requested();
+void clear_stop();
+// Ends a gripper pause at once (main loop, after a stop request).
+void cut_pause();
+
+// Homing failed (a switch not found within twice the motor's range) or was stopped:
+// returns true once, then false. The interrupt has stopped and started nothing more.
+bool take_fault();
+
+// The gripper aperture of the last gripper action started, whole percent.
+uint8_t gripper_percent();
+
+// The step interrupt's work (firmware::on_step_timer).
+uint32_t on_timer();
+
+}  // namespace stepper
+
+#endif  // ARTICULA_FIRMWARE_STEPPER_H

@@ -1,0 +1,72 @@
+// firmware/test/fake_hal.h - the HAL of the native tests (hal.h implemented on the host).
+//
+// A simulated clock in step-timer ticks (2 MHz), advanced by the harness; every coil write
+// and servo pulse change recorded with its time; serial in and out buffers; a 1 KB EEPROM
+// image; endstops that press at a given step. The coil patterns are decoded back into step
+// counts here, independently of the firmware, so tests see what the motors would do.
+#ifndef ARTICULA_FIRMWARE_TEST_FAKE_HAL_H
+#define ARTICULA_FIRMWARE_TEST_FAKE_HAL_H
+
+#include <cstdint>
+#include <deque>
+#include <string>
+#include <vector>
+
+namespace fake {
+
+static const int kMotors = 3;  // the most the firmware drives
+
+struct CoilWrite {
+  uint64_t tick;
+  uint8_t motor;
+  uint8_t pattern;  // bit 0 IN1 .. bit 3 IN4
+  int8_t step;      // decoded: +1, -1, or 0 (energised, released, or the same pattern)
+};
+
+struct ServoChange {
+  uint64_t tick;
+  uint16_t us;
+};
+
+struct Hardware {
+  uint64_t now = 0;  // ticks
+  bool timer_running = false;
+  uint64_t deadline = 0;
+
+  std::vector<CoilWrite> coil_log;
+  std::vector<ServoChange> servo_log;
+  uint16_t servo_us = 0;
+
+  std::deque<char> rx;  // received, not yet read by serial_read()
+  std::string tx;       // everything the firmware wrote
+
+  uint8_t eeprom[1024];
+  uint32_t eeprom_bytes_written = 0;
+
+  // The coil decoder: positions from the patterns, 1 for full steps (stride 2 in the
+  // half-step table) or 2 for half steps, per motor (set by the harness from the robot).
+  uint8_t microsteps[kMotors] = {1, 1, 1};
+  int64_t position[kMotors] = {0, 0, 0};
+  int last_index[kMotors] = {-1, -1, -1};  // place in the half-step table of the last pattern
+  uint8_t pattern[kMotors] = {0, 0, 0};
+  std::vector<std::string> errors;  // decoding errors: an illegal pattern or jump
+
+  // Endstops: pressed while position <= at (below) or >= at (!below).
+  bool endstop_fitted[kMotors] = {false, false, false};
+  int64_t endstop_at[kMotors] = {0, 0, 0};
+  bool endstop_below[kMotors] = {true, true, true};
+
+  int interrupts_off_depth = 0;
+};
+
+extern Hardware hw;
+
+// A fresh machine: everything reset; the EEPROM kept unless blank_eeprom (then all 0xFF).
+void reset(bool blank_eeprom);
+
+// The half-step table's index of a pattern, -1 if it is none of the eight.
+int sequence_index(uint8_t pattern);
+
+}  // namespace fake
+
+#endif  // ARTICULA_FIRMWARE_TEST_FAKE_HAL_H

@@ -1,0 +1,328 @@
+// Tests firmware/src/controller.cpp at the serial line: one reply per line, every error
+// code the firmware can give (each rejected line leaving position, commanded angles and
+// queue as they were), overlong lines, comments, the info line, and the realtime bytes:
+// a status report mid-move (right steps, answered by the next pass of the main loop) and
+// a stop mid-move (queue emptied, the waiting line answered error:15, later moves fine).
+#include <articula/actuation.h>
+#include <articula/protocol.h>
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "fake_hal.h"
+#include "harness.h"
+#include "queue.h"
+#include "robot.h"
+
+using namespace articula;
+
+namespace {
+
+const int kJ = robot::kJoints;
+
+std::vector<int32_t> steps_of(const sim::Status& s) { return std::vector<int32_t>(s.steps, s.steps + kJ); }
+
+// Positions the pins gave up to (and including) tick t.
+std::vector<int64_t> pin_positions_at(uint64_t t) {
+  std::vector<int64_t> p(kJ, 0);
+  for (const fake::CoilWrite& w : fake::hw.coil_log)
+    if (w.tick <= t && w.motor < kJ) p[w.motor] += w.step;
+  return p;
+}
+
+// The angle of step 0 (where the arm is at power-up), millidegrees.
+Millideg zero(int i) { return robot::motor(uint8_t(i)).zero; }
+
+// The M line of the zero angles plus offsets, degrees.
+std::string m_line(double d0, double d1, double d2) {
+  const double d[3] = {d0, d1, d2};
+  std::string s = "M";
+  for (int i = 0; i < kJ; ++i) s += " " + std::to_string(zero(i) / 1000.0 + d[i]);
+  return s;
+}
+
+}  // namespace
+
+TEST(Controller, EveryLineOneReply) {
+  sim::boot();
+  EXPECT_EQ(sim::command("# only a comment"), "ok");
+  EXPECT_EQ(sim::command("   "), "error:1");
+  EXPECT_EQ(sim::command("I"), "ok");
+  ASSERT_EQ(sim::reports().size(), 1u);
+  InfoReport info;
+  const std::string& l = sim::reports()[0];
+  ASSERT_TRUE(parse_info(info, l.data(), uint16_t(l.size()))) << l;
+  EXPECT_EQ(info.protocol, kProtocolVersion);
+  EXPECT_EQ(info.num_joints, kJ);
+  EXPECT_STREQ(info.name, ARTICULA_ROBOT_NAME);
+  EXPECT_EQ(info.version[0], 0);
+  EXPECT_EQ(info.version[1], 1);
+  EXPECT_EQ(info.version[2], 0);
+  EXPECT_EQ(info.warning, kSettingsReset);  // a blank EEPROM: said once
+  EXPECT_EQ(sim::command("i"), "ok");
+  ASSERT_TRUE(parse_info(info, sim::reports()[0].data(), uint16_t(sim::reports()[0].size())));
+  EXPECT_EQ(info.warning, 0);
+  EXPECT_EQ(sim::command("L 0 1\r"), "ok");  // CRLF
+  EXPECT_EQ(sim::command("l 0 -1 # back"), "ok");
+  sim::run_until_at_rest();
+  EXPECT_TRUE(sim::take_lines().empty());  // nothing else was said
+  EXPECT_EQ(sim::hal_errors(), "");
+}
+
+// Each error the firmware can answer with, and after each one the arm, its commanded
+// angles and the queue are as they were: a long move is under way the whole time, so the
+// queue holds moves, and the final relative move lands on the step the exact sum gives.
+TEST(Controller, EveryErrorLeavesEverythingAsItWas) {
+  sim::boot();
+  ASSERT_EQ(sim::command("L 0 0.2"), "ok");  // commanded 0.2 deg: the test's witness
+  ASSERT_TRUE(sim::run_until_at_rest());
+  ASSERT_EQ(sim::command(m_line(40, 0, 0)), "ok");
+  ASSERT_EQ(sim::command(m_line(-40, 0, 0)), "ok");
+  ASSERT_EQ(sim::command(m_line(0.2, 0, 0)), "ok");  // back: base commanded 0.2 + zero
+  const sim::Status before = sim::status();
+  ASSERT_EQ(before.state, kStateRun);
+  const std::string too_long(65, 'x');
+  const struct {
+    std::string line;
+    std::string reply;
+  } cases[] = {
+      {"", "error:1"},
+      {"X 1", "error:2"},
+      {"G1", "error:2"},
+      {"L 0 abc", "error:3"},
+      {"L 0 1e3", "error:3"},
+      {"$1=abc", "error:3"},
+      {"L 0", "error:4"},
+      {"M 0", "error:4"},
+      {"$1=", "error:4"},
+      {"L 0 1 2", "error:5"},
+      {"H 1", "error:5"},
+      {"L 9 1", "error:6"},
+      {"L " + std::to_string(kJ) + " 1", "error:6"},
+      {too_long, "error:7"},
+      {"G 101", "error:8"},
+      {"G -0.001", "error:8"},
+      {"S 2", "error:8"},
+      {"$0=0", "error:8"},
+      {"$0=4001", "error:8"},
+      {"$0=600.5", "error:8"},
+      {"$2=-1", "error:8"},
+      {"$3=" + std::to_string(1 << kJ), "error:8"},
+      {"L 0 999999.9", "error:8"},  // the commanded angle would pass 1,000,000 degrees
+      {"L 0 1000", "error:9"},
+      {"L 0 -1000", "error:9"},
+      {"M 1000 0 0", kJ == 3 ? "error:9" : "error:5"},
+      {m_line(0, 0, 500), kJ == 3 ? "error:9" : "error:5"},
+      {"P 1000 0 0", "error:10"},
+      {"P 0 0 -500", "error:10"},
+      {"L 0 1\x01", "error:11"},
+      {"L 0 \xC3\xA9", "error:11"},
+      {"$6=1", "error:13"},
+      {"$99=1", "error:13"},
+      {"$x=1", "error:13"},
+  };
+  for (const auto& c : cases) {
+    EXPECT_EQ(sim::command(c.line), c.reply) << "line \"" << c.line << "\"";
+    const sim::Status now = sim::status();
+    EXPECT_EQ(now.free_slots, before.free_slots) << c.line;
+  }
+  ASSERT_TRUE(sim::run_until_at_rest());
+  const sim::Status after = sim::status();
+  // Zero + 0.2 deg is where the base was sent; the witness: 0.2 + 0.15 = 0.35 deg.
+  ASSERT_EQ(sim::command("L 0 0.15"), "ok");
+  ASSERT_TRUE(sim::run_until_at_rest());
+  const MotorSpec& base = robot::motor(0);
+  EXPECT_EQ(sim::status().steps[0], quantize_within_limits(base, zero(0) + 350)) << "commanded angle changed";
+  EXPECT_EQ(after.steps[0], quantize_within_limits(base, zero(0) + 200));
+  for (int i = 1; i < kJ; ++i) EXPECT_EQ(after.steps[i], 0);
+  EXPECT_EQ(sim::hal_errors(), "");
+}
+
+TEST(Controller, NotHomedWhileEndstopsAreFittedAndUnhomed) {
+  sim::boot();
+  ASSERT_EQ(sim::command("$3=1"), "ok");
+  sim::boot(false);  // power-up with a switch fitted: position unknown
+  EXPECT_EQ(sim::status().state, kStateAlarm);
+  const sim::Status before = sim::status();
+  for (const char* line : {"L 0 1", "M 0 90 0", "P 235 0 213"}) EXPECT_EQ(sim::command(line), "error:12") << line;
+  EXPECT_EQ(sim::command("G 50"), "ok");  // the gripper knows where it is
+  EXPECT_EQ(sim::command("I"), "ok");
+  sim::run_until_at_rest();
+  const sim::Status after = sim::status();
+  EXPECT_EQ(steps_of(after), steps_of(before));
+  EXPECT_EQ(after.state, kStateAlarm);
+  EXPECT_EQ(sim::command("Z"), "ok");
+  EXPECT_EQ(sim::status().state, kStateIdle);
+  EXPECT_EQ(sim::command("L 0 1"), "ok");
+}
+
+// A line of 64 bytes is fine (with a CR too), 65 is too long; the realtime bytes do not
+// count; the overlong line is read to its end, then answered once, and the next is fine.
+TEST(Controller, OverlongLines) {
+  sim::boot();
+  std::string l64 = "L 0 1";
+  l64 += std::string(64 - l64.size() - 1, ' ') + "#";
+  ASSERT_EQ(l64.size(), 64u);
+  EXPECT_EQ(sim::command(l64), "ok");
+  EXPECT_EQ(sim::command(l64 + "\r"), "ok");
+  EXPECT_EQ(sim::command(l64 + "x"), "error:7");
+  EXPECT_EQ(sim::command(l64 + "?"), "ok");  // '?' is taken out: still 64 bytes
+  EXPECT_EQ(sim::take_lines().size(), 0u);
+  EXPECT_EQ(sim::reports().size(), 1u);  // the status report the '?' asked for
+  EXPECT_EQ(sim::command(std::string(500, 'L')), "error:7");
+  EXPECT_EQ(sim::command("L 0 -2"), "ok");  // three times +1 above, then -2
+  ASSERT_TRUE(sim::run_until_at_rest());
+  EXPECT_EQ(sim::status().steps[0], quantize_within_limits(robot::motor(0), zero(0) + 1000));
+}
+
+// '?' in the middle of a move: answered by the next pass of the main loop, with the steps
+// the pins had given by then and the state Run; a '?' in the middle of a line is taken out
+// of it.
+TEST(Controller, StatusMidMove) {
+  sim::boot();
+  ASSERT_EQ(sim::command(m_line(60, 0, 0)), "ok");
+  ASSERT_TRUE(sim::run_until([] { return fake::hw.position[0] != 0 && std::abs(fake::hw.position[0]) > 40; },
+                             10 * sim::kSecond));
+  for (int k = 0; k < 5; ++k) {
+    sim::take_lines();
+    const uint64_t t = fake::hw.now;  // the next pass polls at this time
+    sim::send("?");
+    sim::tick();
+    const std::vector<std::string> lines = sim::take_lines();
+    ASSERT_EQ(lines.size(), 1u);
+    sim::Status st;
+    ASSERT_TRUE(parse_status(st, lines[0].data(), uint16_t(lines[0].size()))) << lines[0];
+    EXPECT_EQ(st.state, kStateRun);
+    EXPECT_TRUE(st.coils);
+    EXPECT_EQ(st.free_slots, queue::kSize);
+    const std::vector<int64_t> pins = pin_positions_at(t);
+    for (int i = 0; i < kJ; ++i) {
+      EXPECT_EQ(st.steps[i], pins[i]) << i;
+      EXPECT_EQ(st.millideg[i], steps_to_millideg(robot::motor(uint8_t(i)), st.steps[i]));
+    }
+    sim::run_until([] { return false; }, 40 * sim::kPollTicks);
+  }
+  // Mid-line: the line still works.
+  sim::send("L 0 1?");
+  sim::tick();
+  sim::send("0\n");
+  ASSERT_TRUE(sim::run_until_at_rest());
+  int reports = 0, oks = 0;
+  for (const std::string& l : sim::take_lines()) {
+    reports += l[0] == '<';
+    oks += l == "ok";
+  }
+  EXPECT_EQ(reports, 1);
+  EXPECT_EQ(oks, 1);
+  EXPECT_EQ(sim::status().steps[0], quantize_within_limits(robot::motor(0), zero(0) + 70000));
+}
+
+// '!' in the middle of a move with a full queue and a line waiting for room: the waiting
+// line gets error:15, so does the complete line behind it, the queue is emptied, the arm
+// decelerates (state Stop) to rest; the commanded angles become those of the steps reached;
+// the next lines work from there.
+TEST(Controller, StopMidMove) {
+  sim::boot();
+  std::string burst;
+  for (int k = 0; k < int(queue::kSize) + 3; ++k) burst += k % 2 ? "L 0 -30\n" : "L 0 30\n";
+  sim::send(burst);
+  // The first move starts, eight more fill the queue, one waits, one more is read.
+  ASSERT_TRUE(sim::run_until([] { return std::abs(fake::hw.position[0]) > 30; }, 10 * sim::kSecond));
+  std::vector<std::string> lines = sim::take_lines();
+  EXPECT_EQ(lines.size(), queue::kSize + 1u);
+  for (const std::string& l : lines) EXPECT_EQ(l, "ok");
+  EXPECT_EQ(sim::status().free_slots, 0);
+  sim::send("!");
+  sim::tick();
+  lines = sim::take_lines();
+  ASSERT_EQ(lines.size(), 2u);
+  EXPECT_EQ(lines[0], "error:15");
+  EXPECT_EQ(lines[1], "error:15");
+  sim::Status st = sim::status();
+  EXPECT_EQ(st.state, kStateStop);
+  EXPECT_EQ(st.free_slots, queue::kSize);
+  // Lines sent now wait for rest.
+  sim::send("I\n");
+  sim::tick();
+  EXPECT_TRUE(sim::take_lines().empty());
+  ASSERT_TRUE(sim::run_until([] { return !sim::take_lines().empty(); }, 10 * sim::kSecond));
+  st = sim::status();
+  EXPECT_EQ(st.state, kStateIdle);
+  for (int i = 0; i < kJ; ++i) EXPECT_EQ(st.steps[i], fake::hw.position[i]);
+  EXPECT_NE(st.steps[0], 0);
+  // The commanded angle is now the reached step's angle (the A field): 0.5 degrees off it
+  // is the step this move goes to (not where the discarded moves would have left it).
+  const MotorSpec& base = robot::motor(0);
+  const Millideg a_field = st.millideg[0];
+  EXPECT_EQ(a_field, steps_to_millideg(base, st.steps[0]));
+  ASSERT_EQ(sim::command("L 0 -0.5"), "ok");
+  ASSERT_TRUE(sim::run_until_at_rest());
+  st = sim::status();
+  EXPECT_EQ(st.steps[0], quantize_within_limits(base, a_field - 500)) << "the commanded angle was not re-derived";
+  EXPECT_EQ(sim::command(m_line(0, 0, 0)), "ok");
+  ASSERT_TRUE(sim::run_until_at_rest());
+  st = sim::status();
+  for (int i = 0; i < kJ; ++i) EXPECT_EQ(st.steps[i], 0);
+  for (int i = 0; i < kJ; ++i) EXPECT_EQ(fake::hw.position[i], st.steps[i]);
+  EXPECT_EQ(sim::hal_errors(), "");
+}
+
+// '!' at rest: nothing moves, the next status says Idle, lines still work.
+TEST(Controller, StopAtRest) {
+  sim::boot();
+  sim::send("!");
+  sim::tick();
+  EXPECT_TRUE(sim::take_lines().empty());
+  EXPECT_EQ(sim::status().state, kStateIdle);
+  EXPECT_EQ(sim::command("L 0 1"), "ok");
+  ASSERT_TRUE(sim::run_until_at_rest());
+  EXPECT_EQ(sim::status().steps[0], quantize_within_limits(robot::motor(0), zero(0) + 1000));
+}
+
+// The example session of docs/protocol.md, line by line, on the MK2 (each '?' after the
+// moves before it have ended, as a person typing would see it).
+TEST(Controller, ExampleSessionOfTheProtocolDocument) {
+  if (std::string(ARTICULA_ROBOT_NAME) != "MK2 Plus") GTEST_SKIP() << "the example is the MK2's";
+  std::ifstream doc(std::string(ARTICULA_SOURCE_DIR) + "/docs/protocol.md");
+  ASSERT_TRUE(doc.good());
+  std::string line;
+  while (std::getline(doc, line) && line != "## Example session") {
+  }
+  std::vector<std::pair<std::string, std::vector<std::string>>> session;  // sent, expected
+  while (std::getline(doc, line) && line.rfind("## ", 0) != 0) {
+    if (line.rfind("    > ", 0) == 0) session.push_back({line.substr(6), {}});
+    if (line.rfind("    < ", 0) == 0 && !session.empty()) session.back().second.push_back(line.substr(6));
+  }
+  ASSERT_GT(session.size(), 15u);
+  sim::boot();
+  sim::status();  // takes the W:14 of the blank EEPROM
+  sim::take_lines();
+  for (const auto& step : session) {
+    std::vector<std::string> got;
+    if (step.first == "?") {
+      ASSERT_TRUE(sim::run_until_at_rest());
+      sim::take_lines();
+      sim::send("?");
+      sim::tick();
+      got = sim::take_lines();
+    } else {
+      got.push_back(sim::command(step.first));
+      got.insert(got.begin(), sim::reports().begin(), sim::reports().end());
+    }
+    EXPECT_EQ(got, step.second) << "> " << step.first;
+  }
+  ASSERT_TRUE(sim::run_until_at_rest());
+  EXPECT_EQ(sim::hal_errors(), "");
+}
+
+#ifdef PIO_UNIT_TESTING
+// PlatformIO builds each test folder as a program of its own (CMake links gtest_main).
+int main(int argc, char** argv) {
+  ::testing::InitGoogleTest(&argc, argv);
+  const int failed = RUN_ALL_TESTS();
+  (void)failed;
+  return 0;  // PlatformIO reads the results from the output
+}
+#endif

@@ -1,0 +1,37 @@
+# cmake -P script: prints an AVR ELF's flash and static RAM use and fails above the budgets.
+#   cmake -DELF=file.elf -DAVR_SIZE=avr-size -DFLASH_BUDGET=24576 -DRAM_BUDGET=1536 -P avr_size_check.cmake
+# Flash is .text + .data (the initial values of .data are stored in flash); static RAM is
+# .data + .bss + .noinit, what is used before the stack and any local variable.
+foreach(var ELF AVR_SIZE FLASH_BUDGET RAM_BUDGET)
+  if(NOT DEFINED ${var})
+    message(FATAL_ERROR "avr_size_check.cmake: -D${var}=... is required")
+  endif()
+endforeach()
+execute_process(COMMAND ${AVR_SIZE} -A ${ELF} OUTPUT_VARIABLE out RESULT_VARIABLE rc)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "${AVR_SIZE} could not read ${ELF}")
+endif()
+foreach(section text data bss noinit)
+  set(${section} 0)
+  if(out MATCHES "\n\\.${section}[ \t]+([0-9]+)")
+    set(${section} ${CMAKE_MATCH_1})
+  endif()
+endforeach()
+math(EXPR flash "${text} + ${data}")
+math(EXPR ram "${data} + ${bss} + ${noinit}")
+math(EXPR flash_pct "${flash} * 100 / 30720")
+math(EXPR ram_pct "${ram} * 100 / 2048")
+get_filename_component(name ${ELF} NAME)
+message("${name}: flash ${flash} B (${flash_pct} % of the Nano's 30,720; budget ${FLASH_BUDGET}), "
+        "static RAM ${ram} B (${ram_pct} % of 2,048; budget ${RAM_BUDGET}; .data ${data}, .bss ${bss})")
+set(failed "")
+if(flash GREATER FLASH_BUDGET)
+  string(APPEND failed " flash ${flash} B is over the budget of ${FLASH_BUDGET} B.")
+endif()
+if(ram GREATER RAM_BUDGET)
+  string(APPEND failed
+         " static RAM ${ram} B is over the budget of ${RAM_BUDGET} B (the rest of the 2,048 is the stack's).")
+endif()
+if(failed)
+  message(FATAL_ERROR "${name}:${failed}")
+endif()
