@@ -6,6 +6,7 @@
 #include <iostream>
 #include <sstream>
 
+#include "program.h"
 #include "robot_file.h"
 
 namespace articula::cli {
@@ -77,6 +78,13 @@ std::string Table::str() const {
   return os.str();
 }
 
+std::string csv_field(const std::string& s) {
+  if (s.find_first_of(",\"\n\r") == std::string::npos) return s;
+  std::string out = "\"";
+  for (char c : s) out += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return out + "\"";
+}
+
 namespace {
 // cxxopts wants long options of two letters or more; the CLI's documented spelling uses one
 // (--q), so "--q VALUE" and "--q=VALUE" become the short form "-q VALUE" before parsing.
@@ -104,6 +112,8 @@ int guarded(const char* command, int (*body)(int, char**), int argc, char** argv
     ptrs.push_back(nullptr);
     return body(int(args.size()), ptrs.data());
   } catch (const host::RobotFileError& e) {
+    std::cerr << "articula " << command << ": " << e.what() << '\n';
+  } catch (const host::ProgramError& e) {
     std::cerr << "articula " << command << ": " << e.what() << '\n';
   } catch (const UsageError& e) {
     std::cerr << "articula " << command << ": " << e.what() << " (see: articula " << command << " --help)\n";

@@ -37,7 +37,10 @@ class Table {
 
 std::string fmt(double v, int decimals = 3);
 
-// Runs a command body: catches UsageError, RobotFileError and cxxopts errors and turns
+// One CSV field (RFC 4180): quoted when it holds a comma, a quote or a line break.
+std::string csv_field(const std::string& s);
+
+// Runs a command body: catches UsageError, RobotFileError, ProgramError and cxxopts errors and turns
 // them into one line on stderr and a non-zero exit code.
 int guarded(const char* command, int (*body)(int, char**), int argc, char** argv);
 

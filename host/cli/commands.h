@@ -7,7 +7,11 @@ namespace articula::cli {
 
 int cmd_info(int argc, char** argv);
 int cmd_fk(int argc, char** argv);
+int cmd_ik(int argc, char** argv);
+int cmd_export_urdf(int argc, char** argv);
 int cmd_quantize(int argc, char** argv);
+int cmd_predict(int argc, char** argv);
+int cmd_run(int argc, char** argv);
 int cmd_import_legacy(int argc, char** argv);
 
 }  // namespace articula::cli

@@ -17,7 +17,11 @@ struct CommandEntry {
 const CommandEntry kCommands[] = {
     {"info", articula::cli::cmd_info, "the robot's DH table, joints, limits, motors and reach"},
     {"fk", articula::cli::cmd_fk, "forward kinematics: every frame and the tool pose for joint values"},
+    {"ik", articula::cli::cmd_ik, "inverse kinematics: joint values for a tool target (or a file of targets)"},
     {"quantize", articula::cli::cmd_quantize, "what whole motor steps make of protocol moves (L lines), in degrees and mm"},
+    {"predict", articula::cli::cmd_predict, "what the real arm does with a program: steps, tool error, timing"},
+    {"run", articula::cli::cmd_run, "run a program on the kinematic model: the pose after each command"},
+    {"export-urdf", articula::cli::cmd_export_urdf, "the robot as URDF, for ROS tools"},
     {"import-legacy", articula::cli::cmd_import_legacy, "convert the original system's robot text file (thesis appendix C)"},
 };
 

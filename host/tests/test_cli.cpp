@@ -7,6 +7,8 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
+#include <sstream>
 #include <string>
 
 namespace {
@@ -16,8 +18,9 @@ struct Result {
   std::string out;  // stdout and stderr together
 };
 
-Result run(const std::string& args) {
-  const std::string cmd = std::string(ARTICULA_CLI) + " " + args + " 2>&1";
+// Runs the CLI; stdout and stderr together, or stdout only (stderr discarded).
+Result run(const std::string& args, bool with_stderr = true) {
+  const std::string cmd = std::string(ARTICULA_CLI) + " " + args + (with_stderr ? " 2>&1" : " 2>/dev/null");
   FILE* p = popen(cmd.c_str(), "r");
   if (!p) return {-1, "popen failed"};
   std::string out;
@@ -28,7 +31,7 @@ Result run(const std::string& args) {
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
 }
 
-Result run_stdout(const std::string& args) { return run(args + " 2>/dev/null"); }
+Result run_stdout(const std::string& args) { return run(args, false); }
 
 }  // namespace
 
@@ -192,4 +195,266 @@ TEST(Cli, ImportLegacyWritesALoadableRobotAndListsTheRest) {
   const Result bad = run("import-legacy " + std::string(ARTICULA_SOURCE_DIR) + "/robots/mk2plus.json");
   EXPECT_EQ(bad.code, 2);
   EXPECT_NE(bad.out.find("mk2plus.json:1: set 1 (number of arms)"), std::string::npos) << bad.out;
+}
+
+// ---- predict and run ----
+
+#include <articula/motion.h>
+
+namespace {
+std::string program_path(const std::string& name) { return std::string(ARTICULA_SOURCE_DIR) + "/programs/" + name; }
+
+std::string write_temp(const std::string& name, const std::string& text) {
+  const std::string path = testing::TempDir() + "/" + name;
+  FILE* f = std::fopen(path.c_str(), "w");
+  std::fputs(text.c_str(), f);
+  std::fclose(f);
+  return path;
+}
+
+// RFC 4180 fields of one CSV line (quotes doubled inside quoted fields).
+std::vector<std::string> csv_fields(const std::string& line) {
+  std::vector<std::string> out(1);
+  bool quoted = false;
+  for (size_t i = 0; i < line.size(); ++i) {
+    const char c = line[i];
+    if (quoted) {
+      if (c == '"' && i + 1 < line.size() && line[i + 1] == '"') out.back() += '"', ++i;
+      else if (c == '"') quoted = false;
+      else out.back() += c;
+    } else if (c == '"') {
+      quoted = true;
+    } else if (c == ',') {
+      out.emplace_back();
+    } else {
+      out.back() += c;
+    }
+  }
+  return out;
+}
+
+std::vector<std::string> lines_of(const std::string& text) {
+  std::vector<std::string> out;
+  for (size_t start = 0; start < text.size();) {
+    const size_t end = text.find('\n', start);
+    out.push_back(text.substr(start, end - start));
+    start = end == std::string::npos ? text.size() : end + 1;
+  }
+  return out;
+}
+}  // namespace
+
+TEST(Cli, HelpListsPredictAndRun) {
+  const Result r = run("--help");
+  for (const char* c : {"predict", "run"}) EXPECT_NE(r.out.find(std::string("  ") + c + " "), std::string::npos) << c;
+  for (const char* c : {"predict", "run"}) {
+    const Result h = run(std::string(c) + " --help");
+    EXPECT_EQ(h.code, 0) << c;
+    EXPECT_NE(h.out.find("ROBOT PROGRAM"), std::string::npos) << h.out;
+  }
+}
+
+TEST(Cli, PredictDemoTableAndSummary) {
+  const Result r = run("predict mk2plus " + program_path("demo.arm"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("10 commands, 0 rejected, worst quantization error"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("L 0 30"), std::string::npos);
+  EXPECT_EQ(r.out.find("# base"), std::string::npos) << "comments are not part of the command column";
+  EXPECT_NE(r.out.find("95 0 0"), std::string::npos) << r.out;  // 30 deg / 0.31667 = 94.7 -> 95 steps
+}
+
+TEST(Cli, PredictJsonIsOneDocument) {
+  const Result r = run_stdout("predict mk2plus " + program_path("demo.arm") + " --json");
+  ASSERT_EQ(r.code, 0) << r.out;
+  const auto j = nlohmann::json::parse(r.out);
+  ASSERT_EQ(j["records"].size(), 10u);
+  EXPECT_EQ(j["settings"]["$0"], 600);
+  const auto& l0 = j["records"][1];
+  EXPECT_EQ(l0["command"], "L 0 30");
+  EXPECT_EQ(l0["steps"], nlohmann::json::array({95, 0, 0}));
+  EXPECT_NEAR(l0["joints"][0].get<double>(), 95 * 360.0 * 19 / (200 * 108), 1e-9);
+  // The default settings ($0 600 steps/s, $1 2000 steps/s^2) at 2 MHz.
+  const articula::MotionSettings defaults = {2000000, 600, 2000};
+  EXPECT_EQ(l0["ticks"].get<uint64_t>(), articula::profile_duration_ticks(95, defaults));
+  double end = 0;
+  for (const auto& rec : j["records"]) {
+    EXPECT_NEAR(rec["start_s"].get<double>(), end, 1e-12);
+    end = rec["end_s"].get<double>();
+  }
+  EXPECT_NEAR(j["summary"]["total_s"].get<double>(), end, 1e-12);
+  EXPECT_EQ(j["summary"]["rejected"], 0);
+}
+
+TEST(Cli, PredictCsvHasAHeaderAndOneRowPerCommand) {
+  const Result r = run_stdout("predict mk2plus " + program_path("demo.arm") + " --csv");
+  ASSERT_EQ(r.code, 0) << r.out;
+  const std::vector<std::string> lines = lines_of(r.out);
+  ASSERT_EQ(lines.size(), 11u);
+  const std::vector<std::string> head = csv_fields(lines[0]);
+  EXPECT_EQ(head[0], "line");
+  EXPECT_EQ(head[1], "command");
+  for (size_t i = 1; i < lines.size(); ++i) EXPECT_EQ(csv_fields(lines[i]).size(), head.size()) << lines[i];
+  // The row of "L 0 0.1": a comment-free command and a note with a comma, quoted.
+  const std::vector<std::string> row = csv_fields(lines[9]);
+  EXPECT_EQ(row[1], "L 0 0.1");
+  EXPECT_NE(row.back().find("nothing is queued"), std::string::npos) << lines[9];
+}
+
+TEST(Cli, PredictSettingsAreHonoured) {
+  const auto total = [](const std::string& extra) {
+    const Result r = run_stdout("predict mk2plus " + program_path("demo.arm") + " --json" + extra);
+    EXPECT_EQ(r.code, 0) << r.out;
+    return nlohmann::json::parse(r.out);
+  };
+  const auto slow = total("");
+  const auto fast = total(" --settings 0=800,1=3000,5=100");
+  EXPECT_EQ(fast["settings"]["$0"], 800);
+  EXPECT_EQ(fast["settings"]["$5"], 100);
+  EXPECT_LT(fast["summary"]["total_s"].get<double>(), slow["summary"]["total_s"].get<double>());
+  EXPECT_EQ(fast["records"][0]["ticks"], 100 * 2000);  // G: the settle time
+  const Result bad = run("predict mk2plus " + program_path("demo.arm") + " --settings 0=9000");
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_NE(bad.out.find("--settings: '0=9000': $0 takes a whole number from 1 to 4000"), std::string::npos) << bad.out;
+  const Result unknown = run("predict mk2plus " + program_path("demo.arm") + " --settings 7=1");
+  EXPECT_EQ(unknown.code, 2);
+  EXPECT_NE(unknown.out.find("no such setting"), std::string::npos) << unknown.out;
+}
+
+TEST(Cli, PredictRejectedCommandsExitOne) {
+  const std::string p = write_temp("rejected.arm", "L 0 10\nL 1 50   # past the shoulder's limit\nL 0 -10\n");
+  const Result r = run("predict mk2plus " + p);
+  EXPECT_EQ(r.code, 1) << r.out;
+  EXPECT_NE(r.out.find("error:9"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("line 2: target beyond a joint limit, nothing changes"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("3 commands, 1 rejected"), std::string::npos) << r.out;
+}
+
+TEST(Cli, PredictAndRunErrorsAreClear) {
+  for (const char* cmd : {"predict", "run"}) {
+    const std::string c = cmd;
+    Result r = run(c + " mk2plus /no/such/program.arm");
+    EXPECT_EQ(r.code, 2) << c;
+    EXPECT_NE(r.out.find("articula " + c + ": cannot read the program file '/no/such/program.arm'"), std::string::npos)
+        << r.out;
+    r = run(c + " mk2plus");
+    EXPECT_EQ(r.code, 2) << c;
+    EXPECT_NE(r.out.find("no program given"), std::string::npos) << r.out;
+    const std::string bad = write_temp("bad.arm", "L 0 10\n# fine\nL 0 1e3\n");
+    r = run(c + " mk2plus " + bad);
+    EXPECT_EQ(r.code, 2) << c;
+    EXPECT_NE(r.out.find("bad.arm:3: 'L 0 1e3': error:3"), std::string::npos) << r.out;
+    const std::string bad_robosim = write_temp("bad.robosim", "m\n0\n90\n-90\na\n200\n");
+    r = run(c + " mk2plus " + bad_robosim);
+    EXPECT_EQ(r.code, 2) << c;
+    EXPECT_NE(r.out.find("bad.robosim:5: a (target coordinate): 3 values expected, 1 given"), std::string::npos)
+        << r.out;
+    r = run(c + " mk2plus " + program_path("demo.arm") + " --json --csv");
+    EXPECT_EQ(r.code, 2) << c;
+  }
+  const Result r = run("predict thesis-example " + program_path("pick-and-place.robosim"));
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.out.find("has no motors"), std::string::npos) << r.out;
+}
+
+TEST(Cli, RunPrintsThePoseAfterEachCommand) {
+  Result r = run("run mk2plus " + program_path("pick-and-place.robosim"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("reached"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("14 commands, 0 rejected"), std::string::npos) << r.out;
+  r = run_stdout("run mk2plus " + program_path("demo.arm") + " --json");
+  ASSERT_EQ(r.code, 0) << r.out;
+  const auto j = nlohmann::json::parse(r.out);
+  ASSERT_EQ(j["records"].size(), 10u);
+  // L 0 30 on the exact model: the base at exactly 30 deg, the tool at radius 235 mm.
+  EXPECT_DOUBLE_EQ(j["records"][1]["joints"][0].get<double>(), 30);
+  EXPECT_NEAR(j["records"][1]["tool"]["position"][1].get<double>(), 235 * std::sin(M_PI / 6), 1e-9);
+  EXPECT_EQ(j["records"][6]["ik_status"], "reached");  // P 200 -150 150
+}
+
+TEST(Cli, RunSavesToAFile) {
+  const std::string out = testing::TempDir() + "/run.csv";
+  std::remove(out.c_str());
+  const Result r = run("run mk2plus " + program_path("thesis-repeatability.arm") + " -o " + out);
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_TRUE(r.out.empty()) << r.out;
+  std::FILE* f = std::fopen(out.c_str(), "r");
+  ASSERT_NE(f, nullptr);
+  std::string text;
+  char buf[4096];
+  for (size_t n; (n = std::fread(buf, 1, sizeof buf, f)) > 0;) text.append(buf, n);
+  std::fclose(f);
+  const std::vector<std::string> lines = lines_of(text);
+  ASSERT_EQ(lines.size(), 7u);  // a header and six commands: CSV from the file's extension
+  const std::vector<std::string> head = csv_fields(lines[0]);
+  EXPECT_EQ(head[4], "base_deg");
+  for (size_t i = 1; i < lines.size(); ++i) EXPECT_EQ(csv_fields(lines[i]).size(), head.size()) << lines[i];
+}
+
+TEST(Cli, RunWorksWithoutMotors) {
+  const std::string p = write_temp("thesis.robosim", "m\n0\n0\n10\n0\n20\n0\n30\n0\nz\n1.5\n");
+  const Result r = run("run thesis-example " + p);
+  EXPECT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("2 commands, 0 rejected"), std::string::npos) << r.out;
+}
+
+TEST(Cli, IkReachesAPointAndSaysWhyNot) {
+  // The tool at home is (235, 0, 213): IK from another pose finds it again.
+  const Result r = run_stdout("ik mk2plus --target 235,0,213 --from 20,60,-70 --json");
+  ASSERT_EQ(r.code, 0) << r.out;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["status"], "reached");
+  EXPECT_EQ(j["solver"], "closed");
+  EXPECT_LT(j["position_error_mm"].get<double>(), 0.01);
+  EXPECT_NEAR(j["q"][1].get<double>(), 90, 1e-6);
+  // Far beyond the reach: not reached, exit 1, and the distance it stays away.
+  const Result far = run_stdout("ik mk2plus --target 1000,0,100 --json");
+  EXPECT_EQ(far.code, 1);
+  const auto k = nlohmann::json::parse(far.out);
+  EXPECT_NE(k["status"], "reached");
+  EXPECT_GT(k["position_error_mm"].get<double>(), 600);
+  // The thesis's method on request.
+  const auto jt = nlohmann::json::parse(run_stdout("ik mk2plus --target 235,0,213 --solver jt --json").out);
+  EXPECT_EQ(jt["solver"], "jt");
+}
+
+TEST(Cli, IkBatchPrintsOneJsonLineEach) {
+  const std::string file = testing::TempDir() + "/targets.txt";
+  std::ofstream(file) << "# x,y,z\n235,0,213\n200,50,150\n\n1000,0,0\n";
+  const Result r = run_stdout("ik mk2plus --targets " + file);
+  EXPECT_EQ(r.code, 1);  // one of three is out of reach
+  std::istringstream in(r.out);
+  std::string line;
+  int n = 0;
+  while (std::getline(in, line)) {
+    const auto j = nlohmann::json::parse(line);
+    EXPECT_TRUE(j.contains("solve_us"));
+    ++n;
+  }
+  EXPECT_EQ(n, 3);
+}
+
+TEST(Cli, IkErrorPaths) {
+  Result r = run("ik mk2plus");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.out.find("give either --target or --targets"), std::string::npos) << r.out;
+  r = run("ik mk2plus --target 1,2");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.out.find("x,y,z (mm) or x,y,z,roll,pitch,yaw"), std::string::npos) << r.out;
+  r = run("ik mk2plus --target 1,2,3 --solver magic");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.out.find("'magic' is not auto, lm, jt or closed"), std::string::npos) << r.out;
+  r = run("ik panda --target 1,2,3 --solver closed");
+  EXPECT_EQ(r.code, 2) << r.out;
+  r = run("ik mk2plus --targets /nonexistent/t.txt");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.out.find("cannot read /nonexistent/t.txt"), std::string::npos) << r.out;
+}
+
+TEST(Cli, ExportUrdfWritesAFileCheckUrdfAccepts) {
+  const std::string out = testing::TempDir() + "/mk2.urdf";
+  const Result r = run("export-urdf mk2plus -o " + out);
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("note: row 4: a linked parameter of 2 joints"), std::string::npos) << r.out;
+  EXPECT_EQ(std::system(("check_urdf " + out + " > /dev/null").c_str()), 0);
+  EXPECT_EQ(run("export-urdf").code, 2);
 }

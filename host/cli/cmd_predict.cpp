@@ -1,0 +1,243 @@
+// articula predict ROBOT PROGRAM: what the real arm will do with a program, step-exact: for
+// each command the motor steps, the joint values they give, the ideal and the quantized tool
+// position, and the timing, from a host model of the controller built on the shared core
+// (host/lib/predict.h).
+#include <cctype>
+#include <cxxopts.hpp>
+#include <fstream>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "cli_util.h"
+#include "commands.h"
+#include "predict.h"
+#include "program.h"
+#include "robot_file.h"
+
+namespace articula::cli {
+namespace {
+
+// A protocol line without its comment, for display ("L 0 10 # left" -> "L 0 10").
+std::string command_text(const std::string& line) {
+  std::string s = line.substr(0, line.find('#'));
+  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.pop_back();
+  return s.empty() ? line : s;
+}
+
+std::string joined(const std::vector<int32_t>& v) {
+  std::string s;
+  for (size_t i = 0; i < v.size(); ++i) s += (i ? " " : "") + std::to_string(v[i]);
+  return s;
+}
+
+std::string joined(const std::vector<double>& v, int decimals) {
+  std::string s;
+  for (size_t i = 0; i < v.size(); ++i) s += (i ? " " : "") + fmt(v[i], decimals);
+  return s;
+}
+
+std::string joined(const Vec3<double>& p, int decimals = 3) {
+  return joined(std::vector<double>{p.x, p.y, p.z}, decimals);
+}
+
+std::string reply_text(Status s) {
+  return s == kOk ? "ok" : "error:" + std::to_string(int(s));
+}
+
+std::string full(double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.9g", v);
+  return buf;
+}
+
+nlohmann::json vec_json(const Vec3<double>& p) {
+  return {p.x, p.y, p.z};
+}
+
+nlohmann::json record_json(const host::PredictRecord& r) {
+  nlohmann::json j = {{"line", r.line},
+                      {"command", command_text(r.text)},
+                      {"reply", r.reply == kOk ? "ok" : "error"},
+                      {"code", int(r.reply)}};
+  if (r.reply != kOk) j["error"] = status_text(r.reply);
+  if (!r.protocol.empty()) j["protocol"] = r.protocol;
+  if (!r.note.empty()) j["note"] = r.note;
+  j["steps"] = r.steps;
+  nlohmann::json cmd = nlohmann::json::array();
+  for (Millideg c : r.commanded) cmd.push_back(c / 1000.0);
+  j["commanded_deg"] = cmd;
+  j["actuator_deg"] = r.actuator_deg;
+  j["joints"] = r.joints;
+  j["joints_ideal"] = r.joints_ideal;
+  j["tool_ideal_mm"] = vec_json(r.tool_ideal);
+  j["tool_quantized_mm"] = vec_json(r.tool_quantized);
+  j["error_mm"] = r.error_mm;
+  j["gripper_percent"] = r.gripper_percent < 0 ? nlohmann::json(nullptr) : nlohmann::json(r.gripper_percent);
+  if (r.has_target) {
+    j["target_mm"] = vec_json(r.target);
+    j["target_error_mm"] = r.target_error_mm;
+  }
+  if (!r.ik_status.empty()) j["ik_status"] = r.ik_status;
+  j["queued"] = r.queued;
+  j["dominant_steps"] = r.dominant_steps;
+  j["ticks"] = r.ticks;
+  j["seconds"] = r.seconds();
+  j["start_tick"] = r.start_tick;
+  j["end_tick"] = r.end_tick;
+  j["start_s"] = r.start_s();
+  j["end_s"] = r.end_s();
+  return j;
+}
+
+int run(int argc, char** argv) {
+  cxxopts::Options opts("articula predict",
+                        "What the real arm will do with a program, step-exact: for each command the motor steps, "
+                        "the joint values they give, the ideal and the quantized tool position and their "
+                        "difference, and the timing of the controller's queue.");
+  opts.custom_help("ROBOT PROGRAM [--json|--csv] [--settings n=v,...] [-o FILE]");
+  opts.add_options()("json", "one JSON document")("csv", "CSV: a header and one row per command")(
+      "settings", "the controller's settings at power-up, e.g. \"0=800,1=3000\" ($0 max rate, $1 accel, ...)",
+      cxxopts::value<std::string>())("o,output", "write to FILE instead of standard output",
+                                     cxxopts::value<std::string>())("h,help", "this help")(
+      "robot", "robot file or shipped robot name", cxxopts::value<std::string>())(
+      "program", "program file: RoboSim (.robosim) or protocol lines (.arm)", cxxopts::value<std::string>());
+  opts.parse_positional({"robot", "program"});
+  const auto args = opts.parse(argc, argv);
+  if (args.count("help")) {
+    std::cout
+        << opts.help()
+        << "The arm powers up with every motor at step 0 and the settings of docs/protocol.md ($0 600 steps/s,\n"
+           "$1 2000 steps/s^2, $5 gripper settle 300 ms, ...), or those of --settings; `$n=v` lines change them.\n"
+           "Each command runs as the firmware runs it (L, M, P, G, S, H, Z; a rejected command changes\n"
+           "nothing). RoboSim programs map onto the same commands: m -> M (joint values through the\n"
+           "coupling), a -> inverse kinematics, then M (not reached: error:10, nothing moves), h -> G\n"
+           "(0.0 open = 100 %, 0.5 closed = 0 %), s -> $0 = round($0 at start * s / 82), w -> IK weights,\n"
+           "l -> link lengths of the host model only (the real arm cannot), z -> nothing.\n"
+           "Durations are motion.h's (2 MHz ticks): a move takes profile_duration_ticks of its dominant\n"
+           "motor's steps, G and S the settle time; actions run back to back from the first one.\n"
+           "Exit code: 0 every command accepted, 1 some rejected, 2 a usage error (bad robot or program).\n";
+    return 0;
+  }
+  if (!args.count("robot")) throw UsageError("no robot given");
+  if (!args.count("program")) throw UsageError("no program given");
+  if (args.count("json") && args.count("csv")) throw UsageError("--json and --csv exclude each other");
+  const host::Robot robot = host::load_robot_file(host::resolve_robot_path(args["robot"].as<std::string>()));
+  if (!robot.has_motors)
+    throw UsageError(robot.name + " (" + robot.source +
+                     ") has no motors: there are no steps to predict (articula run executes its programs on the "
+                     "kinematic model)");
+  host::ControllerSettings settings;
+  if (args.count("settings")) {
+    try {
+      host::apply_settings_text(settings, args["settings"].as<std::string>(), robot.actuation.num_motors);
+    } catch (const std::invalid_argument& e) {
+      throw UsageError(std::string("--settings: ") + e.what());
+    }
+  }
+  const std::string path = args["program"].as<std::string>();
+  if (!std::ifstream(path)) throw UsageError("cannot read the program file '" + path + "'");
+  const host::Program program = host::load_program(path, robot);
+  const host::Prediction p = host::predict_program(robot, program, settings);
+
+  std::string format = args.count("json") ? "json" : args.count("csv") ? "csv" : "table";
+  const std::string out_path = args.count("output") ? args["output"].as<std::string>() : "";
+  if (format == "table" && out_path.size() > 5 && out_path.substr(out_path.size() - 5) == ".json") format = "json";
+  if (format == "table" && out_path.size() > 4 && out_path.substr(out_path.size() - 4) == ".csv") format = "csv";
+  const bool robosim = program.format == host::Program::Format::kRoboSim;
+  const int n = robot.actuation.num_motors;
+
+  std::ostringstream out;
+  if (format == "json") {
+    nlohmann::json j;
+    j["robot"] = robot.name;
+    j["robot_file"] = robot.source;
+    j["program"] = program.source;
+    j["format"] = robosim ? "robosim" : "protocol";
+    j["tick_hz"] = host::kControllerTickHz;
+    nlohmann::json s;
+    for (int i = 0; i < host::ControllerSettings::kCount; ++i) s["$" + std::to_string(i)] = settings.value[size_t(i)];
+    j["settings"] = s;
+    j["motors"] = robot.motor_names;
+    j["joints"] = robot.joint_names;
+    j["records"] = nlohmann::json::array();
+    for (const auto& r : p.records) j["records"].push_back(record_json(r));
+    j["summary"] = {{"commands", p.records.size()},
+                    {"rejected", p.rejected},
+                    {"worst_error_mm", p.worst_error_mm},
+                    {"total_ticks", p.total_ticks},
+                    {"total_s", p.total_s()}};
+    out << j.dump(2) << '\n';
+  } else if (format == "csv") {
+    std::vector<std::string> head = {"line", "command", "protocol", "reply", "code"};
+    for (const auto& m : robot.motor_names) head.push_back("steps_" + m);
+    for (const auto& m : robot.joint_names) head.push_back("joint_" + m);
+    for (const char* c : {"ideal_x", "ideal_y", "ideal_z", "quantized_x", "quantized_y", "quantized_z", "error_mm",
+                          "gripper_percent", "dominant_steps", "ticks", "seconds", "start_s", "end_s", "note"})
+      head.push_back(c);
+    for (size_t i = 0; i < head.size(); ++i) out << (i ? "," : "") << csv_field(head[i]);
+    out << '\n';
+    for (const auto& r : p.records) {
+      std::vector<std::string> row = {std::to_string(r.line), command_text(r.text), r.protocol,
+                                      r.reply == kOk ? "ok" : "error", std::to_string(int(r.reply))};
+      for (int i = 0; i < n; ++i) row.push_back(std::to_string(r.steps[size_t(i)]));
+      for (double q : r.joints) row.push_back(full(q));
+      for (const auto& v : {r.tool_ideal, r.tool_quantized})
+        for (double c : {v.x, v.y, v.z}) row.push_back(full(c));
+      row.push_back(full(r.error_mm));
+      row.push_back(r.gripper_percent < 0 ? "" : std::to_string(r.gripper_percent));
+      row.push_back(std::to_string(r.dominant_steps));
+      row.push_back(std::to_string(r.ticks));
+      row.push_back(full(r.seconds()));
+      row.push_back(full(r.start_s()));
+      row.push_back(full(r.end_s()));
+      row.push_back(r.reply == kOk ? r.note
+                                   : std::string(status_text(r.reply)) + (r.note.empty() ? "" : "; " + r.note));
+      for (size_t i = 0; i < row.size(); ++i) out << (i ? "," : "") << csv_field(row[i]);
+      out << '\n';
+    }
+  } else {
+    out << robot.name << ", " << program.source << ": $0 " << settings.value[0] << " steps/s, $1 " << settings.value[1]
+        << " steps/s^2, $5 " << settings.value[5] << " ms\n";
+    std::vector<std::string> head = {"line", "command", "reply"};
+    if (robosim) head.push_back("sent as");
+    for (const char* c :
+         {"steps", "joints deg", "ideal tool mm", "quantized tool mm", "diff mm", "time s", "start s", "end s"})
+      head.push_back(c);
+    Table t(head);
+    std::vector<std::string> notes;
+    for (const auto& r : p.records) {
+      std::vector<std::string> row = {std::to_string(r.line), command_text(r.text), reply_text(r.reply)};
+      if (robosim) row.push_back(r.protocol);
+      for (const std::string& c : {joined(r.steps), joined(r.joints, 4), joined(r.tool_ideal), joined(r.tool_quantized),
+                                   fmt(r.error_mm), fmt(r.seconds()), fmt(r.start_s()), fmt(r.end_s())})
+        row.push_back(c);
+      t.add(row);
+      std::string note = r.reply == kOk ? r.note
+                                        : std::string(status_text(r.reply)) + ", nothing changes" +
+                                              (r.note.empty() ? "" : "; " + r.note);
+      if (r.has_target && r.reply == kOk)
+        note = "tool " + fmt(r.target_error_mm) + " mm from the target" + (note.empty() ? "" : "; " + note);
+      if (!note.empty()) notes.push_back("line " + std::to_string(r.line) + ": " + note);
+    }
+    out << t.str();
+    for (const auto& s : notes) out << s << '\n';
+    out << p.records.size() << " commands, " << p.rejected << " rejected, worst quantization error "
+        << fmt(p.worst_error_mm) << " mm, total duration " << fmt(p.total_s()) << " s\n";
+  }
+  if (out_path.empty()) {
+    std::cout << out.str();
+  } else {
+    std::ofstream f(out_path);
+    if (!f || !(f << out.str())) throw UsageError("cannot write '" + out_path + "'");
+  }
+  return p.rejected ? 1 : 0;
+}
+
+}  // namespace
+
+int cmd_predict(int argc, char** argv) {
+  return run(argc, argv);
+}
+
+}  // namespace articula::cli

@@ -1,0 +1,174 @@
+// articula run ROBOT PROGRAM: executes a program on the kinematic model (ideal joint values,
+// no motor steps, no timing) and prints or saves the pose after each command
+// (host/lib/run.h).
+#include <cctype>
+#include <cxxopts.hpp>
+#include <fstream>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "cli_util.h"
+#include "commands.h"
+#include "program.h"
+#include "robot_file.h"
+#include "run.h"
+
+namespace articula::cli {
+namespace {
+
+// A protocol line without its comment, for display ("L 0 10 # left" -> "L 0 10").
+std::string command_text(const std::string& line) {
+  std::string s = line.substr(0, line.find('#'));
+  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.pop_back();
+  return s.empty() ? line : s;
+}
+
+std::string full(double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.9g", v);
+  return buf;
+}
+
+std::string unit(const host::Robot& r, int j) {
+  return r.model.joints[j].param == kParamD ? "mm" : "deg";
+}
+
+int run(int argc, char** argv) {
+  cxxopts::Options opts("articula run",
+                        "Executes a program on the kinematic model and prints or saves the pose after each "
+                        "command: joint values, tool position and roll/pitch/yaw, and the IK's status for targets.");
+  opts.custom_help("ROBOT PROGRAM [--json|--csv] [-o FILE]");
+  opts.add_options()("json", "one JSON document")("csv", "CSV: a header and one row per command")(
+      "o,output", "write to FILE instead of standard output (format from --json/--csv, else from .json/.csv)",
+      cxxopts::value<std::string>())("h,help", "this help")("robot", "robot file or shipped robot name",
+                                                            cxxopts::value<std::string>())(
+      "program", "program file: RoboSim (.robosim) or protocol lines (.arm)", cxxopts::value<std::string>());
+  opts.parse_positional({"robot", "program"});
+  const auto args = opts.parse(argc, argv);
+  if (args.count("help")) {
+    std::cout
+        << opts.help()
+        << "The model starts at the robot's home pose (a robot with motors: at its motors' zero angles, where\n"
+           "the real arm powers up). RoboSim: m sets the joint values, a solves the inverse kinematics\n"
+           "(host/lib/ik.h, with w's weights) from the current pose and moves to the best pose found, reached or\n"
+           "not (the status and the distance to the target say which); l changes link lengths, h the gripper;\n"
+           "s and z have no effect here. Protocol lines take the commanded angles as exact (no steps): L and M\n"
+           "are checked against the limits as the controller does (error:9, nothing moves), P is solved by\n"
+           "ik.h (error:10 unless reached). Roll/pitch/yaw are fixed X-Y-Z angles, R = Rz(yaw) Ry(pitch) Rx(roll).\n"
+           "`articula predict` shows what whole motor steps and the controller's timing make of the same program.\n"
+           "Exit code: 0 every command accepted, 1 some rejected, 2 a usage error (bad robot or program).\n";
+    return 0;
+  }
+  if (!args.count("robot")) throw UsageError("no robot given");
+  if (!args.count("program")) throw UsageError("no program given");
+  if (args.count("json") && args.count("csv")) throw UsageError("--json and --csv exclude each other");
+  const host::Robot robot = host::load_robot_file(host::resolve_robot_path(args["robot"].as<std::string>()));
+  const std::string path = args["program"].as<std::string>();
+  if (!std::ifstream(path)) throw UsageError("cannot read the program file '" + path + "'");
+  const host::Program program = host::load_program(path, robot);
+  const std::vector<host::RunRecord> records = host::run_program(robot, program);
+  int rejected = 0;
+  for (const auto& r : records) rejected += r.reply != kOk;
+
+  std::string format = args.count("json") ? "json" : args.count("csv") ? "csv" : "table";
+  const std::string out_path = args.count("output") ? args["output"].as<std::string>() : "";
+  if (format == "table" && out_path.size() > 5 && out_path.substr(out_path.size() - 5) == ".json") format = "json";
+  if (format == "table" && out_path.size() > 4 && out_path.substr(out_path.size() - 4) == ".csv") format = "csv";
+  const int nj = robot.model.num_joints;
+
+  std::ostringstream out;
+  if (format == "json") {
+    nlohmann::json j;
+    j["robot"] = robot.name;
+    j["robot_file"] = robot.source;
+    j["program"] = program.source;
+    j["format"] = program.format == host::Program::Format::kRoboSim ? "robosim" : "protocol";
+    j["joints"] = robot.joint_names;
+    j["records"] = nlohmann::json::array();
+    for (const auto& r : records) {
+      nlohmann::json e = {{"line", r.line},
+                          {"command", command_text(r.text)},
+                          {"reply", r.reply == kOk ? "ok" : "error"},
+                          {"code", int(r.reply)}};
+      if (r.reply != kOk) e["error"] = status_text(r.reply);
+      if (!r.note.empty()) e["note"] = r.note;
+      e["joints"] = r.joints;
+      nlohmann::json R = nlohmann::json::array();
+      for (int i = 0; i < 3; ++i) R.push_back({r.tool.R.m[i][0], r.tool.R.m[i][1], r.tool.R.m[i][2]});
+      e["tool"] = {{"position", {r.tool.p.x, r.tool.p.y, r.tool.p.z}},
+                   {"rpy", {r.rpy_deg.x, r.rpy_deg.y, r.rpy_deg.z}},
+                   {"rotation", R}};
+      e["gripper_percent"] = r.gripper_percent < 0 ? nlohmann::json(nullptr) : nlohmann::json(r.gripper_percent);
+      if (r.has_target) {
+        e["target_mm"] = {r.target.x, r.target.y, r.target.z};
+        e["target_error_mm"] = r.target_error_mm;
+        if (!r.ik_status.empty()) e["ik_status"] = r.ik_status;
+      }
+      j["records"].push_back(e);
+    }
+    j["summary"] = {{"commands", records.size()}, {"rejected", rejected}};
+    out << j.dump(2) << '\n';
+  } else if (format == "csv") {
+    std::vector<std::string> head = {"line", "command", "reply", "code"};
+    for (int k = 0; k < nj; ++k) head.push_back(robot.joint_names[size_t(k)] + "_" + unit(robot, k));
+    for (const char* c : {"x_mm", "y_mm", "z_mm", "roll_deg", "pitch_deg", "yaw_deg", "gripper_percent", "target_x",
+                          "target_y", "target_z", "ik_status", "target_error_mm", "note"})
+      head.push_back(c);
+    for (size_t i = 0; i < head.size(); ++i) out << (i ? "," : "") << csv_field(head[i]);
+    out << '\n';
+    for (const auto& r : records) {
+      std::vector<std::string> row = {std::to_string(r.line), command_text(r.text), r.reply == kOk ? "ok" : "error",
+                                      std::to_string(int(r.reply))};
+      for (double q : r.joints) row.push_back(full(q));
+      for (double v : {r.tool.p.x, r.tool.p.y, r.tool.p.z, r.rpy_deg.x, r.rpy_deg.y, r.rpy_deg.z})
+        row.push_back(full(v));
+      row.push_back(r.gripper_percent < 0 ? "" : std::to_string(r.gripper_percent));
+      for (double v : {r.target.x, r.target.y, r.target.z}) row.push_back(r.has_target ? full(v) : "");
+      row.push_back(r.ik_status);
+      row.push_back(r.has_target ? full(r.target_error_mm) : "");
+      row.push_back(r.reply == kOk ? r.note
+                                   : std::string(status_text(r.reply)) + (r.note.empty() ? "" : "; " + r.note));
+      for (size_t i = 0; i < row.size(); ++i) out << (i ? "," : "") << csv_field(row[i]);
+      out << '\n';
+    }
+  } else {
+    out << robot.name << ", " << program.source << " on the kinematic model\n";
+    std::vector<std::string> head = {"line", "command", "reply"};
+    for (int k = 0; k < nj; ++k) head.push_back(robot.joint_names[size_t(k)] + " " + unit(robot, k));
+    for (const char* c : {"x mm", "y mm", "z mm", "roll deg", "pitch deg", "yaw deg", "ik"}) head.push_back(c);
+    Table t(head);
+    std::vector<std::string> notes;
+    for (const auto& r : records) {
+      std::vector<std::string> row = {std::to_string(r.line), command_text(r.text),
+                                      r.reply == kOk ? "ok" : "error:" + std::to_string(int(r.reply))};
+      for (double q : r.joints) row.push_back(fmt(q));
+      for (double v : {r.tool.p.x, r.tool.p.y, r.tool.p.z, r.rpy_deg.x, r.rpy_deg.y, r.rpy_deg.z})
+        row.push_back(fmt(v));
+      row.push_back(r.has_target && !r.ik_status.empty() ? r.ik_status + " " + fmt(r.target_error_mm) + " mm" : "");
+      t.add(row);
+      const std::string note = r.reply == kOk ? r.note
+                                              : std::string(status_text(r.reply)) + ", nothing changes" +
+                                                    (r.note.empty() ? "" : "; " + r.note);
+      if (!note.empty()) notes.push_back("line " + std::to_string(r.line) + ": " + note);
+    }
+    out << t.str();
+    for (const auto& s : notes) out << s << '\n';
+    out << records.size() << " commands, " << rejected << " rejected\n";
+  }
+  if (out_path.empty()) {
+    std::cout << out.str();
+  } else {
+    std::ofstream f(out_path);
+    if (!f || !(f << out.str())) throw UsageError("cannot write '" + out_path + "'");
+  }
+  return rejected ? 1 : 0;
+}
+
+}  // namespace
+
+int cmd_run(int argc, char** argv) {
+  return run(argc, argv);
+}
+
+}  // namespace articula::cli

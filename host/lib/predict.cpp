@@ -1,0 +1,595 @@
+// host/lib/predict.cpp - the controller model (predict.h). Each rule below names the
+// firmware code it follows; the firmware itself is never linked or called.
+#include "predict.h"
+
+#include <articula/motion.h>
+#include <articula/protocol.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+namespace articula::host {
+
+namespace {
+
+// The gripper's servo (firmware/src/gripper.h): the Arduino Servo library's pulse widths.
+constexpr uint16_t kPulseAt0 = 544;
+constexpr uint16_t kPulseAt180 = 2400;
+
+// "12.345" from millidegrees (or any thousandths), exactly.
+std::string milli_text(int64_t v) {
+  char buf[32];
+  const int64_t a = v < 0 ? -v : v;
+  std::snprintf(buf, sizeof buf, "%s%lld.%03lld", v < 0 ? "-" : "", static_cast<long long>(a / 1000),
+                static_cast<long long>(a % 1000));
+  return buf;
+}
+
+std::string num_text(double v) {
+  std::ostringstream o;
+  o << v;
+  return o.str();
+}
+
+std::string trim(const std::string& s) {
+  size_t b = 0, e = s.size();
+  while (b < e && std::isspace(static_cast<unsigned char>(s[b]))) ++b;
+  while (e > b && std::isspace(static_cast<unsigned char>(s[e - 1]))) --e;
+  return s.substr(b, e - b);
+}
+
+void add_note(PredictRecord& r, const std::string& note) {
+  if (note.empty()) return;
+  r.note += (r.note.empty() ? "" : "; ") + note;
+}
+
+bool is_angle(const Robot& robot, int joint) {
+  return robot.model.joints[joint].param != kParamD;
+}
+
+// The firmware's servo pulse for an aperture in thousandths of a percent (gripper.cpp), in
+// float as on the Nano.
+uint16_t servo_pulse_us(const Robot& robot, int32_t aperture) {
+  const float closed = robot.gripper.present ? float(robot.gripper.servo_closed_deg) : 90.0f;
+  const float open = robot.gripper.present ? float(robot.gripper.servo_open_deg) : 90.0f;
+  float deg = closed + (open - closed) * (float(aperture) / 100000.0f);
+  deg = clamp(deg, 0.0f, 180.0f);
+  return uint16_t(float(kPulseAt0) + deg * (float(kPulseAt180 - kPulseAt0) / 180.0f) + 0.5f);
+}
+
+char robosim_letter(Statement::Kind k) {
+  switch (k) {
+    case Statement::Kind::kJoints:
+      return 'm';
+    case Statement::Kind::kTarget:
+      return 'a';
+    case Statement::Kind::kLinkLengths:
+      return 'l';
+    case Statement::Kind::kWeights:
+      return 'w';
+    case Statement::Kind::kSpeed:
+      return 's';
+    case Statement::Kind::kHand:
+      return 'h';
+    case Statement::Kind::kZoom:
+      return 'z';
+    case Statement::Kind::kProtocol:
+      break;
+  }
+  return '?';
+}
+
+}  // namespace
+
+// Z and $n=v are answered only once the queue is empty and the arm at rest: the arm then
+// idles until the host's next line arrives, a gap the prediction cannot know (serial round
+// trip and host), so times after such a line are lower bounds by that gap.
+const char* const kWaitsForRest =
+    "the reply waits for the arm to be at rest: the actions after it start when the host sends them (times "
+    "below assume at once)";
+
+// ---- settings (firmware/src/settings.cpp) ----
+
+std::array<uint32_t, 2> setting_range(int num_motors, int n) {
+  switch (n) {
+    case ControllerSettings::kMaxRate:
+      return {1, 4000};
+    case ControllerSettings::kAccel:
+      return {1, 100000};
+    case ControllerSettings::kReleaseMs:
+      return {0, 60000};
+    case ControllerSettings::kEndstops:
+      return {0, (1u << std::min(num_motors, 31)) - 1};
+    case ControllerSettings::kHomingRate:
+      return {1, 4000};
+    case ControllerSettings::kSettleMs:
+      return {0, 10000};
+    default:
+      return {0, 0};
+  }
+}
+
+Status check_setting(int num_motors, int32_t n, int32_t thousandths) {
+  if (n < 0 || n >= ControllerSettings::kCount) return kSettingUnknown;
+  if (thousandths < 0 || thousandths % 1000 != 0) return kValueOutOfRange;
+  const uint32_t v = uint32_t(thousandths / 1000);
+  const auto range = setting_range(num_motors, n);
+  if (v < range[0] || v > range[1]) return kValueOutOfRange;
+  return kOk;
+}
+
+void apply_settings_text(ControllerSettings& s, const std::string& text, int num_motors) {
+  std::stringstream ss(text);
+  std::string item;
+  bool any = false;
+  while (std::getline(ss, item, ',')) {
+    item = trim(item);
+    if (item.empty()) throw std::invalid_argument("an empty entry (expected n=value, e.g. 0=800)");
+    const std::string line = item[0] == '$' ? item : "$" + item;
+    Command cmd;
+    Status st = line.size() > kMaxLineLength ? kLineTooLong
+                                             : parse_line(cmd, line.data(), uint8_t(line.size()), uint8_t(num_motors));
+    if (st == kOk && cmd.type != kCmdSetSetting) st = kMissingArgument;
+    if (st == kOk) st = check_setting(num_motors, cmd.arg[0], cmd.arg[1]);
+    if (st == kSettingUnknown)
+      throw std::invalid_argument("'" + item + "': no such setting (the settings are 0 to " +
+                                  std::to_string(ControllerSettings::kCount - 1) + ")");
+    if (st == kValueOutOfRange) {
+      const auto range = setting_range(num_motors, cmd.arg[0]);
+      throw std::invalid_argument("'" + item + "': $" + std::to_string(cmd.arg[0]) + " takes a whole number from " +
+                                  std::to_string(range[0]) + " to " + std::to_string(range[1]));
+    }
+    if (st != kOk)
+      throw std::invalid_argument("'" + item + "': expected n=value, e.g. 0=800 (" + status_text(st) + ")");
+    s.value[size_t(cmd.arg[0])] = uint32_t(cmd.arg[1] / 1000);
+    any = true;
+  }
+  if (!any) throw std::invalid_argument("no settings given (expected n=value,..., e.g. 0=800,1=3000)");
+}
+
+// ---- RoboSim mappings ----
+
+int32_t robosim_hand_to_aperture(double h) {
+  const double thousandths = (100.0 - 200.0 * h) * 1000.0;
+  return int32_t(std::clamp(std::llround(thousandths), 0LL, 100000LL));
+}
+
+uint32_t robosim_speed_to_rate(double s, uint32_t base) {
+  const long long r = std::llround(double(base) * s / 82.0);
+  return uint32_t(std::clamp(r, 1LL, 4000LL));
+}
+
+// ---- the controller ----
+
+ControllerModel::ControllerModel(const Robot& robot, const ControllerSettings& settings)
+    : robot_(robot), settings_(settings) {
+  if (!robot.has_motors)
+    throw PredictError(robot.name + " has no motors (" + robot.source +
+                       "): a prediction needs motor steps; only the kinematic model can run its programs");
+  n_ = robot.actuation.num_motors;
+  reset(planned_, robot_.actuation);
+  // firmware::setup(): no endstops means the arm is taken to be at step 0, Idle; with
+  // endstops it is in Alarm until H or Z.
+  homed_ = settings_.value[ControllerSettings::kEndstops] == 0;
+  base_rate_ = settings_.value[ControllerSettings::kMaxRate];
+
+  // robot::setup() (firmware/src/robot.cpp): P's arm, from the model in float (the tool's
+  // rotation does not matter) and the motors' limits.
+  if (n_ == 3) {
+    const Model<float, kMaxJoints, kMaxRows> fm = cast_model<float>(robot_.model);
+    Actuation<float, kMaxJoints> fa{};
+    fa.num_motors = uint8_t(n_);
+    for (int i = 0; i < n_; ++i) {
+      fa.motors[i] = robot_.actuation.motors[i];
+      for (int j = 0; j < n_; ++j) fa.coupling[i][j] = float(robot_.actuation.coupling[i][j]);
+    }
+    has_ik_ = ypp_from_model(arm_, fm) && ypp_limits_from_actuation(arm_, fa);
+  }
+  // The home pose as actuator angles, u = C^-1 q_home, in float with the same 3x3 solve as
+  // the firmware (C padded with the identity for fewer motors), rounded to millidegrees.
+  home_.assign(size_t(n_), 0);
+  home_steps_.assign(size_t(n_), 0);
+  if (n_ <= 3) {
+    float a[3][4], u[3];
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 3; ++c) a[r][c] = r < n_ && c < n_ ? float(robot_.actuation.coupling[r][c]) : float(r == c);
+      a[r][3] = r < n_ ? float(robot_.home[size_t(r)]) : 0.0f;
+    }
+    if (!detail::solve3(u, a))
+      for (int i = 0; i < n_; ++i) u[i] = float(robot_.home[size_t(i)]);
+    for (int i = 0; i < n_; ++i) {
+      const MotorSpec& m = robot_.actuation.motors[i];
+      Millideg h = m.zero;
+      to_millideg(h, rad_to_deg(u[i]));
+      home_[size_t(i)] = clamp(h, m.min, m.max);
+    }
+  } else {  // more motors than the Nano drives: the same in double
+    double u[kMaxJoints];
+    actuators_from_joints(u, robot_.actuation, robot_.home.data());
+    for (int i = 0; i < n_; ++i) {
+      const MotorSpec& m = robot_.actuation.motors[i];
+      Millideg h = m.zero;
+      to_millideg(h, rad_to_deg(u[i]));
+      home_[size_t(i)] = clamp(h, m.min, m.max);
+    }
+  }
+  for (int i = 0; i < n_; ++i)
+    home_steps_[size_t(i)] = quantize_within_limits(robot_.actuation.motors[i], home_[size_t(i)]);
+}
+
+PredictRecord ControllerModel::begin(int line, const std::string& text) const {
+  PredictRecord r;
+  r.line = line;
+  r.text = text;
+  r.start_tick = r.end_tick = clock_;
+  return r;
+}
+
+// The state after the statement: steps, the angles and joint values they give, the ideal
+// and the quantized tool position.
+void ControllerModel::finish(PredictRecord& r) {
+  const auto& a = robot_.actuation;
+  const int nj = robot_.model.num_joints;
+  int32_t physical[kMaxJoints];
+  double u_ideal[kMaxJoints], q_ideal[kMaxJoints], q_real[kMaxJoints];
+  r.steps.assign(planned_.steps, planned_.steps + n_);
+  r.commanded.assign(planned_.commanded, planned_.commanded + n_);
+  r.actuator_deg.clear();
+  for (int i = 0; i < n_; ++i) {
+    physical[i] = planned_.steps[i] + offset_[i];
+    r.actuator_deg.push_back(steps_to_degrees<double>(a.motors[i], physical[i]));
+    // The commanded angle where the arm really is: shifted by what Z declared.
+    u_ideal[i] = deg_to_rad(planned_.commanded[i] / 1000.0 +
+                            a.motors[i].direction * offset_[i] * degrees_per_step<double>(a.motors[i]));
+  }
+  joints_from_actuators(q_ideal, a, u_ideal);
+  joints_from_steps(q_real, a, physical);
+  r.joints.clear();
+  r.joints_ideal.clear();
+  for (int j = 0; j < nj; ++j) {
+    r.joints.push_back(is_angle(robot_, j) ? rad_to_deg(q_real[j]) : q_real[j]);
+    r.joints_ideal.push_back(is_angle(robot_, j) ? rad_to_deg(q_ideal[j]) : q_ideal[j]);
+  }
+  r.tool_ideal = tool_position(robot_.model, q_ideal);
+  r.tool_quantized = tool_position(robot_.model, q_real);
+  r.error_mm = norm(r.tool_quantized - r.tool_ideal);
+  r.gripper_percent = gripper_percent_;
+  if (r.has_target) r.target_error_mm = norm(r.tool_quantized - r.target);
+  if (!r.queued) r.start_tick = r.end_tick = clock_;
+}
+
+// queue_command()'s tail: an action that moves goes into the queue and runs after the ones
+// before it; a move within the same steps only changes the commanded angles.
+Status ControllerModel::queue_move(PredictRecord& r, const MotorState<kMaxJoints>& next, bool home,
+                                   uint64_t extra_ticks) {
+  uint32_t dominant = 0;
+  bool moves = home;
+  for (int i = 0; i < n_; ++i) {
+    const int64_t d = int64_t(next.steps[i]) - planned_.steps[i];
+    dominant = std::max(dominant, uint32_t(d < 0 ? -d : d));
+    moves = moves || d != 0;
+  }
+  planned_ = next;
+  if (!moves) {
+    add_note(r, "within the same steps: only the commanded angles change, nothing is queued");
+    return kOk;
+  }
+  r.queued = true;
+  r.dominant_steps = dominant;
+  r.ticks = extra_ticks + profile_duration_ticks(dominant, settings_.motion());
+  r.start_tick = clock_;
+  clock_ += r.ticks;
+  r.end_tick = clock_;
+  return kOk;
+}
+
+// G and S (queue_command): a servo pulse, then the settle pause; always queued.
+void ControllerModel::queue_gripper(PredictRecord& r, int32_t aperture) {
+  r.queued = true;
+  r.ticks = uint64_t(settings_.value[ControllerSettings::kSettleMs]) * (kControllerTickHz / 1000);
+  r.start_tick = clock_;
+  clock_ += r.ticks;
+  r.end_tick = clock_;
+  gripper_percent_ = (aperture + 500) / 1000;
+  add_note(r, "servo pulse " + std::to_string(servo_pulse_us(robot_, aperture)) + " us");
+}
+
+// P (controller.cpp, solve_point): the closed form in float, the in-limits solution nearest
+// the planned pose (least sum of squared actuator differences, in float), each angle rounded
+// to a millidegree and clamped into its limits, then moved to as M would.
+Status ControllerModel::solve_point(MotorState<kMaxJoints>& next, const int32_t* um) const {
+  if (!has_ik_ || n_ != 3) return kUnreachable;
+  YppResult<float> res;
+  const int in_limits =
+      ypp_closed_form(res, arm_, make_vec3(float(um[0]) * 0.001f, float(um[1]) * 0.001f, float(um[2]) * 0.001f));
+  if (in_limits == 0) return kUnreachable;
+  Millideg best[kMaxJoints] = {};
+  float best_d2 = -1;
+  for (int k = 0; k < in_limits; ++k) {
+    float act[3];
+    ypp_actuated(act, arm_, res.solutions[k].q);
+    Millideg t[3];
+    float d2 = 0;
+    for (int i = 0; i < 3; ++i) {
+      const MotorSpec& m = robot_.actuation.motors[i];
+      if (!to_millideg(t[i], rad_to_deg(act[i]))) return kUnreachable;
+      t[i] = clamp(t[i], m.min, m.max);
+      d2 += square(float(t[i] - planned_.commanded[i]));
+    }
+    if (best_d2 < 0 || d2 < best_d2) {
+      best_d2 = d2;
+      for (int i = 0; i < 3; ++i) best[i] = t[i];
+    }
+  }
+  return move_absolute(next, robot_.actuation, best);
+}
+
+// H (queue_command and stepper.cpp): switch motors seek their switch one after the other at
+// the homing rate, then every motor moves to its home step in one move.
+Status ControllerModel::home(PredictRecord& r) {
+  const uint32_t mask = settings_.value[ControllerSettings::kEndstops];
+  MotorState<kMaxJoints> next = planned_;
+  const uint32_t rate = settings_.value[ControllerSettings::kHomingRate];
+  const uint64_t homing_ticks = (kControllerTickHz + rate / 2) / rate;
+  uint64_t seek = 0;
+  const bool was_homed = homed_;
+  for (int i = 0; i < n_; ++i) {
+    const MotorSpec& m = robot_.actuation.motors[i];
+    next.commanded[i] = (mask & (1u << i)) ? m.min : home_[size_t(i)];
+    next.steps[i] = quantize_within_limits(m, next.commanded[i]);
+  }
+  MotorState<kMaxJoints> after_seek = planned_;
+  for (int i = 0; i < n_; ++i) {
+    if (!(mask & (1u << i))) continue;
+    // One homing interval per step to the switch, and one more to see it pressed.
+    const int64_t d = int64_t(planned_.steps[i]) + offset_[i] - next.steps[i];
+    seek += uint64_t((d < 0 ? -d : d) + 1) * homing_ticks;
+    after_seek.steps[i] = next.steps[i];
+    offset_[i] = 0;  // the switch tells the controller where the motor really is
+  }
+  if (mask != 0)
+    add_note(r, std::string("seek time assumes each switch trips at its motor's minimum angle") +
+                    (was_homed ? "" : " and the arm starts at the steps the controller counts (0 at power-up)"));
+  homed_ = true;  // until the search fails: the firmware's rule, a search cannot fail here
+  planned_ = after_seek;
+  queue_move(r, next, true, seek);
+  return kOk;
+}
+
+Status ControllerModel::run_command(PredictRecord& r, const std::string& text) {
+  Command cmd;
+  if (text.size() > 255) return kLineTooLong;
+  const Status parsed = parse_line(cmd, text.data(), uint8_t(text.size()), uint8_t(n_));
+  if (parsed != kOk) return parsed;
+  if (text.find('!') != std::string::npos)
+    add_note(r, "the line holds '!': sent to the arm it stops the arm and empties the queue (not simulated)");
+  if (text.find('?') != std::string::npos) add_note(r, "the line holds '?': the arm answers it with a status report");
+  switch (cmd.type) {
+    case kCmdNone:
+      return kOk;
+    case kCmdInfo:
+      add_note(r, "answered with an info line; nothing moves");
+      return kOk;
+    case kCmdListSettings:
+      add_note(r, "answered with the settings; nothing moves");
+      return kOk;
+    case kCmdSetSetting: {
+      const Status s = check_setting(n_, cmd.arg[0], cmd.arg[1]);
+      if (s != kOk) return s;
+      settings_.value[size_t(cmd.arg[0])] = uint32_t(cmd.arg[1] / 1000);
+      add_note(r, cmd.arg[0] == ControllerSettings::kEndstops
+                      ? "saved; decides Alarm at the next power-up, H uses it from now"
+                      : "takes effect for the actions after it");
+      add_note(r, kWaitsForRest);
+      return kOk;
+    }
+    case kCmdSetZero: {
+      bool shifted = false;
+      for (int i = 0; i < n_; ++i) {
+        const int32_t physical = planned_.steps[i] + offset_[i];
+        planned_.commanded[i] = home_[size_t(i)];
+        planned_.steps[i] = home_steps_[size_t(i)];
+        offset_[i] = physical - planned_.steps[i];
+        shifted = shifted || offset_[i] != 0;
+      }
+      homed_ = true;
+      add_note(r, shifted ? "nothing moves: the controller now counts the arm's pose as home, so its steps "
+                            "and limits are off the arm's (joint values and tools below are where the arm really is)"
+                          : "nothing moves");
+      add_note(r, kWaitsForRest);
+      return kOk;
+    }
+    case kCmdRotate:
+    case kCmdMoveAbsolute:
+    case kCmdMoveTool: {
+      if (!homed_) return kNotHomed;
+      MotorState<kMaxJoints> next = planned_;
+      Status s;
+      if (cmd.type == kCmdRotate) {
+        s = move_relative(next, robot_.actuation, uint8_t(cmd.arg[0]), cmd.arg[1]);
+      } else if (cmd.type == kCmdMoveAbsolute) {
+        s = move_absolute(next, robot_.actuation, cmd.arg);
+      } else {
+        r.has_target = true;
+        r.target = make_vec3(cmd.arg[0] / 1000.0, cmd.arg[1] / 1000.0, cmd.arg[2] / 1000.0);
+        s = solve_point(next, cmd.arg);
+        if (s != kOk && !has_ik_)
+          add_note(r,
+                   "the firmware solves P only for a yaw-pitch-pitch arm with 3 motors (identity or "
+                   "parallelogram coupling)");
+      }
+      if (s != kOk) return s;
+      return queue_move(r, next, false);
+    }
+    case kCmdGripper:
+    case kCmdAperture: {
+      const int32_t aperture = cmd.type == kCmdAperture ? cmd.arg[0] : (cmd.arg[0] ? 0 : 100000);
+      queue_gripper(r, aperture);
+      return kOk;
+    }
+    case kCmdHome:
+      return home(r);
+  }
+  return kUnknownCommand;
+}
+
+PredictRecord ControllerModel::execute_line(const std::string& line, int line_number) {
+  PredictRecord r = begin(line_number, line);
+  // A rejected line changes nothing: run it on a copy of the whole model.
+  ControllerModel saved = *this;
+  r.reply = run_command(r, line);
+  if (r.reply != kOk) {  // (no command changes anything before it fails; the copy makes sure)
+    *this = saved;
+    r.queued = false;
+    r.ticks = r.dominant_steps = 0;
+  }
+  finish(r);
+  return r;
+}
+
+void ControllerModel::ensure_ik() {
+  if (!ik_) ik_.emplace(robot_);
+}
+
+// RoboSim statements, as the protocol commands a harness sends for them.
+void ControllerModel::robosim(PredictRecord& r, const Statement& st) {
+  const int nj = robot_.model.num_joints;
+  switch (st.kind) {
+    case Statement::Kind::kJoints:
+    case Statement::Kind::kTarget: {
+      if (!homed_) {
+        r.reply = kNotHomed;
+        return;
+      }
+      double q[kMaxJoints];
+      if (st.kind == Statement::Kind::kJoints) {
+        for (int j = 0; j < nj; ++j)
+          q[j] = is_angle(robot_, j) ? deg_to_rad(st.values[size_t(j)]) : st.values[size_t(j)];
+      } else {
+        r.has_target = true;
+        r.target = make_vec3(st.values[0], st.values[1], st.values[2]);
+        ensure_ik();
+        std::vector<double> start(static_cast<size_t>(nj));
+        double u[kMaxJoints];
+        for (int i = 0; i < n_; ++i) u[i] = deg_to_rad(planned_.commanded[i] / 1000.0);
+        joints_from_actuators(start.data(), robot_.actuation, u);
+        IkOptions opt;
+        opt.weights = weights_;
+        IkResult res;
+        try {
+          res = ik_->solve(IkTarget::at(r.target), start, opt);
+        } catch (const std::invalid_argument& e) {
+          r.reply = kUnreachable;
+          add_note(r, e.what());
+          return;
+        }
+        r.ik_status = ik_status_name(res.status);
+        if (!res.reached()) {
+          r.reply = kUnreachable;
+          add_note(r, std::string("ik: ") + ik_status_name(res.status) + ", the best pose is " +
+                          num_text(std::round(res.position_error_mm * 1000) / 1000) +
+                          " mm from the target (P would be refused likewise)");
+          return;
+        }
+        for (int j = 0; j < nj; ++j) q[j] = res.q[size_t(j)];
+      }
+      // u = C^-1 q, to exact millidegrees: what M sends.
+      double u[kMaxJoints];
+      actuators_from_joints(u, robot_.actuation, q);
+      Millideg target[kMaxJoints];
+      std::string line = "M";
+      for (int i = 0; i < n_; ++i) {
+        if (!to_millideg(target[i], rad_to_deg(u[i]))) {
+          r.reply = kValueOutOfRange;
+          return;
+        }
+        // The IK keeps the motors' limits up to rounding; m's values are sent as they are.
+        if (st.kind == Statement::Kind::kTarget)
+          target[i] = clamp(target[i], robot_.actuation.motors[i].min, robot_.actuation.motors[i].max);
+        line += " " + milli_text(target[i]);
+      }
+      r.protocol = line;
+      MotorState<kMaxJoints> next = planned_;
+      r.reply = move_absolute(next, robot_.actuation, target);
+      if (r.reply == kOk) queue_move(r, next, false);
+      return;
+    }
+    case Statement::Kind::kLinkLengths: {
+      size_t k = 0;
+      for (int row = 0; row < robot_.model.num_rows && row < int(robot_.length_ranges.size()); ++row)
+        if (robot_.length_ranges[size_t(row)].adjustable && k < st.values.size())
+          robot_.model.rows[row].a = st.values[k++];
+      ik_.reset();
+      add_note(
+          r,
+          "host model only: the real arm's links cannot change length (tool positions from here use the new lengths)");
+      return;
+    }
+    case Statement::Kind::kWeights:
+      weights_ = st.values;
+      ensure_ik();
+      if (ik_->has_closed_form() && std::find(weights_.begin(), weights_.end(), 0.0) == weights_.end())
+        add_note(r, "IK weights for a; the closed form this arm uses ignores them unless one is 0 (frozen)");
+      else
+        add_note(r, "IK weights for a");
+      return;
+    case Statement::Kind::kSpeed: {
+      const uint32_t rate = robosim_speed_to_rate(st.values[0], base_rate_);
+      settings_.value[ControllerSettings::kMaxRate] = rate;
+      r.protocol = "$0=" + std::to_string(rate);
+      add_note(r, "top step rate " + std::to_string(rate) + " steps/s (" + num_text(st.values[0]) + "/82 of " +
+                      std::to_string(base_rate_) + ")");
+      add_note(r, kWaitsForRest);
+      return;
+    }
+    case Statement::Kind::kHand: {
+      const int32_t aperture = robosim_hand_to_aperture(st.values[0]);
+      r.protocol = "G " + milli_text(aperture);
+      queue_gripper(r, aperture);
+      return;
+    }
+    case Statement::Kind::kZoom:
+      add_note(r, "zoom is for a viewer: no effect on the arm");
+      return;
+    case Statement::Kind::kProtocol:
+      break;
+  }
+}
+
+PredictRecord ControllerModel::execute(const Statement& st) {
+  if (st.kind == Statement::Kind::kProtocol) return execute_line(st.text, st.line);
+  std::string text(1, robosim_letter(st.kind));
+  for (double v : st.values) text += " " + num_text(v);
+  PredictRecord r = begin(st.line, text);
+  ControllerModel saved = *this;
+  robosim(r, st);
+  if (r.reply != kOk) {  // nothing changes, but keep what the attempt found out
+    *this = saved;
+    r.queued = false;
+    r.ticks = r.dominant_steps = 0;
+    r.protocol.clear();
+  }
+  finish(r);
+  return r;
+}
+
+Prediction predict_program(const Robot& robot, const Program& program, const ControllerSettings& settings) {
+  ControllerModel model(robot, settings);
+  Prediction p;
+  p.robot = robot.name;
+  p.program = program.source;
+  p.settings = settings;
+  for (const Statement& st : program.statements) {
+    p.records.push_back(model.execute(st));
+    const PredictRecord& r = p.records.back();
+    if (r.reply != kOk) ++p.rejected;
+    p.worst_error_mm = std::max(p.worst_error_mm, r.error_mm);
+  }
+  p.total_ticks = model.clock_ticks();
+  return p;
+}
+
+}  // namespace articula::host

@@ -1,0 +1,188 @@
+// host/lib/predict.h - what the real arm will do with a program, step for step: a host-side
+// model of the firmware's controller (firmware/src/controller.cpp) built from the shared
+// core only, so hardware-in-the-loop tests can compare the prediction with the firmware.
+//
+// The controller model executes a Program (program.h) statement by statement with the
+// firmware's rules:
+//   - the state is a MotorState: exact commanded millidegrees and the steps they quantize to;
+//     L and M go through move_relative / move_absolute (actuation.h), P through the closed
+//     form the firmware uses (ypp_closed_form in float, the in-limits solution nearest the
+//     planned pose in actuator space, rounded to 0.001 degree), H and Z as docs/protocol.md
+//     says, G and S as gripper actions followed by the settle pause ($5);
+//   - a rejected command changes nothing;
+//   - the settings $0..$5 start from the firmware's defaults (or given ones) and `$n=v`
+//     lines change them with the firmware's range checks;
+//   - every action's duration is motion.h's: profile_duration_ticks of the dominant motor's
+//     step count for a move, the settle time for a gripper action; actions run back to back
+//     from rest to rest (docs/protocol.md, "Timing of moves").
+// RoboSim statements (thesis appendix B) map onto the same commands: see predict.cpp and
+// programs/README.md for the mapping (m -> M, a -> IK then M, h -> G, s -> $0, ...).
+#ifndef ARTICULA_HOST_PREDICT_H
+#define ARTICULA_HOST_PREDICT_H
+
+#include <articula/actuation.h>
+#include <articula/ik_ypp.h>
+#include <articula/motion.h>
+#include <articula/status.h>
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "ik.h"
+#include "program.h"
+#include "robot.h"
+
+namespace articula::host {
+
+// The firmware's step timer: 2 MHz (Timer1 at 16 MHz / 8).
+inline constexpr uint32_t kControllerTickHz = 2000000;
+
+// The controller's settings, $0 .. $5 (docs/protocol.md, "Settings"): whole numbers.
+struct ControllerSettings {
+  static constexpr int kCount = 6;
+  enum Id { kMaxRate = 0, kAccel = 1, kReleaseMs = 2, kEndstops = 3, kHomingRate = 4, kSettleMs = 5 };
+  std::array<uint32_t, kCount> value{600, 2000, 2000, 0, 200, 300};  // the firmware's defaults
+
+  MotionSettings motion() const { return {kControllerTickHz, value[kMaxRate], value[kAccel]}; }
+};
+
+// The firmware's check of `$n=v` (settings.cpp): n a setting number, v in thousandths, a
+// whole number within the setting's range ($3: 0 .. 2^motors - 1). kSettingUnknown or
+// kValueOutOfRange, else kOk.
+Status check_setting(int num_motors, int32_t n, int32_t thousandths);
+// The range of a setting, for messages: {min, max}.
+std::array<uint32_t, 2> setting_range(int num_motors, int n);
+
+// "0=800,1=3000" (or "$0=800,$1=3000") into `s`, each item read by the protocol codec as a
+// `$n=v` line and checked as the firmware checks it. Throws std::invalid_argument with a
+// message naming the bad item.
+void apply_settings_text(ControllerSettings& s, const std::string& text, int num_motors);
+
+// Why a prediction cannot be made at all (a robot without motors).
+class PredictError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// What one statement did.
+struct PredictRecord {
+  int line = 0;      // 1-based line of the statement in its file
+  std::string text;  // the statement: the protocol line, or RoboSim's "m 0 90 -90"
+  std::string
+      protocol;        // RoboSim: the protocol line that does the same on the arm ("M 0.000 90.000 0.000"); "" if none
+  Status reply = kOk;  // ok, or the error the controller answers (then nothing changed)
+  std::string note;    // what a reader should know (not simulated parts, host-only effects)
+
+  // The state after the statement (unchanged when rejected).
+  std::vector<int32_t> steps;            // per motor: the controller's step count (status report S)
+  std::vector<Millideg> commanded;       // per motor: the exact commanded angle, millidegrees
+  std::vector<double> actuator_deg;      // per motor: the angle the steps really give, degrees
+  std::vector<double> joints;            // per joint variable: the value the steps give (deg or mm)
+  std::vector<double> joints_ideal;      // per joint variable: from the exact commanded angles
+  Vec3<double> tool_ideal{0, 0, 0};      // tool position from the exact commanded angles, mm
+  Vec3<double> tool_quantized{0, 0, 0};  // tool position the steps give, mm
+  double error_mm = 0;                   // |tool_quantized - tool_ideal|
+  int gripper_percent = -1;              // aperture of the last gripper action, whole %; -1 limp (none yet)
+
+  // A target (P, RoboSim a): the point asked for and how far the quantized tool ends from it.
+  bool has_target = false;
+  Vec3<double> target{0, 0, 0};
+  double target_error_mm = 0;
+  std::string ik_status;  // RoboSim a: ik.h's status of the solve ("reached", ...)
+
+  // The action in the motion queue; 0 steps and 0 ticks when the statement queued nothing
+  // (or a move within the same steps).
+  bool queued = false;
+  uint32_t dominant_steps = 0;  // a move: the most steps any motor makes
+  uint64_t ticks = 0;           // duration in 2 MHz ticks
+  uint64_t start_tick = 0;      // when the action starts and ends, counted from the first
+  uint64_t end_tick = 0;        //   action's start, actions back to back
+  double seconds() const { return double(ticks) / kControllerTickHz; }
+  double start_s() const { return double(start_tick) / kControllerTickHz; }
+  double end_s() const { return double(end_tick) / kControllerTickHz; }
+};
+
+// The controller, for one robot with motors. Execute statements one after the other.
+class ControllerModel {
+ public:
+  // Power-up: every motor at step 0 (its zero angle), the settings `settings` (as if read
+  // from EEPROM), Alarm when $3 says the arm has endstops. Throws PredictError for a robot
+  // without motors.
+  ControllerModel(const Robot& robot, const ControllerSettings& settings = {});
+
+  PredictRecord execute(const Statement& st);
+  // One protocol line, as the controller reads it.
+  PredictRecord execute_line(const std::string& line, int line_number = 0);
+
+  const Robot& robot() const { return robot_; }
+  const MotorState<kMaxJoints>& state() const { return planned_; }
+  const ControllerSettings& settings() const { return settings_; }
+  bool homed() const { return homed_; }
+  uint64_t clock_ticks() const { return clock_; }
+  // Whether the firmware could solve P for this robot (a yaw-pitch-pitch arm with identity
+  // or parallelogram coupling): the firmware's robot::has_ik.
+  bool has_point_ik() const { return has_ik_; }
+  // The home pose as the firmware computes it (float), millidegrees, and its steps.
+  const std::vector<Millideg>& home_commanded() const { return home_; }
+  const std::vector<int32_t>& home_steps() const { return home_steps_; }
+
+ private:
+  PredictRecord begin(int line, const std::string& text) const;
+  void finish(PredictRecord& r);
+  Status run_command(PredictRecord& r, const std::string& line);
+  Status queue_move(PredictRecord& r, const MotorState<kMaxJoints>& next, bool home, uint64_t extra_ticks = 0);
+  void queue_gripper(PredictRecord& r, int32_t aperture);
+  Status solve_point(MotorState<kMaxJoints>& next, const int32_t* um) const;
+  Status home(PredictRecord& r);
+  void robosim(PredictRecord& r, const Statement& st);
+  void ensure_ik();
+
+  Robot robot_;  // its model changes with RoboSim's l
+  int n_ = 0;
+  MotorState<kMaxJoints> planned_{};
+  int32_t offset_[kMaxJoints]{};  // physical step - counted step (only Z makes them differ)
+  bool homed_ = true;
+  ControllerSettings settings_;
+  uint32_t base_rate_ = 600;  // $0 at power-up: RoboSim's s 82
+  int gripper_percent_ = -1;
+  uint64_t clock_ = 0;
+
+  // The firmware's P: the arm in float, from the robot as loaded.
+  bool has_ik_ = false;
+  YppArm<float> arm_{};
+  std::vector<Millideg> home_;
+  std::vector<int32_t> home_steps_;
+
+  // RoboSim's a: ik.h on the current (possibly l-changed) model, with w's weights.
+  std::vector<double> weights_;
+  std::optional<InverseKinematics> ik_;
+};
+
+struct Prediction {
+  std::string robot;
+  std::string program;
+  ControllerSettings settings;  // at power-up
+  std::vector<PredictRecord> records;
+  int rejected = 0;
+  double worst_error_mm = 0;  // largest error_mm of the accepted commands
+  uint64_t total_ticks = 0;   // end of the last action
+  double total_s() const { return double(total_ticks) / kControllerTickHz; }
+};
+
+// Runs a whole program. Throws PredictError for a robot without motors.
+Prediction predict_program(const Robot& robot, const Program& program, const ControllerSettings& settings = {});
+
+// RoboSim's h (0.0 open .. 0.5 closed) as G's aperture in thousandths of a percent:
+// 100 % - 200 % * h, rounded to a thousandth (h 0 -> 100000, 0.25 -> 50000, 0.5 -> 0).
+int32_t robosim_hand_to_aperture(double h);
+// RoboSim's s (1 .. 82) as $0: the top step rate scaled, round(base * s / 82), at least 1
+// (s 82 is `base`, the $0 the program started with).
+uint32_t robosim_speed_to_rate(double s, uint32_t base);
+
+}  // namespace articula::host
+
+#endif  // ARTICULA_HOST_PREDICT_H

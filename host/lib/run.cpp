@@ -1,0 +1,328 @@
+// host/lib/run.cpp - programs on the kinematic model (run.h).
+#include "run.h"
+
+#include <articula/protocol.h>
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+namespace articula::host {
+
+namespace {
+
+std::string num_text(double v) {
+  std::ostringstream o;
+  o << v;
+  return o.str();
+}
+
+void add_note(RunRecord& r, const std::string& note) {
+  if (note.empty()) return;
+  r.note += (r.note.empty() ? "" : "; ") + note;
+}
+
+bool is_angle(const Robot& robot, int joint) {
+  return robot.model.joints[joint].param != kParamD;
+}
+
+char robosim_letter(Statement::Kind k) {
+  switch (k) {
+    case Statement::Kind::kJoints:
+      return 'm';
+    case Statement::Kind::kTarget:
+      return 'a';
+    case Statement::Kind::kLinkLengths:
+      return 'l';
+    case Statement::Kind::kWeights:
+      return 'w';
+    case Statement::Kind::kSpeed:
+      return 's';
+    case Statement::Kind::kHand:
+      return 'h';
+    case Statement::Kind::kZoom:
+      return 'z';
+    case Statement::Kind::kProtocol:
+      break;
+  }
+  return '?';
+}
+
+}  // namespace
+
+KinematicModel::KinematicModel(const Robot& robot) : robot_(robot) {
+  motors_ = robot.has_motors;
+  n_ = motors_ ? robot.actuation.num_motors : robot.model.num_joints;
+  offset_.assign(size_t(n_), 0);
+  if (motors_) {
+    commanded_.clear();
+    for (int i = 0; i < n_; ++i) commanded_.push_back(robot.actuation.motors[i].zero);
+    q_.assign(size_t(robot.model.num_joints), 0);
+    q_from_commanded();
+  } else {
+    q_ = robot.home;
+    commanded_from_q();
+  }
+}
+
+void KinematicModel::q_from_commanded() {
+  if (motors_) {
+    double u[kMaxJoints];
+    for (int i = 0; i < n_; ++i) u[i] = deg_to_rad(double(commanded_[size_t(i)] + offset_[size_t(i)]) / 1000.0);
+    joints_from_actuators(q_.data(), robot_.actuation, u);
+  } else {
+    for (int j = 0; j < n_; ++j) {
+      const double v = double(commanded_[size_t(j)] + offset_[size_t(j)]) / 1000.0;
+      q_[size_t(j)] = is_angle(robot_, j) ? deg_to_rad(v) : v;
+    }
+  }
+}
+
+void KinematicModel::commanded_from_q() {
+  commanded_.assign(size_t(n_), 0);
+  if (motors_) {
+    double u[kMaxJoints];
+    actuators_from_joints(u, robot_.actuation, q_.data());
+    for (int i = 0; i < n_; ++i) commanded_[size_t(i)] = std::llround(rad_to_deg(u[i]) * 1000.0) - offset_[size_t(i)];
+  } else {
+    for (int j = 0; j < n_; ++j) {
+      const double v = is_angle(robot_, j) ? rad_to_deg(q_[size_t(j)]) : q_[size_t(j)];
+      commanded_[size_t(j)] = std::llround(v * 1000.0) - offset_[size_t(j)];
+    }
+  }
+}
+
+// The controller's checks of a new commanded state (move_absolute for motors; the joint
+// limits for a robot without), then the pose.
+Status KinematicModel::set_commanded(const std::vector<int64_t>& target) {
+  for (int i = 0; i < n_; ++i) {
+    const int64_t v = target[size_t(i)];
+    if (v < -kMaxAbsMillideg || v > kMaxAbsMillideg) return kValueOutOfRange;
+    if (motors_) {
+      if (v < robot_.actuation.motors[i].min || v > robot_.actuation.motors[i].max) return kJointLimit;
+    } else {
+      const double units = double(v + offset_[size_t(i)]) / 1000.0;
+      const double q = is_angle(robot_, i) ? deg_to_rad(units) : units;
+      const auto& js = robot_.model.joints[i];
+      const double slack = 1e-9 * (1 + std::fabs(q));
+      if (q < js.lo - slack || q > js.hi + slack) return kJointLimit;
+    }
+  }
+  commanded_ = target;
+  q_from_commanded();
+  return kOk;
+}
+
+IkResult KinematicModel::solve(const Vec3<double>& target, RunRecord& r) {
+  if (!ik_) ik_.emplace(robot_);
+  r.has_target = true;
+  r.target = target;
+  IkOptions opt;
+  opt.weights = weights_;
+  IkResult res = ik_->solve(IkTarget::at(target), q_, opt);  // throws std::invalid_argument
+  r.ik_status = ik_status_name(res.status);
+  return res;
+}
+
+Status KinematicModel::run_command(RunRecord& r, const std::string& text) {
+  Command cmd;
+  if (text.size() > 255) return kLineTooLong;
+  const Status parsed = parse_line(cmd, text.data(), uint8_t(text.size()), uint8_t(n_));
+  if (parsed != kOk) return parsed;
+  switch (cmd.type) {
+    case kCmdNone:
+    case kCmdInfo:
+    case kCmdListSettings:
+      return kOk;
+    case kCmdSetSetting: {
+      const Status s = check_setting(n_, cmd.arg[0], cmd.arg[1]);
+      if (s == kOk) settings_.value[size_t(cmd.arg[0])] = uint32_t(cmd.arg[1] / 1000);
+      return s;
+    }
+    case kCmdRotate: {
+      std::vector<int64_t> t = commanded_;
+      t[size_t(cmd.arg[0])] += cmd.arg[1];
+      return set_commanded(t);
+    }
+    case kCmdMoveAbsolute:
+      return set_commanded(std::vector<int64_t>(cmd.arg, cmd.arg + n_));
+    case kCmdMoveTool: {
+      IkResult res;
+      try {
+        res = solve(make_vec3(cmd.arg[0] / 1000.0, cmd.arg[1] / 1000.0, cmd.arg[2] / 1000.0), r);
+      } catch (const std::invalid_argument& e) {
+        add_note(r, e.what());
+        return kUnreachable;
+      }
+      if (!res.reached()) {
+        add_note(r, "ik: " + r.ik_status + ", " + num_text(std::round(res.position_error_mm * 1000) / 1000) +
+                        " mm from the target");
+        return kUnreachable;
+      }
+      // As the controller does: the solution's commanded angles, to the thousandth, in limits.
+      const std::vector<double> keep = q_;
+      q_ = res.q;
+      const std::vector<int64_t> before = commanded_;
+      commanded_from_q();
+      std::vector<int64_t> t = commanded_;
+      commanded_ = before;
+      q_ = keep;
+      if (motors_)
+        for (int i = 0; i < n_; ++i)
+          t[size_t(i)] =
+              std::clamp<int64_t>(t[size_t(i)], robot_.actuation.motors[i].min, robot_.actuation.motors[i].max);
+      return set_commanded(t);
+    }
+    case kCmdHome: {
+      // Switch motors ($3) end at their minimum angle, the others at the home pose.
+      std::vector<int64_t> t(static_cast<size_t>(n_));
+      const uint32_t mask = settings_.value[ControllerSettings::kEndstops];
+      if (motors_) {
+        double u[kMaxJoints];
+        actuators_from_joints(u, robot_.actuation, robot_.home.data());
+        for (int i = 0; i < n_; ++i) {
+          const MotorSpec& m = robot_.actuation.motors[i];
+          Millideg h = m.zero;
+          to_millideg(h, rad_to_deg(u[i]));
+          t[size_t(i)] = (mask & (1u << i)) ? m.min : clamp(h, m.min, m.max);
+          if (mask & (1u << i)) offset_[size_t(i)] = 0;  // the switch finds the real position
+        }
+      } else {
+        for (int j = 0; j < n_; ++j) {
+          const double v = is_angle(robot_, j) ? rad_to_deg(robot_.home[size_t(j)]) : robot_.home[size_t(j)];
+          t[size_t(j)] = std::llround(v * 1000.0) - offset_[size_t(j)];
+        }
+      }
+      return set_commanded(t);
+    }
+    case kCmdSetZero: {
+      // The arm stays; its commanded angles become the home pose's, shifted by where it is.
+      std::vector<int64_t> physical(static_cast<size_t>(n_));
+      for (int i = 0; i < n_; ++i) physical[size_t(i)] = commanded_[size_t(i)] + offset_[size_t(i)];
+      const std::vector<double> q = q_;
+      q_ = robot_.home;
+      std::fill(offset_.begin(), offset_.end(), 0);
+      commanded_from_q();
+      for (int i = 0; i < n_; ++i) offset_[size_t(i)] = physical[size_t(i)] - commanded_[size_t(i)];
+      q_ = q;
+      add_note(r, "nothing moves: the commanded angles are now the home pose's");
+      return kOk;
+    }
+    case kCmdGripper:
+    case kCmdAperture: {
+      const int32_t aperture = cmd.type == kCmdAperture ? cmd.arg[0] : (cmd.arg[0] ? 0 : 100000);
+      gripper_percent_ = (aperture + 500) / 1000;
+      return kOk;
+    }
+  }
+  return kUnknownCommand;
+}
+
+void KinematicModel::robosim(RunRecord& r, const Statement& st) {
+  const int nj = robot_.model.num_joints;
+  switch (st.kind) {
+    case Statement::Kind::kJoints: {
+      for (int j = 0; j < nj; ++j)
+        q_[size_t(j)] = is_angle(robot_, j) ? deg_to_rad(st.values[size_t(j)]) : st.values[size_t(j)];
+      if (motors_) {
+        double u[kMaxJoints];
+        actuators_from_joints(u, robot_.actuation, q_.data());
+        for (int i = 0; i < n_; ++i) {
+          const MotorSpec& m = robot_.actuation.motors[i];
+          const double deg = rad_to_deg(u[i]);
+          if (deg * 1000 < m.min - 0.5 || deg * 1000 > m.max + 0.5)
+            add_note(r, "motor " + robot_.motor_names[size_t(i)] + " at " + num_text(std::round(deg * 1000) / 1000) +
+                            " deg is beyond its limits: the real arm refuses this (error:9)");
+        }
+      }
+      std::fill(offset_.begin(), offset_.end(), 0);
+      commanded_from_q();
+      return;
+    }
+    case Statement::Kind::kTarget: {
+      IkResult res;
+      try {
+        res = solve(make_vec3(st.values[0], st.values[1], st.values[2]), r);
+      } catch (const std::invalid_argument& e) {
+        r.reply = kUnreachable;
+        add_note(r, e.what());
+        return;
+      }
+      q_ = res.q;
+      if (!res.reached())
+        add_note(r, "ik: " + r.ik_status + ": moved to the best pose found, " +
+                        num_text(std::round(res.position_error_mm * 1000) / 1000) + " mm from the target");
+      std::fill(offset_.begin(), offset_.end(), 0);
+      commanded_from_q();
+      return;
+    }
+    case Statement::Kind::kLinkLengths: {
+      size_t k = 0;
+      for (int row = 0; row < robot_.model.num_rows && row < int(robot_.length_ranges.size()); ++row)
+        if (robot_.length_ranges[size_t(row)].adjustable && k < st.values.size())
+          robot_.model.rows[row].a = st.values[k++];
+      ik_.reset();
+      return;
+    }
+    case Statement::Kind::kWeights:
+      weights_ = st.values;
+      return;
+    case Statement::Kind::kSpeed:
+      add_note(r, "speed " + num_text(st.values[0]) + " of 82: no timing in the kinematic model");
+      return;
+    case Statement::Kind::kHand:
+      gripper_percent_ = (robosim_hand_to_aperture(st.values[0]) + 500) / 1000;
+      return;
+    case Statement::Kind::kZoom:
+      add_note(r, "zoom is for a viewer");
+      return;
+    case Statement::Kind::kProtocol:
+      break;
+  }
+}
+
+void KinematicModel::finish(RunRecord& r) const {
+  r.joints.clear();
+  for (int j = 0; j < robot_.model.num_joints; ++j)
+    r.joints.push_back(is_angle(robot_, j) ? rad_to_deg(q_[size_t(j)]) : q_[size_t(j)]);
+  HostFrames f;
+  forward_kinematics(f, robot_.model, q_.data());
+  r.tool = f.T_base_tool;
+  const Vec3<double> rpy = matrix_to_rpy(r.tool.R);
+  r.rpy_deg = make_vec3(rad_to_deg(rpy.x), rad_to_deg(rpy.y), rad_to_deg(rpy.z));
+  r.gripper_percent = gripper_percent_;
+  if (r.has_target) r.target_error_mm = norm(r.tool.p - r.target);
+}
+
+RunRecord KinematicModel::execute_line(const std::string& line, int line_number) {
+  RunRecord r;
+  r.line = line_number;
+  r.text = line;
+  KinematicModel saved = *this;
+  r.reply = run_command(r, line);
+  if (r.reply != kOk) *this = saved;  // a rejected line changes nothing
+  finish(r);
+  return r;
+}
+
+RunRecord KinematicModel::execute(const Statement& st) {
+  if (st.kind == Statement::Kind::kProtocol) return execute_line(st.text, st.line);
+  RunRecord r;
+  r.line = st.line;
+  r.text = std::string(1, robosim_letter(st.kind));
+  for (double v : st.values) r.text += " " + num_text(v);
+  KinematicModel saved = *this;
+  robosim(r, st);
+  if (r.reply != kOk) *this = saved;
+  finish(r);
+  return r;
+}
+
+std::vector<RunRecord> run_program(const Robot& robot, const Program& program) {
+  KinematicModel model(robot);
+  std::vector<RunRecord> out;
+  for (const Statement& st : program.statements) out.push_back(model.execute(st));
+  return out;
+}
+
+}  // namespace articula::host

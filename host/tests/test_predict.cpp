@@ -1,0 +1,469 @@
+// Tests host/lib/predict.cpp, the host's model of the controller: steps against quantization
+// worked out here by hand, tool positions from the MK2's geometry (not through the DH
+// chain), durations from motion.h with the settings written out here, the queue's timeline,
+// rejected commands, P, H, Z, settings, the gripper, and the RoboSim mapping.
+#include <gtest/gtest.h>
+
+#include <articula/motion.h>
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "predict.h"
+#include "program.h"
+#include "robot_file.h"
+
+using namespace articula;
+using namespace articula::host;
+
+namespace {
+
+const Robot& mk2() {
+  static const Robot r = load_robot_file(std::string(ARTICULA_SOURCE_DIR) + "/robots/mk2plus.json");
+  return r;
+}
+
+std::string mk2_text() {
+  std::ifstream f(std::string(ARTICULA_SOURCE_DIR) + "/robots/mk2plus.json");
+  std::ostringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
+// The MK2 with an upper arm RoboSim's `l` may change (100 .. 200 mm).
+Robot mk2_adjustable() {
+  std::string t = mk2_text();
+  const std::string from = "{\"a\": 135,";
+  const size_t at = t.find(from);
+  EXPECT_NE(at, std::string::npos);
+  t.replace(at, from.size(), "{\"a\": {\"value\": 135, \"min\": 100, \"max\": 200},");
+  return parse_robot(t, "mk2-adjustable.json");
+}
+
+// The defaults of docs/protocol.md, written out: $0 600 steps/s, $1 2000 steps/s^2, 2 MHz.
+const MotionSettings kDefaultMotion = {2000000, 600, 2000};
+constexpr uint64_t kSettleTicks = 300 * 2000;  // $5 = 300 ms at 2 MHz
+
+// Degrees per step: base 360 * 19 / (200 * 108), shoulder and forearm 360 * 19 / (200 * 47).
+constexpr double kBaseDeg = 360.0 * 19 / (200 * 108);
+constexpr double kArmDeg = 360.0 * 19 / (200 * 47);
+
+double rad(double deg) {
+  return deg * M_PI / 180;
+}
+
+// The MK2's tool point from its actuator angles (base yaw, upper-arm elevation, forearm
+// elevation), by its geometry: shoulder 78 mm up, links 135 and 147 mm, gripper 88 mm level.
+Vec3<double> mk2_tool(double base, double upper, double fore) {
+  const double r = 135 * std::cos(rad(upper)) + 147 * std::cos(rad(fore)) + 88;
+  const double z = 78 + 135 * std::sin(rad(upper)) + 147 * std::sin(rad(fore));
+  return make_vec3(r * std::cos(rad(base)), r * std::sin(rad(base)), z);
+}
+
+void expect_near(const Vec3<double>& a, const Vec3<double>& b, double tol) {
+  EXPECT_NEAR(a.x, b.x, tol);
+  EXPECT_NEAR(a.y, b.y, tol);
+  EXPECT_NEAR(a.z, b.z, tol);
+}
+
+Statement robosim(Statement::Kind kind, std::vector<double> values, int line = 1) {
+  Statement s;
+  s.kind = kind;
+  s.values = std::move(values);
+  s.line = line;
+  return s;
+}
+
+// How far half a step on every motor can move the MK2's tool at most: each motor's half
+// step (rad) times the longest lever it turns (the base: the whole reach).
+double half_step_reach_mm() {
+  return 0.5 * (rad(kBaseDeg) * 370 + rad(kArmDeg) * 135 + rad(kArmDeg) * 147);
+}
+
+}  // namespace
+
+TEST(Predict, PowersUpAtStepZeroWithTheFirmwareHome) {
+  ControllerModel m(mk2());
+  EXPECT_TRUE(m.homed());
+  EXPECT_TRUE(m.has_point_ik());
+  EXPECT_EQ(m.home_commanded(), (std::vector<Millideg>{0, 90000, 0}));
+  EXPECT_EQ(m.home_steps(), (std::vector<int32_t>{0, 0, 0}));
+  for (int i = 0; i < 3; ++i) EXPECT_EQ(m.state().steps[i], 0);
+  EXPECT_EQ(m.clock_ticks(), 0u);
+}
+
+TEST(Predict, RelativeMoveQuantizesByHand) {
+  ControllerModel m(mk2());
+  const PredictRecord r = m.execute_line("L 0 10", 3);
+  ASSERT_EQ(r.reply, kOk);
+  EXPECT_EQ(r.line, 3);
+  // 10 deg / 0.31667 deg = 31.58 -> step 32, at 32 * 0.31667 = 10.1333 deg.
+  EXPECT_EQ(r.steps, (std::vector<int32_t>{32, 0, 0}));
+  EXPECT_EQ(r.commanded, (std::vector<Millideg>{10000, 90000, 0}));
+  EXPECT_NEAR(r.joints[0], 32 * kBaseDeg, 1e-12);
+  EXPECT_NEAR(r.joints[0], 10.1333, 1e-4);
+  EXPECT_NEAR(r.joints[1], 90, 1e-12);
+  EXPECT_NEAR(r.joints[2], -90, 1e-12);  // DH elbow = forearm elevation - upper arm
+  EXPECT_NEAR(r.joints_ideal[0], 10, 1e-12);
+  expect_near(r.tool_ideal, mk2_tool(10, 90, 0), 1e-9);
+  expect_near(r.tool_quantized, mk2_tool(32 * kBaseDeg, 90, 0), 1e-9);
+  // The base turns 0.1333 deg too far at a radius of 235 mm: a chord of 0.547 mm.
+  EXPECT_NEAR(r.error_mm, 2 * 235 * std::sin(rad(32 * kBaseDeg - 10) / 2), 1e-9);
+  EXPECT_NEAR(r.error_mm, 0.547, 1e-3);
+}
+
+TEST(Predict, DurationsAreTheProfileOfTheDominantMotor) {
+  ControllerModel m(mk2());
+  const PredictRecord a = m.execute_line("L 0 10");
+  EXPECT_TRUE(a.queued);
+  EXPECT_EQ(a.dominant_steps, 32u);
+  EXPECT_EQ(a.ticks, profile_duration_ticks(32, kDefaultMotion));
+  EXPECT_EQ(a.start_tick, 0u);
+  EXPECT_EQ(a.end_tick, a.ticks);
+  EXPECT_DOUBLE_EQ(a.seconds(), double(a.ticks) / 2e6);
+  // All three at once: the base has 10 deg -> -32 steps, the shoulder 30 deg -> round(41.2)
+  // = 41 steps, the forearm -20 deg -> round(-27.48) = -27 steps; the shoulder dominates.
+  const PredictRecord b = m.execute_line("M -0.1 60 -20");
+  ASSERT_EQ(b.reply, kOk);
+  EXPECT_EQ(b.steps, (std::vector<int32_t>{0, -41, -27}));
+  EXPECT_EQ(b.dominant_steps, 41u);
+  EXPECT_EQ(b.ticks, profile_duration_ticks(41, kDefaultMotion));
+  EXPECT_EQ(b.start_tick, a.end_tick);  // back to back, from rest to rest
+  EXPECT_EQ(b.end_tick, a.end_tick + b.ticks);
+  expect_near(b.tool_quantized, mk2_tool(0, 90 - 41 * kArmDeg, -27 * kArmDeg), 1e-9);
+  expect_near(b.tool_ideal, mk2_tool(-0.1, 60, -20), 1e-9);
+  EXPECT_EQ(m.clock_ticks(), b.end_tick);
+}
+
+TEST(Predict, RejectedLinesChangeNothing) {
+  ControllerModel m(mk2());
+  m.execute_line("L 0 10");
+  const uint64_t clock = m.clock_ticks();
+  for (const char* line :
+       {"L 1 50", "M 0 131 0", "M 91 90 0", "P 1000 0 0", "$0=5000", "$0=600.5", "$9=1", "L 0 1000000"}) {
+    const PredictRecord r = m.execute_line(line);
+    EXPECT_NE(r.reply, kOk) << line;
+    EXPECT_FALSE(r.queued) << line;
+    EXPECT_EQ(r.ticks, 0u) << line;
+    EXPECT_EQ(r.steps, (std::vector<int32_t>{32, 0, 0})) << line;
+    EXPECT_EQ(r.commanded, (std::vector<Millideg>{10000, 90000, 0})) << line;
+    EXPECT_EQ(m.clock_ticks(), clock) << line;
+    EXPECT_EQ(m.settings().value[0], 600u) << line;
+  }
+  EXPECT_EQ(m.execute_line("L 1 50").reply, kJointLimit);
+  EXPECT_EQ(m.execute_line("P 1000 0 0").reply, kUnreachable);
+  EXPECT_EQ(m.execute_line("$0=5000").reply, kValueOutOfRange);
+  EXPECT_EQ(m.execute_line("$9=1").reply, kSettingUnknown);
+  EXPECT_EQ(m.execute_line("L 0 1000000").reply, kValueOutOfRange);  // beyond 1,000,000 deg
+  // And the next good line continues from where the arm was.
+  const PredictRecord r = m.execute_line("L 0 0.1");
+  EXPECT_EQ(r.commanded[0], 10100);
+  EXPECT_EQ(r.steps[0], 32);
+  EXPECT_FALSE(r.queued);  // the same step: only the commanded angle changes
+  EXPECT_NE(r.note.find("same steps"), std::string::npos);
+}
+
+TEST(Predict, PointEndsWithinAStepsWorth) {
+  ControllerModel m(mk2());
+  for (const Vec3<double> p : {make_vec3(200.0, -150.0, 150.0), make_vec3(250.0, 100.0, 120.0),
+                               make_vec3(180.0, 0.0, 200.0), make_vec3(20.0, 230.0, 140.0)}) {
+    char line[64];
+    std::snprintf(line, sizeof line, "P %.3f %.3f %.3f", p.x, p.y, p.z);
+    const PredictRecord r = m.execute_line(line);
+    ASSERT_EQ(r.reply, kOk) << line;
+    EXPECT_TRUE(r.has_target);
+    expect_near(r.target, p, 1e-12);
+    // The commanded angles reach the point (to their 0.001 deg) ...
+    expect_near(r.tool_ideal, p, 0.01);
+    // ... and the steps within half a step on every motor.
+    EXPECT_LT(r.target_error_mm, half_step_reach_mm()) << line;
+    EXPECT_NEAR(r.target_error_mm, norm(r.tool_quantized - p), 1e-12);
+    expect_near(r.tool_quantized, mk2_tool(r.actuator_deg[0], r.actuator_deg[1], r.actuator_deg[2]), 1e-9);
+  }
+}
+
+TEST(Predict, PointTakesTheSolutionNearestThePlannedPose) {
+  // The MK2's limits leave one pose for most points; an arm of the same shape with an elbow
+  // that bends both ways has two for (200, 0, 200), elbow up and elbow down. The firmware
+  // takes the one nearer the pose the queue has reached.
+  const Robot arm = parse_robot(R"({"name": "two elbows", "dh": [
+      {"a": 0, "alpha": 0, "d": 78, "theta": {"joint": "base", "min": -170, "max": 170}},
+      {"a": 0, "alpha": 90, "d": 0, "theta": {"joint": "shoulder", "min": -30, "max": 180}},
+      {"a": 135, "alpha": 0, "d": 0, "theta": {"joint": "elbow", "min": -160, "max": 160}},
+      {"a": 147, "alpha": 0, "d": 0, "theta": {"linked": {"shoulder": -1, "elbow": -1}, "offset": 0}}],
+    "tool": {"xyz": [88, 0, 0], "rpy": [-90, 0, 0]},
+    "motors": [
+      {"name": "base", "steps_per_rev": 200, "microsteps": 16, "gear": [1, 1],
+       "direction": 1, "zero": 0, "min": -170, "max": 170},
+      {"name": "shoulder", "steps_per_rev": 200, "microsteps": 16, "gear": [1, 1],
+       "direction": 1, "zero": 90, "min": -30, "max": 180},
+      {"name": "elbow", "steps_per_rev": 200, "microsteps": 16, "gear": [1, 1],
+       "direction": -1, "zero": -90, "min": -160, "max": 160}],
+    "home": {"base": 0, "shoulder": 90, "elbow": -90}})",
+                                "two-elbows.json");
+  ControllerModel up(arm), down(arm);
+  ASSERT_TRUE(up.has_point_ik());
+  EXPECT_EQ(up.execute_line("M 0 120 -120").reply, kOk);
+  EXPECT_EQ(down.execute_line("M 0 -10 100").reply, kOk);
+  const PredictRecord a = up.execute_line("P 200 0 200");
+  const PredictRecord b = down.execute_line("P 200 0 200");
+  ASSERT_EQ(a.reply, kOk);
+  ASSERT_EQ(b.reply, kOk);
+  EXPECT_LT(a.commanded[2], 0);  // elbow up: the elbow bent down relative to the upper arm
+  EXPECT_GT(b.commanded[2], 0);
+  EXPECT_GT(a.commanded[1], b.commanded[1]);
+  for (const PredictRecord* r : {&a, &b}) {
+    expect_near(r->tool_ideal, make_vec3(200.0, 0.0, 200.0), 0.01);
+    EXPECT_LT(r->target_error_mm, 0.5);  // 1/16 steps: a fine arm
+  }
+}
+
+TEST(Predict, GripperActionsTakeTheSettleTime) {
+  ControllerModel m(mk2());
+  PredictRecord r = m.execute_line("S 1");
+  EXPECT_EQ(r.reply, kOk);
+  EXPECT_TRUE(r.queued);
+  EXPECT_EQ(r.ticks, kSettleTicks);
+  EXPECT_EQ(r.gripper_percent, 0);
+  EXPECT_NE(r.note.find("2091 us"), std::string::npos) << r.note;  // docs/protocol.md
+  r = m.execute_line("G 100");
+  EXPECT_EQ(r.gripper_percent, 100);
+  EXPECT_EQ(r.start_tick, kSettleTicks);
+  EXPECT_NE(r.note.find("1472 us"), std::string::npos) << r.note;
+  r = m.execute_line("G 49.5");
+  EXPECT_EQ(r.gripper_percent, 50);  // whole percent, a half up
+  EXPECT_EQ(m.clock_ticks(), 3 * kSettleTicks);
+}
+
+TEST(Predict, SettingsLinesChangeLaterMoves) {
+  ControllerModel m(mk2());
+  EXPECT_EQ(m.execute_line("$0=800").reply, kOk);
+  EXPECT_EQ(m.execute_line("$1 = 3000").reply, kMissingArgument);  // the codec: no blanks around '='
+  EXPECT_EQ(m.execute_line("$1=3000").reply, kOk);
+  EXPECT_EQ(m.execute_line("$5=0").reply, kOk);
+  const PredictRecord r = m.execute_line("L 1 30");
+  EXPECT_EQ(r.ticks, profile_duration_ticks(r.dominant_steps, MotionSettings{2000000, 800, 3000}));
+  EXPECT_NE(r.ticks, profile_duration_ticks(r.dominant_steps, kDefaultMotion));
+  EXPECT_EQ(m.execute_line("S 1").ticks, 0u);  // no settle time
+}
+
+TEST(Predict, SettingsTextIsCheckedAsTheFirmwareDoes) {
+  ControllerSettings s;
+  apply_settings_text(s, "0=800, $1=3000,5=0", 3);
+  EXPECT_EQ(s.value[0], 800u);
+  EXPECT_EQ(s.value[1], 3000u);
+  EXPECT_EQ(s.value[5], 0u);
+  EXPECT_EQ(s.value[2], 2000u);  // untouched
+  for (const char* bad : {"0=5000", "9=1", "0=600.5", "x", "0=", "", "3=8", "0=800,,1=1"}) {
+    ControllerSettings t;
+    EXPECT_THROW(apply_settings_text(t, bad, 3), std::invalid_argument) << bad;
+  }
+  try {
+    apply_settings_text(s, "0=5000", 3);
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("from 1 to 4000"), std::string::npos) << e.what();
+  }
+  // Given settings hold from power-up.
+  ControllerSettings fast;
+  apply_settings_text(fast, "0=800,1=3000", 3);
+  ControllerModel m(mk2(), fast);
+  const PredictRecord r = m.execute_line("L 0 30");
+  EXPECT_EQ(r.ticks, profile_duration_ticks(95, MotionSettings{2000000, 800, 3000}));
+}
+
+TEST(Predict, HomeMovesBackAndZeroDeclaresHome) {
+  ControllerModel m(mk2());
+  m.execute_line("L 0 10");
+  m.execute_line("L 2 -5.5");
+  PredictRecord h = m.execute_line("H");
+  EXPECT_EQ(h.reply, kOk);
+  EXPECT_EQ(h.steps, (std::vector<int32_t>{0, 0, 0}));
+  EXPECT_EQ(h.commanded, (std::vector<Millideg>{0, 90000, 0}));
+  EXPECT_EQ(h.ticks, profile_duration_ticks(32, kDefaultMotion));
+  // H at home still takes its (empty) place in the queue.
+  h = m.execute_line("H");
+  EXPECT_TRUE(h.queued);
+  EXPECT_EQ(h.ticks, 0u);
+
+  // Z where the arm is: the controller counts from here, the arm has not moved.
+  m.execute_line("L 0 10");
+  const PredictRecord z = m.execute_line("Z");
+  EXPECT_EQ(z.reply, kOk);
+  EXPECT_FALSE(z.queued);
+  EXPECT_EQ(z.steps, (std::vector<int32_t>{0, 0, 0}));
+  EXPECT_EQ(z.commanded, (std::vector<Millideg>{0, 90000, 0}));
+  EXPECT_NEAR(z.joints[0], 32 * kBaseDeg, 1e-12);  // where the base really is
+  expect_near(z.tool_quantized, mk2_tool(32 * kBaseDeg, 90, 0), 1e-9);
+  // A move after it counts from the new zero: L 0 -10 is step -32, the base back at 0.
+  const PredictRecord back = m.execute_line("L 0 -10");
+  EXPECT_EQ(back.steps[0], -32);
+  EXPECT_NEAR(back.joints[0], 0, 1e-12);
+  EXPECT_NEAR(back.joints_ideal[0], 32 * kBaseDeg - 10, 1e-12);
+}
+
+TEST(Predict, EndstopsMeanAlarmUntilHomed) {
+  ControllerSettings s;
+  apply_settings_text(s, "3=2", 3);  // a switch on the shoulder (motor 1), at its 36 deg minimum
+  ControllerModel m(mk2(), s);
+  EXPECT_FALSE(m.homed());
+  EXPECT_EQ(m.execute_line("L 0 10").reply, kNotHomed);
+  EXPECT_EQ(m.execute_line("P 235 0 213").reply, kNotHomed);
+  EXPECT_EQ(m.execute_line("G 50").reply, kOk);  // the gripper works in Alarm
+  const uint64_t before = m.clock_ticks();
+  const PredictRecord h = m.execute_line("H");
+  ASSERT_EQ(h.reply, kOk);
+  EXPECT_TRUE(m.homed());
+  // The shoulder seeks down from step 0 to the step of 36 deg, ceil(-54 / 0.7277) = -74,
+  // one homing interval (1 / 200 s) per step and one more to see the switch; then the
+  // shoulder stays at its minimum (36 deg) and nothing else moves.
+  EXPECT_EQ(h.steps, (std::vector<int32_t>{0, -74, 0}));
+  EXPECT_EQ(h.commanded, (std::vector<Millideg>{0, 36000, 0}));
+  EXPECT_EQ(h.ticks, 75u * 10000);
+  EXPECT_EQ(h.start_tick, before);
+  EXPECT_NE(h.note.find("switch"), std::string::npos);
+  EXPECT_EQ(m.execute_line("L 0 10").reply, kOk);
+}
+
+TEST(Predict, RoboSimJointsGoThroughTheCoupling) {
+  ControllerModel m(mk2());
+  // m: DH joint values; the forearm's elevation is shoulder + elbow = 60 - 80 = -20.
+  const PredictRecord r = m.execute(robosim(Statement::Kind::kJoints, {10, 60, -80}, 7));
+  ASSERT_EQ(r.reply, kOk);
+  EXPECT_EQ(r.line, 7);
+  EXPECT_EQ(r.text, "m 10 60 -80");
+  EXPECT_EQ(r.protocol, "M 10.000 60.000 -20.000");
+  EXPECT_EQ(r.commanded, (std::vector<Millideg>{10000, 60000, -20000}));
+  EXPECT_EQ(r.steps, (std::vector<int32_t>{32, -41, -27}));
+  EXPECT_NEAR(r.joints_ideal[2], -80, 1e-9);
+  EXPECT_EQ(r.ticks, profile_duration_ticks(41, kDefaultMotion));
+  // The elbow's DH box allows -150 but the forearm motor does not (-60 < -43): M refuses it.
+  const PredictRecord bad = m.execute(robosim(Statement::Kind::kJoints, {0, 90, -150}));
+  EXPECT_EQ(bad.reply, kJointLimit);
+  EXPECT_EQ(bad.steps, r.steps);
+  EXPECT_TRUE(bad.protocol.empty());
+}
+
+TEST(Predict, RoboSimTargetSolvesAndMovesLikeM) {
+  ControllerModel m(mk2());
+  const Vec3<double> p = make_vec3(200.0, 200.0, 160.0);
+  const PredictRecord r = m.execute(robosim(Statement::Kind::kTarget, {p.x, p.y, p.z}));
+  ASSERT_EQ(r.reply, kOk);
+  EXPECT_EQ(r.ik_status, "reached");
+  EXPECT_EQ(r.protocol.substr(0, 2), "M ");
+  expect_near(r.tool_ideal, p, 0.01);
+  EXPECT_LT(r.target_error_mm, half_step_reach_mm());
+  // The protocol line it stands for gives exactly the same steps.
+  ControllerModel again(mk2());
+  const PredictRecord same = again.execute_line(r.protocol);
+  EXPECT_EQ(same.steps, r.steps);
+  EXPECT_EQ(same.ticks, r.ticks);
+  // Out of reach: refused as P would be, nothing moves.
+  const PredictRecord far = m.execute(robosim(Statement::Kind::kTarget, {900, 0, 0}));
+  EXPECT_EQ(far.reply, kUnreachable);
+  EXPECT_EQ(far.steps, r.steps);
+  EXPECT_FALSE(far.queued);
+  EXPECT_NE(far.ik_status, "reached");
+}
+
+TEST(Predict, RoboSimWeightsFreezeAJoint) {
+  ControllerModel m(mk2());
+  m.execute(robosim(Statement::Kind::kJoints, {30, 70, -90}));
+  m.execute(robosim(Statement::Kind::kWeights, {0, 1, 1}));
+  // Straight down in the plane of the base: reachable with the base kept at 30 deg.
+  const Vec3<double> now = mk2_tool(30, 70, -20);
+  const PredictRecord r = m.execute(robosim(Statement::Kind::kTarget, {now.x, now.y, now.z - 30}));
+  ASSERT_EQ(r.reply, kOk) << r.note;
+  EXPECT_EQ(r.commanded[0], 30000);
+}
+
+TEST(Predict, RoboSimHandAndSpeedAsDocumented) {
+  EXPECT_EQ(robosim_hand_to_aperture(0.0), 100000);
+  EXPECT_EQ(robosim_hand_to_aperture(0.25), 50000);
+  EXPECT_EQ(robosim_hand_to_aperture(0.5), 0);
+  EXPECT_EQ(robosim_hand_to_aperture(0.1), 80000);
+  EXPECT_EQ(robosim_speed_to_rate(82, 600), 600u);
+  EXPECT_EQ(robosim_speed_to_rate(41, 600), 300u);
+  EXPECT_EQ(robosim_speed_to_rate(1, 600), 7u);  // round(600 / 82) = 7
+  EXPECT_EQ(robosim_speed_to_rate(1, 40), 1u);   // never below 1
+
+  ControllerModel m(mk2());
+  PredictRecord h = m.execute(robosim(Statement::Kind::kHand, {0.5}));
+  EXPECT_EQ(h.protocol, "G 0.000");
+  EXPECT_EQ(h.gripper_percent, 0);
+  EXPECT_EQ(h.ticks, kSettleTicks);
+  h = m.execute(robosim(Statement::Kind::kHand, {0.0}));
+  EXPECT_EQ(h.protocol, "G 100.000");
+  EXPECT_EQ(h.gripper_percent, 100);
+
+  const PredictRecord s = m.execute(robosim(Statement::Kind::kSpeed, {41}));
+  EXPECT_EQ(s.protocol, "$0=300");
+  EXPECT_EQ(m.settings().value[0], 300u);
+  const PredictRecord mv = m.execute(robosim(Statement::Kind::kJoints, {10, 90, -90}));
+  EXPECT_EQ(mv.ticks, profile_duration_ticks(32, MotionSettings{2000000, 300, 2000}));
+  // Always scaled from the rate the program started with, not the last one.
+  m.execute(robosim(Statement::Kind::kSpeed, {82}));
+  EXPECT_EQ(m.settings().value[0], 600u);
+
+  const PredictRecord z = m.execute(robosim(Statement::Kind::kZoom, {2}));
+  EXPECT_EQ(z.reply, kOk);
+  EXPECT_FALSE(z.queued);
+  EXPECT_NE(z.note.find("no effect"), std::string::npos);
+}
+
+TEST(Predict, RoboSimLengthsChangeOnlyTheHostModel) {
+  const Robot r = mk2_adjustable();
+  ControllerModel m(r);
+  const PredictRecord before = m.execute_line("L 0 10");
+  const PredictRecord l = m.execute(robosim(Statement::Kind::kLinkLengths, {150}));
+  ASSERT_EQ(l.reply, kOk);
+  EXPECT_NE(l.note.find("real arm"), std::string::npos);
+  EXPECT_EQ(l.steps, before.steps);
+  EXPECT_FALSE(l.queued);
+  // The upper arm is vertical at 90 deg: 15 mm longer raises the tool by 15 mm.
+  EXPECT_NEAR(l.tool_quantized.z - before.tool_quantized.z, 15, 1e-9);
+  // The firmware's P keeps the arm as built: (235, 0, 213) is still its home point.
+  const PredictRecord p = m.execute_line("P 235 0 213");
+  ASSERT_EQ(p.reply, kOk);
+  EXPECT_EQ(p.steps, (std::vector<int32_t>{0, 0, 0}));
+}
+
+TEST(Predict, ProgramSummaryAddsUp) {
+  const Program prog = parse_protocol_program("G 100\nL 0 10\nL 1 50 # refused\nM 0 60 -20\nS 1\n", "t.arm", mk2());
+  const Prediction p = predict_program(mk2(), prog);
+  ASSERT_EQ(p.records.size(), 5u);
+  EXPECT_EQ(p.rejected, 1);
+  EXPECT_EQ(p.records[2].reply, kJointLimit);
+  EXPECT_EQ(p.records[2].line, 3);
+  uint64_t sum = 0;
+  double worst = 0;
+  for (const auto& r : p.records) {
+    EXPECT_EQ(r.start_tick, sum) << r.text;
+    sum += r.ticks;
+    worst = std::max(worst, r.error_mm);
+  }
+  EXPECT_EQ(p.total_ticks, sum);
+  EXPECT_EQ(p.total_ticks,
+            2 * kSettleTicks + profile_duration_ticks(32, kDefaultMotion) + profile_duration_ticks(41, kDefaultMotion));
+  EXPECT_DOUBLE_EQ(p.worst_error_mm, worst);
+}
+
+TEST(Predict, ShippedProgramsRun) {
+  for (const char* name : {"demo.arm", "thesis-repeatability.arm", "pick-and-place.robosim"}) {
+    const Program prog = load_program(std::string(ARTICULA_SOURCE_DIR) + "/programs/" + name, mk2());
+    const Prediction p = predict_program(mk2(), prog);
+    EXPECT_EQ(p.rejected, 0) << name;
+    EXPECT_GT(p.total_ticks, 0u) << name;
+    EXPECT_LT(p.worst_error_mm, half_step_reach_mm()) << name;
+  }
+}
+
+TEST(Predict, RobotWithoutMotorsIsRefused) {
+  const Robot r = load_robot_file(std::string(ARTICULA_SOURCE_DIR) + "/robots/thesis-example.json");
+  try {
+    ControllerModel m(r);
+    FAIL() << "no error";
+  } catch (const PredictError& e) {
+    EXPECT_NE(std::string(e.what()).find("has no motors"), std::string::npos) << e.what();
+  }
+}
