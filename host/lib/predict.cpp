@@ -60,28 +60,6 @@ uint16_t servo_pulse_us(const Robot& robot, int32_t aperture) {
   return uint16_t(float(kPulseAt0) + deg * (float(kPulseAt180 - kPulseAt0) / 180.0f) + 0.5f);
 }
 
-char robosim_letter(Statement::Kind k) {
-  switch (k) {
-    case Statement::Kind::kJoints:
-      return 'm';
-    case Statement::Kind::kTarget:
-      return 'a';
-    case Statement::Kind::kLinkLengths:
-      return 'l';
-    case Statement::Kind::kWeights:
-      return 'w';
-    case Statement::Kind::kSpeed:
-      return 's';
-    case Statement::Kind::kHand:
-      return 'h';
-    case Statement::Kind::kZoom:
-      return 'z';
-    case Statement::Kind::kProtocol:
-      break;
-  }
-  return '?';
-}
-
 }  // namespace
 
 // Z and $n=v are answered only once the queue is empty and the arm at rest: the arm then

@@ -77,6 +77,20 @@ void check_range(const std::string& file, int line, const std::string& what, dou
 
 }  // namespace
 
+char robosim_letter(Statement::Kind kind) {
+  switch (kind) {
+    case Statement::Kind::kJoints: return 'm';
+    case Statement::Kind::kTarget: return 'a';
+    case Statement::Kind::kLinkLengths: return 'l';
+    case Statement::Kind::kWeights: return 'w';
+    case Statement::Kind::kSpeed: return 's';
+    case Statement::Kind::kHand: return 'h';
+    case Statement::Kind::kZoom: return 'z';
+    case Statement::Kind::kProtocol: break;
+  }
+  return '?';
+}
+
 Program::Format detect_format(const std::string& text, const std::string& name) {
   const std::string n = lower(name);
   if (ends_with(n, ".robosim") || ends_with(n, ".file")) return Program::Format::kRoboSim;

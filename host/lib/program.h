@@ -48,6 +48,9 @@ class ProgramError : public std::runtime_error {
   int line_;
 };
 
+// The RoboSim letter of a statement kind ('m', 'a', ...); '?' for kProtocol.
+char robosim_letter(Statement::Kind kind);
+
 // Which language a text is in. A file ending in .robosim or .file (the thesis's name for
 // RoboSim programs) is RoboSim, one ending in .arm or .txt the protocol; otherwise the first
 // command decides: a command letter alone on its line is RoboSim, a letter followed by its

@@ -26,28 +26,6 @@ bool is_angle(const Robot& robot, int joint) {
   return robot.model.joints[joint].param != kParamD;
 }
 
-char robosim_letter(Statement::Kind k) {
-  switch (k) {
-    case Statement::Kind::kJoints:
-      return 'm';
-    case Statement::Kind::kTarget:
-      return 'a';
-    case Statement::Kind::kLinkLengths:
-      return 'l';
-    case Statement::Kind::kWeights:
-      return 'w';
-    case Statement::Kind::kSpeed:
-      return 's';
-    case Statement::Kind::kHand:
-      return 'h';
-    case Statement::Kind::kZoom:
-      return 'z';
-    case Statement::Kind::kProtocol:
-      break;
-  }
-  return '?';
-}
-
 }  // namespace
 
 KinematicModel::KinematicModel(const Robot& robot) : robot_(robot) {

@@ -145,12 +145,4 @@ TEST(Homing, NoSwitchesNoAlarm) {
   for (int i = 0; i < kJ; ++i) EXPECT_EQ(sim::status().steps[i], robot::home_steps[i]);
 }
 
-#ifdef PIO_UNIT_TESTING
-// PlatformIO builds each test folder as a program of its own (CMake links gtest_main).
-int main(int argc, char** argv) {
-  ::testing::InitGoogleTest(&argc, argv);
-  const int failed = RUN_ALL_TESTS();
-  (void)failed;
-  return 0;  // PlatformIO reads the results from the output
-}
-#endif
+#include "pio_main.h"  // PlatformIO runs each test folder as a program of its own
