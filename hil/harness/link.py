@@ -1,0 +1,185 @@
+"""The serial line to the arm (docs/protocol.md), over any pyserial port: a Nano on
+/dev/ttyUSB0 or the virtual Nano's pseudo-terminal, the same code for both.
+
+Every read has a deadline: a port that stops answering raises LinkTimeout, one that goes
+away (the device unplugged, the virtual Nano gone) LinkVanished. Never a hang.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+
+import serial
+
+
+class LinkError(Exception):
+    pass
+
+
+class LinkTimeout(LinkError):
+    def __init__(self, what: str, partial: str = ""):
+        self.what, self.partial = what, partial
+        super().__init__(what + self.got)
+
+    @property
+    def got(self) -> str:
+        """What came without a line end, if anything."""
+        return f" (got '{self.partial}' without a line end)" if self.partial else ""
+
+
+class LinkVanished(LinkError):
+    pass
+
+
+# docs/protocol.md, "Status codes" (never renumbered).
+STATUS_TEXT = {
+    1: "empty line", 2: "unknown command", 3: "bad number", 4: "missing argument", 5: "too many arguments",
+    6: "no such joint", 7: "line too long", 8: "value out of range", 9: "target beyond a joint limit",
+    10: "target out of reach", 11: "character not allowed", 12: "not homed", 13: "no such setting",
+    14: "settings reset to defaults", 15: "discarded by stop (!)",
+}
+
+
+def status_text(reply: str) -> str:
+    """`error:9` -> "target beyond a joint limit"."""
+    try:
+        return STATUS_TEXT.get(int(reply.partition(":")[2]), "unknown code")
+    except ValueError:
+        return "not a reply"
+
+
+@dataclass
+class Status:
+    """A status report, `<Idle|S:32,0,-8|A:10.133,90.000,-5.821|G:0|Q:8|C:1>`."""
+    state: str
+    steps: list[int] | None = None
+    angles: list[float] | None = None
+    gripper: int | None = None
+    queue: int | None = None
+    coils: int | None = None
+    warning: int | None = None
+    text: str = ""
+    fields: dict = field(default_factory=dict)
+
+
+def parse_status(line: str) -> Status | None:
+    if not (line.startswith("<") and line.endswith(">")):
+        return None
+    parts = line[1:-1].split("|")
+    st = Status(state=parts[0], text=line)
+    try:
+        for p in parts[1:]:
+            key, _, value = p.partition(":")
+            st.fields[key] = value
+            if key == "S":
+                st.steps = [int(v) for v in value.split(",")]
+            elif key == "A":
+                st.angles = [float(v) for v in value.split(",")]
+            elif key == "G":
+                st.gripper = int(value)
+            elif key == "Q":
+                st.queue = int(value)
+            elif key == "C":
+                st.coils = int(value)
+            elif key == "W":
+                st.warning = int(value)
+    except ValueError:
+        return None
+    return st
+
+
+def parse_info(line: str) -> dict | None:
+    """`[Articula|V:0.1.0|P:2|J:3|R:MK2 Plus]` -> {"device": "Articula", "V": ..., ...}."""
+    if not (line.startswith("[") and line.endswith("]")):
+        return None
+    parts = line[1:-1].split("|")
+    info = {"device": parts[0]}
+    for p in parts[1:]:
+        key, _, value = p.partition(":")
+        info[key] = value
+    return info
+
+
+def parse_setting(line: str) -> tuple[int, float] | None:
+    """`$3=200.000` -> (3, 200.0)."""
+    if not line.startswith("$") or "=" not in line:
+        return None
+    n, _, v = line[1:].partition("=")
+    try:
+        return int(n), float(v)
+    except ValueError:
+        return None
+
+
+class Link:
+    """Lines to and from the arm. `port` is a pyserial port (or anything with read, write,
+    in_waiting and a settable timeout); `alive` says whether the other end still exists
+    (the virtual Nano's process), so a dead one is noticed without waiting for a timeout;
+    `log` receives every line, both ways."""
+
+    def __init__(self, port, alive=None, log=None):
+        self.port = port
+        self.alive = alive or (lambda: True)
+        self.log = log
+        self._buf = b""
+
+    def _note(self, direction: str, text: str) -> None:
+        if self.log:
+            self.log(direction, text)
+
+    def write(self, data: bytes) -> None:
+        try:
+            # pyserial writes at once (no flush: tcdrain could wait on a device that is gone).
+            self.port.write(data)
+        except serial.SerialTimeoutException:  # (a SerialException: first)
+            raise LinkTimeout("the port takes no more bytes (write timeout)") from None
+        except (serial.SerialException, OSError, ValueError) as e:  # ValueError: port closed
+            raise LinkVanished(f"writing: {e}") from None
+
+    def send_line(self, text: str) -> None:
+        self._note(">", text)
+        self.write(text.encode("ascii", errors="surrogateescape") + b"\n")
+
+    def send_realtime(self, byte: bytes) -> None:
+        self.write(byte)
+
+    def read_line(self, deadline: float) -> str:
+        """The next line from the arm, without its LF (and CR)."""
+        while b"\n" not in self._buf:
+            remaining = deadline - time.monotonic()
+            if remaining <= 0:
+                raise LinkTimeout("no answer", self._buf.decode("ascii", errors="replace"))
+            try:
+                t = min(remaining, 0.05)
+                if self.port.timeout != t:
+                    self.port.timeout = t
+                waiting = self.port.in_waiting
+                data = self.port.read(max(1, min(waiting, 4096)))
+            except (serial.SerialException, OSError, ValueError, TypeError) as e:
+                raise LinkVanished(str(e) or type(e).__name__) from None
+            if data:
+                self._buf += data
+            elif not self.alive():
+                raise LinkVanished("the device at its other end is gone")
+        raw, _, self._buf = self._buf.partition(b"\n")
+        text = raw.decode("ascii", errors="replace").rstrip("\r")
+        self._note("<", text)
+        return text
+
+    def drain(self, seconds: float) -> list[str]:
+        """Every line that arrives within `seconds` (what a reset or a stop leaves behind)."""
+        lines = []
+        end = time.monotonic() + seconds
+        while True:
+            try:
+                lines.append(self.read_line(end))
+            except LinkTimeout:
+                return lines
+
+    def discard_input(self) -> None:
+        self._buf = b""
+        try:
+            self.port.reset_input_buffer()
+        except (serial.SerialException, OSError, ValueError):
+            pass

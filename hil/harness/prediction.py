@@ -1,0 +1,166 @@
+"""The host's prediction of a plan: `articula predict ROBOT PLAN --json --settings ...`.
+
+`articula predict` checks a whole program before it runs it and refuses one with a line the
+protocol's parser rejects (`L 0 1e3`, `G 150`, a line over 64 bytes): the arm answers such a
+line with its error and changes nothing. So when predict names a line it cannot parse, the
+harness asks `articula quantize` (the same parser) for that line's error code, blanks the
+line in a temporary copy (the line numbers stay) and predicts again; the line's prediction is
+then that error reply with nothing changed.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import re
+import subprocess
+import tempfile
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from .robot import Robot
+
+
+class PredictError(Exception):
+    pass
+
+
+@dataclass
+class Prediction:
+    line: int
+    command: str
+    reply: str                       # "ok" or "error:N"
+    steps: list[int]                 # motor steps after the command
+    actuator_deg: list[float]        # the angles the steps give
+    commanded_deg: list[float]
+    joints: list[float]              # joint values of the steps
+    tool_ideal: list[float]          # tool position of the commanded angles
+    tool_quantized: list[float]      # tool position of the steps
+    error_mm: float                  # |quantized - ideal|
+    seconds: float                   # the action's duration (0: nothing queued)
+    queued: bool
+    gripper_percent: int | None
+    dominant_steps: int = 0
+    target_mm: list[float] | None = None
+    target_error_mm: float | None = None
+    note: str = ""
+    codec_rejected: bool = False     # refused by the parser (predicted by quantize)
+    raw: dict = field(default_factory=dict, repr=False)
+
+
+_PREDICT_LINE_ERROR = re.compile(r":(\d+): .*error:(\d+)")
+
+
+def settings_arg(settings: dict[int, float]) -> str:
+    return ",".join(f"{n}={int(v) if float(v).is_integer() else v}" for n, v in sorted(settings.items()))
+
+
+def _run(cmd: list[str], timeout: float = 60.0, stdin: str | None = None) -> subprocess.CompletedProcess:
+    try:
+        return subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, input=stdin)
+    except FileNotFoundError:
+        raise PredictError(f"cannot run {cmd[0]}: not found") from None
+    except subprocess.TimeoutExpired:
+        raise PredictError(f"{' '.join(cmd[:3])} took more than {timeout:.0f} s") from None
+
+
+def quantize_code(articula: str, robot: str, line: str) -> int:
+    """The error code the protocol's parser gives a line (0 when it parses)."""
+    p = _run([articula, "quantize", robot, "--json", "--file", "-"], stdin=line + "\n")
+    if p.returncode not in (0, 1) or not p.stdout.strip():
+        raise PredictError(f"articula quantize failed on '{line}': {p.stderr.strip()}")
+    first = p.stdout.strip().splitlines()[0]
+    return int(json.loads(first)["code"])
+
+
+def predict_plan(articula: str, robot: Robot, plan_path: Path, settings: dict[int, float] | None,
+                 lines: list[str] | None = None) -> tuple[dict[int, Prediction], dict]:
+    """Predicts every command line of a plan. Returns {plan line: Prediction} and predict's
+    top-level JSON (settings, summary)."""
+    if lines is None:
+        lines = plan_path.read_text(encoding="ascii", errors="surrogateescape").splitlines()
+    lines = list(lines)
+    codec: dict[int, int] = {}
+    robot_arg = str(robot.path)
+    with tempfile.TemporaryDirectory(prefix="articula-predict-") as tmp:
+        # Same name as the plan (predict picks the language by the file name).
+        copy = Path(tmp) / (plan_path.stem + ".arm")
+        for _ in range(len(lines) + 1):
+            copy.write_text("\n".join(lines) + "\n", encoding="ascii", errors="surrogateescape")
+            cmd = [articula, "predict", robot_arg, str(copy), "--json"]
+            if settings:
+                cmd += ["--settings", settings_arg(settings)]
+            p = _run(cmd)
+            if p.returncode in (0, 1):
+                doc = json.loads(p.stdout)
+                break
+            m = _PREDICT_LINE_ERROR.search(p.stderr)
+            if p.returncode != 2 or not m:
+                raise PredictError(f"articula predict: {p.stderr.strip() or 'exit code %d' % p.returncode}")
+            n = int(m.group(1))
+            if n in codec or not 1 <= n <= len(lines):
+                raise PredictError(f"articula predict: {p.stderr.strip()}")
+            code = quantize_code(articula, robot_arg, lines[n - 1])
+            if code == 0:
+                raise PredictError(f"{plan_path}:{n}: articula predict refuses a line the parser accepts: "
+                                   f"{p.stderr.strip()}")
+            codec[n] = code
+            lines[n - 1] = "#"
+        else:
+            raise PredictError("articula predict: too many lines refused")
+
+    out: dict[int, Prediction] = {}
+    for r in doc["records"]:
+        reply = "ok" if r["reply"] == "ok" else f"error:{r['code']}"
+        out[r["line"]] = Prediction(
+            line=r["line"], command=r["command"], reply=reply, steps=list(r["steps"]),
+            actuator_deg=list(r["actuator_deg"]), commanded_deg=list(r["commanded_deg"]),
+            joints=list(r["joints"]), tool_ideal=list(r["tool_ideal_mm"]),
+            tool_quantized=list(r["tool_quantized_mm"]), error_mm=float(r["error_mm"]),
+            seconds=float(r["seconds"]), queued=bool(r.get("queued")), gripper_percent=r.get("gripper_percent"),
+            dominant_steps=int(r.get("dominant_steps", 0)), target_mm=r.get("target_mm"),
+            target_error_mm=r.get("target_error_mm"), note=r.get("note", ""), raw=r)
+
+    # Lines the parser refuses: an error reply, the state of the command before them.
+    if codec:
+        zero = robot.zero_angles
+        tool0 = list(robot.tool_from_actuators(zero))
+        state = Prediction(line=0, command="", reply="ok", steps=[0] * len(zero), actuator_deg=list(zero),
+                           commanded_deg=list(zero), joints=robot.joints_from_actuators(zero), tool_ideal=tool0,
+                           tool_quantized=tool0, error_mm=0.0, seconds=0.0, queued=False, gripper_percent=None)
+        for n in range(1, len(lines) + 1):
+            if n in out:
+                state = out[n]
+            elif n in codec:
+                out[n] = Prediction(
+                    line=n, command=lines_original(plan_path, n), reply=f"error:{codec[n]}", steps=list(state.steps),
+                    actuator_deg=list(state.actuator_deg), commanded_deg=list(state.commanded_deg),
+                    joints=list(state.joints), tool_ideal=list(state.tool_ideal),
+                    tool_quantized=list(state.tool_quantized), error_mm=state.error_mm, seconds=0.0, queued=False,
+                    gripper_percent=state.gripper_percent, note="refused by the parser (articula quantize)",
+                    codec_rejected=True)
+    return out, {k: v for k, v in doc.items() if k != "records"}
+
+
+def lines_original(path: Path, n: int) -> str:
+    try:
+        return path.read_text(encoding="ascii", errors="surrogateescape").splitlines()[n - 1].strip()
+    except (OSError, IndexError):
+        return ""
+
+
+def first_interval_s(settings: dict[int, float], tick_hz: int = 2_000_000) -> float:
+    """The first step interval of a move, from rest (docs/protocol.md, "Timing of moves";
+    shared/articula/motion.h, profile_constants): c0 = f sqrt(2 / a) in whole ticks, at least
+    the cruise interval round(f / max_rate). No pin shows when a move starts, so the
+    virtual Nano's measured duration is this interval plus the span of the move's steps."""
+    f, v, a = tick_hz, int(settings.get(0, 600)), int(settings.get(1, 2000))
+    cruise = f // v
+    rest = f % v
+    if rest >= v - rest:
+        cruise += 1
+    sq = ((f * f << 16) // a) << 1
+    c0 = math.isqrt(sq)  # ticks * 256
+    first = max((c0 + 128) >> 8, cruise)
+    return first / tick_hz
+

@@ -1,0 +1,288 @@
+"""The harness's parts without the virtual Nano: plans, the prediction (with lines the parser
+refuses), the robot's kinematics against `articula predict`, the first step interval, random
+plans, measured CSVs, status parsing, and reset detection on a scripted serial port. Needs
+ARTICULA_CLI (or build/host/cli/articula); run by ctest with test_harness.py."""
+
+import os
+import sys
+from pathlib import Path
+
+import pytest
+
+SOURCE = Path(os.environ.get("ARTICULA_SOURCE_DIR") or Path(__file__).resolve().parents[2])
+sys.path.insert(0, str(SOURCE))
+
+from hil.harness.link import Link, parse_info, parse_setting, parse_status  # noqa: E402
+from hil.harness.measured import MeasuredError, load_measured  # noqa: E402
+from hil.harness.plan import PlanError, parse_plan  # noqa: E402
+from hil.harness.prediction import first_interval_s, predict_plan  # noqa: E402
+from hil.harness.randplan import generate  # noqa: E402
+from hil.harness.robot import Robot  # noqa: E402
+from hil.harness.runner import Runner  # noqa: E402
+
+ROBOT = Robot(SOURCE / "robots" / "mk2plus.json")
+
+
+@pytest.fixture(scope="module")
+def articula():
+    p = Path(os.environ.get("ARTICULA_CLI") or SOURCE / "build" / "host" / "cli" / "articula")
+    assert p.exists(), f"no articula CLI at {p}"
+    return str(p)
+
+
+def plan_from(tmp_path, text, name="p.arm"):
+    path = tmp_path / name
+    path.write_text(text)
+    return parse_plan(path)
+
+
+# ---- plans
+
+def test_plan_directives(tmp_path):
+    p = plan_from(tmp_path, "#@ title T\n#@ note one\n# comment\n\nL 0 10  # move\n#@ expect error:9\n"
+                            "#@ timeout 2.5\nL 1 100\n#@ single-joint 2 140\nL 2 7\n#@ repeat 3 back\nL 0 -5\n")
+    assert p.title == "T" and p.notes == ["one"]
+    assert [c.line for c in p.commands] == [5, 8, 10, 12]
+    assert p.commands[0].text == "L 0 10  # move" and p.commands[0].expect == "ok"
+    assert p.commands[1].expect == "error:9" and p.commands[1].timeout == 2.5
+    assert p.commands[2].single_joint == (2, 140.0) and p.commands[2].kind == "single-joint"
+    assert p.commands[3].repeat == (3, "back")
+
+
+@pytest.mark.parametrize("text,message", [
+    ("#@ expct ok\nL 0 1\n", "unknown directive"),
+    ("L 0 1\n#@ expect ok\n", "directive without a command line"),
+    ("L 0 1 # really?\n", "realtime byte"),
+    ("#@ expect maybe\nL 0 1\n", "#@ expect takes"),
+    ("#@ timeout -1\nL 0 1\n", "above 0"),
+    ("#@ repeat 1 sideways\nL 0 1\n", "#@ repeat takes"),
+    ("# nothing\n", "no command lines"),
+])
+def test_plan_errors_name_the_line(tmp_path, text, message):
+    with pytest.raises(PlanError, match=message) as e:
+        plan_from(tmp_path, text)
+    assert "p.arm" in str(e.value)
+
+
+def test_shipped_plans_parse():
+    plans = sorted((SOURCE / "hil" / "plans").glob("*.arm"))
+    assert {p.name for p in plans} >= {"thesis-single-joint.arm", "thesis-repeatability.arm", "tool-points.arm"}
+    for path in plans:
+        plan = parse_plan(path)
+        assert plan.title != path.stem
+        for c in plan.commands:
+            assert len(c.text.encode()) <= 64, (path, c.line)
+
+
+def test_shipped_plans_predictions_meet_their_expectations(articula):
+    for path in sorted((SOURCE / "hil" / "plans").glob("*.arm")):
+        plan = parse_plan(path)
+        preds, _ = predict_plan(articula, ROBOT, path, None)
+        for c in plan.commands:
+            assert preds[c.line].reply == c.expect, (path.name, c.line, c.text)
+    # The thesis's single-joint angles: 4 + 3 + 2 accepted, 5 refused.
+    sj = [c for c in parse_plan(SOURCE / "hil" / "plans" / "thesis-single-joint.arm").commands if c.single_joint]
+    assert sum(c.expect == "ok" for c in sj) == 9 and sum(c.expect == "error:9" for c in sj) == 5
+    assert sorted(a for j, a in (c.single_joint for c in sj) if j == 0) == [0, 10, 30, 90, 120, 180]
+    assert sorted(a for j, a in (c.single_joint for c in sj) if j == 1) == [15, 50, 65, 90, 105]
+    assert sorted(a for j, a in (c.single_joint for c in sj) if j == 2) == [130, 140, 147]
+
+
+# ---- prediction
+
+def test_lines_the_parser_refuses_are_predicted_as_errors(articula, tmp_path):
+    path = tmp_path / "codec.arm"
+    path.write_text("L 0 10\nL 0 1e3\nG 150\nX 1\nL 3 1\n" + "L 0 1 # " + "x" * 70 + "\nL 0 -10\n")
+    preds, doc = predict_plan(articula, ROBOT, path, {0: 800})
+    assert [preds[n].reply for n in range(1, 8)] == ["ok", "error:3", "error:8", "error:2", "error:6", "error:7", "ok"]
+    assert preds[3].steps == [32, 0, 0] and preds[3].codec_rejected
+    assert preds[7].steps == [0, 0, 0]
+    assert doc["settings"]["$0"] == 800
+
+
+def test_fk_agrees_with_predict(articula):
+    preds, _ = predict_plan(articula, ROBOT, SOURCE / "programs" / "demo.arm", None)
+    for p in preds.values():
+        for got, want in ((ROBOT.tool_from_actuators(p.actuator_deg), p.tool_quantized),
+                          (ROBOT.tool_from_actuators(p.commanded_deg), p.tool_ideal)):
+            assert max(abs(a - b) for a, b in zip(got, want)) < 1e-6, p.line
+
+
+@pytest.mark.parametrize("settings", [{}, {0: 4000, 1: 100000}, {0: 100, 1: 50}, {0: 1, 1: 1}])
+def test_first_interval_is_a_one_step_move(articula, tmp_path, settings):
+    path = tmp_path / "one.arm"
+    path.write_text("L 0 0.3\n")  # one base step
+    preds, _ = predict_plan(articula, ROBOT, path, settings)
+    assert preds[1].dominant_steps == 1
+    assert first_interval_s({0: 600, 1: 2000, **settings}) == pytest.approx(preds[1].seconds, abs=1e-9)
+
+
+# ---- random plans
+
+def test_random_plans_are_valid_and_repeatable(articula, tmp_path):
+    for seed in (1, 2, 3):
+        text = generate(ROBOT, 120, seed, articula)
+        assert text == generate(ROBOT, 120, seed, articula)
+        path = tmp_path / f"r{seed}.arm"
+        path.write_text(text)
+        plan = parse_plan(path)
+        assert len(plan.commands) == 120
+        preds, _ = predict_plan(articula, ROBOT, path, None)
+        for c in plan.commands:
+            assert preds[c.line].reply == c.expect, (seed, c.line, c.text)
+            assert len(c.text) <= 64
+        assert sum(c.expect != "ok" for c in plan.commands) >= 5
+    assert generate(ROBOT, 50, 1, articula) != generate(ROBOT, 50, 2, articula)
+
+
+# ---- measured positions
+
+def test_measured_csv(tmp_path):
+    f = tmp_path / "m.csv"
+    f.write_text("plan_line,x_mm,y_mm,z_mm,comment\n5,1,2,3,a\n5,3,4,5,b\n7,0,0,0,\n")
+    m = load_measured(f, ["a.arm"])
+    assert m[("a.arm", 5)] == ([2.0, 3.0, 4.0], 2) and m[("a.arm", 7)][1] == 1
+    with pytest.raises(MeasuredError, match="plan"):
+        load_measured(f, ["a.arm", "b.arm"])
+    f.write_text("plan,plan_line,x_mm,y_mm,z_mm\nb,3,1,1,1\n")
+    assert load_measured(f, ["a.arm", "b.arm"])[("b.arm", 3)][1] == 1
+    f.write_text("plan_line,x_mm,y_mm\n1,2,3\n")
+    with pytest.raises(MeasuredError, match="z_mm"):
+        load_measured(f, ["a.arm"])
+    f.write_text("plan_line,x_mm,y_mm,z_mm\nfive,1,2,3\n")
+    with pytest.raises(MeasuredError, match=":2:"):
+        load_measured(f, ["a.arm"])
+
+
+# ---- the serial line
+
+def test_parse_reports():
+    st = parse_status("<Run|S:32,0,-8|A:10.133,90.000,-5.821|G:50|Q:7|C:1|W:14>")
+    assert (st.state, st.steps, st.angles, st.gripper, st.queue, st.coils, st.warning) == \
+        ("Run", [32, 0, -8], [10.133, 90.0, -5.821], 50, 7, 1, 14)
+    assert parse_status("<Idle|S:1,x>") is None and parse_status("ok") is None
+    assert parse_info("[Articula|V:0.1.0|P:2|J:3|R:MK2 Plus]")["R"] == "MK2 Plus"
+    assert parse_setting("$5=300.000") == (5, 300.0) and parse_setting("$x=1") is None
+
+
+class ScriptedArm:
+    """A pyserial stand-in: answers like the firmware for I, $, ? and moves; `script` may
+    replace the answer to the n-th plan line (1-based, counting moves only)."""
+
+    def __init__(self, script=None):
+        self.timeout = 0.05
+        self.out = b""
+        self.inbuf = b""
+        self.steps = [0, 0, 0]
+        self.moves = 0
+        self.script = script or {}
+
+    @property
+    def in_waiting(self):
+        return len(self.out)
+
+    def write(self, data):
+        for b in data:
+            c = bytes([b])
+            if c == b"?":
+                a = ",".join(f"{m.zero + m.direction * s * m.deg_per_step:.3f}" for m, s in zip(ROBOT.motors, self.steps))
+                self.out += f"<Idle|S:{','.join(map(str, self.steps))}|A:{a}|G:0|Q:8|C:1>\n".encode()
+            elif c == b"\n":
+                self.line(self.inbuf.decode())
+                self.inbuf = b""
+            else:
+                self.inbuf += c
+
+    def line(self, text):
+        if text == "I":
+            self.out += b"[Articula|V:0.1.0|P:2|J:3|R:MK2 Plus|W:14]\nok\n"
+        elif text == "$":
+            self.out += b"$0=600.000\n$1=2000.000\n$2=2000.000\n$3=0.000\n$4=200.000\n$5=300.000\nok\n"
+        else:
+            self.moves += 1
+            action = self.script.get(self.moves)
+            if action == "banner":
+                self.out += b"[Articula|V:0.1.0|P:2|J:3|R:MK2 Plus|W:14]\n"
+                self.steps = [0, 0, 0]
+            elif action == "zero":
+                self.steps = [0, 0, 0]
+                self.out += b"ok\n"
+                return
+            elif action == "silent":
+                return
+            elif action == "lazy":  # answers ok and moves nothing
+                self.out += b"ok\n"
+                return
+            if text.startswith("L 0"):
+                self.steps[0] += 32 if "-" not in text else -32
+            self.out += b"ok\n"
+
+    def read(self, n):
+        d, self.out = self.out[:n], self.out[n:]
+        return d
+
+    def flush(self):
+        pass
+
+    def reset_input_buffer(self):
+        self.out = b""
+
+    def close(self):
+        pass
+
+
+class ScriptedTarget:
+    kind = "scripted"
+    has_pins = False
+    trace = None
+
+    def __init__(self, arm):
+        self.arm = arm
+        self.fresh = True
+
+    def start_plan(self, name, out_dir):
+        return Link(self.arm)
+
+    def alive(self, settle=0.0):
+        return True
+
+    def end_plan(self, vanished=False):
+        return None
+
+    def close(self):
+        pass
+
+
+@pytest.mark.parametrize("action,kind,text", [
+    ("banner", "reset", "an info line nobody asked for"),
+    ("zero", "reset", "every motor back at step 0 (it was on [32, 0, 0])"),
+    ("silent", "timeout", "no reply within 0.5 s"),
+])
+def test_reset_and_silence_are_faults_with_the_plan_line(articula, tmp_path, action, kind, text):
+    plan = plan_from(tmp_path, "L 0 10\nL 0 10\nL 0 -10\nL 0 -10\n")
+    arm = ScriptedArm({2: action})
+    runner = Runner(ScriptedTarget(arm), ROBOT, articula, tmp_path, timeout=0.5)
+    res = runner.run_plan(plan)
+    faults = [f for f in res.faults if f.kind == kind]
+    assert faults and faults[0].line == 2 and text in faults[0].message, res.faults
+    assert res.records[0].matched and res.records[0].reply == "ok"
+    assert not res.records[3].sent  # the plan stopped
+    assert "stopped at p.arm:2" in res.aborted
+
+
+def test_a_step_mismatch_is_reported(articula, tmp_path):
+    from hil.harness import report
+
+    plan = plan_from(tmp_path, "L 0 10\nL 0 10\nL 0 -10\n")
+    res = Runner(ScriptedTarget(ScriptedArm({2: "lazy"})), ROBOT, articula, tmp_path, timeout=0.5).run_plan(plan)
+    assert not res.faults and not res.aborted
+    assert [r.matched for r in res.records] == [True, False, False]
+    assert res.records[1].fw_steps == [32, 0, 0] and res.records[1].pred.steps == [63, 0, 0]
+    run = report.Run(results=[res], target="scripted port", robot_name=ROBOT.name, robot_path="mk2plus.json",
+                     articula=articula, vnano=None, elf=None, started="now", wall_s=0.1, settings_override={},
+                     measured_path=None, has_pins=False, command_line="test")
+    md = report.build(run, tmp_path / "out", ROBOT)
+    summary = report.summary_text(run, md)
+    assert "steps matched: 1/3 (prediction = firmware)" in summary and "MISMATCH OR FAULT" in summary
+    assert "| 2 | `L 0 10` | ok | ok | ok | 63 0 0 | 32 0 0 | **no** |" in md.read_text()
+    assert (tmp_path / "out" / "steps.png").stat().st_size > 0
