@@ -22,11 +22,18 @@ void setup() {
   release();
 }
 
-void step(uint8_t motor, bool negative) {
+namespace {
+// The motor's next place in kSequence, taken.
+inline uint8_t advance(uint8_t motor, bool negative) {
   const uint8_t p = uint8_t((g_phase[motor] + (negative ? 8 - g_stride[motor] : g_stride[motor])) & 7);
   g_phase[motor] = p;
-  hal::write_coils(motor, kSequence[p]);
+  return p;
 }
+}  // namespace
+
+void step(uint8_t motor, bool negative) { hal::write_coils(motor, kSequence[advance(motor, negative)]); }
+
+void stage_step(uint8_t motor, bool negative) { hal::stage_coils(motor, kSequence[advance(motor, negative)]); }
 
 void energise() {
   for (uint8_t i = 0; i < robot::kJoints; ++i) hal::write_coils(i, kSequence[g_phase[i]]);

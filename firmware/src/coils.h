@@ -21,6 +21,9 @@ void setup();
 // One step of `motor` towards more (negative false) or fewer steps: the next pattern,
 // written at once. From the step interrupt.
 void step(uint8_t motor, bool negative);
+// The same step, staged for the next step-timer deadline (hal::stage_coils). The motor's
+// place in the sequence moves on now.
+void stage_step(uint8_t motor, bool negative);
 
 // Writes every motor's current pattern (before a move), or 0 to every motor (at rest).
 void energise();

@@ -6,8 +6,10 @@
 // the queue is full; Z and $n=v until the queue is empty and the arm at rest) is held,
 // parsed, as the *pending* line, and run when it can; meanwhile bytes are still read until
 // one more complete line is in (the *held* line), then reading stops until the pending one
-// is answered. Realtime bytes never wait: the receive interrupt hands them to on_realtime(),
-// which only raises a flag; the next poll() sends the report or handles the stop.
+// is answered. Realtime bytes never wait: '!' raises the stop flag from the receive
+// interrupt (on_realtime), which the step interrupt and the next poll() act on; '?' has the
+// HAL build a status report with status_line() in interrupt context and send it at the next
+// line boundary, whatever the main loop is doing (a P's inverse kinematics takes ms).
 #include "firmware.h"
 
 #include <articula/protocol.h>
@@ -31,17 +33,26 @@ const uint8_t kWait = 0xFF;
 
 typedef BasicCommand<3> Command;  // P's three numbers; M's one per motor (at most three)
 
-struct SerialSink {
-  void put(char c) { hal::serial_write(c); }
+// Every report is written by the protocol's write_* into a buffer of the size the protocol
+// gives for it (status_report_size, kInfoReportSize, kSettingLineSize: the longest line
+// of its kind, so no check per character), then sent. One sink type: the Nano holds one copy
+// of each writer, and a character costs a store, not a call (the status report is built in
+// an interrupt, character by character).
+struct LineSink {
+  char* p;
+  void put(char c) { *p++ = c; }
 };
+
+void write_line(const char* buf, const LineSink& end) {
+  for (const char* c = buf; c != end.p; ++c) hal::serial_write(*c);
+}
 
 LineAssembler g_line;
 Command g_pending;
 bool g_has_pending;
 LineEvent g_held;            // a complete line behind the pending one, still in g_line
 robot::State g_planned;      // commanded angles and steps once the queue has run
-bool g_homed;                // position known: moves allowed
-volatile uint8_t g_report;   // '?' seen
+volatile bool g_homed;       // position known: moves allowed (read by status_line)
 bool g_stop_flushed;         // the queue and waiting lines of the current stop are dealt with
 bool g_was_busy;             // busy at the last pass
 uint32_t g_idle_since;       // millis() at the first pass at rest
@@ -54,28 +65,9 @@ void reply(uint8_t status) {
 
 bool busy() { return stepper::busy() || !queue::empty(); }
 
-MachineState machine_state() {
-  if (stepper::stop_requested()) return kStateStop;
-  if (stepper::homing()) return kStateHome;
-  if (busy()) return kStateRun;
-  return g_homed ? kStateIdle : kStateAlarm;
-}
-
-void send_status() {
-  StatusReport<kJ> r;
-  r.state = machine_state();
-  r.num_joints = kJ;
-  stepper::read_positions(r.steps);
-  for (uint8_t i = 0; i < kJ; ++i) r.millideg[i] = steps_to_millideg(robot::motor(i), r.steps[i]);
-  r.gripper = stepper::gripper_percent();
-  r.free_slots = queue::free_slots();
-  r.coils = coils::on();
-  r.warning = settings::take_warning();
-  SerialSink out;
-  write_status(out, r);
-}
-
-void send_info() {
+// Not inlined (nor list_settings()): their line buffers are then on the stack only while
+// they run, not under every command (P's is the main loop's deepest path).
+__attribute__((noinline)) void send_info() {
   InfoReport r;
   for (uint8_t i = 0; i < 3; ++i) r.version[i] = kVersion[i];
   r.protocol = kProtocolVersion;
@@ -85,8 +77,19 @@ void send_info() {
   for (; name[n] != '\0' && n < kMaxRobotName; ++n) r.name[n] = name[n];
   r.name[n] = '\0';
   r.warning = settings::take_warning();
-  SerialSink out;
+  char buf[kInfoReportSize];
+  LineSink out = {buf};
   write_info(out, r);
+  write_line(buf, out);
+}
+
+__attribute__((noinline)) void list_settings() {
+  for (uint8_t n = 0; n < settings::kCount; ++n) {
+    char buf[kSettingLineSize];
+    LineSink out = {buf};
+    write_setting(out, n, int32_t(settings::value[n]) * 1000);
+    write_line(buf, out);
+  }
 }
 
 // After a stop or a failed homing: the commanded angles become those of the steps the
@@ -97,8 +100,11 @@ void rederive_planned() {
 }
 
 // P: the tool point (micrometres) to actuator angles, the in-limits solution nearest the
-// planned pose (least sum of squared actuator differences).
-Status solve_point(robot::State& next, const int32_t* um) {
+// planned pose (least sum of squared actuator differences), into best. Not inlined: the
+// inverse kinematics' frame (its four solutions and more, ~120 B) is off the stack again
+// before move_absolute() runs, the deepest path of the main loop, on top of which a status
+// report and the step interrupt may come.
+__attribute__((noinline)) Status point_angles(Millideg* best, const int32_t* um) {
   if (!robot::has_ik || kJ != 3) return kUnreachable;
   // ypp_solve(..., polish = false) without its search for the nearest pose when nothing is
   // within the limits: the firmware only refuses such a point.
@@ -106,7 +112,6 @@ Status solve_point(robot::State& next, const int32_t* um) {
   const int in_limits =
       ypp_closed_form(r, robot::arm, make_vec3(float(um[0]) * 0.001f, float(um[1]) * 0.001f, float(um[2]) * 0.001f));
   if (in_limits == 0) return kUnreachable;
-  Millideg best[kJ];
   float best_d2 = -1;
   for (uint8_t k = 0; k < in_limits; ++k) {  // the in-limits solutions come first
     float act[3];
@@ -124,7 +129,13 @@ Status solve_point(robot::State& next, const int32_t* um) {
       for (uint8_t i = 0; i < kJ; ++i) best[i] = t[i];
     }
   }
-  return move_absolute(next, robot::actuation, best);
+  return kOk;
+}
+
+Status solve_point(robot::State& next, const int32_t* um) {
+  Millideg best[kJ];
+  const Status s = point_angles(best, um);
+  return s != kOk ? s : move_absolute(next, robot::actuation, best);
 }
 
 bool is_queued(CommandType t) { return t <= kCmdHome && t != kCmdNone; }
@@ -193,7 +204,6 @@ uint8_t queue_command(const Command& c) {
 }
 
 uint8_t execute(const Command& c) {
-  SerialSink out;
   switch (c.type) {
     case kCmdNone:
       return kOk;
@@ -201,7 +211,7 @@ uint8_t execute(const Command& c) {
       send_info();
       return kOk;
     case kCmdListSettings:
-      for (uint8_t n = 0; n < settings::kCount; ++n) write_setting(out, n, int32_t(settings::value[n]) * 1000);
+      list_settings();
       return kOk;
     case kCmdSetSetting: {
       const Status s = settings::check(c.arg[0], c.arg[1]);
@@ -296,7 +306,39 @@ void service_stop() {
 
 namespace firmware {
 
-void setup() {
+// Not inlined into the HAL's interrupt code: its large frame is then set up after the HAL has
+// enabled interrupts again, not before.
+__attribute__((noinline)) uint8_t status_line(char* buf, uint8_t cap) {
+  // In interrupt context (the HAL's '?'), preempting the main loop anywhere: everything the
+  // report says is read in one critical section of a few microseconds, so it is one moment's
+  // state (the step interrupt changes positions and the queue, the main loop the rest).
+  StatusReport<kJ> r;
+  const uint8_t s = hal::interrupts_off();
+  stepper::read_positions(r.steps);
+  const bool stop = stepper::stop_requested(), homing = stepper::homing();
+  const bool running = stepper::busy(), homed = g_homed;
+  const uint8_t queued = queue::count();
+  r.gripper = stepper::gripper_percent();
+  r.coils = coils::on();
+  hal::interrupts_restore(s);
+  r.state = stop                        ? kStateStop
+            : homing                    ? kStateHome
+            : (running || queued != 0)  ? kStateRun
+            : homed                     ? kStateIdle
+                                        : kStateAlarm;
+  r.num_joints = kJ;
+  r.free_slots = uint8_t(queue::kSize - queued);
+  for (uint8_t i = 0; i < kJ; ++i) r.millideg[i] = robot::step_angle(i, r.steps[i]);
+  r.warning = settings::take_warning();
+  if (cap < status_report_size(kJ)) return 0;
+  LineSink out = {buf};
+  write_status(out, r);
+  return uint8_t(out.p - buf);
+}
+
+// Not inlined into main(): the set-up's locals (robot::setup's 3 x 4 system, the settings
+// image) would take stack for good under the main loop.
+__attribute__((noinline)) void setup() {
   robot::setup();
   settings::load();
   coils::setup();
@@ -305,7 +347,6 @@ void setup() {
   g_line.clear();
   g_has_pending = false;
   g_held = kLineNone;
-  g_report = 0;
   g_stop_flushed = false;
   reset(g_planned, robot::actuation);
   g_homed = settings::value[settings::kEndstops] == 0;
@@ -320,10 +361,6 @@ void poll() {
     g_homed = false;
   }
   if (stepper::stop_requested()) service_stop();
-  if (g_report) {
-    g_report = 0;
-    send_status();
-  }
   if (!stepper::stop_requested()) {
     service_lines();
     stepper::kick();
@@ -343,9 +380,7 @@ void poll() {
 uint32_t on_step_timer() { return stepper::on_timer(); }
 
 void on_realtime(char c) {
-  const RealtimeCommand r = realtime_command(c);
-  if (r == kRealtimeStatus) g_report = 1;
-  if (r == kRealtimeStop) stepper::request_stop();
+  if (realtime_command(c) == kRealtimeStop) stepper::request_stop();
 }
 
 }  // namespace firmware

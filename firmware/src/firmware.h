@@ -7,7 +7,8 @@
 
 namespace firmware {
 
-// Once, after hal::init(): loads the settings from EEPROM, sets up the arm's state.
+// Once, after hal::init() and before hal::start(): loads the settings from EEPROM, sets up
+// the arm's state.
 void setup();
 
 // One pass of the main loop: reads serial bytes, runs and answers commands, feeds the
@@ -19,8 +20,14 @@ void poll();
 // next one (0: nothing more; the timer stops until the firmware starts it again).
 uint32_t on_step_timer();
 
-// From the serial receive interrupt, for the realtime bytes '?' (status) and '!' (stop).
+// From the serial receive interrupt, for the realtime byte '!' (stop). ('?' is the HAL's:
+// it calls status_line().)
 void on_realtime(char c);
+
+// The status report line for '?', LF included, into buf (cap bytes, at least
+// articula::status_report_size(joints)); returns its length. Called by the HAL in interrupt
+// context with interrupts enabled: the state is read in one short critical section.
+uint8_t status_line(char* buf, uint8_t cap);
 
 }  // namespace firmware
 

@@ -14,7 +14,12 @@ namespace hal {
 // Timer ticks per second of the step timer (Timer1 at 16 MHz with prescaler 8).
 static const uint32_t kTickHz = 2000000UL;
 
+// Ports, timers, EEPROM and the USART, the receiver included: bytes that arrive from here
+// on are kept. The realtime bytes among them wait for start().
 void init();
+// After firmware::setup(): the realtime bytes act from now on ('?' and '!' received since
+// init() are acted on now, once each), so none is lost at start-up.
+void start();
 
 // The four L298N inputs of one motor, written together (one port write on the Nano).
 // Bit 0 is IN1 .. bit 3 IN4; 0 switches the coils off.
@@ -31,16 +36,30 @@ bool endstop(uint8_t motor);
 // deadline (not from when the call finished), so intervals do not accumulate the call's
 // own time; a return of 0 stops the timer. Intervals may exceed 16 bits.
 void start_step_timer(uint32_t first_ticks);
-void stop_step_timer();
+void stop_step_timer();  // also drops what stage_coils() left
 bool step_timer_running();
+
+// A coil pattern for the next step-timer deadline: written first thing at that deadline,
+// before on_step_timer() is called, together with every other motor staged for it (on the
+// Nano, one port write each, a few cycles apart and a fixed time after the deadline, however
+// long the step computation takes). From on_step_timer(), or before start_step_timer().
+void stage_coils(uint8_t motor, uint8_t pattern);
 
 // Milliseconds since init (wraps after 49 days).
 uint32_t millis();
 
-// Serial, 115200 8N1. The receive interrupt hands the realtime bytes ('?', '!') to
-// firmware::on_realtime() at once and queues every other byte for serial_read().
+// Serial, 115200 8N1. The receive interrupt acts on the realtime bytes at once and queues
+// every other byte for serial_read():
+//   '!'  firmware::on_realtime('!');
+//   '?'  the status report: the HAL has firmware::status_line() write it into a buffer of
+//        its own, from the receive interrupt with interrupts enabled again (the step timer
+//        and the servo preempt it; the receive interrupt itself may come again and only
+//        queues bytes), and sends it from the next line boundary of the output on (while
+//        it is still being written, if need be), ahead of the lines serial_write() has
+//        queued and never inside one. A '?' while a report waits or is being built is
+//        answered by that report; one while a report is going out gets one more after it.
 int16_t serial_read();     // the next received byte, or -1 when none is waiting
-void serial_write(char c);  // blocks while the transmit buffer is full
+void serial_write(char c);  // main loop only (interrupts enabled); blocks while the buffer is full
 
 // EEPROM (1,024 bytes on the ATmega328P).
 void eeprom_read(uint16_t address, void* data, uint16_t size);

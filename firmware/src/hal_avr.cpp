@@ -1,10 +1,14 @@
 // firmware/src/hal_avr.cpp - hal.h on the ATmega328P of the Arduino Nano.
 //
 // The only file with the firmware's interrupt handlers:
-//   TIMER1_COMPA  the step timer: calls firmware::on_step_timer() at each deadline;
+//   TIMER1_COMPA  the step timer: writes the coils staged for the deadline, then calls
+//                 firmware::on_step_timer();
 //   TIMER1_COMPB  the gripper servo's pulses (no Servo library: the Debian core has none);
-//   USART_RX      a received byte: '?' and '!' to firmware::on_realtime(), others queued;
-//   USART_UDRE    sends the next queued byte.
+//   USART_RX      a received byte: '?' builds the status report (firmware::status_line()),
+//                 '!' goes to firmware::on_realtime(), others are queued;
+//   USART_UDRE    sends the next byte: the status report's at a line boundary, else the
+//                 next queued byte;
+//   USART_TX      (only after a report that a '?' asked for again) builds the next one.
 // Arduino's core provides init() and millis() (Timer0) and nothing else: its
 // HardwareSerial is never linked, so the USART vectors are ours.
 //
@@ -17,13 +21,19 @@
 // Rules for the firmware's callbacks:
 //   - firmware::on_step_timer() runs with interrupts enabled, but only the servo's compare
 //     and Timer0 (millis) can interrupt it: the serial interrupts and the step interrupt
-//     itself stay masked, so on_step_timer() and on_realtime() never overlap, and the
-//     servo's pulse edges keep their time even while a step takes long to compute.
-//   - firmware::on_realtime() runs in the receive interrupt with interrupts off: it should
-//     only note the request (the report itself is written from poll()).
-//   - serial_write() belongs to the main loop. It also works with interrupts off or inside
-//     on_step_timer() (it then sends by polling when the buffer is full), but the transmit
-//     buffer is not shared safely between two writers that interrupt each other.
+//     itself stay masked, so on_step_timer() never overlaps on_realtime() or
+//     status_line(), and the servo's pulse edges keep their time even while a step takes
+//     long to compute.
+//   - firmware::on_realtime() ('!') runs in the receive interrupt with interrupts off: it
+//     should only note the request.
+//   - firmware::status_line() ('?') runs in the receive interrupt (or TX-complete, or at the
+//     end of the step interrupt) with interrupts enabled: the step timer, the servo, Timer0
+//     and the serial interrupts themselves may preempt it (the report flags below keep a
+//     second build from starting); it must read shared state in a critical section. It never
+//     runs within the step computation: a '?' taken there (between catch-up steps) is built
+//     at the end of the step interrupt.
+//   - serial_write() belongs to the main loop, with interrupts enabled: when the transmit
+//     buffer is full it waits for the UDRE interrupt to make room.
 #if defined(__AVR__)
 
 #include "hal.h"
@@ -60,10 +70,9 @@ const uint8_t kMaxCatchUp = 4;
 const uint16_t kSlipTicks = 40;  // 20 us
 
 volatile bool g_step_running;
+volatile bool g_in_step;  // the compare-A interrupt is running (see the rules above)
 uint16_t g_step_laps;  // whole 65,536-tick laps still to wait (OCR1A unchanged meanwhile)
 uint16_t g_step_rest;  // then the last part of the interval, below one lap (0: none)
-// True while on_step_timer() runs with the serial interrupts masked (see call_firmware).
-volatile bool g_serial_masked;
 
 // Moves OCR1A `rest` ticks past its current value, the previous deadline. Returns false when
 // the new deadline is already due (past, or under kMinLead ahead): then no compare interrupt
@@ -94,21 +103,43 @@ bool schedule(uint32_t ticks) {
 // servo's compare can interrupt a long step computation. Interrupts are off again on return.
 uint32_t call_firmware() {
   const uint8_t ucsr = UCSR0B;
-  UCSR0B = ucsr & uint8_t(~(_BV(RXCIE0) | _BV(UDRIE0)));
+  UCSR0B = ucsr & uint8_t(~(_BV(RXCIE0) | _BV(UDRIE0) | _BV(TXCIE0)));
   TIMSK1 &= uint8_t(~_BV(OCIE1A));
-  g_serial_masked = true;
   sei();
   const uint32_t next = firmware::on_step_timer();
   cli();
-  g_serial_masked = false;
-  // Keep a transmit request made meanwhile (serial_write sets UDRIE0).
-  UCSR0B = uint8_t(ucsr | (UCSR0B & _BV(UDRIE0)));
+  UCSR0B = ucsr;
   return next;
+}
+
+// Coil patterns for the next deadline (stage_coils), bits 0..3.
+uint8_t g_stage_mask;  // bit i: motor i has one
+uint8_t g_stage[3];
+
+// The staged patterns to the ports, first thing at a deadline: the three writes are a few
+// cycles apart and a fixed number of cycles after the interrupt's entry, whatever the
+// firmware computes afterwards. Interrupts off (a port's other bits belong to the servo, an
+// endstop's pull-up and the LED).
+inline void write_staged() {
+  const uint8_t m = g_stage_mask;
+  if (m == 0) return;
+  // The patterns' shifts fold into a swap or nothing; every motor's bits come from its own byte.
+  if (m & 1)
+    ARTICULA_MOTOR0_PORT = uint8_t((ARTICULA_MOTOR0_PORT & ~ARTICULA_COIL_MASK(ARTICULA_MOTOR0_SHIFT)) |
+                                   uint8_t(g_stage[0] << ARTICULA_MOTOR0_SHIFT));
+  if (m & 2)
+    ARTICULA_MOTOR1_PORT = uint8_t((ARTICULA_MOTOR1_PORT & ~ARTICULA_COIL_MASK(ARTICULA_MOTOR1_SHIFT)) |
+                                   uint8_t(g_stage[1] << ARTICULA_MOTOR1_SHIFT));
+  if (m & 4)
+    ARTICULA_MOTOR2_PORT = uint8_t((ARTICULA_MOTOR2_PORT & ~ARTICULA_COIL_MASK(ARTICULA_MOTOR2_SHIFT)) |
+                                   uint8_t(g_stage[2] << ARTICULA_MOTOR2_SHIFT));
+  g_stage_mask = 0;
 }
 
 void stop_in_isr() {
   TIMSK1 &= uint8_t(~_BV(OCIE1A));
   g_step_running = false;
+  g_stage_mask = 0;
   ARTICULA_LED_PORT &= uint8_t(~_BV(ARTICULA_LED_BIT));
 }
 
@@ -116,6 +147,7 @@ void stop_in_isr() {
 // already past. Interrupts are off on entry and on return.
 void run_due_steps() {
   for (uint8_t runs = 1;; ++runs) {
+    write_staged();
     const uint32_t next = call_firmware();
     if (next == 0 || !g_step_running) {  // the firmware is done, or stopped the timer itself
       stop_in_isr();
@@ -152,10 +184,11 @@ uint16_t g_servo_pulse;           // the width of the pulse being output
 bool g_servo_high;
 
 // ---------------------------------------------------------------------------------------
-// Serial (USART0): two ring buffers, sizes powers of two below 256.
+// Serial (USART0): two ring buffers, sizes powers of two below 256, and the status report's
+// own buffer.
 
-const uint8_t kRxSize = 64;   // a whole protocol line (the host waits for each reply)
-const uint8_t kTxSize = 128;  // a whole status report (110 bytes on the MK2) without waiting
+const uint8_t kRxSize = 64;  // a whole protocol line (the host waits for each reply)
+const uint8_t kTxSize = 64;  // a reply or a setting line; longer output waits for room
 static_assert((kRxSize & (kRxSize - 1)) == 0 && (kTxSize & (kTxSize - 1)) == 0, "powers of two");
 
 char g_rx[kRxSize];
@@ -163,17 +196,92 @@ volatile uint8_t g_rx_head;  // written by the receive interrupt
 volatile uint8_t g_rx_tail;  // written by serial_read
 char g_tx[kTxSize];
 volatile uint8_t g_tx_head;  // written by serial_write
-volatile uint8_t g_tx_tail;  // written by the UDRE interrupt (or serial_write when polling)
+volatile uint8_t g_tx_tail;  // written by the UDRE interrupt
+bool g_tx_line_start;        // the last byte sent from g_tx was an LF (or none was): a report may go
 
-// Moves one queued byte to the USART (UDR0 must be empty); with none left, masks UDRE.
-inline void tx_send_one() {
+// The status report, sent as it is built: firmware::status_line() writes it into g_report
+// with interrupts enabled while tx_next() sends from the same buffer every byte already
+// written (non-zero) and zeroes it behind itself, so a report can start going out before it
+// is complete (its first byte, '<', is put in place before the build starts). All four flags
+// change with interrupts off only.
+const uint8_t kReportSize = articula::status_report_size(3);  // the most motors the Nano drives
+char g_report[kReportSize];   // all zero when no report is waiting or going out
+uint8_t g_report_pos;         // the next byte of it to send
+volatile bool g_report_requested;  // a '?' that no report being built or waiting answers
+volatile bool g_report_building;   // status_line() is running
+volatile bool g_report_sending;    // its first byte has gone out, its LF not yet
+bool g_report_again;               // a '?' came while it was going out: one more after it
+volatile bool g_started;     // hal::start() has run: the firmware is set up
+volatile bool g_stop_early;  // a '!' received before start()
+
+// The UDRE interrupt's work: puts the next byte into UDR0 when it is empty: the report's
+// while one is going out, or is waiting at a line boundary; else the next queued byte, except
+// that a report on its way (requested or being built) keeps a line boundary for itself. With
+// nothing to send now, masks UDRE (serial_write and build_report() set it again). A '?' that
+// came while the report went out is built from the TX-complete interrupt once its LF is
+// sent. Inlined: the UDRE interrupt then calls nothing and saves few registers (it runs once
+// a byte, and its time delays a step deadline that falls in it).
+__attribute__((always_inline)) inline void tx_next() {
+  if (!(UCSR0A & _BV(UDRE0))) return;  // a nested call filled it meanwhile: UDRE comes again
+  if (g_report_sending || (g_tx_line_start && g_report[0] != 0)) {
+    const uint8_t pos = g_report_pos;
+    const char c = g_report[pos];
+    if (c == 0) {  // not written yet: build_report() sets UDRE again when it is done
+      UCSR0B &= uint8_t(~_BV(UDRIE0));
+      return;
+    }
+    UDR0 = c;
+    g_report[pos] = 0;
+    if (c != '\n') {
+      g_report_pos = uint8_t(pos + 1);
+      g_report_sending = true;
+      return;
+    }
+    g_report[0] = 0;  // the builder may have written it again after it went out
+    g_report_pos = 0;
+    g_report_sending = false;
+    if (g_report_again) {
+      g_report_again = false;
+      g_report_requested = true;
+      UCSR0B |= _BV(TXCIE0);  // the LF's frame completes: the next report is built then
+    }
+    return;
+  }
   const uint8_t tail = g_tx_tail;
-  if (tail == g_tx_head) {
+  if (tail == g_tx_head || (g_tx_line_start && (g_report_requested || g_report_building))) {
     UCSR0B &= uint8_t(~_BV(UDRIE0));
     return;
   }
-  UDR0 = g_tx[tail];
+  const char c = g_tx[tail];
+  UDR0 = c;
   g_tx_tail = uint8_t((tail + 1) & (kTxSize - 1));
+  g_tx_line_start = c == '\n';
+}
+
+// Builds the requested report: firmware::status_line() with interrupts enabled, so the step
+// timer and the servo keep their time, the receive interrupt keeps reading and the transmit
+// interrupt sends what is written. From the receive, TX-complete or step interrupt (at its
+// end), never within the step computation; g_report is all zero. When a '?' came while the
+// report went out and its LF has gone before the build returned, builds the next at once.
+// Interrupts off on entry and on return.
+__attribute__((noinline)) void build_report() {
+  do {
+    g_report_requested = false;
+    g_report_building = true;
+    g_report[0] = '<';  // how every status report starts: it may go out at once
+    UCSR0B |= _BV(UDRIE0);
+    sei();
+    const uint8_t n = firmware::status_line(g_report, kReportSize);
+    cli();
+    g_report_building = false;
+    if (n == 0) g_report[1] = '\n';  // never (the buffer fits any report); ends the line begun
+    UCSR0B |= _BV(UDRIE0);            // the transmitter may have caught up with the builder
+  } while (g_report_requested && !g_report_sending);
+}
+
+// Builds a requested report now if it may be built here.
+inline void build_report_if_due() {
+  if (g_report_requested && !g_report_building && !g_report_sending && g_started && !g_in_step) build_report();
 }
 
 }  // namespace
@@ -190,7 +298,12 @@ ISR(TIMER1_COMPA_vect) {
     if (g_step_rest != 0 && arm_rest(g_step_rest)) return;  // the last part is armed
     // else the end of this lap is the deadline (or the last part is due already)
   }
+  g_in_step = true;
   run_due_steps();
+  g_in_step = false;
+  // A '?' taken between catch-up steps: its report is built now, the step work done (the
+  // step interrupt is enabled again and may preempt the build like any other).
+  build_report_if_due();
 }
 
 ISR(TIMER1_COMPB_vect) {
@@ -214,8 +327,22 @@ ISR(USART_RX_vect) {
   const uint8_t status = UCSR0A;
   const char c = char(UDR0);
   if (status & _BV(FE0)) return;  // a framing error: noise or a wrong baud rate, not a byte
-  if (articula::realtime_command(c) != articula::kRealtimeNone) {
-    firmware::on_realtime(c);
+  const articula::RealtimeCommand rt = articula::realtime_command(c);
+  if (rt == articula::kRealtimeStatus) {
+    // One report answers every '?' until it starts going out; one that comes while it is
+    // going out gets one more after it.
+    if (g_report_sending)
+      g_report_again = true;
+    else if (!g_report_building && g_report[0] == 0)
+      g_report_requested = true;
+    build_report_if_due();
+    return;
+  }
+  if (rt != articula::kRealtimeNone) {
+    if (g_started)
+      firmware::on_realtime(c);
+    else
+      g_stop_early = true;
     return;
   }
   const uint8_t head = g_rx_head;
@@ -225,7 +352,13 @@ ISR(USART_RX_vect) {
   g_rx_head = next;
 }
 
-ISR(USART_UDRE_vect) { tx_send_one(); }
+ISR(USART_UDRE_vect) { tx_next(); }
+
+// Enabled only when the LF of a report has gone into UDR0 and a '?' came while it went out.
+ISR(USART_TX_vect) {
+  UCSR0B &= uint8_t(~_BV(TXCIE0));
+  build_report_if_due();
+}
 
 // ---------------------------------------------------------------------------------------
 // hal.h
@@ -263,6 +396,8 @@ void init() {
   TIMSK1 = 0;
   TIFR1 = _BV(ICF1) | _BV(OCF1B) | _BV(OCF1A) | _BV(TOV1);
   g_step_running = false;
+  g_in_step = false;
+  g_stage_mask = 0;
   g_servo_width = 0;
   g_servo_high = false;
 
@@ -270,11 +405,27 @@ void init() {
   // the 111,111 (-3.5 %) without it; the Arduino core makes the same choice.
   g_rx_head = g_rx_tail = 0;
   g_tx_head = g_tx_tail = 0;
+  g_tx_line_start = true;
+  g_report_pos = 0;
+  g_report_requested = g_report_building = g_report_sending = g_report_again = false;
+  g_started = false;
+  g_stop_early = false;
   UCSR0A = _BV(U2X0);
   UBRR0 = uint16_t((F_CPU / (8UL * ARTICULA_SERIAL_BAUD)) - 1);
   UCSR0C = _BV(UCSZ01) | _BV(UCSZ00);
   UCSR0B = _BV(RXEN0) | _BV(TXEN0) | _BV(RXCIE0);
 
+  interrupts_restore(sreg);
+}
+
+void start() {
+  const uint8_t sreg = interrupts_off();
+  g_started = true;
+  if (g_stop_early) {
+    g_stop_early = false;
+    firmware::on_realtime('!');
+  }
+  if (g_report_requested) build_report();  // a '?' received during set-up
   interrupts_restore(sreg);
 }
 
@@ -354,6 +505,14 @@ void stop_step_timer() {
   interrupts_restore(sreg);
 }
 
+void stage_coils(uint8_t motor, uint8_t pattern) {
+  // Only on_step_timer() (the step interrupt masked) and the main loop with the timer
+  // stopped get here: write_staged() cannot run meanwhile.
+  if (motor > 2) return;
+  g_stage[motor] = uint8_t(pattern & 0x0F);
+  g_stage_mask = uint8_t(g_stage_mask | (1u << motor));
+}
+
 bool step_timer_running() { return g_step_running; }
 
 uint32_t millis() { return ::millis(); }
@@ -370,9 +529,7 @@ void serial_write(char c) {
   const uint8_t head = g_tx_head;
   const uint8_t next = uint8_t((head + 1) & (kTxSize - 1));
   while (next == g_tx_tail) {
-    // Full. Normally the UDRE interrupt makes room; when it cannot run (interrupts off, or
-    // inside on_step_timer), send a byte by polling.
-    if ((!(SREG & _BV(SREG_I)) || g_serial_masked) && (UCSR0A & _BV(UDRE0))) tx_send_one();
+    // Full: the UDRE interrupt makes room (the main loop's only: interrupts are enabled).
   }
   g_tx[head] = c;
   g_tx_head = next;

@@ -17,8 +17,9 @@ extern "C" void init(void);
 
 int main() {
   init();
-  hal::init();
-  firmware::setup();
+  hal::init();        // the receiver is on from here: no byte is lost
+  firmware::setup();  // the arm's state, before any realtime byte acts on it
+  hal::start();       // '?' and '!' act from here, those received meanwhile too
   for (;;) firmware::poll();
 }
 

@@ -30,6 +30,11 @@ extern int32_t home_steps[kJoints];
 
 inline const articula::MotorSpec& motor(uint8_t i) { return actuation.motors[i]; }
 
+// steps_to_millideg(motor(i), steps), the status report's A field: the same value, from a
+// fraction reduced at setup, in 32-bit arithmetic for every step count it fits (all within
+// the limits on the MK2), so a report costs no 64-bit division.
+articula::Millideg step_angle(uint8_t i, int32_t steps);
+
 // Once at start-up (and again when a test reboots the firmware).
 void setup();
 

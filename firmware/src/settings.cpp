@@ -78,8 +78,11 @@ articula::Status set(int32_t n, int32_t thousandths) {
 }
 
 uint8_t take_warning() {
+  // The main loop (info line) and the status report (an interrupt) both take it: once.
+  const uint8_t s = hal::interrupts_off();
   const uint8_t w = g_warning;
   g_warning = 0;
+  hal::interrupts_restore(s);
   return w;
 }
 

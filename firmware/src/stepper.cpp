@@ -26,6 +26,11 @@ int32_t g_pos[kJ];
 LineStepper<kJ> g_line;
 StepProfile g_profile;
 
+// The step staged for the next deadline (hal::stage_coils): the HAL writes its coils first
+// thing at that deadline, on_timer() then books it.
+uint8_t g_next_mask;      // motors that step
+uint8_t g_next_negative;  // of those, the ones stepping towards fewer steps
+
 // From update_constants().
 MotionSettings g_motion;
 ProfileConstants g_constants;
@@ -46,6 +51,32 @@ uint32_t halt() {
   return 0;
 }
 
+// The positions of the step staged for this deadline, now on the coils.
+void book_staged() {
+  const uint8_t mask = g_next_mask;
+  if (mask == 0) return;
+  g_next_mask = 0;
+  uint8_t bit = 1;
+  for (uint8_t i = 0; i < kJ; ++i, bit = uint8_t(bit << 1)) {
+    if ((mask & bit) == 0) continue;
+    if (g_next_negative & bit)
+      --g_pos[i];
+    else
+      ++g_pos[i];
+  }
+}
+
+// Works out the move's next step (the motors LineStepper says) and stages its coils.
+void stage_move_step() {
+  const uint8_t mask = g_line.next();
+  const uint8_t negative = g_line.negative;
+  g_next_mask = mask;
+  g_next_negative = negative;
+  uint8_t bit = 1;
+  for (uint8_t i = 0; i < kJ; ++i, bit = uint8_t(bit << 1))
+    if (mask & bit) coils::stage_step(i, (negative & bit) != 0);
+}
+
 // Starts a move to absolute steps; 0 when there is nothing to step.
 uint32_t begin_move(const int32_t* target) {
   int32_t delta[kJ];
@@ -55,7 +86,9 @@ uint32_t begin_move(const int32_t* target) {
   if (!coils::on()) coils::energise();
   g_profile.start(g_line.dominant, g_constants);
   g_mode = kMove;
-  return g_profile.next_interval();
+  const uint32_t t = g_profile.next_interval();
+  stage_move_step();
+  return t;
 }
 
 // The next switch motor to seek, or the final move of a Home action.
@@ -132,23 +165,20 @@ uint32_t seek_tick() {
   return g_homing_ticks;
 }
 
+// The step of this deadline is on the coils already (staged by the previous call, written
+// by the HAL before this one) and booked: what remains is the next one.
 uint32_t move_tick() {
-  const uint8_t mask = g_line.next();
-  uint8_t bit = 1;
-  for (uint8_t i = 0; i < kJ; ++i, bit = uint8_t(bit << 1)) {
-    if ((mask & bit) == 0) continue;
-    const bool negative = (g_line.negative & bit) != 0;
-    coils::step(i, negative);
-    g_pos[i] += negative ? -1 : 1;
-  }
   if (g_stop) g_profile.stop();
-  if (!g_profile.done()) return g_profile.next_interval();
-  return next_action();
+  if (g_profile.done()) return next_action();
+  const uint32_t t = g_profile.next_interval();
+  stage_move_step();
+  return t;
 }
 }  // namespace
 
 void setup() {
   hal::stop_step_timer();
+  g_next_mask = g_next_negative = 0;
   g_running = g_stop = g_fault = g_homing = 0;
   g_mode = kIdle;
   g_gripper = 0;
@@ -173,11 +203,14 @@ const MotionSettings& motion_settings() { return g_motion; }
 
 void kick() {
   if (g_running || g_stop || g_fault || queue::empty()) return;
-  const uint8_t s = hal::interrupts_off();
+  // Nothing runs, so the step timer is stopped and the step interrupt touches none of this
+  // state: the action is set up with interrupts enabled (a move's set-up takes ~50 us, which
+  // the servo's pulse edges and the serial interrupts do not wait for). Running from here
+  // on, for the status report. A '!' meanwhile is seen by next_action() or at the first
+  // deadline.
   g_running = 1;
   const uint32_t t = next_action();
-  if (t != 0) hal::start_step_timer(t);
-  hal::interrupts_restore(s);
+  if (t != 0) hal::start_step_timer(t);  // its own short critical section
 }
 
 bool busy() { return g_running != 0; }
@@ -217,6 +250,7 @@ bool take_fault() {
 uint8_t gripper_percent() { return g_gripper; }
 
 uint32_t on_timer() {
+  book_staged();
   switch (g_mode) {
     case kMove:
       return move_tick();

@@ -6,7 +6,15 @@
 // interrupt starts the next one from the queue at once, so queued moves follow each other
 // without a gap: each starts from rest where the last one ended.
 //
-// Shared with the main loop: positions (read with interrupts off), the stop and fault flags.
+// A move's coils are staged: each call of the interrupt works out the next step (which
+// motors, their patterns: hal::stage_coils) after booking the one the HAL has just written
+// at the deadline, so every motor's pins change together at a fixed time after the deadline
+// and the step computation never delays them. A homing search writes its step at the
+// deadline, right after checking the switch (a staged step would come before the rotor has
+// settled on the previous one). Positions count the steps on the coils.
+//
+// Shared with the main loop and the status report: positions (read with interrupts off),
+// the running, stop and fault flags.
 // Everything the interrupt needs that takes real arithmetic (the profile constants, the
 // homing interval, the switch search range) is computed by update_constants() in the main
 // loop while the arm is at rest.
@@ -26,7 +34,8 @@ void update_constants();
 // The constants a move's StepProfile starts from (the host's prediction uses the same).
 const articula::MotionSettings& motion_settings();
 
-// From the main loop: starts the queue when nothing runs.
+// From the main loop: starts the queue when nothing runs (with interrupts enabled: the
+// timer is stopped, so only starting it is a critical section).
 void kick();
 // An action is under way (the timer runs).
 bool busy();

@@ -3,6 +3,9 @@
 
 #include <cstring>
 
+#include <articula/protocol.h>
+
+#include "firmware.h"
 #include "hal.h"
 
 namespace fake {
@@ -19,6 +22,72 @@ int sequence_index(uint8_t pattern) {
   for (int i = 0; i < 8; ++i)
     if (kHalfStep[i] == pattern) return i;
   return -1;
+}
+
+namespace {
+// The Nano's report buffer: the most motors it drives.
+const uint16_t kReportSize = articula::status_report_size(3);
+
+// The report to the line when it may go: at a line boundary.
+void flush_report() {
+  if (!hw.report.empty() && hw.tx_line_start) {
+    hw.tx += hw.report;
+    hw.report.clear();
+  }
+}
+
+void build_report_if_due() {
+  if (!hw.report_requested || !hw.started || hw.in_step_timer || hw.report_building) return;
+  hw.report_requested = false;
+  hw.report_building = true;
+  char buf[kReportSize];
+  const uint8_t n = firmware::status_line(buf, uint8_t(sizeof buf));
+  hw.report_building = false;
+  ++hw.reports_built;
+  if (n == 0 || n > sizeof buf || buf[n - 1] != '\n') {
+    hw.errors.push_back("status_line wrote no report line");
+    return;
+  }
+  hw.report.assign(buf, n);
+  flush_report();
+}
+
+// An interrupt may come here: the firmware is in a HAL call with interrupts enabled.
+void interrupt_point() {
+  if (hw.interrupts_off_depth != 0 || hw.in_step_timer || hw.report_building || !hw.interrupt_point) return;
+  const std::function<void()> f = hw.interrupt_point;  // it may replace itself
+  f();
+}
+}  // namespace
+
+void receive(char c) {
+  const articula::RealtimeCommand r = articula::realtime_command(c);
+  if (r == articula::kRealtimeStatus) {
+    // A report waiting for a line boundary, or being built, answers this one too.
+    if (hw.report.empty() && !hw.report_building) hw.report_requested = true;
+    build_report_if_due();
+  } else if (r == articula::kRealtimeStop) {
+    if (hw.started)
+      firmware::on_realtime(c);
+    else
+      hw.stop_early = true;
+  } else {
+    hw.rx.push_back(c);
+  }
+}
+
+uint32_t step_deadline() {
+  hw.in_step_timer = true;
+  for (int m = 0; m < kMotors; ++m)
+    if (hw.staged_mask & (1u << m)) {
+      hal::write_coils(uint8_t(m), hw.staged[m]);
+      hw.coil_log.back().staged = true;
+    }
+  hw.staged_mask = 0;
+  const uint32_t next = firmware::on_step_timer();
+  hw.in_step_timer = false;
+  if (next == 0 && hw.staged_mask != 0) hw.errors.push_back("coils staged for a deadline that never comes");
+  return next;
 }
 
 void reset(bool blank_eeprom) {
@@ -39,8 +108,18 @@ namespace hal {
 
 void init() {}
 
+void start() {
+  hw.started = true;
+  if (hw.stop_early) {
+    hw.stop_early = false;
+    firmware::on_realtime('!');
+  }
+  fake::build_report_if_due();
+}
+
 void write_coils(uint8_t motor, uint8_t pattern) {
-  fake::CoilWrite w{hw.now, motor, pattern, 0};
+  fake::interrupt_point();
+  fake::CoilWrite w{hw.now, motor, pattern, 0, false, hw.interrupts_off_depth != 0};
   if (motor >= fake::kMotors || pattern > 0xF) {
     hw.errors.push_back("write_coils(" + std::to_string(motor) + ", " + std::to_string(pattern) + ")");
     hw.coil_log.push_back(w);
@@ -70,6 +149,7 @@ void write_coils(uint8_t motor, uint8_t pattern) {
 }
 
 void set_servo_pulse(uint16_t microseconds) {
+  fake::interrupt_point();
   hw.servo_us = microseconds;
   hw.servo_log.push_back(fake::ServoChange{hw.now, microseconds});
 }
@@ -81,27 +161,58 @@ bool endstop(uint8_t motor) {
 }
 
 void start_step_timer(uint32_t first_ticks) {
+  fake::interrupt_point();
   if (first_ticks == 0) hw.errors.push_back("start_step_timer(0)");
   hw.timer_running = true;
   hw.deadline = hw.now + first_ticks;
 }
 
-void stop_step_timer() { hw.timer_running = false; }
+void stop_step_timer() {
+  hw.timer_running = false;
+  hw.staged_mask = 0;
+}
+
+void stage_coils(uint8_t motor, uint8_t pattern) {
+  if (motor >= fake::kMotors || pattern > 0xF) {
+    hw.errors.push_back("stage_coils(" + std::to_string(motor) + ", " + std::to_string(pattern) + ")");
+    return;
+  }
+  // The Nano's HAL relies on this: the step interrupt cannot write the stage meanwhile.
+  if (hw.timer_running && !hw.in_step_timer) hw.errors.push_back("stage_coils outside the step timer's call");
+  hw.staged[motor] = pattern;
+  hw.staged_mask = uint8_t(hw.staged_mask | (1u << motor));
+}
 
 bool step_timer_running() { return hw.timer_running; }
 
-uint32_t millis() { return uint32_t(hw.now / (kTickHz / 1000)); }
+uint32_t millis() {
+  fake::interrupt_point();
+  return uint32_t(hw.now / (kTickHz / 1000));
+}
 
 int16_t serial_read() {
+  fake::interrupt_point();
   if (hw.rx.empty()) return -1;
   const char c = hw.rx.front();
   hw.rx.pop_front();
+  hw.last_read = uint8_t(c);
   return int16_t(uint8_t(c));
 }
 
-void serial_write(char c) { hw.tx.push_back(c); }
+void serial_write(char c) {
+  fake::interrupt_point();
+  // The Nano's HAL waits for its transmit interrupt when the buffer is full: the main loop's
+  // only, with interrupts enabled.
+  if (hw.interrupts_off_depth != 0 || hw.in_step_timer || hw.report_building)
+    hw.errors.push_back("serial_write outside the main loop");
+  ++hw.serial_writes;
+  hw.tx.push_back(c);
+  hw.tx_line_start = c == '\n';
+  fake::flush_report();
+}
 
 void eeprom_read(uint16_t address, void* data, uint16_t size) {
+  fake::interrupt_point();
   if (address + size > sizeof hw.eeprom) {
     hw.errors.push_back("eeprom_read beyond the EEPROM");
     return;
@@ -110,6 +221,7 @@ void eeprom_read(uint16_t address, void* data, uint16_t size) {
 }
 
 void eeprom_write(uint16_t address, const void* data, uint16_t size) {
+  fake::interrupt_point();
   if (address + size > sizeof hw.eeprom) {
     hw.errors.push_back("eeprom_write beyond the EEPROM");
     return;
@@ -122,6 +234,7 @@ void eeprom_write(uint16_t address, const void* data, uint16_t size) {
 }
 
 uint8_t interrupts_off() {
+  fake::interrupt_point();
   const uint8_t was_on = hw.interrupts_off_depth == 0;
   ++hw.interrupts_off_depth;
   return was_on;

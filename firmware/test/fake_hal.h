@@ -4,11 +4,20 @@
 // and servo pulse change recorded with its time; serial in and out buffers; a 1 KB EEPROM
 // image; endstops that press at a given step. The coil patterns are decoded back into step
 // counts here, independently of the firmware, so tests see what the motors would do.
+//
+// The serial line works as the Nano's HAL does (hal_avr.cpp), with a transmitter that takes
+// no time: receive() is the receive interrupt ('?' builds the status report at once with
+// firmware::status_line(), '!' goes to firmware::on_realtime(), both only after
+// hal::start()); the report goes out at the next line boundary of what serial_write() sent,
+// never inside a line. Interrupts can come in the middle of the firmware's work: every HAL
+// call made with interrupts enabled, outside the step timer's call and the report's build,
+// first calls `interrupt_point` (a test sets it to deliver bytes mid-command).
 #ifndef ARTICULA_FIRMWARE_TEST_FAKE_HAL_H
 #define ARTICULA_FIRMWARE_TEST_FAKE_HAL_H
 
 #include <cstdint>
 #include <deque>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -21,6 +30,8 @@ struct CoilWrite {
   uint8_t motor;
   uint8_t pattern;  // bit 0 IN1 .. bit 3 IN4
   int8_t step;      // decoded: +1, -1, or 0 (energised, released, or the same pattern)
+  bool staged;      // written at a deadline from stage_coils(), before on_step_timer()
+  bool interrupts_off;  // the firmware had interrupts off around the write (write_coils)
 };
 
 struct ServoChange {
@@ -38,7 +49,25 @@ struct Hardware {
   uint16_t servo_us = 0;
 
   std::deque<char> rx;  // received, not yet read by serial_read()
-  std::string tx;       // everything the firmware wrote
+  std::string tx;       // everything the firmware sent, in the order it went out
+  uint64_t serial_writes = 0;  // serial_write() calls
+  int last_read = -1;          // the last byte serial_read() returned
+  bool tx_line_start = true;   // the last byte serial_write() sent was an LF (or none was)
+
+  // The status report (hal_avr.cpp's states: with an instant transmitter a report is never
+  // being sent while another '?' comes).
+  bool started = false;     // hal::start() has run
+  bool stop_early = false;  // '!' before it
+  bool report_requested = false;
+  bool report_building = false;
+  std::string report;       // built, waiting for a line boundary
+  uint64_t reports_built = 0;
+  std::function<void()> interrupt_point;
+
+  // Coils staged for the next deadline (stage_coils), bit i for motor i.
+  uint8_t staged_mask = 0;
+  uint8_t staged[kMotors] = {0, 0, 0};
+  bool in_step_timer = false;  // inside firmware::on_step_timer()
 
   uint8_t eeprom[1024];
   uint32_t eeprom_bytes_written = 0;
@@ -66,6 +95,13 @@ void reset(bool blank_eeprom);
 
 // The half-step table's index of a pattern, -1 if it is none of the eight.
 int sequence_index(uint8_t pattern);
+
+// A byte arrives at the receiver (the receive interrupt).
+void receive(char c);
+
+// The step timer's deadline: the staged coils written, then firmware::on_step_timer();
+// returns what it returned.
+uint32_t step_deadline();
 
 }  // namespace fake
 

@@ -32,24 +32,21 @@ void collect() {
 bool is_reply(const std::string& s) { return s == "ok" || s.rfind("error:", 0) == 0; }
 }  // namespace
 
-void boot(bool blank_eeprom) {
+void boot(bool blank_eeprom, const std::string& during_setup) {
   fake::reset(blank_eeprom);
   for (int i = 0; i < robot::kJoints; ++i) fake::hw.microsteps[i] = robot::actuation.motors[i].microsteps;
   g_partial.clear();
   g_lines.clear();
   g_reports.clear();
   g_tx_seen = 0;
-  hal::init();
+  hal::init();  // as main.cpp
+  for (char c : during_setup) fake::receive(c);
   firmware::setup();
+  hal::start();
 }
 
 void send(const std::string& bytes) {
-  for (char c : bytes) {
-    if (articula::realtime_command(c) != articula::kRealtimeNone)
-      firmware::on_realtime(c);
-    else
-      fake::hw.rx.push_back(c);
-  }
+  for (char c : bytes) fake::receive(c);
 }
 
 void tick() {
@@ -58,7 +55,7 @@ void tick() {
   const uint64_t end = hw.now + kPollTicks;
   while (hw.timer_running && hw.deadline <= end) {
     hw.now = hw.deadline;
-    const uint32_t next = firmware::on_step_timer();
+    const uint32_t next = fake::step_deadline();
     if (next == 0)
       hw.timer_running = false;
     else

@@ -1,9 +1,11 @@
 // firmware/test/harness.h - runs the firmware on the fake HAL like the Nano would.
 //
 // The main loop is poll(), called once every kPollTicks of simulated time; between two
-// polls the step timer's interrupt (firmware::on_step_timer) fires at each of its deadlines
-// and the clock jumps to it. Received bytes go where the receive interrupt sends them:
-// '?' and '!' to firmware::on_realtime at once, every other byte to serial_read().
+// polls the step timer's interrupt fires at each of its deadlines and the clock jumps to it:
+// the staged coils are written, then firmware::on_step_timer() runs. Received bytes go to
+// the fake HAL's receive interrupt (fake::receive): '?' is answered by a status report at
+// once (at the next line boundary of the output), '!' goes to firmware::on_realtime, every
+// other byte to serial_read().
 #ifndef ARTICULA_FIRMWARE_TEST_HARNESS_H
 #define ARTICULA_FIRMWARE_TEST_HARNESS_H
 
@@ -24,8 +26,10 @@ static const uint64_t kSecond = 2000000;  // ticks
 
 typedef articula::StatusReport<robot::kJoints> Status;
 
-// Power-up: the fake hardware reset (the EEPROM blank, or kept as it is), firmware::setup().
-void boot(bool blank_eeprom = true);
+// Power-up: the fake hardware reset (the EEPROM blank, or kept as it is), then as main.cpp:
+// hal::init(), firmware::setup(), hal::start(). `during_setup`: bytes that arrive after the
+// receiver is on and before the firmware is set up.
+void boot(bool blank_eeprom = true, const std::string& during_setup = "");
 
 // Bytes from the host, at the current time.
 void send(const std::string& bytes);

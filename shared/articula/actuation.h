@@ -109,16 +109,21 @@ inline int32_t quantize(const MotorSpec& m, Millideg angle) {
   return int32_t(detail::div_round_half_away(n, detail::steps_den(m)));
 }
 
-// The whole-step range inside the limits (whole steps only: never a step past a limit).
-inline int32_t min_steps(const MotorSpec& m) {
-  const int64_t lo = int64_t(m.direction) * (int64_t(m.direction > 0 ? m.min : m.max) - m.zero);
-  return int32_t(detail::div_ceil(lo * detail::steps_num(m), detail::steps_den(m)));
+namespace detail {
+// The last whole step inside the limits towards more steps (upper) or fewer: one function
+// for both ends, so the Nano holds its 64-bit arithmetic once. ceil(x / d) = -floor(-x / d).
+inline int32_t limit_steps(const MotorSpec& m, bool upper) {
+  const bool at_max = upper == (m.direction > 0);  // the angle limit that bounds this end
+  const int64_t x = int64_t(m.direction) * (int64_t(at_max ? m.max : m.min) - m.zero) * steps_num(m);
+  const int64_t f = div_floor(upper ? x : -x, steps_den(m));
+  return int32_t(upper ? f : -f);
 }
+}  // namespace detail
 
-inline int32_t max_steps(const MotorSpec& m) {
-  const int64_t hi = int64_t(m.direction) * (int64_t(m.direction > 0 ? m.max : m.min) - m.zero);
-  return int32_t(detail::div_floor(hi * detail::steps_num(m), detail::steps_den(m)));
-}
+// The whole-step range inside the limits (whole steps only: never a step past a limit).
+inline int32_t min_steps(const MotorSpec& m) { return detail::limit_steps(m, false); }
+
+inline int32_t max_steps(const MotorSpec& m) { return detail::limit_steps(m, true); }
 
 // The step a commanded angle within the limits drives to: the nearest step, but never one
 // past a limit (the rule at the top of this file). Outside the limits: the nearest step.

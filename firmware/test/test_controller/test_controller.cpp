@@ -1,13 +1,17 @@
 // Tests firmware/src/controller.cpp at the serial line: one reply per line, every error
 // code the firmware can give (each rejected line leaving position, commanded angles and
 // queue as they were), overlong lines, comments, the info line, and the realtime bytes:
-// a status report mid-move (right steps, answered by the next pass of the main loop) and
-// a stop mid-move (queue emptied, the waiting line answered error:15, later moves fine).
+// a status report mid-move (right steps, answered at once from the receive interrupt), in
+// the middle of a command's work (before its reply, never inside a line, one report for a
+// burst), during start-up, and a stop mid-move (queue emptied, the waiting line answered
+// error:15, later moves fine).
 #include <articula/actuation.h>
 #include <articula/protocol.h>
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -177,9 +181,9 @@ TEST(Controller, OverlongLines) {
   EXPECT_EQ(sim::status().steps[0], quantize_within_limits(robot::motor(0), zero(0) + 1000));
 }
 
-// '?' in the middle of a move: answered by the next pass of the main loop, with the steps
-// the pins had given by then and the state Run; a '?' in the middle of a line is taken out
-// of it.
+// '?' in the middle of a move: answered at once (the receive interrupt builds the report),
+// with the steps the pins had given by then and the state Run; a '?' in the middle of a line
+// is taken out of it.
 TEST(Controller, StatusMidMove) {
   sim::boot();
   ASSERT_EQ(sim::command(m_line(60, 0, 0)), "ok");
@@ -187,10 +191,9 @@ TEST(Controller, StatusMidMove) {
                              10 * sim::kSecond));
   for (int k = 0; k < 5; ++k) {
     sim::take_lines();
-    const uint64_t t = fake::hw.now;  // the next pass polls at this time
+    const uint64_t t = fake::hw.now;
     sim::send("?");
-    sim::tick();
-    const std::vector<std::string> lines = sim::take_lines();
+    const std::vector<std::string> lines = sim::take_lines();  // before any main-loop pass
     ASSERT_EQ(lines.size(), 1u);
     sim::Status st;
     ASSERT_TRUE(parse_status(st, lines[0].data(), uint16_t(lines[0].size()))) << lines[0];
@@ -217,6 +220,108 @@ TEST(Controller, StatusMidMove) {
   EXPECT_EQ(reports, 1);
   EXPECT_EQ(oks, 1);
   EXPECT_EQ(sim::status().steps[0], quantize_within_limits(robot::motor(0), zero(0) + 70000));
+}
+
+namespace {
+
+// Delivers `bytes` to the receive interrupt at the first HAL call the firmware makes with
+// interrupts enabled once `when` holds (in the middle of its work on a line), once.
+void deliver_when(const std::function<bool()>& when, const std::string& bytes) {
+  auto done = std::make_shared<bool>(false);
+  fake::hw.interrupt_point = [when, bytes, done] {
+    if (*done || !when()) return;
+    *done = true;
+    for (char c : bytes) fake::receive(c);
+  };
+}
+
+bool is_reply(const std::string& l) { return l == "ok" || l.rfind("error:", 0) == 0; }
+
+}  // namespace
+
+// A '?' that arrives while the main loop works on a line (P's inverse kinematics takes
+// milliseconds on the Nano, M's set-up less) is answered at once, before that line's reply:
+// the report shows the state before the line took effect (the move not queued yet).
+TEST(Controller, StatusDuringACommandIsAnsweredBeforeItsReply) {
+  sim::boot();
+  sim::status();  // the W:14 of the blank EEPROM
+  sim::take_lines();
+  const std::vector<std::string> lines_sent = {"P 200 50 150", m_line(10, 5, -5), "P 235 0 213"};
+  for (const std::string& l : lines_sent) {
+    ASSERT_TRUE(sim::run_until_at_rest());
+    sim::take_lines();
+    const uint64_t built = fake::hw.reports_built;
+    // The '?' comes right after the line's LF has been read: the firmware is busy with it.
+    deliver_when([] { return fake::hw.last_read == '\n'; }, "?");
+    fake::hw.last_read = -1;
+    sim::send(l + "\n");
+    sim::tick();
+    fake::hw.interrupt_point = nullptr;
+    const std::vector<std::string> lines = sim::take_lines();
+    ASSERT_EQ(lines.size(), 2u) << l;
+    EXPECT_EQ(fake::hw.reports_built, built + 1);
+    sim::Status st;
+    ASSERT_TRUE(parse_status(st, lines[0].data(), uint16_t(lines[0].size()))) << lines[0];
+    EXPECT_EQ(st.state, kStateIdle) << l;  // the move is not queued yet
+    EXPECT_EQ(st.free_slots, queue::kSize) << l;
+    EXPECT_EQ(lines[1], "ok") << l;
+    // The next report shows the move.
+    EXPECT_EQ(sim::status().state, kStateRun) << l;
+  }
+  EXPECT_EQ(sim::hal_errors(), "");
+}
+
+// A report never goes inside another line: a '?' that arrives while the firmware is writing
+// a line (here after the first byte of a reply, of an info line, of a setting line) is sent
+// right after that line's LF. Several '?' before it goes are answered by one report.
+TEST(Controller, StatusNeverSplitsALineAndABurstIsAnsweredOnce) {
+  sim::boot();
+  sim::status();
+  sim::take_lines();
+  for (const char* line : {"L 0 1", "I", "$", "X"}) {
+    const uint64_t w0 = fake::hw.serial_writes;
+    const uint64_t built = fake::hw.reports_built;
+    deliver_when([w0] { return fake::hw.serial_writes == w0 + 1; }, "??");  // after the first byte
+    const std::string reply = sim::command(line);
+    fake::hw.interrupt_point = nullptr;
+    EXPECT_TRUE(is_reply(reply)) << line;
+    EXPECT_EQ(fake::hw.reports_built, built + 1) << line;  // one report for both
+    // The output, line by line: the report whole, after the first line.
+    std::vector<std::string> lines = sim::reports();
+    lines.push_back(reply);
+    for (const std::string& l : sim::take_lines()) lines.push_back(l);
+    size_t at = lines.size();
+    for (size_t i = 0; i < lines.size(); ++i)
+      if (lines[i][0] == '<') at = i;
+    ASSERT_EQ(at, 1u) << line << ": the report is not right after the line it waited for";
+    sim::Status st;
+    EXPECT_TRUE(parse_status(st, lines[at].data(), uint16_t(lines[at].size()))) << lines[at];
+    for (size_t i = 0; i < lines.size(); ++i) {
+      if (i == at) continue;
+      EXPECT_EQ(lines[i].find_first_of("<>"), std::string::npos) << lines[i];
+    }
+    ASSERT_TRUE(sim::run_until_at_rest());
+    sim::take_lines();
+  }
+  EXPECT_EQ(sim::hal_errors(), "");
+}
+
+// '?' and '!' that arrive while the firmware sets itself up (the receiver is on from
+// hal::init()) are acted on once it is up: one report, and the stop (the arm is at rest, so
+// it only makes the commanded angles those of the steps). A line that came meanwhile is read
+// too.
+TEST(Controller, RealtimeBytesDuringStartUpAreKept) {
+  sim::boot(true, "?!I\n");
+  std::vector<std::string> lines = sim::take_lines();
+  ASSERT_EQ(lines.size(), 1u);  // the report, at once
+  sim::Status st;
+  ASSERT_TRUE(parse_status(st, lines[0].data(), uint16_t(lines[0].size()))) << lines[0];
+  EXPECT_EQ(st.state, kStateStop);  // the '!' was taken too
+  EXPECT_EQ(st.warning, kSettingsReset);
+  ASSERT_TRUE(sim::run_until([] { return !sim::take_lines().empty(); }, sim::kSecond));  // then I
+  EXPECT_EQ(sim::status().state, kStateIdle);
+  EXPECT_EQ(sim::command("L 0 1"), "ok");
+  EXPECT_EQ(sim::hal_errors(), "");
 }
 
 // '!' in the middle of a move with a full queue and a line waiting for room: the waiting
@@ -305,7 +410,6 @@ TEST(Controller, ExampleSessionOfTheProtocolDocument) {
       ASSERT_TRUE(sim::run_until_at_rest());
       sim::take_lines();
       sim::send("?");
-      sim::tick();
       got = sim::take_lines();
     } else {
       got.push_back(sim::command(step.first));

@@ -99,6 +99,21 @@ TEST(Robot, StructuresFromTheConfig) {
   }
 }
 
+// The status report's angles (robot::step_angle, 32-bit arithmetic on a reduced fraction)
+// are steps_to_millideg's, for every step within the limits and far beyond (a homing search
+// may count past them).
+TEST(Robot, StepAngleIsStepsToMillideg) {
+  sim::boot();
+  for (int i = 0; i < kJ; ++i) {
+    const MotorSpec& m = robot::motor(uint8_t(i));
+    const int32_t lo = min_steps(m), hi = max_steps(m), span = hi - lo;
+    for (int32_t s = lo - 3 * span - 20; s <= hi + 3 * span + 20; ++s)
+      ASSERT_EQ(robot::step_angle(uint8_t(i), s), steps_to_millideg(m, s)) << "motor " << i << " step " << s;
+    for (int32_t s : {1000000, -1000000, 3000000, -3000000})
+      ASSERT_EQ(robot::step_angle(uint8_t(i), s), steps_to_millideg(m, s)) << "motor " << i << " step " << s;
+  }
+}
+
 TEST(Robot, PowerUpAtStepZeroIdle) {
   sim::boot();
   const sim::Status st = sim::status();

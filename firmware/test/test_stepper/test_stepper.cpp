@@ -264,6 +264,37 @@ TEST(Stepper, CoilsReleasedAfterTheIdleTimeAndEnergisedBeforeTheNextMove) {
   EXPECT_TRUE(sim::status().coils);
 }
 
+// Every step of a move is staged: its coils are written at its deadline before the firmware's
+// step computation runs (fake::step_deadline, as the Nano's HAL does first thing in the
+// interrupt), every motor that steps on a deadline at that deadline. The set-up of a move
+// from rest (kick) runs with interrupts enabled: the energising writes are not inside a
+// critical section.
+TEST(Stepper, MoveStepsAreStagedAndSetUpWithInterruptsOn) {
+  sim::boot();
+  ASSERT_EQ(sim::command("$0=4000"), "ok");
+  ASSERT_EQ(sim::command("$1=100000"), "ok");
+  const std::vector<Millideg> target = at_fractions(0.9, 0.1, 0.95);
+  const size_t log0 = fake::hw.coil_log.size();
+  ASSERT_EQ(sim::command(m_line(target.data())), "ok");
+  ASSERT_TRUE(sim::run_until_at_rest());
+  size_t steps = 0, energised = 0;
+  for (size_t k = log0; k < fake::hw.coil_log.size(); ++k) {
+    const fake::CoilWrite& w = fake::hw.coil_log[k];
+    if (w.step != 0) {
+      ++steps;
+      EXPECT_TRUE(w.staged) << "step " << k << " of motor " << int(w.motor) << " written by the step computation";
+    } else if (w.pattern != 0) {
+      ++energised;
+      EXPECT_FALSE(w.staged);
+      EXPECT_FALSE(w.interrupts_off) << "the move was set up with interrupts off";
+    }
+  }
+  EXPECT_GT(steps, 100u);
+  EXPECT_EQ(energised, size_t(kJ));
+  EXPECT_EQ(positions(), quantized(target));
+  EXPECT_EQ(sim::hal_errors(), "");
+}
+
 // '!' mid-move: from the next step on, the profile decelerates exactly as StepProfile::stop
 // (the shared code, run here), the motors keep to their line, and the position the status
 // report gives is where the pins left the motors.
