@@ -4,6 +4,7 @@
 
 #include <articula/ik_ypp.h>
 
+#include <cmath>
 #include <random>
 
 #include "bench_common.h"
@@ -75,6 +76,57 @@ BENCHMARK(BM_PandaJacobian);
 BENCHMARK(BM_PandaJacobianPublished7Rows);
 BENCHMARK(BM_PandaFkAndJacobian);
 BENCHMARK(BM_PandaFkAndJacobianPublished7Rows);
+
+// sin and cos of one angle: glibc's sincos, and Math<double>::sincos (the core's fast path,
+// shared/articula/platform.h), one at a time and eight at a time (sincos_n, two per SIMD
+// pair), for 1,024 angles uniform in [-pi, pi]. Times per angle.
+const std::vector<double>& sincos_angles() {
+  static const std::vector<double> x = [] {
+    std::mt19937_64 rng(5);
+    std::uniform_real_distribution<double> u(-M_PI, M_PI);
+    std::vector<double> v(1024);
+    for (double& a : v) a = u(rng);
+    return v;
+  }();
+  return x;
+}
+void BM_SinCosGlibc(benchmark::State& state) {
+  const auto& x = sincos_angles();
+  size_t i = 0;
+  for (auto _ : state) {
+    double s, c;
+    ::sincos(x[i], &s, &c);
+    benchmark::DoNotOptimize(s);
+    benchmark::DoNotOptimize(c);
+    i = (i + 1) & 1023;
+  }
+}
+void BM_SinCosCore(benchmark::State& state) {
+  const auto& x = sincos_angles();
+  size_t i = 0;
+  for (auto _ : state) {
+    double s, c;
+    Math<double>::sincos(x[i], s, c);
+    benchmark::DoNotOptimize(s);
+    benchmark::DoNotOptimize(c);
+    i = (i + 1) & 1023;
+  }
+}
+void BM_SinCosCoreEightAtOnce(benchmark::State& state) {
+  const auto& x = sincos_angles();
+  double s[8], c[8];
+  size_t i = 0;
+  for (auto _ : state) {
+    Math<double>::sincos_n(&x[i], s, c, 8);
+    benchmark::DoNotOptimize(s[7]);
+    benchmark::ClobberMemory();
+    i = (i + 8) & 1023;
+  }
+  state.SetItemsProcessed(state.iterations() * 8);
+}
+BENCHMARK(BM_SinCosGlibc);
+BENCHMARK(BM_SinCosCore);
+BENCHMARK(BM_SinCosCoreEightAtOnce);
 
 // The core's closed form alone (ypp_solve), on the MK2 with its motor limits: points the
 // arm reaches (uniform motor angles within their limits), and points it does not (poses

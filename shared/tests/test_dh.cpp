@@ -345,3 +345,117 @@ TEST(DhModel, DhTableFillsVariablesAndLinks) {
   EXPECT_DOUBLE_EQ(t[3].theta, -0.5);
   EXPECT_EQ(t[3].a, 147);
 }
+
+// ---- The host's forward kinematics (detail::ForwardKinematics<true>: angle kinds, batched
+// sincos, frame in registers) against the compact one the Nano builds (<false>: the table,
+// then the chain with every multiplication). They must give the same values (equal as
+// doubles; only the sign of a zero may differ).
+namespace {
+// A random robot whose constant angles are often exactly 0, +-90 or +-180 deg and whose
+// a and d are often zero, so that every pair of angle kinds and every shortcut occurs;
+// theta, d and alpha variables and linked parameters as in random_robot.
+template <typename S>
+Model<S, J, R> random_kinds_robot(std::mt19937& rng) {
+  std::uniform_real_distribution<double> len(-200, 200), ang(-M_PI, M_PI), u(0, 1);
+  const double exact[5] = {0, M_PI / 2, -M_PI / 2, M_PI, -M_PI};
+  auto angle = [&]() { return u(rng) < 0.6 ? S(exact[rng() % 5]) : S(ang(rng)); };
+  auto length = [&]() { return u(rng) < 0.4 ? S(0) : S(len(rng)); };
+  Model<S, J, R> m{};
+  m.num_rows = uint8_t(rng() % (R + 1));  // 0 rows too
+  for (int r = 0; r < m.num_rows; ++r) {
+    m.rows[r] = DhRow<S>{S(std::fabs(double(length()))), angle(), length(), angle()};
+    for (DhParam p : {kParamTheta, kParamD, kParamAlpha}) {
+      const double pick = u(rng);
+      if (pick < 0.3 && m.num_joints < J) {
+        m.joints[m.num_joints++] = JointSpec<S>{uint8_t(r), uint8_t(p), S(-10), S(10)};
+      } else if (pick < 0.4 && m.num_joints > 0) {
+        LinkedParam<S, J>& l = m.linked[m.num_linked++];
+        l.row = uint8_t(r);
+        l.param = p;
+        l.offset = angle();
+        for (int j = 0; j < J; ++j) l.gain[j] = (j < m.num_joints && u(rng) < 0.5) ? S(len(rng) / 100) : S(0);
+      }
+    }
+  }
+  m.T_last_tool = u(rng) < 0.5 ? make_transform(identity3<S>(), make_vec3(S(0), S(0), S(len(rng))))
+                               : make_transform(rpy_to_matrix(S(ang(rng)), S(ang(rng)), S(ang(rng))),
+                                                make_vec3(S(len(rng)), S(len(rng)), S(len(rng))));
+  return m;
+}
+
+template <typename S>
+void fast_and_compact_agree(int robots, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> qd(-4, 4), u(0, 1);
+  long values = 0;
+  bool pairs[25] = {};  // kind(alpha) * 5 + kind(theta) seen in the chain (rows after the first)
+  for (int n = 0; n < robots; ++n) {
+    const Model<S, J, R> m = random_kinds_robot<S>(rng);
+    ASSERT_EQ(validate(m), kModelOk);
+    for (int pose = 0; pose < 10; ++pose) {
+      S q[J];
+      for (int j = 0; j < m.num_joints; ++j) {
+        const double exact = 90.0 * int(rng() % 5) - 180.0;  // joints at exact right angles too
+        q[j] = m.joints[j].param == kParamD ? S(50 * qd(rng)) : u(rng) < 0.3 ? deg_to_rad(S(exact)) : S(qd(rng));
+      }
+      DhRow<S> t[R];
+      dh_table(t, m, q);
+      for (int i = 1; i < m.num_rows; ++i) pairs[detail::dh_angle_kind(t[i].alpha) * 5 + detail::dh_angle_kind(t[i].theta)] = true;
+      Frames<S, R> fast, compact;
+      detail::ForwardKinematics<true>::run(fast, m, q);
+      detail::ForwardKinematics<false>::run(compact, m, q);
+      ASSERT_EQ(fast.count, compact.count);
+      for (int i = 0; i <= m.num_rows + 1; ++i) {
+        const Transform<S>& a = i <= m.num_rows ? fast.T_base_frame[i] : fast.T_base_tool;
+        const Transform<S>& b = i <= m.num_rows ? compact.T_base_frame[i] : compact.T_base_tool;
+        for (int r = 0; r < 3; ++r) {
+          for (int c = 0; c < 3; ++c) ASSERT_EQ(a.R.m[r][c], b.R.m[r][c]) << "robot " << n << " frame " << i;
+          ASSERT_EQ(a.p[r], b.p[r]) << "robot " << n << " frame " << i;
+        }
+        values += 12;
+      }
+    }
+  }
+  for (int k = 0; k < 25; ++k) EXPECT_TRUE(pairs[k]) << "pair of angle kinds " << k << " never chained";
+  std::cout << "fast and compact forward kinematics equal in " << values << " values (" << sizeof(S) * 8 << "-bit)\n";
+}
+}  // namespace
+
+TEST(DhFk, HostPathEqualsCompactPathOnRandomRobotsOfEveryAngleKind) {
+  fast_and_compact_agree<double>(3000, 11);
+  fast_and_compact_agree<float>(1000, 12);
+}
+
+TEST(DhFk, ExactRightAnglesStayExact) {
+  // Joints at exactly 0, +-90 and 180 deg (as deg_to_rad gives them) and constant twists
+  // of 0, +-90 and 180 deg: every rotation entry is exactly 0 or +-1, every position a sum
+  // of the integer lengths, with no rounding at all.
+  ModelD m = empty_model();
+  m.num_rows = 6;
+  m.rows[0] = row(0, 0, 100, 0);
+  m.rows[1] = row(10, 90, 0, 0);
+  m.rows[2] = row(200, -90, 30, 0);
+  m.rows[3] = row(0, 180, 40, 0);
+  m.rows[4] = row(50, 90, 0, 180);  // a fixed turn
+  m.rows[5] = row(7, 0, 3, 0);
+  for (int r = 0; r < 6; ++r)
+    if (r != 4) add_joint(m, r, kParamTheta, -4, 4);
+  m.T_last_tool = make_transform(identity3<double>(), make_vec3(0.0, 0.0, 11.0));
+  const double angles[5] = {0, 90, -90, 180, -180};
+  for (int pose = 0; pose < 625; ++pose) {
+    double q[5];
+    for (int j = 0, p = pose; j < 5; ++j, p /= 5) q[j] = deg_to_rad(angles[p % 5]);
+    FramesD f;
+    forward_kinematics(f, m, q);
+    for (int i = 0; i <= 7; ++i) {
+      const Transform<double>& T = i <= 6 ? f.T_base_frame[i] : f.T_base_tool;
+      for (int r = 0; r < 3; ++r) {
+        for (int c = 0; c < 3; ++c) {
+          const double v = T.R.m[r][c];
+          ASSERT_TRUE(v == 0 || v == 1 || v == -1) << "pose " << pose << " frame " << i << " R" << r << c << " = " << v;
+        }
+        ASSERT_EQ(T.p[r], std::round(T.p[r])) << "pose " << pose << " frame " << i;
+      }
+    }
+  }
+}
