@@ -51,6 +51,18 @@ struct LengthRange {
   double min = 0, max = 0;  // mm
 };
 
+// What a stepper can deliver (robot file: a motor's "torque"; docs/stall.md). Empty
+// pull_out: not given, nothing to check against.
+struct MotorTorque {
+  // Pull-out torque against the full-step rate: (full steps/s, N*m) pairs, rates strictly
+  // ascending from 0; linear in between, 0 beyond the last rate. The value at 0 is the
+  // holding torque.
+  std::vector<std::array<double, 2>> pull_out;
+  double rotor_inertia = 0;  // kg*m^2, of the rotor (and pinion) about the motor shaft
+
+  bool given() const { return !pull_out.empty(); }
+};
+
 struct Robot {
   std::string name;
   std::string description;
@@ -62,6 +74,7 @@ struct Robot {
   bool has_motors = false;  // false: a purely kinematic robot (no steps, no prediction)
   HostActuation actuation{};
   std::vector<std::string> motor_names;
+  std::vector<MotorTorque> motor_torque;  // one per motor (empty curves when not given)
 
   std::vector<double> home;  // joint variables, rad or mm, in model order
 

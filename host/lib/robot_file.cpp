@@ -32,7 +32,8 @@ const std::map<std::string, std::vector<std::string>>& robot_file_fields() {
       {"joint", {"joint", "min", "max"}},
       {"linked", {"linked", "offset"}},
       {"tool", {"xyz", "rpy"}},
-      {"motor", {"name", "steps_per_rev", "microsteps", "gear", "direction", "zero", "min", "max"}},
+      {"motor", {"name", "steps_per_rev", "microsteps", "gear", "direction", "zero", "min", "max", "torque"}},
+      {"torque", {"pull_out", "rotor_inertia"}},
       {"link", {"frame", "shapes"}},
       {"shape", {"type", "size", "mesh", "xyz", "rpy", "mass", "density"}},
       {"gripper", {"max_opening", "finger_length", "servo_open", "servo_closed"}},
@@ -589,7 +590,40 @@ class Loader {
         if (e == kMotorBadLimits) detail = " (min " + num(lo) + ", max " + num(hi) + ", zero " + num(zero) + ")";
         fail(where, motor_error_text(e) + detail);
       }
+      robot_.motor_torque.push_back(MotorTorque{});
+      if (const json* t = member(mj, "torque")) robot_.motor_torque.back() = load_torque(*t, child(path, "torque"));
     }
+  }
+
+  // "torque": {"pull_out": [[full steps/s, N*m], ...], "rotor_inertia": kg*m^2}.
+  MotorTorque load_torque(const json& t, const std::string& path) const {
+    fields(t, path, "torque");
+    MotorTorque out;
+    const std::string pp = child(path, "pull_out");
+    const json& curve = array(required(t, path, "pull_out"), pp);
+    if (curve.size() < 2)
+      fail(pp, "expected at least 2 points [full steps/s, N*m] (the holding torque at 0 and one more), got " +
+                   std::to_string(curve.size()));
+    for (std::size_t k = 0; k < curve.size(); ++k) {
+      const std::string kp = child(pp, k);
+      array(curve[k], kp);
+      if (curve[k].size() != 2)
+        fail(kp, "expected a point [full steps/s, N*m] (2 numbers), got " + std::to_string(curve[k].size()) + " entries");
+      const double rate = number(curve[k][0], child(kp, 0)), torque = number(curve[k][1], child(kp, 1));
+      if (k == 0 && rate != 0)
+        fail(child(kp, 0), "the curve must start at rate 0 (the holding torque), got " + num(rate));
+      if (k > 0 && !(rate > out.pull_out.back()[0]))
+        fail(child(kp, 0), "rates must be strictly ascending (" + num(rate) + " after " + num(out.pull_out.back()[0]) + ")");
+      if (torque < 0) fail(child(kp, 1), "a torque must be >= 0 (got " + num(torque) + " N*m)");
+      if (k == 0 && !(torque > 0)) fail(child(kp, 1), "the holding torque must be > 0 (got " + num(torque) + " N*m)");
+      out.pull_out.push_back({rate, torque});
+    }
+    if (const json* j = member(t, "rotor_inertia")) {
+      const std::string jp = child(path, "rotor_inertia");
+      out.rotor_inertia = number(*j, jp);
+      if (out.rotor_inertia < 0) fail(jp, "a rotor inertia must be >= 0 (got " + num(out.rotor_inertia) + " kg*m^2)");
+    }
+    return out;
   }
 
   void millideg(Millideg& out, double degrees, const std::string& path) const {

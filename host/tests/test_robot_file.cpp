@@ -486,6 +486,12 @@ TEST(Schema, RejectsWhatTheLoaderRejects) {
       {"gripper missing field", [](json& j) { j["gripper"].erase("finger_length"); }},
       {"home as text", [](json& j) { j["home"]["base"] = "0"; }},
       {"coupling entry as text", [](json& j) { j["coupling"][0][0] = "1"; }},
+      {"torque without pull_out", [](json& j) { j["motors"][0]["torque"] = {{"rotor_inertia", 1e-6}}; }},
+      {"pull_out of one point", [](json& j) { j["motors"][0]["torque"]["pull_out"] = {{0, 0.4}}; }},
+      {"pull_out point of 3", [](json& j) { j["motors"][0]["torque"]["pull_out"][1] = {200, 0.3, 1}; }},
+      {"negative pull_out torque", [](json& j) { j["motors"][0]["torque"]["pull_out"][1][1] = -0.1; }},
+      {"negative rotor inertia", [](json& j) { j["motors"][0]["torque"]["rotor_inertia"] = -1; }},
+      {"torque field typo", [](json& j) { j["motors"][0]["torque"]["pullout"] = 1; }},
       {"17 rows", [](json& j) { for (int i = 0; i < 13; ++i) j["dh"].push_back({{"a", 1}, {"alpha", 0}, {"d", 0}, {"theta", 0}}); }},
   };
   for (auto& [what, breakage] : breakages) {
@@ -1088,6 +1094,53 @@ TEST(RobotFileErrors, Gripper) {
   doc["gripper"]["servo_closed"] = 150;
   doc["gripper"]["max_opening"] = 0;
   EXPECT_TRUE(fails_with(doc, "/gripper/max_opening", {"must be > 0"}));
+}
+
+TEST(ParseRobot, MotorTorque) {
+  json doc = base_robot();
+  doc["motors"][1]["torque"] = {{"pull_out", {{0, 0.4}, {300, 0.35}, {1500, 0.1}}}, {"rotor_inertia", 5.4e-6}};
+  const Robot r = parse_robot(doc.dump(), "torque.json");
+  ASSERT_EQ(r.motor_torque.size(), 3u);
+  EXPECT_FALSE(r.motor_torque[0].given());
+  ASSERT_TRUE(r.motor_torque[1].given());
+  ASSERT_EQ(r.motor_torque[1].pull_out.size(), 3u);
+  EXPECT_EQ(r.motor_torque[1].pull_out[1][0], 300);
+  EXPECT_EQ(r.motor_torque[1].pull_out[1][1], 0.35);
+  EXPECT_EQ(r.motor_torque[1].rotor_inertia, 5.4e-6);
+  // The MK2 ships datasheet-typical figures for every motor.
+  const Robot mk2 = load_robot_file(kRobots + "/mk2plus.json");
+  ASSERT_EQ(mk2.motor_torque.size(), 3u);
+  for (const MotorTorque& t : mk2.motor_torque) {
+    ASSERT_TRUE(t.given());
+    EXPECT_EQ(t.pull_out[0][1], 0.40);
+    EXPECT_GT(t.rotor_inertia, 0);
+  }
+}
+
+TEST(RobotFileErrors, MotorTorque) {
+  json doc = base_robot();
+  doc["motors"][2]["torque"] = {{"pull_out", {{0, 0.4}, {300, 0.35}}}, {"inertia", 1}};
+  EXPECT_TRUE(fails_with(doc, "/motors/2/torque/inertia", {"unknown field \"inertia\"", "pull_out, rotor_inertia"}));
+  doc["motors"][2]["torque"] = {{"rotor_inertia", 1e-6}};
+  EXPECT_TRUE(fails_with(doc, "/motors/2/torque/pull_out", {"missing required field \"pull_out\""}));
+  doc["motors"][2]["torque"] = {{"pull_out", {{0, 0.4}}}};
+  EXPECT_TRUE(fails_with(doc, "/motors/2/torque/pull_out", {"at least 2 points", "got 1"}));
+  doc["motors"][2]["torque"] = {{"pull_out", {{0, 0.4}, {300}}}};
+  EXPECT_TRUE(fails_with(doc, "/motors/2/torque/pull_out/1", {"[full steps/s, N*m]", "got 1 entries"}));
+  doc["motors"][2]["torque"] = {{"pull_out", {{10, 0.4}, {300, 0.3}}}};
+  EXPECT_TRUE(fails_with(doc, "/motors/2/torque/pull_out/0/0", {"start at rate 0", "got 10"}));
+  doc["motors"][2]["torque"] = {{"pull_out", {{0, 0.4}, {300, 0.3}, {300, 0.2}}}};
+  EXPECT_TRUE(fails_with(doc, "/motors/2/torque/pull_out/2/0", {"strictly ascending", "300 after 300"}));
+  doc["motors"][2]["torque"] = {{"pull_out", {{0, 0.4}, {300, -0.1}}}};
+  EXPECT_TRUE(fails_with(doc, "/motors/2/torque/pull_out/1/1", {"torque must be >= 0", "-0.1"}));
+  doc["motors"][2]["torque"] = {{"pull_out", {{0, 0}, {300, 0.1}}}};
+  EXPECT_TRUE(fails_with(doc, "/motors/2/torque/pull_out/0/1", {"holding torque must be > 0"}));
+  doc["motors"][2]["torque"] = {{"pull_out", {{0, 0.4}, {"fast", 0.1}}}};
+  EXPECT_TRUE(fails_with(doc, "/motors/2/torque/pull_out/1/0", {"expected a number, got a string"}));
+  doc["motors"][2]["torque"] = {{"pull_out", {{0, 0.4}, {300, 0.1}}}, {"rotor_inertia", -1}};
+  EXPECT_TRUE(fails_with(doc, "/motors/2/torque/rotor_inertia", {"rotor inertia must be >= 0"}));
+  doc["motors"][2]["torque"] = json::array();
+  EXPECT_TRUE(fails_with(doc, "/motors/2/torque", {"expected an object, got an array"}));
 }
 
 TEST(RobotFileErrors, EmptyName) {
