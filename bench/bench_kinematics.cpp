@@ -50,32 +50,17 @@ void BM_PandaFk(benchmark::State& s) {
   static const HostModel m = bench::load("panda").model;
   fk(s, m);
 }
-void BM_PandaFkPublished7Rows(benchmark::State& s) {
-  static const HostModel m = bench::panda_published();
-  fk(s, m);
-}
 void BM_PandaJacobian(benchmark::State& s) {
   static const HostModel m = bench::load("panda").model;
-  jac(s, m, false);
-}
-void BM_PandaJacobianPublished7Rows(benchmark::State& s) {
-  static const HostModel m = bench::panda_published();
   jac(s, m, false);
 }
 void BM_PandaFkAndJacobian(benchmark::State& s) {
   static const HostModel m = bench::load("panda").model;
   jac(s, m, true);
 }
-void BM_PandaFkAndJacobianPublished7Rows(benchmark::State& s) {
-  static const HostModel m = bench::panda_published();
-  jac(s, m, true);
-}
 BENCHMARK(BM_PandaFk);
-BENCHMARK(BM_PandaFkPublished7Rows);
 BENCHMARK(BM_PandaJacobian);
-BENCHMARK(BM_PandaJacobianPublished7Rows);
 BENCHMARK(BM_PandaFkAndJacobian);
-BENCHMARK(BM_PandaFkAndJacobianPublished7Rows);
 
 // sin and cos of one angle: glibc's sincos, and Math<double>::sincos (the core's fast path,
 // shared/articula/platform.h), one at a time and eight at a time (sincos_n, two per SIMD

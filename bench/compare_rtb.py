@@ -141,8 +141,8 @@ def main():
           f"same model check: worst FK difference {worst_p:.2e} mm, {worst_R:.2e} rad over {len(targets)} poses\n")
     print("| figure | Articula | Robotics Toolbox | ratio (toolbox / Articula) |")
     print("|---|---|---|---|")
-    fk_ours, jac_ours = ns["BM_PandaFkPublished7Rows"], ns["BM_PandaJacobianPublished7Rows"]
-    fkj_ours = ns["BM_PandaFkAndJacobianPublished7Rows"]
+    fk_ours, jac_ours = ns["BM_PandaFk"], ns["BM_PandaJacobian"]
+    fkj_ours = ns["BM_PandaFkAndJacobian"]
     print(f"| Panda FK, per call | {fk_ours:.0f} ns (core, C++) | {fk_ets * 1e9:.0f} ns (`ets.eval`, C++ from Python) "
           f"| {fk_ets * 1e9 / fk_ours:.0f} |")
     print(f"| Panda FK, per call | | {fk_py * 1e6:.1f} us (`fkine`, returns SE3) | {fk_py * 1e9 / fk_ours:.0f} |")

@@ -294,7 +294,7 @@ class Loader {
     return v;
   }
 
-  // A length that may be zero (a DH "a").
+  // A length that may be zero (a link length RoboSim's `l` may change).
   double length(const json& j, const std::string& path) const {
     const double v = number(j, path);
     if (v < 0) fail(path, "negative length (" + num(v) + " mm)");
@@ -371,11 +371,12 @@ class Loader {
     }
   }
 
-  // "a": a length in mm, or {"value", "min", "max"}: a length RoboSim's `l` may change
-  // within the range.
+  // "a": a signed distance in mm along x(i-1) (published tables such as Franka's use
+  // negative ones), or {"value", "min", "max"}: a link length, >= 0, that RoboSim's `l` may
+  // change within the range.
   double link_length(const json& j, const std::string& path, std::size_t row) {
     robot_.length_ranges.resize(row + 1);
-    if (!j.is_object()) return length(j, path);
+    if (!j.is_object()) return number(j, path);
     fields(j, path, "length");
     const double v = length(required(j, path, "value"), child(path, "value"));
     const double lo = length(required(j, path, "min"), child(path, "min"));

@@ -172,22 +172,44 @@ TEST(IkForwardKinematics, PandaByHand) {
     }
 }
 
-TEST(IkForwardKinematics, PandaFileEqualsThePublishedTable) {
-  // The file writes the published row 5 (a = -82.5 mm) as three rows; the tool pose and the
-  // Jacobian are the same as those of the published 7-row table.
+TEST(IkForwardKinematics, PandaFileIsThePublishedTableAndItsNegativeAIsRight) {
+  // The file holds the published rows as they are, row 5 with a = -82.5 mm. The same arm
+  // with every a >= 0 takes two more rows: a fixed turn of 180 deg about z4, the row with
+  // a = +82.5 mm and alpha = +90 deg, a fixed turn of -180 deg about z5
+  // (Rz(pi) Rx(90) Tx(82.5) Rz(q5) Tz(384) Rz(-pi) = Rx(-90) Tx(-82.5) Rz(q5) Tz(384)).
+  // Both give the same tool pose and Jacobian.
   const Robot& r = robot("panda");
   const HostModel pub = panda_published();
+  ASSERT_EQ(r.model.num_rows, 7);
+  for (int i = 0; i < 7; ++i) {
+    EXPECT_EQ(r.model.rows[i].a, pub.rows[i].a) << i;
+    EXPECT_NEAR(r.model.rows[i].alpha, pub.rows[i].alpha, 1e-15) << i;
+    EXPECT_EQ(r.model.rows[i].d, pub.rows[i].d) << i;
+  }
+  HostModel nine{};
+  const double a[9] = {0, 0, 0, 82.5, 0, 82.5, 0, 0, 88};
+  const double d[9] = {333, 0, 316, 0, 0, 384, 0, 0, 0};
+  const double alpha[9] = {0, -90, 90, 90, 0, 90, 0, 90, 90};
+  const double theta[9] = {0, 0, 0, 0, 180, 0, -180, 0, 0};
+  const int joint_row[7] = {0, 1, 2, 3, 5, 7, 8};
+  nine.num_rows = 9;
+  nine.num_joints = 7;
+  for (int i = 0; i < 9; ++i) nine.rows[i] = DhRow<double>{a[i], rad(alpha[i]), d[i], rad(theta[i])};
+  for (int j = 0; j < 7; ++j)
+    nine.joints[j] = JointSpec<double>{uint8_t(joint_row[j]), kParamTheta, pub.joints[j].lo, pub.joints[j].hi};
+  nine.T_last_tool = pub.T_last_tool;
+  ASSERT_EQ(validate(nine), kModelOk);
   std::mt19937_64 rng(7);
   for (int i = 0; i < 200; ++i) {
     const std::vector<double> q = random_pose(r, rng);
     HostFrames fa, fb;
     forward_kinematics(fa, r.model, q.data());
-    forward_kinematics(fb, pub, q.data());
+    forward_kinematics(fb, nine, q.data());
     EXPECT_LT(norm(fa.T_base_tool.p - fb.T_base_tool.p), 1e-9);
     for (int c = 0; c < 3; ++c) EXPECT_LT(norm(fa.T_base_tool.R.col(c) - fb.T_base_tool.R.col(c)), 1e-12);
     double Ja[6][kMaxJoints], Jb[6][kMaxJoints];
     jacobian(Ja, r.model, fa);
-    jacobian(Jb, pub, fb);
+    jacobian(Jb, nine, fb);
     for (int row = 0; row < 6; ++row)
       for (int j = 0; j < 7; ++j) EXPECT_NEAR(Ja[row][j], Jb[row][j], 1e-9);
   }

@@ -464,7 +464,7 @@ TEST(Schema, RejectsWhatTheLoaderRejects) {
       {"no name", [](json& j) { j.erase("name"); }},
       {"unknown row field", [](json& j) { j["dh"][0]["thta"] = 1; }},
       {"row without alpha", [](json& j) { j["dh"][0].erase("alpha"); }},
-      {"negative a", [](json& j) { j["dh"][2]["a"] = -1; }},
+      {"negative length range", [](json& j) { j["dh"][2]["a"] = {{"value", 135}, {"min", -1}, {"max", 200}}; }},
       {"joint without max", [](json& j) { j["dh"][0]["theta"].erase("max"); }},
       {"parameter as text", [](json& j) { j["dh"][0]["d"] = "78"; }},
       {"linked as a list", [](json& j) { j["dh"][3]["theta"]["linked"] = json::array({-1, -1}); }},
@@ -843,10 +843,11 @@ TEST(RobotFileErrors, DuplicateField) {
   EXPECT_TRUE(text_fails_with(text, "/dh/0/d", {"duplicate field \"d\""}));
 }
 
-TEST(RobotFileErrors, NegativeLength) {
+TEST(RobotFileErrors, NegativeLinkLengthRange) {
+  // A length RoboSim's `l` may change is a length: never negative.
   json doc = base_robot();
-  doc["dh"][2]["a"] = -135;
-  EXPECT_TRUE(fails_with(doc, "/dh/2/a", {"negative length (-135 mm)"}));
+  doc["dh"][2]["a"] = {{"value", 135}, {"min", -10}, {"max", 200}};
+  EXPECT_TRUE(fails_with(doc, "/dh/2/a/min", {"negative length (-10 mm)"}));
 }
 
 TEST(RobotFileErrors, NonFiniteNumber) {
