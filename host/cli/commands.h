@@ -13,6 +13,7 @@ int cmd_quantize(int argc, char** argv);
 int cmd_predict(int argc, char** argv);
 int cmd_run(int argc, char** argv);
 int cmd_import_legacy(int argc, char** argv);
+int cmd_sim(int argc, char** argv);
 
 }  // namespace articula::cli
 

@@ -21,6 +21,7 @@ const CommandEntry kCommands[] = {
     {"quantize", articula::cli::cmd_quantize, "what whole motor steps make of protocol moves (L lines), in degrees and mm"},
     {"predict", articula::cli::cmd_predict, "what the real arm does with a program: steps, tool error, timing"},
     {"run", articula::cli::cmd_run, "run a program on the kinematic model: the pose after each command"},
+    {"sim", articula::cli::cmd_sim, "run a program on the arm as rigid bodies (ODE): trajectory, contacts, grasps"},
     {"export-urdf", articula::cli::cmd_export_urdf, "the robot as URDF, for ROS tools"},
     {"import-legacy", articula::cli::cmd_import_legacy, "convert the original system's robot text file (thesis appendix C)"},
 };

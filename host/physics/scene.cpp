@@ -1,0 +1,232 @@
+// host/physics/scene.cpp - reads a scene file (scenes/README.md): every field checked, every
+// error naming the file and the JSON pointer of the value at fault, as robot files do.
+#include "scene.h"
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+namespace articula::host {
+
+SceneError::SceneError(const std::string& file, const std::string& json_path, const std::string& problem)
+    : std::runtime_error(file + ": " + (json_path.empty() ? std::string() : json_path + ": ") + problem),
+      json_path_(json_path) {}
+
+double SceneObject::volume_m3() const {
+  const double k = 1e-9;  // mm^3 -> m^3
+  switch (type) {
+    case Type::kBox: return size[0] * size[1] * size[2] * k;
+    case Type::kCylinder: return M_PI * size[0] * size[0] * size[1] * k;
+    case Type::kSphere: return 4.0 / 3.0 * M_PI * size[0] * size[0] * size[0] * k;
+  }
+  return 0;
+}
+
+const std::map<std::string, std::vector<std::string>>& scene_file_fields() {
+  static const std::map<std::string, std::vector<std::string>> fields = {
+      {"scene", {"$schema", "name", "description", "gravity", "ground", "world_box", "objects"}},
+      {"ground", {"friction"}},
+      {"world_box", {"min", "max"}},
+      {"object", {"name", "type", "size", "xyz", "rpy", "movable", "mass", "density", "friction"}},
+  };
+  return fields;
+}
+
+namespace {
+
+using json = nlohmann::json;
+
+std::string num(double v) {
+  std::ostringstream o;
+  o.precision(10);
+  o << v;
+  return o.str();
+}
+
+class Loader {
+ public:
+  Loader(std::string file) : file_(std::move(file)) {}
+
+  [[noreturn]] void fail(const std::string& path, const std::string& problem) const {
+    throw SceneError(file_, path, problem);
+  }
+
+  void check_fields(const json& j, const std::string& path, const std::string& kind) const {
+    if (!j.is_object()) fail(path, "must be an object");
+    const auto& allowed = scene_file_fields().at(kind);
+    for (const auto& item : j.items()) {
+      bool ok = false;
+      for (const auto& a : allowed) ok = ok || a == item.key();
+      if (!ok) {
+        std::string list;
+        for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
+        fail(path + "/" + item.key(), "unknown field \"" + item.key() + "\" (expected one of: " + list + ")");
+      }
+    }
+  }
+
+  double number(const json& j, const std::string& path) const {
+    if (!j.is_number()) fail(path, "must be a number");
+    const double v = j.get<double>();
+    if (!std::isfinite(v)) fail(path, "must be finite");
+    return v;
+  }
+
+  double positive(const json& j, const std::string& path) const {
+    const double v = number(j, path);
+    if (!(v > 0)) fail(path, "must be > 0 (got " + num(v) + ")");
+    return v;
+  }
+
+  double non_negative(const json& j, const std::string& path) const {
+    const double v = number(j, path);
+    if (v < 0) fail(path, "must be >= 0 (got " + num(v) + ")");
+    return v;
+  }
+
+  Vec3<double> vec3(const json& j, const std::string& path) const {
+    if (!j.is_array() || j.size() != 3) fail(path, "must be an array of 3 numbers");
+    return make_vec3(number(j[0], path + "/0"), number(j[1], path + "/1"), number(j[2], path + "/2"));
+  }
+
+  std::string text(const json& j, const std::string& path) const {
+    if (!j.is_string()) fail(path, "must be a string");
+    return j.get<std::string>();
+  }
+
+  SceneObject object(const json& j, const std::string& path, size_t index) const {
+    check_fields(j, path, "object");
+    SceneObject o;
+    o.name = j.contains("name") ? text(j["name"], path + "/name") : "object " + std::to_string(index);
+    if (o.name.empty()) fail(path + "/name", "must not be empty");
+    if (!j.contains("type")) fail(path, "missing field \"type\" (box, cylinder or sphere)");
+    const std::string type = text(j["type"], path + "/type");
+    size_t n = 0;
+    if (type == "box") {
+      o.type = SceneObject::Type::kBox, n = 3;
+    } else if (type == "cylinder") {
+      o.type = SceneObject::Type::kCylinder, n = 2;
+    } else if (type == "sphere") {
+      o.type = SceneObject::Type::kSphere, n = 1;
+    } else if (type == "capsule" || type == "mesh") {
+      fail(path + "/type", "\"" + type + "\" is not supported in scenes (box, cylinder or sphere)");
+    } else {
+      fail(path + "/type", "unknown type \"" + type + "\" (box, cylinder or sphere)");
+    }
+    if (!j.contains("size")) fail(path, "missing field \"size\"");
+    const json& s = j["size"];
+    const std::string sp = path + "/size";
+    if (!s.is_array() || s.size() != n)
+      fail(sp, "a " + type + " takes " + std::to_string(n) + " size number" + (n > 1 ? "s" : "") +
+                   (n == 3 ? " [x, y, z]" : n == 2 ? " [radius, length]" : " [radius]"));
+    for (size_t i = 0; i < n; ++i) o.size[i] = positive(s[i], sp + "/" + std::to_string(i));
+    if (j.contains("xyz")) o.xyz = vec3(j["xyz"], path + "/xyz");
+    if (j.contains("rpy")) o.rpy_deg = vec3(j["rpy"], path + "/rpy");
+    if (j.contains("movable")) {
+      if (!j["movable"].is_boolean()) fail(path + "/movable", "must be true or false");
+      o.movable = j["movable"].get<bool>();
+    }
+    if (j.contains("mass") && j.contains("density")) fail(path + "/density", "give mass or density, not both");
+    if (j.contains("mass")) o.mass = positive(j["mass"], path + "/mass");
+    if (j.contains("density")) o.density = positive(j["density"], path + "/density");
+    if (!o.movable && (j.contains("mass") || j.contains("density")))
+      fail(path + (j.contains("mass") ? "/mass" : "/density"), "a static object has no mass (set \"movable\": true)");
+    if (o.movable && o.mass == 0 && o.density == 0) o.density = 700;  // wood, the thesis's blocks
+    if (o.movable && !(o.mass_kg() >= 1e-5 && o.mass_kg() <= 100))
+      fail(path + (j.contains("mass") ? "/mass" : "/density"),
+           "mass " + num(o.mass_kg()) + " kg is outside 0.00001 .. 100 kg (the arm's world)");
+    if (j.contains("friction")) o.friction = non_negative(j["friction"], path + "/friction");
+    return o;
+  }
+
+  Scene scene(const json& j) const {
+    check_fields(j, "", "scene");
+    Scene sc;
+    sc.source = file_;
+    if (j.contains("name")) sc.name = text(j["name"], "/name");
+    if (j.contains("description")) sc.description = text(j["description"], "/description");
+    if (j.contains("gravity")) sc.gravity = vec3(j["gravity"], "/gravity");
+    if (j.contains("ground")) {
+      const json& g = j["ground"];
+      if (g.is_boolean()) {
+        sc.ground = g.get<bool>();
+      } else {
+        check_fields(g, "/ground", "ground");
+        sc.ground = true;
+        if (g.contains("friction")) sc.ground_friction = non_negative(g["friction"], "/ground/friction");
+      }
+    }
+    if (j.contains("world_box")) {
+      const json& b = j["world_box"];
+      check_fields(b, "/world_box", "world_box");
+      if (!b.contains("min") || !b.contains("max")) fail("/world_box", "needs both \"min\" and \"max\"");
+      sc.world_min = vec3(b["min"], "/world_box/min");
+      sc.world_max = vec3(b["max"], "/world_box/max");
+      if (!(sc.world_min.x < sc.world_max.x && sc.world_min.y < sc.world_max.y && sc.world_min.z < sc.world_max.z))
+        fail("/world_box", "min must be below max on every axis");
+    }
+    if (j.contains("objects")) {
+      const json& objs = j["objects"];
+      if (!objs.is_array()) fail("/objects", "must be an array");
+      std::set<std::string> names;
+      for (size_t i = 0; i < objs.size(); ++i) {
+        const std::string p = "/objects/" + std::to_string(i);
+        sc.objects.push_back(object(objs[i], p, i));
+        if (!names.insert(sc.objects.back().name).second)
+          fail(p + "/name", "duplicate name \"" + sc.objects.back().name + "\"");
+      }
+    }
+    for (size_t i = 0; i < sc.objects.size(); ++i) {
+      const Vec3<double>& c = sc.objects[i].xyz;
+      if (c.x < sc.world_min.x || c.y < sc.world_min.y || c.z < sc.world_min.z || c.x > sc.world_max.x ||
+          c.y > sc.world_max.y || c.z > sc.world_max.z)
+        fail("/objects/" + std::to_string(i) + "/xyz", "outside the world box");
+    }
+    return sc;
+  }
+
+ private:
+  std::string file_;
+};
+
+}  // namespace
+
+Scene parse_scene(const std::string& json_text, const std::string& name) {
+  json j;
+  try {
+    j = json::parse(json_text);
+  } catch (const json::parse_error& e) {
+    // nlohmann's byte offset -> line and column.
+    size_t line = 1, col = 1;
+    for (size_t i = 0; i + 1 < e.byte && i < json_text.size(); ++i) {
+      if (json_text[i] == '\n') {
+        ++line;
+        col = 1;
+      } else {
+        ++col;
+      }
+    }
+    throw SceneError(name, "", "not valid JSON at line " + std::to_string(line) + ", column " + std::to_string(col));
+  }
+  return Loader(name).scene(j);
+}
+
+Scene load_scene_file(const std::string& path) {
+  std::ifstream f(path);
+  if (!f) throw SceneError(path, "", std::filesystem::exists(path) ? "cannot be read" : "file not found");
+  std::stringstream ss;
+  ss << f.rdbuf();
+  return parse_scene(ss.str(), path);
+}
+
+std::string resolve_scene_path(const std::string& name_or_path) {
+  if (name_or_path.find('/') != std::string::npos || name_or_path.find('.') != std::string::npos)
+    return name_or_path;
+  return std::string(ARTICULA_SCENES_DIR) + "/" + name_or_path + ".json";
+}
+
+}  // namespace articula::host

@@ -1,0 +1,1271 @@
+// host/physics/sim.cpp - see sim.h; docs/physics.md explains the choices.
+#include "sim.h"
+
+#include <algorithm>
+#include <cstdarg>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <mutex>
+#include <stdexcept>
+
+#include "run.h"
+
+namespace articula::host {
+
+namespace {
+
+constexpr double kMm = 0.001;  // mm -> m
+constexpr int kMaxContacts = 4;
+constexpr double kArmFriction = 0.6;
+constexpr double kFingerFriction = 1.0;
+
+void init_ode() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    dInitODE2(0);
+    // ODE's notes on degenerate contact sets (a body squeezed between two immovable ones) go
+    // to stderr by default, in the middle of our output: the simulation checks its state itself.
+    dSetMessageHandler([](int, const char*, va_list) {});
+  });
+}
+
+void to_ode(const Mat3<double>& R, dMatrix3 out) {
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) out[i * 4 + j] = R.m[i][j];
+    out[i * 4 + 3] = 0;
+  }
+}
+
+Mat3<double> from_ode(const dReal* R) {
+  Mat3<double> m;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) m.m[i][j] = R[i * 4 + j];
+  return m;
+}
+
+Transform<double> inverse(const Transform<double>& T) {
+  const Mat3<double> Rt = transpose(T.R);
+  const Vec3<double> p = Rt * T.p;
+  return make_transform(Rt, make_vec3(-p.x, -p.y, -p.z));
+}
+
+bool aabb_overlap(dGeomID a, dGeomID b) {
+  dReal x[6], y[6];
+  dGeomGetAABB(a, x);
+  dGeomGetAABB(b, y);
+  return x[0] <= y[1] && y[0] <= x[1] && x[2] <= y[3] && y[2] <= x[3] && x[4] <= y[5] && y[4] <= x[5];
+}
+
+// The rotation R_new R_old^T as a rotation vector (axis * angle), rad.
+Vec3<double> rotation_vector(const Mat3<double>& R_new, const Mat3<double>& R_old) {
+  const Mat3<double> D = R_new * transpose(R_old);
+  const double c = std::clamp((D.m[0][0] + D.m[1][1] + D.m[2][2] - 1) / 2, -1.0, 1.0);
+  const double angle = std::acos(c);
+  const Vec3<double> w = make_vec3(D.m[2][1] - D.m[1][2], D.m[0][2] - D.m[2][0], D.m[1][0] - D.m[0][1]);
+  const double s = std::sin(angle);
+  if (s < 1e-9) return make_vec3(w.x / 2, w.y / 2, w.z / 2);  // small angle (or 180 deg: not a step's worth)
+  const double k = angle / (2 * s);
+  return make_vec3(w.x * k, w.y * k, w.z * k);
+}
+
+std::string fmt_mm(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.1f", v);
+  return buf;
+}
+
+char command_letter(const std::string& text) {
+  for (char c : text)
+    if (c != ' ' && c != '\t') return char(std::toupper(static_cast<unsigned char>(c)));
+  return 0;
+}
+
+}  // namespace
+
+const char* event_kind_name(SimEvent::Kind k) {
+  switch (k) {
+    case SimEvent::Kind::kContactStarted: return "contact_started";
+    case SimEvent::Kind::kContactEnded: return "contact_ended";
+    case SimEvent::Kind::kCollision: return "collision";
+    case SimEvent::Kind::kSelfCollision: return "self_collision";
+    case SimEvent::Kind::kSqueeze: return "squeeze";
+    case SimEvent::Kind::kStepsLost: return "steps_lost";
+    case SimEvent::Kind::kBlocked: return "blocked";
+    case SimEvent::Kind::kGrasp: return "grasp";
+    case SimEvent::Kind::kRelease: return "release";
+    case SimEvent::Kind::kGripperBlocked: return "gripper_blocked";
+    case SimEvent::Kind::kRejected: return "rejected";
+    case SimEvent::Kind::kObjectRemoved: return "object_removed";
+    case SimEvent::Kind::kNote: return "note";
+    case SimEvent::Kind::kStall: return "stall";
+  }
+  return "?";
+}
+
+struct Simulation::Part {
+  std::string name;
+  int frame = -1;  // DH frame; -1 a finger
+  int side = 0;    // finger: -1 right, +1 left (along the tool's y)
+  int chain = 0;   // position along the arm: parts one apart are adjacent
+  double mu = kArmFriction;
+  dBodyID body = nullptr;
+  std::vector<dGeomID> geoms;
+  Transform<double> T = Transform<double>::identity();       // accepted pose, mm
+  Transform<double> T_prev = Transform<double>::identity();  // at the start of the world step
+  bool moved = false;
+  Transform<double> T_set{};  // the pose last given to ODE
+  double t_last_move = 0;  // when it last moved (s): a step's displacement is spread over the time since
+};
+
+struct Simulation::Object {
+  dBodyID body = nullptr;  // null: static
+  dGeomID geom = nullptr;
+  bool movable = false, removed = false, carried = false;
+  double mu = 0.8;
+  Transform<double> T_tool_obj = Transform<double>::identity();  // carried: pose in the tool frame, mm
+  Transform<double> T_carry = Transform<double>::identity();     // carried: accepted pose, mm
+  Transform<double> T_carry_prev = Transform<double>::identity();
+  double last_good[3] = {0, 0, 0};
+};
+
+struct Simulation::Pair {
+  enum Kind { kGround, kStatic, kSelf, kMovable, kCarriedGround, kCarriedStatic } kind;
+  dGeomID a = nullptr, b = nullptr;
+  int part_a = -1;    // arm part (or -1: the carried object object_a)
+  int object_a = -1;
+  int part_b = -1;    // kSelf
+  int object_b = -1;  // kStatic, kMovable, kCarriedStatic
+  double accepted = 0;  // depth at the last accepted pose, mm
+  double settled = 0;   // kMovable: depth after the last world step, mm
+};
+
+struct Simulation::Action {
+  enum Kind { kMove, kHome, kGripper, kJoints, kSetCounts } kind = kMove;
+  int line = 0;
+  uint64_t start_tick = 0, end_tick = 0;
+  int32_t to[8]{};  // counted steps at the end (moves, Z)
+  ProfileConstants k{};
+  uint32_t seek_mask = 0, homing_ticks = 0;  // kHome
+  double opening_to = 0;                     // kGripper, mm
+  std::vector<double> q_from, q_to;          // kJoints, model units
+  ControllerSettings settings;               // kMove: the controller's settings for it (stall check)
+};
+
+Simulation::Simulation(const Robot& robot, const Scene& scene, const SimOptions& options)
+    : robot_(robot), scene_(scene), opt_(options) {
+  init_ode();
+  if (!(opt_.dt > 0 && opt_.dt <= 0.01)) throw std::invalid_argument("the world step must be in (0, 10] ms");
+  motors_ = robot_.has_motors;
+  n_motors_ = motors_ ? robot_.actuation.num_motors : 0;
+  n_joints_ = robot_.model.num_joints;
+  if (n_motors_ > 8) throw std::invalid_argument("more than 8 motors: the step replay handles 8 (as the firmware)");
+  for (const auto& l : robot_.links)
+    for (const auto& s : l.shapes)
+      if (s.type == Shape::Type::kMesh)
+        throw std::invalid_argument(robot_.source + ": link shape \"" + s.mesh +
+                                    "\": mesh shapes are not simulated yet (use boxes, cylinders, capsules, spheres)");
+  ticks_per_step_ = uint64_t(std::llround(opt_.dt * kControllerTickHz));
+  if (ticks_per_step_ == 0) ticks_per_step_ = 1;
+
+  world_ = dWorldCreate();
+  dWorldSetGravity(world_, scene_.gravity.x, scene_.gravity.y, scene_.gravity.z);
+  dWorldSetERP(world_, 0.2);
+  dWorldSetCFM(world_, 1e-6);
+  dWorldSetContactMaxCorrectingVel(world_, 0.2);
+  dWorldSetContactSurfaceLayer(world_, 0.0002);
+  dWorldSetQuickStepNumIterations(world_, 20);
+  dWorldSetAutoDisableFlag(world_, 1);
+  dWorldSetAutoDisableLinearThreshold(world_, 0.002);
+  dWorldSetAutoDisableAngularThreshold(world_, 0.02);
+  dWorldSetAutoDisableSteps(world_, 10);
+  dWorldSetAutoDisableTime(world_, 0);
+  contacts_ = dJointGroupCreate(0);
+
+  q_.assign(size_t(n_joints_), 0.0);
+  q_try_ = q_;
+  if (motors_) {
+    joints_from_steps(q_.data(), robot_.actuation, counted_);
+  } else {
+    for (int j = 0; j < n_joints_ && size_t(j) < robot_.home.size(); ++j) q_[size_t(j)] = robot_.home[size_t(j)];
+  }
+  q_try_ = q_cmd_ = q_cmd_want_ = q_;
+  opening_mm_ = opening_from_mm_ = robot_.gripper.present ? robot_.gripper.max_opening_mm : 0;
+  build_arm();
+  build_scene();
+  build_pairs();
+  place_arm(q_.data(), opening_mm_);
+  accept_pose();
+  for (auto& p : parts_) p->T_prev = p->T;
+  if (motors_ && opt_.stall_check) {
+    auto model = std::make_unique<StallModel>(robot_);
+    if (model->has_torque_curves()) stall_ = std::move(model);
+  }
+}
+
+Simulation::~Simulation() {
+  dJointGroupDestroy(contacts_);
+  for (auto& p : parts_)
+    for (dGeomID g : p->geoms) dGeomDestroy(g);
+  for (auto& o : objects_) dGeomDestroy(o.geom);
+  if (ground_) dGeomDestroy(ground_);
+  dWorldDestroy(world_);
+}
+
+// ---- building ----
+
+void Simulation::build_arm() {
+  std::vector<LinkGeometry> links = robot_.links;
+  if (links.empty()) {
+    // No geometry in the robot file: a capsule along each row's fixed offset (a(i-1) and a
+    // constant d(i)), so every robot can collide. Radius 6 % of the arm's reach, 5..40 mm.
+    double reach = 0;
+    std::vector<Vec3<double>> seg(robot_.model.num_rows);
+    for (int i = 0; i < robot_.model.num_rows; ++i) {
+      const DhRow<double>& r = robot_.model.rows[i];
+      bool d_variable = false;
+      for (int j = 0; j < robot_.model.num_joints; ++j)
+        d_variable = d_variable || (robot_.model.joints[j].row == i && robot_.model.joints[j].param == kParamD);
+      for (int k = 0; k < robot_.model.num_linked; ++k)
+        d_variable = d_variable || (robot_.model.linked[k].row == i && robot_.model.linked[k].param == kParamD);
+      const double d = d_variable ? 0 : r.d;
+      seg[size_t(i)] = make_vec3(r.a, -std::sin(r.alpha) * d, std::cos(r.alpha) * d);
+      reach += norm(seg[size_t(i)]);
+    }
+    reach += norm(robot_.model.T_last_tool.p);
+    const double radius = std::clamp(0.06 * reach, 5.0, 40.0);
+    for (int i = 0; i < robot_.model.num_rows; ++i) {
+      const Vec3<double> v = seg[size_t(i)];
+      const double len = norm(v);
+      if (len < 1) continue;
+      Shape s;
+      s.type = Shape::Type::kCapsule;
+      s.size = {radius, len, 0};
+      // z along v: a rotation taking (0, 0, 1) to v / len.
+      const Vec3<double> z = (1.0 / len) * v;
+      Vec3<double> x = std::fabs(z.x) < 0.9 ? make_vec3(1.0, 0.0, 0.0) : make_vec3(0.0, 1.0, 0.0);
+      x = x - dot(x, z) * z;
+      x = (1.0 / norm(x)) * x;
+      const Vec3<double> y = cross(z, x);
+      Mat3<double> R;
+      for (int k = 0; k < 3; ++k) {
+        const double cx[3] = {x.x, x.y, x.z}, cy[3] = {y.x, y.y, y.z}, cz[3] = {z.x, z.y, z.z};
+        R.m[k][0] = cx[k], R.m[k][1] = cy[k], R.m[k][2] = cz[k];
+      }
+      s.T_frame_shape = make_transform(R, 0.5 * v);
+      links.push_back({i, {s}});
+    }
+  }
+  std::sort(links.begin(), links.end(), [](const LinkGeometry& a, const LinkGeometry& b) { return a.frame < b.frame; });
+  int chain = 0;
+  for (const auto& l : links) {
+    if (!parts_.empty() && parts_.back()->frame == l.frame) {
+      // Two entries for one frame: one part.
+    } else {
+      auto p = std::make_unique<Part>();
+      p->frame = l.frame;
+      p->name = l.frame == 0 ? "base" : "link " + std::to_string(l.frame);
+      p->chain = chain++;
+      p->body = dBodyCreate(world_);
+      dBodySetKinematic(p->body);
+      dBodySetAutoDisableFlag(p->body, 1);
+      parts_.push_back(std::move(p));
+    }
+    Part& p = *parts_.back();
+    for (const Shape& s : l.shapes) {
+      dGeomID g = nullptr;
+      switch (s.type) {
+        case Shape::Type::kBox: g = dCreateBox(nullptr, s.size[0] * kMm, s.size[1] * kMm, s.size[2] * kMm); break;
+        case Shape::Type::kCylinder: g = dCreateCylinder(nullptr, s.size[0] * kMm, s.size[1] * kMm); break;
+        case Shape::Type::kCapsule: g = dCreateCapsule(nullptr, s.size[0] * kMm, s.size[1] * kMm); break;
+        case Shape::Type::kSphere: g = dCreateSphere(nullptr, s.size[0] * kMm); break;
+        case Shape::Type::kMesh: break;  // refused in the constructor
+      }
+      dGeomSetBody(g, p.body);
+      dGeomSetOffsetPosition(g, s.T_frame_shape.p.x * kMm, s.T_frame_shape.p.y * kMm, s.T_frame_shape.p.z * kMm);
+      dMatrix3 R;
+      to_ode(s.T_frame_shape.R, R);
+      dGeomSetOffsetRotation(g, R);
+      p.geoms.push_back(g);
+    }
+  }
+  if (robot_.gripper.present) {
+    const Gripper& gr = robot_.gripper;
+    for (int side : {+1, -1}) {
+      auto p = std::make_unique<Part>();
+      p->name = side > 0 ? "finger left" : "finger right";
+      p->side = side;
+      p->chain = chain;  // both adjacent to the last link and to each other
+      p->mu = kFingerFriction;
+      p->body = dBodyCreate(world_);
+      dBodySetKinematic(p->body);
+      dBodySetAutoDisableFlag(p->body, 1);
+      dGeomID g = dCreateBox(nullptr, gr.finger_length_mm * kMm, opt_.finger_thickness_mm * kMm,
+                             opt_.finger_height_mm * kMm);
+      dGeomSetBody(g, p->body);
+      p->geoms.push_back(g);
+      finger_[side > 0 ? 0 : 1] = int(parts_.size());
+      parts_.push_back(std::move(p));
+    }
+  }
+}
+
+void Simulation::build_scene() {
+  if (scene_.ground) ground_ = dCreatePlane(nullptr, 0, 0, 1, 0);
+  for (const SceneObject& so : scene_.objects) {
+    Object o;
+    o.movable = so.movable;
+    o.mu = so.friction;
+    switch (so.type) {
+      case SceneObject::Type::kBox: o.geom = dCreateBox(nullptr, so.size[0] * kMm, so.size[1] * kMm, so.size[2] * kMm); break;
+      case SceneObject::Type::kCylinder: o.geom = dCreateCylinder(nullptr, so.size[0] * kMm, so.size[1] * kMm); break;
+      case SceneObject::Type::kSphere: o.geom = dCreateSphere(nullptr, so.size[0] * kMm); break;
+    }
+    const Mat3<double> R = rpy_to_matrix(so.rpy_deg.x * M_PI / 180, so.rpy_deg.y * M_PI / 180, so.rpy_deg.z * M_PI / 180);
+    dMatrix3 Rd;
+    to_ode(R, Rd);
+    if (so.movable) {
+      o.body = dBodyCreate(world_);
+      dMass m;
+      const double kg = so.mass_kg();
+      switch (so.type) {
+        case SceneObject::Type::kBox: dMassSetBoxTotal(&m, kg, so.size[0] * kMm, so.size[1] * kMm, so.size[2] * kMm); break;
+        case SceneObject::Type::kCylinder: dMassSetCylinderTotal(&m, kg, 3, so.size[0] * kMm, so.size[1] * kMm); break;
+        case SceneObject::Type::kSphere: dMassSetSphereTotal(&m, kg, so.size[0] * kMm); break;
+      }
+      dBodySetMass(o.body, &m);
+      dGeomSetBody(o.geom, o.body);
+      dBodySetPosition(o.body, so.xyz.x * kMm, so.xyz.y * kMm, so.xyz.z * kMm);
+      dBodySetRotation(o.body, Rd);
+      o.last_good[0] = so.xyz.x * kMm, o.last_good[1] = so.xyz.y * kMm, o.last_good[2] = so.xyz.z * kMm;
+    } else {
+      dGeomSetPosition(o.geom, so.xyz.x * kMm, so.xyz.y * kMm, so.xyz.z * kMm);
+      dGeomSetRotation(o.geom, Rd);
+    }
+    objects_.push_back(o);
+  }
+  // Contact bookkeeping: others = ground, every object, every arm part.
+  n_others_ = 1 + int(objects_.size()) + int(parts_.size());
+  other_names_.push_back("ground");
+  for (const auto& so : scene_.objects) other_names_.push_back(so.name);
+  for (const auto& p : parts_) other_names_.push_back(p->name);
+  touching_.assign(objects_.size() * size_t(n_others_), 0);
+  touched_now_ = touching_;
+  touch_point_.assign(touching_.size(), dContactGeom{});
+  last_touch_.assign(touching_.size(), 0);
+}
+
+void Simulation::build_pairs() {
+  for (size_t pi = 0; pi < parts_.size(); ++pi) {
+    const Part& p = *parts_[pi];
+    if (p.frame == 0) continue;  // the base never moves: nothing to refuse
+    for (dGeomID g : p.geoms) {
+      if (ground_) {
+        Pair q{Pair::kGround};
+        q.a = g, q.b = ground_, q.part_a = int(pi);
+        block_pairs_.push_back(q);
+      }
+      for (size_t oi = 0; oi < objects_.size(); ++oi) {
+        Pair q{objects_[oi].movable ? Pair::kMovable : Pair::kStatic};
+        q.a = g, q.b = objects_[oi].geom, q.part_a = int(pi), q.object_b = int(oi);
+        block_pairs_.push_back(q);
+      }
+    }
+  }
+  // Self pairs: parts not adjacent along the arm, and not overlapping where the arm starts
+  // (rough shapes often overlap at a joint by design: a note says which were left out).
+  place_arm(q_.data(), opening_mm_);
+  for (size_t i = 0; i < parts_.size(); ++i) {
+    for (size_t j = i + 1; j < parts_.size(); ++j) {
+      if (std::abs(parts_[i]->chain - parts_[j]->chain) <= 1) continue;
+      bool overlap = false;
+      std::vector<Pair> these;
+      for (dGeomID a : parts_[i]->geoms) {
+        for (dGeomID b : parts_[j]->geoms) {
+          dContactGeom c[kMaxContacts];
+          if (aabb_overlap(a, b) && dCollide(a, b, kMaxContacts, c, sizeof(dContactGeom)) > 0) overlap = true;
+          Pair q{Pair::kSelf};
+          q.a = a, q.b = b, q.part_a = int(parts_[i]->frame == 0 ? j : i), q.part_b = int(parts_[i]->frame == 0 ? i : j);
+          if (parts_[i]->frame == 0) std::swap(q.a, q.b);  // part_a is the one that moves
+          these.push_back(q);
+        }
+      }
+      if (overlap) {
+        SimEvent e;
+        e.kind = SimEvent::Kind::kNote;
+        e.a = parts_[i]->name, e.b = parts_[j]->name;
+        e.detail = "overlap where the arm starts: their collisions are not checked";
+        events_.push_back(e);
+      } else {
+        block_pairs_.insert(block_pairs_.end(), these.begin(), these.end());
+      }
+    }
+  }
+  // A carried object becomes part of the arm: it may not go into the ground or a static object.
+  for (size_t oi = 0; oi < objects_.size(); ++oi) {
+    if (!objects_[oi].movable) continue;
+    if (ground_) {
+      Pair q{Pair::kCarriedGround};
+      q.a = objects_[oi].geom, q.b = ground_, q.object_a = int(oi);
+      block_pairs_.push_back(q);
+    }
+    for (size_t si = 0; si < objects_.size(); ++si) {
+      if (objects_[si].movable) continue;
+      Pair q{Pair::kCarriedStatic};
+      q.a = objects_[oi].geom, q.b = objects_[si].geom, q.object_a = int(oi), q.object_b = int(si);
+      block_pairs_.push_back(q);
+    }
+  }
+  block_depth_.assign(block_pairs_.size(), 0.0);
+}
+
+// ---- the arm's pose ----
+
+void Simulation::set_part_pose(Part& p, const Transform<double>& T) {
+  if (std::memcmp(&T, &p.T_set, sizeof T) == 0) return;  // ODE re-normalises a rotation it is given: skip
+  p.T_set = T;
+  dBodySetPosition(p.body, T.p.x * kMm, T.p.y * kMm, T.p.z * kMm);
+  dMatrix3 R;
+  to_ode(T.R, R);
+  dBodySetRotation(p.body, R);
+}
+
+void Simulation::place_arm(const double* q, double opening_mm) {
+  HostFrames f;
+  forward_kinematics(f, robot_.model, q);
+  for (auto& pp : parts_) {
+    Part& p = *pp;
+    Transform<double> T;
+    if (p.frame >= 0) {
+      T = f.T_base_frame[p.frame];
+    } else {
+      const double y = p.side * (opening_mm + opt_.finger_thickness_mm) / 2;
+      T = f.T_base_tool * make_transform(identity3<double>(), make_vec3(robot_.gripper.finger_length_mm / 2, y, 0.0));
+    }
+    set_part_pose(p, T);
+  }
+  for (auto& o : objects_) {
+    if (!o.carried) continue;
+    const Transform<double> T = f.T_base_tool * o.T_tool_obj;
+    dBodySetPosition(o.body, T.p.x * kMm, T.p.y * kMm, T.p.z * kMm);
+    dMatrix3 R;
+    to_ode(T.R, R);
+    dBodySetRotation(o.body, R);
+  }
+  frames_try_ = f;
+}
+
+// The candidate pose (placed) against every block pair: false and an event (once per
+// action) when a step would push the arm into something.
+bool Simulation::check_pose(int line) {
+  const double tol = opt_.touch_tolerance_mm;
+  int worst = -1;
+  dContactGeom worst_c{};
+  for (size_t k = 0; k < block_pairs_.size(); ++k) {
+    Pair& q = block_pairs_[k];
+    block_depth_[k] = 0;
+    if (q.object_a >= 0 && !objects_[size_t(q.object_a)].carried) continue;
+    if (q.kind == Pair::kMovable) {
+      const Object& o = objects_[size_t(q.object_b)];
+      if (o.removed || o.carried) continue;
+    }
+    if (!aabb_overlap(q.a, q.b)) continue;
+    dContactGeom c[kMaxContacts];
+    const int n = dCollide(q.a, q.b, kMaxContacts, c, sizeof(dContactGeom));
+    double depth = 0;
+    int deepest = -1;
+    for (int i = 0; i < n; ++i)
+      if (c[i].depth / kMm > depth) depth = c[i].depth / kMm, deepest = i;
+    block_depth_[k] = depth;
+    const bool refuse = q.kind == Pair::kMovable ? (q.settled > opt_.squeeze_mm && depth > q.settled + 1e-6)
+                                                 : (depth > tol && depth > q.accepted + 1e-6);
+    if (refuse && worst < 0) {
+      worst = int(k);
+      worst_c = c[deepest];
+    }
+  }
+  if (worst < 0) return true;
+  if (!blocked_reported_) {
+    blocked_reported_ = true;
+    const Pair& q = block_pairs_[size_t(worst)];
+    const std::string a = q.part_a >= 0 ? parts_[size_t(q.part_a)]->name : scene_.objects[size_t(q.object_a)].name +
+                                                                                 " (carried)";
+    std::string b;
+    SimEvent::Kind kind = SimEvent::Kind::kCollision;
+    switch (q.kind) {
+      case Pair::kGround:
+      case Pair::kCarriedGround: b = "ground"; break;
+      case Pair::kStatic:
+      case Pair::kCarriedStatic: b = scene_.objects[size_t(q.object_b)].name; break;
+      case Pair::kSelf: b = parts_[size_t(q.part_b)]->name, kind = SimEvent::Kind::kSelfCollision; break;
+      case Pair::kMovable: b = scene_.objects[size_t(q.object_b)].name, kind = SimEvent::Kind::kSqueeze; break;
+    }
+    current_line_ = line;
+    event(kind, a, b,
+          "the next step would go " + fmt_mm(block_depth_[size_t(worst)]) + " mm deep: the arm holds at contact" +
+              (motors_ ? ", the motors skip the steps" : ""),
+          &worst_c);
+    events_.back().depth_mm = block_depth_[size_t(worst)];
+  }
+  return false;
+}
+
+void Simulation::accept_pose() {
+  for (size_t k = 0; k < block_pairs_.size(); ++k) block_pairs_[k].accepted = block_depth_[k];
+  frames_ = frames_try_;
+  for (auto& pp : parts_) {
+    Part& p = *pp;
+    const Transform<double> T = p.frame >= 0 ? frames_.T_base_frame[p.frame]
+                                             : frames_.T_base_tool * make_transform(identity3<double>(),
+                                                                                    make_vec3(robot_.gripper.finger_length_mm / 2,
+                                                                                              p.side * (opening_mm_ + opt_.finger_thickness_mm) / 2, 0.0));
+    if (!p.moved) {
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) p.moved = p.moved || T.R.m[i][j] != p.T.R.m[i][j];
+      p.moved = p.moved || T.p.x != p.T.p.x || T.p.y != p.T.p.y || T.p.z != p.T.p.z;
+    }
+    p.T = T;
+    arm_moved_ = arm_moved_ || p.moved;
+  }
+  for (auto& o : objects_)
+    if (o.carried) o.T_carry = frames_.T_base_tool * o.T_tool_obj;
+}
+
+// Back to the accepted pose, without the kinematics.
+void Simulation::restore_arm() {
+  for (auto& p : parts_) set_part_pose(*p, p->T);
+  for (auto& o : objects_) {
+    if (!o.carried) continue;
+    dBodySetPosition(o.body, o.T_carry.p.x * kMm, o.T_carry.p.y * kMm, o.T_carry.p.z * kMm);
+    dMatrix3 R;
+    to_ode(o.T_carry.R, R);
+    dBodySetRotation(o.body, R);
+  }
+  frames_try_ = frames_;
+}
+
+// Places the arm at (q, opening) and keeps it there unless a step would push it into something.
+bool Simulation::try_joints(const double* q, double opening_mm) {
+  place_arm(q, opening_mm);
+  if (!check_pose(current_line_)) {
+    restore_arm();
+    return false;
+  }
+  opening_mm_ = opening_mm;
+  std::copy(q, q + n_joints_, q_.begin());
+  accept_pose();
+  return true;
+}
+
+// ---- the program ----
+
+void Simulation::load_program(const Program& program) {
+  actions_.clear();
+  action_ = 0;
+  action_running_ = false;
+  uint64_t clock = 0;
+  auto rejected = [&](int line, const std::string& text, Status s, const std::string& note) {
+    SimEvent e;
+    e.kind = SimEvent::Kind::kRejected;
+    e.t = double(clock) / kControllerTickHz;
+    e.line = line;
+    e.a = text;
+    e.detail = std::string("error:") + std::to_string(int(s)) + " " + status_text(s) + ", nothing moves" +
+               (note.empty() ? "" : "; " + note);
+    pending_.push_back(e);
+  };
+  pending_.clear();
+  pending_next_ = 0;
+  if (motors_) {
+    ControllerModel cm(robot_, opt_.settings);
+    std::vector<int32_t> prev(size_t(n_motors_), 0);
+    for (const Statement& st : program.statements) {
+      const ControllerSettings before = cm.settings();
+      const PredictRecord r = cm.execute(st);
+      if (r.reply != kOk) {
+        rejected(r.line, r.text, r.reply, r.note);
+        continue;
+      }
+      Action a;
+      a.line = r.line;
+      for (int i = 0; i < n_motors_; ++i) a.to[i] = r.steps[size_t(i)];
+      if (!r.queued) {
+        if (r.steps != prev) {  // Z: the counts change, the arm does not move
+          a.kind = Action::kSetCounts;
+          a.start_tick = a.end_tick = clock;
+          actions_.push_back(a);
+          prev = r.steps;
+        }
+        continue;
+      }
+      const char letter = command_letter(r.protocol.empty() ? r.text : r.protocol);
+      a.start_tick = r.start_tick;
+      a.end_tick = r.end_tick;
+      if (letter == 'G' || letter == 'S' || st.kind == Statement::Kind::kHand) {
+        a.kind = Action::kGripper;
+        const int pct = r.gripper_percent < 0 ? 100 : r.gripper_percent;
+        a.opening_to = robot_.gripper.max_opening_mm * pct / 100.0;
+      } else {
+        a.kind = letter == 'H' ? Action::kHome : Action::kMove;
+        a.settings = cm.settings();
+        profile_constants(a.k, cm.settings().motion());
+        if (a.kind == Action::kHome) {
+          a.seek_mask = before.value[ControllerSettings::kEndstops];
+          const uint32_t rate = before.value[ControllerSettings::kHomingRate];
+          a.homing_ticks = (kControllerTickHz + rate / 2) / rate;
+        }
+      }
+      actions_.push_back(a);
+      clock = r.end_tick;
+      prev = r.steps;
+    }
+  } else {
+    KinematicModel km(robot_);
+    std::vector<double> q = q_;
+    int percent = -1;
+    for (const Statement& st : program.statements) {
+      const RunRecord r = km.execute(st);
+      if (r.reply != kOk) {
+        rejected(r.line, r.text, r.reply, r.note);
+        continue;
+      }
+      Action a;
+      a.line = r.line;
+      std::vector<double> q_to(static_cast<size_t>(n_joints_));
+      double duration = 0;
+      for (int j = 0; j < n_joints_; ++j) {
+        const bool angle = robot_.model.joints[j].param != kParamD;
+        q_to[size_t(j)] = angle ? r.joints[size_t(j)] * M_PI / 180 : r.joints[size_t(j)];
+        const double speed = angle ? opt_.joint_speed_deg * M_PI / 180 : opt_.joint_speed_mm;
+        duration = std::max(duration, std::fabs(q_to[size_t(j)] - q[size_t(j)]) / speed);
+      }
+      const char letter = command_letter(r.text);
+      if (duration > 0) {
+        a.kind = Action::kJoints;
+        a.q_from = q;
+        a.q_to = q_to;
+        q = q_to;
+      } else if (r.gripper_percent != percent || st.kind == Statement::Kind::kHand ||
+                 (st.kind == Statement::Kind::kProtocol && (letter == 'G' || letter == 'S'))) {
+        a.kind = Action::kGripper;
+        duration = opt_.gripper_settle_s;
+        percent = r.gripper_percent;
+        a.opening_to = robot_.gripper.max_opening_mm * (percent < 0 ? 100 : percent) / 100.0;
+      } else {
+        continue;
+      }
+      a.start_tick = clock;
+      clock += uint64_t(std::ceil(duration * kControllerTickHz));
+      a.end_tick = clock;
+      actions_.push_back(a);
+    }
+  }
+  program_end_s_ = double(clock) / kControllerTickHz;
+  grip_from_ = grip_to_ = opening_mm_;
+}
+
+void Simulation::begin_action(size_t index) {
+  Action& a = actions_[index];
+  action_running_ = true;
+  blocked_reported_ = false;
+  current_line_ = a.line;
+  event_tick_ = a.start_tick;
+  std::fill(std::begin(lost_in_action_), std::end(lost_in_action_), 0);
+  switch (a.kind) {
+    case Action::kSetCounts:
+      for (int i = 0; i < n_motors_; ++i) {
+        offset_[i] += counted_[i] - a.to[i];
+        counted_[i] = a.to[i];
+      }
+      end_action();
+      return;
+    case Action::kGripper:
+      grip_from_ = target_opening(double(a.start_tick) / kControllerTickHz);
+      grip_to_ = a.opening_to;
+      grip_t0_ = double(a.start_tick) / kControllerTickHz;
+      grip_t1_ = double(a.end_tick) / kControllerTickHz;
+      return;
+    case Action::kJoints: return;
+    case Action::kMove:
+      stall_check(a);
+      start_move(a.to, a.k, a.start_tick);
+      return;
+    case Action::kHome: start_seek(0); return;
+  }
+}
+
+// Will the motors keep up with this move? The stall model (stall.h) samples it at the
+// firmware's step times from the counted steps, with whatever the gripper carries as the
+// payload; a motor that needs more than its pull-out torque gives a `stall` event at the
+// start of the move, saying when in the move it happens.
+void Simulation::stall_check(const Action& a) {
+  if (!stall_) return;
+  std::vector<double> start_deg(static_cast<size_t>(n_motors_));
+  std::vector<int32_t> delta(static_cast<size_t>(n_motors_));
+  for (int i = 0; i < n_motors_; ++i) {
+    start_deg[size_t(i)] = steps_to_degrees<double>(robot_.actuation.motors[i], counted_[i]);
+    delta[size_t(i)] = a.to[i] - counted_[i];
+  }
+  double payload_kg = 0;
+  for (size_t i = 0; i < objects_.size(); ++i)
+    if (objects_[i].carried) payload_kg += scene_.objects[i].mass_kg();
+  const MoveCheck check = stall_->check_steps(start_deg, delta, a.settings, payload_kg);
+  if (!check.skips) return;
+  for (int i = 0; i < n_motors_; ++i) {
+    const MotorCheck& m = check.motors[size_t(i)];
+    if (!m.skips) continue;
+    char text[200];
+    std::snprintf(text, sizeof text,
+                  "would skip steps %.3f s into the move: needs %.3f N*m, its pull-out torque at %.0f full steps/s is "
+                  "%.3f N*m (payload %.0f g)",
+                  m.at_s, m.at_worst.required_nm, m.at_worst.full_steps_per_s, m.at_worst.available_nm,
+                  payload_kg * 1000);
+    event(SimEvent::Kind::kStall, "motor " + robot_.motor_names[size_t(i)], "", text);
+  }
+}
+
+// A move as stepper.cpp's begin_move: LineStepper over the deltas, StepProfile of the
+// dominant count; the first step is due one interval after the start.
+void Simulation::start_move(const int32_t* to, const ProfileConstants& k, uint64_t t0) {
+  int32_t delta[8];
+  for (int i = 0; i < n_motors_; ++i) delta[i] = to[i] - counted_[i];
+  line_.start(delta, uint8_t(n_motors_));
+  seek_motor_ = -1;
+  if (line_.dominant == 0) {
+    next_step_tick_ = UINT64_MAX;  // nothing to step: the action ends now
+    return;
+  }
+  profile_.start(line_.dominant, k);
+  next_step_tick_ = t0 + profile_.next_interval();
+  pending_mask_ = line_.next();
+  pending_negative_ = line_.negative;
+}
+
+// Homing: each switch motor in turn steps towards its switch (at the motor's minimum) one
+// homing interval apart, one more interval to see it; then the move to the home pose.
+void Simulation::start_seek(size_t from_motor) {
+  const Action& a = actions_[action_];
+  for (size_t m = from_motor; m < size_t(n_motors_); ++m) {
+    if (!(a.seek_mask & (1u << m))) continue;
+    seek_motor_ = int(m);
+    const int32_t d = a.to[m] - (counted_[m] + offset_[m]);
+    seek_left_ = std::abs(d);
+    next_step_tick_ = event_tick_ + a.homing_ticks;
+    return;
+  }
+  start_move(a.to, a.k, event_tick_);
+}
+
+void Simulation::end_action() {
+  const Action& a = actions_[action_];
+  if (motors_) {
+    std::string lost;
+    for (int i = 0; i < n_motors_; ++i) {
+      if (lost_in_action_[i] == 0) continue;
+      const double deg = steps_to_degrees<double>(robot_.actuation.motors[i], lost_in_action_[i]) -
+                         steps_to_degrees<double>(robot_.actuation.motors[i], 0);
+      char buf[160];
+      std::snprintf(buf, sizeof buf, "%s%s %d steps (%.2f deg)", lost.empty() ? "" : ", ",
+                    robot_.motor_names[size_t(i)].c_str(), int(std::abs(lost_in_action_[i])), std::fabs(deg));
+      lost += buf;
+    }
+    if (!lost.empty()) {
+      SimEvent e;
+      e.kind = SimEvent::Kind::kStepsLost;
+      e.t = double(a.end_tick) / kControllerTickHz;
+      e.line = a.line;
+      e.detail = "skipped " + lost +
+                 ": the controller does not know (open loop), so the arm stays that far off its counted "
+                 "position until it is homed against endstops (H) or re-zeroed (Z)";
+      events_.push_back(e);
+    }
+  } else if (a.kind == Action::kJoints) {
+    double worst = 0;
+    for (int j = 0; j < n_joints_; ++j) worst = std::max(worst, std::fabs(q_[size_t(j)] - a.q_to[size_t(j)]));
+    if (worst > 1e-9) {
+      SimEvent e;
+      e.kind = SimEvent::Kind::kBlocked;
+      e.t = double(a.end_tick) / kControllerTickHz;
+      e.line = a.line;
+      char buf[120];
+      std::snprintf(buf, sizeof buf, "the move ended %.3f (deg or mm) short of its target; the joints follow later", 
+                    robot_.model.joints[0].param != kParamD ? worst * 180 / M_PI : worst);
+      e.detail = buf;
+      events_.push_back(e);
+    }
+  }
+  action_running_ = false;
+  ++action_;
+}
+
+// ---- motion within a world step ----
+
+bool Simulation::try_steps(const int32_t* steps) {
+  joints_from_steps(q_try_.data(), robot_.actuation, steps);
+  return try_joints(q_try_.data(), opening_mm_);
+}
+
+// One step event of the firmware: the counts always change; the arm follows unless blocked,
+// motor by motor.
+void Simulation::apply_steps(uint8_t mask, uint8_t negative) {
+  int32_t phys[8], delta[8] = {0};
+  for (int i = 0; i < n_motors_; ++i) {
+    phys[i] = counted_[i] + offset_[i];
+    if (mask & (1u << i)) {
+      delta[i] = (negative & (1u << i)) ? -1 : 1;
+      counted_[i] += delta[i];
+    }
+  }
+  int32_t cand[8];
+  for (int i = 0; i < n_motors_; ++i) cand[i] = phys[i] + delta[i];
+  if (try_steps(cand)) return;
+  uint8_t accepted = 0;
+  if (mask & (mask - 1)) {  // more than one motor: perhaps some can go on
+    for (int i = 0; i < n_motors_; ++i) {
+      if (!(mask & (1u << i))) continue;
+      for (int k = 0; k < n_motors_; ++k) cand[k] = phys[k] + ((accepted & (1u << k)) ? delta[k] : 0);
+      cand[i] += delta[i];
+      if (try_steps(cand)) accepted = uint8_t(accepted | (1u << i));
+    }
+  }
+  for (int i = 0; i < n_motors_; ++i) {
+    if (!(mask & (1u << i)) || (accepted & (1u << i))) continue;
+    offset_[i] -= delta[i];
+    lost_in_action_[i] += delta[i];
+  }
+}
+
+void Simulation::motor_events(uint64_t until) {
+  for (;;) {
+    if (!action_running_) {
+      if (action_ >= actions_.size() || actions_[action_].start_tick > until) return;
+      begin_action(action_);
+      continue;
+    }
+    Action& a = actions_[action_];
+    if (a.kind == Action::kGripper || a.kind == Action::kJoints || a.kind == Action::kSetCounts) {
+      if (a.end_tick > until) return;
+      event_tick_ = a.end_tick;
+      end_action();
+      continue;
+    }
+    if (next_step_tick_ == UINT64_MAX) {
+      end_action();
+      continue;
+    }
+    if (next_step_tick_ > until) return;
+    event_tick_ = next_step_tick_;
+    if (seek_motor_ >= 0) {
+      const int m = seek_motor_;
+      if (seek_left_ > 0) {
+        --seek_left_;
+        const int32_t d = a.to[m] - (counted_[m] + offset_[m]) < 0 ? -1 : 1;
+        apply_steps(uint8_t(1u << m), uint8_t(d < 0 ? 1u << m : 0));
+        next_step_tick_ += a.homing_ticks;
+      } else {  // the switch: the controller now knows where the motor is
+        offset_[m] = counted_[m] + offset_[m] - a.to[m];
+        counted_[m] = a.to[m];
+        start_seek(size_t(m) + 1);
+      }
+      continue;
+    }
+    apply_steps(pending_mask_, pending_negative_);
+    if (profile_.done()) {
+      next_step_tick_ = UINT64_MAX;
+    } else {
+      next_step_tick_ += profile_.next_interval();
+      pending_mask_ = line_.next();
+      pending_negative_ = line_.negative;
+    }
+  }
+}
+
+// Robots without motors: ideal position servos; after a block they catch up at twice the speed.
+void Simulation::follow_joints(const std::vector<double>& q_cmd, double dt) {
+  bool moves = false;
+  for (int j = 0; j < n_joints_; ++j) {
+    const bool angle = robot_.model.joints[j].param != kParamD;
+    const double max = 2 * dt * (angle ? opt_.joint_speed_deg * M_PI / 180 : opt_.joint_speed_mm);
+    const double d = std::clamp(q_cmd[size_t(j)] - q_[size_t(j)], -max, max);
+    q_try_[size_t(j)] = q_[size_t(j)] + d;
+    moves = moves || d != 0;
+  }
+  if (!moves) return;
+  if (steps_ < retry_after_step_) return;
+  std::vector<double>& cand = q_try_;
+  if (try_joints(cand.data(), opening_mm_)) return;
+  // Blocked: joint by joint, those that can go on do; then wait 10 ms before trying again.
+  retry_after_step_ = steps_ + std::max<uint64_t>(1, uint64_t(std::llround(0.01 / opt_.dt)));
+  std::vector<double>& want = q_cmd_want_;
+  want = cand;
+  for (int j = 0; j < n_joints_; ++j) {
+    if (want[size_t(j)] == q_[size_t(j)]) continue;
+    cand = q_;
+    cand[size_t(j)] = want[size_t(j)];
+    try_joints(cand.data(), opening_mm_);
+  }
+}
+
+void Simulation::joint_follow(double t_end) {
+  const uint64_t until = uint64_t(std::llround(t_end * kControllerTickHz));
+  for (;;) {
+    if (!action_running_) {
+      if (action_ >= actions_.size() || actions_[action_].start_tick > until) break;
+      begin_action(action_);
+      continue;
+    }
+    Action& a = actions_[action_];
+    if (a.end_tick > until) break;
+    if (a.kind == Action::kJoints) follow_joints(a.q_to, opt_.dt);
+    end_action();
+  }
+  if (action_running_ && actions_[action_].kind == Action::kJoints) {
+    const Action& a = actions_[action_];
+    const double f = double(until - a.start_tick) / double(a.end_tick - a.start_tick);
+    std::vector<double>& cmd = q_cmd_;
+    for (int j = 0; j < n_joints_; ++j)
+      cmd[size_t(j)] = a.q_from[size_t(j)] + f * (a.q_to[size_t(j)] - a.q_from[size_t(j)]);
+    follow_joints(cmd, opt_.dt);
+  } else if (action_ > 0 && !action_running_) {
+    follow_joints(actions_[action_ - 1].kind == Action::kJoints ? actions_[action_ - 1].q_to : q_, opt_.dt);
+  }
+}
+
+double Simulation::target_opening(double t) const {
+  if (t >= grip_t1_ || grip_t1_ <= grip_t0_) return grip_to_;
+  if (t <= grip_t0_) return grip_from_;
+  return grip_from_ + (grip_to_ - grip_from_) * (t - grip_t0_) / (grip_t1_ - grip_t0_);
+}
+
+void Simulation::gripper_follow(double t_end) {
+  if (!robot_.gripper.present) return;
+  double cand = target_opening(t_end);
+  bool carrying = false;
+  for (const auto& o : objects_) carrying = carrying || o.carried;
+  if (grip_stalled_) {
+    if (cand > grip_stall_mm_ + 1e-9) {
+      grip_stalled_ = false;
+      for (size_t i = 0; i < objects_.size(); ++i) {
+        Object& o = objects_[i];
+        if (!o.carried) continue;
+        o.carried = false;
+        dBodySetDynamic(o.body);
+        dBodyEnable(o.body);
+        current_line_ = action_running_ ? actions_[action_].line : current_line_;
+        const Transform<double> T = object_pose(int(i));
+        SimEvent e;
+        e.kind = SimEvent::Kind::kRelease;
+        e.t = t_end, e.line = current_line_, e.a = "gripper", e.b = scene_.objects[i].name;
+        e.has_point = true, e.point_mm = T.p;
+        e.detail = "the gripper opens: the object is free";
+        events_.push_back(e);
+      }
+    } else {
+      cand = opening_mm_;
+    }
+  }
+  if (std::fabs(cand - opening_mm_) < 1e-12) return;
+  const bool closing = cand < opening_mm_;
+  const bool reported = blocked_reported_;
+  blocked_reported_ = true;  // the gripper's own event below
+  const bool ok = try_joints(q_.data(), cand);
+  blocked_reported_ = reported;
+  if (!ok) {
+    grip_stalled_ = true;
+    grip_stall_mm_ = opening_mm_;
+    event(SimEvent::Kind::kGripperBlocked, "gripper", "",
+          "the fingers stop at " + fmt_mm(opening_mm_) + " mm: something they cannot grasp is in the way");
+    return;
+  }
+  if (closing && !carrying) grasp_check();
+}
+
+void Simulation::grasp_check() {
+  for (size_t i = 0; i < objects_.size(); ++i) {
+    Object& o = objects_[i];
+    if (!o.movable || o.removed || o.carried) continue;
+    bool touch[2] = {false, false};
+    for (int f = 0; f < 2; ++f) {
+      for (dGeomID g : parts_[size_t(finger_[f])]->geoms) {
+        dContactGeom c[kMaxContacts];
+        if (aabb_overlap(g, o.geom) && dCollide(g, o.geom, kMaxContacts, c, sizeof(dContactGeom)) > 0) touch[f] = true;
+      }
+    }
+    if (!(touch[0] && touch[1])) continue;
+    const Transform<double> T = object_pose(int(i));
+    o.carried = true;
+    dBodySetLinearVel(o.body, 0, 0, 0);
+    dBodySetAngularVel(o.body, 0, 0, 0);
+    dBodySetKinematic(o.body);
+    o.T_tool_obj = inverse(frames_.T_base_tool) * T;
+    o.T_carry = o.T_carry_prev = T;
+    grip_stalled_ = true;
+    grip_stall_mm_ = opening_mm_;
+    SimEvent e;
+    e.kind = SimEvent::Kind::kGrasp;
+    e.t = time() + opt_.dt, e.line = current_line_, e.a = "gripper", e.b = scene_.objects[i].name;
+    e.has_point = true, e.point_mm = T.p;
+    e.detail = "both fingers touch it while closing: the servo stalls at " + fmt_mm(opening_mm_) +
+               " mm and the object moves with the tool";
+    events_.push_back(e);
+    return;
+  }
+}
+
+// ---- the world step ----
+
+void Simulation::event(SimEvent::Kind k, const std::string& a, const std::string& b, const std::string& detail,
+                       const dContactGeom* c) {
+  SimEvent e;
+  e.kind = k;
+  e.t = motors_ && k != SimEvent::Kind::kContactStarted && k != SimEvent::Kind::kContactEnded
+            ? double(event_tick_) / kControllerTickHz
+            : time() + opt_.dt;
+  e.line = current_line_;
+  e.a = a, e.b = b, e.detail = detail;
+  if (c) {
+    e.has_point = true;
+    e.point_mm = make_vec3(c->pos[0] / kMm, c->pos[1] / kMm, c->pos[2] / kMm);
+  }
+  events_.push_back(e);
+}
+
+void Simulation::add_contact(dGeomID a, dGeomID b, double mu, int touch_index, bool joints) {
+  if (!aabb_overlap(a, b)) {
+    if (touched_now_[size_t(touch_index)] == 2) touched_now_[size_t(touch_index)] = 0;
+    return;
+  }
+  dContactGeom cg[kMaxContacts];
+  const int n = dCollide(a, b, kMaxContacts, cg, sizeof(dContactGeom));
+  if (n <= 0) {
+    if (touched_now_[size_t(touch_index)] == 2) touched_now_[size_t(touch_index)] = 0;
+    return;
+  }
+  if (touched_now_[size_t(touch_index)] != 1) touch_point_[size_t(touch_index)] = cg[0];
+  touched_now_[size_t(touch_index)] = 1;
+  if (!joints) return;
+  dBodyID ba = dGeomGetBody(a), bb = dGeomGetBody(b);
+  if (ba && !dBodyIsEnabled(ba)) {
+    // Asleep and only grazed (an arm creeping along it, a step away from it): let it sleep;
+    // a real push goes deeper than the surface layer within a step.
+    double depth = 0;
+    for (int i = 0; i < n; ++i) depth = std::max(depth, double(cg[i].depth));
+    if (depth < 0.0005) return;
+  }
+  if (ba && !dBodyIsEnabled(ba)) dBodyEnable(ba);
+  if (bb && !dBodyIsEnabled(bb) && !dBodyIsKinematic(bb)) dBodyEnable(bb);
+  for (int i = 0; i < n; ++i) {
+    dContact c;
+    std::memset(&c, 0, sizeof c);
+    c.geom = cg[i];
+    c.surface.mode = dContactApprox1 | dContactSoftERP | dContactSoftCFM;
+    c.surface.mu = mu;
+    c.surface.soft_erp = 0.2;
+    c.surface.soft_cfm = 1e-5;
+    dJointID j = dJointCreateContact(world_, contacts_, &c);
+    dJointAttach(j, ba, bb);
+  }
+}
+
+void Simulation::collide_objects() {
+  std::fill(touched_now_.begin(), touched_now_.end(), uint8_t(2));
+  const int n_obj = int(objects_.size());
+  for (int oi = 0; oi < n_obj; ++oi) {
+    Object& o = objects_[size_t(oi)];
+    if (!o.movable || o.removed) continue;
+    const int base = oi * n_others_;
+    if (o.carried) {  // held: its contacts are the arm's; only whether it touches the world
+      if (ground_) add_contact(o.geom, ground_, 0, base, false);
+      for (int oj = 0; oj < n_obj; ++oj)
+        if (oj != oi && !objects_[size_t(oj)].removed && !objects_[size_t(oj)].movable)
+          add_contact(o.geom, objects_[size_t(oj)].geom, 0, base + 1 + oj, false);
+      continue;
+    }
+    if (ground_ && dBodyIsEnabled(o.body)) add_contact(o.geom, ground_, std::sqrt(o.mu * scene_.ground_friction), base);
+    for (int oj = 0; oj < n_obj; ++oj) {
+      if (oj == oi) continue;
+      Object& p = objects_[size_t(oj)];
+      if (p.removed) continue;
+      const double mu = std::sqrt(o.mu * p.mu);
+      if (!p.movable) {
+        if (dBodyIsEnabled(o.body)) add_contact(o.geom, p.geom, mu, base + 1 + oj);
+      } else if (p.carried) {
+        if (dBodyIsEnabled(o.body) || arm_moved_) add_contact(o.geom, p.geom, mu, base + 1 + oj);
+      } else if (oj > oi) {
+        if (dBodyIsEnabled(o.body) || dBodyIsEnabled(p.body)) add_contact(o.geom, p.geom, mu, base + 1 + oj);
+      }
+    }
+    for (size_t pi = 0; pi < parts_.size(); ++pi) {
+      const Part& p = *parts_[pi];
+      if (!dBodyIsEnabled(o.body) && !p.moved) continue;
+      for (dGeomID g : p.geoms) add_contact(o.geom, g, std::sqrt(o.mu * p.mu), base + 1 + n_obj + int(pi));
+    }
+  }
+  // Contacts flicker while a stepper pushes (a step, a gap, a step): a contact ends only
+  // after 50 ms without a touch, and the event is dated at the last touch.
+  const uint64_t debounce = std::max<uint64_t>(1, uint64_t(std::llround(0.05 / opt_.dt)));
+  for (size_t k = 0; k < touching_.size(); ++k) {
+    const uint8_t now = touched_now_[k];
+    const size_t oi = k / size_t(n_others_), other = k % size_t(n_others_);
+    if (now == 1) {
+      last_touch_[k] = steps_;
+      if (!touching_[k]) {
+        touching_[k] = 1;
+        event(SimEvent::Kind::kContactStarted, scene_.objects[oi].name, other_names_[other], "", &touch_point_[k]);
+      }
+    } else if (now == 0 && touching_[k] && steps_ - last_touch_[k] >= debounce) {
+      touching_[k] = 0;
+      event(SimEvent::Kind::kContactEnded, scene_.objects[oi].name, other_names_[other], "");
+      events_.back().t = double(last_touch_[k] + 1) * opt_.dt;
+    }
+  }
+}
+
+void Simulation::measure_squeeze() {
+  for (auto& q : block_pairs_) {
+    if (q.kind != Pair::kMovable) continue;
+    q.settled = 0;
+    const Object& o = objects_[size_t(q.object_b)];
+    if (o.removed || o.carried || !aabb_overlap(q.a, q.b)) continue;
+    dContactGeom c[kMaxContacts];
+    const int n = dCollide(q.a, q.b, kMaxContacts, c, sizeof(dContactGeom));
+    for (int i = 0; i < n; ++i) q.settled = std::max(q.settled, c[i].depth / kMm);
+  }
+}
+
+void Simulation::after_step() {
+  for (auto& pp : parts_) {
+    Part& p = *pp;
+    if (!p.moved) continue;
+    p.T_set.p.x = std::nan("");  // the step moved it by its velocity: set it back whatever was set
+    set_part_pose(p, p.T);
+    dBodySetLinearVel(p.body, 0, 0, 0);
+    dBodySetAngularVel(p.body, 0, 0, 0);
+  }
+  for (size_t i = 0; i < objects_.size(); ++i) {
+    Object& o = objects_[i];
+    if (!o.movable || o.removed) continue;
+    if (o.carried) {
+      dBodySetPosition(o.body, o.T_carry.p.x * kMm, o.T_carry.p.y * kMm, o.T_carry.p.z * kMm);
+      dMatrix3 R;
+      to_ode(o.T_carry.R, R);
+      dBodySetRotation(o.body, R);
+      dBodySetLinearVel(o.body, 0, 0, 0);
+      dBodySetAngularVel(o.body, 0, 0, 0);
+      continue;
+    }
+    if (!dBodyIsEnabled(o.body)) continue;
+    const dReal* p = dBodyGetPosition(o.body);
+    const dReal* v = dBodyGetLinearVel(o.body);
+    const dReal* w = dBodyGetAngularVel(o.body);
+    const dReal* q = dBodyGetQuaternion(o.body);
+    bool finite = true;
+    for (int k = 0; k < 3; ++k) finite = finite && std::isfinite(p[k]) && std::isfinite(v[k]) && std::isfinite(w[k]);
+    for (int k = 0; k < 4; ++k) finite = finite && std::isfinite(q[k]);
+    const bool inside = finite && p[0] >= scene_.world_min.x * kMm && p[0] <= scene_.world_max.x * kMm &&
+                        p[1] >= scene_.world_min.y * kMm && p[1] <= scene_.world_max.y * kMm &&
+                        p[2] >= scene_.world_min.z * kMm && p[2] <= scene_.world_max.z * kMm;
+    if (inside) {
+      std::copy(p, p + 3, o.last_good);
+      continue;
+    }
+    o.removed = true;
+    dBodySetPosition(o.body, o.last_good[0], o.last_good[1], o.last_good[2]);
+    if (!finite) {
+      dMatrix3 R;
+      to_ode(identity3<double>(), R);
+      dBodySetRotation(o.body, R);
+    }
+    dBodySetLinearVel(o.body, 0, 0, 0);
+    dBodySetAngularVel(o.body, 0, 0, 0);
+    dBodyDisable(o.body);
+    dGeomDisable(o.geom);
+    SimEvent e;
+    e.kind = SimEvent::Kind::kObjectRemoved;
+    e.t = time() + opt_.dt, e.line = current_line_, e.a = scene_.objects[i].name;
+    e.has_point = true;
+    e.point_mm = make_vec3(o.last_good[0] / kMm, o.last_good[1] / kMm, o.last_good[2] / kMm);
+    e.detail = finite ? "left the world box: taken out of the simulation, frozen where it was last inside"
+                      : "its state stopped being finite: taken out of the simulation, frozen where it was last finite";
+    events_.push_back(e);
+  }
+  measure_squeeze();
+}
+
+void Simulation::step() {
+  const double dt = opt_.dt;
+  const uint64_t until = (steps_ + 1) * ticks_per_step_;
+  const double t_end = double(steps_ + 1) * dt;
+  while (pending_next_ < pending_.size() && pending_[pending_next_].t <= t_end + 1e-12) events_.push_back(pending_[pending_next_++]);
+  for (auto& p : parts_) {
+    p->T_prev = p->T;
+    p->moved = false;
+  }
+  for (auto& o : objects_) o.T_carry_prev = o.T_carry;
+  arm_moved_ = false;
+  const double t_start = time();
+  if (motors_)
+    motor_events(until);
+  else
+    joint_follow(t_end);
+  gripper_follow(t_end);
+  if (arm_moved_) {
+    for (auto& pp : parts_) {
+      Part& p = *pp;
+      if (!p.moved) continue;
+      // A stepper's link moves in steps; the contact sees the mean speed since the last one
+      // (a step every 3 ms is 1/3 of the step's displacement per ms, not all of it).
+      const double span = std::clamp(t_end - p.t_last_move, dt, 0.05);
+      p.t_last_move = t_start;
+      const Vec3<double> v = (kMm / span) * (p.T.p - p.T_prev.p);
+      const Vec3<double> w = (1 / span) * rotation_vector(p.T.R, p.T_prev.R);
+      dBodySetLinearVel(p.body, v.x, v.y, v.z);
+      dBodySetAngularVel(p.body, w.x, w.y, w.z);
+      dBodyEnable(p.body);  // idle parts are auto-disabled, so objects resting on them can sleep
+    }
+    for (auto& o : objects_) {
+      if (!o.carried) continue;
+      const Vec3<double> v = (kMm / dt) * (o.T_carry.p - o.T_carry_prev.p);
+      const Vec3<double> w = (1 / dt) * rotation_vector(o.T_carry.R, o.T_carry_prev.R);
+      dBodySetLinearVel(o.body, v.x, v.y, v.z);
+      dBodySetAngularVel(o.body, w.x, w.y, w.z);
+    }
+  }
+  collide_objects();
+  if (opt_.quick_step)
+    dWorldQuickStep(world_, dt);
+  else
+    dWorldStep(world_, dt);
+  dJointGroupEmpty(contacts_);
+  after_step();
+  ++steps_;
+}
+
+void Simulation::run_until(double t) {
+  while (time() < t - 1e-12) step();
+}
+
+// ---- what the outside sees ----
+
+Transform<double> Simulation::object_pose(int i) const {
+  const Object& o = objects_[size_t(i)];
+  const dReal* p = o.body ? dBodyGetPosition(o.body) : dGeomGetPosition(o.geom);
+  const dReal* R = o.body ? dBodyGetRotation(o.body) : dGeomGetRotation(o.geom);
+  return make_transform(from_ode(R), make_vec3(p[0] / kMm, p[1] / kMm, p[2] / kMm));
+}
+
+bool Simulation::object_removed(int i) const { return objects_[size_t(i)].removed; }
+bool Simulation::object_carried(int i) const { return objects_[size_t(i)].carried; }
+dBodyID Simulation::object_body(int i) const { return objects_[size_t(i)].body; }
+dGeomID Simulation::object_geom(int i) const { return objects_[size_t(i)].geom; }
+
+std::vector<int32_t> Simulation::lost_steps() const { return std::vector<int32_t>(offset_, offset_ + n_motors_); }
+std::vector<int32_t> Simulation::counted_steps() const { return std::vector<int32_t>(counted_, counted_ + n_motors_); }
+
+std::vector<ArmPartInfo> Simulation::arm_parts() const {
+  std::vector<ArmPartInfo> out;
+  for (const auto& p : parts_) out.push_back({p->name, p->frame, p->body});
+  return out;
+}
+
+}  // namespace articula::host

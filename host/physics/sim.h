@@ -1,0 +1,233 @@
+// host/physics/sim.h - the arm and its scene as rigid bodies in the Open Dynamics Engine.
+//
+// The model (docs/physics.md says why):
+//   - links are kinematic bodies: steppers hold position, so each link's pose *is* the DH
+//     frame of the motors' step counts at that instant, set every world step, with the
+//     velocity of that motion so contacts push objects as the link would;
+//   - the step counts come from the firmware's own timing: the program runs through the
+//     controller model (predict.h) and every move is replayed step by step with motion.h's
+//     StepProfile and LineStepper, as firmware/src/stepper.cpp does; a robot without motors
+//     follows its joint targets as ideal position servos at a fixed joint speed;
+//   - a step that would push a link into the ground, a static object or a non-adjacent link,
+//     or squeeze a movable object, is refused: the motor skips it (an open-loop stepper
+//     loses it, the controller does not know) and an event says which parts, where, when;
+//   - movable objects are dynamic bodies (gravity, contacts, friction); two fingers at the
+//     tool frame follow the gripper commands; when both touch the same object while closing
+//     it is grasped (carried rigidly with the tool) until the gripper opens again.
+// Inside: SI units (m, kg, s, rad). Everything read or reported: mm and degrees.
+#ifndef ARTICULA_PHYSICS_SIM_H
+#define ARTICULA_PHYSICS_SIM_H
+
+#include <ode/ode.h>
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "predict.h"
+#include "program.h"
+#include "robot.h"
+#include "scene.h"
+#include "stall.h"
+
+namespace articula::host {
+
+struct SimOptions {
+  double dt = 0.001;                  // world step, s
+  double extra_time = 1.0;            // simulated after the program's last action, s
+  double touch_tolerance_mm = 1.0;    // how deep the arm may touch a static thing before a step is refused
+  double squeeze_mm = 3.0;            // a movable object pressed deeper than this stops the arm
+  double joint_speed_deg = 60;        // robots without motors: joint speed, deg/s
+  double joint_speed_mm = 100;        //   and mm/s for prismatic joints
+  double gripper_settle_s = 0.3;      // robots without motors: time of a gripper action
+  double finger_thickness_mm = 8;     // finger boxes: thickness across the opening
+  double finger_height_mm = 20;       //   and height
+  bool quick_step = false;            // dWorldQuickStep (iterative) instead of dWorldStep
+  bool stall_check = true;            // check every move against the motors' pull-out curves (stall.h)
+  ControllerSettings settings;        // the controller's settings at power-up
+};
+
+struct SimEvent {
+  enum class Kind {
+    kContactStarted,   // a movable object starts touching something
+    kContactEnded,
+    kCollision,        // a step would push the arm into the ground or a static object: refused
+    kSelfCollision,    // ... into a non-adjacent part of itself
+    kSqueeze,          // ... or press a movable object into something: refused
+    kStepsLost,        // at the end of an action: steps the motors skipped (open loop: not known to the firmware)
+    kBlocked,          // robots without motors: an action ended short of its target
+    kGrasp,
+    kRelease,
+    kGripperBlocked,   // the fingers stop closing on something they cannot grasp
+    kRejected,         // the controller refused a command (nothing moved)
+    kObjectRemoved,    // a body left the world box or its state stopped being finite
+    kNote,             // information (self-collision pairs left out, ...)
+    kStall,            // a move needs more torque of a motor than its pull-out curve gives: it would skip (stall.h)
+  };
+  Kind kind = Kind::kNote;
+  double t = 0;         // s
+  int line = 0;         // program line of the action running (0: none)
+  std::string a, b;     // the parts: "link 2", "finger left", an object's name, "ground"
+  bool has_point = false;
+  Vec3<double> point_mm{0, 0, 0};
+  double depth_mm = 0;  // penetration the refused step would have made
+  std::string detail;
+};
+const char* event_kind_name(SimEvent::Kind k);
+
+// One kinematic part of the arm (a link, a finger) as the tests and the CLI see it.
+struct ArmPartInfo {
+  std::string name;
+  int frame = -1;  // DH frame the part rides on; -1 a finger
+  dBodyID body = nullptr;
+};
+
+class Simulation {
+ public:
+  // The scene's bodies and the arm at its power-up pose (the motors' zero steps, or the
+  // home pose of a robot without motors). Throws std::invalid_argument for what cannot be
+  // simulated (mesh shapes, more than 8 motors).
+  Simulation(const Robot& robot, const Scene& scene, const SimOptions& options = {});
+  ~Simulation();
+  Simulation(const Simulation&) = delete;
+  Simulation& operator=(const Simulation&) = delete;
+
+  // The program the arm runs from t = 0 (replaces any earlier one). Commands the controller
+  // refuses become kRejected events.
+  void load_program(const Program& program);
+
+  void step();
+  // Steps until time() >= t.
+  void run_until(double t);
+  double time() const { return double(steps_) * opt_.dt; }
+  uint64_t steps_taken() const { return steps_; }
+  double program_end() const { return program_end_s_; }
+  double end_time() const { return program_end_s_ + opt_.extra_time; }
+  bool done() const { return time() >= end_time() - 1e-12; }
+
+  const std::vector<SimEvent>& events() const { return events_; }
+
+  // The arm as it physically is (after skipped steps): joint variables in model units.
+  const std::vector<double>& joints() const { return q_; }
+  const HostFrames& frames() const { return frames_; }
+  double gripper_opening_mm() const { return opening_mm_; }
+  // Steps each motor has lost so far (physical - counted), and the controller's counts.
+  std::vector<int32_t> lost_steps() const;
+  std::vector<int32_t> counted_steps() const;
+
+  int num_objects() const { return int(scene_.objects.size()); }
+  const SceneObject& object(int i) const { return scene_.objects[size_t(i)]; }
+  Transform<double> object_pose(int i) const;  // mm
+  bool object_removed(int i) const;
+  bool object_carried(int i) const;
+  dBodyID object_body(int i) const;  // null for a static object
+  dGeomID object_geom(int i) const;
+
+  std::vector<ArmPartInfo> arm_parts() const;
+  dWorldID world() const { return world_; }
+  const Robot& robot() const { return robot_; }
+  const SimOptions& options() const { return opt_; }
+
+ private:
+  struct Part;
+  struct Object;
+  struct Pair;
+  struct Action;
+
+  void build_arm();
+  void build_scene();
+  void build_pairs();
+  void place_arm(const double* q, double opening_mm);
+  void set_part_pose(Part& p, const Transform<double>& T_mm);
+  bool check_pose(int line);  // false: blocked (event written once per action)
+  void accept_pose();
+  bool try_joints(const double* q_candidate, double opening_mm);
+  void motor_events(uint64_t until_tick);
+  void start_move(const int32_t* to, const ProfileConstants& k, uint64_t t0);
+  void start_seek(size_t from_motor);
+  void apply_steps(uint8_t mask, uint8_t negative);
+  bool try_steps(const int32_t* steps);
+  void follow_joints(const std::vector<double>& q_cmd, double dt);
+  void joint_follow(double t_end);
+  void gripper_follow(double t_end);
+  void begin_action(size_t index);
+  void end_action();
+  void update_carried();
+  void collide_objects();
+  void after_step();
+  void measure_squeeze();
+  void add_contact(dGeomID a, dGeomID b, double mu, int touch_index, bool joints = true);
+  void event(SimEvent::Kind k, const std::string& a, const std::string& b, const std::string& detail,
+             const dContactGeom* c = nullptr);
+  double target_opening(double t) const;
+  void grasp_check();
+  void stall_check(const Action& a);
+
+  Robot robot_;
+  Scene scene_;
+  SimOptions opt_;
+  bool motors_ = false;
+  int n_motors_ = 0, n_joints_ = 0;
+
+  dWorldID world_ = nullptr;
+  dJointGroupID contacts_ = nullptr;
+  dGeomID ground_ = nullptr;
+
+  std::vector<std::unique_ptr<Part>> parts_;  // arm parts: links by frame, then the fingers
+  int finger_[2] = {-1, -1};
+  std::vector<Object> objects_;
+  std::vector<Pair> block_pairs_;  // arm part vs ground/static/self/movable (squeeze), for step checks
+  std::vector<double> block_depth_;  // scratch: the candidate's depth per block pair
+
+  // The program.
+  std::vector<Action> actions_;
+  size_t action_ = 0;  // the action running or next
+  bool action_running_ = false;
+  double program_end_s_ = 0;
+  uint64_t ticks_per_step_ = 2000;
+
+  // Motor state: counted steps (what the firmware believes), physical = counted + offset.
+  int32_t counted_[8]{}, offset_[8]{}, lost_in_action_[8]{};
+  StepProfile profile_;
+  LineStepper<8> line_;
+  uint64_t next_step_tick_ = 0;  // absolute tick of the next step event of the running move
+  int seek_left_ = 0;            // homing: steps still to the switch of seek_motor_
+  int seek_motor_ = -1;
+  uint8_t pending_mask_ = 0, pending_negative_ = 0;
+  uint64_t event_tick_ = 0;
+  // The gripper's commanded opening: from, to, over [t0, t1] (s).
+  double grip_from_ = 0, grip_to_ = 0, grip_t0_ = 0, grip_t1_ = 0;
+
+  // Joint state (model units): physical q, its DH frames, and the gripper.
+  std::vector<double> q_, q_try_, q_cmd_, q_cmd_want_;
+  HostFrames frames_{}, frames_try_{};
+  double opening_mm_ = 0, opening_from_mm_ = 0;
+  bool grip_closing_ = false, grip_stalled_ = false;
+  double grip_stall_mm_ = 0;
+  bool arm_moved_ = false;  // a kinematic body moved during this world step
+  bool blocked_reported_ = false;
+  uint64_t retry_after_step_ = 0;  // robots without motors: a blocked arm retries joint by joint every 10 ms
+  void restore_arm();
+  int current_line_ = 0;
+
+  // The stall model (robots with motors and pull-out curves; else null).
+  std::unique_ptr<StallModel> stall_;
+
+  std::vector<SimEvent> events_;
+  std::vector<SimEvent> pending_;  // rejected commands, shown when the clock reaches them
+  size_t pending_next_ = 0;
+  uint64_t steps_ = 0;
+
+  // Contact bookkeeping: touching state per (movable object, other thing).
+  int n_others_ = 0;
+  std::vector<uint8_t> touching_, touched_now_;
+  std::vector<dContactGeom> touch_point_;
+  std::vector<uint64_t> last_touch_;  // world step of the last touch: an end is reported 50 ms later
+  std::vector<std::string> other_names_;
+};
+
+}  // namespace articula::host
+
+#endif  // ARTICULA_PHYSICS_SIM_H

@@ -1,0 +1,94 @@
+// Tests host/physics/scene.h: the scene loader (scenes/README.md) and its schema.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <set>
+
+#include "scene.h"
+
+using namespace articula;
+using namespace articula::host;
+
+namespace {
+
+std::string error_of(const std::string& text) {
+  try {
+    parse_scene(text, "s.json");
+  } catch (const SceneError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(Scene, ShippedScenesLoad) {
+  int n = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(std::string(ARTICULA_SOURCE_DIR) + "/scenes")) {
+    if (entry.path().extension() != ".json" || entry.path().filename() == "scene.schema.json") continue;
+    SCOPED_TRACE(entry.path().string());
+    const Scene s = load_scene_file(entry.path().string());
+    EXPECT_FALSE(s.name.empty());
+    EXPECT_FALSE(s.objects.empty());
+    ++n;
+  }
+  EXPECT_GE(n, 2);
+}
+
+TEST(Scene, ReadsEveryField) {
+  const Scene s = parse_scene(R"({"gravity": [0, 0, -1.62], "ground": {"friction": 0.3},
+      "world_box": {"min": [-1, -2, -3], "max": [4, 5, 6]},
+      "objects": [{"name": "c", "type": "cylinder", "size": [10, 50], "xyz": [1, 2, 3], "rpy": [0, 90, 0],
+                   "movable": true, "density": 1000, "friction": 0.4},
+                  {"type": "sphere", "size": [5]}]})",
+                              "s.json");
+  EXPECT_DOUBLE_EQ(s.gravity.z, -1.62);
+  EXPECT_TRUE(s.ground);
+  EXPECT_DOUBLE_EQ(s.ground_friction, 0.3);
+  EXPECT_DOUBLE_EQ(s.world_max.y, 5);
+  ASSERT_EQ(s.objects.size(), 2u);
+  EXPECT_EQ(s.objects[0].type, SceneObject::Type::kCylinder);
+  EXPECT_NEAR(s.objects[0].mass_kg(), 1000 * M_PI * 0.01 * 0.01 * 0.05, 1e-12);
+  EXPECT_DOUBLE_EQ(s.objects[0].rpy_deg.y, 90);
+  EXPECT_FALSE(s.objects[1].movable);
+  EXPECT_EQ(s.objects[1].name, "object 1");
+  EXPECT_FALSE(parse_scene(R"({"ground": false})", "s.json").ground);
+}
+
+TEST(Scene, ErrorsNameTheJsonPointer) {
+  EXPECT_EQ(error_of(R"({"objects": [{"type": "box", "size": [10, 0, 10]}]})"),
+            "s.json: /objects/0/size/1: must be > 0 (got 0)");
+  EXPECT_EQ(error_of(R"({"objcts": []})").substr(0, 25), "s.json: /objcts: unknown ");
+  EXPECT_EQ(error_of(R"({"objects": [{"type": "box", "size": [1, 1, 1]}, {"type": "cone", "size": [1]}]})"),
+            "s.json: /objects/1/type: unknown type \"cone\" (box, cylinder or sphere)");
+  EXPECT_EQ(error_of(R"({"objects": [{"type": "sphere", "size": [1, 2]}]})"),
+            "s.json: /objects/0/size: a sphere takes 1 size number [radius]");
+  EXPECT_EQ(error_of(R"({"objects": [{"type": "sphere", "size": [1], "mass": 1}]})"),
+            "s.json: /objects/0/mass: a static object has no mass (set \"movable\": true)");
+  EXPECT_EQ(error_of(R"({"objects": [{"type": "sphere", "size": [1], "movable": true, "mass": 1, "density": 2}]})"),
+            "s.json: /objects/0/density: give mass or density, not both");
+  EXPECT_EQ(error_of(R"({"objects": [{"name": "a", "type": "sphere", "size": [1]}, {"name": "a", "type": "sphere", "size": [1]}]})"),
+            "s.json: /objects/1/name: duplicate name \"a\"");
+  EXPECT_EQ(error_of(R"({"ground": {"friction": -1}})"), "s.json: /ground/friction: must be >= 0 (got -1)");
+  EXPECT_EQ(error_of(R"({"objects": [{"type": "box", "size": [1, 1, 1], "xyz": [9000, 0, 0]}]})"),
+            "s.json: /objects/0/xyz: outside the world box");
+  EXPECT_EQ(error_of("{\n  \"ground\": tru\n}"), "s.json: not valid JSON at line 2, column 16");
+  EXPECT_THROW(load_scene_file("/nonexistent/scene.json"), SceneError);
+}
+
+// Every object kind of the schema allows exactly the fields the loader reads.
+TEST(Scene, SchemaMatchesTheLoader) {
+  std::ifstream f(std::string(ARTICULA_SOURCE_DIR) + "/scenes/scene.schema.json");
+  const nlohmann::json schema = nlohmann::json::parse(f);
+  for (const auto& [kind, fields] : scene_file_fields()) {
+    SCOPED_TRACE(kind);
+    const nlohmann::json& def = kind == "scene" ? schema : schema["$defs"][kind];
+    ASSERT_TRUE(def.contains("properties"));
+    std::set<std::string> in_schema, in_loader(fields.begin(), fields.end());
+    for (const auto& p : def["properties"].items()) in_schema.insert(p.key());
+    EXPECT_EQ(in_schema, in_loader);
+    EXPECT_EQ(def["additionalProperties"], false);
+  }
+}
+
+}  // namespace
