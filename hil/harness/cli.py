@@ -12,7 +12,7 @@ import sys
 import time
 from pathlib import Path
 
-from . import report
+from . import fuzz, report
 from .measured import MeasuredError, load_measured
 from .plan import PlanError, parse_plan
 from .prediction import PredictError
@@ -42,6 +42,7 @@ examples:
   python -m hil.harness run hil/plans/thesis-single-joint.arm --port /dev/ttyUSB0 \\
       --measured my-measurements.csv
   python -m hil.harness generate 50 --seed 3 -o plan.arm
+  python -m hil.harness fuzz --lines 10000 --seed 1 --report fuzz.json
 
 binaries: --articula, --vnano and --elf, else $ARTICULA_CLI, $ARTICULA_VNANO and
 $ARTICULA_NANO_ELF, else the repository's build/ (build/host/cli/articula,
@@ -124,6 +125,26 @@ def parser() -> argparse.ArgumentParser:
     gen.add_argument("--robot", default=str(REPO / "robots" / "mk2plus.json"), metavar="FILE")
     gen.add_argument("--articula", metavar="PATH")
     gen.add_argument("-o", "--output", metavar="FILE", help="default: standard output")
+    fz = sub.add_parser("fuzz", help="send random and malformed lines, check every reply",
+                        description="Sends N seeded random and malformed lines (random bytes, overlong lines, "
+                                    "bad numbers, NaN, out-of-range joints and targets, realtime bytes mid-line, "
+                                    "and valid lines) to the virtual Nano or a Nano on --port, and checks each: "
+                                    "exactly one reply, the one the protocol gives, no reset, no hang, no motion "
+                                    "from a rejected line, pins = status. hil/README.md, \"Protocol fuzz\".",
+                        epilog="exit status: 0 every line answered once as the protocol says, no reset, no hang, no "
+                               "motion from a rejected line, pins = status; 1 otherwise; 2 a usage error.")
+    fz.add_argument("--lines", metavar="N", type=int, default=10000, help="fuzz lines to send (default 10000)")
+    fz.add_argument("--seed", metavar="S", type=int, default=1, help="the generator's seed (default 1)")
+    fz.add_argument("--port", metavar="DEV", help="a real Nano on this serial port (default: the virtual Nano)")
+    fz.add_argument("--report", metavar="FILE", help="write the summary and every finding as JSON")
+    fz.add_argument("--robot", metavar="FILE", default=str(REPO / "robots" / "mk2plus.json"),
+                    help="the robot file the firmware was built for (default robots/mk2plus.json)")
+    fz.add_argument("--elf", metavar="PATH", help="the firmware ELF for the virtual Nano")
+    fz.add_argument("--vnano", metavar="PATH", help="the articula-vnano program")
+    fz.add_argument("--timeout", metavar="S", type=float, default=5.0, help="seconds to wait for a reply (default 5)")
+    fz.add_argument("--boot-wait", metavar="S", type=float, default=2.0,
+                    help="with --port: seconds to wait after opening the port (default 2)")
+    fz.add_argument("--no-progress", action="store_true", help="no progress on stderr")
     return ap
 
 
@@ -143,6 +164,8 @@ def main(argv: list[str] | None = None) -> int:
     try:
         if args.cmd == "generate":
             return _generate(args)
+        if args.cmd == "fuzz":
+            return _fuzz(args, argv)
         return _run(args, argv)
     except (TargetError, PlanError, MeasuredError, PredictError) as e:
         print(f"python -m hil.harness: {e}", file=sys.stderr)
@@ -159,6 +182,31 @@ def _generate(args) -> int:
     else:
         sys.stdout.write(text)
     return 0
+
+
+def _fuzz(args, argv) -> int:
+    if args.lines < 1:
+        raise PlanError("--lines N needs N >= 1")
+    try:
+        robot = Robot(_robot_path(args.robot))
+    except (OSError, ValueError, KeyError) as e:
+        raise PlanError(f"{args.robot}: not a robot file the harness can read ({e})") from None
+    vnano = elf = None
+    if not args.port:
+        vnano, elf = _vnano_and_elf(args)
+    cmdline = "python -m hil.harness " + " ".join(shlex.quote(a) for a in (argv if argv is not None else sys.argv[1:]))
+    return fuzz.run_fuzz(args, robot, vnano, elf, cmdline)
+
+
+def _vnano_and_elf(args) -> tuple[str, str | None]:
+    vnano = _find(args.vnano, "ARTICULA_VNANO", [REPO / "build" / "hil" / "articula-vnano",
+                                                  REPO / "build" / "hil" / "vnano" / "articula-vnano"],
+                  "virtual Nano (articula-vnano)")
+    elf_default = REPO / "build" / "avr" / "firmware" / "articula-nano.elf"
+    elf = args.elf or os.environ.get("ARTICULA_NANO_ELF") or (str(elf_default) if elf_default.exists() else None)
+    if elf and not Path(elf).exists():
+        raise TargetError(f"no firmware ELF at {elf}")
+    return vnano, elf
 
 
 def _run(args, argv) -> int:
@@ -192,13 +240,7 @@ def _run(args, argv) -> int:
     if args.port:
         target = SerialTarget(args.port, boot_wait=args.boot_wait)
     else:
-        vnano = _find(args.vnano, "ARTICULA_VNANO", [REPO / "build" / "hil" / "articula-vnano",
-                                                      REPO / "build" / "hil" / "vnano" / "articula-vnano"],
-                      "virtual Nano (articula-vnano)")
-        elf_default = REPO / "build" / "avr" / "firmware" / "articula-nano.elf"
-        elf = args.elf or os.environ.get("ARTICULA_NANO_ELF") or (str(elf_default) if elf_default.exists() else None)
-        if elf and not Path(elf).exists():
-            raise TargetError(f"no firmware ELF at {elf}")
+        vnano, elf = _vnano_and_elf(args)
         grip = (robot.servo_closed, robot.servo_open) if robot.servo_closed is not None and \
             robot.servo_open is not None else None
         target = VirtualNanoTarget(vnano, elf, len(robot.motors), gripper=grip, keep_traces=args.keep_traces)

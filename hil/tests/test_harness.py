@@ -119,15 +119,17 @@ def test_shipped_plans_match_everywhere(bins, tmp_path):
 
 def test_random_plan(bins, tmp_path):
     out = tmp_path / "random"
-    # Fast settings ($0, $1, $5) keep it short: 200 commands in ~10 s.
-    p = harness(bins, "--random", 200, "--seed", 11, "--settings", "0=4000,1=100000,5=20", "--out", out)
+    # The acceptance: at least 1,000 random commands, 0 mismatches, 0 faults. Fast settings
+    # ($0, $1, $5) keep it short: 1,000 commands in about 50 s.
+    p = harness(bins, "--random", 1000, "--seed", 11, "--settings", "0=4000,1=100000,5=20", "--out", out)
     print(p.stdout, p.stderr)
     assert p.returncode == 0, p.stdout + p.stderr
-    assert "steps matched: 200/200 (prediction = firmware = pins)" in p.stdout
-    plan = out / "random-200-seed-11.arm"
+    assert "steps matched: 1000/1000 (prediction = firmware = pins)" in p.stdout
+    assert "faults: 0" in p.stdout
+    plan = out / "random-1000-seed-11.arm"
     assert plan.is_file()
     data = rows(out)
-    assert len(data) == 200
+    assert len(data) == 1000
     assert all(r["matched"] == "True" for r in data)
     refused = [r for r in data if r["expect"] != "ok"]
     assert len(refused) >= 10
@@ -139,7 +141,7 @@ def test_random_plan(bins, tmp_path):
             assert abs(float(r["duration_err_pct"])) < 1.0, r
     # Same seed, same plan.
     env = dict(os.environ, PYTHONPATH=str(SOURCE))
-    g = subprocess.run([sys.executable, "-m", "hil.harness", "generate", "200", "--seed", "11", "--articula",
+    g = subprocess.run([sys.executable, "-m", "hil.harness", "generate", "1000", "--seed", "11", "--articula",
                         bins["articula"]], cwd=SOURCE, capture_output=True, text=True, env=env, timeout=60)
     assert g.returncode == 0, g.stderr
     assert g.stdout == plan.read_text()
