@@ -3,7 +3,7 @@
 #
 #   make          build everything (host tools, AVR targets, the Nano firmware and its sizes)
 #   make test     install, build, run every test, print a summary
-#   make demo     install, build, run the main job on the MK2 arm
+#   make demo     install, build, run the thesis experiments on the virtual Nano, report
 #   make firmware build only the Nano firmware (HEX and ELF)
 #   make flash PORT=/dev/ttyUSB0 [BOOTLOADER=new]
 #                 flash the HEX into a Nano through its USB bootloader
@@ -16,6 +16,8 @@ ARTICULA = $(BUILD)/host/cli/articula
 # The Nano firmware, built by the AVR external project of the CMake build.
 FIRMWARE_DIR = $(BUILD)/avr/firmware
 HEX = $(FIRMWARE_DIR)/articula-nano.hex
+# Where `make demo` writes its hardware-in-the-loop report (replaced on each run).
+DEMO_REPORT ?= reports/demo
 # Nanos with the old bootloader (ATmegaBOOT, most clones) take 57,600 baud; those with the
 # new one (Optiboot) 115,200. BAUD overrides both.
 BOOTLOADER ?= old
@@ -56,11 +58,12 @@ demo: build
 	@echo "== the MK2 Plus arm: its DH table =="
 	@$(ARTICULA) info mk2plus
 	@echo
-	@echo "== the tool position for a pose (base 30, shoulder 60, elbow -80 deg) =="
-	@$(ARTICULA) fk mk2plus --q 30,60,-80
-	@echo
-	@echo "== what whole motor steps make of a few L moves =="
-	@$(ARTICULA) quantize mk2plus "L 0 10" "L 1 -12.5" "L 2 7.3" "L 0 -10" "L 0 0.1" "S 1"
+	@echo "== the thesis's experiments on the virtual Nano: the real firmware, step by step against the prediction =="
+	@rm -rf $(DEMO_REPORT)
+	@.venv/bin/python -m hil.harness run hil/plans/thesis-single-joint.arm hil/plans/thesis-repeatability.arm \
+	  hil/plans/tool-points.arm --out $(DEMO_REPORT) --articula $(ARTICULA) \
+	  --vnano $(BUILD)/hil/articula-vnano --elf $(FIRMWARE_DIR)/articula-nano.elf
+	@echo "open $(DEMO_REPORT)/report.html in a browser, or read $(DEMO_REPORT)/report.md"
 
 format:
 	clang-format -i shared/articula/*.h shared/tests/*.cpp shared/avr_check/*.cpp host/*/*.cpp host/*/*.h \
