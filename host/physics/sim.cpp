@@ -6,9 +6,11 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <mutex>
 #include <stdexcept>
 
+#include "mesh.h"
 #include "run.h"
 
 namespace articula::host {
@@ -17,6 +19,9 @@ namespace {
 
 constexpr double kMm = 0.001;  // mm -> m
 constexpr int kMaxContacts = 4;
+// A mesh against the ground gives its vertices below it in file order, not the deepest first:
+// the step check asks for more of them.
+constexpr int kMaxMeshContacts = 32;
 constexpr double kArmFriction = 0.6;
 constexpr double kFingerFriction = 1.0;
 
@@ -75,6 +80,15 @@ std::string fmt_mm(double v) {
   return buf;
 }
 
+// Where a mesh shape's file is: relative to the robot file (robots/README.md).
+std::string mesh_path(const Robot& robot, const Shape& s) {
+  const std::filesystem::path p(s.mesh);
+  if (p.is_absolute() || robot.source.empty()) return p.string();
+  return (std::filesystem::path(robot.source).parent_path() / p).string();
+}
+
+bool is_mesh(dGeomID g) { return dGeomGetClass(g) == dTriMeshClass; }
+
 char command_letter(const std::string& text) {
   for (char c : text)
     if (c != ' ' && c != '\t') return char(std::toupper(static_cast<unsigned char>(c)));
@@ -132,12 +146,25 @@ struct Simulation::Object {
 struct Simulation::Pair {
   enum Kind { kGround, kStatic, kSelf, kMovable, kCarriedGround, kCarriedStatic } kind;
   dGeomID a = nullptr, b = nullptr;
+  int max_contacts = kMaxContacts;  // kMaxMeshContacts when a or b is a mesh
   int part_a = -1;    // arm part (or -1: the carried object object_a)
   int object_a = -1;
   int part_b = -1;    // kSelf
   int object_b = -1;  // kStatic, kMovable, kCarriedStatic
   double accepted = 0;  // depth at the last accepted pose, mm
   double settled = 0;   // kMovable: depth after the last world step, mm
+};
+
+// A mesh file's triangles as ODE reads them (it keeps pointers to these arrays, so they live
+// as long as the geoms: Simulation::meshes_ is destroyed after the geoms).
+struct Simulation::MeshData {
+  std::string path;
+  std::vector<dReal> vertices;  // x y z, m
+  std::vector<dTriIndex> indices;
+  dTriMeshDataID data = nullptr;
+  ~MeshData() {
+    if (data) dGeomTriMeshDataDestroy(data);
+  }
 };
 
 struct Simulation::Action {
@@ -160,11 +187,34 @@ Simulation::Simulation(const Robot& robot, const Scene& scene, const SimOptions&
   n_motors_ = motors_ ? robot_.actuation.num_motors : 0;
   n_joints_ = robot_.model.num_joints;
   if (n_motors_ > 8) throw std::invalid_argument("more than 8 motors: the step replay handles 8 (as the firmware)");
-  for (const auto& l : robot_.links)
-    for (const auto& s : l.shapes)
-      if (s.type == Shape::Type::kMesh)
-        throw std::invalid_argument(robot_.source + ": link shape \"" + s.mesh +
-                                    "\": mesh shapes are not simulated yet (use boxes, cylinders, capsules, spheres)");
+  // Mesh shapes: read every file once, before anything of ODE's exists to leak on an error.
+  for (size_t li = 0; li < robot_.links.size(); ++li) {
+    for (size_t si = 0; si < robot_.links[li].shapes.size(); ++si) {
+      const Shape& s = robot_.links[li].shapes[si];
+      if (s.type != Shape::Type::kMesh) continue;
+      const std::string path = mesh_path(robot_, s);
+      if (std::any_of(meshes_.begin(), meshes_.end(), [&](const auto& m) { return m->path == path; })) continue;
+      TriangleMesh tm;
+      try {
+        tm = load_mesh_file(path);
+      } catch (const MeshError& e) {
+        throw std::invalid_argument(robot_.source + ": /links/" + std::to_string(li) + "/shapes/" + std::to_string(si) +
+                                    ": " + e.what());
+      }
+      auto m = std::make_unique<MeshData>();
+      m->path = path;
+      for (const auto& v : tm.vertices)
+        for (double c : {v.x, v.y, v.z}) m->vertices.push_back(c * kMm);
+      for (const auto& t : tm.triangles)
+        for (uint32_t i : t) m->indices.push_back(dTriIndex(i));
+      meshes_.push_back(std::move(m));
+    }
+  }
+  // The stall model needs every link's mass (a mesh's given "mass"): only when there are
+  // pull-out curves to check against.
+  if (motors_ && opt_.stall_check &&
+      std::any_of(robot_.motor_torque.begin(), robot_.motor_torque.end(), [](const MotorTorque& t) { return t.given(); }))
+    stall_ = std::make_unique<StallModel>(robot_);
   ticks_per_step_ = uint64_t(std::llround(opt_.dt * kControllerTickHz));
   if (ticks_per_step_ == 0) ticks_per_step_ = 1;
 
@@ -197,10 +247,6 @@ Simulation::Simulation(const Robot& robot, const Scene& scene, const SimOptions&
   place_arm(q_.data(), opening_mm_);
   accept_pose();
   for (auto& p : parts_) p->T_prev = p->T;
-  if (motors_ && opt_.stall_check) {
-    auto model = std::make_unique<StallModel>(robot_);
-    if (model->has_torque_curves()) stall_ = std::move(model);
-  }
 }
 
 Simulation::~Simulation() {
@@ -279,7 +325,18 @@ void Simulation::build_arm() {
         case Shape::Type::kCylinder: g = dCreateCylinder(nullptr, s.size[0] * kMm, s.size[1] * kMm); break;
         case Shape::Type::kCapsule: g = dCreateCapsule(nullptr, s.size[0] * kMm, s.size[1] * kMm); break;
         case Shape::Type::kSphere: g = dCreateSphere(nullptr, s.size[0] * kMm); break;
-        case Shape::Type::kMesh: break;  // refused in the constructor
+        case Shape::Type::kMesh: {
+          const std::string path = mesh_path(robot_, s);
+          MeshData& m = **std::find_if(meshes_.begin(), meshes_.end(), [&](const auto& x) { return x->path == path; });
+          if (!m.data) {
+            m.data = dGeomTriMeshDataCreate();
+            dGeomTriMeshDataBuildDouble(m.data, m.vertices.data(), 3 * sizeof(dReal), int(m.vertices.size() / 3),
+                                        m.indices.data(), int(m.indices.size()), 3 * sizeof(dTriIndex));
+            dGeomTriMeshDataPreprocess2(m.data, 1U << dTRIDATAPREPROCESS_BUILD_CONCAVE_EDGES, nullptr);
+          }
+          g = dCreateTriMesh(nullptr, m.data, nullptr, nullptr, nullptr);
+          break;
+        }
       }
       dGeomSetBody(g, p.body);
       dGeomSetOffsetPosition(g, s.T_frame_shape.p.x * kMm, s.T_frame_shape.p.y * kMm, s.T_frame_shape.p.z * kMm);
@@ -416,6 +473,23 @@ void Simulation::build_pairs() {
       block_pairs_.push_back(q);
     }
   }
+  // Mesh pairs: more contacts (see kMaxMeshContacts). Mesh against mesh collides in ODE, but
+  // its depth is the size of the triangles touching rather than the overlap (20 mm for
+  // 0.5 mm): the step check then stops the arm at their first touch, and says so once.
+  bool mesh_mesh_noted = false;
+  for (auto& q : block_pairs_) {
+    if (!is_mesh(q.a) && !is_mesh(q.b)) continue;
+    q.max_contacts = kMaxMeshContacts;
+    if (q.kind == Pair::kSelf && is_mesh(q.a) && is_mesh(q.b) && !mesh_mesh_noted) {
+      mesh_mesh_noted = true;
+      SimEvent e;
+      e.kind = SimEvent::Kind::kNote;
+      e.a = parts_[size_t(q.part_a)]->name, e.b = parts_[size_t(q.part_b)]->name;
+      e.detail = "mesh against mesh: ODE gives no true depth for it, so such parts are stopped at their first touch "
+                 "(and the depth the event gives is not the overlap)";
+      events_.push_back(e);
+    }
+  }
   block_depth_.assign(block_pairs_.size(), 0.0);
 }
 
@@ -470,8 +544,8 @@ bool Simulation::check_pose(int line) {
       if (o.removed || o.carried) continue;
     }
     if (!aabb_overlap(q.a, q.b)) continue;
-    dContactGeom c[kMaxContacts];
-    const int n = dCollide(q.a, q.b, kMaxContacts, c, sizeof(dContactGeom));
+    dContactGeom c[kMaxMeshContacts];
+    const int n = dCollide(q.a, q.b, q.max_contacts, c, sizeof(dContactGeom));
     double depth = 0;
     int deepest = -1;
     for (int i = 0; i < n; ++i)
@@ -1127,8 +1201,8 @@ void Simulation::measure_squeeze() {
     q.settled = 0;
     const Object& o = objects_[size_t(q.object_b)];
     if (o.removed || o.carried || !aabb_overlap(q.a, q.b)) continue;
-    dContactGeom c[kMaxContacts];
-    const int n = dCollide(q.a, q.b, kMaxContacts, c, sizeof(dContactGeom));
+    dContactGeom c[kMaxMeshContacts];
+    const int n = dCollide(q.a, q.b, q.max_contacts, c, sizeof(dContactGeom));
     for (int i = 0; i < n; ++i) q.settled = std::max(q.settled, c[i].depth / kMm);
   }
 }

@@ -88,7 +88,7 @@ class Simulation {
  public:
   // The scene's bodies and the arm at its power-up pose (the motors' zero steps, or the
   // home pose of a robot without motors). Throws std::invalid_argument for what cannot be
-  // simulated (mesh shapes, more than 8 motors).
+  // simulated (more than 8 motors, a mesh file that cannot be read: mesh.h).
   Simulation(const Robot& robot, const Scene& scene, const SimOptions& options = {});
   ~Simulation();
   Simulation(const Simulation&) = delete;
@@ -135,6 +135,7 @@ class Simulation {
   struct Object;
   struct Pair;
   struct Action;
+  struct MeshData;
 
   void build_arm();
   void build_scene();
@@ -175,6 +176,7 @@ class Simulation {
   dJointGroupID contacts_ = nullptr;
   dGeomID ground_ = nullptr;
 
+  std::vector<std::unique_ptr<MeshData>> meshes_;  // mesh shapes' triangles, kept while their geoms live
   std::vector<std::unique_ptr<Part>> parts_;  // arm parts: links by frame, then the fingers
   int finger_[2] = {-1, -1};
   std::vector<Object> objects_;
