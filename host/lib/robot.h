@@ -40,6 +40,8 @@ struct Gripper {
   bool present = false;
   double max_opening_mm = 0;    // finger gap when fully open
   double finger_length_mm = 0;  // for drawing and physics
+  double finger_thickness_mm = 8;  // physics: each finger's size across the opening
+  double finger_height_mm = 20;    //   and along the tool's z
   double servo_open_deg = 0;    // servo angle for fully open
   double servo_closed_deg = 0;  // servo angle for fully closed
 };

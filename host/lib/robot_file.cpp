@@ -36,7 +36,7 @@ const std::map<std::string, std::vector<std::string>>& robot_file_fields() {
       {"torque", {"pull_out", "rotor_inertia"}},
       {"link", {"frame", "shapes"}},
       {"shape", {"type", "size", "mesh", "xyz", "rpy", "mass", "density"}},
-      {"gripper", {"max_opening", "finger_length", "servo_open", "servo_closed"}},
+      {"gripper", {"max_opening", "finger_length", "finger_thickness", "finger_height", "servo_open", "servo_closed"}},
   };
   return fields;
 }
@@ -727,6 +727,10 @@ class Loader {
     out.present = true;
     out.max_opening_mm = positive(required(g, "/gripper", "max_opening"), "/gripper/max_opening", "max_opening");
     out.finger_length_mm = positive(required(g, "/gripper", "finger_length"), "/gripper/finger_length", "finger_length");
+    if (const json* t = member(g, "finger_thickness"))
+      out.finger_thickness_mm = positive(*t, "/gripper/finger_thickness", "finger_thickness");
+    if (const json* h = member(g, "finger_height"))
+      out.finger_height_mm = positive(*h, "/gripper/finger_height", "finger_height");
     out.servo_open_deg = servo_angle(required(g, "/gripper", "servo_open"), "/gripper/servo_open");
     out.servo_closed_deg = servo_angle(required(g, "/gripper", "servo_closed"), "/gripper/servo_closed");
   }

@@ -357,8 +357,8 @@ void Simulation::build_arm() {
       p->body = dBodyCreate(world_);
       dBodySetKinematic(p->body);
       dBodySetAutoDisableFlag(p->body, 1);
-      dGeomID g = dCreateBox(nullptr, gr.finger_length_mm * kMm, opt_.finger_thickness_mm * kMm,
-                             opt_.finger_height_mm * kMm);
+      dGeomID g = dCreateBox(nullptr, gr.finger_length_mm * kMm, robot_.gripper.finger_thickness_mm * kMm,
+                             robot_.gripper.finger_height_mm * kMm);
       dGeomSetBody(g, p->body);
       p->geoms.push_back(g);
       finger_[side > 0 ? 0 : 1] = int(parts_.size());
@@ -513,7 +513,7 @@ void Simulation::place_arm(const double* q, double opening_mm) {
     if (p.frame >= 0) {
       T = f.T_base_frame[p.frame];
     } else {
-      const double y = p.side * (opening_mm + opt_.finger_thickness_mm) / 2;
+      const double y = p.side * (opening_mm + robot_.gripper.finger_thickness_mm) / 2;
       T = f.T_base_tool * make_transform(identity3<double>(), make_vec3(robot_.gripper.finger_length_mm / 2, y, 0.0));
     }
     set_part_pose(p, T);
@@ -592,7 +592,7 @@ void Simulation::accept_pose() {
     const Transform<double> T = p.frame >= 0 ? frames_.T_base_frame[p.frame]
                                              : frames_.T_base_tool * make_transform(identity3<double>(),
                                                                                     make_vec3(robot_.gripper.finger_length_mm / 2,
-                                                                                              p.side * (opening_mm_ + opt_.finger_thickness_mm) / 2, 0.0));
+                                                                                              p.side * (opening_mm_ + robot_.gripper.finger_thickness_mm) / 2, 0.0));
     if (!p.moved) {
       for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j) p.moved = p.moved || T.R.m[i][j] != p.T.R.m[i][j];

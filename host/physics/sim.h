@@ -42,8 +42,6 @@ struct SimOptions {
   double joint_speed_deg = 60;        // robots without motors: joint speed, deg/s
   double joint_speed_mm = 100;        //   and mm/s for prismatic joints
   double gripper_settle_s = 0.3;      // robots without motors: time of a gripper action
-  double finger_thickness_mm = 8;     // finger boxes: thickness across the opening
-  double finger_height_mm = 20;       //   and height
   bool quick_step = false;            // dWorldQuickStep (iterative) instead of dWorldStep
   bool stall_check = true;            // check every move against the motors' pull-out curves (stall.h)
   ControllerSettings settings;        // the controller's settings at power-up

@@ -1095,6 +1095,25 @@ TEST(RobotFileErrors, Gripper) {
   doc["gripper"]["servo_closed"] = 150;
   doc["gripper"]["max_opening"] = 0;
   EXPECT_TRUE(fails_with(doc, "/gripper/max_opening", {"must be > 0"}));
+  doc["gripper"]["max_opening"] = 40;
+  doc["gripper"]["finger_height"] = -2;
+  EXPECT_TRUE(fails_with(doc, "/gripper/finger_height", {"must be > 0"}));
+  doc["gripper"]["finger_height"] = 20;
+  doc["gripper"]["finger_thickness"] = "8";
+  EXPECT_TRUE(fails_with(doc, "/gripper/finger_thickness", {"expected a number"}));
+}
+
+TEST(ParseRobot, FingerSizeIsOptional) {
+  json doc = base_robot();
+  doc["gripper"] = {{"max_opening", 30}, {"finger_length", 25}, {"servo_open", 10}, {"servo_closed", 170}};
+  const Robot defaults = parse_robot(doc.dump(), "ok.json");
+  EXPECT_EQ(defaults.gripper.finger_thickness_mm, 8);
+  EXPECT_EQ(defaults.gripper.finger_height_mm, 20);
+  doc["gripper"]["finger_thickness"] = 5.5;
+  doc["gripper"]["finger_height"] = 12;
+  const Robot given = parse_robot(doc.dump(), "ok.json");
+  EXPECT_EQ(given.gripper.finger_thickness_mm, 5.5);
+  EXPECT_EQ(given.gripper.finger_height_mm, 12);
 }
 
 TEST(ParseRobot, MotorTorque) {

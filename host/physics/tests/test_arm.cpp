@@ -256,3 +256,25 @@ TEST(Arm, StallEventsFollowTheStallModel) {
   EXPECT_NE(ev[0].detail.find("would skip steps"), std::string::npos) << ev[0].detail;
   EXPECT_NE(ev[0].detail.find("pull-out"), std::string::npos) << ev[0].detail;
 }
+
+// The finger boxes take their size from the robot file's gripper.
+TEST(Arm, FingerBoxesFromTheRobotFile) {
+  Robot r = robot("mk2plus");
+  r.gripper.finger_thickness_mm = 5.5;
+  r.gripper.finger_height_mm = 12;
+  Simulation sim(r, Scene{}, SimOptions{});
+  int fingers = 0;
+  for (const auto& p : sim.arm_parts()) {
+    if (p.frame != -1) continue;
+    ++fingers;
+    dGeomID g = dBodyGetFirstGeom(p.body);
+    ASSERT_NE(g, nullptr);
+    ASSERT_EQ(dGeomGetClass(g), dBoxClass);
+    dVector3 len;
+    dGeomBoxGetLengths(g, len);
+    EXPECT_NEAR(len[0], r.gripper.finger_length_mm / 1000, 1e-12) << p.name;
+    EXPECT_NEAR(len[1], 0.0055, 1e-12) << p.name;
+    EXPECT_NEAR(len[2], 0.012, 1e-12) << p.name;
+  }
+  EXPECT_EQ(fingers, 2);
+}
