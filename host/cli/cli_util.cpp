@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cxxopts.hpp>
+#include <fstream>
 #include <iostream>
 #include <sstream>
 
@@ -121,6 +122,31 @@ int guarded(const char* command, int (*body)(int, char**), int argc, char** argv
     std::cerr << "articula " << command << ": " << e.what() << " (see: articula " << command << " --help)\n";
   }
   return 2;
+}
+
+host::Robot robot_argument(const cxxopts::ParseResult& args) {
+  if (!args.count("robot")) throw UsageError("no robot given");
+  if (!args.count("program")) throw UsageError("no program given");
+  if (args.count("json") && args.count("csv")) throw UsageError("--json and --csv exclude each other");
+  return host::load_robot_file(host::resolve_robot_path(args["robot"].as<std::string>()));
+}
+
+host::Program program_argument(const cxxopts::ParseResult& args, const host::Robot& robot) {
+  const std::string path = args["program"].as<std::string>();
+  if (!std::ifstream(path)) throw UsageError("cannot read the program file '" + path + "'");
+  return host::load_program(path, robot);
+}
+
+host::ControllerSettings settings_argument(const cxxopts::ParseResult& args, const host::Robot& robot) {
+  host::ControllerSettings settings;
+  if (args.count("settings")) {
+    try {
+      host::apply_settings_text(settings, args["settings"].as<std::string>(), robot.actuation.num_motors);
+    } catch (const std::invalid_argument& e) {
+      throw UsageError(std::string("--settings: ") + e.what());
+    }
+  }
+  return settings;
 }
 
 }  // namespace articula::cli

@@ -7,7 +7,13 @@
 #include <vector>
 
 #include <articula/transform.h>
+#include "predict.h"
+#include "program.h"
 #include "robot.h"
+
+namespace cxxopts {
+class ParseResult;
+}
 
 namespace articula::cli {
 
@@ -39,6 +45,15 @@ std::string fmt(double v, int decimals = 3);
 
 // One CSV field (RFC 4180): quoted when it holds a comma, a quote or a line break.
 std::string csv_field(const std::string& s);
+
+// The positional ROBOT and PROGRAM of predict, run and sim. robot_argument checks that both
+// are given and that --json and --csv are not both, and loads the robot (file or shipped
+// name); program_argument loads the program (RoboSim or protocol lines) for that robot;
+// settings_argument reads --settings "0=800,1=3000" as the controller would (the defaults
+// when absent). Throw UsageError, RobotFileError or ProgramError.
+host::Robot robot_argument(const cxxopts::ParseResult& args);
+host::Program program_argument(const cxxopts::ParseResult& args, const host::Robot& robot);
+host::ControllerSettings settings_argument(const cxxopts::ParseResult& args, const host::Robot& robot);
 
 // Runs a command body: catches UsageError, RobotFileError, ProgramError and cxxopts errors and turns
 // them into one line on stderr and a non-zero exit code.

@@ -119,25 +119,13 @@ int run(int argc, char** argv) {
            "Exit code: 0 every command accepted, 1 some rejected, 2 a usage error (bad robot or program).\n";
     return 0;
   }
-  if (!args.count("robot")) throw UsageError("no robot given");
-  if (!args.count("program")) throw UsageError("no program given");
-  if (args.count("json") && args.count("csv")) throw UsageError("--json and --csv exclude each other");
-  const host::Robot robot = host::load_robot_file(host::resolve_robot_path(args["robot"].as<std::string>()));
+  const host::Robot robot = robot_argument(args);
   if (!robot.has_motors)
     throw UsageError(robot.name + " (" + robot.source +
                      ") has no motors: there are no steps to predict (articula run executes its programs on the "
                      "kinematic model)");
-  host::ControllerSettings settings;
-  if (args.count("settings")) {
-    try {
-      host::apply_settings_text(settings, args["settings"].as<std::string>(), robot.actuation.num_motors);
-    } catch (const std::invalid_argument& e) {
-      throw UsageError(std::string("--settings: ") + e.what());
-    }
-  }
-  const std::string path = args["program"].as<std::string>();
-  if (!std::ifstream(path)) throw UsageError("cannot read the program file '" + path + "'");
-  const host::Program program = host::load_program(path, robot);
+  const host::ControllerSettings settings = settings_argument(args, robot);
+  const host::Program program = program_argument(args, robot);
   const host::Prediction p = host::predict_program(robot, program, settings);
 
   std::string format = args.count("json") ? "json" : args.count("csv") ? "csv" : "table";

@@ -60,13 +60,8 @@ int run(int argc, char** argv) {
            "Exit code: 0 every command accepted, 1 some rejected, 2 a usage error (bad robot or program).\n";
     return 0;
   }
-  if (!args.count("robot")) throw UsageError("no robot given");
-  if (!args.count("program")) throw UsageError("no program given");
-  if (args.count("json") && args.count("csv")) throw UsageError("--json and --csv exclude each other");
-  const host::Robot robot = host::load_robot_file(host::resolve_robot_path(args["robot"].as<std::string>()));
-  const std::string path = args["program"].as<std::string>();
-  if (!std::ifstream(path)) throw UsageError("cannot read the program file '" + path + "'");
-  const host::Program program = host::load_program(path, robot);
+  const host::Robot robot = robot_argument(args);
+  const host::Program program = program_argument(args, robot);
   const std::vector<host::RunRecord> records = host::run_program(robot, program);
   int rejected = 0;
   for (const auto& r : records) rejected += r.reply != kOk;

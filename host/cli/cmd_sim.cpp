@@ -113,16 +113,13 @@ int run(int argc, char** argv) {
                  "the world, 2 a usage error (bad robot, program or scene).\n";
     return 0;
   }
-  if (!args.count("robot")) throw UsageError("no robot given");
-  if (!args.count("program")) throw UsageError("no program given");
-  if (args.count("json") && args.count("csv")) throw UsageError("--json and --csv exclude each other");
   const double sample_ms = args["sample"].as<double>(), dt_ms = args["dt"].as<double>(), extra = args["extra"].as<double>();
   if (!(dt_ms > 0 && dt_ms <= 10)) throw UsageError("--dt must be in (0, 10] ms");
   if (!(sample_ms >= 0)) throw UsageError("--sample must be >= 0 ms");
   if (!(extra >= 0 && extra <= 3600)) throw UsageError("--extra must be in 0 .. 3600 s");
   if (!(args["joint-speed"].as<double>() > 0)) throw UsageError("--joint-speed must be > 0");
 
-  const host::Robot robot = host::load_robot_file(host::resolve_robot_path(args["robot"].as<std::string>()));
+  const host::Robot robot = robot_argument(args);
   host::Scene scene;
   scene.name = "ground only";
   if (args.count("scene")) {
@@ -137,16 +134,8 @@ int run(int argc, char** argv) {
   so.extra_time = extra;
   so.quick_step = args.count("quick-step") > 0;
   so.joint_speed_deg = so.joint_speed_mm = args["joint-speed"].as<double>();
-  if (args.count("settings")) {
-    try {
-      host::apply_settings_text(so.settings, args["settings"].as<std::string>(), robot.actuation.num_motors);
-    } catch (const std::invalid_argument& e) {
-      throw UsageError(std::string("--settings: ") + e.what());
-    }
-  }
-  const std::string path = args["program"].as<std::string>();
-  if (!std::ifstream(path)) throw UsageError("cannot read the program file '" + path + "'");
-  const host::Program program = host::load_program(path, robot);
+  so.settings = settings_argument(args, robot);
+  const host::Program program = program_argument(args, robot);
 
   std::unique_ptr<host::Simulation> sim;
   try {
