@@ -1,5 +1,6 @@
 #include "cli_util.h"
 
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <cxxopts.hpp>
@@ -35,14 +36,37 @@ std::vector<double> parse_number_list(const std::string& text, const std::string
   return out;
 }
 
-bool joint_is_angle(const host::Robot& robot, int joint) { return robot.model.joints[joint].param != kParamD; }
-
-double joint_to_model(const host::Robot& robot, int joint, double value) {
-  return joint_is_angle(robot, joint) ? deg_to_rad(value) : value;
+std::string fmt_g(double v, int significant) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*g", significant, v);
+  return buf;
 }
 
-double joint_from_model(const host::Robot& robot, int joint, double value) {
-  return joint_is_angle(robot, joint) ? rad_to_deg(value) : value;
+std::string command_text(const std::string& line) {
+  std::string s = line.substr(0, line.find('#'));
+  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.pop_back();
+  return s.empty() ? line : s;
+}
+
+std::string output_format(const cxxopts::ParseResult& args) {
+  if (args.count("json")) return "json";
+  if (args.count("csv")) return "csv";
+  const std::string path = args.count("output") ? args["output"].as<std::string>() : "";
+  auto ends_with = [&](const std::string& tail) {
+    return path.size() > tail.size() && path.compare(path.size() - tail.size(), tail.size(), tail) == 0;
+  };
+  if (ends_with(".json")) return "json";
+  if (ends_with(".csv")) return "csv";
+  return "table";
+}
+
+void write_output(const std::string& path, const std::string& text) {
+  if (path.empty()) {
+    std::cout << text;
+    return;
+  }
+  std::ofstream f(path);
+  if (!f || !(f << text)) throw UsageError("cannot write '" + path + "'");
 }
 
 std::string fmt(double v, int decimals) {

@@ -25,10 +25,8 @@ struct UsageError : std::runtime_error {
 // "1,2.5,-3" -> {1, 2.5, -3}. Throws UsageError naming `what` on a bad entry.
 std::vector<double> parse_number_list(const std::string& text, const std::string& what);
 
-// Joint values in file units (deg for angles, mm for lengths) -> model units, and back.
-double joint_to_model(const host::Robot& robot, int joint, double value);
-double joint_from_model(const host::Robot& robot, int joint, double value);
-bool joint_is_angle(const host::Robot& robot, int joint);
+// Joint values in file and model units: joint_is_angle, joint_to_model, joint_from_model
+// (robot.h).
 
 // A plain text table: columns padded to their widest cell, numbers right-aligned.
 class Table {
@@ -42,6 +40,18 @@ class Table {
 };
 
 std::string fmt(double v, int decimals = 3);
+// A number with `significant` significant digits (printf %g), for machine-readable output.
+std::string fmt_g(double v, int significant = 9);
+
+// A protocol line without its comment, for display ("L 0 10 # left" -> "L 0 10").
+std::string command_text(const std::string& line);
+
+// The output format of predict and run: "json" or "csv" when asked (--json, --csv), else
+// from -o FILE's extension (.json, .csv), else "table".
+std::string output_format(const cxxopts::ParseResult& args);
+// Text to -o FILE, or to standard output when `path` is empty. Throws UsageError when the
+// file cannot be written.
+void write_output(const std::string& path, const std::string& text);
 
 // One CSV field (RFC 4180): quoted when it holds a comma, a quote or a line break.
 std::string csv_field(const std::string& s);

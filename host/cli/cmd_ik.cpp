@@ -122,7 +122,7 @@ int run(int argc, char** argv) {
               << ", " << res.iterations << " iterations)\n";
     Table table({"joint", "value", "unit"});
     for (int k = 0; k < n; ++k)
-      table.add({r.joint_names[k], fmt(joint_from_model(r, k, res.q[k])), joint_is_angle(r, k) ? "deg" : "mm"});
+      table.add({r.joint_names[k], fmt(joint_from_model(r, k, res.q[k])), joint_unit(r, k)});
     std::cout << table.str() << "tool at (" << fmt(res.tool.p.x) << ", " << fmt(res.tool.p.y) << ", " << fmt(res.tool.p.z)
               << ") mm, position error " << fmt(res.position_error_mm, 4) << " mm";
     if (t.has_rotation)

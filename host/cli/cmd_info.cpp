@@ -115,7 +115,7 @@ int run(int argc, char** argv) {
       j["joints"].push_back({{"name", r.joint_names[k]},
                              {"row", m.joints[k].row + 1},
                              {"parameter", param_name(m.joints[k].param)},
-                             {"unit", joint_is_angle(r, k) ? "deg" : "mm"},
+                             {"unit", joint_unit(r, k)},
                              {"min", joint_from_model(r, k, m.joints[k].lo)},
                              {"max", joint_from_model(r, k, m.joints[k].hi)},
                              {"home", joint_from_model(r, k, r.home[k])}});
@@ -162,7 +162,7 @@ int run(int argc, char** argv) {
     jt.add({std::to_string(k), r.joint_names[k],
             std::string(param_name(m.joints[k].param)) + std::to_string(m.joints[k].row + 1),
             fmt(joint_from_model(r, k, m.joints[k].lo)), fmt(joint_from_model(r, k, m.joints[k].hi)),
-            fmt(joint_from_model(r, k, r.home[k])), joint_is_angle(r, k) ? "deg" : "mm"});
+            fmt(joint_from_model(r, k, r.home[k])), joint_unit(r, k)});
   std::cout << jt.str();
 
   if (r.has_motors) {

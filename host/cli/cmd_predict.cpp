@@ -18,13 +18,6 @@
 namespace articula::cli {
 namespace {
 
-// A protocol line without its comment, for display ("L 0 10 # left" -> "L 0 10").
-std::string command_text(const std::string& line) {
-  std::string s = line.substr(0, line.find('#'));
-  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.pop_back();
-  return s.empty() ? line : s;
-}
-
 std::string joined(const std::vector<int32_t>& v) {
   std::string s;
   for (size_t i = 0; i < v.size(); ++i) s += (i ? " " : "") + std::to_string(v[i]);
@@ -43,12 +36,6 @@ std::string joined(const Vec3<double>& p, int decimals = 3) {
 
 std::string reply_text(Status s) {
   return s == kOk ? "ok" : "error:" + std::to_string(int(s));
-}
-
-std::string full(double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.9g", v);
-  return buf;
 }
 
 nlohmann::json vec_json(const Vec3<double>& p) {
@@ -128,10 +115,8 @@ int run(int argc, char** argv) {
   const host::Program program = program_argument(args, robot);
   const host::Prediction p = host::predict_program(robot, program, settings);
 
-  std::string format = args.count("json") ? "json" : args.count("csv") ? "csv" : "table";
+  const std::string format = output_format(args);
   const std::string out_path = args.count("output") ? args["output"].as<std::string>() : "";
-  if (format == "table" && out_path.size() > 5 && out_path.substr(out_path.size() - 5) == ".json") format = "json";
-  if (format == "table" && out_path.size() > 4 && out_path.substr(out_path.size() - 4) == ".csv") format = "csv";
   const bool robosim = program.format == host::Program::Format::kRoboSim;
   const int n = robot.actuation.num_motors;
 
@@ -169,16 +154,16 @@ int run(int argc, char** argv) {
       std::vector<std::string> row = {std::to_string(r.line), command_text(r.text), r.protocol,
                                       r.reply == kOk ? "ok" : "error", std::to_string(int(r.reply))};
       for (int i = 0; i < n; ++i) row.push_back(std::to_string(r.steps[size_t(i)]));
-      for (double q : r.joints) row.push_back(full(q));
+      for (double q : r.joints) row.push_back(fmt_g(q));
       for (const auto& v : {r.tool_ideal, r.tool_quantized})
-        for (double c : {v.x, v.y, v.z}) row.push_back(full(c));
-      row.push_back(full(r.error_mm));
+        for (double c : {v.x, v.y, v.z}) row.push_back(fmt_g(c));
+      row.push_back(fmt_g(r.error_mm));
       row.push_back(r.gripper_percent < 0 ? "" : std::to_string(r.gripper_percent));
       row.push_back(std::to_string(r.dominant_steps));
       row.push_back(std::to_string(r.ticks));
-      row.push_back(full(r.seconds()));
-      row.push_back(full(r.start_s()));
-      row.push_back(full(r.end_s()));
+      row.push_back(fmt_g(r.seconds()));
+      row.push_back(fmt_g(r.start_s()));
+      row.push_back(fmt_g(r.end_s()));
       row.push_back(r.reply == kOk ? r.note
                                    : std::string(status_text(r.reply)) + (r.note.empty() ? "" : "; " + r.note));
       for (size_t i = 0; i < row.size(); ++i) out << (i ? "," : "") << csv_field(row[i]);
@@ -213,12 +198,7 @@ int run(int argc, char** argv) {
     out << p.records.size() << " commands, " << p.rejected << " rejected, worst quantization error "
         << fmt(p.worst_error_mm) << " mm, total duration " << fmt(p.total_s()) << " s\n";
   }
-  if (out_path.empty()) {
-    std::cout << out.str();
-  } else {
-    std::ofstream f(out_path);
-    if (!f || !(f << out.str())) throw UsageError("cannot write '" + out_path + "'");
-  }
+  write_output(out_path, out.str());
   return p.rejected ? 1 : 0;
 }
 

@@ -17,23 +17,6 @@
 namespace articula::cli {
 namespace {
 
-// A protocol line without its comment, for display ("L 0 10 # left" -> "L 0 10").
-std::string command_text(const std::string& line) {
-  std::string s = line.substr(0, line.find('#'));
-  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.pop_back();
-  return s.empty() ? line : s;
-}
-
-std::string full(double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.9g", v);
-  return buf;
-}
-
-std::string unit(const host::Robot& r, int j) {
-  return r.model.joints[j].param == kParamD ? "mm" : "deg";
-}
-
 int run(int argc, char** argv) {
   cxxopts::Options opts("articula run",
                         "Executes a program on the kinematic model and prints or saves the pose after each "
@@ -66,10 +49,8 @@ int run(int argc, char** argv) {
   int rejected = 0;
   for (const auto& r : records) rejected += r.reply != kOk;
 
-  std::string format = args.count("json") ? "json" : args.count("csv") ? "csv" : "table";
+  const std::string format = output_format(args);
   const std::string out_path = args.count("output") ? args["output"].as<std::string>() : "";
-  if (format == "table" && out_path.size() > 5 && out_path.substr(out_path.size() - 5) == ".json") format = "json";
-  if (format == "table" && out_path.size() > 4 && out_path.substr(out_path.size() - 4) == ".csv") format = "csv";
   const int nj = robot.model.num_joints;
 
   std::ostringstream out;
@@ -106,7 +87,7 @@ int run(int argc, char** argv) {
     out << j.dump(2) << '\n';
   } else if (format == "csv") {
     std::vector<std::string> head = {"line", "command", "reply", "code"};
-    for (int k = 0; k < nj; ++k) head.push_back(robot.joint_names[size_t(k)] + "_" + unit(robot, k));
+    for (int k = 0; k < nj; ++k) head.push_back(robot.joint_names[size_t(k)] + "_" + joint_unit(robot, k));
     for (const char* c : {"x_mm", "y_mm", "z_mm", "roll_deg", "pitch_deg", "yaw_deg", "gripper_percent", "target_x",
                           "target_y", "target_z", "ik_status", "target_error_mm", "note"})
       head.push_back(c);
@@ -115,13 +96,13 @@ int run(int argc, char** argv) {
     for (const auto& r : records) {
       std::vector<std::string> row = {std::to_string(r.line), command_text(r.text), r.reply == kOk ? "ok" : "error",
                                       std::to_string(int(r.reply))};
-      for (double q : r.joints) row.push_back(full(q));
+      for (double q : r.joints) row.push_back(fmt_g(q));
       for (double v : {r.tool.p.x, r.tool.p.y, r.tool.p.z, r.rpy_deg.x, r.rpy_deg.y, r.rpy_deg.z})
-        row.push_back(full(v));
+        row.push_back(fmt_g(v));
       row.push_back(r.gripper_percent < 0 ? "" : std::to_string(r.gripper_percent));
-      for (double v : {r.target.x, r.target.y, r.target.z}) row.push_back(r.has_target ? full(v) : "");
+      for (double v : {r.target.x, r.target.y, r.target.z}) row.push_back(r.has_target ? fmt_g(v) : "");
       row.push_back(r.ik_status);
-      row.push_back(r.has_target ? full(r.target_error_mm) : "");
+      row.push_back(r.has_target ? fmt_g(r.target_error_mm) : "");
       row.push_back(r.reply == kOk ? r.note
                                    : std::string(status_text(r.reply)) + (r.note.empty() ? "" : "; " + r.note));
       for (size_t i = 0; i < row.size(); ++i) out << (i ? "," : "") << csv_field(row[i]);
@@ -130,7 +111,7 @@ int run(int argc, char** argv) {
   } else {
     out << robot.name << ", " << program.source << " on the kinematic model\n";
     std::vector<std::string> head = {"line", "command", "reply"};
-    for (int k = 0; k < nj; ++k) head.push_back(robot.joint_names[size_t(k)] + " " + unit(robot, k));
+    for (int k = 0; k < nj; ++k) head.push_back(robot.joint_names[size_t(k)] + " " + joint_unit(robot, k));
     for (const char* c : {"x mm", "y mm", "z mm", "roll deg", "pitch deg", "yaw deg", "ik"}) head.push_back(c);
     Table t(head);
     std::vector<std::string> notes;
@@ -151,12 +132,7 @@ int run(int argc, char** argv) {
     for (const auto& s : notes) out << s << '\n';
     out << records.size() << " commands, " << rejected << " rejected\n";
   }
-  if (out_path.empty()) {
-    std::cout << out.str();
-  } else {
-    std::ofstream f(out_path);
-    if (!f || !(f << out.str())) throw UsageError("cannot write '" + out_path + "'");
-  }
+  write_output(out_path, out.str());
   return rejected ? 1 : 0;
 }
 

@@ -22,12 +22,6 @@
 namespace articula::cli {
 namespace {
 
-std::string full(double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.6g", v);
-  return buf;
-}
-
 // A length (mm) or angle (deg) for the CSV: 4 decimals (0.1 um, 0.0001 deg), no "-0.0000".
 std::string fixed4(double v) {
   if (std::fabs(v) < 5e-5) v = 0;
@@ -162,7 +156,7 @@ int run(int argc, char** argv) {
   const int nj = robot.model.num_joints;
   if (sample_ms > 0 && !json) {
     std::vector<std::string> head = {"t_s"};
-    for (int j = 0; j < nj; ++j) head.push_back(robot.joint_names[size_t(j)] + (joint_is_angle(robot, j) ? "_deg" : "_mm"));
+    for (int j = 0; j < nj; ++j) head.push_back(robot.joint_names[size_t(j)] + "_" + joint_unit(robot, j));
     for (const char* c : {"tool_x", "tool_y", "tool_z", "tool_roll", "tool_pitch", "tool_yaw", "gripper_mm"}) head.push_back(c);
     for (int i = 0; i < sim->num_objects(); ++i)
       for (const char* c : {"_x", "_y", "_z", "_roll", "_pitch", "_yaw"}) head.push_back(sim->object(i).name + c);
@@ -191,7 +185,7 @@ int run(int argc, char** argv) {
       j["objects"] = objs;
       out << j.dump() << '\n';
     } else {
-      out << full(sim->time());
+      out << fmt_g(sim->time(), 6);
       for (int k = 0; k < nj; ++k) out << ',' << fixed4(joint_from_model(robot, k, sim->joints()[size_t(k)]));
       for (double v : {f.T_base_tool.p.x, f.T_base_tool.p.y, f.T_base_tool.p.z, rpy.x * 180 / M_PI, rpy.y * 180 / M_PI,
                        rpy.z * 180 / M_PI, sim->gripper_opening_mm()})

@@ -46,10 +46,6 @@ void add_note(PredictRecord& r, const std::string& note) {
   r.note += (r.note.empty() ? "" : "; ") + note;
 }
 
-bool is_angle(const Robot& robot, int joint) {
-  return robot.model.joints[joint].param != kParamD;
-}
-
 // The firmware's servo pulse for an aperture in thousandths of a percent (gripper.cpp), in
 // float as on the Nano.
 uint16_t servo_pulse_us(const Robot& robot, int32_t aperture) {
@@ -228,8 +224,8 @@ void ControllerModel::finish(PredictRecord& r) {
   r.joints.clear();
   r.joints_ideal.clear();
   for (int j = 0; j < nj; ++j) {
-    r.joints.push_back(is_angle(robot_, j) ? rad_to_deg(q_real[j]) : q_real[j]);
-    r.joints_ideal.push_back(is_angle(robot_, j) ? rad_to_deg(q_ideal[j]) : q_ideal[j]);
+    r.joints.push_back(joint_from_model(robot_, j, q_real[j]));
+    r.joints_ideal.push_back(joint_from_model(robot_, j, q_ideal[j]));
   }
   r.tool_ideal = tool_position(robot_.model, q_ideal);
   r.tool_quantized = tool_position(robot_.model, q_real);
@@ -445,7 +441,7 @@ void ControllerModel::robosim(PredictRecord& r, const Statement& st) {
       double q[kMaxJoints];
       if (st.kind == Statement::Kind::kJoints) {
         for (int j = 0; j < nj; ++j)
-          q[j] = is_angle(robot_, j) ? deg_to_rad(st.values[size_t(j)]) : st.values[size_t(j)];
+          q[j] = joint_to_model(robot_, j, st.values[size_t(j)]);
       } else {
         r.has_target = true;
         r.target = make_vec3(st.values[0], st.values[1], st.values[2]);

@@ -86,6 +86,18 @@ struct Robot {
   Gripper gripper;
 };
 
+// A joint variable is an angle (theta or alpha: degrees in files and at the interfaces,
+// radians in the model) or a length (d: mm everywhere).
+inline bool joint_is_angle(const Robot& robot, int joint) { return robot.model.joints[joint].param != kParamD; }
+inline const char* joint_unit(const Robot& robot, int joint) { return joint_is_angle(robot, joint) ? "deg" : "mm"; }
+// A joint value in file units (deg or mm) in model units (rad or mm), and back.
+inline double joint_to_model(const Robot& robot, int joint, double value) {
+  return joint_is_angle(robot, joint) ? deg_to_rad(value) : value;
+}
+inline double joint_from_model(const Robot& robot, int joint, double value) {
+  return joint_is_angle(robot, joint) ? rad_to_deg(value) : value;
+}
+
 }  // namespace articula::host
 
 #endif  // ARTICULA_HOST_ROBOT_H

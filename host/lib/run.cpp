@@ -22,10 +22,6 @@ void add_note(RunRecord& r, const std::string& note) {
   r.note += (r.note.empty() ? "" : "; ") + note;
 }
 
-bool is_angle(const Robot& robot, int joint) {
-  return robot.model.joints[joint].param != kParamD;
-}
-
 }  // namespace
 
 KinematicModel::KinematicModel(const Robot& robot) : robot_(robot) {
@@ -51,7 +47,7 @@ void KinematicModel::q_from_commanded() {
   } else {
     for (int j = 0; j < n_; ++j) {
       const double v = double(commanded_[size_t(j)] + offset_[size_t(j)]) / 1000.0;
-      q_[size_t(j)] = is_angle(robot_, j) ? deg_to_rad(v) : v;
+      q_[size_t(j)] = joint_to_model(robot_, j, v);
     }
   }
 }
@@ -64,7 +60,7 @@ void KinematicModel::commanded_from_q() {
     for (int i = 0; i < n_; ++i) commanded_[size_t(i)] = std::llround(rad_to_deg(u[i]) * 1000.0) - offset_[size_t(i)];
   } else {
     for (int j = 0; j < n_; ++j) {
-      const double v = is_angle(robot_, j) ? rad_to_deg(q_[size_t(j)]) : q_[size_t(j)];
+      const double v = joint_from_model(robot_, j, q_[size_t(j)]);
       commanded_[size_t(j)] = std::llround(v * 1000.0) - offset_[size_t(j)];
     }
   }
@@ -80,7 +76,7 @@ Status KinematicModel::set_commanded(const std::vector<int64_t>& target) {
       if (v < robot_.actuation.motors[i].min || v > robot_.actuation.motors[i].max) return kJointLimit;
     } else {
       const double units = double(v + offset_[size_t(i)]) / 1000.0;
-      const double q = is_angle(robot_, i) ? deg_to_rad(units) : units;
+      const double q = joint_to_model(robot_, i, units);
       const auto& js = robot_.model.joints[i];
       const double slack = 1e-9 * (1 + std::fabs(q));
       if (q < js.lo - slack || q > js.hi + slack) return kJointLimit;
@@ -167,7 +163,7 @@ Status KinematicModel::run_command(RunRecord& r, const std::string& text) {
         }
       } else {
         for (int j = 0; j < n_; ++j) {
-          const double v = is_angle(robot_, j) ? rad_to_deg(robot_.home[size_t(j)]) : robot_.home[size_t(j)];
+          const double v = joint_from_model(robot_, j, robot_.home[size_t(j)]);
           t[size_t(j)] = std::llround(v * 1000.0) - offset_[size_t(j)];
         }
       }
@@ -201,7 +197,7 @@ void KinematicModel::robosim(RunRecord& r, const Statement& st) {
   switch (st.kind) {
     case Statement::Kind::kJoints: {
       for (int j = 0; j < nj; ++j)
-        q_[size_t(j)] = is_angle(robot_, j) ? deg_to_rad(st.values[size_t(j)]) : st.values[size_t(j)];
+        q_[size_t(j)] = joint_to_model(robot_, j, st.values[size_t(j)]);
       if (motors_) {
         double u[kMaxJoints];
         actuators_from_joints(u, robot_.actuation, q_.data());
@@ -262,7 +258,7 @@ void KinematicModel::robosim(RunRecord& r, const Statement& st) {
 void KinematicModel::finish(RunRecord& r) const {
   r.joints.clear();
   for (int j = 0; j < robot_.model.num_joints; ++j)
-    r.joints.push_back(is_angle(robot_, j) ? rad_to_deg(q_[size_t(j)]) : q_[size_t(j)]);
+    r.joints.push_back(joint_from_model(robot_, j, q_[size_t(j)]));
   HostFrames f;
   forward_kinematics(f, robot_.model, q_.data());
   r.tool = f.T_base_tool;

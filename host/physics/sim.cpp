@@ -708,8 +708,8 @@ void Simulation::load_program(const Program& program) {
       std::vector<double> q_to(static_cast<size_t>(n_joints_));
       double duration = 0;
       for (int j = 0; j < n_joints_; ++j) {
-        const bool angle = robot_.model.joints[j].param != kParamD;
-        q_to[size_t(j)] = angle ? r.joints[size_t(j)] * M_PI / 180 : r.joints[size_t(j)];
+        const bool angle = joint_is_angle(robot_, j);
+        q_to[size_t(j)] = joint_to_model(robot_, j, r.joints[size_t(j)]);
         const double speed = angle ? opt_.joint_speed_deg * M_PI / 180 : opt_.joint_speed_mm;
         duration = std::max(duration, std::fabs(q_to[size_t(j)] - q[size_t(j)]) / speed);
       }
@@ -958,7 +958,7 @@ void Simulation::motor_events(uint64_t until) {
 void Simulation::follow_joints(const std::vector<double>& q_cmd, double dt) {
   bool moves = false;
   for (int j = 0; j < n_joints_; ++j) {
-    const bool angle = robot_.model.joints[j].param != kParamD;
+    const bool angle = joint_is_angle(robot_, j);
     const double max = 2 * dt * (angle ? opt_.joint_speed_deg * M_PI / 180 : opt_.joint_speed_mm);
     const double d = std::clamp(q_cmd[size_t(j)] - q_[size_t(j)], -max, max);
     q_try_[size_t(j)] = q_[size_t(j)] + d;
