@@ -28,23 +28,7 @@ std::string milli_text(int64_t v) {
   return buf;
 }
 
-std::string num_text(double v) {
-  std::ostringstream o;
-  o << v;
-  return o.str();
-}
-
-std::string trim(const std::string& s) {
-  size_t b = 0, e = s.size();
-  while (b < e && std::isspace(static_cast<unsigned char>(s[b]))) ++b;
-  while (e > b && std::isspace(static_cast<unsigned char>(s[e - 1]))) --e;
-  return s.substr(b, e - b);
-}
-
-void add_note(PredictRecord& r, const std::string& note) {
-  if (note.empty()) return;
-  r.note += (r.note.empty() ? "" : "; ") + note;
-}
+void add_note(PredictRecord& r, const std::string& note) { append_note(r.note, note); }
 
 // The firmware's servo pulse for an aperture in thousandths of a percent (gripper.cpp), in
 // float as on the Nano.
@@ -100,7 +84,7 @@ void apply_settings_text(ControllerSettings& s, const std::string& text, int num
   std::string item;
   bool any = false;
   while (std::getline(ss, item, ',')) {
-    item = trim(item);
+    item = trim_blanks(item);
     if (item.empty()) throw std::invalid_argument("an empty entry (expected n=value, e.g. 0=800)");
     const std::string line = item[0] == '$' ? item : "$" + item;
     Command cmd;
@@ -335,8 +319,7 @@ Status ControllerModel::home(PredictRecord& r) {
 
 Status ControllerModel::run_command(PredictRecord& r, const std::string& text) {
   Command cmd;
-  if (text.size() > 255) return kLineTooLong;
-  const Status parsed = parse_line(cmd, text.data(), uint8_t(text.size()), uint8_t(n_));
+  const Status parsed = parse_protocol_line(cmd, text, n_);
   if (parsed != kOk) return parsed;
   if (text.find('!') != std::string::npos)
     add_note(r, "the line holds '!': sent to the arm it stops the arm and empties the queue (not simulated)");
@@ -464,7 +447,7 @@ void ControllerModel::robosim(PredictRecord& r, const Statement& st) {
         if (!res.reached()) {
           r.reply = kUnreachable;
           add_note(r, std::string("ik: ") + ik_status_name(res.status) + ", the best pose is " +
-                          num_text(std::round(res.position_error_mm * 1000) / 1000) +
+                          number_text(std::round(res.position_error_mm * 1000) / 1000) +
                           " mm from the target (P would be refused likewise)");
           return;
         }
@@ -514,7 +497,7 @@ void ControllerModel::robosim(PredictRecord& r, const Statement& st) {
       const uint32_t rate = robosim_speed_to_rate(st.values[0], base_rate_);
       settings_.value[ControllerSettings::kMaxRate] = rate;
       r.protocol = "$0=" + std::to_string(rate);
-      add_note(r, "top step rate " + std::to_string(rate) + " steps/s (" + num_text(st.values[0]) + "/82 of " +
+      add_note(r, "top step rate " + std::to_string(rate) + " steps/s (" + number_text(st.values[0]) + "/82 of " +
                       std::to_string(base_rate_) + ")");
       add_note(r, kWaitsForRest);
       return;
@@ -536,7 +519,7 @@ void ControllerModel::robosim(PredictRecord& r, const Statement& st) {
 PredictRecord ControllerModel::execute(const Statement& st) {
   if (st.kind == Statement::Kind::kProtocol) return execute_line(st.text, st.line);
   std::string text(1, robosim_letter(st.kind));
-  for (double v : st.values) text += " " + num_text(v);
+  for (double v : st.values) text += " " + number_text(v);
   PredictRecord r = begin(st.line, text);
   ControllerModel saved = *this;
   robosim(r, st);

@@ -20,13 +20,6 @@ struct Line {
   std::string text;  // comment and surrounding blanks removed; never empty
 };
 
-std::string trim(const std::string& s) {
-  size_t b = 0, e = s.size();
-  while (b < e && std::isspace(static_cast<unsigned char>(s[b]))) ++b;
-  while (e > b && std::isspace(static_cast<unsigned char>(s[e - 1]))) --e;
-  return s.substr(b, e - b);
-}
-
 // The lines that hold something, with `#` comments removed.
 std::vector<Line> content_lines(const std::string& text) {
   std::vector<Line> out;
@@ -35,7 +28,7 @@ std::vector<Line> content_lines(const std::string& text) {
   for (int n = 1; std::getline(in, s); ++n) {
     const size_t hash = s.find('#');
     if (hash != std::string::npos) s.erase(hash);
-    s = trim(s);
+    s = trim_blanks(s);
     if (!s.empty()) out.push_back({n, s});
   }
   return out;
@@ -64,15 +57,9 @@ double number_line(const std::string& file, const Line& l, const std::string& wh
   return v;
 }
 
-std::string fmt(double v) {
-  std::ostringstream o;
-  o << v;
-  return o.str();
-}
-
 void check_range(const std::string& file, int line, const std::string& what, double v, double lo, double hi) {
   if (v < lo || v > hi)
-    throw ProgramError(file, line, what + " " + fmt(v) + " is outside " + fmt(lo) + " .. " + fmt(hi));
+    throw ProgramError(file, line, what + " " + number_text(v) + " is outside " + number_text(lo) + " .. " + number_text(hi));
 }
 
 }  // namespace
@@ -161,7 +148,7 @@ Program parse_robosim(const std::string& text, const std::string& name, const Ro
         }
         case Statement::Kind::kWeights:
           if (v < 0 || v != std::floor(v))
-            throw ProgramError(name, l.number, "w: weights are whole numbers >= 0, got " + fmt(v));
+            throw ProgramError(name, l.number, "w: weights are whole numbers >= 0, got " + number_text(v));
           break;
         case Statement::Kind::kSpeed: check_range(name, l.number, "speed", v, 1, 82); break;
         case Statement::Kind::kHand: check_range(name, l.number, "hand aperture", v, 0.0, 0.5); break;
@@ -184,7 +171,7 @@ Program parse_protocol_program(const std::string& text, const std::string& name,
   std::string s;
   for (int n = 1; std::getline(in, s); ++n) {
     if (!s.empty() && s.back() == '\r') s.pop_back();
-    const std::string t = trim(s);
+    const std::string t = trim_blanks(s);
     if (t.empty() || t[0] == '#') continue;
     if (t.size() > kMaxLineLength)
       throw ProgramError(name, n, "line longer than " + std::to_string(kMaxLineLength) + " bytes (error:7)");
@@ -209,6 +196,29 @@ Program load_program(const std::string& path, const Robot& robot) {
   const std::string text = ss.str();
   return detect_format(text, path) == Program::Format::kRoboSim ? parse_robosim(text, path, robot)
                                                                  : parse_protocol_program(text, path, robot);
+}
+
+Status parse_protocol_line(Command& cmd, const std::string& text, int num_joints) {
+  if (text.size() > 255) return kLineTooLong;
+  return parse_line(cmd, text.data(), uint8_t(text.size()), uint8_t(num_joints));
+}
+
+std::string number_text(double v) {
+  std::ostringstream o;
+  o << v;
+  return o.str();
+}
+
+std::string trim_blanks(const std::string& s) {
+  size_t b = 0, e = s.size();
+  while (b < e && std::isspace(static_cast<unsigned char>(s[b]))) ++b;
+  while (e > b && std::isspace(static_cast<unsigned char>(s[e - 1]))) --e;
+  return s.substr(b, e - b);
+}
+
+void append_note(std::string& notes, const std::string& note) {
+  if (note.empty()) return;
+  notes += (notes.empty() ? "" : "; ") + note;
 }
 
 }  // namespace articula::host

@@ -4,6 +4,9 @@
 #ifndef ARTICULA_HOST_PROGRAM_H
 #define ARTICULA_HOST_PROGRAM_H
 
+#include <articula/protocol.h>
+#include <articula/status.h>
+
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -68,6 +71,17 @@ Program parse_protocol_program(const std::string& text, const std::string& name,
 
 // Reads a program file in either language (detect_format). Throws ProgramError.
 Program load_program(const std::string& path, const Robot& robot);
+
+// What the models that execute programs (predict.h, run.h) share:
+// one protocol line through the shared codec as the controller reads it, for a robot with
+// `num_joints` joint variables (kLineTooLong beyond 255 bytes);
+Status parse_protocol_line(Command& cmd, const std::string& text, int num_joints);
+// a number as messages and notes print it (ostream's default: "12.5", "0.001");
+std::string number_text(double v);
+// text without leading and trailing blanks;
+std::string trim_blanks(const std::string& s);
+// a note added to a record's notes, "; " between them (nothing for an empty one).
+void append_note(std::string& notes, const std::string& note);
 
 }  // namespace articula::host
 

@@ -11,16 +11,7 @@ namespace articula::host {
 
 namespace {
 
-std::string num_text(double v) {
-  std::ostringstream o;
-  o << v;
-  return o.str();
-}
-
-void add_note(RunRecord& r, const std::string& note) {
-  if (note.empty()) return;
-  r.note += (r.note.empty() ? "" : "; ") + note;
-}
+void add_note(RunRecord& r, const std::string& note) { append_note(r.note, note); }
 
 }  // namespace
 
@@ -100,8 +91,7 @@ IkResult KinematicModel::solve(const Vec3<double>& target, RunRecord& r) {
 
 Status KinematicModel::run_command(RunRecord& r, const std::string& text) {
   Command cmd;
-  if (text.size() > 255) return kLineTooLong;
-  const Status parsed = parse_line(cmd, text.data(), uint8_t(text.size()), uint8_t(n_));
+  const Status parsed = parse_protocol_line(cmd, text, n_);
   if (parsed != kOk) return parsed;
   switch (cmd.type) {
     case kCmdNone:
@@ -129,7 +119,7 @@ Status KinematicModel::run_command(RunRecord& r, const std::string& text) {
         return kUnreachable;
       }
       if (!res.reached()) {
-        add_note(r, "ik: " + r.ik_status + ", " + num_text(std::round(res.position_error_mm * 1000) / 1000) +
+        add_note(r, "ik: " + r.ik_status + ", " + number_text(std::round(res.position_error_mm * 1000) / 1000) +
                         " mm from the target");
         return kUnreachable;
       }
@@ -205,7 +195,7 @@ void KinematicModel::robosim(RunRecord& r, const Statement& st) {
           const MotorSpec& m = robot_.actuation.motors[i];
           const double deg = rad_to_deg(u[i]);
           if (deg * 1000 < m.min - 0.5 || deg * 1000 > m.max + 0.5)
-            add_note(r, "motor " + robot_.motor_names[size_t(i)] + " at " + num_text(std::round(deg * 1000) / 1000) +
+            add_note(r, "motor " + robot_.motor_names[size_t(i)] + " at " + number_text(std::round(deg * 1000) / 1000) +
                             " deg is beyond its limits: the real arm refuses this (error:9)");
         }
       }
@@ -225,7 +215,7 @@ void KinematicModel::robosim(RunRecord& r, const Statement& st) {
       q_ = res.q;
       if (!res.reached())
         add_note(r, "ik: " + r.ik_status + ": moved to the best pose found, " +
-                        num_text(std::round(res.position_error_mm * 1000) / 1000) + " mm from the target");
+                        number_text(std::round(res.position_error_mm * 1000) / 1000) + " mm from the target");
       std::fill(offset_.begin(), offset_.end(), 0);
       commanded_from_q();
       return;
@@ -242,7 +232,7 @@ void KinematicModel::robosim(RunRecord& r, const Statement& st) {
       weights_ = st.values;
       return;
     case Statement::Kind::kSpeed:
-      add_note(r, "speed " + num_text(st.values[0]) + " of 82: no timing in the kinematic model");
+      add_note(r, "speed " + number_text(st.values[0]) + " of 82: no timing in the kinematic model");
       return;
     case Statement::Kind::kHand:
       gripper_percent_ = (robosim_hand_to_aperture(st.values[0]) + 500) / 1000;
@@ -284,7 +274,7 @@ RunRecord KinematicModel::execute(const Statement& st) {
   RunRecord r;
   r.line = st.line;
   r.text = std::string(1, robosim_letter(st.kind));
-  for (double v : st.values) r.text += " " + num_text(v);
+  for (double v : st.values) r.text += " " + number_text(v);
   KinematicModel saved = *this;
   robosim(r, st);
   if (r.reply != kOk) *this = saved;
