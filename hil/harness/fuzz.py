@@ -49,6 +49,7 @@ from fractions import Fraction
 from pathlib import Path
 
 from .link import Link, LinkTimeout, LinkVanished, parse_info, parse_setting, parse_status, Status
+from .randplan import millis_text as fmt
 from .robot import Robot
 
 RUN_SETTINGS = {0: 4000, 1: 100000, 5: 0}
@@ -108,15 +109,6 @@ def millideg(text: str) -> int:
     whole, _, frac = t.lstrip("+-").partition(".")
     v = int(whole or "0") * 1000 + int((frac + "000")[:3])
     return -v if neg else v
-
-
-def fmt(millis: int, decimals: int = 3) -> str:
-    sign = "-" if millis < 0 else ""
-    whole, frac = divmod(abs(millis), 1000)
-    text = f"{frac:03d}"[:decimals].rstrip("0") if decimals else ""
-    if frac and decimals and not text:
-        text = ""
-    return f"{sign}{whole}.{text}" if text else f"{sign}{whole}"
 
 
 # ---------------------------------------------------------------------------------------
@@ -213,6 +205,18 @@ class Generator:
     def _rj(self) -> int:
         return self.rng.randrange(self.n)
 
+    def _turn(self, j: int, delta: int) -> list[int] | None:
+        """An accepted `L j delta`: the commanded angle moves; the steps it must end on
+        (None while the commanded angles are not known exactly)."""
+        arm = self.arm
+        target = None
+        if arm.exact:
+            new = list(arm.commanded)
+            new[j] += delta
+            target = [a.quantize_within_limits(v) for a, v in zip(arm.axes, new)]
+        arm.commanded[j] += delta
+        return target
+
     def _inside(self, j: int) -> tuple[int, int]:
         a = self.arm.axes[j]
         margin = VALID_MARGIN if self.arm.exact else VALID_MARGIN + 1000
@@ -244,12 +248,7 @@ class Generator:
             if rng.random() < 0.5:
                 delta = delta // 10 * 10
             delta = max(lo - c, min(hi - c, delta))
-            target = None
-            if arm.exact:
-                new = list(arm.commanded)
-                new[j] = c + delta
-                target = [a.quantize_within_limits(v) for a, v in zip(arm.axes, new)]
-            arm.commanded[j] = c + delta
+            target = self._turn(j, delta)
             return self._line(cls, self._words(self._letter("L"), str(j), self._num(delta)), "ok", "L", moves=True,
                               target=target)
         if r < 0.55:  # M: near where the arm is, sometimes anywhere
@@ -286,12 +285,7 @@ class Generator:
             c = arm.commanded[j]
             delta = max(lo - c, min(hi - c, rng.randint(-3000, 3000)))
             base = f"L {j} {fmt(delta)}"
-            target = None
-            if arm.exact:
-                new = list(arm.commanded)
-                new[j] = c + delta
-                target = [a.quantize_within_limits(v) for a, v in zip(arm.axes, new)]
-            arm.commanded[j] = c + delta
+            target = self._turn(j, delta)
             pad = MAX_LINE - len(base)
             text = base + (" " * pad if rng.random() < 0.5 else " #" + "x" * (pad - 2))
             if rng.random() < 0.5:

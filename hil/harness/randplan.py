@@ -28,7 +28,7 @@ from .robot import Robot
 P_MARGIN_DEG = 2.0
 
 
-def _fmt(millis: int, decimals: int) -> str:
+def millis_text(millis: int, decimals: int = 3) -> str:
     """A value in thousandths as text with at most `decimals` decimals (it has no more)."""
     sign = "-" if millis < 0 else ""
     m = abs(millis)
@@ -84,13 +84,13 @@ def generate(robot: Robot, n: int, seed: int, articula: str) -> str:
                 j = rng.randrange(len(motors))
                 over = rng.randint(1, 40) * 1000 + rng.choice((0, 500))
                 delta = (hi[j] - cmd[j] + over) if rng.random() < 0.5 else (lo[j] - cmd[j] - over)
-                body += ["#@ expect error:9", f"L {j} {_fmt(delta, 3)}"]
+                body += ["#@ expect error:9", f"L {j} {millis_text(delta, 3)}"]
             elif kind == "M-limit":
                 angles = [_random_millis(rng, lo[i], hi[i]) for i in range(len(motors))]
                 j = rng.randrange(len(motors))
                 angles[j] = (hi[j] + rng.randint(1, 30) * 1000, 0) if rng.random() < 0.5 else \
                     (lo[j] - rng.randint(1, 30) * 1000, 0)
-                body += ["#@ expect error:9", "M " + " ".join(_fmt(a, d) for a, d in angles)]
+                body += ["#@ expect error:9", "M " + " ".join(millis_text(a, d) for a, d in angles)]
             elif kind == "P-far":
                 ang = rng.uniform(0, 2 * math.pi)
                 radius = rng.uniform(500, 900)
@@ -111,13 +111,13 @@ def generate(robot: Robot, n: int, seed: int, articula: str) -> str:
                 span_lo, span_hi = max(span_lo, -30000), min(span_hi, 30000)
             delta, dec = _random_millis(rng, span_lo, span_hi)
             cmd[j] += delta
-            body.append(f"L {j} {_fmt(delta, dec)}")
+            body.append(f"L {j} {millis_text(delta, dec)}")
             state_lines.append(body[-1])
         elif r < 0.70:
             angles = [_random_millis(rng, lo[i], hi[i]) for i in range(len(motors))]
             for i, (a, _) in enumerate(angles):
                 cmd[i] = a
-            body.append("M " + " ".join(_fmt(a, d) for a, d in angles))
+            body.append("M " + " ".join(millis_text(a, d) for a, d in angles))
             state_lines.append(body[-1])
         elif r < 0.88:
             act = [rng.uniform(m.min + P_MARGIN_DEG, m.max - P_MARGIN_DEG) for m in motors]
@@ -128,5 +128,5 @@ def generate(robot: Robot, n: int, seed: int, articula: str) -> str:
             sync_after_p()
         else:
             v, dec = _random_millis(rng, 0, 100000)
-            body.append(f"G {_fmt(v, dec)}")
+            body.append(f"G {millis_text(v, dec)}")
     return "\n".join(head + body) + "\n"
