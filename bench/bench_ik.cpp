@@ -142,8 +142,8 @@ void BM_Mk2Position1000Lm(benchmark::State& state) {
 BENCHMARK(BM_Mk2Position1000Lm)->Iterations(1)->Unit(benchmark::kMillisecond);
 
 // The same calls in Google Benchmark's loop: mean time per solve.
-void BM_PandaFullPoseEach(benchmark::State& state) {
-  static const Case c = panda_case(IkMethod::kAuto);
+// The case's targets one after the other in Google Benchmark's loop.
+void solve_each(benchmark::State& state, const Case& c) {
   const InverseKinematics ik(c.robot);
   size_t i = 0;
   for (auto _ : state) {
@@ -152,17 +152,16 @@ void BM_PandaFullPoseEach(benchmark::State& state) {
     i = (i + 1) % c.targets.size();
   }
 }
+
+void BM_PandaFullPoseEach(benchmark::State& state) {
+  static const Case c = panda_case(IkMethod::kAuto);
+  solve_each(state, c);
+}
 BENCHMARK(BM_PandaFullPoseEach)->Unit(benchmark::kMicrosecond);
 
 void BM_Mk2PositionEach(benchmark::State& state) {
   static const Case c = mk2_case(IkMethod::kAuto);
-  const InverseKinematics ik(c.robot);
-  size_t i = 0;
-  for (auto _ : state) {
-    IkResult r = ik.solve(c.targets[i], c.start, c.options);
-    benchmark::DoNotOptimize(r.q.data());
-    i = (i + 1) % c.targets.size();
-  }
+  solve_each(state, c);
 }
 BENCHMARK(BM_Mk2PositionEach)->Unit(benchmark::kNanosecond);
 

@@ -222,12 +222,7 @@ void VirtualNano::run_until(uint64_t end) {
     }
     if (avr_->sreg[S_I]) {
       if (irq_off_) {
-        const double span = us(double(avr_->cycle - irq_off_start_));
-        if (span > irq_off_max_us_) {
-          irq_off_max_us_ = span;
-          irq_off_max_pc_ = irq_off_pc_;
-          irq_off_max_cycle_ = irq_off_start_;
-        }
+        end_irq_off();
         irq_off_ = false;
       }
       seen_sei_ = true;
@@ -582,17 +577,19 @@ void VirtualNano::on_vector_running(int vector, bool running) {
 
 // ---- the end ----
 
+void VirtualNano::end_irq_off() {
+  const double span = us(double(avr_->cycle - irq_off_start_));
+  if (span > irq_off_max_us_) {
+    irq_off_max_us_ = span;
+    irq_off_max_pc_ = irq_off_pc_;
+    irq_off_max_cycle_ = irq_off_start_;
+  }
+}
+
 void VirtualNano::finish() {
   if (finished_ || !avr_) return;
   finished_ = true;
-  if (irq_off_) {
-    const double span = us(double(avr_->cycle - irq_off_start_));
-    if (span > irq_off_max_us_) {
-      irq_off_max_us_ = span;
-      irq_off_max_pc_ = irq_off_pc_;
-      irq_off_max_cycle_ = irq_off_start_;
-    }
-  }
+  if (irq_off_) end_irq_off();
   for (uint32_t a = static_end_; a <= ramend_; ++a)
     if (avr_->data[a] != kPaint) {
       lowest_touched_ = int(a);

@@ -95,6 +95,8 @@ class VirtualNano {
   void on_vector_running(int vector, bool running);
 
  private:
+  // An interrupts-off stretch ends now: keep it if it is the longest so far.
+  void end_irq_off();
   struct Motor {
     int index = 0;
     int port = 0;  // 0 B, 1 C, 2 D
