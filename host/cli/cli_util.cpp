@@ -42,12 +42,6 @@ std::string fmt_g(double v, int significant) {
   return buf;
 }
 
-std::string command_text(const std::string& line) {
-  std::string s = line.substr(0, line.find('#'));
-  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.pop_back();
-  return s.empty() ? line : s;
-}
-
 std::string output_format(const cxxopts::ParseResult& args) {
   if (args.count("json")) return "json";
   if (args.count("csv")) return "csv";

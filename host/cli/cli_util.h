@@ -43,8 +43,8 @@ std::string fmt(double v, int decimals = 3);
 // A number with `significant` significant digits (printf %g), for machine-readable output.
 std::string fmt_g(double v, int significant = 9);
 
-// A protocol line without its comment, for display ("L 0 10 # left" -> "L 0 10").
-std::string command_text(const std::string& line);
+// A protocol line without its comment (program.h).
+using host::command_text;
 
 // The output format of predict and run: "json" or "csv" when asked (--json, --csv), else
 // from -o FILE's extension (.json, .csv), else "table".

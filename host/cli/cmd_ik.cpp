@@ -12,6 +12,7 @@
 #include "cli_util.h"
 #include "commands.h"
 #include "ik.h"
+#include "records_json.h"
 #include "robot_file.h"
 
 namespace articula::cli {
@@ -27,32 +28,6 @@ host::IkTarget make_target(const std::vector<double>& v, const std::string& what
     t.rotation = rpy_to_matrix(deg_to_rad(v[3]), deg_to_rad(v[4]), deg_to_rad(v[5]));
   }
   return t;
-}
-
-nlohmann::json result_json(const host::Robot& r, const host::IkResult& res) {
-  nlohmann::json q = nlohmann::json::array();
-  for (size_t k = 0; k < res.q.size(); ++k) q.push_back(joint_from_model(r, int(k), res.q[k]));
-  const Vec3<double> rpy = matrix_to_rpy(res.tool.R);
-  nlohmann::json j = {{"status", host::ik_status_name(res.status)},
-                      {"solver", host::ik_method_name(res.method)},
-                      {"q", q},
-                      {"tool", {res.tool.p.x, res.tool.p.y, res.tool.p.z}},
-                      {"tool_rpy", {rad_to_deg(rpy.x), rad_to_deg(rpy.y), rad_to_deg(rpy.z)}},
-                      {"position_error_mm", res.position_error_mm},
-                      {"orientation_error_deg", rad_to_deg(res.orientation_error_rad)},
-                      {"iterations", res.iterations},
-                      {"attempts", res.attempts}};
-  if (!res.limited_joints.empty()) {
-    nlohmann::json names = nlohmann::json::array();
-    for (int k : res.limited_joints) names.push_back(r.joint_names[k]);
-    j["limited_by"] = names;
-  }
-  if (!res.limited_motors.empty()) {
-    nlohmann::json names = nlohmann::json::array();
-    for (int k : res.limited_motors) names.push_back(r.motor_names[k]);
-    j["limited_by_motors"] = names;
-  }
-  return j;
 }
 
 // A progress bar on stderr for long batches (only when stderr is a terminal or asked).
@@ -115,7 +90,7 @@ int run(int argc, char** argv) {
     const host::IkTarget t = make_target(parse_number_list(args["target"].as<std::string>(), "--target"), "--target");
     const host::IkResult res = solve(t, start);
     if (args.count("json")) {
-      std::cout << result_json(r, res).dump(2) << '\n';
+      std::cout << host::ik_result_json(r, res).dump(2) << '\n';
       return res.reached() ? 0 : 1;
     }
     std::cout << r.name << ": " << host::ik_status_name(res.status) << " (" << host::ik_method_name(res.method)
@@ -149,7 +124,7 @@ int run(int argc, char** argv) {
     const auto t0 = std::chrono::steady_clock::now();
     const host::IkResult res = solve(targets[i].second, start);
     const double us = std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count();
-    nlohmann::json j = result_json(r, res);
+    nlohmann::json j = host::ik_result_json(r, res);
     j["line"] = targets[i].first;
     j["solve_us"] = us;
     std::cout << j.dump() << '\n';

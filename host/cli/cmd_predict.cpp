@@ -13,6 +13,7 @@
 #include "commands.h"
 #include "predict.h"
 #include "program.h"
+#include "records_json.h"
 #include "robot_file.h"
 
 namespace articula::cli {
@@ -32,49 +33,6 @@ std::string joined(const std::vector<double>& v, int decimals) {
 
 std::string joined(const Vec3<double>& p, int decimals = 3) {
   return joined(std::vector<double>{p.x, p.y, p.z}, decimals);
-}
-
-std::string reply_text(Status s) {
-  return s == kOk ? "ok" : "error:" + std::to_string(int(s));
-}
-
-nlohmann::json vec_json(const Vec3<double>& p) {
-  return {p.x, p.y, p.z};
-}
-
-nlohmann::json record_json(const host::PredictRecord& r) {
-  nlohmann::json j = {{"line", r.line},
-                      {"command", command_text(r.text)},
-                      {"reply", r.reply == kOk ? "ok" : "error"},
-                      {"code", int(r.reply)}};
-  if (r.reply != kOk) j["error"] = status_text(r.reply);
-  if (!r.protocol.empty()) j["protocol"] = r.protocol;
-  if (!r.note.empty()) j["note"] = r.note;
-  j["steps"] = r.steps;
-  nlohmann::json cmd = nlohmann::json::array();
-  for (Millideg c : r.commanded) cmd.push_back(c / 1000.0);
-  j["commanded_deg"] = cmd;
-  j["actuator_deg"] = r.actuator_deg;
-  j["joints"] = r.joints;
-  j["joints_ideal"] = r.joints_ideal;
-  j["tool_ideal_mm"] = vec_json(r.tool_ideal);
-  j["tool_quantized_mm"] = vec_json(r.tool_quantized);
-  j["error_mm"] = r.error_mm;
-  j["gripper_percent"] = r.gripper_percent < 0 ? nlohmann::json(nullptr) : nlohmann::json(r.gripper_percent);
-  if (r.has_target) {
-    j["target_mm"] = vec_json(r.target);
-    j["target_error_mm"] = r.target_error_mm;
-  }
-  if (!r.ik_status.empty()) j["ik_status"] = r.ik_status;
-  j["queued"] = r.queued;
-  j["dominant_steps"] = r.dominant_steps;
-  j["ticks"] = r.ticks;
-  j["seconds"] = r.seconds();
-  j["start_tick"] = r.start_tick;
-  j["end_tick"] = r.end_tick;
-  j["start_s"] = r.start_s();
-  j["end_s"] = r.end_s();
-  return j;
 }
 
 int run(int argc, char** argv) {
@@ -122,25 +80,7 @@ int run(int argc, char** argv) {
 
   std::ostringstream out;
   if (format == "json") {
-    nlohmann::json j;
-    j["robot"] = robot.name;
-    j["robot_file"] = robot.source;
-    j["program"] = program.source;
-    j["format"] = robosim ? "robosim" : "protocol";
-    j["tick_hz"] = host::kControllerTickHz;
-    nlohmann::json s;
-    for (int i = 0; i < host::ControllerSettings::kCount; ++i) s["$" + std::to_string(i)] = settings.value[size_t(i)];
-    j["settings"] = s;
-    j["motors"] = robot.motor_names;
-    j["joints"] = robot.joint_names;
-    j["records"] = nlohmann::json::array();
-    for (const auto& r : p.records) j["records"].push_back(record_json(r));
-    j["summary"] = {{"commands", p.records.size()},
-                    {"rejected", p.rejected},
-                    {"worst_error_mm", p.worst_error_mm},
-                    {"total_ticks", p.total_ticks},
-                    {"total_s", p.total_s()}};
-    out << j.dump(2) << '\n';
+    out << host::prediction_json(robot, program, p).dump(2) << '\n';
   } else if (format == "csv") {
     std::vector<std::string> head = {"line", "command", "protocol", "reply", "code"};
     for (const auto& m : robot.motor_names) head.push_back("steps_" + m);
@@ -180,7 +120,7 @@ int run(int argc, char** argv) {
     Table t(head);
     std::vector<std::string> notes;
     for (const auto& r : p.records) {
-      std::vector<std::string> row = {std::to_string(r.line), command_text(r.text), reply_text(r.reply)};
+      std::vector<std::string> row = {std::to_string(r.line), command_text(r.text), host::reply_text(r.reply)};
       if (robosim) row.push_back(r.protocol);
       for (const std::string& c : {joined(r.steps), joined(r.joints, 4), joined(r.tool_ideal), joined(r.tool_quantized),
                                    fmt(r.error_mm), fmt(r.seconds()), fmt(r.start_s()), fmt(r.end_s())})

@@ -11,6 +11,8 @@
 
 #include "cli_util.h"
 #include "commands.h"
+#include "quantize.h"
+#include "records_json.h"
 #include "robot_file.h"
 
 namespace articula::cli {
@@ -65,65 +67,38 @@ int run(int argc, char** argv) {
   }
   if (lines.empty()) throw UsageError("no protocol lines given (arguments or --file)");
 
-  const int n = r.actuation.num_motors;
-  MotorState<host::kMaxJoints> state;
-  reset(state, r.actuation);
+  std::vector<std::string> texts;
+  for (const Line& line : lines) texts.push_back(line.text);
+  const std::vector<host::QuantizeRecord> records = host::quantize_lines(r, texts);
   const bool json = args.count("json") > 0;
   Table table({"line", "command", "reply", "motor", "commanded deg", "steps", "reached deg", "error deg", "tool x",
                "tool y", "tool z", "tool error mm"});
   const char* const kNotSimulated = "not simulated by quantize";
   int rejected = 0, not_simulated = 0;
   double worst_mm = 0;
-  for (const Line& line : lines) {
-    Command cmd;
-    Status st = line.text.size() > 255 ? kLineTooLong
-                                       : parse_line(cmd, line.text.data(), uint8_t(line.text.size()), uint8_t(n));
-    int motor = -1;
-    if (st == kOk && cmd.type == kCmdRotate) {
-      motor = cmd.arg[0];
-      st = move_relative(state, r.actuation, uint8_t(motor), cmd.arg[1]);
-    }
-    // A valid line quantize has no model for (M, P, G, H, Z, I, $): accepted, nothing moves.
-    const bool simulated = st != kOk || cmd.type == kCmdNone || cmd.type == kCmdRotate || cmd.type == kCmdGripper;
-    if (!simulated) ++not_simulated;
-    // Ideal: the exact commanded angles; quantized: the steps.
-    std::vector<double> u(n), q_ideal(n), q_real(n);
-    for (int k = 0; k < n; ++k) u[k] = deg_to_rad(state.commanded[k] / 1000.0);
-    joints_from_actuators(q_ideal.data(), r.actuation, u.data());
-    joints_from_steps(q_real.data(), r.actuation, state.steps);
-    const Vec3<double> p_ideal = tool_position(r.model, q_ideal.data());
-    const Vec3<double> p_real = tool_position(r.model, q_real.data());
-    const double err_mm = norm(p_real - p_ideal);
-    if (st != kOk) ++rejected;
-    if (motor >= 0 && st == kOk) worst_mm = std::max(worst_mm, err_mm);
-    const std::string reply = st == kOk ? "ok" : "error:" + std::to_string(int(st)) + " " + status_text(st);
-    const bool moved = st == kOk && motor >= 0;
-    const double cmd_deg = moved ? state.commanded[motor] / 1000.0 : 0;
-    const double real_deg = moved ? steps_to_degrees<double>(r.actuation.motors[motor], state.steps[motor]) : 0;
+  for (size_t i = 0; i < records.size(); ++i) {
+    const host::QuantizeRecord& q = records[i];
+    const Line& line = lines[i];
+    if (!q.simulated) ++not_simulated;
+    if (q.reply != kOk) ++rejected;
+    if (q.moved()) worst_mm = std::max(worst_mm, q.tool_error_mm);
     if (json) {
-      nlohmann::json j = {{"where", line.where}, {"line", line.text}, {"reply", st == kOk ? "ok" : "error"},
-                          {"code", int(st)}};
-      if (st != kOk) j["error"] = status_text(st);
-      if (!simulated) j["note"] = kNotSimulated;
-      if (moved) {
-        j["motor"] = r.motor_names[motor];
-        j["commanded_deg"] = cmd_deg;
-        j["steps"] = state.steps[motor];
-        j["reached_deg"] = real_deg;
-        j["error_deg"] = real_deg - cmd_deg;
-      }
-      j["all_steps"] = std::vector<int32_t>(state.steps, state.steps + n);
-      j["tool_ideal_mm"] = {p_ideal.x, p_ideal.y, p_ideal.z};
-      j["tool_quantized_mm"] = {p_real.x, p_real.y, p_real.z};
-      j["tool_error_mm"] = err_mm;
+      nlohmann::json j = host::quantize_record_json(r, q);
+      j["where"] = line.where;
+      if (!q.simulated) j["note"] = kNotSimulated;
       std::cout << j.dump() << '\n';
     } else {
-      table.add({line.where, line.text, st == kOk ? "ok" : "error:" + std::to_string(int(st)),
-                 moved ? r.motor_names[motor] : "", moved ? fmt(cmd_deg) : "", moved ? std::to_string(state.steps[motor]) : "",
-                 moved ? fmt(real_deg, 4) : "", moved ? fmt(real_deg - cmd_deg, 4) : "", fmt(p_real.x), fmt(p_real.y),
-                 fmt(p_real.z), fmt(err_mm, 3)});
-      if (st != kOk) std::cerr << line.where << ": '" << line.text << "': " << reply << " (nothing moved)\n";
-      if (!simulated)
+      const bool moved = q.moved();
+      const Vec3<double>& p = q.tool_quantized;
+      table.add({line.where, line.text, q.reply == kOk ? "ok" : "error:" + std::to_string(int(q.reply)),
+                 moved ? r.motor_names[size_t(q.motor)] : "", moved ? fmt(q.commanded_deg) : "",
+                 moved ? std::to_string(q.steps) : "", moved ? fmt(q.reached_deg, 4) : "",
+                 moved ? fmt(q.reached_deg - q.commanded_deg, 4) : "", fmt(p.x), fmt(p.y), fmt(p.z),
+                 fmt(q.tool_error_mm, 3)});
+      if (q.reply != kOk)
+        std::cerr << line.where << ": '" << line.text << "': error:" << int(q.reply) << " " << status_text(q.reply)
+                  << " (nothing moved)\n";
+      if (!q.simulated)
         std::cerr << line.where << ": '" << line.text << "': ok, " << kNotSimulated << " (nothing moved)\n";
     }
   }

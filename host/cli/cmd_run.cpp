@@ -11,6 +11,7 @@
 #include "cli_util.h"
 #include "commands.h"
 #include "program.h"
+#include "records_json.h"
 #include "robot_file.h"
 #include "run.h"
 
@@ -55,36 +56,7 @@ int run(int argc, char** argv) {
 
   std::ostringstream out;
   if (format == "json") {
-    nlohmann::json j;
-    j["robot"] = robot.name;
-    j["robot_file"] = robot.source;
-    j["program"] = program.source;
-    j["format"] = program.format == host::Program::Format::kRoboSim ? "robosim" : "protocol";
-    j["joints"] = robot.joint_names;
-    j["records"] = nlohmann::json::array();
-    for (const auto& r : records) {
-      nlohmann::json e = {{"line", r.line},
-                          {"command", command_text(r.text)},
-                          {"reply", r.reply == kOk ? "ok" : "error"},
-                          {"code", int(r.reply)}};
-      if (r.reply != kOk) e["error"] = status_text(r.reply);
-      if (!r.note.empty()) e["note"] = r.note;
-      e["joints"] = r.joints;
-      nlohmann::json R = nlohmann::json::array();
-      for (int i = 0; i < 3; ++i) R.push_back({r.tool.R.m[i][0], r.tool.R.m[i][1], r.tool.R.m[i][2]});
-      e["tool"] = {{"position", {r.tool.p.x, r.tool.p.y, r.tool.p.z}},
-                   {"rpy", {r.rpy_deg.x, r.rpy_deg.y, r.rpy_deg.z}},
-                   {"rotation", R}};
-      e["gripper_percent"] = r.gripper_percent < 0 ? nlohmann::json(nullptr) : nlohmann::json(r.gripper_percent);
-      if (r.has_target) {
-        e["target_mm"] = {r.target.x, r.target.y, r.target.z};
-        e["target_error_mm"] = r.target_error_mm;
-        if (!r.ik_status.empty()) e["ik_status"] = r.ik_status;
-      }
-      j["records"].push_back(e);
-    }
-    j["summary"] = {{"commands", records.size()}, {"rejected", rejected}};
-    out << j.dump(2) << '\n';
+    out << host::run_json(robot, program, records).dump(2) << '\n';
   } else if (format == "csv") {
     std::vector<std::string> head = {"line", "command", "reply", "code"};
     for (int k = 0; k < nj; ++k) head.push_back(robot.joint_names[size_t(k)] + "_" + joint_unit(robot, k));

@@ -221,4 +221,10 @@ void append_note(std::string& notes, const std::string& note) {
   notes += (notes.empty() ? "" : "; ") + note;
 }
 
+std::string command_text(const std::string& line) {
+  std::string s = line.substr(0, line.find('#'));
+  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.pop_back();
+  return s.empty() ? line : s;
+}
+
 }  // namespace articula::host

@@ -80,6 +80,8 @@ Status parse_protocol_line(Command& cmd, const std::string& text, int num_joints
 std::string number_text(double v);
 // text without leading and trailing blanks;
 std::string trim_blanks(const std::string& s);
+// a protocol line without its comment, for display ("L 0 10 # left" -> "L 0 10");
+std::string command_text(const std::string& line);
 // a note added to a record's notes, "; " between them (nothing for an empty one).
 void append_note(std::string& notes, const std::string& note);
 

@@ -633,109 +633,130 @@ bool Simulation::try_joints(const double* q, double opening_mm) {
 
 // ---- the program ----
 
+void Simulation::reset_controller() {
+  if (motors_)
+    controller_ = std::make_unique<ControllerModel>(robot_, opt_.settings);
+  else
+    kinematic_ = std::make_unique<KinematicModel>(robot_);
+  queued_steps_.assign(size_t(n_motors_), 0);
+  queued_q_ = q_;
+  queued_percent_ = -1;
+}
+
 void Simulation::load_program(const Program& program) {
   actions_.clear();
   action_ = 0;
   action_running_ = false;
-  uint64_t clock = 0;
+  pending_.clear();
+  pending_next_ = 0;
+  reset_controller();
+  const uint64_t now = steps_ * ticks_per_step_;
+  queue_end_tick_ = now;
+  for (const Statement& st : program.statements) enqueue(st, now);
+  program_end_s_ = double(queue_end_tick_) / kControllerTickHz;
+  grip_from_ = grip_to_ = opening_mm_;
+}
+
+Status Simulation::command(const std::string& line) {
+  Statement st{Statement::Kind::kProtocol, {}, line, 0};
+  const size_t rejected_before = pending_.size();
+  enqueue(st, steps_ * ticks_per_step_);
+  return pending_.size() > rejected_before ? pending_.back().reply : kOk;
+}
+
+// One statement through the controller model; an accepted one becomes an action that starts
+// when the queue before it ends (or now, when the arm is idle) and lasts as long as the model
+// says. A whole program at t = 0 is so queued back to back from rest to rest.
+void Simulation::enqueue(const Statement& st, uint64_t now_tick) {
+  const uint64_t start = std::max(now_tick, queue_end_tick_);
   auto rejected = [&](int line, const std::string& text, Status s, const std::string& note) {
     SimEvent e;
     e.kind = SimEvent::Kind::kRejected;
-    e.t = double(clock) / kControllerTickHz;
+    e.t = double(start) / kControllerTickHz;
     e.line = line;
     e.a = text;
+    e.reply = s;
     e.detail = std::string("error:") + std::to_string(int(s)) + " " + status_text(s) + ", nothing moves" +
                (note.empty() ? "" : "; " + note);
     pending_.push_back(e);
   };
-  pending_.clear();
-  pending_next_ = 0;
   if (motors_) {
-    ControllerModel cm(robot_, opt_.settings);
-    std::vector<int32_t> prev(size_t(n_motors_), 0);
-    for (const Statement& st : program.statements) {
-      const ControllerSettings before = cm.settings();
-      const PredictRecord r = cm.execute(st);
-      if (r.reply != kOk) {
-        rejected(r.line, r.text, r.reply, r.note);
-        continue;
-      }
-      Action a;
-      a.line = r.line;
-      for (int i = 0; i < n_motors_; ++i) a.to[i] = r.steps[size_t(i)];
-      if (!r.queued) {
-        if (r.steps != prev) {  // Z: the counts change, the arm does not move
-          a.kind = Action::kSetCounts;
-          a.start_tick = a.end_tick = clock;
-          actions_.push_back(a);
-          prev = r.steps;
-        }
-        continue;
-      }
-      const char letter = command_letter(r.protocol.empty() ? r.text : r.protocol);
-      a.start_tick = r.start_tick;
-      a.end_tick = r.end_tick;
-      if (letter == 'G' || letter == 'S' || st.kind == Statement::Kind::kHand) {
-        a.kind = Action::kGripper;
-        const int pct = r.gripper_percent < 0 ? 100 : r.gripper_percent;
-        a.opening_to = robot_.gripper.max_opening_mm * pct / 100.0;
-      } else {
-        a.kind = letter == 'H' ? Action::kHome : Action::kMove;
-        a.settings = cm.settings();
-        profile_constants(a.k, cm.settings().motion());
-        if (a.kind == Action::kHome) {
-          a.seek_mask = before.value[ControllerSettings::kEndstops];
-          const uint32_t rate = before.value[ControllerSettings::kHomingRate];
-          a.homing_ticks = (kControllerTickHz + rate / 2) / rate;
-        }
-      }
-      actions_.push_back(a);
-      clock = r.end_tick;
-      prev = r.steps;
+    ControllerModel& cm = *controller_;
+    const ControllerSettings before = cm.settings();
+    const PredictRecord r = cm.execute(st);
+    if (r.reply != kOk) {
+      rejected(r.line, r.text, r.reply, r.note);
+      return;
     }
+    Action a;
+    a.line = r.line;
+    for (int i = 0; i < n_motors_; ++i) a.to[i] = r.steps[size_t(i)];
+    if (!r.queued) {
+      if (r.steps != queued_steps_) {  // Z: the counts change, the arm does not move
+        a.kind = Action::kSetCounts;
+        a.start_tick = a.end_tick = start;
+        actions_.push_back(a);
+        queued_steps_ = r.steps;
+      }
+      return;
+    }
+    const char letter = command_letter(r.protocol.empty() ? r.text : r.protocol);
+    a.start_tick = start;
+    a.end_tick = start + (r.end_tick - r.start_tick);
+    if (letter == 'G' || letter == 'S' || st.kind == Statement::Kind::kHand) {
+      a.kind = Action::kGripper;
+      const int pct = r.gripper_percent < 0 ? 100 : r.gripper_percent;
+      a.opening_to = robot_.gripper.max_opening_mm * pct / 100.0;
+    } else {
+      a.kind = letter == 'H' ? Action::kHome : Action::kMove;
+      a.settings = cm.settings();
+      profile_constants(a.k, cm.settings().motion());
+      if (a.kind == Action::kHome) {
+        a.seek_mask = before.value[ControllerSettings::kEndstops];
+        const uint32_t rate = before.value[ControllerSettings::kHomingRate];
+        a.homing_ticks = (kControllerTickHz + rate / 2) / rate;
+      }
+    }
+    actions_.push_back(a);
+    queue_end_tick_ = a.end_tick;
+    queued_steps_ = r.steps;
   } else {
-    KinematicModel km(robot_);
-    std::vector<double> q = q_;
-    int percent = -1;
-    for (const Statement& st : program.statements) {
-      const RunRecord r = km.execute(st);
-      if (r.reply != kOk) {
-        rejected(r.line, r.text, r.reply, r.note);
-        continue;
-      }
-      Action a;
-      a.line = r.line;
-      std::vector<double> q_to(static_cast<size_t>(n_joints_));
-      double duration = 0;
-      for (int j = 0; j < n_joints_; ++j) {
-        const bool angle = joint_is_angle(robot_, j);
-        q_to[size_t(j)] = joint_to_model(robot_, j, r.joints[size_t(j)]);
-        const double speed = angle ? opt_.joint_speed_deg * M_PI / 180 : opt_.joint_speed_mm;
-        duration = std::max(duration, std::fabs(q_to[size_t(j)] - q[size_t(j)]) / speed);
-      }
-      const char letter = command_letter(r.text);
-      if (duration > 0) {
-        a.kind = Action::kJoints;
-        a.q_from = q;
-        a.q_to = q_to;
-        q = q_to;
-      } else if (r.gripper_percent != percent || st.kind == Statement::Kind::kHand ||
-                 (st.kind == Statement::Kind::kProtocol && (letter == 'G' || letter == 'S'))) {
-        a.kind = Action::kGripper;
-        duration = opt_.gripper_settle_s;
-        percent = r.gripper_percent;
-        a.opening_to = robot_.gripper.max_opening_mm * (percent < 0 ? 100 : percent) / 100.0;
-      } else {
-        continue;
-      }
-      a.start_tick = clock;
-      clock += uint64_t(std::ceil(duration * kControllerTickHz));
-      a.end_tick = clock;
-      actions_.push_back(a);
+    const RunRecord r = kinematic_->execute(st);
+    if (r.reply != kOk) {
+      rejected(r.line, r.text, r.reply, r.note);
+      return;
     }
+    Action a;
+    a.line = r.line;
+    std::vector<double> q_to(static_cast<size_t>(n_joints_));
+    double duration = 0;
+    for (int j = 0; j < n_joints_; ++j) {
+      const bool angle = joint_is_angle(robot_, j);
+      q_to[size_t(j)] = joint_to_model(robot_, j, r.joints[size_t(j)]);
+      const double speed = angle ? opt_.joint_speed_deg * M_PI / 180 : opt_.joint_speed_mm;
+      duration = std::max(duration, std::fabs(q_to[size_t(j)] - queued_q_[size_t(j)]) / speed);
+    }
+    const char letter = command_letter(r.text);
+    if (duration > 0) {
+      a.kind = Action::kJoints;
+      a.q_from = queued_q_;
+      a.q_to = q_to;
+      queued_q_ = q_to;
+    } else if (r.gripper_percent != queued_percent_ || st.kind == Statement::Kind::kHand ||
+               (st.kind == Statement::Kind::kProtocol && (letter == 'G' || letter == 'S'))) {
+      a.kind = Action::kGripper;
+      duration = opt_.gripper_settle_s;
+      queued_percent_ = r.gripper_percent;
+      a.opening_to = robot_.gripper.max_opening_mm * (queued_percent_ < 0 ? 100 : queued_percent_) / 100.0;
+    } else {
+      return;
+    }
+    a.start_tick = start;
+    a.end_tick = start + uint64_t(std::ceil(duration * kControllerTickHz));
+    actions_.push_back(a);
+    queue_end_tick_ = a.end_tick;
   }
-  program_end_s_ = double(clock) / kControllerTickHz;
-  grip_from_ = grip_to_ = opening_mm_;
+  program_end_s_ = double(queue_end_tick_) / kControllerTickHz;
 }
 
 void Simulation::begin_action(size_t index) {
@@ -1306,6 +1327,7 @@ void Simulation::step() {
     }
   }
   collide_objects();
+  apply_drag();
   if (opt_.quick_step)
     dWorldQuickStep(world_, dt);
   else
@@ -1313,6 +1335,68 @@ void Simulation::step() {
   dJointGroupEmpty(contacts_);
   after_step();
   ++steps_;
+}
+
+// ---- a mouse drag ----
+
+void Simulation::drag_object(int i, const Vec3<double>& target_mm) {
+  if (i < 0 || i >= int(objects_.size())) throw std::invalid_argument("no object " + std::to_string(i) + " in the scene");
+  const Object& o = objects_[size_t(i)];
+  const std::string& name = scene_.objects[size_t(i)].name;
+  if (!o.movable) throw std::invalid_argument("'" + name + "' is static: it cannot be dragged");
+  if (o.removed) throw std::invalid_argument("'" + name + "' has left the world");
+  if (!std::isfinite(target_mm.x) || !std::isfinite(target_mm.y) || !std::isfinite(target_mm.z))
+    throw std::invalid_argument("a drag target must be finite");
+  if (drag_object_ >= 0 && drag_object_ != i) release_drag();
+  drag_object_ = i;
+  drag_target_[0] = target_mm.x * kMm, drag_target_[1] = target_mm.y * kMm, drag_target_[2] = target_mm.z * kMm;
+  dBodySetAngularDamping(o.body, 0.2);
+  dBodyEnable(o.body);
+}
+
+void Simulation::release_drag() {
+  if (drag_object_ < 0) return;
+  Object& o = objects_[size_t(drag_object_)];
+  dBodySetAngularDamping(o.body, 0);
+  dBodyEnable(o.body);
+  drag_object_ = -1;
+}
+
+// The spring of a drag: a = w^2 (target - p) - 2 w v - g, w = 2 pi 4 Hz (critically damped,
+// the same for every mass), the acceleration capped at 30 m/s^2 so that a far target pulls
+// the object along instead of throwing it through what lies between.
+void Simulation::apply_drag() {
+  if (drag_object_ < 0) return;
+  Object& o = objects_[size_t(drag_object_)];
+  if (o.removed || o.carried) return;
+  const double w = 2 * M_PI * 4, a_max = 30;
+  const dReal* p = dBodyGetPosition(o.body);
+  const dReal* v = dBodyGetLinearVel(o.body);
+  const double g[3] = {scene_.gravity.x, scene_.gravity.y, scene_.gravity.z};
+  double a[3], size = 0;
+  for (int k = 0; k < 3; ++k) {
+    a[k] = w * w * (drag_target_[k] - p[k]) - 2 * w * v[k];
+    size += a[k] * a[k];
+  }
+  size = std::sqrt(size);
+  const double scale = size > a_max ? a_max / size : 1;
+  dMass m;
+  dBodyGetMass(o.body, &m);
+  dBodyEnable(o.body);
+  dBodyAddForce(o.body, m.mass * (a[0] * scale - g[0]), m.mass * (a[1] * scale - g[1]), m.mass * (a[2] * scale - g[2]));
+}
+
+bool Simulation::busy() const { return action_ < actions_.size(); }
+
+std::vector<SimContact> Simulation::contacts() const {
+  std::vector<SimContact> out;
+  for (size_t k = 0; k < touching_.size(); ++k) {
+    if (!touching_[k]) continue;
+    const size_t oi = k / size_t(n_others_), other = k % size_t(n_others_);
+    const dContactGeom& c = touch_point_[k];
+    out.push_back({scene_.objects[oi].name, other_names_[other], make_vec3(c.pos[0] / kMm, c.pos[1] / kMm, c.pos[2] / kMm)});
+  }
+  return out;
 }
 
 void Simulation::run_until(double t) {
@@ -1338,7 +1422,7 @@ std::vector<int32_t> Simulation::counted_steps() const { return std::vector<int3
 
 std::vector<ArmPartInfo> Simulation::arm_parts() const {
   std::vector<ArmPartInfo> out;
-  for (const auto& p : parts_) out.push_back({p->name, p->frame, p->body});
+  for (const auto& p : parts_) out.push_back({p->name, p->frame, p->body, p->T});
   return out;
 }
 

@@ -29,6 +29,7 @@
 #include "predict.h"
 #include "program.h"
 #include "robot.h"
+#include "run.h"
 #include "scene.h"
 #include "stall.h"
 
@@ -71,6 +72,7 @@ struct SimEvent {
   bool has_point = false;
   Vec3<double> point_mm{0, 0, 0};
   double depth_mm = 0;  // penetration the refused step would have made
+  Status reply = kOk;   // kRejected: the controller's answer
   std::string detail;
 };
 const char* event_kind_name(SimEvent::Kind k);
@@ -80,6 +82,14 @@ struct ArmPartInfo {
   std::string name;
   int frame = -1;  // DH frame the part rides on; -1 a finger
   dBodyID body = nullptr;
+  Transform<double> T = Transform<double>::identity();  // its accepted pose, mm
+};
+
+// Two things touching now (a movable object and the ground, another object or an arm part),
+// with the (debounced) start of their contact's bookkeeping: what the studio highlights.
+struct SimContact {
+  std::string a, b;  // the movable object, and what it touches
+  Vec3<double> point_mm{0, 0, 0};
 };
 
 class Simulation {
@@ -92,9 +102,30 @@ class Simulation {
   Simulation(const Simulation&) = delete;
   Simulation& operator=(const Simulation&) = delete;
 
-  // The program the arm runs from t = 0 (replaces any earlier one). Commands the controller
-  // refuses become kRejected events.
+  // The program the arm runs, from now (replaces any earlier one and whatever was queued).
+  // The controller model starts from power-up (every motor at step 0, the settings of the
+  // options), so a program belongs to a fresh simulation, as `articula sim` runs it.
+  // Commands the controller refuses become kRejected events.
   void load_program(const Program& program);
+
+  // One protocol line (docs/protocol.md) into the simulated controller, now, as a host would
+  // send it to the arm: the controller model (predict.h; run.h's kinematic model for a robot
+  // without motors) answers as the arm would, and an accepted command is queued after
+  // whatever the arm is still doing. A rejected line changes nothing (a kRejected event).
+  Status command(const std::string& line);
+  // Whether the arm is still busy with queued actions.
+  bool busy() const;
+
+  // A mouse drag: movable object i is pulled toward target_mm by a critically damped spring
+  // (the same pull per kg for every object, gravity held, its spin damped), a body among
+  // bodies, not teleported: what it hits stops it. Until release_drag(). Throws
+  // std::invalid_argument for a static, removed or unknown object.
+  void drag_object(int i, const Vec3<double>& target_mm);
+  void release_drag();
+  int dragged_object() const { return drag_object_; }
+
+  // What touches what now (movable objects only; the arm's refused steps are events).
+  std::vector<SimContact> contacts() const;
 
   void step();
   // Steps until time() >= t.
@@ -163,6 +194,9 @@ class Simulation {
   double target_opening(double t) const;
   void grasp_check();
   void stall_check(const Action& a);
+  void reset_controller();
+  void enqueue(const Statement& st, uint64_t now_tick);
+  void apply_drag();
 
   Robot robot_;
   Scene scene_;
@@ -180,6 +214,19 @@ class Simulation {
   std::vector<Object> objects_;
   std::vector<Pair> block_pairs_;  // arm part vs ground/static/self/movable (squeeze), for step checks
   std::vector<double> block_depth_;  // scratch: the candidate's depth per block pair
+
+  // The controller model that turns commands into actions (one of the two), and what it
+  // has queued so far: where the queue ends, the steps (or joints) and gripper it leaves.
+  std::unique_ptr<ControllerModel> controller_;
+  std::unique_ptr<KinematicModel> kinematic_;
+  uint64_t queue_end_tick_ = 0;
+  std::vector<int32_t> queued_steps_;
+  std::vector<double> queued_q_;
+  int queued_percent_ = -1;
+
+  // A mouse drag: the object (-1 none) and where it is pulled, m.
+  int drag_object_ = -1;
+  double drag_target_[3] = {0, 0, 0};
 
   // The program.
   std::vector<Action> actions_;

@@ -1,0 +1,151 @@
+#include "records_json.h"
+
+namespace articula::host {
+namespace {
+
+nlohmann::json vec_json(const Vec3<double>& p) { return {p.x, p.y, p.z}; }
+
+nlohmann::json gripper_json(int percent) { return percent < 0 ? nlohmann::json(nullptr) : nlohmann::json(percent); }
+
+// The fields every record starts with: where it is, what it says, the reply.
+nlohmann::json reply_json(int line, const std::string& text, Status reply) {
+  nlohmann::json j = {{"line", line}, {"command", command_text(text)}, {"reply", reply == kOk ? "ok" : "error"},
+                      {"code", int(reply)}};
+  if (reply != kOk) j["error"] = status_text(reply);
+  return j;
+}
+
+}  // namespace
+
+std::string reply_text(Status s) { return s == kOk ? "ok" : "error:" + std::to_string(int(s)); }
+
+nlohmann::json predict_record_json(const PredictRecord& r) {
+  nlohmann::json j = reply_json(r.line, r.text, r.reply);
+  if (!r.protocol.empty()) j["protocol"] = r.protocol;
+  if (!r.note.empty()) j["note"] = r.note;
+  j["steps"] = r.steps;
+  nlohmann::json cmd = nlohmann::json::array();
+  for (Millideg c : r.commanded) cmd.push_back(c / 1000.0);
+  j["commanded_deg"] = cmd;
+  j["actuator_deg"] = r.actuator_deg;
+  j["joints"] = r.joints;
+  j["joints_ideal"] = r.joints_ideal;
+  j["tool_ideal_mm"] = vec_json(r.tool_ideal);
+  j["tool_quantized_mm"] = vec_json(r.tool_quantized);
+  j["error_mm"] = r.error_mm;
+  j["gripper_percent"] = gripper_json(r.gripper_percent);
+  if (r.has_target) {
+    j["target_mm"] = vec_json(r.target);
+    j["target_error_mm"] = r.target_error_mm;
+  }
+  if (!r.ik_status.empty()) j["ik_status"] = r.ik_status;
+  j["queued"] = r.queued;
+  j["dominant_steps"] = r.dominant_steps;
+  j["ticks"] = r.ticks;
+  j["seconds"] = r.seconds();
+  j["start_tick"] = r.start_tick;
+  j["end_tick"] = r.end_tick;
+  j["start_s"] = r.start_s();
+  j["end_s"] = r.end_s();
+  return j;
+}
+
+nlohmann::json prediction_json(const Robot& robot, const Program& program, const Prediction& p) {
+  nlohmann::json j;
+  j["robot"] = robot.name;
+  j["robot_file"] = robot.source;
+  j["program"] = program.source;
+  j["format"] = program.format == Program::Format::kRoboSim ? "robosim" : "protocol";
+  j["tick_hz"] = kControllerTickHz;
+  nlohmann::json s;
+  for (int i = 0; i < ControllerSettings::kCount; ++i) s["$" + std::to_string(i)] = p.settings.value[size_t(i)];
+  j["settings"] = s;
+  j["motors"] = robot.motor_names;
+  j["joints"] = robot.joint_names;
+  j["records"] = nlohmann::json::array();
+  for (const auto& r : p.records) j["records"].push_back(predict_record_json(r));
+  j["summary"] = {{"commands", p.records.size()},
+                  {"rejected", p.rejected},
+                  {"worst_error_mm", p.worst_error_mm},
+                  {"total_ticks", p.total_ticks},
+                  {"total_s", p.total_s()}};
+  return j;
+}
+
+nlohmann::json run_record_json(const RunRecord& r) {
+  nlohmann::json e = reply_json(r.line, r.text, r.reply);
+  if (!r.note.empty()) e["note"] = r.note;
+  e["joints"] = r.joints;
+  nlohmann::json R = nlohmann::json::array();
+  for (int i = 0; i < 3; ++i) R.push_back({r.tool.R.m[i][0], r.tool.R.m[i][1], r.tool.R.m[i][2]});
+  e["tool"] = {{"position", vec_json(r.tool.p)}, {"rpy", vec_json(r.rpy_deg)}, {"rotation", R}};
+  e["gripper_percent"] = gripper_json(r.gripper_percent);
+  if (r.has_target) {
+    e["target_mm"] = vec_json(r.target);
+    e["target_error_mm"] = r.target_error_mm;
+    if (!r.ik_status.empty()) e["ik_status"] = r.ik_status;
+  }
+  return e;
+}
+
+nlohmann::json run_json(const Robot& robot, const Program& program, const std::vector<RunRecord>& records) {
+  nlohmann::json j;
+  j["robot"] = robot.name;
+  j["robot_file"] = robot.source;
+  j["program"] = program.source;
+  j["format"] = program.format == Program::Format::kRoboSim ? "robosim" : "protocol";
+  j["joints"] = robot.joint_names;
+  j["records"] = nlohmann::json::array();
+  int rejected = 0;
+  for (const auto& r : records) {
+    j["records"].push_back(run_record_json(r));
+    rejected += r.reply != kOk;
+  }
+  j["summary"] = {{"commands", records.size()}, {"rejected", rejected}};
+  return j;
+}
+
+nlohmann::json ik_result_json(const Robot& robot, const IkResult& res) {
+  nlohmann::json q = nlohmann::json::array();
+  for (size_t k = 0; k < res.q.size(); ++k) q.push_back(joint_from_model(robot, int(k), res.q[k]));
+  const Vec3<double> rpy = matrix_to_rpy(res.tool.R);
+  nlohmann::json j = {{"status", ik_status_name(res.status)},
+                      {"solver", ik_method_name(res.method)},
+                      {"q", q},
+                      {"tool", vec_json(res.tool.p)},
+                      {"tool_rpy", {rad_to_deg(rpy.x), rad_to_deg(rpy.y), rad_to_deg(rpy.z)}},
+                      {"position_error_mm", res.position_error_mm},
+                      {"orientation_error_deg", rad_to_deg(res.orientation_error_rad)},
+                      {"iterations", res.iterations},
+                      {"attempts", res.attempts}};
+  if (!res.limited_joints.empty()) {
+    nlohmann::json names = nlohmann::json::array();
+    for (int k : res.limited_joints) names.push_back(robot.joint_names[size_t(k)]);
+    j["limited_by"] = names;
+  }
+  if (!res.limited_motors.empty()) {
+    nlohmann::json names = nlohmann::json::array();
+    for (int k : res.limited_motors) names.push_back(robot.motor_names[size_t(k)]);
+    j["limited_by_motors"] = names;
+  }
+  return j;
+}
+
+nlohmann::json quantize_record_json(const Robot& robot, const QuantizeRecord& q) {
+  nlohmann::json j = {{"line", q.text}, {"reply", q.reply == kOk ? "ok" : "error"}, {"code", int(q.reply)}};
+  if (q.reply != kOk) j["error"] = status_text(q.reply);
+  if (q.moved()) {
+    j["motor"] = robot.motor_names[size_t(q.motor)];
+    j["commanded_deg"] = q.commanded_deg;
+    j["steps"] = q.steps;
+    j["reached_deg"] = q.reached_deg;
+    j["error_deg"] = q.reached_deg - q.commanded_deg;
+  }
+  j["all_steps"] = q.all_steps;
+  j["tool_ideal_mm"] = vec_json(q.tool_ideal);
+  j["tool_quantized_mm"] = vec_json(q.tool_quantized);
+  j["tool_error_mm"] = q.tool_error_mm;
+  return j;
+}
+
+}  // namespace articula::host

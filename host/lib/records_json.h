@@ -1,0 +1,42 @@
+// host/lib/records_json.h - the JSON form of what the host library computes: the one place
+// that names the fields of `articula predict --json`, `run --json`, `ik --json` and
+// `quantize --json`, which the Python package (python/) hands out as the same records.
+// Lengths mm, angles deg, as everywhere at the interfaces.
+#ifndef ARTICULA_HOST_RECORDS_JSON_H
+#define ARTICULA_HOST_RECORDS_JSON_H
+
+#include <nlohmann/json.hpp>
+
+#include <vector>
+
+#include "ik.h"
+#include "predict.h"
+#include "program.h"
+#include "quantize.h"
+#include "robot.h"
+#include "run.h"
+
+namespace articula::host {
+
+// "ok" or "error:N", as the arm answers.
+std::string reply_text(Status s);
+
+// One statement of a prediction (every field: steps, commanded and actuator angles, joints,
+// ideal and quantized tool, error, target, timing in ticks and seconds).
+nlohmann::json predict_record_json(const PredictRecord& r);
+// A whole prediction: robot, program, settings, motors, joints, records and a summary.
+nlohmann::json prediction_json(const Robot& robot, const Program& program, const Prediction& p);
+
+nlohmann::json run_record_json(const RunRecord& r);
+nlohmann::json run_json(const Robot& robot, const Program& program, const std::vector<RunRecord>& records);
+
+// An IK result: status, solver, q (deg or mm), tool and its rpy, errors, iterations,
+// attempts, the limiting joints and motors by name.
+nlohmann::json ik_result_json(const Robot& robot, const IkResult& res);
+
+// One line through quantize.h (without "where", which only the command line knows).
+nlohmann::json quantize_record_json(const Robot& robot, const QuantizeRecord& q);
+
+}  // namespace articula::host
+
+#endif  // ARTICULA_HOST_RECORDS_JSON_H
