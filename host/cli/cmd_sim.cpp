@@ -46,14 +46,6 @@ std::string event_text(const host::SimEvent& e) {
   return o.str();
 }
 
-nlohmann::json event_json(const host::SimEvent& e) {
-  nlohmann::json j = {{"t", e.t}, {"kind", host::event_kind_name(e.kind)}, {"line", e.line}, {"a", e.a}, {"b", e.b}};
-  if (e.has_point) j["point_mm"] = {e.point_mm.x, e.point_mm.y, e.point_mm.z};
-  if (e.depth_mm > 0) j["depth_mm"] = e.depth_mm;
-  if (!e.detail.empty()) j["detail"] = e.detail;
-  return j;
-}
-
 bool is_trouble(host::SimEvent::Kind k) {
   using K = host::SimEvent::Kind;
   return k == K::kCollision || k == K::kSelfCollision || k == K::kSqueeze || k == K::kStepsLost || k == K::kBlocked ||
@@ -206,7 +198,7 @@ int run(int argc, char** argv) {
     for (; shown < ev.size(); ++shown) {
       ++counts[host::event_kind_name(ev[shown].kind)];
       if (events_file.is_open())
-        events_file << event_json(ev[shown]).dump() << '\n';
+        events_file << host::event_json(ev[shown]).dump() << '\n';
       else
         std::cerr << event_text(ev[shown]) << '\n';
     }

@@ -193,9 +193,12 @@ Program load_program(const std::string& path, const Robot& robot) {
   if (!f) throw ProgramError(path, 0, "cannot read the file");
   std::ostringstream ss;
   ss << f.rdbuf();
-  const std::string text = ss.str();
-  return detect_format(text, path) == Program::Format::kRoboSim ? parse_robosim(text, path, robot)
-                                                                 : parse_protocol_program(text, path, robot);
+  return parse_program(ss.str(), path, robot);
+}
+
+Program parse_program(const std::string& text, const std::string& name, const Robot& robot) {
+  return detect_format(text, name) == Program::Format::kRoboSim ? parse_robosim(text, name, robot)
+                                                                 : parse_protocol_program(text, name, robot);
 }
 
 Status parse_protocol_line(Command& cmd, const std::string& text, int num_joints) {

@@ -71,6 +71,8 @@ Program parse_protocol_program(const std::string& text, const std::string& name,
 
 // Reads a program file in either language (detect_format). Throws ProgramError.
 Program load_program(const std::string& path, const Robot& robot);
+// The same from text in memory; `name` stands for the file (and its extension picks the language).
+Program parse_program(const std::string& text, const std::string& name, const Robot& robot);
 
 // What the models that execute programs (predict.h, run.h) share:
 // one protocol line through the shared codec as the controller reads it, for a robot with

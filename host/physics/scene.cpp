@@ -2,6 +2,8 @@
 // error naming the file and the JSON pointer of the value at fault, as robot files do.
 #include "scene.h"
 
+#include <cstdlib>
+
 #include <nlohmann/json.hpp>
 
 #include <cmath>
@@ -226,7 +228,9 @@ Scene load_scene_file(const std::string& path) {
 std::string resolve_scene_path(const std::string& name_or_path) {
   if (name_or_path.find('/') != std::string::npos || name_or_path.find('.') != std::string::npos)
     return name_or_path;
-  return std::string(ARTICULA_SCENES_DIR) + "/" + name_or_path + ".json";
+  const char* env = std::getenv("ARTICULA_SCENES");
+  const std::string dir = env && *env ? env : ARTICULA_SCENES_DIR;
+  return dir + "/" + name_or_path + ".json";
 }
 
 }  // namespace articula::host

@@ -54,7 +54,8 @@ class SceneError : public std::runtime_error {
 
 Scene load_scene_file(const std::string& path);
 Scene parse_scene(const std::string& json_text, const std::string& name);
-// A scene given by name ("grasp-and-lift") is looked up in the shipped scenes/ folder.
+// A scene given by name ("grasp-and-lift") is looked up in $ARTICULA_SCENES if set (and not
+// empty), otherwise in the shipped scenes/ folder as it was when the tools were built.
 std::string resolve_scene_path(const std::string& name_or_path);
 // The fields the loader accepts per object kind (keys of scenes/scene.schema.json's $defs;
 // "scene" is the top level): the schema test keeps the two together.

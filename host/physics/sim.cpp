@@ -1399,6 +1399,14 @@ std::vector<SimContact> Simulation::contacts() const {
   return out;
 }
 
+nlohmann::json event_json(const SimEvent& e) {
+  nlohmann::json j = {{"t", e.t}, {"kind", event_kind_name(e.kind)}, {"line", e.line}, {"a", e.a}, {"b", e.b}};
+  if (e.has_point) j["point_mm"] = {e.point_mm.x, e.point_mm.y, e.point_mm.z};
+  if (e.depth_mm > 0) j["depth_mm"] = e.depth_mm;
+  if (!e.detail.empty()) j["detail"] = e.detail;
+  return j;
+}
+
 void Simulation::run_until(double t) {
   while (time() < t - 1e-12) step();
 }

@@ -18,6 +18,7 @@
 #ifndef ARTICULA_PHYSICS_SIM_H
 #define ARTICULA_PHYSICS_SIM_H
 
+#include <nlohmann/json.hpp>
 #include <ode/ode.h>
 
 #include <array>
@@ -76,6 +77,8 @@ struct SimEvent {
   std::string detail;
 };
 const char* event_kind_name(SimEvent::Kind k);
+// An event as `articula sim --events` writes it: t, kind, line, a, b, point_mm, depth_mm, detail.
+nlohmann::json event_json(const SimEvent& e);
 
 // One kinematic part of the arm (a link, a finger) as the tests and the CLI see it.
 struct ArmPartInfo {

@@ -1,0 +1,235 @@
+// python/src/module.cpp - the native part of `import articula` (articula._core): the status
+// table, the exceptions, and what the binding files share. The Python package
+// (python/articula/) re-exports it; docs/python.md is the tutorial.
+#include <nanobind/stl/string.h>
+#include <nanobind/stl/vector.h>
+
+#include <articula/status.h>
+
+#include <cmath>
+#include <cstring>
+
+#include "bindings.h"
+#include "legacy.h"
+#include "predict.h"
+#include "program.h"
+#include "robot_file.h"
+#include "scene.h"
+
+namespace articula::python {
+
+Array new_array(std::initializer_list<size_t> shape) {
+  size_t size = 1;
+  for (size_t s : shape) size *= s;
+  double* data = new double[size ? size : 1];
+  nb::capsule owner(data, [](void* p) noexcept { delete[] static_cast<double*>(p); });
+  return Array(data, shape.size(), shape.begin(), owner);
+}
+
+Array44 new_array44() {
+  double* data = new double[16];
+  nb::capsule owner(data, [](void* p) noexcept { delete[] static_cast<double*>(p); });
+  return Array44(data, {4, 4}, owner);
+}
+
+void write_transform(double* out, const Transform<double>& T) {
+  for (int i = 0; i < 3; ++i) {
+    out[4 * i + 0] = T.R.m[i][0];
+    out[4 * i + 1] = T.R.m[i][1];
+    out[4 * i + 2] = T.R.m[i][2];
+    out[4 * i + 3] = T.p[i];
+  }
+  out[12] = out[13] = out[14] = 0;
+  out[15] = 1;
+}
+
+Array44 transform_array(const Transform<double>& T) {
+  Array44 a = new_array44();
+  write_transform(a.data(), T);
+  return a;
+}
+
+namespace {
+
+std::string joint_list(const Robot& robot) {
+  std::string s;
+  for (size_t j = 0; j < robot.joint_names.size(); ++j) s += (j ? ", " : "") + robot.joint_names[j];
+  return s;
+}
+
+[[noreturn]] void wrong_count(const Robot& robot, const char* what, size_t got) {
+  throw nb::value_error((std::string(what) + " has " + std::to_string(got) + " value" + (got == 1 ? "" : "s") + "; " +
+                         robot.name + " has " + std::to_string(robot.model.num_joints) + " joint variables (" +
+                         joint_list(robot) + ")")
+                            .c_str());
+}
+
+void check_finite(double v, const Robot& robot, const char* what, int j) {
+  if (std::isfinite(v)) return;
+  throw nb::value_error((std::string(what) + "[" + std::to_string(j) + "] (" + robot.joint_names[size_t(j)] + ") is " +
+                         (std::isnan(v) ? "NaN" : "infinite") + ": joint values must be finite numbers")
+                            .c_str());
+}
+
+}  // namespace
+
+void read_joints(double* q, nb::handle values, const Robot& robot, const char* what) {
+  const size_t n = size_t(robot.model.num_joints);
+  // The fast path: a 1-D float64 array.
+  nb::ndarray<const double, nb::ndim<1>, nb::device::cpu> arr;
+  if (nb::try_cast(values, arr, false)) {
+    if (arr.shape(0) != n) wrong_count(robot, what, arr.shape(0));
+    auto v = arr.view();
+    for (size_t j = 0; j < n; ++j) {
+      check_finite(v(j), robot, what, int(j));
+      q[j] = host::joint_to_model(robot, int(j), v(j));
+    }
+    return;
+  }
+  PyObject* seq = PySequence_Fast(values.ptr(), "");
+  if (!seq) {
+    PyErr_Clear();
+    nb::object a = nb::module_::import_("numpy").attr("asarray")(values, "float64");
+    if (nb::cast<int>(a.attr("ndim")) != 1)
+      throw nb::value_error((std::string(what) + " must be one joint value per joint variable (a 1-D list or array), got shape " +
+                             nb::cast<std::string>(nb::str(a.attr("shape"))))
+                                .c_str());
+    read_joints(q, a, robot, what);
+    return;
+  }
+  nb::object owner = nb::steal(seq);
+  const size_t got = size_t(PySequence_Fast_GET_SIZE(seq));
+  if (got != n) wrong_count(robot, what, got);
+  PyObject** items = PySequence_Fast_ITEMS(seq);
+  for (size_t j = 0; j < n; ++j) {
+    const double v = PyFloat_AsDouble(items[j]);
+    if (v == -1.0 && PyErr_Occurred()) {
+      PyErr_Clear();
+      throw nb::type_error((std::string(what) + "[" + std::to_string(j) + "] (" + robot.joint_names[j] +
+                            ") is not a number: " + nb::cast<std::string>(nb::repr(nb::handle(items[j]))))
+                               .c_str());
+    }
+    check_finite(v, robot, what, int(j));
+    q[j] = host::joint_to_model(robot, int(j), v);
+  }
+}
+
+nb::ndarray<const double, nb::c_contig, nb::device::cpu> read_array(nb::handle values, const char* what) {
+  nb::ndarray<const double, nb::c_contig, nb::device::cpu> arr;
+  if (nb::try_cast(values, arr, false)) return arr;
+  nb::object a = nb::module_::import_("numpy").attr("ascontiguousarray")(values, "float64");
+  if (!nb::try_cast(a, arr, false)) throw nb::type_error((std::string(what) + " must be an array of numbers").c_str());
+  return arr;
+}
+
+std::vector<double> read_vector(nb::handle values, const char* what) {
+  auto arr = read_array(values, what);
+  if (arr.ndim() != 1)
+    throw nb::value_error((std::string(what) + " must be a flat list of numbers (1-D), not " +
+                           std::to_string(arr.ndim()) + "-D")
+                              .c_str());
+  std::vector<double> v(arr.data(), arr.data() + arr.shape(0));
+  for (size_t i = 0; i < v.size(); ++i)
+    if (!std::isfinite(v[i]))
+      throw nb::value_error((std::string(what) + "[" + std::to_string(i) + "] is " + (std::isnan(v[i]) ? "NaN" : "infinite") +
+                             ": values must be finite numbers")
+                                .c_str());
+  return v;
+}
+
+nb::object json_to_python(const nlohmann::json& j) {
+  switch (j.type()) {
+    case nlohmann::json::value_t::null: return nb::none();
+    case nlohmann::json::value_t::boolean: return nb::bool_(j.get<bool>());
+    case nlohmann::json::value_t::number_integer: return nb::int_(j.get<int64_t>());
+    case nlohmann::json::value_t::number_unsigned: return nb::int_(j.get<uint64_t>());
+    case nlohmann::json::value_t::number_float: return nb::float_(j.get<double>());
+    case nlohmann::json::value_t::string: return nb::str(j.get_ref<const std::string&>().c_str());
+    case nlohmann::json::value_t::array: {
+      nb::list l;
+      for (const auto& e : j) l.append(json_to_python(e));
+      return l;
+    }
+    case nlohmann::json::value_t::object: {
+      nb::dict d;
+      for (auto it = j.begin(); it != j.end(); ++it) d[nb::str(it.key().c_str())] = json_to_python(it.value());
+      return d;
+    }
+    default: return nb::none();
+  }
+}
+
+nb::object record(const nlohmann::json& j) {
+  static nb::object cls;
+  if (!cls.is_valid()) cls = nb::module_::import_("articula._records").attr("Record");
+  return cls(json_to_python(j));
+}
+
+namespace {
+
+// Exceptions with the loader's parts as attributes, all of them ValueErrors.
+PyObject* g_robot_file_error = nullptr;
+PyObject* g_program_error = nullptr;
+PyObject* g_scene_error = nullptr;
+PyObject* g_legacy_error = nullptr;
+
+void raise_with(PyObject* type, const char* message, std::initializer_list<std::pair<const char*, nb::object>> attrs) {
+  nb::object exc = nb::steal(PyObject_CallFunction(type, "s", message));
+  if (!exc.is_valid()) return;  // the call set its own error
+  for (const auto& [k, v] : attrs) nb::setattr(exc, k, v);
+  PyErr_SetObject(type, exc.ptr());
+}
+
+PyObject* new_error(nb::module_& m, const char* name, const char* doc) {
+  const std::string full = std::string("articula.") + name;
+  PyObject* t = PyErr_NewExceptionWithDoc(full.c_str(), doc, PyExc_ValueError, nullptr);
+  m.attr(name) = nb::handle(t);
+  return t;
+}
+
+}  // namespace
+
+}  // namespace articula::python
+
+using namespace articula;
+using namespace articula::python;
+
+NB_MODULE(_core, m) {
+  m.doc() = "The native part of articula: the host library (host/lib, host/physics) over the portable core.";
+
+  // The status table: shared/articula/status.h, the one table the firmware and every tool use.
+  nb::dict status;
+#define ARTICULA_PY_STATUS(code, name, text) status[nb::int_(code)] = nb::make_tuple(#name + 1, text);
+  ARTICULA_STATUS_TABLE(ARTICULA_PY_STATUS)
+#undef ARTICULA_PY_STATUS
+  m.attr("_status_table") = status;
+
+  g_robot_file_error = new_error(m, "RobotFileError",
+                                 "A robot file that cannot be used. The message names the file, the JSON path and the "
+                                 "problem; so do the attributes file, json_path and problem.");
+  g_program_error = new_error(m, "ProgramError", "A program that cannot be read: '<file>:<line>: <problem>'; "
+                                                 "the attribute line is the line.");
+  g_scene_error = new_error(m, "SceneError", "A scene file that cannot be used: file, JSON path and problem.");
+  g_legacy_error = new_error(m, "LegacyError", "A legacy (thesis appendix C) robot file that cannot be read.");
+  nb::register_exception_translator([](const std::exception_ptr& p, void*) {
+    try {
+      std::rethrow_exception(p);
+    } catch (const host::RobotFileError& e) {
+      raise_with(g_robot_file_error, e.what(),
+                 {{"file", nb::str(e.file().c_str())}, {"json_path", nb::str(e.json_path().c_str())},
+                  {"problem", nb::str(e.problem().c_str())}});
+    } catch (const host::ProgramError& e) {
+      raise_with(g_program_error, e.what(), {{"line", nb::int_(e.line())}});
+    } catch (const host::SceneError& e) {
+      raise_with(g_scene_error, e.what(), {{"json_path", nb::str(e.json_path().c_str())}});
+    } catch (const host::LegacyError& e) {
+      raise_with(g_legacy_error, e.what(), {});
+    } catch (const host::PredictError& e) {
+      PyErr_SetString(PyExc_ValueError, e.what());
+    }
+  });
+
+  auto robot = bind_robot(m);
+  bind_program(m, robot);
+  bind_sim(m);
+}

@@ -1,0 +1,107 @@
+// python/src/program.cpp - programs on a robot: Robot.predict (the controller model, step for
+// step, host/lib/predict.h), Robot.run (the kinematic model, run.h) and Robot.quantize
+// (quantize.h). The records are the CLI's JSON records (records_json.h) with attribute access.
+#include <nanobind/stl/string.h>
+#include <nanobind/stl/vector.h>
+
+#include "bindings.h"
+#include "predict.h"
+#include "program.h"
+#include "quantize.h"
+#include "records_json.h"
+#include "run.h"
+
+namespace articula::python {
+
+using namespace nb::literals;
+
+// A program given as an articula.Program (its text and source), or as a file path.
+host::Program program_from(nb::handle program, const Robot& robot) {
+  nb::object os = nb::module_::import_("os");
+  if (nb::isinstance<nb::str>(program) || nb::isinstance(program, os.attr("PathLike")))
+    return host::load_program(nb::cast<std::string>(os.attr("fspath")(program)), robot);
+  if (!nb::hasattr(program, "text") || !nb::hasattr(program, "source"))
+    throw nb::type_error("program must be an articula.Program or a file path");
+  return host::parse_program(nb::cast<std::string>(program.attr("text")), nb::cast<std::string>(program.attr("source")),
+                             robot);
+}
+
+// Settings as {0: 800, 1: 3000}, "0=800,1=3000" or None, read as `$n=v` lines are.
+host::ControllerSettings settings_from(nb::handle settings, const Robot& robot) {
+  host::ControllerSettings s;
+  if (settings.is_none()) return s;
+  std::string text;
+  if (nb::isinstance<nb::str>(settings)) {
+    text = nb::cast<std::string>(settings);
+  } else if (nb::isinstance<nb::dict>(settings)) {
+    for (auto [k, v] : nb::borrow<nb::dict>(settings)) {
+      const std::string key = nb::cast<std::string>(nb::str(k));
+      text += (text.empty() ? "" : ",") + (key.rfind('$', 0) == 0 ? key.substr(1) : key) + "=" +
+              nb::cast<std::string>(nb::str(v));
+    }
+  } else {
+    throw nb::type_error("settings must be a dict {0: 800, 1: 3000} or a text \"0=800,1=3000\"");
+  }
+  try {
+    host::apply_settings_text(s, text, robot.actuation.num_motors);
+  } catch (const std::invalid_argument& e) {
+    throw nb::value_error(e.what());
+  }
+  return s;
+}
+
+void bind_program(nb::module_& m, nb::class_<PyRobot>& robot) {
+  m.def("detect_format",
+        [](const std::string& text, const std::string& name) {
+          return host::detect_format(text, name) == host::Program::Format::kRoboSim ? "robosim" : "protocol";
+        },
+        "text"_a, "name"_a = "",
+        "Which language a program is in: 'robosim' (thesis appendix B) or 'protocol' (the arm's serial lines), "
+        "from the name's extension (.robosim, .arm) or else the first command.");
+
+  robot
+      .def("check_program",
+           [](const PyRobot& self, nb::handle program) { return int(program_from(program, self.r()).statements.size()); },
+           "program"_a,
+           "Reads a program for this robot (argument counts and ranges follow the robot) and returns its number "
+           "of statements; raises ProgramError naming the line of the first problem.")
+      .def("predict",
+           [](const PyRobot& self, nb::handle program, nb::handle settings) {
+             const Robot& r = self.r();
+             if (!r.has_motors)
+               throw nb::value_error((r.name + " has no motors: there are no steps to predict (robot.run executes "
+                                      "programs on the kinematic model)")
+                                         .c_str());
+             const host::Program p = program_from(program, r);
+             const host::ControllerSettings s = settings_from(settings, r);
+             return record(host::prediction_json(r, p, host::predict_program(r, p, s)));
+           },
+           "program"_a, "settings"_a = nb::none(),
+           "What the real arm will do with a program, step for step (`articula predict --json`): a Prediction with "
+           "the robot, settings, motors, joints, summary and one record per statement (steps, commanded_deg, "
+           "actuator_deg, joints, joints_ideal, tool_ideal_mm, tool_quantized_mm, error_mm, seconds, start_s, "
+           "end_s, ...). settings: {0: 800, 1: 3000} or \"0=800,1=3000\", the controller's $n at power-up.")
+      .def("run",
+           [](const PyRobot& self, nb::handle program) {
+             const Robot& r = self.r();
+             const host::Program p = program_from(program, r);
+             return record(host::run_json(r, p, host::run_program(r, p)));
+           },
+           "program"_a,
+           "A program on the kinematic model (`articula run --json`): exact joint values, no steps, no timing; "
+           "records with joints, tool (position, rpy, rotation), gripper_percent, target and ik_status.")
+      .def("quantize",
+           [](const PyRobot& self, const std::vector<std::string>& lines) {
+             const Robot& r = self.r();
+             if (!r.has_motors) throw nb::value_error((r.name + " has no motors: nothing to quantize").c_str());
+             nb::list out;
+             for (const auto& q : host::quantize_lines(r, lines)) out.append(record(host::quantize_record_json(r, q)));
+             return out;
+           },
+           "lines"_a,
+           "Protocol lines through the firmware's codec and step arithmetic from step 0 (`articula quantize "
+           "--json`): per line the reply, the motor an L moved, its commanded and reached angle, steps, and the "
+           "tool error whole steps leave.");
+}
+
+}  // namespace articula::python

@@ -1,0 +1,577 @@
+// python/src/robot.cpp - articula.Robot: the robot file, the kinematics (one pose and
+// batches), the IK, URDF and the legacy import. Every pose is the core's (shared/articula/dh.h).
+#include <nanobind/stl/pair.h>
+#include <nanobind/stl/string.h>
+#include <nanobind/stl/vector.h>
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "bindings.h"
+#include "legacy.h"
+#include "records_json.h"
+#include "robot_file.h"
+#include "urdf.h"
+
+namespace articula::python {
+namespace {
+
+using namespace nb::literals;
+using host::HostFrames;
+
+const char* param_name(uint8_t p) { return p == kParamTheta ? "theta" : (p == kParamD ? "d" : "alpha"); }
+bool is_angle_param(uint8_t p) { return p != kParamD; }
+double param_out(uint8_t p, double v) { return is_angle_param(p) ? rad_to_deg(v) : v; }
+
+PyRobot make_robot(Robot r) {
+  PyRobot p;
+  p.robot = std::make_shared<const Robot>(std::move(r));
+  return p;
+}
+
+// The DH table as the robot file writes it: each row's a, alpha, d, theta as a number
+// (a constant, mm or deg), {"joint": name, "min", "max"} or {"linked": {joint: gain}, "offset"}.
+nb::list dh_rows(const Robot& r) {
+  const auto& m = r.model;
+  nb::list rows;
+  for (int i = 0; i < m.num_rows; ++i) {
+    nb::dict row;
+    row["a"] = m.rows[i].a;
+    row["alpha"] = rad_to_deg(m.rows[i].alpha);
+    row["d"] = m.rows[i].d;
+    row["theta"] = rad_to_deg(m.rows[i].theta);
+    if (size_t(i) < r.length_ranges.size() && r.length_ranges[size_t(i)].adjustable) {
+      nb::dict a;
+      a["value"] = m.rows[i].a;
+      a["min"] = r.length_ranges[size_t(i)].min;
+      a["max"] = r.length_ranges[size_t(i)].max;
+      row["a"] = a;
+    }
+    for (int j = 0; j < m.num_joints; ++j) {
+      if (m.joints[j].row != i) continue;
+      nb::dict v;
+      v["joint"] = r.joint_names[size_t(j)];
+      v["min"] = param_out(m.joints[j].param, m.joints[j].lo);
+      v["max"] = param_out(m.joints[j].param, m.joints[j].hi);
+      row[param_name(m.joints[j].param)] = v;
+    }
+    for (int k = 0; k < m.num_linked; ++k) {
+      const auto& l = m.linked[k];
+      if (l.row != i) continue;
+      nb::dict gains;
+      for (int j = 0; j < m.num_joints; ++j)
+        if (l.gain[j] != 0) gains[nb::str(r.joint_names[size_t(j)].c_str())] = l.gain[j];
+      nb::dict v;
+      v["linked"] = gains;
+      v["offset"] = param_out(l.param, l.offset);
+      row[param_name(l.param)] = v;
+    }
+    rows.append(row);
+  }
+  return rows;
+}
+
+nb::list joints_info(const Robot& r) {
+  nb::list out;
+  for (int j = 0; j < r.model.num_joints; ++j) {
+    const auto& js = r.model.joints[j];
+    nb::dict d;
+    d["name"] = r.joint_names[size_t(j)];
+    d["row"] = int(js.row) + 1;
+    d["param"] = param_name(js.param);
+    d["unit"] = host::joint_unit(r, j);
+    d["min"] = param_out(js.param, js.lo);
+    d["max"] = param_out(js.param, js.hi);
+    out.append(d);
+  }
+  return out;
+}
+
+nb::list motors_info(const Robot& r) {
+  nb::list out;
+  if (!r.has_motors) return out;
+  for (int i = 0; i < r.actuation.num_motors; ++i) {
+    const MotorSpec& s = r.actuation.motors[i];
+    nb::dict d;
+    d["name"] = r.motor_names[size_t(i)];
+    d["steps_per_rev"] = int(s.full_steps_per_rev);
+    d["microsteps"] = int(s.microsteps);
+    d["gear"] = nb::make_tuple(s.gear_num, s.gear_den);
+    d["direction"] = int(s.direction);
+    d["zero"] = s.zero / 1000.0;
+    d["min"] = s.min / 1000.0;
+    d["max"] = s.max / 1000.0;
+    d["deg_per_step"] = degrees_per_step<double>(s);
+    d["step_range"] = nb::make_tuple(min_steps(s), max_steps(s));
+    nb::list curve;
+    if (size_t(i) < r.motor_torque.size())
+      for (const auto& pt : r.motor_torque[size_t(i)].pull_out) curve.append(nb::make_tuple(pt[0], pt[1]));
+    d["pull_out"] = curve;
+    out.append(d);
+  }
+  return out;
+}
+
+nb::list links_info(const Robot& r) {
+  static const char* kTypes[] = {"box", "cylinder", "capsule", "sphere", "mesh"};
+  nb::list out;
+  for (const auto& l : r.links) {
+    nb::list shapes;
+    for (const auto& s : l.shapes) {
+      nb::dict d;
+      d["type"] = kTypes[int(s.type)];
+      d["size"] = nb::make_tuple(s.size[0], s.size[1], s.size[2]);
+      if (s.type == host::Shape::Type::kMesh) d["mesh"] = s.mesh;
+      d["pose"] = transform_array(s.T_frame_shape);
+      d["mass"] = s.mass;
+      d["density"] = s.density;
+      shapes.append(d);
+    }
+    nb::dict d;
+    d["frame"] = l.frame;
+    d["shapes"] = shapes;
+    out.append(d);
+  }
+  return out;
+}
+
+nb::object gripper_info(const Robot& r) {
+  const host::Gripper& g = r.gripper;
+  if (!g.present) return nb::none();
+  nb::dict d;
+  d["max_opening_mm"] = g.max_opening_mm;
+  d["finger_length_mm"] = g.finger_length_mm;
+  d["finger_thickness_mm"] = g.finger_thickness_mm;
+  d["finger_height_mm"] = g.finger_height_mm;
+  d["servo_open_deg"] = g.servo_open_deg;
+  d["servo_closed_deg"] = g.servo_closed_deg;
+  return d;
+}
+
+Array joints_array(const Robot& r, const std::vector<double>& q_model) {
+  Array a = new_array({q_model.size()});
+  for (size_t j = 0; j < q_model.size(); ++j) a.data()[j] = host::joint_from_model(r, int(j), q_model[j]);
+  return a;
+}
+
+Array44 fk(const PyRobot& self, nb::handle q_in) {
+  const Robot& r = self.r();
+  double q[host::kMaxJoints];
+  read_joints(q, q_in, r, "q");
+  HostFrames f;
+  forward_kinematics(f, r.model, q);
+  return transform_array(f.T_base_tool);
+}
+
+Array frames(const PyRobot& self, nb::handle q_in) {
+  const Robot& r = self.r();
+  double q[host::kMaxJoints];
+  read_joints(q, q_in, r, "q");
+  HostFrames f;
+  forward_kinematics(f, r.model, q);
+  const size_t n = size_t(r.model.num_rows);
+  Array a = new_array({n + 2, 4, 4});
+  for (size_t i = 0; i <= n; ++i) write_transform(a.data() + 16 * i, f.T_base_frame[i]);
+  write_transform(a.data() + 16 * (n + 1), f.T_base_tool);
+  return a;
+}
+
+// The Jacobian per unit of q as the interfaces give it (deg or mm): the linear rows of an
+// angle's column in mm/deg; the angular rows, a rotation per unit, are unitless for angles.
+void write_jacobian(double* out, const Robot& r, const HostFrames& f) {
+  const int n = r.model.num_joints;
+  double J[6][host::kMaxJoints];
+  jacobian(J, r.model, f);
+  for (int j = 0; j < n; ++j) {
+    const double scale = host::joint_is_angle(r, j) ? M_PI / 180 : 1.0;
+    for (int k = 0; k < 3; ++k) out[k * n + j] = J[k][j] * scale;
+    for (int k = 3; k < 6; ++k) out[k * n + j] = J[k][j] * (host::joint_is_angle(r, j) ? 1.0 : 180 / M_PI);
+  }
+}
+
+Array jacobian_one(const PyRobot& self, nb::handle q_in) {
+  const Robot& r = self.r();
+  double q[host::kMaxJoints];
+  read_joints(q, q_in, r, "q");
+  HostFrames f;
+  forward_kinematics(f, r.model, q);
+  Array a = new_array({6, size_t(r.model.num_joints)});
+  write_jacobian(a.data(), r, f);
+  return a;
+}
+
+// (N, n) joint values, checked and converted to model units in place in a copy.
+std::vector<double> read_batch(nb::handle Q_in, const Robot& r, size_t& N) {
+  auto Q = read_array(Q_in, "Q");
+  const size_t n = size_t(r.model.num_joints);
+  if (Q.ndim() != 2 || Q.shape(1) != n) {
+    std::string shape = "(";
+    for (size_t k = 0; k < Q.ndim(); ++k) shape += (k ? ", " : "") + std::to_string(Q.shape(k));
+    shape += Q.ndim() == 1 ? ",)" : ")";
+    throw nb::value_error(("Q must have shape (N, " + std::to_string(n) + "): one row of " + std::to_string(n) +
+                           " joint values per pose for " + r.name + ", got " + shape)
+                              .c_str());
+  }
+  N = Q.shape(0);
+  std::vector<double> q(Q.data(), Q.data() + N * n);
+  for (size_t i = 0; i < N; ++i)
+    for (size_t j = 0; j < n; ++j) {
+      double& v = q[i * n + j];
+      if (!std::isfinite(v))
+        throw nb::value_error(("Q[" + std::to_string(i) + ", " + std::to_string(j) + "] (" + r.joint_names[j] + ") is " +
+                               (std::isnan(v) ? "NaN" : "infinite") + ": joint values must be finite numbers")
+                                  .c_str());
+      v = host::joint_to_model(r, int(j), v);
+    }
+  return q;
+}
+
+Array fk_batch(const PyRobot& self, nb::handle Q_in) {
+  const Robot& r = self.r();
+  size_t N = 0;
+  const std::vector<double> q = read_batch(Q_in, r, N);
+  const size_t n = size_t(r.model.num_joints);
+  Array a = new_array({N, 4, 4});
+  double* out = a.data();
+  {
+    nb::gil_scoped_release release;
+    HostFrames f;
+    for (size_t i = 0; i < N; ++i) {
+      forward_kinematics(f, r.model, q.data() + i * n);
+      write_transform(out + 16 * i, f.T_base_tool);
+    }
+  }
+  return a;
+}
+
+Array jacobian_batch(const PyRobot& self, nb::handle Q_in) {
+  const Robot& r = self.r();
+  size_t N = 0;
+  const std::vector<double> q = read_batch(Q_in, r, N);
+  const size_t n = size_t(r.model.num_joints);
+  Array a = new_array({N, 6, n});
+  double* out = a.data();
+  {
+    nb::gil_scoped_release release;
+    HostFrames f;
+    for (size_t i = 0; i < N; ++i) {
+      forward_kinematics(f, r.model, q.data() + i * n);
+      write_jacobian(out + 6 * n * i, r, f);
+    }
+  }
+  return a;
+}
+
+Array dh_table(const PyRobot& self, nb::handle q_in) {
+  const Robot& r = self.r();
+  double q[host::kMaxJoints];
+  read_joints(q, q_in, r, "q");
+  DhRow<double> table[host::kMaxRows];
+  articula::dh_table(table, r.model, q);
+  const size_t n = size_t(r.model.num_rows);
+  Array a = new_array({n, 4});
+  for (size_t i = 0; i < n; ++i) {
+    a.data()[4 * i + 0] = table[i].a;
+    a.data()[4 * i + 1] = rad_to_deg(table[i].alpha);
+    a.data()[4 * i + 2] = table[i].d;
+    a.data()[4 * i + 3] = rad_to_deg(table[i].theta);
+  }
+  return a;
+}
+
+// ---- IK ----
+
+// An IK result: the C++ result and the robot it names joints and motors of.
+struct PyIkResult {
+  host::IkResult r;
+  std::shared_ptr<const Robot> robot;
+};
+
+host::IkTarget read_target(nb::handle t_in) {
+  auto t = read_array(t_in, "target");
+  const double* v = t.data();
+  for (size_t i = 0; i < t.size(); ++i)
+    if (!std::isfinite(v[i])) throw nb::value_error("target holds a NaN or an infinity: a target must be finite");
+  if (t.ndim() == 1 && t.shape(0) == 3) return host::IkTarget::at(make_vec3(v[0], v[1], v[2]));
+  if (t.ndim() == 1 && t.shape(0) == 6) {
+    host::IkTarget target = host::IkTarget::at(make_vec3(v[0], v[1], v[2]));
+    target.has_rotation = true;
+    target.rotation = rpy_to_matrix(deg_to_rad(v[3]), deg_to_rad(v[4]), deg_to_rad(v[5]));
+    return target;
+  }
+  if (t.ndim() == 2 && t.shape(0) == 4 && t.shape(1) == 4) {
+    Transform<double> T;
+    for (int i = 0; i < 3; ++i) {
+      for (int k = 0; k < 3; ++k) T.R.m[i][k] = v[4 * i + k];
+      T.p[i] = v[4 * i + 3];
+    }
+    return host::IkTarget::pose(T);
+  }
+  throw nb::value_error(
+      "target must be a position (x, y, z) in mm, a pose (x, y, z, roll, pitch, yaw) in mm and deg, or a 4x4 "
+      "homogeneous matrix");
+}
+
+host::IkOptions ik_options(const std::string& solver, nb::handle weights, double tolerance_mm, int max_iterations,
+                           uint64_t seed) {
+  host::IkOptions o;
+  if (!host::parse_ik_method(solver, o.method))
+    throw nb::value_error(("unknown solver '" + solver + "': one of auto, closed, lm, jt").c_str());
+  if (!weights.is_none()) o.weights = read_vector(weights, "weights");
+  if (!(tolerance_mm > 0)) throw nb::value_error("tolerance_mm must be > 0");
+  if (max_iterations < 0) throw nb::value_error("max_iterations must be >= 0 (0: the solver's default)");
+  o.position_tolerance_mm = tolerance_mm;
+  o.max_iterations = max_iterations;
+  o.seed = seed;
+  return o;
+}
+
+std::vector<double> ik_start(const PyRobot& self, nb::handle start) {
+  const Robot& r = self.r();
+  std::vector<double> q(size_t(r.model.num_joints));
+  if (start.is_none()) {
+    for (size_t j = 0; j < q.size() && j < r.home.size(); ++j) q[j] = r.home[j];
+  } else {
+    read_joints(q.data(), start, r, "start");
+  }
+  return q;
+}
+
+PyIkResult ik(const PyRobot& self, nb::handle target, const std::string& solver, nb::handle start, nb::handle weights,
+              double tolerance_mm, int max_iterations, uint64_t seed) {
+  const host::IkTarget t = read_target(target);
+  const host::IkOptions o = ik_options(solver, weights, tolerance_mm, max_iterations, seed);
+  const std::vector<double> q0 = ik_start(self, start);
+  const host::InverseKinematics& ik = self.ik();
+  host::IkResult res;
+  {
+    nb::gil_scoped_release release;
+    res = ik.solve(t, q0, o);
+  }
+  return {std::move(res), self.robot};
+}
+
+nb::dict ik_batch(const PyRobot& self, nb::handle targets_in, const std::string& solver, nb::handle start,
+                  nb::handle weights, double tolerance_mm, int max_iterations, uint64_t seed, bool chain) {
+  const Robot& r = self.r();
+  auto T = read_array(targets_in, "targets");
+  size_t N = 0, stride = 0;
+  bool pose = false, rpy = false;
+  if (T.ndim() == 2 && (T.shape(1) == 3 || T.shape(1) == 6)) {
+    N = T.shape(0), stride = T.shape(1), rpy = stride == 6;
+  } else if (T.ndim() == 3 && T.shape(1) == 4 && T.shape(2) == 4) {
+    N = T.shape(0), stride = 16, pose = true;
+  } else {
+    throw nb::value_error("targets must have shape (N, 3) positions, (N, 6) x y z roll pitch yaw, or (N, 4, 4) poses");
+  }
+  std::vector<host::IkTarget> targets(N);
+  for (size_t i = 0; i < N; ++i) {
+    const double* v = T.data() + stride * i;
+    for (size_t k = 0; k < stride; ++k)
+      if (!std::isfinite(v[k])) throw nb::value_error(("targets[" + std::to_string(i) + "] holds a NaN or an infinity").c_str());
+    if (pose) {
+      Transform<double> X;
+      for (int a = 0; a < 3; ++a) {
+        for (int b = 0; b < 3; ++b) X.R.m[a][b] = v[4 * a + b];
+        X.p[a] = v[4 * a + 3];
+      }
+      targets[i] = host::IkTarget::pose(X);
+    } else {
+      targets[i] = host::IkTarget::at(make_vec3(v[0], v[1], v[2]));
+      if (rpy) {
+        targets[i].has_rotation = true;
+        targets[i].rotation = rpy_to_matrix(deg_to_rad(v[3]), deg_to_rad(v[4]), deg_to_rad(v[5]));
+      }
+    }
+  }
+  const host::IkOptions o = ik_options(solver, weights, tolerance_mm, max_iterations, seed);
+  const std::vector<double> q0 = ik_start(self, start);
+  const host::InverseKinematics& ik = self.ik();
+  const size_t n = size_t(r.model.num_joints);
+  Array q = new_array({N, n}), pos_err = new_array({N}), rot_err = new_array({N});
+  nb::ndarray<nb::numpy, int32_t> iters, status;
+  {
+    int32_t* it = new int32_t[N ? N : 1];
+    int32_t* st = new int32_t[N ? N : 1];
+    iters = nb::ndarray<nb::numpy, int32_t>(it, {N}, nb::capsule(it, [](void* p) noexcept { delete[] static_cast<int32_t*>(p); }));
+    status = nb::ndarray<nb::numpy, int32_t>(st, {N}, nb::capsule(st, [](void* p) noexcept { delete[] static_cast<int32_t*>(p); }));
+  }
+  {
+    nb::gil_scoped_release release;
+    std::vector<double> from = q0;
+    for (size_t i = 0; i < N; ++i) {
+      const host::IkResult res = ik.solve(targets[i], from, o);
+      for (size_t j = 0; j < n; ++j) q.data()[i * n + j] = host::joint_from_model(r, int(j), res.q[j]);
+      pos_err.data()[i] = res.position_error_mm;
+      rot_err.data()[i] = rad_to_deg(res.orientation_error_rad);
+      iters.data()[i] = res.iterations;
+      status.data()[i] = int32_t(res.status);
+      if (chain) from = res.q;
+    }
+  }
+  nb::dict d;
+  d["q"] = q;
+  d["status"] = status;
+  d["position_error_mm"] = pos_err;
+  d["orientation_error_deg"] = rot_err;
+  d["iterations"] = iters;
+  return d;
+}
+
+}  // namespace
+
+nb::class_<PyRobot> bind_robot(nb::module_& m) {
+  nb::class_<PyIkResult>(m, "IkResult",
+                         "What robot.ik() found: status ('reached', 'unreachable', 'limited', 'budget'), the best "
+                         "pose q within the limits (deg or mm), the tool pose there, the errors and the effort.")
+      .def_prop_ro("status", [](const PyIkResult& s) { return host::ik_status_name(s.r.status); },
+                   "'reached', 'unreachable' (the arm stretches toward it), 'limited' (a limit holds it back: "
+                   "limited_by says which) or 'budget' (out of iterations while still improving)")
+      .def_prop_ro("reached", [](const PyIkResult& s) { return s.r.reached(); })
+      .def_prop_ro("solver", [](const PyIkResult& s) { return host::ik_method_name(s.r.method); },
+                   "the solver that ran: 'closed', 'lm' or 'jt'")
+      .def_prop_ro("q", [](const PyIkResult& s) { return joints_array(*s.robot, s.r.q); },
+                   "the best pose found, one value per joint variable (deg or mm), within the limits")
+      .def_prop_ro("tool", [](const PyIkResult& s) { return transform_array(s.r.tool); }, "the tool pose at q (4x4, mm)")
+      .def_prop_ro("position_error_mm", [](const PyIkResult& s) { return s.r.position_error_mm; })
+      .def_prop_ro("orientation_error_deg", [](const PyIkResult& s) { return rad_to_deg(s.r.orientation_error_rad); })
+      .def_prop_ro("iterations", [](const PyIkResult& s) { return s.r.iterations; })
+      .def_prop_ro("attempts", [](const PyIkResult& s) { return s.r.attempts; })
+      .def_prop_ro("beyond_reach", [](const PyIkResult& s) { return s.r.beyond_reach; },
+                   "the target is provably out of reach (farther than the chain can be long)")
+      .def_prop_ro("limited_by",
+                   [](const PyIkResult& s) {
+                     std::vector<std::string> names;
+                     for (int k : s.r.limited_joints) names.push_back(s.robot->joint_names[size_t(k)]);
+                     return names;
+                   },
+                   "the joint variables whose limits hold the arm back (status 'limited')")
+      .def_prop_ro("limited_by_motors",
+                   [](const PyIkResult& s) {
+                     std::vector<std::string> names;
+                     for (int k : s.r.limited_motors) names.push_back(s.robot->motor_names[size_t(k)]);
+                     return names;
+                   })
+      .def("to_dict", [](const PyIkResult& s) { return json_to_python(host::ik_result_json(*s.robot, s.r)); },
+           "the result as `articula ik --json` prints it")
+      .def("__repr__", [](const PyIkResult& s) {
+        char buf[160];
+        std::snprintf(buf, sizeof buf, "<IkResult %s (%s, %d iterations), position error %.4f mm>",
+                      host::ik_status_name(s.r.status), host::ik_method_name(s.r.method), s.r.iterations,
+                      s.r.position_error_mm);
+        return std::string(buf);
+      });
+
+  return nb::class_<PyRobot>(m, "Robot",
+                      "A robot: its modified DH table, joint variables and limits, motors, links and gripper, "
+                      "as a robot file (robots/README.md) describes it. Lengths in mm, angles in degrees.\n\n"
+                      ">>> mk2 = Robot.load('mk2plus')\n>>> mk2.fk([0, 90, -90])[:3, 3]\narray([235.,   0., 213.])")
+      .def_static("load", [](const std::string& name) { return make_robot(host::load_robot_file(host::resolve_robot_path(name))); },
+                  "name_or_path"_a,
+                  "A shipped robot by name ('mk2plus', 'panda', ...) or a robot file by path. A file that cannot be "
+                  "used raises RobotFileError naming the file, the JSON path and the problem.")
+      .def_static("parse", [](const std::string& text, const std::string& name) { return make_robot(host::parse_robot(text, name)); },
+                  "text"_a, "name"_a = "<text>", "A robot file's JSON text; `name` stands for the file in messages.")
+      .def_static("from_legacy",
+                  [](const std::string& path, double scale) {
+                    if (!(scale > 0) || !std::isfinite(scale)) throw nb::value_error("scale (mm per unit) must be > 0");
+                    std::ifstream in(path);
+                    if (!in) throw nb::value_error((path + ": cannot read the file").c_str());
+                    std::stringstream ss;
+                    ss << in.rdbuf();
+                    const host::LegacyImport imp = host::import_legacy(ss.str(), path, scale);
+                    PyRobot p = make_robot(host::parse_robot(imp.robot.dump(), path));
+                    p.import_notes = imp.dropped;
+                    return p;
+                  },
+                  "path"_a, "scale"_a,
+                  "A robot file of the thesis's original system (appendix C) at `scale` mm per Unity unit. What has "
+                  "no place in a robot file is listed in import_notes.")
+      .def_prop_ro("name", [](const PyRobot& s) { return s.r().name; })
+      .def_prop_ro("description", [](const PyRobot& s) { return s.r().description; })
+      .def_prop_ro("source", [](const PyRobot& s) { return s.r().source; }, "the file it was loaded from")
+      .def_prop_ro("import_notes", [](const PyRobot& s) { return s.import_notes; })
+      .def_prop_ro("num_joints", [](const PyRobot& s) { return int(s.r().model.num_joints); })
+      .def_prop_ro("num_rows", [](const PyRobot& s) { return int(s.r().model.num_rows); })
+      .def_prop_ro("num_motors", [](const PyRobot& s) { return s.r().has_motors ? int(s.r().actuation.num_motors) : 0; })
+      .def_prop_ro("joint_names", [](const PyRobot& s) { return s.r().joint_names; })
+      .def_prop_ro("motor_names", [](const PyRobot& s) { return s.r().motor_names; })
+      .def_prop_ro("dh", [](const PyRobot& s) { return dh_rows(s.r()); },
+                   "the DH table, row i holding a(i-1), alpha(i-1), d(i), theta(i) as the robot file writes them: "
+                   "a constant (mm, deg), {'joint', 'min', 'max'} or {'linked': {joint: gain}, 'offset'}")
+      .def_prop_ro("joints", [](const PyRobot& s) { return joints_info(s.r()); },
+                   "the joint variables: name, row (1-based), param ('theta', 'd', 'alpha'), unit, min, max")
+      .def_prop_ro("limits",
+                   [](const PyRobot& s) {
+                     const Robot& r = s.r();
+                     Array a = new_array({size_t(r.model.num_joints), 2});
+                     for (int j = 0; j < r.model.num_joints; ++j) {
+                       a.data()[2 * j] = host::joint_from_model(r, j, r.model.joints[j].lo);
+                       a.data()[2 * j + 1] = host::joint_from_model(r, j, r.model.joints[j].hi);
+                     }
+                     return a;
+                   },
+                   "(n, 2) array of each joint variable's min and max (deg or mm)")
+      .def_prop_ro("home", [](const PyRobot& s) { return joints_array(s.r(), s.r().home); }, "the home pose (deg or mm)")
+      .def_prop_ro("motors", [](const PyRobot& s) { return motors_info(s.r()); },
+                   "the motors (empty for a purely kinematic robot): steps, gear, limits, deg_per_step, step_range")
+      .def_prop_ro("coupling",
+                   [](const PyRobot& s) {
+                     const Robot& r = s.r();
+                     const size_t n = r.has_motors ? size_t(r.actuation.num_motors) : 0;
+                     Array a = new_array({n, n});
+                     for (size_t i = 0; i < n; ++i)
+                       for (size_t j = 0; j < n; ++j) a.data()[i * n + j] = r.actuation.coupling[i][j];
+                     return a;
+                   },
+                   "C in q = C u: joint variables from motor angles (empty without motors)")
+      .def_prop_ro("links", [](const PyRobot& s) { return links_info(s.r()); },
+                   "link shapes per DH frame: type, size (mm), mesh, pose in the frame (4x4), mass, density")
+      .def_prop_ro("gripper", [](const PyRobot& s) { return gripper_info(s.r()); })
+      .def_prop_ro("tool_offset", [](const PyRobot& s) { return transform_array(s.r().model.T_last_tool); },
+                   "the fixed tool transform after the last row (4x4, mm)")
+      .def_prop_ro("reach_mm", [](const PyRobot& s) { return s.ik().reach_bound(); },
+                   "the longest distance from the first joint the tool can be")
+      .def("fk", &fk, "q"_a,
+           "The tool pose at joint values q (deg or mm, one per joint variable) as a 4x4 homogeneous matrix, mm.\n\n"
+           ">>> Robot.load('mk2plus').fk([0, 90, -90])[:3, 3]\narray([235.,   0., 213.])")
+      .def("frames", &frames, "q"_a,
+           "Every frame at q: an (num_rows + 2, 4, 4) array, [0] the base, [i] the frame of DH row i, [-1] the tool.")
+      .def("jacobian", &jacobian_one, "q"_a,
+           "The geometric Jacobian of the tool point at q, (6, n): rows 0-2 the tool's velocity in mm per unit of "
+           "q[j] (deg or mm), rows 3-5 its rotation per unit (deg per deg for an angle).")
+      .def("fk_batch", &fk_batch, "Q"_a, "Tool poses of many poses at once: (N, n) joint values -> (N, 4, 4).")
+      .def("jacobian_batch", &jacobian_batch, "Q"_a, "Jacobians of many poses: (N, n) -> (N, 6, n).")
+      .def("dh_table", &dh_table, "q"_a,
+           "The DH table at q, (num_rows, 4): a(i-1) mm, alpha(i-1) deg, d(i) mm, theta(i) deg, with every "
+           "variable and linked parameter filled in.")
+      .def("within_limits",
+           [](const PyRobot& s, nb::handle q_in) {
+             std::vector<double> q(size_t(s.r().model.num_joints));
+             read_joints(q.data(), q_in, s.r(), "q");
+             return s.ik().within_all_limits(q);
+           },
+           "q"_a, "Whether q is within every joint limit and, with motors, every motor limit.")
+      .def("ik", &ik, "target"_a, "solver"_a = "auto", "start"_a = nb::none(), "weights"_a = nb::none(),
+           "tolerance_mm"_a = 0.01, "max_iterations"_a = 0, "seed"_a = 1,
+           "Inverse kinematics (docs/ik.md). target: (x, y, z) mm, (x, y, z, roll, pitch, yaw) mm and deg, or a "
+           "4x4 pose. solver: 'auto', 'closed', 'lm' or 'jt' (the thesis's Jacobian transpose). start: joint "
+           "values to start from (default: home). weights: per joint variable (per motor with a coupling), 0 "
+           "freezes one.\n\n>>> Robot.load('mk2plus').ik([200, 0, 150]).status\n'reached'")
+      .def("ik_batch", &ik_batch, "targets"_a, "solver"_a = "auto", "start"_a = nb::none(), "weights"_a = nb::none(),
+           "tolerance_mm"_a = 0.01, "max_iterations"_a = 0, "seed"_a = 1, "chain"_a = false,
+           "IK for (N, 3), (N, 6) or (N, 4, 4) targets without a Python loop. Returns a dict of arrays: q (N, n), "
+           "status (N,) codes (0 reached, 1 unreachable, 2 limited, 3 budget), position_error_mm, "
+           "orientation_error_deg, iterations. chain=True starts each solve from the previous answer.")
+      .def("to_urdf", [](const PyRobot& s) { return host::export_urdf(s.r()).xml; },
+           "The robot as URDF (metres, radians), as `articula export-urdf` writes it.")
+      .def("__repr__", [](const PyRobot& s) {
+        return "<Robot '" + s.r().name + "': " + std::to_string(s.r().model.num_rows) + " DH rows, " +
+               std::to_string(s.r().model.num_joints) + " joint variables, " +
+               (s.r().has_motors ? std::to_string(s.r().actuation.num_motors) + " motors" : std::string("no motors")) +
+               ">";
+      });
+}
+
+}  // namespace articula::python

@@ -1,0 +1,212 @@
+// python/src/sim.cpp - articula.Sim: the arm and a scene as rigid bodies in ODE
+// (host/physics/sim.h), stepped from Python: programs or single protocol lines for the
+// simulated controller, the state of every link and object, events, and a mouse drag.
+#include <nanobind/stl/string.h>
+#include <nanobind/stl/vector.h>
+
+#include <cmath>
+
+#include "bindings.h"
+#include "program.h"
+#include "records_json.h"
+#include "scene.h"
+#include "sim.h"
+
+namespace articula::python {
+namespace {
+
+using namespace nb::literals;
+
+struct PySim {
+  std::shared_ptr<const Robot> robot;
+  host::Scene scene;
+  host::SimOptions options;
+  std::unique_ptr<host::Simulation> sim;
+
+  void build() { sim = std::make_unique<host::Simulation>(*robot, scene, options); }
+
+  int object_index(nb::handle which) const {
+    if (nb::isinstance<nb::int_>(which)) {
+      const int i = nb::cast<int>(which);
+      if (i < 0 || i >= sim->num_objects())
+        throw nb::index_error(("no object " + std::to_string(i) + ": the scene has " + std::to_string(sim->num_objects())).c_str());
+      return i;
+    }
+    const std::string name = nb::cast<std::string>(which);
+    for (int i = 0; i < sim->num_objects(); ++i)
+      if (sim->object(i).name == name) return i;
+    throw nb::key_error(("no object named '" + name + "' in the scene").c_str());
+  }
+};
+
+nb::dict state(const PySim& s) {
+  const host::Simulation& sim = *s.sim;
+  const Robot& r = *s.robot;
+  nb::dict d;
+  d["t"] = sim.time();
+  const size_t n = size_t(r.model.num_joints);
+  Array q = new_array({n});
+  for (size_t j = 0; j < n; ++j) q.data()[j] = host::joint_from_model(r, int(j), sim.joints()[j]);
+  d["joints"] = q;
+  const host::HostFrames& f = sim.frames();
+  const size_t rows = size_t(r.model.num_rows);
+  Array frames = new_array({rows + 2, 4, 4});
+  for (size_t i = 0; i <= rows; ++i) write_transform(frames.data() + 16 * i, f.T_base_frame[i]);
+  write_transform(frames.data() + 16 * (rows + 1), f.T_base_tool);
+  d["frames"] = frames;
+  d["tool"] = transform_array(f.T_base_tool);
+  d["gripper_mm"] = sim.gripper_opening_mm();
+  d["counted_steps"] = sim.counted_steps();
+  d["lost_steps"] = sim.lost_steps();
+  d["busy"] = sim.busy();
+  nb::list parts;
+  for (const auto& p : sim.arm_parts()) {
+    nb::dict e;
+    e["name"] = p.name;
+    e["frame"] = p.frame;
+    e["pose"] = transform_array(p.T);
+    parts.append(e);
+  }
+  d["parts"] = parts;
+  nb::list objects;
+  for (int i = 0; i < sim.num_objects(); ++i) {
+    nb::dict e;
+    e["name"] = sim.object(i).name;
+    e["pose"] = transform_array(sim.object_pose(i));
+    e["movable"] = sim.object(i).movable;
+    e["carried"] = sim.object_carried(i);
+    e["removed"] = sim.object_removed(i);
+    objects.append(e);
+  }
+  d["objects"] = objects;
+  nb::list contacts;
+  for (const auto& c : sim.contacts()) {
+    nb::dict e;
+    e["a"] = c.a;
+    e["b"] = c.b;
+    e["point_mm"] = nb::make_tuple(c.point_mm.x, c.point_mm.y, c.point_mm.z);
+    contacts.append(e);
+  }
+  d["contacts"] = contacts;
+  return d;
+}
+
+nb::list scene_objects(const PySim& s) {
+  static const char* kTypes[] = {"box", "cylinder", "sphere"};
+  nb::list out;
+  for (const auto& o : s.scene.objects) {
+    nb::dict e;
+    e["name"] = o.name;
+    e["type"] = kTypes[int(o.type)];
+    e["size"] = nb::make_tuple(o.size[0], o.size[1], o.size[2]);
+    e["movable"] = o.movable;
+    e["mass_kg"] = o.movable ? o.mass_kg() : 0.0;
+    e["friction"] = o.friction;
+    out.append(e);
+  }
+  return out;
+}
+
+}  // namespace
+
+void bind_sim(nb::module_& m) {
+  nb::class_<PySim>(m, "Sim",
+                    "The arm and a scene as rigid bodies in the Open Dynamics Engine (docs/physics.md): links follow "
+                    "the motors' step counts as the firmware times them, objects fall, slide, are pushed and "
+                    "grasped. What `articula sim` does, one step at a time.\n\n"
+                    ">>> sim = Sim(Robot.load('mk2plus'), scene='grasp-and-lift')\n"
+                    ">>> sim.command('L 0 10')\n'ok'\n>>> sim.step(1000)")
+      .def("__init__",
+           [](PySim* self, const PyRobot& robot, nb::handle scene, double dt, nb::handle settings, bool quick_step,
+              double extra_time, bool stall_check) {
+             new (self) PySim();
+             self->robot = robot.robot;
+             if (!scene.is_none()) {
+               nb::object os = nb::module_::import_("os");
+               self->scene = host::load_scene_file(host::resolve_scene_path(nb::cast<std::string>(os.attr("fspath")(scene))));
+             }
+             if (!(dt > 0 && dt <= 0.01)) throw nb::value_error("dt (the world step, s) must be in (0, 0.01]");
+             if (!(extra_time >= 0) || !std::isfinite(extra_time)) throw nb::value_error("extra_time must be >= 0");
+             self->options.dt = dt;
+             self->options.quick_step = quick_step;
+             self->options.extra_time = extra_time;
+             self->options.stall_check = stall_check;
+             self->options.settings = settings_from(settings, robot.r());
+             self->build();
+           },
+           "robot"_a, "scene"_a = nb::none(), nb::kw_only(), "dt"_a = 0.001, "settings"_a = nb::none(),
+           "quick_step"_a = false, "extra_time"_a = 1.0, "stall_check"_a = true,
+           "scene: a shipped scene's name ('grasp-and-lift'), a scene file, or None (the ground only). dt: the "
+           "world step, s. settings: the controller's $n at power-up. extra_time: how long done() waits after "
+           "the program's last action.")
+      .def("step",
+           [](PySim& s, int n) {
+             if (n < 0) throw nb::value_error("n must be >= 0");
+             nb::gil_scoped_release release;
+             for (int i = 0; i < n; ++i) s.sim->step();
+           },
+           "n"_a = 1, "Advances the world n steps of dt.")
+      .def("run_until",
+           [](PySim& s, double t) {
+             if (!std::isfinite(t)) throw nb::value_error("t must be finite");
+             nb::gil_scoped_release release;
+             s.sim->run_until(t);
+           },
+           "t"_a, "Steps until time >= t (s).")
+      .def("run",
+           [](PySim& s) {
+             nb::gil_scoped_release release;
+             while (!s.sim->done()) s.sim->step();
+           },
+           "Steps until the program has ended and extra_time has passed (what `articula sim` runs).")
+      .def("load_program", [](PySim& s, nb::handle program) { s.sim->load_program(program_from(program, *s.robot)); },
+           "program"_a,
+           "The program the arm runs from now on (an articula.Program or a path), replacing what was queued. The "
+           "controller starts from power-up: use it on a new or reset simulation.")
+      .def("command", [](PySim& s, const std::string& line) { return host::reply_text(s.sim->command(line)); }, "line"_a,
+           "One protocol line into the simulated controller now; returns 'ok' or 'error:N' as the arm would "
+           "answer. An accepted move is queued after what the arm is doing; a rejected one changes nothing.")
+      .def("events",
+           [](const PySim& s, size_t since) {
+             nb::list out;
+             const auto& ev = s.sim->events();
+             for (size_t i = since; i < ev.size(); ++i) out.append(record(host::event_json(ev[i])));
+             return out;
+           },
+           "since"_a = 0,
+           "The events so far (or from index `since`): t, kind (contact_started, collision, grasp, release, "
+           "steps_lost, stall, rejected, ...), line, the parts a and b, point_mm, detail.")
+      .def("state", &state,
+           "The world now: t, joints (deg or mm, as the steps put them), frames ((rows+2, 4, 4), as Robot.frames), "
+           "tool, gripper_mm, counted_steps and lost_steps per motor, busy, parts (arm links and fingers with "
+           "their poses), objects (name, pose, movable, carried, removed), contacts (what touches what).")
+      .def("drag",
+           [](PySim& s, nb::handle which, nb::handle target) {
+             const std::vector<double> t = read_vector(target, "target");
+             if (t.size() != 3) throw nb::value_error("target must be (x, y, z) in mm");
+             s.sim->drag_object(s.object_index(which), make_vec3(t[0], t[1], t[2]));
+           },
+           "object"_a, "target"_a,
+           "Pulls a movable object (index or name) toward target (x, y, z) mm with a damped spring, as a mouse "
+           "drag: it is carried among the other bodies, not teleported. Until release().")
+      .def("release", [](PySim& s) { s.sim->release_drag(); }, "Lets go of a dragged object: it falls.")
+      .def("reset", [](PySim& s) { s.build(); },
+           "Back to t = 0: the arm at power-up, the objects where the scene puts them, no program.")
+      .def_prop_ro("time", [](const PySim& s) { return s.sim->time(); }, "simulated time, s")
+      .def_prop_ro("steps", [](const PySim& s) { return s.sim->steps_taken(); })
+      .def_prop_ro("dt", [](const PySim& s) { return s.options.dt; })
+      .def_prop_ro("done", [](const PySim& s) { return s.sim->done(); })
+      .def_prop_ro("busy", [](const PySim& s) { return s.sim->busy(); }, "the arm still has queued actions")
+      .def_prop_ro("end_time", [](const PySim& s) { return s.sim->end_time(); })
+      .def_prop_ro("objects", &scene_objects, "the scene's objects: name, type, size (mm), movable, mass_kg, friction")
+      .def_prop_ro("scene_name", [](const PySim& s) { return s.scene.name; })
+      .def("__repr__", [](const PySim& s) {
+        char buf[200];
+        std::snprintf(buf, sizeof buf, "<Sim '%s' in %s, t = %.3f s, %d objects>", s.robot->name.c_str(),
+                      s.scene.name.empty() ? "an empty scene" : ("'" + s.scene.name + "'").c_str(), s.sim->time(),
+                      s.sim->num_objects());
+        return std::string(buf);
+      });
+}
+
+}  // namespace articula::python
