@@ -247,6 +247,7 @@ Simulation::Simulation(const Robot& robot, const Scene& scene, const SimOptions&
   place_arm(q_.data(), opening_mm_);
   accept_pose();
   for (auto& p : parts_) p->T_prev = p->T;
+  reset_controller();  // ready for command() without a program
 }
 
 Simulation::~Simulation() {

@@ -86,17 +86,20 @@ void read_joints(double* q, nb::handle values, const Robot& robot, const char* w
     }
     return;
   }
-  PyObject* seq = PySequence_Fast(values.ptr(), "");
-  if (!seq) {
-    PyErr_Clear();
+  // Another array (other dtype, 2-D, strided) or something numpy can read: as float64, 1-D.
+  if (nb::ndarray_check(values) || !PySequence_Check(values.ptr())) {
     nb::object a = nb::module_::import_("numpy").attr("asarray")(values, "float64");
-    if (nb::cast<int>(a.attr("ndim")) != 1)
+    const nb::object ndim = a.attr("ndim"), shape = a.attr("shape");
+    if (PyLong_AsLong(ndim.ptr()) != 1)
       throw nb::value_error((std::string(what) + " must be one joint value per joint variable (a 1-D list or array), got shape " +
-                             nb::cast<std::string>(nb::str(a.attr("shape"))))
+                             std::string(nb::str(shape).c_str()))
                                 .c_str());
+    a = nb::module_::import_("numpy").attr("ascontiguousarray")(a);
     read_joints(q, a, robot, what);
     return;
   }
+  PyObject* seq = PySequence_Fast(values.ptr(), "");
+  if (!seq) throw nb::python_error();
   nb::object owner = nb::steal(seq);
   const size_t got = size_t(PySequence_Fast_GET_SIZE(seq));
   if (got != n) wrong_count(robot, what, got);
@@ -106,7 +109,7 @@ void read_joints(double* q, nb::handle values, const Robot& robot, const char* w
     if (v == -1.0 && PyErr_Occurred()) {
       PyErr_Clear();
       throw nb::type_error((std::string(what) + "[" + std::to_string(j) + "] (" + robot.joint_names[j] +
-                            ") is not a number: " + nb::cast<std::string>(nb::repr(nb::handle(items[j]))))
+                            ") is not a number: " + std::string(nb::repr(nb::handle(items[j])).c_str()))
                                .c_str());
     }
     check_finite(v, robot, what, int(j));

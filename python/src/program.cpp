@@ -35,9 +35,9 @@ host::ControllerSettings settings_from(nb::handle settings, const Robot& robot) 
     text = nb::cast<std::string>(settings);
   } else if (nb::isinstance<nb::dict>(settings)) {
     for (auto [k, v] : nb::borrow<nb::dict>(settings)) {
-      const std::string key = nb::cast<std::string>(nb::str(k));
+      const std::string key = std::string(nb::str(k).c_str());
       text += (text.empty() ? "" : ",") + (key.rfind('$', 0) == 0 ? key.substr(1) : key) + "=" +
-              nb::cast<std::string>(nb::str(v));
+              std::string(nb::str(v).c_str());
     }
   } else {
     throw nb::type_error("settings must be a dict {0: 800, 1: 3000} or a text \"0=800,1=3000\"");

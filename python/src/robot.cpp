@@ -431,9 +431,9 @@ nb::class_<PyRobot> bind_robot(nb::module_& m) {
       .def_prop_ro("reached", [](const PyIkResult& s) { return s.r.reached(); })
       .def_prop_ro("solver", [](const PyIkResult& s) { return host::ik_method_name(s.r.method); },
                    "the solver that ran: 'closed', 'lm' or 'jt'")
-      .def_prop_ro("q", [](const PyIkResult& s) { return joints_array(*s.robot, s.r.q); },
+      .def_prop_ro("q", [](const PyIkResult& s) { return joints_array(*s.robot, s.r.q); }, nb::rv_policy::move,
                    "the best pose found, one value per joint variable (deg or mm), within the limits")
-      .def_prop_ro("tool", [](const PyIkResult& s) { return transform_array(s.r.tool); }, "the tool pose at q (4x4, mm)")
+      .def_prop_ro("tool", [](const PyIkResult& s) { return transform_array(s.r.tool); }, nb::rv_policy::move, "the tool pose at q (4x4, mm)")
       .def_prop_ro("position_error_mm", [](const PyIkResult& s) { return s.r.position_error_mm; })
       .def_prop_ro("orientation_error_deg", [](const PyIkResult& s) { return rad_to_deg(s.r.orientation_error_rad); })
       .def_prop_ro("iterations", [](const PyIkResult& s) { return s.r.iterations; })
@@ -511,9 +511,9 @@ nb::class_<PyRobot> bind_robot(nb::module_& m) {
                        a.data()[2 * j + 1] = host::joint_from_model(r, j, r.model.joints[j].hi);
                      }
                      return a;
-                   },
+                   }, nb::rv_policy::move,
                    "(n, 2) array of each joint variable's min and max (deg or mm)")
-      .def_prop_ro("home", [](const PyRobot& s) { return joints_array(s.r(), s.r().home); }, "the home pose (deg or mm)")
+      .def_prop_ro("home", [](const PyRobot& s) { return joints_array(s.r(), s.r().home); }, nb::rv_policy::move, "the home pose (deg or mm)")
       .def_prop_ro("motors", [](const PyRobot& s) { return motors_info(s.r()); },
                    "the motors (empty for a purely kinematic robot): steps, gear, limits, deg_per_step, step_range")
       .def_prop_ro("coupling",
@@ -524,12 +524,12 @@ nb::class_<PyRobot> bind_robot(nb::module_& m) {
                      for (size_t i = 0; i < n; ++i)
                        for (size_t j = 0; j < n; ++j) a.data()[i * n + j] = r.actuation.coupling[i][j];
                      return a;
-                   },
+                   }, nb::rv_policy::move,
                    "C in q = C u: joint variables from motor angles (empty without motors)")
       .def_prop_ro("links", [](const PyRobot& s) { return links_info(s.r()); },
                    "link shapes per DH frame: type, size (mm), mesh, pose in the frame (4x4), mass, density")
       .def_prop_ro("gripper", [](const PyRobot& s) { return gripper_info(s.r()); })
-      .def_prop_ro("tool_offset", [](const PyRobot& s) { return transform_array(s.r().model.T_last_tool); },
+      .def_prop_ro("tool_offset", [](const PyRobot& s) { return transform_array(s.r().model.T_last_tool); }, nb::rv_policy::move,
                    "the fixed tool transform after the last row (4x4, mm)")
       .def_prop_ro("reach_mm", [](const PyRobot& s) { return s.ik().reach_bound(); },
                    "the longest distance from the first joint the tool can be")

@@ -1,0 +1,189 @@
+"""articula.Robot: loading, the robot file's facts, and the kinematics against the CLI and
+against each other (batch against one pose, Jacobian against finite differences)."""
+
+import json
+
+import numpy as np
+import pytest
+
+import articula
+from conftest import REPO, ROBOTS, cli_json
+
+
+@pytest.mark.parametrize("name", ROBOTS)
+def test_every_shipped_robot_loads_by_name_and_by_path(name):
+    a = articula.Robot.load(name)
+    b = articula.Robot.load(str(REPO / "robots" / f"{name}.json"))
+    assert a.name == b.name and a.num_joints == b.num_joints > 0
+    assert len(a.joint_names) == a.num_joints == len(a.joints) == a.limits.shape[0]
+    assert a.home.shape == (a.num_joints,)
+    assert a.within_limits(a.home)
+    assert len(a.dh) == a.num_rows
+
+
+@pytest.mark.parametrize("name", ROBOTS)
+def test_fk_and_frames_agree_with_the_cli(name):
+    robot = articula.Robot.load(name)
+    rng = np.random.default_rng(7)
+    lo, hi = robot.limits[:, 0], robot.limits[:, 1]
+    for _ in range(3):
+        q = lo + (hi - lo) * rng.random(robot.num_joints)
+        doc = cli_json("fk", name, "--q", ",".join(repr(float(v)) for v in q))
+        T = robot.fk(q)
+        assert T.shape == (4, 4)
+        np.testing.assert_allclose(T[:3, 3], doc["tool"]["position"], atol=1e-9)
+        np.testing.assert_allclose(T[:3, :3], doc["tool"]["rotation"], atol=1e-12)
+        F = robot.frames(q)
+        assert F.shape == (robot.num_rows + 2, 4, 4)
+        for i, f in enumerate(doc["frames"]):
+            np.testing.assert_allclose(F[i, :3, 3], f["position"], atol=1e-9)
+        np.testing.assert_array_equal(F[-1], T)
+
+
+def test_mk2_home_and_a_documented_pose():
+    mk2 = articula.Robot.load("mk2plus")
+    np.testing.assert_allclose(mk2.fk([0, 90, -90])[:3, 3], [235, 0, 213], atol=1e-9)
+    # README: articula fk mk2plus --q 30,60,-80 -> tool (254.295, 146.817, 144.636)
+    np.testing.assert_allclose(mk2.fk([30, 60, -80])[:3, 3], [254.295, 146.817, 144.636], atol=5e-4)
+    # a list, a tuple and arrays of other dtypes give the same
+    for q in ([30, 60, -80], (30.0, 60.0, -80.0), np.array([30, 60, -80]), np.array([30, 60, -80], np.float32)):
+        np.testing.assert_allclose(mk2.fk(q), mk2.fk(np.array([30.0, 60.0, -80.0])), atol=1e-12)
+
+
+@pytest.mark.parametrize("name", ROBOTS)
+def test_batch_forms_equal_the_one_pose_forms(name):
+    robot = articula.Robot.load(name)
+    rng = np.random.default_rng(3)
+    lo, hi = robot.limits[:, 0], robot.limits[:, 1]
+    Q = lo + (hi - lo) * rng.random((50, robot.num_joints))
+    T = robot.fk_batch(Q)
+    J = robot.jacobian_batch(Q)
+    assert T.shape == (50, 4, 4) and J.shape == (50, 6, robot.num_joints)
+    for i in range(50):
+        np.testing.assert_array_equal(T[i], robot.fk(Q[i]))
+        np.testing.assert_array_equal(J[i], robot.jacobian(Q[i]))
+    assert robot.fk_batch(np.zeros((0, robot.num_joints))).shape == (0, 4, 4)
+
+
+@pytest.mark.parametrize("name", ROBOTS)
+def test_jacobian_is_the_derivative_of_fk_per_degree_or_mm(name):
+    robot = articula.Robot.load(name)
+    q = robot.home + 0.3
+    J = robot.jacobian(q)
+    h = 1e-6
+    for j in range(robot.num_joints):
+        dq = np.zeros(robot.num_joints)
+        dq[j] = h
+        Tp, Tm = robot.fk(q + dq), robot.fk(q - dq)
+        np.testing.assert_allclose(J[:3, j], (Tp[:3, 3] - Tm[:3, 3]) / (2 * h), rtol=1e-5, atol=1e-6)
+        # rotation: dR R^T is the skew matrix of the rotation vector, per unit of q (deg/deg for angles)
+        W = (Tp[:3, :3] - Tm[:3, :3]) / (2 * h) @ robot.fk(q)[:3, :3].T
+        w = np.array([W[2, 1], W[0, 2], W[1, 0]])
+        unit = 180 / np.pi if robot.joints[j]["unit"] == "deg" else 180 / np.pi
+        np.testing.assert_allclose(J[3:, j], w * unit if robot.joints[j]["unit"] == "mm" else w * 180 / np.pi,
+                                   rtol=1e-5, atol=1e-7)
+
+
+def test_dh_table_fills_in_variables_and_links():
+    mk2 = articula.Robot.load("mk2plus")
+    t = mk2.dh_table([10, 60, -80])
+    assert t.shape == (4, 4)
+    np.testing.assert_allclose(t[:, 3], [10, 60, -80, 20])  # theta4 = -(theta2 + theta3)
+    np.testing.assert_allclose(t[:, 0], [0, 0, 135, 147])
+    assert mk2.dh[3]["theta"] == {"linked": {"shoulder": -1.0, "elbow": -1.0}, "offset": 0.0}
+    assert mk2.dh[0]["theta"]["joint"] == "base"
+
+
+def test_robot_facts_match_the_file():
+    mk2 = articula.Robot.load("mk2plus")
+    doc = json.loads((REPO / "robots" / "mk2plus.json").read_text())
+    assert mk2.name == doc["name"]
+    assert [m["name"] for m in mk2.motors] == [m["name"] for m in doc["motors"]]
+    assert mk2.motors[0]["gear"] == tuple(doc["motors"][0]["gear"])
+    assert mk2.motors[0]["deg_per_step"] == pytest.approx(0.316667, abs=1e-6)
+    assert mk2.coupling.shape == (3, 3)
+    assert mk2.gripper["max_opening_mm"] > 0
+    assert any(link["shapes"] for link in mk2.links)
+    panda = articula.Robot.load("panda")
+    assert panda.num_motors == 0 and panda.motors == [] and panda.gripper is None or panda.gripper is not None
+
+
+# ---- errors: a clear Python exception, never a crash or a silent wrong answer ----
+
+def test_a_missing_file_names_it():
+    with pytest.raises(articula.RobotFileError) as e:
+        articula.Robot.load("robots/no-such-arm.json")
+    assert "robots/no-such-arm.json" in str(e.value) and "not found" in str(e.value)
+    assert e.value.file == "robots/no-such-arm.json"
+    assert isinstance(e.value, ValueError)
+
+
+def test_a_malformed_robot_names_file_json_path_and_problem(tmp_path):
+    doc = json.loads((REPO / "robots" / "mk2plus.json").read_text())
+    doc["dh"][1]["theta"]["min"] = 200  # above max
+    bad = tmp_path / "bad.json"
+    bad.write_text(json.dumps(doc))
+    with pytest.raises(articula.RobotFileError) as e:
+        articula.Robot.load(str(bad))
+    assert e.value.file == str(bad)
+    assert e.value.json_path == "/dh/1/theta/min"
+    assert "limits inverted" in e.value.problem
+    assert str(e.value).startswith(f"{bad}: /dh/1/theta/min: ")
+    not_json = tmp_path / "broken.json"
+    not_json.write_text('{"name": "x", ')
+    with pytest.raises(articula.RobotFileError, match="broken.json"):
+        articula.Robot.load(str(not_json))
+    with pytest.raises(articula.RobotFileError, match="<text>"):
+        articula.Robot.parse('{"name": "x"}')
+
+
+@pytest.mark.parametrize("bad, exc, words", [
+    ([0, 90], ValueError, "q has 2 values; MK2 Plus has 3 joint variables (base, shoulder, elbow)"),
+    ([0, 90, -90, 0], ValueError, "q has 4 values"),
+    ([0, float("nan"), -90], ValueError, "q[1] (shoulder) is NaN"),
+    ([0, 90, float("inf")], ValueError, "q[2] (elbow) is infinite"),
+    ([0, "ninety", -90], TypeError, "q[1] (shoulder) is not a number"),
+    (np.zeros((3, 1)), ValueError, "1-D"),
+])
+def test_bad_joint_values_raise_and_name_the_joint(bad, exc, words):
+    mk2 = articula.Robot.load("mk2plus")
+    for f in (mk2.fk, mk2.frames, mk2.jacobian, mk2.dh_table):
+        with pytest.raises(exc) as e:
+            f(bad)
+        assert words in str(e.value)
+
+
+def test_bad_batches_raise():
+    mk2 = articula.Robot.load("mk2plus")
+    with pytest.raises(ValueError, match=r"Q must have shape \(N, 3\).*got \(4, 2\)"):
+        mk2.fk_batch(np.zeros((4, 2)))
+    with pytest.raises(ValueError, match=r"got \(3,\)"):
+        mk2.fk_batch(np.zeros(3))
+    Q = np.zeros((5, 3))
+    Q[3, 2] = np.nan
+    with pytest.raises(ValueError, match=r"Q\[3, 2\] \(elbow\) is NaN"):
+        mk2.jacobian_batch(Q)
+
+
+def test_urdf_is_the_clis(tmp_path):
+    out = tmp_path / "mk2.urdf"
+    from conftest import cli
+    cli("export-urdf", "mk2plus", "-o", str(out), ok=(0,))
+    assert articula.Robot.load("mk2plus").to_urdf() == out.read_text()
+
+
+def test_legacy_import_is_the_clis(tmp_path):
+    from conftest import cli
+    src = REPO / "docs" / "examples" / "thesis-example.legacy.txt"
+    out = tmp_path / "thesis.json"
+    cli("import-legacy", str(src), "--scale", "10", "-o", str(out), ok=(0,))
+    via_cli = articula.Robot.load(str(out))
+    direct = articula.Robot.from_legacy(str(src), 10)
+    assert direct.dh == via_cli.dh and direct.joint_names == via_cli.joint_names
+    assert len(direct.import_notes) == 28
+    q = direct.home + 5
+    np.testing.assert_allclose(direct.fk(q), via_cli.fk(q), atol=1e-12)
+    with pytest.raises(ValueError, match="scale"):
+        articula.Robot.from_legacy(str(src), 0)
+    with pytest.raises(ValueError, match="cannot read"):
+        articula.Robot.from_legacy(str(tmp_path / "none.txt"), 10)
