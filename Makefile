@@ -61,7 +61,7 @@ demo: build
 	@echo "== the thesis's experiments on the virtual Nano: the real firmware, step by step against the prediction =="
 	@rm -rf $(DEMO_REPORT)
 	@.venv/bin/python -m hil.harness run hil/plans/thesis-single-joint.arm hil/plans/thesis-repeatability.arm \
-	  hil/plans/tool-points.arm --out $(DEMO_REPORT) --articula $(ARTICULA) \
+	  hil/plans/tool-points.arm --out $(DEMO_REPORT) \
 	  --vnano $(BUILD)/hil/articula-vnano --elf $(FIRMWARE_DIR)/articula-nano.elf
 	@echo "open $(DEMO_REPORT)/report.html in a browser, or read $(DEMO_REPORT)/report.md"
 

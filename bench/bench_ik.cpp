@@ -168,7 +168,8 @@ BENCHMARK(BM_Mk2PositionEach)->Unit(benchmark::kNanosecond);
 }  // namespace
 
 // ARTICULA_BENCH_DUMP=dir writes the Panda's poses, start and targets there (CSV, rad and
-// mm), for bench/compare_rtb.py to solve the very same problems.
+// mm), and the MK2's points (mk2_targets.csv, x y z mm), for bench/compare_rtb.py and
+// bench/bench_python.py to solve the very same problems.
 void dump(const std::string& dir) {
   const Case c = panda_case(IkMethod::kAuto);
   std::FILE* f = std::fopen((dir + "/panda_targets.csv").c_str(), "w");
@@ -188,6 +189,11 @@ void dump(const std::string& dir) {
       for (int k = 0; k < 3; ++k) std::fprintf(f, "%.17g,", t.rotation.m[r][k]);
     std::fprintf(f, "%.17g,%.17g,%.17g\n", t.position.x, t.position.y, t.position.z);
   }
+  std::fclose(f);
+  const Case mk2 = mk2_case(IkMethod::kAuto);
+  f = std::fopen((dir + "/mk2_targets.csv").c_str(), "w");
+  if (!f) std::exit(2);
+  for (const IkTarget& t : mk2.targets) std::fprintf(f, "%.17g,%.17g,%.17g\n", t.position.x, t.position.y, t.position.z);
   std::fclose(f);
 }
 

@@ -1,5 +1,5 @@
 """python -m hil.harness: run test plans on the arm or the virtual Nano and compare what
-happens with `articula predict`."""
+happens with the prediction (`articula.Robot.predict`, as `articula predict`)."""
 
 from __future__ import annotations
 
@@ -26,10 +26,11 @@ REPO = Path(__file__).resolve().parents[2]
 
 DESCRIPTION = """\
 Runs test plans (hil/plans/*.arm: protocol lines with #@ directives, hil/plans/README.md)
-on the arm or on the virtual Nano and compares, command by command, what `articula predict`
-says with what the firmware reports (`?` until Idle) and, on the virtual Nano, with what its
-motor driver pins did. Writes a report folder (report.md, report.html, PNG plots,
-commands.csv) and prints a summary.
+on the arm or on the virtual Nano and compares, command by command, what the prediction
+(the `articula` package's Robot.predict, the same as `articula predict`) says with what the
+firmware reports (`?` until Idle) and, on the virtual Nano, with what its motor driver pins
+did. Writes a report folder (report.md, report.html, PNG plots, commands.csv) and prints a
+summary.
 
 By default the plans run on the virtual Nano (articula-vnano, the firmware's ELF in simavr),
 started afresh for each plan; --port runs them on a Nano on a serial port instead (the same
@@ -44,9 +45,9 @@ examples:
   python -m hil.harness generate 50 --seed 3 -o plan.arm
   python -m hil.harness fuzz --lines 10000 --seed 1 --report fuzz.json
 
-binaries: --articula, --vnano and --elf, else $ARTICULA_CLI, $ARTICULA_VNANO and
-$ARTICULA_NANO_ELF, else the repository's build/ (build/host/cli/articula,
-build/hil/articula-vnano, build/avr/firmware/articula-nano.elf).
+binaries: --vnano and --elf, else $ARTICULA_VNANO and $ARTICULA_NANO_ELF, else the
+repository's build/ (build/hil/articula-vnano, build/avr/firmware/articula-nano.elf). The
+prediction is the `articula` Python package (make builds it into python/).
 
 exit status: 0 every command matched (prediction = firmware, = pins on the virtual Nano) and
 no fault; 1 a mismatch or a fault (error reply the plan did not expect, timeout, vanished
@@ -108,7 +109,6 @@ def parser() -> argparse.ArgumentParser:
                      help="settings sent before each plan, e.g. 0=4000,1=100000,5=20 (faster moves for tests); on "
                           "a real arm the ones it had are put back after each plan")
     run.add_argument("--elf", metavar="PATH", help="the firmware ELF for the virtual Nano")
-    run.add_argument("--articula", metavar="PATH", help="the articula CLI (for predict)")
     run.add_argument("--vnano", metavar="PATH", help="the articula-vnano program")
     run.add_argument("--timeout", metavar="S", type=float, default=5.0,
                      help="seconds to wait for a reply; a command may take this plus 3x its predicted duration to "
@@ -123,7 +123,6 @@ def parser() -> argparse.ArgumentParser:
     gen.add_argument("n", type=int, metavar="N", help="commands")
     gen.add_argument("--seed", type=int, default=1, metavar="S")
     gen.add_argument("--robot", default=str(REPO / "robots" / "mk2plus.json"), metavar="FILE")
-    gen.add_argument("--articula", metavar="PATH")
     gen.add_argument("-o", "--output", metavar="FILE", help="default: standard output")
     fz = sub.add_parser("fuzz", help="send random and malformed lines, check every reply",
                         description="Sends N seeded random and malformed lines (random bytes, overlong lines, "
@@ -146,10 +145,6 @@ def parser() -> argparse.ArgumentParser:
                     help="with --port: seconds to wait after opening the port (default 2)")
     fz.add_argument("--no-progress", action="store_true", help="no progress on stderr")
     return ap
-
-
-def _articula(path: str | None) -> str:
-    return _find(path, "ARTICULA_CLI", [REPO / "build" / "host" / "cli" / "articula"], "articula CLI")
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -175,8 +170,8 @@ def main(argv: list[str] | None = None) -> int:
 def _generate(args) -> int:
     if args.n < 1:
         raise PlanError("N must be at least 1")
-    robot = Robot(_robot_path(args.robot))
-    text = generate(robot, args.n, args.seed, _articula(args.articula))
+    robot = Robot(args.robot)
+    text = generate(robot, args.n, args.seed)
     if args.output:
         Path(args.output).write_text(text)
     else:
@@ -188,7 +183,7 @@ def _fuzz(args, argv) -> int:
     if args.lines < 1:
         raise PlanError("--lines N needs N >= 1")
     try:
-        robot = Robot(_robot_path(args.robot))
+        robot = Robot(args.robot)
     except (OSError, ValueError, KeyError) as e:
         raise PlanError(f"{args.robot}: not a robot file the harness can read ({e})") from None
     vnano = elf = None
@@ -215,12 +210,11 @@ def _run(args, argv) -> int:
     if args.random is not None and args.random < 1:
         raise PlanError("--random N needs N >= 1")
     try:
-        robot = Robot(_robot_path(args.robot))
+        robot = Robot(args.robot)
     except (OSError, ValueError, KeyError) as e:
         raise PlanError(f"{args.robot}: not a robot file the harness can read ({e})") from None
     if not robot.motors:
         raise PlanError(f"{args.robot}: the robot has no motors: nothing to run")
-    articula = _articula(args.articula)
     started = datetime.datetime.now()
     out = Path(args.out) if args.out else REPO / "reports" / f"hil-{started:%Y%m%d-%H%M%S}"
 
@@ -228,7 +222,7 @@ def _run(args, argv) -> int:
     out.mkdir(parents=True, exist_ok=True)
     if args.random:
         rp = out / f"random-{args.random}-seed-{args.seed}.arm"
-        rp.write_text(generate(robot, args.random, args.seed, articula))
+        rp.write_text(generate(robot, args.random, args.seed))
         plans.append(parse_plan(rp))
     names = [p.name for p in plans]
     if len(set(names)) != len(names):
@@ -246,7 +240,7 @@ def _run(args, argv) -> int:
         target = VirtualNanoTarget(vnano, elf, len(robot.motors), gripper=grip, keep_traces=args.keep_traces)
 
     progress = Progress(sum(len(p.commands) for p in plans), enabled=not args.no_progress)
-    runner = Runner(target, robot, articula, out, settings=args.settings, timeout=args.timeout, poll=args.poll,
+    runner = Runner(target, robot, out, settings=args.settings, timeout=args.timeout, poll=args.poll,
                     progress=progress)
     results = []
     t0 = time.monotonic()
@@ -279,7 +273,7 @@ def _run(args, argv) -> int:
               ", ".join(f"{p}:{n}" for p, n in unknown), file=sys.stderr)
     cmdline = "python -m hil.harness " + " ".join(shlex.quote(a) for a in (argv if argv is not None else sys.argv[1:]))
     run = report.Run(results=results, target=(f"serial port {args.port}" if args.port else "virtual Nano"),
-                     robot_name=robot.name, robot_path=_rel(robot.path), articula=_rel(articula),
+                     robot_name=robot.name, robot_path=_rel(robot.path),
                      vnano=_rel(vnano) if vnano else None, elf=_rel(elf) if elf else None,
                      started=started.strftime("%Y-%m-%d %H:%M:%S"), wall_s=time.monotonic() - t0,
                      settings_override=args.settings or {}, measured_path=args.measured, has_pins=not args.port,
@@ -294,13 +288,6 @@ def _run(args, argv) -> int:
 
 def _interrupt(signum, frame):
     raise KeyboardInterrupt  # SIGTERM ends the run like Ctrl-C: the report covers the plans done
-
-
-def _robot_path(text: str) -> Path:
-    """A robot file, or a shipped robot's name (`mk2plus`), as the articula CLI takes it."""
-    if "/" not in text and not text.endswith(".json"):
-        return REPO / "robots" / f"{text}.json"
-    return Path(text)
 
 
 def _rel(p) -> str:

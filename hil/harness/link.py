@@ -12,6 +12,8 @@ from dataclasses import dataclass, field
 
 import serial
 
+import articula
+
 
 class LinkError(Exception):
     pass
@@ -32,19 +34,11 @@ class LinkVanished(LinkError):
     pass
 
 
-# docs/protocol.md, "Status codes" (never renumbered).
-STATUS_TEXT = {
-    1: "empty line", 2: "unknown command", 3: "bad number", 4: "missing argument", 5: "too many arguments",
-    6: "no such joint", 7: "line too long", 8: "value out of range", 9: "target beyond a joint limit",
-    10: "target out of reach", 11: "character not allowed", 12: "not homed", 13: "no such setting",
-    14: "settings reset to defaults", 15: "discarded by stop (!)",
-}
-
-
 def status_text(reply: str) -> str:
-    """`error:9` -> "target beyond a joint limit"."""
+    """`error:9` -> "target beyond a joint limit" (the core's status table, through the
+    `articula` package)."""
     try:
-        return STATUS_TEXT.get(int(reply.partition(":")[2]), "unknown code")
+        return articula.status_text(reply)
     except ValueError:
         return "not a reply"
 

@@ -1,22 +1,21 @@
-"""The host's prediction of a plan: `articula predict ROBOT PLAN --json --settings ...`.
+"""The host's prediction of a plan: `articula.Robot.predict` (the controller model of
+host/lib/predict.h, the same as `articula predict --json`), in process.
 
-`articula predict` checks a whole program before it runs it and refuses one with a line the
+The prediction checks a whole program before it runs it and refuses one with a line the
 protocol's parser rejects (`L 0 1e3`, `G 150`, a line over 64 bytes): the arm answers such a
-line with its error and changes nothing. So when predict names a line it cannot parse, the
-harness asks `articula quantize` (the same parser) for that line's error code, blanks the
-line in a temporary copy (the line numbers stay) and predicts again; the line's prediction is
-then that error reply with nothing changed.
+line with its error and changes nothing. So when the prediction names a line it cannot parse,
+the harness asks `Robot.quantize` (the same parser) for that line's error code, blanks the
+line (the line numbers stay) and predicts again; the line's prediction is then that error
+reply with nothing changed.
 """
 
 from __future__ import annotations
 
-import json
 import math
-import re
-import subprocess
-import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
+
+import articula
 
 from .robot import Robot
 
@@ -48,66 +47,44 @@ class Prediction:
     raw: dict = field(default_factory=dict, repr=False)
 
 
-_PREDICT_LINE_ERROR = re.compile(r":(\d+): .*error:(\d+)")
-
-
 def settings_arg(settings: dict[int, float]) -> str:
     return ",".join(f"{n}={int(v) if float(v).is_integer() else v}" for n, v in sorted(settings.items()))
 
 
-def _run(cmd: list[str], timeout: float = 60.0, stdin: str | None = None) -> subprocess.CompletedProcess:
-    try:
-        return subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, input=stdin)
-    except FileNotFoundError:
-        raise PredictError(f"cannot run {cmd[0]}: not found") from None
-    except subprocess.TimeoutExpired:
-        raise PredictError(f"{' '.join(cmd[:3])} took more than {timeout:.0f} s") from None
-
-
-def quantize_code(articula: str, robot: str, line: str) -> int:
+def quantize_code(robot: Robot, line: str) -> int:
     """The error code the protocol's parser gives a line (0 when it parses)."""
-    p = _run([articula, "quantize", robot, "--json", "--file", "-"], stdin=line + "\n")
-    if p.returncode not in (0, 1) or not p.stdout.strip():
-        raise PredictError(f"articula quantize failed on '{line}': {p.stderr.strip()}")
-    first = p.stdout.strip().splitlines()[0]
-    return int(json.loads(first)["code"])
+    return int(robot.model.quantize([line])[0].code)
 
 
-def predict_plan(articula: str, robot: Robot, plan_path: Path, settings: dict[int, float] | None,
+def predict_plan(robot: Robot, plan_path: Path, settings: dict[int, float] | None,
                  lines: list[str] | None = None) -> tuple[dict[int, Prediction], dict]:
-    """Predicts every command line of a plan. Returns {plan line: Prediction} and predict's
-    top-level JSON (settings, summary)."""
+    """Predicts every command line of a plan. Returns {plan line: Prediction} and the
+    prediction's top-level fields (settings, summary)."""
     if lines is None:
         lines = plan_path.read_text(encoding="ascii", errors="surrogateescape").splitlines()
     lines = list(lines)
     codec: dict[int, int] = {}
-    robot_arg = str(robot.path)
-    with tempfile.TemporaryDirectory(prefix="articula-predict-") as tmp:
-        # Same name as the plan (predict picks the language by the file name).
-        copy = Path(tmp) / (plan_path.stem + ".arm")
-        for _ in range(len(lines) + 1):
-            copy.write_text("\n".join(lines) + "\n", encoding="ascii", errors="surrogateescape")
-            cmd = [articula, "predict", robot_arg, str(copy), "--json"]
-            if settings:
-                cmd += ["--settings", settings_arg(settings)]
-            p = _run(cmd)
-            if p.returncode in (0, 1):
-                doc = json.loads(p.stdout)
-                break
-            m = _PREDICT_LINE_ERROR.search(p.stderr)
-            if p.returncode != 2 or not m:
-                raise PredictError(f"articula predict: {p.stderr.strip() or 'exit code %d' % p.returncode}")
-            n = int(m.group(1))
+    # Named as the plan is (the name picks the language), always a protocol program.
+    name = str(plan_path.with_suffix(".arm"))
+    for _ in range(len(lines) + 1):
+        text = ("\n".join(lines) + "\n").encode("ascii", errors="surrogateescape")
+        program = articula.Program.parse(text, name)
+        try:
+            doc = robot.model.predict(program, settings=settings_arg(settings) if settings else None).to_dict()
+            break
+        except articula.ProgramError as e:
+            n = e.line
             if n in codec or not 1 <= n <= len(lines):
-                raise PredictError(f"articula predict: {p.stderr.strip()}")
-            code = quantize_code(articula, robot_arg, lines[n - 1])
+                raise PredictError(f"articula predict: {e}") from None
+            code = quantize_code(robot, lines[n - 1])
             if code == 0:
-                raise PredictError(f"{plan_path}:{n}: articula predict refuses a line the parser accepts: "
-                                   f"{p.stderr.strip()}")
+                raise PredictError(f"{plan_path}:{n}: the prediction refuses a line the parser accepts: {e}") from None
             codec[n] = code
             lines[n - 1] = "#"
-        else:
-            raise PredictError("articula predict: too many lines refused")
+        except ValueError as e:
+            raise PredictError(f"articula predict: {e}") from None
+    else:
+        raise PredictError("articula predict: too many lines refused")
 
     out: dict[int, Prediction] = {}
     for r in doc["records"]:
@@ -137,7 +114,7 @@ def predict_plan(articula: str, robot: Robot, plan_path: Path, settings: dict[in
                     actuator_deg=list(state.actuator_deg), commanded_deg=list(state.commanded_deg),
                     joints=list(state.joints), tool_ideal=list(state.tool_ideal),
                     tool_quantized=list(state.tool_quantized), error_mm=state.error_mm, seconds=0.0, queued=False,
-                    gripper_percent=state.gripper_percent, note="refused by the parser (articula quantize)",
+                    gripper_percent=state.gripper_percent, note="refused by the parser (Robot.quantize)",
                     codec_rejected=True)
     return out, {k: v for k, v in doc.items() if k != "records"}
 

@@ -11,15 +11,14 @@ one in ten that the arm must refuse, each marked `#@ expect error:N`:
 
 Numbers have 0 to 3 decimals (the protocol keeps thousandths). The generator follows the
 commanded angles exactly, in thousandths of a degree, as the firmware does; after a P it
-takes them from `articula predict` (the firmware's closed-form solution, rounded to
-thousandths), so every later L is valid to the thousandth.
+takes them from the prediction (`articula.Robot.predict`: the firmware's closed-form
+solution, rounded to thousandths), so every later L is valid to the thousandth.
 """
 
 from __future__ import annotations
 
 import math
 import random
-import tempfile
 from pathlib import Path
 
 from .prediction import predict_plan
@@ -49,7 +48,7 @@ def _random_millis(rng: random.Random, lo: int, hi: int) -> tuple[int, int]:
     return rng.randint(a, b) * step, decimals
 
 
-def generate(robot: Robot, n: int, seed: int, articula: str) -> str:
+def generate(robot: Robot, n: int, seed: int) -> str:
     rng = random.Random(seed)
     motors = robot.motors
     lo = [round(m.min * 1000) for m in motors]
@@ -66,12 +65,8 @@ def generate(robot: Robot, n: int, seed: int, articula: str) -> str:
     state_lines: list[str] = []  # the lines that can change the arm's state (for predict)
 
     def sync_after_p():
-        # The commanded angles the firmware's closed form gives: from articula predict.
-        text = "\n".join(state_lines) + "\n"
-        with tempfile.TemporaryDirectory(prefix="articula-random-") as tmp:
-            path = Path(tmp) / "random.arm"
-            path.write_text(text)
-            preds, _ = predict_plan(articula, robot, path, None, lines=text.splitlines())
+        # The commanded angles the firmware's closed form gives: from the prediction.
+        preds, _ = predict_plan(robot, Path("random.arm"), None, lines=list(state_lines))
         last = preds[max(preds)]
         for i, a in enumerate(last.commanded_deg):
             cmd[i] = round(a * 1000)

@@ -55,7 +55,6 @@ class Run:
     target: str
     robot_name: str
     robot_path: str
-    articula: str
     vnano: str | None
     elf: str | None
     started: str
@@ -533,7 +532,7 @@ def build(run: Run, out: Path, robot) -> Path:
     if infos:
         meta.append(["firmware says", ", ".join(f"`{i}`" for i in infos)])
     meta.append(["robot file", f"{run.robot_name} (`{run.robot_path}`)"])
-    meta.append(["prediction", f"`{run.articula} predict ROBOT PLAN --json --settings ...`"])
+    meta.append(["prediction", "`articula.Robot.predict(PLAN, settings=...)` (the `articula` package; = `articula predict ROBOT PLAN --json`)"])
     meta.append(["plans", ", ".join(f"`{res.plan.path}`" for res in run.results)])
     if run.settings_override:
         meta.append(["settings", "--settings " + ",".join(f"{k}={v:g}" for k, v in sorted(run.settings_override.items()))

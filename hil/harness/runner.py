@@ -145,11 +145,10 @@ class PlanResult:
 
 
 class Runner:
-    def __init__(self, target, robot: Robot, articula: str, out_dir: Path, *, settings: dict[int, float] | None = None,
+    def __init__(self, target, robot: Robot, out_dir: Path, *, settings: dict[int, float] | None = None,
                  timeout: float = 5.0, poll: float = 0.01, progress=None, hooks=None):
         self.target = target
         self.robot = robot
-        self.articula = articula
         self.out_dir = out_dir
         self.settings_override = settings or {}
         self.timeout = timeout
@@ -353,7 +352,7 @@ class Runner:
             res.aborted = f"the arm is not at rest at the start ({st.text})"
             faults.append(Fault(name, None, "?", "setup", res.aborted))
             return
-        res.predictions, res.predict_doc = predict_plan(self.articula, self.robot, res.plan.path, settings)
+        res.predictions, res.predict_doc = predict_plan(self.robot, res.plan.path, settings)
         for rec in res.records:
             rec.pred = res.predictions.get(rec.line)
             if rec.pred is None:

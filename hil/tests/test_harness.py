@@ -2,9 +2,9 @@
 and what it does when things go wrong (an error reply, a timeout, a port that vanishes or
 hangs). Run by ctest (hil.harness) with the paths of the binaries in the environment:
 
-    ARTICULA_CLI, ARTICULA_VNANO, ARTICULA_NANO_ELF, ARTICULA_SOURCE_DIR
+    ARTICULA_VNANO, ARTICULA_NANO_ELF, ARTICULA_SOURCE_DIR
 
-It fails, never skips, when one is missing. About 40 s.
+and the `articula` package built (make). It fails, never skips, when one is missing. About 40 s.
 """
 
 import csv
@@ -40,14 +40,13 @@ def _binary(name: str, default: Path) -> str:
 @pytest.fixture(scope="module")
 def bins():
     return {
-        "articula": _binary("ARTICULA_CLI", SOURCE / "build" / "host" / "cli" / "articula"),
         "vnano": _binary("ARTICULA_VNANO", SOURCE / "build" / "hil" / "articula-vnano"),
         "elf": _binary("ARTICULA_NANO_ELF", SOURCE / "build" / "avr" / "firmware" / "articula-nano.elf"),
     }
 
 
 def harness(bins, *args, timeout=120):
-    cmd = [sys.executable, "-m", "hil.harness", "run", "--articula", bins["articula"], "--vnano", bins["vnano"],
+    cmd = [sys.executable, "-m", "hil.harness", "run", "--vnano", bins["vnano"],
            "--elf", bins["elf"], *map(str, args)]
     env = dict(os.environ, PYTHONPATH=str(SOURCE))
     t0 = time.monotonic()
@@ -141,8 +140,8 @@ def test_random_plan(bins, tmp_path):
             assert abs(float(r["duration_err_pct"])) < 1.0, r
     # Same seed, same plan.
     env = dict(os.environ, PYTHONPATH=str(SOURCE))
-    g = subprocess.run([sys.executable, "-m", "hil.harness", "generate", "1000", "--seed", "11", "--articula",
-                        bins["articula"]], cwd=SOURCE, capture_output=True, text=True, env=env, timeout=60)
+    g = subprocess.run([sys.executable, "-m", "hil.harness", "generate", "1000", "--seed", "11"],
+                       cwd=SOURCE, capture_output=True, text=True, env=env, timeout=60)
     assert g.returncode == 0, g.stderr
     assert g.stdout == plan.read_text()
 
@@ -198,7 +197,7 @@ def _run_with_hook(bins, tmp_path, text, hook, timeout=5.0):
     path = tmp_path / "hooked.arm"
     path.write_text(text)
     target = VirtualNanoTarget(bins["vnano"], bins["elf"], len(robot.motors))
-    runner = Runner(target, robot, bins["articula"], tmp_path / "out", timeout=timeout, hooks=hook)
+    runner = Runner(target, robot, tmp_path / "out", timeout=timeout, hooks=hook)
     t0 = time.monotonic()
     try:
         res = runner.run_plan(parse_plan(path))
@@ -220,7 +219,7 @@ def test_vanished_port_is_reported(bins, tmp_path):
     assert [r.reply for r in res.records] == ["ok", "ok", "ok", None]
     # And the report says so.
     run = report.Run(results=[res], target="virtual Nano", robot_name="MK2 Plus", robot_path=str(ROBOT),
-                     articula=bins["articula"], vnano=bins["vnano"], elf=bins["elf"], started="now", wall_s=wall,
+                     vnano=bins["vnano"], elf=bins["elf"], started="now", wall_s=wall,
                      settings_override={}, measured_path=None, has_pins=True, command_line="test")
     md = report.build(run, tmp_path / "out", Robot(ROBOT))
     text = md.read_text()

@@ -1,7 +1,7 @@
 """The harness's parts without the virtual Nano: plans, the prediction (with lines the parser
-refuses), the robot's kinematics against `articula predict`, the first step interval, random
-plans, measured CSVs, status parsing, and reset detection on a scripted serial port. Needs
-ARTICULA_CLI (or build/host/cli/articula); run by ctest with test_harness.py."""
+refuses), the robot's tool positions against the prediction's, the first step interval,
+random plans, measured CSVs, status parsing, and reset detection on a scripted serial port.
+Needs the `articula` package built (make); run by ctest with test_harness.py."""
 
 import os
 import sys
@@ -21,13 +21,6 @@ from hil.harness.robot import Robot  # noqa: E402
 from hil.harness.runner import Runner  # noqa: E402
 
 ROBOT = Robot(SOURCE / "robots" / "mk2plus.json")
-
-
-@pytest.fixture(scope="module")
-def articula():
-    p = Path(os.environ.get("ARTICULA_CLI") or SOURCE / "build" / "host" / "cli" / "articula")
-    assert p.exists(), f"no articula CLI at {p}"
-    return str(p)
 
 
 def plan_from(tmp_path, text, name="p.arm"):
@@ -74,10 +67,10 @@ def test_shipped_plans_parse():
             assert len(c.text.encode()) <= 64, (path, c.line)
 
 
-def test_shipped_plans_predictions_meet_their_expectations(articula):
+def test_shipped_plans_predictions_meet_their_expectations():
     for path in sorted((SOURCE / "hil" / "plans").glob("*.arm")):
         plan = parse_plan(path)
-        preds, _ = predict_plan(articula, ROBOT, path, None)
+        preds, _ = predict_plan(ROBOT, path, None)
         for c in plan.commands:
             assert preds[c.line].reply == c.expect, (path.name, c.line, c.text)
     # The thesis's single-joint angles: 4 + 3 + 2 accepted, 5 refused.
@@ -90,18 +83,18 @@ def test_shipped_plans_predictions_meet_their_expectations(articula):
 
 # ---- prediction
 
-def test_lines_the_parser_refuses_are_predicted_as_errors(articula, tmp_path):
+def test_lines_the_parser_refuses_are_predicted_as_errors(tmp_path):
     path = tmp_path / "codec.arm"
     path.write_text("L 0 10\nL 0 1e3\nG 150\nX 1\nL 3 1\n" + "L 0 1 # " + "x" * 70 + "\nL 0 -10\n")
-    preds, doc = predict_plan(articula, ROBOT, path, {0: 800})
+    preds, doc = predict_plan(ROBOT, path, {0: 800})
     assert [preds[n].reply for n in range(1, 8)] == ["ok", "error:3", "error:8", "error:2", "error:6", "error:7", "ok"]
     assert preds[3].steps == [32, 0, 0] and preds[3].codec_rejected
     assert preds[7].steps == [0, 0, 0]
     assert doc["settings"]["$0"] == 800
 
 
-def test_fk_agrees_with_predict(articula):
-    preds, _ = predict_plan(articula, ROBOT, SOURCE / "programs" / "demo.arm", None)
+def test_fk_agrees_with_predict():
+    preds, _ = predict_plan(ROBOT, SOURCE / "programs" / "demo.arm", None)
     for p in preds.values():
         for got, want in ((ROBOT.tool_from_actuators(p.actuator_deg), p.tool_quantized),
                           (ROBOT.tool_from_actuators(p.commanded_deg), p.tool_ideal)):
@@ -109,30 +102,30 @@ def test_fk_agrees_with_predict(articula):
 
 
 @pytest.mark.parametrize("settings", [{}, {0: 4000, 1: 100000}, {0: 100, 1: 50}, {0: 1, 1: 1}])
-def test_first_interval_is_a_one_step_move(articula, tmp_path, settings):
+def test_first_interval_is_a_one_step_move(tmp_path, settings):
     path = tmp_path / "one.arm"
     path.write_text("L 0 0.3\n")  # one base step
-    preds, _ = predict_plan(articula, ROBOT, path, settings)
+    preds, _ = predict_plan(ROBOT, path, settings)
     assert preds[1].dominant_steps == 1
     assert first_interval_s({0: 600, 1: 2000, **settings}) == pytest.approx(preds[1].seconds, abs=1e-9)
 
 
 # ---- random plans
 
-def test_random_plans_are_valid_and_repeatable(articula, tmp_path):
+def test_random_plans_are_valid_and_repeatable(tmp_path):
     for seed in (1, 2, 3):
-        text = generate(ROBOT, 120, seed, articula)
-        assert text == generate(ROBOT, 120, seed, articula)
+        text = generate(ROBOT, 120, seed)
+        assert text == generate(ROBOT, 120, seed)
         path = tmp_path / f"r{seed}.arm"
         path.write_text(text)
         plan = parse_plan(path)
         assert len(plan.commands) == 120
-        preds, _ = predict_plan(articula, ROBOT, path, None)
+        preds, _ = predict_plan(ROBOT, path, None)
         for c in plan.commands:
             assert preds[c.line].reply == c.expect, (seed, c.line, c.text)
             assert len(c.text) <= 64
         assert sum(c.expect != "ok" for c in plan.commands) >= 5
-    assert generate(ROBOT, 50, 1, articula) != generate(ROBOT, 50, 2, articula)
+    assert generate(ROBOT, 50, 1) != generate(ROBOT, 50, 2)
 
 
 # ---- measured positions
@@ -258,10 +251,10 @@ class ScriptedTarget:
     ("zero", "reset", "every motor back at step 0 (it was on [32, 0, 0])"),
     ("silent", "timeout", "no reply within 0.5 s"),
 ])
-def test_reset_and_silence_are_faults_with_the_plan_line(articula, tmp_path, action, kind, text):
+def test_reset_and_silence_are_faults_with_the_plan_line(tmp_path, action, kind, text):
     plan = plan_from(tmp_path, "L 0 10\nL 0 10\nL 0 -10\nL 0 -10\n")
     arm = ScriptedArm({2: action})
-    runner = Runner(ScriptedTarget(arm), ROBOT, articula, tmp_path, timeout=0.5)
+    runner = Runner(ScriptedTarget(arm), ROBOT, tmp_path, timeout=0.5)
     res = runner.run_plan(plan)
     faults = [f for f in res.faults if f.kind == kind]
     assert faults and faults[0].line == 2 and text in faults[0].message, res.faults
@@ -270,16 +263,16 @@ def test_reset_and_silence_are_faults_with_the_plan_line(articula, tmp_path, act
     assert "stopped at p.arm:2" in res.aborted
 
 
-def test_a_step_mismatch_is_reported(articula, tmp_path):
+def test_a_step_mismatch_is_reported(tmp_path):
     from hil.harness import report
 
     plan = plan_from(tmp_path, "L 0 10\nL 0 10\nL 0 -10\n")
-    res = Runner(ScriptedTarget(ScriptedArm({2: "lazy"})), ROBOT, articula, tmp_path, timeout=0.5).run_plan(plan)
+    res = Runner(ScriptedTarget(ScriptedArm({2: "lazy"})), ROBOT, tmp_path, timeout=0.5).run_plan(plan)
     assert not res.faults and not res.aborted
     assert [r.matched for r in res.records] == [True, False, False]
     assert res.records[1].fw_steps == [32, 0, 0] and res.records[1].pred.steps == [63, 0, 0]
     run = report.Run(results=[res], target="scripted port", robot_name=ROBOT.name, robot_path="mk2plus.json",
-                     articula=articula, vnano=None, elf=None, started="now", wall_s=0.1, settings_override={},
+                     vnano=None, elf=None, started="now", wall_s=0.1, settings_override={},
                      measured_path=None, has_pins=False, command_line="test")
     md = report.build(run, tmp_path / "out", ROBOT)
     summary = report.summary_text(run, md)

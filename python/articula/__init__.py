@@ -88,7 +88,7 @@ class Program:
     'protocol'
     """
 
-    def __init__(self, text: str, source: str = "<text>"):
+    def __init__(self, text: str | bytes, source: str = "<text>"):
         self.text = text
         self.source = source
 
@@ -96,15 +96,18 @@ class Program:
     def load(cls, path: str | os.PathLike) -> "Program":
         path = os.fspath(path)
         try:
-            text = Path(path).read_text(encoding="utf-8", errors="surrogateescape")
+            data = Path(path).read_bytes()
         except OSError as e:
             raise ProgramError(f"{path}:0: cannot read the file ({e.strerror})") from None
-        return cls(text, path)
+        try:
+            return cls(data.decode("utf-8"), path)
+        except UnicodeDecodeError:  # kept as bytes: the parser names the line with the bad byte
+            return cls(data, path)
 
     @classmethod
-    def parse(cls, text: str, name: str = "<text>") -> "Program":
-        """A program from text; the name's extension (.arm, .robosim) picks the language, else
-        the first command does."""
+    def parse(cls, text: str | bytes, name: str = "<text>") -> "Program":
+        """A program from text (str, or bytes taken as they are); the name's extension (.arm,
+        .robosim) picks the language, else the first command does."""
         return cls(text, name)
 
     @property
@@ -113,7 +116,7 @@ class Program:
         return _core.detect_format(self.text, self.source)
 
     @property
-    def lines(self) -> list[str]:
+    def lines(self) -> list:
         return self.text.splitlines()
 
     def __repr__(self) -> str:

@@ -36,11 +36,20 @@ struct PyRobot {
   }
 };
 
-// numpy arrays made here, owned by Python.
-using Array = nb::ndarray<nb::numpy, double>;
-using Array44 = nb::ndarray<nb::numpy, double, nb::shape<4, 4>>;
-// An array of the given shape with uninitialised data; write through data().
+// A numpy array made here (numpy's C API, module.cpp: a fraction of the cost of a general
+// ndarray export, which matters for a 4x4 pose returned a million times), owned by Python.
+template <typename T>
+struct NumpyArray {
+  nb::object obj;
+  T* ptr = nullptr;
+  T* data() const { return ptr; }
+};
+using Array = NumpyArray<double>;
+using Array44 = Array;
+using IntArray = NumpyArray<int32_t>;
+// Arrays of the given shape with uninitialised data; write through data().
 Array new_array(std::initializer_list<size_t> shape);
+IntArray new_int_array(size_t n);
 Array44 new_array44();
 // A transform (mm) into a 4x4 homogeneous matrix at out[0..15], row-major.
 void write_transform(double* out, const Transform<double>& T);
@@ -52,8 +61,23 @@ Array44 transform_array(const Transform<double>& T);
 void read_joints(double* q_model, nb::handle values, const Robot& robot, const char* what);
 // A finite vector of any length (targets, weights).
 std::vector<double> read_vector(nb::handle values, const char* what);
-// A C-contiguous float64 array of at least one dimension (numpy converts anything array-like).
-nb::ndarray<const double, nb::c_contig, nb::device::cpu> read_array(nb::handle values, const char* what);
+// Numbers from Python as a C-contiguous float64 array: a numpy array of that kind is read in
+// place, anything else array-like is converted by numpy (kept alive by the view).
+struct ArrayView {
+  nb::object keep;
+  const double* ptr = nullptr;
+  size_t dims[8] = {};
+  size_t rank = 0;
+  size_t ndim() const { return rank; }
+  size_t shape(size_t k) const { return dims[k]; }
+  const double* data() const { return ptr; }
+  size_t size() const {
+    size_t n = 1;
+    for (size_t k = 0; k < rank; ++k) n *= dims[k];
+    return n;
+  }
+};
+ArrayView read_array(nb::handle values, const char* what);
 
 // A program given as an articula.Program (its text and source) or a file path, read for the
 // robot (ProgramError naming the line otherwise).
@@ -72,5 +96,28 @@ void bind_program(nb::module_& m, nb::class_<PyRobot>& robot);
 void bind_sim(nb::module_& m);
 
 }  // namespace articula::python
+
+// Arrays go to Python as they are, typed for the stubs as numpy arrays.
+namespace nanobind::detail {
+template <typename T>
+struct numpy_array_name;
+template <>
+struct numpy_array_name<double> {
+  static constexpr auto name = const_name("numpy.typing.NDArray[numpy.float64]");
+};
+template <>
+struct numpy_array_name<int32_t> {
+  static constexpr auto name = const_name("numpy.typing.NDArray[numpy.int32]");
+};
+template <typename T>
+struct type_caster<articula::python::NumpyArray<T>> {
+  using Array = articula::python::NumpyArray<T>;
+  NB_TYPE_CASTER(Array, numpy_array_name<T>::name)
+  bool from_python(handle, uint8_t, cleanup_list*) noexcept { return false; }
+  static handle from_cpp(const articula::python::NumpyArray<T>& a, rv_policy, cleanup_list*) noexcept {
+    return a.obj.inc_ref();
+  }
+};
+}  // namespace nanobind::detail
 
 #endif  // ARTICULA_PYTHON_BINDINGS_H

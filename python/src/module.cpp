@@ -9,6 +9,9 @@
 #include <cmath>
 #include <cstring>
 
+#define NPY_NO_DEPRECATED_API NPY_1_7_API_VERSION
+#include <numpy/arrayobject.h>
+
 #include "bindings.h"
 #include "legacy.h"
 #include "predict.h"
@@ -18,18 +21,34 @@
 
 namespace articula::python {
 
+// numpy's C API lives in this file only (import_array in the module's init).
+namespace {
+template <typename T>
+NumpyArray<T> make_numpy(int type, int ndim, const npy_intp* dims) {
+  PyObject* a = PyArray_SimpleNew(ndim, const_cast<npy_intp*>(dims), type);
+  if (!a) throw nb::python_error();
+  NumpyArray<T> out;
+  out.obj = nb::steal(a);
+  out.ptr = static_cast<T*>(PyArray_DATA(reinterpret_cast<PyArrayObject*>(a)));
+  return out;
+}
+}  // namespace
+
 Array new_array(std::initializer_list<size_t> shape) {
-  size_t size = 1;
-  for (size_t s : shape) size *= s;
-  double* data = new double[size ? size : 1];
-  nb::capsule owner(data, [](void* p) noexcept { delete[] static_cast<double*>(p); });
-  return Array(data, shape.size(), shape.begin(), owner);
+  npy_intp dims[8];
+  int n = 0;
+  for (size_t s : shape) dims[n++] = npy_intp(s);
+  return make_numpy<double>(NPY_DOUBLE, n, dims);
+}
+
+IntArray new_int_array(size_t n) {
+  const npy_intp dims[1] = {npy_intp(n)};
+  return make_numpy<int32_t>(NPY_INT32, 1, dims);
 }
 
 Array44 new_array44() {
-  double* data = new double[16];
-  nb::capsule owner(data, [](void* p) noexcept { delete[] static_cast<double*>(p); });
-  return Array44(data, {4, 4}, owner);
+  static const npy_intp dims[2] = {4, 4};
+  return make_numpy<double>(NPY_DOUBLE, 2, dims);
 }
 
 void write_transform(double* out, const Transform<double>& T) {
@@ -75,16 +94,19 @@ void check_finite(double v, const Robot& robot, const char* what, int j) {
 
 void read_joints(double* q, nb::handle values, const Robot& robot, const char* what) {
   const size_t n = size_t(robot.model.num_joints);
-  // The fast path: a 1-D float64 array.
-  nb::ndarray<const double, nb::ndim<1>, nb::device::cpu> arr;
-  if (nb::try_cast(values, arr, false)) {
-    if (arr.shape(0) != n) wrong_count(robot, what, arr.shape(0));
-    auto v = arr.view();
-    for (size_t j = 0; j < n; ++j) {
-      check_finite(v(j), robot, what, int(j));
-      q[j] = host::joint_to_model(robot, int(j), v(j));
+  // The fast path: a contiguous 1-D float64 numpy array.
+  if (PyArray_Check(values.ptr())) {
+    PyArrayObject* a = reinterpret_cast<PyArrayObject*>(values.ptr());
+    if (PyArray_TYPE(a) == NPY_DOUBLE && PyArray_NDIM(a) == 1 && PyArray_IS_C_CONTIGUOUS(a)) {
+      const size_t got = size_t(PyArray_DIM(a, 0));
+      if (got != n) wrong_count(robot, what, got);
+      const double* v = static_cast<const double*>(PyArray_DATA(a));
+      for (size_t j = 0; j < n; ++j) {
+        check_finite(v[j], robot, what, int(j));
+        q[j] = host::joint_to_model(robot, int(j), v[j]);
+      }
+      return;
     }
-    return;
   }
   // Another array (other dtype, 2-D, strided) or something numpy can read: as float64, 1-D.
   if (nb::ndarray_check(values) || !PySequence_Check(values.ptr())) {
@@ -117,12 +139,24 @@ void read_joints(double* q, nb::handle values, const Robot& robot, const char* w
   }
 }
 
-nb::ndarray<const double, nb::c_contig, nb::device::cpu> read_array(nb::handle values, const char* what) {
-  nb::ndarray<const double, nb::c_contig, nb::device::cpu> arr;
-  if (nb::try_cast(values, arr, false)) return arr;
-  nb::object a = nb::module_::import_("numpy").attr("ascontiguousarray")(values, "float64");
-  if (!nb::try_cast(a, arr, false)) throw nb::type_error((std::string(what) + " must be an array of numbers").c_str());
-  return arr;
+ArrayView read_array(nb::handle values, const char* what) {
+  nb::object obj = nb::borrow(values);
+  PyArrayObject* a = PyArray_Check(obj.ptr()) ? reinterpret_cast<PyArrayObject*>(obj.ptr()) : nullptr;
+  if (!a || PyArray_TYPE(a) != NPY_DOUBLE || !PyArray_IS_C_CONTIGUOUS(a)) {
+    PyObject* c = PyArray_FROMANY(obj.ptr(), NPY_DOUBLE, 0, 8, NPY_ARRAY_C_CONTIGUOUS | NPY_ARRAY_ALIGNED);
+    if (!c) {
+      PyErr_Clear();
+      throw nb::type_error((std::string(what) + " must be numbers (a list or an array)").c_str());
+    }
+    obj = nb::steal(c);
+    a = reinterpret_cast<PyArrayObject*>(c);
+  }
+  ArrayView v;
+  v.keep = obj;
+  v.ptr = static_cast<const double*>(PyArray_DATA(a));
+  v.rank = size_t(PyArray_NDIM(a));
+  for (size_t k = 0; k < v.rank; ++k) v.dims[k] = size_t(PyArray_DIM(a, int(k)));
+  return v;
 }
 
 std::vector<double> read_vector(nb::handle values, const char* what) {
@@ -197,7 +231,16 @@ PyObject* new_error(nb::module_& m, const char* name, const char* doc) {
 using namespace articula;
 using namespace articula::python;
 
+namespace {
+// numpy's import_array is a macro that returns on failure: its own function.
+bool import_numpy() {
+  import_array1(false);
+  return true;
+}
+}  // namespace
+
 NB_MODULE(_core, m) {
+  if (!import_numpy()) throw nb::python_error();
   m.doc() = "The native part of articula: the host library (host/lib, host/physics) over the portable core.";
 
   // The status table: shared/articula/status.h, the one table the firmware and every tool use.

@@ -15,6 +15,15 @@ namespace articula::python {
 
 using namespace nb::literals;
 
+// A program's text: str (UTF-8) or bytes (as they are: a plan may hold any byte).
+std::string text_of(nb::handle text) {
+  if (nb::isinstance<nb::bytes>(text)) {
+    nb::bytes b = nb::borrow<nb::bytes>(text);
+    return std::string(b.c_str(), b.size());
+  }
+  return nb::cast<std::string>(text);
+}
+
 // A program given as an articula.Program (its text and source), or as a file path.
 host::Program program_from(nb::handle program, const Robot& robot) {
   nb::object os = nb::module_::import_("os");
@@ -22,8 +31,7 @@ host::Program program_from(nb::handle program, const Robot& robot) {
     return host::load_program(nb::cast<std::string>(os.attr("fspath")(program)), robot);
   if (!nb::hasattr(program, "text") || !nb::hasattr(program, "source"))
     throw nb::type_error("program must be an articula.Program or a file path");
-  return host::parse_program(nb::cast<std::string>(program.attr("text")), nb::cast<std::string>(program.attr("source")),
-                             robot);
+  return host::parse_program(text_of(program.attr("text")), nb::cast<std::string>(program.attr("source")), robot);
 }
 
 // Settings as {0: 800, 1: 3000}, "0=800,1=3000" or None, read as `$n=v` lines are.
@@ -52,8 +60,8 @@ host::ControllerSettings settings_from(nb::handle settings, const Robot& robot) 
 
 void bind_program(nb::module_& m, nb::class_<PyRobot>& robot) {
   m.def("detect_format",
-        [](const std::string& text, const std::string& name) {
-          return host::detect_format(text, name) == host::Program::Format::kRoboSim ? "robosim" : "protocol";
+        [](nb::handle text, const std::string& name) {
+          return host::detect_format(text_of(text), name) == host::Program::Format::kRoboSim ? "robosim" : "protocol";
         },
         "text"_a, "name"_a = "",
         "Which language a program is in: 'robosim' (thesis appendix B) or 'protocol' (the arm's serial lines), "

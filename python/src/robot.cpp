@@ -4,6 +4,7 @@
 #include <nanobind/stl/string.h>
 #include <nanobind/stl/vector.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -343,13 +344,8 @@ PyIkResult ik(const PyRobot& self, nb::handle target, const std::string& solver,
   const host::IkTarget t = read_target(target);
   const host::IkOptions o = ik_options(solver, weights, tolerance_mm, max_iterations, seed);
   const std::vector<double> q0 = ik_start(self, start);
-  const host::InverseKinematics& ik = self.ik();
-  host::IkResult res;
-  {
-    nb::gil_scoped_release release;
-    res = ik.solve(t, q0, o);
-  }
-  return {std::move(res), self.robot};
+  // One solve is microseconds (the GIL's release would cost a tenth of it); batches let go of it.
+  return {self.ik().solve(t, q0, o), self.robot};
 }
 
 nb::dict ik_batch(const PyRobot& self, nb::handle targets_in, const std::string& solver, nb::handle start,
@@ -390,13 +386,7 @@ nb::dict ik_batch(const PyRobot& self, nb::handle targets_in, const std::string&
   const host::InverseKinematics& ik = self.ik();
   const size_t n = size_t(r.model.num_joints);
   Array q = new_array({N, n}), pos_err = new_array({N}), rot_err = new_array({N});
-  nb::ndarray<nb::numpy, int32_t> iters, status;
-  {
-    int32_t* it = new int32_t[N ? N : 1];
-    int32_t* st = new int32_t[N ? N : 1];
-    iters = nb::ndarray<nb::numpy, int32_t>(it, {N}, nb::capsule(it, [](void* p) noexcept { delete[] static_cast<int32_t*>(p); }));
-    status = nb::ndarray<nb::numpy, int32_t>(st, {N}, nb::capsule(st, [](void* p) noexcept { delete[] static_cast<int32_t*>(p); }));
-  }
+  IntArray iters = new_int_array(N), status = new_int_array(N);
   {
     nb::gil_scoped_release release;
     std::vector<double> from = q0;
@@ -431,9 +421,9 @@ nb::class_<PyRobot> bind_robot(nb::module_& m) {
       .def_prop_ro("reached", [](const PyIkResult& s) { return s.r.reached(); })
       .def_prop_ro("solver", [](const PyIkResult& s) { return host::ik_method_name(s.r.method); },
                    "the solver that ran: 'closed', 'lm' or 'jt'")
-      .def_prop_ro("q", [](const PyIkResult& s) { return joints_array(*s.robot, s.r.q); }, nb::rv_policy::move,
+      .def_prop_ro("q", [](const PyIkResult& s) { return joints_array(*s.robot, s.r.q); },
                    "the best pose found, one value per joint variable (deg or mm), within the limits")
-      .def_prop_ro("tool", [](const PyIkResult& s) { return transform_array(s.r.tool); }, nb::rv_policy::move, "the tool pose at q (4x4, mm)")
+      .def_prop_ro("tool", [](const PyIkResult& s) { return transform_array(s.r.tool); }, "the tool pose at q (4x4, mm)")
       .def_prop_ro("position_error_mm", [](const PyIkResult& s) { return s.r.position_error_mm; })
       .def_prop_ro("orientation_error_deg", [](const PyIkResult& s) { return rad_to_deg(s.r.orientation_error_rad); })
       .def_prop_ro("iterations", [](const PyIkResult& s) { return s.r.iterations; })
@@ -511,9 +501,9 @@ nb::class_<PyRobot> bind_robot(nb::module_& m) {
                        a.data()[2 * j + 1] = host::joint_from_model(r, j, r.model.joints[j].hi);
                      }
                      return a;
-                   }, nb::rv_policy::move,
+                   },
                    "(n, 2) array of each joint variable's min and max (deg or mm)")
-      .def_prop_ro("home", [](const PyRobot& s) { return joints_array(s.r(), s.r().home); }, nb::rv_policy::move, "the home pose (deg or mm)")
+      .def_prop_ro("home", [](const PyRobot& s) { return joints_array(s.r(), s.r().home); }, "the home pose (deg or mm)")
       .def_prop_ro("motors", [](const PyRobot& s) { return motors_info(s.r()); },
                    "the motors (empty for a purely kinematic robot): steps, gear, limits, deg_per_step, step_range")
       .def_prop_ro("coupling",
@@ -524,12 +514,12 @@ nb::class_<PyRobot> bind_robot(nb::module_& m) {
                      for (size_t i = 0; i < n; ++i)
                        for (size_t j = 0; j < n; ++j) a.data()[i * n + j] = r.actuation.coupling[i][j];
                      return a;
-                   }, nb::rv_policy::move,
+                   },
                    "C in q = C u: joint variables from motor angles (empty without motors)")
       .def_prop_ro("links", [](const PyRobot& s) { return links_info(s.r()); },
                    "link shapes per DH frame: type, size (mm), mesh, pose in the frame (4x4), mass, density")
       .def_prop_ro("gripper", [](const PyRobot& s) { return gripper_info(s.r()); })
-      .def_prop_ro("tool_offset", [](const PyRobot& s) { return transform_array(s.r().model.T_last_tool); }, nb::rv_policy::move,
+      .def_prop_ro("tool_offset", [](const PyRobot& s) { return transform_array(s.r().model.T_last_tool); },
                    "the fixed tool transform after the last row (4x4, mm)")
       .def_prop_ro("reach_mm", [](const PyRobot& s) { return s.ik().reach_bound(); },
                    "the longest distance from the first joint the tool can be")
@@ -548,11 +538,48 @@ nb::class_<PyRobot> bind_robot(nb::module_& m) {
            "variable and linked parameter filled in.")
       .def("within_limits",
            [](const PyRobot& s, nb::handle q_in) {
-             std::vector<double> q(size_t(s.r().model.num_joints));
+             const auto& m = s.r().model;
+             std::vector<double> q(size_t(m.num_joints));
              read_joints(q.data(), q_in, s.r(), "q");
+             // A value on a limit comes back from degrees a rounding off it: within 1e-9 is on it.
+             for (int j = 0; j < m.num_joints; ++j) {
+               double& v = q[size_t(j)];
+               const double slack = 1e-9 * std::max(1.0, std::fabs(v));
+               if (v < m.joints[j].lo && v > m.joints[j].lo - slack) v = m.joints[j].lo;
+               if (v > m.joints[j].hi && v < m.joints[j].hi + slack) v = m.joints[j].hi;
+             }
              return s.ik().within_all_limits(q);
            },
-           "q"_a, "Whether q is within every joint limit and, with motors, every motor limit.")
+           "q"_a,
+           "Whether q is within every joint limit and, with motors, every motor limit (a value on a limit "
+           "passes, to 1e-9 of rounding).")
+      .def("joints_from_motors",
+           [](const PyRobot& s, nb::handle u_in) {
+             const Robot& r = s.r();
+             if (!r.has_motors) throw nb::value_error((r.name + " has no motors").c_str());
+             const std::vector<double> u = read_vector(u_in, "motor angles");
+             if (u.size() != size_t(r.actuation.num_motors))
+               throw nb::value_error(("motor angles has " + std::to_string(u.size()) + " values; " + r.name + " has " +
+                                      std::to_string(r.actuation.num_motors) + " motors")
+                                         .c_str());
+             double u_rad[host::kMaxJoints], q[host::kMaxJoints];
+             for (size_t i = 0; i < u.size(); ++i) u_rad[i] = deg_to_rad(u[i]);
+             joints_from_actuators(q, r.actuation, u_rad);
+             return joints_array(r, std::vector<double>(q, q + r.model.num_joints));
+           },
+           "motor_deg"_a, "The joint variables (deg or mm) that motor angles (deg, at the gears' outputs) give: q = C u.")
+      .def("motors_from_joints",
+           [](const PyRobot& s, nb::handle q_in) {
+             const Robot& r = s.r();
+             if (!r.has_motors) throw nb::value_error((r.name + " has no motors").c_str());
+             double q[host::kMaxJoints], u[host::kMaxJoints];
+             read_joints(q, q_in, r, "q");
+             actuators_from_joints(u, r.actuation, q);
+             Array a = new_array({size_t(r.actuation.num_motors)});
+             for (int i = 0; i < r.actuation.num_motors; ++i) a.data()[i] = rad_to_deg(u[i]);
+             return a;
+           },
+           "q"_a, "The motor angles (deg) that give joint values q: u = C^-1 q.")
       .def("ik", &ik, "target"_a, "solver"_a = "auto", "start"_a = nb::none(), "weights"_a = nb::none(),
            "tolerance_mm"_a = 0.01, "max_iterations"_a = 0, "seed"_a = 1,
            "Inverse kinematics (docs/ik.md). target: (x, y, z) mm, (x, y, z, roll, pitch, yaw) mm and deg, or a "

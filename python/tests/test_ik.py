@@ -115,3 +115,15 @@ def test_bad_ik_arguments_raise(kwargs, exc, words):
 def test_closed_form_refused_where_it_does_not_apply():
     with pytest.raises(ValueError):
         articula.Robot.load("panda").ik([400, 0, 400], solver="closed")
+
+
+def test_a_result_on_a_limit_is_within_the_limits():
+    # IK answers on a limit come back in degrees a rounding off it: still within the limits.
+    panda = articula.Robot.load("panda")
+    q = panda.home.copy()
+    q[3] = panda.limits[3, 1]  # q4 at its upper limit
+    T = panda.fk(q)
+    res = panda.ik(T)
+    assert res.reached and panda.within_limits(res.q)
+    q[3] = panda.limits[3, 1] + 1e-6
+    assert not panda.within_limits(q)
