@@ -74,39 +74,41 @@ def main():
     lo, hi = panda.limits[:, 0], panda.limits[:, 1]
     q_deg = lo + (hi - lo) * rng.random(7)
 
-    # ---- FK, one pose
-    fk_us = per_call_us(panda.fk, q_deg, 100_000 if not args.quick else 20_000, reps)
-    rows.append(("Panda FK, one pose, Python: articula Robot.fk", f"{fk_us:.3f} us", None, None, None))
+    # ---- FK, one pose: ours and each peer measured in turn, round after round (the machine's
+    # speed drifts; a ratio within a round is steadier than figures minutes apart).
+    calls = 100_000 if not args.quick else 20_000
+    peers = {}
     try:
         import pinocchio as pin
         model = pin.buildModelFromXML(panda.to_urdf())
         data = model.createData()
         q_rad = np.radians(q_deg)
-        # same model: Pinocchio's tool frame against ours
-        pin.framesForwardKinematics(model, data, q_rad)
+        pin.framesForwardKinematics(model, data, q_rad)  # same model: its tool frame against ours
         tool = model.getFrameId("tool")
         diff = np.abs(data.oMf[tool].homogeneous[:3, 3] * 1000 - panda.fk(q_deg)[:3, 3]).max()
         assert diff < 1e-6, f"Pinocchio's Panda differs from ours by {diff} mm"
-        pin_us = per_call_us(lambda q: pin.forwardKinematics(model, data, q), q_rad,
-                             100_000 if not args.quick else 20_000, reps)
-        pin_frame_us = per_call_us(lambda q: (pin.framesForwardKinematics(model, data, q),
-                                              data.oMf[tool].homogeneous), q_rad,
-                                   100_000 if not args.quick else 20_000, reps)
-        rows.append(("  peer: Pinocchio forwardKinematics (joint placements only)", f"{pin_us:.3f} us",
-                     pin_us, "Pinocchio", f"{fk_us / pin_us:.2f}x Pinocchio's time"))
-        rows.append(("  peer: Pinocchio framesForwardKinematics + the tool pose as an array", f"{pin_frame_us:.3f} us",
-                     pin_frame_us, "Pinocchio", f"{fk_us / pin_frame_us:.2f}x"))
+        peers["Pinocchio forwardKinematics (joint placements only)"] = (
+            lambda q: pin.forwardKinematics(model, data, q), q_rad)
+        peers["Pinocchio framesForwardKinematics + the tool pose as an array"] = (
+            lambda q: (pin.framesForwardKinematics(model, data, q), data.oMf[tool].homogeneous), q_rad)
     except ImportError:
-        rows.append(("  peer: Pinocchio", "not installed (pip install pin)", None, None, None))
+        rows.append(("  peer: Pinocchio", "not installed (scripts/bootstrap --bench)", None, None, None))
     try:
         robot, _ = panda_rtb()
-        ets = robot.ets()
-        rtb_us = per_call_us(ets.eval, np.radians(q_deg), 20_000 if not args.quick else 5_000, reps)
-        rows.append(("  peer: Robotics Toolbox ets.eval", f"{rtb_us:.3f} us", rtb_us, "RTB",
-                     f"{fk_us / rtb_us:.2f}x RTB's time"))
+        peers["Robotics Toolbox ets.eval"] = (robot.ets().eval, np.radians(q_deg))
     except ImportError:
-        rows.append(("  peer: Robotics Toolbox", "not installed (pip install roboticstoolbox-python)", None, None,
-                     None))
+        rows.append(("  peer: Robotics Toolbox", "not installed (scripts/bootstrap --bench)", None, None, None))
+    ours, theirs = [], {k: [] for k in peers}
+    for _ in range(reps):
+        ours.append(per_call_us(panda.fk, q_deg, calls, 1))
+        for k, (fn, arg) in peers.items():
+            theirs[k].append(per_call_us(fn, arg, calls if "Toolbox" not in k else calls // 5, 1))
+    fk_us = statistics.median(ours)
+    rows.append(("Panda FK, one pose, Python: articula Robot.fk", f"{fk_us:.3f} us", None, None, None))
+    for k in peers:
+        ratio = statistics.median(o / t for o, t in zip(ours, theirs[k]))
+        rows.append((f"  peer: {k}", f"{statistics.median(theirs[k]):.3f} us", None, None,
+                     f"ours takes {ratio:.2f}x its time"))
 
     # ---- batch FK
     N = 200_000 if not args.quick else 50_000
@@ -125,61 +127,88 @@ def main():
     rows.append(("  peer: C++ BM_PandaFk (one pose a call, no Python)", f"{1e3 / cpp_fk_ns:.2f} M poses/s",
                  None, "C++", f"{batch_rate / (1e9 / cpp_fk_ns):.2f}x the C++ rate"))
 
-    # ---- IK on bench_ik's targets
-    with tempfile.TemporaryDirectory() as tmp:
-        env = dict(os.environ, ARTICULA_BENCH_DUMP=tmp)
-        ik = run_json([str(bench / "bench_ik"), "--benchmark_filter=BM_PandaFullPose1000|BM_Mk2Position1000/"], env)
-        start, targets = load_targets(os.path.join(tmp, "panda_targets.csv"))
-        mk2_targets = np.loadtxt(os.path.join(tmp, "mk2_targets.csv"), delimiter=",")
-    poses = []
-    for _, T in targets:
-        T = T.copy()
-        T[:3, 3] *= 1000  # load_targets gives metres (for the toolbox)
-        poses.append(T)
-    np.testing.assert_allclose(np.radians(panda.home), start, atol=1e-12)
-    res = [panda.ik(T) for T in poses]
-    ok = sum(r.position_error_mm < 1 and r.orientation_error_deg < np.degrees(1e-3) and panda.within_limits(r.q)
-             for r in res)
-    py_med, py_p95 = each_call_us(panda.ik, poses)
-    c = ik["BM_PandaFullPose1000/iterations:1"]
-    rows.append(("IK Panda full pose, Python: Robot.ik, bench_ik's 1,000 targets",
-                 f"median {py_med:.2f} us, p95 {py_p95:.1f} us, success {ok / 10:.1f} %", None, None, None))
-    rows.append(("  peer: C++ bench_ik, same targets, same run", f"median {c['median_us']:.2f} us, p95 "
-                 f"{c['p95_us']:.1f} us, success {c['success_pct']:.1f} %", None, "C++",
-                 f"{py_med / c['median_us']:.2f}x at the median, {py_p95 / c['p95_us']:.2f}x at p95"))
+    # ---- IK on bench_ik's targets, and Sim.step against bench_physics: Python and C++ in turn,
+    # round after round; each ratio is of one round, the figures medians over the rounds.
+    rounds = 3 if args.quick else 5
     mk2 = articula.Robot.load("mk2plus")
-    m_med, m_p95 = each_call_us(mk2.ik, list(mk2_targets))
-    m = ik["BM_Mk2Position1000/iterations:1"]
-    rows.append(("IK MK2 position, Python: Robot.ik, bench_ik's 1,000 points",
-                 f"median {m_med:.2f} us, p95 {m_p95:.2f} us", None, None, None))
-    rows.append(("  peer: C++ bench_ik, same points, same run", f"median {m['median_us']:.2f} us, p95 "
-                 f"{m['p95_us']:.2f} us", None, "C++", f"{m_med / m['median_us']:.2f}x at the median"))
-
-    # ---- Sim.step(1000)
     scene = {"name": "bench: MK2 and a cube", "objects": [
         {"name": "cube", "type": "box", "size": [30, 30, 30], "xyz": [250, -60, 15], "movable": True,
          "mass": 0.027}]}
     moves = ("G 100\nM 40 60 -30\nM -40 100 10\nG 0\nM 0 45 -40\nM 60 80 -20\nG 60\nM -60 50 0\nM 0 120 -40\n"
              "M 30 36 -43\nM -30 90 15\nG 100\nM 0 90 0\n")
+    fig = {k: [] for k in ("py_med", "py_p95", "c_med", "c_p95", "m_py", "m_c", "m_batch", "sim_py", "sim_c",
+                           "ok")}
     with tempfile.TemporaryDirectory() as tmp:
-        path = Path(tmp) / "cube.json"
-        path.write_text(json.dumps(scene))
-        rates = []
-        for _ in range(reps):
-            sim = articula.Sim(mk2, str(path))
-            sim.load_program(articula.Program.parse(moves, "bench.arm"))
+        scene_path = Path(tmp) / "cube.json"
+        scene_path.write_text(json.dumps(scene))
+        env = dict(os.environ, ARTICULA_BENCH_DUMP=tmp)
+        for r in range(rounds):
+            ik = run_json([str(bench / "bench_ik"), "--benchmark_filter=BM_PandaFullPose1000|BM_Mk2Position1000/"],
+                          env)
+            if r == 0:
+                start, targets = load_targets(os.path.join(tmp, "panda_targets.csv"))
+                mk2_targets = list(np.loadtxt(os.path.join(tmp, "mk2_targets.csv"), delimiter=","))
+                poses = []
+                for _, T in targets:
+                    T = T.copy()
+                    T[:3, 3] *= 1000  # load_targets gives metres (for the toolbox)
+                    poses.append(T)
+                np.testing.assert_allclose(np.radians(panda.home), start, atol=1e-12)
+                res = [panda.ik(T) for T in poses]
+                fig["ok"].append(sum(x.position_error_mm < 1 and x.orientation_error_deg < np.degrees(1e-3)
+                                     and panda.within_limits(x.q) for x in res) / len(res) * 100)
+            c, m = ik["BM_PandaFullPose1000/iterations:1"], ik["BM_Mk2Position1000/iterations:1"]
+            med, p95 = each_call_us(panda.ik, poses)
+            fig["py_med"].append(med), fig["py_p95"].append(p95)
+            fig["c_med"].append(c["median_us"]), fig["c_p95"].append(c["p95_us"])
+            # The MK2's closed form takes 0.4 us: reading a clock around each Python call would add a
+            # quarter of that, so here the mean of a loop, against the C++ mean.
             t0 = time.perf_counter()
-            for _ in range(10):
-                sim.step(1000)
-            rates.append(10_000 / (time.perf_counter() - t0))
-    py_rate = statistics.median(rates)
-    phys = run_json([str(bench / "bench_physics"), "--benchmark_filter=BM_SimMk2Cube$",
-                     f"--benchmark_repetitions={reps}", "--benchmark_report_aggregates_only=true"])
-    cpp_rate = phys["BM_SimMk2Cube_median"]["items_per_second"]
-    rows.append(("Physics, Python: Sim.step(1000), MK2 + cube, 10 s of moves", f"{py_rate:,.0f} steps/s", None,
-                 None, None))
-    rows.append(("  peer: C++ bench_physics BM_SimMk2Cube, same run", f"{cpp_rate:,.0f} steps/s", None, "C++",
-                 f"Python takes {cpp_rate / py_rate:.3f}x the C++ time"))
+            for t in mk2_targets:
+                mk2.ik(t)
+            fig["m_py"].append((time.perf_counter() - t0) / len(mk2_targets) * 1e6)
+            fig["m_c"].append(m["mean_us"])
+            t0 = time.perf_counter()
+            mk2.ik_batch(np.array(mk2_targets))
+            fig["m_batch"].append((time.perf_counter() - t0) / len(mk2_targets) * 1e6)
+            phys = run_json([str(bench / "bench_physics"), "--benchmark_filter=BM_SimMk2Cube$",
+                             "--benchmark_repetitions=3", "--benchmark_report_aggregates_only=true"])
+            fig["sim_c"].append(phys["BM_SimMk2Cube_median"]["items_per_second"])
+            rates = []
+            for _ in range(3):
+                sim = articula.Sim(mk2, str(scene_path))
+                sim.load_program(articula.Program.parse(moves, "bench.arm"))
+                t0 = time.perf_counter()
+                for _ in range(10):
+                    sim.step(1000)
+                rates.append(10_000 / (time.perf_counter() - t0))
+            fig["sim_py"].append(statistics.median(rates))
+
+    def med(k):
+        return statistics.median(fig[k])
+
+    def ratio(a, b):
+        vals = sorted(x / y for x, y in zip(fig[a], fig[b]))
+        return f"{statistics.median(vals):.2f}x (rounds {vals[0]:.2f} .. {vals[-1]:.2f})"
+
+    rows.append((f"IK Panda full pose, Python: Robot.ik, bench_ik's 1,000 targets ({rounds} rounds)",
+                 f"median {med('py_med'):.2f} us, p95 {med('py_p95'):.1f} us, success {fig['ok'][0]:.1f} %",
+                 None, None, None))
+    rows.append(("  peer: C++ bench_ik, same targets, in turn", f"median {med('c_med'):.2f} us, p95 "
+                 f"{med('c_p95'):.1f} us", None, "C++", f"median: {ratio('py_med', 'c_med')}; p95: "
+                 f"{ratio('py_p95', 'c_p95')}"))
+    rows.append(("IK MK2 position (closed form), Python: Robot.ik in a loop over bench_ik's 1,000 points",
+                 f"mean {med('m_py'):.2f} us", None, None, None))
+    rows.append(("  peer: C++ bench_ik, same points, in turn", f"mean {med('m_c'):.2f} us", None, "C++",
+                 f"{ratio('m_py', 'm_c')}"))
+    rows.append(("IK MK2 position, Python: Robot.ik_batch of the 1,000 points, per point", f"mean {med('m_batch'):.2f} us",
+                 None, None, None))
+    rows.append(("  peer: C++ bench_ik, same points, in turn", f"mean {med('m_c'):.2f} us", None, "C++",
+                 f"{ratio('m_batch', 'm_c')}"))
+    rows.append(("Physics, Python: Sim.step(1000) x 10, MK2 + cube, 10 s of moves", f"{med('sim_py'):,.0f} steps/s",
+                 None, None, None))
+    rows.append(("  peer: C++ bench_physics BM_SimMk2Cube, in turn", f"{med('sim_c'):,.0f} steps/s", None, "C++",
+                 f"Python takes {ratio('sim_c', 'sim_py')} the C++ time"))
 
     print(f"articula {articula.__version__}, numpy {np.__version__}, Python {sys.version.split()[0]}; "
           f"{'quick run' if args.quick else f'{reps} repetitions'}")
