@@ -10,6 +10,7 @@
 #include <mutex>
 #include <stdexcept>
 
+#include "geometry.h"
 #include "mesh.h"
 #include "run.h"
 
@@ -78,13 +79,6 @@ std::string fmt_mm(double v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.1f", v);
   return buf;
-}
-
-// Where a mesh shape's file is: relative to the robot file (robots/README.md).
-std::string mesh_path(const Robot& robot, const Shape& s) {
-  const std::filesystem::path p(s.mesh);
-  if (p.is_absolute() || robot.source.empty()) return p.string();
-  return (std::filesystem::path(robot.source).parent_path() / p).string();
 }
 
 bool is_mesh(dGeomID g) { return dGeomGetClass(g) == dTriMeshClass; }
@@ -262,48 +256,7 @@ Simulation::~Simulation() {
 // ---- building ----
 
 void Simulation::build_arm() {
-  std::vector<LinkGeometry> links = robot_.links;
-  if (links.empty()) {
-    // No geometry in the robot file: a capsule along each row's fixed offset (a(i-1) and a
-    // constant d(i)), so every robot can collide. Radius 6 % of the arm's reach, 5..40 mm.
-    double reach = 0;
-    std::vector<Vec3<double>> seg(robot_.model.num_rows);
-    for (int i = 0; i < robot_.model.num_rows; ++i) {
-      const DhRow<double>& r = robot_.model.rows[i];
-      bool d_variable = false;
-      for (int j = 0; j < robot_.model.num_joints; ++j)
-        d_variable = d_variable || (robot_.model.joints[j].row == i && robot_.model.joints[j].param == kParamD);
-      for (int k = 0; k < robot_.model.num_linked; ++k)
-        d_variable = d_variable || (robot_.model.linked[k].row == i && robot_.model.linked[k].param == kParamD);
-      const double d = d_variable ? 0 : r.d;
-      seg[size_t(i)] = make_vec3(r.a, -std::sin(r.alpha) * d, std::cos(r.alpha) * d);
-      reach += norm(seg[size_t(i)]);
-    }
-    reach += norm(robot_.model.T_last_tool.p);
-    const double radius = std::clamp(0.06 * reach, 5.0, 40.0);
-    for (int i = 0; i < robot_.model.num_rows; ++i) {
-      const Vec3<double> v = seg[size_t(i)];
-      const double len = norm(v);
-      if (len < 1) continue;
-      Shape s;
-      s.type = Shape::Type::kCapsule;
-      s.size = {radius, len, 0};
-      // z along v: a rotation taking (0, 0, 1) to v / len.
-      const Vec3<double> z = (1.0 / len) * v;
-      Vec3<double> x = std::fabs(z.x) < 0.9 ? make_vec3(1.0, 0.0, 0.0) : make_vec3(0.0, 1.0, 0.0);
-      x = x - dot(x, z) * z;
-      x = (1.0 / norm(x)) * x;
-      const Vec3<double> y = cross(z, x);
-      Mat3<double> R;
-      for (int k = 0; k < 3; ++k) {
-        const double cx[3] = {x.x, x.y, x.z}, cy[3] = {y.x, y.y, y.z}, cz[3] = {z.x, z.y, z.z};
-        R.m[k][0] = cx[k], R.m[k][1] = cy[k], R.m[k][2] = cz[k];
-      }
-      s.T_frame_shape = make_transform(R, 0.5 * v);
-      links.push_back({i, {s}});
-    }
-  }
-  std::sort(links.begin(), links.end(), [](const LinkGeometry& a, const LinkGeometry& b) { return a.frame < b.frame; });
+  const std::vector<LinkGeometry> links = arm_geometry(robot_);
   int chain = 0;
   for (const auto& l : links) {
     if (!parts_.empty() && parts_.back()->frame == l.frame) {
@@ -514,8 +467,7 @@ void Simulation::place_arm(const double* q, double opening_mm) {
     if (p.frame >= 0) {
       T = f.T_base_frame[p.frame];
     } else {
-      const double y = p.side * (opening_mm + robot_.gripper.finger_thickness_mm) / 2;
-      T = f.T_base_tool * make_transform(identity3<double>(), make_vec3(robot_.gripper.finger_length_mm / 2, y, 0.0));
+      T = finger_pose(robot_.gripper, f.T_base_tool, opening_mm, p.side);
     }
     set_part_pose(p, T);
   }
@@ -591,9 +543,7 @@ void Simulation::accept_pose() {
   for (auto& pp : parts_) {
     Part& p = *pp;
     const Transform<double> T = p.frame >= 0 ? frames_.T_base_frame[p.frame]
-                                             : frames_.T_base_tool * make_transform(identity3<double>(),
-                                                                                    make_vec3(robot_.gripper.finger_length_mm / 2,
-                                                                                              p.side * (opening_mm_ + robot_.gripper.finger_thickness_mm) / 2, 0.0));
+                                             : finger_pose(robot_.gripper, frames_.T_base_tool, opening_mm_, p.side);
     if (!p.moved) {
       for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j) p.moved = p.moved || T.R.m[i][j] != p.T.R.m[i][j];

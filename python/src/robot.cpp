@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "bindings.h"
+#include "geometry.h"
 #include "legacy.h"
 #include "records_json.h"
 #include "robot_file.h"
@@ -117,13 +118,13 @@ nb::list motors_info(const Robot& r) {
 nb::list links_info(const Robot& r) {
   static const char* kTypes[] = {"box", "cylinder", "capsule", "sphere", "mesh"};
   nb::list out;
-  for (const auto& l : r.links) {
+  for (const auto& l : host::arm_geometry(r)) {
     nb::list shapes;
     for (const auto& s : l.shapes) {
       nb::dict d;
       d["type"] = kTypes[int(s.type)];
       d["size"] = nb::make_tuple(s.size[0], s.size[1], s.size[2]);
-      if (s.type == host::Shape::Type::kMesh) d["mesh"] = s.mesh;
+      if (s.type == host::Shape::Type::kMesh) d["mesh"] = host::mesh_path(r, s);
       d["pose"] = transform_array(s.T_frame_shape);
       d["mass"] = s.mass;
       d["density"] = s.density;
@@ -517,7 +518,26 @@ nb::class_<PyRobot> bind_robot(nb::module_& m) {
                    },
                    "C in q = C u: joint variables from motor angles (empty without motors)")
       .def_prop_ro("links", [](const PyRobot& s) { return links_info(s.r()); },
-                   "link shapes per DH frame: type, size (mm), mesh, pose in the frame (4x4), mass, density")
+                   "link shapes per DH frame, as the physics collides them and the studio draws them: type, size "
+                   "(mm: box x y z; cylinder and capsule radius, length along z; sphere radius), mesh (its path), "
+                   "pose in the frame (4x4), mass, density. A robot file without shapes gets a capsule along each row.")
+      .def("finger_poses",
+           [](const PyRobot& s, nb::handle q_in, double opening_mm) {
+             const Robot& r = s.r();
+             if (!r.gripper.present) throw nb::value_error((r.name + " has no gripper").c_str());
+             if (!std::isfinite(opening_mm)) throw nb::value_error("opening_mm must be finite");
+             double q[host::kMaxJoints];
+             read_joints(q, q_in, r, "q");
+             HostFrames f;
+             forward_kinematics(f, r.model, q);
+             Array a = new_array({2, 4, 4});
+             write_transform(a.data(), host::finger_pose(r.gripper, f.T_base_tool, opening_mm, +1));
+             write_transform(a.data() + 16, host::finger_pose(r.gripper, f.T_base_tool, opening_mm, -1));
+             return a;
+           },
+           "q"_a, "opening_mm"_a,
+           "The gripper's two fingers at q and an opening (mm): (2, 4, 4), the left (+y) then the right, each the "
+           "centre of a box finger_length x finger_thickness x finger_height.")
       .def_prop_ro("gripper", [](const PyRobot& s) { return gripper_info(s.r()); })
       .def_prop_ro("tool_offset", [](const PyRobot& s) { return transform_array(s.r().model.T_last_tool); },
                    "the fixed tool transform after the last row (4x4, mm)")
