@@ -4,6 +4,7 @@
 #   make          build everything (host tools, AVR targets, the Nano firmware and its sizes)
 #   make test     install, build, run every test, print a summary
 #   make demo     install, build, run the thesis experiments on the virtual Nano, report
+#   make studio   install, build, start Articula Studio and open it in the browser
 #   make firmware build only the Nano firmware (HEX and ELF)
 #   make flash PORT=/dev/ttyUSB0 [BOOTLOADER=new]
 #                 flash the HEX into a Nano through its USB bootloader
@@ -25,7 +26,7 @@ BAUD_old = 57600
 BAUD_new = 115200
 BAUD ?= $(BAUD_$(BOOTLOADER))
 
-.PHONY: all build bootstrap test demo firmware flash clean format
+.PHONY: all build bootstrap test demo studio firmware flash clean format
 
 all: build
 
@@ -64,6 +65,10 @@ demo: build
 	  hil/plans/tool-points.arm --out $(DEMO_REPORT) \
 	  --vnano $(BUILD)/hil/articula-vnano --elf $(FIRMWARE_DIR)/articula-nano.elf
 	@echo "open $(DEMO_REPORT)/report.html in a browser, or read $(DEMO_REPORT)/report.md"
+
+# ROBOT=panda, PORT=8080, STUDIO_ARGS=--no-browser: passed to articula-studio.
+studio: build
+	@.venv/bin/python -m articula.studio $(ROBOT) $(if $(PORT),--port $(PORT)) $(STUDIO_ARGS)
 
 format:
 	clang-format -i shared/articula/*.h shared/tests/*.cpp shared/avr_check/*.cpp host/*/*.cpp host/*/*.h \

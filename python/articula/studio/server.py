@@ -1,0 +1,277 @@
+"""Articula Studio's server: aiohttp on 127.0.0.1, the page's static files and one WebSocket
+(`/ws`) per page, each with its own Session (session.py). docs/studio.md describes the
+messages and the security rules:
+
+  - it binds 127.0.0.1 unless told otherwise (then it warns);
+  - the page's URL carries a random token; the page and the WebSocket need it;
+  - the WebSocket refuses a foreign Origin and a foreign Host (no other site, and no DNS
+    rebinding, can drive the arm);
+  - every message is validated; a bad one gets an error reply, never a crash.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import json
+import logging
+import secrets
+import time
+from pathlib import Path
+
+from aiohttp import WSMsgType, web
+
+from .session import REPO, BadMessage, Session
+
+log = logging.getLogger("articula.studio")
+
+MAX_MESSAGE = 2_000_000  # bytes of one WebSocket message (a robot file or program inside)
+FRAME_S = 1 / 60         # playback and animation: one pose a display frame
+
+
+def web_dir() -> Path:
+    """The built page: inside the installed package, or the tree's studio/web/dist."""
+    packaged = Path(__file__).with_name("web")
+    if (packaged / "index.html").is_file():
+        return packaged
+    return REPO / "studio" / "web" / "dist"
+
+
+class Studio:
+    def __init__(self, robot: str | None, *, host: str = "127.0.0.1", port: int = 0, token: str | None = None):
+        self.robot = robot
+        self.host = host
+        self.port = port
+        self.token = token or secrets.token_urlsafe(18)
+        self.web = web_dir()
+        self.app = web.Application(client_max_size=MAX_MESSAGE)
+        self.app.router.add_get("/", self.index)
+        self.app.router.add_get("/ws", self.websocket)
+        self.app.router.add_get("/mesh/{session}/{key}", self.mesh)
+        if (self.web / "assets").is_dir():
+            self.app.router.add_static("/assets/", self.web / "assets")
+        self.sessions: dict[str, Session] = {}
+        self.runner: web.AppRunner | None = None
+        self.started = time.monotonic()
+
+    # ---- the rules
+
+    def allowed_hosts(self) -> set[str]:
+        names = {"127.0.0.1", "localhost", self.host}
+        return {f"{n}:{self.port}" for n in names}
+
+    def token_ok(self, request: web.Request) -> bool:
+        return secrets.compare_digest(request.query.get("token", ""), self.token)
+
+    def host_ok(self, request: web.Request) -> bool:
+        return request.headers.get("Host", "") in self.allowed_hosts()
+
+    def origin_ok(self, request: web.Request) -> bool:
+        origin = request.headers.get("Origin")
+        return origin is None or origin in {f"http://{h}" for h in self.allowed_hosts()}
+
+    # ---- HTTP
+
+    async def index(self, request: web.Request) -> web.StreamResponse:
+        if not self.host_ok(request):
+            return web.Response(status=403, text="articula studio: this host name is not the studio's")
+        if not self.token_ok(request):
+            return web.Response(status=403, content_type="text/html", text=(
+                "<!doctype html><title>Articula Studio</title><body style='font:16px system-ui;margin:3em'>"
+                "<h1>Articula Studio needs its token</h1><p>Open the address that <code>articula-studio</code> "
+                "(or <code>make studio</code>) printed: it ends in <code>?token=...</code>.</p>"))
+        index = self.web / "index.html"
+        if not index.is_file():
+            return web.Response(status=500, text=f"the studio's page is not built ({index}): run make")
+        return web.FileResponse(index, headers={"Cache-Control": "no-store"})
+
+    async def mesh(self, request: web.Request) -> web.StreamResponse:
+        if not (self.token_ok(request) and self.host_ok(request)):
+            return web.Response(status=403, text="forbidden")
+        session = self.sessions.get(request.match_info["session"])
+        path = session.meshes.get(request.match_info["key"]) if session else None
+        if not path or not Path(path).is_file():
+            return web.Response(status=404, text="no such mesh")
+        return web.FileResponse(path)
+
+    # ---- the WebSocket
+
+    async def websocket(self, request: web.Request) -> web.StreamResponse:
+        if not self.host_ok(request):
+            return web.Response(status=403, text="foreign Host")
+        if not self.origin_ok(request):
+            return web.Response(status=403, text="foreign Origin")
+        if not self.token_ok(request):
+            return web.Response(status=403, text="no or wrong token")
+        ws = web.WebSocketResponse(max_msg_size=MAX_MESSAGE, heartbeat=30)
+        await ws.prepare(request)
+        sid = secrets.token_hex(8)
+        conn = Connection(self, ws, sid)
+        self.sessions[sid] = conn.session
+        try:
+            await conn.serve()
+        finally:
+            conn.stop_tasks()
+            self.sessions.pop(sid, None)
+        return ws
+
+    # ---- running
+
+    async def start(self) -> str:
+        self.runner = web.AppRunner(self.app, access_log=None)
+        await self.runner.setup()
+        site = web.TCPSite(self.runner, self.host, self.port)
+        await site.start()
+        self.port = site._server.sockets[0].getsockname()[1]  # the port chosen when 0 was asked
+        return self.url
+
+    @property
+    def url(self) -> str:
+        host = "127.0.0.1" if self.host in ("127.0.0.1", "0.0.0.0", "") else self.host
+        return f"http://{host}:{self.port}/?token={self.token}"
+
+    async def stop(self) -> None:
+        if self.runner:
+            await self.runner.cleanup()
+
+
+class Connection:
+    """One page: its session, the messages in, and the tasks that stream poses out (program
+    playback, the Jacobian transpose animated)."""
+
+    def __init__(self, studio: Studio, ws: web.WebSocketResponse, sid: str):
+        self.studio, self.ws, self.sid = studio, ws, sid
+        self.session = Session(studio.robot, mesh_url=lambda key: f"/mesh/{sid}/{key}?token={studio.token}")
+        self.lock = asyncio.Lock()
+        self.task: asyncio.Task | None = None
+        self.t = 0.0          # the time line's clock, s
+        self.speed = 1.0
+
+    async def send(self, msgs: list[dict]) -> None:
+        async with self.lock:
+            for m in msgs:
+                if self.ws.closed:
+                    return
+                await self.ws.send_str(json.dumps(m, allow_nan=False))
+
+    async def serve(self) -> None:
+        async for raw in self.ws:
+            if raw.type != WSMsgType.TEXT:
+                if raw.type == WSMsgType.BINARY:
+                    await self.send([{"type": "error", "message": "binary messages are not understood: send JSON text"}])
+                continue
+            try:
+                msg = json.loads(raw.data)
+            except (ValueError, RecursionError) as e:
+                await self.send([{"type": "error", "message": f"not JSON: {e}"}])
+                continue
+            try:
+                await self.dispatch(msg)
+            except BadMessage as e:
+                await self.send([{"type": "error", "message": str(e),
+                                  "request": msg.get("type") if isinstance(msg, dict) else None}])
+            except Exception as e:  # a bug must not end the page's connection
+                log.exception("message %r", msg)
+                await self.send([{"type": "error", "message": f"internal error: {type(e).__name__}: {e}"}])
+
+    async def dispatch(self, msg) -> None:
+        kind = msg.get("type") if isinstance(msg, dict) else None
+        if kind in ("play", "pause", "step", "seek", "rewind", "jt_animate", "stop_animation"):
+            await getattr(self, kind)(msg)
+            return
+        if kind in ("set_joint", "set_joints", "ik", "home", "zero", "load_robot", "program_load"):
+            self.stop_tasks()  # the user took the arm: playback and animations stop
+        await self.send(self.session.handle(msg))
+
+    # ---- playback of a program's time line
+
+    def stop_tasks(self) -> None:
+        if self.task and not self.task.done():
+            self.task.cancel()
+        self.task = None
+
+    def _timeline(self) -> dict:
+        if not self.session.timeline:
+            raise BadMessage("no program loaded: send program_load first")
+        return self.session.timeline
+
+    async def play(self, msg) -> None:
+        tl = self._timeline()
+        if "speed" in msg:
+            speed = msg["speed"]
+            if isinstance(speed, bool) or not isinstance(speed, (int, float)) or not 0.05 <= speed <= 20:
+                raise BadMessage("'speed' must be within 0.05 .. 20")
+            self.speed = float(speed)
+        self.stop_tasks()
+        if self.t >= tl["duration"]:
+            self.t = 0.0
+        self.task = asyncio.create_task(self._play())
+
+    async def _play(self) -> None:
+        tl = self.session.timeline
+        last = time.monotonic()
+        await self.send([{"type": "playing", "t": self.t, "playing": True}])
+        while True:
+            now = time.monotonic()
+            self.t = min(tl["duration"], self.t + (now - last) * self.speed)
+            last = now
+            await self.send([self.session.pose_at(self.t)])
+            if self.t >= tl["duration"]:
+                break
+            await asyncio.sleep(FRAME_S)
+        await self.send([{"type": "playing", "t": self.t, "playing": False, "ended": True}])
+
+    async def pause(self, msg) -> None:
+        self.stop_tasks()
+        await self.send([{"type": "playing", "t": self.t, "playing": False}])
+
+    async def step(self, msg) -> None:
+        """To the end of the next action (a line)."""
+        tl = self._timeline()
+        self.stop_tasks()
+        ends = sorted({r["end_s"] for r in tl["records"]} | {r["start_s"] for r in tl["records"]})
+        nxt = next((e for e in ends if e > self.t + 1e-9), tl["duration"])
+        line_end = next((r["end_s"] for r in tl["records"] if r["end_s"] > self.t + 1e-9), nxt)
+        self.t = line_end
+        await self.send([self.session.pose_at(self.t), {"type": "playing", "t": self.t, "playing": False}])
+
+    async def seek(self, msg) -> None:
+        tl = self._timeline()
+        t = msg.get("t")
+        if isinstance(t, bool) or not isinstance(t, (int, float)) or not 0 <= t <= tl["duration"] + 1e-9:
+            raise BadMessage(f"'t' must be within 0 .. {tl['duration']:.3f} s")
+        self.stop_tasks()
+        self.t = float(t)
+        await self.send([self.session.pose_at(self.t), {"type": "playing", "t": self.t, "playing": False}])
+
+    async def rewind(self, msg) -> None:
+        self._timeline()
+        self.stop_tasks()
+        self.t = 0.0
+        await self.send([self.session.pose_at(0.0), {"type": "playing", "t": 0.0, "playing": False}])
+
+    # ---- the Jacobian transpose, iteration by iteration
+
+    async def jt_animate(self, msg) -> None:
+        self.stop_tasks()
+        steps = self.session.jt_steps(msg)  # validates now: a bad target is an error reply
+        first = next(steps)
+        self.task = asyncio.create_task(self._jt(first, steps, msg.get("seq")))
+
+    async def _jt(self, first, steps, seq) -> None:
+        item = first
+        while True:
+            res, i, done = item
+            reply = self.session._ik_reply(res, seq)
+            reply.update(type="jt_frame", iteration=i + 1, done=done)
+            await self.send([reply, self.session.pose_message(seq=seq)])
+            if done:
+                return
+            await asyncio.sleep(FRAME_S)
+            try:
+                item = next(steps)
+            except StopIteration:
+                return
+
+    async def stop_animation(self, msg) -> None:
+        self.stop_tasks()
+        await self.send([self.session.pose_message()])

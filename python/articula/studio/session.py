@@ -1,0 +1,389 @@
+"""One studio page's state on the server (MeshCat's pattern: the server holds the scene, the
+page draws it and sends intents). Every pose the page shows is computed here by the
+`articula` package; the page never computes kinematics.
+
+A Session answers messages (dicts, docs/studio.md "Messages") with lists of messages. It knows
+nothing of HTTP or WebSockets, so tests can drive it directly.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from pathlib import Path
+from typing import Any, Callable
+
+import numpy as np
+
+import articula
+
+REPO = Path(__file__).resolve().parents[3]
+
+# Robot files the page may load by name: the shipped ones.
+def shipped_robots() -> list[str]:
+    d = Path(os.environ.get("ARTICULA_ROBOTS") or REPO / "robots")
+    return sorted(p.stem for p in d.glob("*.json") if not p.stem.endswith(".schema"))
+
+
+def shipped_programs() -> dict[str, Path]:
+    d = REPO / "programs"
+    packaged = Path(articula.__file__).with_name("data") / "programs"
+    if packaged.is_dir():
+        d = packaged
+    return {p.name: p for p in sorted(d.iterdir()) if p.suffix in (".arm", ".robosim")}
+
+
+MAX_UPLOAD = 1_000_000  # bytes of a robot file or program sent by the page
+
+
+class BadMessage(Exception):
+    """A message the server does not take: the reply names the problem."""
+
+
+def _num(msg: dict, key: str, lo: float = -math.inf, hi: float = math.inf) -> float:
+    v = msg.get(key)
+    if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+        raise BadMessage(f"'{key}' must be a finite number")
+    if not lo <= v <= hi:
+        raise BadMessage(f"'{key}' must be within {lo:g} .. {hi:g}")
+    return float(v)
+
+
+def _numbers(msg: dict, key: str, count: int | tuple[int, ...]) -> list[float]:
+    v = msg.get(key)
+    counts = (count,) if isinstance(count, int) else count
+    if not isinstance(v, list) or len(v) not in counts:
+        raise BadMessage(f"'{key}' must be a list of {' or '.join(map(str, counts))} numbers")
+    out = []
+    for i, x in enumerate(v):
+        if isinstance(x, bool) or not isinstance(x, (int, float)) or not math.isfinite(x):
+            raise BadMessage(f"'{key}[{i}]' must be a finite number")
+        out.append(float(x))
+    return out
+
+
+def _text(msg: dict, key: str, limit: int = MAX_UPLOAD) -> str:
+    v = msg.get(key)
+    if not isinstance(v, str):
+        raise BadMessage(f"'{key}' must be text")
+    if len(v.encode("utf-8", "surrogatepass")) > limit:
+        raise BadMessage(f"'{key}' is larger than {limit:,} bytes")
+    return v
+
+
+def _flat(T: np.ndarray) -> list[float]:
+    return [round(float(x), 6) for x in np.asarray(T).reshape(-1)]
+
+
+def _rpy_deg(R: np.ndarray) -> list[float]:
+    """Fixed X-Y-Z roll, pitch, yaw of a rotation matrix (as the CLI prints them)."""
+    pitch = math.atan2(-R[2, 0], math.hypot(R[0, 0], R[1, 0]))
+    if abs(math.cos(pitch)) < 1e-9:  # gimbal lock: yaw 0
+        roll, yaw = math.atan2(-R[1, 2], R[1, 1]), 0.0
+    else:
+        roll, yaw = math.atan2(R[2, 1], R[2, 2]), math.atan2(R[1, 0], R[0, 0])
+    return [math.degrees(roll), math.degrees(pitch), math.degrees(yaw)]
+
+
+class Session:
+    def __init__(self, robot: str | None = None, *, mesh_url: Callable[[str], str] | None = None):
+        self.mesh_url = mesh_url or (lambda path: path)
+        self.meshes: dict[str, str] = {}  # url key -> file path, for the server to serve
+        self.robot: articula.Robot | None = None
+        self.q = np.zeros(0)
+        self.gripper = 100.0  # percent open
+        self.timeline: dict[str, Any] | None = None
+        self.load(articula.Robot.load(robot or "mk2plus"))
+
+    # ---- robot
+
+    def load(self, robot: articula.Robot) -> None:
+        self.robot = robot
+        self.q = robot.home.copy()
+        self.gripper = 100.0
+        self.timeline = None
+        self.meshes = {}
+
+    def robot_message(self) -> dict:
+        r = self.robot
+        links = []
+        for link in r.links:
+            shapes = []
+            for s in link["shapes"]:
+                shape = {"type": s["type"], "size": list(s["size"]), "pose": _flat(s["pose"])}
+                if s["type"] == "mesh":
+                    key = str(len(self.meshes))
+                    self.meshes[key] = s["mesh"]
+                    shape["url"] = self.mesh_url(key)
+                    shape["format"] = Path(s["mesh"]).suffix.lower().lstrip(".")
+                shapes.append(shape)
+            links.append({"frame": link["frame"], "shapes": shapes})
+        return {
+            "type": "robot", "name": r.name, "description": r.description, "source": r.source,
+            "joints": r.joints, "dh": r.dh, "num_rows": r.num_rows, "home": r.home.tolist(),
+            "motors": [m["name"] for m in r.motors], "links": links, "gripper": r.gripper,
+            "reach_mm": r.reach_mm, "robots": shipped_robots(), "programs": sorted(shipped_programs()),
+            "import_notes": r.import_notes,
+        }
+
+    def pose_message(self, q: np.ndarray | None = None, **extra) -> dict:
+        r = self.robot
+        q = self.q if q is None else q
+        frames = r.frames(q)
+        tool = frames[-1]
+        msg = {
+            "type": "pose", "q": q.tolist(), "frames": [_flat(f) for f in frames],
+            "tool": {"xyz": tool[:3, 3].tolist(), "rpy": _rpy_deg(tool[:3, :3])},
+            "dh_table": r.dh_table(q).tolist(), "gripper": self.gripper,
+            "within_limits": r.within_limits(q),
+        }
+        if r.gripper:
+            opening = r.gripper["max_opening_mm"] * self.gripper / 100
+            msg["fingers"] = [_flat(f) for f in r.finger_poses(q, opening)]
+        msg.update(extra)
+        return msg
+
+    # ---- messages
+
+    def handle(self, msg: Any) -> list[dict]:
+        if not isinstance(msg, dict):
+            raise BadMessage("a message is a JSON object with a 'type'")
+        kind = msg.get("type")
+        handler = getattr(self, f"on_{kind}", None) if isinstance(kind, str) and kind.isidentifier() else None
+        if handler is None:
+            raise BadMessage(f"unknown message type {kind!r}")
+        return handler(msg)
+
+    def on_hello(self, msg) -> list[dict]:
+        return [self.robot_message(), self.pose_message()]
+
+    def on_set_joint(self, msg) -> list[dict]:
+        j = int(_num(msg, "joint", 0, self.robot.num_joints - 1))
+        if j != msg["joint"]:
+            raise BadMessage("'joint' must be a whole number")
+        lo, hi = self.robot.limits[j]
+        v = min(max(_num(msg, "value"), lo), hi)
+        self.q[j] = v
+        return [self.pose_message(seq=msg.get("seq"))]
+
+    def on_set_joints(self, msg) -> list[dict]:
+        q = np.array(_numbers(msg, "q", self.robot.num_joints))
+        self.q = np.clip(q, self.robot.limits[:, 0], self.robot.limits[:, 1])
+        return [self.pose_message(seq=msg.get("seq"))]
+
+    def on_home(self, msg) -> list[dict]:
+        self.q = self.robot.home.copy()
+        return [self.pose_message()]
+
+    def on_zero(self, msg) -> list[dict]:
+        """The motors' zero angles (where the real arm powers up), or all joint variables 0
+        (clamped into the limits) for a robot without motors."""
+        r = self.robot
+        if r.num_motors:
+            self.q = r.joints_from_motors([m["zero"] for m in r.motors])
+        else:
+            self.q = np.clip(np.zeros(r.num_joints), r.limits[:, 0], r.limits[:, 1])
+        return [self.pose_message()]
+
+    def on_gripper(self, msg) -> list[dict]:
+        if not self.robot.gripper:
+            raise BadMessage(f"{self.robot.name} has no gripper")
+        self.gripper = _num(msg, "percent", 0, 100)
+        return [self.pose_message()]
+
+    def _ik_args(self, msg) -> dict:
+        target = _numbers(msg, "target", (3, 6))
+        solver = msg.get("solver", "auto")
+        if solver not in ("auto", "closed", "lm", "jt"):
+            raise BadMessage("'solver' must be auto, closed, lm or jt")
+        args = {"target": target, "solver": solver, "start": self.q}
+        if msg.get("weights") is not None:
+            args["weights"] = _numbers(msg, "weights", (self.robot.num_joints, self.robot.num_motors))
+        return args
+
+    def _ik_reply(self, res: articula.IkResult, seq=None) -> dict:
+        return {"type": "ik", "status": res.status, "solver": res.solver,
+                "position_error_mm": res.position_error_mm, "orientation_error_deg": res.orientation_error_deg,
+                "iterations": res.iterations, "limited_by": res.limited_by + res.limited_by_motors,
+                "beyond_reach": res.beyond_reach, "seq": seq}
+
+    def on_ik(self, msg) -> list[dict]:
+        """Solve for a target and move there (to the best pose found when not reached)."""
+        args = self._ik_args(msg)
+        try:
+            res = self.robot.ik(**args)
+        except ValueError as e:
+            raise BadMessage(str(e)) from None
+        self.q = res.q
+        return [self._ik_reply(res, msg.get("seq")), self.pose_message(seq=msg.get("seq"))]
+
+    def jt_steps(self, msg, steps: int = 400, per_frame: int = 1):
+        """The thesis's Jacobian transpose, iteration by iteration (for the page to animate):
+        yields (result, pose message) after each `per_frame` iterations until it stops."""
+        args = self._ik_args(msg)
+        args["solver"] = "jt"
+        for i in range(steps):
+            args["start"] = self.q
+            try:
+                res = self.robot.ik(**args, max_iterations=per_frame)
+            except ValueError as e:
+                raise BadMessage(str(e)) from None
+            moved = float(np.abs(res.q - self.q).max())
+            self.q = res.q
+            done = res.status != "budget" or moved < 1e-9
+            yield res, i, done
+            if done:
+                return
+
+    # ---- programs
+
+    def on_program_list(self, msg) -> list[dict]:
+        return [{"type": "programs", "programs": sorted(shipped_programs())}]
+
+    def on_program_open(self, msg) -> list[dict]:
+        name = _text(msg, "name", 200)
+        programs = shipped_programs()
+        if name not in programs:
+            raise BadMessage(f"no shipped program '{name}'")
+        return [{"type": "program_text", "name": name, "text": programs[name].read_text()}]
+
+    def on_program_load(self, msg) -> list[dict]:
+        """Predict (robots with motors) or run (kinematic robots) a program: the time line the
+        page plays. A program that cannot be read is an error naming the line."""
+        text = _text(msg, "text")
+        name = _text(msg, "name", 200) or "program.arm"
+        program = articula.Program.parse(text, name)
+        r = self.robot
+        try:
+            if r.num_motors:
+                doc = r.predict(program).to_dict()
+                records = doc["records"]
+            else:
+                doc = r.run(program).to_dict()
+                records = self._timed(doc["records"])
+        except articula.ProgramError as e:
+            return [{"type": "program_error", "message": str(e), "line": e.line}]
+        except ValueError as e:
+            return [{"type": "program_error", "message": str(e), "line": 0}]
+        start = self.q.copy()
+        steps = []
+        for rec in records:
+            q_real = np.array(rec["joints"])
+            q_ideal = np.array(rec.get("joints_ideal", rec["joints"]))
+            item = {
+                "line": rec["line"], "command": rec["command"], "reply": rec["reply"], "code": rec["code"],
+                "error": rec.get("error", ""), "note": rec.get("note", ""),
+                "start_s": rec["start_s"], "end_s": rec["end_s"], "q": q_real.tolist(), "q_ideal": q_ideal.tolist(),
+                "tool": r.fk(q_real)[:3, 3].tolist(), "tool_ideal": r.fk(q_ideal)[:3, 3].tolist(),
+                "error_mm": rec.get("error_mm", 0.0), "steps": rec.get("steps"),
+                "gripper": rec.get("gripper_percent"),
+            }
+            steps.append(item)
+        first_q = start if not r.num_motors else r.joints_from_motors([m["zero"] for m in r.motors])
+        self.timeline = {"records": steps, "start_q": first_q, "duration": steps[-1]["end_s"] if steps else 0.0}
+        self.q = first_q.copy()
+        return [{"type": "timeline", "name": name, "format": program.format, "records": steps,
+                 "duration": self.timeline["duration"], "joints": r.joint_names,
+                 "summary": doc["summary"]}, self.pose_message(t=0.0, line=0)]
+
+    @staticmethod
+    def _timed(records: list[dict], deg_per_s: float = 60.0, mm_per_s: float = 100.0) -> list[dict]:
+        """A robot without motors has no controller timing: each move lasts as its largest
+        joint change at 60 deg/s (100 mm/s), as `articula sim` moves such robots; a gripper
+        action 0.3 s."""
+        t, prev = 0.0, None
+        out = []
+        for rec in records:
+            rec = dict(rec)
+            q = np.array(rec["joints"])
+            dur = 0.0
+            if rec["reply"] == "ok":
+                if prev is not None:
+                    dur = float(np.abs(q - prev).max()) / deg_per_s
+                if rec["command"][:1] in ("G", "S", "h"):
+                    dur = max(dur, 0.3)
+                prev = q
+            rec["start_s"], rec["end_s"] = t, t + dur
+            t += dur
+            out.append(rec)
+        return out
+
+    def pose_at(self, t: float) -> dict:
+        """The arm at time t of the time line: each action moves from the pose before it to
+        its own in its time (joint values linear in time: a drawing of the move, not the
+        motors' speed profile), the whole-step pose and the ideal one (the ghost)."""
+        tl = self.timeline
+        recs = tl["records"]
+        q_prev, qi_prev, line, steps, err, grip = tl["start_q"], tl["start_q"], 0, None, 0.0, None
+        q, qi = q_prev, qi_prev
+        for rec in recs:
+            if rec["reply"] != "ok":
+                if rec["start_s"] <= t:
+                    line = rec["line"]
+                continue
+            a, b = rec["start_s"], rec["end_s"]
+            if t >= b:
+                q_prev, qi_prev = np.array(rec["q"]), np.array(rec["q_ideal"])
+                q, qi, line, steps, err = q_prev, qi_prev, rec["line"], rec["steps"], rec["error_mm"]
+                grip = rec["gripper"] if rec["gripper"] is not None else grip
+                continue
+            if t >= a:
+                f = (t - a) / (b - a) if b > a else 1.0
+                q = q_prev + f * (np.array(rec["q"]) - q_prev)
+                qi = qi_prev + f * (np.array(rec["q_ideal"]) - qi_prev)
+                line = rec["line"]
+            break
+        self.q = np.asarray(q, dtype=float)
+        if grip is not None:
+            self.gripper = float(grip)
+        ghost = [_flat(f) for f in self.robot.frames(np.asarray(qi, dtype=float))]
+        return self.pose_message(t=t, line=line, steps=steps, error_mm=err, ghost=ghost)
+
+    def on_teach(self, msg) -> list[dict]:
+        """The current pose as a program line (RoboSim's Teach): `M` with the motor angles
+        (joint variables for a robot without motors), or RoboSim's `m` and one value a line."""
+        fmt = msg.get("format", "protocol")
+        r = self.robot
+        if fmt == "robosim":
+            line = "m\n" + "\n".join(f"{v:.3f}" for v in self.q)
+        else:
+            values = r.motors_from_joints(self.q) if r.num_motors else self.q
+            line = "M " + " ".join(f"{v:.3f}" for v in values)
+        return [{"type": "teach", "line": line}]
+
+    # ---- files
+
+    def on_load_robot(self, msg) -> list[dict]:
+        """A shipped robot by name, or a robot file's text (JSON, or a thesis appendix C file
+        with its scale). A file that cannot be used keeps the robot that was there."""
+        try:
+            if "name" in msg:
+                name = _text(msg, "name", 200)
+                if name not in shipped_robots():
+                    raise BadMessage(f"no shipped robot '{name}'")
+                robot = articula.Robot.load(name)
+            else:
+                text = _text(msg, "text")
+                filename = _text(msg, "filename", 200) if "filename" in msg else "robot.json"
+                if msg.get("legacy"):
+                    import tempfile
+                    scale = _num(msg, "scale", 1e-6, 1e6)
+                    with tempfile.NamedTemporaryFile("w", suffix=".txt", delete=False) as f:
+                        f.write(text)
+                    try:
+                        robot = articula.Robot.from_legacy(f.name, scale)
+                    finally:
+                        os.unlink(f.name)
+                else:
+                    robot = articula.Robot.parse(text, filename)
+        except (articula.RobotFileError, articula.LegacyError) as e:
+            return [{"type": "robot_error", "message": str(e).replace(str(Path(os.sep, "tmp")), "")}]
+        self.load(robot)
+        return [self.robot_message(), self.pose_message()]
+
+    def on_export_urdf(self, msg) -> list[dict]:
+        return [{"type": "urdf", "name": self.robot.name, "xml": self.robot.to_urdf()}]
+
+    def on_status_text(self, msg) -> list[dict]:
+        code = int(_num(msg, "code", 0, 255))
+        return [{"type": "status_text", "code": code, "text": articula.status_text(code)}]

@@ -1,0 +1,518 @@
+// Articula Studio's page: panels around the 3D view. It sends intents to the server
+// ("set joint 2 to 30 deg", "solve for this target", "run this program") and draws the
+// poses that come back; it never computes kinematics itself (docs/studio.md).
+import { View } from "./view";
+import { Plots } from "./plots";
+import { startTour } from "./tour";
+import type { IkMsg, PoseMsg, RobotMsg, ServerMsg, TimelineMsg } from "./protocol";
+
+const $ = <T extends HTMLElement = HTMLElement>(id: string) => document.getElementById(id) as T;
+const token = new URLSearchParams(location.search).get("token") ?? "";
+
+// ---- the test hook: state to read, never to write (tests read it instead of pixels)
+interface Hook {
+  ready: boolean;
+  connected: boolean;
+  robot: RobotMsg | null;
+  pose: PoseMsg | null;
+  ik: IkMsg | null;
+  timeline: TimelineMsg | null;
+  playing: boolean;
+  programError: string;
+  robotError: string;
+  lastError: string;
+  teach: string;
+  fps: number;
+  framesDrawn: number;
+  firstFrameAt: number; // performance.now() of the first frame with the arm drawn
+  latency: number[]; // ms from a slider's input to the frame that shows its pose
+  ikUpdates: number[]; // performance.now() of each IK pose drawn while dragging
+  messages: number;
+}
+const hook: Hook = {
+  ready: false, connected: false, robot: null, pose: null, ik: null, timeline: null, playing: false,
+  programError: "", robotError: "", lastError: "", teach: "", fps: 0, framesDrawn: 0, firstFrameAt: 0,
+  latency: [], ikUpdates: [], messages: 0,
+};
+const readOnly = new Proxy(hook, { set: () => false, deleteProperty: () => false });
+Object.defineProperty(window, "articula", { value: readOnly, writable: false });
+
+const view = new View($("view"));
+const plots = new Plots($("plots"));
+let robot: RobotMsg | null = null;
+let ws: WebSocket;
+let seq = 0;
+const sentAt = new Map<number, number>();
+let pendingDrawn: number[] = []; // seqs applied, waiting for the frame that shows them
+let inFlight = false; // one pose request at a time; the latest intent waits
+let queued: Record<string, unknown> | null = null;
+let dragging = false;
+let needFit: Promise<void> | null = null; // a new robot: frame it once its first pose is drawn
+
+function send(msg: Record<string, unknown>): void {
+  if (ws?.readyState === WebSocket.OPEN) ws.send(JSON.stringify(msg));
+}
+
+// Slider and drag intents: one in flight, the newest replaces any waiting one.
+function request(msg: Record<string, unknown>): void {
+  msg.seq = ++seq;
+  sentAt.set(seq, performance.now());
+  if (inFlight) {
+    queued = msg;
+    return;
+  }
+  inFlight = true;
+  send(msg);
+}
+
+function replyArrived(): void {
+  inFlight = false;
+  if (queued) {
+    const next = queued;
+    queued = null;
+    inFlight = true;
+    send(next);
+  }
+}
+
+view.onFrame = (now) => {
+  hook.fps = view.fps;
+  hook.framesDrawn = view.framesDrawn;
+  if (!hook.firstFrameAt && hook.pose && robot) hook.firstFrameAt = now;
+  for (const s of pendingDrawn) {
+    const t0 = sentAt.get(s);
+    if (t0 !== undefined) {
+      hook.latency.push(now - t0);
+      sentAt.delete(s);
+    }
+  }
+  pendingDrawn = [];
+};
+
+// ---- connection
+
+function connect(): void {
+  const proto = location.protocol === "https:" ? "wss:" : "ws:";
+  ws = new WebSocket(`${proto}//${location.host}/ws?token=${encodeURIComponent(token)}`);
+  ws.onopen = () => {
+    hook.connected = true;
+    setConn("connected", "ok");
+    send({ type: "hello" });
+  };
+  ws.onclose = () => {
+    hook.connected = false;
+    inFlight = false;
+    setConn("disconnected: is articula-studio still running?", "bad");
+    setTimeout(connect, 2000);
+  };
+  ws.onmessage = (e) => {
+    hook.messages++;
+    handle(JSON.parse(e.data) as ServerMsg);
+  };
+}
+
+function setConn(text: string, kind: "ok" | "bad"): void {
+  const c = $("conn");
+  c.textContent = text;
+  c.className = `conn ${kind}`;
+}
+
+function banner(text: string, kind: "error" | "info" = "error"): void {
+  $("banner-text").textContent = text;
+  $("banner").className = `banner ${kind}`;
+  $("banner").hidden = false;
+}
+$("banner-close").onclick = () => ($("banner").hidden = true);
+
+// ---- messages from the server
+
+function handle(m: ServerMsg): void {
+  switch (m.type) {
+    case "robot":
+      buildRobot(m);
+      break;
+    case "pose":
+      showPose(m);
+      break;
+    case "ik":
+    case "jt_frame":
+      showIk(m);
+      break;
+    case "timeline":
+      hook.timeline = m;
+      hook.programError = "";
+      plots.show(m);
+      programStatus(`${m.records.length} commands, ${m.summary.rejected ?? 0} rejected` +
+        (m.summary.worst_error_mm !== undefined ? `, worst quantization error ${m.summary.worst_error_mm.toFixed(3)} mm` : "") +
+        `, ${m.duration.toFixed(2)} s`, rejectedLines(m));
+      if (autoplay) {
+        autoplay = false;
+        send({ type: "play" });
+      }
+      break;
+    case "playing":
+      hook.playing = m.playing;
+      $("run").classList.toggle("active", m.playing);
+      break;
+    case "program_error":
+      hook.programError = m.message;
+      programStatus(m.message, [], true);
+      highlightLine(m.line, true);
+      break;
+    case "program_text":
+      ($("editor") as HTMLTextAreaElement).value = m.text;
+      currentProgram = m.name;
+      editorChanged();
+      break;
+    case "robot_error":
+      hook.robotError = m.message;
+      banner(`This robot file cannot be used, the robot stays ${robot?.name ?? ""}: ${m.message}`);
+      break;
+    case "teach": {
+      hook.teach = m.line;
+      const ed = $("editor") as HTMLTextAreaElement;
+      ed.value = ed.value.replace(/\s*$/, "") + (ed.value.trim() ? "\n" : "") + m.line + "\n";
+      editorChanged();
+      programStatus(`taught: ${m.line.replace(/\n/g, " ")}`);
+      break;
+    }
+    case "urdf":
+      download(`${m.name.replace(/\W+/g, "_")}.urdf`, m.xml, "application/xml");
+      break;
+    case "error":
+      hook.lastError = m.message;
+      replyArrived();
+      banner(m.message);
+      break;
+  }
+}
+
+function buildRobot(r: RobotMsg): void {
+  robot = r;
+  hook.robot = r;
+  hook.robotError = "";
+  hook.timeline = null;
+  const built = view.build(r, token);
+  $("robot-name").textContent = r.description ? `${r.name}: ${r.description}` : r.name;
+  $("robot-name").title = r.source;
+  const sel = $("robot-select") as HTMLSelectElement;
+  sel.innerHTML = r.robots.map((n) => `<option>${n}</option>`).join("");
+  const stem = r.source.split("/").pop()?.replace(/\.json$/, "") ?? "";
+  sel.value = r.robots.includes(stem) ? stem : "";
+  const ps = $("program-select") as HTMLSelectElement;
+  ps.innerHTML = `<option value="">examples&hellip;</option>` + r.programs.map((n) => `<option>${n}</option>`).join("");
+  buildJoints(r);
+  $("gripper-row").hidden = !r.gripper;
+  plots.clear();
+  if (r.import_notes.length) banner(`Imported. ${r.import_notes.length} things had no place in a robot file; the first: ${r.import_notes[0]}`, "info");
+  needFit = built;
+}
+
+function buildJoints(r: RobotMsg): void {
+  const box = $("joints");
+  box.innerHTML = "";
+  r.joints.forEach((j, i) => {
+    const row = document.createElement("div");
+    row.className = "joint";
+    const step = j.unit === "deg" ? 0.1 : 0.5;
+    row.innerHTML = `<label title="${j.param === "theta" ? "An angle about z" : j.param === "alpha" ? "A twist about x" : "A slide along z"} of DH row ${j.row}: ${j.min} .. ${j.max} ${j.unit}">${j.name} <span class="unit">${j.param}<sub>${j.param === "alpha" ? j.row - 1 : j.row}</sub>, ${j.unit}</span></label>
+      <input type="range" min="${j.min}" max="${j.max}" step="${step}" data-joint="${i}">
+      <input type="number" min="${j.min}" max="${j.max}" step="${step}" data-joint="${i}">`;
+    box.appendChild(row);
+  });
+  box.querySelectorAll<HTMLInputElement>("input").forEach((inp) => {
+    inp.addEventListener("input", () => {
+      const v = parseFloat(inp.value);
+      if (!Number.isFinite(v)) return;
+      request({ type: "set_joint", joint: Number(inp.dataset.joint), value: v });
+    });
+  });
+  const w = $("weights");
+  w.innerHTML = (r.motors.length ? r.motors : r.joints.map((j) => j.name))
+    .map((n, i) => `<label>${n} <input type="number" min="0" step="0.1" value="1" data-weight="${i}"></label>`)
+    .join("");
+}
+
+function fmt(v: number, d = 2): string {
+  return (Math.abs(v) < 0.5 * 10 ** -d ? 0 : v).toFixed(d);
+}
+
+function showPose(p: PoseMsg): void {
+  hook.pose = p;
+  if (p.seq !== undefined && p.seq !== null) {
+    pendingDrawn.push(p.seq);
+    replyArrived();
+  }
+  if (!showGhost) delete p.ghost;
+  view.pose(p);
+  if (needFit) {
+    needFit.then(() => requestAnimationFrame(() => view.fit(false)));
+    needFit = null;
+  }
+  if (!robot) return;
+  // sliders and numbers follow the pose (not the one being dragged)
+  $("joints").querySelectorAll<HTMLInputElement>("input").forEach((inp) => {
+    const v = p.q[Number(inp.dataset.joint)];
+    if (document.activeElement !== inp) inp.value = inp.type === "number" ? fmt(v, 2) : String(v);
+  });
+  const g = $("gripper") as HTMLInputElement;
+  if (document.activeElement !== g) g.value = String(p.gripper);
+  ($("gripper-num") as HTMLInputElement).value = fmt(p.gripper, 0);
+  const linkedParams = new Set<string>();
+  robot.dh.forEach((row, i) => {
+    for (const k of ["a", "alpha", "d", "theta"]) {
+      const v = row[k] as Record<string, unknown> | number;
+      if (typeof v === "object" && v && "linked" in v) linkedParams.add(`${i}.${k}`);
+    }
+  });
+  const varParams = new Set(robot.joints.map((j) => `${j.row - 1}.${j.param}`));
+  $("dh").querySelector("tbody")!.innerHTML = p.dh_table
+    .map((r, i) => {
+      const cells = ["a", "alpha", "d", "theta"].map((k, c) => {
+        const cls = varParams.has(`${i}.${k}`) ? "var" : linkedParams.has(`${i}.${k}`) ? "linked" : "";
+        return `<td class="${cls}">${fmt(r[c], c % 2 ? 2 : 1)}</td>`;
+      });
+      return `<tr><td>${i + 1}</td>${cells.join("")}</tr>`;
+    })
+    .join("");
+  const [x, y, z] = p.tool.xyz;
+  const [ro, pi, ya] = p.tool.rpy;
+  $("tool").innerHTML = `<div><b>x</b> ${fmt(x)}</div><div><b>y</b> ${fmt(y)}</div><div><b>z</b> ${fmt(z)} <span class="unit">mm</span></div>
+    <div><b>roll</b> ${fmt(ro, 1)}</div><div><b>pitch</b> ${fmt(pi, 1)}</div><div><b>yaw</b> ${fmt(ya, 1)} <span class="unit">deg</span></div>`;
+  if (p.t !== undefined) {
+    plots.playhead(p.t);
+    highlightLine(p.line ?? 0, false);
+    const err = p.error_mm !== undefined ? `, quantization error ${p.error_mm.toFixed(3)} mm` : "";
+    $("view-status").textContent = `t = ${p.t.toFixed(2)} s, line ${p.line ?? 0}${err}${p.steps ? `, steps ${p.steps.join(" ")}` : ""}`;
+  }
+  if (!$("show-target").matches(":checked") || !dragging) {
+    syncTargetInputs(p.tool.xyz, p.tool.rpy, false);
+  }
+  if (!hook.ready) {
+    hook.ready = true;
+    syncTargetInputs(p.tool.xyz, p.tool.rpy, true);
+  }
+}
+
+function syncTargetInputs(xyz: number[], rpy: number[], moveGizmo: boolean): void {
+  if (document.activeElement?.closest("#ik-section")) return;
+  ["tx", "ty", "tz"].forEach((id, i) => (($(id) as HTMLInputElement).value = fmt(xyz[i], 1)));
+  ["troll", "tpitch", "tyaw"].forEach((id, i) => (($(id) as HTMLInputElement).value = fmt(rpy[i], 1)));
+  if (moveGizmo || !view.target.visible) view.setTarget(xyz, rpy);
+}
+
+function showIk(m: IkMsg): void {
+  hook.ik = m;
+  if (dragging) hook.ikUpdates.push(performance.now());
+  const el = $("ik-status");
+  const err = `${m.position_error_mm.toFixed(3)} mm` + (m.orientation_error_deg ? `, ${m.orientation_error_deg.toFixed(3)} deg` : "");
+  let text = "";
+  if (m.status === "reached") text = `Reached (${m.solver}, ${m.iterations} iterations): ${err} from the target.`;
+  else if (m.status === "unreachable") text = `Unreachable: the arm stretches toward it and stays ${err} away` + (m.beyond_reach ? " (farther than the arm is long)." : ".");
+  else if (m.status === "limited") text = `Not reached: held back by the limit of ${m.limited_by.join(", ") || "a joint"}; ${err} away.`;
+  else text = `Not reached yet after ${m.iterations} iterations: ${err} away.`;
+  if (m.type === "jt_frame") {
+    text = `Jacobian transpose, iteration ${m.iteration}: ${err} away.`;
+    if (m.done) text += m.status === "reached" ? " Converged." : m.status === "budget" ? " Stopped: it stopped improving (stuck in a local minimum, or the arm 'fell in line')." : ` Stopped: ${m.status}.`;
+    else if ((m.iteration ?? 0) >= 400) text += " Stopped after 400 iterations.";
+  }
+  el.textContent = text;
+  el.className = `status ${m.status === "reached" ? "ok" : m.status === "budget" && m.type === "jt_frame" && !m.done ? "" : "bad"}`;
+}
+
+// ---- controls: robot, joints, IK
+
+$("robot-select").addEventListener("change", (e) => {
+  send({ type: "load_robot", name: (e.target as HTMLSelectElement).value });
+});
+$("open-robot").onclick = () => $("robot-file").click();
+$("robot-file").addEventListener("change", async (e) => {
+  const f = (e.target as HTMLInputElement).files?.[0];
+  if (!f) return;
+  const text = await f.text();
+  (e.target as HTMLInputElement).value = "";
+  if (f.name.toLowerCase().endsWith(".json")) {
+    send({ type: "load_robot", text, filename: f.name });
+  } else {
+    const s = prompt(`${f.name} is a robot file of the thesis's original system: how many millimetres is one of its units? (the thesis's MK2 model: 25.75)`, "10");
+    if (s === null) return;
+    const scale = parseFloat(s);
+    if (!(scale > 0)) return banner("The scale must be a number above 0");
+    send({ type: "load_robot", text, filename: f.name, legacy: true, scale });
+  }
+});
+$("export-urdf").onclick = () => send({ type: "export_urdf" });
+$("home").onclick = () => send({ type: "home" });
+$("zero").onclick = () => send({ type: "zero" });
+for (const id of ["gripper", "gripper-num"]) {
+  $(id).addEventListener("input", (e) => {
+    const v = parseFloat((e.target as HTMLInputElement).value);
+    if (Number.isFinite(v)) send({ type: "gripper", percent: Math.min(100, Math.max(0, v)) });
+  });
+}
+$("fit").onclick = () => view.fit();
+$("show-axes").addEventListener("change", (e) => view.showAxes((e.target as HTMLInputElement).checked));
+$("show-target").addEventListener("change", (e) => {
+  const on = (e.target as HTMLInputElement).checked;
+  if (on && hook.pose) view.setTarget(hook.pose.tool.xyz, hook.pose.tool.rpy);
+  view.showTarget(on);
+});
+$("gizmo-mode").addEventListener("change", (e) => view.gizmoMode((e.target as HTMLSelectElement).value as "translate" | "rotate"));
+$("use-rpy").addEventListener("change", (e) => ($("rpy-row").hidden = !(e.target as HTMLInputElement).checked));
+
+function ikMessage(type: string, xyz?: number[], rpy?: number[]): Record<string, unknown> {
+  const num = (id: string) => parseFloat(($(id) as HTMLInputElement).value);
+  const pos = xyz ?? [num("tx"), num("ty"), num("tz")];
+  const useRpy = ($("use-rpy") as HTMLInputElement).checked;
+  const ang = rpy ?? [num("troll"), num("tpitch"), num("tyaw")];
+  const msg: Record<string, unknown> = { type, target: useRpy ? [...pos, ...ang] : pos, solver: ($("solver") as HTMLSelectElement).value };
+  const w = [...$("weights").querySelectorAll<HTMLInputElement>("input")].map((i) => parseFloat(i.value));
+  if (w.some((v) => v !== 1)) msg.weights = w;
+  return msg;
+}
+
+$("solve").onclick = () => {
+  const m = ikMessage("ik");
+  view.setTarget((m.target as number[]).slice(0, 3), (m.target as number[]).slice(3));
+  send(m);
+};
+$("animate-jt").onclick = () => {
+  const m = ikMessage("jt_animate");
+  view.setTarget((m.target as number[]).slice(0, 3), (m.target as number[]).slice(3));
+  send(m);
+};
+for (const id of ["tx", "ty", "tz", "troll", "tpitch", "tyaw"]) {
+  $(id).addEventListener("keydown", (e) => {
+    if ((e as KeyboardEvent).key === "Enter") $("solve").click();
+  });
+}
+view.onTarget = (t, final) => {
+  dragging = !final;
+  ["tx", "ty", "tz"].forEach((id, i) => (($(id) as HTMLInputElement).value = fmt(t.xyz[i], 1)));
+  ["troll", "tpitch", "tyaw"].forEach((id, i) => (($(id) as HTMLInputElement).value = fmt(t.rpy[i], 1)));
+  request(ikMessage("ik", t.xyz, t.rpy));
+};
+
+document.addEventListener("keydown", (e) => {
+  const t = e.target as HTMLElement;
+  if (t.closest("input, textarea, select")) return;
+  if (view.key(e.code)) e.preventDefault();
+});
+
+// ---- programs
+
+let currentProgram = "program.arm";
+let autoplay = false;
+let showGhost = true;
+const editor = $("editor") as HTMLTextAreaElement;
+
+function editorChanged(): void {
+  const n = editor.value.split("\n").length;
+  $("gutter").innerHTML = Array.from({ length: n }, (_, i) => `<div>${i + 1}</div>`).join("");
+  $("gutter").scrollTop = editor.scrollTop;
+  hook.timeline = null;
+}
+editor.addEventListener("input", editorChanged);
+editor.addEventListener("scroll", () => {
+  $("gutter").scrollTop = editor.scrollTop;
+  positionLine();
+});
+let lineShown = 0;
+function highlightLine(line: number, error: boolean): void {
+  lineShown = line;
+  const bar = $("current-line");
+  bar.hidden = line <= 0;
+  bar.classList.toggle("error", error);
+  positionLine();
+}
+function positionLine(): void {
+  const lh = parseFloat(getComputedStyle(editor).lineHeight) || 18;
+  const pad = parseFloat(getComputedStyle(editor).paddingTop) || 0;
+  $("current-line").style.top = `${pad + (lineShown - 1) * lh - editor.scrollTop}px`;
+  $("current-line").style.height = `${lh}px`;
+}
+
+function programStatus(text: string, rejected: string[] = [], bad = false): void {
+  const el = $("program-status");
+  el.innerHTML = "";
+  const head = document.createElement("div");
+  head.textContent = text;
+  el.appendChild(head);
+  for (const r of rejected) {
+    const d = document.createElement("div");
+    d.className = "rejected";
+    d.textContent = r;
+    el.appendChild(d);
+  }
+  el.className = `status ${bad ? "bad" : ""}`;
+}
+
+function rejectedLines(m: TimelineMsg): string[] {
+  return m.records
+    .filter((r) => r.reply !== "ok")
+    .map((r) => `line ${r.line}: ${r.command} → error:${r.code}, ${r.error}: nothing moves`);
+}
+
+function loadProgram(): void {
+  send({ type: "program_load", text: editor.value, name: currentProgram });
+}
+
+$("program-select").addEventListener("change", (e) => {
+  const name = (e.target as HTMLSelectElement).value;
+  if (name) send({ type: "program_open", name });
+  (e.target as HTMLSelectElement).value = "";
+});
+$("open-program").onclick = () => $("program-file").click();
+$("program-file").addEventListener("change", async (e) => {
+  const f = (e.target as HTMLInputElement).files?.[0];
+  if (!f) return;
+  editor.value = await f.text();
+  currentProgram = f.name;
+  (e.target as HTMLInputElement).value = "";
+  editorChanged();
+});
+$("save-program").onclick = () => download(currentProgram, editor.value, "text/plain");
+$("run").onclick = () => {
+  if (hook.timeline) send({ type: "play" });
+  else {
+    autoplay = true;
+    loadProgram();
+  }
+};
+$("pause").onclick = () => send({ type: "pause" });
+$("step").onclick = () => {
+  if (hook.timeline) send({ type: "step" });
+  else loadProgram();
+};
+$("reset").onclick = () => {
+  if (hook.timeline) send({ type: "rewind" });
+  else loadProgram();
+};
+$("teach").onclick = () => {
+  const robosim = currentProgram.endsWith(".robosim") || /^\s*[a-z]\s*$/m.test(editor.value.split("\n").find((l) => l.trim() && !l.trim().startsWith("#")) ?? "");
+  send({ type: "teach", format: robosim ? "robosim" : "protocol" });
+};
+$("show-ghost").addEventListener("change", (e) => {
+  showGhost = (e.target as HTMLInputElement).checked;
+  if (!showGhost) view.pose({ ...hook.pose!, ghost: undefined });
+});
+plots.onSeek = (t) => send({ type: "seek", t });
+
+$("export-png").onclick = () => plots.png().then((blob) => blob && download("articula-plots.png", blob, "image/png"));
+$("export-csv").onclick = () => hook.timeline && download("articula-timeline.csv", plots.csv(hook.timeline), "text/csv");
+
+function download(name: string, data: string | Blob, type: string): void {
+  const blob = typeof data === "string" ? new Blob([data], { type }) : data;
+  const a = document.createElement("a");
+  a.href = URL.createObjectURL(blob);
+  a.download = name;
+  a.click();
+  setTimeout(() => URL.revokeObjectURL(a.href), 1000);
+}
+
+// ---- start
+
+$("tour-button").onclick = () => startTour(true);
+editorChanged();
+connect();
+startTour(false);

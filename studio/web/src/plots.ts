@@ -1,0 +1,122 @@
+// The program's time line as plots (uPlot): joint values, tool position and the quantization
+// error, a playhead that follows the arm, PNG and CSV export. The values are the server's
+// (the prediction's records); the page only draws them.
+import uPlot from "uplot";
+import type { TimelineMsg } from "./protocol";
+
+const COLORS = ["#3d5a80", "#ee6c4d", "#2a9d8f", "#e0a458", "#6d597a", "#b56576", "#457b9d", "#8d99ae"];
+
+export class Plots {
+  private charts: uPlot[] = [];
+  private t = -1;
+  onSeek: (t: number) => void = () => {};
+
+  constructor(readonly host: HTMLElement) {}
+
+  clear(): void {
+    this.charts.forEach((c) => c.destroy());
+    this.charts = [];
+    this.host.innerHTML = `<p class="hint">Run a program to see its joints, tool and quantization error over time.</p>`;
+  }
+
+  // Each action moves from the pose before it to its own between its start and its end; a
+  // zero-time command adds nothing.
+  private series(m: TimelineMsg) {
+    const t: number[] = [0];
+    const ok = m.records.filter((r) => r.reply === "ok");
+    const first = ok[0];
+    const joints: number[][] = m.joints.map((_, j) => [first ? first.q[j] : 0]);
+    const tool: number[][] = [0, 1, 2].map((k) => [first ? first.tool[k] : 0]);
+    const err: number[] = [first ? first.error_mm : 0];
+    let prev = first;
+    for (const r of ok) {
+      if (r.end_s > r.start_s) {
+        t.push(r.start_s, r.end_s);
+        joints.forEach((s, j) => s.push(prev.q[j], r.q[j]));
+        tool.forEach((s, k) => s.push(prev.tool[k], r.tool[k]));
+        err.push(prev.error_mm, r.error_mm);
+      }
+      prev = r;
+    }
+    return { t, joints, tool, err };
+  }
+
+  show(m: TimelineMsg): void {
+    this.clear();
+    this.host.innerHTML = "";
+    const { t, joints, tool, err } = this.series(m);
+    const width = Math.max(280, Math.floor((this.host.clientWidth - 24) / 3));
+    const height = Math.max(120, this.host.clientHeight - 46);
+    const playhead = (u: uPlot) => {
+      if (this.t < 0) return;
+      const x = u.valToPos(this.t, "x", true);
+      const ctx = u.ctx;
+      ctx.save();
+      ctx.strokeStyle = "#d62828";
+      ctx.lineWidth = 2 * devicePixelRatio;
+      ctx.beginPath();
+      ctx.moveTo(x, u.bbox.top);
+      ctx.lineTo(x, u.bbox.top + u.bbox.height);
+      ctx.stroke();
+      ctx.restore();
+    };
+    const make = (title: string, unit: string, names: string[], data: number[][]) => {
+      const opts: uPlot.Options = {
+        title, width, height,
+        scales: { x: { time: false } },
+        axes: [{ label: "time (s)", size: 36 }, { label: unit, size: 52 }],
+        series: [{ label: "t (s)" }, ...names.map((n, i) => ({ label: n, stroke: COLORS[i % COLORS.length], width: 2 }))],
+        legend: { show: true },
+        cursor: { drag: { x: false, y: false } },
+        hooks: { draw: [playhead] },
+      };
+      const div = document.createElement("div");
+      div.className = "plot";
+      this.host.appendChild(div);
+      const u = new uPlot(opts, [t, ...data] as uPlot.AlignedData, div);
+      u.over.addEventListener("click", (e) => {
+        const x = u.posToVal((e as MouseEvent).offsetX, "x");
+        if (Number.isFinite(x)) this.onSeek(Math.max(0, Math.min(m.duration, x)));
+      });
+      this.charts.push(u);
+    };
+    make("Joint values (whole steps)", m.joints.some(() => true) ? "deg or mm" : "", m.joints, joints);
+    make("Tool position", "mm", ["x", "y", "z"], tool);
+    make("Quantization error", "mm", ["|quantized - ideal|"], [err]);
+  }
+
+  playhead(t: number): void {
+    this.t = t;
+    this.charts.forEach((c) => c.redraw(false, false));
+  }
+
+  async png(): Promise<Blob | null> {
+    if (!this.charts.length) return null;
+    const canvases = this.charts.map((c) => c.ctx.canvas);
+    const out = document.createElement("canvas");
+    const pad = 40 * devicePixelRatio;
+    out.width = canvases.reduce((s, c) => s + c.width, 0);
+    out.height = Math.max(...canvases.map((c) => c.height)) + pad;
+    const g = out.getContext("2d")!;
+    g.fillStyle = "#fff";
+    g.fillRect(0, 0, out.width, out.height);
+    g.fillStyle = "#1d3557";
+    g.font = `${14 * devicePixelRatio}px system-ui, sans-serif`;
+    let x = 0;
+    this.charts.forEach((c, i) => {
+      g.fillText(c.root.querySelector(".u-title")?.textContent ?? `plot ${i + 1}`, x + 12, 24 * devicePixelRatio);
+      g.drawImage(c.ctx.canvas, x, pad);
+      x += c.ctx.canvas.width;
+    });
+    return new Promise((resolve) => out.toBlob(resolve, "image/png"));
+  }
+
+  csv(m: TimelineMsg): string {
+    const head = ["line", "command", "reply", "start_s", "end_s", ...m.joints.map((j) => `joint_${j}`),
+      "tool_x", "tool_y", "tool_z", "ideal_x", "ideal_y", "ideal_z", "error_mm"];
+    const q = (s: string) => (/[",\n]/.test(s) ? `"${s.replace(/"/g, '""')}"` : s);
+    const rows = m.records.map((r) => [r.line, q(r.command), r.reply === "ok" ? "ok" : `error:${r.code}`, r.start_s, r.end_s,
+      ...r.q, ...r.tool, ...r.tool_ideal, r.error_mm].join(","));
+    return [head.join(","), ...rows].join("\n") + "\n";
+  }
+}

@@ -1,0 +1,118 @@
+// The messages between the page and the server (docs/studio.md, "Messages"). The server
+// computes every pose; the page sends intents and draws what comes back.
+
+export type Flat4x4 = number[]; // a 4x4 homogeneous matrix, row-major, mm
+
+export interface Joint {
+  name: string;
+  row: number;
+  param: "theta" | "d" | "alpha";
+  unit: "deg" | "mm";
+  min: number;
+  max: number;
+}
+
+export interface Shape {
+  type: "box" | "cylinder" | "capsule" | "sphere" | "mesh";
+  size: number[];
+  pose: Flat4x4;
+  url?: string;
+  format?: string;
+}
+
+export interface RobotMsg {
+  type: "robot";
+  name: string;
+  description: string;
+  source: string;
+  joints: Joint[];
+  dh: Record<string, unknown>[];
+  num_rows: number;
+  home: number[];
+  motors: string[];
+  links: { frame: number; shapes: Shape[] }[];
+  gripper: null | {
+    max_opening_mm: number;
+    finger_length_mm: number;
+    finger_thickness_mm: number;
+    finger_height_mm: number;
+  };
+  reach_mm: number;
+  robots: string[];
+  programs: string[];
+  import_notes: string[];
+}
+
+export interface PoseMsg {
+  type: "pose";
+  q: number[];
+  frames: Flat4x4[]; // base, frame 1..n, tool
+  tool: { xyz: number[]; rpy: number[] };
+  dh_table: number[][]; // a, alpha, d, theta per row
+  gripper: number;
+  within_limits: boolean;
+  fingers?: Flat4x4[];
+  ghost?: Flat4x4[];
+  seq?: number | null;
+  t?: number;
+  line?: number;
+  steps?: number[] | null;
+  error_mm?: number;
+}
+
+export interface IkMsg {
+  type: "ik" | "jt_frame";
+  status: "reached" | "unreachable" | "limited" | "budget";
+  solver: string;
+  position_error_mm: number;
+  orientation_error_deg: number;
+  iterations: number;
+  limited_by: string[];
+  beyond_reach: boolean;
+  seq?: number | null;
+  iteration?: number;
+  done?: boolean;
+}
+
+export interface TimelineRecord {
+  line: number;
+  command: string;
+  reply: string;
+  code: number;
+  error: string;
+  note: string;
+  start_s: number;
+  end_s: number;
+  q: number[];
+  q_ideal: number[];
+  tool: number[];
+  tool_ideal: number[];
+  error_mm: number;
+  steps: number[] | null;
+  gripper: number | null;
+}
+
+export interface TimelineMsg {
+  type: "timeline";
+  name: string;
+  format: "protocol" | "robosim";
+  records: TimelineRecord[];
+  duration: number;
+  joints: string[];
+  summary: Record<string, number>;
+}
+
+export type ServerMsg =
+  | RobotMsg
+  | PoseMsg
+  | IkMsg
+  | TimelineMsg
+  | { type: "robot_error"; message: string }
+  | { type: "program_error"; message: string; line: number }
+  | { type: "program_text"; name: string; text: string }
+  | { type: "programs"; programs: string[] }
+  | { type: "playing"; t: number; playing: boolean; ended?: boolean }
+  | { type: "teach"; line: string }
+  | { type: "urdf"; name: string; xml: string }
+  | { type: "status_text"; code: number; text: string }
+  | { type: "error"; message: string; request?: string | null };

@@ -1,0 +1,381 @@
+// The 3D view: one three.js scene graph where each DH frame is a Group whose children are
+// that frame's shapes and axes, so a pose from the server is one matrix per frame (the page
+// computes no kinematics). Z is up, lengths are millimetres, as in the robot files.
+import * as THREE from "three";
+import { OrbitControls } from "three/examples/jsm/controls/OrbitControls.js";
+import { TransformControls } from "three/examples/jsm/controls/TransformControls.js";
+import { STLLoader } from "three/examples/jsm/loaders/STLLoader.js";
+import { OBJLoader } from "three/examples/jsm/loaders/OBJLoader.js";
+import type { Flat4x4, PoseMsg, RobotMsg, Shape } from "./protocol";
+
+const LINK_COLORS = [0x3d5a80, 0xee6c4d, 0x98c1d9, 0xe0a458, 0x6d9f71, 0xb56576, 0x8d99ae];
+
+export function setMatrix(obj: THREE.Object3D, m: Flat4x4): void {
+  obj.matrix.set(m[0], m[1], m[2], m[3], m[4], m[5], m[6], m[7], m[8], m[9], m[10], m[11], m[12], m[13], m[14], m[15]);
+  obj.matrixWorldNeedsUpdate = true;
+}
+
+function label(text: string, color = "#1d3557"): THREE.Sprite {
+  const c = document.createElement("canvas");
+  c.width = c.height = 64;
+  const g = c.getContext("2d")!;
+  g.fillStyle = "rgba(255,255,255,0.92)";
+  g.beginPath();
+  g.arc(32, 32, 26, 0, Math.PI * 2);
+  g.fill();
+  g.strokeStyle = color;
+  g.lineWidth = 4;
+  g.stroke();
+  g.fillStyle = color;
+  g.font = "bold 30px system-ui, sans-serif";
+  g.textAlign = "center";
+  g.textBaseline = "middle";
+  g.fillText(text, 32, 34);
+  const s = new THREE.Sprite(new THREE.SpriteMaterial({ map: new THREE.CanvasTexture(c), depthTest: false }));
+  s.renderOrder = 10;
+  return s;
+}
+
+export interface TargetChange {
+  xyz: number[];
+  rpy: number[]; // fixed X-Y-Z, deg
+}
+
+export class View {
+  readonly renderer: THREE.WebGLRenderer;
+  readonly scene = new THREE.Scene();
+  readonly camera: THREE.PerspectiveCamera;
+  readonly controls: OrbitControls;
+  readonly gizmo: TransformControls;
+  readonly target = new THREE.Group();
+  frames: THREE.Group[] = [];
+  ghost: THREE.Group[] = [];
+  fingers: THREE.Mesh[] = [];
+  ghostFingers: THREE.Mesh[] = [];
+  axes: THREE.Object3D[] = [];
+  reach = 500;
+  onTarget: (t: TargetChange, final: boolean) => void = () => {};
+  onFrame: (now: number) => void = () => {};
+  private arm = new THREE.Group();
+  private ghostArm = new THREE.Group();
+  private grid: THREE.GridHelper | null = null;
+  private ground: THREE.Mesh;
+  private frameTimes: number[] = [];
+  fps = 0;
+  framesDrawn = 0;
+
+  constructor(readonly host: HTMLElement) {
+    this.renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
+    this.renderer.setPixelRatio(Math.min(window.devicePixelRatio, 2));
+    this.renderer.outputColorSpace = THREE.SRGBColorSpace;
+    host.appendChild(this.renderer.domElement);
+    this.scene.background = new THREE.Color(0xeef2f6);
+    this.scene.fog = new THREE.Fog(0xeef2f6, 4000, 9000);
+
+    this.camera = new THREE.PerspectiveCamera(40, 1, 1, 20000);
+    this.camera.up.set(0, 0, 1);
+    this.camera.position.set(900, -700, 600);
+    this.controls = new OrbitControls(this.camera, this.renderer.domElement);
+    this.controls.enableDamping = true;
+    this.controls.dampingFactor = 0.15;
+    this.controls.target.set(0, 0, 150);
+
+    this.scene.add(new THREE.HemisphereLight(0xffffff, 0x8a94a6, 1.6));
+    const sun = new THREE.DirectionalLight(0xffffff, 1.8);
+    sun.position.set(600, -900, 1400);
+    this.scene.add(sun);
+    const fill = new THREE.DirectionalLight(0xdfe8ff, 0.6);
+    fill.position.set(-800, 600, 400);
+    this.scene.add(fill);
+
+    this.ground = new THREE.Mesh(
+      new THREE.CircleGeometry(1, 96),
+      new THREE.MeshStandardMaterial({ color: 0xdde3ea, roughness: 0.95, metalness: 0 }),
+    );
+    this.ground.position.z = -0.5;
+    this.scene.add(this.ground);
+    this.scene.add(this.arm, this.ghostArm);
+
+    // The IK target: a ball with its own axes, moved by the gizmo.
+    const ball = new THREE.Mesh(
+      new THREE.SphereGeometry(1, 24, 16),
+      new THREE.MeshStandardMaterial({ color: 0xf4a259, emissive: 0x6b3a0c, roughness: 0.4 }),
+    );
+    ball.name = "target-ball";
+    this.target.add(ball, new THREE.AxesHelper(1));
+    this.target.visible = false;
+    this.scene.add(this.target);
+    this.gizmo = new TransformControls(this.camera, this.renderer.domElement);
+    this.gizmo.setSize(0.8);
+    this.gizmo.attach(this.target);
+    this.gizmo.enabled = false;
+    this.gizmo.getHelper().visible = false;
+    this.scene.add(this.gizmo.getHelper());
+    this.gizmo.addEventListener("dragging-changed", (e) => {
+      this.controls.enabled = !(e as unknown as { value: boolean }).value;
+      if (!(e as unknown as { value: boolean }).value) this.onTarget(this.targetValue(), true);
+    });
+    this.gizmo.addEventListener("objectChange", () => this.onTarget(this.targetValue(), false));
+
+    window.addEventListener("resize", () => this.resize());
+    this.resize();
+    this.renderer.setAnimationLoop((now) => this.draw(now));
+  }
+
+  resize(): void {
+    const w = this.host.clientWidth || 800;
+    const h = this.host.clientHeight || 600;
+    this.renderer.setSize(w, h, false);
+    this.renderer.domElement.style.width = "100%";
+    this.renderer.domElement.style.height = "100%";
+    this.camera.aspect = w / h;
+    this.camera.updateProjectionMatrix();
+  }
+
+  private draw(now: number): void {
+    this.controls.update();
+    this.renderer.render(this.scene, this.camera);
+    this.framesDrawn++;
+    this.frameTimes.push(now);
+    while (this.frameTimes.length && now - this.frameTimes[0] > 1000) this.frameTimes.shift();
+    this.fps = this.frameTimes.length;
+    this.onFrame(now);
+  }
+
+  // ---- the robot
+
+  // Builds the robot's frames and shapes; resolves when every shape (meshes load from the
+  // server) is in the scene.
+  build(robot: RobotMsg, token: string): Promise<void> {
+    for (const g of [this.arm, this.ghostArm]) {
+      g.clear();
+    }
+    this.frames = [];
+    this.ghost = [];
+    this.axes = [];
+    this.fingers = [];
+    this.ghostFingers = [];
+    this.reach = Math.max(200, robot.reach_mm);
+    const n = robot.num_rows + 2; // base, frames 1..n, tool
+    const axisSize = this.reach * 0.12;
+    const ghostMat = new THREE.MeshStandardMaterial({
+      color: 0x7fb7e6, transparent: true, opacity: 0.28, depthWrite: false, roughness: 0.6,
+    });
+    for (let i = 0; i < n; i++) {
+      const g = new THREE.Group();
+      g.matrixAutoUpdate = false;
+      g.name = i === n - 1 ? "tool" : `frame ${i}`;
+      this.frames.push(g);
+      this.arm.add(g);
+      const gg = new THREE.Group();
+      gg.matrixAutoUpdate = false;
+      this.ghost.push(gg);
+      this.ghostArm.add(gg);
+      // Each frame's axes (x red, y green, z blue) and its number; hidden until asked for.
+      const ax = new THREE.Group();
+      const helper = new THREE.AxesHelper(i === n - 1 ? axisSize * 0.8 : axisSize);
+      (helper.material as THREE.LineBasicMaterial).depthTest = false;
+      helper.renderOrder = 5;
+      ax.add(helper);
+      const tag = label(i === n - 1 ? "T" : String(i), i === n - 1 ? "#9a3412" : "#1d3557");
+      tag.scale.setScalar(axisSize * 0.38);
+      tag.position.set(axisSize * 0.18, axisSize * 0.18, axisSize * 0.18);
+      ax.add(tag);
+      ax.visible = false;
+      g.add(ax);
+      this.axes.push(ax);
+    }
+    const loading: Promise<void>[] = [];
+    robot.links.forEach((link, li) => {
+      const color = LINK_COLORS[li % LINK_COLORS.length];
+      const mat = new THREE.MeshStandardMaterial({ color, roughness: 0.45, metalness: 0.15 });
+      for (const s of link.shapes) {
+        loading.push(this.shape(s, mat, token).then((m) => {
+          if (!m) return;
+          m.name = `link ${link.frame}`;
+          this.frames[link.frame].add(m);
+          const gm = m.clone();
+          gm.traverse((o) => {
+            if ((o as THREE.Mesh).isMesh) (o as THREE.Mesh).material = ghostMat;
+          });
+          this.ghost[link.frame].add(gm);
+        }));
+      }
+    });
+    if (robot.gripper) {
+      const g = robot.gripper;
+      const geo = new THREE.BoxGeometry(g.finger_length_mm, g.finger_thickness_mm, g.finger_height_mm);
+      const mat = new THREE.MeshStandardMaterial({ color: 0x2b2d42, roughness: 0.5, metalness: 0.3 });
+      for (let k = 0; k < 2; k++) {
+        const f = new THREE.Mesh(geo, mat);
+        f.matrixAutoUpdate = false;
+        f.name = k ? "finger right" : "finger left";
+        this.fingers.push(f);
+        this.arm.add(f);
+        const gf = new THREE.Mesh(geo, ghostMat);
+        gf.matrixAutoUpdate = false;
+        this.ghostFingers.push(gf);
+        this.ghostArm.add(gf);
+      }
+    }
+    this.ghostArm.visible = false;
+    // Ground and grid to the robot's size.
+    const size = Math.ceil((this.reach * 3) / 100) * 100;
+    if (this.grid) this.scene.remove(this.grid);
+    const cell = size > 2000 ? 100 : 50;
+    this.grid = new THREE.GridHelper(size, size / cell, 0x9aa5b1, 0xc8d0d9);
+    this.grid.rotation.x = Math.PI / 2;
+    this.scene.add(this.grid);
+    this.ground.scale.setScalar(size * 0.75);
+    const ball = this.target.getObjectByName("target-ball")!;
+    ball.scale.setScalar(this.reach * 0.025);
+    this.target.children[1].scale.setScalar(this.reach * 0.1);
+    return Promise.all(loading).then(() => undefined);
+  }
+
+  private async shape(s: Shape, mat: THREE.Material, token: string): Promise<THREE.Object3D | null> {
+    let geo: THREE.BufferGeometry | null = null;
+    const [a, b, c] = s.size;
+    switch (s.type) {
+      case "box":
+        geo = new THREE.BoxGeometry(a, b, c);
+        break;
+      case "cylinder":
+        geo = new THREE.CylinderGeometry(a, a, b, 40).rotateX(Math.PI / 2);
+        break;
+      case "capsule":
+        geo = new THREE.CapsuleGeometry(a, b, 8, 24).rotateX(Math.PI / 2);
+        break;
+      case "sphere":
+        geo = new THREE.SphereGeometry(a, 32, 20);
+        break;
+      case "mesh":
+        geo = await this.mesh(s, token);
+        break;
+    }
+    if (!geo) return null;
+    const m = new THREE.Mesh(geo, mat);
+    m.matrixAutoUpdate = false;
+    setMatrix(m, s.pose);
+    return m;
+  }
+
+  private async mesh(s: Shape, _token: string): Promise<THREE.BufferGeometry | null> {
+    try {
+      const res = await fetch(s.url!);
+      if (!res.ok) return null;
+      if (s.format === "stl") {
+        const g = new STLLoader().parse(await res.arrayBuffer());
+        g.computeVertexNormals();
+        return g;
+      }
+      const obj = new OBJLoader().parse(await res.text());
+      let g: THREE.BufferGeometry | null = null;
+      obj.traverse((o) => {
+        if (!g && (o as THREE.Mesh).isMesh) g = (o as THREE.Mesh).geometry as THREE.BufferGeometry;
+      });
+      (g as THREE.BufferGeometry | null)?.computeVertexNormals();
+      return g;
+    } catch {
+      return null;
+    }
+  }
+
+  pose(p: PoseMsg): void {
+    p.frames.forEach((m, i) => this.frames[i] && setMatrix(this.frames[i], m));
+    p.fingers?.forEach((m, i) => this.fingers[i] && setMatrix(this.fingers[i], m));
+    if (p.ghost) {
+      this.ghostArm.visible = true;
+      p.ghost.forEach((m, i) => this.ghost[i] && setMatrix(this.ghost[i], m));
+      // the ghost's fingers: as the arm's, moved by the ghost tool's offset from the tool
+      const tool = new THREE.Matrix4(), gtool = new THREE.Matrix4();
+      const f = p.frames[p.frames.length - 1], g = p.ghost[p.ghost.length - 1];
+      tool.set(...(f as [number, number, number, number, number, number, number, number, number, number, number, number, number, number, number, number]));
+      gtool.set(...(g as [number, number, number, number, number, number, number, number, number, number, number, number, number, number, number, number]));
+      const d = gtool.multiply(tool.invert());
+      this.fingers.forEach((fm, i) => {
+        this.ghostFingers[i].matrix.multiplyMatrices(d, fm.matrix);
+        this.ghostFingers[i].matrixWorldNeedsUpdate = true;
+      });
+    } else {
+      this.ghostArm.visible = false;
+    }
+  }
+
+  showAxes(on: boolean): void {
+    this.axes.forEach((a) => (a.visible = on));
+  }
+
+  // ---- the IK target
+
+  showTarget(on: boolean): void {
+    this.target.visible = on;
+    this.gizmo.getHelper().visible = on;
+    this.gizmo.enabled = on;
+  }
+
+  setTarget(xyz: number[], rpy: number[] = [0, 0, 0]): void {
+    this.target.position.set(xyz[0], xyz[1], xyz[2]);
+    const d = Math.PI / 180;
+    this.target.rotation.set(rpy[0] * d, rpy[1] * d, rpy[2] * d, "ZYX");
+  }
+
+  targetValue(): TargetChange {
+    const p = this.target.position;
+    const e = new THREE.Euler().setFromQuaternion(this.target.quaternion, "ZYX");
+    const d = 180 / Math.PI;
+    return { xyz: [p.x, p.y, p.z], rpy: [e.x * d, e.y * d, e.z * d] };
+  }
+
+  gizmoMode(mode: "translate" | "rotate"): void {
+    this.gizmo.setMode(mode);
+  }
+
+  // ---- the camera
+
+  // Frames the arm: from the front-right, a little above, the whole arm and its reach in view.
+  fit(keepDirection = true): void {
+    this.arm.updateMatrixWorld(true);
+    const box = new THREE.Box3().setFromObject(this.arm);
+    if (box.isEmpty()) return;
+    box.expandByPoint(new THREE.Vector3(0, 0, 0));
+    const centre = box.getCenter(new THREE.Vector3());
+    const size = Math.max(box.getSize(new THREE.Vector3()).length(), this.reach * 0.8, 200);
+    const dir = keepDirection ? this.camera.position.clone().sub(this.controls.target).normalize()
+                              : new THREE.Vector3(0.75, -0.95, 0.55).normalize();
+    this.controls.target.copy(centre);
+    const fov = (this.camera.fov * Math.PI) / 180;
+    const dist = (size / 2 / Math.tan(fov / 2)) * (this.camera.aspect < 1 ? 1.2 / this.camera.aspect : 1.05);
+    this.camera.position.copy(centre.clone().add(dir.multiplyScalar(dist)));
+    this.camera.near = size / 100;
+    this.camera.far = size * 40;
+    this.camera.updateProjectionMatrix();
+  }
+
+  // Arrow keys orbit (left/right about z, up/down in elevation), + and - zoom: the thesis's
+  // keyboard camera.
+  key(code: string): boolean {
+    const offset = this.camera.position.clone().sub(this.controls.target);
+    const sph = new THREE.Spherical();
+    // Spherical works about y: turn z-up into y-up and back.
+    const toY = new THREE.Quaternion().setFromUnitVectors(new THREE.Vector3(0, 0, 1), new THREE.Vector3(0, 1, 0));
+    offset.applyQuaternion(toY);
+    sph.setFromVector3(offset);
+    const step = Math.PI / 36;
+    if (code === "ArrowLeft") sph.theta -= step;
+    else if (code === "ArrowRight") sph.theta += step;
+    else if (code === "ArrowUp") sph.phi = Math.max(0.05, sph.phi - step);
+    else if (code === "ArrowDown") sph.phi = Math.min(Math.PI - 0.05, sph.phi + step);
+    else if (code === "Equal" || code === "NumpadAdd") sph.radius *= 0.9;
+    else if (code === "Minus" || code === "NumpadSubtract") sph.radius *= 1.1;
+    else return false;
+    offset.setFromSpherical(sph).applyQuaternion(toY.invert());
+    this.camera.position.copy(this.controls.target).add(offset);
+    return true;
+  }
+
+  // The arm's pixels against the scene without it (tests: "a screenshot shows the arm").
+  armVisible(on: boolean): void {
+    this.arm.visible = on;
+  }
+}
