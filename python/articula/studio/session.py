@@ -231,6 +231,12 @@ class Session:
             moved = float(np.abs(res.q - self.q).max())
             self.q = res.q
             done = res.status != "budget" or moved < 1e-9
+            if done and res.status == "budget":
+                # It stopped moving short of the target: the solver's own verdict from here
+                # (limited by which joint, or unreachable), as a whole solve gives it.
+                args["start"] = self.q
+                res = self.robot.ik(**args)
+                self.q = res.q
             yield res, i, done
             if done:
                 return

@@ -28,11 +28,13 @@ interface Hook {
   latency: number[]; // ms from a slider's input to the frame that shows its pose
   ikUpdates: number[]; // performance.now() of each IK pose drawn while dragging
   messages: number;
+  targetScreen: number[]; // where the IK target's centre is on screen (CSS px), to drag it
+  armPixels: () => number; // share of the view's pixels that are the arm's colours (0..1)
 }
 const hook: Hook = {
   ready: false, connected: false, robot: null, pose: null, ik: null, timeline: null, playing: false,
   programError: "", robotError: "", lastError: "", teach: "", fps: 0, framesDrawn: 0, firstFrameAt: 0,
-  latency: [], ikUpdates: [], messages: 0,
+  latency: [], ikUpdates: [], messages: 0, targetScreen: [0, 0], armPixels: () => view.armPixels(),
 };
 const readOnly = new Proxy(hook, { set: () => false, deleteProperty: () => false });
 Object.defineProperty(window, "articula", { value: readOnly, writable: false });
@@ -78,6 +80,7 @@ function replyArrived(): void {
 view.onFrame = (now) => {
   hook.fps = view.fps;
   hook.framesDrawn = view.framesDrawn;
+  hook.targetScreen = view.targetScreen();
   if (!hook.firstFrameAt && hook.pose && robot) hook.firstFrameAt = now;
   for (const s of pendingDrawn) {
     const t0 = sentAt.get(s);
@@ -313,7 +316,12 @@ function showIk(m: IkMsg): void {
   else text = `Not reached yet after ${m.iterations} iterations: ${err} away.`;
   if (m.type === "jt_frame") {
     text = `Jacobian transpose, iteration ${m.iteration}: ${err} away.`;
-    if (m.done) text += m.status === "reached" ? " Converged." : m.status === "budget" ? " Stopped: it stopped improving (stuck in a local minimum, or the arm 'fell in line')." : ` Stopped: ${m.status}.`;
+    if (m.done) {
+      if (m.status === "reached") text += " Converged.";
+      else if (m.status === "limited") text += ` Stopped: held back by the limit of ${m.limited_by.join(", ") || "a joint"}.`;
+      else if (m.status === "unreachable") text += " Stopped: the target is out of reach; the arm stretches toward it.";
+      else text += " Stopped: it stopped improving (stuck in a local minimum, or the arm 'fell in line').";
+    }
     else if ((m.iteration ?? 0) >= 400) text += " Stopped after 400 iterations.";
   }
   el.textContent = text;
@@ -419,6 +427,13 @@ editor.addEventListener("scroll", () => {
 });
 let lineShown = 0;
 function highlightLine(line: number, error: boolean): void {
+  if (line > 0 && line !== lineShown) {
+    // keep the line in sight: scroll the editor when it leaves the visible part
+    const lh = parseFloat(getComputedStyle(editor).lineHeight) || 18;
+    const top = (line - 1) * lh, view = editor.clientHeight;
+    if (top < editor.scrollTop || top + lh > editor.scrollTop + view) editor.scrollTop = Math.max(0, top - view / 3);
+    $("gutter").scrollTop = editor.scrollTop;
+  }
   lineShown = line;
   const bar = $("current-line");
   bar.hidden = line <= 0;

@@ -27,26 +27,28 @@ export class Plots {
     const first = ok[0];
     const joints: number[][] = m.joints.map((_, j) => [first ? first.q[j] : 0]);
     const tool: number[][] = [0, 1, 2].map((k) => [first ? first.tool[k] : 0]);
-    const err: number[] = [first ? first.error_mm : 0];
     let prev = first;
     for (const r of ok) {
       if (r.end_s > r.start_s) {
         t.push(r.start_s, r.end_s);
         joints.forEach((s, j) => s.push(prev.q[j], r.q[j]));
         tool.forEach((s, k) => s.push(prev.tool[k], r.tool[k]));
-        err.push(prev.error_mm, r.error_mm);
       }
       prev = r;
     }
-    return { t, joints, tool, err };
+    return { t, joints, tool };
   }
 
   show(m: TimelineMsg): void {
     this.clear();
     this.host.innerHTML = "";
-    const { t, joints, tool, err } = this.series(m);
+    const { t, joints, tool } = this.series(m);
+    // The quantization error is a property of a pose at rest: one point after each command.
+    const ok = m.records.filter((r) => r.reply === "ok");
+    const te = [0, ...ok.map((r) => r.end_s)];
+    const err = [ok.length ? ok[0].error_mm : 0, ...ok.map((r) => r.error_mm)];
     const width = Math.max(280, Math.floor((this.host.clientWidth - 24) / 3));
-    const height = Math.max(120, this.host.clientHeight - 46);
+    const height = Math.max(110, this.host.clientHeight - 30);
     const playhead = (u: uPlot) => {
       if (this.t < 0) return;
       const x = u.valToPos(this.t, "x", true);
@@ -60,20 +62,23 @@ export class Plots {
       ctx.stroke();
       ctx.restore();
     };
-    const make = (title: string, unit: string, names: string[], data: number[][]) => {
+    const make = (title: string, unit: string, names: string[], data: number[][], x = t, stepped = false) => {
       const opts: uPlot.Options = {
         title, width, height,
-        scales: { x: { time: false } },
-        axes: [{ label: "time (s)", size: 36 }, { label: unit, size: 52 }],
-        series: [{ label: "t (s)" }, ...names.map((n, i) => ({ label: n, stroke: COLORS[i % COLORS.length], width: 2 }))],
-        legend: { show: true },
+        scales: { x: { time: false, range: [0, Math.max(m.duration, 1e-3)] } },
+        axes: [{ label: "time (s)", size: 34, space: 40 }, { label: unit, size: 56, space: 22 }],
+        series: [{ label: "t (s)" }, ...names.map((n, i) => ({
+          label: n, stroke: COLORS[i % COLORS.length], width: 2,
+          ...(stepped ? { paths: uPlot.paths.stepped!({ align: 1 }), points: { show: true, size: 6 } } : { points: { show: false } }),
+        }))],
+        legend: { show: true, live: false },
         cursor: { drag: { x: false, y: false } },
         hooks: { draw: [playhead] },
       };
       const div = document.createElement("div");
       div.className = "plot";
       this.host.appendChild(div);
-      const u = new uPlot(opts, [t, ...data] as uPlot.AlignedData, div);
+      const u = new uPlot(opts, [x, ...data] as uPlot.AlignedData, div);
       u.over.addEventListener("click", (e) => {
         const x = u.posToVal((e as MouseEvent).offsetX, "x");
         if (Number.isFinite(x)) this.onSeek(Math.max(0, Math.min(m.duration, x)));
@@ -82,7 +87,7 @@ export class Plots {
     };
     make("Joint values (whole steps)", m.joints.some(() => true) ? "deg or mm" : "", m.joints, joints);
     make("Tool position", "mm", ["x", "y", "z"], tool);
-    make("Quantization error", "mm", ["|quantized - ideal|"], [err]);
+    make("Quantization error after each command", "mm", ["|whole steps - ideal|"], [err], te, true);
   }
 
   playhead(t: number): void {

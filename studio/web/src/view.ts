@@ -374,8 +374,25 @@ export class View {
     return true;
   }
 
-  // The arm's pixels against the scene without it (tests: "a screenshot shows the arm").
-  armVisible(on: boolean): void {
-    this.arm.visible = on;
+  // Where the IK target is on the page, CSS pixels (for tests that drag it).
+  targetScreen(): number[] {
+    const p = this.target.position.clone().project(this.camera);
+    const r = this.renderer.domElement.getBoundingClientRect();
+    return [r.left + ((p.x + 1) / 2) * r.width, r.top + ((1 - p.y) / 2) * r.height];
+  }
+
+  // The share of the drawn pixels that are coloured like the arm (saturated): the scene
+  // without the arm is greys only. Tests check that the arm is on screen with it.
+  armPixels(): number {
+    const gl = this.renderer.getContext();
+    const w = gl.drawingBufferWidth, h = gl.drawingBufferHeight;
+    const px = new Uint8Array(w * h * 4);
+    gl.readPixels(0, 0, w, h, gl.RGBA, gl.UNSIGNED_BYTE, px);
+    let n = 0;
+    for (let i = 0; i < px.length; i += 16) {
+      const r = px[i], g = px[i + 1], b = px[i + 2];
+      if (Math.max(r, g, b) - Math.min(r, g, b) > 40) n++;
+    }
+    return n / (px.length / 16);
   }
 }
