@@ -75,7 +75,7 @@ def browser():
 class Page:
     """A page of the studio with what its console said."""
 
-    def __init__(self, browser, server: Server, width=1440, height=900, tour=False):
+    def __init__(self, browser, server: Server, width=1440, height=900, tour=False, query=""):
         self.server = server
         self.context = browser.new_context(viewport={"width": width, "height": height}, accept_downloads=True)
         if not tour:
@@ -84,7 +84,7 @@ class Page:
         self.errors: list[str] = []
         self.page.on("console", lambda m: m.type == "error" and self.errors.append(m.text))
         self.page.on("pageerror", lambda e: self.errors.append(str(e)))
-        self.page.goto(server.url)
+        self.page.goto(server.url + query)
         self.page.wait_for_function("window.articula && window.articula.ready && window.articula.firstFrameAt > 0",
                                     timeout=20000)
 

@@ -23,7 +23,7 @@ def cli_json(*args: str) -> dict:
 
 
 def test_first_line_and_the_page_loads_without_errors_and_shows_the_arm(open_page):
-    pg = open_page("mk2plus", tour=True)
+    pg = open_page("mk2plus", tour=True, query="&quality=high")  # antialiased, full size: a screenshot for the docs
     assert pg.server.first_line == f"studio: http://127.0.0.1:{pg.server.port}/?token={pg.server.token}"
     # the first-run tour: four steps
     assert pg.page.is_visible("#tour")
@@ -63,7 +63,7 @@ def test_a_slider_moves_the_tool_to_what_articula_fk_gives(open_page):
 
 
 def test_ik_reaches_a_typed_target_on_the_panda_and_follows_a_drag(open_page):
-    pg = open_page("panda")
+    pg = open_page("panda", query="&quality=high")
     pg.page.fill("#tx", "400")
     pg.page.fill("#ty", "100")
     pg.page.fill("#tz", "500")
@@ -121,7 +121,7 @@ def test_a_point_beyond_the_mk2s_reach_is_unreachable(open_page):
 
 
 def test_demo_program_ends_on_the_predicted_steps_and_teach_re_runs_to_the_pose(open_page):
-    pg = open_page("mk2plus")
+    pg = open_page("mk2plus", query="&quality=high")
     pg.page.select_option("#program-select", "demo.arm")
     pg.page.wait_for_function("document.querySelector('#editor').value.includes('P 200 -150 150')")
     pg.page.click("#run")

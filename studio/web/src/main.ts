@@ -46,7 +46,10 @@ let ws: WebSocket;
 let seq = 0;
 const sentAt = new Map<number, number>();
 let pendingDrawn: number[] = []; // seqs applied, waiting for the frame that shows them
-let inFlight = false; // one pose request at a time; the latest intent waits
+// Pose requests (sliders, drags): at most two in flight, so one is computed while the page
+// draws the other; the newest intent waits and replaces any older one waiting.
+const MAX_IN_FLIGHT = 2;
+let inFlight = 0;
 let queued: Record<string, unknown> | null = null;
 let dragging = false;
 let needFit: Promise<void> | null = null; // a new robot: frame it once its first pose is drawn
@@ -59,26 +62,27 @@ function send(msg: Record<string, unknown>): void {
 function request(msg: Record<string, unknown>): void {
   msg.seq = ++seq;
   sentAt.set(seq, performance.now());
-  if (inFlight) {
+  if (inFlight >= MAX_IN_FLIGHT) {
     queued = msg;
     return;
   }
-  inFlight = true;
+  inFlight++;
   send(msg);
 }
 
 function replyArrived(): void {
-  inFlight = false;
+  inFlight = Math.max(0, inFlight - 1);
   if (queued) {
     const next = queued;
     queued = null;
-    inFlight = true;
+    inFlight++;
     send(next);
   }
 }
 
 view.onFrame = (now) => {
   hook.fps = view.fps;
+  if (view.continuous) $("fps").textContent = `${view.fps} frames/s`;
   hook.framesDrawn = view.framesDrawn;
   hook.targetScreen = view.targetScreen();
   if (!hook.firstFrameAt && hook.pose && robot) hook.firstFrameAt = now;
@@ -104,7 +108,7 @@ function connect(): void {
   };
   ws.onclose = () => {
     hook.connected = false;
-    inFlight = false;
+    inFlight = 0;
     setConn("disconnected: is articula-studio still running?", "bad");
     setTimeout(connect, 2000);
   };

@@ -63,10 +63,33 @@ export class View {
   private frameTimes: number[] = [];
   fps = 0;
   framesDrawn = 0;
+  // Draw only when something changed (a pose, the camera, a toggle): a software renderer then
+  // leaves the CPU to the rest. ?fps=continuous in the URL draws every display frame (to
+  // measure the frame rate).
+  dirty = true;
+  readonly continuous = new URLSearchParams(location.search).get("fps") === "continuous";
+
+  readonly software: boolean;
+
+  static softwareRenderer(): boolean {
+    try {
+      const gl = document.createElement("canvas").getContext("webgl2");
+      const ext = gl?.getExtension("WEBGL_debug_renderer_info");
+      const name = ext ? String(gl!.getParameter(ext.UNMASKED_RENDERER_WEBGL)) : "";
+      gl?.getExtension("WEBGL_lose_context")?.loseContext();
+      return /swiftshader|llvmpipe|software/i.test(name);
+    } catch {
+      return false;
+    }
+  }
 
   constructor(readonly host: HTMLElement) {
-    this.renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
-    this.renderer.setPixelRatio(Math.min(window.devicePixelRatio, 2));
+    // A software renderer (SwiftShader, llvmpipe: no GPU) draws with MSAA several times
+    // slower: it gets no antialiasing, and a smaller drawing buffer when it still lags.
+    this.software = View.softwareRenderer();
+    const q = new URLSearchParams(location.search).get("quality");
+    this.renderer = new THREE.WebGLRenderer({ antialias: q ? q === "high" : !this.software, preserveDrawingBuffer: true });
+    this.renderer.setPixelRatio(Math.min(window.devicePixelRatio, 2) * (this.software && q !== "high" ? 0.6 : 1));
     this.renderer.outputColorSpace = THREE.SRGBColorSpace;
     host.appendChild(this.renderer.domElement);
     this.scene.background = new THREE.Color(0xeef2f6);
@@ -118,6 +141,8 @@ export class View {
     this.gizmo.addEventListener("objectChange", () => this.onTarget(this.targetValue(), false));
 
     window.addEventListener("resize", () => this.resize());
+    this.controls.addEventListener("change", () => (this.dirty = true));
+    this.gizmo.addEventListener("change", () => (this.dirty = true));
     this.resize();
     this.renderer.setAnimationLoop((now) => this.draw(now));
   }
@@ -130,10 +155,13 @@ export class View {
     this.renderer.domElement.style.height = "100%";
     this.camera.aspect = w / h;
     this.camera.updateProjectionMatrix();
+    this.dirty = true;
   }
 
   private draw(now: number): void {
-    this.controls.update();
+    const moved = this.controls.update();
+    if (!(this.dirty || moved || this.continuous)) return;
+    this.dirty = false;
     this.renderer.render(this.scene, this.camera);
     this.framesDrawn++;
     this.frameTimes.push(now);
@@ -199,6 +227,7 @@ export class View {
             if ((o as THREE.Mesh).isMesh) (o as THREE.Mesh).material = ghostMat;
           });
           this.ghost[link.frame].add(gm);
+          this.dirty = true;
         }));
       }
     });
@@ -282,6 +311,7 @@ export class View {
   }
 
   pose(p: PoseMsg): void {
+    this.dirty = true;
     p.frames.forEach((m, i) => this.frames[i] && setMatrix(this.frames[i], m));
     p.fingers?.forEach((m, i) => this.fingers[i] && setMatrix(this.fingers[i], m));
     if (p.ghost) {
@@ -303,18 +333,21 @@ export class View {
   }
 
   showAxes(on: boolean): void {
+    this.dirty = true;
     this.axes.forEach((a) => (a.visible = on));
   }
 
   // ---- the IK target
 
   showTarget(on: boolean): void {
+    this.dirty = true;
     this.target.visible = on;
     this.gizmo.getHelper().visible = on;
     this.gizmo.enabled = on;
   }
 
   setTarget(xyz: number[], rpy: number[] = [0, 0, 0]): void {
+    this.dirty = true;
     this.target.position.set(xyz[0], xyz[1], xyz[2]);
     const d = Math.PI / 180;
     this.target.rotation.set(rpy[0] * d, rpy[1] * d, rpy[2] * d, "ZYX");
@@ -350,6 +383,7 @@ export class View {
     this.camera.near = size / 100;
     this.camera.far = size * 40;
     this.camera.updateProjectionMatrix();
+    this.dirty = true;
   }
 
   // Arrow keys orbit (left/right about z, up/down in elevation), + and - zoom: the thesis's
@@ -371,6 +405,7 @@ export class View {
     else return false;
     offset.setFromSpherical(sph).applyQuaternion(toY.invert());
     this.camera.position.copy(this.controls.target).add(offset);
+    this.dirty = true;
     return true;
   }
 
