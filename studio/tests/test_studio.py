@@ -242,3 +242,25 @@ def test_the_server_refuses_no_token_a_foreign_origin_and_a_foreign_host(server_
     assert run(attempt(f"/ws?token={s.token}", {"Host": f"evil.example:{s.port}"})) == 403
     assert run(page("/")) == 403
     assert run(page(f"/?token={s.token}")) == 200
+
+
+def test_the_first_arm_tutorials_files_load_and_show_their_frames(open_page):
+    """docs/studio.md, "Your first arm": each step's robot file opens in the studio."""
+    pg = open_page("mk2plus", query="&quality=high")
+    pg.page.check("#show-axes")
+    steps = sorted((REPO / "docs" / "examples" / "first-arm").glob("step*.json"))
+    assert len(steps) == 3
+    for i, path in enumerate(steps, 1):
+        pg.page.set_input_files("#robot-file", str(path))
+        pg.wait(f"a.robot.name === 'First arm, step {i}'")
+        pg.page.wait_for_timeout(600)
+        assert pg.hook("a.robot.num_rows") == i + 1
+        if i in (1, 3):
+            pg.page.screenshot(path=str(SHOTS / f"studio-first-arm-{i}.png"))
+    # step 3 is the MK2's kinematics: the same tool pose at the same joint values
+    pg.page.fill('#joints input[type=number][data-joint="1"]', "90")
+    pg.page.fill('#joints input[type=number][data-joint="2"]', "-90")
+    pg.page.fill('#joints input[type=number][data-joint="0"]', "0")
+    pg.wait("Math.abs(a.pose.q[0]) < 1e-9 && Math.abs(a.pose.q[2] + 90) < 1e-9")
+    np.testing.assert_allclose(pg.hook("a.pose.tool.xyz"), [235, 0, 213], atol=1e-9)
+    assert pg.errors == []

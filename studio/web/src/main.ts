@@ -200,6 +200,7 @@ function buildRobot(r: RobotMsg): void {
   hook.robotError = "";
   hook.timeline = null;
   const built = view.build(r, token);
+  view.showAxes(($("show-axes") as HTMLInputElement).checked);
   $("robot-name").textContent = r.description ? `${r.name}: ${r.description}` : r.name;
   $("robot-name").title = r.source;
   const sel = $("robot-select") as HTMLSelectElement;

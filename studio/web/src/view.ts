@@ -59,6 +59,9 @@ export class View {
   private arm = new THREE.Group();
   private ghostArm = new THREE.Group();
   private grid: THREE.GridHelper | null = null;
+  // From the last frame's origin to the tool point: the tool offset, drawn for every robot.
+  private toolLine = new THREE.Line(new THREE.BufferGeometry(), new THREE.LineBasicMaterial({ color: 0x9a3412 }));
+  private toolDot = new THREE.Mesh(new THREE.SphereGeometry(1, 16, 12), new THREE.MeshStandardMaterial({ color: 0x9a3412 }));
   private ground: THREE.Mesh;
   private frameTimes: number[] = [];
   fps = 0;
@@ -248,6 +251,9 @@ export class View {
       }
     }
     this.ghostArm.visible = false;
+    this.toolLine.geometry.setAttribute("position", new THREE.Float32BufferAttribute(new Float32Array(6), 3));
+    this.toolDot.scale.setScalar(Math.max(3, this.reach * 0.012));
+    this.arm.add(this.toolLine, this.toolDot);
     // Ground and grid to the robot's size.
     const size = Math.ceil((this.reach * 3) / 100) * 100;
     if (this.grid) this.scene.remove(this.grid);
@@ -314,6 +320,13 @@ export class View {
     this.dirty = true;
     p.frames.forEach((m, i) => this.frames[i] && setMatrix(this.frames[i], m));
     p.fingers?.forEach((m, i) => this.fingers[i] && setMatrix(this.fingers[i], m));
+    const last = p.frames[p.frames.length - 2], tool = p.frames[p.frames.length - 1];
+    const pos = this.toolLine.geometry.getAttribute("position") as THREE.BufferAttribute;
+    pos.setXYZ(0, last[3], last[7], last[11]);
+    pos.setXYZ(1, tool[3], tool[7], tool[11]);
+    pos.needsUpdate = true;
+    this.toolLine.geometry.computeBoundingSphere();
+    this.toolDot.position.set(tool[3], tool[7], tool[11]);
     if (p.ghost) {
       this.ghostArm.visible = true;
       p.ghost.forEach((m, i) => this.ghost[i] && setMatrix(this.ghost[i], m));
