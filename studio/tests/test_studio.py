@@ -264,3 +264,43 @@ def test_the_first_arm_tutorials_files_load_and_show_their_frames(open_page):
     pg.wait("Math.abs(a.pose.q[0]) < 1e-9 && Math.abs(a.pose.q[2] + 90) < 1e-9")
     np.testing.assert_allclose(pg.hook("a.pose.tool.xyz"), [235, 0, 213], atol=1e-9)
     assert pg.errors == []
+
+
+def test_a_robot_with_a_mesh_shape_draws_it(open_page, server_factory, browser):
+    """A link shape from an STL file: the server serves it to the page (with the token)."""
+    from conftest import Page
+
+    s = server_factory(str(REPO / "host" / "physics" / "tests" / "data" / "mesh-arm.json"))
+    pg = Page(browser, s)
+    try:
+        pg.wait("a.robot.links.some(l => l.shapes.some(x => x.type === 'mesh'))")
+        url = pg.hook("a.robot.links.flatMap(l => l.shapes).find(x => x.type === 'mesh').url")
+        assert url.endswith(f"?token={s.token}")
+        status = pg.page.evaluate("async (u) => (await fetch(u)).status", url)
+        assert status == 200
+        pg.page.wait_for_timeout(500)
+        assert pg.hook("a.armPixels()") > 0.02
+        assert pg.errors == []
+        bad = pg.page.evaluate("async (u) => (await fetch(u.replace(/token=.*/, 'token=x'))).status", url)
+        assert bad == 403
+    finally:
+        pg.close()
+
+
+def test_a_robosim_program_plays_and_the_time_line_exports_as_csv(open_page):
+    pg = open_page("mk2plus")
+    pg.page.select_option("#program-select", "pick-and-place.robosim")
+    pg.page.wait_for_function("document.querySelector('#editor').value.length > 0")
+    pg.page.click("#step")
+    pg.wait("a.timeline !== null")
+    assert pg.hook("a.timeline.format") == "robosim"
+    predicted = cli_json("predict", "mk2plus", "programs/pick-and-place.robosim")
+    assert pg.hook("a.timeline.records.map(r => r.steps)") == [r["steps"] for r in predicted["records"]]
+    with pg.page.expect_download() as d:
+        pg.page.click("#export-csv")
+    text = open(d.value.path()).read().splitlines()
+    assert text[0].startswith("line,command,reply,start_s,end_s,joint_base,joint_shoulder,joint_elbow")
+    assert len(text) == 1 + len(predicted["records"])
+    with pg.page.expect_download() as d:
+        pg.page.click("#export-png")
+    assert open(d.value.path(), "rb").read(8) == b"\x89PNG\r\n\x1a\n"
