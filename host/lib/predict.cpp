@@ -475,10 +475,7 @@ void ControllerModel::robosim(PredictRecord& r, const Statement& st) {
       return;
     }
     case Statement::Kind::kLinkLengths: {
-      size_t k = 0;
-      for (int row = 0; row < robot_.model.num_rows && row < int(robot_.length_ranges.size()); ++row)
-        if (robot_.length_ranges[size_t(row)].adjustable && k < st.values.size())
-          robot_.model.rows[row].a = st.values[k++];
+      set_link_lengths(robot_, st.values);
       ik_.reset();
       add_note(
           r,

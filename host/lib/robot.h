@@ -98,6 +98,15 @@ inline double joint_from_model(const Robot& robot, int joint, double value) {
   return joint_is_angle(robot, joint) ? rad_to_deg(value) : value;
 }
 
+// RoboSim's l: a(i-1) of every row with an allowed length range, in row order (mm). Values
+// beyond the number of adjustable rows are ignored; the caller checks them against
+// length_ranges (program.cpp does for programs).
+inline void set_link_lengths(Robot& robot, const std::vector<double>& values) {
+  size_t k = 0;
+  for (int row = 0; row < robot.model.num_rows && row < int(robot.length_ranges.size()); ++row)
+    if (robot.length_ranges[size_t(row)].adjustable && k < values.size()) robot.model.rows[row].a = values[k++];
+}
+
 }  // namespace articula::host
 
 #endif  // ARTICULA_HOST_ROBOT_H

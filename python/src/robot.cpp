@@ -573,6 +573,34 @@ nb::class_<PyRobot> bind_robot(nb::module_& m) {
            "q"_a,
            "Whether q is within every joint limit and, with motors, every motor limit (a value on a limit "
            "passes, to 1e-9 of rounding).")
+      .def("with_link_lengths",
+           [](const PyRobot& s, nb::handle values_in) {
+             const Robot& r = s.r();
+             const std::vector<double> v = read_vector(values_in, "lengths");
+             std::vector<int> rows;
+             for (size_t i = 0; i < r.length_ranges.size(); ++i)
+               if (r.length_ranges[i].adjustable) rows.push_back(int(i));
+             if (v.size() != rows.size())
+               throw nb::value_error((r.name + " has " + std::to_string(rows.size()) +
+                                      " adjustable link length(s) (rows with an 'a' range); " + std::to_string(v.size()) +
+                                      " given")
+                                         .c_str());
+             for (size_t k = 0; k < v.size(); ++k) {
+               const host::LengthRange& lr = r.length_ranges[size_t(rows[k])];
+               if (v[k] < lr.min || v[k] > lr.max) {
+                 char buf[160];
+                 std::snprintf(buf, sizeof buf, "a of row %d: %g mm is outside its range %g .. %g mm", rows[k] + 1, v[k],
+                               lr.min, lr.max);
+                 throw nb::value_error(buf);
+               }
+             }
+             Robot copy = r;
+             host::set_link_lengths(copy, v);
+             return make_robot(std::move(copy));
+           },
+           "lengths"_a,
+           "A copy with other link lengths: a(i-1) of each row the robot file gives a range ({'value', 'min', "
+           "'max'}), in row order, mm (RoboSim's l).")
       .def("joints_from_motors",
            [](const PyRobot& s, nb::handle u_in) {
              const Robot& r = s.r();

@@ -187,3 +187,36 @@ def test_legacy_import_is_the_clis(tmp_path):
         articula.Robot.from_legacy(str(src), 0)
     with pytest.raises(ValueError, match="cannot read"):
         articula.Robot.from_legacy(str(tmp_path / "none.txt"), 10)
+
+
+def test_adjustable_link_lengths(tmp_path):
+    doc = json.loads((REPO / "docs" / "examples" / "first-arm" / "step2-elbow.json").read_text())
+    doc["dh"][2]["a"] = {"value": 135, "min": 100, "max": 200}
+    robot = articula.Robot.parse(json.dumps(doc), "adjustable.json")
+    longer = robot.with_link_lengths([180])
+    assert longer.dh[2]["a"] == {"value": 180.0, "min": 100.0, "max": 200.0}
+    assert robot.dh[2]["a"]["value"] == 135.0  # a copy: the robot itself is unchanged
+    # at shoulder 90 the upper arm points straight up: 45 mm longer, the tool 45 mm higher
+    q = [0, 90, 0]
+    np.testing.assert_allclose(longer.fk(q)[:3, 3] - robot.fk(q)[:3, 3], [0, 0, 45], atol=1e-9)
+    # the same as RoboSim's l in a program
+    run = robot.run(articula.Program.parse("l\n180\nm\n0\n90\n0\n", "l.robosim"))
+    np.testing.assert_allclose(run.records[-1].tool.position, longer.fk(q)[:3, 3], atol=1e-9)
+    with pytest.raises(ValueError, match=r"a of row 3: 300 mm is outside its range 100 .. 200 mm"):
+        robot.with_link_lengths([300])
+    with pytest.raises(ValueError, match="1 adjustable link length"):
+        robot.with_link_lengths([150, 150])
+
+
+def test_finger_poses_sit_at_the_tool():
+    mk2 = articula.Robot.load("mk2plus")
+    F = mk2.finger_poses([0, 90, -90], 30)
+    T = mk2.fk([0, 90, -90])
+    g = mk2.gripper
+    assert F.shape == (2, 4, 4)
+    for side, f in zip((+1, -1), F):
+        local = np.linalg.inv(T) @ f
+        np.testing.assert_allclose(local[:3, 3], [g["finger_length_mm"] / 2, side * (30 + g["finger_thickness_mm"]) / 2, 0],
+                                   atol=1e-9)
+    with pytest.raises(ValueError, match="has no gripper"):
+        articula.Robot.load("panda").finger_poses(np.zeros(7), 10)

@@ -304,3 +304,26 @@ def test_a_robosim_program_plays_and_the_time_line_exports_as_csv(open_page):
     with pg.page.expect_download() as d:
         pg.page.click("#export-png")
     assert open(d.value.path(), "rb").read(8) == b"\x89PNG\r\n\x1a\n"
+
+
+def test_an_adjustable_link_length_has_its_slider(server_factory, browser, tmp_path):
+    """RoboSim's l: a row whose a(i-1) has a range gets a length slider."""
+    import sys
+    sys.path.insert(0, str(REPO / "python"))
+    import articula
+    from conftest import Page
+
+    doc = json.loads((REPO / "docs" / "examples" / "first-arm" / "step2-elbow.json").read_text())
+    doc["dh"][2]["a"] = {"value": 135, "min": 100, "max": 200}
+    path = tmp_path / "adjustable.json"
+    path.write_text(json.dumps(doc))
+    pg = Page(browser, server_factory(str(path)))
+    try:
+        pg.page.fill('#joints input[type=number][data-length="3"]', "180")
+        pg.page.press('#joints input[type=number][data-length="3"]', "Enter")
+        pg.wait("a.pose.dh_table[2][0] === 180")
+        want = articula.Robot.load(str(path)).with_link_lengths([180]).fk(pg.hook("a.pose.q"))
+        np.testing.assert_allclose(pg.hook("a.pose.tool.xyz"), want[:3, 3], atol=1e-9)
+        assert pg.errors == []
+    finally:
+        pg.close()

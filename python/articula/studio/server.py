@@ -178,7 +178,7 @@ class Connection:
         if kind in ("play", "pause", "step", "seek", "rewind", "jt_animate", "stop_animation"):
             await getattr(self, kind)(msg)
             return
-        if kind in ("set_joint", "set_joints", "ik", "home", "zero", "load_robot", "program_load"):
+        if kind in ("set_joint", "set_joints", "ik", "home", "zero", "load_robot", "program_load", "set_lengths"):
             self.stop_tasks()  # the user took the arm: playback and animations stop
         await self.send(self.session.handle(msg))
 

@@ -387,6 +387,21 @@ class Session:
         self.load(robot)
         return [self.robot_message(), self.pose_message()]
 
+    def on_set_lengths(self, msg) -> list[dict]:
+        """RoboSim's l: the lengths a(i-1) of the rows the robot file lets change, in row order."""
+        rows = [row["a"] for row in self.robot.dh if isinstance(row["a"], dict)]
+        values = _numbers(msg, "values", len(rows))
+        try:
+            robot = self.robot.with_link_lengths(values)
+        except ValueError as e:
+            raise BadMessage(str(e)) from None
+        q, gripper = self.q, self.gripper
+        self.load(robot)
+        self.q, self.gripper = q, gripper
+        reply = self.robot_message()
+        reply["keep_view"] = True
+        return [reply, self.pose_message(seq=msg.get("seq"))]
+
     def on_export_urdf(self, msg) -> list[dict]:
         return [{"type": "urdf", "name": self.robot.name, "xml": self.robot.to_urdf()}]
 

@@ -198,7 +198,6 @@ function buildRobot(r: RobotMsg): void {
   robot = r;
   hook.robot = r;
   hook.robotError = "";
-  hook.timeline = null;
   const built = view.build(r, token);
   view.showAxes(($("show-axes") as HTMLInputElement).checked);
   $("robot-name").textContent = r.description ? `${r.name}: ${r.description}` : r.name;
@@ -211,6 +210,8 @@ function buildRobot(r: RobotMsg): void {
   ps.innerHTML = `<option value="">examples&hellip;</option>` + r.programs.map((n) => `<option>${n}</option>`).join("");
   buildJoints(r);
   $("gripper-row").hidden = !r.gripper;
+  if (r.keep_view) return; // the same robot, other link lengths
+  hook.timeline = null;
   plots.clear();
   if (r.import_notes.length) banner(`Imported. ${r.import_notes.length} things had no place in a robot file; the first: ${r.import_notes[0]}`, "info");
   needFit = built;
@@ -228,11 +229,32 @@ function buildJoints(r: RobotMsg): void {
       <input type="number" min="${j.min}" max="${j.max}" step="${step}" data-joint="${i}">`;
     box.appendChild(row);
   });
-  box.querySelectorAll<HTMLInputElement>("input").forEach((inp) => {
+  // RoboSim's l: a slider for each row whose length a(i-1) the robot file lets change.
+  const lengths = r.dh.map((row, i) => ({ a: row.a as unknown, row: i + 1 }))
+    .filter((x) => typeof x.a === "object" && x.a !== null) as { a: { value: number; min: number; max: number }; row: number }[];
+  for (const { a, row } of lengths) {
+    const div = document.createElement("div");
+    div.className = "joint length";
+    div.innerHTML = `<label title="The length a(${row - 1}) of DH row ${row}: ${a.min} .. ${a.max} mm (RoboSim's l)">a<sub>${row - 1}</sub> <span class="unit">row ${row} length, mm</span></label>
+      <input type="range" min="${a.min}" max="${a.max}" step="0.5" value="${a.value}" data-length="${row}">
+      <input type="number" min="${a.min}" max="${a.max}" step="0.5" value="${a.value}" data-length="${row}">`;
+    box.appendChild(div);
+  }
+  box.querySelectorAll<HTMLInputElement>("input[data-joint]").forEach((inp) => {
     inp.addEventListener("input", () => {
       const v = parseFloat(inp.value);
       if (!Number.isFinite(v)) return;
       request({ type: "set_joint", joint: Number(inp.dataset.joint), value: v });
+    });
+  });
+  box.querySelectorAll<HTMLInputElement>("input[data-length]").forEach((inp) => {
+    inp.addEventListener("change", () => {
+      const values = lengths.map(({ row, a }) => {
+        const el = box.querySelector<HTMLInputElement>(`input[data-length="${row}"]${inp.dataset.length === String(row) ? `[type=${inp.type}]` : ""}`);
+        const v = el ? parseFloat(el.value) : a.value;
+        return Number.isFinite(v) ? v : a.value;
+      });
+      request({ type: "set_lengths", values });
     });
   });
   const w = $("weights");
@@ -259,7 +281,7 @@ function showPose(p: PoseMsg): void {
   }
   if (!robot) return;
   // sliders and numbers follow the pose (not the one being dragged)
-  $("joints").querySelectorAll<HTMLInputElement>("input").forEach((inp) => {
+  $("joints").querySelectorAll<HTMLInputElement>("input[data-joint]").forEach((inp) => {
     const v = p.q[Number(inp.dataset.joint)];
     if (document.activeElement !== inp) inp.value = inp.type === "number" ? fmt(v, 2) : String(v);
   });

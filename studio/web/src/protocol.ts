@@ -41,6 +41,7 @@ export interface RobotMsg {
   robots: string[];
   programs: string[];
   import_notes: string[];
+  keep_view?: boolean; // the same robot with other link lengths: keep the camera and the program
 }
 
 export interface PoseMsg {
