@@ -229,40 +229,37 @@ std::vector<double> read_batch(nb::handle Q_in, const Robot& r, size_t& N) {
   return q;
 }
 
-Array fk_batch(const PyRobot& self, nb::handle Q_in) {
+// A batch: FK of each row of Q (model units after read_batch), `write` puts what one pose
+// gives (`per_pose` numbers) into its place of an (N, tail...) array; without the GIL.
+template <typename Write>
+Array batch(const PyRobot& self, nb::handle Q_in, std::initializer_list<size_t> tail, size_t per_pose, Write write) {
   const Robot& r = self.r();
   size_t N = 0;
   const std::vector<double> q = read_batch(Q_in, r, N);
   const size_t n = size_t(r.model.num_joints);
-  Array a = new_array({N, 4, 4});
+  std::vector<size_t> shape{N};
+  shape.insert(shape.end(), tail);
+  Array a = shape.size() == 3 ? new_array({shape[0], shape[1], shape[2]}) : new_array({shape[0], shape[1]});
   double* out = a.data();
   {
     nb::gil_scoped_release release;
     HostFrames f;
     for (size_t i = 0; i < N; ++i) {
       forward_kinematics(f, r.model, q.data() + i * n);
-      write_transform(out + 16 * i, f.T_base_tool);
+      write(out + per_pose * i, r, f);
     }
   }
   return a;
 }
 
+Array fk_batch(const PyRobot& self, nb::handle Q_in) {
+  return batch(self, Q_in, {4, 4}, 16,
+               [](double* out, const Robot&, const HostFrames& f) { write_transform(out, f.T_base_tool); });
+}
+
 Array jacobian_batch(const PyRobot& self, nb::handle Q_in) {
-  const Robot& r = self.r();
-  size_t N = 0;
-  const std::vector<double> q = read_batch(Q_in, r, N);
-  const size_t n = size_t(r.model.num_joints);
-  Array a = new_array({N, 6, n});
-  double* out = a.data();
-  {
-    nb::gil_scoped_release release;
-    HostFrames f;
-    for (size_t i = 0; i < N; ++i) {
-      forward_kinematics(f, r.model, q.data() + i * n);
-      write_jacobian(out + 6 * n * i, r, f);
-    }
-  }
-  return a;
+  const size_t n = size_t(self.r().model.num_joints);
+  return batch(self, Q_in, {6, n}, 6 * n, write_jacobian);
 }
 
 Array dh_table(const PyRobot& self, nb::handle q_in) {
