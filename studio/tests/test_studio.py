@@ -327,3 +327,114 @@ def test_an_adjustable_link_length_has_its_slider(server_factory, browser, tmp_p
         assert pg.errors == []
     finally:
         pg.close()
+
+
+# ---- live physics
+
+
+def _physics_page(browser, server_factory, robot, scene, query=""):
+    from conftest import Page
+
+    pg = Page(browser, server_factory(robot, "--scene", scene), query=query)
+    pg.wait("a.physics && a.physics.on && a.physics.objects.length > 0")
+    return pg
+
+
+def test_a_dragged_object_moves_and_falls_back_to_rest(browser, server_factory):
+    pg = _physics_page(browser, server_factory, "mk2plus", "push")
+    try:
+        pg.page.wait_for_timeout(500)
+        z0 = pg.hook("a.physics.objects.find(o => o.name === 'box').pose[11]")
+        assert z0 == pytest.approx(40, abs=1)
+        x, y = pg.hook("a.objectScreen('box')")
+        pg.page.mouse.move(x, y)
+        pg.page.mouse.down()
+        for k in range(1, 16):
+            pg.page.mouse.move(x, y - 6 * k)
+            pg.page.wait_for_timeout(30)
+        pg.page.wait_for_timeout(800)
+        lifted = pg.hook("a.physics.objects.find(o => o.name === 'box').pose[11]")
+        assert lifted > z0 + 30, (z0, lifted)
+        pg.page.mouse.up()
+        pg.page.wait_for_timeout(2500)
+        rest = pg.hook("a.physics.objects.find(o => o.name === 'box').pose")
+        assert rest[11] == pytest.approx(40, abs=1.5)  # on the ground again
+        assert abs(rest[10] - 1) < 0.01  # upright
+        assert pg.hook("a.physics.rtf") == pytest.approx(1.0, abs=0.15)
+        assert pg.errors == []
+    finally:
+        pg.close()
+
+
+def test_grasp_and_lift_in_the_studio_as_articula_sim_does(browser, server_factory, tmp_path):
+    import csv
+    import io
+
+    out = subprocess.run([str(ARTICULA), "sim", "mk2plus", "programs/grasp-and-lift.arm", "--scene", "grasp-and-lift",
+                          "--sample", "0", "--json", "--events", str(tmp_path / "ev.jsonl")],
+                         capture_output=True, text=True, cwd=REPO, timeout=60)
+    cli_events = [json.loads(line) for line in (tmp_path / "ev.jsonl").read_text().splitlines()]
+    pg = _physics_page(browser, server_factory, "mk2plus", "grasp-and-lift", "&quality=high")
+    try:
+        pg.page.select_option("#program-select", "grasp-and-lift.arm")
+        pg.page.wait_for_function("document.querySelector('#editor').value.includes('G 0')")
+        pg.page.click("#run")
+        pg.wait("a.physics.t > 1.5 && a.physics.objects[0].carried", timeout=20000)
+        lifted = pg.hook("a.physics.objects[0].pose[11]")
+        assert lifted > 100, lifted
+        pg.page.screenshot(path=str(SHOTS / "studio-grasp.png"))
+        pg.wait("a.physics.t > 3.4 && !a.physics.busy", timeout=20000)
+        kinds = pg.hook("a.events.map(e => e.kind)")
+        assert "grasp" in kinds and "release" in kinds
+        # the same simulation: the same events at the same times as articula sim
+        studio = pg.hook("a.events.filter(e => e.t <= 3.0).map(e => [e.kind, e.a, e.b, e.t])")
+        want = [[e["kind"], e["a"], e["b"], e["t"]] for e in cli_events if e["t"] <= 3.0]
+        assert studio == want
+        block = pg.hook("a.physics.objects[0].pose")
+        assert block[11] == pytest.approx(49.8, abs=0.5)
+        assert pg.errors == []
+    finally:
+        pg.close()
+
+
+def test_a_thousand_random_and_malformed_messages_never_break_the_server(open_page):
+    """Each gets an answer (an error reply, or what a valid one gets) or closes that
+    connection; the page keeps being served and keeps working."""
+    pg = open_page("mk2plus")
+    result = pg.page.evaluate("""async () => {
+        let seed = 12345;
+        const rnd = () => (seed = (seed * 1103515245 + 12345) % 2147483648) / 2147483648;
+        const pick = a => a[Math.floor(rnd() * a.length)];
+        const types = ['hello', 'set_joint', 'set_joints', 'ik', 'jt_animate', 'home', 'zero', 'gripper',
+          'program_load', 'play', 'pause', 'step', 'seek', 'rewind', 'teach', 'load_robot', 'scene', 'drag',
+          'release', 'physics_run', 'export_urdf', 'status_text', 'nonsense', '', null, 7];
+        const values = [null, true, -1, 0, 1e308, -1e308, 3.5, 'x', '', [], [1, 2, 3], [NaN], {}, {a: 1},
+          'L 0 10', 'L 0 1e3', '\\u0000\\u00ff', 'a'.repeat(5000)];
+        const keys = ['joint', 'value', 'q', 'target', 'solver', 'weights', 'percent', 'text', 'name', 't', 'speed',
+          'format', 'filename', 'legacy', 'scale', 'object', 'code', 'seq'];
+        const msgs = [];
+        for (let i = 0; i < 1000; i++) {
+          const r = rnd();
+          if (r < 0.15) { msgs.push(String.fromCharCode(...Array.from({length: 1 + Math.floor(rnd() * 40)}, () => Math.floor(rnd() * 256)))); continue; }
+          if (r < 0.2) { msgs.push('{"type": "set_joint", "joint": 0, "value": ' + pick(['NaN', 'Infinity', '1e999', '-0', '"5"']) + '}'); continue; }
+          const m = {type: pick(types)};
+          for (let k = 0; k < Math.floor(rnd() * 4); k++) m[pick(keys)] = pick(values);
+          msgs.push(JSON.stringify(m));
+        }
+        const ws = new WebSocket(`ws://${location.host}/ws${location.search}`);
+        await new Promise(r => ws.onopen = r);
+        let replies = 0, closed = false;
+        ws.onmessage = () => replies++;
+        ws.onclose = () => closed = true;
+        for (const m of msgs) { if (closed) break; ws.send(m); }
+        await new Promise(r => setTimeout(r, 3000));
+        const open = !closed;
+        ws.close();
+        return {replies, open};
+    }""")
+    assert result["open"] and result["replies"] >= 1000, result
+    # the page's own connection still works, and a new page loads
+    pg.page.fill('#joints input[type=number][data-joint="0"]', "7")
+    pg.wait("Math.abs(a.pose.q[0] - 7) < 1e-9")
+    pg.page.reload()
+    pg.wait("a.ready && a.firstFrameAt > 0")

@@ -28,8 +28,8 @@ def parser() -> argparse.ArgumentParser:
                "docs/studio.md explains the studio, its messages and its security.")
     ap.add_argument("robot", nargs="?", default="mk2plus",
                     help=f"a shipped robot ({', '.join(shipped_robots())}) or a robot file (default mk2plus)")
-    ap.add_argument("--scene", metavar="S", help="a scene for the physics (shipped name or file; used by the live "
-                                                  "physics, see docs/studio.md)")
+    ap.add_argument("--scene", metavar="S", help="start with live physics in this scene (a shipped scene's name, "
+                                                  "e.g. grasp-and-lift, or a scene file)")
     ap.add_argument("--port", type=int, default=0, metavar="N", help="the port (default: a free one)")
     ap.add_argument("--host", default="127.0.0.1", metavar="H",
                     help="the address to listen on (default 127.0.0.1: this computer only)")
@@ -53,7 +53,13 @@ def main(argv: list[str] | None = None) -> int:
     if args.host not in ("127.0.0.1", "localhost"):
         print(f"articula-studio: warning: listening on {args.host}: other computers that reach it can open the "
               "studio with its token, and the studio can move a real arm", file=sys.stderr)
-    studio = Studio(args.robot, host=args.host, port=args.port)
+    if args.scene:
+        try:
+            articula.Sim(articula.Robot.load(args.robot), args.scene)
+        except (articula.SceneError, ValueError) as e:
+            print(f"articula-studio: --scene {args.scene}: {e}", file=sys.stderr)
+            return 2
+    studio = Studio(args.robot, scene=args.scene, host=args.host, port=args.port)
 
     async def run() -> None:
         url = await studio.start()

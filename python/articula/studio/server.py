@@ -20,12 +20,17 @@ from pathlib import Path
 
 from aiohttp import WSMsgType, web
 
+import articula
+
 from .session import REPO, BadMessage, Session
 
 log = logging.getLogger("articula.studio")
 
 MAX_MESSAGE = 2_000_000  # bytes of one WebSocket message (a robot file or program inside)
 FRAME_S = 1 / 60         # playback and animation: one pose a display frame
+# What the page asks of the arm that, with physics on, goes to the simulated controller.
+PHYSICS_INTENTS = {"set_joint", "set_joints", "home", "zero", "ik", "gripper", "drag", "release", "physics_run",
+                   "physics_pause", "physics_step", "physics_reset", "program_load", "play", "pause"}
 
 
 def web_dir() -> Path:
@@ -37,8 +42,10 @@ def web_dir() -> Path:
 
 
 class Studio:
-    def __init__(self, robot: str | None, *, host: str = "127.0.0.1", port: int = 0, token: str | None = None):
+    def __init__(self, robot: str | None, *, scene: str | None = None, host: str = "127.0.0.1", port: int = 0,
+                 token: str | None = None):
         self.robot = robot
+        self.scene = scene
         self.host = host
         self.port = port
         self.token = token or secrets.token_urlsafe(18)
@@ -111,6 +118,8 @@ class Studio:
             await conn.serve()
         finally:
             conn.stop_tasks()
+            if conn.physics:
+                conn.physics.cancel()
             self.sessions.pop(sid, None)
         return ws
 
@@ -140,11 +149,18 @@ class Connection:
 
     def __init__(self, studio: Studio, ws: web.WebSocketResponse, sid: str):
         self.studio, self.ws, self.sid = studio, ws, sid
-        self.session = Session(studio.robot, mesh_url=lambda key: f"/mesh/{sid}/{key}?token={studio.token}")
+        self.session = Session(studio.robot, scene=studio.scene,
+                               mesh_url=lambda key: f"/mesh/{sid}/{key}?token={studio.token}")
         self.lock = asyncio.Lock()
         self.task: asyncio.Task | None = None
         self.t = 0.0          # the time line's clock, s
         self.speed = 1.0
+        # Live physics: the loop that steps the simulation in real time, whether it runs, and
+        # the newest slider or IK target waiting for the simulated arm to be idle.
+        self.physics: asyncio.Task | None = None
+        self.physics_running = True
+        self.pending_move: str | None = None
+        self.pending_grip: str | None = None
 
     async def send(self, msgs: list[dict]) -> None:
         async with self.lock:
@@ -175,12 +191,120 @@ class Connection:
 
     async def dispatch(self, msg) -> None:
         kind = msg.get("type") if isinstance(msg, dict) else None
+        if self.session.sim is not None and kind in PHYSICS_INTENTS:
+            await self.physics_intent(kind, msg)
+            return
         if kind in ("play", "pause", "step", "seek", "rewind", "jt_animate", "stop_animation"):
             await getattr(self, kind)(msg)
             return
+        if kind in ("drag", "release", "physics_run", "physics_pause", "physics_step", "physics_reset"):
+            raise BadMessage("no physics: choose a scene first")
         if kind in ("set_joint", "set_joints", "ik", "home", "zero", "load_robot", "program_load", "set_lengths"):
             self.stop_tasks()  # the user took the arm: playback and animations stop
-        await self.send(self.session.handle(msg))
+        replies = self.session.handle(msg)
+        await self.send(replies)
+        if kind in ("scene", "load_robot", "hello"):
+            self.ensure_physics()
+
+    # ---- live physics
+
+    def ensure_physics(self) -> None:
+        if self.session.sim is not None and (self.physics is None or self.physics.done()):
+            self.physics = asyncio.create_task(self._physics())
+
+    async def physics_intent(self, kind: str, msg) -> None:
+        """With physics on, the arm is the simulated controller's: a pose from a slider, Home,
+        Zero or the IK becomes an `M` line for it (the newest waits until the arm is idle),
+        the gripper a `G` line; programs run in the simulation; objects can be dragged."""
+        ses = self.session
+        sim = ses.sim
+        if kind in ("set_joint", "set_joints", "home", "zero", "ik"):
+            replies = ses.handle(msg)  # the target pose (ses.q), and for ik the solver's answer
+            self.pending_move = ses.move_line(ses.q)
+            await self.send([m for m in replies if m["type"] != "pose"] +
+                            [{"type": "sim_command", "line": self.pending_move, "seq": msg.get("seq")}])
+        elif kind == "gripper":
+            pct = msg.get("percent")
+            if isinstance(pct, bool) or not isinstance(pct, (int, float)) or not 0 <= pct <= 100:
+                raise BadMessage("'percent' must be within 0 .. 100")
+            self.pending_grip = f"G {pct:g}"
+        elif kind == "drag":
+            target = msg.get("target")
+            try:
+                sim.drag(msg.get("object"), target)
+            except (KeyError, IndexError, ValueError, TypeError) as e:
+                raise BadMessage(f"drag: {e}".replace('"', "'")) from None
+        elif kind == "release":
+            sim.release()
+        elif kind == "physics_run":
+            self.physics_running = True
+        elif kind == "physics_pause":
+            self.physics_running = False
+        elif kind == "physics_step":
+            self.physics_running = False
+            sim.step(int(round(0.1 / sim.dt)))  # 100 ms
+            await self.send([ses.pose_message(), ses.physics_message()])
+        elif kind == "physics_reset":
+            sim.reset()
+            ses.events_sent = 0
+            self.pending_move = self.pending_grip = None
+            await self.send([ses.physics_message(), ses.pose_message()])
+        elif kind == "program_load":
+            replies = ses.handle(msg)
+            if replies and replies[0]["type"] == "timeline":
+                sim.reset()
+                ses.events_sent = 0
+                self.pending_move = self.pending_grip = None
+                sim.load_program(articula.Program.parse(msg["text"], msg.get("name") or "program.arm"))
+                self.physics_running = False
+            await self.send(replies + [ses.physics_message()])
+        elif kind == "play":
+            self.physics_running = True
+            await self.send([{"type": "playing", "t": sim.time, "playing": True}])
+        elif kind == "pause":
+            self.physics_running = False
+            await self.send([{"type": "playing", "t": sim.time, "playing": False}])
+        else:
+            raise BadMessage(f"'{kind}' does not apply while the physics runs")
+
+    async def _physics(self) -> None:
+        """Steps the simulation in real time and streams the world to the page, one message a
+        display frame. Never behind real time without saying so: `rtf` is simulated time over
+        wall time (1.0 when keeping up), `capacity` how many times real time the stepping alone
+        could run; `behind` when it cannot keep up."""
+        ses = self.session
+        last = time.monotonic()
+        window: list[tuple[float, float, float]] = []  # (wall, simulated, stepping) per frame
+        while ses.sim is not None and not self.ws.closed:
+            sim = ses.sim
+            now = time.monotonic()
+            wall = now - last
+            last = now
+            stepped = busy_s = 0.0
+            if self.physics_running:
+                if not sim.busy:
+                    if self.pending_move:
+                        sim.command(self.pending_move)
+                        self.pending_move = None
+                    elif self.pending_grip:
+                        sim.command(self.pending_grip)
+                        self.pending_grip = None
+                n = int(round(min(wall, 0.1) / sim.dt))
+                t0 = time.monotonic()
+                sim.step(n)
+                busy_s = time.monotonic() - t0
+                stepped = n * sim.dt
+            window.append((wall, stepped, busy_s))
+            window = window[-60:]
+            w, st, bz = (sum(x[i] for x in window) for i in range(3))
+            rtf = st / w if w > 0 else 0.0
+            capacity = st / bz if bz > 0 else None
+            behind = bool(self.physics_running and (wall > 0.1 or (capacity is not None and capacity < 1.0)))
+            msg = ses.physics_message(rtf=rtf, behind=behind)
+            msg["capacity"] = capacity
+            msg["running"] = self.physics_running
+            await self.send([ses.pose_message(), msg])
+            await asyncio.sleep(max(0.0, FRAME_S - (time.monotonic() - now)))
 
     # ---- playback of a program's time line
 

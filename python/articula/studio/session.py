@@ -25,6 +25,11 @@ def shipped_robots() -> list[str]:
     return sorted(p.stem for p in d.glob("*.json") if not p.stem.endswith(".schema"))
 
 
+def shipped_scenes() -> list[str]:
+    d = Path(os.environ.get("ARTICULA_SCENES") or REPO / "scenes")
+    return sorted(p.stem for p in d.glob("*.json") if not p.stem.endswith(".schema"))
+
+
 def shipped_programs() -> dict[str, Path]:
     d = REPO / "programs"
     packaged = Path(articula.__file__).with_name("data") / "programs"
@@ -86,13 +91,18 @@ def _rpy_deg(R: np.ndarray) -> list[float]:
 
 
 class Session:
-    def __init__(self, robot: str | None = None, *, mesh_url: Callable[[str], str] | None = None):
+    def __init__(self, robot: str | None = None, *, scene: str | None = None,
+                 mesh_url: Callable[[str], str] | None = None):
         self.mesh_url = mesh_url or (lambda path: path)
         self.meshes: dict[str, str] = {}  # url key -> file path, for the server to serve
         self.robot: articula.Robot | None = None
         self.q = np.zeros(0)
         self.gripper = 100.0  # percent open
         self.timeline: dict[str, Any] | None = None
+        # Live physics (docs/studio.md, "Physics"): the scene's name and its simulation, or None.
+        self.scene: str | None = scene
+        self.sim: articula.Sim | None = None
+        self.events_sent = 0
         self.load(articula.Robot.load(robot or "mk2plus"))
 
     # ---- robot
@@ -103,6 +113,8 @@ class Session:
         self.gripper = 100.0
         self.timeline = None
         self.meshes = {}
+        if self.scene is not None:
+            self.start_physics(self.scene)
 
     def robot_message(self) -> dict:
         r = self.robot
@@ -123,7 +135,7 @@ class Session:
             "joints": r.joints, "dh": r.dh, "num_rows": r.num_rows, "home": r.home.tolist(),
             "motors": [m["name"] for m in r.motors], "links": links, "gripper": r.gripper,
             "reach_mm": r.reach_mm, "robots": shipped_robots(), "programs": sorted(shipped_programs()),
-            "import_notes": r.import_notes,
+            "scenes": shipped_scenes(), "import_notes": r.import_notes,
         }
 
     def pose_message(self, q: np.ndarray | None = None, **extra) -> dict:
@@ -155,7 +167,7 @@ class Session:
         return handler(msg)
 
     def on_hello(self, msg) -> list[dict]:
-        return [self.robot_message(), self.pose_message()]
+        return [self.robot_message(), self.scene_message(), self.physics_message(), self.pose_message()]
 
     def on_set_joint(self, msg) -> list[dict]:
         j = int(_num(msg, "joint", 0, self.robot.num_joints - 1))
@@ -404,6 +416,68 @@ class Session:
 
     def on_export_urdf(self, msg) -> list[dict]:
         return [{"type": "urdf", "name": self.robot.name, "xml": self.robot.to_urdf()}]
+
+    # ---- live physics
+
+    def start_physics(self, scene: str | None) -> None:
+        """The arm in a scene, simulated from power-up (a robot with motors at its motors' zero
+        steps); None: no physics, the kinematic model as before."""
+        self.scene = scene
+        self.events_sent = 0
+        if scene is None:
+            self.sim = None
+            return
+        self.sim = articula.Sim(self.robot, None if scene == "" else scene)
+        self.q = self.sim.state()["joints"]
+
+    def scene_message(self) -> dict:
+        sim = self.sim
+        return {"type": "scene", "name": self.scene, "title": sim.scene_name if sim else "",
+                "objects": sim.objects if sim else [], "scenes": shipped_scenes()}
+
+    def on_scene(self, msg) -> list[dict]:
+        name = msg.get("name")
+        if name is not None:
+            name = _text(msg, "name", 200)
+            if name and name not in shipped_scenes():
+                raise BadMessage(f"no shipped scene '{name}'")
+        try:
+            self.start_physics(name)
+        except (articula.SceneError, ValueError) as e:
+            raise BadMessage(str(e)) from None
+        self.timeline = None
+        return [self.scene_message(), self.physics_message(), self.pose_message()]
+
+    def physics_message(self, rtf: float | None = None, behind: bool = False) -> dict:
+        """The simulated world now: the arm (as a pose message's frames), the objects, what
+        touches what, and the events since the last message."""
+        if not self.sim:
+            return {"type": "physics", "on": False}
+        st = self.sim.state()
+        self.q = np.asarray(st["joints"])
+        if self.robot.gripper:
+            self.gripper = 100 * st["gripper_mm"] / self.robot.gripper["max_opening_mm"]
+        fresh = self.events_sent == 0  # a new or reset simulation: the page starts its event log anew
+        events = self.sim.events(self.events_sent)
+        self.events_sent += len(events)
+        return {
+            "type": "physics", "on": True, "fresh": fresh, "t": st["t"], "busy": st["busy"],
+            "objects": [{"name": o["name"], "pose": _flat(o["pose"]), "carried": o["carried"],
+                         "removed": o["removed"], "movable": o["movable"]} for o in st["objects"]],
+            "contacts": [[c["a"], c["b"]] for c in st["contacts"]],
+            "events": [e.to_dict() for e in events], "steps": st["counted_steps"], "lost": st["lost_steps"],
+            "rtf": rtf, "behind": behind,
+        }
+
+    def physics_command(self, line: str) -> str:
+        return self.sim.command(line)
+
+    def move_line(self, q) -> str:
+        """The protocol line that moves the (simulated) arm to joint values q: `M` with the
+        motor angles, or the joint variables of a robot without motors."""
+        r = self.robot
+        values = r.motors_from_joints(q) if r.num_motors else q
+        return "M " + " ".join(f"{v:.3f}" for v in values)
 
     def on_status_text(self, msg) -> list[dict]:
         code = int(_num(msg, "code", 0, 255))

@@ -4,7 +4,7 @@
 import { View } from "./view";
 import { Plots } from "./plots";
 import { startTour } from "./tour";
-import type { IkMsg, PoseMsg, RobotMsg, ServerMsg, TimelineMsg } from "./protocol";
+import type { IkMsg, PhysicsMsg, PoseMsg, RobotMsg, SceneMsg, ServerMsg, SimEvent, TimelineMsg } from "./protocol";
 
 const $ = <T extends HTMLElement = HTMLElement>(id: string) => document.getElementById(id) as T;
 const token = new URLSearchParams(location.search).get("token") ?? "";
@@ -29,12 +29,18 @@ interface Hook {
   ikUpdates: number[]; // performance.now() of each IK pose drawn while dragging
   messages: number;
   targetScreen: number[]; // where the IK target's centre is on screen (CSS px), to drag it
+  scene: SceneMsg | null;
+  physics: PhysicsMsg | null;
+  events: SimEvent[]; // the physics events since the simulation started or was reset
+  simCommand: string; // the last line a pose became for the simulated controller
+  objectScreen: (name: string) => number[] | null;
   armPixels: () => number; // share of the view's pixels that are the arm's colours (0..1)
 }
 const hook: Hook = {
   ready: false, connected: false, robot: null, pose: null, ik: null, timeline: null, playing: false,
   programError: "", robotError: "", lastError: "", teach: "", fps: 0, framesDrawn: 0, firstFrameAt: 0,
   latency: [], ikUpdates: [], messages: 0, targetScreen: [0, 0], armPixels: () => view.armPixels(),
+  scene: null, physics: null, events: [], simCommand: "", objectScreen: (n) => view.objectScreen(n),
 };
 const readOnly = new Proxy(hook, { set: () => false, deleteProperty: () => false });
 Object.defineProperty(window, "articula", { value: readOnly, writable: false });
@@ -174,6 +180,16 @@ function handle(m: ServerMsg): void {
     case "robot_error":
       hook.robotError = m.message;
       banner(`This robot file cannot be used, the robot stays ${robot?.name ?? ""}: ${m.message}`);
+      break;
+    case "scene":
+      showScene(m);
+      break;
+    case "physics":
+      showPhysics(m);
+      break;
+    case "sim_command":
+      hook.simCommand = m.line;
+      if (m.seq !== undefined && m.seq !== null) replyArrived();
       break;
     case "teach": {
       hook.teach = m.line;
@@ -354,6 +370,76 @@ function showIk(m: IkMsg): void {
   el.textContent = text;
   el.className = `status ${m.status === "reached" ? "ok" : m.status === "budget" && m.type === "jt_frame" && !m.done ? "" : "bad"}`;
 }
+
+// ---- live physics
+
+const TROUBLE = new Set(["collision", "self_collision", "squeeze", "steps_lost", "blocked", "rejected", "object_removed",
+  "gripper_blocked", "stall"]);
+
+function showScene(m: SceneMsg): void {
+  hook.scene = m;
+  const sel = $("scene-select") as HTMLSelectElement;
+  sel.innerHTML = `<option value="">off</option>` + m.scenes.map((n) => `<option>${n}</option>`).join("");
+  sel.value = m.name ?? "";
+  view.setObjects(m.objects);
+  $("physics-bar").hidden = m.name === null;
+  $("events").hidden = m.name === null;
+  $("events").innerHTML = "";
+}
+
+function showPhysics(p: PhysicsMsg): void {
+  hook.physics = p;
+  if (!p.on) return;
+  view.physics(p);
+  if (p.t !== undefined && hook.timeline) plots.playhead(p.t);
+  if (p.fresh) {
+    hook.events = [];
+    $("events").innerHTML = "";
+  }
+  const rtf = $("phys-rtf");
+  if (p.running === false) {
+    rtf.textContent = `paused at ${p.t?.toFixed(2)} s`;
+    rtf.className = "rtf";
+  } else if (p.rtf !== undefined && p.rtf !== null) {
+    const cap = p.capacity ? `, could run ${Math.round(p.capacity)}x` : "";
+    rtf.textContent = p.behind ? `behind real time: ${p.rtf.toFixed(2)}x` : `${p.rtf.toFixed(2)}x real time${cap}`;
+    rtf.className = `rtf ${p.behind ? "behind" : ""}`;
+  }
+  const log = $("events");
+  for (const e of p.events ?? []) {
+    hook.events.push(e);
+    const d = document.createElement("div");
+    d.className = TROUBLE.has(e.kind) ? "trouble" : e.kind === "grasp" || e.kind === "release" ? "grasp" : "";
+    d.textContent = `${e.t.toFixed(2)} s ${e.kind}: ${e.a}${e.b ? ` / ${e.b}` : ""}${e.detail ? ` - ${e.detail}` : ""}`;
+    d.title = d.textContent;
+    log.appendChild(d);
+    if (e.kind !== "contact_ended") {
+      if (e.a) view.flash(e.a);
+      if (e.b && e.b !== "ground") view.flash(e.b);
+    }
+  }
+  while (log.childElementCount > 200) log.firstElementChild!.remove();
+  if (p.events?.length) log.scrollTop = log.scrollHeight;
+  if (p.steps && robot?.motors.length) $("view-status").textContent = `t = ${p.t?.toFixed(2)} s, steps ${p.steps.join(" ")}` +
+    (p.lost?.some((v) => v) ? `, lost ${p.lost.join(" ")}` : "");
+}
+
+$("scene-select").addEventListener("change", (e) => {
+  const v = (e.target as HTMLSelectElement).value;
+  send({ type: "scene", name: v || null });
+});
+$("phys-run").onclick = () => send({ type: "physics_run" });
+$("phys-pause").onclick = () => send({ type: "physics_pause" });
+$("phys-step").onclick = () => send({ type: "physics_step" });
+$("phys-reset").onclick = () => send({ type: "physics_reset" });
+let dragSent = 0;
+view.onDrag = (object, target) => {
+  if (target === null) return send({ type: "release" });
+  const now = performance.now();
+  if (now - dragSent < 15) return; // one pull a display frame is plenty
+  dragSent = now;
+  send({ type: "drag", object, target });
+};
 
 // ---- controls: robot, joints, IK
 

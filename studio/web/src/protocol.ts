@@ -103,7 +103,53 @@ export interface TimelineMsg {
   summary: Record<string, number>;
 }
 
+export interface SceneObjectInfo {
+  name: string;
+  type: "box" | "cylinder" | "sphere";
+  size: number[];
+  movable: boolean;
+  mass_kg: number;
+}
+
+export interface SceneMsg {
+  type: "scene";
+  name: string | null; // null: no physics
+  title: string;
+  objects: SceneObjectInfo[];
+  scenes: string[];
+}
+
+export interface SimEvent {
+  t: number;
+  kind: string;
+  line: number;
+  a: string;
+  b: string;
+  point_mm?: number[];
+  detail?: string;
+}
+
+export interface PhysicsMsg {
+  type: "physics";
+  on: boolean;
+  fresh?: boolean; // a new or reset simulation: its events start here
+  t?: number;
+  busy?: boolean;
+  objects?: { name: string; pose: Flat4x4; carried: boolean; removed: boolean; movable: boolean }[];
+  contacts?: string[][];
+  events?: SimEvent[];
+  steps?: number[];
+  lost?: number[];
+  rtf?: number | null;
+  capacity?: number | null;
+  behind?: boolean;
+  running?: boolean;
+}
+
 export type ServerMsg =
+  | SceneMsg
+  | PhysicsMsg
+  | { type: "sim_command"; line: string; seq?: number | null }
   | RobotMsg
   | PoseMsg
   | IkMsg

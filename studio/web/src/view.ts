@@ -6,7 +6,7 @@ import { OrbitControls } from "three/examples/jsm/controls/OrbitControls.js";
 import { TransformControls } from "three/examples/jsm/controls/TransformControls.js";
 import { STLLoader } from "three/examples/jsm/loaders/STLLoader.js";
 import { OBJLoader } from "three/examples/jsm/loaders/OBJLoader.js";
-import type { Flat4x4, PoseMsg, RobotMsg, Shape } from "./protocol";
+import type { Flat4x4, PhysicsMsg, PoseMsg, RobotMsg, SceneObjectInfo, Shape } from "./protocol";
 
 const LINK_COLORS = [0x3d5a80, 0xee6c4d, 0x98c1d9, 0xe0a458, 0x6d9f71, 0xb56576, 0x8d99ae];
 
@@ -57,6 +57,14 @@ export class View {
   onTarget: (t: TargetChange, final: boolean) => void = () => {};
   onFrame: (now: number) => void = () => {};
   private arm = new THREE.Group();
+  // The physics scene's objects by name, and what flashes (an event names it) until when.
+  private objects = new Map<string, THREE.Mesh>();
+  private objectGroup = new THREE.Group();
+  private flashes = new Map<THREE.Mesh, number>();
+  private raycaster = new THREE.Raycaster();
+  private dragPlane = new THREE.Plane();
+  private dragging: { name: string; offset: THREE.Vector3 } | null = null;
+  onDrag: (object: string, target: number[] | null) => void = () => {};
   private ghostArm = new THREE.Group();
   private grid: THREE.GridHelper | null = null;
   // From the last frame's origin to the tool point: the tool offset, drawn for every robot.
@@ -120,7 +128,7 @@ export class View {
     );
     this.ground.position.z = -0.5;
     this.scene.add(this.ground);
-    this.scene.add(this.arm, this.ghostArm);
+    this.scene.add(this.arm, this.ghostArm, this.objectGroup);
 
     // The IK target: a ball with its own axes, moved by the gizmo.
     const ball = new THREE.Mesh(
@@ -144,6 +152,12 @@ export class View {
     this.gizmo.addEventListener("objectChange", () => this.onTarget(this.targetValue(), false));
 
     window.addEventListener("resize", () => this.resize());
+    // Dragging an object of the physics scene: a press on a movable one grabs it, the pointer
+    // pulls it in the plane facing the camera through where it was grabbed.
+    const el = this.renderer.domElement;
+    el.addEventListener("pointerdown", (e) => this.grab(e), { capture: true });
+    el.addEventListener("pointermove", (e) => this.pull(e));
+    window.addEventListener("pointerup", () => this.letGo());
     this.controls.addEventListener("change", () => (this.dirty = true));
     this.gizmo.addEventListener("change", () => (this.dirty = true));
     this.resize();
@@ -163,6 +177,16 @@ export class View {
 
   private draw(now: number): void {
     const moved = this.controls.update();
+    for (const [m, until] of this.flashes) {
+      const mat = m.material as THREE.MeshStandardMaterial;
+      if (now > until) {
+        mat.emissive.setHex(0x000000);
+        this.flashes.delete(m);
+      } else {
+        mat.emissive.setHex(Math.floor(now / 120) % 2 ? 0xff3b30 : 0x551100);
+      }
+      this.dirty = true;
+    }
     if (!(this.dirty || moved || this.continuous)) return;
     this.dirty = false;
     this.renderer.render(this.scene, this.camera);
@@ -348,6 +372,100 @@ export class View {
   showAxes(on: boolean): void {
     this.dirty = true;
     this.axes.forEach((a) => (a.visible = on));
+  }
+
+  // ---- the physics scene
+
+  setObjects(objects: SceneObjectInfo[]): void {
+    this.objectGroup.clear();
+    this.objects.clear();
+    const colors = [0xe63946, 0x2a9d8f, 0xf4a261, 0x457b9d, 0x8ab17d, 0xe9c46a, 0x9d4edd];
+    objects.forEach((o, i) => {
+      const [a, b, c] = o.size;
+      const geo = o.type === "box" ? new THREE.BoxGeometry(a, b, c)
+        : o.type === "sphere" ? new THREE.SphereGeometry(a, 32, 20)
+        : new THREE.CylinderGeometry(a, a, b, 40).rotateX(Math.PI / 2);
+      const mat = new THREE.MeshStandardMaterial({
+        color: o.movable ? colors[i % colors.length] : 0x8d99ae, roughness: o.movable ? 0.5 : 0.8,
+      });
+      const m = new THREE.Mesh(geo, mat);
+      m.matrixAutoUpdate = false;
+      m.name = o.name;
+      m.userData.movable = o.movable;
+      this.objects.set(o.name, m);
+      this.objectGroup.add(m);
+    });
+    this.dirty = true;
+  }
+
+  physics(p: PhysicsMsg): void {
+    for (const o of p.objects ?? []) {
+      const m = this.objects.get(o.name);
+      if (!m) continue;
+      setMatrix(m, o.pose);
+      m.visible = !o.removed;
+    }
+    this.dirty = true;
+  }
+
+  // An event names parts ("link 2", "finger left", an object, "ground"): they flash.
+  flash(name: string): void {
+    let m: THREE.Object3D | undefined = this.objects.get(name);
+    if (!m) {
+      const frame = /^link (\d+)$/.exec(name);
+      if (frame) m = this.frames[Number(frame[1])]?.children.find((c) => (c as THREE.Mesh).isMesh);
+      else if (name.startsWith("finger")) m = this.fingers[name.endsWith("right") ? 1 : 0];
+    }
+    if (m && (m as THREE.Mesh).isMesh) {
+      const mesh = m as THREE.Mesh;
+      if (!this.flashes.has(mesh)) mesh.material = (mesh.material as THREE.Material).clone();
+      this.flashes.set(mesh, performance.now() + 700);
+    }
+  }
+
+  private pointer(e: PointerEvent): THREE.Vector2 {
+    const r = this.renderer.domElement.getBoundingClientRect();
+    return new THREE.Vector2(((e.clientX - r.left) / r.width) * 2 - 1, -((e.clientY - r.top) / r.height) * 2 + 1);
+  }
+
+  private grab(e: PointerEvent): void {
+    if (e.button !== 0 || !this.objects.size) return;
+    this.raycaster.setFromCamera(this.pointer(e), this.camera);
+    const hit = this.raycaster.intersectObjects([...this.objects.values()].filter((m) => m.userData.movable && m.visible))[0];
+    if (!hit) return;
+    e.stopImmediatePropagation();
+    this.controls.enabled = false;
+    const normal = this.camera.getWorldDirection(new THREE.Vector3()).negate();
+    this.dragPlane.setFromNormalAndCoplanarPoint(normal, hit.point);
+    const centre = new THREE.Vector3().setFromMatrixPosition(hit.object.matrixWorld);
+    this.dragging = { name: hit.object.name, offset: centre.sub(hit.point) };
+    this.onDrag(hit.object.name, [...hit.point.clone().add(this.dragging.offset).toArray()]);
+  }
+
+  private pull(e: PointerEvent): void {
+    if (!this.dragging) return;
+    this.raycaster.setFromCamera(this.pointer(e), this.camera);
+    const p = new THREE.Vector3();
+    if (this.raycaster.ray.intersectPlane(this.dragPlane, p)) {
+      p.add(this.dragging.offset);
+      this.onDrag(this.dragging.name, [p.x, p.y, p.z]);
+    }
+  }
+
+  private letGo(): void {
+    if (!this.dragging) return;
+    this.onDrag(this.dragging.name, null);
+    this.dragging = null;
+    this.controls.enabled = true;
+  }
+
+  // Where an object's centre is on the page (tests drag it).
+  objectScreen(name: string): number[] | null {
+    const m = this.objects.get(name);
+    if (!m) return null;
+    const p = new THREE.Vector3().setFromMatrixPosition(m.matrixWorld).project(this.camera);
+    const r = this.renderer.domElement.getBoundingClientRect();
+    return [r.left + ((p.x + 1) / 2) * r.width, r.top + ((1 - p.y) / 2) * r.height];
   }
 
   // ---- the IK target
