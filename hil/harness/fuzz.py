@@ -48,7 +48,7 @@ from dataclasses import dataclass, field
 from fractions import Fraction
 from pathlib import Path
 
-from .link import Link, LinkTimeout, LinkVanished, parse_info, parse_setting, parse_status, Status
+from articula.link import Link, LinkTimeout, LinkVanished, parse_info, parse_setting, parse_status, Status
 from .randplan import millis_text as fmt
 from .robot import Robot
 

@@ -17,7 +17,7 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from .link import (Link, LinkError, LinkTimeout, LinkVanished, Status, parse_info, parse_setting, parse_status,
+from articula.link import (Link, LinkError, LinkTimeout, LinkVanished, Status, parse_info, parse_setting, parse_status,
                    status_text)
 from .plan import Command, Plan
 from .prediction import Prediction, PredictError, first_interval_s, predict_plan

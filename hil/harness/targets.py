@@ -17,7 +17,7 @@ from pathlib import Path
 
 import serial
 
-from .link import Link
+from articula.link import Link
 from .trace import TraceReader
 
 BAUD = 115200

@@ -22,7 +22,7 @@ SOURCE = Path(os.environ.get("ARTICULA_SOURCE_DIR") or Path(__file__).resolve().
 sys.path.insert(0, str(SOURCE))
 
 from hil.harness import fuzz  # noqa: E402
-from hil.harness.link import Link, parse_status  # noqa: E402
+from articula.link import Link, parse_status  # noqa: E402
 from hil.harness.robot import Robot  # noqa: E402
 
 ROBOT = Robot(SOURCE / "robots" / "mk2plus.json")

@@ -12,7 +12,7 @@ import pytest
 SOURCE = Path(os.environ.get("ARTICULA_SOURCE_DIR") or Path(__file__).resolve().parents[2])
 sys.path.insert(0, str(SOURCE))
 
-from hil.harness.link import Link, parse_info, parse_setting, parse_status  # noqa: E402
+from articula.link import Link, parse_info, parse_setting, parse_status  # noqa: E402
 from hil.harness.measured import MeasuredError, load_measured  # noqa: E402
 from hil.harness.plan import PlanError, parse_plan  # noqa: E402
 from hil.harness.prediction import first_interval_s, predict_plan  # noqa: E402

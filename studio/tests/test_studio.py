@@ -438,3 +438,75 @@ def test_a_thousand_random_and_malformed_messages_never_break_the_server(open_pa
     pg.wait("Math.abs(a.pose.q[0] - 7) < 1e-9")
     pg.page.reload()
     pg.wait("a.ready && a.firstFrameAt > 0")
+
+
+# ---- the arm in the loop: the virtual Nano (the real firmware ELF in simavr)
+
+
+def _connect_virtual_nano(pg):
+    pg.page.click("#arm-port")
+    pg.page.wait_for_function("[...document.querySelectorAll('#arm-port option')].some(o => o.value === 'virtual')")
+    pg.page.select_option("#arm-port", "virtual")
+    pg.page.click("#arm-connect")
+    pg.wait("a.arm.connected && a.arm.status !== null", timeout=20000)
+
+
+def test_the_virtual_nano_beside_the_model(open_page):
+    pg = open_page("mk2plus", query="&quality=high")
+    _connect_virtual_nano(pg)
+    assert pg.hook("a.arm.status.steps") == [0, 0, 0]
+    pg.page.fill("#arm-line", "L 0 10")
+    pg.page.click("#arm-send")
+    pg.wait("a.arm.reply && a.arm.reply.line === 'L 0 10'")
+    reply = pg.hook("a.arm.reply")
+    assert reply["reply"] == "ok" and reply["predicted"]["reply"] == "ok"
+    pg.wait("a.arm.status.state === 'Idle' && a.arm.status.steps[0] === 32", timeout=10000)
+    assert pg.hook("a.arm.status.steps") == reply["predicted"]["steps"] == [32, 0, 0]
+    # a line the arm refuses: its error and its meaning, and the model says the same
+    pg.page.fill("#arm-line", "L 1 150")
+    pg.page.press("#arm-line", "Enter")
+    pg.wait("a.arm.reply.line === 'L 1 150'")
+    reply = pg.hook("a.arm.reply")
+    assert reply["reply"] == "error:9" and reply["meaning"] == "target beyond a joint limit"
+    assert reply["predicted"]["reply"] == "error:9"
+    assert "error:9 (target beyond a joint limit)" in pg.page.text_content("#arm-reply")
+    pg.page.screenshot(path=str(SHOTS / "studio-live-arm.png"))
+    assert pg.errors == []
+
+
+def test_stop_ends_a_long_move(open_page):
+    pg = open_page("mk2plus")
+    _connect_virtual_nano(pg)
+    # a stop decelerates at $1 (steps/s^2): at 20,000 the arm is at rest within 100 ms
+    for line in ("$1=20000", "M 80 90 0"):
+        pg.page.fill("#arm-line", line)
+        pg.page.click("#arm-send")
+        pg.wait(f"a.arm.reply && a.arm.reply.line === '{line}'")
+        assert pg.hook("a.arm.reply.reply") == "ok"
+    pg.wait("a.arm.status.state === 'Run'")
+    pg.page.wait_for_timeout(150)
+    pg.page.keyboard.press("Escape")  # the same as the STOP button
+    pg.wait("a.arm.stopMs !== null", timeout=5000)
+    stop_ms = pg.hook("a.arm.stopMs")
+    steps = pg.hook("a.arm.status.steps")
+    assert pg.hook("a.arm.status.state") == "Idle"
+    assert 0 < steps[0] < 253, steps  # short of the move's 253 steps
+    assert stop_ms < 100, stop_ms
+
+
+def test_the_virtual_nano_killed_mid_move_is_noticed(open_page):
+    pg = open_page("mk2plus")
+    _connect_virtual_nano(pg)
+    pg.page.fill("#arm-line", "M 80 90 0")
+    pg.page.click("#arm-send")
+    pg.wait("a.arm.status.state === 'Run'")
+    import time
+    t0 = time.monotonic()
+    subprocess.run(["pkill", "-KILL", "-f", "articula-vnano --pty-link /tmp/articula-studio-"], check=False)
+    pg.wait("a.arm.connected === false && a.arm.error !== ''", timeout=5000)
+    noticed = time.monotonic() - t0
+    assert noticed < 2.0, noticed
+    assert "Lost the arm" in pg.page.text_content("#arm-state")
+    # the studio goes on with the model
+    pg.page.fill('#joints input[type=number][data-joint="0"]', "15")
+    pg.wait("Math.abs(a.pose.q[0] - 15) < 1e-9")

@@ -22,7 +22,7 @@ from aiohttp import WSMsgType, web
 
 import articula
 
-from .session import REPO, BadMessage, Session
+from .session import REPO, BadMessage, Session, _flat
 
 log = logging.getLogger("articula.studio")
 
@@ -120,6 +120,7 @@ class Studio:
             conn.stop_tasks()
             if conn.physics:
                 conn.physics.cancel()
+            await conn.arm_disconnect({}, quiet=True)
             self.sessions.pop(sid, None)
         return ws
 
@@ -161,6 +162,13 @@ class Connection:
         self.physics_running = True
         self.pending_move: str | None = None
         self.pending_grip: str | None = None
+        # The arm in the loop (arm.py): the connection, the lines it accepted since (for the
+        # prediction beside its replies), and the task that streams its status to the page.
+        self.arm = None
+        self.arm_history: list[str] = []
+        self.arm_event = asyncio.Event()
+        self.arm_task: asyncio.Task | None = None
+        self.stop_sent_at = 0.0
 
     async def send(self, msgs: list[dict]) -> None:
         async with self.lock:
@@ -199,12 +207,132 @@ class Connection:
             return
         if kind in ("drag", "release", "physics_run", "physics_pause", "physics_step", "physics_reset"):
             raise BadMessage("no physics: choose a scene first")
+        if kind in ("arm_ports", "arm_connect", "arm_disconnect", "arm_send", "arm_stop"):
+            await getattr(self, kind)(msg)
+            return
         if kind in ("set_joint", "set_joints", "ik", "home", "zero", "load_robot", "program_load", "set_lengths"):
             self.stop_tasks()  # the user took the arm: playback and animations stop
         replies = self.session.handle(msg)
         await self.send(replies)
         if kind in ("scene", "load_robot", "hello"):
             self.ensure_physics()
+
+    # ---- the arm in the loop
+
+    async def arm_ports(self, msg) -> None:
+        from .arm import ports
+        await self.send([{"type": "arm_ports", "ports": await asyncio.to_thread(ports)}])
+
+    async def arm_connect(self, msg) -> None:
+        from .arm import Arm, ArmError
+        port = msg.get("port")
+        if not isinstance(port, str) or not port:
+            raise BadMessage("'port' must name a port (see arm_ports)")
+        await self.arm_disconnect({}, quiet=True)
+        r = self.session.robot
+        if not r.num_motors:
+            raise BadMessage(f"{r.name} has no motors: there is no arm to connect")
+        g = r.gripper
+        loop = asyncio.get_running_loop()
+        arm = Arm(r.name, r.num_motors, (g["servo_closed_deg"], g["servo_open_deg"]) if g else None,
+                  on_change=lambda: loop.call_soon_threadsafe(self.arm_event.set))
+        await self.send([{"type": "arm", "connected": False, "connecting": True, "port": port}])
+        try:
+            info = await asyncio.to_thread(arm.open, port)
+        except ArmError as e:
+            await self.send([{"type": "arm", "connected": False, "port": port, "error": str(e)}])
+            return
+        self.arm, self.arm_history = arm, []
+        self.arm_task = asyncio.create_task(self._arm_stream())
+        await self.send([{"type": "arm", "connected": True, "port": port, "label": arm.label, "info": info}])
+
+    async def arm_disconnect(self, msg, quiet=False) -> None:
+        arm, self.arm = self.arm, None
+        if self.arm_task:
+            self.arm_task.cancel()
+            self.arm_task = None
+        if arm:
+            await asyncio.to_thread(arm.close)
+        if not quiet:
+            await self.send([{"type": "arm", "connected": False}])
+
+    def _arm_or_error(self):
+        if self.arm is None:
+            raise BadMessage("no arm connected: Connect first")
+        return self.arm
+
+    async def arm_send(self, msg) -> None:
+        """The thesis's "send command": the line goes to the arm and, predicted, to the model;
+        the page shows both answers side by side."""
+        from .arm import ArmError
+        arm = self._arm_or_error()
+        line = msg.get("line")
+        if not isinstance(line, str) or not line.strip() or len(line) > 200 or "\n" in line:
+            raise BadMessage("'line' must be one protocol line (docs/protocol.md)")
+        line = line.strip()
+        predicted = self.predict_arm_line(line)
+        try:
+            reply = await asyncio.to_thread(arm.command, line)
+        except ArmError as e:
+            await self.send([{"type": "arm_reply", "line": line, "reply": None, "error": str(e), "predicted": predicted}])
+            return
+        if reply == "ok":
+            self.arm_history.append(line)
+        meaning = articula.status_text(reply)
+        await self.send([{"type": "arm_reply", "line": line, "reply": reply, "meaning": meaning, "predicted": predicted}])
+
+    def predict_arm_line(self, line: str) -> dict:
+        """What the controller model says of this line after the ones the arm accepted."""
+        r = self.session.robot
+        text = "\n".join(self.arm_history + [line]) + "\n"
+        try:
+            rec = r.predict(articula.Program.parse(text, "arm.arm")).records[-1]
+            return {"reply": "ok" if rec.reply == "ok" else f"error:{rec.code}", "steps": rec.steps,
+                    "meaning": articula.status_text(rec.code), "seconds": rec.seconds}
+        except articula.ProgramError:
+            code = r.quantize([line])[0].code
+            return {"reply": f"error:{code}", "steps": None, "meaning": articula.status_text(code)}
+
+    async def arm_stop(self, msg) -> None:
+        from .arm import ArmError
+        arm = self._arm_or_error()
+        try:
+            self.stop_sent_at = await asyncio.to_thread(arm.stop)
+        except ArmError as e:
+            await self.send([{"type": "arm", "connected": False, "error": str(e)}])
+            return
+        await self.send([{"type": "arm_stopped"}])
+
+    async def _arm_stream(self) -> None:
+        """The arm's status to the page as it changes (the port's thread polls at 15 Hz): the
+        second arm drawn from it, and how far its tool is from the model's."""
+        ses = self.session
+        while self.arm is not None and not self.ws.closed:
+            await self.arm_event.wait()
+            self.arm_event.clear()
+            arm = self.arm
+            if arm is None:
+                return
+            if not arm.running:
+                await self.send([{"type": "arm", "connected": False, "error": arm.error, "lost": True}])
+                await self.arm_disconnect({}, quiet=True)
+                return
+            st = arm.status
+            if st is None or st.angles is None or len(st.angles) != ses.robot.num_motors:
+                continue
+            q = ses.robot.joints_from_motors(st.angles)
+            frames = ses.robot.frames(q)
+            model_tool = ses.robot.fk(ses.q)[:3, 3]
+            msg = {"type": "arm_status", "state": st.state, "steps": st.steps, "angles": st.angles,
+                   "q": q.tolist(), "frames": [_flat(f) for f in frames],
+                   "diff_mm": float(((frames[-1][:3, 3] - model_tool) ** 2).sum() ** 0.5), "text": st.text}
+            if self.stop_sent_at and st.state == "Idle":
+                msg["stop_to_idle_ms"] = (arm.status_at - self.stop_sent_at) * 1000
+                self.stop_sent_at = 0.0
+                # After a stop the commanded angles are those of the steps reached: the
+                # prediction starts from there.
+                self.arm_history = ["M " + " ".join(f"{a:.3f}" for a in st.angles)]
+            await self.send([msg])
 
     # ---- live physics
 

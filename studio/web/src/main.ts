@@ -4,7 +4,7 @@
 import { View } from "./view";
 import { Plots } from "./plots";
 import { startTour } from "./tour";
-import type { IkMsg, PhysicsMsg, PoseMsg, RobotMsg, SceneMsg, ServerMsg, SimEvent, TimelineMsg } from "./protocol";
+import type { ArmStatusMsg, IkMsg, PhysicsMsg, PoseMsg, RobotMsg, SceneMsg, ServerMsg, SimEvent, TimelineMsg } from "./protocol";
 
 const $ = <T extends HTMLElement = HTMLElement>(id: string) => document.getElementById(id) as T;
 const token = new URLSearchParams(location.search).get("token") ?? "";
@@ -34,6 +34,7 @@ interface Hook {
   events: SimEvent[]; // the physics events since the simulation started or was reset
   simCommand: string; // the last line a pose became for the simulated controller
   objectScreen: (name: string) => number[] | null;
+  arm: { connected: boolean; error: string; label: string; status: ArmStatusMsg | null; reply: unknown; stopMs: number | null };
   armPixels: () => number; // share of the view's pixels that are the arm's colours (0..1)
 }
 const hook: Hook = {
@@ -41,6 +42,7 @@ const hook: Hook = {
   programError: "", robotError: "", lastError: "", teach: "", fps: 0, framesDrawn: 0, firstFrameAt: 0,
   latency: [], ikUpdates: [], messages: 0, targetScreen: [0, 0], armPixels: () => view.armPixels(),
   scene: null, physics: null, events: [], simCommand: "", objectScreen: (n) => view.objectScreen(n),
+  arm: { connected: false, error: "", label: "", status: null, reply: null, stopMs: null },
 };
 const readOnly = new Proxy(hook, { set: () => false, deleteProperty: () => false });
 Object.defineProperty(window, "articula", { value: readOnly, writable: false });
@@ -111,6 +113,7 @@ function connect(): void {
     hook.connected = true;
     setConn("connected", "ok");
     send({ type: "hello" });
+    send({ type: "arm_ports" });
   };
   ws.onclose = () => {
     hook.connected = false;
@@ -186,6 +189,37 @@ function handle(m: ServerMsg): void {
       break;
     case "physics":
       showPhysics(m);
+      break;
+    case "arm_ports": {
+      const sel = $("arm-port") as HTMLSelectElement;
+      sel.innerHTML = m.ports.map((p) => `<option value="${p.id}">${p.label}</option>`).join("") ||
+        `<option value="">no port found</option>`;
+      break;
+    }
+    case "arm":
+      showArm(m);
+      break;
+    case "arm_status":
+      hook.arm.status = m;
+      if (m.stop_to_idle_ms !== undefined) hook.arm.stopMs = m.stop_to_idle_ms;
+      view.liveFrames(m.frames);
+      $("arm-state").className = "status ok";
+      $("arm-state").innerHTML = `<div class="reply-grid"><b>${hook.arm.label}</b><span>${m.state}, steps ${m.steps.join(" ")}</span>
+        <b>angles</b><span>${m.angles.map((a) => a.toFixed(2)).join(" ")} deg</span>
+        <b>from the model</b><span>${m.diff_mm.toFixed(2)} mm (tool to tool)</span></div>`;
+      break;
+    case "arm_reply": {
+      hook.arm.reply = m;
+      const p = m.predicted;
+      const arm = m.reply === null ? `no answer: ${m.error}` : m.reply === "ok" ? "ok" : `${m.reply} (${m.meaning})`;
+      const model = p.reply === "ok" ? `ok${p.steps ? `, steps ${p.steps.join(" ")}` : ""}` : `${p.reply} (${p.meaning})`;
+      $("arm-reply").className = `status ${m.reply === p.reply ? "" : "bad"}`;
+      $("arm-reply").innerHTML = `<div class="reply-grid"><b>sent</b><span>${esc(m.line)}</span><b>the arm</b><span>${esc(arm)}</span>
+        <b>the model</b><span>${esc(model)}</span></div>`;
+      break;
+    }
+    case "arm_stopped":
+      programStatus("stop sent: the arm decelerates to rest and empties its queue");
       break;
     case "sim_command":
       hook.simCommand = m.line;
@@ -370,6 +404,60 @@ function showIk(m: IkMsg): void {
   el.textContent = text;
   el.className = `status ${m.status === "reached" ? "ok" : m.status === "budget" && m.type === "jt_frame" && !m.done ? "" : "bad"}`;
 }
+
+// ---- the arm in the loop
+
+function esc(s: string): string {
+  return s.replace(/[&<>"]/g, (c) => ({ "&": "&amp;", "<": "&lt;", ">": "&gt;", '"': "&quot;" })[c]!);
+}
+
+function showArm(m: { connected: boolean; connecting?: boolean; label?: string; error?: string; lost?: boolean }): void {
+  hook.arm.connected = m.connected;
+  hook.arm.error = m.error ?? "";
+  if (m.label) hook.arm.label = m.label;
+  $("arm-connect").hidden = m.connected;
+  $("arm-disconnect").hidden = !m.connected;
+  $("arm-send-row").hidden = !m.connected;
+  const st = $("arm-state");
+  if (m.connecting) {
+    st.className = "status";
+    st.textContent = "connecting...";
+  } else if (m.error) {
+    st.className = "status bad";
+    st.textContent = m.lost ? `Lost the arm: ${m.error}. The studio goes on with the model.` : m.error;
+    if (m.lost) banner(`Lost the arm: ${m.error}`);
+    view.liveFrames(null);
+  } else if (!m.connected) {
+    st.textContent = "";
+    view.liveFrames(null);
+  }
+}
+
+function sendArmLine(): void {
+  const inp = $("arm-line") as HTMLInputElement;
+  if (inp.value.trim()) send({ type: "arm_send", line: inp.value.trim() });
+}
+
+function stopEverything(): void {
+  if (hook.arm.connected) send({ type: "arm_stop" });
+  if (hook.playing || hook.physics?.running) send({ type: "pause" });
+}
+
+$("arm-port").addEventListener("focus", () => send({ type: "arm_ports" }));
+$("arm-connect").onclick = () => {
+  const port = ($("arm-port") as HTMLSelectElement).value;
+  if (port) send({ type: "arm_connect", port });
+  else send({ type: "arm_ports" });
+};
+$("arm-disconnect").onclick = () => send({ type: "arm_disconnect" });
+$("arm-send").onclick = sendArmLine;
+$("arm-line").addEventListener("keydown", (e) => {
+  if ((e as KeyboardEvent).key === "Enter") sendArmLine();
+});
+$("stop").onclick = stopEverything;
+window.addEventListener("keydown", (e) => {
+  if (e.key === "Escape") stopEverything();
+});
 
 // ---- live physics
 

@@ -146,7 +146,25 @@ export interface PhysicsMsg {
   running?: boolean;
 }
 
+export interface ArmStatusMsg {
+  type: "arm_status";
+  state: string;
+  steps: number[];
+  angles: number[];
+  q: number[];
+  frames: Flat4x4[];
+  diff_mm: number;
+  text: string;
+  stop_to_idle_ms?: number;
+}
+
 export type ServerMsg =
+  | ArmStatusMsg
+  | { type: "arm_ports"; ports: { id: string; label: string }[] }
+  | { type: "arm"; connected: boolean; connecting?: boolean; port?: string; label?: string; info?: Record<string, string>; error?: string; lost?: boolean }
+  | { type: "arm_reply"; line: string; reply: string | null; meaning?: string; error?: string;
+      predicted: { reply: string; steps: number[] | null; meaning: string; seconds?: number } }
+  | { type: "arm_stopped" }
   | SceneMsg
   | PhysicsMsg
   | { type: "sim_command"; line: string; seq?: number | null }

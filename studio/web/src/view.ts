@@ -50,6 +50,8 @@ export class View {
   readonly target = new THREE.Group();
   frames: THREE.Group[] = [];
   ghost: THREE.Group[] = [];
+  live: THREE.Group[] = []; // the arm itself, from its status reports
+  private liveArm = new THREE.Group();
   fingers: THREE.Mesh[] = [];
   ghostFingers: THREE.Mesh[] = [];
   axes: THREE.Object3D[] = [];
@@ -128,7 +130,7 @@ export class View {
     );
     this.ground.position.z = -0.5;
     this.scene.add(this.ground);
-    this.scene.add(this.arm, this.ghostArm, this.objectGroup);
+    this.scene.add(this.arm, this.ghostArm, this.objectGroup, this.liveArm);
 
     // The IK target: a ball with its own axes, moved by the gizmo.
     const ball = new THREE.Mesh(
@@ -202,11 +204,12 @@ export class View {
   // Builds the robot's frames and shapes; resolves when every shape (meshes load from the
   // server) is in the scene.
   build(robot: RobotMsg, token: string): Promise<void> {
-    for (const g of [this.arm, this.ghostArm]) {
+    for (const g of [this.arm, this.ghostArm, this.liveArm]) {
       g.clear();
     }
     this.frames = [];
     this.ghost = [];
+    this.live = [];
     this.axes = [];
     this.fingers = [];
     this.ghostFingers = [];
@@ -226,6 +229,10 @@ export class View {
       gg.matrixAutoUpdate = false;
       this.ghost.push(gg);
       this.ghostArm.add(gg);
+      const lg = new THREE.Group();
+      lg.matrixAutoUpdate = false;
+      this.live.push(lg);
+      this.liveArm.add(lg);
       // Each frame's axes (x red, y green, z blue) and its number; hidden until asked for.
       const ax = new THREE.Group();
       const helper = new THREE.AxesHelper(i === n - 1 ? axisSize * 0.8 : axisSize);
@@ -240,6 +247,10 @@ export class View {
       g.add(ax);
       this.axes.push(ax);
     }
+    const liveMat = new THREE.MeshStandardMaterial({
+      color: 0x2a9d8f, transparent: true, opacity: 0.45, depthWrite: false, roughness: 0.5,
+    });
+    this.liveArm.visible = false;
     const loading: Promise<void>[] = [];
     robot.links.forEach((link, li) => {
       const color = LINK_COLORS[li % LINK_COLORS.length];
@@ -254,6 +265,11 @@ export class View {
             if ((o as THREE.Mesh).isMesh) (o as THREE.Mesh).material = ghostMat;
           });
           this.ghost[link.frame].add(gm);
+          const lm = m.clone();
+          lm.traverse((o) => {
+            if ((o as THREE.Mesh).isMesh) (o as THREE.Mesh).material = liveMat;
+          });
+          this.live[link.frame].add(lm);
           this.dirty = true;
         }));
       }
@@ -367,6 +383,13 @@ export class View {
     } else {
       this.ghostArm.visible = false;
     }
+  }
+
+  // The arm itself (its status reports' angles, frames from the server), beside the model.
+  liveFrames(frames: Flat4x4[] | null): void {
+    this.liveArm.visible = frames !== null;
+    frames?.forEach((m, i) => this.live[i] && setMatrix(this.live[i], m));
+    this.dirty = true;
   }
 
   showAxes(on: boolean): void {

@@ -1,5 +1,6 @@
 """The serial line to the arm (docs/protocol.md), over any pyserial port: a Nano on
-/dev/ttyUSB0 or the virtual Nano's pseudo-terminal, the same code for both.
+/dev/ttyUSB0 or the virtual Nano's pseudo-terminal, the same code for both. The harness
+(hil/harness) and the studio (articula.studio) talk to the arm through it. Needs pyserial.
 
 Every read has a deadline: a port that stops answering raises LinkTimeout, one that goes
 away (the device unplugged, the virtual Nano gone) LinkVanished. Never a hang.
@@ -12,7 +13,7 @@ from dataclasses import dataclass, field
 
 import serial
 
-import articula
+from . import status_text as _status_text
 
 
 class LinkError(Exception):
@@ -38,7 +39,7 @@ def status_text(reply: str) -> str:
     """`error:9` -> "target beyond a joint limit" (the core's status table, through the
     `articula` package)."""
     try:
-        return articula.status_text(reply)
+        return _status_text(reply)
     except ValueError:
         return "not a reply"
 
