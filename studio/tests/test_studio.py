@@ -510,3 +510,19 @@ def test_the_virtual_nano_killed_mid_move_is_noticed(open_page):
     # the studio goes on with the model
     pg.page.fill('#joints input[type=number][data-joint="0"]', "15")
     pg.wait("Math.abs(a.pose.q[0] - 15) < 1e-9")
+
+
+def test_a_program_drives_the_virtual_nano_line_by_line(open_page, tmp_path):
+    pg = open_page("mk2plus")
+    _connect_virtual_nano(pg)
+    pg.page.fill("#editor", "$0=2000\n$1=40000\nL 0 10\nL 1 150\nM -20 80 -10\nL 2 5\n")
+    pg.page.check("#drive-arm")
+    pg.page.click("#run")
+    pg.wait("a.arm.programDone === true", timeout=20000)
+    assert pg.hook("a.arm.programLines") == [[1, "ok"], [2, "ok"], [3, "ok"], [4, "error:9"], [5, "ok"], [6, "ok"]]
+    pg.wait("a.arm.status.state === 'Idle'")
+    # the arm ends on the steps the prediction gives for the same lines
+    program = tmp_path / "drive.arm"
+    program.write_text("$0=2000\n$1=40000\nL 0 10\nL 1 150\nM -20 80 -10\nL 2 5\n")
+    predicted = cli_json("predict", "mk2plus", str(program))
+    pg.wait(f"JSON.stringify(a.arm.status.steps) === '{json.dumps(predicted['records'][-1]['steps'], separators=(',', ':'))}'")

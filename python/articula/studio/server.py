@@ -168,6 +168,7 @@ class Connection:
         self.arm_history: list[str] = []
         self.arm_event = asyncio.Event()
         self.arm_task: asyncio.Task | None = None
+        self.arm_program: asyncio.Task | None = None
         self.stop_sent_at = 0.0
 
     async def send(self, msgs: list[dict]) -> None:
@@ -207,7 +208,7 @@ class Connection:
             return
         if kind in ("drag", "release", "physics_run", "physics_pause", "physics_step", "physics_reset"):
             raise BadMessage("no physics: choose a scene first")
-        if kind in ("arm_ports", "arm_connect", "arm_disconnect", "arm_send", "arm_stop"):
+        if kind in ("arm_ports", "arm_connect", "arm_disconnect", "arm_send", "arm_stop", "arm_run"):
             await getattr(self, kind)(msg)
             return
         if kind in ("set_joint", "set_joints", "ik", "home", "zero", "load_robot", "program_load", "set_lengths"):
@@ -248,6 +249,8 @@ class Connection:
 
     async def arm_disconnect(self, msg, quiet=False) -> None:
         arm, self.arm = self.arm, None
+        if self.arm_program:
+            self.arm_program.cancel()
         if self.arm_task:
             self.arm_task.cancel()
             self.arm_task = None
@@ -293,9 +296,49 @@ class Connection:
             code = r.quantize([line])[0].code
             return {"reply": f"error:{code}", "steps": None, "meaning": articula.status_text(code)}
 
+    async def arm_run(self, msg) -> None:
+        """A protocol program on the arm, line by line with the protocol's flow control (as the
+        harness runs plans): a line, its reply, then `?` until Idle before the next."""
+        arm = self._arm_or_error()
+        text = msg.get("text")
+        if not isinstance(text, str) or len(text) > 1_000_000:
+            raise BadMessage("'text' must be the program's text")
+        program = articula.Program.parse(text, msg.get("name") if isinstance(msg.get("name"), str) else "program.arm")
+        if program.format != "protocol":
+            raise BadMessage("the arm runs protocol lines (.arm): RoboSim programs run on the model")
+        if self.arm_program and not self.arm_program.done():
+            raise BadMessage("the arm is already running a program: stop it first")
+        self.arm_program = asyncio.create_task(self._arm_program(arm, text.splitlines()))
+
+    async def _arm_program(self, arm, lines: list[str]) -> None:
+        from .arm import ArmError
+        sent = 0
+        try:
+            for n, raw in enumerate(lines, 1):
+                line = raw.split("#", 1)[0].strip()
+                if not line:
+                    continue
+                predicted = self.predict_arm_line(line)
+                reply = await asyncio.to_thread(arm.command, line)
+                if reply == "ok":
+                    self.arm_history.append(line)
+                sent += 1
+                await self.send([{"type": "arm_program", "line": n, "command": line, "reply": reply,
+                                  "meaning": articula.status_text(reply), "predicted": predicted}])
+                if reply == "ok":
+                    timeout = 3 * (predicted.get("seconds") or 0) + 5
+                    if not await asyncio.to_thread(arm.wait_idle, timeout):
+                        raise ArmError(arm.error or f"line {n}: the arm did not come to rest within {timeout:.0f} s")
+            await self.send([{"type": "arm_program", "done": True, "sent": sent}])
+        except ArmError as e:
+            await self.send([{"type": "arm_program", "done": True, "sent": sent, "error": str(e)}])
+
     async def arm_stop(self, msg) -> None:
         from .arm import ArmError
         arm = self._arm_or_error()
+        if self.arm_program and not self.arm_program.done():
+            self.arm_program.cancel()  # no further line is sent
+            await self.send([{"type": "arm_program", "done": True, "stopped": True}])
         try:
             self.stop_sent_at = await asyncio.to_thread(arm.stop)
         except ArmError as e:

@@ -34,7 +34,8 @@ interface Hook {
   events: SimEvent[]; // the physics events since the simulation started or was reset
   simCommand: string; // the last line a pose became for the simulated controller
   objectScreen: (name: string) => number[] | null;
-  arm: { connected: boolean; error: string; label: string; status: ArmStatusMsg | null; reply: unknown; stopMs: number | null };
+  arm: { connected: boolean; error: string; label: string; status: ArmStatusMsg | null; reply: unknown; stopMs: number | null;
+         programLines: unknown[]; programDone: boolean };
   armPixels: () => number; // share of the view's pixels that are the arm's colours (0..1)
 }
 const hook: Hook = {
@@ -42,7 +43,7 @@ const hook: Hook = {
   programError: "", robotError: "", lastError: "", teach: "", fps: 0, framesDrawn: 0, firstFrameAt: 0,
   latency: [], ikUpdates: [], messages: 0, targetScreen: [0, 0], armPixels: () => view.armPixels(),
   scene: null, physics: null, events: [], simCommand: "", objectScreen: (n) => view.objectScreen(n),
-  arm: { connected: false, error: "", label: "", status: null, reply: null, stopMs: null },
+  arm: { connected: false, error: "", label: "", status: null, reply: null, stopMs: null, programLines: [], programDone: false },
 };
 const readOnly = new Proxy(hook, { set: () => false, deleteProperty: () => false });
 Object.defineProperty(window, "articula", { value: readOnly, writable: false });
@@ -218,6 +219,18 @@ function handle(m: ServerMsg): void {
         <b>the model</b><span>${esc(model)}</span></div>`;
       break;
     }
+    case "arm_program":
+      if (m.done) {
+        hook.arm.programDone = true;
+        programStatus(m.error ? `The arm stopped: ${m.error}` : m.stopped ? "Stopped: no further line is sent."
+          : `The arm ran the program: ${m.sent} lines.`, [], !!m.error);
+      } else {
+        highlightLine(m.line ?? 0, m.reply !== "ok");
+        hook.arm.programLines.push([m.line, m.reply]);
+        programStatus(`on the arm, line ${m.line}: ${m.command} -> ${m.reply}${m.reply !== "ok" ? ` (${m.meaning})` : ""}` +
+          (m.predicted && m.predicted.reply !== m.reply ? `; the model said ${m.predicted.reply}` : ""));
+      }
+      break;
     case "arm_stopped":
       programStatus("stop sent: the arm decelerates to rest and empties its queue");
       break;
@@ -418,6 +431,7 @@ function showArm(m: { connected: boolean; connecting?: boolean; label?: string; 
   $("arm-connect").hidden = m.connected;
   $("arm-disconnect").hidden = !m.connected;
   $("arm-send-row").hidden = !m.connected;
+  $("drive-arm-row").hidden = !m.connected;
   const st = $("arm-state");
   if (m.connecting) {
     st.className = "status";
@@ -689,6 +703,12 @@ $("program-file").addEventListener("change", async (e) => {
 });
 $("save-program").onclick = () => download(currentProgram, editor.value, "text/plain");
 $("run").onclick = () => {
+  if (hook.arm.connected && ($("drive-arm") as HTMLInputElement).checked) {
+    hook.arm.programLines = [];
+    hook.arm.programDone = false;
+    send({ type: "arm_run", text: editor.value, name: currentProgram });
+    return;
+  }
   if (hook.timeline) send({ type: "play" });
   else {
     autoplay = true;

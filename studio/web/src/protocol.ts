@@ -165,6 +165,8 @@ export type ServerMsg =
   | { type: "arm_reply"; line: string; reply: string | null; meaning?: string; error?: string;
       predicted: { reply: string; steps: number[] | null; meaning: string; seconds?: number } }
   | { type: "arm_stopped" }
+  | { type: "arm_program"; line?: number; command?: string; reply?: string; meaning?: string; done?: boolean;
+      sent?: number; error?: string; stopped?: boolean; predicted?: { reply: string } }
   | SceneMsg
   | PhysicsMsg
   | { type: "sim_command"; line: string; seq?: number | null }
