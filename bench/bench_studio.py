@@ -8,7 +8,13 @@ headless Chromium (software WebGL, SwiftShader) at 1440x900:
     shows its pose (window.articula.latency); 200 moves of the Panda's shoulder at 30 a second;
   - dragging the IK target on the Panda with the mouse for 3 s at 60 moves a second: poses
     drawn per second;
-  - frames per second drawing the Panda when the page draws every frame (?fps=continuous).
+  - frames per second drawing the Panda when the page draws every frame (?fps=continuous);
+  - live physics, the Panda in scenes/cluttered.json for 5 s while the arm moves through the
+    clutter: the real-time factor, how fast the stepping alone could run, and the state
+    stream to the page (messages a second, bytes a message);
+  - the virtual Nano: a status report's round trip, from the server's `?` to the frame that
+    draws the arm from it (window.articula.arm.roundTrips), median and p95 over 10 s, the
+    arm moving.
 
     .venv/bin/python bench/bench_studio.py
 """
@@ -25,9 +31,9 @@ ARGS = ["--no-sandbox", "--disable-background-networking", "--disable-component-
         "--no-first-run", "--disable-quic"]
 
 
-def start(robot):
+def start(robot, *extra):
     t0 = time.time()
-    p = subprocess.Popen([sys.executable, "-m", "articula.studio", robot, "--no-browser"], cwd=REPO,
+    p = subprocess.Popen([sys.executable, "-m", "articula.studio", robot, *extra, "--no-browser"], cwd=REPO,
                          stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
     url = re.match(r"studio: (\S+)", p.stdout.readline()).group(1)
     return p, url, t0
@@ -121,6 +127,58 @@ def main():
             fps.append(page.evaluate("window.articula.fps"))
         print(f"frames per second drawing the Panda, every frame drawn: median {statistics.median(fps)} "
               f"(readings {fps})")
+        ctx.close()
+        p.terminate()
+        p.wait()
+
+        # Live physics: the Panda in the cluttered scene, moving through it.
+        p, url, _ = start("panda", "--scene", "cluttered")
+        ctx, page = open_page(browser, url)
+        page.wait_for_function("window.articula.physics && window.articula.physics.on")
+        page.evaluate("""async () => {
+            const q = [[0, 40, 0, -90, 0, 130, 45], [60, 50, 0, -80, 0, 130, 45], [-60, 30, 0, -100, 0, 130, 45]];
+            for (let k = 0; k < 3; k++) {
+              document.querySelectorAll('#joints input[type=number]').forEach((el, j) => {
+                el.value = String(q[k][j]); el.dispatchEvent(new Event('input')); });
+              await new Promise(r => setTimeout(r, 300));
+            }
+        }""")
+        m0, b0 = page.evaluate("[window.articula.stream.messages, window.articula.stream.bytes]")
+        rtfs, caps = [], []
+        t0 = time.monotonic()
+        for _ in range(10):
+            page.wait_for_timeout(500)
+            ph = page.evaluate("window.articula.physics")
+            rtfs.append(ph["rtf"])
+            caps.append(ph["capacity"] or 0)
+        dt = time.monotonic() - t0
+        m1, b1 = page.evaluate("[window.articula.stream.messages, window.articula.stream.bytes]")
+        events = page.evaluate("window.articula.events.length")
+        behind = page.evaluate("window.articula.physics.behind")
+        print(f"live physics, Panda in scenes/cluttered.json (7 objects), 5 s: real-time factor median "
+              f"{statistics.median(rtfs):.3f} (min {min(rtfs):.3f}), the stepping alone could run "
+              f"{statistics.median(caps):.0f}x real time, behind: {behind}; stream {(m1 - m0) / dt / 2:.1f} "
+              f"updates a second (a pose and a world message each), {(b1 - b0) / max(1, m1 - m0):.0f} bytes a "
+              f"message; {events} events")
+        ctx.close()
+        p.terminate()
+        p.wait()
+
+        # The virtual Nano: `?` to the drawn pose.
+        p, url, _ = start("mk2plus")
+        ctx, page = open_page(browser, url)
+        page.click("#arm-port")
+        page.wait_for_function("[...document.querySelectorAll('#arm-port option')].some(o => o.value === 'virtual')")
+        page.select_option("#arm-port", "virtual")
+        page.click("#arm-connect")
+        page.wait_for_function("window.articula.arm.connected && window.articula.arm.status", timeout=20000)
+        for line in ("M 60 70 -30", "M -60 110 10", "M 0 90 0"):
+            page.fill("#arm-line", line)
+            page.click("#arm-send")
+            page.wait_for_timeout(3000)
+        rt = page.evaluate("window.articula.arm.roundTrips.slice()")
+        print(f"virtual Nano, ? to the drawn pose: median {statistics.median(rt):.1f} ms, p95 {pct(rt, 0.95):.1f} ms, "
+              f"max {max(rt):.1f} ms ({len(rt)} reports drawn while it moved)")
         ctx.close()
         p.terminate()
         p.wait()

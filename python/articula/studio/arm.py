@@ -76,6 +76,8 @@ class Arm:
         self.thread: threading.Thread | None = None
         self.running = False
         self.poll_now = threading.Event()
+        self.polled_at = 0.0      # when the last `?` went out
+        self.rtt_ms: float | None = None  # `?` to its status report, the last one
 
     # ---- connecting (blocking: the server runs it in a thread)
 
@@ -160,6 +162,7 @@ class Arm:
                     self.poll_now.clear()
                     with self.write_lock:
                         self.link.send_realtime(b"?")
+                    self.polled_at = time.monotonic()
                     next_poll = now + POLL_S
                 line = self.link.read_line(min(next_poll, now + 0.02))
             except LinkTimeout:
@@ -173,6 +176,7 @@ class Arm:
             if st is not None:
                 changed = self.status is None or st.text != self.status.text
                 self.status, self.status_at = st, time.monotonic()
+                self.rtt_ms = (self.status_at - self.polled_at) * 1000
                 if changed:
                     self.on_change()
             elif line == "ok" or line.startswith("error:"):

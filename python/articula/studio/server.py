@@ -368,7 +368,8 @@ class Connection:
             model_tool = ses.robot.fk(ses.q)[:3, 3]
             msg = {"type": "arm_status", "state": st.state, "steps": st.steps, "angles": st.angles,
                    "q": q.tolist(), "frames": [_flat(f) for f in frames],
-                   "diff_mm": float(((frames[-1][:3, 3] - model_tool) ** 2).sum() ** 0.5), "text": st.text}
+                   "diff_mm": float(((frames[-1][:3, 3] - model_tool) ** 2).sum() ** 0.5), "text": st.text,
+                   "rtt_ms": arm.rtt_ms, "sent_ms": time.time() * 1000}
             if self.stop_sent_at and st.state == "Idle":
                 msg["stop_to_idle_ms"] = (arm.status_at - self.stop_sent_at) * 1000
                 self.stop_sent_at = 0.0
@@ -445,6 +446,7 @@ class Connection:
         could run; `behind` when it cannot keep up."""
         ses = self.session
         last = time.monotonic()
+        due = last  # frames are due on a fixed 60 Hz clock (sleeping a frame after the work would drift below it)
         window: list[tuple[float, float, float]] = []  # (wall, simulated, stepping) per frame
         while ses.sim is not None and not self.ws.closed:
             sim = ses.sim
@@ -475,7 +477,8 @@ class Connection:
             msg["capacity"] = capacity
             msg["running"] = self.physics_running
             await self.send([ses.pose_message(), msg])
-            await asyncio.sleep(max(0.0, FRAME_S - (time.monotonic() - now)))
+            due = max(due + FRAME_S, time.monotonic() - FRAME_S)
+            await asyncio.sleep(max(0.0, due - time.monotonic()))
 
     # ---- playback of a program's time line
 

@@ -35,7 +35,8 @@ interface Hook {
   simCommand: string; // the last line a pose became for the simulated controller
   objectScreen: (name: string) => number[] | null;
   arm: { connected: boolean; error: string; label: string; status: ArmStatusMsg | null; reply: unknown; stopMs: number | null;
-         programLines: unknown[]; programDone: boolean };
+         programLines: unknown[]; programDone: boolean; roundTrips: number[] };
+  stream: { messages: number; bytes: number }; // physics and pose messages while the physics runs
   armPixels: () => number; // share of the view's pixels that are the arm's colours (0..1)
 }
 const hook: Hook = {
@@ -43,7 +44,8 @@ const hook: Hook = {
   programError: "", robotError: "", lastError: "", teach: "", fps: 0, framesDrawn: 0, firstFrameAt: 0,
   latency: [], ikUpdates: [], messages: 0, targetScreen: [0, 0], armPixels: () => view.armPixels(),
   scene: null, physics: null, events: [], simCommand: "", objectScreen: (n) => view.objectScreen(n),
-  arm: { connected: false, error: "", label: "", status: null, reply: null, stopMs: null, programLines: [], programDone: false },
+  arm: { connected: false, error: "", label: "", status: null, reply: null, stopMs: null, programLines: [], programDone: false, roundTrips: [] },
+  stream: { messages: 0, bytes: 0 },
 };
 const readOnly = new Proxy(hook, { set: () => false, deleteProperty: () => false });
 Object.defineProperty(window, "articula", { value: readOnly, writable: false });
@@ -55,6 +57,7 @@ let ws: WebSocket;
 let seq = 0;
 const sentAt = new Map<number, number>();
 let pendingDrawn: number[] = []; // seqs applied, waiting for the frame that shows them
+let armDrawn: ArmStatusMsg[] = []; // arm reports applied, waiting for the frame that shows them
 // Pose requests (sliders, drags): at most two in flight, so one is computed while the page
 // draws the other; the newest intent waits and replaces any older one waiting.
 const MAX_IN_FLIGHT = 2;
@@ -103,6 +106,11 @@ view.onFrame = (now) => {
     }
   }
   pendingDrawn = [];
+  // `?` to the drawn pose: the server's round trip to the arm, then its message to this frame
+  for (const m of armDrawn) {
+    if (m.rtt_ms !== null) hook.arm.roundTrips.push(m.rtt_ms + (performance.timeOrigin + now - m.sent_ms));
+  }
+  armDrawn = [];
 };
 
 // ---- connection
@@ -124,6 +132,10 @@ function connect(): void {
   };
   ws.onmessage = (e) => {
     hook.messages++;
+    if (hook.physics?.on) {
+      hook.stream.messages++;
+      hook.stream.bytes += (e.data as string).length;
+    }
     handle(JSON.parse(e.data) as ServerMsg);
   };
 }
@@ -204,6 +216,7 @@ function handle(m: ServerMsg): void {
       hook.arm.status = m;
       if (m.stop_to_idle_ms !== undefined) hook.arm.stopMs = m.stop_to_idle_ms;
       view.liveFrames(m.frames);
+      armDrawn.push(m);
       $("arm-state").className = "status ok";
       $("arm-state").innerHTML = `<div class="reply-grid"><b>${hook.arm.label}</b><span>${m.state}, steps ${m.steps.join(" ")}</span>
         <b>angles</b><span>${m.angles.map((a) => a.toFixed(2)).join(" ")} deg</span>

@@ -156,6 +156,8 @@ export interface ArmStatusMsg {
   diff_mm: number;
   text: string;
   stop_to_idle_ms?: number;
+  rtt_ms: number | null; // the server's `?` to this report
+  sent_ms: number; // when the server sent it (epoch ms)
 }
 
 export type ServerMsg =
