@@ -33,12 +33,13 @@ from ._core import (  # noqa: E402
     RobotFileError,
     SceneError,
     Sim,
+    rpy_deg,
 )
 from ._records import Record  # noqa: E402
 
 __all__ = [
     "Robot", "IkResult", "Program", "Sim", "Record", "Status", "STATUS", "status_text",
-    "RobotFileError", "ProgramError", "SceneError", "LegacyError", "IK_STATUS",
+    "RobotFileError", "ProgramError", "SceneError", "LegacyError", "IK_STATUS", "rpy_deg",
 ]
 __version__ = "0.1.0"
 

@@ -275,6 +275,23 @@ NB_MODULE(_core, m) {
     }
   });
 
+  m.def(
+      "rpy_deg",
+      [](nb::handle T_in) {
+        const ArrayView T = read_array(T_in, "T");
+        if (!((T.ndim() == 2 && T.shape(0) >= 3 && T.shape(1) >= 3)))
+          throw nb::value_error("T must be a 3x3 rotation or a 4x4 pose");
+        const size_t cols = T.shape(1);
+        Mat3<double> R;
+        for (int i = 0; i < 3; ++i)
+          for (int k = 0; k < 3; ++k) R.m[i][k] = T.data()[size_t(i) * cols + size_t(k)];
+        const Vec3<double> rpy = matrix_to_rpy(R);
+        return nb::make_tuple(rad_to_deg(rpy.x), rad_to_deg(rpy.y), rad_to_deg(rpy.z));
+      },
+      "T",
+      "Roll, pitch, yaw (fixed X-Y-Z, R = Rz(yaw) Ry(pitch) Rx(roll)) in degrees of a rotation or pose, as "
+      "`articula fk` prints them.");
+
   auto robot = bind_robot(m);
   bind_program(m, robot);
   bind_sim(m);

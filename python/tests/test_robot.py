@@ -33,6 +33,7 @@ def test_fk_and_frames_agree_with_the_cli(name):
         assert T.shape == (4, 4)
         np.testing.assert_allclose(T[:3, 3], doc["tool"]["position"], atol=1e-9)
         np.testing.assert_allclose(T[:3, :3], doc["tool"]["rotation"], atol=1e-12)
+        np.testing.assert_allclose(articula.rpy_deg(T), doc["tool"]["rpy"], atol=1e-9)
         F = robot.frames(q)
         assert F.shape == (robot.num_rows + 2, 4, 4)
         for i, f in enumerate(doc["frames"]):

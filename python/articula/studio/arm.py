@@ -26,7 +26,7 @@ from ..link import Link, LinkError, LinkTimeout, LinkVanished, Status, parse_inf
 from .session import REPO
 
 BAUD = 115200
-POLL_S = 1 / 15          # status polls
+POLL_S = 1 / 15          # status polls (every 10 ms for a second after a stop)
 SILENT_S = 1.5           # no status for this long: the arm stopped answering
 REPLY_TIMEOUT_S = 5.0
 
@@ -77,6 +77,7 @@ class Arm:
         self.running = False
         self.poll_now = threading.Event()
         self.polled_at = 0.0      # when the last `?` went out
+        self.fast_until = 0.0     # after a stop: poll every 10 ms for a while, to see it end
         self.rtt_ms: float | None = None  # `?` to its status report, the last one
 
     # ---- connecting (blocking: the server runs it in a thread)
@@ -163,7 +164,7 @@ class Arm:
                     with self.write_lock:
                         self.link.send_realtime(b"?")
                     self.polled_at = time.monotonic()
-                    next_poll = now + POLL_S
+                    next_poll = now + (0.01 if now < self.fast_until else POLL_S)
                 line = self.link.read_line(min(next_poll, now + 0.02))
             except LinkTimeout:
                 if time.monotonic() - self.status_at > SILENT_S:
@@ -226,6 +227,7 @@ class Arm:
         with self.write_lock:
             self.link.send_realtime(b"!")
         t = time.monotonic()
+        self.fast_until = t + 1.0
         self.poll_now.set()
         return t
 

@@ -80,16 +80,6 @@ def _flat(T: np.ndarray) -> list[float]:
     return [round(float(x), 6) for x in np.asarray(T).reshape(-1)]
 
 
-def _rpy_deg(R: np.ndarray) -> list[float]:
-    """Fixed X-Y-Z roll, pitch, yaw of a rotation matrix (as the CLI prints them)."""
-    pitch = math.atan2(-R[2, 0], math.hypot(R[0, 0], R[1, 0]))
-    if abs(math.cos(pitch)) < 1e-9:  # gimbal lock: yaw 0
-        roll, yaw = math.atan2(-R[1, 2], R[1, 1]), 0.0
-    else:
-        roll, yaw = math.atan2(R[2, 1], R[2, 2]), math.atan2(R[1, 0], R[0, 0])
-    return [math.degrees(roll), math.degrees(pitch), math.degrees(yaw)]
-
-
 class Session:
     def __init__(self, robot: str | None = None, *, scene: str | None = None,
                  mesh_url: Callable[[str], str] | None = None):
@@ -145,7 +135,7 @@ class Session:
         tool = frames[-1]
         msg = {
             "type": "pose", "q": q.tolist(), "frames": [_flat(f) for f in frames],
-            "tool": {"xyz": tool[:3, 3].tolist(), "rpy": _rpy_deg(tool[:3, :3])},
+            "tool": {"xyz": tool[:3, 3].tolist(), "rpy": list(articula.rpy_deg(tool))},
             "dh_table": r.dh_table(q).tolist(), "gripper": self.gripper,
             "within_limits": r.within_limits(q),
         }
