@@ -18,7 +18,6 @@ headless Chromium (software WebGL, SwiftShader) at 1440x900:
 
     .venv/bin/python bench/bench_studio.py
 """
-import math  # noqa: F401
 import re
 import statistics
 import subprocess

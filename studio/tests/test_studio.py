@@ -14,10 +14,13 @@ from conftest import REPO, SHOTS
 ARTICULA = REPO / "build" / "host" / "cli" / "articula"
 
 
-def cli_json(*args: str) -> dict:
+def cli_path() -> str:
     import os
-    cli = os.environ.get("ARTICULA_CLI") or str(ARTICULA)
-    p = subprocess.run([cli, *args, "--json"], capture_output=True, text=True, cwd=REPO, timeout=60)
+    return os.environ.get("ARTICULA_CLI") or str(ARTICULA)
+
+
+def cli_json(*args: str) -> dict:
+    p = subprocess.run([cli_path(), *args, "--json"], capture_output=True, text=True, cwd=REPO, timeout=60)
     assert p.returncode in (0, 1), p.stderr
     return json.loads(p.stdout)
 
@@ -367,10 +370,7 @@ def test_a_dragged_object_moves_and_falls_back_to_rest(browser, server_factory):
 
 
 def test_grasp_and_lift_in_the_studio_as_articula_sim_does(browser, server_factory, tmp_path):
-    import csv
-    import io
-
-    out = subprocess.run([str(ARTICULA), "sim", "mk2plus", "programs/grasp-and-lift.arm", "--scene", "grasp-and-lift",
+    subprocess.run([cli_path(), "sim", "mk2plus", "programs/grasp-and-lift.arm", "--scene", "grasp-and-lift",
                           "--sample", "0", "--json", "--events", str(tmp_path / "ev.jsonl")],
                          capture_output=True, text=True, cwd=REPO, timeout=60)
     cli_events = [json.loads(line) for line in (tmp_path / "ev.jsonl").read_text().splitlines()]
