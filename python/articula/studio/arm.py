@@ -174,6 +174,11 @@ class Arm:
                 self._gone(f"{self.label} is gone: {e}")
                 continue
             st = parse_status(line)
+            if st is not None and st.warning == 14:
+                # settings reset to defaults: the firmware started again
+                self._gone(f"{self.label} reset (its settings went back to the defaults): its queue and position "
+                           "are lost; connect again")
+                continue
             if st is not None:
                 changed = self.status is None or st.text != self.status.text
                 self.status, self.status_at = st, time.monotonic()
@@ -182,10 +187,11 @@ class Arm:
                     self.on_change()
             elif line == "ok" or line.startswith("error:"):
                 self.replies.put(line)
-            elif line.startswith("[") and (info := parse_info(line)) is not None:
-                # a banner out of turn: the Nano reset (a power glitch, a reconnect)
-                if "W" in info or line.startswith("[Articula"):
-                    self.info = info
+            elif line.startswith("[Articula") and parse_info(line) is not None:
+                # a banner out of turn: the Nano reset (a power glitch, the USB re-plugged):
+                # it is back at step 0 and forgot its queue; the page must know
+                self._gone(f"{self.label} reset (it sent its start-up banner): its queue and position are lost; "
+                           "connect again")
 
     def _gone(self, why: str) -> None:
         if not self.running:
