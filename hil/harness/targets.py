@@ -6,8 +6,6 @@ to read (its trace) and a report at the end.
 from __future__ import annotations
 
 import json
-import os
-import select
 import shutil
 import signal
 import subprocess
@@ -17,7 +15,7 @@ from pathlib import Path
 
 import serial
 
-from articula.link import Link
+from articula.link import Link, wait_for_pty
 from .trace import TraceReader
 
 BAUD = 115200
@@ -136,19 +134,7 @@ class VirtualNanoTarget:
             self._cleanup_files()
             raise TargetError(f"cannot start {self.vnano}: {e.strerror}") from None
         # The first line names the pseudo-terminal: `pty: /dev/pts/N`.
-        deadline = time.monotonic() + self.start_timeout
-        first = b""
-        while not first.endswith(b"\n"):
-            remaining = deadline - time.monotonic()
-            if remaining <= 0 or self.proc.poll() is not None:
-                break
-            ready, _, _ = select.select([self.proc.stdout], [], [], min(remaining, 0.1))
-            if ready:
-                chunk = os.read(self.proc.stdout.fileno(), 256)
-                if not chunk:
-                    break
-                first += chunk
-        if not first.startswith(b"pty: ") or not link_path.exists():
+        if not wait_for_pty(self.proc, link_path, self.start_timeout):
             why = self._stderr_text() or f"no 'pty:' line within {self.start_timeout:.0f} s"
             self._stop_process()
             self._cleanup_files()

@@ -8,8 +8,11 @@ away (the device unplugged, the virtual Nano gone) LinkVanished. Never a hang.
 
 from __future__ import annotations
 
+import os
+import select
 import time
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import serial
 
@@ -178,3 +181,21 @@ class Link:
             self.port.reset_input_buffer()
         except (serial.SerialException, OSError, ValueError):
             pass
+
+
+def wait_for_pty(proc, link_path: Path, timeout: float) -> bool:
+    """Whether a just-started `articula-vnano --pty-link PATH` is ready: its first line names
+    its pseudo-terminal (`pty: /dev/pts/N`) and PATH links to it, within `timeout` seconds."""
+    deadline = time.monotonic() + timeout
+    first = b""
+    while not first.endswith(b"\n"):
+        remaining = deadline - time.monotonic()
+        if remaining <= 0 or proc.poll() is not None:
+            break
+        ready, _, _ = select.select([proc.stdout], [], [], min(remaining, 0.1))
+        if ready:
+            chunk = os.read(proc.stdout.fileno(), 256)
+            if not chunk:
+                break
+            first += chunk
+    return first.startswith(b"pty: ") and Path(link_path).exists()

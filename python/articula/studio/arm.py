@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import os
 import queue
-import select
 import shutil
 import subprocess
 import tempfile
@@ -22,7 +21,7 @@ from typing import Callable
 
 import serial
 
-from ..link import Link, LinkError, LinkTimeout, LinkVanished, Status, parse_info, parse_status
+from ..link import Link, LinkError, LinkTimeout, LinkVanished, Status, parse_info, parse_status, wait_for_pty
 from .session import REPO
 
 BAUD = 115200
@@ -136,15 +135,7 @@ class Arm:
                                          stderr=subprocess.DEVNULL)
         except OSError as e:
             raise ArmError(f"cannot start {vnano}: {e.strerror}") from None
-        first, deadline = b"", time.monotonic() + 15
-        while not first.endswith(b"\n") and time.monotonic() < deadline and self.proc.poll() is None:
-            ready, _, _ = select.select([self.proc.stdout], [], [], 0.1)
-            if ready:
-                chunk = os.read(self.proc.stdout.fileno(), 256)
-                if not chunk:
-                    break
-                first += chunk
-        if not first.startswith(b"pty: ") or not link.exists():
+        if not wait_for_pty(self.proc, link, 15):
             self.close()
             raise ArmError("the virtual Nano did not start (no 'pty:' line)")
         return str(link)
