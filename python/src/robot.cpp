@@ -157,21 +157,20 @@ Array joints_array(const Robot& r, const std::vector<double>& q_model) {
   return a;
 }
 
-Array44 fk(const PyRobot& self, nb::handle q_in) {
-  const Robot& r = self.r();
+// Every frame at joint values from Python (checked, deg or mm).
+HostFrames frames_at(const Robot& r, nb::handle q_in) {
   double q[host::kMaxJoints];
   read_joints(q, q_in, r, "q");
   HostFrames f;
   forward_kinematics(f, r.model, q);
-  return transform_array(f.T_base_tool);
+  return f;
 }
+
+Array44 fk(const PyRobot& self, nb::handle q_in) { return transform_array(frames_at(self.r(), q_in).T_base_tool); }
 
 Array frames(const PyRobot& self, nb::handle q_in) {
   const Robot& r = self.r();
-  double q[host::kMaxJoints];
-  read_joints(q, q_in, r, "q");
-  HostFrames f;
-  forward_kinematics(f, r.model, q);
+  const HostFrames f = frames_at(r, q_in);
   const size_t n = size_t(r.model.num_rows);
   Array a = new_array({n + 2, 4, 4});
   for (size_t i = 0; i <= n; ++i) write_transform(a.data() + 16 * i, f.T_base_frame[i]);
@@ -194,10 +193,7 @@ void write_jacobian(double* out, const Robot& r, const HostFrames& f) {
 
 Array jacobian_one(const PyRobot& self, nb::handle q_in) {
   const Robot& r = self.r();
-  double q[host::kMaxJoints];
-  read_joints(q, q_in, r, "q");
-  HostFrames f;
-  forward_kinematics(f, r.model, q);
+  const HostFrames f = frames_at(r, q_in);
   Array a = new_array({6, size_t(r.model.num_joints)});
   write_jacobian(a.data(), r, f);
   return a;
@@ -523,10 +519,7 @@ nb::class_<PyRobot> bind_robot(nb::module_& m) {
              const Robot& r = s.r();
              if (!r.gripper.present) throw nb::value_error((r.name + " has no gripper").c_str());
              if (!std::isfinite(opening_mm)) throw nb::value_error("opening_mm must be finite");
-             double q[host::kMaxJoints];
-             read_joints(q, q_in, r, "q");
-             HostFrames f;
-             forward_kinematics(f, r.model, q);
+             const HostFrames f = frames_at(r, q_in);
              Array a = new_array({2, 4, 4});
              write_transform(a.data(), host::finger_pose(r.gripper, f.T_base_tool, opening_mm, +1));
              write_transform(a.data() + 16, host::finger_pose(r.gripper, f.T_base_tool, opening_mm, -1));
