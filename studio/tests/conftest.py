@@ -80,7 +80,7 @@ class Page:
         self.context = browser.new_context(viewport={"width": width, "height": height}, accept_downloads=True)
         if not tour:
             self.context.add_init_script("localStorage.setItem('articula.studio.tour.done', '1')")
-        self.page = browser.new_page() if False else self.context.new_page()
+        self.page = self.context.new_page()
         self.errors: list[str] = []
         self.page.on("console", lambda m: m.type == "error" and self.errors.append(m.text))
         self.page.on("pageerror", lambda e: self.errors.append(str(e)))

@@ -58,7 +58,6 @@ class Studio:
             self.app.router.add_static("/assets/", self.web / "assets")
         self.sessions: dict[str, Session] = {}
         self.runner: web.AppRunner | None = None
-        self.started = time.monotonic()
 
     # ---- the rules
 

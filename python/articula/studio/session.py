@@ -177,12 +177,16 @@ class Session:
         self.q = self.robot.home.copy()
         return [self.pose_message()]
 
+    def power_up_q(self) -> np.ndarray:
+        """Where a robot with motors powers up: every motor at step 0, its zero angle."""
+        return self.robot.joints_from_motors([m["zero"] for m in self.robot.motors])
+
     def on_zero(self, msg) -> list[dict]:
         """The motors' zero angles (where the real arm powers up), or all joint variables 0
         (clamped into the limits) for a robot without motors."""
         r = self.robot
         if r.num_motors:
-            self.q = r.joints_from_motors([m["zero"] for m in r.motors])
+            self.q = self.power_up_q()
         else:
             self.q = np.clip(np.zeros(r.num_joints), r.limits[:, 0], r.limits[:, 1])
         return [self.pose_message()]
@@ -245,9 +249,6 @@ class Session:
 
     # ---- programs
 
-    def on_program_list(self, msg) -> list[dict]:
-        return [{"type": "programs", "programs": sorted(shipped_programs())}]
-
     def on_program_open(self, msg) -> list[dict]:
         name = _text(msg, "name", 200)
         programs = shipped_programs()
@@ -287,7 +288,7 @@ class Session:
                 "gripper": rec.get("gripper_percent"),
             }
             steps.append(item)
-        first_q = start if not r.num_motors else r.joints_from_motors([m["zero"] for m in r.motors])
+        first_q = self.power_up_q() if r.num_motors else start
         self.timeline = {"records": steps, "start_q": first_q, "duration": steps[-1]["end_s"] if steps else 0.0}
         self.q = first_q.copy()
         return [{"type": "timeline", "name": name, "format": program.format, "records": steps,
@@ -458,9 +459,6 @@ class Session:
             "events": [e.to_dict() for e in events], "steps": st["counted_steps"], "lost": st["lost_steps"],
             "rtf": rtf, "behind": behind,
         }
-
-    def physics_command(self, line: str) -> str:
-        return self.sim.command(line)
 
     def move_line(self, q) -> str:
         """The protocol line that moves the (simulated) arm to joint values q: `M` with the

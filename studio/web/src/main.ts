@@ -274,7 +274,7 @@ function buildRobot(r: RobotMsg): void {
   robot = r;
   hook.robot = r;
   hook.robotError = "";
-  const built = view.build(r, token);
+  const built = view.build(r);
   view.showAxes(($("show-axes") as HTMLInputElement).checked);
   $("robot-name").textContent = r.description ? `${r.name}: ${r.description}` : r.name;
   $("robot-name").title = r.source;

@@ -179,7 +179,6 @@ export type ServerMsg =
   | { type: "robot_error"; message: string }
   | { type: "program_error"; message: string; line: number }
   | { type: "program_text"; name: string; text: string }
-  | { type: "programs"; programs: string[] }
   | { type: "playing"; t: number; playing: boolean; ended?: boolean }
   | { type: "teach"; line: string }
   | { type: "urdf"; name: string; xml: string }

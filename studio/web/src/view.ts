@@ -203,7 +203,7 @@ export class View {
 
   // Builds the robot's frames and shapes; resolves when every shape (meshes load from the
   // server) is in the scene.
-  build(robot: RobotMsg, token: string): Promise<void> {
+  build(robot: RobotMsg): Promise<void> {
     for (const g of [this.arm, this.ghostArm, this.liveArm]) {
       g.clear();
     }
@@ -256,7 +256,7 @@ export class View {
       const color = LINK_COLORS[li % LINK_COLORS.length];
       const mat = new THREE.MeshStandardMaterial({ color, roughness: 0.45, metalness: 0.15 });
       for (const s of link.shapes) {
-        loading.push(this.shape(s, mat, token).then((m) => {
+        loading.push(this.shape(s, mat).then((m) => {
           if (!m) return;
           m.name = `link ${link.frame}`;
           this.frames[link.frame].add(m);
@@ -308,7 +308,7 @@ export class View {
     return Promise.all(loading).then(() => undefined);
   }
 
-  private async shape(s: Shape, mat: THREE.Material, token: string): Promise<THREE.Object3D | null> {
+  private async shape(s: Shape, mat: THREE.Material): Promise<THREE.Object3D | null> {
     let geo: THREE.BufferGeometry | null = null;
     const [a, b, c] = s.size;
     switch (s.type) {
@@ -325,7 +325,7 @@ export class View {
         geo = new THREE.SphereGeometry(a, 32, 20);
         break;
       case "mesh":
-        geo = await this.mesh(s, token);
+        geo = await this.mesh(s);
         break;
     }
     if (!geo) return null;
@@ -335,7 +335,7 @@ export class View {
     return m;
   }
 
-  private async mesh(s: Shape, _token: string): Promise<THREE.BufferGeometry | null> {
+  private async mesh(s: Shape): Promise<THREE.BufferGeometry | null> {  // s.url carries the token
     try {
       const res = await fetch(s.url!);
       if (!res.ok) return null;
