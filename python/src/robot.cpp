@@ -14,6 +14,7 @@
 #include "legacy.h"
 #include "records_json.h"
 #include "robot_file.h"
+#include "robot_view.h"
 #include "urdf.h"
 
 namespace articula::python {
@@ -22,9 +23,6 @@ namespace {
 using namespace nb::literals;
 using host::HostFrames;
 
-const char* param_name(uint8_t p) { return p == kParamTheta ? "theta" : (p == kParamD ? "d" : "alpha"); }
-bool is_angle_param(uint8_t p) { return p != kParamD; }
-double param_out(uint8_t p, double v) { return is_angle_param(p) ? rad_to_deg(v) : v; }
 
 PyRobot make_robot(Robot r) {
   PyRobot p;
@@ -32,83 +30,16 @@ PyRobot make_robot(Robot r) {
   return p;
 }
 
-// The DH table as the robot file writes it: each row's a, alpha, d, theta as a number
-// (a constant, mm or deg), {"joint": name, "min", "max"} or {"linked": {joint: gain}, "offset"}.
-nb::list dh_rows(const Robot& r) {
-  const auto& m = r.model;
-  nb::list rows;
-  for (int i = 0; i < m.num_rows; ++i) {
-    nb::dict row;
-    row["a"] = m.rows[i].a;
-    row["alpha"] = rad_to_deg(m.rows[i].alpha);
-    row["d"] = m.rows[i].d;
-    row["theta"] = rad_to_deg(m.rows[i].theta);
-    if (size_t(i) < r.length_ranges.size() && r.length_ranges[size_t(i)].adjustable) {
-      nb::dict a;
-      a["value"] = m.rows[i].a;
-      a["min"] = r.length_ranges[size_t(i)].min;
-      a["max"] = r.length_ranges[size_t(i)].max;
-      row["a"] = a;
-    }
-    for (int j = 0; j < m.num_joints; ++j) {
-      if (m.joints[j].row != i) continue;
-      nb::dict v;
-      v["joint"] = r.joint_names[size_t(j)];
-      v["min"] = param_out(m.joints[j].param, m.joints[j].lo);
-      v["max"] = param_out(m.joints[j].param, m.joints[j].hi);
-      row[param_name(m.joints[j].param)] = v;
-    }
-    for (int k = 0; k < m.num_linked; ++k) {
-      const auto& l = m.linked[k];
-      if (l.row != i) continue;
-      nb::dict gains;
-      for (int j = 0; j < m.num_joints; ++j)
-        if (l.gain[j] != 0) gains[nb::str(r.joint_names[size_t(j)].c_str())] = l.gain[j];
-      nb::dict v;
-      v["linked"] = gains;
-      v["offset"] = param_out(l.param, l.offset);
-      row[param_name(l.param)] = v;
-    }
-    rows.append(row);
-  }
-  return rows;
-}
-
-nb::list joints_info(const Robot& r) {
+// The robot's description is host/lib/robot_view.h's (the web engine hands out the same);
+// Python gets tuples where a pair is fixed (gear, step_range, pull-out points).
+nb::object motors_info(const Robot& r) {
   nb::list out;
-  for (int j = 0; j < r.model.num_joints; ++j) {
-    const auto& js = r.model.joints[j];
-    nb::dict d;
-    d["name"] = r.joint_names[size_t(j)];
-    d["row"] = int(js.row) + 1;
-    d["param"] = param_name(js.param);
-    d["unit"] = host::joint_unit(r, j);
-    d["min"] = param_out(js.param, js.lo);
-    d["max"] = param_out(js.param, js.hi);
-    out.append(d);
-  }
-  return out;
-}
-
-nb::list motors_info(const Robot& r) {
-  nb::list out;
-  if (!r.has_motors) return out;
-  for (int i = 0; i < r.actuation.num_motors; ++i) {
-    const MotorSpec& s = r.actuation.motors[i];
-    nb::dict d;
-    d["name"] = r.motor_names[size_t(i)];
-    d["steps_per_rev"] = int(s.full_steps_per_rev);
-    d["microsteps"] = int(s.microsteps);
-    d["gear"] = nb::make_tuple(s.gear_num, s.gear_den);
-    d["direction"] = int(s.direction);
-    d["zero"] = s.zero / 1000.0;
-    d["min"] = s.min / 1000.0;
-    d["max"] = s.max / 1000.0;
-    d["deg_per_step"] = degrees_per_step<double>(s);
-    d["step_range"] = nb::make_tuple(min_steps(s), max_steps(s));
+  for (const auto& m : host::motors_json(r)) {
+    nb::dict d = nb::borrow<nb::dict>(json_to_python(m));
+    d["gear"] = nb::make_tuple(m["gear"][0].get<int>(), m["gear"][1].get<int>());
+    d["step_range"] = nb::make_tuple(m["step_range"][0].get<int>(), m["step_range"][1].get<int>());
     nb::list curve;
-    if (size_t(i) < r.motor_torque.size())
-      for (const auto& pt : r.motor_torque[size_t(i)].pull_out) curve.append(nb::make_tuple(pt[0], pt[1]));
+    for (const auto& pt : m["pull_out"]) curve.append(nb::make_tuple(pt[0].get<double>(), pt[1].get<double>()));
     d["pull_out"] = curve;
     out.append(d);
   }
@@ -116,39 +47,23 @@ nb::list motors_info(const Robot& r) {
 }
 
 nb::list links_info(const Robot& r) {
-  static const char* kTypes[] = {"box", "cylinder", "capsule", "sphere", "mesh"};
   nb::list out;
-  for (const auto& l : host::arm_geometry(r)) {
+  for (const auto& l : host::links_json(r)) {
     nb::list shapes;
-    for (const auto& s : l.shapes) {
-      nb::dict d;
-      d["type"] = kTypes[int(s.type)];
-      d["size"] = nb::make_tuple(s.size[0], s.size[1], s.size[2]);
-      if (s.type == host::Shape::Type::kMesh) d["mesh"] = host::mesh_path(r, s);
-      d["pose"] = transform_array(s.T_frame_shape);
-      d["mass"] = s.mass;
-      d["density"] = s.density;
+    for (const auto& s : l["shapes"]) {
+      nb::dict d = nb::borrow<nb::dict>(json_to_python(s));
+      d["size"] = nb::make_tuple(s["size"][0].get<double>(), s["size"][1].get<double>(), s["size"][2].get<double>());
+      Array44 pose = new_array44();
+      for (int k = 0; k < 16; ++k) pose.data()[k] = s["pose"][size_t(k)].get<double>();
+      d["pose"] = pose;
       shapes.append(d);
     }
     nb::dict d;
-    d["frame"] = l.frame;
+    d["frame"] = l["frame"].get<int>();
     d["shapes"] = shapes;
     out.append(d);
   }
   return out;
-}
-
-nb::object gripper_info(const Robot& r) {
-  const host::Gripper& g = r.gripper;
-  if (!g.present) return nb::none();
-  nb::dict d;
-  d["max_opening_mm"] = g.max_opening_mm;
-  d["finger_length_mm"] = g.finger_length_mm;
-  d["finger_thickness_mm"] = g.finger_thickness_mm;
-  d["finger_height_mm"] = g.finger_height_mm;
-  d["servo_open_deg"] = g.servo_open_deg;
-  d["servo_closed_deg"] = g.servo_closed_deg;
-  return d;
 }
 
 Array joints_array(const Robot& r, const std::vector<double>& q_model) {
@@ -481,10 +396,10 @@ nb::class_<PyRobot> bind_robot(nb::module_& m) {
       .def_prop_ro("num_motors", [](const PyRobot& s) { return s.r().has_motors ? int(s.r().actuation.num_motors) : 0; })
       .def_prop_ro("joint_names", [](const PyRobot& s) { return s.r().joint_names; })
       .def_prop_ro("motor_names", [](const PyRobot& s) { return s.r().motor_names; })
-      .def_prop_ro("dh", [](const PyRobot& s) { return dh_rows(s.r()); },
+      .def_prop_ro("dh", [](const PyRobot& s) { return json_to_python(host::dh_rows_json(s.r())); },
                    "the DH table, row i holding a(i-1), alpha(i-1), d(i), theta(i) as the robot file writes them: "
                    "a constant (mm, deg), {'joint', 'min', 'max'} or {'linked': {joint: gain}, 'offset'}")
-      .def_prop_ro("joints", [](const PyRobot& s) { return joints_info(s.r()); },
+      .def_prop_ro("joints", [](const PyRobot& s) { return json_to_python(host::joints_json(s.r())); },
                    "the joint variables: name, row (1-based), param ('theta', 'd', 'alpha'), unit, min, max")
       .def_prop_ro("limits",
                    [](const PyRobot& s) {
@@ -528,7 +443,7 @@ nb::class_<PyRobot> bind_robot(nb::module_& m) {
            "q"_a, "opening_mm"_a,
            "The gripper's two fingers at q and an opening (mm): (2, 4, 4), the left (+y) then the right, each the "
            "centre of a box finger_length x finger_thickness x finger_height.")
-      .def_prop_ro("gripper", [](const PyRobot& s) { return gripper_info(s.r()); })
+      .def_prop_ro("gripper", [](const PyRobot& s) { return json_to_python(host::gripper_json(s.r())); })
       .def_prop_ro("tool_offset", [](const PyRobot& s) { return transform_array(s.r().model.T_last_tool); },
                    "the fixed tool transform after the last row (4x4, mm)")
       .def_prop_ro("reach_mm", [](const PyRobot& s) { return s.ik().reach_bound(); },
@@ -548,45 +463,20 @@ nb::class_<PyRobot> bind_robot(nb::module_& m) {
            "variable and linked parameter filled in.")
       .def("within_limits",
            [](const PyRobot& s, nb::handle q_in) {
-             const auto& m = s.r().model;
-             std::vector<double> q(size_t(m.num_joints));
+             std::vector<double> q(size_t(s.r().model.num_joints));
              read_joints(q.data(), q_in, s.r(), "q");
-             // A value on a limit comes back from degrees a rounding off it: within 1e-9 is on it.
-             for (int j = 0; j < m.num_joints; ++j) {
-               double& v = q[size_t(j)];
-               const double slack = 1e-9 * std::max(1.0, std::fabs(v));
-               if (v < m.joints[j].lo && v > m.joints[j].lo - slack) v = m.joints[j].lo;
-               if (v > m.joints[j].hi && v < m.joints[j].hi + slack) v = m.joints[j].hi;
-             }
-             return s.ik().within_all_limits(q);
+             return host::within_limits(s.ik(), s.r(), std::move(q));
            },
            "q"_a,
            "Whether q is within every joint limit and, with motors, every motor limit (a value on a limit "
            "passes, to 1e-9 of rounding).")
       .def("with_link_lengths",
            [](const PyRobot& s, nb::handle values_in) {
-             const Robot& r = s.r();
-             const std::vector<double> v = read_vector(values_in, "lengths");
-             std::vector<int> rows;
-             for (size_t i = 0; i < r.length_ranges.size(); ++i)
-               if (r.length_ranges[i].adjustable) rows.push_back(int(i));
-             if (v.size() != rows.size())
-               throw nb::value_error((r.name + " has " + std::to_string(rows.size()) +
-                                      " adjustable link length(s) (rows with an 'a' range); " + std::to_string(v.size()) +
-                                      " given")
-                                         .c_str());
-             for (size_t k = 0; k < v.size(); ++k) {
-               const host::LengthRange& lr = r.length_ranges[size_t(rows[k])];
-               if (v[k] < lr.min || v[k] > lr.max) {
-                 char buf[160];
-                 std::snprintf(buf, sizeof buf, "a of row %d: %g mm is outside its range %g .. %g mm", rows[k] + 1, v[k],
-                               lr.min, lr.max);
-                 throw nb::value_error(buf);
-               }
+             try {
+               return make_robot(host::with_link_lengths(s.r(), read_vector(values_in, "lengths")));
+             } catch (const std::invalid_argument& e) {
+               throw nb::value_error(e.what());
              }
-             Robot copy = r;
-             host::set_link_lengths(copy, v);
-             return make_robot(std::move(copy));
            },
            "lengths"_a,
            "A copy with other link lengths: a(i-1) of each row the robot file gives a range ({'value', 'min', "

@@ -62,7 +62,7 @@ inline const char* status_name(uint8_t code) {
   switch (code) {
 #define ARTICULA_STATUS_NAME(code, name, text) \
   case code:                                   \
-    return #name + 1;
+    return &(#name)[1];
     ARTICULA_STATUS_TABLE(ARTICULA_STATUS_NAME)
 #undef ARTICULA_STATUS_NAME
   }
