@@ -1,0 +1,167 @@
+// wasm/js/engine.mjs - the web engine for JavaScript: wasm/src/engine.cpp's classes with the
+// JSON parsed and errors thrown as EngineError (what the CLI would print: the file, the JSON
+// path or the line, and the problem). No logic of its own, as python/articula holds none.
+//
+//   import { loadEngine } from "./engine.mjs";
+//   const engine = await loadEngine();            // in a page or worker: engine.wasm beside engine.mjs
+//   engine.writeFile("/robots/mk2plus.json", text);
+//   const mk2 = engine.robot("mk2plus");           // a shipped robot's name, or a path in the engine's files
+//   mk2.pose([0, 90, -90]).tool.xyz                // [235, 0, 213]
+//
+// The engine's file system is in memory: robots, scenes and meshes are written into it by
+// the caller (the studio's worker fetches them from the site), as a file on disk is read by
+// the CLI.
+
+/** An error the engine reported: message as the CLI words it, with file, json_path, line. */
+export class EngineError extends Error {
+  constructor(info) {
+    super(info.error);
+    this.name = "EngineError";
+    Object.assign(this, info);
+    delete this.error;
+  }
+}
+
+function checked(text) {
+  const value = JSON.parse(text);
+  if (value && typeof value === "object" && !Array.isArray(value) && typeof value.error === "string")
+    throw new EngineError(value);
+  return value;
+}
+
+function loaded(text) {
+  if (text) throw new EngineError(JSON.parse(text));
+}
+
+export class Robot {
+  constructor(engine) {
+    this.engine = engine;
+    this.h = new engine.M.Robot();
+    this.scratch = null;
+  }
+  /** A shipped robot's name ("mk2plus": /robots/mk2plus.json) or a robot file's path. */
+  load(nameOrPath) { loaded(this.h.load(nameOrPath)); this._info = null; return this; }
+  /** A robot file's JSON text; `name` stands for the file in messages and mesh paths. */
+  parse(text, name = "robot.json") { loaded(this.h.parse(text, name)); this._info = null; return this; }
+  /** A robot file of the thesis's system (appendix C) at `scale` mm per unit. */
+  fromLegacy(text, name, scale) { loaded(this.h.fromLegacy(text, name, scale)); this._info = null; return this; }
+  /** RoboSim's l: the adjustable rows' lengths a(i-1), mm, in row order. */
+  setLinkLengths(values) { loaded(this.h.setLinkLengths(JSON.stringify(values))); this._info = null; return this; }
+
+  /** name, description, source, joints, dh, home, limits, motors, links, gripper, reach_mm, ... */
+  get info() { return (this._info ??= checked(this.h.info())); }
+  /** Frames (base, rows, tool: 16 numbers each, row-major), tool {xyz, rpy}, dh_table,
+   * within_limits, and fingers at the gripper's opening (mm). */
+  pose(q, openingMm = NaN) { return checked(this.h.pose(JSON.stringify(q), openingMm)); }
+  /** `articula ik --json`'s result for {target, solver, start, weights, max_iterations}. */
+  ik(args) { return checked(this.h.ik(JSON.stringify(args))); }
+  predict(text, name = "program.arm", settings = "") { return checked(this.h.predict(text, name, settings)); }
+  run(text, name = "program.arm") { return checked(this.h.run(text, name)); }
+  quantize(lines) { return checked(this.h.quantize(JSON.stringify(lines))); }
+  programFormat(text, name = "") { return this.h.programFormat(text, name); }
+  urdf() { return checked(this.h.urdf()).xml; }
+  jointsFromMotors(u) { return checked(this.h.jointsFromMotors(JSON.stringify(u))); }
+  motorsFromJoints(q) { return checked(this.h.motorsFromJoints(JSON.stringify(q))); }
+
+  /** The hot path: the tool pose of q (model units: rad or mm) as a Float64Array(16) view
+   * into the engine's memory, valid until the next call. */
+  fkModel(q) {
+    const s = this._scratch();
+    s.set(q);
+    this.h.fkScratch();
+    return this._scratch().subarray(64, 80);
+  }
+  /** The hot path of IK (the benchmark's): start q (model units), target [x, y, z] mm or
+   * [x, y, z, roll, pitch, yaw] mm and rad; solver 0 auto, 1 closed, 2 lm, 3 jt. Returns
+   * {status (0 reached .. 3 budget), q (a view), error_mm}. */
+  ikModel(q, target, solver = 0) {
+    const s = this._scratch();
+    s.set(q);
+    s.set(target, 32);
+    const status = this.h.ikScratch(target.length, solver);
+    const v = this._scratch();
+    return { status, q: v.subarray(64, 64 + q.length), error_mm: v[63] };
+  }
+  _scratch() {
+    // The memory may have grown (a new buffer): the view is made anew when it did.
+    const heap = this.engine.M.HEAPF64;
+    if (!this.scratch || this.scratch.buffer !== heap.buffer) {
+      const at = this.h.scratch() / 8;
+      this.scratch = heap.subarray(at, at + 1024);
+    }
+    return this.scratch;
+  }
+  delete() { this.h.delete(); }
+}
+
+export class Sim {
+  /** robot: a Robot; scene: its file's text ("" or null: the ground only). */
+  constructor(engine, robot, sceneText = "", sceneName = "scene.json", dt = 0.001) {
+    this.h = new engine.M.Sim();
+    try {
+      loaded(this.h.create(robot.h, sceneText ?? "", sceneName, dt));
+    } catch (e) {
+      this.h.delete();
+      throw e;
+    }
+    this.objects = checked(this.h.objects());
+    this.sceneName = this.h.sceneName();
+    this.dt = dt;
+  }
+  step(n = 1) { this.h.step(n); }
+  runUntil(t) { this.h.runUntil(t); }
+  loadProgram(text, name = "program.arm") { loaded(this.h.loadProgram(text, name)); }
+  /** One protocol line for the simulated controller: "ok" or "error:N". */
+  command(line) { return this.h.command(line); }
+  events(since = 0) { return checked(this.h.events(since)); }
+  state() { return checked(this.h.state()); }
+  drag(name, xyz) { loaded(this.h.drag(String(name), xyz[0], xyz[1], xyz[2])); }
+  release() { this.h.release(); }
+  reset() { this.h.reset(); }
+  get time() { return this.h.time(); }
+  get busy() { return this.h.busy(); }
+  get done() { return this.h.done(); }
+  get endTime() { return this.h.endTime(); }
+  delete() { this.h.delete(); }
+}
+
+export class Engine {
+  constructor(M) {
+    this.M = M;
+    this.status = checked(M.statusTable());
+  }
+  robot(nameOrPath) {
+    const r = new Robot(this);
+    if (nameOrPath !== undefined) {
+      try {
+        r.load(nameOrPath);
+      } catch (e) {
+        r.delete();
+        throw e;
+      }
+    }
+    return r;
+  }
+  sim(robot, sceneText, sceneName, dt) { return new Sim(this, robot, sceneText, sceneName, dt); }
+  statusText(code) { return this.M.statusText(code); }
+  /** Files of the engine's in-memory file system (folders are made on the way). */
+  writeFile(path, data) {
+    const parts = path.split("/").filter(Boolean);
+    let dir = "";
+    for (const p of parts.slice(0, -1)) {
+      dir += "/" + p;
+      if (!this.exists(dir)) this.M.FS.mkdir(dir);
+    }
+    this.M.FS.writeFile(path, data);
+  }
+  exists(path) { return this.M.FS.analyzePath(path).exists; }
+  readFile(path) { return this.M.FS.readFile(path); }
+  removeFile(path) { if (this.exists(path)) this.M.FS.unlink(path); }
+  chdir(path) { this.M.FS.chdir(path); }
+}
+
+/** The engine, ready. options go to emscripten's module: wasmBinary (bytes, for node) or
+ * locateFile (where engine.wasm is). */
+export async function loadEngine(createEngine, options = {}) {
+  return new Engine(await createEngine(options));
+}

@@ -1,0 +1,22 @@
+// wasm/js/node.mjs - the web engine in node, for the parity tests and the benchmark: loads
+// build/wasm/wasm/engine.mjs (or $ARTICULA_WASM_DIR) and puts the shipped robots and scenes
+// into its files, where the studio's worker puts what it fetched.
+import { createRequire } from "node:module";
+import { readFileSync, readdirSync } from "node:fs";
+import { dirname, join, resolve } from "node:path";
+import { fileURLToPath, pathToFileURL } from "node:url";
+import { loadEngine } from "./engine.mjs";
+
+export const REPO = resolve(dirname(fileURLToPath(import.meta.url)), "../..");
+
+export async function nodeEngine(wasmDir = process.env.ARTICULA_WASM_DIR || join(REPO, "build/wasm/wasm")) {
+  // emscripten 3.1.6's ES module expects CommonJS's require and __dirname under node.
+  globalThis.require ??= createRequire(import.meta.url);
+  globalThis.__dirname ??= wasmDir;
+  const { default: createEngine } = await import(pathToFileURL(join(wasmDir, "engine.mjs")).href);
+  const engine = await loadEngine(createEngine, { wasmBinary: readFileSync(join(wasmDir, "engine.wasm")) });
+  for (const kind of ["robots", "scenes"])
+    for (const f of readdirSync(join(REPO, kind)).filter((f) => f.endsWith(".json")))
+      engine.writeFile(`/${kind}/${f}`, readFileSync(join(REPO, kind, f)));
+  return engine;
+}
