@@ -1,22 +1,100 @@
-// Builds the page into dist/: esbuild bundles src/main.ts (three.js, uPlot) into
-// assets/app.js and the styles into assets/app.css; index.html is copied. No CDN: everything
-// the page loads is served by the studio's server.
+// Builds Articula Studio as a static site into dist/ (`make web`), to be served by any web
+// server, at the site's root or under a sub-path, with no articula process:
+//   index.html, icon.svg, manifest.webmanifest, sw.js (offline use, an installable app)
+//   assets/app.js, app.css  the page (esbuild: src/main.ts, three.js, uPlot)
+//   assets/worker.js        the engine's Web Worker (src/worker.ts)
+//   engine/engine.mjs, .wasm the web engine (wasm/, built by emscripten; ARTICULA_WASM_DIR)
+//   data/                   the shipped robots, scenes and programs, and data/index.json
+// Every path is relative: nothing is loaded from another site.
+//
+//   node build.mjs [--wasm DIR]      (default: ../../build/wasm/wasm)
 import * as esbuild from "esbuild";
-import { copyFileSync, mkdirSync, readFileSync, writeFileSync } from "node:fs";
+import { createHash } from "node:crypto";
+import { copyFileSync, existsSync, mkdirSync, readdirSync, readFileSync, rmSync, statSync, writeFileSync } from "node:fs";
+import { dirname, join, relative } from "node:path";
+import { fileURLToPath } from "node:url";
+import { gzipSync } from "node:zlib";
 
-const out = "dist";
-mkdirSync(`${out}/assets`, { recursive: true });
-await esbuild.build({
-  entryPoints: ["src/main.ts"],
-  bundle: true,
-  format: "esm",
-  target: "es2020",
-  minify: true,
-  sourcemap: true,
-  outfile: `${out}/assets/app.js`,
-  logLevel: "warning",
+const here = dirname(fileURLToPath(import.meta.url));
+const repo = join(here, "../..");
+const out = join(here, "dist");
+const arg = process.argv.indexOf("--wasm");
+const wasmDir = arg > 0 ? process.argv[arg + 1] : process.env.ARTICULA_WASM_DIR || join(repo, "build/wasm/wasm");
+for (const f of ["engine.mjs", "engine.wasm"])
+  if (!existsSync(join(wasmDir, f))) {
+    console.error(`studio: the web engine is not built (${join(wasmDir, f)} is missing): run make`);
+    process.exit(2);
+  }
+
+rmSync(out, { recursive: true, force: true });
+mkdirSync(join(out, "assets"), { recursive: true });
+const common = { bundle: true, format: "esm", target: "es2020", minify: true, sourcemap: true, logLevel: "warning" };
+await esbuild.build({ ...common, entryPoints: [join(here, "src/main.ts")], outfile: join(out, "assets/app.js") });
+await esbuild.build({ ...common, entryPoints: [join(here, "src/worker.ts")], outfile: join(out, "assets/worker.js") });
+const css = readFileSync(join(here, "node_modules/uplot/dist/uPlot.min.css"), "utf8") + "\n" +
+  readFileSync(join(here, "src/style.css"), "utf8");
+writeFileSync(join(out, "assets/app.css"), css);
+copyFileSync(join(here, "index.html"), join(out, "index.html"));
+copyFileSync(join(here, "icon.svg"), join(out, "icon.svg"));
+
+mkdirSync(join(out, "engine"));
+for (const f of ["engine.mjs", "engine.wasm"]) copyFileSync(join(wasmDir, f), join(out, "engine", f));
+
+// The shipped files, and their index (the worker lists robots, scenes and programs from it).
+const index = { robots: [], scenes: [], programs: [], meshes: [] };
+function copyTree(from, to, keep) {
+  for (const name of readdirSync(from).sort()) {
+    const src = join(from, name), dst = join(to, name);
+    if (statSync(src).isDirectory()) copyTree(src, dst, keep);
+    else if (keep(name)) {
+      mkdirSync(to, { recursive: true });
+      copyFileSync(src, dst);
+    }
+  }
+}
+const isData = (n) => n.endsWith(".json") && !n.endsWith(".schema.json");
+copyTree(join(repo, "robots"), join(out, "data/robots"), (n) => isData(n) || /\.(stl|obj)$/i.test(n));
+copyTree(join(repo, "scenes"), join(out, "data/scenes"), isData);
+copyTree(join(repo, "programs"), join(out, "data/programs"), (n) => /\.(arm|robosim)$/.test(n));
+index.robots = readdirSync(join(out, "data/robots")).filter(isData).map((n) => n.replace(/\.json$/, ""));
+index.scenes = readdirSync(join(out, "data/scenes")).filter(isData).map((n) => n.replace(/\.json$/, ""));
+index.programs = readdirSync(join(out, "data/programs"));
+writeFileSync(join(out, "data/index.json"), JSON.stringify(index, null, 1));
+
+// Every file of the site, for the service worker to keep (offline use) and for the sizes.
+function files(dir) {
+  return readdirSync(dir).flatMap((n) => (statSync(join(dir, n)).isDirectory() ? files(join(dir, n)) : [join(dir, n)]));
+}
+const version = createHash("sha256");
+const list = files(out).filter((f) => !f.endsWith(".map")).map((f) => relative(out, f)).sort();
+for (const f of list) version.update(f).update(readFileSync(join(out, f)));
+writeFileSync(join(out, "manifest.webmanifest"), JSON.stringify({
+  name: "Articula Studio",
+  short_name: "Articula",
+  description: "Robot arms from their DH tables: 3D, IK, programs, physics, and the real arm",
+  start_url: "./",
+  scope: "./",
+  display: "standalone",
+  background_color: "#eef2f6",
+  theme_color: "#1d2733",
+  icons: [{ src: "icon.svg", sizes: "any", type: "image/svg+xml", purpose: "any" }],
+}, null, 1));
+const sw = readFileSync(join(here, "src/sw.js"), "utf8")
+  .replace("__VERSION__", version.digest("hex").slice(0, 12))
+  .replace("__FILES__", JSON.stringify(["./", ...list.filter((f) => f !== "index.html"), "manifest.webmanifest"]));
+writeFileSync(join(out, "sw.js"), sw);
+
+// Sizes: the whole site gzipped, the engine's files one by one.
+let raw = 0, gz = 0;
+for (const f of files(out).filter((f) => !f.endsWith(".map"))) {
+  const b = readFileSync(f);
+  raw += b.length;
+  gz += gzipSync(b, { level: 9 }).length;
+}
+const kb = (n) => `${(n / 1024).toFixed(0)} KB`;
+const engineSizes = ["engine/engine.wasm", "engine/engine.mjs"].map((f) => {
+  const b = readFileSync(join(out, f));
+  return `${f} ${kb(b.length)} (${kb(gzipSync(b, { level: 9 }).length)} gzipped)`;
 });
-const css = readFileSync("node_modules/uplot/dist/uPlot.min.css", "utf8") + "\n" + readFileSync("src/style.css", "utf8");
-writeFileSync(`${out}/assets/app.css`, css);
-copyFileSync("index.html", `${out}/index.html`);
-console.log(`studio page built into studio/web/${out}`);
+writeFileSync(join(out, "sizes.json"), JSON.stringify({ bytes: raw, gzipped: gz }));
+console.log(`studio: the static site is in studio/web/dist: ${kb(raw)}, ${kb(gz)} gzipped; ${engineSizes.join(", ")}`);

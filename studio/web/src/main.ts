@@ -1,13 +1,17 @@
-// Articula Studio's page: panels around the 3D view. It sends intents to the server
-// ("set joint 2 to 30 deg", "solve for this target", "run this program") and draws the
-// poses that come back; it never computes kinematics itself (docs/studio.md).
+// Articula Studio's page: panels around the 3D view. It sends intents to the engine, which
+// runs in a Web Worker (worker.ts: the C++ core, host library and ODE in WebAssembly) -
+// "set joint 2 to 30 deg", "solve for this target", "run this program" - and draws the poses
+// that come back; it never computes kinematics itself (docs/studio.md). The arm in the loop
+// (a serial port, the virtual Nano) still goes through articula-studio's WebSocket when the
+// page was opened from it (its address carries a token).
 import { View } from "./view";
 import { Plots } from "./plots";
 import { startTour } from "./tour";
 import type { ArmStatusMsg, IkMsg, PhysicsMsg, PoseMsg, RobotMsg, SceneMsg, ServerMsg, SimEvent, TimelineMsg } from "./protocol";
 
 const $ = <T extends HTMLElement = HTMLElement>(id: string) => document.getElementById(id) as T;
-const token = new URLSearchParams(location.search).get("token") ?? "";
+const params = new URLSearchParams(location.search);
+const token = params.get("token") ?? "";
 
 // ---- the test hook: state to read, never to write (tests read it instead of pixels)
 interface Hook {
@@ -53,7 +57,9 @@ Object.defineProperty(window, "articula", { value: readOnly, writable: false });
 const view = new View($("view"));
 const plots = new Plots($("plots"));
 let robot: RobotMsg | null = null;
-let ws: WebSocket;
+let ws: WebSocket | null = null; // articula-studio's WebSocket, for the arm only
+let worker: Worker;
+let engineReady = false;
 let seq = 0;
 const sentAt = new Map<number, number>();
 let pendingDrawn: number[] = []; // seqs applied, waiting for the frame that shows them
@@ -64,10 +70,17 @@ const MAX_IN_FLIGHT = 2;
 let inFlight = 0;
 let queued: Record<string, unknown> | null = null;
 let dragging = false;
+const MAX_FILE = 20_000_000; // bytes of a robot file or mesh the page opens
 let needFit: Promise<void> | null = null; // a new robot: frame it once its first pose is drawn
 
-function send(msg: Record<string, unknown>): void {
-  if (ws?.readyState === WebSocket.OPEN) ws.send(JSON.stringify(msg));
+// The arm's messages go to articula-studio; everything else to the engine in the worker.
+function send(msg: Record<string, unknown>, transfer: Transferable[] = []): void {
+  if (typeof msg.type === "string" && msg.type.startsWith("arm_")) {
+    if (ws?.readyState === WebSocket.OPEN) ws.send(JSON.stringify(msg));
+    else if (msg.type !== "arm_ports") noArmServer();
+    return;
+  }
+  if (engineReady) worker.postMessage(msg, transfer);
 }
 
 // Slider and drag intents: one in flight, the newest replaces any waiting one.
@@ -113,31 +126,61 @@ view.onFrame = (now) => {
   armDrawn = [];
 };
 
-// ---- connection
+// ---- the engine (a Web Worker) and, opened from articula-studio, its WebSocket for the arm
 
-function connect(): void {
-  const proto = location.protocol === "https:" ? "wss:" : "ws:";
-  ws = new WebSocket(`${proto}//${location.host}/ws?token=${encodeURIComponent(token)}`);
-  ws.onopen = () => {
-    hook.connected = true;
-    setConn("connected", "ok");
-    send({ type: "hello" });
-    send({ type: "arm_ports" });
+function startEngine(): void {
+  setConn("starting the engine…", "ok");
+  worker = new Worker(new URL("assets/worker.js", document.baseURI), { type: "module" });
+  worker.onmessage = (e) => {
+    const m = e.data as ServerMsg | { type: "ready"; ms: number } | { type: "fatal"; message: string };
+    hook.messages++;
+    if (m.type === "ready") {
+      engineReady = true;
+      hook.connected = true;
+      setConn("engine ready", "ok");
+      send({ type: "hello" });
+      return;
+    }
+    if (m.type === "fatal") {
+      setConn("the engine did not start", "bad");
+      banner(`${m.message}. The studio needs a browser with WebAssembly and module workers (Chrome, Edge, Firefox, Safari of the last three years).`);
+      return;
+    }
+    if (hook.physics?.on) {
+      hook.stream.messages++;
+      hook.stream.bytes += 1;
+    }
+    handle(m);
   };
+  worker.onerror = (e) => {
+    setConn("the engine stopped", "bad");
+    banner(`The engine stopped: ${e.message}`);
+  };
+  worker.postMessage({ type: "start", robot: params.get("robot") ?? undefined, scene: params.get("scene") ?? undefined });
+}
+
+function connectArmServer(): void {
+  if (!token) return;
+  const proto = location.protocol === "https:" ? "wss:" : "ws:";
+  const path = new URL("ws", document.baseURI).pathname;
+  ws = new WebSocket(`${proto}//${location.host}${path}?token=${encodeURIComponent(token)}`);
+  ws.onopen = () => send({ type: "arm_ports" });
   ws.onclose = () => {
-    hook.connected = false;
-    inFlight = 0;
-    setConn("disconnected: is articula-studio still running?", "bad");
-    setTimeout(connect, 2000);
+    if (hook.arm.connected) showArm({ connected: false, error: "articula-studio stopped", lost: true });
+    setTimeout(connectArmServer, 2000);
   };
   ws.onmessage = (e) => {
     hook.messages++;
-    if (hook.physics?.on) {
-      hook.stream.messages++;
-      hook.stream.bytes += (e.data as string).length;
-    }
     handle(JSON.parse(e.data) as ServerMsg);
   };
+}
+
+// Opened from a plain web server: the arm needs articula-studio on the computer it is wired to.
+function noArmServer(): void {
+  const st = $("arm-state");
+  st.className = "status";
+  st.innerHTML = "To drive a real arm or the virtual Nano, start <code>articula-studio</code> (or <code>make studio</code>) " +
+    "on the computer the arm is plugged into and open the address it prints.";
 }
 
 function setConn(text: string, kind: "ok" | "bad"): void {
@@ -220,7 +263,7 @@ function handle(m: ServerMsg): void {
       $("arm-state").className = "status ok";
       $("arm-state").innerHTML = `<div class="reply-grid"><b>${hook.arm.label}</b><span>${m.state}, steps ${m.steps.join(" ")}</span>
         <b>angles</b><span>${m.angles.map((a) => a.toFixed(2)).join(" ")} deg</span>
-        <b>from the model</b><span>${m.diff_mm.toFixed(2)} mm (tool to tool)</span></div>`;
+        <b>from the model</b><span>${armDiff(m).toFixed(2)} mm (tool to tool)</span></div>`;
       break;
     case "arm_reply": {
       hook.arm.reply = m;
@@ -268,6 +311,13 @@ function handle(m: ServerMsg): void {
       banner(m.message);
       break;
   }
+}
+
+// The arm's tool from the model's (both drawn from the engine's frames), mm.
+function armDiff(m: ArmStatusMsg): number {
+  const f = m.frames[m.frames.length - 1], tool = hook.pose?.tool.xyz;
+  if (!f || !tool) return NaN;
+  return Math.hypot(f[3] - tool[0], f[7] - tool[1], f[11] - tool[2]);
 }
 
 function buildRobot(r: RobotMsg): void {
@@ -563,18 +613,25 @@ $("robot-select").addEventListener("change", (e) => {
 });
 $("open-robot").onclick = () => $("robot-file").click();
 $("robot-file").addEventListener("change", async (e) => {
-  const f = (e.target as HTMLInputElement).files?.[0];
-  if (!f) return;
-  const text = await f.text();
+  const all = [...((e.target as HTMLInputElement).files ?? [])];
   (e.target as HTMLInputElement).value = "";
+  // The robot file, and any mesh files (STL, OBJ) its shapes name, opened together.
+  const f = all.find((x) => /\.(json|txt)$/i.test(x.name)) ?? all[0];
+  if (!f) return;
+  const meshes = all.filter((x) => x !== f);
+  if (f.size > MAX_FILE || meshes.some((x) => x.size > MAX_FILE))
+    return banner(`That file is larger than ${MAX_FILE / 1e6} MB: the studio opens robot files and meshes up to that size.`);
+  const text = await f.text();
+  const files = await Promise.all(meshes.map(async (x) => ({ name: x.name, data: await x.arrayBuffer() })));
+  const transfer = files.map((x) => x.data);
   if (f.name.toLowerCase().endsWith(".json")) {
-    send({ type: "load_robot", text, filename: f.name });
+    send({ type: "load_robot", text, filename: f.name, files }, transfer);
   } else {
     const s = prompt(`${f.name} is a robot file of the thesis's original system: how many millimetres is one of its units? (the thesis's MK2 model: 25.75)`, "10");
     if (s === null) return;
     const scale = parseFloat(s);
     if (!(scale > 0)) return banner("The scale must be a number above 0");
-    send({ type: "load_robot", text, filename: f.name, legacy: true, scale });
+    send({ type: "load_robot", text, filename: f.name, legacy: true, scale }, transfer);
   }
 });
 $("export-urdf").onclick = () => send({ type: "export_urdf" });
@@ -763,5 +820,9 @@ function download(name: string, data: string | Blob, type: string): void {
 
 $("tour-button").onclick = () => startTour(true);
 editorChanged();
-connect();
+startEngine();
+// Offline use and installing as an app (sw.js keeps the whole site).
+if ("serviceWorker" in navigator && !params.has("nosw")) navigator.serviceWorker.register("sw.js").catch(() => undefined);
+if (token) connectArmServer();
+else noArmServer();
 startTour(false);
