@@ -1,6 +1,8 @@
-"""The studio's tests: each starts the real server (`python -m articula.studio`, as
-`articula-studio` runs) and drives the real page in Debian's headless Chromium through
-Playwright (its own browser download is not needed)."""
+"""The studio's tests drive the real page in Debian's headless Chromium through Playwright (its
+own browser download is not needed). The page is the static site (studio/web/dist) as a user
+gets it from any web server: a plain file server (Python's http.server) serves it under a
+sub-path of another name, and no articula process runs. The arm-in-the-loop tests start
+articula-studio (`python -m articula.studio`), which serves the same site and connects the arm."""
 
 from __future__ import annotations
 
@@ -17,6 +19,40 @@ REPO = Path(__file__).resolve().parents[2]
 CHROMIUM = os.environ.get("ARTICULA_CHROMIUM", "/usr/bin/chromium")
 SHOTS = Path(os.environ.get("ARTICULA_SCREENSHOTS") or REPO / "docs" / "img")
 SHOTS.mkdir(parents=True, exist_ok=True)
+DIST = REPO / "studio" / "web" / "dist"
+
+
+class StaticSite:
+    """The built site behind a plain static file server, at /<subpath>/ (not /dist/)."""
+
+    def __init__(self, root: Path, subpath: str = "articula-site"):
+        if not (DIST / "index.html").is_file():
+            raise AssertionError(f"the studio's site is not built ({DIST}): run make")
+        (root / subpath).symlink_to(DIST, target_is_directory=True)
+        self.proc = subprocess.Popen([sys.executable, "-u", "-m", "http.server", "0", "--bind", "127.0.0.1",
+                                      "--directory", str(root)],
+                                     stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        line = self.proc.stdout.readline()
+        m = re.search(r"port (\d+)", line)
+        if not m:
+            self.proc.kill()
+            raise AssertionError(f"http.server did not say its port: {line!r}")
+        self.port = int(m.group(1))
+        self.url = f"http://127.0.0.1:{self.port}/{subpath}/"
+
+    def stop(self) -> None:
+        self.proc.terminate()
+        try:
+            self.proc.communicate(timeout=10)
+        except subprocess.TimeoutExpired:
+            self.proc.kill()
+
+
+@pytest.fixture(scope="session")
+def site(tmp_path_factory):
+    s = StaticSite(tmp_path_factory.mktemp("www"))
+    yield s
+    s.stop()
 
 
 class Server:
@@ -26,7 +62,8 @@ class Server:
                                      stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=REPO,
                                      env=dict(os.environ, PYTHONPATH=str(REPO / "python")))
         self.first_line = self.proc.stdout.readline().rstrip("\n")
-        m = re.fullmatch(r"studio: (http://127\.0\.0\.1:(\d+)/\?token=([\w-]+))", self.first_line)
+        m = re.fullmatch(r"studio: (http://127\.0\.0\.1:(\d+)/\?token=([\w-]+)&robot=[^&\s]+(&scene=[\w-]+)?)",
+                         self.first_line)
         if not m:
             self.proc.kill()
             raise AssertionError(f"the studio's first line is not its address: {self.first_line!r} "
@@ -73,10 +110,12 @@ def browser():
 
 
 class Page:
-    """A page of the studio with what its console said."""
+    """A page of the studio (from the static site, or from articula-studio when `server` is
+    given) with what its console said."""
 
-    def __init__(self, browser, server: Server, width=1440, height=900, tour=False, query=""):
-        self.server = server
+    def __init__(self, browser, server_or_url, width=1440, height=900, tour=False, query=""):
+        self.server = server_or_url if isinstance(server_or_url, Server) else None
+        url = server_or_url.url if self.server else server_or_url
         self.context = browser.new_context(viewport={"width": width, "height": height}, accept_downloads=True)
         if not tour:
             self.context.add_init_script("localStorage.setItem('articula.studio.tour.done', '1')")
@@ -84,7 +123,7 @@ class Page:
         self.errors: list[str] = []
         self.page.on("console", lambda m: m.type == "error" and self.errors.append(m.text))
         self.page.on("pageerror", lambda e: self.errors.append(str(e)))
-        self.page.goto(server.url + query)
+        self.page.goto(url + query)
         self.page.wait_for_function("window.articula && window.articula.ready && window.articula.firstFrameAt > 0",
                                     timeout=20000)
 
@@ -99,7 +138,23 @@ class Page:
 
 
 @pytest.fixture
-def open_page(browser, server_factory):
+def open_page(browser, site):
+    """The static site with a robot (and a scene: query="&scene=push")."""
+    pages = []
+
+    def open_(robot="mk2plus", query="", **kw) -> Page:
+        p = Page(browser, f"{site.url}?robot={robot}{query}", **kw)
+        pages.append(p)
+        return p
+
+    yield open_
+    for p in pages:
+        p.close()
+
+
+@pytest.fixture
+def open_served_page(browser, server_factory):
+    """The site from articula-studio, which connects the arm (the virtual Nano, a serial port)."""
     pages = []
 
     def open_(robot="mk2plus", **kw) -> Page:

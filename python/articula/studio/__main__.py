@@ -1,7 +1,8 @@
 """articula-studio [ROBOT] [--scene S] [--port N] [--host H] [--no-browser]
 
-Starts Articula Studio's server and opens the page. The first line printed is exactly
-`studio: http://127.0.0.1:N/?token=T` (scripts and tests read it)."""
+Serves Articula Studio's static site on 127.0.0.1 (with the WebSocket that connects the arm)
+and opens the page. The first line printed is exactly
+`studio: http://127.0.0.1:N/?token=T&robot=R[&scene=S]` (scripts and tests read it)."""
 
 from __future__ import annotations
 
@@ -14,18 +15,18 @@ import webbrowser
 
 import articula
 
-from .server import Studio, web_dir
-from .session import shipped_robots
+from .server import Studio, shipped_robots, web_dir
 
 
 def parser() -> argparse.ArgumentParser:
     ap = argparse.ArgumentParser(
         prog="articula-studio",
         description="Articula Studio: see a robot arm in 3D, move it with sliders and by dragging an IK "
-                    "target, run programs on it with the controller's real timing. A local server on "
-                    "127.0.0.1; the page opens in your browser.",
-        epilog="The address carries a random token: only a page that has it can use the studio. "
-               "docs/studio.md explains the studio, its messages and its security.")
+                    "target, run programs on it with the controller's real timing and in live physics. "
+                    "The studio is a static site that runs in your browser (its engine is WebAssembly); "
+                    "this serves it on 127.0.0.1 and connects the real arm or the virtual Nano to it.",
+        epilog="The address carries a random token: only a page that has it can reach the arm. "
+               "docs/studio.md explains the studio, what runs where, and its security.")
     ap.add_argument("robot", nargs="?", default="mk2plus",
                     help=f"a shipped robot ({', '.join(shipped_robots())}) or a robot file (default mk2plus)")
     ap.add_argument("--scene", metavar="S", help="start with live physics in this scene (a shipped scene's name, "
@@ -48,11 +49,11 @@ def main(argv: list[str] | None = None) -> int:
         print(f"articula-studio: {e}", file=sys.stderr)
         return 2
     if not (web_dir() / "index.html").is_file():
-        print(f"articula-studio: the page is not built ({web_dir()}): run make", file=sys.stderr)
+        print(f"articula-studio: the site is not built ({web_dir()}): run make (or make web)", file=sys.stderr)
         return 2
     if args.host not in ("127.0.0.1", "localhost"):
-        print(f"articula-studio: warning: listening on {args.host}: other computers that reach it can open the "
-              "studio with its token, and the studio can move a real arm", file=sys.stderr)
+        print(f"articula-studio: warning: listening on {args.host}: other computers that reach it can drive the "
+              "arm with the token", file=sys.stderr)
     if args.scene:
         try:
             articula.Sim(articula.Robot.load(args.robot), args.scene)

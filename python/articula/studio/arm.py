@@ -22,7 +22,7 @@ from typing import Callable
 import serial
 
 from ..link import Link, LinkError, LinkTimeout, LinkVanished, Status, parse_info, parse_status, wait_for_pty
-from .session import REPO
+from .server import REPO
 
 BAUD = 115200
 POLL_S = 1 / 15          # status polls (every 10 ms for a second after a stop)

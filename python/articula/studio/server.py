@@ -1,9 +1,11 @@
-"""Articula Studio's server: aiohttp on 127.0.0.1, the page's static files and one WebSocket
-(`/ws`) per page, each with its own Session (session.py). docs/studio.md describes the
-messages and the security rules:
+"""articula-studio: serves Articula Studio's static site (studio/web/dist: the page and its
+engine, which runs in the browser) on 127.0.0.1, and one WebSocket (`/ws`) per page for what
+a web page cannot yet do by itself: the arm in the loop (a serial port, the virtual Nano in
+simavr). docs/studio.md describes the messages and the security rules:
 
   - it binds 127.0.0.1 unless told otherwise (then it warns);
-  - the page's URL carries a random token; the page and the WebSocket need it;
+  - the page's URL carries a random token; the WebSocket and the robot file given on the
+    command line need it (the site itself is static and public, as on any web host);
   - the WebSocket refuses a foreign Origin and a foreign Host (no other site, and no DNS
     rebinding, can drive the arm);
   - every message is validated; a bad one gets an error reply, never a crash.
@@ -14,49 +16,95 @@ from __future__ import annotations
 import asyncio
 import json
 import logging
+import math
+import os
 import secrets
+import tempfile
 import time
 from pathlib import Path
+from urllib.parse import quote
 
+import numpy as np
 from aiohttp import WSMsgType, web
 
 import articula
 
-from .session import REPO, BadMessage, Session, _flat
-
 log = logging.getLogger("articula.studio")
 
+REPO = Path(__file__).resolve().parents[3]
 MAX_MESSAGE = 2_000_000  # bytes of one WebSocket message (a robot file or program inside)
-FRAME_S = 1 / 60         # playback and animation: one pose a display frame
-# What the page asks of the arm that, with physics on, goes to the simulated controller.
-PHYSICS_INTENTS = {"set_joint", "set_joints", "home", "zero", "ik", "gripper", "drag", "release", "physics_run",
-                   "physics_pause", "physics_step", "physics_reset", "program_load", "play", "pause"}
+ARM_MESSAGES = {"arm_ports", "arm_connect", "arm_disconnect", "arm_send", "arm_stop", "arm_run"}
+
+
+class BadMessage(Exception):
+    """A message the server does not take: the reply names the problem."""
+
+
+def _flat(T: np.ndarray) -> list[float]:
+    return [round(float(x), 6) for x in np.asarray(T).reshape(-1)]
+
+
+def shipped_robots() -> list[str]:
+    d = Path(os.environ.get("ARTICULA_ROBOTS") or REPO / "robots")
+    return sorted(p.stem for p in d.glob("*.json") if not p.stem.endswith(".schema"))
 
 
 def web_dir() -> Path:
-    """The built page: inside the installed package, or the tree's studio/web/dist."""
+    """The built site: inside the installed package, or the tree's studio/web/dist."""
     packaged = Path(__file__).with_name("web")
     if (packaged / "index.html").is_file():
         return packaged
     return REPO / "studio" / "web" / "dist"
 
 
+def robot_from(spec, robot_file: Path | None = None) -> articula.Robot:
+    """The robot the page shows, for the arm: {"name": a shipped robot}, {"text", "filename"}
+    (a robot file's JSON), the same with "legacy": true and "scale" (appendix C), or {"file"}:
+    the robot file articula-studio was started with."""
+    if not isinstance(spec, dict):
+        raise BadMessage("'robot' must be {name} or {text, filename}")
+    try:
+        if "file" in spec and robot_file is not None:
+            return articula.Robot.load(str(robot_file))
+        if isinstance(spec.get("name"), str):
+            if spec["name"] not in shipped_robots():
+                raise BadMessage(f"no shipped robot '{spec['name']}'")
+            return articula.Robot.load(spec["name"])
+        text, filename = spec.get("text"), spec.get("filename", "robot.json")
+        if not isinstance(text, str) or not isinstance(filename, str) or len(text) > MAX_MESSAGE:
+            raise BadMessage("'robot' must be {name} or {text, filename}")
+        if spec.get("legacy"):
+            scale = spec.get("scale")
+            if isinstance(scale, bool) or not isinstance(scale, (int, float)) or not 0 < scale < math.inf:
+                raise BadMessage("'scale' must be a number above 0")
+            with tempfile.NamedTemporaryFile("w", suffix=".txt", delete=False) as f:
+                f.write(text)
+            try:
+                return articula.Robot.from_legacy(f.name, scale)
+            finally:
+                os.unlink(f.name)
+        return articula.Robot.parse(text, filename)
+    except (articula.RobotFileError, articula.LegacyError) as e:
+        raise BadMessage(str(e)) from None
+
+
 class Studio:
     def __init__(self, robot: str | None, *, scene: str | None = None, host: str = "127.0.0.1", port: int = 0,
                  token: str | None = None):
-        self.robot = robot
+        self.robot = robot or "mk2plus"
         self.scene = scene
         self.host = host
         self.port = port
         self.token = token or secrets.token_urlsafe(18)
         self.web = web_dir()
+        # A robot file given on the command line: the page's worker fetches it (and the meshes
+        # beside it) from /t/<token>/files/, its folder.
+        self.robot_file = Path(self.robot).resolve() if self.robot not in shipped_robots() else None
         self.app = web.Application(client_max_size=MAX_MESSAGE)
-        self.app.router.add_get("/", self.index)
         self.app.router.add_get("/ws", self.websocket)
-        self.app.router.add_get("/mesh/{session}/{key}", self.mesh)
-        if (self.web / "assets").is_dir():
-            self.app.router.add_static("/assets/", self.web / "assets")
-        self.sessions: dict[str, Session] = {}
+        self.app.router.add_get("/t/{token}/files/{path:.+}", self.files)
+        self.app.router.add_get("/", self.index)
+        self.app.router.add_get("/{path:.+}", self.static)
         self.runner: web.AppRunner | None = None
 
     # ---- the rules
@@ -75,29 +123,38 @@ class Studio:
         origin = request.headers.get("Origin")
         return origin is None or origin in {f"http://{h}" for h in self.allowed_hosts()}
 
-    # ---- HTTP
+    # ---- HTTP: the static site
 
     async def index(self, request: web.Request) -> web.StreamResponse:
+        return await self._serve(request, "index.html")
+
+    async def static(self, request: web.Request) -> web.StreamResponse:
+        return await self._serve(request, request.match_info["path"])
+
+    async def _serve(self, request: web.Request, rel: str) -> web.StreamResponse:
         if not self.host_ok(request):
             return web.Response(status=403, text="articula studio: this host name is not the studio's")
-        if not self.token_ok(request):
-            return web.Response(status=403, content_type="text/html", text=(
-                "<!doctype html><title>Articula Studio</title><body style='font:16px system-ui;margin:3em'>"
-                "<h1>Articula Studio needs its token</h1><p>Open the address that <code>articula-studio</code> "
-                "(or <code>make studio</code>) printed: it ends in <code>?token=...</code>.</p>"))
-        index = self.web / "index.html"
-        if not index.is_file():
-            return web.Response(status=500, text=f"the studio's page is not built ({index}): run make")
-        return web.FileResponse(index, headers={"Cache-Control": "no-store"})
+        root = self.web.resolve()
+        path = (root / rel).resolve()
+        if root not in path.parents and path != root or not path.is_file():
+            if rel == "index.html":
+                return web.Response(status=500, text=f"the studio's page is not built ({path}): run make")
+            return web.Response(status=404, text="not found")
+        headers = {"Cache-Control": "no-cache"}
+        if path.suffix == ".wasm":
+            headers["Content-Type"] = "application/wasm"
+        return web.FileResponse(path, headers=headers)
 
-    async def mesh(self, request: web.Request) -> web.StreamResponse:
-        if not (self.token_ok(request) and self.host_ok(request)):
+    async def files(self, request: web.Request) -> web.StreamResponse:
+        if not (self.host_ok(request) and secrets.compare_digest(request.match_info["token"], self.token)):
             return web.Response(status=403, text="forbidden")
-        session = self.sessions.get(request.match_info["session"])
-        path = session.meshes.get(request.match_info["key"]) if session else None
-        if not path or not Path(path).is_file():
-            return web.Response(status=404, text="no such mesh")
-        return web.FileResponse(path)
+        if self.robot_file is None:
+            return web.Response(status=404, text="no robot file")
+        root = self.robot_file.parent
+        path = (root / request.match_info["path"]).resolve()
+        if root not in path.parents or not path.is_file():
+            return web.Response(status=404, text="no such file")
+        return web.FileResponse(path, headers={"Cache-Control": "no-store"})
 
     # ---- the WebSocket
 
@@ -110,17 +167,11 @@ class Studio:
             return web.Response(status=403, text="no or wrong token")
         ws = web.WebSocketResponse(max_msg_size=MAX_MESSAGE, heartbeat=30)
         await ws.prepare(request)
-        sid = secrets.token_hex(8)
-        conn = Connection(self, ws, sid)
-        self.sessions[sid] = conn.session
+        conn = Connection(ws, self.robot_file)
         try:
             await conn.serve()
         finally:
-            conn.stop_tasks()
-            if conn.physics:
-                conn.physics.cancel()
             await conn.arm_disconnect({}, quiet=True)
-            self.sessions.pop(sid, None)
         return ws
 
     # ---- running
@@ -136,7 +187,9 @@ class Studio:
     @property
     def url(self) -> str:
         host = "127.0.0.1" if self.host in ("127.0.0.1", "0.0.0.0", "") else self.host
-        return f"http://{host}:{self.port}/?token={self.token}"
+        robot = (f"t/{self.token}/files/{quote(self.robot_file.name)}" if self.robot_file else self.robot)
+        url = f"http://{host}:{self.port}/?token={self.token}&robot={quote(robot, safe='/')}"
+        return url + (f"&scene={quote(self.scene)}" if self.scene else "")
 
     async def stop(self) -> None:
         if self.runner:
@@ -144,25 +197,14 @@ class Studio:
 
 
 class Connection:
-    """One page: its session, the messages in, and the tasks that stream poses out (program
-    playback, the Jacobian transpose animated)."""
+    """One page's arm: the connection to it, the lines it accepted since (for the prediction
+    beside its replies), and the task that streams its status to the page."""
 
-    def __init__(self, studio: Studio, ws: web.WebSocketResponse, sid: str):
-        self.studio, self.ws, self.sid = studio, ws, sid
-        self.session = Session(studio.robot, scene=studio.scene,
-                               mesh_url=lambda key: f"/mesh/{sid}/{key}?token={studio.token}")
+    def __init__(self, ws: web.WebSocketResponse, robot_file: Path | None = None):
+        self.ws = ws
+        self.robot_file = robot_file
         self.lock = asyncio.Lock()
-        self.task: asyncio.Task | None = None
-        self.t = 0.0          # the time line's clock, s
-        self.speed = 1.0
-        # Live physics: the loop that steps the simulation in real time, whether it runs, and
-        # the newest slider or IK target waiting for the simulated arm to be idle.
-        self.physics: asyncio.Task | None = None
-        self.physics_running = True
-        self.pending_move: str | None = None
-        self.pending_grip: str | None = None
-        # The arm in the loop (arm.py): the connection, the lines it accepted since (for the
-        # prediction beside its replies), and the task that streams its status to the page.
+        self.robot: articula.Robot | None = None
         self.arm = None
         self.arm_history: list[str] = []
         self.arm_event = asyncio.Event()
@@ -198,24 +240,13 @@ class Connection:
                 await self.send([{"type": "error", "message": f"internal error: {type(e).__name__}: {e}"}])
 
     async def dispatch(self, msg) -> None:
-        kind = msg.get("type") if isinstance(msg, dict) else None
-        if self.session.sim is not None and kind in PHYSICS_INTENTS:
-            await self.physics_intent(kind, msg)
-            return
-        if kind in ("play", "pause", "step", "seek", "rewind", "jt_animate", "stop_animation"):
-            await getattr(self, kind)(msg)
-            return
-        if kind in ("drag", "release", "physics_run", "physics_pause", "physics_step", "physics_reset"):
-            raise BadMessage("no physics: choose a scene first")
-        if kind in ("arm_ports", "arm_connect", "arm_disconnect", "arm_send", "arm_stop", "arm_run"):
-            await getattr(self, kind)(msg)
-            return
-        if kind in ("set_joint", "set_joints", "ik", "home", "zero", "load_robot", "program_load", "set_lengths"):
-            self.stop_tasks()  # the user took the arm: playback and animations stop
-        replies = self.session.handle(msg)
-        await self.send(replies)
-        if kind in ("scene", "load_robot", "hello"):
-            self.ensure_physics()
+        if not isinstance(msg, dict):
+            raise BadMessage("a message is a JSON object with a 'type'")
+        kind = msg.get("type")
+        if kind not in ARM_MESSAGES:
+            raise BadMessage(f"unknown message type {kind!r}: this server connects the arm "
+                             f"({', '.join(sorted(ARM_MESSAGES))}); the studio's engine runs in the page")
+        await getattr(self, kind)(msg)
 
     # ---- the arm in the loop
 
@@ -229,7 +260,7 @@ class Connection:
         if not isinstance(port, str) or not port:
             raise BadMessage("'port' must name a port (see arm_ports)")
         await self.arm_disconnect({}, quiet=True)
-        r = self.session.robot
+        r = robot_from(msg.get("robot", {"name": "mk2plus"}), self.robot_file)
         if not r.num_motors:
             raise BadMessage(f"{r.name} has no motors: there is no arm to connect")
         g = r.gripper
@@ -242,7 +273,7 @@ class Connection:
         except ArmError as e:
             await self.send([{"type": "arm", "connected": False, "port": port, "error": str(e)}])
             return
-        self.arm, self.arm_history = arm, []
+        self.arm, self.arm_history, self.robot = arm, [], r
         self.arm_task = asyncio.create_task(self._arm_stream())
         await self.send([{"type": "arm", "connected": True, "port": port, "label": arm.label, "info": info}])
 
@@ -285,7 +316,7 @@ class Connection:
 
     def predict_arm_line(self, line: str) -> dict:
         """What the controller model says of this line after the ones the arm accepted."""
-        r = self.session.robot
+        r = self.robot
         text = "\n".join(self.arm_history + [line]) + "\n"
         try:
             rec = r.predict(articula.Program.parse(text, "arm.arm")).records[-1]
@@ -347,12 +378,11 @@ class Connection:
 
     async def _arm_stream(self) -> None:
         """The arm's status to the page as it changes (the port's thread polls at 15 Hz): the
-        second arm drawn from it, and how far its tool is from the model's."""
-        ses = self.session
+        second arm drawn from it (the page measures how far its tool is from the model's)."""
         while self.arm is not None and not self.ws.closed:
             await self.arm_event.wait()
             self.arm_event.clear()
-            arm = self.arm
+            arm, robot = self.arm, self.robot
             if arm is None:
                 return
             if not arm.running:
@@ -360,14 +390,11 @@ class Connection:
                 await self.arm_disconnect({}, quiet=True)
                 return
             st = arm.status
-            if st is None or st.angles is None or len(st.angles) != ses.robot.num_motors:
+            if st is None or st.angles is None or len(st.angles) != robot.num_motors:
                 continue
-            q = ses.robot.joints_from_motors(st.angles)
-            frames = ses.robot.frames(q)
-            model_tool = ses.robot.fk(ses.q)[:3, 3]
+            q = robot.joints_from_motors(st.angles)
             msg = {"type": "arm_status", "state": st.state, "steps": st.steps, "angles": st.angles,
-                   "q": q.tolist(), "frames": [_flat(f) for f in frames],
-                   "diff_mm": float(((frames[-1][:3, 3] - model_tool) ** 2).sum() ** 0.5), "text": st.text,
+                   "q": q.tolist(), "frames": [_flat(f) for f in robot.frames(q)], "text": st.text,
                    "rtt_ms": arm.rtt_ms, "sent_ms": time.time() * 1000}
             if self.stop_sent_at and st.state == "Idle":
                 msg["stop_to_idle_ms"] = (arm.status_at - self.stop_sent_at) * 1000
@@ -376,199 +403,3 @@ class Connection:
                 # prediction starts from there.
                 self.arm_history = ["M " + " ".join(f"{a:.3f}" for a in st.angles)]
             await self.send([msg])
-
-    # ---- live physics
-
-    def ensure_physics(self) -> None:
-        if self.session.sim is not None and (self.physics is None or self.physics.done()):
-            self.physics = asyncio.create_task(self._physics())
-
-    async def physics_intent(self, kind: str, msg) -> None:
-        """With physics on, the arm is the simulated controller's: a pose from a slider, Home,
-        Zero or the IK becomes an `M` line for it (the newest waits until the arm is idle),
-        the gripper a `G` line; programs run in the simulation; objects can be dragged."""
-        ses = self.session
-        sim = ses.sim
-        if kind in ("set_joint", "set_joints", "home", "zero", "ik"):
-            replies = ses.handle(msg)  # the target pose (ses.q), and for ik the solver's answer
-            self.pending_move = ses.move_line(ses.q)
-            await self.send([m for m in replies if m["type"] != "pose"] +
-                            [{"type": "sim_command", "line": self.pending_move, "seq": msg.get("seq")}])
-        elif kind == "gripper":
-            pct = msg.get("percent")
-            if isinstance(pct, bool) or not isinstance(pct, (int, float)) or not 0 <= pct <= 100:
-                raise BadMessage("'percent' must be within 0 .. 100")
-            self.pending_grip = f"G {pct:g}"
-        elif kind == "drag":
-            target = msg.get("target")
-            try:
-                sim.drag(msg.get("object"), target)
-            except (KeyError, IndexError, ValueError, TypeError) as e:
-                raise BadMessage(f"drag: {e}".replace('"', "'")) from None
-        elif kind == "release":
-            sim.release()
-        elif kind == "physics_run":
-            self.physics_running = True
-        elif kind == "physics_pause":
-            self.physics_running = False
-        elif kind == "physics_step":
-            self.physics_running = False
-            sim.step(int(round(0.1 / sim.dt)))  # 100 ms
-            await self.send([ses.pose_message(), ses.physics_message()])
-        elif kind == "physics_reset":
-            sim.reset()
-            ses.events_sent = 0
-            self.pending_move = self.pending_grip = None
-            await self.send([ses.physics_message(), ses.pose_message()])
-        elif kind == "program_load":
-            replies = ses.handle(msg)
-            if replies and replies[0]["type"] == "timeline":
-                sim.reset()
-                ses.events_sent = 0
-                self.pending_move = self.pending_grip = None
-                sim.load_program(articula.Program.parse(msg["text"], msg.get("name") or "program.arm"))
-                self.physics_running = False
-            await self.send(replies + [ses.physics_message()])
-        elif kind == "play":
-            self.physics_running = True
-            await self.send([{"type": "playing", "t": sim.time, "playing": True}])
-        elif kind == "pause":
-            self.physics_running = False
-            await self.send([{"type": "playing", "t": sim.time, "playing": False}])
-        else:
-            raise BadMessage(f"'{kind}' does not apply while the physics runs")
-
-    async def _physics(self) -> None:
-        """Steps the simulation in real time and streams the world to the page, one message a
-        display frame. Never behind real time without saying so: `rtf` is simulated time over
-        wall time (1.0 when keeping up), `capacity` how many times real time the stepping alone
-        could run; `behind` when it cannot keep up."""
-        ses = self.session
-        last = time.monotonic()
-        due = last  # frames are due on a fixed 60 Hz clock (sleeping a frame after the work would drift below it)
-        window: list[tuple[float, float, float]] = []  # (wall, simulated, stepping) per frame
-        while ses.sim is not None and not self.ws.closed:
-            sim = ses.sim
-            now = time.monotonic()
-            wall = now - last
-            last = now
-            stepped = busy_s = 0.0
-            if self.physics_running:
-                if not sim.busy:
-                    if self.pending_move:
-                        sim.command(self.pending_move)
-                        self.pending_move = None
-                    elif self.pending_grip:
-                        sim.command(self.pending_grip)
-                        self.pending_grip = None
-                n = int(round(min(wall, 0.1) / sim.dt))
-                t0 = time.monotonic()
-                sim.step(n)
-                busy_s = time.monotonic() - t0
-                stepped = n * sim.dt
-            window.append((wall, stepped, busy_s))
-            window = window[-60:]
-            w, st, bz = (sum(x[i] for x in window) for i in range(3))
-            rtf = st / w if w > 0 else 0.0
-            capacity = st / bz if bz > 0 else None
-            behind = bool(self.physics_running and (wall > 0.1 or (capacity is not None and capacity < 1.0)))
-            msg = ses.physics_message(rtf=rtf, behind=behind)
-            msg["capacity"] = capacity
-            msg["running"] = self.physics_running
-            await self.send([ses.pose_message(), msg])
-            due = max(due + FRAME_S, time.monotonic() - FRAME_S)
-            await asyncio.sleep(max(0.0, due - time.monotonic()))
-
-    # ---- playback of a program's time line
-
-    def stop_tasks(self) -> None:
-        if self.task and not self.task.done():
-            self.task.cancel()
-        self.task = None
-
-    def _timeline(self) -> dict:
-        if not self.session.timeline:
-            raise BadMessage("no program loaded: send program_load first")
-        return self.session.timeline
-
-    async def play(self, msg) -> None:
-        tl = self._timeline()
-        if "speed" in msg:
-            speed = msg["speed"]
-            if isinstance(speed, bool) or not isinstance(speed, (int, float)) or not 0.05 <= speed <= 20:
-                raise BadMessage("'speed' must be within 0.05 .. 20")
-            self.speed = float(speed)
-        self.stop_tasks()
-        if self.t >= tl["duration"]:
-            self.t = 0.0
-        self.task = asyncio.create_task(self._play())
-
-    async def _play(self) -> None:
-        tl = self.session.timeline
-        last = time.monotonic()
-        await self.send([{"type": "playing", "t": self.t, "playing": True}])
-        while True:
-            now = time.monotonic()
-            self.t = min(tl["duration"], self.t + (now - last) * self.speed)
-            last = now
-            await self.send([self.session.pose_at(self.t)])
-            if self.t >= tl["duration"]:
-                break
-            await asyncio.sleep(FRAME_S)
-        await self.send([{"type": "playing", "t": self.t, "playing": False, "ended": True}])
-
-    async def pause(self, msg) -> None:
-        self.stop_tasks()
-        await self.send([{"type": "playing", "t": self.t, "playing": False}])
-
-    async def step(self, msg) -> None:
-        """To the end of the next action (a line)."""
-        tl = self._timeline()
-        self.stop_tasks()
-        ends = sorted({r["end_s"] for r in tl["records"]} | {r["start_s"] for r in tl["records"]})
-        nxt = next((e for e in ends if e > self.t + 1e-9), tl["duration"])
-        line_end = next((r["end_s"] for r in tl["records"] if r["end_s"] > self.t + 1e-9), nxt)
-        self.t = line_end
-        await self.send([self.session.pose_at(self.t), {"type": "playing", "t": self.t, "playing": False}])
-
-    async def seek(self, msg) -> None:
-        tl = self._timeline()
-        t = msg.get("t")
-        if isinstance(t, bool) or not isinstance(t, (int, float)) or not 0 <= t <= tl["duration"] + 1e-9:
-            raise BadMessage(f"'t' must be within 0 .. {tl['duration']:.3f} s")
-        self.stop_tasks()
-        self.t = float(t)
-        await self.send([self.session.pose_at(self.t), {"type": "playing", "t": self.t, "playing": False}])
-
-    async def rewind(self, msg) -> None:
-        self._timeline()
-        self.stop_tasks()
-        self.t = 0.0
-        await self.send([self.session.pose_at(0.0), {"type": "playing", "t": 0.0, "playing": False}])
-
-    # ---- the Jacobian transpose, iteration by iteration
-
-    async def jt_animate(self, msg) -> None:
-        self.stop_tasks()
-        steps = self.session.jt_steps(msg)  # validates now: a bad target is an error reply
-        first = next(steps)
-        self.task = asyncio.create_task(self._jt(first, steps, msg.get("seq")))
-
-    async def _jt(self, first, steps, seq) -> None:
-        item = first
-        while True:
-            res, i, done = item
-            reply = self.session._ik_reply(res, seq)
-            reply.update(type="jt_frame", iteration=i + 1, done=done)
-            await self.send([reply, self.session.pose_message(seq=seq)])
-            if done:
-                return
-            await asyncio.sleep(FRAME_S)
-            try:
-                item = next(steps)
-            except StopIteration:
-                return
-
-    async def stop_animation(self, msg) -> None:
-        self.stop_tasks()
-        await self.send([self.session.pose_message()])

@@ -40,8 +40,12 @@ interface Hook {
   objectScreen: (name: string) => number[] | null;
   arm: { connected: boolean; error: string; label: string; status: ArmStatusMsg | null; reply: unknown; stopMs: number | null;
          programLines: unknown[]; programDone: boolean; roundTrips: number[] };
-  stream: { messages: number; bytes: number }; // physics and pose messages while the physics runs
+  stream: { messages: number }; // physics and pose messages while the physics runs
   armPixels: () => number; // share of the view's pixels that are the arm's colours (0..1)
+  errors: number; // error replies from the engine or the arm's server
+  internalErrors: string[]; // replies that say the engine itself went wrong (never expected)
+  engineStartMs: number; // the worker's time from its first message to the robot loaded
+  engineSend: (msg: unknown) => void; // for tests: a message to the engine as the page would post it
 }
 const hook: Hook = {
   ready: false, connected: false, robot: null, pose: null, ik: null, timeline: null, playing: false,
@@ -49,7 +53,8 @@ const hook: Hook = {
   latency: [], ikUpdates: [], messages: 0, targetScreen: [0, 0], armPixels: () => view.armPixels(),
   scene: null, physics: null, events: [], simCommand: "", objectScreen: (n) => view.objectScreen(n),
   arm: { connected: false, error: "", label: "", status: null, reply: null, stopMs: null, programLines: [], programDone: false, roundTrips: [] },
-  stream: { messages: 0, bytes: 0 },
+  stream: { messages: 0 }, errors: 0, internalErrors: [], engineStartMs: 0,
+  engineSend: (msg) => worker.postMessage(msg),
 };
 const readOnly = new Proxy(hook, { set: () => false, deleteProperty: () => false });
 Object.defineProperty(window, "articula", { value: readOnly, writable: false });
@@ -70,6 +75,9 @@ const MAX_IN_FLIGHT = 2;
 let inFlight = 0;
 let queued: Record<string, unknown> | null = null;
 let dragging = false;
+// The robot shown, as the arm's server loads it: a shipped robot's name, or the file's text.
+let robotSpec: Record<string, unknown> = (params.get("robot") ?? "").endsWith(".json")
+  ? { file: params.get("robot") } : { name: params.get("robot") ?? "mk2plus" };
 const MAX_FILE = 20_000_000; // bytes of a robot file or mesh the page opens
 let needFit: Promise<void> | null = null; // a new robot: frame it once its first pose is drawn
 
@@ -136,6 +144,7 @@ function startEngine(): void {
     hook.messages++;
     if (m.type === "ready") {
       engineReady = true;
+      hook.engineStartMs = m.ms;
       hook.connected = true;
       setConn("engine ready", "ok");
       send({ type: "hello" });
@@ -146,10 +155,7 @@ function startEngine(): void {
       banner(`${m.message}. The studio needs a browser with WebAssembly and module workers (Chrome, Edge, Firefox, Safari of the last three years).`);
       return;
     }
-    if (hook.physics?.on) {
-      hook.stream.messages++;
-      hook.stream.bytes += 1;
-    }
+    if (hook.physics?.on) hook.stream.messages++;
     handle(m);
   };
   worker.onerror = (e) => {
@@ -237,6 +243,7 @@ function handle(m: ServerMsg): void {
       editorChanged();
       break;
     case "robot_error":
+      pendingSpec = null;
       hook.robotError = m.message;
       banner(`This robot file cannot be used, the robot stays ${robot?.name ?? ""}: ${m.message}`);
       break;
@@ -306,6 +313,8 @@ function handle(m: ServerMsg): void {
       download(`${m.name.replace(/\W+/g, "_")}.urdf`, m.xml, "application/xml");
       break;
     case "error":
+      hook.errors++;
+      if (m.message.startsWith("internal error")) hook.internalErrors.push(m.message);
       hook.lastError = m.message;
       replyArrived();
       banner(m.message);
@@ -320,8 +329,12 @@ function armDiff(m: ArmStatusMsg): number {
   return Math.hypot(f[3] - tool[0], f[7] - tool[1], f[11] - tool[2]);
 }
 
+let pendingSpec: Record<string, unknown> | null = null; // a robot asked for, until it is shown
+
 function buildRobot(r: RobotMsg): void {
   robot = r;
+  if (pendingSpec && !r.keep_view) robotSpec = pendingSpec;
+  pendingSpec = null;
   hook.robot = r;
   hook.robotError = "";
   const built = view.build(r);
@@ -523,7 +536,7 @@ function stopEverything(): void {
 $("arm-port").addEventListener("focus", () => send({ type: "arm_ports" }));
 $("arm-connect").onclick = () => {
   const port = ($("arm-port") as HTMLSelectElement).value;
-  if (port) send({ type: "arm_connect", port });
+  if (port) send({ type: "arm_connect", port, robot: robotSpec });
   else send({ type: "arm_ports" });
 };
 $("arm-disconnect").onclick = () => send({ type: "arm_disconnect" });
@@ -609,6 +622,7 @@ view.onDrag = (object, target) => {
 // ---- controls: robot, joints, IK
 
 $("robot-select").addEventListener("change", (e) => {
+  pendingSpec = { name: (e.target as HTMLSelectElement).value };
   send({ type: "load_robot", name: (e.target as HTMLSelectElement).value });
 });
 $("open-robot").onclick = () => $("robot-file").click();
@@ -625,12 +639,14 @@ $("robot-file").addEventListener("change", async (e) => {
   const files = await Promise.all(meshes.map(async (x) => ({ name: x.name, data: await x.arrayBuffer() })));
   const transfer = files.map((x) => x.data);
   if (f.name.toLowerCase().endsWith(".json")) {
+    pendingSpec = { text, filename: f.name };
     send({ type: "load_robot", text, filename: f.name, files }, transfer);
   } else {
     const s = prompt(`${f.name} is a robot file of the thesis's original system: how many millimetres is one of its units? (the thesis's MK2 model: 25.75)`, "10");
     if (s === null) return;
     const scale = parseFloat(s);
     if (!(scale > 0)) return banner("The scale must be a number above 0");
+    pendingSpec = { text, filename: f.name, legacy: true, scale };
     send({ type: "load_robot", text, filename: f.name, legacy: true, scale }, transfer);
   }
 });

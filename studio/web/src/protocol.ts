@@ -1,5 +1,6 @@
-// The messages between the page and the server (docs/studio.md, "Messages"). The server
-// computes every pose; the page sends intents and draws what comes back.
+// The messages between the page and its engine (worker.ts, and articula-studio's WebSocket for
+// the arm; docs/studio.md, "Messages"). The engine computes every pose; the page sends intents
+// and draws what comes back.
 
 export type Flat4x4 = number[]; // a 4x4 homogeneous matrix, row-major, mm
 
@@ -153,7 +154,6 @@ export interface ArmStatusMsg {
   angles: number[];
   q: number[];
   frames: Flat4x4[];
-  diff_mm: number;
   text: string;
   stop_to_idle_ms?: number;
   rtt_ms: number | null; // the server's `?` to this report

@@ -90,6 +90,7 @@ let physicsTimer: ReturnType<typeof setTimeout> | null = null;
 let pendingMove: string | null = null;
 let pendingGrip: string | null = null;
 const meshUrls = new Map<string, string>(); // engine path -> blob URL the page draws
+let greeted = false; // the page said hello: it has the robot, poses may stream
 
 function post(msgs: Out[]): void {
   for (const m of msgs) (self as unknown as Worker).postMessage(m);
@@ -179,12 +180,36 @@ async function shippedRobot(name: string): Promise<Robot> {
   return r;
 }
 
+// A robot file on the web (?robot=path/arm.json, relative to the site: articula-studio serves
+// the file it was started with so), with the meshes its shapes name beside it.
+async function urlRobot(path: string): Promise<Robot> {
+  const url = new URL(path, site);
+  const name = decodeURIComponent(url.pathname.split("/").pop() ?? "robot.json");
+  userFiles({});
+  const r = engine.robot();
+  try {
+    r.parse(await fetchText(url.href), name);
+    for (const l of (r.info as ReturnType<typeof info>).links)
+      for (const s of l.shapes)
+        if (s.mesh && !engine.exists(s.mesh))
+          engine.writeFile(s.mesh, await fetchBytes(new URL(s.mesh.replace(/^\/user\//, ""), url).href));
+  } catch (e) {
+    r.delete();
+    throw e;
+  }
+  return r;
+}
+
 // ---- messages
 
 type Handler = (m: Msg) => Out[] | Promise<Out[]>;
 
 const handlers: Record<string, Handler> = {
-  hello: () => [robotMessage(), sceneMessage(), physicsMessage(), poseMessage()],
+  hello: () => {
+    greeted = true;
+    if (sim) setTimeout(ensurePhysics, 0); // after these replies: the page has its robot first
+    return [robotMessage(), sceneMessage(), physicsMessage(), poseMessage()];
+  },
 
   set_joint(m) {
     const j = num(m, "joint", 0, info().num_joints - 1);
@@ -674,7 +699,7 @@ function physicsIntent(kind: string, m: Msg): Out[] {
 // frame. `rtf` is simulated time over wall time (1.0 when keeping up), `capacity` how many
 // times real time the stepping alone could run; `behind` when it cannot keep up.
 function ensurePhysics(): void {
-  if (physicsTimer !== null || !sim) return;
+  if (physicsTimer !== null || !sim || !greeted) return;
   let last = performance.now();
   let due = last;
   let window: [number, number, number][] = [];
@@ -759,8 +784,14 @@ async function start(first: Msg): Promise<void> {
   const { default: createEngine } = await import(/* @vite-ignore */ engineUrl);
   engine = await loadEngine(createEngine, { locateFile: (f: string) => new URL(`engine/${f}`, site).href });
   index = JSON.parse(await fetchText("data/index.json"));
-  const wanted = typeof first.robot === "string" && index.robots.includes(first.robot) ? first.robot : "mk2plus";
-  robot = await shippedRobot(wanted);
+  const wanted = typeof first.robot === "string" ? first.robot : "mk2plus";
+  try {
+    robot = wanted.endsWith(".json") ? await urlRobot(wanted) : await shippedRobot(index.robots.includes(wanted) ? wanted : "mk2plus");
+  } catch (e) {
+    // A robot the address names but that cannot be used: the MK2, and the page says why.
+    robot = await shippedRobot("mk2plus");
+    post([{ type: "robot_error", message: (e as Error).message }]);
+  }
   q = [...info().home];
   const scene = typeof first.scene === "string" && index.scenes.includes(first.scene) ? first.scene : null;
   if (scene) {
