@@ -4,7 +4,8 @@
 #   make          build everything (host tools, AVR targets, the Nano firmware and its sizes)
 #   make test     install, build, run every test, print a summary
 #   make demo     install, build, run the thesis experiments on the virtual Nano, report
-#   make studio   install, build, start Articula Studio and open it in the browser
+#   make studio   install, build, serve Articula Studio on 127.0.0.1 and open it in the browser
+#   make web      build only the studio's static site (studio/web/dist), for any web server
 #   make firmware build only the Nano firmware (HEX and ELF)
 #   make flash PORT=/dev/ttyUSB0 [BOOTLOADER=new]
 #                 flash the HEX into a Nano through its USB bootloader
@@ -26,7 +27,7 @@ BAUD_old = 57600
 BAUD_new = 115200
 BAUD ?= $(BAUD_$(BOOTLOADER))
 
-.PHONY: all build bootstrap test demo studio firmware flash clean format
+.PHONY: all build bootstrap test demo studio web firmware flash clean format
 
 all: build
 
@@ -38,7 +39,15 @@ $(BUILD)/build.ninja:
 
 build: bootstrap $(BUILD)/build.ninja
 	cmake --build $(BUILD) -j $(JOBS)
+	@ln -sf "$(abspath $(ARTICULA))" .venv/bin/articula
+	@printf '#!/bin/sh\nexec "%s" -m articula.studio "$$@"\n' "$(abspath .venv/bin/python)" > .venv/bin/articula-studio
+	@chmod +x .venv/bin/articula-studio
 	@echo "firmware: $(HEX)"
+	@echo "commands: .venv/bin/articula and .venv/bin/articula-studio (or: source .venv/bin/activate)"
+
+web: bootstrap $(BUILD)/build.ninja
+	cmake --build $(BUILD) --target studio_web -j $(JOBS)
+	@echo "studio: the static site is in studio/web/dist: serve that folder from any web server (see README)"
 
 firmware: bootstrap $(BUILD)/build.ninja
 	cmake --build $(BUILD) --target avr-configure
@@ -66,9 +75,10 @@ demo: build
 	  --vnano $(BUILD)/hil/articula-vnano --elf $(FIRMWARE_DIR)/articula-nano.elf
 	@echo "open $(DEMO_REPORT)/report.html in a browser, or read $(DEMO_REPORT)/report.md"
 
-# ROBOT=panda, PORT=8080, STUDIO_ARGS=--no-browser: passed to articula-studio.
+# ROBOT=panda, PORT=8080, STUDIO_ARGS=--no-browser: passed to articula-studio, which serves
+# the static site on 127.0.0.1 and connects the arm.
 studio: build
-	@.venv/bin/python -m articula.studio $(ROBOT) $(if $(PORT),--port $(PORT)) $(STUDIO_ARGS)
+	@.venv/bin/articula-studio $(ROBOT) $(if $(PORT),--port $(PORT)) $(STUDIO_ARGS)
 
 format:
 	clang-format -i shared/articula/*.h shared/tests/*.cpp shared/avr_check/*.cpp host/*/*.cpp host/*/*.h \
