@@ -110,8 +110,8 @@ inline U splat_u(uint64_t k) {
 }
 
 // Two doubles at a time in SIMD lanes, with the GCC vector extension (g++ and clang++ on
-// x86-64, SSE2, and AArch64).
-#if defined(__GNUC__) && (defined(__SSE2__) || defined(__aarch64__))
+// x86-64, SSE2, AArch64, and WebAssembly with its SIMD, emscripten -msimd128).
+#if defined(__GNUC__) && (defined(__SSE2__) || defined(__aarch64__) || defined(__wasm_simd128__))
 #define ARTICULA_SIMD2 1
 typedef double DoubleX2 __attribute__((vector_size(16)));
 typedef uint64_t Uint64X2 __attribute__((vector_size(16)));
