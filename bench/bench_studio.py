@@ -1,20 +1,22 @@
 #!/usr/bin/env python3
 """Articula Studio's speed, measured in the page (bench/README.md, "Studio"), in Debian's
-headless Chromium (software WebGL, SwiftShader) at 1440x900:
+headless Chromium (software WebGL, SwiftShader) at 1440x900. The page is the static site
+(studio/web/dist) served by a plain file server under a sub-path, its engine in the page; the
+virtual Nano's figures come through articula-studio.
 
-  - from the server's start to the first frame with the arm drawn (the browser already
-    running, as a user's is): median of 5 starts;
+  - a cold load of the static site (a new browser profile: nothing cached) to the first frame
+    with the arm drawn: median of 5 loads, and the engine's own start in its worker;
   - a slider move to the new pose on screen: the page stamps each input and the frame that
     shows its pose (window.articula.latency); 200 moves of the Panda's shoulder at 30 a second;
   - dragging the IK target on the Panda with the mouse for 3 s at 60 moves a second: poses
     drawn per second;
   - frames per second drawing the Panda when the page draws every frame (?fps=continuous);
   - live physics, the Panda in scenes/cluttered.json for 5 s while the arm moves through the
-    clutter: the real-time factor, how fast the stepping alone could run, and the state
-    stream to the page (messages a second, bytes a message);
+    clutter: the real-time factor, how fast the stepping alone could run, whether it ever fell
+    behind, and the updates a second the page gets;
   - the virtual Nano: a status report's round trip, from the server's `?` to the frame that
     draws the arm from it (window.articula.arm.roundTrips), median and p95 over 10 s, the
-    arm moving.
+    arm moving; and STOP (Escape) during a long move at $1 = 20,000 to the arm at rest.
 
     .venv/bin/python bench/bench_studio.py
 """
@@ -28,6 +30,24 @@ from pathlib import Path
 REPO = Path(__file__).resolve().parents[1]
 ARGS = ["--no-sandbox", "--disable-background-networking", "--disable-component-update", "--disable-sync",
         "--no-first-run", "--disable-quic"]
+
+
+class StaticSite:
+    """studio/web/dist behind Python's http.server, at /articula/ (no articula process)."""
+
+    def __init__(self):
+        import tempfile
+        self.root = tempfile.mkdtemp(prefix="articula-bench-www-")
+        (Path(self.root) / "articula").symlink_to(REPO / "studio" / "web" / "dist", target_is_directory=True)
+        self.proc = subprocess.Popen([sys.executable, "-u", "-m", "http.server", "0", "--bind", "127.0.0.1",
+                                      "--directory", self.root], stdout=subprocess.PIPE, stderr=subprocess.DEVNULL,
+                                     text=True)
+        port = re.search(r"port (\d+)", self.proc.stdout.readline()).group(1)
+        self.url = f"http://127.0.0.1:{port}/articula/"
+
+    def stop(self):
+        self.proc.terminate()
+        self.proc.wait()
 
 
 def start(robot, *extra):
@@ -57,20 +77,18 @@ def main():
 
     with sync_playwright() as pw:
         browser = pw.chromium.launch(executable_path="/usr/bin/chromium", headless=True, args=ARGS)
-        starts = []
+        site = StaticSite()
+        firsts, engine = [], []
         for _ in range(5):
-            p, url, t0 = start("panda")
-            ctx, page = open_page(browser, url)
-            first = page.evaluate("performance.timeOrigin + window.articula.firstFrameAt") / 1000
-            starts.append(first - t0)
+            ctx, page = open_page(browser, site.url + "?robot=panda")  # a new context: an empty cache
+            firsts.append(page.evaluate("window.articula.firstFrameAt") / 1000)
+            engine.append(page.evaluate("window.articula.engineStartMs") / 1000)
             ctx.close()
-            p.terminate()
-            p.wait()
-        print(f"server start to the first frame with the arm (Panda): median {statistics.median(starts):.3f} s, "
-              f"min {min(starts):.3f}, max {max(starts):.3f} (5 starts)")
+        print(f"cold load of the static site to the first frame with the arm (Panda): median "
+              f"{statistics.median(firsts):.3f} s, min {min(firsts):.3f}, max {max(firsts):.3f} (5 loads); the engine's "
+              f"start in its worker (wasm compiled, robot fetched and loaded): median {statistics.median(engine):.3f} s")
 
-        p, url, _ = start("panda")
-        ctx, page = open_page(browser, url)
+        ctx, page = open_page(browser, site.url + "?robot=panda")
         page.evaluate("""async () => {
             const s = document.querySelector('#joints input[type=range][data-joint="1"]');
             for (let i = 0; i < 200; i++) {
@@ -110,14 +128,11 @@ def main():
         print(f"IK target dragged (Panda): {drawn / dt:.1f} poses drawn a second for {moves / dt:.1f} pointer moves "
               f"a second (one a display frame; last status {status})")
         ctx.close()
-        p.terminate()
-        p.wait()
 
-        p, url, _ = start("panda")
         ctx = browser.new_context(viewport={"width": 1440, "height": 900})
         ctx.add_init_script("localStorage.setItem('articula.studio.tour.done', '1')")
         page = ctx.new_page()
-        page.goto(url + "&fps=continuous")
+        page.goto(site.url + "?robot=panda&fps=continuous")
         page.wait_for_function("window.articula && window.articula.firstFrameAt > 0", timeout=30000)
         page.wait_for_timeout(2000)
         fps = []
@@ -127,12 +142,9 @@ def main():
         print(f"frames per second drawing the Panda, every frame drawn: median {statistics.median(fps)} "
               f"(readings {fps})")
         ctx.close()
-        p.terminate()
-        p.wait()
 
         # Live physics: the Panda in the cluttered scene, moving through it.
-        p, url, _ = start("panda", "--scene", "cluttered")
-        ctx, page = open_page(browser, url)
+        ctx, page = open_page(browser, site.url + "?robot=panda&scene=cluttered")
         page.wait_for_function("window.articula.physics && window.articula.physics.on")
         page.evaluate("""async () => {
             const q = [[0, 40, 0, -90, 0, 130, 45], [60, 50, 0, -80, 0, 130, 45], [-60, 30, 0, -100, 0, 130, 45]];
@@ -142,26 +154,24 @@ def main():
               await new Promise(r => setTimeout(r, 300));
             }
         }""")
-        m0, b0 = page.evaluate("[window.articula.stream.messages, window.articula.stream.bytes]")
-        rtfs, caps = [], []
+        m0 = page.evaluate("window.articula.stream.messages")
+        rtfs, caps, behind = [], [], 0
         t0 = time.monotonic()
-        for _ in range(10):
-            page.wait_for_timeout(500)
+        for _ in range(50):
+            page.wait_for_timeout(100)
             ph = page.evaluate("window.articula.physics")
             rtfs.append(ph["rtf"])
             caps.append(ph["capacity"] or 0)
+            behind += bool(ph["behind"])
         dt = time.monotonic() - t0
-        m1, b1 = page.evaluate("[window.articula.stream.messages, window.articula.stream.bytes]")
+        m1 = page.evaluate("window.articula.stream.messages")
         events = page.evaluate("window.articula.events.length")
-        behind = page.evaluate("window.articula.physics.behind")
         print(f"live physics, Panda in scenes/cluttered.json (7 objects), 5 s: real-time factor median "
               f"{statistics.median(rtfs):.3f} (min {min(rtfs):.3f}), the stepping alone could run "
-              f"{statistics.median(caps):.0f}x real time, behind: {behind}; stream {(m1 - m0) / dt / 2:.1f} "
-              f"updates a second (a pose and a world message each), {(b1 - b0) / max(1, m1 - m0):.0f} bytes a "
-              f"message; {events} events")
+              f"{statistics.median(caps):.0f}x real time, behind real time in {behind} of 50 readings; "
+              f"{(m1 - m0) / dt / 2:.1f} updates a second (a pose and a world message each); {events} events")
         ctx.close()
-        p.terminate()
-        p.wait()
+        site.stop()
 
         # The virtual Nano: `?` to the drawn pose.
         p, url, _ = start("mk2plus")
@@ -178,6 +188,22 @@ def main():
         rt = page.evaluate("window.articula.arm.roundTrips.slice()")
         print(f"virtual Nano, ? to the drawn pose: median {statistics.median(rt):.1f} ms, p95 {pct(rt, 0.95):.1f} ms, "
               f"max {max(rt):.1f} ms ({len(rt)} reports drawn while it moved)")
+        stops = []
+        for _ in range(5):
+            for line in ("$1=20000", "M 80 90 0"):
+                page.fill("#arm-line", line)
+                page.click("#arm-send")
+                page.wait_for_timeout(200)
+            page.wait_for_function("window.articula.arm.status.state === 'Run'")
+            page.wait_for_timeout(150)
+            page.keyboard.press("Escape")
+            page.wait_for_function("window.articula.arm.stopMs !== null", timeout=5000)
+            stops.append(page.evaluate("window.articula.arm.stopMs"))
+            page.fill("#arm-line", "M 0 90 0")
+            page.click("#arm-send")
+            page.wait_for_timeout(2500)
+        print(f"STOP (Escape) during a move at $1 = 20000 to the arm at rest (Idle): median "
+              f"{statistics.median(stops):.0f} ms, max {max(stops):.0f} ms (5 stops)")
         ctx.close()
         p.terminate()
         p.wait()

@@ -59,12 +59,16 @@ const hook: Hook = {
 const readOnly = new Proxy(hook, { set: () => false, deleteProperty: () => false });
 Object.defineProperty(window, "articula", { value: readOnly, writable: false });
 
+// The engine starts first: it compiles and loads the robot in its worker while the page
+// builds its 3D view (its messages are handled once this script has run).
+let worker: Worker;
+let engineReady = false;
+startEngine();
+
 const view = new View($("view"));
 const plots = new Plots($("plots"));
 let robot: RobotMsg | null = null;
 let ws: WebSocket | null = null; // articula-studio's WebSocket, for the arm only
-let worker: Worker;
-let engineReady = false;
 let seq = 0;
 const sentAt = new Map<number, number>();
 let pendingDrawn: number[] = []; // seqs applied, waiting for the frame that shows them
@@ -529,7 +533,10 @@ function sendArmLine(): void {
 }
 
 function stopEverything(): void {
-  if (hook.arm.connected) send({ type: "arm_stop" });
+  if (hook.arm.connected) {
+    hook.arm.stopMs = null; // until the arm reports itself at rest
+    send({ type: "arm_stop" });
+  }
   if (hook.playing || hook.physics?.running) send({ type: "pause" });
 }
 
@@ -836,7 +843,6 @@ function download(name: string, data: string | Blob, type: string): void {
 
 $("tour-button").onclick = () => startTour(true);
 editorChanged();
-startEngine();
 // Offline use and installing as an app (sw.js keeps the whole site).
 if ("serviceWorker" in navigator && !params.has("nosw")) navigator.serviceWorker.register("sw.js").catch(() => undefined);
 if (token) connectArmServer();
