@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "bench_common.h"
+#include "bench_scene.h"
 #include "ik.h"
 #include "program.h"
 #include "scene.h"
@@ -112,18 +113,8 @@ IkFigures mk2_ik() {
 
 double physics_steps_per_s() {
   const Robot mk2 = bench::load("mk2plus");
-  Scene scene;
-  SceneObject cube;
-  cube.name = "cube";
-  cube.size = {30, 30, 30};
-  cube.xyz = make_vec3(250.0, -60.0, 15.0);
-  cube.movable = true;
-  cube.mass = 0.027;
-  scene.objects.push_back(cube);
-  const Program program = parse_protocol_program(
-      "G 100\nM 40 60 -30\nM -40 100 10\nG 0\nM 0 45 -40\nM 60 80 -20\nG 60\nM -60 50 0\nM 0 120 -40\n"
-      "M 30 36 -43\nM -30 90 15\nG 100\nM 0 90 0\n",
-      "bench.arm", mk2);
+  const Scene scene = bench::cube_scene();
+  const Program program = parse_protocol_program(bench::kMoves, "bench.arm", mk2);
   double best = 0;
   for (int round = 0; round < 3; ++round) {
     Simulation sim(mk2, scene);

@@ -6,30 +6,16 @@
 #include <benchmark/benchmark.h>
 
 #include "bench_common.h"
+#include "bench_scene.h"
 #include "program.h"
 #include "sim.h"
 
 using namespace articula;
 using namespace articula::host;
+using articula::bench::cube_scene;
+using articula::bench::kMoves;
 
 namespace {
-
-Scene cube_scene() {
-  Scene s;
-  SceneObject cube;
-  cube.name = "cube";
-  cube.size = {30, 30, 30};
-  cube.xyz = make_vec3(250.0, -60.0, 15.0);
-  cube.movable = true;
-  cube.mass = 0.027;  // 30 mm of wood-like plastic
-  s.objects.push_back(cube);
-  return s;
-}
-
-// About 9 s of moves over the whole working range, then rest until 10 s.
-const char* kMoves =
-    "G 100\nM 40 60 -30\nM -40 100 10\nG 0\nM 0 45 -40\nM 60 80 -20\nG 60\nM -60 50 0\nM 0 120 -40\n"
-    "M 30 36 -43\nM -30 90 15\nG 100\nM 0 90 0\n";
 
 void run(benchmark::State& state, bool moves) {
   const Robot robot = bench::load("mk2plus");
