@@ -22,7 +22,8 @@ from typing import Callable
 import serial
 
 from ..link import Link, LinkError, LinkTimeout, LinkVanished, Status, parse_info, parse_status, wait_for_pty
-from .server import REPO
+
+REPO = Path(__file__).resolve().parents[3]  # the tree, where make builds the virtual Nano
 
 BAUD = 115200
 POLL_S = 1 / 15          # status polls (every 10 ms for a second after a stop)
