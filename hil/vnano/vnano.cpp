@@ -1,6 +1,8 @@
 // hil/vnano/vnano.cpp - see vnano.h and hil/README.md.
 #include "vnano.h"
 
+#include "wiring.h"
+
 #include <sim_avr.h>
 #include <sim_elf.h>
 #include <sim_io.h>
@@ -35,21 +37,7 @@ std::string vector_name(int v) {
   return "VECTOR_" + std::to_string(v);
 }
 
-// The wiring of firmware/src/pins.h. Ports: 0 B, 1 C, 2 D.
-const char kPortNames[3] = {'B', 'C', 'D'};
-struct MotorPins {
-  int port, shift;
-  const char* pins;
-};
-const MotorPins kMotorPins[3] = {
-    {2, 4, "PD4..PD7 (D4..D7)"}, {0, 0, "PB0..PB3 (D8..D11)"}, {1, 0, "PC0..PC3 (A0..A3)"}};
-struct EndstopPin {
-  int port, bit;
-  const char* pin;
-};
-const EndstopPin kEndstopPins[3] = {{2, 2, "PD2 (D2)"}, {0, 4, "PB4 (D12)"}, {1, 4, "PC4 (A4)"}};
-const int kServoPort = 2, kServoBit = 3;  // PD3 (D3)
-const int kLedPort = 0, kLedBit = 5;      // PB5 (D13)
+// The wiring of firmware/src/pins.h is wiring.h's.
 
 const uint8_t kPaint = 0xA5;  // stack painting pattern
 const size_t kMaxFaultsListed = 100;

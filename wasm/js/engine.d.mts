@@ -43,11 +43,27 @@ export class Sim {
   readonly endTime: number;
   delete(): void;
 }
+export interface CoilDecoder {
+  feed(pattern: number): number; // 0 no change, 1 step, 2 released, 3 energised, 4 fault
+  forceHalfStep(): void;
+  steps(): number;
+  halfSteps(): number;
+  faults(): number;
+  pattern(): number;
+  delete(): void;
+}
 export class Engine {
   readonly status: Record<string, [string, string]>;
   robot(nameOrPath?: string): Robot;
   sim(robot: Robot, sceneText?: string, sceneName?: string, dt?: number): Sim;
   statusText(code: number): string;
+  coilDecoder(): CoilDecoder;
+  readonly nanoWiring: {
+    motors: { port: "B" | "C" | "D"; shift: number }[];
+    endstops: { port: "B" | "C" | "D"; bit: number }[];
+    servo: { port: "B" | "C" | "D"; bit: number };
+    led: { port: "B" | "C" | "D"; bit: number };
+  };
   writeFile(path: string, data: string | Uint8Array): void;
   exists(path: string): boolean;
   readFile(path: string): Uint8Array;

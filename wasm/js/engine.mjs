@@ -144,6 +144,10 @@ export class Engine {
   }
   sim(robot, sceneText, sceneName, dt) { return new Sim(this, robot, sceneText, sceneName, dt); }
   statusText(code) { return this.M.statusText(code); }
+  /** A motor's coil decoder (hil/vnano/coil_decoder.h), for an emulated Nano. */
+  coilDecoder() { return new this.M.CoilDecoder(); }
+  /** The Nano's wiring (hil/vnano/wiring.h): motors [{port, shift}], endstops, servo, led. */
+  get nanoWiring() { return (this._wiring ??= JSON.parse(this.M.nanoWiring())); }
   /** Files of the engine's in-memory file system (folders are made on the way). */
   writeFile(path, data) {
     const parts = path.split("/").filter(Boolean);

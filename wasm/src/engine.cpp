@@ -20,7 +20,9 @@
 #include <string>
 #include <vector>
 
+#include "coil_decoder.h"
 #include "geometry.h"
+#include "wiring.h"
 #include "ik.h"
 #include "legacy.h"
 #include "predict.h"
@@ -479,6 +481,46 @@ class WebSim {
   std::unique_ptr<host::Simulation> sim_;
 };
 
+// One stepper motor's four L298N inputs as the virtual Nano in the page sees them: the
+// harness's decoder (hil/vnano/coil_decoder.h), the one home of what a motor makes of its
+// coil patterns, for the page's emulated Nano (avr8js).
+class WebCoilDecoder {
+ public:
+  // A new IN1..IN4 pattern (bit 0 = IN1): 0 no change, 1 a step, 2 released, 3 energised,
+  // 4 a fault (a pattern the motor cannot follow).
+  int feed(int pattern) {
+    const vnano::CoilChange c = d_.feed(uint8_t(pattern));
+    if (c.event == vnano::CoilEvent::kFault) ++faults_;
+    return int(c.event);
+  }
+  void force_half_step() { d_.force_half_step(); }
+  double steps() const { return double(d_.steps()); }
+  double half_steps() const { return double(d_.half_steps()); }
+  int faults() const { return faults_; }
+  int pattern() const { return d_.pattern(); }
+
+ private:
+  vnano::CoilDecoder d_;
+  int faults_ = 0;
+};
+
+// The Nano's wiring (hil/vnano/wiring.h): ports "B", "C", "D"; motors [{port, shift}],
+// endstops [{port, bit}], servo and led {port, bit}.
+std::string nano_wiring() {
+  json motors = json::array(), endstops = json::array();
+  for (int m = 0; m < vnano::kWiredMotors; ++m) {
+    motors.push_back({{"port", std::string(1, vnano::kPortNames[vnano::kMotorPins[m].port])},
+                      {"shift", vnano::kMotorPins[m].shift}});
+    endstops.push_back({{"port", std::string(1, vnano::kPortNames[vnano::kEndstopPins[m].port])},
+                        {"bit", vnano::kEndstopPins[m].bit}});
+  }
+  return json{{"motors", motors},
+              {"endstops", endstops},
+              {"servo", {{"port", std::string(1, vnano::kPortNames[vnano::kServoPort])}, {"bit", vnano::kServoBit}}},
+              {"led", {{"port", std::string(1, vnano::kPortNames[vnano::kLedPort])}, {"bit", vnano::kLedBit}}}}
+      .dump();
+}
+
 // The protocol's status table (shared/articula/status.h): {code: [name, text]}.
 std::string status_table() {
   json out = json::object();
@@ -491,6 +533,7 @@ std::string status_table() {
 EMSCRIPTEN_BINDINGS(articula) {
   using namespace emscripten;
   using articula::web::WebRobot;
+  using articula::web::WebCoilDecoder;
   using articula::web::WebSim;
   class_<WebRobot>("Robot")
       .constructor<>()
@@ -531,6 +574,15 @@ EMSCRIPTEN_BINDINGS(articula) {
       .function("done", &WebSim::done)
       .function("endTime", &WebSim::end_time)
       .function("sceneName", &WebSim::scene_name);
+  class_<WebCoilDecoder>("CoilDecoder")
+      .constructor<>()
+      .function("feed", &WebCoilDecoder::feed)
+      .function("forceHalfStep", &WebCoilDecoder::force_half_step)
+      .function("steps", &WebCoilDecoder::steps)
+      .function("halfSteps", &WebCoilDecoder::half_steps)
+      .function("faults", &WebCoilDecoder::faults)
+      .function("pattern", &WebCoilDecoder::pattern);
   function("statusText", +[](int code) { return std::string(articula::status_text(uint8_t(code))); });
   function("statusTable", &articula::web::status_table);
+  function("nanoWiring", &articula::web::nano_wiring);
 }

@@ -1,0 +1,21 @@
+// Types of nano.mjs for TypeScript.
+import type { CPU } from "avr8js";
+import type { Engine } from "../../../wasm/js/engine.mjs";
+export const CLOCK_HZ: number;
+export function parseHex(text: string, size?: number): { flash: Uint8Array; used: number };
+export class VirtualNano {
+  constructor(options: { hex: string; engine: Engine; eeprom?: Uint8Array });
+  readonly cpu: CPU;
+  readonly flashUsed: number;
+  servoPulseUs: number | null;
+  onLine: ((line: string) => void) | null;
+  onByte: ((byte: number) => void) | null;
+  send(data: string | ArrayLike<number>): void;
+  readonly seconds: number;
+  readonly steps: number[];
+  readonly coilFaults: number;
+  runFor(seconds: number): void;
+  runUntil(cycle: number): void;
+  eepromBytes(): Uint8Array;
+  delete(): void;
+}
