@@ -45,9 +45,24 @@ def test_the_static_site_loads_without_errors_and_shows_the_arm(open_page, site)
     pg.page.screenshot(path=str(SHOTS / "studio-mk2.png"))
     assert pg.hook("a.robot.name") == "MK2 Plus"
     np.testing.assert_allclose(pg.hook("a.pose.tool.xyz"), [235, 0, 213], atol=1e-9)
-    # without articula-studio the arm panel says how to get the arm in
-    assert "start articula-studio" in pg.page.text_content("#arm-state")
+    # the arm panel offers the virtual Nano, and a Nano on USB through Web Serial (Chromium has it)
+    assert "Connect the virtual Nano" in pg.page.text_content("#arm-state")
     assert pg.errors == []
+
+
+def test_without_web_serial_the_arm_panel_says_so_and_offers_the_virtual_nano(browser, site):
+    ctx = browser.new_context(viewport={"width": 1440, "height": 900})
+    ctx.add_init_script("localStorage.setItem('articula.studio.tour.done', '1')")
+    ctx.add_init_script("Object.defineProperty(Navigator.prototype, 'serial', { get: () => undefined })")
+    try:
+        page = ctx.new_page()
+        page.goto(site.url + "?robot=mk2plus")
+        page.wait_for_function("window.articula && window.articula.ready", timeout=20000)
+        assert page.text_content("#arm-state") == (
+            "This browser has no Web Serial (Chrome, Edge and Opera have it): the virtual Nano runs the firmware here.")
+        assert page.eval_on_selector_all("#arm-port option", "os => os.map(o => o.value)") == ["page:virtual"]
+    finally:
+        ctx.close()
 
 
 def test_the_site_works_offline_once_loaded_and_is_installable(open_page, site):
@@ -73,7 +88,6 @@ def test_articula_studio_prints_its_address_first_and_serves_the_same_site(open_
     s = pg.server
     assert s.first_line == f"studio: http://127.0.0.1:{s.port}/?token={s.token}&robot=panda"
     assert pg.hook("a.robot.name").startswith("Franka")
-    assert "start articula-studio" not in (pg.page.text_content("#arm-state") or "")
     assert pg.errors == []
 
 
@@ -604,3 +618,152 @@ def test_a_program_drives_the_virtual_nano_line_by_line(open_served_page, tmp_pa
     program.write_text("$0=2000\n$1=40000\nL 0 10\nL 1 150\nM -20 80 -10\nL 2 5\n")
     predicted = cli_json("predict", "mk2plus", str(program))
     pg.wait(f"JSON.stringify(a.arm.status.steps) === '{json.dumps(predicted['records'][-1]['steps'], separators=(',', ':'))}'")
+
+
+# ---- the arm in the page: the firmware's hex on avr8js (the virtual Nano), and Web Serial
+
+
+def _connect_page_nano(pg, port="page:virtual"):
+    pg.page.select_option("#arm-port", port)
+    pg.page.click("#arm-connect")
+    pg.wait("a.arm.connected && a.arm.status !== null", timeout=30000)
+
+
+def _send(pg, line):
+    pg.page.fill("#arm-line", line)
+    pg.page.click("#arm-send")
+    pg.wait(f"a.arm.reply && a.arm.reply.line === {json.dumps(line)}", timeout=15000)
+    return pg.hook("a.arm.reply")
+
+
+def test_the_virtual_nano_in_the_page(open_page):
+    """The static site alone: the firmware's own hex runs in the page (avr8js) beside the model."""
+    pg = open_page("mk2plus", query="&quality=high")
+    assert "page:virtual" in pg.page.eval_on_selector_all("#arm-port option", "os => os.map(o => o.value)")
+    _connect_page_nano(pg)
+    assert pg.hook("a.arm.label").startswith("MK2 Plus (firmware ")  # its I banner names the robot shown
+    assert pg.hook("a.arm.status.steps") == [0, 0, 0]
+    reply = _send(pg, "L 0 10")
+    assert reply["reply"] == "ok" and reply["predicted"]["reply"] == "ok"
+    pg.wait("a.arm.status.state === 'Idle' && a.arm.status.steps[0] === 32", timeout=20000)
+    assert pg.hook("a.arm.status.steps") == reply["predicted"]["steps"] == [32, 0, 0]
+    pg.wait("a.arm.nano !== null && a.arm.nano.steps[0] === 32")  # its coils turned the base 32 steps
+    assert pg.hook("a.arm.nano.faults") == 0
+    reply = _send(pg, "L 1 150")
+    assert reply["reply"] == "error:9" and reply["meaning"] == "target beyond a joint limit"
+    assert reply["predicted"]["reply"] == "error:9"
+    assert "error:9 (target beyond a joint limit)" in pg.page.text_content("#arm-reply")
+    assert "real time" in pg.page.text_content("#arm-speed")
+    pg.page.screenshot(path=str(SHOTS / "studio-page-nano.png"))
+    assert pg.errors == []
+
+
+def test_stop_ends_a_long_move_on_the_page_nano(open_page):
+    pg = open_page("mk2plus")
+    _connect_page_nano(pg)
+    for line in ("$1=20000", "M 80 90 0"):
+        assert _send(pg, line)["reply"] == "ok"
+    pg.wait("a.arm.status.state === 'Run'", timeout=15000)
+    pg.page.wait_for_timeout(150)
+    pg.page.click("#stop")
+    pg.wait("a.arm.stopMs !== null", timeout=15000)
+    assert pg.hook("a.arm.status.state") == "Idle"
+    steps = pg.hook("a.arm.status.steps")
+    assert 0 < steps[0] < 253, steps  # stopped short of the move's 253 steps
+
+
+def test_a_program_drives_the_page_nano_to_the_predicted_steps(open_page, tmp_path):
+    pg = open_page("mk2plus")
+    _connect_page_nano(pg)
+    text = "$0=2000\n$1=40000\nL 0 10\nL 1 150\nM -20 80 -10\nL 2 5\n"
+    pg.page.fill("#editor", text)
+    pg.page.check("#drive-arm")
+    pg.page.click("#run")
+    pg.wait("a.arm.programDone === true", timeout=60000)
+    assert pg.hook("a.arm.programLines") == [[1, "ok"], [2, "ok"], [3, "ok"], [4, "error:9"], [5, "ok"], [6, "ok"]]
+    program = tmp_path / "drive.arm"
+    program.write_text(text)
+    want = cli_json("predict", "mk2plus", str(program))["records"][-1]["steps"]
+    pg.wait(f"a.arm.status.state === 'Idle' && JSON.stringify(a.arm.status.steps) === '{json.dumps(want, separators=(',', ':'))}'",
+            timeout=20000)
+
+
+# A stand-in for navigator.serial (headless Chromium has no serial device to offer): its port
+# carries the same bytes to and from the virtual Nano's worker, so the page's Web Serial code
+# path is the real one, all but the browser API. unplug() makes the port vanish mid-read.
+SERIAL_STAND_IN = """
+(() => {
+  let unplug = null;
+  class StandInPort {
+    async open({ baudRate }) {
+      if (baudRate !== 115200) throw new Error('wrong baud rate ' + baudRate);
+      const w = new Worker(new URL('assets/nano-worker.js', document.baseURI), { type: 'module' });
+      let ctl;
+      this.readable = new ReadableStream({ start(c) { ctl = c; } });
+      this.writable = new WritableStream({ write(chunk) { w.postMessage({ type: 'rx', bytes: new Uint8Array(chunk) }); } });
+      await new Promise((resolve, reject) => {
+        w.onmessage = (e) => {
+          if (e.data.type === 'ready') resolve();
+          else if (e.data.type === 'tx') ctl.enqueue(e.data.bytes);
+          else if (e.data.type === 'fatal') reject(new Error(e.data.message));
+        };
+        w.postMessage({ type: 'start' });
+      });
+      unplug = () => { w.terminate(); ctl.error(new DOMException('The device has been lost.', 'NetworkError')); };
+      this.worker = w;
+    }
+    async close() { this.worker?.terminate(); }
+    getInfo() { return { usbVendorId: 0x1a86, usbProductId: 0x7523 }; }
+  }
+  Object.defineProperty(navigator, 'serial', { value: {
+    requestPort: async () => new StandInPort(), getPorts: async () => [] } });
+  window.unplugStandIn = () => unplug && unplug();
+})();
+"""
+
+
+def test_web_serial_drives_the_arm_and_a_vanished_port_is_noticed(browser, site):
+    from conftest import Page
+
+    ctx = browser.new_context(viewport={"width": 1440, "height": 900})
+    ctx.add_init_script("localStorage.setItem('articula.studio.tour.done', '1')")
+    ctx.add_init_script(SERIAL_STAND_IN)
+    page = ctx.new_page()
+    errors = []
+    page.on("pageerror", lambda e: errors.append(str(e)))
+    try:
+        page.goto(site.url + "?robot=mk2plus")
+        page.wait_for_function("window.articula && window.articula.ready && window.articula.firstFrameAt > 0", timeout=20000)
+        assert "page:serial" in page.eval_on_selector_all("#arm-port option", "os => os.map(o => o.value)")
+        page.select_option("#arm-port", "page:serial")
+        page.click("#arm-connect")
+        page.wait_for_function("window.articula.arm.connected && window.articula.arm.status !== null", timeout=30000)
+        assert page.evaluate("window.articula.arm.label").startswith("MK2 Plus")
+        page.fill("#arm-line", "L 0 10")
+        page.click("#arm-send")
+        page.wait_for_function("window.articula.arm.status.state === 'Idle' && window.articula.arm.status.steps[0] === 32",
+                               timeout=20000)
+        page.fill("#arm-line", "M 80 90 0")
+        page.click("#arm-send")
+        page.wait_for_function("window.articula.arm.status.state === 'Run'", timeout=15000)
+        import time
+        t0 = time.monotonic()
+        page.evaluate("window.unplugStandIn()")
+        page.wait_for_function("window.articula.arm.connected === false && window.articula.arm.error !== ''", timeout=5000)
+        assert time.monotonic() - t0 < 2.0
+        assert "Lost the arm" in page.text_content("#arm-state")
+        # the studio goes on with the model
+        page.fill('#joints input[type=number][data-joint="0"]', "15")
+        page.wait_for_function("Math.abs(window.articula.pose.q[0] - 15) < 1e-9")
+        assert errors == []
+    finally:
+        ctx.close()
+
+
+def test_the_page_nano_refuses_a_robot_it_is_not(open_page):
+    pg = open_page("puma560")
+    pg.page.select_option("#arm-port", "page:virtual")
+    pg.page.click("#arm-connect")
+    pg.wait("a.arm.error !== ''", timeout=30000)
+    assert "the arm is a MK2 Plus, the studio shows PUMA" in pg.hook("a.arm.error")
+    assert pg.hook("a.arm.connected") is False

@@ -3,11 +3,14 @@
 //   index.html, icon.svg, manifest.webmanifest, sw.js (offline use, an installable app)
 //   assets/app.js, app.css  the page (esbuild: src/main.ts, three.js, uPlot)
 //   assets/worker.js        the engine's Web Worker (src/worker.ts)
+//   assets/nano-worker.js   the virtual Nano's Web Worker (src/nano-worker.ts, avr8js)
 //   engine/engine.mjs, .wasm the web engine (wasm/, built by emscripten; ARTICULA_WASM_DIR)
-//   data/                   the shipped robots, scenes and programs, and data/index.json
+//   data/                   the shipped robots, scenes and programs, and data/index.json;
+//                           data/firmware/articula-nano.hex, the firmware `make flash` writes
+//                           (ARTICULA_NANO_HEX, --hex)
 // Every path is relative: nothing is loaded from another site.
 //
-//   node build.mjs [--wasm DIR]      (default: ../../build/wasm/wasm)
+//   node build.mjs [--wasm DIR] [--hex FILE]  (defaults: ../../build/wasm/wasm, ../../build/avr/firmware/articula-nano.hex)
 import * as esbuild from "esbuild";
 import { createHash } from "node:crypto";
 import { copyFileSync, existsSync, mkdirSync, readdirSync, readFileSync, rmSync, statSync, writeFileSync } from "node:fs";
@@ -20,6 +23,12 @@ const repo = join(here, "../..");
 const out = join(here, "dist");
 const arg = process.argv.indexOf("--wasm");
 const wasmDir = arg > 0 ? process.argv[arg + 1] : process.env.ARTICULA_WASM_DIR || join(repo, "build/wasm/wasm");
+const hexArg = process.argv.indexOf("--hex");
+const hexFile = hexArg > 0 ? process.argv[hexArg + 1] : process.env.ARTICULA_NANO_HEX || join(repo, "build/avr/firmware/articula-nano.hex");
+if (!existsSync(hexFile)) {
+  console.error(`studio: the firmware is not built (${hexFile} is missing): run make`);
+  process.exit(2);
+}
 for (const f of ["engine.mjs", "engine.wasm"])
   if (!existsSync(join(wasmDir, f))) {
     console.error(`studio: the web engine is not built (${join(wasmDir, f)} is missing): run make`);
@@ -31,6 +40,7 @@ mkdirSync(join(out, "assets"), { recursive: true });
 const common = { bundle: true, format: "esm", target: "es2020", minify: true, sourcemap: true, logLevel: "warning" };
 await esbuild.build({ ...common, entryPoints: [join(here, "src/main.ts")], outfile: join(out, "assets/app.js") });
 await esbuild.build({ ...common, entryPoints: [join(here, "src/worker.ts")], outfile: join(out, "assets/worker.js") });
+await esbuild.build({ ...common, entryPoints: [join(here, "src/nano-worker.ts")], outfile: join(out, "assets/nano-worker.js") });
 const css = readFileSync(join(here, "node_modules/uplot/dist/uPlot.min.css"), "utf8") + "\n" +
   readFileSync(join(here, "src/style.css"), "utf8");
 writeFileSync(join(out, "assets/app.css"), css);
@@ -59,6 +69,8 @@ copyTree(join(repo, "programs"), join(out, "data/programs"), (n) => /\.(arm|robo
 index.robots = readdirSync(join(out, "data/robots")).filter(isData).map((n) => n.replace(/\.json$/, ""));
 index.scenes = readdirSync(join(out, "data/scenes")).filter(isData).map((n) => n.replace(/\.json$/, ""));
 index.programs = readdirSync(join(out, "data/programs"));
+mkdirSync(join(out, "data/firmware"), { recursive: true });
+copyFileSync(hexFile, join(out, "data/firmware/articula-nano.hex"));
 writeFileSync(join(out, "data/index.json"), JSON.stringify(index, null, 1));
 
 // Every file of the site, for the service worker to keep (offline use) and for the sizes.

@@ -58,6 +58,11 @@ export class Engine {
   sim(robot: Robot, sceneText?: string, sceneName?: string, dt?: number): Sim;
   statusText(code: number): string;
   coilDecoder(): CoilDecoder;
+  parseArmLine(line: string):
+    | { kind: "reply"; code: number }
+    | { kind: "status"; state: string; steps: number[]; angles: number[]; gripper: number; free: number; coils: boolean; warning: number }
+    | { kind: "info"; version: string; protocol: number; joints: number; robot: string; warning: number }
+    | { kind: "other" };
   readonly nanoWiring: {
     motors: { port: "B" | "C" | "D"; shift: number }[];
     endstops: { port: "B" | "C" | "D"; bit: number }[];

@@ -144,6 +144,8 @@ export class Engine {
   }
   sim(robot, sceneText, sceneName, dt) { return new Sim(this, robot, sceneText, sceneName, dt); }
   statusText(code) { return this.M.statusText(code); }
+  /** A line from the arm read by the core's parsers: {kind: "reply" | "status" | "info" | "other", ...}. */
+  parseArmLine(line) { return JSON.parse(this.M.parseArmLine(line)); }
   /** A motor's coil decoder (hil/vnano/coil_decoder.h), for an emulated Nano. */
   coilDecoder() { return new this.M.CoilDecoder(); }
   /** The Nano's wiring (hil/vnano/wiring.h): motors [{port, shift}], endstops, servo, led. */

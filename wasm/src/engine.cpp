@@ -12,6 +12,9 @@
 //    JavaScript reads and writes in place: no allocation, no JSON, per call.
 #include <emscripten/bind.h>
 
+#include <articula/protocol.h>
+
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <memory>
@@ -521,6 +524,39 @@ std::string nano_wiring() {
       .dump();
 }
 
+// A line from the arm, read by the core's own parsers (shared/articula/protocol.h): a reply
+// {"kind": "reply", "code"}, a status report {"kind": "status", "state", "steps", "angles"
+// (deg), "gripper", "free", "coils", "warning"}, the banner {"kind": "info", "version",
+// "protocol", "joints", "robot", "warning"}, or {"kind": "other"}.
+std::string parse_arm_line(const std::string& text) {
+  const char* line = text.c_str();
+  const uint16_t len = uint16_t(std::min<size_t>(text.size(), 1000));
+  uint8_t code = 0;
+  if (len < 256 && parse_reply(code, line, uint8_t(len))) return json{{"kind", "reply"}, {"code", code}}.dump();
+  StatusReport<8> st;
+  if (parse_status(st, line, len)) {
+    json steps = json::array(), angles = json::array();
+    for (int i = 0; i < st.num_joints; ++i) {
+      steps.push_back(st.steps[i]);
+      angles.push_back(st.millideg[i] / 1000.0);
+    }
+    return json{{"kind", "status"}, {"state", kStateWords[st.state]}, {"steps", steps}, {"angles", angles},
+                {"gripper", st.gripper}, {"free", st.free_slots}, {"coils", st.coils}, {"warning", st.warning}}
+        .dump();
+  }
+  InfoReport info;
+  if (parse_info(info, line, len))
+    return json{{"kind", "info"},
+                {"version", std::to_string(info.version[0]) + "." + std::to_string(info.version[1]) + "." +
+                                std::to_string(info.version[2])},
+                {"protocol", info.protocol},
+                {"joints", info.num_joints},
+                {"robot", std::string(info.name)},
+                {"warning", info.warning}}
+        .dump();
+  return json{{"kind", "other"}}.dump();
+}
+
 // The protocol's status table (shared/articula/status.h): {code: [name, text]}.
 std::string status_table() {
   json out = json::object();
@@ -585,4 +621,5 @@ EMSCRIPTEN_BINDINGS(articula) {
   function("statusText", +[](int code) { return std::string(articula::status_text(uint8_t(code))); });
   function("statusTable", &articula::web::status_table);
   function("nanoWiring", &articula::web::nano_wiring);
+  function("parseArmLine", &articula::web::parse_arm_line);
 }

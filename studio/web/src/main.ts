@@ -7,6 +7,9 @@
 import { View } from "./view";
 import { Plots } from "./plots";
 import { startTour } from "./tour";
+import { ArmLink } from "./arm";
+import { VirtualNanoPort, webSerial } from "./serial";
+import type { SerialLike } from "./serial";
 import type { ArmStatusMsg, IkMsg, PhysicsMsg, PoseMsg, RobotMsg, SceneMsg, ServerMsg, SimEvent, TimelineMsg } from "./protocol";
 
 const $ = <T extends HTMLElement = HTMLElement>(id: string) => document.getElementById(id) as T;
@@ -39,7 +42,7 @@ interface Hook {
   simCommand: string; // the last line a pose became for the simulated controller
   objectScreen: (name: string) => number[] | null;
   arm: { connected: boolean; error: string; label: string; status: ArmStatusMsg | null; reply: unknown; stopMs: number | null;
-         programLines: unknown[]; programDone: boolean; roundTrips: number[] };
+         programLines: unknown[]; programDone: boolean; roundTrips: number[]; nano: unknown };
   stream: { messages: number }; // physics and pose messages while the physics runs
   armPixels: () => number; // share of the view's pixels that are the arm's colours (0..1)
   errors: number; // error replies from the engine or the arm's server
@@ -52,7 +55,7 @@ const hook: Hook = {
   programError: "", robotError: "", lastError: "", teach: "", fps: 0, framesDrawn: 0, firstFrameAt: 0,
   latency: [], ikUpdates: [], messages: 0, targetScreen: [0, 0], armPixels: () => view.armPixels(),
   scene: null, physics: null, events: [], simCommand: "", objectScreen: (n) => view.objectScreen(n),
-  arm: { connected: false, error: "", label: "", status: null, reply: null, stopMs: null, programLines: [], programDone: false, roundTrips: [] },
+  arm: { connected: false, error: "", label: "", status: null, reply: null, stopMs: null, programLines: [], programDone: false, roundTrips: [], nano: null },
   stream: { messages: 0 }, errors: 0, internalErrors: [], engineStartMs: 0,
   engineSend: (msg) => worker.postMessage(msg),
 };
@@ -85,14 +88,112 @@ let robotSpec: Record<string, unknown> = (params.get("robot") ?? "").endsWith(".
 const MAX_FILE = 20_000_000; // bytes of a robot file or mesh the page opens
 let needFit: Promise<void> | null = null; // a new robot: frame it once its first pose is drawn
 
-// The arm's messages go to articula-studio; everything else to the engine in the worker.
+// The arm's messages go to the arm in the page (arm.ts: the virtual Nano here, or a Nano over
+// Web Serial) or to articula-studio's, whichever the chosen port is; everything else to the
+// engine in the worker.
 function send(msg: Record<string, unknown>, transfer: Transferable[] = []): void {
   if (typeof msg.type === "string" && msg.type.startsWith("arm_")) {
+    if (armInPage(msg)) return;
     if (ws?.readyState === WebSocket.OPEN) ws.send(JSON.stringify(msg));
-    else if (msg.type !== "arm_ports") noArmServer();
+    else if (msg.type === "arm_ports") showPorts([]);
+    else banner("That port is articula-studio's, which is no longer running: choose the virtual Nano or a Web Serial port");
     return;
   }
   if (engineReady) worker.postMessage(msg, transfer);
+}
+
+// ---- the arm in the page: ports, and the engine's help (line parsing, poses, predictions)
+
+let armLink: ArmLink | null = null; // the arm in the page, while connected (or connecting)
+let nanoPort: VirtualNanoPort | null = null;
+let callId = 0;
+const calls = new Map<number, { resolve: (m: Record<string, unknown>) => void; reject: (e: Error) => void }>();
+
+// A request to the engine's worker and its answer (matched by id).
+function engineCall(msg: Record<string, unknown>): Promise<Record<string, unknown>> {
+  const id = ++callId;
+  return new Promise((resolve, reject) => {
+    calls.set(id, { resolve, reject });
+    worker.postMessage({ ...msg, id });
+  });
+}
+
+const armEngine = {
+  parse: (line: string) => engineCall({ type: "arm_parse", line }).then((r) => r.parsed as never),
+  pose: (angles: number[]) => engineCall({ type: "arm_pose", angles }) as Promise<never>,
+  predict: (history: string[], line: string) => engineCall({ type: "arm_predict", history, line }) as Promise<never>,
+  meaning: (reply: string) => {
+    const code = reply === "ok" ? 0 : parseInt(reply.replace(/^error:/, ""), 10);
+    return engineCall({ type: "status_text", code: Number.isFinite(code) ? code : 255 }).then((r) => r.text as string);
+  },
+};
+
+const PAGE_PORTS = [{ id: "page:virtual", label: "the virtual Nano (its firmware in this page)" }];
+let serverPorts: { id: string; label: string }[] = [];
+
+function showPorts(server: { id: string; label: string }[]): void {
+  serverPorts = server;
+  const sel = $("arm-port") as HTMLSelectElement;
+  const keep = sel.value;
+  const page = [...PAGE_PORTS, ...(webSerial() ? [{ id: "page:serial", label: "a Nano on USB (Web Serial)…" }] : [])];
+  sel.innerHTML = [...page, ...server.map((p) => ({ id: p.id, label: `${p.label} (articula-studio)` }))]
+    .map((p) => `<option value="${p.id}">${esc(p.label)}</option>`).join("");
+  if ([...sel.options].some((o) => o.value === keep)) sel.value = keep;
+}
+
+// Handles an arm message itself when it is for the arm in the page; false otherwise.
+function armInPage(msg: Record<string, unknown>): boolean {
+  const t = msg.type;
+  if (t === "arm_ports") {
+    showPorts(serverPorts);
+    return !(ws?.readyState === WebSocket.OPEN);
+  }
+  if (t === "arm_connect" && typeof msg.port === "string" && msg.port.startsWith("page:")) {
+    connectInPage(msg.port);
+    return true;
+  }
+  if (!armLink) return false;
+  if (t === "arm_send") armLink.send(String(msg.line ?? ""));
+  else if (t === "arm_stop") armLink.stop();
+  else if (t === "arm_run") armLink.runProgram(String(msg.text ?? ""));
+  else if (t === "arm_disconnect") armLink.disconnect().then(() => (armLink = null));
+  else if (t === "arm_connect") {
+    armLink.disconnect().then(() => {
+      armLink = null;
+      send(msg);
+    });
+  }
+  return true;
+}
+
+async function connectInPage(which: string): Promise<void> {
+  if (armLink) await armLink.disconnect();
+  let port: SerialLike;
+  let label: string;
+  if (which === "page:serial") {
+    const api = webSerial();
+    if (!api) return void banner("This browser has no Web Serial (Chrome, Edge and Opera have it): use the virtual Nano, or articula-studio");
+    try {
+      port = await api.requestPort(); // the browser asks the user which port, and for permission
+    } catch {
+      return; // the user chose none
+    }
+    const info = port.getInfo?.() ?? {};
+    label = info.usbVendorId ? `USB ${info.usbVendorId.toString(16)}:${(info.usbProductId ?? 0).toString(16)}` : "a serial port";
+  } else {
+    nanoPort = new VirtualNanoPort();
+    nanoPort.onState = (st) => {
+      hook.arm.nano = st;
+      $("arm-speed").textContent = st.behind ? `the virtual Nano is behind real time: ${st.rtf.toFixed(2)}x`
+        : `the virtual Nano runs at ${st.rtf.toFixed(2)}x real time (${(nanoPort?.flashBytes ?? 0).toLocaleString("en")} B of firmware)`;
+      $("arm-speed").className = `rtf ${st.behind ? "behind" : ""}`;
+    };
+    port = nanoPort;
+    label = "the virtual Nano";
+  }
+  armLink = new ArmLink(armEngine, (m) => handle(m as unknown as ServerMsg));
+  await armLink.connect(port, label, robot?.name ?? "");
+  if (!armLink.connected) armLink = null;
 }
 
 // Slider and drag intents: one in flight, the newest replaces any waiting one.
@@ -174,7 +275,7 @@ function connectArmServer(): void {
   const proto = location.protocol === "https:" ? "wss:" : "ws:";
   const path = new URL("ws", document.baseURI).pathname;
   ws = new WebSocket(`${proto}//${location.host}${path}?token=${encodeURIComponent(token)}`);
-  ws.onopen = () => send({ type: "arm_ports" });
+  ws.onopen = () => ws?.send(JSON.stringify({ type: "arm_ports" }));
   ws.onclose = () => {
     if (hook.arm.connected) showArm({ connected: false, error: "articula-studio stopped", lost: true });
     setTimeout(connectArmServer, 2000);
@@ -185,12 +286,13 @@ function connectArmServer(): void {
   };
 }
 
-// Opened from a plain web server: the arm needs articula-studio on the computer it is wired to.
-function noArmServer(): void {
+// What the arm panel offers, in one sentence, before an arm is connected.
+function armHelp(): void {
   const st = $("arm-state");
   st.className = "status";
-  st.innerHTML = "To drive a real arm or the virtual Nano, start <code>articula-studio</code> (or <code>make studio</code>) " +
-    "on the computer the arm is plugged into and open the address it prints.";
+  st.textContent = webSerial()
+    ? "Connect the virtual Nano (the firmware running in this page), or a Nano on USB: the browser asks which port."
+    : "This browser has no Web Serial (Chrome, Edge and Opera have it): the virtual Nano runs the firmware here.";
 }
 
 function setConn(text: string, kind: "ok" | "bad"): void {
@@ -257,10 +359,18 @@ function handle(m: ServerMsg): void {
     case "physics":
       showPhysics(m);
       break;
-    case "arm_ports": {
-      const sel = $("arm-port") as HTMLSelectElement;
-      sel.innerHTML = m.ports.map((p) => `<option value="${p.id}">${p.label}</option>`).join("") ||
-        `<option value="">no port found</option>`;
+    case "arm_ports":
+      showPorts(m.ports);
+      break;
+    case "arm_parsed":
+    case "arm_posed":
+    case "arm_predicted":
+    case "status_text": {
+      const c = calls.get((m as { id?: number }).id ?? -1);
+      if (c) {
+        calls.delete((m as { id: number }).id);
+        c.resolve(m as unknown as Record<string, unknown>);
+      }
       break;
     }
     case "arm":
@@ -317,6 +427,11 @@ function handle(m: ServerMsg): void {
       download(`${m.name.replace(/\W+/g, "_")}.urdf`, m.xml, "application/xml");
       break;
     case "error":
+      if (m.id !== undefined && calls.has(m.id)) {
+        calls.get(m.id)!.reject(new Error(m.message));
+        calls.delete(m.id);
+        break;
+      }
       hook.errors++;
       if (m.message.startsWith("internal error")) hook.internalErrors.push(m.message);
       hook.lastError = m.message;
@@ -540,7 +655,9 @@ function stopEverything(): void {
   if (hook.playing || hook.physics?.running) send({ type: "pause" });
 }
 
-$("arm-port").addEventListener("focus", () => send({ type: "arm_ports" }));
+$("arm-port").addEventListener("focus", () => {
+  if (ws?.readyState === WebSocket.OPEN) ws.send(JSON.stringify({ type: "arm_ports" }));
+});
 $("arm-connect").onclick = () => {
   const port = ($("arm-port") as HTMLSelectElement).value;
   if (port) send({ type: "arm_connect", port, robot: robotSpec });
@@ -845,6 +962,7 @@ $("tour-button").onclick = () => startTour(true);
 editorChanged();
 // Offline use and installing as an app (sw.js keeps the whole site).
 if ("serviceWorker" in navigator && !params.has("nosw")) navigator.serviceWorker.register("sw.js").catch(() => undefined);
+showPorts([]);
+armHelp();
 if (token) connectArmServer();
-else noArmServer();
 startTour(false);

@@ -182,5 +182,8 @@ export type ServerMsg =
   | { type: "playing"; t: number; playing: boolean; ended?: boolean }
   | { type: "teach"; line: string }
   | { type: "urdf"; name: string; xml: string }
-  | { type: "status_text"; code: number; text: string }
-  | { type: "error"; message: string; request?: string | null };
+  | { type: "status_text"; code: number; text: string; id?: number }
+  | { type: "error"; message: string; request?: string | null; id?: number }
+  | { type: "arm_parsed"; id: number; parsed: unknown }
+  | { type: "arm_posed"; id: number; q: number[]; frames: Flat4x4[] }
+  | { type: "arm_predicted"; id: number; reply: string; steps: number[] | null; meaning: string; seconds?: number };

@@ -432,6 +432,36 @@ const handlers: Record<string, Handler> = {
     return [{ type: "status_text", code, text: engine.statusText(code) }];
   },
 
+  // ---- the arm in the page (arm.ts): its lines read by the core's parsers, its pose from its
+  // motor angles, the model's prediction of a line after those the arm accepted.
+
+  arm_parse(m) {
+    return [{ type: "arm_parsed", id: m.id, parsed: engine.parseArmLine(text(m, "line", 1000)) }];
+  },
+  arm_pose(m) {
+    const r = info();
+    const angles = numbers(m, "angles", [r.num_motors]);
+    const qa = robot.jointsFromMotors(angles);
+    const frames = (robot.pose(qa).frames as number[][]).map((f) => f.map(round6));
+    return [{ type: "arm_posed", id: m.id, q: qa, frames }];
+  },
+  arm_predict(m) {
+    const line = text(m, "line", 200);
+    const history = Array.isArray(m.history) ? (m.history as unknown[]).filter((x): x is string => typeof x === "string") : [];
+    let out: Out;
+    try {
+      const doc = robot.predict([...history, line].join("\n") + "\n", "arm.arm") as { records: Record<string, unknown>[] };
+      const rec = doc.records[doc.records.length - 1];
+      const code = rec.code as number;
+      out = { reply: code === 0 ? "ok" : `error:${code}`, steps: rec.steps, meaning: engine.statusText(code), seconds: rec.seconds };
+    } catch (e) {
+      if (!(e instanceof EngineError)) throw e;
+      const code = (robot.quantize([line])[0] as { code: number }).code;
+      out = { reply: `error:${code}`, steps: null, meaning: engine.statusText(code) };
+    }
+    return [{ type: "arm_predicted", id: m.id, ...out }];
+  },
+
   // ---- live physics
 
   async scene(m) {
@@ -765,13 +795,16 @@ async function dispatch(m: unknown): Promise<Out[]> {
 let queue: Promise<void> = Promise.resolve();
 
 function receive(m: unknown): void {
+  // A request with an `id` (the page's engineCall) gets it back on its answers.
+  const id = typeof m === "object" && m !== null && typeof (m as Msg).id === "number" ? (m as Msg).id : undefined;
+  const tagged = (msgs: Out[]) => (id === undefined ? msgs : msgs.map((x) => ({ ...x, id })));
   queue = queue.then(async () => {
     try {
-      post(await dispatch(m));
+      post(tagged(await dispatch(m)));
     } catch (e) {
       const request = typeof m === "object" && m !== null ? (m as Msg).type : null;
-      if (e instanceof BadMessage || e instanceof EngineError) post([{ type: "error", message: e.message, request: request ?? null }]);
-      else post([{ type: "error", message: `internal error: ${(e as Error)?.message ?? String(e)}`, request: request ?? null }]);
+      if (e instanceof BadMessage || e instanceof EngineError) post(tagged([{ type: "error", message: e.message, request: request ?? null }]));
+      else post(tagged([{ type: "error", message: `internal error: ${(e as Error)?.message ?? String(e)}`, request: request ?? null }]));
     }
   });
 }

@@ -1,0 +1,314 @@
+// The arm in the loop, in the page: a Nano on a Web Serial port or the virtual Nano (both a
+// SerialLike, serial.ts), spoken to in the arm's protocol (docs/protocol.md): the `I` banner
+// checked against the robot shown, `?` reports 15 times a second, one line at a time with
+// its reply, programs with the harness's flow control, `!` at once. Lines from the arm are
+// read by the core's parsers through the engine (`parseArmLine`), and the arm's pose and the
+// model's prediction come from the engine too: nothing here computes kinematics.
+//
+// It speaks to the page in the messages articula-studio's WebSocket used (protocol.ts:
+// arm, arm_status, arm_reply, arm_program, arm_stopped), so the panel shows either alike.
+import type { SerialLike } from "./serial";
+
+type Parsed =
+  | { kind: "reply"; code: number }
+  | { kind: "status"; state: string; steps: number[]; angles: number[]; gripper: number; free: number; coils: boolean; warning: number }
+  | { kind: "info"; version: string; protocol: number; joints: number; robot: string; warning: number }
+  | { kind: "other" };
+
+/** What the arm needs of the engine (the worker): read a line, the arm's pose, a prediction. */
+export interface ArmEngine {
+  parse(line: string): Promise<Parsed>;
+  pose(angles: number[]): Promise<{ q: number[]; frames: number[][] }>;
+  predict(history: string[], line: string): Promise<{ reply: string; steps: number[] | null; meaning: string; seconds?: number }>;
+  meaning(reply: string): Promise<string>;
+}
+
+const BAUD = 115200;
+const POLL_MS = 1000 / 15; // status polls (every 10 ms for a second after a stop)
+const SILENT_MS = 1500; // no report for this long: the arm stopped answering
+const REPLY_MS = 5000;
+const BANNER_MS = 6000; // a Nano resets when its port opens: its bootloader waits first
+
+export class ArmLink {
+  label = "";
+  connected = false;
+  private port: SerialLike | null = null;
+  private writer: WritableStreamDefaultWriter<Uint8Array> | null = null;
+  private reader: ReadableStreamDefaultReader<Uint8Array> | null = null;
+  private waiting: ((p: Parsed & { line: string }) => void) | null = null; // a reply or the banner
+  private wantBanner = false;
+  private queue: Promise<unknown> = Promise.resolve();
+  private pollTimer: ReturnType<typeof setTimeout> | null = null;
+  private lastReport = 0;
+  private lastPoll = 0;
+  private fastUntil = 0;
+  private history: string[] = []; // the lines the arm accepted, for the prediction
+  private stopSentAt = 0;
+  private idleWaiters: (() => void)[] = [];
+  private state = "";
+  private programRunning = false;
+  private programStop = false;
+
+  constructor(private engine: ArmEngine, private emit: (m: Record<string, unknown>) => void) {}
+
+  /** Opens the port, checks the banner names `robot`, starts the reports. */
+  async connect(port: SerialLike, portLabel: string, robot: string): Promise<void> {
+    this.emit({ type: "arm", connected: false, connecting: true, port: portLabel });
+    try {
+      await port.open({ baudRate: BAUD });
+    } catch (e) {
+      this.emit({ type: "arm", connected: false, port: portLabel, error: `cannot open ${portLabel}: ${(e as Error).message}` });
+      return;
+    }
+    this.port = port;
+    this.writer = port.writable!.getWriter();
+    this.reader = port.readable!.getReader();
+    this.readLoop();
+    let info: Parsed & { line: string };
+    try {
+      info = await this.banner();
+    } catch (e) {
+      await this.close();
+      this.emit({ type: "arm", connected: false, port: portLabel, error: (e as Error).message });
+      return;
+    }
+    if (info.kind !== "info" || info.robot !== robot) {
+      await this.close();
+      this.emit({ type: "arm", connected: false, port: portLabel, error: info.kind === "info"
+        ? `the arm is a ${info.robot}, the studio shows ${robot}: load that robot first` : "no banner" });
+      return;
+    }
+    this.connected = true;
+    this.label = `${info.robot} (firmware ${info.version})`;
+    this.history = [];
+    this.lastReport = performance.now();
+    this.emit({ type: "arm", connected: true, port: portLabel, label: this.label,
+      info: { version: info.version, protocol: String(info.protocol), robot: info.robot } });
+    this.poll();
+  }
+
+  // `I` until the banner comes (the firmware may still be starting).
+  private async banner(): Promise<Parsed & { line: string }> {
+    const end = performance.now() + BANNER_MS;
+    while (performance.now() < end) {
+      const got = new Promise<Parsed & { line: string }>((resolve) => {
+        this.wantBanner = true;
+        this.waiting = resolve;
+      });
+      await this.write("I\n");
+      const r = await Promise.race([got, sleep(600).then(() => null)]);
+      if (r) return r;
+    }
+    throw new Error(`no answer to I within ${BANNER_MS / 1000} s: is it a Nano with Articula's firmware, at ${BAUD} baud?`);
+  }
+
+  private async write(text: string): Promise<void> {
+    if (!this.writer) throw new Error("not connected");
+    await this.writer.write(new TextEncoder().encode(text));
+  }
+
+  private async readLoop(): Promise<void> {
+    let buf = "";
+    const reader = this.reader!;
+    try {
+      for (;;) {
+        const { value, done } = await reader.read();
+        if (done) break;
+        buf += new TextDecoder().decode(value);
+        let nl: number;
+        while ((nl = buf.indexOf("\n")) >= 0) {
+          const line = buf.slice(0, nl).replace(/\r$/, "");
+          buf = buf.slice(nl + 1);
+          if (line) await this.onLine(line);
+        }
+      }
+      if (this.connected) this.lost("the port closed");
+    } catch (e) {
+      if (this.connected) this.lost(`the port failed: ${(e as Error).message}`);
+    }
+  }
+
+  private async onLine(line: string): Promise<void> {
+    const p = await this.engine.parse(line);
+    if (p.kind === "status") {
+      this.lastReport = performance.now();
+      this.state = p.state;
+      if (p.warning === 14) return this.lost("the arm reset (its settings were reset to their defaults)");
+      const pose = await this.engine.pose(p.angles);
+      const msg: Record<string, unknown> = { type: "arm_status", state: p.state, steps: p.steps, angles: p.angles,
+        q: pose.q, frames: pose.frames, text: line, rtt_ms: performance.now() - this.lastPoll,
+        sent_ms: performance.timeOrigin + performance.now() };
+      if (this.stopSentAt && p.state === "Idle") {
+        msg.stop_to_idle_ms = performance.now() - this.stopSentAt;
+        this.stopSentAt = 0;
+        // After a stop the commanded angles are those of the steps reached.
+        this.history = ["M " + p.angles.map((a) => a.toFixed(3)).join(" ")];
+      }
+      if (p.state === "Idle") for (const w of this.idleWaiters.splice(0)) w();
+      this.emit(msg);
+    } else if (p.kind === "info") {
+      if (this.wantBanner && this.waiting) {
+        this.wantBanner = false;
+        const w = this.waiting;
+        this.waiting = null;
+        w({ ...p, line });
+      } else if (this.connected) {
+        this.lost("the arm reset (its banner came out of turn)");
+      }
+    } else if (p.kind === "reply" && this.waiting && !this.wantBanner) {
+      const w = this.waiting;
+      this.waiting = null;
+      w({ ...p, line });
+    }
+  }
+
+  // `?` at 15 Hz (100 Hz for a second after a stop); silence for 1.5 s is a lost arm.
+  private poll(): void {
+    if (!this.connected) return;
+    const now = performance.now();
+    if (now - this.lastReport > SILENT_MS) return this.lost(`no status report for ${SILENT_MS / 1000} s`);
+    this.lastPoll = now;
+    this.write("?").catch((e) => this.lost(`cannot write: ${(e as Error).message}`));
+    this.pollTimer = setTimeout(() => this.poll(), now < this.fastUntil ? 10 : POLL_MS);
+  }
+
+  private lost(why: string): void {
+    if (!this.connected) return;
+    this.connected = false;
+    this.programStop = true;
+    this.emit({ type: "arm", connected: false, error: why, lost: true });
+    this.close();
+  }
+
+  /** One protocol line, its reply; the model's prediction beside it. */
+  send(line: string): Promise<void> {
+    return this.serial(async () => {
+      const predicted = await this.engine.predict(this.history, line);
+      const reply = await this.command(line).catch((e) => {
+        this.emit({ type: "arm_reply", line, reply: null, error: (e as Error).message, predicted });
+        return null;
+      });
+      if (reply === null) return;
+      this.emit({ type: "arm_reply", line, reply, meaning: await this.engine.meaning(reply), predicted });
+    });
+  }
+
+  private serial<T>(f: () => Promise<T>): Promise<T> {
+    const next = this.queue.then(f, f);
+    this.queue = next.catch(() => undefined);
+    return next;
+  }
+
+  private async command(line: string): Promise<string> {
+    if (!this.connected) throw new Error("no arm connected: Connect first");
+    const got = new Promise<Parsed & { line: string }>((resolve) => (this.waiting = resolve));
+    await this.write(line + "\n");
+    const r = await Promise.race([got, sleep(REPLY_MS).then(() => null)]);
+    if (!r) {
+      this.waiting = null;
+      throw new Error(`no reply to '${line}' within ${REPLY_MS / 1000} s`);
+    }
+    if (r.kind === "reply" && r.code === 0) this.history.push(line);
+    return r.line;
+  }
+
+  /** A protocol program, line by line: a line, its reply, then `?` until Idle. */
+  runProgram(text: string): void {
+    if (this.programRunning) {
+      this.emit({ type: "error", message: "the arm is already running a program: stop it first" });
+      return;
+    }
+    this.programRunning = true;
+    this.programStop = false;
+    this.serial(async () => {
+      let sent = 0;
+      try {
+        const lines = text.split("\n");
+        for (let n = 1; n <= lines.length; n++) {
+          const line = lines[n - 1].split("#")[0].trim();
+          if (!line) continue;
+          if (this.programStop) {
+            this.emit({ type: "arm_program", done: true, stopped: true, sent });
+            return;
+          }
+          const predicted = await this.engine.predict(this.history, line);
+          const reply = await this.command(line);
+          sent++;
+          this.emit({ type: "arm_program", line: n, command: line, reply, meaning: await this.engine.meaning(reply), predicted });
+          if (reply === "ok") {
+            const limit = 3 * (predicted.seconds ?? 0) + 5;
+            await this.idle(limit * 1000, n);
+          }
+        }
+        this.emit({ type: "arm_program", done: true, sent });
+      } catch (e) {
+        this.emit({ type: "arm_program", done: true, sent, error: (e as Error).message });
+      } finally {
+        this.programRunning = false;
+      }
+    });
+  }
+
+  private idle(ms: number, line: number): Promise<void> {
+    return new Promise((resolve, reject) => {
+      // the next Idle report after this moment (the move's first report may still say Idle)
+      const start = performance.now();
+      const check = () => {
+        if (!this.connected) return reject(new Error(`line ${line}: the arm is gone`));
+        if (this.programStop) return resolve();
+        if (performance.now() - start > ms) return reject(new Error(`line ${line}: the arm did not come to rest within ${Math.round(ms / 1000)} s`));
+        this.idleWaiters.push(() => (performance.now() - start > 150 ? resolve() : check()));
+      };
+      setTimeout(check, 100);
+    });
+  }
+
+  /** STOP: the realtime `!` now, ahead of anything queued; no further program line. */
+  async stop(): Promise<void> {
+    if (!this.connected) return;
+    if (this.programRunning) {
+      this.programStop = true;
+      this.emit({ type: "arm_program", done: true, stopped: true });
+    }
+    this.stopSentAt = performance.now();
+    this.fastUntil = this.stopSentAt + 1000;
+    await this.write("!").catch((e) => this.lost(`cannot write: ${(e as Error).message}`));
+    this.emit({ type: "arm_stopped" });
+  }
+
+  async disconnect(): Promise<void> {
+    const was = this.connected;
+    this.connected = false;
+    await this.close();
+    if (was) this.emit({ type: "arm", connected: false });
+  }
+
+  private async close(): Promise<void> {
+    if (this.pollTimer !== null) clearTimeout(this.pollTimer);
+    this.pollTimer = null;
+    const port = this.port;
+    this.port = null;
+    try {
+      await this.reader?.cancel();
+    } catch {
+      /* already gone */
+    }
+    try {
+      this.reader?.releaseLock();
+      this.writer?.releaseLock();
+    } catch {
+      /* already gone */
+    }
+    this.reader = null;
+    this.writer = null;
+    try {
+      await port?.close();
+    } catch {
+      /* a vanished port cannot be closed */
+    }
+  }
+}
+
+function sleep(ms: number): Promise<void> {
+  return new Promise((r) => setTimeout(r, ms));
+}

@@ -1,0 +1,108 @@
+// Serial ports for the arm panel: a real Nano through Web Serial (navigator.serial: Chrome,
+// Edge, Opera, in a secure context), and the virtual Nano in the page (nano-worker.ts) behind
+// the same interface, so that arm.ts has one code path for both.
+
+/** What arm.ts needs of a port: the part of Web Serial's SerialPort it uses. */
+export interface SerialLike {
+  open(options: { baudRate: number }): Promise<void>;
+  close(): Promise<void>;
+  readonly readable: ReadableStream<Uint8Array> | null;
+  readonly writable: WritableStream<Uint8Array> | null;
+  getInfo?(): { usbVendorId?: number; usbProductId?: number };
+}
+
+interface SerialApi {
+  requestPort(options?: unknown): Promise<SerialLike>;
+  getPorts(): Promise<SerialLike[]>;
+}
+
+/** Web Serial, where the browser has it (and the page is a secure context). */
+export function webSerial(): SerialApi | null {
+  const s = (navigator as unknown as { serial?: SerialApi }).serial;
+  return s && typeof s.requestPort === "function" ? s : null;
+}
+
+const EEPROM_KEY = "articula.virtualNano.eeprom";
+
+/** The virtual Nano as a serial port: opening it powers it up (as a real Nano resets when
+ * its port opens), with the EEPROM it had when the page last closed it (localStorage). */
+export class VirtualNanoPort implements SerialLike {
+  readable: ReadableStream<Uint8Array> | null = null;
+  writable: WritableStream<Uint8Array> | null = null;
+  /** The emulator's speed against real time, its steps as the coils moved them. */
+  state: { seconds: number; steps: number[]; faults: number; servoUs: number | null; rtf: number; behind: boolean } | null =
+    null;
+  flashBytes = 0;
+  onState: ((s: NonNullable<VirtualNanoPort["state"]>) => void) | null = null;
+  private worker: Worker | null = null;
+
+  async open(_options: { baudRate: number }): Promise<void> {
+    if (this.worker) throw new Error("the virtual Nano is already open");
+    const worker = new Worker(new URL("assets/nano-worker.js", document.baseURI), { type: "module" });
+    this.worker = worker;
+    let push: ((b: Uint8Array) => void) | null = null;
+    let end: ((e?: Error) => void) | null = null;
+    this.readable = new ReadableStream<Uint8Array>({
+      start(controller) {
+        push = (b) => controller.enqueue(b);
+        end = (e) => (e ? controller.error(e) : controller.close());
+      },
+    });
+    this.writable = new WritableStream<Uint8Array>({
+      write: (chunk) => {
+        if (this.worker !== worker) throw new Error("the virtual Nano is closed");
+        worker.postMessage({ type: "rx", bytes: new Uint8Array(chunk) });
+      },
+    });
+    await new Promise<void>((resolve, reject) => {
+      worker.onmessage = (e: MessageEvent) => {
+        const m = e.data;
+        if (m.type === "ready") {
+          this.flashBytes = m.flashBytes;
+          resolve();
+        } else if (m.type === "tx") {
+          push?.(m.bytes);
+        } else if (m.type === "state") {
+          this.state = m;
+          this.onState?.(m);
+        } else if (m.type === "eeprom") {
+          try {
+            localStorage.setItem(EEPROM_KEY, JSON.stringify(Array.from(m.bytes as Uint8Array)));
+          } catch {
+            /* storage full or off: the settings last as long as the page */
+          }
+        } else if (m.type === "fatal") {
+          end?.(new Error(m.message));
+          reject(new Error(m.message));
+        }
+      };
+      worker.onerror = (e) => {
+        end?.(new Error(e.message));
+        reject(new Error(e.message));
+      };
+      let eeprom: Uint8Array | undefined;
+      try {
+        const saved = localStorage.getItem(EEPROM_KEY);
+        if (saved) eeprom = new Uint8Array(JSON.parse(saved));
+      } catch {
+        eeprom = undefined;
+      }
+      worker.postMessage({ type: "start", eeprom });
+    });
+    this.closeStream = () => end?.();
+  }
+
+  private closeStream: () => void = () => undefined;
+
+  async close(): Promise<void> {
+    this.worker?.postMessage({ type: "close" });
+    this.worker?.terminate();
+    this.worker = null;
+    this.closeStream();
+    this.readable = this.writable = null;
+  }
+
+  getInfo() {
+    return {};
+  }
+}
