@@ -1,5 +1,5 @@
 // The virtual Nano in the page: the firmware's own hex (the file `make flash` writes to the
-// arm) running on avr8js's ATmega328P - CPU, timers 0/1/2, USART0, ports B/C/D, EEPROM -
+// arm) running on avr8js's ATmega328P - CPU, timers 0/1, USART0, ports B/C/D, EEPROM -
 // with what its pins drive read as the harness reads them: each motor's four L298N inputs
 // through the engine's coil decoder (hil/vnano/coil_decoder.h, compiled into the web engine),
 // by the wiring of hil/vnano/wiring.h. Plain JavaScript, so that node's tests run it as the
@@ -11,7 +11,7 @@
 //   nano.runFor(0.5);                 // emulated seconds
 //   nano.steps                        // each motor's steps, as its coils moved it
 import { AVREEPROM, AVRIOPort, AVRTimer, AVRUSART, CPU, EEPROMMemoryBackend, avrInstruction, eepromConfig,
-  portBConfig, portCConfig, portDConfig, timer0Config, timer1Config, timer2Config, usart0Config } from "avr8js";
+  portBConfig, portCConfig, portDConfig, timer0Config, timer1Config, usart0Config } from "avr8js";
 
 export const CLOCK_HZ = 16_000_000;
 const FLASH_BYTES = 32 * 1024;
@@ -57,7 +57,9 @@ export class VirtualNano {
     const { flash, used } = parseHex(hex);
     this.flashUsed = used;
     this.cpu = new CPU(new Uint16Array(flash.buffer), SRAM_BYTES);
-    this.timers = [timer0Config, timer1Config, timer2Config].map((c) => new AVRTimer(this.cpu, c, CLOCK_HZ));
+    // Timer0 (millis) and Timer1 (the stepper and servo interrupts). The firmware leaves Timer2
+    // unused (firmware/src/pins.h), so it is not emulated: a fifth of the emulator's time.
+    this.timers = [timer0Config, timer1Config].map((c) => new AVRTimer(this.cpu, c, CLOCK_HZ));
     this.usart = new AVRUSART(this.cpu, usart0Config, CLOCK_HZ);
     // On the chip UDRE is level state: an empty-buffer interrupt that writes nothing leaves it
     // set. avr8js clears it when the interrupt is taken; marked constant it stays, as on silicon
