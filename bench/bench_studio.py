@@ -14,9 +14,13 @@ virtual Nano's figures come through articula-studio.
   - live physics, the Panda in scenes/cluttered.json for 5 s while the arm moves through the
     clutter: the real-time factor, how fast the stepping alone could run, whether it ever fell
     behind, and the updates a second the page gets;
-  - the virtual Nano: a status report's round trip, from the server's `?` to the frame that
-    draws the arm from it (window.articula.arm.roundTrips), median and p95 over 10 s, the
-    arm moving; and STOP (Escape) during a long move at $1 = 20,000 to the arm at rest.
+  - the virtual Nano in the page (the firmware's hex on avr8js in a Web Worker): its speed
+    against real time idle, and with three motors stepping while the page draws; `?` to the
+    drawn pose (median, p95);
+  - the virtual Nano of articula-studio (simavr): a status report's round trip, from the
+    server's `?` to the frame that draws the arm from it (window.articula.arm.roundTrips),
+    median and p95 over 10 s, the arm moving; and STOP (Escape) during a long move at
+    $1 = 20,000 to the arm at rest.
 
     .venv/bin/python bench/bench_studio.py
 """
@@ -170,6 +174,34 @@ def main():
               f"{statistics.median(rtfs):.3f} (min {min(rtfs):.3f}), the stepping alone could run "
               f"{statistics.median(caps):.0f}x real time, behind real time in {behind} of 50 readings; "
               f"{(m1 - m0) / dt / 2:.1f} updates a second (a pose and a world message each); {events} events")
+        ctx.close()
+
+        # The virtual Nano in the page: avr8js in a worker, paced to real time.
+        ctx, page = open_page(browser, site.url + "?robot=mk2plus")
+        page.select_option("#arm-port", "page:virtual")
+        page.click("#arm-connect")
+        page.wait_for_function("window.articula.arm.connected && window.articula.arm.nano", timeout=30000)
+        page.wait_for_timeout(3000)
+        idle, idle_cap = [], []
+        for _ in range(10):
+            page.wait_for_timeout(300)
+            idle.append(page.evaluate("window.articula.arm.nano.rtf"))
+            idle_cap.append(page.evaluate("window.articula.arm.nano.capacity"))
+        n0 = len(page.evaluate("window.articula.arm.roundTrips"))
+        moving, moving_cap = [], []
+        for line in ("$1=20000", "M 80 120 10", "M -80 40 -40", "M 0 90 0"):
+            page.fill("#arm-line", line)
+            page.click("#arm-send")
+            for _ in range(6):
+                page.wait_for_timeout(300)
+                if line.startswith("M"):
+                    moving.append(page.evaluate("window.articula.arm.nano.rtf"))
+                    moving_cap.append(page.evaluate("window.articula.arm.nano.capacity"))
+        rt = page.evaluate("window.articula.arm.roundTrips.slice()")[n0:]
+        print(f"virtual Nano in the page (avr8js): idle {statistics.median(idle):.3f}x real time (min {min(idle):.3f}), "
+              f"the emulator alone could run {statistics.median(idle_cap):.2f}x; three motors stepping while the page "
+              f"draws {statistics.median(moving):.3f}x (min {min(moving):.3f}), could run {statistics.median(moving_cap):.2f}x; "
+              f"? to the drawn pose: median {statistics.median(rt):.1f} ms, p95 {pct(rt, 0.95):.1f} ms ({len(rt)} reports)")
         ctx.close()
         site.stop()
 

@@ -185,7 +185,7 @@ async function connectInPage(which: string): Promise<void> {
     nanoPort.onState = (st) => {
       hook.arm.nano = st;
       $("arm-speed").textContent = st.behind ? `the virtual Nano is behind real time: ${st.rtf.toFixed(2)}x`
-        : `the virtual Nano runs at ${st.rtf.toFixed(2)}x real time (${(nanoPort?.flashBytes ?? 0).toLocaleString("en")} B of firmware)`;
+        : `the virtual Nano keeps real time (it could run ${(st.capacity ?? 0).toFixed(1)}x; ${(nanoPort?.flashBytes ?? 0).toLocaleString("en")} B of firmware)`;
       $("arm-speed").className = `rtf ${st.behind ? "behind" : ""}`;
     };
     port = nanoPort;

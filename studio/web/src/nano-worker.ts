@@ -5,11 +5,11 @@
 //
 // In: {type: "start", eeprom?} (a power-up: the page keeps the EEPROM's bytes), {type: "rx",
 // bytes}, {type: "close"}. Out: {type: "ready", flashBytes, ms}, {type: "tx", bytes},
-// {type: "state", seconds, steps, faults, servoUs, rtf, behind}, {type: "eeprom", bytes},
+// {type: "state", seconds, steps, faults, servoUs, rtf, capacity, behind}, {type: "eeprom", bytes},
 // {type: "fatal", message}.
 import { loadEngine } from "../../../wasm/js/engine.mjs";
 import type { Engine } from "../../../wasm/js/engine.mjs";
-import { VirtualNano } from "./nano.mjs";
+import { CLOCK_HZ, VirtualNano } from "./nano.mjs";
 
 const site = new URL("./", self.location.href.replace(/assets\/[^/]*$/, ""));
 const post = (m: Record<string, unknown>, transfer: Transferable[] = []) =>
@@ -46,23 +46,31 @@ function stop(): void {
   nano = null;
 }
 
-// Runs the Nano as much of its time as passed on the wall clock (at most 50 ms a slice: a
-// slower host falls behind and says so rather than freezing), every 5 ms.
+// Runs the Nano in step with the wall clock, every 5 ms: up to where real time says it should
+// be, at most 50 ms a slice, so a short hiccup of the host is caught up on. A backlog of more
+// than 200 ms is let go (the host cannot keep up): the state then says it is behind.
 function run(): void {
   const n = nano!;
-  let last = performance.now();
+  let clock0 = performance.now();
+  let emu0 = n.seconds;
   let eepromSeen = n.eepromBytes();
-  let window: [number, number][] = []; // (wall s, emulated s) per slice
+  let window: [number, number, number][] = []; // (wall s, emulated s, working s) per slice
+  let last = clock0;
   let lastState = 0;
   const slice = () => {
     if (nano !== n) return;
     const now = performance.now();
-    const wall = Math.min((now - last) / 1000, 0.05);
-    last = now;
+    let due = emu0 + (now - clock0) / 1000;
+    if (due - n.seconds > 0.2) {
+      clock0 = now;
+      emu0 = n.seconds;
+      due = n.seconds + 0.05;
+    }
     const before = n.seconds;
-    n.runFor(wall);
-    const spent = (performance.now() - now) / 1000;
-    window.push([Math.max(spent, wall), n.seconds - before]);
+    n.runUntil(Math.round(Math.min(due, before + 0.05) * CLOCK_HZ));
+    const after = performance.now();
+    window.push([(after - last) / 1000, n.seconds - before, (after - now) / 1000]);
+    last = after;
     if (window.length > 100) window = window.slice(-100);
     if (tx.length) {
       const bytes = new Uint8Array(tx);
@@ -71,10 +79,12 @@ function run(): void {
     }
     if (now - lastState > 100) {
       lastState = now;
-      const w = window.reduce((a, x) => a + x[0], 0), e = window.reduce((a, x) => a + x[1], 0);
+      const sum = (k: number) => window.reduce((a, x) => a + x[k], 0);
+      const w = sum(0), e = sum(1), busy = sum(2);
       const rtf = w > 0 ? e / w : 1;
+      // capacity: how many times real time the emulator alone could run
       post({ type: "state", seconds: n.seconds, steps: n.steps, faults: n.coilFaults, servoUs: n.servoPulseUs,
-        rtf, behind: rtf < 0.97 });
+        rtf, capacity: busy > 0 ? e / busy : null, behind: rtf < 0.97 });
       const ee = n.eepromBytes();
       if (ee.some((b, i) => b !== eepromSeen[i])) {
         eepromSeen = ee;

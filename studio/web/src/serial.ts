@@ -30,8 +30,8 @@ export class VirtualNanoPort implements SerialLike {
   readable: ReadableStream<Uint8Array> | null = null;
   writable: WritableStream<Uint8Array> | null = null;
   /** The emulator's speed against real time, its steps as the coils moved them. */
-  state: { seconds: number; steps: number[]; faults: number; servoUs: number | null; rtf: number; behind: boolean } | null =
-    null;
+  state: { seconds: number; steps: number[]; faults: number; servoUs: number | null; rtf: number; capacity: number | null;
+    behind: boolean } | null = null;
   flashBytes = 0;
   onState: ((s: NonNullable<VirtualNanoPort["state"]>) => void) | null = null;
   private worker: Worker | null = null;
