@@ -661,7 +661,8 @@ def test_the_virtual_nano_in_the_page(open_page):
 def test_stop_ends_a_long_move_on_the_page_nano(open_page):
     pg = open_page("mk2plus")
     _connect_page_nano(pg)
-    for line in ("$1=20000", "M 80 90 0"):
+    # slow enough ($0 = 300 steps/s: the move takes about a second) that the stop comes mid-move
+    for line in ("$0=300", "$1=20000", "M 80 90 0"):
         assert _send(pg, line)["reply"] == "ok"
     pg.wait("a.arm.status.state === 'Run'", timeout=15000)
     pg.page.wait_for_timeout(150)
