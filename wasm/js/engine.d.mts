@@ -58,6 +58,7 @@ export class Engine {
   sim(robot: Robot, sceneText?: string, sceneName?: string, dt?: number): Sim;
   statusText(code: number): string;
   coilDecoder(): CoilDecoder;
+  firstIntervalS(maxRate: number, accel: number): number;
   parseArmLine(line: string):
     | { kind: "reply"; code: number }
     | { kind: "status"; state: string; steps: number[]; angles: number[]; gripper: number; free: number; coils: boolean; warning: number }

@@ -146,6 +146,8 @@ export class Engine {
   statusText(code) { return this.M.statusText(code); }
   /** A line from the arm read by the core's parsers: {kind: "reply" | "status" | "info" | "other", ...}. */
   parseArmLine(line) { return JSON.parse(this.M.parseArmLine(line)); }
+  /** The first step interval of a move from rest at $0 = maxRate, $1 = accel (motion.h), s. */
+  firstIntervalS(maxRate, accel) { return this.M.firstIntervalS(maxRate, accel); }
   /** A motor's coil decoder (hil/vnano/coil_decoder.h), for an emulated Nano. */
   coilDecoder() { return new this.M.CoilDecoder(); }
   /** The Nano's wiring (hil/vnano/wiring.h): motors [{port, shift}], endstops, servo, led. */

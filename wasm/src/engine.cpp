@@ -12,6 +12,7 @@
 //    JavaScript reads and writes in place: no allocation, no JSON, per call.
 #include <emscripten/bind.h>
 
+#include <articula/motion.h>
 #include <articula/protocol.h>
 
 #include <algorithm>
@@ -557,6 +558,16 @@ std::string parse_arm_line(const std::string& text) {
   return json{{"kind", "other"}}.dump();
 }
 
+// The first step interval of a move from rest at these settings (shared/articula/motion.h's
+// profile_constants), s: no pin shows when a move starts, so an emulated Nano's measured
+// duration is this plus the span of the move's steps (the harness measures it so).
+double first_interval_s(double max_rate, double accel) {
+  ProfileConstants k;
+  const MotionSettings s{2000000UL, uint32_t(max_rate), uint32_t(accel)};
+  if (profile_constants(k, s) != kMotionOk) return -1;
+  return k.first / 2e6;
+}
+
 // The protocol's status table (shared/articula/status.h): {code: [name, text]}.
 std::string status_table() {
   json out = json::object();
@@ -622,4 +633,5 @@ EMSCRIPTEN_BINDINGS(articula) {
   function("statusTable", &articula::web::status_table);
   function("nanoWiring", &articula::web::nano_wiring);
   function("parseArmLine", &articula::web::parse_arm_line);
+  function("firstIntervalS", &articula::web::first_interval_s);
 }

@@ -74,6 +74,8 @@ export class VirtualNano {
     // The motors' coils and the servo's pulses, as the pins change.
     const wiring = engine.nanoWiring;
     this.decoders = wiring.motors.map(() => engine.coilDecoder());
+    this.firstStepCycle = -1; // the first and last step of any motor since markSteps()
+    this.lastStepCycle = -1;
     this.servoPulseUs = null; // the last pulse's width
     let servoRise = -1;
     const last = { B: 0, C: 0, D: 0 };
@@ -82,7 +84,10 @@ export class VirtualNano {
         const changed = value ^ last[name];
         last[name] = value;
         wiring.motors.forEach((m, i) => {
-          if (m.port === name && (changed >> m.shift) & 0xf) this.decoders[i].feed((value >> m.shift) & 0xf);
+          if (m.port === name && (changed >> m.shift) & 0xf && this.decoders[i].feed((value >> m.shift) & 0xf) === 1) {
+            if (this.firstStepCycle < 0) this.firstStepCycle = this.cpu.cycles;
+            this.lastStepCycle = this.cpu.cycles;
+          }
         });
         const s = wiring.servo;
         if (s.port === name && (changed >> s.bit) & 1) {
@@ -107,6 +112,11 @@ export class VirtualNano {
       }
     };
     this.rx = [];
+  }
+
+  /** Starts a new span of steps: firstStepCycle and lastStepCycle are -1 until the next step. */
+  markSteps() {
+    this.firstStepCycle = this.lastStepCycle = -1;
   }
 
   /** Bytes (a string or numbers) to the Nano's serial port, in order. */
