@@ -84,7 +84,7 @@ function run(): void {
       const rtf = w > 0 ? e / w : 1;
       // capacity: how many times real time the emulator alone could run
       post({ type: "state", seconds: n.seconds, steps: n.steps, faults: n.coilFaults, servoUs: n.servoPulseUs,
-        rtf, capacity: busy > 0 ? e / busy : null, behind: rtf < 0.97 });
+        rtf, capacity: busy > 0 ? e / busy : null, behind: window.length >= 50 && rtf < 0.97 }); // judged over 50+ slices
       const ee = n.eepromBytes();
       if (ee.some((b, i) => b !== eepromSeen[i])) {
         eepromSeen = ee;
