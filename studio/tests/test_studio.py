@@ -534,6 +534,17 @@ def test_a_50_mb_mesh_is_refused_and_the_robot_stays(open_page, tmp_path):
 # ---- the arm in the loop: the virtual Nano (the real firmware ELF in simavr)
 
 
+def _refused_on_both_sides(pg):
+    """A line the arm refuses: its error and its meaning, and the model says the same."""
+    pg.page.fill("#arm-line", "L 1 150")
+    pg.page.press("#arm-line", "Enter")
+    pg.wait("a.arm.reply && a.arm.reply.line === 'L 1 150'", timeout=15000)
+    reply = pg.hook("a.arm.reply")
+    assert reply["reply"] == "error:9" and reply["meaning"] == "target beyond a joint limit"
+    assert reply["predicted"]["reply"] == "error:9"
+    assert "error:9 (target beyond a joint limit)" in pg.page.text_content("#arm-reply")
+
+
 def _connect_virtual_nano(pg):
     pg.page.click("#arm-port")
     pg.page.wait_for_function("[...document.querySelectorAll('#arm-port option')].some(o => o.value === 'virtual')")
@@ -553,14 +564,7 @@ def test_the_virtual_nano_beside_the_model(open_served_page):
     assert reply["reply"] == "ok" and reply["predicted"]["reply"] == "ok"
     pg.wait("a.arm.status.state === 'Idle' && a.arm.status.steps[0] === 32", timeout=10000)
     assert pg.hook("a.arm.status.steps") == reply["predicted"]["steps"] == [32, 0, 0]
-    # a line the arm refuses: its error and its meaning, and the model says the same
-    pg.page.fill("#arm-line", "L 1 150")
-    pg.page.press("#arm-line", "Enter")
-    pg.wait("a.arm.reply.line === 'L 1 150'")
-    reply = pg.hook("a.arm.reply")
-    assert reply["reply"] == "error:9" and reply["meaning"] == "target beyond a joint limit"
-    assert reply["predicted"]["reply"] == "error:9"
-    assert "error:9 (target beyond a joint limit)" in pg.page.text_content("#arm-reply")
+    _refused_on_both_sides(pg)
     pg.page.screenshot(path=str(SHOTS / "studio-live-arm.png"))
     assert pg.errors == []
 
@@ -649,10 +653,7 @@ def test_the_virtual_nano_in_the_page(open_page):
     assert pg.hook("a.arm.status.steps") == reply["predicted"]["steps"] == [32, 0, 0]
     pg.wait("a.arm.nano !== null && a.arm.nano.steps[0] === 32")  # its coils turned the base 32 steps
     assert pg.hook("a.arm.nano.faults") == 0
-    reply = _send(pg, "L 1 150")
-    assert reply["reply"] == "error:9" and reply["meaning"] == "target beyond a joint limit"
-    assert reply["predicted"]["reply"] == "error:9"
-    assert "error:9 (target beyond a joint limit)" in pg.page.text_content("#arm-reply")
+    _refused_on_both_sides(pg)
     assert "real time" in pg.page.text_content("#arm-speed")
     pg.page.screenshot(path=str(SHOTS / "studio-page-nano.png"))
     assert pg.errors == []
