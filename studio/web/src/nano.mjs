@@ -14,6 +14,8 @@ import { AVREEPROM, AVRIOPort, AVRTimer, AVRUSART, CPU, EEPROMMemoryBackend, avr
   portBConfig, portCConfig, portDConfig, timer0Config, timer1Config, usart0Config } from "avr8js";
 
 export const CLOCK_HZ = 16_000_000;
+const OP_RETI = 0x9518;
+const OP_SEI = 0x9478;
 const FLASH_BYTES = 32 * 1024;
 const SRAM_BYTES = 2048;
 const EEPROM_BYTES = 1024;
@@ -150,8 +152,15 @@ export class VirtualNano {
       if (this.rx.length && this.usart.writeByte(this.rx[0])) this.rx.shift();
       // a slice between two looks at the serial input: shorter than a byte at 115,200 baud
       const end = Math.min(cycle, cpu.cycles + 1000);
+      const prog = cpu.progMem;
       while (cpu.cycles < end) {
+        const op = prog[cpu.pc];
         avrInstruction(cpu);
+        // The ATmega328P's datasheet (7.7, "Reset and Interrupt Handling"): after RETI, and
+        // after SEI, the next instruction runs before any pending interrupt is served. avr8js
+        // serves it at once: a level interrupt that stays pending (UDRE while the firmware
+        // has nothing to send) would then starve the main program for ever.
+        if (op === OP_RETI || op === OP_SEI) avrInstruction(cpu);
         cpu.tick();
       }
     }

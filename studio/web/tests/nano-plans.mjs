@@ -4,10 +4,13 @@
 // measured as the harness measures it on simavr (the first step interval, which no pin shows,
 // plus the span from the first step to the last), within 0.1 % of the prediction's.
 //
-// NOT YET IN `make test`: the Nano on avr8js stops answering at thesis-repeatability.arm:50
-// (`L 0 -50`, after 15 commands that matched; no status report, no reply), where simavr's (`make demo`)
-// matches all 62. Until that is found (avr8js's Timer1 against the datasheet, or a firmware
-// race that simavr's timing never shows), run it by hand:
+// NOT YET IN `make test`: on avr8js, after 15 commands of thesis-repeatability.arm that all
+// matched, the firmware stops answering `?` (line 52, `L 0 50`): it still runs its main loop
+// and answers lines (`I` gives its banner, UCSR0B shows RX, TX and the RX interrupt on), but no
+// status report comes again, so the plan cannot wait for rest. simavr's (`make demo`) matches
+// all 62. Either the report state machine in firmware/src/hal_avr.cpp has a race that simavr's
+// timing never shows (a real Nano could hit it), or avr8js's USART differs from the
+// datasheet. Run it by hand:
 //   node --no-experimental-fetch --test studio/web/tests/nano-plans.mjs
 import assert from "node:assert/strict";
 import { readFileSync, readdirSync } from "node:fs";
