@@ -253,14 +253,13 @@ const handlers: Record<string, Handler> = {
       const res = solve({ ...args, start: q, max_iterations: 1 });
       const moved = Math.max(...res.q.map((v: number, k: number) => Math.abs(v - q[k])));
       q = res.q;
-      let done = res.status !== "budget" || moved < 1e-9 || i + 1 >= 400;
+      const done = res.status !== "budget" || moved < 1e-9 || i + 1 >= 400;
       let last = res;
       if (done && res.status === "budget" && i + 1 < 400) {
         // It stopped moving short of the target: the solver's own verdict from here.
         last = solve({ ...args, start: q });
         q = last.q;
       }
-      done ||= false;
       post([{ ...ikReply(last, m.seq), type: "jt_frame", iteration: i + 1, done }, poseMessage(q, { seq: m.seq ?? null })]);
       i++;
       task = done ? null : setTimeout(frame, FRAME_MS);
@@ -531,18 +530,22 @@ function ikArgs(m: Msg): IkArgs {
   return args;
 }
 
-// deno-lint-ignore no-explicit-any
-function solve(args: IkArgs): any {
+// `articula ik --json`'s result, and beyond_reach.
+interface IkResult {
+  status: string; solver: string; q: number[]; position_error_mm: number; orientation_error_deg: number;
+  iterations: number; limited_by?: string[]; limited_by_motors?: string[]; beyond_reach: boolean;
+}
+
+function solve(args: IkArgs): IkResult {
   try {
-    return robot.ik(args);
+    return robot.ik(args) as unknown as IkResult;
   } catch (e) {
     if (e instanceof EngineError) throw new BadMessage(e.message);
     throw e;
   }
 }
 
-// deno-lint-ignore no-explicit-any
-function ikReply(res: any, seq: unknown): Out {
+function ikReply(res: IkResult, seq: unknown): Out {
   return {
     type: "ik", status: res.status, solver: res.solver, position_error_mm: res.position_error_mm,
     orientation_error_deg: res.orientation_error_deg, iterations: res.iterations,
@@ -650,8 +653,8 @@ function sceneMessage(): Out {
 
 function physicsMessage(rtf: number | null = null, behind = false): Out {
   if (!sim) return { type: "physics", on: false };
-  // deno-lint-ignore no-explicit-any
-  const st = sim.state() as any;
+  const st = sim.state() as { t: number; busy: boolean; joints: number[]; gripper_mm: number;
+    objects: { pose: number[] }[]; contacts: unknown; counted_steps: number[]; lost_steps: number[] };
   q = st.joints;
   const g = info().gripper;
   if (g) gripper = (100 * st.gripper_mm) / g.max_opening_mm;
