@@ -77,7 +77,9 @@ demo: build
 
 # ROBOT=panda, PORT=8080, STUDIO_ARGS=--no-browser: passed to articula-studio, which serves
 # the static site on 127.0.0.1 and connects the arm.
-studio: build
+# The build's messages go to stderr: the first line on stdout is the studio's address.
+studio:
+	@$(MAKE) --no-print-directory build >&2
 	@.venv/bin/articula-studio $(ROBOT) $(if $(PORT),--port $(PORT)) $(STUDIO_ARGS)
 
 format:
