@@ -1,6 +1,7 @@
 // Tests `articula sim` end to end: the real binary, its outputs, messages and exit codes.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <cstdio>
 #include <fstream>
@@ -17,7 +18,8 @@ struct Result {
 };
 
 Result run(const std::string& args) {
-  const std::string err_file = testing::TempDir() + "articula_sim_err.txt";
+  // One file per process: ctest runs these tests side by side, each in its own process.
+  const std::string err_file = testing::TempDir() + "articula_sim_err_" + std::to_string(getpid()) + ".txt";
   const std::string cmd = std::string(ARTICULA_CLI) + " sim " + args + " 2>" + err_file;
   FILE* p = popen(cmd.c_str(), "r");
   std::string out;
@@ -25,9 +27,9 @@ Result run(const std::string& args) {
   size_t n;
   while ((n = fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
   const int status = pclose(p);
-  std::ifstream f(err_file);
   std::stringstream ss;
-  ss << f.rdbuf();
+  ss << std::ifstream(err_file).rdbuf();
+  std::remove(err_file.c_str());
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out, ss.str()};
 }
 
