@@ -2,11 +2,20 @@
 import type { CPU } from "avr8js";
 import type { Engine } from "../../../wasm/js/engine.mjs";
 export const CLOCK_HZ: number;
+export const PAGE_BYTES: number;
+export const BOOT_START: number;
+export const RESET_POWER: number, RESET_EXTERNAL: number, RESET_WATCHDOG: number;
 export function parseHex(text: string, size?: number): { flash: Uint8Array; used: number };
 export class VirtualNano {
-  constructor(options: { hex: string; engine: Engine; eeprom?: Uint8Array });
+  constructor(options: { hex: string; engine: Engine; eeprom?: Uint8Array; bootloader?: string });
   readonly cpu: CPU;
+  readonly flash: Uint8Array;
   readonly flashUsed: number;
+  readonly flashWrites: number;
+  readonly overruns: number;
+  hostBaud: number;
+  reset(cause: number): void;
+  setDtr(on: boolean): void;
   servoPulseUs: number | null;
   onLine: ((line: string) => void) | null;
   onByte: ((byte: number) => void) | null;

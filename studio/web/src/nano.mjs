@@ -1,5 +1,6 @@
 // The virtual Nano in the page: the firmware's own hex (the file `make flash` writes to the
-// arm) running on avr8js's ATmega328P - CPU, timers 0/1, USART0, ports B/C/D, EEPROM -
+// arm) running on avr8js's ATmega328P - CPU, timers 0/1, USART0, ports B/C/D, EEPROM, the
+// watchdog, and (emulated here, avr8js has none) SPM, the resets and the Nano's bootloader -
 // with what its pins drive read as the harness reads them: each motor's four L298N inputs
 // through the engine's coil decoder (hil/vnano/coil_decoder.h, compiled into the web engine),
 // by the wiring of hil/vnano/wiring.h. Plain JavaScript, so that node's tests run it as the
@@ -10,15 +11,36 @@
 //   nano.send("L 0 10\n");            // bytes to its serial port, at 115,200 baud
 //   nano.runFor(0.5);                 // emulated seconds
 //   nano.steps                        // each motor's steps, as its coils moved it
-import { AVREEPROM, AVRIOPort, AVRTimer, AVRUSART, CPU, EEPROMMemoryBackend, avrInstruction, eepromConfig,
-  portBConfig, portCConfig, portDConfig, timer0Config, timer1Config, usart0Config } from "avr8js";
+//
+// With `bootloader` (a bootloader's hex: Optiboot, or the old ATmegaBOOT) the Nano is one as
+// shipped: the Nano's fuses (high 0xDA: BOOTRST, a 2 KB boot section at 0x7800) start every
+// reset there, the lock bits keep SPM off the boot section, and the host's DTR (setDtr)
+// resets it as the auto-reset capacitor does, so a flasher talks to the bootloader.
+import { AVREEPROM, AVRIOPort, AVRTimer, AVRUSART, AVRWatchdog, CPU, EEPROMMemoryBackend, avrInstruction,
+  eepromConfig, portBConfig, portCConfig, portDConfig, timer0Config, timer1Config, usart0Config,
+  watchdogConfig } from "avr8js";
 
 export const CLOCK_HZ = 16_000_000;
 const OP_RETI = 0x9518;
 const OP_SEI = 0x9478;
+const OP_SPM = 0x95e8;
 const FLASH_BYTES = 32 * 1024;
 const SRAM_BYTES = 2048;
 const EEPROM_BYTES = 1024;
+export const PAGE_BYTES = 128; // the ATmega328P's flash page
+/** Where the Nano's boot section starts (high fuse 0xDA: BOOTSZ = 1,024 words). */
+export const BOOT_START = 0x7800;
+// MCUSR's reset causes (datasheet 10.9.1)
+export const RESET_POWER = 0x01, RESET_EXTERNAL = 0x02, RESET_WATCHDOG = 0x08;
+// Registers (data addresses) and bits
+const MCUSR = 0x54, SPMCSR = 0x57, WDTCSR = 0x60, UCSR0A = usart0Config.UCSRA, UDR0 = usart0Config.UDR;
+const SPMEN = 0x01, PGERS = 0x02, PGWRT = 0x04, BLBSET = 0x08, RWWSRE = 0x10, SIGRD = 0x20, RWWSB = 0x40;
+const RXC = 0x80, FE = 0x10, RXEN = 0x10, WDE = 0x08;
+// A page erase or write takes 3.7-4.5 ms (datasheet 28.8.10, t_WD_FLASH)
+const SPM_BUSY_CYCLES = Math.round(0.004 * CLOCK_HZ);
+
+/** A byte as a receiver set to another baud rate reads it: not the byte, and a framing error. */
+const garble = (b) => (b * 0x9d + 0x5a) & 0xff;
 
 /** An Intel HEX file into the flash's bytes; throws naming the line of a malformed record. */
 export function parseHex(text, size = FLASH_BYTES) {
@@ -55,9 +77,17 @@ export class VirtualNano {
    * hex: the firmware's Intel HEX text; engine: the web engine (its coil decoders and the
    * wiring); eeprom: the EEPROM's bytes to start from (kept by the caller across sessions).
    */
-  constructor({ hex, engine, eeprom }) {
+  constructor({ hex, engine, eeprom, bootloader }) {
     const { flash, used } = parseHex(hex);
+    if (bootloader) {
+      if (used > BOOT_START) throw new Error(`the firmware (${used} bytes) reaches into the boot section at 0x${BOOT_START.toString(16)}`);
+      const boot = parseHex(bootloader).flash;
+      flash.set(boot.subarray(BOOT_START), BOOT_START);
+    }
+    this.flash = flash; // the flash's bytes: SPM writes them, the CPU runs them
     this.flashUsed = used;
+    this.flashWrites = 0; // pages written by SPM
+    this.bootWord = bootloader ? BOOT_START / 2 : 0; // where a reset starts (BOOTRST)
     this.cpu = new CPU(new Uint16Array(flash.buffer), SRAM_BYTES);
     // Timer0 (millis) and Timer1 (the stepper and servo interrupts). The firmware leaves Timer2
     // unused (firmware/src/pins.h), so it is not emulated: a fifth of the emulator's time.
@@ -70,8 +100,34 @@ export class VirtualNano {
     this.eepromBackend = new EEPROMMemoryBackend(EEPROM_BYTES);
     if (eeprom) this.eepromBackend.memory.set(eeprom.subarray(0, EEPROM_BYTES));
     this.eeprom = new AVREEPROM(this.cpu, this.eepromBackend, eepromConfig);
+    this.watchdog = new AVRWatchdog(this.cpu, watchdogConfig, { frequency: CLOCK_HZ });
+    // avr8js looks at a new timeout only when the old one's check comes round: a bootloader
+    // that shortens it to 16 ms (Optiboot's way to reset into the application) waited up to
+    // the old second. On the chip the new timeout counts at once.
+    const writeWdtcsr = this.cpu.writeHooks[WDTCSR];
+    this.cpu.writeHooks[WDTCSR] = (value, oldValue, addr, mask) => {
+      const result = writeWdtcsr(value, oldValue, addr, mask);
+      const w = this.watchdog;
+      if (w.enabled) {
+        this.cpu.clearClockEvent(w.checkWatchdog);
+        this.cpu.addClockEvent(w.checkWatchdog, Math.max(0, w.watchdogTimeout - this.cpu.cycles));
+        w.scheduled = true;
+      }
+      return result;
+    };
     this.ports = { B: new AVRIOPort(this.cpu, portBConfig), C: new AVRIOPort(this.cpu, portCConfig),
       D: new AVRIOPort(this.cpu, portDConfig) };
+    this.setUpReceiver();
+    this.setUpSpm();
+    // avr8js's watchdog resets by cpu.reset(), which leaves the I/O registers as they were and
+    // starts at 0: noted here, done by reset() after the instruction.
+    this.resetPending = 0;
+    this.cpuReset = this.cpu.reset.bind(this.cpu);
+    this.cpu.reset = () => {
+      this.resetPending = RESET_WATCHDOG;
+    };
+    this.dtr = true; // the host holds DTR asserted while the port is open
+    this.hostBaud = 115200; // the host's side of the line
 
     // The motors' coils and the servo's pulses, as the pins change.
     const wiring = engine.nanoWiring;
@@ -81,8 +137,9 @@ export class VirtualNano {
     this.servoPulseUs = null; // the last pulse's width
     let servoRise = -1;
     const last = { B: 0, C: 0, D: 0 };
+    const listeners = {};
     for (const name of ["B", "C", "D"]) {
-      this.ports[name].addListener((value) => {
+      this.ports[name].addListener(listeners[name] = (value) => {
         const changed = value ^ last[name];
         last[name] = value;
         wiring.motors.forEach((m, i) => {
@@ -98,12 +155,18 @@ export class VirtualNano {
         }
       });
     }
+    // A reset makes every pin an input: the coils and the servo go off.
+    this.pinsOff = () => {
+      for (const name of ["B", "C", "D"]) listeners[name](0);
+      servoRise = -1;
+    };
 
     // The serial line: bytes out a line at a time, bytes in at the baud rate.
     this.onLine = null;
     this.onByte = null;
     this.lineBuffer = "";
-    this.usart.onByteTransmit = (b) => {
+    this.usart.onByteTransmit = (sent) => {
+      const b = this.baudMatches() ? sent : garble(sent);
       this.onByte?.(b);
       if (b === 10) {
         const line = this.lineBuffer.replace(/\r$/, "");
@@ -113,7 +176,164 @@ export class VirtualNano {
         this.lineBuffer += String.fromCharCode(b);
       }
     };
-    this.rx = [];
+    this.reset(RESET_POWER);
+  }
+
+  // ---- the serial line in: the host's bytes at its baud rate into a two-byte receive buffer
+
+  setUpReceiver() {
+    const cpu = this.cpu, usart = this.usart;
+    this.rx = []; // the host's bytes not yet on the wire
+    this.rxBuffer = []; // received, unread: [0] is in UDR0 (RXC0 set); the chip holds two
+    this.rxShifting = false; // a byte on the wire
+    this.overruns = 0; // bytes lost to a full receive buffer (the chip's DOR0)
+    // A byte is on the wire for ten bit times of the host's baud rate; then it joins the
+    // buffer if there is room (else it is lost, as on the chip) and the next one starts.
+    this.shiftIn = () => {
+      const b = this.rx.shift();
+      this.rxShifting = true;
+      cpu.addClockEvent(() => {
+        this.rxShifting = false;
+        if (cpu.data[usart0Config.UCSRB] & RXEN) {
+          if (this.rxBuffer.length < 2) {
+            this.rxBuffer.push(this.baudMatches() ? [b, 0] : [garble(b), FE]);
+            if (this.rxBuffer.length === 1) this.toUdr();
+          } else {
+            this.overruns++;
+          }
+        }
+        if (this.rx.length) this.shiftIn();
+      }, Math.round((10 * CLOCK_HZ) / this.hostBaud));
+    };
+    // Reading UDR0 takes the oldest byte; the next, if any, takes its place.
+    const readUdr = cpu.readHooks[UDR0];
+    cpu.readHooks[UDR0] = (addr) => {
+      const value = readUdr(addr);
+      cpu.data[UCSR0A] &= ~FE;
+      this.rxBuffer.shift();
+      if (this.rxBuffer.length) this.toUdr();
+      return value;
+    };
+    // On the chip an unread byte waits (RXC0 set) until it is read, or the receiver is
+    // switched off (datasheet 20.11.2, "RXCn"). avr8js clears RXC on every write to UCSR0B
+    // that leaves the receiver on, and the firmware writes UCSR0B whenever it masks or unmasks
+    // its transmit interrupts: a byte that arrived while interrupts were off was lost (a `?`
+    // that never got its report, a command line missing a character). Kept, as on silicon.
+    const writeUcsrb = cpu.writeHooks[usart0Config.UCSRB];
+    cpu.writeHooks[usart0Config.UCSRB] = (value, oldValue, addr, mask) => {
+      const result = writeUcsrb(value, oldValue, addr, mask);
+      if (!(value & RXEN)) this.rxBuffer = [];
+      else if (this.rxBuffer.length) cpu.setInterruptFlag(usart.RXC);
+      return result;
+    };
+  }
+
+  toUdr() {
+    const [b, fe] = this.rxBuffer[0];
+    this.usart.rxByte = b;
+    this.cpu.data[UCSR0A] = (this.cpu.data[UCSR0A] & ~FE) | fe;
+    this.cpu.setInterruptFlag(this.usart.RXC);
+  }
+
+  /** Whether the host's baud rate is the USART's, within the 5 % a receiver tolerates. */
+  baudMatches() {
+    return Math.abs(this.usart.baudRate - this.hostBaud) <= 0.05 * this.hostBaud;
+  }
+
+  // ---- self-programming (SPM), as the chip does it (datasheet 26, "Boot Loader Support")
+
+  setUpSpm() {
+    const cpu = this.cpu;
+    this.pageBuffer = new Uint8Array(PAGE_BYTES).fill(0xff);
+    this.spmBusyUntil = 0;
+    // SPMCSR: RWWSB is the hardware's; SPMEN reads 1 while an erase or write runs.
+    cpu.writeHooks[SPMCSR] = (value) => {
+      const busy = cpu.cycles < this.spmBusyUntil;
+      cpu.data[SPMCSR] = (value & ~RWWSB) | (cpu.data[SPMCSR] & RWWSB) | (busy ? SPMEN : 0);
+      return true;
+    };
+  }
+
+  /** One SPM: the operation SPMCSR selects, on the page Z points at (R1:R0 the word to fill). */
+  spm() {
+    const cpu = this.cpu, d = cpu.data;
+    const op = d[SPMCSR] & (SPMEN | PGERS | PGWRT | BLBSET | RWWSRE | SIGRD);
+    if (!(op & SPMEN) || cpu.cycles < this.spmBusyUntil) return;
+    const z = d[30] | (d[31] << 8);
+    const page = z & ~(PAGE_BYTES - 1) & (FLASH_BYTES - 1);
+    // The lock bits a Nano ships with (0x0F: BLB1 mode 3) keep SPM off the boot section.
+    const writable = page < BOOT_START;
+    let busy = false;
+    if (op === SPMEN) {
+      this.pageBuffer[z & (PAGE_BYTES - 2)] = d[0];
+      this.pageBuffer[(z & (PAGE_BYTES - 2)) + 1] = d[1];
+    } else if (op === (SPMEN | PGERS)) {
+      if (writable) this.flash.fill(0xff, page, page + PAGE_BYTES);
+      busy = true;
+    } else if (op === (SPMEN | PGWRT)) {
+      if (writable) {
+        // programming only clears bits: a page not erased first keeps its zeros
+        for (let i = 0; i < PAGE_BYTES; i++) this.flash[page + i] &= this.pageBuffer[i];
+        this.flashWrites++;
+      }
+      this.pageBuffer.fill(0xff);
+      busy = true;
+    } else if (op === (SPMEN | RWWSRE)) {
+      d[SPMCSR] &= ~RWWSB;
+      this.pageBuffer.fill(0xff);
+    }
+    // (BLBSET and SIGRD, the lock bits and the signature row, are left alone.) The CPU goes
+    // on (a bootloader polls SPMEN); the application section reads as it will be after.
+    if (busy) {
+      this.spmBusyUntil = cpu.cycles + SPM_BUSY_CYCLES;
+      d[SPMCSR] = (d[SPMCSR] & ~(PGERS | PGWRT)) | SPMEN | RWWSB;
+      cpu.addClockEvent(() => {
+        d[SPMCSR] &= ~SPMEN;
+      }, SPM_BUSY_CYCLES);
+    } else {
+      d[SPMCSR] &= ~(SPMEN | BLBSET | RWWSRE | SIGRD);
+    }
+  }
+
+  // ---- resets
+
+  /**
+   * A reset (datasheet 10, "System Control and Reset"): registers and I/O to their initial
+   * values, the pins inputs, MCUSR the cause, and the program from the reset vector - the boot
+   * section's start with a bootloader. SRAM, EEPROM and flash keep their bytes. After a
+   * watchdog reset the watchdog stays on (WDE with WDRF set) at its shortest time.
+   */
+  reset(cause) {
+    const cpu = this.cpu;
+    this.resetPending = 0;
+    cpu.data.fill(0, 0, 0x100);
+    this.cpuReset(); // pc 0, the stack at the top, no interrupt or clock event pending
+    for (const t of this.timers) t.reset();
+    this.usart.reset();
+    const w = this.watchdog;
+    w.scheduled = false;
+    w.enabledValue = false;
+    w.changeEnabledCycles = 0;
+    if (cause & RESET_WATCHDOG) {
+      cpu.data[WDTCSR] = WDE;
+      w.enabledValue = true;
+      w.resetWatchdog();
+      w.scheduled = true;
+      cpu.addClockEvent(w.checkWatchdog, w.watchdogTimeout - cpu.cycles);
+    }
+    this.rxBuffer = [];
+    this.rxShifting = false; // a byte on the wire is lost
+    this.spmBusyUntil = 0;
+    this.pageBuffer.fill(0xff);
+    this.pinsOff?.();
+    cpu.data[MCUSR] = cause;
+    cpu.pc = this.bootWord;
+  }
+
+  /** The host's DTR line: asserting it resets the Nano (its auto-reset capacitor), as avrdude does. */
+  setDtr(on) {
+    if (on && !this.dtr) this.reset(RESET_EXTERNAL);
+    this.dtr = on;
   }
 
   /** Starts a new span of steps: firstStepCycle and lastStepCycle are -1 until the next step. */
@@ -148,13 +368,14 @@ export class VirtualNano {
   runUntil(cycle) {
     const cpu = this.cpu;
     while (cpu.cycles < cycle) {
-      // the next byte in, once the last has arrived (and the firmware has enabled its receiver)
-      if (this.rx.length && this.usart.writeByte(this.rx[0])) this.rx.shift();
-      // a slice between two looks at the serial input: shorter than a byte at 115,200 baud
+      if (this.rx.length && !this.rxShifting) this.shiftIn();
+      // a slice between two looks at the host's bytes: shorter than a byte at 115,200 baud
       const end = Math.min(cycle, cpu.cycles + 1000);
       const prog = cpu.progMem;
+      const boot = this.bootWord;
       while (cpu.cycles < end) {
         const op = prog[cpu.pc];
+        if (op === OP_SPM && boot !== 0 && cpu.pc >= boot) this.spm(); // (from the application section: ignored)
         avrInstruction(cpu);
         // The ATmega328P's datasheet (7.7, "Reset and Interrupt Handling"): after RETI, and
         // after SEI, the next instruction runs before any pending interrupt is served. avr8js
@@ -162,6 +383,7 @@ export class VirtualNano {
         // has nothing to send) would then starve the main program for ever.
         if (op === OP_RETI || op === OP_SEI) avrInstruction(cpu);
         cpu.tick();
+        if (this.resetPending) this.reset(this.resetPending);
       }
     }
   }

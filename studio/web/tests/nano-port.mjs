@@ -1,0 +1,83 @@
+// For node's tests: a VirtualNano (src/nano.mjs) behind Web Serial's SerialPort interface -
+// open, close, readable, writable, setSignals - as a Nano on a USB cable is: the host's baud
+// rate, DTR's auto-reset, and a cable that can be pulled (the port fails, the Nano loses
+// power) and plugged in again (it powers up). The emulator runs as fast as node can while
+// the port is open.
+import { RESET_POWER } from "../src/nano.mjs";
+
+export class NanoPort {
+  constructor(nano) {
+    this.nano = nano;
+    this.readable = this.writable = null;
+    this.plugged = true;
+    this.out = [];
+    this.written = 0; // bytes the host wrote
+    this.pullAfter = Infinity; // pull the cable once the host has written this many bytes
+    nano.onByte = (b) => this.out.push(b);
+  }
+
+  async open({ baudRate }) {
+    if (!this.plugged) throw new Error("the device has been lost");
+    if (this.readable) throw new Error("the port is already open");
+    this.nano.hostBaud = baudRate;
+    this.nano.setDtr(true); // opening asserts DTR: the Nano resets, as on a USB cable
+    let controller;
+    this.readable = new ReadableStream({ start: (c) => (controller = c) });
+    this.controller = controller;
+    this.writable = new WritableStream({
+      write: (chunk) => {
+        if (!this.plugged) throw new Error("the device has been lost");
+        this.nano.send(chunk);
+        this.written += chunk.length;
+        if (this.written >= this.pullAfter) this.pull();
+      },
+    });
+    const run = (this.running = {});
+    const loop = () => {
+      if (this.running !== run) return;
+      this.nano.runFor(0.002);
+      if (this.out.length) {
+        controller.enqueue(Uint8Array.from(this.out));
+        this.out = [];
+      }
+      setImmediate(loop);
+    };
+    loop();
+  }
+
+  async setSignals({ dataTerminalReady }) {
+    if (!this.plugged) throw new Error("the device has been lost");
+    if (dataTerminalReady !== undefined) this.nano.setDtr(dataTerminalReady);
+  }
+
+  async close() {
+    this.running = null;
+    try {
+      this.controller?.close();
+    } catch {
+      /* already errored */
+    }
+    this.readable = this.writable = null;
+    this.nano.setDtr(false);
+  }
+
+  /** The cable pulled: the port fails, the Nano stops (no power). */
+  pull() {
+    this.plugged = false;
+    this.running = null;
+    this.nano.rx.length = 0;
+    try {
+      this.controller?.error(new Error("the device has been lost"));
+    } catch {
+      /* already closed */
+    }
+  }
+
+  /** Plugged in again: the Nano powers up; the port can be opened. */
+  plugIn() {
+    this.readable = this.writable = null;
+    this.plugged = true;
+    this.pullAfter = Infinity;
+    this.nano.reset(RESET_POWER);
+  }
+}
