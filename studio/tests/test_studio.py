@@ -6,6 +6,7 @@ here."""
 from __future__ import annotations
 
 import json
+import re
 import subprocess
 
 import numpy as np
@@ -769,3 +770,45 @@ def test_the_page_nano_refuses_a_robot_it_is_not(open_page):
     pg.wait("a.arm.error !== ''", timeout=30000)
     assert "the arm is a MK2 Plus, the studio shows PUMA" in pg.hook("a.arm.error")
     assert pg.hook("a.arm.connected") is False
+
+
+# ---- flashing the Nano from the page (src/stk500.mjs), through the virtual Nano's Optiboot
+
+
+def test_the_page_flashes_the_virtual_nano_through_its_bootloader(open_page):
+    """The flash panel writes this site's firmware through the Nano's bootloader (Optiboot, built
+    from Debian's source, in the virtual Nano's boot section), reads it back, and the Nano then
+    answers I with the robot's banner and drives as predicted."""
+    pg = open_page("mk2plus")
+    fw = pg.page.evaluate("fetch('data/firmware/firmware.json').then(r => r.json())")
+    assert re.fullmatch(r"Articula \S+ for the MK2 Plus, [\d,]+ bytes", pg.page.text_content("#flash-info"))
+    assert f"{fw['bytes']:,}" in pg.page.text_content("#flash-info")
+    pg.page.select_option("#arm-port", "page:virtual")
+    pg.page.click("#arm-flash")
+    pg.wait("a.flash.phase === 'write' && a.flash.done >= a.flash.total / 3", timeout=60000)
+    assert "writing page" in pg.page.text_content("#flash-state")
+    assert pg.page.is_visible("#flash-progress")
+    pg.page.screenshot(path=str(SHOTS / "studio-flash.png"))
+    pg.wait("!a.flash.busy", timeout=180000)
+    assert pg.hook("a.flash.error") == ""
+    result = pg.hook("a.flash.result")
+    assert result["baud"] == 115200 and result["bytes"] == fw["bytes"]
+    assert result["pages"] == (fw["bytes"] + 127) // 128
+    assert "Flashed and verified" in pg.page.text_content("#flash-state")
+    pg.wait(f"a.arm.nano !== null && a.arm.nano.flashWrites === {result['pages']}")  # the bootloader wrote every page
+    # the Nano came out of its bootloader into the firmware: it drives as predicted
+    _connect_page_nano(pg)
+    assert pg.hook("a.arm.label").startswith(f"MK2 Plus (firmware {fw['version']})")
+    reply = _send(pg, "L 0 10")
+    assert reply["reply"] == "ok"
+    pg.wait("a.arm.status.state === 'Idle' && a.arm.status.steps[0] === 32", timeout=20000)
+    assert pg.errors == []
+
+
+def test_the_page_does_not_flash_a_firmware_for_another_robot(open_page):
+    pg = open_page("puma560")
+    pg.page.select_option("#arm-port", "page:virtual")
+    pg.page.click("#arm-flash")
+    pg.page.wait_for_function("document.querySelector('#flash-state').textContent !== ''")
+    assert "built for the MK2 Plus; the studio shows the PUMA" in pg.page.text_content("#flash-state")
+    assert pg.hook("a.flash.busy") is False and pg.hook("a.flash.result") is None

@@ -25,10 +25,13 @@ const arg = process.argv.indexOf("--wasm");
 const wasmDir = arg > 0 ? process.argv[arg + 1] : process.env.ARTICULA_WASM_DIR || join(repo, "build/wasm/wasm");
 const hexArg = process.argv.indexOf("--hex");
 const hexFile = hexArg > 0 ? process.argv[hexArg + 1] : process.env.ARTICULA_NANO_HEX || join(repo, "build/avr/firmware/articula-nano.hex");
-if (!existsSync(hexFile)) {
-  console.error(`studio: the firmware is not built (${hexFile} is missing): run make`);
-  process.exit(2);
-}
+const bootArg = process.argv.indexOf("--bootloader");
+const bootFile = bootArg > 0 ? process.argv[bootArg + 1] : join(dirname(hexFile), "optiboot_atmega328.hex");
+for (const f of [hexFile, bootFile])
+  if (!existsSync(f)) {
+    console.error(`studio: the firmware is not built (${f} is missing): run make`);
+    process.exit(2);
+  }
 for (const f of ["engine.mjs", "engine.wasm"])
   if (!existsSync(join(wasmDir, f))) {
     console.error(`studio: the web engine is not built (${join(wasmDir, f)} is missing): run make`);
@@ -71,6 +74,30 @@ index.scenes = readdirSync(join(out, "data/scenes")).filter(isData).map((n) => n
 index.programs = readdirSync(join(out, "data/programs"));
 mkdirSync(join(out, "data/firmware"), { recursive: true });
 copyFileSync(hexFile, join(out, "data/firmware/articula-nano.hex"));
+copyFileSync(bootFile, join(out, "data/firmware/optiboot_atmega328.hex"));
+// What the firmware says it is (its banner, asked of it on the virtual Nano), for the page's
+// flash panel: the robot it is built for, its version, its size.
+{
+  const { nodeEngine } = await import("../../wasm/js/node.mjs");
+  const { VirtualNano } = await import("./src/nano.mjs");
+  const hex = readFileSync(hexFile, "utf8");
+  const nano = new VirtualNano({ hex, engine: await nodeEngine(wasmDir) });
+  let banner = "";
+  nano.onLine = (l) => (banner ||= l.startsWith("[Articula") ? l : "");
+  nano.runFor(0.3);
+  nano.send("I\n");
+  for (let i = 0; i < 100 && !banner; i++) nano.runFor(0.01);
+  const fields = Object.fromEntries(banner.slice(1, -1).split("|").slice(1).map((f) => [f.slice(0, f.indexOf(":")), f.slice(f.indexOf(":") + 1)]));
+  if (!fields.V || !fields.R) {
+    console.error(`studio: the firmware ${hexFile} gives no banner on the virtual Nano (${JSON.stringify(banner)})`);
+    process.exit(2);
+  }
+  writeFileSync(join(out, "data/firmware/firmware.json"), JSON.stringify({
+    file: "articula-nano.hex", bytes: nano.flashUsed, version: fields.V, protocol: Number(fields.P), robot: fields.R,
+    sha256: createHash("sha256").update(hex).digest("hex"), bootloader: "optiboot_atmega328.hex",
+  }, null, 1));
+  nano.delete();
+}
 writeFileSync(join(out, "data/index.json"), JSON.stringify(index, null, 1));
 
 // Every file of the site, for the service worker to keep (offline use) and for the sizes.

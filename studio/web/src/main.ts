@@ -10,6 +10,7 @@ import { startTour } from "./tour";
 import { ArmLink } from "./arm";
 import { VirtualNanoPort, webSerial } from "./serial";
 import type { SerialLike } from "./serial";
+import { FlashError, flashNano } from "./stk500.mjs";
 import type { ArmStatusMsg, IkMsg, PhysicsMsg, PoseMsg, RobotMsg, SceneMsg, ServerMsg, SimEvent, TimelineMsg } from "./protocol";
 
 const $ = <T extends HTMLElement = HTMLElement>(id: string) => document.getElementById(id) as T;
@@ -49,6 +50,8 @@ interface Hook {
   internalErrors: string[]; // replies that say the engine itself went wrong (never expected)
   engineStartMs: number; // the worker's time from its first message to the robot loaded
   engineSend: (msg: unknown) => void; // for tests: a message to the engine as the page would post it
+  flash: { busy: boolean; phase: string; done: number; total: number; error: string; errorKind: string;
+           result: { bytes: number; pages: number; baud: number; seconds: number } | null; banner: string };
 }
 const hook: Hook = {
   ready: false, connected: false, robot: null, pose: null, ik: null, timeline: null, playing: false,
@@ -58,6 +61,7 @@ const hook: Hook = {
   arm: { connected: false, error: "", label: "", status: null, reply: null, stopMs: null, programLines: [], programDone: false, roundTrips: [], nano: null },
   stream: { messages: 0 }, errors: 0, internalErrors: [], engineStartMs: 0,
   engineSend: (msg) => worker.postMessage(msg),
+  flash: { busy: false, phase: "", done: 0, total: 0, error: "", errorKind: "", result: null, banner: "" },
 };
 const readOnly = new Proxy(hook, { set: () => false, deleteProperty: () => false });
 Object.defineProperty(window, "articula", { value: readOnly, writable: false });
@@ -181,19 +185,109 @@ async function connectInPage(which: string): Promise<void> {
     const info = port.getInfo?.() ?? {};
     label = info.usbVendorId ? `USB ${info.usbVendorId.toString(16)}:${(info.usbProductId ?? 0).toString(16)}` : "a serial port";
   } else {
-    nanoPort = new VirtualNanoPort();
-    nanoPort.onState = (st) => {
-      hook.arm.nano = st;
-      $("arm-speed").textContent = st.behind ? `the virtual Nano is behind real time: ${st.rtf.toFixed(2)}x`
-        : `the virtual Nano keeps real time (it could run ${(st.capacity ?? 0).toFixed(1)}x; ${(nanoPort?.flashBytes ?? 0).toLocaleString("en")} B of firmware)`;
-      $("arm-speed").className = `rtf ${st.behind ? "behind" : ""}`;
-    };
+    nanoPort = virtualNano();
     port = nanoPort;
     label = "the virtual Nano";
   }
   armLink = new ArmLink(armEngine, (m) => handle(m as unknown as ServerMsg));
   await armLink.connect(port, label, robot?.name ?? "");
   if (!armLink.connected) armLink = null;
+}
+
+// One virtual Nano for the page's life: what is flashed to it stays until the page closes.
+function virtualNano(): VirtualNanoPort {
+  if (nanoPort) return nanoPort;
+  const port = (nanoPort = new VirtualNanoPort());
+  port.onState = (st) => {
+    hook.arm.nano = st;
+    $("arm-speed").textContent = st.behind ? `the virtual Nano is behind real time: ${st.rtf.toFixed(2)}x`
+      : `the virtual Nano keeps real time (it could run ${(st.capacity ?? 0).toFixed(1)}x; ${port.flashBytes.toLocaleString("en")} B of firmware)`;
+    $("arm-speed").className = `rtf ${st.behind ? "behind" : ""}`;
+  };
+  return port;
+}
+
+// ---- flashing the Nano on the chosen port (stk500.mjs) with this site's firmware
+
+interface FirmwareInfo { file: string; bytes: number; version: string; robot: string; sha256: string }
+let firmware: FirmwareInfo | null = null;
+
+async function loadFirmwareInfo(): Promise<void> {
+  try {
+    const r = await fetch(new URL("data/firmware/firmware.json", document.baseURI));
+    firmware = r.ok ? ((await r.json()) as FirmwareInfo) : null;
+  } catch {
+    firmware = null;
+  }
+  $("flash-info").textContent = firmware
+    ? `Articula ${firmware.version} for the ${firmware.robot}, ${firmware.bytes.toLocaleString("en")} bytes`
+    : "this site carries no firmware";
+  ($("arm-flash") as HTMLButtonElement).disabled = !firmware;
+}
+
+function flashState(text: string, kind: "" | "ok" | "bad" = ""): void {
+  const st = $("flash-state");
+  st.textContent = text;
+  st.className = `status ${kind}`;
+}
+
+async function flashFirmware(): Promise<void> {
+  const f = hook.flash;
+  if (f.busy || !firmware) return;
+  if (robot && robot.name !== firmware.robot)
+    return flashState(`This site's firmware is built for the ${firmware.robot}; the studio shows the ${robot.name}. ` +
+      "Load that robot, or build the firmware for this one (make ARTICULA_ROBOT=...).", "bad");
+  const which = ($("arm-port") as HTMLSelectElement).value;
+  let port: SerialLike;
+  if (which === "page:serial") {
+    const api = webSerial();
+    if (!api) return flashState("This browser has no Web Serial (Chrome, Edge and Opera have it).", "bad");
+    try {
+      port = await api.requestPort(); // the browser asks the user which port, and for permission
+    } catch {
+      return; // the user chose none
+    }
+  } else if (which === "page:virtual") {
+    port = virtualNano();
+  } else {
+    return flashState("Choose the virtual Nano or a Nano on USB first.", "bad");
+  }
+  if (armLink) {
+    await armLink.disconnect(); // the bootloader needs the port to itself
+    armLink = null;
+  }
+  Object.assign(f, { busy: true, phase: "connect", done: 0, total: 0, error: "", errorKind: "", result: null, banner: "" });
+  const bar = $("flash-progress") as HTMLProgressElement;
+  const button = $("arm-flash") as HTMLButtonElement;
+  button.disabled = true;
+  bar.hidden = false;
+  bar.value = 0;
+  flashState("resetting the Nano into its bootloader…");
+  try {
+    const r = await fetch(new URL(`data/firmware/${firmware.file}`, document.baseURI));
+    if (!r.ok) throw new Error(`the firmware's file is missing from this site (${r.status})`);
+    const hex = await r.text();
+    const result = await flashNano(port, hex, {
+      onProgress: (p) => {
+        Object.assign(f, { phase: p.phase, done: p.done, total: p.total });
+        // writing is two thirds of the bar, reading back the last third
+        bar.value = p.total ? (p.phase === "write" ? (2 * p.done) / (3 * p.total) : p.phase === "verify" ? (2 + p.done / p.total) / 3 : p.phase === "done" ? 1 : 0) : 0;
+        if (p.phase === "write") flashState(`writing page ${p.done} of ${p.total} (${p.baud.toLocaleString("en")} baud)`);
+        else if (p.phase === "verify") flashState(`reading back page ${p.done} of ${p.total}`);
+      },
+    });
+    f.result = result;
+    f.phase = "done";
+    flashState(`Flashed and verified: ${result.bytes.toLocaleString("en")} bytes in ${result.seconds.toFixed(1)} s ` +
+      `(${result.baud === 115200 ? "Optiboot" : "the old bootloader"}, ${result.baud.toLocaleString("en")} baud). Connect to drive it.`, "ok");
+  } catch (e) {
+    f.error = (e as Error).message;
+    f.errorKind = e instanceof FlashError ? e.kind : "other";
+    flashState(`Flashing failed: ${f.error}`, "bad");
+  } finally {
+    f.busy = false;
+    button.disabled = false;
+  }
 }
 
 // Slider and drag intents: one in flight, the newest replaces any waiting one.
@@ -664,6 +758,7 @@ $("arm-connect").onclick = () => {
   else send({ type: "arm_ports" });
 };
 $("arm-disconnect").onclick = () => send({ type: "arm_disconnect" });
+$("arm-flash").onclick = () => void flashFirmware();
 $("arm-send").onclick = sendArmLine;
 $("arm-line").addEventListener("keydown", (e) => {
   if ((e as KeyboardEvent).key === "Enter") sendArmLine();
@@ -964,5 +1059,6 @@ editorChanged();
 if ("serviceWorker" in navigator && !params.has("nosw")) navigator.serviceWorker.register("sw.js").catch(() => undefined);
 showPorts([]);
 armHelp();
+loadFirmwareInfo();
 if (token) connectArmServer();
 startTour(false);

@@ -3,10 +3,15 @@
 // bytes to and from the page (serial.ts makes it a port like a real one). Its own copy of the
 // web engine decodes the coils (hil/vnano/coil_decoder.h) by the Nano's wiring.
 //
-// In: {type: "start", eeprom?} (a power-up: the page keeps the EEPROM's bytes), {type: "rx",
-// bytes}, {type: "close"}. Out: {type: "ready", flashBytes, ms}, {type: "tx", bytes},
-// {type: "state", seconds, steps, faults, servoUs, rtf, capacity, behind}, {type: "eeprom", bytes},
-// {type: "fatal", message}.
+// The Nano is one as shipped: Optiboot (data/firmware/optiboot_atmega328.hex, built from
+// Debian's source) in its boot section, so the page's flasher (stk500.mjs) can write it; the
+// host's DTR resets it, and bytes at another baud rate than the USART's arrive garbled.
+//
+// In: {type: "start", eeprom?, image?, baud} (a power-up: the page keeps the EEPROM's bytes,
+// and the flash's after a flash), {type: "rx", bytes}, {type: "signals", dtr}, {type: "close"}.
+// Out: {type: "ready", flashBytes, ms}, {type: "tx", bytes}, {type: "state", seconds, steps,
+// faults, servoUs, flashWrites, rtf, capacity, behind}, {type: "eeprom", bytes}, {type: "flash", bytes} (after
+// pages were written), {type: "closed"}, {type: "fatal", message}.
 import { loadEngine } from "../../../wasm/js/engine.mjs";
 import type { Engine } from "../../../wasm/js/engine.mjs";
 import { CLOCK_HZ, VirtualNano } from "./nano.mjs";
@@ -17,23 +22,28 @@ const post = (m: Record<string, unknown>, transfer: Transferable[] = []) =>
 
 let engine: Engine | null = null;
 let hex = "";
+let bootloader = "";
 let nano: VirtualNano | null = null;
 let timer: ReturnType<typeof setTimeout> | null = null;
 let tx: number[] = [];
 
-async function start(eeprom?: Uint8Array): Promise<void> {
+async function fetchText(path: string): Promise<string> {
+  const r = await fetch(new URL(path, site));
+  if (!r.ok) throw new Error(`the firmware is not on this site (${path}: ${r.status})`);
+  return r.text();
+}
+
+async function start(eeprom: Uint8Array | undefined, image: Uint8Array | undefined, baud: number): Promise<void> {
   const t0 = performance.now();
   if (!engine) {
     const { default: createEngine } = await import(/* @vite-ignore */ new URL("engine/engine.mjs", site).href);
     engine = await loadEngine(createEngine, { locateFile: (f: string) => new URL(`engine/${f}`, site).href });
   }
-  if (!hex) {
-    const r = await fetch(new URL("data/firmware/articula-nano.hex", site));
-    if (!r.ok) throw new Error(`the firmware's hex is not on this site (data/firmware/articula-nano.hex: ${r.status})`);
-    hex = await r.text();
-  }
+  if (!hex) [hex, bootloader] = await Promise.all([fetchText("data/firmware/articula-nano.hex"),
+    fetchText("data/firmware/optiboot_atmega328.hex")]);
   stop();
-  nano = new VirtualNano({ hex, engine, eeprom });
+  nano = new VirtualNano({ hex, engine, eeprom, bootloader, image });
+  nano.hostBaud = baud;
   nano.onByte = (b) => tx.push(b);
   post({ type: "ready", flashBytes: nano.flashUsed, ms: performance.now() - t0 });
   run();
@@ -54,6 +64,7 @@ function run(): void {
   let clock0 = performance.now();
   let emu0 = n.seconds;
   let eepromSeen = n.eepromBytes();
+  let flashWrites = n.flashWrites;
   let window: [number, number, number][] = []; // (wall s, emulated s, working s) per slice
   let last = clock0;
   let lastState = 0;
@@ -83,8 +94,12 @@ function run(): void {
       const w = sum(0), e = sum(1), busy = sum(2);
       const rtf = w > 0 ? e / w : 1;
       // capacity: how many times real time the emulator alone could run
-      post({ type: "state", seconds: n.seconds, steps: n.steps, faults: n.coilFaults, servoUs: n.servoPulseUs,
+      post({ type: "state", seconds: n.seconds, steps: n.steps, faults: n.coilFaults, servoUs: n.servoPulseUs, flashWrites: n.flashWrites,
         rtf, capacity: busy > 0 ? e / busy : null, behind: window.length >= 50 && rtf < 0.97 }); // judged over 50+ slices
+      if (n.flashWrites !== flashWrites) {
+        flashWrites = n.flashWrites;
+        post({ type: "flash", bytes: n.flash.slice() });
+      }
       const ee = n.eepromBytes();
       if (ee.some((b, i) => b !== eepromSeen[i])) {
         eepromSeen = ee;
@@ -97,13 +112,19 @@ function run(): void {
 }
 
 self.onmessage = (e: MessageEvent) => {
-  const m = e.data as { type?: string; bytes?: Uint8Array; eeprom?: Uint8Array };
+  const m = e.data as { type?: string; bytes?: Uint8Array; eeprom?: Uint8Array; image?: Uint8Array; baud?: number; dtr?: boolean };
   if (m?.type === "start") {
-    start(m.eeprom instanceof Uint8Array ? m.eeprom : undefined).catch((err) =>
+    const bytes = (x: unknown) => (x instanceof Uint8Array ? x : undefined);
+    start(bytes(m.eeprom), bytes(m.image), Number(m.baud) || 115200).catch((err) =>
       post({ type: "fatal", message: (err as Error)?.message ?? String(err) }));
   } else if (m?.type === "rx" && m.bytes instanceof Uint8Array) {
     nano?.send(m.bytes);
+  } else if (m?.type === "signals" && typeof m.dtr === "boolean") {
+    nano?.setDtr(m.dtr);
   } else if (m?.type === "close") {
+    // the flash as it is now (pages written since the last state), then nothing more
+    if (nano && nano.flashWrites > 0) post({ type: "flash", bytes: nano.flash.slice() });
     stop();
+    post({ type: "closed" });
   }
 };

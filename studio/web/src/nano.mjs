@@ -77,9 +77,11 @@ export class VirtualNano {
    * hex: the firmware's Intel HEX text; engine: the web engine (its coil decoders and the
    * wiring); eeprom: the EEPROM's bytes to start from (kept by the caller across sessions).
    */
-  constructor({ hex, engine, eeprom, bootloader }) {
+  constructor({ hex, engine, eeprom, bootloader, image }) {
     const { flash, used } = parseHex(hex);
-    if (bootloader) {
+    if (image) {
+      flash.set(image.subarray(0, FLASH_BYTES)); // a flash image kept from before (bootloader and all)
+    } else if (bootloader) {
       if (used > BOOT_START) throw new Error(`the firmware (${used} bytes) reaches into the boot section at 0x${BOOT_START.toString(16)}`);
       const boot = parseHex(bootloader).flash;
       flash.set(boot.subarray(BOOT_START), BOOT_START);

@@ -9,6 +9,8 @@ export interface SerialLike {
   readonly readable: ReadableStream<Uint8Array> | null;
   readonly writable: WritableStream<Uint8Array> | null;
   getInfo?(): { usbVendorId?: number; usbProductId?: number };
+  /** DTR and RTS: a Nano resets when DTR goes high (the flasher resets it into its bootloader). */
+  setSignals?(signals: { dataTerminalReady?: boolean; requestToSend?: boolean }): Promise<void>;
 }
 
 interface SerialApi {
@@ -25,18 +27,21 @@ export function webSerial(): SerialApi | null {
 const EEPROM_KEY = "articula.virtualNano.eeprom";
 
 /** The virtual Nano as a serial port: opening it powers it up (as a real Nano resets when
- * its port opens), with the EEPROM it had when the page last closed it (localStorage). */
+ * its port opens), with the EEPROM it had when the page last closed it (localStorage), and
+ * the flash it had when this port last closed (the site's firmware until it is flashed). */
 export class VirtualNanoPort implements SerialLike {
   readable: ReadableStream<Uint8Array> | null = null;
   writable: WritableStream<Uint8Array> | null = null;
   /** The emulator's speed against real time, its steps as the coils moved them. */
-  state: { seconds: number; steps: number[]; faults: number; servoUs: number | null; rtf: number; capacity: number | null;
-    behind: boolean } | null = null;
+  state: { seconds: number; steps: number[]; faults: number; servoUs: number | null; flashWrites: number; rtf: number;
+    capacity: number | null; behind: boolean } | null = null;
   flashBytes = 0;
+  /** The flash's bytes after a flash (the bootloader wrote pages), for the next power-up. */
+  image: Uint8Array | null = null;
   onState: ((s: NonNullable<VirtualNanoPort["state"]>) => void) | null = null;
   private worker: Worker | null = null;
 
-  async open(_options: { baudRate: number }): Promise<void> {
+  async open(options: { baudRate: number }): Promise<void> {
     if (this.worker) throw new Error("the virtual Nano is already open");
     const worker = new Worker(new URL("assets/nano-worker.js", document.baseURI), { type: "module" });
     this.worker = worker;
@@ -62,6 +67,10 @@ export class VirtualNanoPort implements SerialLike {
           resolve();
         } else if (m.type === "tx") {
           push?.(m.bytes);
+        } else if (m.type === "flash") {
+          this.image = m.bytes;
+        } else if (m.type === "closed") {
+          this.closed?.();
         } else if (m.type === "state") {
           this.state = m;
           this.onState?.(m);
@@ -87,15 +96,30 @@ export class VirtualNanoPort implements SerialLike {
       } catch {
         eeprom = undefined;
       }
-      worker.postMessage({ type: "start", eeprom });
+      worker.postMessage({ type: "start", eeprom, image: this.image ?? undefined, baud: options.baudRate });
     });
     this.closeStream = () => end?.();
   }
 
   private closeStream: () => void = () => undefined;
+  private closed: (() => void) | null = null;
+
+  async setSignals(signals: { dataTerminalReady?: boolean; requestToSend?: boolean }): Promise<void> {
+    if (!this.worker) throw new Error("the virtual Nano is closed");
+    if (signals.dataTerminalReady !== undefined) this.worker.postMessage({ type: "signals", dtr: signals.dataTerminalReady });
+  }
 
   async close(): Promise<void> {
-    this.worker?.postMessage({ type: "close" });
+    const worker = this.worker;
+    if (worker) {
+      // the worker hands back the flash as it is before it stops (at most 0.5 s)
+      await new Promise<void>((resolve) => {
+        this.closed = resolve;
+        worker.postMessage({ type: "close" });
+        setTimeout(resolve, 500);
+      });
+      this.closed = null;
+    }
     this.worker?.terminate();
     this.worker = null;
     this.closeStream();

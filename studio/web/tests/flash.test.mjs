@@ -13,7 +13,7 @@ import { NanoPort } from "./nano-port.mjs";
 
 const HEX = process.env.ARTICULA_NANO_HEX || join(REPO, "build/avr/firmware/articula-nano.hex");
 const BOOTLOADERS = "/usr/share/arduino/hardware/arduino/avr/bootloaders";
-const OPTIBOOT = process.env.ARTICULA_OPTIBOOT_HEX || join(REPO, "build/avr/bootloader/optiboot_atmega328.hex");
+const OPTIBOOT = process.env.ARTICULA_OPTIBOOT_HEX || join(REPO, "build/avr/firmware/optiboot_atmega328.hex");
 const OLD_BOOT = join(BOOTLOADERS, "atmega/ATmegaBOOT_168_atmega328.hex");
 // Debian's own build of Optiboot: 532 bytes for a 512-byte slot (see bootloader/CMakeLists.txt)
 const DEBIAN_OPTIBOOT = join(BOOTLOADERS, "optiboot/optiboot_atmega328.hex");

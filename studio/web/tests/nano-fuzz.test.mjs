@@ -3,7 +3,7 @@
 // reply, the reply the controller model (the engine's predict) gives for it after the lines
 // the Nano accepted, the Nano never hangs, and a refused line moves nothing.
 //
-// Run alone: node --no-experimental-fetch --test studio/web/tests/nano-fuzz.mjs
+// Run alone: node --no-experimental-fetch --test studio/web/tests/nano-fuzz.test.mjs
 // (ARTICULA_FUZZ_LINES=300 for a shorter run).
 import assert from "node:assert/strict";
 import { readFileSync } from "node:fs";
@@ -119,8 +119,9 @@ test(`${LINES} random lines: one reply each, the model's, and no motion on a ref
     }
   }
   t.diagnostic(`${LINES} lines: ${accepted} accepted, ${refused} refused, one reply each, the model's; ` +
-    `${n.seconds.toFixed(1)} s emulated, coil faults ${n.coilFaults}`);
+    `${n.seconds.toFixed(1)} s emulated, coil faults ${n.coilFaults}, bytes lost ${n.overruns}`);
   assert.equal(n.coilFaults, 0);
+  assert.equal(n.overruns, 0, "received bytes lost");
   n.delete();
   mk2.delete();
 });
