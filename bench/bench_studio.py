@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """Articula Studio's speed, measured in the page (bench/README.md, "Studio"), in Debian's
 headless Chromium (software WebGL, SwiftShader) at 1440x900. The page is the static site
-(studio/web/dist) served by a plain file server under a sub-path, its engine in the page; the
-virtual Nano's figures come through articula-studio.
+(studio/web/dist) served by a plain file server under a sub-path, its engine, the virtual Nano
+and the flasher in the page (no articula process).
 
   - a cold load of the static site (a new browser profile: nothing cached) to the first frame
     with the arm drawn: median of 5 loads, and the engine's own start in its worker;
@@ -17,10 +17,9 @@ virtual Nano's figures come through articula-studio.
   - the virtual Nano in the page (the firmware's hex on avr8js in a Web Worker): its speed
     against real time idle, and with three motors stepping while the page draws; `?` to the
     drawn pose (median, p95);
-  - the virtual Nano of articula-studio (simavr): a status report's round trip, from the
-    server's `?` to the frame that draws the arm from it (window.articula.arm.roundTrips),
-    median and p95 over 10 s, the arm moving; and STOP (Escape) during a long move at
-    $1 = 20,000 to the arm at rest.
+  - STOP (Escape) on the virtual Nano during a long move at $1 = 20,000 to the arm at rest;
+  - flashing the MK2's firmware from the page through the virtual Nano's Optiboot: from the
+    first byte to the flash verified, and on to the firmware's banner.
 
     .venv/bin/python bench/bench_studio.py
 """
@@ -52,14 +51,6 @@ class StaticSite:
     def stop(self):
         self.proc.terminate()
         self.proc.wait()
-
-
-def start(robot, *extra):
-    t0 = time.time()
-    p = subprocess.Popen([sys.executable, "-m", "articula.studio", robot, *extra, "--no-browser"], cwd=REPO,
-                         stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
-    url = re.match(r"studio: (\S+)", p.stdout.readline()).group(1)
-    return p, url, t0
 
 
 def open_page(browser, url):
@@ -205,40 +196,45 @@ def main():
         ctx.close()
         site.stop()
 
-        # The virtual Nano: `?` to the drawn pose.
-        p, url, _ = start("mk2plus")
-        ctx, page = open_page(browser, url)
-        page.click("#arm-port")
-        page.wait_for_function("[...document.querySelectorAll('#arm-port option')].some(o => o.value === 'virtual')")
-        page.select_option("#arm-port", "virtual")
+        # STOP on the page's Nano, then flashing it.
+        site = StaticSite()
+        ctx, page = open_page(browser, site.url + "?robot=mk2plus")
+        page.select_option("#arm-port", "page:virtual")
         page.click("#arm-connect")
-        page.wait_for_function("window.articula.arm.connected && window.articula.arm.status", timeout=20000)
-        for line in ("M 60 70 -30", "M -60 110 10", "M 0 90 0"):
-            page.fill("#arm-line", line)
-            page.click("#arm-send")
-            page.wait_for_timeout(3000)
-        rt = page.evaluate("window.articula.arm.roundTrips.slice()")
-        print(f"virtual Nano, ? to the drawn pose: median {statistics.median(rt):.1f} ms, p95 {pct(rt, 0.95):.1f} ms, "
-              f"max {max(rt):.1f} ms ({len(rt)} reports drawn while it moved)")
+        page.wait_for_function("window.articula.arm.connected && window.articula.arm.status", timeout=30000)
         stops = []
         for _ in range(5):
             for line in ("$1=20000", "M 80 90 0"):
                 page.fill("#arm-line", line)
                 page.click("#arm-send")
                 page.wait_for_timeout(200)
-            page.wait_for_function("window.articula.arm.status.state === 'Run'")
+            page.wait_for_function("window.articula.arm.status.state === 'Run'", timeout=15000)
             page.wait_for_timeout(150)
             page.keyboard.press("Escape")
-            page.wait_for_function("window.articula.arm.stopMs !== null", timeout=5000)
+            page.wait_for_function("window.articula.arm.stopMs !== null", timeout=15000)
             stops.append(page.evaluate("window.articula.arm.stopMs"))
             page.fill("#arm-line", "M 0 90 0")
             page.click("#arm-send")
             page.wait_for_timeout(2500)
-        print(f"STOP (Escape) during a move at $1 = 20000 to the arm at rest (Idle): median "
+        print(f"STOP (Escape) on the page's Nano during a move at $1 = 20000 to the arm at rest (Idle): median "
               f"{statistics.median(stops):.0f} ms, max {max(stops):.0f} ms (5 stops)")
+        flashes, banners = [], []
+        for _ in range(3):
+            page.click("#arm-flash")
+            page.wait_for_function("window.articula.flash.phase === 'write'", timeout=30000)
+            page.wait_for_function("!window.articula.flash.busy", timeout=180000)
+            r = page.evaluate("window.articula.flash")
+            assert not r["error"], r["error"]
+            t0 = time.monotonic()
+            page.click("#arm-connect")
+            page.wait_for_function("window.articula.arm.connected", timeout=30000)
+            flashes.append(r["result"]["seconds"])
+            banners.append(r["result"]["seconds"] + time.monotonic() - t0)
+        print(f"flashing the MK2 firmware ({r['result']['bytes']:,} bytes, {r['result']['pages']} pages) through the "
+              f"virtual Nano's Optiboot at 115200 baud: written and verified in {statistics.median(flashes):.1f} s "
+              f"(median of 3), to its banner {statistics.median(banners):.1f} s")
         ctx.close()
-        p.terminate()
-        p.wait()
+        site.stop()
         browser.close()
 
 

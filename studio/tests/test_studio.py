@@ -259,67 +259,33 @@ def test_bad_messages_to_the_engine_get_error_replies_and_it_keeps_working(open_
     assert pg.hook("a.internalErrors") == []
 
 
-def test_bad_websocket_messages_get_error_replies_from_articula_studio(open_served_page):
-    pg = open_served_page("mk2plus")
-    replies = pg.page.evaluate("""async () => {
-        const ws = new WebSocket(`ws://${location.host}/ws${location.search}`);
-        await new Promise(r => ws.onopen = r);
-        const got = [];
-        ws.onmessage = e => got.push(JSON.parse(e.data));
-        for (const m of ['garbage', '[1,2]', '{"type": 7}', '{"type": "set_joint", "joint": 0, "value": 1}',
-                         '{"type": "arm_connect"}', '{"type": "arm_send", "line": "L 0 10"}',
-                         '{"type": "__class__"}', '{"type": "arm_connect", "port": "virtual", "robot": {"name": "../../etc/passwd"}}'])
-          ws.send(m);
-        await new Promise(r => setTimeout(r, 800));
-        ws.close();
-        return got;
-    }""")
-    assert len(replies) == 8 and all(r["type"] == "error" for r in replies), replies
-    assert replies[0]["message"].startswith("not JSON")
-    assert "the studio's engine runs in the page" in replies[3]["message"]
-    assert "no arm connected" in replies[5]["message"]
-    assert "no shipped robot '../../etc/passwd'" in replies[7]["message"]
-
-
-def test_the_server_refuses_no_token_a_foreign_origin_and_a_foreign_host(server_factory):
+def test_the_server_holds_no_arm_and_serves_only_the_site_to_its_own_host(server_factory):
+    """articula-studio serves files and nothing else: no WebSocket, no arm, no session (the
+    page drives the arm itself); a foreign Host (DNS rebinding) gets nothing."""
     import asyncio
+    from concurrent.futures import ThreadPoolExecutor
 
     import aiohttp
 
     s = server_factory("mk2plus")
 
-    async def attempt(path, headers=None):
+    async def get(path, headers=None):
         async with aiohttp.ClientSession() as http:
-            try:
-                async with http.ws_connect(f"http://127.0.0.1:{s.port}{path}", headers=headers or {}) as ws:
-                    await ws.send_str('{"type": "arm_ports"}')
-                    return (await ws.receive_json())["type"]
-            except aiohttp.WSServerHandshakeError as e:
-                return e.status
-
-    async def page(path):
-        async with aiohttp.ClientSession() as http:
-            async with http.get(f"http://127.0.0.1:{s.port}{path}") as r:
+            async with http.get(f"http://127.0.0.1:{s.port}{path}", headers=headers or {}) as r:
                 return r.status
-
-    from concurrent.futures import ThreadPoolExecutor
 
     def run(coro):  # its own thread: Playwright's loop may be running in this one
         with ThreadPoolExecutor(1) as ex:
             return ex.submit(asyncio.run, coro).result()
 
-    assert run(attempt(f"/ws?token={s.token}")) == "arm_ports"
-    assert run(attempt("/ws")) == 403
-    assert run(attempt("/ws?token=wrong")) == 403
-    assert run(attempt(f"/ws?token={s.token}", {"Origin": "http://evil.example"})) == 403
-    assert run(attempt(f"/ws?token={s.token}", {"Origin": f"http://127.0.0.1:{s.port}"})) == "arm_ports"
-    assert run(attempt(f"/ws?token={s.token}", {"Host": f"evil.example:{s.port}"})) == 403
-    # the site is static and public, as on any web host; nothing outside it is served
-    assert run(page("/")) == 200
-    assert run(page("/engine/engine.wasm")) == 200
-    assert run(page("/../../etc/passwd")) == 404
-    assert run(page("/%2e%2e/%2e%2e/etc/passwd")) == 404
-    assert run(page(f"/t/wrong/files/{'x' * 5}.json")) == 403
+    assert run(get("/")) == 200
+    assert run(get("/engine/engine.wasm")) == 200
+    assert run(get("/data/firmware/articula-nano.hex")) == 200
+    assert run(get(f"/ws?token={s.token}")) == 404  # no WebSocket: nothing on the server moves an arm
+    assert run(get("/", {"Host": f"evil.example:{s.port}"})) == 403
+    assert run(get("/../../etc/passwd")) == 404
+    assert run(get("/%2e%2e/%2e%2e/etc/passwd")) == 404
+    assert run(get(f"/t/wrong/files/{'x' * 5}.json")) == 403
 
 
 def test_the_first_arm_tutorials_files_load_and_show_their_frames(open_page):
@@ -544,85 +510,6 @@ def _refused_on_both_sides(pg):
     assert reply["reply"] == "error:9" and reply["meaning"] == "target beyond a joint limit"
     assert reply["predicted"]["reply"] == "error:9"
     assert "error:9 (target beyond a joint limit)" in pg.page.text_content("#arm-reply")
-
-
-def _connect_virtual_nano(pg):
-    pg.page.click("#arm-port")
-    pg.page.wait_for_function("[...document.querySelectorAll('#arm-port option')].some(o => o.value === 'virtual')")
-    pg.page.select_option("#arm-port", "virtual")
-    pg.page.click("#arm-connect")
-    pg.wait("a.arm.connected && a.arm.status !== null", timeout=20000)
-
-
-def test_the_virtual_nano_beside_the_model(open_served_page):
-    pg = open_served_page("mk2plus", query="&quality=high")
-    _connect_virtual_nano(pg)
-    assert pg.hook("a.arm.status.steps") == [0, 0, 0]
-    pg.page.fill("#arm-line", "L 0 10")
-    pg.page.click("#arm-send")
-    pg.wait("a.arm.reply && a.arm.reply.line === 'L 0 10'")
-    reply = pg.hook("a.arm.reply")
-    assert reply["reply"] == "ok" and reply["predicted"]["reply"] == "ok"
-    pg.wait("a.arm.status.state === 'Idle' && a.arm.status.steps[0] === 32", timeout=10000)
-    assert pg.hook("a.arm.status.steps") == reply["predicted"]["steps"] == [32, 0, 0]
-    _refused_on_both_sides(pg)
-    pg.page.screenshot(path=str(SHOTS / "studio-live-arm.png"))
-    assert pg.errors == []
-
-
-def test_stop_ends_a_long_move(open_served_page):
-    pg = open_served_page("mk2plus")
-    _connect_virtual_nano(pg)
-    # a stop decelerates at $1 (steps/s^2): at 20,000 the arm comes to rest quickly (how
-    # quickly is bench/bench_studio.py's figure: the machines that run the tests are shared)
-    for line in ("$1=20000", "M 80 90 0"):
-        pg.page.fill("#arm-line", line)
-        pg.page.click("#arm-send")
-        pg.wait(f"a.arm.reply && a.arm.reply.line === '{line}'")
-        assert pg.hook("a.arm.reply.reply") == "ok"
-    pg.wait("a.arm.status.state === 'Run'")
-    pg.page.wait_for_timeout(150)
-    pg.page.keyboard.press("Escape")  # the same as the STOP button
-    pg.wait("a.arm.stopMs !== null", timeout=5000)
-    stop_ms = pg.hook("a.arm.stopMs")
-    steps = pg.hook("a.arm.status.steps")
-    assert pg.hook("a.arm.status.state") == "Idle"
-    assert 0 < steps[0] < 253, steps  # short of the move's 253 steps
-    assert stop_ms > 0, stop_ms
-
-
-def test_the_virtual_nano_killed_mid_move_is_noticed(open_served_page):
-    pg = open_served_page("mk2plus")
-    _connect_virtual_nano(pg)
-    pg.page.fill("#arm-line", "M 80 90 0")
-    pg.page.click("#arm-send")
-    pg.wait("a.arm.status.state === 'Run'")
-    import time
-    t0 = time.monotonic()
-    subprocess.run(["pkill", "-KILL", "-f", "articula-vnano --pty-link /tmp/articula-studio-"], check=False)
-    pg.wait("a.arm.connected === false && a.arm.error !== ''", timeout=5000)
-    noticed = time.monotonic() - t0
-    assert noticed < 2.0, noticed
-    assert "Lost the arm" in pg.page.text_content("#arm-state")
-    # the studio goes on with the model
-    pg.page.fill('#joints input[type=number][data-joint="0"]', "15")
-    pg.wait("Math.abs(a.pose.q[0] - 15) < 1e-9")
-
-
-def test_a_program_drives_the_virtual_nano_line_by_line(open_served_page, tmp_path):
-    pg = open_served_page("mk2plus")
-    _connect_virtual_nano(pg)
-    pg.page.fill("#editor", "$0=2000\n$1=40000\nL 0 10\nL 1 150\nM -20 80 -10\nL 2 5\n")
-    pg.page.check("#drive-arm")
-    pg.page.click("#run")
-    pg.wait("a.arm.programDone === true", timeout=20000)
-    assert pg.hook("a.arm.programLines") == [[1, "ok"], [2, "ok"], [3, "ok"], [4, "error:9"], [5, "ok"], [6, "ok"]]
-    pg.wait("a.arm.status.state === 'Idle'")
-    # the arm ends on the steps the prediction gives for the same lines
-    program = tmp_path / "drive.arm"
-    program.write_text("$0=2000\n$1=40000\nL 0 10\nL 1 150\nM -20 80 -10\nL 2 5\n")
-    predicted = cli_json("predict", "mk2plus", str(program))
-    pg.wait(f"JSON.stringify(a.arm.status.steps) === '{json.dumps(predicted['records'][-1]['steps'], separators=(',', ':'))}'")
 
 
 # ---- the arm in the page: the firmware's hex on avr8js (the virtual Nano), and Web Serial

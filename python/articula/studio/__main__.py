@@ -1,7 +1,7 @@
 """articula-studio [ROBOT] [--scene S] [--port N] [--host H] [--no-browser]
 
-Serves Articula Studio's static site on 127.0.0.1 (with the WebSocket that connects the arm)
-and opens the page. The first line printed is exactly
+Serves Articula Studio's static site on 127.0.0.1 and opens the page. The page does the rest,
+the arm included (the virtual Nano, a Nano over Web Serial, flashing). The first line printed is exactly
 `studio: http://127.0.0.1:N/?token=T&robot=R[&scene=S]` (scripts and tests read it)."""
 
 from __future__ import annotations
@@ -24,8 +24,9 @@ def parser() -> argparse.ArgumentParser:
         description="Articula Studio: see a robot arm in 3D, move it with sliders and by dragging an IK "
                     "target, run programs on it with the controller's real timing and in live physics. "
                     "The studio is a static site that runs in your browser (its engine is WebAssembly); "
-                    "this serves it on 127.0.0.1 and connects the real arm or the virtual Nano to it.",
-        epilog="The address carries a random token: only a page that has it can reach the arm. "
+                    "this serves it on 127.0.0.1. The page drives the virtual Nano, and a real Nano over Web "
+                    "Serial (Chrome, Edge), which it can also flash.",
+        epilog="A robot file given here is served under a random token in the page's address. "
                "docs/studio.md explains the studio, what runs where, and its security.")
     ap.add_argument("robot", nargs="?", default="mk2plus",
                     help=f"a shipped robot ({', '.join(shipped_robots())}) or a robot file (default mk2plus)")
@@ -52,8 +53,9 @@ def main(argv: list[str] | None = None) -> int:
         print(f"articula-studio: the site is not built ({web_dir()}): run make (or make web)", file=sys.stderr)
         return 2
     if args.host not in ("127.0.0.1", "localhost"):
-        print(f"articula-studio: warning: listening on {args.host}: other computers that reach it can drive the "
-              "arm with the token", file=sys.stderr)
+        print(f"articula-studio: warning: listening on {args.host}: other computers that reach it can load the "
+              "studio (and the robot file, with the token); their browsers offer no Web Serial away from "
+              "localhost or https", file=sys.stderr)
     if args.scene:
         try:
             articula.Sim(articula.Robot.load(args.robot), args.scene)

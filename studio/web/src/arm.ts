@@ -5,8 +5,8 @@
 // read by the core's parsers through the engine (`parseArmLine`), and the arm's pose and the
 // model's prediction come from the engine too: nothing here computes kinematics.
 //
-// It speaks to the page in the messages articula-studio's WebSocket used (protocol.ts:
-// arm, arm_status, arm_reply, arm_program, arm_stopped), so the panel shows either alike.
+// It speaks to the page in messages (protocol.ts: arm, arm_status, arm_reply, arm_program,
+// arm_stopped), as the engine's worker does.
 import type { SerialLike } from "./serial";
 
 type Parsed =

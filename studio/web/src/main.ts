@@ -2,8 +2,8 @@
 // runs in a Web Worker (worker.ts: the C++ core, host library and ODE in WebAssembly) -
 // "set joint 2 to 30 deg", "solve for this target", "run this program" - and draws the poses
 // that come back; it never computes kinematics itself (docs/studio.md). The arm in the loop
-// (a serial port, the virtual Nano) still goes through articula-studio's WebSocket when the
-// page was opened from it (its address carries a token).
+// is the page's too (arm.ts): the virtual Nano (nano-worker.ts) or a Nano over Web Serial,
+// which the page can flash (stk500.mjs). No server takes part.
 import { View } from "./view";
 import { Plots } from "./plots";
 import { startTour } from "./tour";
@@ -15,7 +15,6 @@ import type { ArmStatusMsg, IkMsg, PhysicsMsg, PoseMsg, RobotMsg, SceneMsg, Serv
 
 const $ = <T extends HTMLElement = HTMLElement>(id: string) => document.getElementById(id) as T;
 const params = new URLSearchParams(location.search);
-const token = params.get("token") ?? "";
 
 // ---- the test hook: state to read, never to write (tests read it instead of pixels)
 interface Hook {
@@ -75,7 +74,6 @@ startEngine();
 const view = new View($("view"));
 const plots = new Plots($("plots"));
 let robot: RobotMsg | null = null;
-let ws: WebSocket | null = null; // articula-studio's WebSocket, for the arm only
 let seq = 0;
 const sentAt = new Map<number, number>();
 let pendingDrawn: number[] = []; // seqs applied, waiting for the frame that shows them
@@ -93,14 +91,10 @@ const MAX_FILE = 20_000_000; // bytes of a robot file or mesh the page opens
 let needFit: Promise<void> | null = null; // a new robot: frame it once its first pose is drawn
 
 // The arm's messages go to the arm in the page (arm.ts: the virtual Nano here, or a Nano over
-// Web Serial) or to articula-studio's, whichever the chosen port is; everything else to the
-// engine in the worker.
+// Web Serial); everything else to the engine in the worker.
 function send(msg: Record<string, unknown>, transfer: Transferable[] = []): void {
   if (typeof msg.type === "string" && msg.type.startsWith("arm_")) {
-    if (armInPage(msg)) return;
-    if (ws?.readyState === WebSocket.OPEN) ws.send(JSON.stringify(msg));
-    else if (msg.type === "arm_ports") showPorts([]);
-    else banner("That port is articula-studio's, which is no longer running: choose the virtual Nano or a Web Serial port");
+    armInPage(msg);
     return;
   }
   if (engineReady) worker.postMessage(msg, transfer);
@@ -133,41 +127,28 @@ const armEngine = {
 };
 
 const PAGE_PORTS = [{ id: "page:virtual", label: "the virtual Nano (its firmware in this page)" }];
-let serverPorts: { id: string; label: string }[] = [];
 
-function showPorts(server: { id: string; label: string }[]): void {
-  serverPorts = server;
+function showPorts(): void {
   const sel = $("arm-port") as HTMLSelectElement;
   const keep = sel.value;
   const page = [...PAGE_PORTS, ...(webSerial() ? [{ id: "page:serial", label: "a Nano on USB (Web Serial)…" }] : [])];
-  sel.innerHTML = [...page, ...server.map((p) => ({ id: p.id, label: `${p.label} (articula-studio)` }))]
-    .map((p) => `<option value="${p.id}">${esc(p.label)}</option>`).join("");
+  sel.innerHTML = page.map((p) => `<option value="${p.id}">${esc(p.label)}</option>`).join("");
   if ([...sel.options].some((o) => o.value === keep)) sel.value = keep;
 }
 
-// Handles an arm message itself when it is for the arm in the page; false otherwise.
-function armInPage(msg: Record<string, unknown>): boolean {
+// An arm message, for the arm in the page.
+function armInPage(msg: Record<string, unknown>): void {
   const t = msg.type;
-  if (t === "arm_ports") {
-    showPorts(serverPorts);
-    return !(ws?.readyState === WebSocket.OPEN);
-  }
+  if (t === "arm_ports") return showPorts();
   if (t === "arm_connect" && typeof msg.port === "string" && msg.port.startsWith("page:")) {
-    connectInPage(msg.port);
-    return true;
+    void connectInPage(msg.port);
+    return;
   }
-  if (!armLink) return false;
+  if (!armLink) return;
   if (t === "arm_send") armLink.send(String(msg.line ?? ""));
   else if (t === "arm_stop") armLink.stop();
   else if (t === "arm_run") armLink.runProgram(String(msg.text ?? ""));
   else if (t === "arm_disconnect") armLink.disconnect().then(() => (armLink = null));
-  else if (t === "arm_connect") {
-    armLink.disconnect().then(() => {
-      armLink = null;
-      send(msg);
-    });
-  }
-  return true;
 }
 
 async function connectInPage(which: string): Promise<void> {
@@ -176,7 +157,7 @@ async function connectInPage(which: string): Promise<void> {
   let label: string;
   if (which === "page:serial") {
     const api = webSerial();
-    if (!api) return void banner("This browser has no Web Serial (Chrome, Edge and Opera have it): use the virtual Nano, or articula-studio");
+    if (!api) return void banner("This browser has no Web Serial (Chrome, Edge and Opera have it): use the virtual Nano");
     try {
       port = await api.requestPort(); // the browser asks the user which port, and for permission
     } catch {
@@ -333,7 +314,7 @@ view.onFrame = (now) => {
   armDrawn = [];
 };
 
-// ---- the engine (a Web Worker) and, opened from articula-studio, its WebSocket for the arm
+// ---- the engine (a Web Worker)
 
 function startEngine(): void {
   setConn("starting the engine…", "ok");
@@ -362,22 +343,6 @@ function startEngine(): void {
     banner(`The engine stopped: ${e.message}`);
   };
   worker.postMessage({ type: "start", robot: params.get("robot") ?? undefined, scene: params.get("scene") ?? undefined });
-}
-
-function connectArmServer(): void {
-  if (!token) return;
-  const proto = location.protocol === "https:" ? "wss:" : "ws:";
-  const path = new URL("ws", document.baseURI).pathname;
-  ws = new WebSocket(`${proto}//${location.host}${path}?token=${encodeURIComponent(token)}`);
-  ws.onopen = () => ws?.send(JSON.stringify({ type: "arm_ports" }));
-  ws.onclose = () => {
-    if (hook.arm.connected) showArm({ connected: false, error: "articula-studio stopped", lost: true });
-    setTimeout(connectArmServer, 2000);
-  };
-  ws.onmessage = (e) => {
-    hook.messages++;
-    handle(JSON.parse(e.data) as ServerMsg);
-  };
 }
 
 // What the arm panel offers, in one sentence, before an arm is connected.
@@ -452,9 +417,6 @@ function handle(m: ServerMsg): void {
       break;
     case "physics":
       showPhysics(m);
-      break;
-    case "arm_ports":
-      showPorts(m.ports);
       break;
     case "arm_parsed":
     case "arm_posed":
@@ -749,9 +711,6 @@ function stopEverything(): void {
   if (hook.playing || hook.physics?.running) send({ type: "pause" });
 }
 
-$("arm-port").addEventListener("focus", () => {
-  if (ws?.readyState === WebSocket.OPEN) ws.send(JSON.stringify({ type: "arm_ports" }));
-});
 $("arm-connect").onclick = () => {
   const port = ($("arm-port") as HTMLSelectElement).value;
   if (port) send({ type: "arm_connect", port, robot: robotSpec });
@@ -1057,8 +1016,7 @@ $("tour-button").onclick = () => startTour(true);
 editorChanged();
 // Offline use and installing as an app (sw.js keeps the whole site).
 if ("serviceWorker" in navigator && !params.has("nosw")) navigator.serviceWorker.register("sw.js").catch(() => undefined);
-showPorts([]);
+showPorts();
 armHelp();
 loadFirmwareInfo();
-if (token) connectArmServer();
 startTour(false);

@@ -1,5 +1,5 @@
-// The messages between the page and its engine (worker.ts, and articula-studio's WebSocket for
-// the arm; docs/studio.md, "Messages"). The engine computes every pose; the page sends intents
+// The messages between the page and its engine (worker.ts) and its arm link (arm.ts;
+// docs/studio.md, "Messages"). The engine computes every pose; the page sends intents
 // and draws what comes back.
 
 export type Flat4x4 = number[]; // a 4x4 homogeneous matrix, row-major, mm
@@ -162,7 +162,6 @@ export interface ArmStatusMsg {
 
 export type ServerMsg =
   | ArmStatusMsg
-  | { type: "arm_ports"; ports: { id: string; label: string }[] }
   | { type: "arm"; connected: boolean; connecting?: boolean; port?: string; label?: string; info?: Record<string, string>; error?: string; lost?: boolean }
   | { type: "arm_reply"; line: string; reply: string | null; meaning?: string; error?: string;
       predicted: { reply: string; steps: number[] | null; meaning: string; seconds?: number } }
