@@ -31,7 +31,9 @@ class StaticSite:
         (root / subpath).symlink_to(DIST, target_is_directory=True)
         self.proc = subprocess.Popen([sys.executable, "-u", "-m", "http.server", "0", "--bind", "127.0.0.1",
                                       "--directory", str(root)],
-                                     stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+                                     # its request log goes nowhere: a pipe nobody reads fills
+                                     # up (64 KB) and the server stops answering
+                                     stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
         line = self.proc.stdout.readline()
         m = re.search(r"port (\d+)", line)
         if not m:
