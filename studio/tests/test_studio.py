@@ -602,6 +602,9 @@ SERIAL_STAND_IN = """
       unplug = () => { w.terminate(); ctl.error(new DOMException('The device has been lost.', 'NetworkError')); };
       this.worker = w;
     }
+    async setSignals({ dataTerminalReady }) {
+      if (dataTerminalReady !== undefined) this.worker.postMessage({ type: 'signals', dtr: dataTerminalReady });
+    }
     async close() { this.worker?.terminate(); }
     getInfo() { return { usbVendorId: 0x1a86, usbProductId: 0x7523 }; }
   }
@@ -699,3 +702,28 @@ def test_the_page_does_not_flash_a_firmware_for_another_robot(open_page):
     pg.page.wait_for_function("document.querySelector('#flash-state').textContent !== ''")
     assert "built for the MK2 Plus; the studio shows the PUMA" in pg.page.text_content("#flash-state")
     assert pg.hook("a.flash.busy") is False and pg.hook("a.flash.result") is None
+
+
+def test_the_page_flashes_a_nano_over_web_serial(browser, site):
+    """The same flash through the page's Web Serial path (the stand-in port: the browser's API
+    is all that differs): DTR resets the Nano into Optiboot, the pages go and come back."""
+    ctx = browser.new_context(viewport={"width": 1440, "height": 900})
+    ctx.add_init_script("localStorage.setItem('articula.studio.tour.done', '1')")
+    ctx.add_init_script(SERIAL_STAND_IN)
+    page = ctx.new_page()
+    errors = []
+    page.on("pageerror", lambda e: errors.append(str(e)))
+    try:
+        page.goto(site.url + "?robot=mk2plus")
+        page.wait_for_function("window.articula && window.articula.ready && window.articula.firstFrameAt > 0", timeout=20000)
+        page.select_option("#arm-port", "page:serial")
+        page.click("#arm-flash")
+        page.wait_for_function("window.articula.flash.phase === 'verify'", timeout=60000)
+        page.wait_for_function("!window.articula.flash.busy", timeout=180000)
+        f = page.evaluate("window.articula.flash")
+        assert f["error"] == "", f["error"]
+        assert f["result"]["baud"] == 115200 and f["result"]["pages"] == (f["result"]["bytes"] + 127) // 128
+        assert "Flashed and verified" in page.text_content("#flash-state")
+        assert errors == []
+    finally:
+        ctx.close()
