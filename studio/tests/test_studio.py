@@ -5,6 +5,7 @@ here."""
 
 from __future__ import annotations
 
+import contextlib
 import json
 import re
 import subprocess
@@ -615,9 +616,9 @@ SERIAL_STAND_IN = """
 """
 
 
-def test_web_serial_drives_the_arm_and_a_vanished_port_is_noticed(browser, site):
-    from conftest import Page
-
+@contextlib.contextmanager
+def _page_with_serial_stand_in(browser, site):
+    """The static site with the stand-in for navigator.serial: (the page, its errors)."""
     ctx = browser.new_context(viewport={"width": 1440, "height": 900})
     ctx.add_init_script("localStorage.setItem('articula.studio.tour.done', '1')")
     ctx.add_init_script(SERIAL_STAND_IN)
@@ -627,6 +628,13 @@ def test_web_serial_drives_the_arm_and_a_vanished_port_is_noticed(browser, site)
     try:
         page.goto(site.url + "?robot=mk2plus")
         page.wait_for_function("window.articula && window.articula.ready && window.articula.firstFrameAt > 0", timeout=20000)
+        yield page, errors
+    finally:
+        ctx.close()
+
+
+def test_web_serial_drives_the_arm_and_a_vanished_port_is_noticed(browser, site):
+    with _page_with_serial_stand_in(browser, site) as (page, errors):
         assert "page:serial" in page.eval_on_selector_all("#arm-port option", "os => os.map(o => o.value)")
         page.select_option("#arm-port", "page:serial")
         page.click("#arm-connect")
@@ -649,8 +657,6 @@ def test_web_serial_drives_the_arm_and_a_vanished_port_is_noticed(browser, site)
         page.fill('#joints input[type=number][data-joint="0"]', "15")
         page.wait_for_function("Math.abs(window.articula.pose.q[0] - 15) < 1e-9")
         assert errors == []
-    finally:
-        ctx.close()
 
 
 def test_the_page_nano_refuses_a_robot_it_is_not(open_page):
@@ -707,15 +713,7 @@ def test_the_page_does_not_flash_a_firmware_for_another_robot(open_page):
 def test_the_page_flashes_a_nano_over_web_serial(browser, site):
     """The same flash through the page's Web Serial path (the stand-in port: the browser's API
     is all that differs): DTR resets the Nano into Optiboot, the pages go and come back."""
-    ctx = browser.new_context(viewport={"width": 1440, "height": 900})
-    ctx.add_init_script("localStorage.setItem('articula.studio.tour.done', '1')")
-    ctx.add_init_script(SERIAL_STAND_IN)
-    page = ctx.new_page()
-    errors = []
-    page.on("pageerror", lambda e: errors.append(str(e)))
-    try:
-        page.goto(site.url + "?robot=mk2plus")
-        page.wait_for_function("window.articula && window.articula.ready && window.articula.firstFrameAt > 0", timeout=20000)
+    with _page_with_serial_stand_in(browser, site) as (page, errors):
         page.select_option("#arm-port", "page:serial")
         page.click("#arm-flash")
         page.wait_for_function("window.articula.flash.phase === 'verify'", timeout=60000)
@@ -725,5 +723,3 @@ def test_the_page_flashes_a_nano_over_web_serial(browser, site):
         assert f["result"]["baud"] == 115200 and f["result"]["pages"] == (f["result"]["bytes"] + 127) // 128
         assert "Flashed and verified" in page.text_content("#flash-state")
         assert errors == []
-    finally:
-        ctx.close()
