@@ -1,6 +1,7 @@
 // hil/vnano/vnano.cpp - see vnano.h and hil/README.md.
 #include "vnano.h"
 
+#include "servo.h"
 #include "wiring.h"
 
 #include <sim_avr.h>
@@ -667,13 +668,11 @@ nlohmann::json VirtualNano::report() const {
   servo["widths"] = widths;
   if (servo_width_us_.count) {
     servo["last_us"] = Stat::round3(last_width_us_);
-    // The Arduino Servo library's scale, which the firmware uses: 544 us at 0 deg, 2400 at 180.
-    const double angle = (last_width_us_ - 544.0) * 180.0 / (2400.0 - 544.0);
+    const double angle = servo_angle_deg(last_width_us_);
     servo["last_angle_deg"] = Stat::round3(angle);
-    if (config_.gripper_range && config_.servo_open_deg != config_.servo_closed_deg) {
-      const double span = config_.servo_open_deg - config_.servo_closed_deg;
-      servo["last_aperture_percent"] = Stat::round3((angle - config_.servo_closed_deg) * 100.0 / span);
-    }
+    if (config_.gripper_range && config_.servo_open_deg != config_.servo_closed_deg)
+      servo["last_aperture_percent"] =
+          Stat::round3(servo_aperture_percent(angle, config_.servo_closed_deg, config_.servo_open_deg));
   } else {
     servo["last_us"] = nullptr;
     servo["last_angle_deg"] = nullptr;

@@ -59,6 +59,9 @@ export class Engine {
   statusText(code: number): string;
   coilDecoder(): CoilDecoder;
   firstIntervalS(maxRate: number, accel: number): number;
+  /** The servo angle a pulse width asks for, and the gripper's aperture at that angle (hil/vnano/servo.h). */
+  servoAngleDeg(widthUs: number): number;
+  servoAperturePercent(angleDeg: number, closedDeg: number, openDeg: number): number;
   parseArmLine(line: string):
     | { kind: "reply"; code: number }
     | { kind: "status"; state: string; steps: number[]; angles: number[]; gripper: number; free: number; coils: boolean; warning: number }

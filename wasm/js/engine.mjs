@@ -148,6 +148,8 @@ export class Engine {
   parseArmLine(line) { return JSON.parse(this.M.parseArmLine(line)); }
   /** The first step interval of a move from rest at $0 = maxRate, $1 = accel (motion.h), s. */
   firstIntervalS(maxRate, accel) { return this.M.firstIntervalS(maxRate, accel); }
+  servoAngleDeg(widthUs) { return this.M.servoAngleDeg(widthUs); }
+  servoAperturePercent(angleDeg, closedDeg, openDeg) { return this.M.servoAperturePercent(angleDeg, closedDeg, openDeg); }
   /** A motor's coil decoder (hil/vnano/coil_decoder.h), for an emulated Nano. */
   coilDecoder() { return new this.M.CoilDecoder(); }
   /** The Nano's wiring (hil/vnano/wiring.h): motors [{port, shift}], endstops, servo, led. */

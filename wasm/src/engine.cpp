@@ -38,6 +38,7 @@
 #include "robot_view.h"
 #include "run.h"
 #include "scene.h"
+#include "servo.h"
 #include "sim.h"
 #include "urdf.h"
 
@@ -634,4 +635,6 @@ EMSCRIPTEN_BINDINGS(articula) {
   function("nanoWiring", &articula::web::nano_wiring);
   function("parseArmLine", &articula::web::parse_arm_line);
   function("firstIntervalS", &articula::web::first_interval_s);
+  function("servoAngleDeg", &vnano::servo_angle_deg);
+  function("servoAperturePercent", &vnano::servo_aperture_percent);
 }

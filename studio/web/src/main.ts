@@ -167,6 +167,8 @@ async function connectInPage(which: string): Promise<void> {
     label = info.usbVendorId ? `USB ${info.usbVendorId.toString(16)}:${(info.usbProductId ?? 0).toString(16)}` : "a serial port";
   } else {
     nanoPort = virtualNano();
+    const g = robot?.gripper;
+    nanoPort.servo = g ? { closed: g.servo_closed_deg, open: g.servo_open_deg } : null;
     port = nanoPort;
     label = "the virtual Nano";
   }
@@ -181,8 +183,9 @@ function virtualNano(): VirtualNanoPort {
   const port = (nanoPort = new VirtualNanoPort());
   port.onState = (st) => {
     hook.arm.nano = st;
-    $("arm-speed").textContent = st.behind ? `the virtual Nano is behind real time: ${st.rtf.toFixed(2)}x`
-      : `the virtual Nano keeps real time (it could run ${(st.capacity ?? 0).toFixed(1)}x; ${port.flashBytes.toLocaleString("en")} B of firmware)`;
+    const servo = st.gripper === null ? "" : `; its servo pulse ${Math.round(st.servoUs ?? 0)} us: gripper ${st.gripper.toFixed(0)} %`;
+    $("arm-speed").textContent = (st.behind ? `the virtual Nano is behind real time: ${st.rtf.toFixed(2)}x`
+      : `the virtual Nano keeps real time (it could run ${(st.capacity ?? 0).toFixed(1)}x; ${port.flashBytes.toLocaleString("en")} B of firmware)`) + servo;
     $("arm-speed").className = `rtf ${st.behind ? "behind" : ""}`;
   };
   return port;

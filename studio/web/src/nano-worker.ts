@@ -7,10 +7,10 @@
 // Debian's source) in its boot section, so the page's flasher (stk500.mjs) can write it; the
 // host's DTR resets it, and bytes at another baud rate than the USART's arrive garbled.
 //
-// In: {type: "start", eeprom?, image?, baud} (a power-up: the page keeps the EEPROM's bytes,
-// and the flash's after a flash), {type: "rx", bytes}, {type: "signals", dtr}, {type: "close"}.
+// In: {type: "start", eeprom?, image?, baud, servo?} (a power-up: the page keeps the EEPROM's
+// bytes, and the flash's after a flash; servo: the robot's servo angles {closed, open}), {type: "rx", bytes}, {type: "signals", dtr}, {type: "close"}.
 // Out: {type: "ready", flashBytes, ms}, {type: "tx", bytes}, {type: "state", seconds, steps,
-// faults, servoUs, flashWrites, rtf, capacity, behind}, {type: "eeprom", bytes}, {type: "flash", bytes} (after
+// faults, servoUs, gripper (the aperture its pulse asks for, %), flashWrites, rtf, capacity, behind}, {type: "eeprom", bytes}, {type: "flash", bytes} (after
 // pages were written), {type: "closed"}, {type: "fatal", message}.
 import { loadEngine } from "../../../wasm/js/engine.mjs";
 import type { Engine } from "../../../wasm/js/engine.mjs";
@@ -26,6 +26,7 @@ let bootloader = "";
 let nano: VirtualNano | null = null;
 let timer: ReturnType<typeof setTimeout> | null = null;
 let tx: number[] = [];
+let servo: { closed: number; open: number } | null = null; // the robot's servo angles, deg
 
 async function fetchText(path: string): Promise<string> {
   const r = await fetch(new URL(path, site));
@@ -94,7 +95,11 @@ function run(): void {
       const w = sum(0), e = sum(1), busy = sum(2);
       const rtf = w > 0 ? e / w : 1;
       // capacity: how many times real time the emulator alone could run
-      post({ type: "state", seconds: n.seconds, steps: n.steps, faults: n.coilFaults, servoUs: n.servoPulseUs, flashWrites: n.flashWrites,
+      // the gripper as the harness reads it from the servo's pulse (hil/vnano/servo.h)
+      const us = n.servoPulseUs;
+      const gripper = us !== null && servo && engine && servo.open !== servo.closed
+        ? engine.servoAperturePercent(engine.servoAngleDeg(us), servo.closed, servo.open) : null;
+      post({ type: "state", seconds: n.seconds, steps: n.steps, faults: n.coilFaults, servoUs: us, gripper, flashWrites: n.flashWrites,
         rtf, capacity: busy > 0 ? e / busy : null, behind: window.length >= 50 && rtf < 0.97 }); // judged over 50+ slices
       if (n.flashWrites !== flashWrites) {
         flashWrites = n.flashWrites;
@@ -112,8 +117,10 @@ function run(): void {
 }
 
 self.onmessage = (e: MessageEvent) => {
-  const m = e.data as { type?: string; bytes?: Uint8Array; eeprom?: Uint8Array; image?: Uint8Array; baud?: number; dtr?: boolean };
+  const m = e.data as { type?: string; bytes?: Uint8Array; eeprom?: Uint8Array; image?: Uint8Array; baud?: number; dtr?: boolean;
+    servo?: { closed: number; open: number } };
   if (m?.type === "start") {
+    servo = m.servo && Number.isFinite(m.servo.closed) && Number.isFinite(m.servo.open) ? m.servo : null;
     const bytes = (x: unknown) => (x instanceof Uint8Array ? x : undefined);
     start(bytes(m.eeprom), bytes(m.image), Number(m.baud) || 115200).catch((err) =>
       post({ type: "fatal", message: (err as Error)?.message ?? String(err) }));

@@ -37,6 +37,8 @@ export interface RobotMsg {
     finger_length_mm: number;
     finger_thickness_mm: number;
     finger_height_mm: number;
+    servo_open_deg: number;
+    servo_closed_deg: number;
   };
   reach_mm: number;
   robots: string[];

@@ -33,8 +33,10 @@ export class VirtualNanoPort implements SerialLike {
   readable: ReadableStream<Uint8Array> | null = null;
   writable: WritableStream<Uint8Array> | null = null;
   /** The emulator's speed against real time, its steps as the coils moved them. */
-  state: { seconds: number; steps: number[]; faults: number; servoUs: number | null; flashWrites: number; rtf: number;
-    capacity: number | null; behind: boolean } | null = null;
+  state: { seconds: number; steps: number[]; faults: number; servoUs: number | null; gripper: number | null; flashWrites: number;
+    rtf: number; capacity: number | null; behind: boolean } | null = null;
+  /** The robot's servo angles (deg), for the aperture its pulses ask for. */
+  servo: { closed: number; open: number } | null = null;
   flashBytes = 0;
   /** The flash's bytes after a flash (the bootloader wrote pages), for the next power-up. */
   image: Uint8Array | null = null;
@@ -96,7 +98,8 @@ export class VirtualNanoPort implements SerialLike {
       } catch {
         eeprom = undefined;
       }
-      worker.postMessage({ type: "start", eeprom, image: this.image ?? undefined, baud: options.baudRate });
+      worker.postMessage({ type: "start", eeprom, image: this.image ?? undefined, baud: options.baudRate,
+        servo: this.servo ?? undefined });
     });
     this.closeStream = () => end?.();
   }
