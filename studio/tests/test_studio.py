@@ -531,7 +531,9 @@ def _send(pg, line):
 
 def test_the_virtual_nano_in_the_page(open_page):
     """The static site alone: the firmware's own hex runs in the page (avr8js) beside the model."""
-    pg = open_page("mk2plus", query="&quality=high")
+    # the page's default quality: on a software renderer, full quality would take the CPU the
+    # emulator needs to keep real time (the panel would say so)
+    pg = open_page("mk2plus")
     assert "page:virtual" in pg.page.eval_on_selector_all("#arm-port option", "os => os.map(o => o.value)")
     _connect_page_nano(pg)
     assert pg.hook("a.arm.label").startswith("MK2 Plus (firmware ")  # its I banner names the robot shown
