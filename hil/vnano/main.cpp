@@ -4,6 +4,7 @@
 #include <poll.h>
 #include <signal.h>
 #include <stdlib.h>
+#include <sys/prctl.h>
 #include <sys/stat.h>
 #include <termios.h>
 #include <unistd.h>
@@ -265,6 +266,11 @@ int main(int argc, char** argv) {
   sigaction(SIGTERM, &sa, nullptr);
   sigaction(SIGHUP, &sa, nullptr);
   signal(SIGPIPE, SIG_IGN);
+  // A harness that dies (a test killed on its timeout) ends its virtual Nano too, as a SIGTERM:
+  // orphaned, it would run on at full speed for ever.
+  const pid_t parent = getppid();
+  prctl(PR_SET_PDEATHSIG, SIGTERM);
+  if (getppid() != parent) g_signal = SIGTERM;  // the parent went before the line above
 
   // The serial line's two ends on our side.
   Pty pty;
