@@ -81,19 +81,22 @@ copyFileSync(bootFile, join(out, "data/firmware/optiboot_atmega328.hex"));
   const { nodeEngine } = await import("../../wasm/js/node.mjs");
   const { VirtualNano } = await import("./src/nano.mjs");
   const hex = readFileSync(hexFile, "utf8");
-  const nano = new VirtualNano({ hex, engine: await nodeEngine(wasmDir) });
-  let banner = "";
-  nano.onLine = (l) => (banner ||= l.startsWith("[Articula") ? l : "");
+  const engine = await nodeEngine(wasmDir);
+  const nano = new VirtualNano({ hex, engine });
+  let info = null; // the banner, read by the core's parser (shared/articula/protocol.h)
+  nano.onLine = (l) => {
+    const p = engine.parseArmLine(l);
+    if (p.kind === "info") info = p;
+  };
   nano.runFor(0.3);
   nano.send("I\n");
-  for (let i = 0; i < 100 && !banner; i++) nano.runFor(0.01);
-  const fields = Object.fromEntries(banner.slice(1, -1).split("|").slice(1).map((f) => [f.slice(0, f.indexOf(":")), f.slice(f.indexOf(":") + 1)]));
-  if (!fields.V || !fields.R) {
-    console.error(`studio: the firmware ${hexFile} gives no banner on the virtual Nano (${JSON.stringify(banner)})`);
+  for (let i = 0; i < 100 && !info; i++) nano.runFor(0.01);
+  if (!info) {
+    console.error(`studio: the firmware ${hexFile} gives no banner on the virtual Nano`);
     process.exit(2);
   }
   writeFileSync(join(out, "data/firmware/firmware.json"), JSON.stringify({
-    file: "articula-nano.hex", bytes: nano.flashUsed, version: fields.V, protocol: Number(fields.P), robot: fields.R,
+    file: "articula-nano.hex", bytes: nano.flashUsed, version: info.version, protocol: info.protocol, robot: info.robot,
     sha256: createHash("sha256").update(hex).digest("hex"), bootloader: "optiboot_atmega328.hex",
   }, null, 1));
   nano.delete();

@@ -11,7 +11,6 @@ browser asking the user's permission for each port (docs/studio.md, "Security").
 
 from __future__ import annotations
 
-import logging
 import os
 import secrets
 from pathlib import Path
@@ -19,9 +18,9 @@ from urllib.parse import quote
 
 from aiohttp import web
 
-log = logging.getLogger("articula.studio")
-
 REPO = Path(__file__).resolve().parents[3]
+
+
 def shipped_robots() -> list[str]:
     d = Path(os.environ.get("ARTICULA_ROBOTS") or REPO / "robots")
     return sorted(p.stem for p in d.glob("*.json") if not p.stem.endswith(".schema"))

@@ -50,7 +50,7 @@ interface Hook {
   engineStartMs: number; // the worker's time from its first message to the robot loaded
   engineSend: (msg: unknown) => void; // for tests: a message to the engine as the page would post it
   flash: { busy: boolean; phase: string; done: number; total: number; error: string; errorKind: string;
-           result: { bytes: number; pages: number; baud: number; seconds: number } | null; banner: string };
+           result: { bytes: number; pages: number; baud: number; seconds: number } | null };
 }
 const hook: Hook = {
   ready: false, connected: false, robot: null, pose: null, ik: null, timeline: null, playing: false,
@@ -60,7 +60,7 @@ const hook: Hook = {
   arm: { connected: false, error: "", label: "", status: null, reply: null, stopMs: null, programLines: [], programDone: false, roundTrips: [], nano: null },
   stream: { messages: 0 }, errors: 0, internalErrors: [], engineStartMs: 0,
   engineSend: (msg) => worker.postMessage(msg),
-  flash: { busy: false, phase: "", done: 0, total: 0, error: "", errorKind: "", result: null, banner: "" },
+  flash: { busy: false, phase: "", done: 0, total: 0, error: "", errorKind: "", result: null },
 };
 const readOnly = new Proxy(hook, { set: () => false, deleteProperty: () => false });
 Object.defineProperty(window, "articula", { value: readOnly, writable: false });
@@ -151,29 +151,38 @@ function armInPage(msg: Record<string, unknown>): void {
   else if (t === "arm_disconnect") armLink.disconnect().then(() => (armLink = null));
 }
 
+// The port the arm panel's choice names: the virtual Nano, or a Nano on USB that the browser
+// asks the user to pick (Web Serial, with their permission). `why` when there is none: no Web
+// Serial here, or (empty) the user chose none.
+async function choosePort(which: string): Promise<{ port: SerialLike; label: string } | { why: string }> {
+  if (which === "page:virtual") {
+    const port = virtualNano();
+    const g = robot?.gripper;
+    port.servo = g ? { closed: g.servo_closed_deg, open: g.servo_open_deg } : null;
+    return { port, label: "the virtual Nano" };
+  }
+  if (which !== "page:serial") return { why: "Choose the virtual Nano or a Nano on USB first." };
+  const api = webSerial();
+  if (!api) return { why: "This browser has no Web Serial (Chrome, Edge and Opera have it): use the virtual Nano." };
+  try {
+    const port = await api.requestPort();
+    const info = port.getInfo?.() ?? {};
+    return { port, label: info.usbVendorId
+      ? `USB ${info.usbVendorId.toString(16)}:${(info.usbProductId ?? 0).toString(16)}` : "a serial port" };
+  } catch {
+    return { why: "" }; // the user chose none
+  }
+}
+
 async function connectInPage(which: string): Promise<void> {
   if (armLink) await armLink.disconnect();
-  let port: SerialLike;
-  let label: string;
-  if (which === "page:serial") {
-    const api = webSerial();
-    if (!api) return void banner("This browser has no Web Serial (Chrome, Edge and Opera have it): use the virtual Nano");
-    try {
-      port = await api.requestPort(); // the browser asks the user which port, and for permission
-    } catch {
-      return; // the user chose none
-    }
-    const info = port.getInfo?.() ?? {};
-    label = info.usbVendorId ? `USB ${info.usbVendorId.toString(16)}:${(info.usbProductId ?? 0).toString(16)}` : "a serial port";
-  } else {
-    nanoPort = virtualNano();
-    const g = robot?.gripper;
-    nanoPort.servo = g ? { closed: g.servo_closed_deg, open: g.servo_open_deg } : null;
-    port = nanoPort;
-    label = "the virtual Nano";
+  const chosen = await choosePort(which);
+  if ("why" in chosen) {
+    if (chosen.why) banner(chosen.why);
+    return;
   }
   armLink = new ArmLink(armEngine, (m) => handle(m as unknown as ServerMsg));
-  await armLink.connect(port, label, robot?.name ?? "");
+  await armLink.connect(chosen.port, chosen.label, robot?.name ?? "");
   if (!armLink.connected) armLink = null;
 }
 
@@ -221,26 +230,14 @@ async function flashFirmware(): Promise<void> {
   if (robot && robot.name !== firmware.robot)
     return flashState(`This site's firmware is built for the ${firmware.robot}; the studio shows the ${robot.name}. ` +
       "Load that robot, or build the firmware for this one (make ARTICULA_ROBOT=...).", "bad");
-  const which = ($("arm-port") as HTMLSelectElement).value;
-  let port: SerialLike;
-  if (which === "page:serial") {
-    const api = webSerial();
-    if (!api) return flashState("This browser has no Web Serial (Chrome, Edge and Opera have it).", "bad");
-    try {
-      port = await api.requestPort(); // the browser asks the user which port, and for permission
-    } catch {
-      return; // the user chose none
-    }
-  } else if (which === "page:virtual") {
-    port = virtualNano();
-  } else {
-    return flashState("Choose the virtual Nano or a Nano on USB first.", "bad");
-  }
+  const chosen = await choosePort(($("arm-port") as HTMLSelectElement).value);
+  if ("why" in chosen) return chosen.why ? flashState(chosen.why, "bad") : undefined;
+  const port = chosen.port;
   if (armLink) {
     await armLink.disconnect(); // the bootloader needs the port to itself
     armLink = null;
   }
-  Object.assign(f, { busy: true, phase: "connect", done: 0, total: 0, error: "", errorKind: "", result: null, banner: "" });
+  Object.assign(f, { busy: true, phase: "connect", done: 0, total: 0, error: "", errorKind: "", result: null });
   const bar = $("flash-progress") as HTMLProgressElement;
   const button = $("arm-flash") as HTMLButtonElement;
   button.disabled = true;
@@ -255,7 +252,8 @@ async function flashFirmware(): Promise<void> {
       onProgress: (p) => {
         Object.assign(f, { phase: p.phase, done: p.done, total: p.total });
         // writing is two thirds of the bar, reading back the last third
-        bar.value = p.total ? (p.phase === "write" ? (2 * p.done) / (3 * p.total) : p.phase === "verify" ? (2 + p.done / p.total) / 3 : p.phase === "done" ? 1 : 0) : 0;
+        const part = p.total ? p.done / p.total : 0;
+        bar.value = { connect: 0, write: (2 * part) / 3, verify: (2 + part) / 3, done: 1 }[p.phase];
         if (p.phase === "write") flashState(`writing page ${p.done} of ${p.total} (${p.baud.toLocaleString("en")} baud)`);
         else if (p.phase === "verify") flashState(`reading back page ${p.done} of ${p.total}`);
       },

@@ -250,10 +250,10 @@ export class VirtualNano {
     this.spmBusyUntil = 0;
     // SPMCSR: RWWSB is the hardware's; SPMEN reads 1 while an erase or write runs.
     cpu.writeHooks[SPMCSR] = (value) => {
-      const busy = cpu.cycles < this.spmBusyUntil;
-      cpu.data[SPMCSR] = (value & ~RWWSB) | (cpu.data[SPMCSR] & RWWSB) | (busy ? SPMEN : 0);
+      cpu.data[SPMCSR] = (value & ~RWWSB) | (cpu.data[SPMCSR] & RWWSB);
       return true;
     };
+    cpu.readHooks[SPMCSR] = () => cpu.data[SPMCSR] | (cpu.cycles < this.spmBusyUntil ? SPMEN : 0);
   }
 
   /** One SPM: the operation SPMCSR selects, on the page Z points at (R1:R0 the word to fill). */
@@ -286,14 +286,10 @@ export class VirtualNano {
     }
     // (BLBSET and SIGRD, the lock bits and the signature row, are left alone.) The CPU goes
     // on (a bootloader polls SPMEN); the application section reads as it will be after.
+    d[SPMCSR] &= ~(SPMEN | PGERS | PGWRT | BLBSET | RWWSRE | SIGRD);
     if (busy) {
       this.spmBusyUntil = cpu.cycles + SPM_BUSY_CYCLES;
-      d[SPMCSR] = (d[SPMCSR] & ~(PGERS | PGWRT)) | SPMEN | RWWSB;
-      cpu.addClockEvent(() => {
-        d[SPMCSR] &= ~SPMEN;
-      }, SPM_BUSY_CYCLES);
-    } else {
-      d[SPMCSR] &= ~(SPMEN | BLBSET | RWWSRE | SIGRD);
+      d[SPMCSR] |= RWWSB; // the application section is busy until RWWSRE
     }
   }
 
@@ -327,7 +323,7 @@ export class VirtualNano {
     this.rxShifting = false; // a byte on the wire is lost
     this.spmBusyUntil = 0;
     this.pageBuffer.fill(0xff);
-    this.pinsOff?.();
+    this.pinsOff();
     cpu.data[MCUSR] = cause;
     cpu.pc = this.bootWord;
   }
