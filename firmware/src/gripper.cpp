@@ -1,17 +1,14 @@
-// firmware/src/gripper.cpp - servo pulse widths.
+// firmware/src/gripper.cpp - servo pulse widths (the scale is the core's, articula/servo.h).
 #include "gripper.h"
 
-#include <articula/platform.h>
+#include <articula/servo.h>
 
 #include "robot_config.h"
 
 namespace gripper {
 
 uint16_t pulse_us(int32_t aperture) {
-  const float closed = ARTICULA_SERVO_CLOSED_DEG, open = ARTICULA_SERVO_OPEN_DEG;
-  float deg = closed + (open - closed) * (float(aperture) / 100000.0f);
-  deg = articula::clamp(deg, 0.0f, 180.0f);
-  return uint16_t(float(kPulseAt0) + deg * (float(kPulseAt180 - kPulseAt0) / 180.0f) + 0.5f);
+  return articula::servo_pulse_us<float>(ARTICULA_SERVO_CLOSED_DEG, ARTICULA_SERVO_OPEN_DEG, aperture);
 }
 
 }  // namespace gripper

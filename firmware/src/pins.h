@@ -1,77 +1,70 @@
-// firmware/src/pins.h - every pin of the Nano, in this one file (GRBL's cpu_map.h idea).
-//
-// Only hal_avr.cpp includes it. Each motor's four L298N inputs IN1..IN4 sit on four bits of
-// ONE port, so a new coil pattern is one port write and the four pins change on the same
-// clock cycle (digitalWrite would spread them over about 76 cycles, and a pin monitor would
-// see three intermediate patterns). The bits are consecutive, so pattern bit 0 (IN1) goes to
-// bit ARTICULA_MOTORn_SHIFT and a shift places the whole pattern.
-//
-//   Nano pin  AVR pin  use
-//   D0, D1    PD0,PD1  USB serial (RX, TX)
-//   D2        PD2      endstop 0 (base), to GND when pressed
-//   D3        PD3      gripper servo signal (pulses made in software from Timer1 COMPB)
-//   D4..D7    PD4..7   motor 0 (base):     IN1..IN4 of L298N #0
-//   D8..D11   PB0..3   motor 1 (shoulder): IN1..IN4 of L298N #1
-//   D12       PB4      endstop 1 (shoulder)
-//   D13       PB5      on-board LED
-//   A0..A3    PC0..3   motor 2 (elbow):    IN1..IN4 of L298N #2
-//   A4        PC4      endstop 2 (elbow)
-//   A5        PC5      free
-//   A6, A7    -        analog inputs only: free
-//
-// No conflict with the timers: Timer0 (millis) drives no pin; Timer1's compare outputs OC1A
-// (D9) and OC1B (D10) stay disconnected (COM1x = 0), so D9 and D10 are plain port bits; Timer2
-// is unused. D11..D13 are also the ISP header's MOSI/MISO/SCK: unplug the L298N inputs before
-// flashing through ISP (the USB bootloader does not touch them).
+// firmware/src/pins.h - the registers of every pin of board.h (the one table of the Nano's
+// wiring), as the macros hal_avr.cpp writes. Only hal_avr.cpp includes it. The addresses are
+// constants, so each write is the same single instruction as with avr-libc's own names.
 #ifndef ARTICULA_FIRMWARE_PINS_H
 #define ARTICULA_FIRMWARE_PINS_H
 
 #include <avr/io.h>
 
+#include "board.h"
+
+// board.h's table as constants: enumerators are compile-time values, so the table itself is
+// never placed in the Nano's RAM, and each register access is one instruction.
+namespace pins {
+using namespace board;
+enum : uint8_t {
+  kMotor0Port = port_io(kMotorPins[0].port), kMotor0Ddr = ddr_io(kMotorPins[0].port), kMotor0Shift = kMotorPins[0].shift,
+  kMotor1Port = port_io(kMotorPins[1].port), kMotor1Ddr = ddr_io(kMotorPins[1].port), kMotor1Shift = kMotorPins[1].shift,
+  kMotor2Port = port_io(kMotorPins[2].port), kMotor2Ddr = ddr_io(kMotorPins[2].port), kMotor2Shift = kMotorPins[2].shift,
+  kServoPort = port_io(kServoPin.port), kServoDdr = ddr_io(kServoPin.port), kServoBit = kServoPin.bit,
+  kLedPort = port_io(kLedPin.port), kLedDdr = ddr_io(kLedPin.port), kLedBit = kLedPin.bit,
+  kEnd0Pin = pin_io(kEndstopPins[0].port), kEnd0Port = port_io(kEndstopPins[0].port), kEnd0Ddr = ddr_io(kEndstopPins[0].port),
+  kEnd0Bit = kEndstopPins[0].bit,
+  kEnd1Pin = pin_io(kEndstopPins[1].port), kEnd1Port = port_io(kEndstopPins[1].port), kEnd1Ddr = ddr_io(kEndstopPins[1].port),
+  kEnd1Bit = kEndstopPins[1].bit,
+  kEnd2Pin = pin_io(kEndstopPins[2].port), kEnd2Port = port_io(kEndstopPins[2].port), kEnd2Ddr = ddr_io(kEndstopPins[2].port),
+  kEnd2Bit = kEndstopPins[2].bit,
+};
+}  // namespace pins
+
 // ---- stepper motors: four L298N inputs each, on four consecutive bits of one port ----
 #define ARTICULA_NUM_MOTOR_PORTS 3
-
-#define ARTICULA_MOTOR0_PORT PORTD  // base: D4..D7
-#define ARTICULA_MOTOR0_DDR DDRD
-#define ARTICULA_MOTOR0_SHIFT 4
-
-#define ARTICULA_MOTOR1_PORT PORTB  // shoulder: D8..D11
-#define ARTICULA_MOTOR1_DDR DDRB
-#define ARTICULA_MOTOR1_SHIFT 0
-
-#define ARTICULA_MOTOR2_PORT PORTC  // elbow: A0..A3
-#define ARTICULA_MOTOR2_DDR DDRC
-#define ARTICULA_MOTOR2_SHIFT 0
-
+#define ARTICULA_MOTOR0_PORT _SFR_IO8(pins::kMotor0Port)
+#define ARTICULA_MOTOR0_DDR _SFR_IO8(pins::kMotor0Ddr)
+#define ARTICULA_MOTOR0_SHIFT (pins::kMotor0Shift)
+#define ARTICULA_MOTOR1_PORT _SFR_IO8(pins::kMotor1Port)
+#define ARTICULA_MOTOR1_DDR _SFR_IO8(pins::kMotor1Ddr)
+#define ARTICULA_MOTOR1_SHIFT (pins::kMotor1Shift)
+#define ARTICULA_MOTOR2_PORT _SFR_IO8(pins::kMotor2Port)
+#define ARTICULA_MOTOR2_DDR _SFR_IO8(pins::kMotor2Ddr)
+#define ARTICULA_MOTOR2_SHIFT (pins::kMotor2Shift)
 #define ARTICULA_COIL_MASK(shift) (uint8_t(0x0F) << (shift))
 
 // ---- gripper servo ----
-#define ARTICULA_SERVO_PORT PORTD  // D3
-#define ARTICULA_SERVO_DDR DDRD
-#define ARTICULA_SERVO_BIT PD3
+#define ARTICULA_SERVO_PORT _SFR_IO8(pins::kServoPort)
+#define ARTICULA_SERVO_DDR _SFR_IO8(pins::kServoDdr)
+#define ARTICULA_SERVO_BIT (pins::kServoBit)
 
 // ---- endstops: switch to GND, internal pull-up, so pressed reads 0 ----
-#define ARTICULA_ENDSTOP0_PIN PIND  // D2
-#define ARTICULA_ENDSTOP0_PORT PORTD
-#define ARTICULA_ENDSTOP0_DDR DDRD
-#define ARTICULA_ENDSTOP0_BIT PD2
-
-#define ARTICULA_ENDSTOP1_PIN PINB  // D12
-#define ARTICULA_ENDSTOP1_PORT PORTB
-#define ARTICULA_ENDSTOP1_DDR DDRB
-#define ARTICULA_ENDSTOP1_BIT PB4
-
-#define ARTICULA_ENDSTOP2_PIN PINC  // A4
-#define ARTICULA_ENDSTOP2_PORT PORTC
-#define ARTICULA_ENDSTOP2_DDR DDRC
-#define ARTICULA_ENDSTOP2_BIT PC4
+#define ARTICULA_ENDSTOP0_PIN _SFR_IO8(pins::kEnd0Pin)
+#define ARTICULA_ENDSTOP0_PORT _SFR_IO8(pins::kEnd0Port)
+#define ARTICULA_ENDSTOP0_DDR _SFR_IO8(pins::kEnd0Ddr)
+#define ARTICULA_ENDSTOP0_BIT (pins::kEnd0Bit)
+#define ARTICULA_ENDSTOP1_PIN _SFR_IO8(pins::kEnd1Pin)
+#define ARTICULA_ENDSTOP1_PORT _SFR_IO8(pins::kEnd1Port)
+#define ARTICULA_ENDSTOP1_DDR _SFR_IO8(pins::kEnd1Ddr)
+#define ARTICULA_ENDSTOP1_BIT (pins::kEnd1Bit)
+#define ARTICULA_ENDSTOP2_PIN _SFR_IO8(pins::kEnd2Pin)
+#define ARTICULA_ENDSTOP2_PORT _SFR_IO8(pins::kEnd2Port)
+#define ARTICULA_ENDSTOP2_DDR _SFR_IO8(pins::kEnd2Ddr)
+#define ARTICULA_ENDSTOP2_BIT (pins::kEnd2Bit)
 
 // ---- on-board LED ----
-#define ARTICULA_LED_PORT PORTB  // D13
-#define ARTICULA_LED_DDR DDRB
-#define ARTICULA_LED_BIT PB5
+#define ARTICULA_LED_PORT _SFR_IO8(pins::kLedPort)
+#define ARTICULA_LED_DDR _SFR_IO8(pins::kLedDdr)
+#define ARTICULA_LED_BIT (pins::kLedBit)
 
 // ---- serial: USART0 on D0/D1 (the USB bridge) ----
-#define ARTICULA_SERIAL_BAUD 115200UL
+#define ARTICULA_SERIAL_BAUD (board::kSerialBaud)
 
 #endif  // ARTICULA_FIRMWARE_PINS_H

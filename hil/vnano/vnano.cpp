@@ -1,8 +1,9 @@
 // hil/vnano/vnano.cpp - see vnano.h and hil/README.md.
 #include "vnano.h"
 
-#include "servo.h"
-#include "wiring.h"
+#include <articula/servo.h>
+
+#include "board.h"
 
 #include <sim_avr.h>
 #include <sim_elf.h>
@@ -38,7 +39,10 @@ std::string vector_name(int v) {
   return "VECTOR_" + std::to_string(v);
 }
 
-// The wiring of firmware/src/pins.h is wiring.h's.
+// The Nano's pins are the firmware's own table, firmware/src/board.h.
+using board::kEndstopPins;
+using board::kMotorPins;
+using board::kPortNames;
 
 const uint8_t kPaint = 0xA5;  // stack painting pattern
 const size_t kMaxFaultsListed = 100;
@@ -327,8 +331,8 @@ void VirtualNano::on_port_write(int port, uint8_t value) {
     last_activity_ = now;
     step_event(m, c, pattern);
   }
-  if (port == kServoPort && ((old ^ value) & (1u << kServoBit))) {
-    if (value & (1u << kServoBit)) {
+  if (port == board::kServoPin.port && ((old ^ value) & (1u << board::kServoPin.bit))) {
+    if (value & (1u << board::kServoPin.bit)) {
       if (have_rise_) servo_period_us_.add(us(double(now - last_rise_)));
       last_rise_ = servo_rise_ = now;
       have_rise_ = servo_high_ = true;
@@ -341,8 +345,8 @@ void VirtualNano::on_port_write(int port, uint8_t value) {
     }
     // Not "activity": the servo pulses forever once set.
   }
-  if (port == kLedPort && ((old ^ value) & (1u << kLedBit))) {
-    led_ = (value & (1u << kLedBit)) != 0;
+  if (port == board::kLedPin.port && ((old ^ value) & (1u << board::kLedPin.bit))) {
+    led_ = (value & (1u << board::kLedPin.bit)) != 0;
     if (led_) ++epoch_;
     last_activity_ = now;
   }
@@ -668,11 +672,11 @@ nlohmann::json VirtualNano::report() const {
   servo["widths"] = widths;
   if (servo_width_us_.count) {
     servo["last_us"] = Stat::round3(last_width_us_);
-    const double angle = servo_angle_deg(last_width_us_);
+    const double angle = articula::servo_angle_deg(last_width_us_);
     servo["last_angle_deg"] = Stat::round3(angle);
     if (config_.gripper_range && config_.servo_open_deg != config_.servo_closed_deg)
       servo["last_aperture_percent"] =
-          Stat::round3(servo_aperture_percent(angle, config_.servo_closed_deg, config_.servo_open_deg));
+          Stat::round3(articula::servo_aperture_percent(angle, config_.servo_closed_deg, config_.servo_open_deg));
   } else {
     servo["last_us"] = nullptr;
     servo["last_angle_deg"] = nullptr;

@@ -4,6 +4,7 @@
 
 #include <articula/motion.h>
 #include <articula/protocol.h>
+#include <articula/servo.h>
 
 #include <algorithm>
 #include <cctype>
@@ -14,10 +15,6 @@
 namespace articula::host {
 
 namespace {
-
-// The gripper's servo (firmware/src/gripper.h): the Arduino Servo library's pulse widths.
-constexpr uint16_t kPulseAt0 = 544;
-constexpr uint16_t kPulseAt180 = 2400;
 
 // "12.345" from millidegrees (or any thousandths), exactly.
 std::string milli_text(int64_t v) {
@@ -35,9 +32,7 @@ void add_note(PredictRecord& r, const std::string& note) { append_note(r.note, n
 uint16_t servo_pulse_us(const Robot& robot, int32_t aperture) {
   const float closed = robot.gripper.present ? float(robot.gripper.servo_closed_deg) : 90.0f;
   const float open = robot.gripper.present ? float(robot.gripper.servo_open_deg) : 90.0f;
-  float deg = closed + (open - closed) * (float(aperture) / 100000.0f);
-  deg = clamp(deg, 0.0f, 180.0f);
-  return uint16_t(float(kPulseAt0) + deg * (float(kPulseAt180 - kPulseAt0) / 180.0f) + 0.5f);
+  return articula::servo_pulse_us<float>(closed, open, aperture);
 }
 
 }  // namespace

@@ -10,5 +10,6 @@
 #include "status.h"
 #include "protocol.h"
 #include "motion.h"
+#include "servo.h"
 
 #endif  // ARTICULA_ARTICULA_H

@@ -14,6 +14,7 @@ void check_ik_ypp();
 void check_status();
 void check_protocol();
 void check_motion();
+void check_servo();
 void check_articula();
 // Inputs and outputs the optimiser cannot see through.
 extern volatile float g_in;

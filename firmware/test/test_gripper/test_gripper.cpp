@@ -2,6 +2,7 @@
 // G (the angle linear between the robot file's closed and open angles, the Arduino Servo
 // convention 544 us at 0 degrees and 2400 us at 180), the settle pause before the next
 // action, and the aperture in status reports.
+#include <articula/servo.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -30,8 +31,8 @@ TEST(Gripper, PulseWidths) {
   EXPECT_EQ(gripper::pulse_us(100000), expected_us(100));
   for (int32_t a = 0; a <= 100000; a += 137) EXPECT_NEAR(gripper::pulse_us(a), expected_us(a / 1000.0), 1) << a;
   // The convention's end points.
-  EXPECT_EQ(gripper::kPulseAt0, 544);
-  EXPECT_EQ(gripper::kPulseAt180, 2400);
+  EXPECT_EQ(articula::kServoPulseAt0Us, 544);
+  EXPECT_EQ(articula::kServoPulseAt180Us, 2400);
 }
 
 TEST(Gripper, SAndGSetThePulse) {

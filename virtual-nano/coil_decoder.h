@@ -1,4 +1,4 @@
-// hil/vnano/coil_decoder.h - what a stepper motor makes of its four L298N inputs.
+// virtual-nano/coil_decoder.h - what a stepper motor makes of its four L298N inputs.
 //
 // Pure logic, no simavr: the virtual Nano feeds it every new IN1..IN4 pattern of one motor
 // (bit 0 = IN1 .. bit 3 = IN4, as firmware/src/hal.h) and it answers whether the motor
@@ -20,8 +20,8 @@
 //     position and the reference pattern stay;
 //   - 0000: coils released, not a fault; the next energised pattern is compared with the
 //     last energised one (same: no step; adjacent: a step; otherwise: a fault).
-#ifndef ARTICULA_HIL_VNANO_COIL_DECODER_H
-#define ARTICULA_HIL_VNANO_COIL_DECODER_H
+#ifndef ARTICULA_VIRTUAL_NANO_COIL_DECODER_H
+#define ARTICULA_VIRTUAL_NANO_COIL_DECODER_H
 
 #include <cstdint>
 #include <string>
@@ -145,4 +145,4 @@ class CoilDecoder {
 
 }  // namespace vnano
 
-#endif  // ARTICULA_HIL_VNANO_COIL_DECODER_H
+#endif  // ARTICULA_VIRTUAL_NANO_COIL_DECODER_H
