@@ -119,7 +119,7 @@ int run(int argc, char** argv) {
   so.dt = dt_ms / 1000;
   so.extra_time = extra;
   so.quick_step = args.count("quick-step") > 0;
-  so.joint_speed_deg = so.joint_speed_mm = args["joint-speed"].as<double>();
+  so.joints.speed_deg = so.joints.speed_mm = args["joint-speed"].as<double>();
   so.settings = settings_argument(args, robot);
   const host::Program program = program_argument(args, robot);
 

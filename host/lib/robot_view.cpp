@@ -151,3 +151,152 @@ bool within_limits(const InverseKinematics& ik, const Robot& r, std::vector<doub
 }
 
 }  // namespace articula::host
+
+// ---- units and checks
+
+namespace articula::host {
+namespace {
+
+std::string joint_list(const Robot& r) {
+  std::string s;
+  for (size_t j = 0; j < r.joint_names.size(); ++j) s += (j ? ", " : "") + r.joint_names[j];
+  return s;
+}
+
+const char* not_finite(double v) { return std::isnan(v) ? "NaN" : "infinite"; }
+
+void need_motors(const Robot& r) {
+  if (!r.has_motors) throw std::invalid_argument(r.name + " has no motors");
+}
+
+}  // namespace
+
+void joints_in(const Robot& r, const double* values, size_t count, const char* what, double* q) {
+  const size_t n = size_t(r.model.num_joints);
+  if (count != n)
+    throw std::invalid_argument(std::string(what) + " has " + std::to_string(count) + " value" + (count == 1 ? "" : "s") +
+                                "; " + r.name + " has " + std::to_string(n) + " joint variables (" + joint_list(r) + ")");
+  for (size_t j = 0; j < n; ++j) {
+    if (!std::isfinite(values[j]))
+      throw std::invalid_argument(std::string(what) + "[" + std::to_string(j) + "] (" + r.joint_names[j] + ") is " +
+                                  not_finite(values[j]) + ": joint values must be finite numbers");
+    q[j] = joint_to_model(r, int(j), values[j]);
+  }
+}
+
+std::vector<double> joints_in(const Robot& r, const double* values, size_t count, const char* what) {
+  std::vector<double> q(size_t(r.model.num_joints));
+  joints_in(r, values, count, what, q.data());
+  return q;
+}
+
+std::vector<double> joints_out(const Robot& r, const double* q_model) {
+  std::vector<double> out(size_t(r.model.num_joints));
+  for (int j = 0; j < r.model.num_joints; ++j) out[size_t(j)] = joint_from_model(r, j, q_model[j]);
+  return out;
+}
+
+void check_finite(const double* values, size_t count, const char* what) {
+  for (size_t i = 0; i < count; ++i)
+    if (!std::isfinite(values[i]))
+      throw std::invalid_argument(std::string(what) + "[" + std::to_string(i) + "] is " + not_finite(values[i]) +
+                                  ": values must be finite numbers");
+}
+
+std::vector<std::array<double, 2>> joint_limits(const Robot& r) {
+  std::vector<std::array<double, 2>> out;
+  for (int j = 0; j < r.model.num_joints; ++j)
+    out.push_back({joint_from_model(r, j, r.model.joints[j].lo), joint_from_model(r, j, r.model.joints[j].hi)});
+  return out;
+}
+
+std::vector<double> home_pose(const Robot& r) {
+  std::vector<double> out;
+  for (int j = 0; j < r.model.num_joints; ++j)
+    out.push_back(size_t(j) < r.home.size() ? joint_from_model(r, j, r.home[size_t(j)]) : 0.0);
+  return out;
+}
+
+std::vector<double> joints_from_motors(const Robot& r, const std::vector<double>& motor_deg) {
+  need_motors(r);
+  check_finite(motor_deg.data(), motor_deg.size(), "motor angles");
+  if (motor_deg.size() != size_t(r.actuation.num_motors))
+    throw std::invalid_argument("motor angles has " + std::to_string(motor_deg.size()) + " values; " + r.name + " has " +
+                                std::to_string(r.actuation.num_motors) + " motors");
+  double u[kMaxJoints], q[kMaxJoints];
+  for (size_t i = 0; i < motor_deg.size(); ++i) u[i] = deg_to_rad(motor_deg[i]);
+  joints_from_actuators(q, r.actuation, u);
+  return joints_out(r, q);
+}
+
+std::vector<double> motors_from_joints(const Robot& r, const std::vector<double>& q_model) {
+  need_motors(r);
+  double u[kMaxJoints];
+  actuators_from_joints(u, r.actuation, q_model.data());
+  std::vector<double> out;
+  for (int i = 0; i < r.actuation.num_motors; ++i) out.push_back(rad_to_deg(u[i]));
+  return out;
+}
+
+std::vector<std::array<double, 4>> dh_table_at(const Robot& r, const double* q_model) {
+  DhRow<double> table[kMaxRows];
+  dh_table(table, r.model, q_model);
+  std::vector<std::array<double, 4>> out;
+  for (int i = 0; i < r.model.num_rows; ++i)
+    out.push_back({table[i].a, rad_to_deg(table[i].alpha), table[i].d, rad_to_deg(table[i].theta)});
+  return out;
+}
+
+// ---- IK requests
+
+IkTarget ik_target(const double* v, size_t count) {
+  if (count != 3 && count != 6)
+    throw std::invalid_argument(
+        "target must be a position (x, y, z) in mm, a pose (x, y, z, roll, pitch, yaw) in mm and deg, or a 4x4 "
+        "homogeneous matrix");
+  for (size_t i = 0; i < count; ++i)
+    if (!std::isfinite(v[i])) throw std::invalid_argument("target holds a NaN or an infinity: a target must be finite");
+  IkTarget t = IkTarget::at(make_vec3(v[0], v[1], v[2]));
+  if (count == 6) {
+    t.has_rotation = true;
+    t.rotation = rpy_to_matrix(deg_to_rad(v[3]), deg_to_rad(v[4]), deg_to_rad(v[5]));
+  }
+  return t;
+}
+
+IkTarget ik_target_pose(const double* m) {
+  for (size_t i = 0; i < 16; ++i)
+    if (!std::isfinite(m[i])) throw std::invalid_argument("target holds a NaN or an infinity: a target must be finite");
+  Transform<double> T;
+  for (int i = 0; i < 3; ++i) {
+    for (int k = 0; k < 3; ++k) T.R.m[i][k] = m[4 * i + k];
+    T.p[i] = m[4 * i + 3];
+  }
+  return IkTarget::pose(T);
+}
+
+IkOptions ik_options(const std::string& solver, const std::vector<double>* weights, double tolerance_mm,
+                     int max_iterations, uint64_t seed) {
+  IkOptions o;
+  if (!parse_ik_method(solver, o.method))
+    throw std::invalid_argument("unknown solver '" + solver + "': one of auto, closed, lm, jt");
+  if (weights) {
+    check_finite(weights->data(), weights->size(), "weights");
+    o.weights = *weights;
+  }
+  if (!(tolerance_mm > 0)) throw std::invalid_argument("tolerance_mm must be > 0");
+  if (max_iterations < 0) throw std::invalid_argument("max_iterations must be >= 0 (0: the solver's default)");
+  o.position_tolerance_mm = tolerance_mm;
+  o.max_iterations = max_iterations;
+  o.seed = seed;
+  return o;
+}
+
+std::vector<double> ik_start(const Robot& r, const std::vector<double>* start) {
+  if (start) return joints_in(r, *start, "start");
+  std::vector<double> q(size_t(r.model.num_joints), 0.0);
+  for (size_t j = 0; j < q.size() && j < r.home.size(); ++j) q[j] = r.home[j];
+  return q;
+}
+
+}  // namespace articula::host

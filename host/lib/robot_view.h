@@ -1,13 +1,18 @@
-// host/lib/robot_view.h - what the bindings (python/src, wasm/src) ask of a loaded robot
-// beyond the kinematics: its description in the robot file's terms (the DH table as the file
-// writes it, joint variables, motors, link shapes, gripper) as JSON, a copy with other link
-// lengths, and whether a pose is within the limits. One home, so the Python package and the
-// web engine describe and check a robot alike. Lengths mm, angles deg.
+// host/lib/robot_view.h - the layer under both bindings (python/src, wasm/src) for a loaded
+// robot: units at the door (joint values in deg or mm outside, model units inside), the
+// checks of what comes in (with one wording of every error), IK targets and options, motors
+// to joints and back, the DH table at a pose, and the robot's description in the robot file's
+// terms (the DH table as the file writes it, joint variables, motors, link shapes, gripper)
+// as JSON. One home, so the Python package and the web engine read, check and describe a robot
+// alike; the bindings only convert their languages' values. Lengths mm, angles deg.
 #ifndef ARTICULA_HOST_ROBOT_VIEW_H
 #define ARTICULA_HOST_ROBOT_VIEW_H
 
 #include <nlohmann/json.hpp>
 
+#include <array>
+#include <cstdint>
+#include <string>
 #include <vector>
 
 #include "ik.h"
@@ -38,6 +43,45 @@ Robot with_link_lengths(const Robot& r, const std::vector<double>& values);
 // Whether q (model units) is within every joint limit and, with motors, every motor limit; a
 // value within 1e-9 of a limit (a round trip through degrees) counts as on it.
 bool within_limits(const InverseKinematics& ik, const Robot& r, std::vector<double> q);
+
+// ---- units and checks (std::invalid_argument with the message the user sees)
+
+// Joint values from an interface (deg or mm, one per joint variable) into model units: a
+// wrong count, a NaN or an infinity is refused naming `what` and the joint.
+std::vector<double> joints_in(const Robot& r, const double* values, size_t count, const char* what);
+// The same into q_model[0..num_joints) (no allocation: the bindings' hot paths).
+void joints_in(const Robot& r, const double* values, size_t count, const char* what, double* q_model);
+inline std::vector<double> joints_in(const Robot& r, const std::vector<double>& v, const char* what) {
+  return joints_in(r, v.data(), v.size(), what);
+}
+// Model units out to deg or mm.
+std::vector<double> joints_out(const Robot& r, const double* q_model);
+// Finite numbers of any count (targets, weights, lengths): "what[i] must be a finite number".
+void check_finite(const double* values, size_t count, const char* what);
+// Each joint variable's [min, max] and the home pose, deg or mm.
+std::vector<std::array<double, 2>> joint_limits(const Robot& r);
+std::vector<double> home_pose(const Robot& r);
+
+// Motor angles (deg, at the gears' outputs) to joint values (deg or mm), q = C u, and back.
+// Refused for a robot without motors, or the wrong count.
+std::vector<double> joints_from_motors(const Robot& r, const std::vector<double>& motor_deg);
+std::vector<double> motors_from_joints(const Robot& r, const std::vector<double>& q_model);
+
+// The DH table at q (model units), a row each: a(i-1) mm, alpha(i-1) deg, d(i) mm, theta(i) deg.
+std::vector<std::array<double, 4>> dh_table_at(const Robot& r, const double* q_model);
+
+// ---- IK requests
+
+// (x, y, z) mm, or (x, y, z, roll, pitch, yaw) mm and deg.
+IkTarget ik_target(const double* values, size_t count);
+// A 4x4 homogeneous matrix, row-major, mm.
+IkTarget ik_target_pose(const double* m16);
+// solver: auto, closed, lm or jt; weights (none: all 1); tolerance_mm > 0; max_iterations >= 0
+// (0: the solver's default); seed for restarts.
+IkOptions ik_options(const std::string& solver, const std::vector<double>* weights, double tolerance_mm,
+                     int max_iterations, uint64_t seed);
+// Where a solve starts: `start` (deg or mm) or the home pose; model units.
+std::vector<double> ik_start(const Robot& r, const std::vector<double>* start);
 
 }  // namespace articula::host
 

@@ -31,6 +31,13 @@ std::string escape(const std::string& s) {
   return out;
 }
 
+// Free text inside an XML comment: escaped, and no "--" (which XML forbids there).
+std::string comment(const std::string& s) {
+  std::string out = escape(s);
+  for (size_t at = out.find("--"); at != std::string::npos; at = out.find("--", at)) out.replace(at, 2, "- -");
+  return out;
+}
+
 // A URDF name from free text: letters, digits and '_'.
 std::string ident(const std::string& s) {
   std::string out;
@@ -155,8 +162,8 @@ struct Writer {
 UrdfExport export_urdf(const Robot& robot) {
   Writer w{robot, {}, {}, "base", Transform<double>::identity(), 0};
   const HostModel& m = robot.model;
-  w.xml << "<?xml version=\"1.0\"?>\n<!-- " << escape(robot.name) << ", exported by articula export-urdf from "
-        << escape(robot.source) << ". Metres and radians. -->\n<robot name=\"" << ident(robot.name) << "\">\n";
+  w.xml << "<?xml version=\"1.0\"?>\n<!-- " << comment(robot.name) << ", exported by articula export-urdf from "
+        << comment(robot.source) << ". Metres and radians. -->\n<robot name=\"" << ident(robot.name) << "\">\n";
   w.xml << "  <link name=\"base\">\n";
   w.visuals(0);
   w.xml << "  </link>\n";

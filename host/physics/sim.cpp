@@ -680,13 +680,8 @@ void Simulation::enqueue(const Statement& st, uint64_t now_tick) {
     Action a;
     a.line = r.line;
     std::vector<double> q_to(static_cast<size_t>(n_joints_));
-    double duration = 0;
-    for (int j = 0; j < n_joints_; ++j) {
-      const bool angle = joint_is_angle(robot_, j);
-      q_to[size_t(j)] = joint_to_model(robot_, j, r.joints[size_t(j)]);
-      const double speed = angle ? opt_.joint_speed_deg * M_PI / 180 : opt_.joint_speed_mm;
-      duration = std::max(duration, std::fabs(q_to[size_t(j)] - queued_q_[size_t(j)]) / speed);
-    }
+    for (int j = 0; j < n_joints_; ++j) q_to[size_t(j)] = joint_to_model(robot_, j, r.joints[size_t(j)]);
+    double duration = opt_.joints.move_s(robot_, queued_q_.data(), q_to.data());
     const char letter = command_letter(r.text);
     if (duration > 0) {
       a.kind = Action::kJoints;
@@ -696,7 +691,7 @@ void Simulation::enqueue(const Statement& st, uint64_t now_tick) {
     } else if (r.gripper_percent != queued_percent_ || st.kind == Statement::Kind::kHand ||
                (st.kind == Statement::Kind::kProtocol && (letter == 'G' || letter == 'S'))) {
       a.kind = Action::kGripper;
-      duration = opt_.gripper_settle_s;
+      duration = opt_.joints.gripper_settle_s;
       queued_percent_ = r.gripper_percent;
       a.opening_to = robot_.gripper.max_opening_mm * (queued_percent_ < 0 ? 100 : queued_percent_) / 100.0;
     } else {
@@ -931,7 +926,7 @@ void Simulation::follow_joints(const std::vector<double>& q_cmd, double dt) {
   bool moves = false;
   for (int j = 0; j < n_joints_; ++j) {
     const bool angle = joint_is_angle(robot_, j);
-    const double max = 2 * dt * (angle ? opt_.joint_speed_deg * M_PI / 180 : opt_.joint_speed_mm);
+    const double max = 2 * dt * (angle ? deg_to_rad(opt_.joints.speed_deg) : opt_.joints.speed_mm);
     const double d = std::clamp(q_cmd[size_t(j)] - q_[size_t(j)], -max, max);
     q_try_[size_t(j)] = q_[size_t(j)] + d;
     moves = moves || d != 0;

@@ -33,6 +33,7 @@
 #include "run.h"
 #include "scene.h"
 #include "stall.h"
+#include "timeline.h"
 
 namespace articula::host {
 
@@ -41,9 +42,7 @@ struct SimOptions {
   double extra_time = 1.0;            // simulated after the program's last action, s
   double touch_tolerance_mm = 1.0;    // how deep the arm may touch a static thing before a step is refused
   double squeeze_mm = 3.0;            // a movable object pressed deeper than this stops the arm
-  double joint_speed_deg = 60;        // robots without motors: joint speed, deg/s
-  double joint_speed_mm = 100;        //   and mm/s for prismatic joints
-  double gripper_settle_s = 0.3;      // robots without motors: time of a gripper action
+  JointTiming joints;                 // robots without motors: joint speeds, a gripper action's time
   bool quick_step = false;            // dWorldQuickStep (iterative) instead of dWorldStep
   bool stall_check = true;            // check every move against the motors' pull-out curves (stall.h)
   ControllerSettings settings;        // the controller's settings at power-up

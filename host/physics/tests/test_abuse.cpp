@@ -104,8 +104,8 @@ TEST(Abuse, EveryRobotRandomCommands) {
     const Robot r = load_robot_file(f);
     const Scene scene = busy_scene(reach_mm(r));
     SimOptions o;
-    o.joint_speed_deg = 180;
-    o.joint_speed_mm = 300;
+    o.joints.speed_deg = 180;
+    o.joints.speed_mm = 300;
     o.settings.value[ControllerSettings::kMaxRate] = 900;  // faster than the default 600
     o.settings.value[ControllerSettings::kAccel] = 4000;
     Simulation sim(r, scene, o);

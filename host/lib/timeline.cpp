@@ -1,0 +1,190 @@
+// host/lib/timeline.cpp - a program's time line and the arm at any instant of it.
+#include "timeline.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "records_json.h"
+
+namespace articula::host {
+namespace {
+
+std::vector<double> user_units(const Robot& robot, const std::vector<double>& q_model) {
+  std::vector<double> out(q_model.size());
+  for (size_t j = 0; j < q_model.size(); ++j) out[j] = joint_from_model(robot, int(j), q_model[j]);
+  return out;
+}
+
+std::vector<double> model_units(const Robot& robot, const std::vector<double>& q_user) {
+  std::vector<double> out(q_user.size());
+  for (size_t j = 0; j < q_user.size(); ++j) out[j] = joint_to_model(robot, int(j), q_user[j]);
+  return out;
+}
+
+// A gripper statement: the protocol's G and S, RoboSim's h.
+bool gripper_statement(const std::string& text) {
+  const size_t i = text.find_first_not_of(" \t");
+  if (i == std::string::npos) return false;
+  const char c = text[i];
+  return c == 'G' || c == 'S' || c == 'h';
+}
+
+std::vector<double> lerp(const std::vector<double>& a, const std::vector<double>& b, double f) {
+  std::vector<double> out(a.size());
+  for (size_t k = 0; k < a.size(); ++k) out[k] = a[k] + f * (b[k] - a[k]);
+  return out;
+}
+
+}  // namespace
+
+double JointTiming::move_s(const Robot& robot, const double* q_from, const double* q_to) const {
+  double s = 0;
+  for (int j = 0; j < robot.model.num_joints; ++j) {
+    const double speed = joint_is_angle(robot, j) ? deg_to_rad(speed_deg) : speed_mm;
+    s = std::max(s, std::fabs(q_to[j] - q_from[j]) / speed);
+  }
+  return s;
+}
+
+Timeline Timeline::of(const Robot& robot, const Prediction& prediction) {
+  Timeline tl;
+  tl.start_q_ = user_units(robot, KinematicModel(robot).q());  // power-up: every motor at its zero
+  for (const PredictRecord& r : prediction.records) {
+    TimelineAction a;
+    a.line = r.line;
+    a.command = r.text;
+    a.reply = r.reply;
+    a.error = r.reply == kOk ? "" : status_text(uint8_t(r.reply));
+    a.note = r.note;
+    a.start_s = r.start_s();
+    a.end_s = r.end_s();
+    a.q = r.joints;
+    a.q_ideal = r.joints_ideal.empty() ? r.joints : r.joints_ideal;
+    a.tool = r.tool_quantized;
+    a.tool_ideal = r.tool_ideal;
+    a.error_mm = r.error_mm;
+    a.steps = r.steps;
+    a.gripper_percent = r.gripper_percent;
+    tl.actions_.push_back(std::move(a));
+  }
+  tl.duration_ = tl.actions_.empty() ? 0.0 : tl.actions_.back().end_s;
+  tl.predicted_ = true;
+  return tl;
+}
+
+Timeline Timeline::of(const Robot& robot, const std::vector<RunRecord>& records, const std::vector<double>& start_q,
+                      const JointTiming& timing) {
+  Timeline tl;
+  tl.start_q_ = start_q;
+  std::vector<double> at = model_units(robot, start_q);  // where the last accepted action left the arm
+  int grip = -1;
+  double clock = 0;
+  for (const RunRecord& r : records) {
+    TimelineAction a;
+    a.line = r.line;
+    a.command = r.text;
+    a.reply = r.reply;
+    a.error = r.reply == kOk ? "" : status_text(uint8_t(r.reply));
+    a.note = r.note;
+    a.q = a.q_ideal = r.joints;
+    a.tool = a.tool_ideal = r.tool.p;
+    a.gripper_percent = r.gripper_percent;
+    double s = 0;
+    if (r.reply == kOk) {
+      const std::vector<double> to = model_units(robot, r.joints);
+      s = timing.move_s(robot, at.data(), to.data());
+      // as the physics times it: a move, else a gripper action
+      if (s == 0 && (r.gripper_percent != grip || gripper_statement(r.text))) s = timing.gripper_settle_s;
+      at = to;
+      grip = r.gripper_percent;
+    }
+    a.start_s = clock;
+    a.end_s = clock + s;
+    clock += s;
+    tl.actions_.push_back(std::move(a));
+  }
+  tl.duration_ = clock;
+  return tl;
+}
+
+Timeline Timeline::of_program(const Robot& robot, const Program& program, const std::vector<double>& start_q,
+                              const JointTiming& timing) {
+  if (robot.has_motors) return of(robot, predict_program(robot, program));
+  return of(robot, run_program(robot, program), start_q, timing);
+}
+
+TimelinePose Timeline::at(double t) const {
+  TimelinePose p;
+  p.t = std::clamp(std::isfinite(t) ? t : 0.0, 0.0, duration_);
+  std::vector<double> prev = start_q_, prev_ideal = start_q_;
+  p.q = prev;
+  p.q_ideal = prev_ideal;
+  for (const TimelineAction& a : actions_) {
+    if (a.reply != kOk) {
+      if (a.start_s <= p.t) p.line = a.line;
+      continue;
+    }
+    if (p.t >= a.end_s) {  // ended: the arm rests at its pose
+      prev = p.q = a.q;
+      prev_ideal = p.q_ideal = a.q_ideal;
+      p.line = a.line;
+      p.steps = a.steps;
+      p.error_mm = a.error_mm;
+      if (a.gripper_percent >= 0) p.gripper_percent = a.gripper_percent;
+      continue;
+    }
+    if (p.t >= a.start_s) {  // running
+      const double f = a.end_s > a.start_s ? (p.t - a.start_s) / (a.end_s - a.start_s) : 1.0;
+      p.q = lerp(prev, a.q, f);
+      p.q_ideal = lerp(prev_ideal, a.q_ideal, f);
+      p.line = a.line;
+    }
+    break;
+  }
+  return p;
+}
+
+nlohmann::json timeline_json(const Timeline& tl) {
+  using json = nlohmann::json;
+  json records = json::array();
+  for (const TimelineAction& a : tl.actions()) {
+    records.push_back({{"line", a.line},
+                       {"command", a.command},
+                       {"reply", reply_text(a.reply)},
+                       {"code", int(a.reply)},
+                       {"error", a.error},
+                       {"note", a.note},
+                       {"start_s", a.start_s},
+                       {"end_s", a.end_s},
+                       {"q", a.q},
+                       {"q_ideal", a.q_ideal},
+                       {"tool", {a.tool.x, a.tool.y, a.tool.z}},
+                       {"tool_ideal", {a.tool_ideal.x, a.tool_ideal.y, a.tool_ideal.z}},
+                       {"error_mm", a.error_mm},
+                       {"steps", a.steps.empty() ? json(nullptr) : json(a.steps)},
+                       {"gripper", a.gripper_percent < 0 ? json(nullptr) : json(a.gripper_percent)}});
+  }
+  json summary = {{"commands", tl.actions().size()}, {"rejected", 0}};
+  double worst = 0;
+  int rejected = 0;
+  for (const TimelineAction& a : tl.actions()) {
+    if (a.reply != kOk) ++rejected;
+    else worst = std::max(worst, a.error_mm);
+  }
+  summary["rejected"] = rejected;
+  if (tl.predicted()) summary["worst_error_mm"] = worst;
+  return {{"start_q", tl.start_q()}, {"duration", tl.duration()}, {"summary", summary}, {"records", records}};
+}
+
+nlohmann::json timeline_pose_json(const TimelinePose& p) {
+  using json = nlohmann::json;
+  return {{"t", p.t},
+          {"line", p.line},
+          {"q", p.q},
+          {"q_ideal", p.q_ideal},
+          {"steps", p.steps.empty() ? json(nullptr) : json(p.steps)},
+          {"error_mm", p.error_mm},
+          {"gripper", p.gripper_percent < 0 ? json(nullptr) : json(p.gripper_percent)}};
+}
+
+}  // namespace articula::host
