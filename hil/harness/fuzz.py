@@ -155,7 +155,7 @@ class ArmModel:
         """After a move whose commanded angles the fuzz cannot compute (P, H): the angles of
         the steps, within half a step of the commanded ones."""
         self.steps = list(status.steps)
-        self.commanded = [millideg(v) for v in status.fields["A"].split(",")]
+        self.commanded = list(status.millideg)
         self.exact = False
 
 
@@ -592,7 +592,7 @@ def check(index: int, line: FuzzLine, ex: Exchange) -> tuple[str | None, list[Fi
             infos += 1
             if not line.info or infos > 1:
                 bad("reset", f"an info line nobody asked for: the firmware started again? ({t})")
-            elif info.get("W") == "14":
+            elif info.warning == 14:
                 bad("reset", f"settings reset to defaults (W:14) in an info line ({t})")
             continue
         if t.startswith("$") and parse_setting(t) is not None and line.listing:
@@ -811,7 +811,7 @@ class Fuzzer:
             raise LinkVanished(f"the arm's status report does not name {len(self.robot.motors)} motors: {st.text}")
         r, lines = self.setup_line("I")
         info = next((parse_info(t) for t in lines if parse_info(t)), None)
-        if r != "ok" or info is None or info.get("R") != self.robot.name:
+        if r != "ok" or info is None or info.robot != self.robot.name:
             raise LinkVanished(f"`I` answered {lines + [r]}: not the firmware for {self.robot.name}")
         if restore_settings:
             r, lines = self.setup_line("$")

@@ -11,7 +11,6 @@ reply with nothing changed.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -126,18 +125,9 @@ def lines_original(path: Path, n: int) -> str:
         return ""
 
 
-def first_interval_s(settings: dict[int, float], tick_hz: int = 2_000_000) -> float:
-    """The first step interval of a move, from rest (docs/protocol.md, "Timing of moves";
-    shared/articula/motion.h, profile_constants): c0 = f sqrt(2 / a) in whole ticks, at least
-    the cruise interval round(f / max_rate). No pin shows when a move starts, so the
-    virtual Nano's measured duration is this interval plus the span of the move's steps."""
-    f, v, a = tick_hz, int(settings.get(0, 600)), int(settings.get(1, 2000))
-    cruise = f // v
-    rest = f % v
-    if rest >= v - rest:
-        cruise += 1
-    sq = ((f * f << 16) // a) << 1
-    c0 = math.isqrt(sq)  # ticks * 256
-    first = max((c0 + 128) >> 8, cruise)
-    return first / tick_hz
-
+def first_interval_s(settings: dict[int, float]) -> float:
+    """The first step interval of a move, from rest (docs/protocol.md, "Timing of moves"): the
+    firmware's own profile (shared/articula/motion.h, through articula._core). No pin shows
+    when a move starts, so the virtual Nano's measured duration is this interval plus the span
+    of the move's steps."""
+    return articula._core.first_interval_s(int(settings.get(0, 600)), int(settings.get(1, 2000)))

@@ -194,7 +194,7 @@ class Runner:
             if line.startswith("[") and self._expect_info:
                 info = parse_info(line)
                 self._reports_seen += 1
-                if info and info.get("W") == "14" and self._reports_seen > 1:
+                if info and info.warning == 14 and self._reports_seen > 1:
                     faults.append(Fault(plan, rec.line if rec else None, rec.command.text if rec else "", "reset",
                                         f"firmware reset: settings reset to defaults (W:14) mid-plan ({line})"))
                     raise _Reset(faults[-1])
@@ -316,8 +316,8 @@ class Runner:
             res.aborted = f"the arm does not answer I with an info line (got {reply!r})"
             faults.append(Fault(name, None, "I", "setup", res.aborted))
             return
-        if info.get("R") != self.robot.name or info.get("J") != str(len(self.robot.motors)):
-            res.aborted = (f"the arm is '{info.get('R')}' with {info.get('J')} joints, the robot file "
+        if info.robot != self.robot.name or info.joints != len(self.robot.motors):
+            res.aborted = (f"the arm is '{info.robot}' with {info.joints} joints, the robot file "
                            f"'{self.robot.name}' with {len(self.robot.motors)}: wrong robot file or firmware")
             faults.append(Fault(name, None, "I", "setup", res.aborted))
             return

@@ -154,7 +154,9 @@ def test_parse_reports():
     assert (st.state, st.steps, st.angles, st.gripper, st.queue, st.coils, st.warning) == \
         ("Run", [32, 0, -8], [10.133, 90.0, -5.821], 50, 7, 1, 14)
     assert parse_status("<Idle|S:1,x>") is None and parse_status("ok") is None
-    assert parse_info("[Articula|V:0.1.0|P:2|J:3|R:MK2 Plus]")["R"] == "MK2 Plus"
+    info = parse_info("[Articula|V:0.1.0|P:2|J:3|R:MK2 Plus]")
+    assert (info.version, info.protocol, info.joints, info.robot, info.warning) == ("0.1.0", 2, 3, "MK2 Plus", None)
+    assert parse_info("[Articula|V:0.1|P:2|J:3|R:MK2 Plus]") is None  # the firmware's parser: V has three parts
     assert parse_setting("$5=300.000") == (5, 300.0) and parse_setting("$x=1") is None
 
 

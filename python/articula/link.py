@@ -1,6 +1,7 @@
 """The serial line to the arm (docs/protocol.md), over any pyserial port: a Nano on
 /dev/ttyUSB0 or the virtual Nano's pseudo-terminal, the same code for both. The harness
-(hil/harness) and the studio (articula.studio) talk to the arm through it. Needs pyserial.
+(hil/harness) talks to the arm through it, and reads its lines with the firmware's own parsers
+(shared/articula/protocol.h, through articula._core.parse_arm_line). Needs pyserial.
 
 Every read has a deadline: a port that stops answering raises LinkTimeout, one that goes
 away (the device unplugged, the virtual Nano gone) LinkVanished. Never a hang.
@@ -11,11 +12,12 @@ from __future__ import annotations
 import os
 import select
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 
 import serial
 
+from . import _core
 from . import status_text as _status_text
 
 
@@ -49,65 +51,50 @@ def status_text(reply: str) -> str:
 
 @dataclass
 class Status:
-    """A status report, `<Idle|S:32,0,-8|A:10.133,90.000,-5.821|G:0|Q:8|C:1>`."""
+    """A status report, `<Idle|S:32,0,-8|A:10.133,90.000,-5.821|G:0|Q:8|C:1>`, as the firmware's
+    own parser reads it (shared/articula/protocol.h, through `articula._core.parse_arm_line`)."""
     state: str
-    steps: list[int] | None = None
-    angles: list[float] | None = None
-    gripper: int | None = None
-    queue: int | None = None
-    coils: int | None = None
-    warning: int | None = None
+    steps: list[int]
+    angles: list[float]  # deg
+    millideg: list[int]  # the same angles, exactly as sent (thousandths of a degree)
+    gripper: int
+    queue: int  # free places in the motion queue
+    coils: int
+    warning: int | None  # a status code said once (14: settings reset), None when absent
     text: str = ""
-    fields: dict = field(default_factory=dict)
+
+
+@dataclass
+class Info:
+    """The banner, `[Articula|V:0.1.0|P:2|J:3|R:MK2 Plus]`, read by the firmware's parser."""
+    version: str
+    protocol: int
+    joints: int
+    robot: str
+    warning: int | None
+    text: str = ""
 
 
 def parse_status(line: str) -> Status | None:
-    if not (line.startswith("<") and line.endswith(">")):
+    p = _core.parse_arm_line(line)
+    if p["kind"] != "status":
         return None
-    parts = line[1:-1].split("|")
-    st = Status(state=parts[0], text=line)
-    try:
-        for p in parts[1:]:
-            key, _, value = p.partition(":")
-            st.fields[key] = value
-            if key == "S":
-                st.steps = [int(v) for v in value.split(",")]
-            elif key == "A":
-                st.angles = [float(v) for v in value.split(",")]
-            elif key == "G":
-                st.gripper = int(value)
-            elif key == "Q":
-                st.queue = int(value)
-            elif key == "C":
-                st.coils = int(value)
-            elif key == "W":
-                st.warning = int(value)
-    except ValueError:
-        return None
-    return st
+    return Status(state=p["state"], steps=p["steps"], angles=p["angles"], millideg=p["millideg"], gripper=p["gripper"],
+                  queue=p["free"], coils=int(p["coils"]), warning=p["warning"] or None, text=line)
 
 
-def parse_info(line: str) -> dict | None:
-    """`[Articula|V:0.1.0|P:2|J:3|R:MK2 Plus]` -> {"device": "Articula", "V": ..., ...}."""
-    if not (line.startswith("[") and line.endswith("]")):
+def parse_info(line: str) -> Info | None:
+    p = _core.parse_arm_line(line)
+    if p["kind"] != "info":
         return None
-    parts = line[1:-1].split("|")
-    info = {"device": parts[0]}
-    for p in parts[1:]:
-        key, _, value = p.partition(":")
-        info[key] = value
-    return info
+    return Info(version=p["version"], protocol=p["protocol"], joints=p["joints"], robot=p["robot"],
+                warning=p["warning"] or None, text=line)
 
 
 def parse_setting(line: str) -> tuple[int, float] | None:
-    """`$3=200.000` -> (3, 200.0)."""
-    if not line.startswith("$") or "=" not in line:
-        return None
-    n, _, v = line[1:].partition("=")
-    try:
-        return int(n), float(v)
-    except ValueError:
-        return None
+    """`$3=200.000` -> (3, 200.0): a setting as the firmware lists it."""
+    p = _core.parse_arm_line(line)
+    return (p["number"], p["value"]) if p["kind"] == "setting" else None
 
 
 class Link:

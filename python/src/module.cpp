@@ -13,6 +13,7 @@
 #include <numpy/arrayobject.h>
 
 #include "bindings.h"
+#include "robot_view.h"
 #include "legacy.h"
 #include "predict.h"
 #include "program.h"
@@ -68,43 +69,13 @@ Array44 transform_array(const Transform<double>& T) {
   return a;
 }
 
-namespace {
-
-std::string joint_list(const Robot& robot) {
-  std::string s;
-  for (size_t j = 0; j < robot.joint_names.size(); ++j) s += (j ? ", " : "") + robot.joint_names[j];
-  return s;
-}
-
-[[noreturn]] void wrong_count(const Robot& robot, const char* what, size_t got) {
-  throw nb::value_error((std::string(what) + " has " + std::to_string(got) + " value" + (got == 1 ? "" : "s") + "; " +
-                         robot.name + " has " + std::to_string(robot.model.num_joints) + " joint variables (" +
-                         joint_list(robot) + ")")
-                            .c_str());
-}
-
-void check_finite(double v, const Robot& robot, const char* what, int j) {
-  if (std::isfinite(v)) return;
-  throw nb::value_error((std::string(what) + "[" + std::to_string(j) + "] (" + robot.joint_names[size_t(j)] + ") is " +
-                         (std::isnan(v) ? "NaN" : "infinite") + ": joint values must be finite numbers")
-                            .c_str());
-}
-
-}  // namespace
-
 void read_joints(double* q, nb::handle values, const Robot& robot, const char* what) {
   const size_t n = size_t(robot.model.num_joints);
   // The fast path: a contiguous 1-D float64 numpy array.
   if (PyArray_Check(values.ptr())) {
     PyArrayObject* a = reinterpret_cast<PyArrayObject*>(values.ptr());
     if (PyArray_TYPE(a) == NPY_DOUBLE && PyArray_NDIM(a) == 1 && PyArray_IS_C_CONTIGUOUS(a)) {
-      const size_t got = size_t(PyArray_DIM(a, 0));
-      if (got != n) wrong_count(robot, what, got);
-      const double* v = static_cast<const double*>(PyArray_DATA(a));
-      for (size_t j = 0; j < n; ++j) {
-        check_finite(v[j], robot, what, int(j));
-        q[j] = host::joint_to_model(robot, int(j), v[j]);
-      }
+      host::joints_in(robot, static_cast<const double*>(PyArray_DATA(a)), size_t(PyArray_DIM(a, 0)), what, q);
       return;
     }
   }
@@ -124,19 +95,19 @@ void read_joints(double* q, nb::handle values, const Robot& robot, const char* w
   if (!seq) throw nb::python_error();
   nb::object owner = nb::steal(seq);
   const size_t got = size_t(PySequence_Fast_GET_SIZE(seq));
-  if (got != n) wrong_count(robot, what, got);
+  double v[host::kMaxJoints];
+  if (got != n) host::joints_in(robot, v, got, what, q);  // refused: the count, in the shared words
   PyObject** items = PySequence_Fast_ITEMS(seq);
   for (size_t j = 0; j < n; ++j) {
-    const double v = PyFloat_AsDouble(items[j]);
-    if (v == -1.0 && PyErr_Occurred()) {
+    v[j] = PyFloat_AsDouble(items[j]);
+    if (v[j] == -1.0 && PyErr_Occurred()) {
       PyErr_Clear();
       throw nb::type_error((std::string(what) + "[" + std::to_string(j) + "] (" + robot.joint_names[j] +
                             ") is not a number: " + std::string(nb::repr(nb::handle(items[j])).c_str()))
                                .c_str());
     }
-    check_finite(v, robot, what, int(j));
-    q[j] = host::joint_to_model(robot, int(j), v);
   }
+  host::joints_in(robot, v, n, what, q);
 }
 
 ArrayView read_array(nb::handle values, const char* what) {
@@ -166,11 +137,7 @@ std::vector<double> read_vector(nb::handle values, const char* what) {
                            std::to_string(arr.ndim()) + "-D")
                               .c_str());
   std::vector<double> v(arr.data(), arr.data() + arr.shape(0));
-  for (size_t i = 0; i < v.size(); ++i)
-    if (!std::isfinite(v[i]))
-      throw nb::value_error((std::string(what) + "[" + std::to_string(i) + "] is " + (std::isnan(v[i]) ? "NaN" : "infinite") +
-                             ": values must be finite numbers")
-                                .c_str());
+  host::check_finite(v.data(), v.size(), what);
   return v;
 }
 
@@ -243,13 +210,6 @@ NB_MODULE(_core, m) {
   if (!import_numpy()) throw nb::python_error();
   m.doc() = "The native part of articula: the host library (host/lib, host/physics) over the portable core.";
 
-  // The status table: shared/articula/status.h, the one table the firmware and every tool use.
-  nb::dict status;
-#define ARTICULA_PY_STATUS(code, name, text) status[nb::int_(code)] = nb::make_tuple(#name + 1, text);
-  ARTICULA_STATUS_TABLE(ARTICULA_PY_STATUS)
-#undef ARTICULA_PY_STATUS
-  m.attr("_status_table") = status;
-
   g_robot_file_error = new_error(m, "RobotFileError",
                                  "A robot file that cannot be used. The message names the file, the JSON path and the "
                                  "problem; so do the attributes file, json_path and problem.");
@@ -295,4 +255,5 @@ NB_MODULE(_core, m) {
   auto robot = bind_robot(m);
   bind_program(m, robot);
   bind_sim(m);
+  bind_protocol(m);
 }

@@ -5,6 +5,8 @@
 #include <nanobind/stl/vector.h>
 
 #include "bindings.h"
+#include "robot_view.h"
+#include "timeline.h"
 #include "predict.h"
 #include "program.h"
 #include "quantize.h"
@@ -58,7 +60,31 @@ host::ControllerSettings settings_from(nb::handle settings, const Robot& robot) 
   return s;
 }
 
+// A program's time line (host/lib/timeline.h), as the studio plays it: the robot it was made
+// for, and the arm at any instant.
+struct PyTimeline {
+  std::shared_ptr<const Robot> robot;
+  host::Timeline tl;
+};
+
 void bind_program(nb::module_& m, nb::class_<PyRobot>& robot) {
+  nb::class_<PyTimeline>(m, "Timeline",
+                         "A program's time line, as the studio plays it (Robot.timeline): every action from the pose "
+                         "before it to its own in its time, back to back; at(t) is the arm at any instant.")
+      .def_prop_ro("duration", [](const PyTimeline& s) { return s.tl.duration(); }, "s")
+      .def_prop_ro("start_q", [](const PyTimeline& s) { return s.tl.start_q(); }, "where it starts (deg or mm)")
+      .def_prop_ro("records", [](const PyTimeline& s) { return json_to_python(host::timeline_json(s.tl)["records"]); },
+                   "one per statement: line, command, reply, code, error, note, start_s, end_s, q, q_ideal, tool, "
+                   "tool_ideal, error_mm, steps, gripper")
+      .def("at", [](const PyTimeline& s, double t) { return json_to_python(host::timeline_pose_json(s.tl.at(t))); }, "t"_a,
+           "The arm at time t (s, clamped to the time line): t, line, q, q_ideal (the ghost's), steps, error_mm, "
+           "gripper (joint values linear in time within an action: a drawing of the move, not the motors' profile).")
+      .def("__repr__", [](const PyTimeline& s) {
+        return "<Timeline of " + std::to_string(s.tl.actions().size()) + " statements, " + std::to_string(s.tl.duration()) +
+               " s>";
+      });
+
+
   m.def("detect_format",
         [](nb::handle text, const std::string& name) {
           return host::detect_format(text_of(text), name) == host::Program::Format::kRoboSim ? "robosim" : "protocol";
@@ -98,6 +124,20 @@ void bind_program(nb::module_& m, nb::class_<PyRobot>& robot) {
            "program"_a,
            "A program on the kinematic model (`articula run --json`): exact joint values, no steps, no timing; "
            "records with joints, tool (position, rpy, rotation), gripper_percent, target and ik_status.")
+      .def("timeline",
+           [](const PyRobot& self, nb::handle program, nb::handle start) {
+             const Robot& r = self.r();
+             std::vector<double> q(size_t(r.model.num_joints));
+             if (start.is_none()) q = host::home_pose(r);
+             else {
+               read_joints(q.data(), start, r, "start");
+               q = host::joints_out(r, q.data());
+             }
+             return PyTimeline{self.robot, host::Timeline::of_program(r, program_from(program, r), q)};
+           },
+           "program"_a, "start"_a = nb::none(),
+           "The program's time line, as the studio plays it: predicted from power-up for a robot with motors, "
+           "or run on the kinematic model from `start` (deg or mm; default home) at 60 deg/s and 100 mm/s.")
       .def("quantize",
            [](const PyRobot& self, const std::vector<std::string>& lines) {
              const Robot& r = self.r();

@@ -67,8 +67,9 @@ nb::list links_info(const Robot& r) {
 }
 
 Array joints_array(const Robot& r, const std::vector<double>& q_model) {
-  Array a = new_array({q_model.size()});
-  for (size_t j = 0; j < q_model.size(); ++j) a.data()[j] = host::joint_from_model(r, int(j), q_model[j]);
+  const std::vector<double> q = host::joints_out(r, q_model.data());
+  Array a = new_array({q.size()});
+  std::copy(q.begin(), q.end(), a.data());
   return a;
 }
 
@@ -177,16 +178,9 @@ Array dh_table(const PyRobot& self, nb::handle q_in) {
   const Robot& r = self.r();
   double q[host::kMaxJoints];
   read_joints(q, q_in, r, "q");
-  DhRow<double> table[host::kMaxRows];
-  articula::dh_table(table, r.model, q);
-  const size_t n = size_t(r.model.num_rows);
-  Array a = new_array({n, 4});
-  for (size_t i = 0; i < n; ++i) {
-    a.data()[4 * i + 0] = table[i].a;
-    a.data()[4 * i + 1] = rad_to_deg(table[i].alpha);
-    a.data()[4 * i + 2] = table[i].d;
-    a.data()[4 * i + 3] = rad_to_deg(table[i].theta);
-  }
+  const auto table = host::dh_table_at(r, q);
+  Array a = new_array({table.size(), 4});
+  for (size_t i = 0; i < table.size(); ++i) std::copy(table[i].begin(), table[i].end(), a.data() + 4 * i);
   return a;
 }
 
@@ -198,53 +192,25 @@ struct PyIkResult {
   std::shared_ptr<const Robot> robot;
 };
 
+// A target as Python gives it: (x, y, z), (x, y, z, roll, pitch, yaw) or a 4x4 pose; read and
+// checked by the shared layer (host/lib/robot_view.h), as the web engine's are.
 host::IkTarget read_target(nb::handle t_in) {
   auto t = read_array(t_in, "target");
-  const double* v = t.data();
-  for (size_t i = 0; i < t.size(); ++i)
-    if (!std::isfinite(v[i])) throw nb::value_error("target holds a NaN or an infinity: a target must be finite");
-  if (t.ndim() == 1 && t.shape(0) == 3) return host::IkTarget::at(make_vec3(v[0], v[1], v[2]));
-  if (t.ndim() == 1 && t.shape(0) == 6) {
-    host::IkTarget target = host::IkTarget::at(make_vec3(v[0], v[1], v[2]));
-    target.has_rotation = true;
-    target.rotation = rpy_to_matrix(deg_to_rad(v[3]), deg_to_rad(v[4]), deg_to_rad(v[5]));
-    return target;
-  }
-  if (t.ndim() == 2 && t.shape(0) == 4 && t.shape(1) == 4) {
-    Transform<double> T;
-    for (int i = 0; i < 3; ++i) {
-      for (int k = 0; k < 3; ++k) T.R.m[i][k] = v[4 * i + k];
-      T.p[i] = v[4 * i + 3];
-    }
-    return host::IkTarget::pose(T);
-  }
-  throw nb::value_error(
-      "target must be a position (x, y, z) in mm, a pose (x, y, z, roll, pitch, yaw) in mm and deg, or a 4x4 "
-      "homogeneous matrix");
+  if (t.ndim() == 2 && t.shape(0) == 4 && t.shape(1) == 4) return host::ik_target_pose(t.data());
+  return host::ik_target(t.data(), t.ndim() == 1 ? t.size() : 0);
 }
 
 host::IkOptions ik_options(const std::string& solver, nb::handle weights, double tolerance_mm, int max_iterations,
                            uint64_t seed) {
-  host::IkOptions o;
-  if (!host::parse_ik_method(solver, o.method))
-    throw nb::value_error(("unknown solver '" + solver + "': one of auto, closed, lm, jt").c_str());
-  if (!weights.is_none()) o.weights = read_vector(weights, "weights");
-  if (!(tolerance_mm > 0)) throw nb::value_error("tolerance_mm must be > 0");
-  if (max_iterations < 0) throw nb::value_error("max_iterations must be >= 0 (0: the solver's default)");
-  o.position_tolerance_mm = tolerance_mm;
-  o.max_iterations = max_iterations;
-  o.seed = seed;
-  return o;
+  std::vector<double> w;
+  if (!weights.is_none()) w = read_vector(weights, "weights");
+  return host::ik_options(solver, weights.is_none() ? nullptr : &w, tolerance_mm, max_iterations, seed);
 }
 
 std::vector<double> ik_start(const PyRobot& self, nb::handle start) {
-  const Robot& r = self.r();
-  std::vector<double> q(size_t(r.model.num_joints));
-  if (start.is_none()) {
-    for (size_t j = 0; j < q.size() && j < r.home.size(); ++j) q[j] = r.home[j];
-  } else {
-    read_joints(q.data(), start, r, "start");
-  }
+  if (start.is_none()) return host::ik_start(self.r(), nullptr);
+  std::vector<double> q(size_t(self.r().model.num_joints));
+  read_joints(q.data(), start, self.r(), "start");
   return q;
 }
 
@@ -275,20 +241,7 @@ nb::dict ik_batch(const PyRobot& self, nb::handle targets_in, const std::string&
     const double* v = T.data() + stride * i;
     for (size_t k = 0; k < stride; ++k)
       if (!std::isfinite(v[k])) throw nb::value_error(("targets[" + std::to_string(i) + "] holds a NaN or an infinity").c_str());
-    if (pose) {
-      Transform<double> X;
-      for (int a = 0; a < 3; ++a) {
-        for (int b = 0; b < 3; ++b) X.R.m[a][b] = v[4 * a + b];
-        X.p[a] = v[4 * a + 3];
-      }
-      targets[i] = host::IkTarget::pose(X);
-    } else {
-      targets[i] = host::IkTarget::at(make_vec3(v[0], v[1], v[2]));
-      if (rpy) {
-        targets[i].has_rotation = true;
-        targets[i].rotation = rpy_to_matrix(deg_to_rad(v[3]), deg_to_rad(v[4]), deg_to_rad(v[5]));
-      }
-    }
+    targets[i] = pose ? host::ik_target_pose(v) : host::ik_target(v, rpy ? 6 : 3);
   }
   const host::IkOptions o = ik_options(solver, weights, tolerance_mm, max_iterations, seed);
   const std::vector<double> q0 = ik_start(self, start);
@@ -403,16 +356,20 @@ nb::class_<PyRobot> bind_robot(nb::module_& m) {
                    "the joint variables: name, row (1-based), param ('theta', 'd', 'alpha'), unit, min, max")
       .def_prop_ro("limits",
                    [](const PyRobot& s) {
-                     const Robot& r = s.r();
-                     Array a = new_array({size_t(r.model.num_joints), 2});
-                     for (int j = 0; j < r.model.num_joints; ++j) {
-                       a.data()[2 * j] = host::joint_from_model(r, j, r.model.joints[j].lo);
-                       a.data()[2 * j + 1] = host::joint_from_model(r, j, r.model.joints[j].hi);
-                     }
+                     const auto limits = host::joint_limits(s.r());
+                     Array a = new_array({limits.size(), 2});
+                     for (size_t j = 0; j < limits.size(); ++j) std::copy(limits[j].begin(), limits[j].end(), a.data() + 2 * j);
                      return a;
                    },
                    "(n, 2) array of each joint variable's min and max (deg or mm)")
-      .def_prop_ro("home", [](const PyRobot& s) { return joints_array(s.r(), s.r().home); }, "the home pose (deg or mm)")
+      .def_prop_ro("home",
+                   [](const PyRobot& s) {
+                     const std::vector<double> home = host::home_pose(s.r());
+                     Array a = new_array({home.size()});
+                     std::copy(home.begin(), home.end(), a.data());
+                     return a;
+                   },
+                   "the home pose (deg or mm)")
       .def_prop_ro("motors", [](const PyRobot& s) { return motors_info(s.r()); },
                    "the motors (empty for a purely kinematic robot): steps, gear, limits, deg_per_step, step_range")
       .def_prop_ro("coupling",
@@ -483,28 +440,21 @@ nb::class_<PyRobot> bind_robot(nb::module_& m) {
            "'max'}), in row order, mm (RoboSim's l).")
       .def("joints_from_motors",
            [](const PyRobot& s, nb::handle u_in) {
-             const Robot& r = s.r();
-             if (!r.has_motors) throw nb::value_error((r.name + " has no motors").c_str());
-             const std::vector<double> u = read_vector(u_in, "motor angles");
-             if (u.size() != size_t(r.actuation.num_motors))
-               throw nb::value_error(("motor angles has " + std::to_string(u.size()) + " values; " + r.name + " has " +
-                                      std::to_string(r.actuation.num_motors) + " motors")
-                                         .c_str());
-             double u_rad[host::kMaxJoints], q[host::kMaxJoints];
-             for (size_t i = 0; i < u.size(); ++i) u_rad[i] = deg_to_rad(u[i]);
-             joints_from_actuators(q, r.actuation, u_rad);
-             return joints_array(r, std::vector<double>(q, q + r.model.num_joints));
+             const std::vector<double> q = host::joints_from_motors(s.r(), read_vector(u_in, "motor angles"));
+             Array a = new_array({q.size()});
+             std::copy(q.begin(), q.end(), a.data());
+             return a;
            },
            "motor_deg"_a, "The joint variables (deg or mm) that motor angles (deg, at the gears' outputs) give: q = C u.")
       .def("motors_from_joints",
            [](const PyRobot& s, nb::handle q_in) {
              const Robot& r = s.r();
              if (!r.has_motors) throw nb::value_error((r.name + " has no motors").c_str());
-             double q[host::kMaxJoints], u[host::kMaxJoints];
-             read_joints(q, q_in, r, "q");
-             actuators_from_joints(u, r.actuation, q);
-             Array a = new_array({size_t(r.actuation.num_motors)});
-             for (int i = 0; i < r.actuation.num_motors; ++i) a.data()[i] = rad_to_deg(u[i]);
+             std::vector<double> q(size_t(r.model.num_joints));
+             read_joints(q.data(), q_in, r, "q");
+             const std::vector<double> u = host::motors_from_joints(r, q);
+             Array a = new_array({u.size()});
+             std::copy(u.begin(), u.end(), a.data());
              return a;
            },
            "q"_a, "The motor angles (deg) that give joint values q: u = C^-1 q.")

@@ -11,6 +11,7 @@
 #include "records_json.h"
 #include "scene.h"
 #include "sim.h"
+#include "sim_view.h"
 
 namespace articula::python {
 namespace {
@@ -39,70 +40,44 @@ struct PySim {
   }
 };
 
+// A 4x4 pose from the shared JSON form (16 numbers, row-major) as a numpy array.
+Array44 pose_array(const nlohmann::json& flat) {
+  Array44 a = new_array44();
+  for (size_t k = 0; k < 16; ++k) a.data()[k] = flat[k].get<double>();
+  return a;
+}
+
+// The world now, as host/physics/sim_view.h describes it (the web engine hands out the same),
+// with numpy arrays for the joints and the poses.
 nb::dict state(const PySim& s) {
-  const host::Simulation& sim = *s.sim;
-  const Robot& r = *s.robot;
-  nb::dict d;
-  d["t"] = sim.time();
-  const size_t n = size_t(r.model.num_joints);
-  Array q = new_array({n});
-  for (size_t j = 0; j < n; ++j) q.data()[j] = host::joint_from_model(r, int(j), sim.joints()[j]);
+  const nlohmann::json j = host::sim_state_json(*s.sim);
+  nb::dict d = nb::borrow<nb::dict>(json_to_python(j));
+  Array q = new_array({j["joints"].size()});
+  for (size_t k = 0; k < j["joints"].size(); ++k) q.data()[k] = j["joints"][k].get<double>();
   d["joints"] = q;
-  const host::HostFrames& f = sim.frames();
-  const size_t rows = size_t(r.model.num_rows);
-  Array frames = new_array({rows + 2, 4, 4});
-  for (size_t i = 0; i <= rows; ++i) write_transform(frames.data() + 16 * i, f.T_base_frame[i]);
-  write_transform(frames.data() + 16 * (rows + 1), f.T_base_tool);
+  Array frames = new_array({j["frames"].size(), 4, 4});
+  for (size_t i = 0; i < j["frames"].size(); ++i)
+    for (size_t k = 0; k < 16; ++k) frames.data()[16 * i + k] = j["frames"][i][k].get<double>();
   d["frames"] = frames;
-  d["tool"] = transform_array(f.T_base_tool);
-  d["gripper_mm"] = sim.gripper_opening_mm();
-  d["counted_steps"] = sim.counted_steps();
-  d["lost_steps"] = sim.lost_steps();
-  d["busy"] = sim.busy();
-  nb::list parts;
-  for (const auto& p : sim.arm_parts()) {
-    nb::dict e;
-    e["name"] = p.name;
-    e["frame"] = p.frame;
-    e["pose"] = transform_array(p.T);
-    parts.append(e);
+  d["tool"] = pose_array(j["tool"]);
+  nb::list parts = nb::borrow<nb::list>(d["parts"]), objects = nb::borrow<nb::list>(d["objects"]);
+  for (size_t i = 0; i < j["parts"].size(); ++i) nb::borrow<nb::dict>(parts[i])["pose"] = pose_array(j["parts"][i]["pose"]);
+  for (size_t i = 0; i < j["objects"].size(); ++i)
+    nb::borrow<nb::dict>(objects[i])["pose"] = pose_array(j["objects"][i]["pose"]);
+  nb::list contacts = nb::borrow<nb::list>(d["contacts"]);
+  for (size_t i = 0; i < j["contacts"].size(); ++i) {
+    const auto& p = j["contacts"][i]["point_mm"];
+    nb::borrow<nb::dict>(contacts[i])["point_mm"] = nb::make_tuple(p[0].get<double>(), p[1].get<double>(), p[2].get<double>());
   }
-  d["parts"] = parts;
-  nb::list objects;
-  for (int i = 0; i < sim.num_objects(); ++i) {
-    nb::dict e;
-    e["name"] = sim.object(i).name;
-    e["pose"] = transform_array(sim.object_pose(i));
-    e["movable"] = sim.object(i).movable;
-    e["carried"] = sim.object_carried(i);
-    e["removed"] = sim.object_removed(i);
-    objects.append(e);
-  }
-  d["objects"] = objects;
-  nb::list contacts;
-  for (const auto& c : sim.contacts()) {
-    nb::dict e;
-    e["a"] = c.a;
-    e["b"] = c.b;
-    e["point_mm"] = nb::make_tuple(c.point_mm.x, c.point_mm.y, c.point_mm.z);
-    contacts.append(e);
-  }
-  d["contacts"] = contacts;
   return d;
 }
 
 nb::list scene_objects(const PySim& s) {
-  static const char* kTypes[] = {"box", "cylinder", "sphere"};
-  nb::list out;
-  for (const auto& o : s.scene.objects) {
-    nb::dict e;
-    e["name"] = o.name;
-    e["type"] = kTypes[int(o.type)];
-    e["size"] = nb::make_tuple(o.size[0], o.size[1], o.size[2]);
-    e["movable"] = o.movable;
-    e["mass_kg"] = o.movable ? o.mass_kg() : 0.0;
-    e["friction"] = o.friction;
-    out.append(e);
+  nb::list out = nb::borrow<nb::list>(json_to_python(host::scene_objects_json(s.scene)));
+  for (size_t i = 0; i < out.size(); ++i) {
+    nb::dict o = nb::borrow<nb::dict>(out[i]);
+    nb::list size = nb::borrow<nb::list>(o["size"]);
+    o["size"] = nb::make_tuple(size[0], size[1], size[2]);
   }
   return out;
 }
