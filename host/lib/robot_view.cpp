@@ -247,6 +247,25 @@ std::vector<std::array<double, 4>> dh_table_at(const Robot& r, const double* q_m
   return out;
 }
 
+void jacobian_at(const Robot& r, const HostFrames& f, double* out) {
+  const int n = r.model.num_joints;
+  double J[6][kMaxJoints];
+  jacobian(J, r.model, f);
+  for (int j = 0; j < n; ++j) {
+    const bool angle = joint_is_angle(r, j);
+    for (int k = 0; k < 3; ++k) out[k * n + j] = J[k][j] * (angle ? M_PI / 180 : 1.0);
+    for (int k = 3; k < 6; ++k) out[k * n + j] = J[k][j] * (angle ? 1.0 : 180 / M_PI);
+  }
+}
+
+std::vector<double> jacobian_at(const Robot& r, const double* q_model) {
+  HostFrames f;
+  forward_kinematics(f, r.model, q_model);
+  std::vector<double> out(size_t(6 * r.model.num_joints));
+  jacobian_at(r, f, out.data());
+  return out;
+}
+
 // ---- IK requests
 
 IkTarget ik_target(const double* v, size_t count) {

@@ -70,6 +70,13 @@ std::vector<double> motors_from_joints(const Robot& r, const std::vector<double>
 // The DH table at q (model units), a row each: a(i-1) mm, alpha(i-1) deg, d(i) mm, theta(i) deg.
 std::vector<std::array<double, 4>> dh_table_at(const Robot& r, const double* q_model);
 
+// The geometric Jacobian of the tool point at q (model units), 6 x num_joints row-major, per
+// unit of q as the interfaces give it (deg or mm): rows 0-2 the tool's velocity (mm per deg,
+// or mm per mm), rows 3-5 its rotation (deg per deg, or deg per mm).
+std::vector<double> jacobian_at(const Robot& r, const double* q_model);
+// The same from frames already computed at q, into out[0 .. 6 * num_joints).
+void jacobian_at(const Robot& r, const HostFrames& frames, double* out);
+
 // ---- IK requests
 
 // (x, y, z) mm, or (x, y, z, roll, pitch, yaw) mm and deg.

@@ -94,18 +94,8 @@ Array frames(const PyRobot& self, nb::handle q_in) {
   return a;
 }
 
-// The Jacobian per unit of q as the interfaces give it (deg or mm): the linear rows of an
-// angle's column in mm/deg; the angular rows, a rotation per unit, are unitless for angles.
-void write_jacobian(double* out, const Robot& r, const HostFrames& f) {
-  const int n = r.model.num_joints;
-  double J[6][host::kMaxJoints];
-  jacobian(J, r.model, f);
-  for (int j = 0; j < n; ++j) {
-    const double scale = host::joint_is_angle(r, j) ? M_PI / 180 : 1.0;
-    for (int k = 0; k < 3; ++k) out[k * n + j] = J[k][j] * scale;
-    for (int k = 3; k < 6; ++k) out[k * n + j] = J[k][j] * (host::joint_is_angle(r, j) ? 1.0 : 180 / M_PI);
-  }
-}
+// The Jacobian per unit of q as the interfaces give it (host/lib/robot_view.h).
+void write_jacobian(double* out, const Robot& r, const HostFrames& f) { host::jacobian_at(r, f, out); }
 
 Array jacobian_one(const PyRobot& self, nb::handle q_in) {
   const Robot& r = self.r();

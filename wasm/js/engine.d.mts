@@ -12,6 +12,7 @@ export class Robot {
   setLinkLengths(values: number[]): Robot;
   readonly info: Record<string, unknown>;
   pose(q: number[], openingMm?: number): Record<string, unknown>;
+  jacobian(q: number[]): number[][];
   ik(args: Record<string, unknown>): Record<string, unknown>;
   predict(text: string, name?: string, settings?: string): Record<string, unknown>;
   run(text: string, name?: string): Record<string, unknown>;
@@ -43,36 +44,31 @@ export class Sim {
   readonly endTime: number;
   delete(): void;
 }
-export interface CoilDecoder {
-  feed(pattern: number): number; // 0 no change, 1 step, 2 released, 3 energised, 4 fault
-  forceHalfStep(): void;
-  steps(): number;
-  halfSteps(): number;
-  faults(): number;
-  pattern(): number;
+export interface TimelineRecord {
+  line: number; command: string; reply: string; code: number; error: string; note: string;
+  start_s: number; end_s: number; q: number[]; q_ideal: number[]; tool: number[]; tool_ideal: number[];
+  error_mm: number; steps: number[] | null; gripper: number | null;
+}
+export class Timeline {
+  readonly doc: { start_q: number[]; duration: number; format: "protocol" | "robosim";
+    summary: { commands: number; rejected: number; worst_error_mm?: number }; records: TimelineRecord[] };
+  at(t: number): { t: number; line: number; q: number[]; q_ideal: number[]; steps: number[] | null; error_mm: number; gripper: number | null };
+  readonly duration: number;
   delete(): void;
 }
 export class Engine {
   readonly status: Record<string, [string, string]>;
   robot(nameOrPath?: string): Robot;
   sim(robot: Robot, sceneText?: string, sceneName?: string, dt?: number): Sim;
+  timeline(robot: Robot, text: string, name: string, startQ: number[]): Timeline;
   statusText(code: number): string;
-  coilDecoder(): CoilDecoder;
   firstIntervalS(maxRate: number, accel: number): number;
-  /** The servo angle a pulse width asks for, and the gripper's aperture at that angle (hil/vnano/servo.h). */
-  servoAngleDeg(widthUs: number): number;
-  servoAperturePercent(angleDeg: number, closedDeg: number, openDeg: number): number;
   parseArmLine(line: string):
     | { kind: "reply"; code: number }
-    | { kind: "status"; state: string; steps: number[]; angles: number[]; gripper: number; free: number; coils: boolean; warning: number }
+    | { kind: "status"; state: string; steps: number[]; angles: number[]; millideg: number[]; gripper: number; free: number; coils: boolean; warning: number }
     | { kind: "info"; version: string; protocol: number; joints: number; robot: string; warning: number }
+    | { kind: "setting"; number: number; value: number }
     | { kind: "other" };
-  readonly nanoWiring: {
-    motors: { port: "B" | "C" | "D"; shift: number }[];
-    endstops: { port: "B" | "C" | "D"; bit: number }[];
-    servo: { port: "B" | "C" | "D"; bit: number };
-    led: { port: "B" | "C" | "D"; bit: number };
-  };
   writeFile(path: string, data: string | Uint8Array): void;
   exists(path: string): boolean;
   readFile(path: string): Uint8Array;

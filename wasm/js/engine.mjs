@@ -1,4 +1,4 @@
-// wasm/js/engine.mjs - the web engine for JavaScript: wasm/src/engine.cpp's classes with the
+// wasm/js/engine.mjs - the web engine for JavaScript: wasm/src's classes and functions with the
 // JSON parsed and errors thrown as EngineError (what the CLI would print: the file, the JSON
 // path or the line, and the problem). No logic of its own, as python/articula holds none.
 //
@@ -53,12 +53,14 @@ export class Robot {
   /** Frames (base, rows, tool: 16 numbers each, row-major), tool {xyz, rpy}, dh_table,
    * within_limits, and fingers at the gripper's opening (mm). */
   pose(q, openingMm = NaN) { return checked(this.h.pose(JSON.stringify(q), openingMm)); }
+  /** The Jacobian of the tool point at q: 6 rows (velocity mm, rotation deg) per deg or mm of q. */
+  jacobian(q) { return checked(this.h.jacobian(JSON.stringify(q))); }
   /** `articula ik --json`'s result for {target, solver, start, weights, max_iterations}. */
   ik(args) { return checked(this.h.ik(JSON.stringify(args))); }
-  predict(text, name = "program.arm", settings = "") { return checked(this.h.predict(text, name, settings)); }
-  run(text, name = "program.arm") { return checked(this.h.run(text, name)); }
-  quantize(lines) { return checked(this.h.quantize(JSON.stringify(lines))); }
-  programFormat(text, name = "") { return this.h.programFormat(text, name); }
+  predict(text, name = "program.arm", settings = "") { return checked(this.engine.M.predict(this.h, text, name, settings)); }
+  run(text, name = "program.arm") { return checked(this.engine.M.run(this.h, text, name)); }
+  quantize(lines) { return checked(this.engine.M.quantize(this.h, JSON.stringify(lines))); }
+  programFormat(text, name = "") { return this.engine.M.programFormat(text, name); }
   urdf() { return checked(this.h.urdf()).xml; }
   jointsFromMotors(u) { return checked(this.h.jointsFromMotors(JSON.stringify(u))); }
   motorsFromJoints(q) { return checked(this.h.motorsFromJoints(JSON.stringify(q))); }
@@ -125,6 +127,25 @@ export class Sim {
   delete() { this.h.delete(); }
 }
 
+export class Timeline {
+  /** A program's time line on `robot` (host/lib/timeline.h): predicted (a robot with motors,
+   * from power-up) or run from startQ (deg or mm). {start_q, duration, summary, format,
+   * records} in `doc`; `at(t)` the arm at time t. */
+  constructor(engine, robot, text, name, startQ) {
+    this.h = new engine.M.Timeline();
+    try {
+      this.doc = checked(this.h.make(robot.h, text, name, JSON.stringify(startQ)));
+    } catch (e) {
+      this.h.delete();
+      throw e;
+    }
+  }
+  /** {t, line, q, q_ideal, steps, error_mm, gripper}. */
+  at(t) { return checked(this.h.at(t)); }
+  get duration() { return this.h.duration(); }
+  delete() { this.h.delete(); }
+}
+
 export class Engine {
   constructor(M) {
     this.M = M;
@@ -143,17 +164,13 @@ export class Engine {
     return r;
   }
   sim(robot, sceneText, sceneName, dt) { return new Sim(this, robot, sceneText, sceneName, dt); }
+  timeline(robot, text, name, startQ) { return new Timeline(this, robot, text, name, startQ); }
   statusText(code) { return this.M.statusText(code); }
-  /** A line from the arm read by the core's parsers: {kind: "reply" | "status" | "info" | "other", ...}. */
+  /** A line from the arm read by the core's parsers (host/lib/protocol_view.h): {kind: "reply" |
+   * "status" | "info" | "setting" | "other", ...}. */
   parseArmLine(line) { return JSON.parse(this.M.parseArmLine(line)); }
   /** The first step interval of a move from rest at $0 = maxRate, $1 = accel (motion.h), s. */
   firstIntervalS(maxRate, accel) { return this.M.firstIntervalS(maxRate, accel); }
-  servoAngleDeg(widthUs) { return this.M.servoAngleDeg(widthUs); }
-  servoAperturePercent(angleDeg, closedDeg, openDeg) { return this.M.servoAperturePercent(angleDeg, closedDeg, openDeg); }
-  /** A motor's coil decoder (hil/vnano/coil_decoder.h), for an emulated Nano. */
-  coilDecoder() { return new this.M.CoilDecoder(); }
-  /** The Nano's wiring (hil/vnano/wiring.h): motors [{port, shift}], endstops, servo, led. */
-  get nanoWiring() { return (this._wiring ??= JSON.parse(this.M.nanoWiring())); }
   /** Files of the engine's in-memory file system (folders are made on the way). */
   writeFile(path, data) {
     const parts = path.split("/").filter(Boolean);

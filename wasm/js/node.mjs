@@ -1,11 +1,13 @@
 // wasm/js/node.mjs - the web engine in node, for the parity tests and the benchmark: loads
 // build/wasm/wasm/engine.mjs (or $ARTICULA_WASM_DIR) and puts the shipped robots and scenes
-// into its files, where the studio's worker puts what it fetched.
+// into its files, where the studio's worker puts what it fetched; and the virtual Nano's
+// parts (nano.mjs) for the emulated Nano's tests.
 import { createRequire } from "node:module";
 import { readFileSync, readdirSync } from "node:fs";
 import { dirname, join, resolve } from "node:path";
 import { fileURLToPath, pathToFileURL } from "node:url";
 import { loadEngine } from "./engine.mjs";
+import { loadNanoParts } from "./nano-parts.mjs";
 
 export const REPO = resolve(dirname(fileURLToPath(import.meta.url)), "../..");
 
@@ -19,4 +21,12 @@ export async function nodeEngine(wasmDir = process.env.ARTICULA_WASM_DIR || join
     for (const f of readdirSync(join(REPO, kind)).filter((f) => f.endsWith(".json")))
       engine.writeFile(`/${kind}/${f}`, readFileSync(join(REPO, kind, f)));
   return engine;
+}
+
+/** The virtual Nano's parts (nano.mjs, nano.wasm) in node, for the emulated Nano's tests. */
+export async function nodeNanoParts(wasmDir = process.env.ARTICULA_WASM_DIR || join(REPO, "build/wasm/wasm")) {
+  globalThis.require ??= createRequire(import.meta.url);
+  globalThis.__dirname ??= wasmDir;
+  const { default: createNanoParts } = await import(pathToFileURL(join(wasmDir, "nano.mjs")).href);
+  return loadNanoParts(createNanoParts, { wasmBinary: readFileSync(join(wasmDir, "nano.wasm")) });
 }

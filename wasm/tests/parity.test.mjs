@@ -228,7 +228,7 @@ describe("bad input gets the CLI's words, and the robot that was there stays", (
     });
     assert.equal(r.info.name, "MK2 Plus", "the robot that was there stays");
     assert.throws(() => r.parse("{", "x.json"), /x\.json: JSON syntax error/);
-    assert.throws(() => r.pose([0, NaN, 0]), /q\[1\] must be a finite number/);
+    assert.throws(() => r.pose([0, NaN, 0]), /q\[1\] \(shoulder\) is NaN: joint values must be finite numbers/);
     assert.throws(() => r.pose([0, 0]), /q has 2 values; MK2 Plus has 3 joint variables/);
     assert.throws(() => r.ik({ target: [1, 2] }), /target must be/);
     assert.throws(() => r.ik({ target: [100, 0, 100], solver: "magic" }), /unknown solver 'magic'/);

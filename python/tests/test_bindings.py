@@ -1,0 +1,185 @@
+"""The two bindings offer the same operations (as MuJoCo's bindings test holds its Python
+binding to its C API). Python (python/src) and the web engine (wasm/src) are thin doors to
+one host library; an operation added to one and not the other, or a name that drifts, fails
+here. Each operation is listed once, with its name on each side; what only one side has is
+listed with the reason."""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+from pathlib import Path
+
+import articula
+from articula import _core
+
+REPO = Path(__file__).resolve().parents[2]
+WASM_DIR = Path(os.environ.get("ARTICULA_WASM_DIR", REPO / "build" / "wasm" / "wasm"))
+
+# (Python, web): the same operation of the host library. Python names are attributes of
+# articula._core ("Robot.fk"), web names are the engine module's exports ("Robot.pose",
+# "predict"). Several Python names may share one web call that answers them at once.
+SAME = [
+    # robots: files, description, poses, IK, motors
+    ("Robot.load", "Robot.load"),
+    ("Robot.parse", "Robot.parse"),
+    ("Robot.from_legacy", "Robot.fromLegacy"),
+    ("Robot.with_link_lengths", "Robot.setLinkLengths"),
+    ("Robot.name", "Robot.info"), ("Robot.description", "Robot.info"), ("Robot.source", "Robot.info"),
+    ("Robot.import_notes", "Robot.info"), ("Robot.num_joints", "Robot.info"), ("Robot.num_rows", "Robot.info"),
+    ("Robot.num_motors", "Robot.info"), ("Robot.joint_names", "Robot.info"), ("Robot.motor_names", "Robot.info"),
+    ("Robot.dh", "Robot.info"), ("Robot.joints", "Robot.info"), ("Robot.limits", "Robot.info"),
+    ("Robot.home", "Robot.info"), ("Robot.motors", "Robot.info"), ("Robot.links", "Robot.info"),
+    ("Robot.gripper", "Robot.info"), ("Robot.tool_offset", "Robot.info"), ("Robot.reach_mm", "Robot.info"),
+    ("Robot.fk", "Robot.pose"), ("Robot.frames", "Robot.pose"), ("Robot.dh_table", "Robot.pose"),
+    ("Robot.within_limits", "Robot.pose"), ("Robot.finger_poses", "Robot.pose"),
+    ("Robot.jacobian", "Robot.jacobian"),
+    ("Robot.ik", "Robot.ik"),
+    ("Robot.joints_from_motors", "Robot.jointsFromMotors"),
+    ("Robot.motors_from_joints", "Robot.motorsFromJoints"),
+    ("Robot.to_urdf", "Robot.urdf"),
+    # programs
+    ("Robot.predict", "predict"),
+    ("Robot.run", "run"),
+    ("Robot.quantize", "quantize"),
+    ("detect_format", "programFormat"),
+    ("Robot.timeline", "Timeline.make"),
+    ("Timeline.at", "Timeline.at"),
+    ("Timeline.duration", "Timeline.duration"),
+    ("Timeline.records", "Timeline.make"), ("Timeline.start_q", "Timeline.make"),
+    # physics
+    ("Sim.__init__", "Sim.create"),
+    ("Sim.reset", "Sim.reset"),
+    ("Sim.step", "Sim.step"),
+    ("Sim.run_until", "Sim.runUntil"),
+    ("Sim.load_program", "Sim.loadProgram"),
+    ("Sim.command", "Sim.command"),
+    ("Sim.events", "Sim.events"),
+    ("Sim.state", "Sim.state"),
+    ("Sim.objects", "Sim.objects"),
+    ("Sim.drag", "Sim.drag"),
+    ("Sim.release", "Sim.release"),
+    ("Sim.time", "Sim.time"),
+    ("Sim.dt", "Sim.dt"),
+    ("Sim.busy", "Sim.busy"),
+    ("Sim.done", "Sim.done"),
+    ("Sim.end_time", "Sim.endTime"),
+    ("Sim.scene_name", "Sim.sceneName"),
+    # the arm's protocol
+    ("_status_table", "statusTable"),
+    ("_status_table", "statusText"),
+    ("parse_arm_line", "parseArmLine"),
+    ("first_interval_s", "firstIntervalS"),
+]
+
+# What one side has alone, and why.
+PYTHON_ONLY = {
+    "Robot.fk_batch": "numpy batches: many poses in one call without a Python loop (the page asks one pose at a time)",
+    "Robot.jacobian_batch": "numpy batches",
+    "Robot.ik_batch": "numpy batches",
+    "Robot.check_program": "reads a program without running it; the page loads programs through predict or run",
+    "Robot.coupling": "the coupling matrix as numpy; the web's info carries the motors and joints it maps",
+    "Sim.run": "runs a loaded program to its end in one call, for scripts; the page steps in real time",
+    "Sim.steps": "the count of world steps, for scripts",
+    "rpy_deg": "roll, pitch, yaw of a numpy rotation; the web's poses carry rpy already",
+}
+WEB_ONLY = {
+    "Robot.loaded": "JavaScript holds an empty Robot before a load succeeds; Python only makes loaded ones",
+    "Robot.scratch": "the hot paths' heap array (a typed-array view, no JSON per call)",
+    "Robot.fkScratch": "the hot path of fk on the heap array",
+    "Robot.ikScratch": "the hot path of ik on the heap array",
+}
+# Python's own plumbing, not operations.
+PYTHON_PLUMBING = {"ProgramError", "RobotFileError", "SceneError", "LegacyError", "IkResult"}
+
+
+def python_ops() -> set[str]:
+    ops = set()
+    for name in dir(_core):
+        if name.startswith("__") or name in PYTHON_PLUMBING:
+            continue
+        obj = getattr(_core, name)
+        if isinstance(obj, type):
+            for attr in dir(obj):
+                if attr.startswith("_") and attr != "__init__":
+                    continue
+                if attr == "__init__" and type(obj.__dict__.get("__init__")).__name__ != "nb_method":
+                    continue  # no constructor of its own: made by a loader (Robot.load) or a call (Robot.timeline)
+                ops.add(f"{name}.{attr}")
+        else:
+            ops.add(name)
+    return ops
+
+
+def web_ops() -> set[str]:
+    script = f"""
+import {{ createRequire }} from "node:module";
+import {{ readFileSync }} from "node:fs";
+import {{ pathToFileURL }} from "node:url";
+globalThis.require ??= createRequire(import.meta.url);
+globalThis.__dirname ??= {json.dumps(str(WASM_DIR))};
+const {{ default: create }} = await import(pathToFileURL({json.dumps(str(WASM_DIR / "engine.mjs"))}).href);
+const M = await create({{ wasmBinary: readFileSync({json.dumps(str(WASM_DIR / "engine.wasm"))}) }});
+const ops = [];
+for (const cls of ["Robot", "Sim", "Timeline"])
+  for (const k of Object.getOwnPropertyNames(M[cls].prototype))
+    if (!["constructor", "delete", "isDeleted", "clone", "isAliasOf", "deleteLater"].includes(k)) ops.push(`${{cls}}.${{k}}`);
+for (const k of ["predict", "run", "quantize", "programFormat", "statusText", "statusTable", "parseArmLine", "firstIntervalS"])
+  if (typeof M[k] === "function") ops.push(k);
+console.log(JSON.stringify(ops));
+"""
+    p = subprocess.run(["node", "--no-experimental-fetch", "--input-type=module", "-e", script], capture_output=True, text=True,
+                       timeout=120)
+    assert p.returncode == 0, p.stderr
+    return set(json.loads(p.stdout))
+
+
+def test_every_operation_is_on_both_sides():
+    py, web = python_ops(), web_ops()
+    missing_py = sorted({p for p, _ in SAME} - py)
+    missing_web = sorted({w for _, w in SAME} - web)
+    assert missing_py == [], f"listed as shared, missing from Python: {missing_py}"
+    assert missing_web == [], f"listed as shared, missing from the web engine: {missing_web}"
+
+
+def test_no_operation_on_one_side_only_unless_listed():
+    py, web = python_ops(), web_ops()
+    unlisted_py = sorted(py - {p for p, _ in SAME} - set(PYTHON_ONLY))
+    unlisted_web = sorted(web - {w for _, w in SAME} - set(WEB_ONLY))
+    assert unlisted_py == [], f"Python has operations the web engine lacks (bind them in wasm/src, or list why): {unlisted_py}"
+    assert unlisted_web == [], f"the web engine has operations Python lacks (bind them in python/src, or list why): {unlisted_web}"
+    assert set(PYTHON_ONLY) <= py and set(WEB_ONLY) <= web, "a listed one-sided operation no longer exists"
+
+
+def test_both_sides_answer_alike():
+    """The same question through both doors: the same numbers and the same refusals."""
+    mk2 = articula.Robot.load("mk2plus")
+    script = f"""
+import {{ nodeEngine }} from {json.dumps(str(REPO / "wasm" / "js" / "node.mjs"))};
+const e = await nodeEngine({json.dumps(str(WASM_DIR))});
+const r = e.robot("mk2plus");
+const out = {{ jac: r.jacobian([10, 70, -60]), tl: e.timeline(r, "L 0 30\\nL 1 -20\\n", "t.arm", [0, 90, -90]).at(0.4),
+  arm: e.parseArmLine("<Run|S:95,0,0|A:30.083,90.000,0.000|G:100|Q:7|C:1>"), first: e.firstIntervalS(800, 3000) }};
+try {{ r.pose([0, NaN, 0]); }} catch (x) {{ out.nan = x.message; }}
+try {{ r.ik({{ target: [1, 2] }}); }} catch (x) {{ out.target = x.message; }}
+console.log(JSON.stringify(out));
+"""
+    p = subprocess.run(["node", "--no-experimental-fetch", "--input-type=module", "-e", script], capture_output=True, text=True,
+                       timeout=120)
+    assert p.returncode == 0, p.stderr
+    web = json.loads(p.stdout)
+    import numpy as np
+    np.testing.assert_allclose(mk2.jacobian([10, 70, -60]), web["jac"], atol=1e-12)
+    tl = mk2.timeline(articula.Program.parse("L 0 30\nL 1 -20\n", "t.arm")).at(0.4)
+    assert tl["line"] == web["tl"]["line"] and tl["steps"] == web["tl"]["steps"]
+    np.testing.assert_allclose(tl["q"], web["tl"]["q"], atol=1e-12)
+    assert _core.parse_arm_line("<Run|S:95,0,0|A:30.083,90.000,0.000|G:100|Q:7|C:1>") == web["arm"]
+    assert _core.first_interval_s(800, 3000) == web["first"]
+    for call, message in ((lambda: mk2.fk([0, float("nan"), 0]), web["nan"]), (lambda: mk2.ik([1, 2]), web["target"])):
+        try:
+            call()
+        except ValueError as e:
+            assert str(e) == message
+        else:
+            raise AssertionError(f"Python accepted what the web engine refused: {message}")

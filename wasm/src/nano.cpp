@@ -1,0 +1,73 @@
+// wasm/src/nano.cpp - the virtual Nano's parts for the page's emulated Nano (avr8js, in the
+// studio's nano worker), through embind: a motor's coil decoder (virtual-nano/coil_decoder.h),
+// the board's pins (firmware/src/board.h) and the servo's scale (shared/articula/servo.h). The
+// same code as simavr's virtual Nano (hil/vnano), in a module of its own, so the Nano's worker
+// loads a few kilobytes, not the engine with ODE. No logic of its own.
+#include <emscripten/bind.h>
+
+#include <articula/servo.h>
+
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "board.h"
+#include "coil_decoder.h"
+
+namespace articula::web {
+
+// One stepper motor's four L298N inputs as the emulated Nano sees them.
+class WebCoilDecoder {
+ public:
+  // A new IN1..IN4 pattern (bit 0 = IN1): 0 no change, 1 a step, 2 released, 3 energised,
+  // 4 a fault (a pattern the motor cannot follow).
+  int feed(int pattern) {
+    const vnano::CoilChange c = d_.feed(uint8_t(pattern));
+    if (c.event == vnano::CoilEvent::kFault) ++faults_;
+    return int(c.event);
+  }
+  void force_half_step() { d_.force_half_step(); }
+  double steps() const { return double(d_.steps()); }
+  double half_steps() const { return double(d_.half_steps()); }
+  int faults() const { return faults_; }
+  int pattern() const { return d_.pattern(); }
+
+ private:
+  vnano::CoilDecoder d_;
+  int faults_ = 0;
+};
+
+// The board's pins: ports "B", "C", "D"; motors [{port, shift}], endstops [{port, bit}],
+// servo and led {port, bit}.
+std::string board_wiring() {
+  using nlohmann::json;
+  auto port = [](int p) { return std::string(1, board::kPortNames[p]); };
+  json motors = json::array(), endstops = json::array();
+  for (int m = 0; m < board::kWiredMotors; ++m) {
+    motors.push_back({{"port", port(board::kMotorPins[m].port)}, {"shift", board::kMotorPins[m].shift}});
+    endstops.push_back({{"port", port(board::kEndstopPins[m].port)}, {"bit", board::kEndstopPins[m].bit}});
+  }
+  return json{{"motors", motors},
+              {"endstops", endstops},
+              {"servo", {{"port", port(board::kServoPin.port)}, {"bit", board::kServoPin.bit}}},
+              {"led", {{"port", port(board::kLedPin.port)}, {"bit", board::kLedPin.bit}}}}
+      .dump();
+}
+
+}  // namespace articula::web
+
+EMSCRIPTEN_BINDINGS(articula_nano) {
+  using namespace emscripten;
+  using articula::web::WebCoilDecoder;
+  class_<WebCoilDecoder>("CoilDecoder")
+      .constructor<>()
+      .function("feed", &WebCoilDecoder::feed)
+      .function("forceHalfStep", &WebCoilDecoder::force_half_step)
+      .function("steps", &WebCoilDecoder::steps)
+      .function("halfSteps", &WebCoilDecoder::half_steps)
+      .function("faults", &WebCoilDecoder::faults)
+      .function("pattern", &WebCoilDecoder::pattern);
+  function("boardWiring", &articula::web::board_wiring);
+  function("servoAngleDeg", +[](double us) { return articula::servo_angle_deg(us); });
+  function("servoAperturePercent",
+           +[](double angle, double closed, double open) { return articula::servo_aperture_percent(angle, closed, open); });
+}

@@ -1,0 +1,95 @@
+// wasm/src/program.cpp - programs for JavaScript (the twin of python/src/program.cpp): the
+// controller model (`articula predict --json`), the kinematic model (`run --json`), protocol
+// lines through the firmware's arithmetic (`quantize --json`), and a program's time line.
+#include <emscripten/bind.h>
+
+#include "predict.h"
+#include "quantize.h"
+#include "robot.h"
+#include "run.h"
+#include "timeline.h"
+
+namespace articula::web {
+
+std::string predict(const WebRobot& robot, const std::string& text, const std::string& name, const std::string& settings) {
+  return guarded([&] {
+    const Robot& r = robot.robot();
+    if (!r.has_motors)
+      throw std::invalid_argument(r.name + " has no motors: there are no steps to predict (run executes programs "
+                                           "on the kinematic model)");
+    const host::Program p = host::parse_program(text, name, r);
+    host::ControllerSettings s;
+    if (!settings.empty()) host::apply_settings_text(s, settings, r.actuation.num_motors);
+    return host::prediction_json(r, p, host::predict_program(r, p, s)).dump();
+  });
+}
+
+std::string run(const WebRobot& robot, const std::string& text, const std::string& name) {
+  return guarded([&] {
+    const host::Program p = host::parse_program(text, name, robot.robot());
+    return host::run_json(robot.robot(), p, host::run_program(robot.robot(), p)).dump();
+  });
+}
+
+std::string quantize(const WebRobot& robot, const std::string& lines_json) {
+  return guarded([&] {
+    const Robot& r = robot.robot();
+    if (!r.has_motors) throw std::invalid_argument(r.name + " has no motors: nothing to quantize");
+    json out = json::array();
+    for (const auto& q : host::quantize_lines(r, json::parse(lines_json).get<std::vector<std::string>>()))
+      out.push_back(host::quantize_record_json(r, q));
+    return out.dump();
+  });
+}
+
+std::string program_format(const std::string& text, const std::string& name) {
+  return host::detect_format(text, name) == host::Program::Format::kRoboSim ? "robosim" : "protocol";
+}
+
+// A program's time line (host/lib/timeline.h), as the studio plays it: made from a program
+// on a robot, then asked for the arm at any instant.
+class WebTimeline {
+ public:
+  // A prediction (a robot with motors) or a run from start_q (deg or mm; without motors):
+  // the time line's JSON ({start_q, duration, summary, records}), or {"error", "line"}.
+  std::string make(const WebRobot& robot, const std::string& text, const std::string& name, const std::string& start_json) {
+    return guarded([&] {
+      if (!robot.loaded()) throw std::invalid_argument("no robot loaded");
+      const Robot& r = *robot.shared();
+      const std::vector<double> start = host::joints_out(r, host::joints_in(r, numbers(json::parse(start_json), "start"), "start").data());
+      const host::Program p = host::parse_program(text, name, r);
+      auto tl = std::make_unique<host::Timeline>(host::Timeline::of_program(r, p, start));
+      json out = host::timeline_json(*tl);
+      out["format"] = p.format == host::Program::Format::kRoboSim ? "robosim" : "protocol";
+      tl_ = std::move(tl);
+      return out.dump();
+    });
+  }
+  // The arm at time t: {t, line, q, q_ideal, steps, error_mm, gripper}.
+  std::string at(double t) const {
+    return guarded([&] {
+      if (!tl_) throw std::invalid_argument("no program: make the time line first");
+      return host::timeline_pose_json(tl_->at(t)).dump();
+    });
+  }
+  double duration() const { return tl_ ? tl_->duration() : 0.0; }
+
+ private:
+  std::unique_ptr<host::Timeline> tl_;
+};
+
+}  // namespace articula::web
+
+EMSCRIPTEN_BINDINGS(articula_program) {
+  using namespace emscripten;
+  using articula::web::WebTimeline;
+  function("predict", &articula::web::predict);
+  function("run", &articula::web::run);
+  function("quantize", &articula::web::quantize);
+  function("programFormat", &articula::web::program_format);
+  class_<WebTimeline>("Timeline")
+      .constructor<>()
+      .function("make", &WebTimeline::make)
+      .function("at", &WebTimeline::at)
+      .function("duration", &WebTimeline::duration);
+}

@@ -1,0 +1,18 @@
+// wasm/src/protocol.cpp - the arm's protocol for JavaScript (the twin of python/src/protocol.cpp),
+// from the core through host/lib/protocol_view.h: the status table, a line from the arm read
+// by the firmware's own parsers, the motion profile's first step.
+#include <emscripten/bind.h>
+
+#include <articula/status.h>
+
+#include <string>
+
+#include "protocol_view.h"
+
+EMSCRIPTEN_BINDINGS(articula_protocol) {
+  using namespace emscripten;
+  function("statusText", +[](int code) { return std::string(articula::status_text(uint8_t(code))); });
+  function("statusTable", +[] { return articula::host::status_table_json().dump(); });
+  function("parseArmLine", +[](const std::string& line) { return articula::host::arm_line_json(line).dump(); });
+  function("firstIntervalS", &articula::host::first_interval_s);
+}
