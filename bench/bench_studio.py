@@ -58,7 +58,7 @@ def open_page(browser, url):
     ctx.add_init_script("localStorage.setItem('articula.studio.tour.done', '1')")
     page = ctx.new_page()
     page.goto(url)
-    page.wait_for_function("window.articula && window.articula.firstFrameAt > 0", timeout=30000)
+    page.wait_for_function("() => window.articula && window.articula.firstFrameAt > 0", timeout=30000)
     return ctx, page
 
 
@@ -128,7 +128,7 @@ def main():
         ctx.add_init_script("localStorage.setItem('articula.studio.tour.done', '1')")
         page = ctx.new_page()
         page.goto(site.url + "?robot=panda&fps=continuous")
-        page.wait_for_function("window.articula && window.articula.firstFrameAt > 0", timeout=30000)
+        page.wait_for_function("() => window.articula && window.articula.firstFrameAt > 0", timeout=30000)
         page.wait_for_timeout(2000)
         fps = []
         for _ in range(5):
@@ -140,7 +140,7 @@ def main():
 
         # Live physics: the Panda in the cluttered scene, moving through it.
         ctx, page = open_page(browser, site.url + "?robot=panda&scene=cluttered")
-        page.wait_for_function("window.articula.physics && window.articula.physics.on")
+        page.wait_for_function("() => window.articula.physics && window.articula.physics.on")
         page.evaluate("""async () => {
             const q = [[0, 40, 0, -90, 0, 130, 45], [60, 50, 0, -80, 0, 130, 45], [-60, 30, 0, -100, 0, 130, 45]];
             for (let k = 0; k < 3; k++) {
@@ -171,7 +171,7 @@ def main():
         ctx, page = open_page(browser, site.url + "?robot=mk2plus")
         page.select_option("#arm-port", "page:virtual")
         page.click("#arm-connect")
-        page.wait_for_function("window.articula.arm.connected && window.articula.arm.nano", timeout=30000)
+        page.wait_for_function("() => window.articula.arm.connected && window.articula.arm.nano", timeout=30000)
         page.wait_for_timeout(3000)
         idle, idle_cap = [], []
         for _ in range(10):
@@ -201,17 +201,17 @@ def main():
         ctx, page = open_page(browser, site.url + "?robot=mk2plus")
         page.select_option("#arm-port", "page:virtual")
         page.click("#arm-connect")
-        page.wait_for_function("window.articula.arm.connected && window.articula.arm.status", timeout=30000)
+        page.wait_for_function("() => window.articula.arm.connected && window.articula.arm.status", timeout=30000)
         stops = []
         for _ in range(5):
             for line in ("$1=20000", "M 80 90 0"):
                 page.fill("#arm-line", line)
                 page.click("#arm-send")
                 page.wait_for_timeout(200)
-            page.wait_for_function("window.articula.arm.status.state === 'Run'", timeout=15000)
+            page.wait_for_function("() => window.articula.arm.status.state === 'Run'", timeout=15000)
             page.wait_for_timeout(150)
             page.keyboard.press("Escape")
-            page.wait_for_function("window.articula.arm.stopMs !== null", timeout=15000)
+            page.wait_for_function("() => window.articula.arm.stopMs !== null", timeout=15000)
             stops.append(page.evaluate("window.articula.arm.stopMs"))
             page.fill("#arm-line", "M 0 90 0")
             page.click("#arm-send")
@@ -221,13 +221,13 @@ def main():
         flashes, banners = [], []
         for _ in range(3):
             page.click("#arm-flash")
-            page.wait_for_function("window.articula.flash.phase === 'write'", timeout=30000)
-            page.wait_for_function("!window.articula.flash.busy", timeout=180000)
+            page.wait_for_function("() => window.articula.flash.phase === 'write'", timeout=30000)
+            page.wait_for_function("() => !window.articula.flash.busy", timeout=180000)
             r = page.evaluate("window.articula.flash")
             assert not r["error"], r["error"]
             t0 = time.monotonic()
             page.click("#arm-connect")
-            page.wait_for_function("window.articula.arm.connected", timeout=30000)
+            page.wait_for_function("() => window.articula.arm.connected", timeout=30000)
             flashes.append(r["result"]["seconds"])
             banners.append(r["result"]["seconds"] + time.monotonic() - t0)
         print(f"flashing the MK2 firmware ({r['result']['bytes']:,} bytes, {r['result']['pages']} pages) through the "

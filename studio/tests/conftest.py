@@ -25,10 +25,11 @@ DIST = REPO / "studio" / "web" / "dist"
 class StaticSite:
     """The built site behind a plain static file server, at /<subpath>/ (not /dist/)."""
 
-    def __init__(self, root: Path, subpath: str = "articula-site"):
-        if not (DIST / "index.html").is_file():
-            raise AssertionError(f"the studio's site is not built ({DIST}): run make")
-        (root / subpath).symlink_to(DIST, target_is_directory=True)
+    def __init__(self, root: Path, subpath: str = "articula-site", dist: Path = DIST):
+        if not (dist / "index.html").is_file():
+            raise AssertionError(f"the studio's site is not built ({dist}): run make")
+        root.mkdir(parents=True, exist_ok=True)
+        (root / subpath).symlink_to(dist, target_is_directory=True)
         self.proc = subprocess.Popen([sys.executable, "-u", "-m", "http.server", "0", "--bind", "127.0.0.1",
                                       "--directory", str(root)],
                                      # its request log goes nowhere: a pipe nobody reads fills
@@ -115,25 +116,29 @@ class Page:
     """A page of the studio (from the static site, or from articula-studio when `server` is
     given) with what its console said."""
 
-    def __init__(self, browser, server_or_url, width=1440, height=900, tour=False, query=""):
+    def __init__(self, browser, server_or_url, width=1440, height=900, tour=False, query="", init_script=""):
         self.server = server_or_url if isinstance(server_or_url, Server) else None
         url = server_or_url.url if self.server else server_or_url
         self.context = browser.new_context(viewport={"width": width, "height": height}, accept_downloads=True)
         if not tour:
             self.context.add_init_script("localStorage.setItem('articula.studio.tour.done', '1')")
+        if init_script:
+            self.context.add_init_script(init_script)
         self.page = self.context.new_page()
         self.errors: list[str] = []
         self.page.on("console", lambda m: m.type == "error" and self.errors.append(m.text))
         self.page.on("pageerror", lambda e: self.errors.append(str(e)))
         self.page.goto(url + query)
-        self.page.wait_for_function("window.articula && window.articula.ready && window.articula.firstFrameAt > 0",
+        self.page.wait_for_function("() => window.articula && window.articula.ready && window.articula.firstFrameAt > 0",
                                     timeout=20000)
 
+    # Predicates go to the page as functions: the site's Content-Security-Policy forbids
+    # evaluating a bare expression string in it (eval), as it would any script not its own.
     def hook(self, expr: str):
-        return self.page.evaluate(f"(() => {{ const a = window.articula; return {expr}; }})()")
+        return self.page.evaluate(f"() => {{ const a = window.articula; return {expr}; }}")
 
     def wait(self, expr: str, timeout=15000):
-        self.page.wait_for_function(f"(() => {{ const a = window.articula; return {expr}; }})()", timeout=timeout)
+        self.page.wait_for_function(f"() => {{ const a = window.articula; return {expr}; }}", timeout=timeout)
 
     def close(self):
         self.context.close()

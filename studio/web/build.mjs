@@ -5,6 +5,7 @@
 //   assets/worker.js        the engine's Web Worker (src/worker.ts)
 //   assets/nano-worker.js   the virtual Nano's Web Worker (src/nano-worker.ts, avr8js)
 //   engine/engine.mjs, .wasm the web engine (wasm/, built by emscripten; ARTICULA_WASM_DIR)
+//   engine/nano.mjs, .wasm   the virtual Nano's parts for its worker (wasm/src/nano.cpp)
 //   data/                   the shipped robots, scenes and programs, and data/index.json;
 //                           data/firmware/articula-nano.hex, the firmware `make flash` writes
 //                           (ARTICULA_NANO_HEX, --hex)
@@ -32,7 +33,7 @@ for (const f of [hexFile, bootFile])
     console.error(`studio: the firmware is not built (${f} is missing): run make`);
     process.exit(2);
   }
-for (const f of ["engine.mjs", "engine.wasm"])
+for (const f of ["engine.mjs", "engine.wasm", "nano.mjs", "nano.wasm"])
   if (!existsSync(join(wasmDir, f))) {
     console.error(`studio: the web engine is not built (${join(wasmDir, f)} is missing): run make`);
     process.exit(2);
@@ -51,7 +52,7 @@ copyFileSync(join(here, "index.html"), join(out, "index.html"));
 copyFileSync(join(here, "icon.svg"), join(out, "icon.svg"));
 
 mkdirSync(join(out, "engine"));
-for (const f of ["engine.mjs", "engine.wasm"]) copyFileSync(join(wasmDir, f), join(out, "engine", f));
+for (const f of ["engine.mjs", "engine.wasm", "nano.mjs", "nano.wasm"]) copyFileSync(join(wasmDir, f), join(out, "engine", f));
 
 // The shipped files, and their index (the worker lists robots, scenes and programs from it).
 const index = { robots: [], scenes: [], programs: [], meshes: [] };
@@ -78,11 +79,11 @@ copyFileSync(bootFile, join(out, "data/firmware/optiboot_atmega328.hex"));
 // What the firmware says it is (its banner, asked of it on the virtual Nano), for the page's
 // flash panel: the robot it is built for, its version, its size.
 {
-  const { nodeEngine } = await import("../../wasm/js/node.mjs");
+  const { nodeEngine, nodeNanoParts } = await import("../../wasm/js/node.mjs");
   const { VirtualNano } = await import("./src/nano.mjs");
   const hex = readFileSync(hexFile, "utf8");
   const engine = await nodeEngine(wasmDir);
-  const nano = new VirtualNano({ hex, engine });
+  const nano = new VirtualNano({ hex, parts: await nodeNanoParts(wasmDir) });
   let info = null; // the banner, read by the core's parser (shared/articula/protocol.h)
   nano.onLine = (l) => {
     const p = engine.parseArmLine(l);
@@ -134,7 +135,7 @@ for (const f of files(out).filter((f) => !f.endsWith(".map"))) {
   gz += gzipSync(b, { level: 9 }).length;
 }
 const kb = (n) => `${(n / 1024).toFixed(0)} KB`;
-const engineSizes = ["engine/engine.wasm", "engine/engine.mjs"].map((f) => {
+const engineSizes = ["engine/engine.wasm", "engine/engine.mjs", "engine/nano.wasm", "engine/nano.mjs"].map((f) => {
   const b = readFileSync(join(out, f));
   return `${f} ${kb(b.length)} (${kb(gzipSync(b, { level: 9 }).length)} gzipped)`;
 });

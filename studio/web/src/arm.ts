@@ -15,12 +15,13 @@ type Parsed =
   | { kind: "info"; version: string; protocol: number; joints: number; robot: string; warning: number }
   | { kind: "other" };
 
-/** What the arm needs of the engine (the worker): read a line, the arm's pose, a prediction. */
+/** What the arm needs of the engine (the worker): a line from the arm read by the core's
+ * parsers, with the arm's pose when it is a status report (one round trip); the model's
+ * prediction of a line; what a reply means (the core's status table, held by the page). */
 export interface ArmEngine {
-  parse(line: string): Promise<Parsed>;
-  pose(angles: number[]): Promise<{ q: number[]; frames: number[][] }>;
+  read(line: string): Promise<{ parsed: Parsed; pose: { q: number[]; frames: number[][] } | null }>;
   predict(history: string[], line: string): Promise<{ reply: string; steps: number[] | null; meaning: string; seconds?: number }>;
-  meaning(reply: string): Promise<string>;
+  meaning(reply: string): string;
 }
 
 const BAUD = 115200;
@@ -129,12 +130,11 @@ export class ArmLink {
   }
 
   private async onLine(line: string): Promise<void> {
-    const p = await this.engine.parse(line);
-    if (p.kind === "status") {
+    const { parsed: p, pose } = await this.engine.read(line);
+    if (p.kind === "status" && pose) {
       this.lastReport = performance.now();
       this.state = p.state;
       if (p.warning === 14) return this.lost("the arm reset (its settings were reset to their defaults)");
-      const pose = await this.engine.pose(p.angles);
       const msg: Record<string, unknown> = { type: "arm_status", state: p.state, steps: p.steps, angles: p.angles,
         q: pose.q, frames: pose.frames, text: line, rtt_ms: performance.now() - this.lastPoll,
         sent_ms: performance.timeOrigin + performance.now() };
@@ -189,7 +189,7 @@ export class ArmLink {
         return null;
       });
       if (reply === null) return;
-      this.emit({ type: "arm_reply", line, reply, meaning: await this.engine.meaning(reply), predicted });
+      this.emit({ type: "arm_reply", line, reply, meaning: this.engine.meaning(reply), predicted });
     });
   }
 
@@ -234,7 +234,7 @@ export class ArmLink {
           const predicted = await this.engine.predict(this.history, line);
           const reply = await this.command(line);
           sent++;
-          this.emit({ type: "arm_program", line: n, command: line, reply, meaning: await this.engine.meaning(reply), predicted });
+          this.emit({ type: "arm_program", line: n, command: line, reply, meaning: this.engine.meaning(reply), predicted });
           if (reply === "ok") {
             const limit = 3 * (predicted.seconds ?? 0) + 5;
             await this.idle(limit * 1000, n);

@@ -1,7 +1,8 @@
 // The virtual Nano's Web Worker: the firmware's own hex (data/firmware/articula-nano.hex, the
 // file `make flash` writes) on avr8js (nano.mjs), paced to real time, its serial line as
-// bytes to and from the page (serial.ts makes it a port like a real one). Its own copy of the
-// web engine decodes the coils (hil/vnano/coil_decoder.h) by the Nano's wiring.
+// bytes to and from the page (serial.ts makes it a port like a real one). The virtual Nano's
+// parts (engine/nano.mjs: the coil decoder, the board's pins, the servo's scale; a few
+// kilobytes, not the engine) read its pins as simavr's virtual Nano does.
 //
 // The Nano is one as shipped: Optiboot (data/firmware/optiboot_atmega328.hex, built from
 // Debian's source) in its boot section, so the page's flasher (stk500.mjs) can write it; the
@@ -12,19 +13,20 @@
 // Out: {type: "ready", flashBytes, ms}, {type: "tx", bytes}, {type: "state", seconds, steps,
 // faults, servoUs, gripper (the aperture its pulse asks for, %), flashWrites, rtf, capacity, behind}, {type: "eeprom", bytes}, {type: "flash", bytes} (after
 // pages were written), {type: "closed"}, {type: "fatal", message}.
-import { loadEngine } from "../../../wasm/js/engine.mjs";
-import type { Engine } from "../../../wasm/js/engine.mjs";
+import { loadNanoParts } from "../../../wasm/js/nano-parts.mjs";
+import type { NanoParts } from "../../../wasm/js/nano-parts.mjs";
 import { CLOCK_HZ, VirtualNano } from "./nano.mjs";
+import { RealTimeMeter, every } from "./pacer";
 
 const site = new URL("./", self.location.href.replace(/assets\/[^/]*$/, ""));
 const post = (m: Record<string, unknown>, transfer: Transferable[] = []) =>
   (self as unknown as Worker).postMessage(m, transfer);
 
-let engine: Engine | null = null;
+let parts: NanoParts | null = null;
 let hex = "";
 let bootloader = "";
 let nano: VirtualNano | null = null;
-let timer: ReturnType<typeof setTimeout> | null = null;
+let loop: { stop(): void } | null = null;
 let tx: number[] = [];
 let servo: { closed: number; open: number } | null = null; // the robot's servo angles, deg
 
@@ -36,14 +38,14 @@ async function fetchText(path: string): Promise<string> {
 
 async function start(eeprom: Uint8Array | undefined, image: Uint8Array | undefined, baud: number): Promise<void> {
   const t0 = performance.now();
-  if (!engine) {
-    const { default: createEngine } = await import(/* @vite-ignore */ new URL("engine/engine.mjs", site).href);
-    engine = await loadEngine(createEngine, { locateFile: (f: string) => new URL(`engine/${f}`, site).href });
+  if (!parts) {
+    const { default: createNanoParts } = await import(/* @vite-ignore */ new URL("engine/nano.mjs", site).href);
+    parts = await loadNanoParts(createNanoParts, { locateFile: (f: string) => new URL(`engine/${f}`, site).href });
   }
   if (!hex) [hex, bootloader] = await Promise.all([fetchText("data/firmware/articula-nano.hex"),
     fetchText("data/firmware/optiboot_atmega328.hex")]);
   stop();
-  nano = new VirtualNano({ hex, engine, eeprom, bootloader, image });
+  nano = new VirtualNano({ hex, parts, eeprom, bootloader, image });
   nano.hostBaud = baud;
   nano.onByte = (b) => tx.push(b);
   post({ type: "ready", flashBytes: nano.flashUsed, ms: performance.now() - t0 });
@@ -51,8 +53,8 @@ async function start(eeprom: Uint8Array | undefined, image: Uint8Array | undefin
 }
 
 function stop(): void {
-  if (timer !== null) clearTimeout(timer);
-  timer = null;
+  loop?.stop();
+  loop = null;
   nano?.delete();
   nano = null;
 }
@@ -66,11 +68,10 @@ function run(): void {
   let emu0 = n.seconds;
   let eepromSeen = n.eepromBytes();
   let flashWrites = n.flashWrites;
-  let window: [number, number, number][] = []; // (wall s, emulated s, working s) per slice
-  let last = clock0;
+  const meter = new RealTimeMeter(100);
   let lastState = 0;
-  const slice = () => {
-    if (nano !== n) return;
+  loop = every(5, () => {
+    if (nano !== n) return false;
     const now = performance.now();
     let due = emu0 + (now - clock0) / 1000;
     if (due - n.seconds > 0.2) {
@@ -80,10 +81,7 @@ function run(): void {
     }
     const before = n.seconds;
     n.runUntil(Math.round(Math.min(due, before + 0.05) * CLOCK_HZ));
-    const after = performance.now();
-    window.push([(after - last) / 1000, n.seconds - before, (after - now) / 1000]);
-    last = after;
-    if (window.length > 100) window = window.slice(-100);
+    meter.slice(n.seconds - before, (performance.now() - now) / 1000);
     if (tx.length) {
       const bytes = new Uint8Array(tx);
       tx = [];
@@ -91,16 +89,13 @@ function run(): void {
     }
     if (now - lastState > 100) {
       lastState = now;
-      const sum = (k: number) => window.reduce((a, x) => a + x[k], 0);
-      const w = sum(0), e = sum(1), busy = sum(2);
-      const rtf = w > 0 ? e / w : 1;
-      // capacity: how many times real time the emulator alone could run
-      // the gripper as the harness reads it from the servo's pulse (hil/vnano/servo.h)
+      // the gripper as simavr's virtual Nano reads it from the servo's pulse (articula/servo.h)
       const us = n.servoPulseUs;
-      const gripper = us !== null && servo && engine && servo.open !== servo.closed
-        ? engine.servoAperturePercent(engine.servoAngleDeg(us), servo.closed, servo.open) : null;
+      const gripper = us !== null && servo && parts && servo.open !== servo.closed
+        ? parts.servoAperturePercent(parts.servoAngleDeg(us), servo.closed, servo.open) : null;
+      const rtf = meter.rtf;
       post({ type: "state", seconds: n.seconds, steps: n.steps, faults: n.coilFaults, servoUs: us, gripper, flashWrites: n.flashWrites,
-        rtf, capacity: busy > 0 ? e / busy : null, behind: window.length >= 50 && rtf < 0.97 }); // judged over 50+ slices
+        rtf, capacity: meter.capacity, behind: meter.slices >= 50 && rtf < 0.97 }); // judged over 50+ slices
       if (n.flashWrites !== flashWrites) {
         flashWrites = n.flashWrites;
         post({ type: "flash", bytes: n.flash.slice() });
@@ -111,9 +106,7 @@ function run(): void {
         post({ type: "eeprom", bytes: ee.slice() });
       }
     }
-    timer = setTimeout(slice, 5);
-  };
-  slice();
+  });
 }
 
 self.onmessage = (e: MessageEvent) => {

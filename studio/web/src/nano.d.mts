@@ -1,13 +1,13 @@
 // Types of nano.mjs for TypeScript.
 import type { CPU } from "avr8js";
-import type { Engine } from "../../../wasm/js/engine.mjs";
+import type { NanoParts } from "../../../wasm/js/nano-parts.mjs";
 export const CLOCK_HZ: number;
 export const PAGE_BYTES: number;
 export const BOOT_START: number;
 export const RESET_POWER: number, RESET_EXTERNAL: number, RESET_WATCHDOG: number;
 export function parseHex(text: string, size?: number): { flash: Uint8Array; used: number };
 export class VirtualNano {
-  constructor(options: { hex: string; engine: Engine; eeprom?: Uint8Array; bootloader?: string; image?: Uint8Array });
+  constructor(options: { hex: string; parts: NanoParts; eeprom?: Uint8Array; bootloader?: string; image?: Uint8Array });
   readonly cpu: CPU;
   readonly flash: Uint8Array;
   readonly flashUsed: number;

@@ -2,11 +2,12 @@
 // arm) running on avr8js's ATmega328P - CPU, timers 0/1, USART0, ports B/C/D, EEPROM, the
 // watchdog, and (emulated here, avr8js has none) SPM, the resets and the Nano's bootloader -
 // with what its pins drive read as the harness reads them: each motor's four L298N inputs
-// through the engine's coil decoder (hil/vnano/coil_decoder.h, compiled into the web engine),
-// by the wiring of hil/vnano/wiring.h. Plain JavaScript, so that node's tests run it as the
+// through the coil decoder of virtual-nano/coil_decoder.h, by the board's pins of
+// firmware/src/board.h (both in the nano parts module, wasm/src/nano.cpp, the code simavr's
+// virtual Nano runs too). Plain JavaScript, so that node's tests run it as the
 // page does (nano.d.mts gives its types).
 //
-//   const nano = new VirtualNano({ hex, engine });
+//   const nano = new VirtualNano({ hex, parts });  // parts: wasm/js/nano-parts.mjs
 //   nano.onLine = (line) => ...;      // what the firmware sends, a line at a time
 //   nano.send("L 0 10\n");            // bytes to its serial port, at 115,200 baud
 //   nano.runFor(0.5);                 // emulated seconds
@@ -74,10 +75,10 @@ export function parseHex(text, size = FLASH_BYTES) {
 
 export class VirtualNano {
   /**
-   * hex: the firmware's Intel HEX text; engine: the web engine (its coil decoders and the
-   * wiring); eeprom: the EEPROM's bytes to start from (kept by the caller across sessions).
+   * hex: the firmware's Intel HEX text; parts: the virtual Nano's parts (wasm/js/nano-parts.mjs:
+   * the coil decoders and the board's pins); eeprom: the EEPROM's bytes to start from (kept by the caller across sessions).
    */
-  constructor({ hex, engine, eeprom, bootloader, image }) {
+  constructor({ hex, parts, eeprom, bootloader, image }) {
     const { flash, used } = parseHex(hex);
     if (image) {
       flash.set(image.subarray(0, FLASH_BYTES)); // a flash image kept from before (bootloader and all)
@@ -92,7 +93,7 @@ export class VirtualNano {
     this.bootWord = bootloader ? BOOT_START / 2 : 0; // where a reset starts (BOOTRST)
     this.cpu = new CPU(new Uint16Array(flash.buffer), SRAM_BYTES);
     // Timer0 (millis) and Timer1 (the stepper and servo interrupts). The firmware leaves Timer2
-    // unused (firmware/src/pins.h), so it is not emulated: a fifth of the emulator's time.
+    // unused (firmware/src/board.h), so it is not emulated: a fifth of the emulator's time.
     this.timers = [timer0Config, timer1Config].map((c) => new AVRTimer(this.cpu, c, CLOCK_HZ));
     this.usart = new AVRUSART(this.cpu, usart0Config, CLOCK_HZ);
     // On the chip UDRE is level state: an empty-buffer interrupt that writes nothing leaves it
@@ -132,8 +133,8 @@ export class VirtualNano {
     this.hostBaud = 115200; // the host's side of the line
 
     // The motors' coils and the servo's pulses, as the pins change.
-    const wiring = engine.nanoWiring;
-    this.decoders = wiring.motors.map(() => engine.coilDecoder());
+    const wiring = parts.wiring;
+    this.decoders = wiring.motors.map(() => parts.coilDecoder());
     this.firstStepCycle = -1; // the first and last step of any motor since markSteps()
     this.lastStepCycle = -1;
     this.servoPulseUs = null; // the last pulse's width

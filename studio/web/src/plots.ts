@@ -3,6 +3,7 @@
 // (the prediction's records); the page only draws them.
 import uPlot from "uplot";
 import type { TimelineMsg } from "./protocol";
+import { fill, h } from "./page/dom";
 
 const COLORS = ["#3d5a80", "#ee6c4d", "#2a9d8f", "#e0a458", "#6d597a", "#b56576", "#457b9d", "#8d99ae"];
 
@@ -16,7 +17,7 @@ export class Plots {
   clear(): void {
     this.charts.forEach((c) => c.destroy());
     this.charts = [];
-    this.host.innerHTML = `<p class="hint">Run a program to see its joints, tool and quantization error over time.</p>`;
+    fill(this.host, h("p", { class: "hint" }, "Run a program to see its joints, tool and quantization error over time."));
   }
 
   // Each action moves from the pose before it to its own between its start and its end; a
@@ -41,7 +42,7 @@ export class Plots {
 
   show(m: TimelineMsg): void {
     this.clear();
-    this.host.innerHTML = "";
+    fill(this.host);
     const { t, joints, tool } = this.series(m);
     // The quantization error is a property of a pose at rest: one point after each command.
     const ok = m.records.filter((r) => r.reply === "ok");

@@ -6,7 +6,7 @@ import assert from "node:assert/strict";
 import { existsSync, readFileSync } from "node:fs";
 import { join } from "node:path";
 import { before, describe, test } from "node:test";
-import { REPO, nodeEngine } from "../../../wasm/js/node.mjs";
+import { REPO, nodeNanoParts } from "../../../wasm/js/node.mjs";
 import { RESET_POWER, VirtualNano, parseHex } from "../src/nano.mjs";
 import { FlashError, flashNano } from "../src/stk500.mjs";
 import { NanoPort } from "./nano-port.mjs";
@@ -19,9 +19,9 @@ const OLD_BOOT = join(BOOTLOADERS, "atmega/ATmegaBOOT_168_atmega328.hex");
 const DEBIAN_OPTIBOOT = join(BOOTLOADERS, "optiboot/optiboot_atmega328.hex");
 const EMPTY = ":00000001FF\n"; // a Nano with its bootloader and no program
 
-let engine, firmware, image;
+let parts, firmware, image;
 before(async () => {
-  engine = await nodeEngine();
+  parts = await nodeNanoParts();
   firmware = readFileSync(HEX, "utf8");
   image = parseHex(firmware);
 });
@@ -57,7 +57,7 @@ async function banner(port, seconds = 3) {
 }
 
 function nanoWith(bootloader, app = EMPTY) {
-  return new VirtualNano({ hex: app, engine, bootloader: bootloader && readFileSync(bootloader, "utf8") });
+  return new VirtualNano({ hex: app, parts, bootloader: bootloader && readFileSync(bootloader, "utf8") });
 }
 
 const written = (n) => n.flash.subarray(0, image.used).every((b, i) => b === image.flash[i]);
@@ -133,7 +133,7 @@ describe("flashing the Nano from the page", { skip: !existsSync(OPTIBOOT) && "ar
   });
 
   test("no bootloader answers: a Nano without one, or a port at the wrong end", async () => {
-    const n = new VirtualNano({ hex: firmware, engine }); // the firmware alone, no bootloader
+    const n = new VirtualNano({ hex: firmware, parts }); // the firmware alone, no bootloader
     const port = new NanoPort(n);
     await assert.rejects(flashNano(port, firmware), (e) => {
       assert.equal(e.kind, "no-bootloader");

@@ -9,7 +9,7 @@ import assert from "node:assert/strict";
 import { readFileSync } from "node:fs";
 import { join } from "node:path";
 import { test } from "node:test";
-import { REPO, nodeEngine } from "../../../wasm/js/node.mjs";
+import { REPO, nodeEngine, nodeNanoParts } from "../../../wasm/js/node.mjs";
 import { VirtualNano } from "../src/nano.mjs";
 
 const HEX = process.env.ARTICULA_NANO_HEX || join(REPO, "build/avr/firmware/articula-nano.hex");
@@ -23,7 +23,7 @@ function rng(seed) {
 test(`${LINES} random lines: one reply each, the model's, and no motion on a refused one`, async (t) => {
   const engine = await nodeEngine();
   const mk2 = engine.robot("mk2plus");
-  const n = new VirtualNano({ hex: readFileSync(HEX, "utf8"), engine });
+  const n = new VirtualNano({ hex: readFileSync(HEX, "utf8"), parts: await nodeNanoParts() });
   const lines = [];
   n.onLine = (l) => lines.push(l);
   const until = (pred, seconds) => {

@@ -11,7 +11,7 @@ import assert from "node:assert/strict";
 import { readFileSync, readdirSync } from "node:fs";
 import { join } from "node:path";
 import { test } from "node:test";
-import { REPO, nodeEngine } from "../../../wasm/js/node.mjs";
+import { REPO, nodeEngine, nodeNanoParts } from "../../../wasm/js/node.mjs";
 import { CLOCK_HZ, VirtualNano } from "../src/nano.mjs";
 
 const HEX = process.env.ARTICULA_NANO_HEX || join(REPO, "build/avr/firmware/articula-nano.hex");
@@ -20,12 +20,13 @@ const PLANS = readdirSync(join(REPO, "hil/plans")).filter((f) => f.endsWith(".ar
 test("the thesis's plans on avr8js: replies, steps and durations as predicted", async (t) => {
   const engine = await nodeEngine();
   const mk2 = engine.robot("mk2plus");
+  const parts = await nodeNanoParts();
   const hex = readFileSync(HEX, "utf8");
   let commands = 0, matched = 0, timed = 0, worst = 0, refused = 0;
   for (const plan of PLANS) {
     const text = readFileSync(join(REPO, "hil/plans", plan), "utf8");
     const records = mk2.predict(text, plan).records;
-    const n = new VirtualNano({ hex, engine });
+    const n = new VirtualNano({ hex, parts });
     const lines = [];
     n.onLine = (l) => lines.push(l);
     const until = (pred, s) => {

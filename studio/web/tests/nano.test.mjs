@@ -5,20 +5,21 @@ import assert from "node:assert/strict";
 import { readFileSync } from "node:fs";
 import { join } from "node:path";
 import { before, describe, test } from "node:test";
-import { REPO, nodeEngine } from "../../../wasm/js/node.mjs";
+import { REPO, nodeEngine, nodeNanoParts } from "../../../wasm/js/node.mjs";
 import { VirtualNano, parseHex } from "../src/nano.mjs";
 
 const HEX = process.env.ARTICULA_NANO_HEX || join(REPO, "build/avr/firmware/articula-nano.hex");
 
-let engine, hex;
+let engine, parts, hex;
 before(async () => {
   engine = await nodeEngine();
+  parts = await nodeNanoParts();
   hex = readFileSync(HEX, "utf8");
 });
 
 // The Nano with a line-by-line conversation: ask() sends a line and runs until a reply line.
 function nano(eeprom) {
-  const n = new VirtualNano({ hex, engine, eeprom });
+  const n = new VirtualNano({ hex, parts, eeprom });
   n.lines = [];
   n.onLine = (l) => n.lines.push(l);
   n.ask = (line, seconds = 1) => {

@@ -1,0 +1,65 @@
+// The test hook, `window.articula`: the page's state to read, never to write. Tests and people
+// who script the page read it instead of pixels. The panels keep it up to date.
+import type { ArmStatusMsg, IkMsg, PhysicsMsg, PoseMsg, RobotMsg, SceneMsg, SimEvent, TimelineMsg } from "../protocol";
+
+export interface Hook {
+  ready: boolean;
+  connected: boolean;
+  robot: RobotMsg | null;
+  pose: PoseMsg | null;
+  ik: IkMsg | null;
+  timeline: TimelineMsg | null;
+  playing: boolean;
+  programError: string;
+  robotError: string;
+  lastError: string;
+  teach: string;
+  fps: number;
+  framesDrawn: number;
+  firstFrameAt: number; // performance.now() of the first frame with the arm drawn
+  latency: number[]; // ms from a slider's input to the frame that shows its pose
+  ikUpdates: number[]; // performance.now() of each IK pose drawn while dragging
+  messages: number;
+  targetScreen: number[]; // where the IK target's centre is on screen (CSS px), to drag it
+  scene: SceneMsg | null;
+  physics: PhysicsMsg | null;
+  events: SimEvent[]; // the physics events since the simulation started or was reset
+  simCommand: string; // the last line a pose became for the simulated controller
+  objectScreen: (name: string) => number[] | null;
+  arm: { connected: boolean; error: string; label: string; status: ArmStatusMsg | null; reply: unknown; stopMs: number | null;
+         programLines: unknown[]; programDone: boolean; roundTrips: number[]; nano: unknown };
+  stream: { messages: number }; // physics and pose messages while the physics runs
+  armPixels: () => number; // share of the view's pixels that are the arm's colours (0..1)
+  errors: number; // error replies from the engine or the arm
+  errorLog: string[]; // the last 50 of them, oldest first
+  internalErrors: string[]; // replies that say the engine itself went wrong (never expected)
+  engineStartMs: number; // the worker's time from its first message to the robot loaded
+  engineSend: (msg: unknown) => void; // for tests: a message to the engine as the page would post it
+  flash: { busy: boolean; phase: string; done: number; total: number; error: string; errorKind: string;
+           result: { bytes: number; pages: number; baud: number; seconds: number } | null };
+}
+
+export const hook: Hook = {
+  ready: false, connected: false, robot: null, pose: null, ik: null, timeline: null, playing: false,
+  programError: "", robotError: "", lastError: "", teach: "", fps: 0, framesDrawn: 0, firstFrameAt: 0,
+  latency: [], ikUpdates: [], messages: 0, targetScreen: [0, 0], armPixels: () => 0,
+  scene: null, physics: null, events: [], simCommand: "", objectScreen: () => null,
+  arm: { connected: false, error: "", label: "", status: null, reply: null, stopMs: null, programLines: [], programDone: false, roundTrips: [], nano: null },
+  stream: { messages: 0 }, errors: 0, errorLog: [], internalErrors: [], engineStartMs: 0, engineSend: () => undefined,
+  flash: { busy: false, phase: "", done: 0, total: 0, error: "", errorKind: "", result: null },
+};
+
+/** `window.articula`, read-only from outside. */
+export function exposeHook(): void {
+  const readOnly = new Proxy(hook, { set: () => false, deleteProperty: () => false });
+  Object.defineProperty(window, "articula", { value: readOnly, writable: false });
+}
+
+/** An error reply from the engine or the arm, as the hook keeps it. */
+export function noteError(message: string): void {
+  hook.errors++;
+  hook.lastError = message;
+  hook.errorLog.push(message);
+  if (hook.errorLog.length > 50) hook.errorLog.shift();
+  if (message.startsWith("internal error")) hook.internalErrors.push(message);
+}

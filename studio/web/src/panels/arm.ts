@@ -1,0 +1,211 @@
+// The arm panel: the virtual Nano (the firmware's hex in this page) or a Nano on USB (Web
+// Serial, opened only when the user asks), its state beside the model's, a line to send with
+// the arm's reply and the model's prediction side by side, programs run on the arm, STOP.
+// Everything the arm says (its banner's robot name, its replies) is shown as text.
+import { ArmLink } from "../arm";
+import type { ArmStatusMsg, ServerMsg } from "../protocol";
+import { VirtualNanoPort, webSerial } from "../serial";
+import type { SerialLike } from "../serial";
+import type { Studio } from "../page/context";
+import { $, banner, fill, h, setOptions } from "../page/dom";
+import { hook, noteError } from "../page/hook";
+import { highlightLine, programStatus } from "./program";
+
+let s: Studio;
+let link: ArmLink | null = null; // the arm, while connected (or connecting)
+let nanoPort: VirtualNanoPort | null = null;
+
+export function initArm(studio: Studio): void {
+  s = studio;
+  $("arm-connect").onclick = () => {
+    const port = ($("arm-port") as HTMLSelectElement).value;
+    if (port) void connect(port);
+    else showPorts();
+  };
+  $("arm-disconnect").onclick = () => void disconnectArm();
+  $("arm-send").onclick = sendLine;
+  $("arm-line").addEventListener("keydown", (e) => {
+    if ((e as KeyboardEvent).key === "Enter") sendLine();
+  });
+  showPorts();
+  const st = $("arm-state");
+  st.className = "status";
+  st.textContent = webSerial()
+    ? "Connect the virtual Nano (the firmware running in this page), or a Nano on USB: the browser asks which port."
+    : "This browser has no Web Serial (Chrome, Edge and Opera have it): the virtual Nano runs the firmware here.";
+}
+
+function showPorts(): void {
+  setOptions($("arm-port") as HTMLSelectElement, [
+    { value: "page:virtual", label: "the virtual Nano (its firmware in this page)" },
+    ...(webSerial() ? [{ value: "page:serial", label: "a Nano on USB (Web Serial)…" }] : []),
+  ]);
+}
+
+/** The port the panel's choice names: the virtual Nano, or a Nano on USB that the browser asks
+ * the user to pick (Web Serial, with their permission). `why` when there is none: no Web
+ * Serial here, or (empty) the user chose none. */
+export async function choosePort(): Promise<{ port: SerialLike; label: string } | { why: string }> {
+  const which = ($("arm-port") as HTMLSelectElement).value;
+  if (which === "page:virtual") {
+    const port = virtualNano();
+    const g = hook.robot?.gripper;
+    port.servo = g ? { closed: g.servo_closed_deg, open: g.servo_open_deg } : null;
+    return { port, label: "the virtual Nano" };
+  }
+  if (which !== "page:serial") return { why: "Choose the virtual Nano or a Nano on USB first." };
+  const api = webSerial();
+  if (!api) return { why: "This browser has no Web Serial (Chrome, Edge and Opera have it): use the virtual Nano." };
+  try {
+    const port = await api.requestPort();
+    const info = port.getInfo?.() ?? {};
+    return { port, label: info.usbVendorId
+      ? `USB ${info.usbVendorId.toString(16)}:${(info.usbProductId ?? 0).toString(16)}` : "a serial port" };
+  } catch {
+    return { why: "" }; // the user chose none
+  }
+}
+
+async function connect(_which: string): Promise<void> {
+  await disconnectArm();
+  const chosen = await choosePort();
+  if ("why" in chosen) {
+    if (chosen.why) banner(chosen.why);
+    return;
+  }
+  link = new ArmLink({
+    read: (line) => s.engine.call({ type: "arm_read", line }) as never,
+    predict: (history, line) => s.engine.call({ type: "arm_predict", history, line }) as never,
+    meaning: (reply) => s.engine.meaning(reply),
+  }, (m) => armMessage(m as unknown as ServerMsg));
+  await link.connect(chosen.port, chosen.label, hook.robot?.name ?? "");
+  if (!link.connected) link = null;
+}
+
+/** Closes the arm's port (flashing needs it to itself). */
+export async function disconnectArm(): Promise<void> {
+  const l = link;
+  link = null;
+  await l?.disconnect();
+}
+
+// One virtual Nano for the page's life: what is flashed to it stays until the page closes.
+function virtualNano(): VirtualNanoPort {
+  if (nanoPort) return nanoPort;
+  const port = (nanoPort = new VirtualNanoPort());
+  port.onState = (st) => {
+    hook.arm.nano = st;
+    const servo = st.gripper === null ? "" : `; its servo pulse ${Math.round(st.servoUs ?? 0)} us: gripper ${st.gripper.toFixed(0)} %`;
+    $("arm-speed").textContent = (st.behind ? `the virtual Nano is behind real time: ${st.rtf.toFixed(2)}x`
+      : `the virtual Nano keeps real time (it could run ${(st.capacity ?? 0).toFixed(1)}x; ${port.flashBytes.toLocaleString("en")} B of firmware)`) + servo;
+    $("arm-speed").className = `rtf ${st.behind ? "behind" : ""}`;
+  };
+  return port;
+}
+
+function sendLine(): void {
+  const line = ($("arm-line") as HTMLInputElement).value.trim();
+  if (line && link) void link.send(line);
+}
+
+/** A program on the arm, line by line (the program panel's Run with "on the arm"). */
+export function runOnArm(text: string): void {
+  hook.arm.programLines = [];
+  hook.arm.programDone = false;
+  link?.runProgram(text);
+}
+
+/** STOP: the arm's realtime `!` at once, and the model's program or physics paused. */
+export function stopEverything(): void {
+  if (hook.arm.connected && link) {
+    hook.arm.stopMs = null; // until the arm reports itself at rest
+    void link.stop();
+  }
+  if (hook.playing || hook.physics?.running) s.engine.send({ type: "pause" });
+}
+
+function showArm(m: { connected: boolean; connecting?: boolean; label?: string; error?: string; lost?: boolean }): void {
+  hook.arm.connected = m.connected;
+  hook.arm.error = m.error ?? "";
+  if (m.label) hook.arm.label = m.label;
+  $("arm-connect").hidden = m.connected;
+  $("arm-disconnect").hidden = !m.connected;
+  $("arm-send-row").hidden = !m.connected;
+  $("drive-arm-row").hidden = !m.connected;
+  const st = $("arm-state");
+  if (m.connecting) {
+    st.className = "status";
+    st.textContent = "connecting...";
+  } else if (m.error) {
+    st.className = "status bad";
+    st.textContent = m.lost ? `Lost the arm: ${m.error}. The studio goes on with the model.` : m.error;
+    if (m.lost) banner(`Lost the arm: ${m.error}`);
+    s.view.liveFrames(null);
+  } else if (!m.connected) {
+    st.textContent = "";
+    s.view.liveFrames(null);
+  }
+}
+
+// The arm's tool from the model's (both drawn from the engine's frames), mm.
+function armDiff(m: ArmStatusMsg): number {
+  const f = m.frames[m.frames.length - 1], tool = hook.pose?.tool.xyz;
+  if (!f || !tool) return NaN;
+  return Math.hypot(f[3] - tool[0], f[7] - tool[1], f[11] - tool[2]);
+}
+
+const grid = (...pairs: [string, string][]) =>
+  h("div", { class: "reply-grid" }, ...pairs.flatMap(([k, v]) => [h("b", null, k), h("span", null, v)]));
+
+/** Arm reports applied, waiting for the frame that shows them (for `?` to drawn pose). */
+let drawnReports: ArmStatusMsg[] = [];
+
+/** The frame at `now` shows them: `?` to pixels, ms, into the hook. */
+export function armFrameDrawn(now: number): void {
+  for (const m of drawnReports)
+    if (m.rtt_ms !== null) hook.arm.roundTrips.push(m.rtt_ms + (performance.timeOrigin + now - m.sent_ms));
+  drawnReports = [];
+}
+
+function armMessage(m: ServerMsg): void {
+  switch (m.type) {
+    case "arm":
+      return showArm(m);
+    case "arm_status": {
+      hook.arm.status = m;
+      if (m.stop_to_idle_ms !== undefined) hook.arm.stopMs = m.stop_to_idle_ms;
+      s.view.liveFrames(m.frames);
+      drawnReports.push(m);
+      $("arm-state").className = "status ok";
+      fill($("arm-state"), grid([hook.arm.label, `${m.state}, steps ${m.steps.join(" ")}`],
+        ["angles", `${m.angles.map((a) => a.toFixed(2)).join(" ")} deg`], ["from the model", `${armDiff(m).toFixed(2)} mm (tool to tool)`]));
+      return;
+    }
+    case "arm_reply": {
+      hook.arm.reply = m;
+      const p = m.predicted;
+      const arm = m.reply === null ? `no answer: ${m.error}` : m.reply === "ok" ? "ok" : `${m.reply} (${m.meaning})`;
+      const model = p.reply === "ok" ? `ok${p.steps ? `, steps ${p.steps.join(" ")}` : ""}` : `${p.reply} (${p.meaning})`;
+      $("arm-reply").className = `status ${m.reply === p.reply ? "" : "bad"}`;
+      fill($("arm-reply"), grid(["sent", m.line], ["the arm", arm], ["the model", model]));
+      return;
+    }
+    case "arm_program":
+      if (m.done) {
+        hook.arm.programDone = true;
+        programStatus(m.error ? `The arm stopped: ${m.error}` : m.stopped ? "Stopped: no further line is sent."
+          : `The arm ran the program: ${m.sent} lines.`, [], !!m.error);
+      } else {
+        highlightLine(m.line ?? 0, m.reply !== "ok");
+        hook.arm.programLines.push([m.line, m.reply]);
+        programStatus(`on the arm, line ${m.line}: ${m.command} -> ${m.reply}${m.reply !== "ok" ? ` (${m.meaning})` : ""}` +
+          (m.predicted && m.predicted.reply !== m.reply ? `; the model said ${m.predicted.reply}` : ""));
+      }
+      return;
+    case "arm_stopped":
+      return programStatus("stop sent: the arm decelerates to rest and empties its queue");
+    case "error":
+      noteError(m.message);
+      return banner(m.message);
+  }
+}

@@ -1,0 +1,74 @@
+// Flashing the Nano on the chosen port (stk500.mjs) with this site's firmware: its version,
+// robot and size from data/firmware/firmware.json, a progress bar, and a sentence for every
+// way it can fail.
+import { FlashError, flashNano } from "../stk500.mjs";
+import { $, status } from "../page/dom";
+import { hook } from "../page/hook";
+import { choosePort, disconnectArm } from "./arm";
+
+interface FirmwareInfo { file: string; bytes: number; version: string; robot: string; sha256: string }
+let firmware: FirmwareInfo | null = null;
+
+export function initFlash(): void {
+  $("arm-flash").onclick = () => void flashFirmware();
+  void loadFirmwareInfo();
+}
+
+async function loadFirmwareInfo(): Promise<void> {
+  try {
+    const r = await fetch(new URL("data/firmware/firmware.json", document.baseURI));
+    firmware = r.ok ? ((await r.json()) as FirmwareInfo) : null;
+  } catch {
+    firmware = null;
+  }
+  $("flash-info").textContent = firmware
+    ? `Articula ${firmware.version} for the ${firmware.robot}, ${firmware.bytes.toLocaleString("en")} bytes`
+    : "this site carries no firmware";
+  ($("arm-flash") as HTMLButtonElement).disabled = !firmware;
+}
+
+const flashState = (text: string, kind: "" | "ok" | "bad" = "") => status($("flash-state"), text, kind);
+
+async function flashFirmware(): Promise<void> {
+  const f = hook.flash;
+  if (f.busy || !firmware) return;
+  const robot = hook.robot;
+  if (robot && robot.name !== firmware.robot)
+    return flashState(`This site's firmware is built for the ${firmware.robot}; the studio shows the ${robot.name}. ` +
+      "Load that robot, or build the firmware for this one (make ARTICULA_ROBOT=...).", "bad");
+  const chosen = await choosePort();
+  if ("why" in chosen) return chosen.why ? flashState(chosen.why, "bad") : undefined;
+  await disconnectArm(); // the bootloader needs the port to itself
+  Object.assign(f, { busy: true, phase: "connect", done: 0, total: 0, error: "", errorKind: "", result: null });
+  const bar = $("flash-progress") as HTMLProgressElement;
+  const button = $("arm-flash") as HTMLButtonElement;
+  button.disabled = true;
+  bar.hidden = false;
+  bar.value = 0;
+  flashState("resetting the Nano into its bootloader…");
+  try {
+    const r = await fetch(new URL(`data/firmware/${firmware.file}`, document.baseURI));
+    if (!r.ok) throw new Error(`the firmware's file is missing from this site (${r.status})`);
+    const result = await flashNano(chosen.port, await r.text(), {
+      onProgress: (p) => {
+        Object.assign(f, { phase: p.phase, done: p.done, total: p.total });
+        // writing is two thirds of the bar, reading back the last third
+        const part = p.total ? p.done / p.total : 0;
+        bar.value = { connect: 0, write: (2 * part) / 3, verify: (2 + part) / 3, done: 1 }[p.phase];
+        if (p.phase === "write") flashState(`writing page ${p.done} of ${p.total} (${p.baud.toLocaleString("en")} baud)`);
+        else if (p.phase === "verify") flashState(`reading back page ${p.done} of ${p.total}`);
+      },
+    });
+    f.result = result;
+    f.phase = "done";
+    flashState(`Flashed and verified: ${result.bytes.toLocaleString("en")} bytes in ${result.seconds.toFixed(1)} s ` +
+      `(${result.baud === 115200 ? "Optiboot" : "the old bootloader"}, ${result.baud.toLocaleString("en")} baud). Connect to drive it.`, "ok");
+  } catch (e) {
+    f.error = (e as Error).message;
+    f.errorKind = e instanceof FlashError ? e.kind : "other";
+    flashState(`Flashing failed: ${f.error}`, "bad");
+  } finally {
+    f.busy = false;
+    button.disabled = false;
+  }
+}

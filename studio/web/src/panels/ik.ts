@@ -1,0 +1,91 @@
+// The IK panel: a typed target (position, and orientation when asked), the solver, per-joint
+// weights, Solve and the thesis's Jacobian transpose animated; the target in the 3D view,
+// dragged. What the solver says is shown as a sentence.
+import type { IkMsg, RobotMsg } from "../protocol";
+import type { Studio } from "../page/context";
+import { $, fill, fmt, h } from "../page/dom";
+import { hook } from "../page/hook";
+
+let s: Studio;
+let dragging = false;
+
+export const isDragging = () => dragging;
+
+export function initIk(studio: Studio): void {
+  s = studio;
+  $("show-target").addEventListener("change", (e) => {
+    const on = (e.target as HTMLInputElement).checked;
+    if (on && hook.pose) s.view.setTarget(hook.pose.tool.xyz, hook.pose.tool.rpy);
+    s.view.showTarget(on);
+  });
+  $("gizmo-mode").addEventListener("change", (e) => s.view.gizmoMode((e.target as HTMLSelectElement).value as "translate" | "rotate"));
+  $("use-rpy").addEventListener("change", (e) => ($("rpy-row").hidden = !(e.target as HTMLInputElement).checked));
+  const solveWith = (type: string) => {
+    const m = ikMessage(type);
+    s.view.setTarget((m.target as number[]).slice(0, 3), (m.target as number[]).slice(3));
+    s.engine.send(m);
+  };
+  $("solve").onclick = () => solveWith("ik");
+  $("animate-jt").onclick = () => solveWith("jt_animate");
+  for (const id of ["tx", "ty", "tz", "troll", "tpitch", "tyaw"]) {
+    $(id).addEventListener("keydown", (e) => {
+      if ((e as KeyboardEvent).key === "Enter") $("solve").click();
+    });
+  }
+  s.view.onTarget = (t, final) => {
+    dragging = !final;
+    ["tx", "ty", "tz"].forEach((id, i) => (($(id) as HTMLInputElement).value = fmt(t.xyz[i], 1)));
+    ["troll", "tpitch", "tyaw"].forEach((id, i) => (($(id) as HTMLInputElement).value = fmt(t.rpy[i], 1)));
+    s.engine.request(ikMessage("ik", t.xyz, t.rpy));
+  };
+}
+
+/** A weight box for each motor (or joint variable) of a robot just loaded. */
+export function buildWeights(r: RobotMsg): void {
+  fill($("weights"), ...(r.motors.length ? r.motors : r.joints.map((j) => j.name)).map((n, i) =>
+    h("label", null, `${n} `, h("input", { type: "number", min: 0, step: 0.1, value: 1, "data-weight": i, "aria-label": `weight of ${n}` }))));
+}
+
+function ikMessage(type: string, xyz?: number[], rpy?: number[]): Record<string, unknown> {
+  const num = (id: string) => parseFloat(($(id) as HTMLInputElement).value);
+  const pos = xyz ?? [num("tx"), num("ty"), num("tz")];
+  const useRpy = ($("use-rpy") as HTMLInputElement).checked;
+  const ang = rpy ?? [num("troll"), num("tpitch"), num("tyaw")];
+  const msg: Record<string, unknown> = { type, target: useRpy ? [...pos, ...ang] : pos, solver: ($("solver") as HTMLSelectElement).value };
+  const w = [...$("weights").querySelectorAll<HTMLInputElement>("input")].map((i) => parseFloat(i.value));
+  if (w.some((v) => v !== 1)) msg.weights = w;
+  return msg;
+}
+
+/** The typed target follows the tool (unless the user is typing there, or dragging). */
+export function followTool(xyz: number[], rpy: number[], first: boolean): void {
+  if (!first && $("show-target").matches(":checked") && dragging) return;
+  if (document.activeElement?.closest("#ik-section")) return;
+  ["tx", "ty", "tz"].forEach((id, i) => (($(id) as HTMLInputElement).value = fmt(xyz[i], 1)));
+  ["troll", "tpitch", "tyaw"].forEach((id, i) => (($(id) as HTMLInputElement).value = fmt(rpy[i], 1)));
+  if (first || !s.view.target.visible) s.view.setTarget(xyz, rpy);
+}
+
+export function showIk(m: IkMsg): void {
+  hook.ik = m;
+  if (dragging) hook.ikUpdates.push(performance.now());
+  const el = $("ik-status");
+  const err = `${m.position_error_mm.toFixed(3)} mm` + (m.orientation_error_deg ? `, ${m.orientation_error_deg.toFixed(3)} deg` : "");
+  let text = "";
+  if (m.status === "reached") text = `Reached (${m.solver}, ${m.iterations} iterations): ${err} from the target.`;
+  else if (m.status === "unreachable") text = `Unreachable: the arm stretches toward it and stays ${err} away` + (m.beyond_reach ? " (farther than the arm is long)." : ".");
+  else if (m.status === "limited") text = `Not reached: held back by the limit of ${m.limited_by.join(", ") || "a joint"}; ${err} away.`;
+  else text = `Not reached yet after ${m.iterations} iterations: ${err} away.`;
+  if (m.type === "jt_frame") {
+    text = `Jacobian transpose, iteration ${m.iteration}: ${err} away.`;
+    if (m.done) {
+      if (m.status === "reached") text += " Converged.";
+      else if (m.status === "limited") text += ` Stopped: held back by the limit of ${m.limited_by.join(", ") || "a joint"}.`;
+      else if (m.status === "unreachable") text += " Stopped: the target is out of reach; the arm stretches toward it.";
+      else text += " Stopped: it stopped improving (stuck in a local minimum, or the arm 'fell in line').";
+    }
+    else if ((m.iteration ?? 0) >= 400) text += " Stopped after 400 iterations.";
+  }
+  el.textContent = text;
+  el.className = `status ${m.status === "reached" ? "ok" : m.status === "budget" && m.type === "jt_frame" && !m.done ? "" : "bad"}`;
+}

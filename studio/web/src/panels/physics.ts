@@ -1,0 +1,77 @@
+// Live physics: the scene menu, run / pause / step / reset, the speed against real time, the
+// events as they come (objects named by the scene file: shown as text), objects to drag.
+import type { PhysicsMsg, RobotMsg, SceneMsg } from "../protocol";
+import type { Studio } from "../page/context";
+import { $, fill, h, setOptions } from "../page/dom";
+import { hook } from "../page/hook";
+
+let s: Studio;
+let dragSent = 0;
+
+const TROUBLE = new Set(["collision", "self_collision", "squeeze", "steps_lost", "blocked", "rejected", "object_removed",
+  "gripper_blocked", "stall"]);
+
+export function initPhysics(studio: Studio): void {
+  s = studio;
+  $("scene-select").addEventListener("change", (e) => {
+    const v = (e.target as HTMLSelectElement).value;
+    s.engine.send({ type: "scene", name: v || null });
+  });
+  $("phys-run").onclick = () => s.engine.send({ type: "physics_run" });
+  $("phys-pause").onclick = () => s.engine.send({ type: "physics_pause" });
+  $("phys-step").onclick = () => s.engine.send({ type: "physics_step" });
+  $("phys-reset").onclick = () => s.engine.send({ type: "physics_reset" });
+  s.view.onDrag = (object, target) => {
+    if (target === null) return s.engine.send({ type: "release" });
+    const now = performance.now();
+    if (now - dragSent < 15) return; // one pull a display frame is plenty
+    dragSent = now;
+    s.engine.send({ type: "drag", object, target });
+  };
+}
+
+export function showScene(m: SceneMsg): void {
+  hook.scene = m;
+  const sel = $("scene-select") as HTMLSelectElement;
+  setOptions(sel, [{ value: "", label: "off" }, ...m.scenes]);
+  sel.value = m.name ?? "";
+  s.view.setObjects(m.objects);
+  $("physics-bar").hidden = m.name === null;
+  $("events").hidden = m.name === null;
+  fill($("events"));
+}
+
+export function showPhysics(p: PhysicsMsg, robot: RobotMsg | null): void {
+  hook.physics = p;
+  if (!p.on) return;
+  s.view.physics(p);
+  if (p.t !== undefined && hook.timeline) s.plots.playhead(p.t);
+  if (p.fresh) {
+    hook.events = [];
+    fill($("events"));
+  }
+  const rtf = $("phys-rtf");
+  if (p.running === false) {
+    rtf.textContent = `paused at ${p.t?.toFixed(2)} s`;
+    rtf.className = "rtf";
+  } else if (p.rtf !== undefined && p.rtf !== null) {
+    const cap = p.capacity ? `, could run ${Math.round(p.capacity)}x` : "";
+    rtf.textContent = p.behind ? `behind real time: ${p.rtf.toFixed(2)}x` : `${p.rtf.toFixed(2)}x real time${cap}`;
+    rtf.className = `rtf ${p.behind ? "behind" : ""}`;
+  }
+  const log = $("events");
+  for (const e of p.events ?? []) {
+    hook.events.push(e);
+    const text = `${e.t.toFixed(2)} s ${e.kind}: ${e.a}${e.b ? ` / ${e.b}` : ""}${e.detail ? ` - ${e.detail}` : ""}`;
+    const cls = TROUBLE.has(e.kind) ? "trouble" : e.kind === "grasp" || e.kind === "release" ? "grasp" : null;
+    log.appendChild(h("div", { class: cls, title: text }, text));
+    if (e.kind !== "contact_ended") {
+      if (e.a) s.view.flash(e.a);
+      if (e.b && e.b !== "ground") s.view.flash(e.b);
+    }
+  }
+  while (log.childElementCount > 200) log.firstElementChild!.remove();
+  if (p.events?.length) log.scrollTop = log.scrollHeight;
+  if (p.steps && robot?.motors.length) $("view-status").textContent = `t = ${p.t?.toFixed(2)} s, steps ${p.steps.join(" ")}` +
+    (p.lost?.some((v) => v) ? `, lost ${p.lost.join(" ")}` : "");
+}

@@ -1,0 +1,171 @@
+// The program panel: the editor with its line numbers and running line, the shipped examples,
+// open and save, Run (on the model, or on the arm when asked), Pause, Step, Reset, Teach, the
+// ghost, the plots of the time line. The engine predicts and plays; this panel shows.
+import type { PoseMsg, TimelineMsg } from "../protocol";
+import type { Studio } from "../page/context";
+import { $, download, fill, h, setOptions } from "../page/dom";
+import { hook } from "../page/hook";
+import { runOnArm } from "./arm";
+
+let s: Studio;
+let currentProgram = "program.arm";
+let autoplay = false;
+let showGhost = true;
+let lineShown = 0;
+const editor = () => $("editor") as HTMLTextAreaElement;
+
+export const ghostShown = () => showGhost;
+
+export function initProgram(studio: Studio): void {
+  s = studio;
+  const ed = editor();
+  ed.addEventListener("input", editorChanged);
+  ed.addEventListener("scroll", () => {
+    $("gutter").scrollTop = ed.scrollTop;
+    positionLine();
+  });
+  $("program-select").addEventListener("change", (e) => {
+    const name = (e.target as HTMLSelectElement).value;
+    if (name) s.engine.send({ type: "program_open", name });
+    (e.target as HTMLSelectElement).value = "";
+  });
+  $("open-program").onclick = () => $("program-file").click();
+  $("program-file").addEventListener("change", async (e) => {
+    const f = (e.target as HTMLInputElement).files?.[0];
+    if (!f) return;
+    setProgram(f.name, await f.text());
+    (e.target as HTMLInputElement).value = "";
+  });
+  $("save-program").onclick = () => download(currentProgram, ed.value, "text/plain");
+  $("run").onclick = () => {
+    if (hook.arm.connected && ($("drive-arm") as HTMLInputElement).checked) return runOnArm(ed.value);
+    if (hook.timeline) s.engine.send({ type: "play" });
+    else {
+      autoplay = true;
+      load();
+    }
+  };
+  $("pause").onclick = () => s.engine.send({ type: "pause" });
+  $("step").onclick = () => (hook.timeline ? s.engine.send({ type: "step" }) : load());
+  $("reset").onclick = () => (hook.timeline ? s.engine.send({ type: "rewind" }) : load());
+  $("teach").onclick = () => {
+    const first = ed.value.split("\n").find((l) => l.trim() && !l.trim().startsWith("#")) ?? "";
+    const robosim = currentProgram.endsWith(".robosim") || /^\s*[a-z]\s*$/m.test(first);
+    s.engine.send({ type: "teach", format: robosim ? "robosim" : "protocol" });
+  };
+  $("show-ghost").addEventListener("change", (e) => {
+    showGhost = (e.target as HTMLInputElement).checked;
+    if (!showGhost && hook.pose) s.view.pose({ ...hook.pose, ghost: undefined });
+  });
+  s.plots.onSeek = (t) => s.engine.send({ type: "seek", t });
+  $("export-png").onclick = () => s.plots.png().then((blob) => blob && download("articula-plots.png", blob, "image/png"));
+  $("export-csv").onclick = () => hook.timeline && download("articula-timeline.csv", s.plots.csv(hook.timeline), "text/csv");
+  editorChanged();
+}
+
+/** The shipped examples, for the menu. */
+export function showExamples(names: string[]): void {
+  const sel = $("program-select") as HTMLSelectElement;
+  setOptions(sel, [{ value: "", label: "examples…" }, ...names]);
+  sel.value = "";
+}
+
+function setProgram(name: string, text: string): void {
+  editor().value = text;
+  currentProgram = name;
+  editorChanged();
+}
+
+function load(): void {
+  s.engine.send({ type: "program_load", text: editor().value, name: currentProgram });
+}
+
+function editorChanged(): void {
+  const ed = editor();
+  const n = ed.value.split("\n").length;
+  fill($("gutter"), ...Array.from({ length: n }, (_, i) => h("div", null, i + 1)));
+  $("gutter").scrollTop = ed.scrollTop;
+  hook.timeline = null;
+}
+
+export function highlightLine(line: number, error: boolean): void {
+  const ed = editor();
+  if (line > 0 && line !== lineShown) {
+    // keep the line in sight: scroll the editor when it leaves the visible part
+    const lh = parseFloat(getComputedStyle(ed).lineHeight) || 18;
+    const top = (line - 1) * lh, view = ed.clientHeight;
+    if (top < ed.scrollTop || top + lh > ed.scrollTop + view) ed.scrollTop = Math.max(0, top - view / 3);
+    $("gutter").scrollTop = ed.scrollTop;
+  }
+  lineShown = line;
+  const bar = $("current-line");
+  bar.hidden = line <= 0;
+  bar.classList.toggle("error", error);
+  positionLine();
+}
+
+function positionLine(): void {
+  const ed = editor();
+  const lh = parseFloat(getComputedStyle(ed).lineHeight) || 18;
+  const pad = parseFloat(getComputedStyle(ed).paddingTop) || 0;
+  $("current-line").style.top = `${pad + (lineShown - 1) * lh - ed.scrollTop}px`;
+  $("current-line").style.height = `${lh}px`;
+}
+
+/** The panel's status: a sentence, and the refused lines under it. */
+export function programStatus(text: string, rejected: string[] = [], bad = false): void {
+  const el = $("program-status");
+  fill(el, h("div", null, text), ...rejected.map((r) => h("div", { class: "rejected" }, r)));
+  el.className = `status ${bad ? "bad" : ""}`;
+}
+
+/** Where the time line's clock is: the running line, the playhead, the status under the view. */
+export function showTime(p: PoseMsg): void {
+  if (p.t === undefined) return;
+  s.plots.playhead(p.t);
+  highlightLine(p.line ?? 0, false);
+  const err = p.error_mm !== undefined ? `, quantization error ${p.error_mm.toFixed(3)} mm` : "";
+  $("view-status").textContent = `t = ${p.t.toFixed(2)} s, line ${p.line ?? 0}${err}${p.steps ? `, steps ${p.steps.join(" ")}` : ""}`;
+}
+
+export const programHandlers = {
+  timeline(m: TimelineMsg): void {
+    hook.timeline = m;
+    hook.programError = "";
+    s.plots.show(m);
+    const rejected = m.records.filter((r) => r.reply !== "ok")
+      .map((r) => `line ${r.line}: ${r.command} → error:${r.code}, ${r.error}: nothing moves`);
+    programStatus(`${m.records.length} commands, ${m.summary.rejected ?? 0} rejected` +
+      (m.summary.worst_error_mm !== undefined ? `, worst quantization error ${m.summary.worst_error_mm.toFixed(3)} mm` : "") +
+      `, ${m.duration.toFixed(2)} s`, rejected);
+    if (autoplay) {
+      autoplay = false;
+      s.engine.send({ type: "play" });
+    }
+  },
+  playing(m: { playing: boolean }): void {
+    hook.playing = m.playing;
+    $("run").classList.toggle("active", m.playing);
+  },
+  program_error(m: { message: string; line: number }): void {
+    hook.programError = m.message;
+    programStatus(m.message, [], true);
+    highlightLine(m.line, true);
+  },
+  program_text(m: { name: string; text: string }): void {
+    setProgram(m.name, m.text);
+  },
+  teach(m: { line: string }): void {
+    hook.teach = m.line;
+    const ed = editor();
+    ed.value = ed.value.replace(/\s*$/, "") + (ed.value.trim() ? "\n" : "") + m.line + "\n";
+    editorChanged();
+    programStatus(`taught: ${m.line.replace(/\n/g, " ")}`);
+  },
+};
+
+/** A new robot: its plots and time line start afresh. */
+export function resetProgramView(): void {
+  hook.timeline = null;
+  s.plots.clear();
+}

@@ -1,0 +1,79 @@
+// The robot: the shipped ones, a robot file opened with its meshes (or a thesis appendix C
+// file with its scale), URDF out. A robot file is untrusted input: its names and description
+// are shown as text, and a file that cannot be used keeps the robot that was there.
+import type { RobotMsg } from "../protocol";
+import type { Studio } from "../page/context";
+import { $, banner, download, setOptions } from "../page/dom";
+import { hook } from "../page/hook";
+import { buildJoints } from "./joints";
+import { buildWeights } from "./ik";
+import { resetProgramView, showExamples } from "./program";
+
+const MAX_FILE = 20_000_000; // bytes of a robot file or mesh the page opens
+let s: Studio;
+let needFit: Promise<void> | null = null; // a new robot: frame it once its first pose is drawn
+
+export function initRobot(studio: Studio): void {
+  s = studio;
+  $("robot-select").addEventListener("change", (e) => s.engine.send({ type: "load_robot", name: (e.target as HTMLSelectElement).value }));
+  $("open-robot").onclick = () => $("robot-file").click();
+  $("robot-file").addEventListener("change", (e) => void openFiles(e.target as HTMLInputElement));
+  $("export-urdf").onclick = () => s.engine.send({ type: "export_urdf" });
+}
+
+// The robot file, and any mesh files (STL, OBJ) its shapes name, opened together.
+async function openFiles(input: HTMLInputElement): Promise<void> {
+  const all = [...(input.files ?? [])];
+  input.value = "";
+  const f = all.find((x) => /\.(json|txt)$/i.test(x.name)) ?? all[0];
+  if (!f) return;
+  const meshes = all.filter((x) => x !== f);
+  if (f.size > MAX_FILE || meshes.some((x) => x.size > MAX_FILE))
+    return banner(`That file is larger than ${MAX_FILE / 1e6} MB: the studio opens robot files and meshes up to that size.`);
+  const text = await f.text();
+  const files = await Promise.all(meshes.map(async (x) => ({ name: x.name, data: await x.arrayBuffer() })));
+  const transfer = files.map((x) => x.data);
+  if (f.name.toLowerCase().endsWith(".json")) return s.engine.send({ type: "load_robot", text, filename: f.name, files }, transfer);
+  const answer = prompt(`${f.name} is a robot file of the thesis's original system: how many millimetres is one of its units? (the thesis's MK2 model: 25.75)`, "10");
+  if (answer === null) return;
+  const scale = parseFloat(answer);
+  if (!(scale > 0)) return banner("The scale must be a number above 0");
+  s.engine.send({ type: "load_robot", text, filename: f.name, legacy: true, scale }, transfer);
+}
+
+/** A robot to show: its view, sliders, weights, menus. */
+export function showRobot(r: RobotMsg): void {
+  hook.robot = r;
+  hook.robotError = "";
+  const built = s.view.build(r);
+  s.view.showAxes(($("show-axes") as HTMLInputElement).checked);
+  $("robot-name").textContent = r.description ? `${r.name}: ${r.description}` : r.name;
+  $("robot-name").title = r.source;
+  const sel = $("robot-select") as HTMLSelectElement;
+  setOptions(sel, r.robots);
+  const stem = r.source.split("/").pop()?.replace(/\.json$/, "") ?? "";
+  sel.value = r.robots.includes(stem) ? stem : "";
+  showExamples(r.programs);
+  buildJoints(r);
+  buildWeights(r);
+  if (r.keep_view) return; // the same robot, other link lengths
+  resetProgramView();
+  if (r.import_notes.length) banner(`Imported. ${r.import_notes.length} things had no place in a robot file; the first: ${r.import_notes[0]}`, "info");
+  needFit = built;
+}
+
+/** The first pose of a new robot is drawn: frame it. */
+export function fitNewRobot(): void {
+  if (!needFit) return;
+  needFit.then(() => requestAnimationFrame(() => s.view.fit(false)));
+  needFit = null;
+}
+
+export function robotError(message: string): void {
+  hook.robotError = message;
+  banner(`This robot file cannot be used, the robot stays ${hook.robot?.name ?? ""}: ${message}`);
+}
+
+export function saveUrdf(m: { name: string; xml: string }): void {
+  download(`${m.name.replace(/\W+/g, "_")}.urdf`, m.xml, "application/xml");
+}

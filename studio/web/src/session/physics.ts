@@ -1,0 +1,183 @@
+// Live physics in the engine's worker: the arm and a scene in ODE (the engine's Sim), stepped
+// in real time and streamed to the page a display frame at a time. With physics on, the arm
+// is the simulated controller's: a pose from a slider, Home, Zero or the IK becomes an `M`
+// line for it (the newest waits until the arm is idle), the gripper a `G` line; programs run
+// in the simulation; objects can be dragged.
+import { EngineError } from "../../../../wasm/js/engine.mjs";
+import { RealTimeMeter, every } from "../pacer";
+import { BadMessage, num, numbers, round6, text } from "./checks";
+import type { Msg, Out } from "./checks";
+import { dropTimeline, info, moveLine, poseMessage, post, S, stopTasks } from "./state";
+import { index, sceneFile, sceneText } from "./site";
+
+const FRAME_MS = 1000 / 60;
+let eventsSent = 0;
+let running = true;
+let loop: { stop(): void } | null = null;
+let pendingMove: string | null = null;
+let pendingGrip: string | null = null;
+
+/** The intents that go to the simulation while the physics runs. */
+export const PHYSICS_INTENTS = new Set(["set_joint", "set_joints", "home", "zero", "ik", "gripper", "drag", "release",
+  "physics_run", "physics_pause", "physics_step", "physics_reset", "program_load", "play", "pause"]);
+export const PHYSICS_ONLY = new Set(["drag", "release", "physics_run", "physics_pause", "physics_step", "physics_reset"]);
+
+// The arm in a scene, simulated from power-up; null: no physics, the kinematic model.
+export function startPhysics(name: string | null): void {
+  const next = name === null ? null : S.engine.sim(S.robot, name ? sceneText(name) : "", `scenes/${name}.json`);
+  S.sim?.delete();
+  S.sim = next;
+  S.sceneName = name;
+  eventsSent = 0;
+  pendingMove = pendingGrip = null;
+  if (S.sim) {
+    S.q = (S.sim.state() as { joints: number[] }).joints;
+    ensurePhysics();
+  }
+}
+
+/** A new robot in the same scene. */
+export const restartPhysics = (scene: string) => startPhysics(scene);
+
+export function sceneMessage(): Out {
+  return { type: "scene", name: S.sceneName, title: S.sim ? S.sim.sceneName : "", objects: S.sim ? S.sim.objects : [],
+    scenes: index.scenes };
+}
+
+export function physicsMessage(rtf: number | null = null, behind = false): Out {
+  const sim = S.sim;
+  if (!sim) return { type: "physics", on: false };
+  const st = sim.state() as { t: number; busy: boolean; joints: number[]; gripper_mm: number;
+    objects: { pose: number[] }[]; contacts: unknown; counted_steps: number[]; lost_steps: number[] };
+  S.q = st.joints;
+  const g = info().gripper;
+  if (g) S.gripper = (100 * st.gripper_mm) / g.max_opening_mm;
+  const fresh = eventsSent === 0;
+  const events = sim.events(eventsSent) as unknown[];
+  eventsSent += events.length;
+  return {
+    type: "physics", on: true, fresh, t: st.t, busy: st.busy,
+    objects: st.objects.map((o: { pose: number[] }) => ({ ...o, pose: o.pose.map(round6) })),
+    contacts: st.contacts, events, steps: st.counted_steps, lost: st.lost_steps, rtf, behind,
+  };
+}
+
+export async function sceneIntent(m: Msg): Promise<Out[]> {
+  let name: string | null = null;
+  if (m.name !== null && m.name !== undefined) {
+    name = text(m, "name", 200);
+    if (name && !index.scenes.includes(name)) throw new BadMessage(`no shipped scene '${name}'`);
+  }
+  stopTasks();
+  if (name) await sceneFile(name);
+  try {
+    startPhysics(name);
+  } catch (e) {
+    if (e instanceof EngineError) throw new BadMessage(e.message);
+    throw e;
+  }
+  dropTimeline();
+  return [sceneMessage(), physicsMessage(), poseMessage()];
+}
+
+function restart(): void {
+  S.sim!.reset();
+  eventsSent = 0;
+  pendingMove = pendingGrip = null;
+}
+
+/** An intent while the physics runs; `kinematic` answers the pose intents as without physics. */
+export function physicsIntent(kind: string, m: Msg, kinematic: (kind: string, m: Msg) => Out[]): Out[] {
+  const s = S.sim!;
+  if (["set_joint", "set_joints", "home", "zero", "ik"].includes(kind)) {
+    const replies = kinematic(kind, m);
+    pendingMove = moveLine(S.q);
+    return [...replies.filter((r) => r.type !== "pose"), { type: "sim_command", line: pendingMove, seq: m.seq ?? null }];
+  }
+  switch (kind) {
+    case "gripper":
+      pendingGrip = `G ${num(m, "percent", 0, 100)}`;
+      return [];
+    case "drag": {
+      const target = numbers(m, "target", [3]);
+      if (typeof m.object !== "string" && typeof m.object !== "number") throw new BadMessage("drag: 'object' must name an object");
+      try {
+        s.drag(String(typeof m.object === "number" ? s.objects[m.object]?.name ?? m.object : m.object), target);
+      } catch (e) {
+        if (e instanceof EngineError) throw new BadMessage(e.message);
+        throw e;
+      }
+      return [];
+    }
+    case "release":
+      s.release();
+      return [];
+    case "physics_run":
+    case "play":
+      running = true;
+      return kind === "play" ? [{ type: "playing", t: s.time, playing: true }] : [];
+    case "physics_pause":
+    case "pause":
+      running = false;
+      return kind === "pause" ? [{ type: "playing", t: s.time, playing: false }] : [];
+    case "physics_step":
+      running = false;
+      s.step(Math.round(0.1 / s.dt)); // 100 ms
+      return [poseMessage(), physicsMessage()];
+    case "physics_reset":
+      restart();
+      return [physicsMessage(), poseMessage()];
+    case "program_load": {
+      const replies = kinematic(kind, m);
+      if (replies[0]?.type === "timeline") {
+        restart();
+        s.loadProgram(m.text as string, (typeof m.name === "string" && m.name) || "program.arm");
+        running = false;
+      }
+      return [...replies, physicsMessage()];
+    }
+  }
+  throw new BadMessage(`'${kind}' does not apply while the physics runs`);
+}
+
+// Steps the simulation in real time and streams the world to the page, one message a display
+// frame. `rtf` is simulated time over wall time (1.0 when keeping up), `capacity` how many
+// times real time the stepping alone could run; `behind` when it cannot keep up.
+export function ensurePhysics(): void {
+  if (loop !== null || !S.sim || !S.greeted) return;
+  const meter = new RealTimeMeter(60);
+  let last = performance.now();
+  loop = every(FRAME_MS, () => {
+    const s = S.sim;
+    if (!s) {
+      loop = null;
+      return false;
+    }
+    const now = performance.now();
+    const wall = (now - last) / 1000;
+    last = now;
+    let stepped = 0, busy = 0;
+    if (running) {
+      if (!s.busy) {
+        if (pendingMove) {
+          s.command(pendingMove);
+          pendingMove = null;
+        } else if (pendingGrip) {
+          s.command(pendingGrip);
+          pendingGrip = null;
+        }
+      }
+      const n = Math.round(Math.min(wall, 0.1) / s.dt);
+      s.step(n);
+      busy = (performance.now() - now) / 1000;
+      stepped = n * s.dt;
+    }
+    meter.slice(stepped, busy);
+    const capacity = meter.capacity;
+    const behind = running && (wall > 0.1 || (capacity !== null && capacity < 1));
+    const msg = physicsMessage(meter.rtf, behind);
+    msg.capacity = capacity;
+    msg.running = running;
+    post([poseMessage(), msg]);
+  });
+}

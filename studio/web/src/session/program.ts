@@ -1,0 +1,98 @@
+// The worker's program intents: a shipped example, a program's time line (the engine's:
+// host/lib/timeline.h predicts a robot with motors and times a kinematic one), and its clock:
+// play, pause, step, seek, rewind. The arm at each instant is the engine's answer too.
+import { EngineError } from "../../../../wasm/js/engine.mjs";
+import { BadMessage, num, text } from "./checks";
+import type { Msg, Out } from "./checks";
+import { dropTimeline, framesAt, info, poseMessage, post, powerUpQ, S, stopTasks } from "./state";
+import { fetchText, index } from "./site";
+
+const FRAME_MS = 1000 / 60;
+
+function needTimeline() {
+  if (!S.timeline) throw new BadMessage("no program loaded: send program_load first");
+  return S.timeline;
+}
+
+// The arm at time s of the time line: the whole-step pose and the ideal one (the ghost).
+export function poseAt(s: number): Out {
+  const p = needTimeline().at(s);
+  S.q = p.q;
+  if (p.gripper !== null) S.gripper = p.gripper;
+  return poseMessage(S.q, { t: p.t, line: p.line, steps: p.steps, error_mm: p.error_mm, ghost: framesAt(p.q_ideal) });
+}
+
+export const programHandlers: Record<string, (m: Msg) => Out[] | Promise<Out[]>> = {
+  async program_open(m) {
+    const name = text(m, "name", 200);
+    if (!index.programs.includes(name)) throw new BadMessage(`no shipped program '${name}'`);
+    return [{ type: "program_text", name, text: await fetchText(`data/programs/${name}`) }];
+  },
+  // The time line the page plays: predicted from power-up (robots with motors) or run from the
+  // pose shown. A program that cannot be read is an error naming the line.
+  program_load(m) {
+    const src = text(m, "text");
+    const name = (typeof m.name === "string" && m.name) || "program.arm";
+    const start = info().num_motors ? powerUpQ() : [...S.q];
+    let tl;
+    try {
+      tl = S.engine.timeline(S.robot, src, name, start);
+    } catch (e) {
+      if (e instanceof EngineError) return [{ type: "program_error", message: e.message, line: (e as { line?: number }).line ?? 0 }];
+      throw e;
+    }
+    dropTimeline();
+    S.timeline = tl;
+    S.t = 0;
+    S.q = [...tl.doc.start_q];
+    const d = tl.doc;
+    return [{ type: "timeline", name, format: d.format, records: d.records, duration: d.duration,
+      joints: info().joint_names, summary: d.summary }, poseMessage(S.q, { t: 0, line: 0 })];
+  },
+  play(m) {
+    const tl = needTimeline();
+    if ("speed" in m) S.speed = num(m, "speed", 0.05, 20);
+    stopTasks();
+    if (S.t >= tl.duration) S.t = 0;
+    let last = performance.now();
+    post([{ type: "playing", t: S.t, playing: true }]);
+    const frame = () => {
+      const now = performance.now();
+      S.t = Math.min(tl.duration, S.t + ((now - last) / 1000) * S.speed);
+      last = now;
+      post([poseAt(S.t)]);
+      if (S.t >= tl.duration) {
+        S.task = null;
+        post([{ type: "playing", t: S.t, playing: false, ended: true }]);
+        return;
+      }
+      S.task = setTimeout(frame, FRAME_MS);
+    };
+    frame();
+    return [];
+  },
+  pause: () => {
+    stopTasks();
+    return [{ type: "playing", t: S.t, playing: false }];
+  },
+  // To the end of the next action (a line).
+  step: () => {
+    const tl = needTimeline();
+    stopTasks();
+    const next = tl.doc.records.find((r) => r.end_s > S.t + 1e-9);
+    S.t = next ? next.end_s : tl.duration;
+    return [poseAt(S.t), { type: "playing", t: S.t, playing: false }];
+  },
+  seek(m) {
+    const tl = needTimeline();
+    stopTasks();
+    S.t = num(m, "t", 0, tl.duration + 1e-9);
+    return [poseAt(S.t), { type: "playing", t: S.t, playing: false }];
+  },
+  rewind: () => {
+    needTimeline();
+    stopTasks();
+    S.t = 0;
+    return [poseAt(0), { type: "playing", t: 0, playing: false }];
+  },
+};

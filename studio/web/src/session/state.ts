@@ -1,0 +1,122 @@
+// One page's session in the engine's worker: the robot shown, its pose and gripper, the
+// program's time line and its clock, the live physics. The engine computes; this holds what
+// the page is looking at, and turns it into the messages the page draws (protocol.ts).
+import type { Engine, Robot, Sim, Timeline } from "../../../../wasm/js/engine.mjs";
+import { clamp, round6 } from "./checks";
+import type { Out } from "./checks";
+import { index } from "./site";
+
+export interface RobotInfo {
+  name: string; description: string; source: string; joints: { name: string }[]; dh: unknown[];
+  num_rows: number; num_joints: number; num_motors: number; home: number[]; limits: [number, number][];
+  motors: { name: string; zero: number }[]; links: { frame: number; shapes: { type: string; size: number[];
+  pose: number[]; mesh?: string }[] }[]; gripper: null | { max_opening_mm: number }; reach_mm: number;
+  import_notes: string[]; joint_names: string[];
+}
+
+export const S = {
+  engine: null as unknown as Engine,
+  robot: null as unknown as Robot,
+  q: [] as number[],
+  gripper: 100, // percent open
+  timeline: null as Timeline | null,
+  t: 0, // the time line's clock, s
+  speed: 1,
+  task: null as ReturnType<typeof setTimeout> | null, // playback or the JT animation
+  sceneName: null as string | null, // live physics: the scene (null: none)
+  sim: null as Sim | null,
+  greeted: false, // the page said hello: it has the robot, poses may stream
+};
+
+const meshUrls = new Map<string, string>(); // engine path -> blob URL the page draws
+
+export function post(msgs: Out[]): void {
+  for (const m of msgs) (self as unknown as Worker).postMessage(m);
+}
+
+export const info = () => S.robot.info as unknown as RobotInfo;
+
+export function stopTasks(): void {
+  if (S.task !== null) clearTimeout(S.task);
+  S.task = null;
+}
+
+function meshUrl(path: string): string {
+  let url = meshUrls.get(path);
+  if (!url) {
+    url = URL.createObjectURL(new Blob([S.engine.readFile(path) as Uint8Array<ArrayBuffer>]));
+    meshUrls.set(path, url);
+  }
+  return url;
+}
+
+export function robotMessage(): Out {
+  const r = info();
+  const links = r.links.map((l) => ({
+    frame: l.frame,
+    shapes: l.shapes.map((s) => {
+      const shape: Out = { type: s.type, size: s.size, pose: s.pose.map(round6) };
+      if (s.type === "mesh" && s.mesh) {
+        shape.url = meshUrl(s.mesh);
+        shape.format = s.mesh.split(".").pop()!.toLowerCase();
+      }
+      return shape;
+    }),
+  }));
+  return {
+    type: "robot", name: r.name, description: r.description, source: r.source, joints: r.joints, dh: r.dh,
+    num_rows: r.num_rows, home: r.home, motors: r.motors.map((m) => m.name), links, gripper: r.gripper,
+    reach_mm: r.reach_mm, robots: index.robots, programs: index.programs, scenes: index.scenes,
+    import_notes: r.import_notes,
+  };
+}
+
+export function poseMessage(at: number[] = S.q, extra: Out = {}): Out {
+  const r = info();
+  const opening = r.gripper ? (r.gripper.max_opening_mm * S.gripper) / 100 : NaN;
+  const p = S.robot.pose(at, opening) as { frames: number[][]; tool: unknown; dh_table: number[][];
+    within_limits: boolean; fingers?: number[][] };
+  const msg: Out = {
+    type: "pose", q: at, frames: p.frames.map((f) => f.map(round6)), tool: p.tool, dh_table: p.dh_table,
+    gripper: S.gripper, within_limits: p.within_limits,
+  };
+  if (p.fingers) msg.fingers = p.fingers.map((f) => f.map(round6));
+  return Object.assign(msg, extra);
+}
+
+/** The frames of a pose, for the ghost and the arm in the loop. */
+export function framesAt(q: number[]): number[][] {
+  return (S.robot.pose(q).frames as number[][]).map((f) => f.map(round6));
+}
+
+// A robot becomes the one shown: at its home, the gripper open, no program.
+export function adopt(r: Robot, restartPhysics: (scene: string) => void): void {
+  const old = S.robot;
+  S.robot = r;
+  if (old && old !== r) old.delete();
+  S.q = [...info().home];
+  S.gripper = 100;
+  dropTimeline();
+  if (S.sceneName !== null) restartPhysics(S.sceneName);
+}
+
+export function dropTimeline(): void {
+  S.timeline?.delete();
+  S.timeline = null;
+}
+
+// Where the real arm powers up: every motor at its zero angle.
+export function powerUpQ(): number[] {
+  return S.robot.jointsFromMotors(info().motors.map((m) => m.zero)) as number[];
+}
+
+export function clampQ(v: number[]): number[] {
+  return v.map((x, j) => clamp(x, info().limits[j][0], info().limits[j][1]));
+}
+
+// The protocol line that moves the (simulated) arm to joint values v: `M` with the motor
+// angles, or the joint variables of a robot without motors.
+export function moveLine(v: number[]): string {
+  const values = info().num_motors ? (S.robot.motorsFromJoints(v) as number[]) : v;
+  return "M " + values.map((x) => x.toFixed(3)).join(" ");
+}
