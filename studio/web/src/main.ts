@@ -10,17 +10,17 @@
 import { View } from "./view";
 import { Plots } from "./plots";
 import { startTour } from "./tour";
-import type { PoseMsg, ServerMsg } from "./protocol";
+import type { PoseMsg, EngineMsg } from "./protocol";
 import { EngineClient } from "./page/engine";
 import { $, banner } from "./page/dom";
 import { exposeHook, hook, noteError } from "./page/hook";
 import type { Studio } from "./page/context";
-import { armFrameDrawn, initArm, stopEverything } from "./panels/arm";
+import { armFrameDrawn, initArm, runOnArm, stopEverything } from "./panels/arm";
 import { initFlash } from "./panels/flash";
 import { followTool, initIk, showIk } from "./panels/ik";
 import { initJoints, showJointValues } from "./panels/joints";
 import { showPhysics, showScene, initPhysics } from "./panels/physics";
-import { ghostShown, initProgram, programHandlers, showTime } from "./panels/program";
+import { ghostShown, initProgram, programHandlers, setRunOnArm, showTime } from "./panels/program";
 import { fitNewRobot, initRobot, robotError, saveUrdf, showRobot } from "./panels/robot";
 
 const params = new URLSearchParams(location.search);
@@ -54,6 +54,7 @@ initProgram(studio);
 initPhysics(studio);
 initArm(studio);
 initFlash();
+setRunOnArm(runOnArm);
 
 function setConn(text: string, kind: "ok" | "bad"): void {
   const c = $("conn");
@@ -62,7 +63,7 @@ function setConn(text: string, kind: "ok" | "bad"): void {
 }
 
 // What the engine says, to the panel it is for.
-function handle(m: ServerMsg): void {
+function handle(m: EngineMsg): void {
   switch (m.type) {
     case "robot": return showRobot(m);
     case "robot_error": return robotError(m.message);

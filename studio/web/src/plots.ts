@@ -1,5 +1,5 @@
 // The program's time line as plots (uPlot): joint values, tool position and the quantization
-// error, a playhead that follows the arm, PNG and CSV export. The values are the server's
+// error, a playhead that follows the arm, PNG and CSV export. The values are the engine's
 // (the prediction's records); the page only draws them.
 import uPlot from "uplot";
 import type { TimelineMsg } from "./protocol";

@@ -1,5 +1,5 @@
-// The messages between the page and its engine (worker.ts) and its arm link (arm.ts;
-// docs/studio.md, "Messages"). The engine computes every pose; the page sends intents
+// The messages between the page and its engine (worker.ts), and from its arm link (arm.ts) to
+// the arm panel (docs/studio.md, "Messages"). The engine computes every pose; the page sends intents
 // and draws what comes back.
 
 export type Flat4x4 = number[]; // a 4x4 homogeneous matrix, row-major, mm
@@ -158,11 +158,11 @@ export interface ArmStatusMsg {
   frames: Flat4x4[];
   text: string;
   stop_to_idle_ms?: number;
-  rtt_ms: number | null; // the server's `?` to this report
-  sent_ms: number; // when the server sent it (epoch ms)
+  rtt_ms: number | null; // the page's `?` to this report
+  sent_ms: number; // when the page read it (epoch ms)
 }
 
-export type ServerMsg =
+export type EngineMsg =
   | ArmStatusMsg
   | { type: "arm"; connected: boolean; connecting?: boolean; port?: string; label?: string; info?: Record<string, string>; error?: string; lost?: boolean }
   | { type: "arm_reply"; line: string; reply: string | null; meaning?: string; error?: string;
@@ -183,8 +183,6 @@ export type ServerMsg =
   | { type: "playing"; t: number; playing: boolean; ended?: boolean }
   | { type: "teach"; line: string }
   | { type: "urdf"; name: string; xml: string }
-  | { type: "status_text"; code: number; text: string; id?: number }
   | { type: "error"; message: string; request?: string | null; id?: number }
-  | { type: "arm_parsed"; id: number; parsed: unknown }
-  | { type: "arm_posed"; id: number; q: number[]; frames: Flat4x4[] }
+  | { type: "arm_read"; id: number; parsed: unknown; pose: { q: number[]; frames: Flat4x4[] } | null }
   | { type: "arm_predicted"; id: number; reply: string; steps: number[] | null; meaning: string; seconds?: number };

@@ -1,5 +1,5 @@
 // The 3D view: one three.js scene graph where each DH frame is a Group whose children are
-// that frame's shapes and axes, so a pose from the server is one matrix per frame (the page
+// that frame's shapes and axes, so a pose from the engine is one matrix per frame (the page
 // computes no kinematics). Z is up, lengths are millimetres, as in the robot files.
 import * as THREE from "three";
 import { OrbitControls } from "three/examples/jsm/controls/OrbitControls.js";
@@ -202,7 +202,7 @@ export class View {
   // ---- the robot
 
   // Builds the robot's frames and shapes; resolves when every shape (meshes load from the
-  // server) is in the scene.
+  // engine) is in the scene.
   build(robot: RobotMsg): Promise<void> {
     for (const g of [this.arm, this.ghostArm, this.liveArm]) {
       g.clear();
@@ -385,7 +385,7 @@ export class View {
     }
   }
 
-  // The arm itself (its status reports' angles, frames from the server), beside the model.
+  // The arm itself (its status reports' angles, frames from the engine), beside the model.
   liveFrames(frames: Flat4x4[] | null): void {
     this.liveArm.visible = frames !== null;
     frames?.forEach((m, i) => this.live[i] && setMatrix(this.live[i], m));

@@ -15,7 +15,7 @@ import { kinematicHandlers } from "./session/kinematics";
 import { PHYSICS_INTENTS, PHYSICS_ONLY, ensurePhysics, physicsIntent, physicsMessage, sceneIntent, sceneMessage,
   startPhysics } from "./session/physics";
 import { programHandlers } from "./session/program";
-import { index, loadIndex, sceneFile, shippedRobot, site, urlRobot } from "./session/site";
+import { loadIndex, sceneFile, shippedRobot, site, urlRobot } from "./session/site";
 import { info, poseMessage, post, robotMessage, S, stopTasks } from "./session/state";
 
 type Handler = (m: Msg) => Out[] | Promise<Out[]>;
@@ -81,14 +81,14 @@ async function start(first: Msg): Promise<void> {
   await loadIndex();
   const wanted = typeof first.robot === "string" ? first.robot : "mk2plus";
   try {
-    S.robot = wanted.endsWith(".json") ? await urlRobot(wanted) : await shippedRobot(index.robots.includes(wanted) ? wanted : "mk2plus");
+    S.robot = wanted.endsWith(".json") ? await urlRobot(wanted) : await shippedRobot(S.index.robots.includes(wanted) ? wanted : "mk2plus");
   } catch (e) {
     // A robot the address names but that cannot be used: the MK2, and the page says why.
     S.robot = await shippedRobot("mk2plus");
     post([{ type: "robot_error", message: (e as Error).message }]);
   }
   S.q = [...info().home];
-  const scene = typeof first.scene === "string" && index.scenes.includes(first.scene) ? first.scene : null;
+  const scene = typeof first.scene === "string" && S.index.scenes.includes(first.scene) ? first.scene : null;
   if (scene) {
     await sceneFile(scene);
     startPhysics(scene);

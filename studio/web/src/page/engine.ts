@@ -1,7 +1,7 @@
 // The engine, as the page sees it: the Web Worker (worker.ts: the C++ core, host library and
 // ODE in WebAssembly) that computes every pose, solve, prediction and physics step. The page
 // posts intents and handles what comes back; a request with an `id` gets its own answer.
-import type { ServerMsg } from "../protocol";
+import type { EngineMsg } from "../protocol";
 import { hook } from "./hook";
 
 type Msg = Record<string, unknown>;
@@ -14,7 +14,7 @@ export class EngineClient {
   ready = false;
   /** The protocol's status table (shared/articula/status.h), from the engine: code -> text. */
   statusTable: Record<string, [string, string]> = {};
-  onMessage: (m: ServerMsg) => void = () => undefined;
+  onMessage: (m: EngineMsg) => void = () => undefined;
   onReady: () => void = () => undefined;
   onFatal: (message: string) => void = () => undefined;
   private worker: Worker;
@@ -28,7 +28,7 @@ export class EngineClient {
 
   constructor(start: { robot?: string; scene?: string }) {
     this.worker = new Worker(new URL("assets/worker.js", document.baseURI), { type: "module" });
-    this.worker.onmessage = (e) => this.receive(e.data as ServerMsg | { type: "ready"; ms: number; status_table: Record<string, [string, string]> } | { type: "fatal"; message: string });
+    this.worker.onmessage = (e) => this.receive(e.data as EngineMsg | { type: "ready"; ms: number; status_table: Record<string, [string, string]> } | { type: "fatal"; message: string });
     this.worker.onerror = (e) => this.onFatal(`The engine stopped: ${e.message}`);
     this.worker.postMessage({ type: "start", ...start });
   }
@@ -101,7 +101,7 @@ export class EngineClient {
     return this.statusTable[String(Number.isFinite(code) ? code : 255)]?.[1] ?? `unknown reply ${reply}`;
   }
 
-  private receive(m: ServerMsg | { type: "ready"; ms: number; status_table: Record<string, [string, string]> } | { type: "fatal"; message: string }): void {
+  private receive(m: EngineMsg | { type: "ready"; ms: number; status_table: Record<string, [string, string]> } | { type: "fatal"; message: string }): void {
     hook.messages++;
     if (m.type === "ready") {
       this.ready = true;

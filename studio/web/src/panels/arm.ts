@@ -3,7 +3,7 @@
 // the arm's reply and the model's prediction side by side, programs run on the arm, STOP.
 // Everything the arm says (its banner's robot name, its replies) is shown as text.
 import { ArmLink } from "../arm";
-import type { ArmStatusMsg, ServerMsg } from "../protocol";
+import type { ArmStatusMsg, EngineMsg } from "../protocol";
 import { VirtualNanoPort, webSerial } from "../serial";
 import type { SerialLike } from "../serial";
 import type { Studio } from "../page/context";
@@ -77,7 +77,7 @@ async function connect(_which: string): Promise<void> {
     read: (line) => s.engine.call({ type: "arm_read", line }) as never,
     predict: (history, line) => s.engine.call({ type: "arm_predict", history, line }) as never,
     meaning: (reply) => s.engine.meaning(reply),
-  }, (m) => armMessage(m as unknown as ServerMsg));
+  }, (m) => armMessage(m as unknown as EngineMsg));
   await link.connect(chosen.port, chosen.label, hook.robot?.name ?? "");
   if (!link.connected) link = null;
 }
@@ -167,7 +167,7 @@ export function armFrameDrawn(now: number): void {
   drawnReports = [];
 }
 
-function armMessage(m: ServerMsg): void {
+function armMessage(m: EngineMsg): void {
   switch (m.type) {
     case "arm":
       return showArm(m);

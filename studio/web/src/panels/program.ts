@@ -5,13 +5,16 @@ import type { PoseMsg, TimelineMsg } from "../protocol";
 import type { Studio } from "../page/context";
 import { $, download, fill, h, setOptions } from "../page/dom";
 import { hook } from "../page/hook";
-import { runOnArm } from "./arm";
 
 let s: Studio;
 let currentProgram = "program.arm";
 let autoplay = false;
 let showGhost = true;
 let lineShown = 0;
+// Run with "on the arm": the arm panel's (main.ts connects them; the panels import no panel
+// that imports them back).
+let runOnArm: (text: string) => void = () => undefined;
+export const setRunOnArm = (f: (text: string) => void) => (runOnArm = f);
 const editor = () => $("editor") as HTMLTextAreaElement;
 
 export const ghostShown = () => showGhost;

@@ -8,7 +8,7 @@ import { RealTimeMeter, every } from "../pacer";
 import { BadMessage, num, numbers, round6, text } from "./checks";
 import type { Msg, Out } from "./checks";
 import { dropTimeline, info, moveLine, poseMessage, post, S, stopTasks } from "./state";
-import { index, sceneFile, sceneText } from "./site";
+import { sceneFile, sceneText } from "./site";
 
 const FRAME_MS = 1000 / 60;
 let eventsSent = 0;
@@ -41,7 +41,7 @@ export const restartPhysics = (scene: string) => startPhysics(scene);
 
 export function sceneMessage(): Out {
   return { type: "scene", name: S.sceneName, title: S.sim ? S.sim.sceneName : "", objects: S.sim ? S.sim.objects : [],
-    scenes: index.scenes };
+    scenes: S.index.scenes };
 }
 
 export function physicsMessage(rtf: number | null = null, behind = false): Out {
@@ -66,7 +66,7 @@ export async function sceneIntent(m: Msg): Promise<Out[]> {
   let name: string | null = null;
   if (m.name !== null && m.name !== undefined) {
     name = text(m, "name", 200);
-    if (name && !index.scenes.includes(name)) throw new BadMessage(`no shipped scene '${name}'`);
+    if (name && !S.index.scenes.includes(name)) throw new BadMessage(`no shipped scene '${name}'`);
   }
   stopTasks();
   if (name) await sceneFile(name);

@@ -5,7 +5,7 @@ import { EngineError } from "../../../../wasm/js/engine.mjs";
 import { BadMessage, num, text } from "./checks";
 import type { Msg, Out } from "./checks";
 import { dropTimeline, framesAt, info, poseMessage, post, powerUpQ, S, stopTasks } from "./state";
-import { fetchText, index } from "./site";
+import { fetchText } from "./site";
 
 const FRAME_MS = 1000 / 60;
 
@@ -25,7 +25,7 @@ export function poseAt(s: number): Out {
 export const programHandlers: Record<string, (m: Msg) => Out[] | Promise<Out[]>> = {
   async program_open(m) {
     const name = text(m, "name", 200);
-    if (!index.programs.includes(name)) throw new BadMessage(`no shipped program '${name}'`);
+    if (!S.index.programs.includes(name)) throw new BadMessage(`no shipped program '${name}'`);
     return [{ type: "program_text", name, text: await fetchText(`data/programs/${name}`) }];
   },
   // The time line the page plays: predicted from power-up (robots with motors) or run from the

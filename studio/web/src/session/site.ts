@@ -6,9 +6,7 @@ import type { Msg } from "./checks";
 import { S } from "./state";
 import type { RobotInfo } from "./state";
 
-export interface SiteIndex { robots: string[]; scenes: string[]; programs: string[]; meshes: string[] }
 export const site = new URL("./", self.location.href.replace(/assets\/[^/]*$/, ""));
-export let index: SiteIndex = { robots: [], scenes: [], programs: [], meshes: [] };
 
 export async function fetchText(path: string): Promise<string> {
   const r = await fetch(new URL(path, site));
@@ -23,11 +21,11 @@ async function fetchBytes(path: string): Promise<Uint8Array> {
 }
 
 export async function loadIndex(): Promise<void> {
-  index = JSON.parse(await fetchText("data/index.json"));
+  S.index = JSON.parse(await fetchText("data/index.json"));
 }
 
 export async function shippedRobot(name: string): Promise<Robot> {
-  if (!index.robots.includes(name)) throw new BadMessage(`no shipped robot '${name}'`);
+  if (!S.index.robots.includes(name)) throw new BadMessage(`no shipped robot '${name}'`);
   const path = `/robots/${name}.json`;
   if (!S.engine.exists(path)) S.engine.writeFile(path, await fetchText(`data/robots/${name}.json`));
   const r = S.engine.robot(name);

@@ -4,7 +4,6 @@
 import type { Engine, Robot, Sim, Timeline } from "../../../../wasm/js/engine.mjs";
 import { clamp, round6 } from "./checks";
 import type { Out } from "./checks";
-import { index } from "./site";
 
 export interface RobotInfo {
   name: string; description: string; source: string; joints: { name: string }[]; dh: unknown[];
@@ -14,8 +13,12 @@ export interface RobotInfo {
   import_notes: string[]; joint_names: string[];
 }
 
+/** The site's shipped files (data/index.json, which make web writes). */
+export interface SiteIndex { robots: string[]; scenes: string[]; programs: string[]; meshes: string[] }
+
 export const S = {
   engine: null as unknown as Engine,
+  index: { robots: [], scenes: [], programs: [], meshes: [] } as SiteIndex,
   robot: null as unknown as Robot,
   q: [] as number[],
   gripper: 100, // percent open
@@ -66,7 +69,7 @@ export function robotMessage(): Out {
   return {
     type: "robot", name: r.name, description: r.description, source: r.source, joints: r.joints, dh: r.dh,
     num_rows: r.num_rows, home: r.home, motors: r.motors.map((m) => m.name), links, gripper: r.gripper,
-    reach_mm: r.reach_mm, robots: index.robots, programs: index.programs, scenes: index.scenes,
+    reach_mm: r.reach_mm, robots: S.index.robots, programs: S.index.programs, scenes: S.index.scenes,
     import_notes: r.import_notes,
   };
 }
