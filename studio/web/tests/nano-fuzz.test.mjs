@@ -1,10 +1,11 @@
 // A protocol fuzz on the page's virtual Nano (avr8js running the firmware's hex), as hil.fuzz
-// does on simavr's: 2,000 seeded random lines, valid and malformed. Each gets exactly one
-// reply, the reply the controller model (the engine's predict) gives for it after the lines
-// the Nano accepted, the Nano never hangs, and a refused line moves nothing.
+// does on simavr's: 800 seeded random lines, valid and malformed (every command both
+// accepted and refused at least once, checked below). Each gets exactly one reply, the reply
+// the controller model (the engine's predict) gives for it after the lines the Nano accepted,
+// the Nano never hangs, and a refused line moves nothing.
 //
 // Run alone: node --no-experimental-fetch --test studio/web/tests/nano-fuzz.test.mjs
-// (ARTICULA_FUZZ_LINES=300 for a shorter run).
+// (ARTICULA_FUZZ_LINES=2000 for the long run).
 import assert from "node:assert/strict";
 import { readFileSync } from "node:fs";
 import { join } from "node:path";
@@ -13,7 +14,7 @@ import { REPO, nodeEngine, nodeNanoParts } from "../../../wasm/js/node.mjs";
 import { VirtualNano } from "../src/nano.mjs";
 
 const HEX = process.env.ARTICULA_NANO_HEX || join(REPO, "build/avr/firmware/articula-nano.hex");
-const LINES = Number(process.env.ARTICULA_FUZZ_LINES || 2000);
+const LINES = Number(process.env.ARTICULA_FUZZ_LINES || 800);
 
 function rng(seed) {
   let s = seed >>> 0;
@@ -80,6 +81,7 @@ test(`${LINES} random lines: one reply each, the model's, and no motion on a ref
   }
   let before = idle("the settings", 0);
   let refused = 0, accepted = 0;
+  const seen = {}; // command word -> [accepted, refused]
   for (let i = 0; i < LINES; i++) {
     const line = gen();
     index = i + 1;
@@ -107,6 +109,9 @@ test(`${LINES} random lines: one reply each, the model's, and no motion on a ref
     } else {
       assert.notEqual(reply, "ok", `line ${i + 1} '${line}': the program reader refuses it, the Nano took it`);
     }
+    const word = /^[A-Z$]/.test(line) ? line[0] : "other";
+    seen[word] ??= [0, 0];
+    seen[word][reply === "ok" ? 0 : 1]++;
     if (reply === "ok") {
       accepted++;
       history.push(line);
@@ -120,6 +125,11 @@ test(`${LINES} random lines: one reply each, the model's, and no motion on a ref
   }
   t.diagnostic(`${LINES} lines: ${accepted} accepted, ${refused} refused, one reply each, the model's; ` +
     `${n.seconds.toFixed(1)} s emulated, coil faults ${n.coilFaults}, bytes lost ${n.overruns}`);
+  // every command was taken and refused: the fuzz reaches each one's checks both ways
+  for (const w of ["L", "M", "G", "P", "$", "S", "I"])
+    assert.ok(seen[w] && seen[w][0] > 0 && (w === "I" || seen[w][1] > 0), `'${w}' not both accepted and refused: ${JSON.stringify(seen)}`);
+  assert.ok(seen.Z && seen.other && seen.other[1] > 0, `Z and garbage lines sent: ${JSON.stringify(seen)}`);
+  t.diagnostic(`by command (accepted, refused): ${JSON.stringify(seen)}`);
   assert.equal(n.coilFaults, 0);
   assert.equal(n.overruns, 0, "received bytes lost");
   n.delete();
