@@ -78,6 +78,15 @@ char robosim_letter(Statement::Kind kind) {
   return '?';
 }
 
+bool is_gripper_statement(const Statement& st) {
+  if (st.kind == Statement::Kind::kHand) return true;
+  if (st.kind != Statement::Kind::kProtocol) return false;
+  const size_t i = st.text.find_first_not_of(" \t");
+  if (i == std::string::npos) return false;
+  const char c = char(std::toupper(static_cast<unsigned char>(st.text[i])));
+  return c == 'G' || c == 'S';
+}
+
 Program::Format detect_format(const std::string& text, const std::string& name) {
   const std::string n = lower(name);
   if (ends_with(n, ".robosim") || ends_with(n, ".file")) return Program::Format::kRoboSim;

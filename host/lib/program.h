@@ -60,6 +60,10 @@ char robosim_letter(Statement::Kind kind);
 // arguments (or a protocol command without any, like H or $) is the protocol.
 Program::Format detect_format(const std::string& text, const std::string& name);
 
+// A gripper action: RoboSim's h, or the protocol's G or S (in either case). A robot without
+// motors spends its settle time on one (the physics and the studio's time line).
+bool is_gripper_statement(const Statement& st);
+
 // Reads a RoboSim program for `robot`: argument counts follow the robot (m and w take one
 // value per joint variable, l one per row with an allowed length range), and every value
 // is checked against its range. Throws ProgramError.

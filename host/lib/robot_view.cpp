@@ -12,7 +12,9 @@ namespace {
 const char* param_name(uint8_t p) { return p == kParamTheta ? "theta" : (p == kParamD ? "d" : "alpha"); }
 double param_out(uint8_t p, double v) { return p != kParamD ? rad_to_deg(v) : v; }
 
-nlohmann::json flat(const Transform<double>& T) {
+}  // namespace
+
+nlohmann::json transform_json(const Transform<double>& T) {
   nlohmann::json out = nlohmann::json::array();
   for (int i = 0; i < 3; ++i) {
     for (int k = 0; k < 3; ++k) out.push_back(T.R.m[i][k]);
@@ -22,7 +24,12 @@ nlohmann::json flat(const Transform<double>& T) {
   return out;
 }
 
-}  // namespace
+nlohmann::json frames_json(const Robot& r, const HostFrames& f) {
+  nlohmann::json out = nlohmann::json::array();
+  for (int i = 0; i <= r.model.num_rows; ++i) out.push_back(transform_json(f.T_base_frame[i]));
+  out.push_back(transform_json(f.T_base_tool));
+  return out;
+}
 
 nlohmann::json dh_rows_json(const Robot& r) {
   const auto& m = r.model;
@@ -106,7 +113,7 @@ nlohmann::json links_json(const Robot& r) {
     for (const auto& s : l.shapes) {
       nlohmann::json d = {{"type", kTypes[int(s.type)]},
                           {"size", {s.size[0], s.size[1], s.size[2]}},
-                          {"pose", flat(s.T_frame_shape)},
+                          {"pose", transform_json(s.T_frame_shape)},
                           {"mass", s.mass},
                           {"density", s.density}};
       if (s.type == Shape::Type::kMesh) d["mesh"] = mesh_path(r, s);

@@ -20,6 +20,11 @@
 
 namespace articula::host {
 
+// A transform as 16 numbers, a row-major 4x4 (mm): how poses cross into JSON.
+nlohmann::json transform_json(const Transform<double>& T);
+// Every frame of a pose: the base, one a DH row, the tool.
+nlohmann::json frames_json(const Robot& r, const HostFrames& frames);
+
 // The DH table as the robot file writes it, row i holding a(i-1), alpha(i-1), d(i), theta(i):
 // a constant, {"joint": name, "min", "max"}, {"linked": {joint: gain}, "offset"}, or for an
 // adjustable length a {"value", "min", "max"}.

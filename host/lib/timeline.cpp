@@ -21,12 +21,15 @@ std::vector<double> model_units(const Robot& robot, const std::vector<double>& q
   return out;
 }
 
-// A gripper statement: the protocol's G and S, RoboSim's h.
-bool gripper_statement(const std::string& text) {
-  const size_t i = text.find_first_not_of(" \t");
-  if (i == std::string::npos) return false;
-  const char c = text[i];
-  return c == 'G' || c == 'S' || c == 'h';
+// What every action has, whatever made it.
+TimelineAction action(int line, const std::string& command, Status reply, const std::string& note) {
+  TimelineAction a;
+  a.line = line;
+  a.command = command;
+  a.reply = reply;
+  a.error = reply == kOk ? "" : status_text(uint8_t(reply));
+  a.note = note;
+  return a;
 }
 
 std::vector<double> lerp(const std::vector<double>& a, const std::vector<double>& b, double f) {
@@ -50,12 +53,7 @@ Timeline Timeline::of(const Robot& robot, const Prediction& prediction) {
   Timeline tl;
   tl.start_q_ = user_units(robot, KinematicModel(robot).q());  // power-up: every motor at its zero
   for (const PredictRecord& r : prediction.records) {
-    TimelineAction a;
-    a.line = r.line;
-    a.command = r.text;
-    a.reply = r.reply;
-    a.error = r.reply == kOk ? "" : status_text(uint8_t(r.reply));
-    a.note = r.note;
+    TimelineAction a = action(r.line, r.text, r.reply, r.note);
     a.start_s = r.start_s();
     a.end_s = r.end_s();
     a.q = r.joints;
@@ -72,20 +70,16 @@ Timeline Timeline::of(const Robot& robot, const Prediction& prediction) {
   return tl;
 }
 
-Timeline Timeline::of(const Robot& robot, const std::vector<RunRecord>& records, const std::vector<double>& start_q,
-                      const JointTiming& timing) {
+Timeline Timeline::of(const Robot& robot, const Program& program, const std::vector<RunRecord>& records,
+                      const std::vector<double>& start_q, const JointTiming& timing) {
   Timeline tl;
   tl.start_q_ = start_q;
   std::vector<double> at = model_units(robot, start_q);  // where the last accepted action left the arm
   int grip = -1;
   double clock = 0;
-  for (const RunRecord& r : records) {
-    TimelineAction a;
-    a.line = r.line;
-    a.command = r.text;
-    a.reply = r.reply;
-    a.error = r.reply == kOk ? "" : status_text(uint8_t(r.reply));
-    a.note = r.note;
+  for (size_t i = 0; i < records.size(); ++i) {
+    const RunRecord& r = records[i];
+    TimelineAction a = action(r.line, r.text, r.reply, r.note);
     a.q = a.q_ideal = r.joints;
     a.tool = a.tool_ideal = r.tool.p;
     a.gripper_percent = r.gripper_percent;
@@ -94,7 +88,8 @@ Timeline Timeline::of(const Robot& robot, const std::vector<RunRecord>& records,
       const std::vector<double> to = model_units(robot, r.joints);
       s = timing.move_s(robot, at.data(), to.data());
       // as the physics times it: a move, else a gripper action
-      if (s == 0 && (r.gripper_percent != grip || gripper_statement(r.text))) s = timing.gripper_settle_s;
+      if (s == 0 && (r.gripper_percent != grip || is_gripper_statement(program.statements[i])))
+        s = timing.gripper_settle_s;
       at = to;
       grip = r.gripper_percent;
     }
@@ -110,7 +105,7 @@ Timeline Timeline::of(const Robot& robot, const std::vector<RunRecord>& records,
 Timeline Timeline::of_program(const Robot& robot, const Program& program, const std::vector<double>& start_q,
                               const JointTiming& timing) {
   if (robot.has_motors) return of(robot, predict_program(robot, program));
-  return of(robot, run_program(robot, program), start_q, timing);
+  return of(robot, program, run_program(robot, program), start_q, timing);
 }
 
 TimelinePose Timeline::at(double t) const {

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "predict.h"
+#include "program.h"
 #include "robot.h"
 #include "run.h"
 
@@ -60,9 +61,10 @@ class Timeline {
  public:
   // A prediction, from power-up (every motor at its zero angle).
   static Timeline of(const Robot& robot, const Prediction& prediction);
-  // A run on the kinematic model from start_q (deg or mm), timed by `timing`.
-  static Timeline of(const Robot& robot, const std::vector<RunRecord>& records, const std::vector<double>& start_q,
-                     const JointTiming& timing = {});
+  // A run of `program` on the kinematic model (its records, one a statement) from start_q (deg
+  // or mm), timed by `timing` as the physics times such a robot.
+  static Timeline of(const Robot& robot, const Program& program, const std::vector<RunRecord>& records,
+                     const std::vector<double>& start_q, const JointTiming& timing = {});
 
   // The arm at time t (clamped to 0 .. duration): each action moves from the pose before it to
   // its own in its time, joint values linear in time (a drawing of the move, not the motors'

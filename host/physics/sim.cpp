@@ -682,14 +682,12 @@ void Simulation::enqueue(const Statement& st, uint64_t now_tick) {
     std::vector<double> q_to(static_cast<size_t>(n_joints_));
     for (int j = 0; j < n_joints_; ++j) q_to[size_t(j)] = joint_to_model(robot_, j, r.joints[size_t(j)]);
     double duration = opt_.joints.move_s(robot_, queued_q_.data(), q_to.data());
-    const char letter = command_letter(r.text);
     if (duration > 0) {
       a.kind = Action::kJoints;
       a.q_from = queued_q_;
       a.q_to = q_to;
       queued_q_ = q_to;
-    } else if (r.gripper_percent != queued_percent_ || st.kind == Statement::Kind::kHand ||
-               (st.kind == Statement::Kind::kProtocol && (letter == 'G' || letter == 'S'))) {
+    } else if (r.gripper_percent != queued_percent_ || is_gripper_statement(st)) {
       a.kind = Action::kGripper;
       duration = opt_.joints.gripper_settle_s;
       queued_percent_ = r.gripper_percent;

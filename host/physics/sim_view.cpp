@@ -1,33 +1,19 @@
 // host/physics/sim_view.cpp - the simulation as JSON, for the bindings.
 #include "sim_view.h"
 
+#include "robot_view.h"
+
 namespace articula::host {
-namespace {
-
-nlohmann::json flat(const Transform<double>& T) {
-  nlohmann::json out = nlohmann::json::array();
-  for (int i = 0; i < 3; ++i) {
-    for (int k = 0; k < 3; ++k) out.push_back(T.R.m[i][k]);
-    out.push_back(T.p[i]);
-  }
-  for (double v : {0.0, 0.0, 0.0, 1.0}) out.push_back(v);
-  return out;
-}
-
-}  // namespace
 
 nlohmann::json sim_state_json(const Simulation& s) {
   using json = nlohmann::json;
   const Robot& r = s.robot();
-  json q = json::array(), frames = json::array(), parts = json::array(), objects = json::array(),
-       contacts = json::array();
+  json q = json::array(), parts = json::array(), objects = json::array(), contacts = json::array();
   for (int j = 0; j < r.model.num_joints; ++j) q.push_back(joint_from_model(r, j, s.joints()[size_t(j)]));
-  for (int i = 0; i <= r.model.num_rows; ++i) frames.push_back(flat(s.frames().T_base_frame[i]));
-  frames.push_back(flat(s.frames().T_base_tool));
-  for (const auto& p : s.arm_parts()) parts.push_back({{"name", p.name}, {"frame", p.frame}, {"pose", flat(p.T)}});
+  for (const auto& p : s.arm_parts()) parts.push_back({{"name", p.name}, {"frame", p.frame}, {"pose", transform_json(p.T)}});
   for (int i = 0; i < s.num_objects(); ++i)
     objects.push_back({{"name", s.object(i).name},
-                       {"pose", flat(s.object_pose(i))},
+                       {"pose", transform_json(s.object_pose(i))},
                        {"movable", s.object(i).movable},
                        {"carried", s.object_carried(i)},
                        {"removed", s.object_removed(i)}});
@@ -35,8 +21,8 @@ nlohmann::json sim_state_json(const Simulation& s) {
     contacts.push_back({{"a", c.a}, {"b", c.b}, {"point_mm", {c.point_mm.x, c.point_mm.y, c.point_mm.z}}});
   return {{"t", s.time()},
           {"joints", q},
-          {"frames", frames},
-          {"tool", flat(s.frames().T_base_tool)},
+          {"frames", frames_json(r, s.frames())},
+          {"tool", transform_json(s.frames().T_base_tool)},
           {"gripper_mm", s.gripper_opening_mm()},
           {"counted_steps", s.counted_steps()},
           {"lost_steps", s.lost_steps()},

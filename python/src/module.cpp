@@ -1,10 +1,8 @@
-// python/src/module.cpp - the native part of `import articula` (articula._core): the status
-// table, the exceptions, and what the binding files share. The Python package
+// python/src/module.cpp - the native part of `import articula` (articula._core): the
+// exceptions, and what the binding files share (arrays in and out). The Python package
 // (python/articula/) re-exports it; docs/python.md is the tutorial.
 #include <nanobind/stl/string.h>
 #include <nanobind/stl/vector.h>
-
-#include <articula/status.h>
 
 #include <cmath>
 #include <cstring>

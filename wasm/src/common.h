@@ -54,16 +54,6 @@ std::string guarded(F&& f) {
   }
 }
 
-inline json flat(const Transform<double>& T) {
-  json out = json::array();
-  for (int i = 0; i < 3; ++i) {
-    for (int k = 0; k < 3; ++k) out.push_back(T.R.m[i][k]);
-    out.push_back(T.p[i]);
-  }
-  for (double v : {0.0, 0.0, 0.0, 1.0}) out.push_back(v);
-  return out;
-}
-
 // Numbers from JSON (a JSON null, which is what JavaScript's NaN and infinities become, or any
 // non-number is NaN): the shared checks (robot_view.h) then name the bad value.
 inline std::vector<double> numbers(const json& j, const char* what) {

@@ -72,7 +72,7 @@ class WebRobot {
                   {"motors", host::motors_json(r)},
                   {"links", host::links_json(r)},
                   {"gripper", host::gripper_json(r)},
-                  {"tool_offset", flat(r.model.T_last_tool)},
+                  {"tool_offset", host::transform_json(r.model.T_last_tool)},
                   {"reach_mm", ik().reach_bound()},
                   {"import_notes", notes_}}
           .dump();
@@ -88,18 +88,15 @@ class WebRobot {
       const std::vector<double> q = model_joints(json::parse(q_json), "q");
       HostFrames f;
       forward_kinematics(f, r.model, q.data());
-      json frames = json::array();
-      for (int i = 0; i <= r.model.num_rows; ++i) frames.push_back(flat(f.T_base_frame[i]));
-      frames.push_back(flat(f.T_base_tool));
       const Vec3<double> rpy = matrix_to_rpy(f.T_base_tool.R);
-      json out = {{"frames", frames},
+      json out = {{"frames", host::frames_json(r, f)},
                   {"tool", {{"xyz", {f.T_base_tool.p.x, f.T_base_tool.p.y, f.T_base_tool.p.z}},
                             {"rpy", {rad_to_deg(rpy.x), rad_to_deg(rpy.y), rad_to_deg(rpy.z)}}}},
                   {"dh_table", host::dh_table_at(r, q.data())},
                   {"within_limits", host::within_limits(ik(), r, q)}};
       if (r.gripper.present && std::isfinite(opening_mm))
-        out["fingers"] = {flat(host::finger_pose(r.gripper, f.T_base_tool, opening_mm, +1)),
-                          flat(host::finger_pose(r.gripper, f.T_base_tool, opening_mm, -1))};
+        out["fingers"] = {host::transform_json(host::finger_pose(r.gripper, f.T_base_tool, opening_mm, +1)),
+                          host::transform_json(host::finger_pose(r.gripper, f.T_base_tool, opening_mm, -1))};
       return out.dump();
     });
   }

@@ -19,7 +19,7 @@ export function initArm(studio: Studio): void {
   s = studio;
   $("arm-connect").onclick = () => {
     const port = ($("arm-port") as HTMLSelectElement).value;
-    if (port) void connect(port);
+    if (port) void connect();
     else showPorts();
   };
   $("arm-disconnect").onclick = () => void disconnectArm();
@@ -66,7 +66,7 @@ export async function choosePort(): Promise<{ port: SerialLike; label: string } 
   }
 }
 
-async function connect(_which: string): Promise<void> {
+async function connect(): Promise<void> {
   await disconnectArm();
   const chosen = await choosePort();
   if ("why" in chosen) {
