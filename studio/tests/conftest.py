@@ -20,6 +20,9 @@ CHROMIUM = os.environ.get("ARTICULA_CHROMIUM", "/usr/bin/chromium")
 SHOTS = Path(os.environ.get("ARTICULA_SCREENSHOTS") or REPO / "docs" / "img")
 SHOTS.mkdir(parents=True, exist_ok=True)
 DIST = REPO / "studio" / "web" / "dist"
+# A wait's timeout guards against a hang; it is not a speed check. Every wait gets this many
+# times what it names, so that a busy machine (two test jobs on two cores) still passes.
+PATIENCE = float(os.environ.get("ARTICULA_TEST_PATIENCE", "4"))
 
 
 class StaticSite:
@@ -124,13 +127,14 @@ class Page:
             self.context.add_init_script("localStorage.setItem('articula.studio.tour.done', '1')")
         if init_script:
             self.context.add_init_script(init_script)
+        self.context.set_default_timeout(30000 * PATIENCE)
         self.page = self.context.new_page()
         self.errors: list[str] = []
         self.page.on("console", lambda m: m.type == "error" and self.errors.append(m.text))
         self.page.on("pageerror", lambda e: self.errors.append(str(e)))
         self.page.goto(url + query)
         self.page.wait_for_function("() => window.articula && window.articula.ready && window.articula.firstFrameAt > 0",
-                                    timeout=20000)
+                                    timeout=20000 * PATIENCE)
 
     # Predicates go to the page as functions: the site's Content-Security-Policy forbids
     # evaluating a bare expression string in it (eval), as it would any script not its own.
@@ -138,7 +142,7 @@ class Page:
         return self.page.evaluate(f"() => {{ const a = window.articula; return {expr}; }}")
 
     def wait(self, expr: str, timeout=15000):
-        self.page.wait_for_function(f"() => {{ const a = window.articula; return {expr}; }}", timeout=timeout)
+        self.page.wait_for_function(f"() => {{ const a = window.articula; return {expr}; }}", timeout=timeout * PATIENCE)
 
     def close(self):
         self.context.close()

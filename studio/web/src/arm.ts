@@ -7,7 +7,7 @@
 //
 // It speaks to the page in messages (protocol.ts: arm, arm_status, arm_reply, arm_program,
 // arm_stopped), as the engine's worker does.
-import type { SerialLike } from "./serial";
+import { type SerialLike, deviceClock, sleepOn } from "./serial";
 
 type Parsed =
   | { kind: "reply"; code: number }
@@ -39,6 +39,8 @@ export class ArmLink {
   private waiting: ((p: Parsed & { line: string }) => void) | null = null; // a reply or the banner
   private wantBanner = false;
   private queue: Promise<unknown> = Promise.resolve();
+  // the arm's time: waits for its answers count in it (the virtual Nano's runs slow on a busy machine)
+  private now: () => number = () => performance.now();
   private pollTimer: ReturnType<typeof setTimeout> | null = null;
   private lastReport = 0;
   private lastPoll = 0;
@@ -62,6 +64,7 @@ export class ArmLink {
       return;
     }
     this.port = port;
+    this.now = deviceClock(port);
     this.writer = port.writable!.getWriter();
     this.reader = port.readable!.getReader();
     this.readLoop();
@@ -82,7 +85,7 @@ export class ArmLink {
     this.connected = true;
     this.label = `${info.robot} (firmware ${info.version})`;
     this.history = [];
-    this.lastReport = performance.now();
+    this.lastReport = this.now();
     this.emit({ type: "arm", connected: true, port: portLabel, label: this.label,
       info: { version: info.version, protocol: String(info.protocol), robot: info.robot } });
     this.poll();
@@ -90,14 +93,14 @@ export class ArmLink {
 
   // `I` until the banner comes (the firmware may still be starting).
   private async banner(): Promise<Parsed & { line: string }> {
-    const end = performance.now() + BANNER_MS;
-    while (performance.now() < end) {
+    const end = this.now() + BANNER_MS;
+    while (this.now() < end) {
       const got = new Promise<Parsed & { line: string }>((resolve) => {
         this.wantBanner = true;
         this.waiting = resolve;
       });
       await this.write("I\n");
-      const r = await Promise.race([got, sleep(600).then(() => null)]);
+      const r = await Promise.race([got, sleepOn(this.now, 600).then(() => null)]);
       if (r) return r;
     }
     throw new Error(`no answer to I within ${BANNER_MS / 1000} s: is it a Nano with Articula's firmware, at ${BAUD} baud?`);
@@ -132,7 +135,7 @@ export class ArmLink {
   private async onLine(line: string): Promise<void> {
     const { parsed: p, pose } = await this.engine.read(line);
     if (p.kind === "status" && pose) {
-      this.lastReport = performance.now();
+      this.lastReport = this.now();
       this.state = p.state;
       if (p.warning === 14) return this.lost("the arm reset (its settings were reset to their defaults)");
       const msg: Record<string, unknown> = { type: "arm_status", state: p.state, steps: p.steps, angles: p.angles,
@@ -166,7 +169,7 @@ export class ArmLink {
   private poll(): void {
     if (!this.connected) return;
     const now = performance.now();
-    if (now - this.lastReport > SILENT_MS) return this.lost(`no status report for ${SILENT_MS / 1000} s`);
+    if (this.now() - this.lastReport > SILENT_MS) return this.lost(`no status report for ${SILENT_MS / 1000} s`);
     this.lastPoll = now;
     this.write("?").catch((e) => this.lost(`cannot write: ${(e as Error).message}`));
     this.pollTimer = setTimeout(() => this.poll(), now < this.fastUntil ? 10 : POLL_MS);
@@ -203,7 +206,7 @@ export class ArmLink {
     if (!this.connected) throw new Error("no arm connected: Connect first");
     const got = new Promise<Parsed & { line: string }>((resolve) => (this.waiting = resolve));
     await this.write(line + "\n");
-    const r = await Promise.race([got, sleep(REPLY_MS).then(() => null)]);
+    const r = await Promise.race([got, sleepOn(this.now, REPLY_MS).then(() => null)]);
     if (!r) {
       this.waiting = null;
       throw new Error(`no reply to '${line}' within ${REPLY_MS / 1000} s`);
@@ -252,12 +255,12 @@ export class ArmLink {
   private idle(ms: number, line: number): Promise<void> {
     return new Promise((resolve, reject) => {
       // the next Idle report after this moment (the move's first report may still say Idle)
-      const start = performance.now();
+      const start = this.now();
       const check = () => {
         if (!this.connected) return reject(new Error(`line ${line}: the arm is gone`));
         if (this.programStop) return resolve();
-        if (performance.now() - start > ms) return reject(new Error(`line ${line}: the arm did not come to rest within ${Math.round(ms / 1000)} s`));
-        this.idleWaiters.push(() => (performance.now() - start > 150 ? resolve() : check()));
+        if (this.now() - start > ms) return reject(new Error(`line ${line}: the arm did not come to rest within ${Math.round(ms / 1000)} s`));
+        this.idleWaiters.push(() => (this.now() - start > 150 ? resolve() : check()));
       };
       setTimeout(check, 100);
     });
@@ -309,6 +312,3 @@ export class ArmLink {
   }
 }
 
-function sleep(ms: number): Promise<void> {
-  return new Promise((r) => setTimeout(r, ms));
-}

@@ -2,6 +2,8 @@
 // Edge, Opera, in a secure context), and the virtual Nano in the page (nano-worker.ts) behind
 // the same interface, so that arm.ts has one code path for both.
 
+import { store, stored } from "./page/environment";
+
 /** What arm.ts needs of a port: the part of Web Serial's SerialPort it uses. */
 export interface SerialLike {
   open(options: { baudRate: number }): Promise<void>;
@@ -11,6 +13,20 @@ export interface SerialLike {
   getInfo?(): { usbVendorId?: number; usbProductId?: number };
   /** DTR and RTS: a Nano resets when DTR goes high (the flasher resets it into its bootloader). */
   setSignals?(signals: { dataTerminalReady?: boolean; requestToSend?: boolean }): Promise<void>;
+  /** The device's own time (ms), where it is not the page's: the virtual Nano's emulated time,
+   * which a busy machine slows. Waits for the device's answers count in it (deviceClock). */
+  clock?(): number;
+}
+
+/** The clock that waits for `port`'s answers count in: its own, else the page's. */
+export function deviceClock(port: SerialLike): () => number {
+  return port.clock ? () => port.clock!() : () => performance.now();
+}
+
+/** Waits `ms` of `clock`'s time (looking at it every 20 ms of the page's). */
+export async function sleepOn(clock: () => number, ms: number): Promise<void> {
+  const end = clock() + ms;
+  for (let left = ms; left > 0; left = end - clock()) await new Promise((r) => setTimeout(r, Math.min(left, 20)));
 }
 
 interface SerialApi {
@@ -42,9 +58,18 @@ export class VirtualNanoPort implements SerialLike {
   image: Uint8Array | null = null;
   onState: ((s: NonNullable<VirtualNanoPort["state"]>) => void) | null = null;
   private worker: Worker | null = null;
+  // clock(): the page's time while closed, the Nano's emulated time while open, never backwards
+  private clockBase = 0;
+  private wallBase = performance.now();
+
+  clock(): number {
+    return this.worker ? this.clockBase + (this.state?.seconds ?? 0) * 1000 : this.clockBase + performance.now() - this.wallBase;
+  }
 
   async open(options: { baudRate: number }): Promise<void> {
     if (this.worker) throw new Error("the virtual Nano is already open");
+    this.clockBase = this.clock();
+    this.state = null;
     const worker = new Worker(new URL("assets/nano-worker.js", document.baseURI), { type: "module" });
     this.worker = worker;
     let push: ((b: Uint8Array) => void) | null = null;
@@ -77,11 +102,8 @@ export class VirtualNanoPort implements SerialLike {
           this.state = m;
           this.onState?.(m);
         } else if (m.type === "eeprom") {
-          try {
-            localStorage.setItem(EEPROM_KEY, JSON.stringify(Array.from(m.bytes as Uint8Array)));
-          } catch {
-            /* storage full or off: the settings last as long as the page */
-          }
+          // (storage full or off: the settings last as long as the page)
+          store(EEPROM_KEY, JSON.stringify(Array.from(m.bytes as Uint8Array)));
         } else if (m.type === "fatal") {
           end?.(new Error(m.message));
           reject(new Error(m.message));
@@ -93,7 +115,7 @@ export class VirtualNanoPort implements SerialLike {
       };
       let eeprom: Uint8Array | undefined;
       try {
-        const saved = localStorage.getItem(EEPROM_KEY);
+        const saved = stored(EEPROM_KEY);
         if (saved) eeprom = new Uint8Array(JSON.parse(saved));
       } catch {
         eeprom = undefined;
@@ -124,6 +146,10 @@ export class VirtualNanoPort implements SerialLike {
       this.closed = null;
     }
     this.worker?.terminate();
+    if (this.worker) {
+      this.clockBase = this.clock();
+      this.wallBase = performance.now();
+    }
     this.worker = null;
     this.closeStream();
     this.readable = this.writable = null;

@@ -56,6 +56,8 @@ class Link {
     this.buffer = [];
     this.wake = null;
     this.ended = null;
+    // the Nano's time, where the port has its own (the virtual Nano's, slowed by a busy machine)
+    this.now = port.clock ? () => port.clock() : () => performance.now();
     this.pump();
   }
 
@@ -85,10 +87,10 @@ class Link {
 
   /** `n` bytes, or null after `ms` without them. */
   async read(n, ms) {
-    const end = performance.now() + ms;
+    const end = this.now() + ms;
     while (this.buffer.length < n) {
       if (this.ended) throw new FlashError("vanished", this.ended);
-      const left = end - performance.now();
+      const left = end - this.now();
       if (left <= 0) return null;
       await new Promise((r) => {
         this.wake = r;
@@ -97,6 +99,12 @@ class Link {
       this.wake = null;
     }
     return this.buffer.splice(0, n);
+  }
+
+  /** Waits `ms` of the Nano's time. */
+  async sleep(ms) {
+    const end = this.now() + ms;
+    for (let left = ms; left > 0; left = end - this.now()) await sleep(Math.min(left, 20));
   }
 
   drain() {
@@ -128,16 +136,16 @@ async function command(link, bytes, n, what, ms = 1000) {
 async function sync(link, port) {
   if (port.setSignals) {
     await port.setSignals({ dataTerminalReady: false, requestToSend: false });
-    await sleep(100);
+    await link.sleep(100);
     await port.setSignals({ dataTerminalReady: true, requestToSend: true });
-    await sleep(50);
+    await link.sleep(50);
   }
   link.drain();
   for (let attempt = 0; attempt < 10; attempt++) {
     await link.write([GET_SYNC, CRC_EOP]);
     const r = await link.read(2, 250);
     if (r && r[0] === STK_INSYNC && r[1] === STK_OK) {
-      await sleep(30); // answers to earlier attempts, still on their way
+      await link.sleep(30); // answers to earlier attempts, still on their way
       link.drain();
       return true;
     }
