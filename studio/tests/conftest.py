@@ -119,12 +119,15 @@ class Page:
     """A page of the studio (from the static site, or from articula-studio when `server` is
     given) with what its console said."""
 
-    def __init__(self, browser, server_or_url, width=1440, height=900, tour=False, query="", init_script=""):
+    def __init__(self, browser, server_or_url, width=1440, height=900, tour=False, query="", init_script="",
+                 touch=False, ready="window.articula.firstFrameAt > 0"):
         self.server = server_or_url if isinstance(server_or_url, Server) else None
         url = server_or_url.url if self.server else server_or_url
-        self.context = browser.new_context(viewport={"width": width, "height": height}, accept_downloads=True)
+        # touch: a tablet or a phone (touch events, a coarse pointer, the page at the device's width)
+        self.context = browser.new_context(viewport={"width": width, "height": height}, accept_downloads=True,
+                                           **({"has_touch": True, "is_mobile": True} if touch else {}))
         if not tour:
-            self.context.add_init_script("localStorage.setItem('articula.studio.tour.done', '1')")
+            self.context.add_init_script("try { localStorage.setItem('articula.studio.tour.done', '1') } catch (e) {}")
         if init_script:
             self.context.add_init_script(init_script)
         self.context.set_default_timeout(30000 * PATIENCE)
@@ -133,8 +136,7 @@ class Page:
         self.page.on("console", lambda m: m.type == "error" and self.errors.append(m.text))
         self.page.on("pageerror", lambda e: self.errors.append(str(e)))
         self.page.goto(url + query)
-        self.page.wait_for_function("() => window.articula && window.articula.ready && window.articula.firstFrameAt > 0",
-                                    timeout=20000 * PATIENCE)
+        self.page.wait_for_function(f"() => window.articula && window.articula.ready && {ready}", timeout=20000 * PATIENCE)
 
     # Predicates go to the page as functions: the site's Content-Security-Policy forbids
     # evaluating a bare expression string in it (eval), as it would any script not its own.

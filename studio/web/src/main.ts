@@ -7,9 +7,11 @@
 //
 // This file only wires the parts together: the hook (page/hook.ts), the engine's client
 // (page/engine.ts), the 3D view, the plots and one module per panel (panels/).
+import { language, storage } from "./page/environment"; // first: a page must not die on its locale (uPlot reads it as it loads)
 import { View } from "./view";
 import { Plots } from "./plots";
 import { startTour } from "./tour";
+import { Layout } from "./layout";
 import type { PoseMsg, EngineMsg } from "./protocol";
 import { EngineClient } from "./page/engine";
 import { $, banner } from "./page/dom";
@@ -30,10 +32,15 @@ exposeHook();
 // builds its 3D view.
 setConn("starting the engine…", "ok");
 const engine = new EngineClient({ robot: params.get("robot") ?? undefined, scene: params.get("scene") ?? undefined });
+const layout = new Layout(); // before the view: the view takes the box the layout gives it
+layout.onChange = () => (hook.layout = { mode: layout.mode ?? "", plotsInTab: layout.plotsInTab, tab: layout.active });
+layout.onChange();
 const view = new View($("view"));
+Object.assign(hook, { webgl: view.renderer !== null, language, storage: storage !== null });
 const plots = new Plots($("plots"));
 const studio: Studio = { engine, view, plots };
 hook.armPixels = () => view.armPixels();
+hook.camera = () => view.cameraState();
 hook.objectScreen = (n) => view.objectScreen(n);
 hook.engineSend = (msg) => engine.post(msg);
 
@@ -125,7 +132,7 @@ document.addEventListener("keydown", (e) => {
 $("banner-close").onclick = () => ($("banner").hidden = true);
 $("fit").onclick = () => view.fit();
 $("show-axes").addEventListener("change", (e) => view.showAxes((e.target as HTMLInputElement).checked));
-$("tour-button").onclick = () => startTour(true);
+$("tour-button").onclick = () => startTour(true, (id) => layout.reveal(id));
 // Offline use and installing as an app (sw.js keeps the whole site).
 if ("serviceWorker" in navigator && !params.has("nosw")) navigator.serviceWorker.register("sw.js").catch(() => undefined);
-startTour(false);
+startTour(false, (id) => layout.reveal(id));

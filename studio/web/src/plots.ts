@@ -12,12 +12,30 @@ export class Plots {
   private t = -1;
   onSeek: (t: number) => void = () => {};
 
-  constructor(readonly host: HTMLElement) {}
+  constructor(readonly host: HTMLElement) {
+    // the plots follow their panel's size (a window resized, a tablet turned, the plots' tab shown)
+    new ResizeObserver(() => this.fit()).observe(host);
+    document.body.classList.add("no-plots");
+  }
+
+  // Three side by side where they have room, else one above the other (the panel scrolls).
+  private size(): { width: number; height: number } {
+    const w = this.host.clientWidth, hgt = this.host.clientHeight;
+    if (w >= 840) return { width: Math.floor((w - 24) / 3), height: Math.max(110, hgt - 30) };
+    return { width: Math.max(200, w - 4), height: 190 };
+  }
+
+  private fit(): void {
+    if (!this.host.clientWidth) return; // hidden: sized when shown
+    const { width, height } = this.size();
+    for (const c of this.charts) if (c.width !== width || c.height !== height) c.setSize({ width, height });
+  }
 
   clear(): void {
     this.charts.forEach((c) => c.destroy());
     this.charts = [];
     fill(this.host, h("p", { class: "hint" }, "Run a program to see its joints, tool and quantization error over time."));
+    document.body.classList.add("no-plots"); // the plots' row takes only the hint's height
   }
 
   // Each action moves from the pose before it to its own between its start and its end; a
@@ -43,13 +61,13 @@ export class Plots {
   show(m: TimelineMsg): void {
     this.clear();
     fill(this.host);
+    document.body.classList.remove("no-plots");
     const { t, joints, tool } = this.series(m);
     // The quantization error is a property of a pose at rest: one point after each command.
     const ok = m.records.filter((r) => r.reply === "ok");
     const te = [0, ...ok.map((r) => r.end_s)];
     const err = [ok.length ? ok[0].error_mm : 0, ...ok.map((r) => r.error_mm)];
-    const width = Math.max(280, Math.floor((this.host.clientWidth - 24) / 3));
-    const height = Math.max(110, this.host.clientHeight - 30);
+    const { width, height } = this.size();
     const playhead = (u: uPlot) => {
       if (this.t < 0) return;
       const x = u.valToPos(this.t, "x", true);

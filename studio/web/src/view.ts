@@ -42,7 +42,10 @@ export interface TargetChange {
 }
 
 export class View {
-  readonly renderer: THREE.WebGLRenderer;
+  /** null where the browser gives the page no WebGL: the view is then a message, and the
+   * scene is kept (poses, targets) without being drawn; every panel still works. */
+  readonly renderer: THREE.WebGLRenderer | null;
+  readonly canvas: HTMLCanvasElement;
   readonly scene = new THREE.Scene();
   readonly camera: THREE.PerspectiveCamera;
   readonly controls: OrbitControls;
@@ -101,17 +104,31 @@ export class View {
     // slower: it gets no antialiasing, and a smaller drawing buffer when it still lags.
     this.software = View.softwareRenderer();
     const q = new URLSearchParams(location.search).get("quality");
-    this.renderer = new THREE.WebGLRenderer({ antialias: q ? q === "high" : !this.software, preserveDrawingBuffer: true });
-    this.renderer.setPixelRatio(Math.min(window.devicePixelRatio, 2) * (this.software && q !== "high" ? 0.6 : 1));
-    this.renderer.outputColorSpace = THREE.SRGBColorSpace;
-    host.appendChild(this.renderer.domElement);
+    this.canvas = document.createElement("canvas");
+    this.canvas.setAttribute("aria-label", "The arm in 3D: drag to orbit, arrow keys orbit, + and - zoom");
+    this.canvas.tabIndex = 0;
+    let renderer: THREE.WebGLRenderer | null = null;
+    try {
+      renderer = new THREE.WebGLRenderer({ canvas: this.canvas, antialias: q ? q === "high" : !this.software, preserveDrawingBuffer: true });
+      renderer.setPixelRatio(Math.min(window.devicePixelRatio, 2) * (this.software && q !== "high" ? 0.6 : 1));
+      renderer.outputColorSpace = THREE.SRGBColorSpace;
+    } catch {
+      const note = document.createElement("div");
+      note.className = "no-webgl";
+      note.setAttribute("role", "status");
+      note.textContent = "This browser gives the page no WebGL, so the 3D view is off. Everything else works: " +
+        "the joints, IK, programs, plots and the arm. (Turn on hardware acceleration, or try another browser.)";
+      host.appendChild(note);
+    }
+    this.renderer = renderer;
+    host.appendChild(this.canvas);
     this.scene.background = new THREE.Color(0xeef2f6);
     this.scene.fog = new THREE.Fog(0xeef2f6, 4000, 9000);
 
     this.camera = new THREE.PerspectiveCamera(40, 1, 1, 20000);
     this.camera.up.set(0, 0, 1);
     this.camera.position.set(900, -700, 600);
-    this.controls = new OrbitControls(this.camera, this.renderer.domElement);
+    this.controls = new OrbitControls(this.camera, this.canvas);
     this.controls.enableDamping = true;
     this.controls.dampingFactor = 0.15;
     this.controls.target.set(0, 0, 150);
@@ -141,7 +158,7 @@ export class View {
     this.target.add(ball, new THREE.AxesHelper(1));
     this.target.visible = false;
     this.scene.add(this.target);
-    this.gizmo = new TransformControls(this.camera, this.renderer.domElement);
+    this.gizmo = new TransformControls(this.camera, this.canvas);
     this.gizmo.setSize(0.8);
     this.gizmo.attach(this.target);
     this.gizmo.enabled = false;
@@ -153,25 +170,26 @@ export class View {
     });
     this.gizmo.addEventListener("objectChange", () => this.onTarget(this.targetValue(), false));
 
-    window.addEventListener("resize", () => this.resize());
+    // the view follows its box: a window resized, a tablet turned, the layout changed (layout.ts)
+    new ResizeObserver(() => this.resize()).observe(host);
     // Dragging an object of the physics scene: a press on a movable one grabs it, the pointer
     // pulls it in the plane facing the camera through where it was grabbed.
-    const el = this.renderer.domElement;
+    const el = this.canvas;
     el.addEventListener("pointerdown", (e) => this.grab(e), { capture: true });
     el.addEventListener("pointermove", (e) => this.pull(e));
     window.addEventListener("pointerup", () => this.letGo());
     this.controls.addEventListener("change", () => (this.dirty = true));
     this.gizmo.addEventListener("change", () => (this.dirty = true));
     this.resize();
-    this.renderer.setAnimationLoop((now) => this.draw(now));
+    if (this.renderer) this.renderer.setAnimationLoop((now) => this.draw(now));
   }
 
   resize(): void {
     const w = this.host.clientWidth || 800;
     const h = this.host.clientHeight || 600;
-    this.renderer.setSize(w, h, false);
-    this.renderer.domElement.style.width = "100%";
-    this.renderer.domElement.style.height = "100%";
+    this.renderer?.setSize(w, h, false);
+    this.canvas.style.width = "100%";
+    this.canvas.style.height = "100%";
     this.camera.aspect = w / h;
     this.camera.updateProjectionMatrix();
     this.dirty = true;
@@ -191,7 +209,7 @@ export class View {
     }
     if (!(this.dirty || moved || this.continuous)) return;
     this.dirty = false;
-    this.renderer.render(this.scene, this.camera);
+    this.renderer!.render(this.scene, this.camera);
     this.framesDrawn++;
     this.frameTimes.push(now);
     while (this.frameTimes.length && now - this.frameTimes[0] > 1000) this.frameTimes.shift();
@@ -447,7 +465,7 @@ export class View {
   }
 
   private pointer(e: PointerEvent): THREE.Vector2 {
-    const r = this.renderer.domElement.getBoundingClientRect();
+    const r = this.canvas.getBoundingClientRect();
     return new THREE.Vector2(((e.clientX - r.left) / r.width) * 2 - 1, -((e.clientY - r.top) / r.height) * 2 + 1);
   }
 
@@ -487,7 +505,7 @@ export class View {
     const m = this.objects.get(name);
     if (!m) return null;
     const p = new THREE.Vector3().setFromMatrixPosition(m.matrixWorld).project(this.camera);
-    const r = this.renderer.domElement.getBoundingClientRect();
+    const r = this.canvas.getBoundingClientRect();
     return [r.left + ((p.x + 1) / 2) * r.width, r.top + ((1 - p.y) / 2) * r.height];
   }
 
@@ -563,16 +581,23 @@ export class View {
     return true;
   }
 
+  /** The camera: its distance to the point it orbits (mm) and its azimuth about z (deg). */
+  cameraState(): { distance: number; azimuth: number } {
+    const d = this.camera.position.clone().sub(this.controls.target);
+    return { distance: d.length(), azimuth: (Math.atan2(d.y, d.x) * 180) / Math.PI };
+  }
+
   // Where the IK target is on the page, CSS pixels (for tests that drag it).
   targetScreen(): number[] {
     const p = this.target.position.clone().project(this.camera);
-    const r = this.renderer.domElement.getBoundingClientRect();
+    const r = this.canvas.getBoundingClientRect();
     return [r.left + ((p.x + 1) / 2) * r.width, r.top + ((1 - p.y) / 2) * r.height];
   }
 
   // The share of the drawn pixels that are coloured like the arm (saturated): the scene
   // without the arm is greys only. Tests check that the arm is on screen with it.
   armPixels(): number {
+    if (!this.renderer) return 0;
     const gl = this.renderer.getContext();
     const w = gl.drawingBufferWidth, h = gl.drawingBufferHeight;
     const px = new Uint8Array(w * h * 4);

@@ -29,12 +29,17 @@ export interface Hook {
   arm: { connected: boolean; error: string; label: string; status: ArmStatusMsg | null; reply: unknown; stopMs: number | null;
          programLines: unknown[]; programDone: boolean; roundTrips: number[]; nano: unknown };
   stream: { messages: number }; // physics and pose messages while the physics runs
-  armPixels: () => number; // share of the view's pixels that are the arm's colours (0..1)
+  armPixels: () => number;
+  camera: () => { distance: number; azimuth: number }; // the view's camera (view.ts cameraState) // share of the view's pixels that are the arm's colours (0..1)
   errors: number; // error replies from the engine or the arm
   errorLog: string[]; // the last 50 of them, oldest first
   internalErrors: string[]; // replies that say the engine itself went wrong (never expected)
   engineStartMs: number; // the worker's time from its first message to the robot loaded
   engineSend: (msg: unknown) => void; // for tests: a message to the engine as the page would post it
+  layout: { mode: string; plotsInTab: boolean; tab: string }; // layout.ts: the screen's layout, the tab shown
+  webgl: boolean; // false where the browser gives the page no WebGL (the 3D view is then off)
+  language: string; // the language the page formats with (a valid tag, whatever the browser says)
+  storage: boolean; // false where the page can keep nothing (private mode, storage off)
   flash: { busy: boolean; phase: string; done: number; total: number; error: string; errorKind: string;
            result: { bytes: number; pages: number; baud: number; seconds: number } | null };
 }
@@ -43,9 +48,11 @@ export const hook: Hook = {
   ready: false, connected: false, robot: null, pose: null, ik: null, timeline: null, playing: false,
   programError: "", robotError: "", lastError: "", teach: "", fps: 0, framesDrawn: 0, firstFrameAt: 0,
   latency: [], ikUpdates: [], messages: 0, targetScreen: [0, 0], armPixels: () => 0,
+  camera: () => ({ distance: 0, azimuth: 0 }),
   scene: null, physics: null, events: [], simCommand: "", objectScreen: () => null,
   arm: { connected: false, error: "", label: "", status: null, reply: null, stopMs: null, programLines: [], programDone: false, roundTrips: [], nano: null },
   stream: { messages: 0 }, errors: 0, errorLog: [], internalErrors: [], engineStartMs: 0, engineSend: () => undefined,
+  layout: { mode: "", plotsInTab: false, tab: "" }, webgl: true, language: "", storage: true,
   flash: { busy: false, phase: "", done: 0, total: 0, error: "", errorKind: "", result: null },
 };
 
