@@ -119,7 +119,7 @@ class Page:
     """A page of the studio (from the static site, or from articula-studio when `server` is
     given) with what its console said."""
 
-    def __init__(self, browser, server_or_url, width=1440, height=900, tour=False, query="", init_script="",
+    def __init__(self, browser, server_or_url, width=1600, height=900, tour=False, query="", init_script="",
                  touch=False, ready="window.articula.firstFrameAt > 0"):
         self.server = server_or_url if isinstance(server_or_url, Server) else None
         url = server_or_url.url if self.server else server_or_url

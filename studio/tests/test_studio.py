@@ -53,7 +53,7 @@ def test_the_static_site_loads_without_errors_and_shows_the_arm(open_page, site)
 
 
 def test_without_web_serial_the_arm_panel_says_so_and_offers_the_virtual_nano(browser, site):
-    ctx = browser.new_context(viewport={"width": 1440, "height": 900})
+    ctx = browser.new_context(viewport={"width": 1600, "height": 900})
     ctx.add_init_script("localStorage.setItem('articula.studio.tour.done', '1')")
     ctx.add_init_script("Object.defineProperty(Navigator.prototype, 'serial', { get: () => undefined })")
     try:
@@ -639,7 +639,7 @@ SERIAL_STAND_IN = """
 @contextlib.contextmanager
 def _page_with_serial_stand_in(browser, site):
     """The static site with the stand-in for navigator.serial: (the page, its errors)."""
-    ctx = browser.new_context(viewport={"width": 1440, "height": 900})
+    ctx = browser.new_context(viewport={"width": 1600, "height": 900})
     ctx.add_init_script("localStorage.setItem('articula.studio.tour.done', '1')")
     ctx.add_init_script(SERIAL_STAND_IN)
     page = ctx.new_page()
