@@ -120,11 +120,12 @@ class Page:
     given) with what its console said."""
 
     def __init__(self, browser, server_or_url, width=1600, height=900, tour=False, query="", init_script="",
-                 touch=False, ready="window.articula.firstFrameAt > 0"):
+                 touch=False, ready="window.articula.firstFrameAt > 0", bypass_csp=False):
         self.server = server_or_url if isinstance(server_or_url, Server) else None
         url = server_or_url.url if self.server else server_or_url
         # touch: a tablet or a phone (touch events, a coarse pointer, the page at the device's width)
         self.context = browser.new_context(viewport={"width": width, "height": height}, accept_downloads=True,
+                                           bypass_csp=bypass_csp,
                                            **({"has_touch": True, "is_mobile": True} if touch else {}))
         if not tour:
             self.context.add_init_script("try { localStorage.setItem('articula.studio.tour.done', '1') } catch (e) {}")
