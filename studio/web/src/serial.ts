@@ -76,7 +76,13 @@ export class VirtualNanoPort implements SerialLike {
     let end: ((e?: Error) => void) | null = null;
     this.readable = new ReadableStream<Uint8Array>({
       start(controller) {
-        push = (b) => controller.enqueue(b);
+        push = (b) => {
+          try {
+            controller.enqueue(b);
+          } catch {
+            /* the port was closed: bytes still on their way from the worker have no reader */
+          }
+        };
         end = (e) => (e ? controller.error(e) : controller.close());
       },
     });

@@ -33,6 +33,7 @@ export interface Hook {
   camera: () => { distance: number; azimuth: number }; // the view's camera (view.ts cameraState) // share of the view's pixels that are the arm's colours (0..1)
   errors: number; // error replies from the engine or the arm
   errorLog: string[]; // the last 50 of them, oldest first
+  pageErrors: string[]; // the page's own uncaught errors and rejections (for browsers whose driver shows no console)
   internalErrors: string[]; // replies that say the engine itself went wrong (never expected)
   engineStartMs: number; // the worker's time from its first message to the robot loaded
   engineSend: (msg: unknown) => void; // for tests: a message to the engine as the page would post it
@@ -51,7 +52,7 @@ export const hook: Hook = {
   camera: () => ({ distance: 0, azimuth: 0 }),
   scene: null, physics: null, events: [], simCommand: "", objectScreen: () => null,
   arm: { connected: false, error: "", label: "", status: null, reply: null, stopMs: null, programLines: [], programDone: false, roundTrips: [], nano: null },
-  stream: { messages: 0 }, errors: 0, errorLog: [], internalErrors: [], engineStartMs: 0, engineSend: () => undefined,
+  stream: { messages: 0 }, errors: 0, errorLog: [], pageErrors: [], internalErrors: [], engineStartMs: 0, engineSend: () => undefined,
   layout: { mode: "", plotsInTab: false, tab: "" }, webgl: true, language: "", storage: true,
   flash: { busy: false, phase: "", done: 0, total: 0, error: "", errorKind: "", result: null },
 };
@@ -60,6 +61,12 @@ export const hook: Hook = {
 export function exposeHook(): void {
   const readOnly = new Proxy(hook, { set: () => false, deleteProperty: () => false });
   Object.defineProperty(window, "articula", { value: readOnly, writable: false });
+  const keep = (what: unknown) => {
+    hook.pageErrors.push(what instanceof Error ? `${what.name}: ${what.message}` : String(what));
+    if (hook.pageErrors.length > 50) hook.pageErrors.shift();
+  };
+  window.addEventListener("error", (e) => keep(e.error ?? e.message));
+  window.addEventListener("unhandledrejection", (e) => keep(e.reason));
 }
 
 /** An error reply from the engine or the arm, as the hook keeps it. */

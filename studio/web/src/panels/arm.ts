@@ -134,6 +134,8 @@ function showArm(m: { connected: boolean; connecting?: boolean; label?: string; 
   $("drive-arm-row").hidden = !m.connected;
   const st = $("arm-state");
   if (m.connecting) {
+    hook.arm.status = null; // the last connection's report is no news of this one
+    hook.arm.reply = null;
     st.className = "status";
     st.textContent = "connecting...";
   } else if (m.error) {

@@ -1,0 +1,241 @@
+"""The page in each browser engine a class has, behind one small driver: Chromium and Firefox
+through Playwright, WebKit (Safari's engine, as WebKitGTK's MiniBrowser) through Selenium's
+WebDriver. Debian's own browsers (scripts/bootstrap installs them); Firefox and WebKit draw
+WebGL only with an X display, so they get a virtual one (Xvfb) for the session.
+../shared/notes/browsers.md (in the team's notes) says how each was made to work."""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import subprocess
+import time
+from pathlib import Path
+
+CHROMIUM = os.environ.get("ARTICULA_CHROMIUM", "/usr/bin/chromium")
+FIREFOX = os.environ.get("ARTICULA_FIREFOX", "/usr/bin/firefox-esr")
+MINIBROWSER = os.environ.get("ARTICULA_MINIBROWSER", "/usr/lib/x86_64-linux-gnu/webkit2gtk-4.1/MiniBrowser")
+WEBKIT_DRIVER = shutil.which("WebKitWebDriver") or "/usr/bin/WebKitWebDriver"
+ENGINES = ("chromium", "firefox", "webkit")
+
+
+def missing(engine: str) -> str | None:
+    """What this machine lacks to run `engine`, or None."""
+    need = {"chromium": [CHROMIUM], "firefox": [FIREFOX, shutil.which("Xvfb") or "/usr/bin/Xvfb"],
+            "webkit": [MINIBROWSER, WEBKIT_DRIVER, shutil.which("Xvfb") or "/usr/bin/Xvfb"]}[engine]
+    gone = [p for p in need if not Path(p).exists()]
+    return f"{engine} needs {', '.join(gone)}: run scripts/bootstrap" if gone else None
+
+
+class VirtualDisplay:
+    """An X server in memory (Xvfb) on a display number it picks itself."""
+
+    def __init__(self, size="1920x1200x24"):
+        r, w = os.pipe()
+        self.proc = subprocess.Popen(["Xvfb", "-displayfd", str(w), "-screen", "0", size, "-nolisten", "tcp"],
+                                     pass_fds=(w,), stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        os.close(w)
+        with os.fdopen(r) as f:
+            number = f.readline().strip()
+        if not number:
+            self.proc.kill()
+            raise RuntimeError("Xvfb did not start")
+        self.display = f":{number}"
+
+    def stop(self):
+        self.proc.terminate()
+        try:
+            self.proc.wait(timeout=10)
+        except subprocess.TimeoutExpired:
+            self.proc.kill()
+
+
+# The hook's value of an expression; `a` is window.articula. A function, not a string to
+# evaluate: the site's Content-Security-Policy forbids eval.
+def _fn(expr: str) -> str:
+    return f"() => {{ const a = window.articula; return {expr}; }}"
+
+
+class EnginePage:
+    """The studio in one engine: the operations the cross-engine tests need, the same in each."""
+
+    engine = ""
+
+    def hook(self, expr: str):
+        raise NotImplementedError
+
+    def wait(self, expr: str, timeout: float = 60.0, what: str = ""):
+        """Polls the hook until `expr` is true; `timeout` guards against a hang."""
+        end = time.monotonic() + timeout
+        while True:
+            try:
+                if self.hook(f"!!({expr})"):
+                    return
+            except Exception as e:  # the page is still starting: the hook may not exist yet
+                last = e
+            else:
+                last = None
+            if time.monotonic() > end:
+                errors = self.page_errors()
+                raise AssertionError(f"{self.engine}: {what or expr} did not happen within {timeout:.0f} s"
+                                     f"{f' ({last})' if last else ''}; the page's errors: {errors}")
+            time.sleep(0.1)
+
+    def page_errors(self) -> list[str]:
+        try:
+            return self.hook("a.pageErrors.concat(a.internalErrors)")
+        except Exception as e:
+            return [f"(no hook: {e})"]
+
+
+class PlaywrightPage(EnginePage):
+    def __init__(self, browser, engine: str, url: str, width: int, height: int):
+        self.engine = engine
+        self.context = browser.new_context(viewport={"width": width, "height": height})
+        self.context.add_init_script("try { localStorage.setItem('articula.studio.tour.done', '1') } catch (e) {}")
+        self.page = self.context.new_page()
+        self.console: list[str] = []
+        self.page.on("console", lambda m: m.type == "error" and self.console.append(m.text))
+        self.page.on("pageerror", lambda e: self.console.append(str(e)))
+        self.page.goto(url)
+
+    def hook(self, expr):
+        return self.page.evaluate(_fn(expr))
+
+    def type_into(self, selector, text, enter=False):
+        # as a person types: Firefox over BiDi sends no input event for fill() on a number
+        self.page.click(selector)
+        self.page.keyboard.press("Control+a")
+        self.page.keyboard.type(text)
+        if enter:
+            self.page.keyboard.press("Enter")
+        else:
+            self.page.keyboard.press("Tab")
+
+    def set_text(self, selector, text):
+        self.page.fill(selector, text)
+
+    def click(self, selector):
+        self.page.click(selector)
+
+    def select(self, selector, value):
+        self.page.select_option(selector, value)
+
+    def screenshot(self, path):
+        self.page.screenshot(path=str(path))
+
+    def close(self):
+        self.context.close()
+
+
+class WebKitPage(EnginePage):
+    """MiniBrowser under WebKitWebDriver. Selenium gives no console: the hook's pageErrors."""
+
+    def __init__(self, display: str, url: str, width: int, height: int):
+        from selenium import webdriver
+
+        self.engine = "webkit"
+        opts = webdriver.WebKitGTKOptions()
+        opts.binary_location = MINIBROWSER
+        opts.add_argument("--automation")
+        # WebKitGTK takes navigator.language from LANG: a machine's C.UTF-8 gives "C", which the
+        # page survives (test_access.py); here the tests run as an English-speaking user would
+        env = dict(os.environ, DISPLAY=display, LANG="en_US.UTF-8", LC_ALL="en_US.UTF-8")
+        service = webdriver.WebKitGTKService(executable_path=WEBKIT_DRIVER, env=env)
+        self.driver = webdriver.WebKitGTK(options=opts, service=service)
+        self.driver.set_script_timeout(60)
+        self.driver.set_page_load_timeout(60)
+        self.driver.set_window_size(width, height)
+        self.driver.get(url.split("?")[0] + "icon.svg")  # the site's origin, to set the tour aside
+        self.driver.execute_script("try { localStorage.setItem('articula.studio.tour.done', '1') } catch (e) {}")
+        self.driver.get(url)
+
+    def hook(self, expr):
+        return self.driver.execute_script(f"const a = window.articula; return {expr};")
+
+    def _el(self, selector):
+        return self.driver.find_element("css selector", selector)
+
+    def type_into(self, selector, text, enter=False):
+        from selenium.webdriver.common.keys import Keys
+
+        el = self._el(selector)
+        el.click()
+        el.send_keys(Keys.CONTROL, "a")
+        el.send_keys(text)
+        el.send_keys(Keys.ENTER if enter else Keys.TAB)
+
+    def set_text(self, selector, text):
+        # a textarea's whole text at once, with the input event a person's typing gives
+        self.driver.execute_script("const e = document.querySelector(arguments[0]); e.value = arguments[1]; "
+                                   "e.dispatchEvent(new Event('input', { bubbles: true }));", selector, text)
+
+    def click(self, selector):
+        self._el(selector).click()
+
+    def select(self, selector, value):
+        from selenium.webdriver.support.ui import Select
+
+        Select(self._el(selector)).select_by_value(value)
+
+    def screenshot(self, path):
+        # two animation frames first, or WebKitGTK shows a stale frame
+        self.driver.execute_async_script("const done = arguments[0]; requestAnimationFrame(() => requestAnimationFrame(done));")
+        self.driver.save_screenshot(str(path))
+
+    def close(self):
+        self.driver.quit()
+
+
+class Engines:
+    """The browsers of a test session: each started once, on first use."""
+
+    def __init__(self):
+        self.display: VirtualDisplay | None = None
+        self.pw = None
+        self.browsers = {}
+
+    def _x(self) -> str:
+        if self.display is None:
+            self.display = VirtualDisplay()
+        return self.display.display
+
+    def open(self, engine: str, url: str, width=1600, height=900) -> EnginePage:
+        if engine == "webkit":
+            return WebKitPage(self._x(), url, width, height)
+        if engine not in self.browsers:
+            if self.pw is None:
+                from playwright.sync_api import sync_playwright
+
+                self.pw = sync_playwright().start()
+            if engine == "chromium":
+                self.browsers[engine] = self.pw.chromium.launch(
+                    executable_path=CHROMIUM, headless=True, args=["--no-sandbox", "--disable-background-networking"])
+            else:
+                # Firefox ESR over WebDriver BiDi (Playwright's "moz-firefox" channel); WebGL
+                # needs the X display even headless
+                self.browsers[engine] = self.pw.firefox.launch(
+                    channel="moz-firefox", executable_path=FIREFOX, headless=True,
+                    env=dict(os.environ, DISPLAY=self._x()))
+        return PlaywrightPage(self.browsers[engine], engine, url, width, height)
+
+    def stop(self):
+        for b in self.browsers.values():
+            b.close()
+        if self.pw is not None:
+            self.pw.stop()
+        if self.display is not None:
+            self.display.stop()
+
+
+def versions(engines: Engines) -> dict:
+    """Each engine's name and version, for a report."""
+    out = {}
+    for name, b in engines.browsers.items():
+        out[name] = b.version
+    try:
+        out["webkit"] = subprocess.run([WEBKIT_DRIVER, "--version"], capture_output=True, text=True, timeout=10).stdout.strip()
+    except OSError:
+        pass
+    return json.loads(json.dumps(out))
