@@ -23,8 +23,9 @@
 //
 // No conflict with the timers: Timer0 (millis) drives no pin; Timer1's compare outputs OC1A
 // (D9) and OC1B (D10) stay disconnected (COM1x = 0), so D9 and D10 are plain port bits; Timer2
-// is unused. D11..D13 are also the ISP header's MOSI/MISO/SCK: unplug the L298N inputs before
-// flashing through ISP (the USB bootloader does not touch them).
+// is unused (hal::init stops it, and the ADC). D11..D13 are also the ISP header's
+// MOSI/MISO/SCK: unplug the L298N inputs before flashing through ISP (the USB bootloader does
+// not touch them).
 #ifndef ARTICULA_FIRMWARE_BOARD_H
 #define ARTICULA_FIRMWARE_BOARD_H
 

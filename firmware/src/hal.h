@@ -65,6 +65,13 @@ void serial_write(char c);  // main loop only (interrupts enabled); blocks while
 void eeprom_read(uint16_t address, void* data, uint16_t size);
 void eeprom_write(uint16_t address, const void* data, uint16_t size);  // writes only changed bytes
 
+// Nothing to do until an interrupt says otherwise: the CPU sleeps (idle mode: the timers, the
+// USART and the servo run on) until the next interrupt, the millis tick at the latest (1 ms),
+// unless a received byte already waits. Race-free: interrupts off, the check, then SEI right
+// before SLEEP (the instruction after SEI runs before any interrupt is served, so one that came
+// meanwhile wakes the sleep at once). Called by the main loop after each poll.
+void idle();
+
 // Critical sections around data shared with the interrupts.
 uint8_t interrupts_off();          // returns the previous state
 void interrupts_restore(uint8_t);  // puts it back

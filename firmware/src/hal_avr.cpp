@@ -42,6 +42,7 @@
 #include <avr/eeprom.h>
 #include <avr/interrupt.h>
 #include <avr/io.h>
+#include <avr/sleep.h>
 
 #include "articula/protocol.h"
 #include "firmware.h"
@@ -389,6 +390,14 @@ void init() {
   ARTICULA_ENDSTOP2_DDR &= uint8_t(~_BV(ARTICULA_ENDSTOP2_BIT));
   ARTICULA_ENDSTOP2_PORT |= _BV(ARTICULA_ENDSTOP2_BIT);
 
+  // Timer2 and the ADC: off. init() starts them for analogWrite (D3, D11) and analogRead;
+  // nothing here uses either. Stopped, they draw nothing while the CPU sleeps (hal::idle), and
+  // an emulator need not count Timer2's ticks (simavr woke every two cycles for them).
+  TCCR2B = 0;
+  TCCR2A = 0;
+  TIMSK2 = 0;
+  ADCSRA = 0;
+
   // Timer1: normal mode, clk/8, no output pins (init() had set it up for analogWrite).
   TCCR1A = 0;
   TCCR1B = _BV(CS11);
@@ -548,6 +557,18 @@ void eeprom_write(uint16_t address, const void* data, uint16_t size) {
   if (address > E2END) return;
   if (size > E2END + 1 - address) size = uint16_t(E2END + 1 - address);
   eeprom_update_block(data, reinterpret_cast<void*>(address), size);
+}
+
+void idle() {
+  cli();
+  if (g_rx_tail == g_rx_head) {
+    set_sleep_mode(SLEEP_MODE_IDLE);
+    sleep_enable();
+    sei();
+    sleep_cpu();  // (runs before any pending interrupt: the datasheet, 7.7)
+    sleep_disable();
+  }
+  sei();
 }
 
 uint8_t interrupts_off() {

@@ -20,7 +20,10 @@ int main() {
   hal::init();        // the receiver is on from here: no byte is lost
   firmware::setup();  // the arm's state, before any realtime byte acts on it
   hal::start();       // '?' and '!' act from here, those received meanwhile too
-  for (;;) firmware::poll();
+  for (;;) {
+    firmware::poll();
+    hal::idle();  // sleeps until an interrupt brings work (a byte, a step, the millis tick)
+  }
 }
 
 #endif  // __AVR__

@@ -167,9 +167,10 @@ def test_rejected_line_is_reported_with_its_plan_line(bins, tmp_path):
 
 def test_timeout_is_reported(bins, tmp_path):
     plan = tmp_path / "slow.arm"
-    # At 100 steps/s L 0 80 takes 2.6 s of simulated time: far more than 0.3 s of the wall
-    # clock at any speed the virtual Nano reaches (about 2x real time).
-    plan.write_text("L 0 5\n$0=100\n#@ timeout 0.3\nL 0 80\nL 0 -85\n")
+    # At 2 steps/s L 0 80 takes two minutes of simulated time: far more than 0.3 s of the wall
+    # clock at any speed the virtual Nano reaches (it sleeps through most of a slow move: about
+    # 100x real time).
+    plan.write_text("L 0 5\n$0=2\n#@ timeout 0.3\nL 0 80\nL 0 -85\n")
     out = tmp_path / "out"
     p = harness(bins, plan, "--out", out)
     print(p.stdout, p.stderr)
@@ -210,7 +211,7 @@ def _run_with_hook(bins, tmp_path, text, hook, timeout=5.0):
 
 def test_vanished_port_is_reported(bins, tmp_path):
     hook = _Signal(3, signal.SIGKILL)
-    res, wall, target = _run_with_hook(bins, tmp_path, "L 0 10\n$0=100\nL 0 80\nL 0 -90\n", hook)
+    res, wall, target = _run_with_hook(bins, tmp_path, "L 0 10\n$0=2\nL 0 80\nL 0 -90\n", hook)  # (a slow move)
     assert wall < 15
     kinds = [(f.line, f.kind) for f in res.faults]
     assert (3, "vanished") in kinds, res.faults
@@ -233,7 +234,7 @@ def test_hung_port_times_out(bins, tmp_path):
     # The virtual Nano stops (SIGSTOP) in the middle of a move: the port stays open and
     # silent. The harness gives up after its timeout and still ends the process.
     hook = _Signal(3, signal.SIGSTOP, delay=0.1)
-    res, wall, target = _run_with_hook(bins, tmp_path, "L 0 10\n$0=100\nL 0 60\nL 0 -70\n", hook, timeout=1.0)
+    res, wall, target = _run_with_hook(bins, tmp_path, "L 0 10\n$0=2\nL 0 60\nL 0 -70\n", hook, timeout=1.0)
     assert wall < 60  # gave up (1 s timeouts), rather than waiting forever
     f = next(f for f in res.faults if f.kind == "timeout")
     assert f.line == 3, res.faults

@@ -8,6 +8,7 @@
 #include <sim_avr.h>
 #include <sim_elf.h>
 #include <sim_io.h>
+#include <avr_extint.h>
 #include <avr_ioport.h>
 #include <avr_uart.h>
 #include <sim_regbit.h>
@@ -17,6 +18,7 @@
 #include <cstdarg>
 #include <cstring>
 #include <sstream>
+
 
 namespace vnano {
 
@@ -57,8 +59,9 @@ void vnano_logger(avr_t*, const int level, const char* format, va_list ap) {
   std::vfprintf(stderr, format, ap);
 }
 
-// The firmware never sleeps today; if it does, the simulation is not paced to the wall
-// clock (simavr's default sleep callback usleep()s to real time). The caller adds the cycles.
+// The firmware sleeps between polls (hal::idle): simavr then jumps to its next timer event,
+// and this callback, called with the cycles slept, does not pace them to the wall clock as
+// simavr's default (usleep) would. simavr adds the cycles itself.
 void no_sleep(avr_t*, avr_cycle_count_t) {}
 
 using Hook = VirtualNano::Hook;
@@ -115,6 +118,11 @@ bool VirtualNano::load(const Config& config, std::string& error) {
   freq_ = avr_->frequency;
   avr_->log = LOG_WARNING;
   avr_->sleep = no_sleep;
+  // INT0 (D2) and INT1 (D3): the firmware uses neither (it reads the endstops), but simavr
+  // polls a low-level external interrupt every cycle while its pin is low (a coil output, a
+  // closed endstop), which would wake the sleeping CPU every other cycle.
+  avr_extint_set_strict_lvl_trig(avr_, 0, 0);
+  avr_extint_set_strict_lvl_trig(avr_, 1, 0);
 
   // USART0: no usleep when the firmware polls, no echo on simavr's console.
   uint32_t flags = 0;
@@ -207,7 +215,10 @@ void VirtualNano::run_until(uint64_t end) {
   sync_uart_frame();
   try_inject();
   while (avr_->cycle < end) {
+    const uint64_t before = avr_->cycle;
+    const bool asleep = avr_->state == cpu_Sleeping;
     const int state = avr_run(avr_);
+    if (asleep) slept_cycles_ += avr_->cycle - before;
     const uint16_t sp = uint16_t(avr_->data[R_SPL] | (avr_->data[R_SPH] << 8));
     if (sp < min_sp_) {
       min_sp_ = sp;
@@ -598,6 +609,7 @@ nlohmann::json VirtualNano::report() const {
   r["mcu"] = mcu_;
   r["frequency_hz"] = freq_;
   r["cycles"] = cycle();
+  r["slept_s"] = Stat::round3(double(slept_cycles_) / freq_);  // the firmware asleep (hal::idle)
   r["simulated_s"] = Stat::round3(double(cycle()) / freq_ * 1000.0) / 1000.0;
   r["cpu_state"] = cpu_state();
 

@@ -239,6 +239,8 @@ class VirtualNano {
   // stack
   uint16_t static_end_ = 0, ramend_ = 0;
   uint16_t min_sp_ = 0xFFFF;
+  uint64_t slept_cycles_ = 0;
+  uint64_t dbg_sleeps_ = 0;  // cycles the CPU spent asleep (the firmware's idle), jumped over
   uint32_t min_sp_pc_ = 0;
   bool finished_ = false;
   int lowest_touched_ = -1;  // lowest painted byte overwritten, -1 none

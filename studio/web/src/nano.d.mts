@@ -12,6 +12,8 @@ export class VirtualNano {
   readonly flash: Uint8Array;
   readonly flashUsed: number;
   readonly flashWrites: number;
+  /** Cycles the CPU spent asleep (the firmware idles with SLEEP): skipped, not run. */
+  readonly sleptCycles: number;
   readonly overruns: number;
   hostBaud: number;
   reset(cause: number): void;

@@ -25,6 +25,7 @@ export const CLOCK_HZ = 16_000_000;
 const OP_RETI = 0x9518;
 const OP_SEI = 0x9478;
 const OP_SPM = 0x95e8;
+const OP_SLEEP = 0x9588;
 const FLASH_BYTES = 32 * 1024;
 const SRAM_BYTES = 2048;
 const EEPROM_BYTES = 1024;
@@ -34,11 +35,25 @@ export const BOOT_START = 0x7800;
 // MCUSR's reset causes (datasheet 10.9.1)
 export const RESET_POWER = 0x01, RESET_EXTERNAL = 0x02, RESET_WATCHDOG = 0x08;
 // Registers (data addresses) and bits
+const SMCR = 0x53, SE = 0x01; // the sleep mode control register, its sleep enable
 const MCUSR = 0x54, SPMCSR = 0x57, WDTCSR = 0x60, UCSR0A = usart0Config.UCSRA, UDR0 = usart0Config.UDR;
 const SPMEN = 0x01, PGERS = 0x02, PGWRT = 0x04, BLBSET = 0x08, RWWSRE = 0x10, SIGRD = 0x20, RWWSB = 0x40;
 const RXC = 0x80, FE = 0x10, RXEN = 0x10, WDE = 0x08;
 // A page erase or write takes 3.7-4.5 ms (datasheet 28.8.10, t_WD_FLASH)
 const SPM_BUSY_CYCLES = Math.round(0.004 * CLOCK_HZ);
+
+// The first cycle at which an avr8js timer (`t`) sets a flag: its next compare match (A or B)
+// or its wrap at TOP, from its count and prescaler. null when a change is pending that only
+// its own count event applies (a new prescaler or a written count), or a phase-correct mode.
+function timerWake(t) {
+  if (!t.divider) return Infinity; // stopped
+  if (t.updateDivider || t.tcntUpdated || t.timerMode === 1 || t.timerMode === 4) return null; // (PWMPhaseCorrect, PWMPhaseFrequencyCorrect)
+  const top = t.TOP, val = t.tcnt;
+  const ticksTo = (x) => (x > val ? x - val : x + top + 1 - val);
+  let ticks = top + 1 - val; // the wrap
+  for (const ocr of [t.ocrA, t.ocrB]) if (ocr <= top) ticks = Math.min(ticks, ticksTo(ocr));
+  return t.lastCycle + ticks * t.divider;
+}
 
 /** A byte as a receiver set to another baud rate reads it: not the byte, and a framing error. */
 const garble = (b) => (b * 0x9d + 0x5a) & 0xff;
@@ -90,6 +105,8 @@ export class VirtualNano {
     this.flash = flash; // the flash's bytes: SPM writes them, the CPU runs them
     this.flashUsed = used;
     this.flashWrites = 0; // pages written by SPM
+    this.sleptCycles = 0; // cycles the CPU spent asleep (SLEEP), skipped rather than run
+    this.sleptFrom = 0;
     this.bootWord = bootloader ? BOOT_START / 2 : 0; // where a reset starts (BOOTRST)
     this.cpu = new CPU(new Uint16Array(flash.buffer), SRAM_BYTES);
     // Timer0 (millis) and Timer1 (the stepper and servo interrupts). The firmware leaves Timer2
@@ -373,18 +390,59 @@ export class VirtualNano {
       const prog = cpu.progMem;
       const boot = this.bootWord;
       while (cpu.cycles < end) {
-        const op = prog[cpu.pc];
+        let op = prog[cpu.pc];
         if (op === OP_SPM && boot !== 0 && cpu.pc >= boot) this.spm(); // (from the application section: ignored)
         avrInstruction(cpu);
         // The ATmega328P's datasheet (7.7, "Reset and Interrupt Handling"): after RETI, and
         // after SEI, the next instruction runs before any pending interrupt is served. avr8js
         // serves it at once: a level interrupt that stays pending (UDRE while the firmware
         // has nothing to send) would then starve the main program for ever.
-        if (op === OP_RETI || op === OP_SEI) avrInstruction(cpu);
+        if (op === OP_RETI || op === OP_SEI) {
+          op = prog[cpu.pc];
+          avrInstruction(cpu);
+        }
+        // SLEEP (avr8js runs it as a NOP; the firmware's idle is SEI, SLEEP): nothing runs
+        // until an interrupt
+        if (op === OP_SLEEP && cpu.data[SMCR] & SE) this.sleep(end);
         cpu.tick();
         if (this.resetPending) this.reset(this.resetPending);
       }
     }
+  }
+
+  // The CPU asleep (the firmware's idle, hal::idle): nothing runs until an interrupt. The
+  // clock jumps to the first cycle one can come: a timer's next compare match or overflow
+  // (worked out from its count, not counted tick by tick), or the next other clock event (the
+  // USART, a byte from the host), up to `end`; the caller's tick() serves the interrupt. Bytes
+  // from the host only come between runUntil() calls, and shiftIn() schedules each as an event.
+  sleep(end) {
+    const cpu = this.cpu;
+    const from = cpu.cycles;
+    while (cpu.cycles < end && !(cpu.interruptsEnabled && cpu.nextInterrupt >= 0)) {
+      let until = end;
+      let exact = true;
+      for (const t of this.timers) {
+        const wake = timerWake(t);
+        if (wake === null) exact = false;
+        else if (wake < until) until = wake;
+      }
+      for (let e = cpu.nextClockEvent; e; e = e.next) {
+        if (exact && this.timers.some((t) => t.count === e.callback)) continue; // counted below
+        if (e.cycles < until) until = e.cycles;
+        break;
+      }
+      if (until > cpu.cycles) {
+        cpu.cycles = until;
+        if (exact) for (const t of this.timers) t.count(false); // up to now: a match sets its flag
+      }
+      // the events due now, as tick() fires them, without serving an interrupt (the caller does)
+      for (let e = cpu.nextClockEvent; e && e.cycles <= cpu.cycles; e = cpu.nextClockEvent) {
+        cpu.nextClockEvent = e.next;
+        e.callback();
+        if (cpu.clockEventPool.length < 10) cpu.clockEventPool.push(e);
+      }
+    }
+    this.sleptCycles += cpu.cycles - from;
   }
 
   /** The EEPROM's bytes now (settings the firmware saved), to keep across sessions. */
