@@ -82,6 +82,10 @@ class EnginePage:
                                      f"{f' ({last})' if last else ''}; the page's errors: {errors}")
             time.sleep(0.1)
 
+    def run(self, script: str):
+        """Statements in the page (a function's body: `return` gives a value back)."""
+        raise NotImplementedError
+
     def page_errors(self) -> list[str]:
         try:
             return self.hook("a.pageErrors.concat(a.internalErrors)")
@@ -102,6 +106,9 @@ class PlaywrightPage(EnginePage):
 
     def hook(self, expr):
         return self.page.evaluate(_fn(expr))
+
+    def run(self, script):
+        return self.page.evaluate(f"() => {{ {script} }}")
 
     def type_into(self, selector, text, enter=False):
         # as a person types: Firefox over BiDi sends no input event for fill() on a number
@@ -153,6 +160,9 @@ class WebKitPage(EnginePage):
 
     def hook(self, expr):
         return self.driver.execute_script(f"const a = window.articula; return {expr};")
+
+    def run(self, script):
+        return self.driver.execute_script(script)
 
     def _el(self, selector):
         return self.driver.find_element("css selector", selector)
