@@ -106,6 +106,7 @@ export class VirtualNano {
     this.flashUsed = used;
     this.flashWrites = 0; // pages written by SPM
     this.sleptCycles = 0; // cycles the CPU spent asleep (SLEEP), skipped rather than run
+    this.asleep = false; // between SLEEP and the interrupt that wakes it
     this.sleptFrom = 0;
     this.bootWord = bootloader ? BOOT_START / 2 : 0; // where a reset starts (BOOTRST)
     this.cpu = new CPU(new Uint16Array(flash.buffer), SRAM_BYTES);
@@ -322,6 +323,7 @@ export class VirtualNano {
   reset(cause) {
     const cpu = this.cpu;
     this.resetPending = 0;
+    this.asleep = false;
     cpu.data.fill(0, 0, 0x100);
     this.cpuReset(); // pc 0, the stack at the top, no interrupt or clock event pending
     for (const t of this.timers) t.reset();
@@ -385,11 +387,18 @@ export class VirtualNano {
     const cpu = this.cpu;
     while (cpu.cycles < cycle) {
       if (this.rx.length && !this.rxShifting) this.shiftIn();
-      // a slice between two looks at the host's bytes: shorter than a byte at 115,200 baud
-      const end = Math.min(cycle, cpu.cycles + 1000);
+      // a slice between two looks at the host's bytes, shorter than a byte at 115,200 baud,
+      // while any wait (they only come between two runUntil() calls)
+      const end = this.rx.length ? Math.min(cycle, cpu.cycles + 1000) : cycle;
       const prog = cpu.progMem;
       const boot = this.bootWord;
       while (cpu.cycles < end) {
+        if (this.asleep) {
+          if (!this.sleep(end)) break; // still asleep at the slice's end
+          this.asleep = false;
+          cpu.tick(); // serves the interrupt that woke it
+          continue;
+        }
         let op = prog[cpu.pc];
         if (op === OP_SPM && boot !== 0 && cpu.pc >= boot) this.spm(); // (from the application section: ignored)
         avrInstruction(cpu);
@@ -402,9 +411,10 @@ export class VirtualNano {
           avrInstruction(cpu);
         }
         // SLEEP (avr8js runs it as a NOP; the firmware's idle is SEI, SLEEP): nothing runs
-        // until an interrupt
-        if (op === OP_SLEEP && cpu.data[SMCR] & SE) this.sleep(end);
+        // until an interrupt, unless tick() serves one now (the CPU then wakes at once)
+        const pc = cpu.pc;
         cpu.tick();
+        if (op === OP_SLEEP && cpu.data[SMCR] & SE && cpu.pc === pc) this.asleep = true;
         if (this.resetPending) this.reset(this.resetPending);
       }
     }
@@ -413,8 +423,9 @@ export class VirtualNano {
   // The CPU asleep (the firmware's idle, hal::idle): nothing runs until an interrupt. The
   // clock jumps to the first cycle one can come: a timer's next compare match or overflow
   // (worked out from its count, not counted tick by tick), or the next other clock event (the
-  // USART, a byte from the host), up to `end`; the caller's tick() serves the interrupt. Bytes
-  // from the host only come between runUntil() calls, and shiftIn() schedules each as an event.
+  // USART, a byte from the host), up to `end`. True when an interrupt woke it (the caller's
+  // tick() serves it), false when it still sleeps at `end` (it sleeps on in the next slice).
+  // Bytes from the host only come between runUntil() calls; shiftIn() makes each an event.
   sleep(end) {
     const cpu = this.cpu;
     const from = cpu.cycles;
@@ -443,6 +454,7 @@ export class VirtualNano {
       }
     }
     this.sleptCycles += cpu.cycles - from;
+    return cpu.interruptsEnabled && cpu.nextInterrupt >= 0;
   }
 
   /** The EEPROM's bytes now (settings the firmware saved), to keep across sessions. */
