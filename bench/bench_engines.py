@@ -66,8 +66,9 @@ def nano(pg):
     for _ in range(5):
         time.sleep(0.4)
         idle.append(pg.hook("a.arm.nano.capacity"))
-    # three motors stepping (about 6 s at $0=300) while the page draws every frame
-    for line in ("$0=300", "M 80 120 -30"):
+    # three motors stepping (about 6 s at $0=40: coordinated, they all end together) while the
+    # page draws every frame
+    for line in ("$0=40", "M 80 120 -30"):
         pg.type_into("#arm-line", line, enter=True)
         _wait(pg, f"a.arm.reply && a.arm.reply.line === '{line}'")
     _wait(pg, "a.arm.status.state === 'Run'")
@@ -112,15 +113,16 @@ def main(argv):
                 print(f"{engine}: skipped ({why})")
                 continue
             ff = first_frame(engines, engine, site.url)
-            pg = engines.open(engine, site.url + "?robot=mk2plus&fps=continuous")
-            _wait(pg, "a.ready && a.firstFrameAt > 0")
-            lat = slider(pg)
-            idle, moving, rtf = nano(pg)
-            pg.close()
             pg = engines.open(engine, site.url + "?robot=mk2plus")
             _wait(pg, "a.ready && a.firstFrameAt > 0")
+            lat = slider(pg)
             ph = physics(pg)
             errors = pg.page_errors()
+            pg.close()
+            pg = engines.open(engine, site.url + "?robot=mk2plus&fps=continuous")
+            _wait(pg, "a.ready && a.firstFrameAt > 0")
+            idle, moving, rtf = nano(pg)
+            errors += pg.page_errors()
             pg.close()
             version = getattr(engines.browsers.get(engine), "version", "") or "WebKitGTK"
             print(f"== {engine} {version}")

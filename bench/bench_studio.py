@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Articula Studio's speed, measured in the page (bench/README.md, "Studio"), in Debian's
-headless Chromium (software WebGL, SwiftShader) at 1440x900. The page is the static site
+headless Chromium (software WebGL, SwiftShader) at 1600x900. The page is the static site
 (studio/web/dist) served by a plain file server under a sub-path, its engine, the virtual Nano
 and the flasher in the page (no articula process).
 
@@ -54,7 +54,7 @@ class StaticSite:
 
 
 def open_page(browser, url):
-    ctx = browser.new_context(viewport={"width": 1440, "height": 900})
+    ctx = browser.new_context(viewport={"width": 1600, "height": 900})
     ctx.add_init_script("localStorage.setItem('articula.studio.tour.done', '1')")
     page = ctx.new_page()
     page.goto(url)
@@ -124,7 +124,7 @@ def main():
               f"a second (one a display frame; last status {status})")
         ctx.close()
 
-        ctx = browser.new_context(viewport={"width": 1440, "height": 900})
+        ctx = browser.new_context(viewport={"width": 1600, "height": 900})
         ctx.add_init_script("localStorage.setItem('articula.studio.tour.done', '1')")
         page = ctx.new_page()
         page.goto(site.url + "?robot=panda&fps=continuous")

@@ -102,17 +102,23 @@ def server_factory():
 
 
 @pytest.fixture(scope="session")
-def browser():
+def playwright():
+    """One Playwright for the session (its sync API allows one at a time)."""
     from playwright.sync_api import sync_playwright
 
+    with sync_playwright() as pw:
+        yield pw
+
+
+@pytest.fixture(scope="session")
+def browser(playwright):
     if not Path(CHROMIUM).exists():
         pytest.fail(f"no Chromium at {CHROMIUM}: run scripts/bootstrap (Debian's chromium)")
-    with sync_playwright() as pw:
-        b = pw.chromium.launch(executable_path=CHROMIUM, headless=True,
-                               args=["--no-sandbox", "--disable-background-networking", "--disable-component-update",
-                                     "--disable-sync", "--no-first-run", "--disable-quic"])
-        yield b
-        b.close()
+    b = playwright.chromium.launch(executable_path=CHROMIUM, headless=True,
+                                  args=["--no-sandbox", "--disable-background-networking", "--disable-component-update",
+                                        "--disable-sync", "--no-first-run", "--disable-quic"])
+    yield b
+    b.close()
 
 
 class Page:

@@ -201,9 +201,11 @@ class WebKitPage(EnginePage):
 class Engines:
     """The browsers of a test session: each started once, on first use."""
 
-    def __init__(self):
+    def __init__(self, playwright=None):
+        """`playwright`: the session's Playwright (its sync API runs one at a time), else its own."""
         self.display: VirtualDisplay | None = None
-        self.pw = None
+        self.pw = playwright
+        self.own_pw = playwright is None
         self.browsers = {}
 
     def _x(self) -> str:
@@ -219,6 +221,7 @@ class Engines:
                 from playwright.sync_api import sync_playwright
 
                 self.pw = sync_playwright().start()
+                self.own_pw = True
             if engine == "chromium":
                 self.browsers[engine] = self.pw.chromium.launch(
                     executable_path=CHROMIUM, headless=True, args=["--no-sandbox", "--disable-background-networking"])
@@ -233,7 +236,7 @@ class Engines:
     def stop(self):
         for b in self.browsers.values():
             b.close()
-        if self.pw is not None:
+        if self.pw is not None and self.own_pw:
             self.pw.stop()
         if self.display is not None:
             self.display.stop()

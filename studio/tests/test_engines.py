@@ -28,8 +28,8 @@ def _fk(q):
 
 
 @pytest.fixture(scope="module")
-def engines():
-    e = Engines()
+def engines(playwright):
+    e = Engines(playwright)
     yield e
     e.stop()
 
