@@ -10,7 +10,7 @@
 //
 // In: {type: "start", eeprom?, image?, baud, servo?} (a power-up: the page keeps the EEPROM's
 // bytes, and the flash's after a flash; servo: the robot's servo angles {closed, open}), {type: "rx", bytes}, {type: "signals", dtr}, {type: "close"}.
-// Out: {type: "ready", flashBytes, ms}, {type: "tx", bytes, seconds}, {type: "state", seconds, steps,
+// Out: {type: "ready", flashBytes, ms}, {type: "tx", bytes}, {type: "state", seconds, steps,
 // faults, servoUs, gripper (the aperture its pulse asks for, %), flashWrites, rtf, capacity, behind}, {type: "eeprom", bytes}, {type: "flash", bytes} (after
 // pages were written), {type: "closed"}, {type: "fatal", message}.
 import { loadNanoParts } from "../../../wasm/js/nano-parts.mjs";
@@ -85,7 +85,7 @@ function run(): void {
     if (tx.length) {
       const bytes = new Uint8Array(tx);
       tx = [];
-      post({ type: "tx", bytes, seconds: n.seconds }, [bytes.buffer]); // (its time: the port's clock)
+      post({ type: "tx", bytes }, [bytes.buffer]);
     }
     if (now - lastState > 100) {
       lastState = now;

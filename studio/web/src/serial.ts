@@ -60,18 +60,16 @@ export class VirtualNanoPort implements SerialLike {
   private worker: Worker | null = null;
   // clock(): the page's time while closed, the Nano's emulated time while open, never backwards
   private clockBase = 0;
-  private seconds = 0; // the Nano's emulated time as its last message (bytes or state) gave it
   private wallBase = performance.now();
 
   clock(): number {
-    return this.worker ? this.clockBase + this.seconds * 1000 : this.clockBase + performance.now() - this.wallBase;
+    return this.worker ? this.clockBase + (this.state?.seconds ?? 0) * 1000 : this.clockBase + performance.now() - this.wallBase;
   }
 
   async open(options: { baudRate: number }): Promise<void> {
     if (this.worker) throw new Error("the virtual Nano is already open");
     this.clockBase = this.clock();
     this.state = null;
-    this.seconds = 0;
     const worker = new Worker(new URL("assets/nano-worker.js", document.baseURI), { type: "module" });
     this.worker = worker;
     let push: ((b: Uint8Array) => void) | null = null;
@@ -101,7 +99,6 @@ export class VirtualNanoPort implements SerialLike {
           this.flashBytes = m.flashBytes;
           resolve();
         } else if (m.type === "tx") {
-          this.seconds = Math.max(this.seconds, m.seconds ?? 0);
           push?.(m.bytes);
         } else if (m.type === "flash") {
           this.image = m.bytes;
@@ -109,7 +106,6 @@ export class VirtualNanoPort implements SerialLike {
           this.closed?.();
         } else if (m.type === "state") {
           this.state = m;
-          this.seconds = Math.max(this.seconds, m.seconds);
           this.onState?.(m);
         } else if (m.type === "eeprom") {
           // (storage full or off: the settings last as long as the page)

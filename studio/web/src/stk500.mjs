@@ -145,10 +145,8 @@ async function sync(link, port) {
     await link.write([GET_SYNC, CRC_EOP]);
     const r = await link.read(2, 250);
     if (r && r[0] === STK_INSYNC && r[1] === STK_OK) {
-      // answers to earlier attempts may still be on their way: drain until the line is quiet
-      // for 50 ms of the Nano's time
-      do link.drain();
-      while (await link.read(1, 50));
+      await link.sleep(30); // answers to earlier attempts, still on their way
+      link.drain();
       return true;
     }
     link.drain();
