@@ -145,7 +145,9 @@ async function sync(link, port) {
     await link.write([GET_SYNC, CRC_EOP]);
     const r = await link.read(2, 250);
     if (r && r[0] === STK_INSYNC && r[1] === STK_OK) {
-      await link.sleep(30); // answers to earlier attempts, still on their way
+      // answers to earlier attempts, still on their way: 100 ms of the Nano's time (which the
+      // page learns in steps: a shorter wait could end at once)
+      await link.sleep(100);
       link.drain();
       return true;
     }
