@@ -233,6 +233,20 @@ void append_note(std::string& notes, const std::string& note) {
   notes += (notes.empty() ? "" : "; ") + note;
 }
 
+std::vector<Comment> program_comments(const std::string& text) {
+  std::vector<Comment> out;
+  std::istringstream in(text);
+  std::string s;
+  for (int n = 1; std::getline(in, s); ++n) {
+    const size_t hash = s.find('#');
+    if (hash == std::string::npos) continue;
+    std::string body = s.substr(hash + 1);
+    if (!body.empty() && body.back() == '\r') body.pop_back();
+    out.push_back({n, trim_blanks(body), trim_blanks(s.substr(0, hash)).empty()});
+  }
+  return out;
+}
+
 std::string command_text(const std::string& line) {
   std::string s = line.substr(0, line.find('#'));
   while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.pop_back();

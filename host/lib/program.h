@@ -78,6 +78,16 @@ Program load_program(const std::string& path, const Robot& robot);
 // The same from text in memory; `name` stands for the file (and its extension picks the language).
 Program parse_program(const std::string& text, const std::string& name, const Robot& robot);
 
+// A program's comments, as its parser sees them (a `#` to the end of the line): the line, and
+// the comment's text without the `#` and surrounding blanks; `whole_line` when nothing but
+// blanks comes before it. The studio keeps them when a program opens as blocks.
+struct Comment {
+  int line;
+  std::string text;
+  bool whole_line;
+};
+std::vector<Comment> program_comments(const std::string& text);
+
 // What the models that execute programs (predict.h, run.h) share:
 // one protocol line through the shared codec as the controller reads it, for a robot with
 // `num_joints` joint variables (kLineTooLong beyond 255 bytes);

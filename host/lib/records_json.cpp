@@ -149,3 +149,57 @@ nlohmann::json quantize_record_json(const Robot& robot, const QuantizeRecord& q)
 }
 
 }  // namespace articula::host
+
+namespace articula::host {
+
+nlohmann::json program_json(const Robot& robot, const Program& program, const std::string& text) {
+  using nlohmann::json;
+  json statements = json::array();
+  for (const Statement& st : program.statements) {
+    json s = {{"line", st.line}};
+    if (st.kind != Statement::Kind::kProtocol) {
+      s["kind"] = std::string(1, robosim_letter(st.kind));
+      s["values"] = st.values;
+      statements.push_back(s);
+      continue;
+    }
+    s["kind"] = "protocol";
+    s["text"] = command_text(st.text);
+    Command cmd{};
+    json args = json::array();
+    std::string letter;
+    const int actuators = robot.has_motors ? robot.actuation.num_motors : robot.model.num_joints;
+    if (parse_protocol_line(cmd, st.text, actuators) == kOk) {
+      // The arguments as written: the command table says which are numbers held in
+      // thousandths and which are whole (joint indices, bits, setting numbers).
+      for (const CommandSpec& spec : kCommandTable) {
+        if (spec.type != cmd.type) continue;
+        letter = std::string(1, spec.word);
+        std::string kinds;
+        for (const char* k = spec.args; *k; ++k) {
+          if (k[1] == '*') {
+            kinds.append(static_cast<size_t>(actuators), *k);
+            ++k;
+          } else {
+            kinds += *k == 's' ? std::string("jn") : std::string(1, *k);
+          }
+        }
+        for (size_t i = 0; i < kinds.size() && i < cmd.argc; ++i)
+          args.push_back(kinds[i] == 'n' || kinds[i] == 'p' ? cmd.arg[i] / 1000.0 : double(cmd.arg[i]));
+        break;
+      }
+    }
+    s["command"] = letter;
+    s["args"] = args;
+    statements.push_back(s);
+  }
+  json comments = json::array();
+  for (const Comment& c : program_comments(text))
+    comments.push_back({{"line", c.line}, {"text", c.text}, {"whole_line", c.whole_line}});
+  return {{"format", program.format == Program::Format::kRoboSim ? "robosim" : "protocol"},
+          {"source", program.source},
+          {"statements", statements},
+          {"comments", comments}};
+}
+
+}  // namespace articula::host

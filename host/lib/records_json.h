@@ -37,6 +37,13 @@ nlohmann::json ik_result_json(const Robot& robot, const IkResult& res);
 // One line through quantize.h (without "where", which only the command line knows).
 nlohmann::json quantize_record_json(const Robot& robot, const QuantizeRecord& q);
 
+// A program as its parser reads it, for editors that show it another way (the studio's
+// blocks): {format, statements: [{line, kind, values} for RoboSim (kind its letter: "m",
+// "a"...; values in file units), {line, kind: "protocol", text, command, args} for a
+// protocol line (command its letter, args its numbers as written: joint indices, degrees,
+// mm, percent; a setting's number and value)], comments: [{line, text, whole_line}]}.
+nlohmann::json program_json(const Robot& robot, const Program& program, const std::string& text);
+
 }  // namespace articula::host
 
 #endif  // ARTICULA_HOST_RECORDS_JSON_H

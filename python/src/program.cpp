@@ -99,6 +99,17 @@ void bind_program(nb::module_& m, nb::class_<PyRobot>& robot) {
            "program"_a,
            "Reads a program for this robot (argument counts and ranges follow the robot) and returns its number "
            "of statements; raises ProgramError naming the line of the first problem.")
+      .def("parse_program",
+           [](const PyRobot& self, nb::handle program) {
+             const host::Program p = program_from(program, self.r());
+             const std::string text = nb::hasattr(program, "text")
+                 ? text_of(program.attr("text"))
+                 : nb::cast<std::string>(nb::module_::import_("pathlib").attr("Path")(program).attr("read_text")());
+             return json_to_python(host::program_json(self.r(), p, text));
+           },
+           "program"_a,
+           "The program as its parser reads it: {format, statements, comments}; a protocol statement has its "
+           "command letter and arguments as written (the studio opens programs as blocks from this).")
       .def("predict",
            [](const PyRobot& self, nb::handle program, nb::handle settings) {
              const Robot& r = self.r();

@@ -44,6 +44,7 @@ SAME = [
     ("Robot.run", "run"),
     ("Robot.quantize", "quantize"),
     ("detect_format", "programFormat"),
+    ("Robot.parse_program", "parseProgram"),
     ("Robot.timeline", "Timeline.make"),
     ("Timeline.at", "Timeline.at"),
     ("Timeline.duration", "Timeline.duration"),
@@ -125,7 +126,7 @@ const ops = [];
 for (const cls of ["Robot", "Sim", "Timeline"])
   for (const k of Object.getOwnPropertyNames(M[cls].prototype))
     if (!["constructor", "delete", "isDeleted", "clone", "isAliasOf", "deleteLater"].includes(k)) ops.push(`${{cls}}.${{k}}`);
-for (const k of ["predict", "run", "quantize", "programFormat", "statusText", "statusTable", "parseArmLine", "firstIntervalS"])
+for (const k of ["predict", "run", "quantize", "programFormat", "parseProgram", "statusText", "statusTable", "parseArmLine", "firstIntervalS"])
   if (typeof M[k] === "function") ops.push(k);
 console.log(JSON.stringify(ops));
 """

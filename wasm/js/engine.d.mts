@@ -18,12 +18,18 @@ export class Robot {
   run(text: string, name?: string): Record<string, unknown>;
   quantize(lines: string[]): Record<string, unknown>[];
   programFormat(text: string, name?: string): "protocol" | "robosim";
+  parseProgram(text: string, name?: string): ParsedProgram;
   urdf(): string;
   jointsFromMotors(u: number[]): number[];
   motorsFromJoints(q: number[]): number[];
   fkModel(q: ArrayLike<number>): Float64Array;
   ikModel(q: ArrayLike<number>, target: ArrayLike<number>, solver?: number): { status: number; q: Float64Array; error_mm: number };
   delete(): void;
+}
+export interface ParsedProgram {
+  format: "protocol" | "robosim"; source: string;
+  statements: ({ line: number; kind: string; values: number[] } | { line: number; kind: "protocol"; text: string; command: string; args: number[] })[];
+  comments: { line: number; text: string; whole_line: boolean }[];
 }
 export class Sim {
   readonly objects: { name: string; type: string; size: number[]; movable: boolean; mass_kg: number }[];

@@ -60,6 +60,8 @@ export class Robot {
   predict(text, name = "program.arm", settings = "") { return checked(this.engine.M.predict(this.h, text, name, settings)); }
   run(text, name = "program.arm") { return checked(this.engine.M.run(this.h, text, name)); }
   quantize(lines) { return checked(this.engine.M.quantize(this.h, JSON.stringify(lines))); }
+  /** The program as its parser reads it: {format, statements, comments} (host/lib/records_json.h). */
+  parseProgram(text, name = "program.arm") { return checked(this.engine.M.parseProgram(this.h, text, name)); }
   programFormat(text, name = "") { return this.engine.M.programFormat(text, name); }
   urdf() { return checked(this.h.urdf()).xml; }
   jointsFromMotors(u) { return checked(this.h.jointsFromMotors(JSON.stringify(u))); }

@@ -4,6 +4,7 @@
 #include <emscripten/bind.h>
 
 #include "predict.h"
+#include "records_json.h"
 #include "quantize.h"
 #include "robot.h"
 #include "run.h"
@@ -39,6 +40,14 @@ std::string quantize(const WebRobot& robot, const std::string& lines_json) {
     for (const auto& q : host::quantize_lines(r, json::parse(lines_json).get<std::vector<std::string>>()))
       out.push_back(host::quantize_record_json(r, q));
     return out.dump();
+  });
+}
+
+// A program as the parser reads it (host::program_json): the studio opens it as blocks.
+std::string parse_program(const WebRobot& robot, const std::string& text, const std::string& name) {
+  return guarded([&] {
+    const Robot& r = robot.robot();
+    return host::program_json(r, host::parse_program(text, name, r), text).dump();
   });
 }
 
@@ -86,6 +95,7 @@ EMSCRIPTEN_BINDINGS(articula_program) {
   function("predict", &articula::web::predict);
   function("run", &articula::web::run);
   function("quantize", &articula::web::quantize);
+  function("parseProgram", &articula::web::parse_program);
   function("programFormat", &articula::web::program_format);
   class_<WebTimeline>("Timeline")
       .constructor<>()
