@@ -46,7 +46,8 @@ await esbuild.build({ ...common, entryPoints: [join(here, "src/main.ts")], outfi
 await esbuild.build({ ...common, entryPoints: [join(here, "src/worker.ts")], outfile: join(out, "assets/worker.js") });
 await esbuild.build({ ...common, entryPoints: [join(here, "src/nano-worker.ts")], outfile: join(out, "assets/nano-worker.js") });
 const css = readFileSync(join(here, "node_modules/uplot/dist/uPlot.min.css"), "utf8") + "\n" +
-  readFileSync(join(here, "src/style.css"), "utf8");
+  await blocklyCss("blockly-media") + "\n" + readFileSync(join(here, "src/style.css"), "utf8");
+copyTree(join(here, "node_modules/blockly/media"), join(out, "assets/blockly-media"), () => true);
 writeFileSync(join(out, "assets/app.css"), css);
 copyFileSync(join(here, "index.html"), join(out, "index.html"));
 copyFileSync(join(here, "icon.svg"), join(out, "icon.svg"));
@@ -54,8 +55,44 @@ copyFileSync(join(here, "icon.svg"), join(out, "icon.svg"));
 mkdirSync(join(out, "engine"));
 for (const f of ["engine.mjs", "engine.wasm", "nano.mjs", "nano.wasm"]) copyFileSync(join(wasmDir, f), join(out, "engine", f));
 
+// Blockly's own CSS, as a file: Blockly would put it in a <style> element, which the page's
+// Content-Security-Policy refuses (style-src 'self'), so the page starts Blockly with
+// css: false and the build writes the CSS Blockly would inject (read in jsdom, Blockly's own
+// dependency) into app.css, its media paths relative to assets/.
+async function blocklyCss(media) {
+  const { JSDOM } = await import("jsdom");
+  const dom = new JSDOM('<!doctype html><html><head></head><body><div id="b"></div></body></html>', { pretendToBeVisual: true });
+  const keep = {};
+  for (const k of ["window", "document", "navigator", "Element", "HTMLElement", "SVGElement", "Node", "DOMParser", "XMLSerializer", "ShadowRoot"]) {
+    keep[k] = Object.getOwnPropertyDescriptor(globalThis, k);
+    Object.defineProperty(globalThis, k, { value: dom.window[k], configurable: true, writable: true });
+  }
+  try {
+    const Blockly = await import("blockly");
+    try {
+      (Blockly.default ?? Blockly).inject(dom.window.document.getElementById("b"), { media: `${media}/`, sounds: false });
+    } catch {
+      // jsdom draws no SVG: the CSS is in the document before the drawing fails
+    }
+    const style = dom.window.document.getElementById("blockly-common-style");
+    if (!style) throw new Error("studio: Blockly injected no CSS (its injection changed?)");
+    // and the renderer's, which its constant provider would inject (panels/blocks.ts starts
+    // the zelos renderer with the classic theme and no injection of its own)
+    const B = Blockly.default ?? Blockly;
+    const cp = new B.zelos.ConstantProvider();
+    cp.setTheme(B.Themes.Classic);
+    const renderer = cp.getCSS_(".zelos-renderer.classic-theme").join("\n");
+    return style.textContent + "\n" + renderer;
+  } finally {
+    for (const [k, d] of Object.entries(keep)) {
+      if (d) Object.defineProperty(globalThis, k, d);
+      else delete globalThis[k];
+    }
+  }
+}
+
 // The shipped files, and their index (the worker lists robots, scenes and programs from it).
-const index = { robots: [], scenes: [], programs: [], meshes: [] };
+const index = { robots: [], scenes: [], programs: [], meshes: [], exercises: [] };
 function copyTree(from, to, keep) {
   for (const name of readdirSync(from).sort()) {
     const src = join(from, name), dst = join(to, name);
@@ -73,6 +110,8 @@ copyTree(join(repo, "programs"), join(out, "data/programs"), (n) => /\.(arm|robo
 index.robots = readdirSync(join(out, "data/robots")).filter(isData).map((n) => n.replace(/\.json$/, ""));
 index.scenes = readdirSync(join(out, "data/scenes")).filter(isData).map((n) => n.replace(/\.json$/, ""));
 index.programs = readdirSync(join(out, "data/programs"));
+copyTree(join(repo, "exercises"), join(out, "data/exercises"), (n) => n.endsWith(".articula"));
+index.exercises = readdirSync(join(out, "data/exercises"));
 mkdirSync(join(out, "data/firmware"), { recursive: true });
 copyFileSync(hexFile, join(out, "data/firmware/articula-nano.hex"));
 copyFileSync(bootFile, join(out, "data/firmware/optiboot_atmega328.hex"));

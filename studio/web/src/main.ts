@@ -22,7 +22,9 @@ import { initFlash } from "./panels/flash";
 import { followTool, initIk, showIk } from "./panels/ik";
 import { initJoints, showJointValues } from "./panels/joints";
 import { showPhysics, showScene, initPhysics } from "./panels/physics";
-import { ghostShown, initProgram, programHandlers, setRunOnArm, showTime } from "./panels/program";
+import { ghostShown, initProgram, programHandlers, setProgram, setProgramChanged, setRunOnArm, showTime } from "./panels/program";
+import { blocksRobot, initBlocks } from "./panels/blocks";
+import { chooseProject, initProjects, projectChanged, projectRobotShown } from "./panels/projects";
 import { fitNewRobot, initRobot, robotError, saveUrdf, showRobot } from "./panels/robot";
 
 const params = new URLSearchParams(location.search);
@@ -31,7 +33,11 @@ exposeHook();
 // The engine starts first: it compiles and loads the robot in its worker while the page
 // builds its 3D view.
 setConn("starting the engine…", "ok");
-const engine = new EngineClient({ robot: params.get("robot") ?? undefined, scene: params.get("scene") ?? undefined });
+const engine = new EngineClient();
+// The project shown first (a link's, this tab's after a reload, the last one, or a new one)
+// names the robot the engine loads first.
+chooseProject(params).then((first) => engine.start(first), () =>
+  engine.start({ robot: params.get("robot") ?? undefined, scene: params.get("scene") ?? undefined }));
 const layout = new Layout(); // before the view: the view takes the box the layout gives it
 layout.onChange = () => (hook.layout = { mode: layout.mode ?? "", plotsInTab: layout.plotsInTab, tab: layout.active });
 layout.onChange();
@@ -62,6 +68,9 @@ initPhysics(studio);
 initArm(studio);
 initFlash();
 setRunOnArm(runOnArm);
+initBlocks(studio, { setText: (text, name) => setProgram(name, text), changed: projectChanged });
+initProjects(studio, { setText: (text, name) => setProgram(name, text) });
+setProgramChanged(projectChanged);
 
 function setConn(text: string, kind: "ok" | "bad"): void {
   const c = $("conn");
@@ -72,7 +81,11 @@ function setConn(text: string, kind: "ok" | "bad"): void {
 // What the engine says, to the panel it is for.
 function handle(m: EngineMsg): void {
   switch (m.type) {
-    case "robot": return showRobot(m);
+    case "robot":
+      showRobot(m);
+      blocksRobot(m);
+      projectRobotShown();
+      return projectChanged();
     case "robot_error": return robotError(m.message);
     case "urdf": return saveUrdf(m);
     case "pose": return showPose(m);
@@ -83,7 +96,9 @@ function handle(m: EngineMsg): void {
     case "program_error": return programHandlers.program_error(m);
     case "program_text": return programHandlers.program_text(m);
     case "teach": return programHandlers.teach(m);
-    case "scene": return showScene(m);
+    case "scene":
+      showScene(m);
+      return projectChanged();
     case "physics": return showPhysics(m, hook.robot);
     case "sim_command":
       hook.simCommand = m.line;
@@ -102,6 +117,7 @@ function showPose(p: PoseMsg): void {
   view.pose(p);
   fitNewRobot();
   hook.pose = p;
+  if (p.t === undefined && !hook.physics?.on) projectChanged();
   if (!hook.robot) return;
   showJointValues(p, hook.robot);
   showTime(p);

@@ -11,6 +11,8 @@ import { EngineError, loadEngine } from "../../../wasm/js/engine.mjs";
 import { BadMessage } from "./session/checks";
 import type { Msg, Out } from "./session/checks";
 import { armHandlers } from "./session/arm";
+import { blockHandlers } from "./session/blocks";
+import { exerciseHandlers } from "./session/exercise";
 import { kinematicHandlers } from "./session/kinematics";
 import { PHYSICS_INTENTS, PHYSICS_ONLY, ensurePhysics, physicsIntent, physicsMessage, sceneIntent, sceneMessage,
   startPhysics } from "./session/physics";
@@ -21,6 +23,8 @@ import { info, poseMessage, post, robotMessage, S, stopTasks } from "./session/s
 type Handler = (m: Msg) => Out[] | Promise<Out[]>;
 
 const handlers: Record<string, Handler> = {
+  // An answer after every intent sent before it (intents are handled in order).
+  sync: () => [{ type: "sync" }],
   hello: () => {
     S.greeted = true;
     if (S.sim) setTimeout(ensurePhysics, 0); // after these replies: the page has its robot first
@@ -30,6 +34,8 @@ const handlers: Record<string, Handler> = {
   ...kinematicHandlers,
   ...programHandlers,
   ...armHandlers,
+  ...blockHandlers,
+  ...exerciseHandlers,
 };
 
 // Intents that end a playing program or an animation.

@@ -26,10 +26,14 @@ export class EngineClient {
   private callId = 0;
   private calls = new Map<number, { resolve: (m: Msg) => void; reject: (e: Error) => void }>();
 
-  constructor(start: { robot?: string; scene?: string }) {
+  constructor() {
     this.worker = new Worker(new URL("assets/worker.js", document.baseURI), { type: "module" });
     this.worker.onmessage = (e) => this.receive(e.data as EngineMsg | { type: "ready"; ms: number; status_table: Record<string, [string, string]> } | { type: "fatal"; message: string });
     this.worker.onerror = (e) => this.onFatal(`The engine stopped: ${e.message}`);
+  }
+
+  /** Loads the engine and the robot (and scene) shown first. */
+  start(start: { robot?: string; scene?: string }): void {
     this.worker.postMessage({ type: "start", ...start });
   }
 

@@ -41,6 +41,17 @@ export interface Hook {
   webgl: boolean; // false where the browser gives the page no WebGL (the 3D view is then off)
   language: string; // the language the page formats with (a valid tag, whatever the browser says)
   storage: boolean; // false where the page can keep nothing (private mode, storage off)
+  project: { id: string; name: string; robot: string; program: string; blocks: unknown; mode: string; rev: number; goal: unknown;
+             persistent: boolean; dirty: boolean; saves: number; saveMs: number[]; savedAt: number; saveError: string;
+             lastDeleted: string; otherTab: number };
+  shareLink: string; // the last link Share made
+  programMode: string; // "text" or "blocks"
+  programName: string; // the program's file name (a typed one: "program.arm")
+  blocksCode: { text: string; robosim: string; python: string } | null; // the program the blocks make
+  blockProblems: { block: string; message: string }[]; // warnings on blocks (refusals, values beyond a range)
+  runningBlock: string; // the block of the running line
+  blocksFirstPaintMs: number; // from opening the blocks to their first frame
+  exercise: { parts: { label: string; met: boolean; detail: string; distance_mm: number }[]; met: boolean; error?: string } | null;
   flash: { busy: boolean; phase: string; done: number; total: number; error: string; errorKind: string;
            result: { bytes: number; pages: number; baud: number; seconds: number } | null };
 }
@@ -54,6 +65,10 @@ export const hook: Hook = {
   arm: { connected: false, error: "", label: "", status: null, reply: null, stopMs: null, programLines: [], programDone: false, roundTrips: [], nano: null },
   stream: { messages: 0 }, errors: 0, errorLog: [], pageErrors: [], internalErrors: [], engineStartMs: 0, engineSend: () => undefined,
   layout: { mode: "", plotsInTab: false, tab: "" }, webgl: true, language: "", storage: true,
+  project: { id: "", name: "", robot: "", program: "", blocks: null, mode: "text", rev: 0, goal: null, persistent: true, dirty: false,
+             saves: 0, saveMs: [], savedAt: 0, saveError: "", lastDeleted: "", otherTab: 0 },
+  shareLink: "", programMode: "text", programName: "program.arm", blocksCode: null, blockProblems: [], runningBlock: "",
+  blocksFirstPaintMs: 0, exercise: null,
   flash: { busy: false, phase: "", done: 0, total: 0, error: "", errorKind: "", result: null },
 };
 

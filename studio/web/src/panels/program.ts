@@ -5,6 +5,7 @@ import type { PoseMsg, TimelineMsg } from "../protocol";
 import type { Studio } from "../page/context";
 import { $, download, fill, h, setOptions } from "../page/dom";
 import { hook } from "../page/hook";
+import { blocksMode, fromText, highlightBlockOfLine, refusedLine, teachBlock } from "./blocks";
 
 let s: Studio;
 let currentProgram = "program.arm";
@@ -15,6 +16,9 @@ let lineShown = 0;
 // that imports them back).
 let runOnArm: (text: string) => void = () => undefined;
 export const setRunOnArm = (f: (text: string) => void) => (runOnArm = f);
+// What the program panel tells the project (main.ts connects it): the program changed.
+let onChanged: () => void = () => undefined;
+export const setProgramChanged = (f: () => void) => (onChanged = f);
 const editor = () => $("editor") as HTMLTextAreaElement;
 
 export const ghostShown = () => showGhost;
@@ -38,6 +42,7 @@ export function initProgram(studio: Studio): void {
     if (!f) return;
     setProgram(f.name, await f.text());
     (e.target as HTMLInputElement).value = "";
+    if (blocksMode() === "blocks") fromText();
   });
   $("save-program").onclick = () => download(currentProgram, ed.value, "text/plain");
   $("run").onclick = () => {
@@ -52,6 +57,7 @@ export function initProgram(studio: Studio): void {
   $("step").onclick = () => (hook.timeline ? s.engine.send({ type: "step" }) : load());
   $("reset").onclick = () => (hook.timeline ? s.engine.send({ type: "rewind" }) : load());
   $("teach").onclick = () => {
+    if (blocksMode() === "blocks" && hook.pose) return teachBlock(hook.pose.q);
     const first = ed.value.split("\n").find((l) => l.trim() && !l.trim().startsWith("#")) ?? "";
     const robosim = currentProgram.endsWith(".robosim") || /^\s*[a-z]\s*$/m.test(first);
     s.engine.send({ type: "teach", format: robosim ? "robosim" : "protocol" });
@@ -73,9 +79,11 @@ export function showExamples(names: string[]): void {
   sel.value = "";
 }
 
-function setProgram(name: string, text: string): void {
+/** The program's text and file name (from a file, an example, the blocks, a project). */
+export function setProgram(name: string, text: string): void {
   editor().value = text;
   currentProgram = name;
+  hook.programName = name;
   editorChanged();
 }
 
@@ -89,6 +97,7 @@ function editorChanged(): void {
   fill($("gutter"), ...Array.from({ length: n }, (_, i) => h("div", null, i + 1)));
   $("gutter").scrollTop = ed.scrollTop;
   hook.timeline = null;
+  onChanged();
 }
 
 export function highlightLine(line: number, error: boolean): void {
@@ -127,6 +136,7 @@ export function showTime(p: PoseMsg): void {
   if (p.t === undefined) return;
   s.plots.playhead(p.t);
   highlightLine(p.line ?? 0, false);
+  highlightBlockOfLine(p.line ?? 0);
   const err = p.error_mm !== undefined ? `, quantization error ${p.error_mm.toFixed(3)} mm` : "";
   $("view-status").textContent = `t = ${p.t.toFixed(2)} s, line ${p.line ?? 0}${err}${p.steps ? `, steps ${p.steps.join(" ")}` : ""}`;
 }
@@ -136,6 +146,7 @@ export const programHandlers = {
     hook.timeline = m;
     hook.programError = "";
     s.plots.show(m);
+    for (const r of m.records) if (r.reply !== "ok") refusedLine(r.line, `the arm refuses this: ${r.reply}, ${r.error}`);
     const rejected = m.records.filter((r) => r.reply !== "ok")
       .map((r) => `line ${r.line}: ${r.command} → error:${r.code}, ${r.error}: nothing moves`);
     programStatus(`${m.records.length} commands, ${m.summary.rejected ?? 0} rejected` +
@@ -157,6 +168,7 @@ export const programHandlers = {
   },
   program_text(m: { name: string; text: string }): void {
     setProgram(m.name, m.text);
+    if (blocksMode() === "blocks") fromText();
   },
   teach(m: { line: string }): void {
     hook.teach = m.line;

@@ -11,7 +11,16 @@ import { resetProgramView, showExamples } from "./program";
 
 const MAX_FILE = 20_000_000; // bytes of a robot file or mesh the page opens
 let s: Studio;
-let needFit: Promise<void> | null = null; // a new robot: frame it once its first pose is drawn
+let needFit: Promise<void> | null = null;
+/** The robot file the user opened last (with its meshes, base64), for the project to keep. */
+export let openedRobotFile: { file: { name: string; text: string; legacy: boolean; scale: number }; meshes: { name: string; data: string }[] } | null = null;
+
+function base64(buf: ArrayBuffer): string {
+  const bytes = new Uint8Array(buf);
+  let s = "";
+  for (let i = 0; i < bytes.length; i += 0x8000) s += String.fromCharCode(...bytes.subarray(i, i + 0x8000));
+  return btoa(s);
+} // a new robot: frame it once its first pose is drawn
 
 export function initRobot(studio: Studio): void {
   s = studio;
@@ -33,11 +42,16 @@ async function openFiles(input: HTMLInputElement): Promise<void> {
   const text = await f.text();
   const files = await Promise.all(meshes.map(async (x) => ({ name: x.name, data: await x.arrayBuffer() })));
   const transfer = files.map((x) => x.data);
-  if (f.name.toLowerCase().endsWith(".json")) return s.engine.send({ type: "load_robot", text, filename: f.name, files }, transfer);
+  const meshesKept = files.map((x) => ({ name: x.name, data: base64(x.data) }));
+  if (f.name.toLowerCase().endsWith(".json")) {
+    openedRobotFile = { file: { name: f.name, text, legacy: false, scale: 1 }, meshes: meshesKept };
+    return s.engine.send({ type: "load_robot", text, filename: f.name, files }, transfer);
+  }
   const answer = prompt(`${f.name} is a robot file of the thesis's original system: how many millimetres is one of its units? (the thesis's MK2 model: 25.75)`, "10");
   if (answer === null) return;
   const scale = parseFloat(answer);
   if (!(scale > 0)) return banner("The scale must be a number above 0");
+  openedRobotFile = { file: { name: f.name, text, legacy: true, scale }, meshes: meshesKept };
   s.engine.send({ type: "load_robot", text, filename: f.name, legacy: true, scale }, transfer);
 }
 

@@ -1,0 +1,130 @@
+// The arm's blocks for Blockly, their words, and the toolbox. Words a 10-year-old reads, in
+// the units the sliders show (degrees, millimetres, percent). Every word is a Blockly message
+// (ARM_*), so a translation is one more message file (docs/studio.md, "Blocks").
+import * as Blockly from "blockly/core";
+import "blockly/blocks"; // repeat, variables, maths, procedures
+import * as En from "blockly/msg/en";
+
+/** The joints the dropdowns offer: the robot shown (the page sets it). */
+let jointNames: { name: string; unit: string }[] = [{ name: "joint 0", unit: "deg" }];
+export function setJoints(joints: { name: string; unit: string }[]): void {
+  if (joints.length) jointNames = joints;
+}
+
+export const ARM_MESSAGES: Record<string, string> = {
+  ARM_JOINT_TO: "turn %1 to %2",
+  ARM_JOINT_BY: "turn %1 by %2",
+  ARM_JOINTS: "move every joint to %1",
+  ARM_TOOL_TO: "move the tool to x %1 y %2 z %3 mm",
+  ARM_GRIPPER_OPEN: "open the gripper",
+  ARM_GRIPPER_CLOSE: "close the gripper",
+  ARM_GRIPPER_TO: "open the gripper to %1 %%",
+  ARM_SPEED: "set the speed to %1 %%",
+  ARM_HOME: "go to the home pose",
+  ARM_COMMENT: "note: %1",
+  ARM_RAW: "line with no block: %1",
+  ARM_CATEGORY_MOVE: "Move",
+  ARM_CATEGORY_GRIPPER: "Gripper",
+  ARM_CATEGORY_CONTROL: "Repeat",
+  ARM_CATEGORY_VARIABLES: "Variables",
+  ARM_CATEGORY_MATHS: "Numbers",
+  ARM_CATEGORY_PROCEDURES: "My blocks",
+  ARM_TIP_JOINT_TO: "Turn one joint to an angle (or slide it to a length), as its slider shows it",
+  ARM_TIP_JOINT_BY: "Turn one joint by an angle from where it is (or slide it by a length)",
+  ARM_TIP_JOINTS: "Every joint at once, in the slider's values, separated by commas (Teach makes this block from the pose shown)",
+  ARM_TIP_TOOL_TO: "Move the tip of the tool to a point, in millimetres from the base: the arm works out its joints (inverse kinematics)",
+  ARM_TIP_GRIPPER_TO: "0 % is closed, 100 % fully open",
+  ARM_TIP_SPEED: "How fast the motors turn: 100 % is the arm's normal speed",
+  ARM_TIP_HOME: "The robot's home pose, where its file says it rests",
+  ARM_TIP_COMMENT: "A note for people: the arm does nothing",
+  ARM_TIP_RAW: "A line of the program that no block stands for: it is sent as it is written",
+};
+
+const unitOf = (i: number) => (jointNames[i]?.unit === "mm" ? "mm" : "°");
+const jointOptions = (): [string, string][] => jointNames.map((j, i) => [j.name, String(i)]);
+
+function jointBlock(msg: string, tip: string, colour: number) {
+  return {
+    init(this: Blockly.Block) {
+      const [before, after] = Blockly.Msg[msg].split("%1");
+      const between = after.split("%2")[0];
+      const dropdown = new Blockly.FieldDropdown(jointOptions, (v: string) => {
+        const label = this.getField("UNIT");
+        if (label) label.setValue(unitOf(Number(v)));
+        return v;
+      });
+      this.appendValueInput("VALUE").setCheck("Number").appendField(before.trim()).appendField(dropdown, "JOINT")
+        .appendField(between.trim());
+      this.appendDummyInput().appendField(new Blockly.FieldLabel(unitOf(0)), "UNIT");
+      this.setInputsInline(true);
+      this.setPreviousStatement(true);
+      this.setNextStatement(true);
+      this.setColour(colour);
+      this.setTooltip(Blockly.Msg[tip]);
+    },
+  };
+}
+
+let defined = false;
+/** Blockly's words and the arm's blocks (once). */
+export function defineBlocks(): void {
+  if (defined) return;
+  defined = true;
+  Blockly.setLocale(En as unknown as Record<string, string>);
+  Object.assign(Blockly.Msg, ARM_MESSAGES);
+  Blockly.Blocks["arm_joint_to"] = jointBlock("ARM_JOINT_TO", "ARM_TIP_JOINT_TO", 210);
+  Blockly.Blocks["arm_joint_by"] = jointBlock("ARM_JOINT_BY", "ARM_TIP_JOINT_BY", 210);
+  Blockly.common.defineBlocksWithJsonArray([
+    { type: "arm_joints", message0: "%{BKY_ARM_JOINTS}", args0: [{ type: "field_input", name: "VALUES", text: "0, 90, -90", spellcheck: false }],
+      previousStatement: null, nextStatement: null, colour: 210, tooltip: "%{BKY_ARM_TIP_JOINTS}" },
+    { type: "arm_tool_to", message0: "%{BKY_ARM_TOOL_TO}", args0: [
+      { type: "input_value", name: "X", check: "Number" }, { type: "input_value", name: "Y", check: "Number" },
+      { type: "input_value", name: "Z", check: "Number" }],
+      inputsInline: true, previousStatement: null, nextStatement: null, colour: 230, tooltip: "%{BKY_ARM_TIP_TOOL_TO}" },
+    { type: "arm_home", message0: "%{BKY_ARM_HOME}", previousStatement: null, nextStatement: null, colour: 210, tooltip: "%{BKY_ARM_TIP_HOME}" },
+    { type: "arm_gripper_open", message0: "%{BKY_ARM_GRIPPER_OPEN}", previousStatement: null, nextStatement: null, colour: 30 },
+    { type: "arm_gripper_close", message0: "%{BKY_ARM_GRIPPER_CLOSE}", previousStatement: null, nextStatement: null, colour: 30 },
+    { type: "arm_gripper_to", message0: "%{BKY_ARM_GRIPPER_TO}", args0: [{ type: "input_value", name: "PERCENT", check: "Number" }],
+      inputsInline: true, previousStatement: null, nextStatement: null, colour: 30, tooltip: "%{BKY_ARM_TIP_GRIPPER_TO}" },
+    { type: "arm_speed", message0: "%{BKY_ARM_SPEED}", args0: [{ type: "input_value", name: "PERCENT", check: "Number" }],
+      inputsInline: true, previousStatement: null, nextStatement: null, colour: 120, tooltip: "%{BKY_ARM_TIP_SPEED}" },
+    { type: "arm_comment", message0: "%{BKY_ARM_COMMENT}", args0: [{ type: "field_input", name: "TEXT", text: "what happens next" }],
+      previousStatement: null, nextStatement: null, colour: 60, tooltip: "%{BKY_ARM_TIP_COMMENT}" },
+    { type: "arm_raw", message0: "%{BKY_ARM_RAW}", args0: [{ type: "field_input", name: "TEXT", text: "", spellcheck: false }],
+      previousStatement: null, nextStatement: null, colour: 0, tooltip: "%{BKY_ARM_TIP_RAW}" },
+  ]);
+}
+
+const num = (n: number) => ({ shadow: { type: "math_number", fields: { NUM: n } } });
+
+/** The toolbox: the arm's blocks first, then a beginner's control. */
+export function toolbox(): Blockly.utils.toolbox.ToolboxDefinition {
+  return {
+    kind: "categoryToolbox",
+    contents: [
+      { kind: "category", name: "%{BKY_ARM_CATEGORY_MOVE}", colour: "210", contents: [
+        { kind: "block", type: "arm_joint_to", inputs: { VALUE: num(30) } },
+        { kind: "block", type: "arm_joint_by", inputs: { VALUE: num(30) } },
+        { kind: "block", type: "arm_joints" },
+        { kind: "block", type: "arm_tool_to", inputs: { X: num(200), Y: num(0), Z: num(150) } },
+        { kind: "block", type: "arm_home" },
+        { kind: "block", type: "arm_speed", inputs: { PERCENT: num(50) } },
+        { kind: "block", type: "arm_comment" },
+      ] },
+      { kind: "category", name: "%{BKY_ARM_CATEGORY_GRIPPER}", colour: "30", contents: [
+        { kind: "block", type: "arm_gripper_open" },
+        { kind: "block", type: "arm_gripper_close" },
+        { kind: "block", type: "arm_gripper_to", inputs: { PERCENT: num(50) } },
+      ] },
+      { kind: "category", name: "%{BKY_ARM_CATEGORY_CONTROL}", colour: "120", contents: [
+        { kind: "block", type: "controls_repeat_ext", inputs: { TIMES: num(3) } },
+      ] },
+      { kind: "category", name: "%{BKY_ARM_CATEGORY_VARIABLES}", colour: "330", custom: "VARIABLE" },
+      { kind: "category", name: "%{BKY_ARM_CATEGORY_MATHS}", colour: "230", contents: [
+        { kind: "block", type: "math_number", fields: { NUM: 10 } },
+        { kind: "block", type: "math_arithmetic", inputs: { A: num(1), B: num(1) } },
+      ] },
+      { kind: "category", name: "%{BKY_ARM_CATEGORY_PROCEDURES}", colour: "290", custom: "PROCEDURE" },
+    ],
+  } as Blockly.utils.toolbox.ToolboxDefinition;
+}

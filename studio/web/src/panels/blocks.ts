@@ -1,0 +1,229 @@
+// The program as blocks (Blockly, bundled with the site): the workspace, the mode switch
+// between blocks and text, Show code. Blocks unroll into actions (blocks/unroll.ts), the
+// engine turns the actions into the program text it runs (session/blocks.ts), and that text
+// is the program: the editor holds it, Run plays it wherever a program plays (the model, the
+// physics, the virtual Nano, the arm). The running line's block is highlighted; a block the
+// arm would refuse, or the engine did, says why on itself.
+import * as Blockly from "blockly/core";
+import type { Studio } from "../page/context";
+import { $, fill, h } from "../page/dom";
+import { hook } from "../page/hook";
+import { defineBlocks, setJoints, toolbox } from "../blocks/define";
+import { BlockError, opsToWorkspace, unroll } from "../blocks/unroll";
+import type { RobotMsg } from "../protocol";
+
+let s: Studio;
+let ws: Blockly.WorkspaceSvg | null = null;
+let mode: "text" | "blocks" = "text";
+let lineBlocks: string[] = []; // block id of each program line (index: line - 1)
+let warned = new Set<string>();
+let compiling = 0;
+let pendingLoad: unknown = null; // a workspace to load once Blockly is up
+let lastHighlight = "";
+let code = { text: "", robosim: "", python: "" };
+/** Hooks the program panel gives: the program text changed (from blocks). */
+let setText: (text: string, name: string) => void = () => undefined;
+let changed: () => void = () => undefined;
+
+export const blocksMode = () => mode;
+
+export function initBlocks(studio: Studio, hooks: { setText: (text: string, name: string) => void; changed: () => void }): void {
+  s = studio;
+  setText = hooks.setText;
+  changed = hooks.changed;
+  $("mode-blocks").onclick = () => setMode("blocks");
+  $("mode-text").onclick = () => setMode("text");
+  $("show-code").onclick = showCode;
+  $("code-close").onclick = () => ($("code-dialog") as HTMLDialogElement).close();
+  for (const b of document.querySelectorAll<HTMLButtonElement>("#code-tabs button"))
+    b.onclick = () => codeTab(b.dataset.code as "text" | "robosim" | "python");
+}
+
+/** Shows the blocks or the text editor. */
+export function setMode(m: "text" | "blocks", fromProject = false): void {
+  mode = m;
+  $("blockly").hidden = m !== "blocks";
+  $("text-editor").hidden = m !== "text";
+  $("mode-blocks").setAttribute("aria-pressed", String(m === "blocks"));
+  $("mode-text").setAttribute("aria-pressed", String(m === "text"));
+  hook.programMode = m;
+  document.body.classList.toggle("blocks-mode", m === "blocks");
+  if (m === "blocks") {
+    ensureWorkspace();
+    Blockly.svgResize(ws!);
+    if (!fromProject && ws!.getAllBlocks(false).length === 0) fromText();
+  }
+  if (!fromProject) changed();
+}
+
+// Blockly's zelos renderer, but its CSS from the site's own file (the build writes it into
+// app.css): a <style> Blockly would add is refused by the page's Content-Security-Policy.
+class Constants extends Blockly.zelos.ConstantProvider {
+  protected override injectCSS_(): void {}
+}
+class Renderer extends Blockly.zelos.Renderer {
+  protected override makeConstants_(): Blockly.zelos.ConstantProvider {
+    return new Constants();
+  }
+}
+
+function ensureWorkspace(): void {
+  if (ws) return;
+  const t0 = performance.now();
+  defineBlocks();
+  Blockly.blockRendering.unregister("zelos");
+  Blockly.blockRendering.register("zelos", Renderer);
+  if (hook.robot) setJoints(hook.robot.joints);
+  ws = Blockly.inject($("blockly"), {
+    toolbox: toolbox(), css: false, sounds: false, media: "assets/blockly-media/", trashcan: true, renderer: "zelos", theme: Blockly.Themes.Classic,
+    zoom: { controls: true, startScale: 0.7, wheel: false }, move: { scrollbars: true, drag: true, wheel: true },
+    grid: { spacing: 24, length: 2, colour: "#dde4ec", snap: true },
+  });
+  ws.addChangeListener(onChange);
+  new ResizeObserver(() => ws && Blockly.svgResize(ws)).observe($("blockly"));
+  if (pendingLoad) {
+    load(pendingLoad);
+    pendingLoad = null;
+  }
+  requestAnimationFrame(() => (hook.blocksFirstPaintMs = performance.now() - t0));
+}
+
+function onChange(e: Blockly.Events.Abstract): void {
+  if (e.isUiEvent) return;
+  clearTimeout(compiling);
+  compiling = window.setTimeout(compile, 150);
+}
+
+/** The workspace as Blockly's JSON (what a project keeps). */
+export function workspaceJson(): object | null {
+  return ws ? Blockly.serialization.workspaces.save(ws) : (pendingLoad as object | null);
+}
+
+/** A project's blocks. */
+export function loadBlocks(json: unknown): void {
+  if (!ws) {
+    pendingLoad = json;
+    return;
+  }
+  load(json);
+}
+
+function load(json: unknown): void {
+  Blockly.Events.disable();
+  try {
+    ws!.clear();
+    if (json) Blockly.serialization.workspaces.load(json as object, ws!);
+  } finally {
+    Blockly.Events.enable();
+  }
+  compile();
+}
+
+/** The robot changed: the joint menus follow it. */
+export function blocksRobot(r: RobotMsg): void {
+  setJoints(r.joints);
+  if (ws) compile();
+}
+
+/** Unrolls the blocks and asks the engine for their program. */
+function compile(): void {
+  if (!ws) return;
+  clearWarnings();
+  let ops;
+  try {
+    ops = unroll(Blockly.serialization.workspaces.save(ws));
+  } catch (e) {
+    if (e instanceof BlockError) return blockProblem(e.block, e.message, true);
+    throw e;
+  }
+  s.engine.call({ type: "blocks_compile", ops }).then((m) => {
+    const r = m as { text?: string; robosim?: string; python?: string; lines?: string[]; problems?: { block: string; message: string }[];
+      error?: { block: string; message: string } };
+    if (r.error) return blockProblem(r.error.block, r.error.message, true);
+    lineBlocks = r.lines ?? [];
+    code = { text: r.text ?? "", robosim: r.robosim ?? "", python: r.python ?? "" };
+    hook.blocksCode = code;
+    setText(code.text, "blocks.arm");
+    for (const p of r.problems ?? []) blockProblem(p.block, p.message, false);
+    changed();
+  }, (err: Error) => blockProblem("", err.message, true));
+}
+
+function clearWarnings(): void {
+  for (const id of warned) ws?.getBlockById(id)?.setWarningText(null);
+  warned.clear();
+  hook.blockProblems = [];
+}
+
+/** A problem on a block: its warning, the panel's status (`fatal`: no program made). */
+export function blockProblem(id: string, message: string, fatal: boolean): void {
+  const b = id ? ws?.getBlockById(id) : null;
+  if (b) {
+    b.setWarningText(message);
+    warned.add(id);
+  }
+  hook.blockProblems = [...hook.blockProblems, { block: id, message }];
+  if (fatal) {
+    const el = $("program-status");
+    fill(el, h("div", null, message));
+    el.className = "status bad";
+  }
+}
+
+/** The program's line `line` is running: its block lights up. */
+export function highlightBlockOfLine(line: number): void {
+  if (!ws || mode !== "blocks") return;
+  const id = line > 0 ? lineBlocks[line - 1] ?? "" : "";
+  if (id === lastHighlight) return;
+  lastHighlight = id;
+  ws.highlightBlock(id || null);
+  hook.runningBlock = id;
+}
+
+/** The arm (or the model) refused line `line`: the refusal goes on its block. */
+export function refusedLine(line: number, message: string): void {
+  const id = lineBlocks[line - 1];
+  if (id) blockProblem(id, message, false);
+}
+
+/** The editor's text as blocks (the engine reads it; its comments kept). */
+export function fromText(): void {
+  const ed = $("editor") as HTMLTextAreaElement;
+  if (!ed.value.trim()) return;
+  s.engine.call({ type: "program_ops", text: ed.value, name: hook.programName || "program.arm" }).then((m) => {
+    const r = m as { ops?: []; error?: string };
+    if (r.error) {
+      blockProblem("", `The text cannot be read as blocks: ${r.error}`, true);
+      return;
+    }
+    loadBlocks(opsToWorkspace(r.ops ?? []));
+  }, (err: Error) => blockProblem("", err.message, true));
+}
+
+/** Teach: the pose shown, as a block at the end of the program. */
+export function teachBlock(q: number[]): void {
+  if (!ws) return;
+  const b = ws.newBlock("arm_joints");
+  b.setFieldValue(q.map((v) => String(Math.round(v * 10) / 10)).join(", "), "VALUES");
+  b.initSvg();
+  b.render();
+  const tops = ws.getTopBlocks(true).filter((t) => t !== b && t.type !== "procedures_defnoreturn");
+  let last: Blockly.BlockSvg | null = tops[0] ?? null;
+  while (last?.getNextBlock()) last = last.getNextBlock() as Blockly.BlockSvg | null;
+  if (last?.nextConnection && b.previousConnection) last.nextConnection.connect(b.previousConnection);
+  else b.moveBy(20, 20);
+  hook.teach = b.getFieldValue("VALUES");
+}
+
+function showCode(): void {
+  const d = $("code-dialog") as HTMLDialogElement;
+  if (mode === "text") code.text = ($("editor") as HTMLTextAreaElement).value;
+  codeTab("text");
+  d.showModal();
+}
+
+function codeTab(which: "text" | "robosim" | "python"): void {
+  for (const b of document.querySelectorAll<HTMLButtonElement>("#code-tabs button"))
+    b.setAttribute("aria-pressed", String(b.dataset.code === which));
+  $("code-text").textContent = code[which] || (which === "text" ? "" : "(make the program from blocks to see it this way)");
+}

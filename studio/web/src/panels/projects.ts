@@ -1,0 +1,412 @@
+// Projects: what is on screen is a project, kept in the browser as it changes (within a second
+// of the last change), brought back by a reload, listed (new, open, rename, duplicate, delete
+// with undo), saved as one .articula file and opened from one (or dropped on the page), shared
+// as a link that holds it all. An exercise is a project with a goal: Check says which parts
+// are met. Every file, link and stored record is untrusted: project/document.ts reads it.
+import type { Studio } from "../page/context";
+import { $, banner, download, fill, h, setOptions } from "../page/dom";
+import { hook } from "../page/hook";
+import { storage } from "../page/environment";
+import { LINK_KEY, MAX_FILE_BYTES, MAX_LINK, ProjectError, newProject, parseProject, projectFragment, projectOfFragment, readProject } from "../project/document";
+import type { Goal, Project } from "../project/document";
+import { ProjectStore, newId } from "../project/store";
+import type { Stored } from "../project/store";
+import { blocksMode, loadBlocks, setMode, workspaceJson } from "./blocks";
+import { openedRobotFile } from "./robot";
+
+const SAVE_AFTER_MS = 500; // a save this long after the last change
+const SESSION_KEY = "articula.project"; // this tab's project (a reload reopens it)
+
+let s: Studio;
+const store = new ProjectStore();
+let current: { id: string; rev: number; doc: Project } = { id: newId(), rev: 0, doc: newProject("My project") };
+let applying = true; // a project is being put on screen: its own changes are not edits
+let timer = 0;
+let pendingApply: Project | null = null;
+let setProgramText: (text: string, name: string) => void = () => undefined;
+
+/** The project to start with, before the engine starts (it loads the project's robot first). */
+export async function chooseProject(params: URLSearchParams): Promise<{ robot?: string; scene?: string }> {
+  await store.open();
+  store.onOtherTab = otherTabSaved;
+  hook.project.persistent = store.persistent;
+  let note = "";
+  const fromLink = location.hash.includes(LINK_KEY);
+  let chosen: Project | null = null;
+  if (fromLink) {
+    try {
+      chosen = await projectOfFragment(location.hash);
+      chosen.name = `${chosen.name} (from a link)`;
+    } catch (e) {
+      note = `This link's project cannot be opened: ${(e as Error).message}. Nothing you saved has changed.`;
+    }
+    history.replaceState(null, "", location.pathname + location.search);
+  }
+  if (!chosen) {
+    const mine = sessionGet();
+    const records = await store.list().catch(() => [] as Stored[]);
+    const named = params.has("robot") || params.has("scene");
+    const rec = mine ? records.find((r) => r.id === mine) : named ? undefined : records[0];
+    if (rec) {
+      try {
+        chosen = readProject(rec.doc);
+        current = { id: rec.id, rev: rec.rev, doc: chosen };
+      } catch (e) {
+        note = `The saved project "${rec.name}" cannot be read (${(e as Error).message}): a new project is open, and "${rec.name}" is kept as it was.`;
+        chosen = null;
+      }
+    }
+  }
+  if (chosen && current.doc !== chosen) current = { id: newId(), rev: 0, doc: chosen };
+  if (!chosen) current = { id: newId(), rev: 0, doc: newProject(await freshName(), params.get("robot") ?? "mk2plus", params.get("scene") ?? "") };
+  sessionSet(current.id);
+  if (note) setTimeout(() => banner(note), 0);
+  if (!store.persistent) setTimeout(() => banner("This browser keeps nothing for this page (private mode, or storage turned off): save your project as a file (Projects) before you close it.", "info"), 0);
+  pendingApply = current.doc;
+  showName();
+  const d = current.doc;
+  return { robot: "shipped" in d.robot ? d.robot.shipped : undefined, scene: d.scene || undefined };
+}
+
+export function initProjects(studio: Studio, program: { setText: (text: string, name: string) => void }): void {
+  s = studio;
+  setProgramText = program.setText;
+  $("projects-button").onclick = () => void openList();
+  $("projects-close").onclick = () => ($("projects-dialog") as HTMLDialogElement).close();
+  $("project-new").onclick = () => void startNew();
+  $("project-save-file").onclick = saveFile;
+  $("project-open-file").onclick = () => $("project-file").click();
+  $("project-file").addEventListener("change", (e) => {
+    const f = (e.target as HTMLInputElement).files?.[0];
+    (e.target as HTMLInputElement).value = "";
+    if (f) void openFile(f);
+  });
+  $("exercise-select").addEventListener("change", (e) => {
+    const name = (e.target as HTMLSelectElement).value;
+    (e.target as HTMLSelectElement).value = "";
+    if (name) void openExercise(name);
+  });
+  $("share-button").onclick = () => void share();
+  $("share-close").onclick = () => ($("share-dialog") as HTMLDialogElement).close();
+  $("share-copy").onclick = () => {
+    const t = $("share-link") as HTMLTextAreaElement;
+    t.select();
+    navigator.clipboard?.writeText(t.value).catch(() => undefined);
+  };
+  $("exercise-check").onclick = () => void check();
+  // a .articula file dropped anywhere on the page opens as a project
+  window.addEventListener("dragover", (e) => {
+    if (e.dataTransfer?.types.includes("Files")) e.preventDefault();
+  });
+  window.addEventListener("drop", (e) => {
+    const f = e.dataTransfer?.files?.[0];
+    if (!f) return;
+    e.preventDefault();
+    if (/\.(articula|json)$/i.test(f.name)) void openFile(f);
+  });
+  window.addEventListener("pagehide", () => void saveNow());
+  document.addEventListener("visibilitychange", () => document.visibilityState === "hidden" && void saveNow());
+  fetch(new URL("data/index.json", document.baseURI)).then((r) => r.json()).then((idx: { exercises?: string[] }) => {
+    setOptions($("exercise-select") as HTMLSelectElement, [{ value: "", label: "exercises…" }, ...(idx.exercises ?? [])]);
+  }).catch(() => undefined);
+}
+
+/** The robot shown is the engine's first: put the rest of the project on screen. */
+export function projectRobotShown(): void {
+  const d = pendingApply;
+  if (!d) return;
+  pendingApply = null;
+  applying = true;
+  if ("file" in d.robot) {
+    const f = d.robot.file;
+    const files = d.robot.meshes.map((m) => ({ name: m.name, data: fromBase64(m.data).buffer }));
+    s.engine.send({ type: "load_robot", text: f.text, filename: f.name, legacy: f.legacy, scale: f.scale, files }, files.map((x) => x.data as ArrayBuffer));
+  }
+  setProgramText(d.program.text, d.program.name);
+  setMode(d.program.mode, true);
+  if (d.program.blocks) loadBlocks(d.program.blocks);
+  if (d.pose) {
+    s.engine.send({ type: "set_joints", q: d.pose.q });
+    if (hook.robot?.gripper) s.engine.send({ type: "gripper", percent: d.pose.gripper });
+  }
+  showGoal(d.goal);
+  updateHook();
+  // what the engine answers to these is the project as it was, not an edit
+  s.engine.call({ type: "sync" }).catch(() => undefined).finally(() => (applying = false));
+}
+
+/** Something on screen changed: saved within a second. */
+export function projectChanged(): void {
+  if (applying) return;
+  clearTimeout(timer);
+  hook.project.dirty = true;
+  timer = window.setTimeout(() => void saveNow(), SAVE_AFTER_MS);
+}
+
+function capture(): Project {
+  const d = current.doc;
+  const r = hook.robot;
+  const stem = r?.source.split("/").pop()?.replace(/\.json$/, "") ?? "";
+  let robot: Project["robot"] = d.robot;
+  if (r && r.robots.includes(stem) && !r.source.startsWith("/user/")) robot = { shipped: stem };
+  else if (openedRobotFile) robot = openedRobotFile;
+  const ed = $("editor") as HTMLTextAreaElement;
+  return {
+    ...d, robot, scene: hook.scene?.name ?? "",
+    program: { mode: blocksMode(), name: hook.programName || "program.arm", text: ed.value, blocks: blocksMode() === "blocks" || d.program.blocks ? workspaceJson() : null },
+    pose: hook.pose ? { q: hook.pose.q, gripper: hook.pose.gripper } : d.pose,
+  };
+}
+
+async function saveNow(): Promise<void> {
+  clearTimeout(timer);
+  if (applying || !hook.project.dirty) return;
+  const t0 = performance.now();
+  const doc = capture();
+  const tCaptured = performance.now();
+  try {
+    const res = await store.save(current.id, current.rev, doc);
+    if (res.forked) banner(`This project was changed in another tab: your work here is saved as "${doc.name} (other tab)", and the other tab's is kept too.`, "info");
+    current = { id: res.id, rev: res.rev, doc: res.forked ? { ...doc, name: `${doc.name} (other tab)` } : doc };
+    sessionSet(current.id);
+    hook.project.dirty = false;
+    hook.project.saves++;
+    hook.project.saveMs.push(tCaptured - t0);
+    hook.project.savedAt = Date.now();
+    $("project-saved").textContent = store.persistent ? "saved" : "not kept (save a file)";
+    $("project-saved").className = "project-saved";
+  } catch (e) {
+    const quota = (e as Error)?.name === "QuotaExceededError" || /quota/i.test(String((e as Error)?.message));
+    hook.project.saveError = quota ? "quota" : String((e as Error)?.message ?? e);
+    $("project-saved").textContent = "not saved";
+    $("project-saved").className = "project-saved bad";
+    banner(quota
+      ? "Not saved: this browser has no room left for the studio. Your last save is kept; save the project as a file (Projects) or delete old projects."
+      : `Not saved: the browser's store failed (${(e as Error)?.message ?? e}). Your last save is kept; save the project as a file.`);
+  }
+  updateHook();
+  showName();
+}
+
+function updateHook(): void {
+  const d = current.doc;
+  Object.assign(hook.project, {
+    id: current.id, name: d.name, robot: "shipped" in d.robot ? d.robot.shipped : d.robot.file.name,
+    program: ($("editor") as HTMLTextAreaElement).value, blocks: workspaceJson(), mode: blocksMode(), rev: current.rev,
+    goal: d.goal,
+  });
+}
+
+function showName(): void {
+  $("project-name").textContent = current.doc.name;
+}
+
+async function freshName(): Promise<string> {
+  const names = new Set((await store.list().catch(() => [])).map((r) => r.name));
+  for (let i = 1; ; i++) if (!names.has(`Project ${i}`)) return `Project ${i}`;
+}
+
+/** Opens `doc` as the project on screen (a new id unless `id` is given). */
+async function show(doc: Project, id = newId(), rev = 0): Promise<void> {
+  await saveNow();
+  current = { id, rev, doc };
+  sessionSet(id);
+  pendingApply = doc;
+  applying = true;
+  showName();
+  const robot = "shipped" in doc.robot ? doc.robot.shipped : null;
+  s.engine.send({ type: "scene", name: doc.scene || null });
+  if (robot) s.engine.send({ type: "load_robot", name: robot });
+  else projectRobotShown();
+  if (rev === 0) {
+    hook.project.dirty = true;
+    setTimeout(() => {
+      applying = false;
+      void saveNow();
+    }, SAVE_AFTER_MS * 2);
+  }
+}
+
+async function startNew(): Promise<void> {
+  ($("projects-dialog") as HTMLDialogElement).close();
+  await show(newProject(await freshName(), hook.robot?.robots.includes("mk2plus") ? "mk2plus" : "mk2plus"));
+}
+
+async function openList(): Promise<void> {
+  await saveNow();
+  const list = $("project-list");
+  const records = await store.list();
+  fill(list, ...records.map((rec) => {
+    let robot = "";
+    try {
+      const d = readProject(rec.doc);
+      robot = "shipped" in d.robot ? d.robot.shipped : d.robot.file.name;
+    } catch {
+      robot = "cannot be read";
+    }
+    const when = new Date(rec.updated).toLocaleString(hook.language || undefined);
+    const openB = h("button", { class: "primary", title: "Open this project" }, "Open");
+    const renameB = h("button", { title: "Give it another name" }, "Rename");
+    const dupB = h("button", { title: "A copy of it" }, "Duplicate");
+    const delB = h("button", { title: "Delete it (you can undo)" }, "Delete");
+    openB.onclick = () => void openRecord(rec);
+    renameB.onclick = () => void rename(rec);
+    dupB.onclick = () => void duplicate(rec);
+    delB.onclick = () => void remove(rec);
+    return h("li", { class: rec.id === current.id ? "current" : "" },
+      h("div", { class: "project-info" }, h("b", null, rec.name), h("span", { class: "note" }, ` ${robot}, ${when}`)),
+      h("div", { class: "row buttons" }, openB, renameB, dupB, delB));
+  }));
+  const d = $("projects-dialog") as HTMLDialogElement;
+  if (!d.open) d.showModal();
+}
+
+async function openRecord(rec: Stored): Promise<void> {
+  ($("projects-dialog") as HTMLDialogElement).close();
+  try {
+    const doc = readProject(rec.doc);
+    await show(doc, rec.id, rec.rev);
+  } catch (e) {
+    banner(`The project "${rec.name}" cannot be opened: ${(e as Error).message}. It is kept as it was.`);
+  }
+}
+
+async function rename(rec: Stored): Promise<void> {
+  const name = prompt("The project's new name:", rec.name);
+  if (name === null || !name.trim()) return;
+  const clean = name.trim().slice(0, 200);
+  if (rec.id === current.id) {
+    current.doc = { ...capture(), name: clean };
+    hook.project.dirty = true;
+    await saveNow();
+  } else {
+    const doc = readProject(rec.doc);
+    await store.save(rec.id, rec.rev, { ...doc, name: clean });
+  }
+  showName();
+  await openList();
+}
+
+async function duplicate(rec: Stored): Promise<void> {
+  const doc = rec.id === current.id ? capture() : readProject(rec.doc);
+  await store.save(newId(), 0, { ...doc, name: `${doc.name} (copy)` });
+  await openList();
+}
+
+async function remove(rec: Stored): Promise<void> {
+  await store.remove(rec.id);
+  const undo = h("button", { class: "primary" }, "Undo");
+  undo.onclick = async () => {
+    await store.restore(rec);
+    $("banner").hidden = true;
+    hook.project.lastDeleted = "";
+    if ($("projects-dialog").hasAttribute("open")) await openList();
+  };
+  hook.project.lastDeleted = rec.name;
+  banner(`Deleted "${rec.name}". `, "info");
+  $("banner-text").append(undo);
+  if (rec.id === current.id) await show(newProject(await freshName()));
+  await openList();
+}
+
+function saveFile(): void {
+  const doc = capture();
+  download(`${doc.name.replace(/[^\w.-]+/g, "_") || "project"}.articula`, JSON.stringify(doc, null, 1), "application/json");
+}
+
+async function openFile(f: File): Promise<void> {
+  ($("projects-dialog") as HTMLDialogElement).close();
+  if (f.size > MAX_FILE_BYTES) return banner(`${f.name} cannot be opened: it is larger than ${MAX_FILE_BYTES / 1e6} MB. Nothing you saved has changed.`);
+  try {
+    const doc = parseProject(await f.text());
+    await show(doc);
+  } catch (e) {
+    if (!(e instanceof ProjectError)) throw e;
+    banner(`${f.name} cannot be opened: ${e.message}. Nothing you saved has changed.`);
+  }
+}
+
+async function openExercise(name: string): Promise<void> {
+  ($("projects-dialog") as HTMLDialogElement).close();
+  try {
+    const r = await fetch(new URL(`data/exercises/${encodeURIComponent(name)}`, document.baseURI));
+    await show(parseProject(await r.text()));
+  } catch (e) {
+    banner(`The exercise ${name} cannot be opened: ${(e as Error).message}`);
+  }
+}
+
+async function share(): Promise<void> {
+  await saveNow();
+  const doc = capture();
+  const d = $("share-dialog") as HTMLDialogElement;
+  const fragment = await projectFragment(doc);
+  const link = `${location.origin}${location.pathname}#${fragment}`;
+  if (fragment.length > MAX_LINK) {
+    $("share-note").textContent = `This project is too big for a link (${Math.round(fragment.length / 1000)} thousand characters, ` +
+      "most of them its robot's meshes): save it as a file and send the file instead.";
+    ($("share-link") as HTMLTextAreaElement).value = "";
+    $("share-copy").hidden = true;
+    const b = h("button", { class: "primary" }, "Save as file");
+    b.onclick = saveFile;
+    $("share-note").append(" ", b);
+    hook.shareLink = "";
+  } else {
+    $("share-note").textContent = `Anyone who opens this link gets a copy of "${doc.name}" in their own browser. Nothing is uploaded: the project is in the link (${link.length.toLocaleString("en")} characters).`;
+    ($("share-link") as HTMLTextAreaElement).value = link;
+    $("share-copy").hidden = false;
+    hook.shareLink = link;
+  }
+  d.showModal();
+}
+
+function showGoal(goal: Goal | null): void {
+  $("exercise").hidden = !goal;
+  fill($("exercise-result"));
+  if (!goal) return;
+  $("exercise-title").textContent = goal.title;
+  $("exercise-text").textContent = goal.text;
+}
+
+async function check(): Promise<void> {
+  const goal = current.doc.goal;
+  if (!goal) return;
+  const ed = $("editor") as HTMLTextAreaElement;
+  fill($("exercise-result"), h("li", null, "checking…"));
+  try {
+    const r = await s.engine.call({ type: "exercise_check", parts: goal.parts, text: ed.value, name: hook.programName || "program.arm",
+      scene: current.doc.scene }) as { parts: { label: string; met: boolean; detail: string }[]; met?: boolean; error?: string };
+    hook.exercise = r as unknown as typeof hook.exercise;
+    if (r.error) return fill($("exercise-result"), h("li", { class: "bad" }, r.error));
+    fill($("exercise-result"), h("li", { class: r.met ? "ok" : "bad" }, r.met ? "Every part is met: well done!" : "Not yet:"),
+      ...r.parts.map((p) => h("li", { class: p.met ? "ok" : "bad" }, p.met ? "✓ " : "✗ ", h("b", null, p.label), `: ${p.detail}`)));
+  } catch (e) {
+    hook.exercise = { parts: [], met: false, error: (e as Error).message };
+    fill($("exercise-result"), h("li", { class: "bad" }, (e as Error).message));
+  }
+}
+
+function otherTabSaved(id: string, rev: number): void {
+  if (id === current.id && rev > current.rev) hook.project.otherTab = rev;
+}
+
+function sessionGet(): string | null {
+  try {
+    return sessionStorage.getItem(SESSION_KEY);
+  } catch {
+    return null;
+  }
+}
+function sessionSet(id: string): void {
+  try {
+    sessionStorage.setItem(SESSION_KEY, id);
+  } catch {
+    /* no storage: the project lives in memory */
+  }
+  void storage;
+}
+
+function fromBase64(s: string): Uint8Array {
+  const bin = atob(s);
+  return Uint8Array.from(bin, (c) => c.charCodeAt(0));
+}

@@ -1,0 +1,223 @@
+// A project: what is on screen (the robot, the scene, the program as text or blocks, the pose)
+// and, for an exercise, its goal. One document format for the browser's store, the .articula
+// file and the share link; every one of them is untrusted input and goes through
+// `readProject`, which names the problem and where it is (docs/studio.md, "Projects").
+import { BLOCK_TYPES } from "../blocks/unroll";
+
+export const FORMAT = "articula-project";
+export const VERSION = 1;
+export const MAX_FILE_BYTES = 30_000_000; // a .articula file, meshes included
+const MAX_TEXT = 1_000_000; // a program's or a robot file's text
+const MAX_NAME = 200;
+const MAX_BLOCKS_JSON = 2_000_000;
+
+/** One part of an exercise's goal: the tool at a point, or an object inside a box. */
+export type GoalPart =
+  | { kind: "reach"; xyz: number[]; tolerance_mm: number }
+  | { kind: "object"; object: string; min: number[]; max: number[]; label: string };
+
+export interface Goal { title: string; text: string; parts: GoalPart[] }
+
+export interface Project {
+  format: typeof FORMAT;
+  version: number;
+  name: string;
+  robot: { shipped: string } | { file: { name: string; text: string; legacy: boolean; scale: number }; meshes: { name: string; data: string }[] };
+  scene: string; // "" for none
+  program: { mode: "text" | "blocks"; name: string; text: string; blocks: object | null };
+  pose: { q: number[]; gripper: number } | null;
+  goal: Goal | null;
+}
+
+/** A document that is not a project, or not one this studio can open: `where` names the field. */
+export class ProjectError extends Error {}
+
+export function newProject(name: string, robot = "mk2plus", scene = ""): Project {
+  return { format: FORMAT, version: VERSION, name, robot: { shipped: robot }, scene,
+    program: { mode: "text", name: "program.arm", text: "", blocks: null }, pose: null, goal: null };
+}
+
+type J = Record<string, unknown>;
+const isObj = (x: unknown): x is J => typeof x === "object" && x !== null && !Array.isArray(x);
+
+function str(o: J, key: string, where: string, limit: number): string {
+  const v = o[key];
+  if (typeof v !== "string") throw new ProjectError(`${where}.${key} must be text`);
+  if (v.length > limit) throw new ProjectError(`${where}.${key} is longer than ${limit.toLocaleString("en")} characters`);
+  return v;
+}
+
+function nums(v: unknown, where: string, n?: number, limit = 1e6): number[] {
+  if (!Array.isArray(v) || (n !== undefined && v.length !== n) || v.length > 64)
+    throw new ProjectError(`${where} must be a list of ${n ?? "up to 64"} numbers`);
+  return v.map((x, i) => {
+    if (typeof x !== "number" || !Number.isFinite(x) || Math.abs(x) > limit) throw new ProjectError(`${where}[${i}] must be a number`);
+    return x;
+  });
+}
+
+/** Blockly's JSON of a workspace, checked: only the arm's and the beginner's block types, no
+ * deeper than a program needs. Its strings stay strings: Blockly shows them as text. */
+function checkBlocks(b: unknown): object | null {
+  if (b === null || b === undefined) return null;
+  if (!isObj(b)) throw new ProjectError("program.blocks must be Blockly's JSON of a workspace");
+  if (JSON.stringify(b).length > MAX_BLOCKS_JSON) throw new ProjectError("program.blocks is too large");
+  const walk = (x: unknown, depth: number, where: string): void => {
+    if (depth > 400) throw new ProjectError(`${where}: the blocks nest too deeply`);
+    if (Array.isArray(x)) return x.forEach((y, i) => walk(y, depth + 1, `${where}[${i}]`));
+    if (!isObj(x)) return;
+    if ("type" in x && (where.endsWith(".block") || where.endsWith(".shadow") || /blocks\[\d+\]$/.test(where))) {
+      if (typeof x.type !== "string" || !BLOCK_TYPES.has(x.type))
+        throw new ProjectError(`${where}: "${String(x.type).slice(0, 60)}" is not a block of Articula's`);
+    }
+    for (const [k, v] of Object.entries(x)) walk(v, depth + 1, `${where}.${k}`);
+  };
+  walk(b, 0, "program.blocks");
+  return b;
+}
+
+function checkGoal(g: unknown): Goal | null {
+  if (g === null || g === undefined) return null;
+  if (!isObj(g)) throw new ProjectError("goal must be an object");
+  const parts = g.parts;
+  if (!Array.isArray(parts) || parts.length === 0 || parts.length > 50) throw new ProjectError("goal.parts must be a list of 1 to 50 parts");
+  return {
+    title: str(g, "title", "goal", MAX_NAME),
+    text: str(g, "text", "goal", 5000),
+    parts: parts.map((p, i): GoalPart => {
+      const where = `goal.parts[${i}]`;
+      if (!isObj(p)) throw new ProjectError(`${where} must be an object`);
+      if (p.kind === "reach") {
+        const tol = nums([p.tolerance_mm], `${where}.tolerance_mm`, 1)[0];
+        if (tol <= 0) throw new ProjectError(`${where}.tolerance_mm must be above 0`);
+        return { kind: "reach", xyz: nums(p.xyz, `${where}.xyz`, 3), tolerance_mm: tol };
+      }
+      if (p.kind === "object")
+        return { kind: "object", object: str(p, "object", where, MAX_NAME), min: nums(p.min, `${where}.min`, 3),
+          max: nums(p.max, `${where}.max`, 3), label: typeof p.label === "string" ? p.label.slice(0, MAX_NAME) : "" };
+      throw new ProjectError(`${where}.kind must be "reach" or "object"`);
+    }),
+  };
+}
+
+/** A project from untrusted JSON (a file, a link, the browser's store). Throws ProjectError. */
+export function readProject(x: unknown): Project {
+  if (!isObj(x) || x.format !== FORMAT) throw new ProjectError("this is not an Articula project");
+  if (typeof x.version !== "number" || !Number.isInteger(x.version) || x.version < 1)
+    throw new ProjectError("its version is not a version number");
+  if (x.version > VERSION)
+    throw new ProjectError(`it was made by a newer Articula (project version ${x.version}; this studio reads up to ${VERSION}): update the studio`);
+  const name = str(x, "name", "project", MAX_NAME);
+  const r = x.robot;
+  let robot: Project["robot"];
+  if (isObj(r) && "shipped" in r) robot = { shipped: str(r, "shipped", "robot", MAX_NAME) };
+  else if (isObj(r) && isObj(r.file)) {
+    const f = r.file;
+    const meshes = r.meshes ?? [];
+    if (!Array.isArray(meshes) || meshes.length > 100) throw new ProjectError("robot.meshes must be a list of up to 100 meshes");
+    robot = {
+      file: { name: str(f, "name", "robot.file", MAX_NAME), text: str(f, "text", "robot.file", MAX_TEXT), legacy: f.legacy === true,
+        scale: typeof f.scale === "number" && f.scale > 0 ? f.scale : 1 },
+      meshes: meshes.map((m, i) => {
+        if (!isObj(m)) throw new ProjectError(`robot.meshes[${i}] must be an object`);
+        const data = str(m, "data", `robot.meshes[${i}]`, MAX_FILE_BYTES * 2);
+        if (!/^[A-Za-z0-9+/]*={0,2}$/.test(data)) throw new ProjectError(`robot.meshes[${i}].data is not base64`);
+        return { name: str(m, "name", `robot.meshes[${i}]`, MAX_NAME), data };
+      }),
+    };
+  } else throw new ProjectError("robot must name a shipped robot or hold a robot file");
+  const scene = x.scene === undefined || x.scene === null ? "" : str(x, "scene", "project", MAX_NAME);
+  const p = x.program;
+  if (!isObj(p)) throw new ProjectError("program must be an object");
+  const mode = p.mode === "blocks" ? "blocks" : p.mode === "text" ? "text" : null;
+  if (!mode) throw new ProjectError('program.mode must be "text" or "blocks"');
+  const program = { mode, name: str(p, "name", "program", MAX_NAME), text: str(p, "text", "program", MAX_TEXT), blocks: checkBlocks(p.blocks) } as Project["program"];
+  let pose: Project["pose"] = null;
+  if (x.pose !== null && x.pose !== undefined) {
+    if (!isObj(x.pose)) throw new ProjectError("pose must be an object");
+    const grip = nums([x.pose.gripper], "pose.gripper", 1)[0];
+    pose = { q: nums(x.pose.q, "pose.q"), gripper: Math.min(100, Math.max(0, grip)) };
+  }
+  return { format: FORMAT, version: VERSION, name, robot, scene, program, pose, goal: checkGoal(x.goal) };
+}
+
+/** A project from a file's or a link's text. Throws ProjectError. */
+export function parseProject(text: string): Project {
+  if (text.length > MAX_FILE_BYTES * 1.5) throw new ProjectError(`it is larger than ${MAX_FILE_BYTES / 1e6} MB`);
+  let x: unknown;
+  try {
+    x = JSON.parse(text);
+  } catch (e) {
+    throw new ProjectError(`it is not JSON (${(e as Error).message})`);
+  }
+  return readProject(x);
+}
+
+// ---- The share link: the project, compressed, in the address's fragment -----------------
+
+export const LINK_KEY = "project=";
+export const MAX_LINK = 100_000; // characters of a link's fragment the page reads
+const MAX_UNPACKED = 4_000_000;
+
+async function pipe(data: Uint8Array, stream: CompressionStream | DecompressionStream, limit: number): Promise<Uint8Array> {
+  const out = new Blob([data as BlobPart]).stream().pipeThrough(stream).getReader();
+  const chunks: Uint8Array[] = [];
+  let n = 0;
+  for (;;) {
+    const { done, value } = await out.read();
+    if (done) break;
+    n += value.length;
+    if (n > limit) {
+      await out.cancel();
+      throw new ProjectError(`it unpacks to more than ${limit / 1e6} MB`);
+    }
+    chunks.push(value);
+  }
+  const all = new Uint8Array(n);
+  let at = 0;
+  for (const c of chunks) {
+    all.set(c, at);
+    at += c.length;
+  }
+  return all;
+}
+
+function base64url(bytes: Uint8Array): string {
+  let s = "";
+  for (let i = 0; i < bytes.length; i += 0x8000) s += String.fromCharCode(...bytes.subarray(i, i + 0x8000));
+  return btoa(s).replace(/\+/g, "-").replace(/\//g, "_").replace(/=+$/, "");
+}
+
+function unbase64url(s: string): Uint8Array {
+  const bad = s.search(/[^A-Za-z0-9_-]/);
+  if (bad >= 0) throw new ProjectError(`it holds a character a project link never has, at position ${bad + 1}`);
+  let bin: string;
+  try {
+    bin = atob(s.replace(/-/g, "+").replace(/_/g, "/"));
+  } catch {
+    throw new ProjectError("it was cut short (its length is not one a link can have)");
+  }
+  return Uint8Array.from(bin, (c) => c.charCodeAt(0));
+}
+
+/** The fragment of a link that holds `p` ("project=..."). */
+export async function projectFragment(p: Project): Promise<string> {
+  const bytes = new TextEncoder().encode(JSON.stringify(p));
+  return LINK_KEY + base64url(await pipe(bytes, new CompressionStream("deflate-raw"), Infinity));
+}
+
+/** The project a link's fragment holds. Throws ProjectError naming what is wrong. */
+export async function projectOfFragment(fragment: string): Promise<Project> {
+  const body = fragment.replace(/^#/, "");
+  if (!body.startsWith(LINK_KEY)) throw new ProjectError("it holds no project");
+  const data = body.slice(LINK_KEY.length);
+  if (data.length > MAX_LINK) throw new ProjectError(`it is longer than ${MAX_LINK.toLocaleString("en")} characters`);
+  let text: string;
+  try {
+    text = new TextDecoder("utf-8", { fatal: true }).decode(await pipe(unbase64url(data), new DecompressionStream("deflate-raw"), MAX_UNPACKED));
+  } catch (e) {
+    if (e instanceof ProjectError) throw e;
+    throw new ProjectError("it is damaged or was cut short: the project in it cannot be unpacked");
+  }
+  return parseProject(text);
+}

@@ -1,0 +1,68 @@
+// An exercise's Check, in the engine's worker: the program runs (its time line for the
+// tool's points; the physics, from power-up in the exercise's scene, where an object must end
+// in a place) and every part of the goal is measured: met or not, and by how much.
+import { EngineError } from "../../../../wasm/js/engine.mjs";
+import { BadMessage, text } from "./checks";
+import type { Msg, Out } from "./checks";
+import { info, powerUpQ, S } from "./state";
+import { sceneFile } from "./site";
+import type { GoalPart } from "../project/document";
+
+const SETTLE_S = 1.5; // the physics runs on this long after the program, for objects to come to rest
+
+interface PartResult { label: string; met: boolean; detail: string; distance_mm: number }
+
+const f1 = (v: number) => v.toFixed(1);
+
+export const exerciseHandlers: Record<string, (m: Msg) => Promise<Out[]>> = {
+  async exercise_check(m) {
+    const src = text(m, "text");
+    const name = typeof m.name === "string" && m.name ? m.name : "program.arm";
+    const parts = m.parts as GoalPart[];
+    if (!Array.isArray(parts) || parts.length === 0) throw new BadMessage("'parts' must be a list of the goal's parts");
+    const scene = typeof m.scene === "string" ? m.scene : "";
+    const results: PartResult[] = [];
+    const reach = parts.filter((p) => p.kind === "reach") as Extract<GoalPart, { kind: "reach" }>[];
+    const objects = parts.filter((p) => p.kind === "object") as Extract<GoalPart, { kind: "object" }>[];
+    try {
+      if (reach.length) {
+        const start = info().num_motors ? powerUpQ() : [...S.q];
+        const tl = S.engine.timeline(S.robot, src, name, start);
+        const tools = tl.doc.records.filter((r) => r.reply === "ok").map((r) => r.tool);
+        tl.delete();
+        for (const p of reach) {
+          const d = Math.min(Infinity, ...tools.map((t) => Math.hypot(t[0] - p.xyz[0], t[1] - p.xyz[1], t[2] - p.xyz[2])));
+          const met = d <= p.tolerance_mm;
+          results.push({ label: `the tool at (${p.xyz.join(", ")}) mm`, met, distance_mm: d,
+            detail: !Number.isFinite(d) ? "the program never moved the tool"
+              : met ? `reached: ${f1(d)} mm away (within ${p.tolerance_mm} mm)` : `closest ${f1(d)} mm away: needs to be within ${p.tolerance_mm} mm` });
+        }
+      }
+      if (objects.length) {
+        if (!scene || !S.index.scenes.includes(scene)) throw new BadMessage("this goal needs a scene: the exercise names none that ships");
+        const sim = S.engine.sim(S.robot, await sceneFile(scene), `scenes/${scene}.json`);
+        try {
+          sim.loadProgram(src, name);
+          sim.runUntil(sim.endTime + SETTLE_S);
+          const state = sim.state() as { objects: { name: string; pose: number[] }[] };
+          for (const p of objects) {
+            const o = state.objects.find((x) => x.name === p.object);
+            if (!o) throw new BadMessage(`the scene has no object '${p.object}'`);
+            const at = [o.pose[3], o.pose[7], o.pose[11]];
+            // how far outside the box it is (0 inside)
+            const out = at.map((v, i) => Math.max(p.min[i] - v, 0, v - p.max[i]));
+            const d = Math.hypot(...out);
+            results.push({ label: p.label || `${p.object} in its place`, met: d === 0, distance_mm: d,
+              detail: d === 0 ? `in place, at (${at.map(f1).join(", ")}) mm` : `${f1(d)} mm from its place: it is at (${at.map(f1).join(", ")}) mm` });
+          }
+        } finally {
+          sim.delete();
+        }
+      }
+    } catch (e) {
+      if (e instanceof EngineError) return [{ type: "exercise_result", error: e.message, parts: [] }];
+      throw e;
+    }
+    return [{ type: "exercise_result", parts: results, met: results.every((r) => r.met) }];
+  },
+};
