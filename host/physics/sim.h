@@ -135,6 +135,8 @@ class Simulation {
   double time() const { return double(steps_) * opt_.dt; }
   uint64_t steps_taken() const { return steps_; }
   double program_end() const { return program_end_s_; }
+  // The program's line being carried out (1-based; 0 before the first action).
+  int current_line() const { return current_line_; }
   double end_time() const { return program_end_s_ + opt_.extra_time; }
   bool done() const { return time() >= end_time() - 1e-12; }
 

@@ -27,6 +27,7 @@ nlohmann::json sim_state_json(const Simulation& s) {
           {"counted_steps", s.counted_steps()},
           {"lost_steps", s.lost_steps()},
           {"busy", s.busy()},
+          {"line", s.current_line()},
           {"parts", parts},
           {"objects", objects},
           {"contacts", contacts}};

@@ -106,7 +106,6 @@ def _build_solution(pg, tmp_path):
     pg.wait("a.blocksCode && a.blocksCode.text.split('\\n').filter(l => /^[A-Z]/.test(l)).length === 7")
 
 
-@WIP
 def test_a_pick_and_place_from_blocks_in_physics_on_the_nano_after_a_reload_and_by_link(open_page, browser, site, tmp_path):
     """The issue's 'done when', steps 1 to 5, in Chromium."""
     pg = open_page("mk2plus", width=1366, height=768)
@@ -134,9 +133,11 @@ def test_a_pick_and_place_from_blocks_in_physics_on_the_nano_after_a_reload_and_
     pg.wait("a.events.some(e => e.kind === 'release')", timeout=40000)
     assert pg.hook("a.events.some(e => e.kind === 'grasp')")
     # ... then on the virtual Nano, to the steps the prediction gives
-    pg.page.select_option("#scene-select", "")
+    pg.page.select_option("#scene-select", value="")
     pg.wait("!a.physics || !a.physics.on")
+    pg.page.click("#tab-arm")
     _connect_page_nano(pg)
+    pg.page.click("#tab-program")
     pg.page.check("#drive-arm")
     pg.page.click("#run")
     pg.wait("a.arm.programDone === true", timeout=60000)
@@ -157,7 +158,7 @@ def test_a_pick_and_place_from_blocks_in_physics_on_the_nano_after_a_reload_and_
     assert pg.hook("a.project.name") == "Exercise: pick and place the block"
     assert pg.hook("a.blocksCode.text") == text
     assert pg.hook("JSON.stringify(a.project.blocks.blocks)") == blocks_before
-    assert pg.hook("a.scene && a.scene.name") == "grasp-and-lift"
+    assert pg.hook("a.scene && a.scene.name") is None  # as it was: physics off, for the Nano
     # 4: shared as a link, opened in a second profile: the same project, a copy
     pg.page.click("#share-button")
     pg.wait("a.shareLink !== ''")
@@ -169,7 +170,6 @@ def test_a_pick_and_place_from_blocks_in_physics_on_the_nano_after_a_reload_and_
         other.wait("a.blocksCode !== null || a.project.program !== ''", timeout=20000)
         other.wait("a.project.program === " + json.dumps(text), timeout=20000)
         assert other.hook("a.project.goal.title") == "Pick and place the block"
-        assert other.hook("a.scene && a.scene.name") == "grasp-and-lift"
         other.page.click("#exercise-check")
         other.wait("a.exercise !== null", timeout=30000)
         assert other.hook("a.exercise.met") is True
@@ -199,7 +199,6 @@ def test_a_program_file_opens_as_blocks_with_its_comments_and_gives_the_same_pre
     assert [r["reply"] for r in a] == [r["reply"] for r in b]
 
 
-@WIP
 def test_show_code_gives_a_python_script_that_predicts_what_the_page_plays(open_page, tmp_path):
     pg = open_page("mk2plus")
     _open_project(pg, tmp_path, _project("Code", blocks=_chain([("arm_joints", "30, 70, -100"), ("arm_gripper_close", None), ("arm_home", None)])))
@@ -260,7 +259,6 @@ def _fragment(doc) -> str:
     return "project=" + base64.urlsafe_b64encode(packed).decode().rstrip("=")
 
 
-@WIP
 def test_hostile_and_broken_links_say_what_is_wrong_and_change_nothing(browser, site):
     """A fuzz of links: truncated, bit-flipped, oversized, a newer version, script in every
     string field. Nothing runs, no page error, and the project saved before is untouched."""
@@ -313,6 +311,7 @@ def test_hostile_and_broken_links_say_what_is_wrong_and_change_nothing(browser, 
         assert p.hook("a.pageErrors") == []
         # what was saved before is as it was
         p.page.click("#projects-button")
+        p.page.wait_for_selector("#project-list li")
         names = p.page.eval_on_selector_all("#project-list li b", "bs => bs.map(b => b.textContent)")
         assert any(n.startswith("Project") for n in names)
         p.page.click(f"#project-list li:has-text('Project') button:text-is('Open')")
@@ -322,7 +321,6 @@ def test_hostile_and_broken_links_say_what_is_wrong_and_change_nothing(browser, 
         p.close()
 
 
-@WIP
 def test_bad_project_files_are_refused_and_a_broken_saved_project_does_not_stop_the_page(open_page, tmp_path):
     pg = open_page("mk2plus")
     pg.page.fill("#editor", "G 50\n")
@@ -354,7 +352,6 @@ def test_bad_project_files_are_refused_and_a_broken_saved_project_does_not_stop_
     assert pg.hook("a.pageErrors") == []
 
 
-@WIP
 def test_projects_new_rename_duplicate_delete_with_undo(open_page, monkeypatch):
     pg = open_page("mk2plus")
     pg.page.fill("#editor", "G 10\n")
@@ -380,7 +377,6 @@ def test_projects_new_rename_duplicate_delete_with_undo(open_page, monkeypatch):
     assert pg.hook("a.pageErrors") == []
 
 
-@WIP
 def test_private_mode_quota_and_two_tabs(browser, site):
     # no IndexedDB (private mode): the page works and says to save a file
     p = Page(browser, f"{site.url}?robot=mk2plus", init_script="Object.defineProperty(window, 'indexedDB', {value: undefined})")
@@ -422,6 +418,7 @@ def test_private_mode_quota_and_two_tabs(browser, site):
         assert "changed in another tab" in second.text_content("#banner-text")
         # nothing lost: both are in the list
         p.page.click("#projects-button")
+        p.page.wait_for_selector("#project-list li:has-text('(other tab)')")
         names = p.page.eval_on_selector_all("#project-list li b", "bs => bs.map(b => b.textContent)")
         assert any(n.endswith("(other tab)") for n in names) and len(names) >= 2
         second.close()

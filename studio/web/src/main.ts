@@ -69,7 +69,7 @@ initArm(studio);
 initFlash();
 setRunOnArm(runOnArm);
 initBlocks(studio, { setText: (text, name) => setProgram(name, text), changed: projectChanged });
-initProjects(studio, { setText: (text, name) => setProgram(name, text) });
+initProjects(studio, { setText: (text, name) => setProgram(name, text), reveal: (id) => layout.reveal(id) });
 setProgramChanged(projectChanged);
 
 function setConn(text: string, kind: "ok" | "bad"): void {

@@ -136,6 +136,7 @@ export interface PhysicsMsg {
   type: "physics";
   on: boolean;
   fresh?: boolean; // a new or reset simulation: its events start here
+  line?: number; // the program's line the simulated controller carries out (0: none)
   t?: number;
   busy?: boolean;
   objects?: { name: string; pose: Flat4x4; carried: boolean; removed: boolean; movable: boolean }[];

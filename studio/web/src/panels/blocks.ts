@@ -219,7 +219,7 @@ function showCode(): void {
   const d = $("code-dialog") as HTMLDialogElement;
   if (mode === "text") code.text = ($("editor") as HTMLTextAreaElement).value;
   codeTab("text");
-  d.showModal();
+  d.show();
 }
 
 function codeTab(which: "text" | "robosim" | "python"): void {

@@ -4,6 +4,8 @@ import type { PhysicsMsg, RobotMsg, SceneMsg } from "../protocol";
 import type { Studio } from "../page/context";
 import { $, fill, h, setOptions } from "../page/dom";
 import { hook } from "../page/hook";
+import { highlightBlockOfLine } from "./blocks";
+import { highlightLine } from "./program";
 
 let s: Studio;
 let dragSent = 0;
@@ -46,6 +48,10 @@ export function showPhysics(p: PhysicsMsg, robot: RobotMsg | null): void {
   if (!p.on) return;
   s.view.physics(p);
   if (p.t !== undefined && hook.timeline) s.plots.playhead(p.t);
+  if (p.line !== undefined) {
+    highlightLine(p.line, false);
+    highlightBlockOfLine(p.line);
+  }
   if (p.fresh) {
     hook.events = [];
     fill($("events"));

@@ -24,6 +24,7 @@ let applying = true; // a project is being put on screen: its own changes are no
 let timer = 0;
 let pendingApply: Project | null = null;
 let setProgramText: (text: string, name: string) => void = () => undefined;
+let reveal: (id: string) => void = () => undefined;
 
 /** The project to start with, before the engine starts (it loads the project's robot first). */
 export async function chooseProject(params: URLSearchParams): Promise<{ robot?: string; scene?: string }> {
@@ -68,9 +69,10 @@ export async function chooseProject(params: URLSearchParams): Promise<{ robot?: 
   return { robot: "shipped" in d.robot ? d.robot.shipped : undefined, scene: d.scene || undefined };
 }
 
-export function initProjects(studio: Studio, program: { setText: (text: string, name: string) => void }): void {
+export function initProjects(studio: Studio, program: { setText: (text: string, name: string) => void; reveal: (id: string) => void }): void {
   s = studio;
   setProgramText = program.setText;
+  reveal = program.reveal;
   $("projects-button").onclick = () => void openList();
   $("projects-close").onclick = () => ($("projects-dialog") as HTMLDialogElement).close();
   $("project-new").onclick = () => void startNew();
@@ -103,6 +105,9 @@ export function initProjects(studio: Studio, program: { setText: (text: string, 
     if (!f) return;
     e.preventDefault();
     if (/\.(articula|json)$/i.test(f.name)) void openFile(f);
+  });
+  window.addEventListener("keydown", (e) => {
+    if (e.key === "Escape") for (const id of ["projects-dialog", "share-dialog", "code-dialog"]) ($(id) as HTMLDialogElement).close();
   });
   window.addEventListener("pagehide", () => void saveNow());
   document.addEventListener("visibilitychange", () => document.visibilityState === "hidden" && void saveNow());
@@ -258,7 +263,7 @@ async function openList(): Promise<void> {
       h("div", { class: "row buttons" }, openB, renameB, dupB, delB));
   }));
   const d = $("projects-dialog") as HTMLDialogElement;
-  if (!d.open) d.showModal();
+  if (!d.open) d.show();
 }
 
 async function openRecord(rec: Stored): Promise<void> {
@@ -357,13 +362,14 @@ async function share(): Promise<void> {
     $("share-copy").hidden = false;
     hook.shareLink = link;
   }
-  d.showModal();
+  d.show();
 }
 
 function showGoal(goal: Goal | null): void {
   $("exercise").hidden = !goal;
   fill($("exercise-result"));
   if (!goal) return;
+  reveal("exercise"); // an exercise: its goal and the program in sight
   $("exercise-title").textContent = goal.title;
   $("exercise-text").textContent = goal.text;
 }
@@ -375,7 +381,7 @@ async function check(): Promise<void> {
   fill($("exercise-result"), h("li", null, "checking…"));
   try {
     const r = await s.engine.call({ type: "exercise_check", parts: goal.parts, text: ed.value, name: hook.programName || "program.arm",
-      scene: current.doc.scene }) as { parts: { label: string; met: boolean; detail: string }[]; met?: boolean; error?: string };
+      scene: goal.scene || current.doc.scene }) as { parts: { label: string; met: boolean; detail: string }[]; met?: boolean; error?: string };
     hook.exercise = r as unknown as typeof hook.exercise;
     if (r.error) return fill($("exercise-result"), h("li", { class: "bad" }, r.error));
     fill($("exercise-result"), h("li", { class: r.met ? "ok" : "bad" }, r.met ? "Every part is met: well done!" : "Not yet:"),

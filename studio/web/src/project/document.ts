@@ -16,7 +16,8 @@ export type GoalPart =
   | { kind: "reach"; xyz: number[]; tolerance_mm: number }
   | { kind: "object"; object: string; min: number[]; max: number[]; label: string };
 
-export interface Goal { title: string; text: string; parts: GoalPart[] }
+/** An exercise's goal; `scene`: where its objects are (Check runs the physics there). */
+export interface Goal { title: string; text: string; scene: string; parts: GoalPart[] }
 
 export interface Project {
   format: typeof FORMAT;
@@ -84,6 +85,7 @@ function checkGoal(g: unknown): Goal | null {
   return {
     title: str(g, "title", "goal", MAX_NAME),
     text: str(g, "text", "goal", 5000),
+    scene: typeof g.scene === "string" ? g.scene.slice(0, MAX_NAME) : "",
     parts: parts.map((p, i): GoalPart => {
       const where = `goal.parts[${i}]`;
       if (!isObj(p)) throw new ProjectError(`${where} must be an object`);

@@ -48,7 +48,7 @@ export function physicsMessage(rtf: number | null = null, behind = false): Out {
   const sim = S.sim;
   if (!sim) return { type: "physics", on: false };
   const st = sim.state() as { t: number; busy: boolean; joints: number[]; gripper_mm: number;
-    objects: { pose: number[] }[]; contacts: unknown; counted_steps: number[]; lost_steps: number[] };
+    objects: { pose: number[] }[]; contacts: unknown; counted_steps: number[]; lost_steps: number[]; line: number };
   S.q = st.joints;
   const g = info().gripper;
   if (g) S.gripper = (100 * st.gripper_mm) / g.max_opening_mm;
@@ -56,7 +56,7 @@ export function physicsMessage(rtf: number | null = null, behind = false): Out {
   const events = sim.events(eventsSent) as unknown[];
   eventsSent += events.length;
   return {
-    type: "physics", on: true, fresh, t: st.t, busy: st.busy,
+    type: "physics", on: true, fresh, t: st.t, busy: st.busy, line: st.busy ? st.line : 0,
     objects: st.objects.map((o: { pose: number[] }) => ({ ...o, pose: o.pose.map(round6) })),
     contacts: st.contacts, events, steps: st.counted_steps, lost: st.lost_steps, rtf, behind,
   };
