@@ -73,8 +73,11 @@ export function initProjects(studio: Studio, program: { setText: (text: string, 
   s = studio;
   setProgramText = program.setText;
   reveal = program.reveal;
-  $("projects-button").onclick = () => void openList();
-  $("projects-close").onclick = () => ($("projects-dialog") as HTMLDialogElement).close();
+  $("projects-button").onclick = () => {
+    listWanted = true;
+    void openList();
+  };
+  $("projects-close").onclick = () => closeList();
   $("project-new").onclick = () => void startNew();
   $("project-save-file").onclick = saveFile;
   $("project-open-file").onclick = () => $("project-file").click();
@@ -107,7 +110,9 @@ export function initProjects(studio: Studio, program: { setText: (text: string, 
     if (/\.(articula|json)$/i.test(f.name)) void openFile(f);
   });
   window.addEventListener("keydown", (e) => {
-    if (e.key === "Escape") for (const id of ["projects-dialog", "share-dialog", "code-dialog"]) ($(id) as HTMLDialogElement).close();
+    if (e.key !== "Escape") return;
+    closeList();
+    for (const id of ["share-dialog", "code-dialog"]) ($(id) as HTMLDialogElement).close();
   });
   window.addEventListener("pagehide", () => void saveNow());
   document.addEventListener("visibilitychange", () => document.visibilityState === "hidden" && void saveNow());
@@ -233,8 +238,15 @@ async function show(doc: Project, id = newId(), rev = 0): Promise<void> {
 }
 
 async function startNew(): Promise<void> {
-  ($("projects-dialog") as HTMLDialogElement).close();
+  closeList();
   await show(newProject(await freshName(), hook.robot?.robots.includes("mk2plus") ? "mk2plus" : "mk2plus"));
+}
+
+let listWanted = false; // the list is asked for (and not closed since): a slow listing must not reopen it
+
+function closeList(): void {
+  listWanted = false;
+  ($("projects-dialog") as HTMLDialogElement).close();
 }
 
 async function openList(): Promise<void> {
@@ -263,11 +275,11 @@ async function openList(): Promise<void> {
       h("div", { class: "row buttons" }, openB, renameB, dupB, delB));
   }));
   const d = $("projects-dialog") as HTMLDialogElement;
-  if (!d.open) d.show();
+  if (listWanted && !d.open) d.show();
 }
 
 async function openRecord(rec: Stored): Promise<void> {
-  ($("projects-dialog") as HTMLDialogElement).close();
+  closeList();
   try {
     const doc = readProject(rec.doc);
     await show(doc, rec.id, rec.rev);
@@ -305,7 +317,7 @@ async function remove(rec: Stored): Promise<void> {
     await store.restore(rec);
     $("banner").hidden = true;
     hook.project.lastDeleted = "";
-    if ($("projects-dialog").hasAttribute("open")) await openList();
+    if (listWanted) await openList();
   };
   hook.project.lastDeleted = rec.name;
   banner(`Deleted "${rec.name}". `, "info");
@@ -320,7 +332,7 @@ function saveFile(): void {
 }
 
 async function openFile(f: File): Promise<void> {
-  ($("projects-dialog") as HTMLDialogElement).close();
+  closeList();
   if (f.size > MAX_FILE_BYTES) return banner(`${f.name} cannot be opened: it is larger than ${MAX_FILE_BYTES / 1e6} MB. Nothing you saved has changed.`);
   try {
     const doc = parseProject(await f.text());
@@ -332,7 +344,7 @@ async function openFile(f: File): Promise<void> {
 }
 
 async function openExercise(name: string): Promise<void> {
-  ($("projects-dialog") as HTMLDialogElement).close();
+  closeList();
   try {
     const r = await fetch(new URL(`data/exercises/${encodeURIComponent(name)}`, document.baseURI));
     await show(parseProject(await r.text()));
