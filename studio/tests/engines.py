@@ -86,6 +86,34 @@ class EnginePage:
         """Statements in the page (a function's body: `return` gives a value back)."""
         raise NotImplementedError
 
+    def rect(self, script: str) -> list[float] | None:
+        """The viewport rectangle [x, y, width, height] of the element `script` returns (a
+        function's body), once it has stopped moving (a dropped block slides as it snaps)."""
+        last, same = None, 0
+        end = time.monotonic() + 10
+        while time.monotonic() < end:
+            r = self.run(f"const e = (() => {{ {script} }})(); if (!e) return null; const r = e.getBoundingClientRect(); "
+                         "return [r.x, r.y, r.width, r.height];")
+            same = same + 1 if r is not None and r == last else 0
+            last = r
+            if same >= 3:
+                return r
+            time.sleep(0.05)
+        return last
+
+    # A person's mouse and keyboard, in viewport pixels (each engine's own input).
+    def drag(self, x0: float, y0: float, x1: float, y1: float):
+        raise NotImplementedError
+
+    def mouse_click(self, x: float, y: float):
+        raise NotImplementedError
+
+    def keys(self, text: str, select_all=False, enter=False):
+        raise NotImplementedError
+
+    def reload(self):
+        raise NotImplementedError
+
     def page_errors(self) -> list[str]:
         try:
             return self.hook("a.pageErrors.concat(a.internalErrors)")
@@ -132,6 +160,27 @@ class PlaywrightPage(EnginePage):
     def screenshot(self, path):
         self.page.screenshot(path=str(path))
 
+    def drag(self, x0, y0, x1, y1):
+        m = self.page.mouse
+        m.move(x0, y0)
+        m.down()
+        m.move(x0 + 30, y0 + 20, steps=4)
+        m.move(x1, y1, steps=8)
+        m.up()
+
+    def mouse_click(self, x, y):
+        self.page.mouse.click(x, y)
+
+    def keys(self, text, select_all=False, enter=False):
+        if select_all:
+            self.page.keyboard.press("Control+a")
+        self.page.keyboard.type(text)
+        if enter:
+            self.page.keyboard.press("Enter")
+
+    def reload(self):
+        self.page.reload()
+
     def close(self):
         self.context.close()
 
@@ -154,7 +203,7 @@ class WebKitPage(EnginePage):
         self.driver.set_script_timeout(60)
         self.driver.set_page_load_timeout(60)
         self.driver.set_window_size(width, height)
-        self.driver.get(url.split("?")[0] + "icon.svg")  # the site's origin, to set the tour aside
+        self.driver.get(url.split("#")[0].split("?")[0] + "icon.svg")  # the site's origin, to set the tour aside
         self.driver.execute_script("try { localStorage.setItem('articula.studio.tour.done', '1') } catch (e) {}")
         self.driver.get(url)
 
@@ -188,6 +237,41 @@ class WebKitPage(EnginePage):
         from selenium.webdriver.support.ui import Select
 
         Select(self._el(selector)).select_by_value(value)
+
+    def _pointer(self):
+        from selenium.webdriver.common.action_chains import ActionChains
+        from selenium.webdriver.common.actions.action_builder import ActionBuilder
+
+        chain = ActionChains(self.driver)
+        return chain, ActionBuilder(self.driver)
+
+    def drag(self, x0, y0, x1, y1):
+        _, b = self._pointer()
+        p = b.pointer_action
+        p.move_to_location(int(x0), int(y0)).pointer_down()
+        for i in range(1, 9):
+            p.move_to_location(int(x0 + (x1 - x0) * i / 8), int(y0 + (y1 - y0) * i / 8 + (10 if i < 8 else 0)))
+        p.pointer_up()
+        b.perform()
+
+    def mouse_click(self, x, y):
+        _, b = self._pointer()
+        b.pointer_action.move_to_location(int(x), int(y)).click()
+        b.perform()
+
+    def keys(self, text, select_all=False, enter=False):
+        from selenium.webdriver.common.keys import Keys
+
+        chain, _ = self._pointer()
+        if select_all:
+            chain.key_down(Keys.CONTROL).send_keys("a").key_up(Keys.CONTROL)
+        chain.send_keys(text)
+        if enter:
+            chain.send_keys(Keys.ENTER)
+        chain.perform()
+
+    def reload(self):
+        self.driver.refresh()
 
     def screenshot(self, path):
         # two animation frames first, or WebKitGTK shows a stale frame

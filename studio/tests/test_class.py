@@ -68,8 +68,8 @@ def _drag_block(pg, category: str, kind: str, below: str | None) -> str:
         x, y, _, height = _block_rect(page, "blocklySvg", below)
         tx, ty = x + 2, y + height - 2
     else:
-        ws = page.locator("#blockly .blocklyMainBackground").bounding_box()
-        tx, ty = ws["x"] + 180, ws["y"] + 30
+        box = page.locator("#blockly .blocklyToolbox").bounding_box()
+        tx, ty = box["x"] + box["width"] + 14, box["y"] + 24
     page.mouse.move(box["x"] + 6, box["y"] + 8)
     page.mouse.down()
     page.mouse.move(box["x"] + 40, box["y"] + 30, steps=4)
@@ -78,6 +78,23 @@ def _drag_block(pg, category: str, kind: str, below: str | None) -> str:
     after = page.eval_on_selector_all(f"#blockly svg.blocklySvg g.{kind}[data-id]", "gs => gs.map(g => g.dataset.id)")
     new = [i for i in after if i not in before]
     assert len(new) == 1, (kind, new)
+    # a drop a few pixels off leaves the block beside the stack: picked up and dropped again
+    # (the test's aim, not the page, is what misses)
+    for _ in range(3):
+        try:
+            pg.wait("a.blockStacks === 1", timeout=500)
+            break
+        except Exception:
+            if not below:
+                break
+            x, y, _, _ = _block_rect(page, "blocklySvg", new[0])
+            bx, by, _, bh = _block_rect(page, "blocklySvg", below)
+            page.mouse.move(x + 6, y + 8)
+            page.mouse.down()
+            page.mouse.move(x + 30, y + 30, steps=4)
+            page.mouse.move(bx + 8, by + bh + 6, steps=8)
+            page.mouse.up()
+    pg.wait("a.blockStacks === 1 && !a.blocksPending", timeout=5000)
     # whether it snapped under `below` shows in the program it makes (the callers check it)
     return new[0]
 
@@ -136,7 +153,7 @@ def _build_solution(pg):
         if value:
             _type_field(pg, last, value)
         # it joined the stack: the program has one more command
-        pg.wait(f"a.blocksCode && a.blocksCode.text.split('\\n').filter(l => /^[A-Z]/.test(l)).length === {n}", timeout=10000)
+        pg.wait(f"!a.blocksPending && a.blocksCode && a.blocksCode.text.split('\\n').filter(l => /^[A-Z]/.test(l)).length === {n}", timeout=10000)
     pg.wait("a.blocksCode && a.blocksCode.text.split('\\n').filter(l => /^[A-Z]/.test(l)).length === 7")
 
 

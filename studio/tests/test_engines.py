@@ -49,6 +49,7 @@ def page(request, engines, site):
         p.wait("a.ready && a.firstFrameAt > 0", 60 * PATIENCE, "the page's first frame with the arm")
         return p
 
+    open_.engine = request.param
     yield open_
     for p in opened:
         errors = p.page_errors()
@@ -112,3 +113,147 @@ def test_the_virtual_nano_drives_as_predicted_and_is_flashed(page):
     pg.click("#arm-connect")
     pg.wait("a.arm.connected && a.arm.status !== null", 60 * PATIENCE, "the flashed Nano connected")
     assert pg.hook("a.arm.status.steps") == [0, 0, 0]
+
+
+# ---- a class's session (issue 21): the pick and place from blocks, in the physics, on the
+# virtual Nano, after a reload, and by link in a second profile
+
+PICK_AND_PLACE = [("Gripper", "arm_gripper_open", None), ("Move", "arm_joints", "0, 75, -95"),
+                  ("Move", "arm_joints", "0, 50, -90"), ("Gripper", "arm_gripper_close", None),
+                  ("Move", "arm_joints", "0, 75, -95"), ("Move", "arm_joints", "40, 75, -95"),
+                  ("Gripper", "arm_gripper_open", None)]
+COMMANDS = "(a.blocksPending ? -1 : a.blocksCode ? a.blocksCode.text.split('\\n').filter(l => /^[A-Z]/.test(l)).length : 0)"
+
+
+def _ids(pg, kind):
+    return pg.run(f"return [...document.querySelectorAll('#blockly svg.blocklySvg g.{kind}[data-id]')].map(g => g.dataset.id);")
+
+
+def _block_path(block_id):
+    return (f"return [...document.querySelectorAll('#blockly svg.blocklySvg g[data-id] > path.blocklyPath')]"
+            f".find(p => p.parentElement.dataset.id === {json.dumps(block_id)});")
+
+
+def _drag_from_toolbox(pg, category, kind, below):
+    before = set(_ids(pg, kind))
+    cat = pg.rect(f"return [...document.querySelectorAll('#blockly .blocklyToolboxCategory')].find(c => c.textContent.trim() === {json.dumps(category)});")
+    shown = (f"(() => {{ const f = document.querySelector('#blockly svg.blocklyToolboxFlyout'); "
+             f"return f && getComputedStyle(f).display !== 'none' && f.querySelector('g.{kind}[data-id]') !== null; }})()")
+    for _ in range(3):  # a click on an open category closes it: until its blocks show
+        pg.mouse_click(cat[0] + cat[2] / 2, cat[1] + cat[3] / 2)
+        try:
+            pg.wait(shown, 3, "the toolbox's blocks")
+            break
+        except AssertionError:
+            continue
+    pg.wait(shown, 10 * PATIENCE, "the toolbox's blocks")
+    src = pg.rect(f"return document.querySelector('#blockly svg.blocklyToolboxFlyout g.{kind}[data-id] > path.blocklyPath');")
+    if below:
+        t = pg.rect(_block_path(below))
+        tx, ty = t[0] + 2, t[1] + t[3] + 2  # just under it: its own next connection is the nearest
+    else:
+        box = pg.rect("return document.querySelector('#blockly .blocklyToolbox');")
+        tx, ty = box[0] + box[2] + 14, box[1] + 24
+    pg.drag(src[0] + 6, src[1] + 8, tx + 6, ty + 8)
+    new = [i for i in _ids(pg, kind) if i not in before]
+    assert len(new) == 1, (pg.engine, kind, new)
+    # a drop a few pixels off leaves the block beside the stack: picked up and dropped again
+    # (the test's aim, not the page, is what misses)
+    for _ in range(3):
+        try:
+            pg.wait("a.blockStacks === 1", 2, "one stack")
+            break
+        except AssertionError:
+            b = pg.rect(_block_path(new[0]))
+            t = pg.rect(_block_path(below)) if below else None
+            if t:
+                pg.drag(b[0] + 6, b[1] + 8, t[0] + 8, t[1] + t[3] + 6)
+    pg.wait("a.blockStacks === 1", 5 * PATIENCE, f"{kind} joined the stack")
+    return new[0]
+
+
+def _type_into_block(pg, block_id, text):
+    f = pg.rect(f"return [...document.querySelectorAll('#blockly svg.blocklySvg .blocklyEditableField')]"
+                f".find(x => x.closest('g[data-id]').dataset.id === {json.dumps(block_id)} && x.getBoundingClientRect().width > 0);")
+    pg.mouse_click(f[0] + f[2] / 2, f[1] + f[3] / 2)
+    pg.wait("document.querySelector('.blocklyHtmlInput') !== null", 10 * PATIENCE, "the field's editor")
+    pg.keys(text, select_all=True, enter=True)
+    pg.wait("document.querySelector('.blocklyHtmlInput') === null", 10 * PATIENCE, "the field's editor closed")
+
+
+def test_a_class_session_blocks_physics_nano_reload_and_link(page, engines, site, tmp_path):
+    from test_class import _chain, _fragment
+
+    if page.engine == "webkit":
+        # WebKitGTK's WebDriver drags drop blocks where they were not aimed (seen: a stack taken
+        # apart): here the solution's blocks come in a link, as a teacher would send them
+        doc = json.loads((REPO / "exercises" / "pick-and-place.articula").read_text())
+        doc["program"]["blocks"] = _chain([(k, v) for _, k, v in PICK_AND_PLACE])
+        pg = page(f"#{_fragment(doc)}")
+        pg.wait("a.project.goal !== null && a.blocksCode !== null", 30 * PATIENCE, "the exercise from the link")
+    else:
+        pg = page()
+        # the shipped exercise, from the projects
+        pg.click("#projects-button")
+        pg.wait("document.querySelector('#exercise-select').options.length > 1", 30 * PATIENCE, "the exercises listed")
+        pg.select("#exercise-select", "pick-and-place.articula")
+        pg.wait("a.project.goal !== null && a.scene && a.scene.name === 'grasp-and-lift'", 30 * PATIENCE, "the exercise open")
+        pg.click("#mode-blocks")
+        pg.wait("document.querySelector('#blockly .blocklyToolbox') !== null", 30 * PATIENCE, "the blocks")
+        pg.run("document.querySelector('#blockly').scrollIntoView({ block: 'end' });")  # the panel scrolls: the blocks in sight
+        # 1: the program from blocks alone, dragged from the toolbox, its numbers typed
+        last = None
+        for category, kind, value in PICK_AND_PLACE:
+            last = _drag_from_toolbox(pg, category, kind, last)
+            if value:
+                _type_into_block(pg, last, value)
+    pg.wait(f"{COMMANDS} === 7 && a.blocksCode.text.includes('M 40 75 -20')", 10 * PATIENCE, "the program of seven blocks")
+    text = pg.hook("a.blocksCode.text")
+    pg.screenshot(SHOTS / f"studio-blocks-{pg.engine}.png")
+    assert [l for l in text.splitlines() if l and not l.startswith("#")] == \
+        ["G 100", "M 0 75 -20", "M 0 50 -40", "G 0", "M 0 75 -20", "M 40 75 -20", "G 100"]
+    # the exercise solved: Check runs it in the physics
+    pg.click("#exercise-check")
+    pg.wait("a.exercise !== null", 60 * PATIENCE, "the check")
+    assert pg.hook("a.exercise.met") is True, pg.hook("a.exercise")
+    pg.screenshot(SHOTS / f"studio-blocks-{pg.engine}.png")
+    # 2: watched in the live physics: it takes the block and lets it go
+    pg.click("#run")
+    pg.wait("a.events.some(e => e.kind === 'release')", 60 * PATIENCE, "the release in the physics")
+    assert pg.hook("a.events.some(e => e.kind === 'grasp')")
+    # ... and run on the virtual Nano, to the steps the prediction gives
+    pg.select("#scene-select", "")
+    pg.wait("!a.physics || !a.physics.on", 30 * PATIENCE)
+    pg.select("#arm-port", "page:virtual")
+    pg.click("#arm-connect")
+    pg.wait("a.arm.connected && a.arm.status !== null", 60 * PATIENCE, "the virtual Nano connected")
+    pg.click("#drive-arm")
+    pg.click("#run")
+    pg.wait("a.arm.programDone === true", 120 * PATIENCE, "the program on the virtual Nano")
+    prog = tmp_path / "blocks.arm"
+    prog.write_text(text)
+    import os
+
+    p = subprocess.run([os.environ.get("ARTICULA_CLI") or str(ARTICULA), "predict", "mk2plus", str(prog), "--json"],
+                       capture_output=True, text=True, timeout=60)
+    want = json.loads(p.stdout)["records"][-1]["steps"]
+    pg.wait(f"a.arm.status.state === 'Idle' && JSON.stringify(a.arm.status.steps) === '{json.dumps(want, separators=(',', ':'))}'",
+            60 * PATIENCE, "the Nano on the predicted steps")
+    # 3: a reload: it is all there
+    pg.wait("a.project.dirty === false && a.project.saves > 0", 10 * PATIENCE, "the project saved")
+    pg.reload()
+    pg.wait("a.ready && a.programMode === 'blocks' && a.blocksCode !== null", 60 * PATIENCE, "the project after the reload")
+    assert pg.hook("a.project.name").startswith("Exercise: pick and place the block")
+    assert pg.hook("a.blocksCode.text") == text
+    # 4: shared, and opened in a second profile: the same project
+    pg.click("#share-button")
+    pg.wait("a.shareLink !== ''", 30 * PATIENCE, "the link")
+    link = pg.hook("a.shareLink")
+    other = engines.open(pg.engine, link)
+    try:
+        other.wait("a.ready && a.project.name.includes('from a link') && a.project.program === " + json.dumps(text),
+                   60 * PATIENCE, "the shared project")
+        assert other.hook("a.project.goal.title") == "Pick and place the block"
+        assert other.page_errors() == []
+    finally:
+        other.close()

@@ -18,6 +18,7 @@ let mode: "text" | "blocks" = "text";
 let lineBlocks: string[] = []; // block id of each program line (index: line - 1)
 let warned = new Set<string>();
 let compiling = 0;
+let compiles = 0; // the compiles asked for: only the newest one's answer counts
 let pendingLoad: unknown = null; // a workspace to load once Blockly is up
 let lastHighlight = "";
 let code = { text: "", robosim: "", python: "" };
@@ -91,6 +92,7 @@ function ensureWorkspace(): void {
 function onChange(e: Blockly.Events.Abstract): void {
   if (e.isUiEvent) return;
   clearTimeout(compiling);
+  hook.blocksPending = true;
   compiling = window.setTimeout(compile, 150);
 }
 
@@ -99,8 +101,9 @@ export function workspaceJson(): object | null {
   return ws ? Blockly.serialization.workspaces.save(ws) : (pendingLoad as object | null);
 }
 
-/** A project's blocks. */
+/** A project's blocks (null: none). */
 export function loadBlocks(json: unknown): void {
+  lineBlocks = [];
   if (!ws) {
     pendingLoad = json;
     return;
@@ -116,7 +119,7 @@ function load(json: unknown): void {
   } finally {
     Blockly.Events.enable();
   }
-  compile();
+  if (json) compile();
 }
 
 /** The robot changed: the joint menus follow it. */
@@ -128,15 +131,24 @@ export function blocksRobot(r: RobotMsg): void {
 /** Unrolls the blocks and asks the engine for their program. */
 function compile(): void {
   if (!ws) return;
+  const mine = ++compiles;
+  hook.blocksPending = true;
+  const settled = () => {
+    if (mine === compiles) hook.blocksPending = false;
+  };
   clearWarnings();
   let ops;
+  hook.blockStacks = ws.getTopBlocks(false).filter((b) => b.type !== "procedures_defnoreturn" && !b.isShadow()).length;
   try {
     ops = unroll(Blockly.serialization.workspaces.save(ws));
   } catch (e) {
+    settled();
     if (e instanceof BlockError) return blockProblem(e.block, e.message, true);
     throw e;
   }
   s.engine.call({ type: "blocks_compile", ops }).then((m) => {
+    if (mine !== compiles) return; // a newer compile is under way
+    settled();
     const r = m as { text?: string; robosim?: string; python?: string; lines?: string[]; problems?: { block: string; message: string }[];
       error?: { block: string; message: string } };
     if (r.error) return blockProblem(r.error.block, r.error.message, true);
@@ -146,7 +158,10 @@ function compile(): void {
     setText(code.text, "blocks.arm");
     for (const p of r.problems ?? []) blockProblem(p.block, p.message, false);
     changed();
-  }, (err: Error) => blockProblem("", err.message, true));
+  }, (err: Error) => {
+    settled();
+    blockProblem("", err.message, true);
+  });
 }
 
 function clearWarnings(): void {

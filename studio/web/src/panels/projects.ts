@@ -134,7 +134,7 @@ export function projectRobotShown(): void {
   }
   setProgramText(d.program.text, d.program.name);
   setMode(d.program.mode, true);
-  if (d.program.blocks) loadBlocks(d.program.blocks);
+  loadBlocks(d.program.blocks); // none: an empty workspace, not the last project's blocks
   if (d.pose) {
     s.engine.send({ type: "set_joints", q: d.pose.q });
     if (hook.robot?.gripper) s.engine.send({ type: "gripper", percent: d.pose.gripper });
