@@ -27,6 +27,19 @@ std::string milli_text(int64_t v) {
 
 void add_note(PredictRecord& r, const std::string& note) { append_note(r.note, note); }
 
+// error:9's note: which motor the move would take beyond its range, and the range, in degrees.
+std::string limit_note(const Robot& robot, const int32_t* target_millideg) {
+  std::string out;
+  for (int i = 0; i < robot.actuation.num_motors; ++i) {
+    const MotorSpec& m = robot.actuation.motors[i];
+    if (target_millideg[i] >= m.min && target_millideg[i] <= m.max) continue;
+    append_note(out, "the " + robot.motor_names[size_t(i)] + " motor to " + number_text(target_millideg[i] / 1000.0) +
+                         " deg is beyond its range, " + number_text(m.min / 1000.0) + " to " +
+                         number_text(m.max / 1000.0) + " deg");
+  }
+  return out;
+}
+
 // The firmware's servo pulse for an aperture in thousandths of a percent (gripper.cpp), in
 // float as on the Nano.
 uint16_t servo_pulse_us(const Robot& robot, int32_t aperture) {
@@ -362,8 +375,14 @@ Status ControllerModel::run_command(PredictRecord& r, const std::string& text) {
       Status s;
       if (cmd.type == kCmdRotate) {
         s = move_relative(next, robot_.actuation, uint8_t(cmd.arg[0]), cmd.arg[1]);
+        if (s == kJointLimit) {
+          int32_t target[kMaxJoints];
+          for (int i = 0; i < n_; ++i) target[i] = planned_.commanded[i] + (i == cmd.arg[0] ? cmd.arg[1] : 0);
+          add_note(r, limit_note(robot_, target));
+        }
       } else if (cmd.type == kCmdMoveAbsolute) {
         s = move_absolute(next, robot_.actuation, cmd.arg);
+        if (s == kJointLimit) add_note(r, limit_note(robot_, cmd.arg));
       } else {
         r.has_target = true;
         r.target = make_vec3(cmd.arg[0] / 1000.0, cmd.arg[1] / 1000.0, cmd.arg[2] / 1000.0);

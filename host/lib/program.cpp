@@ -186,8 +186,11 @@ Program parse_protocol_program(const std::string& text, const std::string& name,
       throw ProgramError(name, n, "line longer than " + std::to_string(kMaxLineLength) + " bytes (error:7)");
     Command cmd;
     const Status st = parse_line(cmd, t.data(), uint8_t(t.size()), uint8_t(joints));
-    if (st != kOk)
-      throw ProgramError(name, n, "'" + t + "': error:" + std::to_string(int(st)) + " " + status_text(st));
+    if (st != kOk) {
+      const std::string why = explain_line_error(t, st, robot);
+      throw ProgramError(name, n, "'" + t + "': error:" + std::to_string(int(st)) + " " + status_text(st) +
+                                      (why.empty() ? "" : ": " + why));
+    }
     Statement statement;
     statement.kind = Statement::Kind::kProtocol;
     statement.text = t;
@@ -231,6 +234,73 @@ std::string trim_blanks(const std::string& s) {
 void append_note(std::string& notes, const std::string& note) {
   if (note.empty()) return;
   notes += (notes.empty() ? "" : "; ") + note;
+}
+
+namespace {
+
+// The words of a protocol line without its comment.
+std::vector<std::string> line_words(const std::string& line) {
+  std::istringstream in(line.substr(0, line.find('#')));
+  std::vector<std::string> words;
+  for (std::string w; in >> w;) words.push_back(w);
+  return words;
+}
+
+// A number as the codec reads one (docs/protocol.md, "Numbers"): for naming the word that is not.
+bool looks_like_number(const std::string& w) {
+  size_t i = (!w.empty() && (w[0] == '+' || w[0] == '-')) ? 1 : 0;
+  bool digits = false, point = false;
+  for (; i < w.size(); ++i) {
+    if (std::isdigit(static_cast<unsigned char>(w[i]))) digits = true;
+    else if (w[i] == '.' && !point) point = true;
+    else return false;
+  }
+  return digits;
+}
+
+std::string join_names(const std::vector<std::string>& names) {
+  std::string out;
+  for (size_t i = 0; i < names.size(); ++i) out += (i ? ", " : "") + names[i];
+  return out;
+}
+
+}  // namespace
+
+std::string explain_line_error(const std::string& line, Status status, const Robot& robot) {
+  const std::vector<std::string> words = line_words(line);
+  if (words.empty()) return "";
+  const char c = char(std::toupper(static_cast<unsigned char>(words[0][0])));
+  const int actuators = robot.has_motors ? robot.actuation.num_motors : robot.model.num_joints;
+  const std::vector<std::string>& names = robot.has_motors ? robot.motor_names : robot.joint_names;
+  const int given = int(words.size()) - 1;
+  std::string takes;
+  switch (c) {
+    case 'L': takes = "L takes 2 values: a joint number (0 to " + std::to_string(actuators - 1) + ") and an angle in degrees"; break;
+    case 'M': takes = "M takes " + std::to_string(actuators) + " values, one angle in degrees for each " +
+                      (robot.has_motors ? "motor" : "joint") + " (" + join_names(names) + ")"; break;
+    case 'P': takes = "P takes 3 values: x, y and z of the point, in mm"; break;
+    case 'G': takes = "G takes 1 value: how far open, 0 (closed) to 100 (open) %"; break;
+    case 'S': takes = "S takes 1 value: 1 closes the gripper, 0 opens it"; break;
+    default: break;
+  }
+  switch (status) {
+    case kMissingArgument:
+    case kExtraArgument:
+      return takes.empty() ? "" : takes + "; this line gives " + std::to_string(given);
+    case kBadNumber:
+      for (size_t i = 1; i < words.size(); ++i)
+        if (!looks_like_number(words[i]) && words[i].find('=') == std::string::npos)
+          return "'" + words[i] + "' is not a number: write digits, like 10 or -2.5";
+      return "";
+    case kUnknownCommand:
+      return "'" + words[0] + "' is not a command: a line starts with L, M, P, G, S, H, Z, I or $ (docs/protocol.md)";
+    case kBadJoint:
+      return "the joints are numbered 0 to " + std::to_string(actuators - 1) + " (" + join_names(names) + ")";
+    case kValueOutOfRange:
+      return takes;
+    default:
+      return "";
+  }
 }
 
 std::vector<Comment> program_comments(const std::string& text) {

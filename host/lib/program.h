@@ -78,6 +78,11 @@ Program load_program(const std::string& path, const Robot& robot);
 // The same from text in memory; `name` stands for the file (and its extension picks the language).
 Program parse_program(const std::string& text, const std::string& name, const Robot& robot);
 
+// Why a protocol line was refused, in words a beginner reads, or "" when the status says it
+// all: how many values its command takes and what they are (error:4, error:5), the word that
+// is not a number (error:3), the commands there are (error:2), the joints there are (error:6).
+std::string explain_line_error(const std::string& line, Status status, const Robot& robot);
+
 // A program's comments, as its parser sees them (a `#` to the end of the line): the line, and
 // the comment's text without the `#` and surrounding blanks; `whole_line` when nothing but
 // blanks comes before it. The studio keeps them when a program opens as blocks.

@@ -58,25 +58,34 @@ def _drag_block(pg, category: str, kind: str, below: str | None) -> str:
     """Drags the toolbox's block of type `kind` under block `below` (or into the workspace's
     top left): returns the new block's id."""
     page = pg.page
-    before = set(page.eval_on_selector_all(f"#blockly g.{kind}[data-id]", "gs => gs.map(g => g.dataset.id)"))
-    page.click(f"#blockly .blocklyToolboxCategory:has-text('{category}')")
-    src = page.locator(f"#blockly svg.blocklyFlyout g.{kind}[data-id]").first
-    src.wait_for()
-    x, y, _, _ = _block_rect(page, "blocklyFlyout", kind, by_type=True)
-    box = {"x": x, "y": y}
-    if below:  # the block's own outline (its group also holds the blocks under it)
-        x, y, _, height = _block_rect(page, "blocklySvg", below)
-        tx, ty = x + 2, y + height - 2
-    else:
-        box = page.locator("#blockly .blocklyToolbox").bounding_box()
-        tx, ty = box["x"] + box["width"] + 14, box["y"] + 24
-    page.mouse.move(box["x"] + 6, box["y"] + 8)
-    page.mouse.down()
-    page.mouse.move(box["x"] + 40, box["y"] + 30, steps=4)
-    page.mouse.move(tx + 6, ty + 8, steps=8)
-    page.mouse.up()
-    after = page.eval_on_selector_all(f"#blockly svg.blocklySvg g.{kind}[data-id]", "gs => gs.map(g => g.dataset.id)")
-    new = [i for i in after if i not in before]
+    shown = (f"() => {{ const f = document.querySelector('#blockly svg.blocklyToolboxFlyout'); "
+             f"return f && getComputedStyle(f).display !== 'none' && f.querySelector('g.{kind}[data-id]') !== null; }}")
+    new: list[str] = []
+    for _ in range(3):  # a busy machine can turn a drag into a click: then again
+        before = set(page.eval_on_selector_all(f"#blockly svg.blocklySvg g.{kind}[data-id]", "gs => gs.map(g => g.dataset.id)"))
+        for _ in range(3):  # a click on an open category closes it
+            page.click(f"#blockly .blocklyToolboxCategory:has-text('{category}')")
+            try:
+                page.wait_for_function(shown, timeout=3000)
+                break
+            except Exception:
+                continue
+        sx, sy, _, _ = _block_rect(page, "blocklyToolboxFlyout", kind, by_type=True)
+        if below:  # the block's own outline (its group also holds the blocks under it)
+            x, y, _, height = _block_rect(page, "blocklySvg", below)
+            tx, ty = x + 2, y + height + 2  # just under it: its own next connection is the nearest
+        else:
+            tb = page.locator("#blockly .blocklyToolbox").bounding_box()
+            tx, ty = tb["x"] + tb["width"] + 14, tb["y"] + 24
+        page.mouse.move(sx + 6, sy + 8)
+        page.mouse.down()
+        page.mouse.move(sx + 40, sy + 30, steps=4)
+        page.mouse.move(tx + 6, ty + 8, steps=8)
+        page.mouse.up()
+        after = page.eval_on_selector_all(f"#blockly svg.blocklySvg g.{kind}[data-id]", "gs => gs.map(g => g.dataset.id)")
+        new = [i for i in after if i not in before]
+        if new:
+            break
     assert len(new) == 1, (kind, new)
     # a drop a few pixels off leaves the block beside the stack: picked up and dropped again
     # (the test's aim, not the page, is what misses)

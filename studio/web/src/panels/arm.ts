@@ -8,9 +8,11 @@ import { VirtualNanoPort, webSerial } from "../serial";
 import type { SerialLike } from "../serial";
 import type { Studio } from "../page/context";
 import { $, banner, fill, h, setOptions } from "../page/dom";
+import { refusedLine } from "./blocks";
 import { hook, noteError } from "../page/hook";
 import { highlightLine, programStatus } from "./program";
 
+let armRefusals: { line: number; command: string; reply: string; meaning: string }[] = []; // this run's refused lines
 let s: Studio;
 let link: ArmLink | null = null; // the arm, while connected (or connecting)
 let nanoPort: VirtualNanoPort | null = null;
@@ -112,6 +114,7 @@ function sendLine(): void {
 export function runOnArm(text: string): void {
   hook.arm.programLines = [];
   hook.arm.programDone = false;
+  armRefusals = [];
   link?.runProgram(text);
 }
 
@@ -195,10 +198,18 @@ function armMessage(m: EngineMsg): void {
     case "arm_program":
       if (m.done) {
         hook.arm.programDone = true;
+        // every refusal stays in sight, under the summary
+        const refused = armRefusals.map((r) => `line ${r.line}: ${r.command} → ${r.reply} (${r.meaning}): nothing moved`);
         programStatus(m.error ? `The arm stopped: ${m.error}` : m.stopped ? "Stopped: no further line is sent."
-          : `The arm ran the program: ${m.sent} lines.`, [], !!m.error);
+          : refused.length ? `The arm ran the program: ${m.sent} lines, ${refused.length} refused.`
+          : `The arm ran the program: ${m.sent} lines, all accepted.`, refused, !!m.error || refused.length > 0);
+        armRefusals = [];
       } else {
         highlightLine(m.line ?? 0, m.reply !== "ok");
+        if (m.reply !== "ok") {
+          armRefusals.push({ line: m.line, command: m.command, reply: m.reply, meaning: m.meaning });
+          refusedLine(m.line ?? 0, `the arm refused this: ${m.reply}, ${m.meaning}`);
+        }
         hook.arm.programLines.push([m.line, m.reply]);
         programStatus(`on the arm, line ${m.line}: ${m.command} -> ${m.reply}${m.reply !== "ok" ? ` (${m.meaning})` : ""}` +
           (m.predicted && m.predicted.reply !== m.reply ? `; the model said ${m.predicted.reply}` : ""));
