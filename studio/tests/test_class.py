@@ -484,3 +484,140 @@ def test_private_mode_quota_and_two_tabs(browser, site):
         second.close()
     finally:
         p.close()
+
+
+# ---- what a student and a teacher hit (issue 21): one test for each group of fixes
+
+def test_the_program_speaks_the_sliders_numbers_and_every_refusal_says_why(open_page):
+    pg = open_page("mk2plus", width=1366, height=768)
+    # beside each slider, the motor's angle where it differs (the MK2's elbow: -90 joint, 0 motor)
+    pg.wait("a.pose && a.pose.motors !== undefined")
+    elbow = pg.page.text_content("#joints .motor-angle[data-motor='2']")
+    assert elbow == "motor elbow: 0.00°", elbow
+    assert pg.page.text_content("#joints .motor-angle[data-motor='0']") == ""  # the base: the same number
+    pg.page.click("#tab-program")
+    # M 0 90 -90: refused, naming the motor, the value and its range
+    pg.page.fill("#editor", "M 0 90 -90\n")
+    pg.page.click("#run")
+    pg.wait("a.timeline !== null")
+    text = pg.page.text_content("#program-status")
+    assert "error:9" in text and "the elbow motor to -90 deg is beyond its range, -43 to 15 deg" in text, text
+    # M 1 2: how many values M takes, and what they are; L 0 ten: the word that is not a number
+    for line, words in (("M 1 2", "M takes 3 values, one angle in degrees for each motor (base, shoulder, elbow); this line gives 2"),
+                        ("L 0 ten", "'ten' is not a number")):
+        pg.page.fill("#editor", f"G 100\n{line}\n")
+        pg.page.click("#run")
+        pg.page.wait_for_function(f"() => document.querySelector('#program-status').textContent.includes({json.dumps(words)})")
+        status = pg.page.text_content("#program-status")
+        assert words in status and status.startswith("line 2:"), status  # the line, not an old file's name
+    # Teach in blocks speaks the sliders' values too
+    pg.page.click("#mode-blocks")
+    pg.page.wait_for_selector("#blockly .blocklyToolbox")
+    pg.page.click("#teach")
+    pg.wait("a.teach === '0, 90, -90'")
+
+
+def test_the_editor_explains_itself_and_an_empty_program_says_so(open_page):
+    pg = open_page("mk2plus", width=1366, height=768)
+    pg.page.click("#tab-program")
+    assert "Type a program here" in pg.page.get_attribute("#editor", "placeholder")
+    pg.page.click("#run")
+    assert "The program is empty" in pg.page.text_content("#program-status")
+    pg.page.click("#command-card summary")
+    assert "moves the tip of the tool to a point" in pg.page.text_content("#command-card")
+    pg.page.fill("#editor", "G 100\nP 200 0 150\n")
+    pg.page.click("#editor")
+    pg.page.keyboard.press("Control+End")
+    pg.page.keyboard.press("ArrowUp")
+    pg.page.wait_for_function("() => document.querySelector('#line-help').textContent.startsWith('P x y z')")
+    # the running line is not drawn as an error is
+    run_bg = pg.page.evaluate("() => { const e = document.querySelector('#current-line'); e.hidden = false; return getComputedStyle(e).borderLeftColor; }")
+    err_bg = pg.page.evaluate("() => { const e = document.querySelector('#current-line'); e.classList.add('error'); "
+                              "const c = getComputedStyle(e).borderLeftColor; e.classList.remove('error'); e.hidden = true; return c; }")
+    assert run_bg != err_bg
+
+
+def test_examples_fit_the_robot_and_a_scene_comes_with_its_example(open_page):
+    pg = open_page("panda", width=1366, height=768)
+    offered = pg.page.eval_on_selector_all("#program-select option", "os => os.map(o => o.value).filter(Boolean)")
+    assert "demo.arm" not in offered  # an MK2 program: the Panda's parser refuses it
+    pg.page.select_option("#robot-select", "mk2plus")
+    pg.wait("a.robot.name === 'MK2 Plus'")
+    offered = pg.page.eval_on_selector_all("#program-select option", "os => os.map(o => o.value).filter(Boolean)")
+    assert "demo.arm" in offered and "grasp-and-lift.arm" in offered
+    pg.page.click("#tab-program")
+    pg.page.select_option("#program-select", "grasp-and-lift.arm")
+    pg.wait("a.scene && a.scene.name === 'grasp-and-lift' && a.physics && a.physics.on", timeout=20000)
+    assert "this program is made for" in pg.page.text_content("#program-status")
+
+
+def test_stale_state_goes_and_bad_input_is_said(open_page):
+    pg = open_page("mk2plus", width=1600, height=900)
+    # an IK verdict for the MK2 does not stay for the Panda
+    for c, v in zip("xyz", (900, 0, 100)):
+        pg.page.fill(f"#t{c}", str(v))
+    pg.page.click("#solve")
+    pg.wait("a.ik !== null")
+    assert pg.page.text_content("#ik-status") != ""
+    pg.page.select_option("#robot-select", "panda")
+    pg.wait("a.robot.name.startsWith('Panda') || a.robot.name.includes('Panda')", timeout=20000)
+    assert pg.page.text_content("#ik-status") == ""
+    # z = 1e308: said, nothing thrown
+    pg.page.fill("#tz", "1e308")
+    pg.page.click("#solve")
+    assert "too far" in pg.page.text_content("#ik-status")
+    # 99999 in the base box: the box shows where the arm is (clamped)
+    pg.page.select_option("#robot-select", "mk2plus")
+    pg.wait("a.robot.name === 'MK2 Plus'")
+    box = "#joints input[type=number][data-joint='0']"
+    pg.page.fill(box, "99999")
+    pg.page.press(box, "Enter")
+    pg.wait("a.pose.q[0] > 89")
+    pg.page.wait_for_function(f"() => parseFloat(document.querySelector(\"{box}\").value) === window.articula.pose.q[0]")
+    # the physics counter goes with the physics
+    pg.page.select_option("#scene-select", "push")
+    pg.wait("a.physics && a.physics.on && a.physics.t > 0.2", timeout=20000)
+    pg.page.select_option("#scene-select", value="")
+    pg.wait("!a.physics.on")
+    assert pg.page.text_content("#phys-rtf") == ""
+    # STOP says it stopped
+    pg.page.click("#stop")
+    pg.wait("a.stops === 1")
+    assert pg.page.text_content("#banner-text").startswith("STOP:")
+    assert pg.hook("a.pageErrors") == [] and pg.errors == []
+
+
+def test_rough_edges(open_page, tmp_path):
+    # the PUMA's home pose stands on the floor
+    pg = open_page("puma560")
+    frames_z = pg.hook("a.pose.frames.map(f => f[11])")
+    assert min(frames_z) >= -1e-6, frames_z
+    # the plots' picture says what it shows; a program can play slower
+    pg.page.select_option("#robot-select", "mk2plus")
+    pg.wait("a.robot.name === 'MK2 Plus'")
+    pg.page.select_option("#program-select", "demo.arm")
+    pg.page.wait_for_function("() => document.querySelector('#editor').value.includes('P 200')")
+    pg.page.select_option("#play-speed", "0.25")
+    pg.page.click("#run")
+    pg.wait("a.playing === true")
+    t0 = pg.hook("performance.now()")
+    pg.wait("a.playing === false", timeout=60000)
+    wall = (pg.hook("performance.now()") - t0) / 1000
+    duration = pg.hook("a.timeline.duration")
+    assert wall > duration * 2.5, (wall, duration)  # a quarter of the speed: four times as long
+    with pg.page.expect_download() as dl:
+        pg.page.click("#export-png")
+    assert dl.value.suggested_filename == "articula-plots-demo_arm.png"
+    assert pg.hook("a.pngCaption").startswith("MK2 Plus, demo.arm, ")
+    # the IK ball is drawn over the arm: at the tool, inside the gripper, it shows (orange)
+    import io
+
+    from PIL import Image
+
+    pg.page.click("#home")
+    pg.page.check("#show-target")
+    pg.page.wait_for_timeout(300)
+    x, y = pg.hook("a.targetScreen")
+    shot = Image.open(io.BytesIO(pg.page.screenshot(clip={"x": x - 1, "y": y - 1, "width": 3, "height": 3}))).convert("RGB")
+    r, g, b = shot.getpixel((1, 1))
+    assert r > 150 and r > g > b, (r, g, b)

@@ -151,4 +151,5 @@ $("show-axes").addEventListener("change", (e) => view.showAxes((e.target as HTML
 $("tour-button").onclick = () => startTour(true, (id) => layout.reveal(id));
 // Offline use and installing as an app (sw.js keeps the whole site).
 if ("serviceWorker" in navigator && !params.has("nosw")) navigator.serviceWorker.register("sw.js").catch(() => undefined);
-startTour(false, (id) => layout.reveal(id));
+// the tour is for a first visit to the plain page: not over a scene, an exercise or a link
+if (!params.has("scene") && !location.hash.includes("project=")) startTour(false, (id) => layout.reveal(id));

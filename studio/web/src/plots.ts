@@ -114,22 +114,40 @@ export class Plots {
     this.charts.forEach((c) => c.redraw(false, false));
   }
 
-  async png(): Promise<Blob | null> {
+  /** The plots as one picture: what they show (robot, program, when), each plot's title and
+   * its legend (a series' colour and name). */
+  async png(caption = ""): Promise<Blob | null> {
     if (!this.charts.length) return null;
     const canvases = this.charts.map((c) => c.ctx.canvas);
     const out = document.createElement("canvas");
-    const pad = 40 * devicePixelRatio;
+    const px = devicePixelRatio;
+    const head = 58 * px, legend = 26 * px;
     out.width = canvases.reduce((s, c) => s + c.width, 0);
-    out.height = Math.max(...canvases.map((c) => c.height)) + pad;
+    out.height = Math.max(...canvases.map((c) => c.height)) + head + legend;
     const g = out.getContext("2d")!;
     g.fillStyle = "#fff";
     g.fillRect(0, 0, out.width, out.height);
     g.fillStyle = "#1d3557";
-    g.font = `${14 * devicePixelRatio}px system-ui, sans-serif`;
+    g.font = `600 ${14 * px}px system-ui, sans-serif`;
+    g.fillText(caption, 12 * px, 20 * px);
+    g.font = `${13 * px}px system-ui, sans-serif`;
     let x = 0;
     this.charts.forEach((c, i) => {
-      g.fillText(c.root.querySelector(".u-title")?.textContent ?? `plot ${i + 1}`, x + 12, 24 * devicePixelRatio);
-      g.drawImage(c.ctx.canvas, x, pad);
+      g.fillStyle = "#1d3557";
+      g.fillText(c.root.querySelector(".u-title")?.textContent ?? `plot ${i + 1}`, x + 12 * px, 46 * px);
+      g.drawImage(c.ctx.canvas, x, head);
+      // the legend under it
+      let lx = x + 12 * px;
+      const ly = head + c.ctx.canvas.height + 17 * px;
+      c.series.slice(1).forEach((s, k) => {
+        const stroke = typeof s.stroke === "function" ? s.stroke(c, k + 1) : s.stroke;
+        g.fillStyle = typeof stroke === "string" ? stroke : "#1d3557";
+        g.fillRect(lx, ly - 9 * px, 14 * px, 4 * px);
+        g.fillStyle = "#1d3557";
+        const label = String(s.label ?? "");
+        g.fillText(label, lx + 18 * px, ly);
+        lx += 28 * px + g.measureText(label).width;
+      });
       x += c.ctx.canvas.width;
     });
     return new Promise((resolve) => out.toBlob(resolve, "image/png"));

@@ -56,6 +56,7 @@ export interface PoseMsg {
   gripper: number;
   within_limits: boolean;
   fingers?: Flat4x4[];
+  motors?: number[]; // the motors' angles (deg), for a robot with motors
   ghost?: Flat4x4[];
   seq?: number | null;
   t?: number;

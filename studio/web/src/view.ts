@@ -152,9 +152,11 @@ export class View {
     // The IK target: a ball with its own axes, moved by the gizmo.
     const ball = new THREE.Mesh(
       new THREE.SphereGeometry(1, 24, 16),
-      new THREE.MeshStandardMaterial({ color: 0xf4a259, emissive: 0x6b3a0c, roughness: 0.4 }),
+      // drawn over the arm: inside the gripper it would be hidden
+      new THREE.MeshStandardMaterial({ color: 0xf4a259, emissive: 0x6b3a0c, roughness: 0.4, depthTest: false, transparent: true, opacity: 0.9 }),
     );
     ball.name = "target-ball";
+    ball.renderOrder = 10;
     this.target.add(ball, new THREE.AxesHelper(1));
     this.target.visible = false;
     this.scene.add(this.target);

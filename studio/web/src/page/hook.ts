@@ -51,7 +51,9 @@ export interface Hook {
   blockProblems: { block: string; message: string }[]; // warnings on blocks (refusals, values beyond a range)
   runningBlock: string; // the block of the running line
   blockStacks: number; // stacks of blocks in the workspace (procedure definitions aside)
-  blocksPending: boolean; // the blocks changed and their program is not made yet
+  blocksPending: boolean;
+  stops: number; // STOP pressed (button or Escape)
+  pngCaption: string; // what the last exported plot picture says it shows // the blocks changed and their program is not made yet
   blocksFirstPaintMs: number; // from opening the blocks to their first frame
   exercise: { parts: { label: string; met: boolean; detail: string; distance_mm: number }[]; met: boolean; error?: string } | null;
   flash: { busy: boolean; phase: string; done: number; total: number; error: string; errorKind: string;
@@ -69,7 +71,7 @@ export const hook: Hook = {
   layout: { mode: "", plotsInTab: false, tab: "" }, webgl: true, language: "", storage: true,
   project: { id: "", name: "", robot: "", program: "", blocks: null, mode: "text", rev: 0, goal: null, persistent: true, dirty: false,
              saves: 0, saveMs: [], savedAt: 0, saveError: "", lastDeleted: "", otherTab: 0 },
-  shareLink: "", programMode: "text", programName: "program.arm", blocksCode: null, blockProblems: [], runningBlock: "", blockStacks: 0, blocksPending: false,
+  shareLink: "", programMode: "text", programName: "program.arm", blocksCode: null, blockProblems: [], runningBlock: "", blockStacks: 0, blocksPending: false, stops: 0, pngCaption: "",
   blocksFirstPaintMs: 0, exercise: null,
   flash: { busy: false, phase: "", done: 0, total: 0, error: "", errorKind: "", result: null },
 };

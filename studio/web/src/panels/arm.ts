@@ -120,11 +120,16 @@ export function runOnArm(text: string): void {
 
 /** STOP: the arm's realtime `!` at once, and the model's program or physics paused. */
 export function stopEverything(): void {
-  if (hook.arm.connected && link) {
+  const arm = hook.arm.connected && link;
+  if (arm) {
     hook.arm.stopMs = null; // until the arm reports itself at rest
-    void link.stop();
+    void link!.stop();
   }
-  if (hook.playing || hook.physics?.running) s.engine.send({ type: "pause" });
+  const moving = hook.playing || !!hook.physics?.running;
+  if (moving) s.engine.send({ type: "pause" });
+  hook.stops++;
+  banner(arm ? "STOP: the arm slows to rest and forgets the lines it was given. Nothing more is sent."
+    : moving ? "STOP: the program is paused where it was." : "STOP: nothing was moving.", "info");
 }
 
 function showArm(m: { connected: boolean; connecting?: boolean; label?: string; error?: string; lost?: boolean }): void {
@@ -207,7 +212,7 @@ function armMessage(m: EngineMsg): void {
       } else {
         highlightLine(m.line ?? 0, m.reply !== "ok");
         if (m.reply !== "ok") {
-          armRefusals.push({ line: m.line, command: m.command, reply: m.reply, meaning: m.meaning });
+          armRefusals.push({ line: m.line ?? 0, command: m.command ?? "", reply: m.reply ?? "", meaning: m.meaning ?? "" });
           refusedLine(m.line ?? 0, `the arm refused this: ${m.reply}, ${m.meaning}`);
         }
         hook.arm.programLines.push([m.line, m.reply]);

@@ -22,6 +22,17 @@ export function initIk(studio: Studio): void {
   $("use-rpy").addEventListener("change", (e) => ($("rpy-row").hidden = !(e.target as HTMLInputElement).checked));
   const solveWith = (type: string) => {
     const m = ikMessage(type);
+    // a box that holds no number, or one no arm could reach, is said so here
+    const names = ["x", "y", "z", "roll", "pitch", "yaw"];
+    const bad = (m.target as number[]).findIndex((v) => !Number.isFinite(v) || Math.abs(v) > 1e6);
+    if (bad >= 0) {
+      const v = (m.target as number[])[bad];
+      const el = $("ik-status");
+      el.textContent = Number.isFinite(v) ? `${names[bad]} = ${v} is too far: type a target within 1,000,000 mm (a kilometre).`
+        : `${names[bad]} holds no number: type one, like 150.`;
+      el.className = "status bad";
+      return;
+    }
     s.view.setTarget((m.target as number[]).slice(0, 3), (m.target as number[]).slice(3));
     s.engine.send(m);
   };
@@ -66,11 +77,20 @@ export function followTool(xyz: number[], rpy: number[], first: boolean): void {
   if (first || !s.view.target.visible) s.view.setTarget(xyz, rpy);
 }
 
+/** A new robot: the last robot's IK verdict goes. */
+export function clearIk(): void {
+  hook.ik = null;
+  $("ik-status").textContent = "";
+  $("ik-status").className = "status";
+}
+
 export function showIk(m: IkMsg): void {
   hook.ik = m;
   if (dragging) hook.ikUpdates.push(performance.now());
   const el = $("ik-status");
-  const err = `${m.position_error_mm.toFixed(3)} mm` + (m.orientation_error_deg ? `, ${m.orientation_error_deg.toFixed(3)} deg` : "");
+  // an error the engine could not give as a number (a target at 1e308 mm) is "very far"
+  const mm = (v: number | null) => (typeof v === "number" && Number.isFinite(v) ? v.toFixed(3) : "too far to measure:");
+  const err = `${mm(m.position_error_mm)} mm` + (m.orientation_error_deg ? `, ${mm(m.orientation_error_deg)} deg` : "");
   let text = "";
   if (m.status === "reached") text = `Reached (${m.solver}, ${m.iterations} iterations): ${err} from the target.`;
   else if (m.status === "unreachable") text = `Unreachable: the arm stretches toward it and stays ${err} away` + (m.beyond_reach ? " (farther than the arm is long)." : ".");
@@ -86,6 +106,8 @@ export function showIk(m: IkMsg): void {
     }
     else if ((m.iteration ?? 0) >= 400) text += " Stopped after 400 iterations.";
   }
+  if (hook.physics?.on && m.status === "reached")
+    text += " In the physics the arm goes there unless something blocks it (the events in the view say so).";
   el.textContent = text;
   el.className = `status ${m.status === "reached" ? "ok" : m.status === "budget" && m.type === "jt_frame" && !m.done ? "" : "bad"}`;
 }

@@ -4,8 +4,10 @@
 import type { PoseMsg, RobotMsg } from "../protocol";
 import type { Studio } from "../page/context";
 import { $, fill, fmt, h } from "../page/dom";
+import { hook } from "../page/hook";
 
 let s: Studio;
+let typing: HTMLInputElement | null = null; // the number box being typed in (left alone until done)
 
 export function initJoints(studio: Studio): void {
   s = studio;
@@ -32,7 +34,8 @@ export function buildJoints(r: RobotMsg): void {
       h("label", { title: `${PARAM_TITLE[j.param] ?? "A joint variable"} of DH row ${j.row}: ${j.min} .. ${j.max} ${j.unit}` },
         `${j.name} `, h("span", { class: "unit" }, j.param, h("sub", null, sub), `, ${j.unit}`)),
       h("input", { type: "range", ...range, "aria-label": `${j.name}, ${j.unit}` }),
-      h("input", { type: "number", ...range, "aria-label": `${j.name}, ${j.unit}` }));
+      h("input", { type: "number", ...range, "aria-label": `${j.name}, ${j.unit}` }),
+      r.motors[i] ? h("div", { class: "motor-angle", "data-motor": i, title: `The ${r.motors[i]} motor's angle: what M and L take for it` }) : null);
   });
   // RoboSim's l: a slider for each row whose length a(i-1) the robot file lets change.
   const lengths = r.dh.map((row, i) => ({ a: row.a as unknown, row: i + 1 }))
@@ -47,7 +50,13 @@ export function buildJoints(r: RobotMsg): void {
   }
   fill(box, ...rows);
   box.querySelectorAll<HTMLInputElement>("input[data-joint]").forEach((inp) => {
+    // typed: the box shows what the arm took (a value beyond the range, clamped) once done
+    inp.addEventListener("change", () => {
+      typing = null;
+      if (hook.pose) inp.value = inp.type === "number" ? fmt(hook.pose.q[Number(inp.dataset.joint)], 2) : inp.value;
+    });
     inp.addEventListener("input", () => {
+      if (inp.type === "number") typing = inp;
       const v = parseFloat(inp.value);
       if (!Number.isFinite(v)) return;
       s.engine.request({ type: "set_joint", joint: Number(inp.dataset.joint), value: v });
@@ -70,7 +79,14 @@ export function buildJoints(r: RobotMsg): void {
 export function showJointValues(p: PoseMsg, robot: RobotMsg): void {
   $("joints").querySelectorAll<HTMLInputElement>("input[data-joint]").forEach((inp) => {
     const v = p.q[Number(inp.dataset.joint)];
-    if (document.activeElement !== inp) inp.value = inp.type === "number" ? fmt(v, 2) : String(v);
+    if (inp !== typing && (document.activeElement !== inp || inp.type === "number")) inp.value = inp.type === "number" ? fmt(v, 2) : String(v);
+  });
+  // the motor's angle, where it is not the joint's value (M takes motors' angles)
+  $("joints").querySelectorAll<HTMLElement>(".motor-angle").forEach((el) => {
+    const i = Number(el.dataset.motor);
+    const m = p.motors?.[i];
+    const differs = m !== undefined && Math.abs(m - p.q[i]) > 0.005;
+    el.textContent = differs ? `motor ${robot.motors[i]}: ${fmt(m!, 2)}°` : "";
   });
   const g = $("gripper") as HTMLInputElement;
   if (document.activeElement !== g) g.value = String(p.gripper);

@@ -1,6 +1,6 @@
 // Live physics: the scene menu, run / pause / step / reset, the speed against real time, the
 // events as they come (objects named by the scene file: shown as text), objects to drag.
-import type { PhysicsMsg, RobotMsg, SceneMsg } from "../protocol";
+import type { PhysicsMsg, RobotMsg, SceneMsg, SimEvent } from "../protocol";
 import type { Studio } from "../page/context";
 import { $, fill, h, setOptions } from "../page/dom";
 import { hook } from "../page/hook";
@@ -12,6 +12,27 @@ let dragSent = 0;
 
 const TROUBLE = new Set(["collision", "self_collision", "squeeze", "steps_lost", "blocked", "rejected", "object_removed",
   "gripper_blocked", "stall"]);
+
+/** An event in words a student reads (the engine's own words stay in its title, on hover). */
+export function eventWords(e: SimEvent): string {
+  const the = (x: string) => (x.startsWith("link") || x.startsWith("finger") || x === "ground" || x === "gripper" ? `the ${x}` : `"${x}"`);
+  switch (e.kind) {
+    case "contact_started": return `${the(e.a)} touches ${the(e.b)}`;
+    case "contact_ended": return `${the(e.a)} no longer touches ${the(e.b)}`;
+    case "grasp": return `the gripper holds ${the(e.b)}`;
+    case "release": return `the gripper lets go of ${the(e.b)}`;
+    case "squeeze": return `the gripper presses on ${the(e.b)}: the arm stops there`;
+    case "collision": return `${the(e.a)} hits ${the(e.b)}: the arm stops there`;
+    case "self_collision": return `the arm hits itself (${e.a}, ${e.b}): it stops there`;
+    case "steps_lost": return "a motor skipped steps: something holds the arm back";
+    case "blocked": return `${the(e.a)} is blocked${e.b ? ` by ${the(e.b)}` : ""}`;
+    case "gripper_blocked": return `the gripper cannot close further: ${the(e.b || "object")} is in the way`;
+    case "rejected": return `the arm refused line ${e.line}`;
+    case "object_removed": return `${the(e.a)} fell off the world`;
+    case "stall": return "a motor stalled: it could not turn the load";
+    default: return `${e.kind}: ${e.a}${e.b ? ` / ${e.b}` : ""}`;
+  }
+}
 
 export function initPhysics(studio: Studio): void {
   s = studio;
@@ -45,7 +66,10 @@ export function showScene(m: SceneMsg): void {
 
 export function showPhysics(p: PhysicsMsg, robot: RobotMsg | null): void {
   hook.physics = p;
-  if (!p.on) return;
+  if (!p.on) {
+    $("phys-rtf").textContent = ""; // no physics, no counter
+    return;
+  }
   s.view.physics(p);
   if (p.t !== undefined && hook.timeline) s.plots.playhead(p.t);
   if (p.line !== undefined) {
@@ -68,9 +92,9 @@ export function showPhysics(p: PhysicsMsg, robot: RobotMsg | null): void {
   const log = $("events");
   for (const e of p.events ?? []) {
     hook.events.push(e);
-    const text = `${e.t.toFixed(2)} s ${e.kind}: ${e.a}${e.b ? ` / ${e.b}` : ""}${e.detail ? ` - ${e.detail}` : ""}`;
+    const detail = `${e.t.toFixed(2)} s ${e.kind}: ${e.a}${e.b ? ` / ${e.b}` : ""}${e.detail ? ` - ${e.detail}` : ""}`;
     const cls = TROUBLE.has(e.kind) ? "trouble" : e.kind === "grasp" || e.kind === "release" ? "grasp" : null;
-    log.appendChild(h("div", { class: cls, title: text }, text));
+    log.appendChild(h("div", { class: cls, title: detail }, `${e.t.toFixed(1)} s: ${eventWords(e)}`));
     if (e.kind !== "contact_ended") {
       if (e.a) s.view.flash(e.a);
       if (e.b && e.b !== "ground") s.view.flash(e.b);

@@ -22,11 +22,37 @@ export const setProgramChanged = (f: () => void) => (onChanged = f);
 const editor = () => $("editor") as HTMLTextAreaElement;
 
 export const ghostShown = () => showGhost;
+const playSpeed = () => parseFloat(($("play-speed") as HTMLSelectElement).value) || 1;
+
+// What the command on the caret's line does, under the editor.
+const HELP: Record<string, string> = {
+  L: "L joint degrees: turns one motor by an angle",
+  M: "M a b c: every motor to an angle (the motors' angles, shown beside the sliders)",
+  P: "P x y z: the tip of the tool to a point, mm from the base",
+  G: "G percent: the gripper's opening, 0 closed to 100 open",
+  S: "S 1 closes the gripper, S 0 opens it",
+  H: "H: home", Z: "Z: here is home", I: "I: the arm says what it is", $: "$: a setting ($0 speed, $1 acceleration)",
+  m: "RoboSim m: every joint's value follows, one a line", a: "RoboSim a: a point follows, x y z on three lines",
+  h: "RoboSim h: the hand, 0.0 open to 0.5 closed", s: "RoboSim s: speed, 1 slow to 82 fast",
+  w: "RoboSim w: IK weights, one a joint", l: "RoboSim l: link lengths", z: "RoboSim z: the view's zoom",
+};
+function lineHelp(): void {
+  const ed = editor();
+  const start = ed.value.lastIndexOf("\n", ed.selectionStart - 1) + 1;
+  const line = ed.value.slice(start, ed.value.indexOf("\n", start) < 0 ? undefined : ed.value.indexOf("\n", start));
+  const word = line.trim().split(/\s+/)[0] ?? "";
+  const key = word.startsWith("#") ? "#" : word.startsWith("$") ? "$" : word.length === 1 ? (HELP[word] ? word : word.toUpperCase()) : "";
+  $("line-help").textContent = key === "#" ? "# a note for people: the arm ignores it" : HELP[key] ?? "";
+}
 
 export function initProgram(studio: Studio): void {
   s = studio;
   const ed = editor();
-  ed.addEventListener("input", editorChanged);
+  ed.addEventListener("input", () => {
+    editorChanged();
+    lineHelp();
+  });
+  for (const ev of ["click", "keyup", "focus"]) ed.addEventListener(ev, lineHelp);
   ed.addEventListener("scroll", () => {
     $("gutter").scrollTop = ed.scrollTop;
     positionLine();
@@ -46,8 +72,10 @@ export function initProgram(studio: Studio): void {
   });
   $("save-program").onclick = () => download(currentProgram, ed.value, "text/plain");
   $("run").onclick = () => {
+    if (!ed.value.trim())
+      return programStatus("The program is empty: type commands (“What the commands mean” below says how), choose an example, or build it from Blocks.", [], true);
     if (hook.arm.connected && ($("drive-arm") as HTMLInputElement).checked) return runOnArm(ed.value);
-    if (hook.timeline) s.engine.send({ type: "play" });
+    if (hook.timeline) s.engine.send({ type: "play", speed: playSpeed() });
     else {
       autoplay = true;
       load();
@@ -67,7 +95,11 @@ export function initProgram(studio: Studio): void {
     if (!showGhost && hook.pose) s.view.pose({ ...hook.pose, ghost: undefined });
   });
   s.plots.onSeek = (t) => s.engine.send({ type: "seek", t });
-  $("export-png").onclick = () => s.plots.png().then((blob) => blob && download("articula-plots.png", blob, "image/png"));
+  $("export-png").onclick = () => {
+    const caption = `${hook.robot?.name ?? ""}, ${currentProgram}, ${new Date().toLocaleString(hook.language || undefined)}`;
+    hook.pngCaption = caption;
+    s.plots.png(caption).then((blob) => blob && download(`articula-plots-${currentProgram.replace(/\W+/g, "_")}.png`, blob, "image/png"));
+  };
   $("export-csv").onclick = () => hook.timeline && download("articula-timeline.csv", s.plots.csv(hook.timeline), "text/csv");
   editorChanged();
 }
@@ -148,13 +180,14 @@ export const programHandlers = {
     s.plots.show(m);
     for (const r of m.records) if (r.reply !== "ok") refusedLine(r.line, `the arm refuses this: ${r.reply}, ${r.error}`);
     const rejected = m.records.filter((r) => r.reply !== "ok")
-      .map((r) => `line ${r.line}: ${r.command} → error:${r.code}, ${r.error}: nothing moves`);
+      .map((r) => `line ${r.line}: ${r.command} → error:${r.code}, ${r.error}: nothing moves` +
+        (r.note ? ` (${r.note.replace(/^.*?nothing changes; /, "")})` : ""));
     programStatus(`${m.records.length} commands, ${m.summary.rejected ?? 0} rejected` +
       (m.summary.worst_error_mm !== undefined ? `, worst quantization error ${m.summary.worst_error_mm.toFixed(3)} mm` : "") +
       `, ${m.duration.toFixed(2)} s`, rejected);
     if (autoplay) {
       autoplay = false;
-      s.engine.send({ type: "play" });
+      s.engine.send({ type: "play", speed: playSpeed() });
     }
   },
   playing(m: { playing: boolean }): void {
@@ -163,11 +196,18 @@ export const programHandlers = {
   },
   program_error(m: { message: string; line: number }): void {
     hook.programError = m.message;
-    programStatus(m.message, [], true);
+    // the program on screen: its line, not a file's name
+    programStatus(m.line > 0 ? m.message.replace(/^.*?:\d+: /, `line ${m.line}: `) : m.message, [], true);
     highlightLine(m.line, true);
   },
   program_text(m: { name: string; text: string }): void {
     setProgram(m.name, m.text);
+    // an example made for a scene (grasp-and-lift.arm, push.arm): its objects come with it
+    const stem = m.name.replace(/\.(arm|robosim)$/, "");
+    if (hook.scene?.scenes.includes(stem) && hook.scene.name !== stem) {
+      s.engine.send({ type: "scene", name: stem });
+      programStatus(`The physics is on, with the scene "${stem}" this program is made for: its objects are in the view.`);
+    }
     if (blocksMode() === "blocks") fromText();
   },
   teach(m: { line: string }): void {

@@ -6,7 +6,7 @@ import type { Studio } from "../page/context";
 import { $, banner, download, setOptions } from "../page/dom";
 import { hook } from "../page/hook";
 import { buildJoints } from "./joints";
-import { buildWeights } from "./ik";
+import { buildWeights, clearIk } from "./ik";
 import { resetProgramView, showExamples } from "./program";
 
 const MAX_FILE = 20_000_000; // bytes of a robot file or mesh the page opens
@@ -72,6 +72,7 @@ export function showRobot(r: RobotMsg): void {
   buildWeights(r);
   if (r.keep_view) return; // the same robot, other link lengths
   resetProgramView();
+  clearIk();
   if (r.import_notes.length) banner(`Imported. ${r.import_notes.length} things had no place in a robot file; the first: ${r.import_notes[0]}`, "info");
   needFit = built;
 }

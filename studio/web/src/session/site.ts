@@ -22,6 +22,8 @@ async function fetchBytes(path: string): Promise<Uint8Array> {
 
 export async function loadIndex(): Promise<void> {
   S.index = JSON.parse(await fetchText("data/index.json"));
+  // the examples' texts (a few KB): the menu offers a robot the ones its parser reads
+  await Promise.all(S.index.programs.map(async (p) => S.programTexts.set(p, await fetchText(`data/programs/${p}`).catch(() => ""))));
 }
 
 export async function shippedRobot(name: string): Promise<Robot> {

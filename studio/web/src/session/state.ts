@@ -29,7 +29,22 @@ export const S = {
   sceneName: null as string | null, // live physics: the scene (null: none)
   sim: null as Sim | null,
   greeted: false, // the page said hello: it has the robot, poses may stream
+  programTexts: new Map<string, string>(), // the shipped examples' texts (site.ts reads them)
 };
+
+/** The shipped examples for the robot shown: not those made for an arm of another shape (its
+ * parser finds a wrong number of values or a joint it has not: error:4, 5 or 6, or RoboSim's
+ * "values expected"); a program broken for every arm is offered, and says why when opened. */
+export function examplesFor(robot: Robot): string[] {
+  return S.index.programs.filter((p) => {
+    try {
+      robot.parseProgram(S.programTexts.get(p) ?? "", p);
+      return true;
+    } catch (e) {
+      return !/error:[456]\b|values expected/.test(String((e as Error)?.message));
+    }
+  });
+}
 
 const meshUrls = new Map<string, string>(); // engine path -> blob URL the page draws
 
@@ -69,7 +84,7 @@ export function robotMessage(): Out {
   return {
     type: "robot", name: r.name, description: r.description, source: r.source, joints: r.joints, dh: r.dh,
     num_rows: r.num_rows, home: r.home, motors: r.motors.map((m) => m.name), links, gripper: r.gripper,
-    reach_mm: r.reach_mm, robots: S.index.robots, programs: S.index.programs, scenes: S.index.scenes,
+    reach_mm: r.reach_mm, robots: S.index.robots, programs: examplesFor(S.robot), scenes: S.index.scenes,
     import_notes: r.import_notes,
   };
 }
@@ -84,6 +99,8 @@ export function poseMessage(at: number[] = S.q, extra: Out = {}): Out {
     gripper: S.gripper, within_limits: p.within_limits,
   };
   if (p.fingers) msg.fingers = p.fingers.map((f) => f.map(round6));
+  // the motors' angles, which `M` takes, beside the joint values the sliders show
+  if (r.num_motors) msg.motors = (S.robot.motorsFromJoints(at) as number[]).map(round6);
   return Object.assign(msg, extra);
 }
 
