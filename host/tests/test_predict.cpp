@@ -151,7 +151,10 @@ TEST(Predict, RejectedLinesChangeNothing) {
     EXPECT_EQ(m.clock_ticks(), clock) << line;
     EXPECT_EQ(m.settings().value[0], 600u) << line;
   }
-  EXPECT_EQ(m.execute_line("L 1 50").reply, kJointLimit);
+  const PredictRecord beyond = m.execute_line("L 1 50");
+  EXPECT_EQ(beyond.reply, kJointLimit);
+  // its note names the motor, where it would go and its range (what a student needs to fix it)
+  EXPECT_NE(beyond.note.find("the shoulder motor to 140 deg is beyond its range,"), std::string::npos) << beyond.note;
   EXPECT_EQ(m.execute_line("P 1000 0 0").reply, kUnreachable);
   EXPECT_EQ(m.execute_line("$0=5000").reply, kValueOutOfRange);
   EXPECT_EQ(m.execute_line("$9=1").reply, kSettingUnknown);

@@ -111,9 +111,21 @@ TEST(ProtocolProgram, EveryLineCheckedBeforeAnythingRuns) {
   EXPECT_EQ(p.statements[0].line, 2);
   EXPECT_EQ(p.statements[2].text, "M 0 90 0 # home");
   EXPECT_EQ(p.statements[2].line, 5);
-  EXPECT_EQ(error_of("L 0 10\nL 5 1\n", mk2(), false), "prog.arm:2: 'L 5 1': error:6 no such joint");
-  EXPECT_EQ(error_of("M 0 90\n", mk2(), false), "prog.arm:1: 'M 0 90': error:4 missing argument");
-  EXPECT_EQ(error_of("X\n", mk2(), false), "prog.arm:1: 'X': error:2 unknown command");
+  // each refusal says why in a beginner's words (explain_line_error)
+  EXPECT_EQ(error_of("L 0 10\nL 5 1\n", mk2(), false),
+            "prog.arm:2: 'L 5 1': error:6 no such joint: the joints are numbered 0 to 2 (base, shoulder, elbow)");
+  EXPECT_EQ(error_of("M 0 90\n", mk2(), false),
+            "prog.arm:1: 'M 0 90': error:4 missing argument: M takes 3 values, one angle in degrees for each motor "
+            "(base, shoulder, elbow); this line gives 2");
+  EXPECT_EQ(error_of("M 0 90 0 1\n", mk2(), false),
+            "prog.arm:1: 'M 0 90 0 1': error:5 too many arguments: M takes 3 values, one angle in degrees for each motor "
+            "(base, shoulder, elbow); this line gives 4");
+  EXPECT_EQ(error_of("L 0 ten\n", mk2(), false),
+            "prog.arm:1: 'L 0 ten': error:3 bad number (expected digits with optional sign and decimal point): 'ten' is "
+            "not a number: write digits, like 10 or -2.5");
+  EXPECT_EQ(error_of("X\n", mk2(), false),
+            "prog.arm:1: 'X': error:2 unknown command: 'X' is not a command: a line starts with L, M, P, G, S, H, Z, I "
+            "or $ (docs/protocol.md)");
   EXPECT_EQ(error_of("L 0 " + std::string(70, '1') + "\n", mk2(), false), "prog.arm:1: line longer than 64 bytes (error:7)");
 }
 
