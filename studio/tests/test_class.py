@@ -192,6 +192,7 @@ def test_a_pick_and_place_from_blocks_in_physics_on_the_nano_after_a_reload_and_
     pg.wait("a.runningBlock !== ''", timeout=20000)
     pg.wait("a.events.some(e => e.kind === 'release')", timeout=40000)
     assert pg.hook("a.events.some(e => e.kind === 'grasp')")
+    pg.page.screenshot(path=str(SHOTS / "studio-class-physics.png"))
     # ... then on the virtual Nano, to the steps the prediction gives
     pg.page.select_option("#scene-select", value="")
     pg.wait("!a.physics || !a.physics.on")
@@ -208,6 +209,7 @@ def test_a_pick_and_place_from_blocks_in_physics_on_the_nano_after_a_reload_and_
     pg.wait(f"a.arm.status.state === 'Idle' && JSON.stringify(a.arm.status.steps) === '{json.dumps(want, separators=(',', ':'))}'",
             timeout=30000)
     assert all(r == "ok" for _, r in pg.hook("a.arm.programLines"))
+    pg.page.screenshot(path=str(SHOTS / "studio-class-nano.png"))
     # 3: a reload brings it all back
     pg.wait("a.project.dirty === false && a.project.saves > 0", timeout=5000)
     blocks_before = pg.hook("JSON.stringify(a.project.blocks.blocks)")
@@ -219,11 +221,14 @@ def test_a_pick_and_place_from_blocks_in_physics_on_the_nano_after_a_reload_and_
     assert pg.hook("a.blocksCode.text") == text
     assert pg.hook("JSON.stringify(a.project.blocks.blocks)") == blocks_before
     assert pg.hook("a.scene && a.scene.name") is None  # as it was: physics off, for the Nano
+    pg.page.click("#tab-program")
+    pg.page.screenshot(path=str(SHOTS / "studio-class-reload.png"))
     # 4: shared as a link, opened in a second profile: the same project, a copy
     pg.page.click("#share-button")
     pg.wait("a.shareLink !== ''")
     link = pg.hook("a.shareLink")
     assert pg.page.get_by_role("button", name="Share").count() == 1
+    pg.page.screenshot(path=str(SHOTS / "studio-class-share.png"))
     other = Page(browser, link, width=1366, height=768,
                  ready="window.articula.project.name.includes('from a link')")
     try:
@@ -233,6 +238,7 @@ def test_a_pick_and_place_from_blocks_in_physics_on_the_nano_after_a_reload_and_
         other.page.click("#exercise-check")
         other.wait("a.exercise !== null", timeout=30000)
         assert other.hook("a.exercise.met") is True
+        other.page.screenshot(path=str(SHOTS / "studio-class-link.png"))
         assert other.errors == []
     finally:
         other.close()
@@ -621,3 +627,21 @@ def test_rough_edges(open_page, tmp_path):
     shot = Image.open(io.BytesIO(pg.page.screenshot(clip={"x": x - 1, "y": y - 1, "width": 3, "height": 3}))).convert("RGB")
     r, g, b = shot.getpixel((1, 1))
     assert r > 150 and r > g > b, (r, g, b)
+
+
+@pytest.mark.parametrize("size", [(768, 1024), (390, 844)], ids=["tablet", "phone"])
+def test_blocks_and_an_exercise_on_a_tablet_and_a_phone(open_page, size):
+    """The exercise's goal and its blocks on a touch screen: STOP on screen, the blocks in sight."""
+    w, h = size
+    pg = open_page("mk2plus", width=w, height=h, touch=True)
+    pg.page.tap("#projects-button")
+    pg.page.select_option("#exercise-select", "pick-and-place.articula")
+    pg.wait("a.project.goal !== null && a.programMode === 'blocks'")
+    pg.page.wait_for_selector("#exercise:not([hidden])")
+    stop = pg.page.locator("#stop").bounding_box()
+    assert 0 <= stop["x"] and stop["x"] + stop["width"] <= w, stop
+    pg.page.locator("#blockly").scroll_into_view_if_needed()
+    blocks = pg.page.locator("#blockly").bounding_box()
+    assert blocks["width"] >= w * 0.8 and blocks["height"] >= 300, blocks
+    assert pg.page.evaluate("() => document.documentElement.scrollWidth") <= w
+    pg.page.screenshot(path=str(SHOTS / f"studio-class-{'tablet' if w == 768 else 'phone'}.png"))

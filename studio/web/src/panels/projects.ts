@@ -181,7 +181,8 @@ async function saveNow(): Promise<void> {
     sessionSet(current.id);
     hook.project.dirty = false;
     hook.project.saves++;
-    hook.project.saveMs.push(tCaptured - t0);
+    hook.project.saveMs.push(tCaptured - t0 + store.lastPutMs); // main-thread time: the capture and the store's copy
+    if (hook.project.saveMs.length > 100) hook.project.saveMs.shift();
     hook.project.savedAt = Date.now();
     $("project-saved").textContent = store.persistent ? "saved" : "not kept (save a file)";
     $("project-saved").className = "project-saved";

@@ -202,9 +202,21 @@ function unbase64url(s: string): Uint8Array {
   return Uint8Array.from(bin, (c) => c.charCodeAt(0));
 }
 
+/** Blockly's JSON without the blocks' own ids (random, 20 characters each, they do not
+ * compress; Blockly makes new ones as it loads). A variable's id stays: blocks name it by id. */
+function withoutBlockIds(x: unknown): unknown {
+  if (Array.isArray(x)) return x.map(withoutBlockIds);
+  if (!isObj(x)) return x;
+  const out: J = {};
+  const block = typeof x.type === "string" && !("name" in x);
+  for (const [k, v] of Object.entries(x)) if (!(block && k === "id")) out[k] = withoutBlockIds(v);
+  return out;
+}
+
 /** The fragment of a link that holds `p` ("project=..."). */
 export async function projectFragment(p: Project): Promise<string> {
-  const bytes = new TextEncoder().encode(JSON.stringify(p));
+  const slim = p.program.blocks ? { ...p, program: { ...p.program, blocks: withoutBlockIds(p.program.blocks) as object } } : p;
+  const bytes = new TextEncoder().encode(JSON.stringify(slim));
   return LINK_KEY + base64url(await pipe(bytes, new CompressionStream("deflate-raw"), Infinity));
 }
 

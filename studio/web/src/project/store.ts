@@ -17,6 +17,7 @@ const STORE = "projects";
 
 export class ProjectStore {
   persistent = true; // false: memory only (no IndexedDB here)
+  lastPutMs = 0; // the main thread's part of the last save: the browser copies the record as put() is called
   private db: IDBDatabase | null = null;
   private memory = new Map<string, Stored>();
   private channel: BroadcastChannel | null = null;
@@ -85,7 +86,12 @@ export class ProjectStore {
       return { id: copy, rev: 1, forked: true };
     }
     const rev = (cur?.rev ?? 0) + 1;
-    await this.tx("readwrite", (s) => s.put({ id, name: doc.name, updated: now, rev, doc }));
+    await this.tx("readwrite", (s) => {
+      const t0 = performance.now();
+      const req = s.put({ id, name: doc.name, updated: now, rev, doc });
+      this.lastPutMs = performance.now() - t0;
+      return req;
+    });
     this.announce(id, rev);
     return { id, rev, forked: false };
   }
