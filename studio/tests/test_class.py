@@ -645,3 +645,93 @@ def test_blocks_and_an_exercise_on_a_tablet_and_a_phone(open_page, size):
     assert blocks["width"] >= w * 0.8 and blocks["height"] >= 300, blocks
     assert pg.page.evaluate("() => document.documentElement.scrollWidth") <= w
     pg.page.screenshot(path=str(SHOTS / f"studio-class-{'tablet' if w == 768 else 'phone'}.png"))
+
+
+def test_variables_arithmetic_and_procedures_unroll_into_lines(open_page, tmp_path):
+    """A beginner's control, unrolled: a variable changed in a repeat, arithmetic, and a
+    procedure with a parameter called twice."""
+    num = lambda n: {"shadow": {"type": "math_number", "fields": {"NUM": n}}}  # noqa: E731
+    var = {"type": "variables_get", "fields": {"VAR": {"id": "v1"}}}
+    define = {"type": "procedures_defnoreturn", "id": "def", "x": 20, "y": 400, "fields": {"NAME": "wave"},
+              "extraState": {"params": [{"name": "angle", "id": "p1"}]},
+              "inputs": {"STACK": {"block": {"type": "arm_joint_to", "id": "w1", "fields": {"JOINT": "0"},
+                                              "inputs": {"VALUE": {"block": {"type": "variables_get", "fields": {"VAR": {"id": "p1"}}}}},
+                                              "next": {"block": {"type": "arm_gripper_close", "id": "w2"}}}}}}
+    main = {"type": "variables_set", "id": "s", "x": 20, "y": 20, "fields": {"VAR": {"id": "v1"}}, "inputs": {"VALUE": num(10)},
+            "next": {"block": {"type": "controls_repeat_ext", "id": "r", "inputs": {
+                "TIMES": num(3),
+                "DO": {"block": {"type": "arm_joint_to", "id": "j", "fields": {"JOINT": "0"},
+                                 "inputs": {"VALUE": {"block": {"type": "math_arithmetic", "fields": {"OP": "MULTIPLY"},
+                                                                "inputs": {"A": {"block": var}, "B": num(2)}}}},
+                                 "next": {"block": {"type": "math_change", "fields": {"VAR": {"id": "v1"}}, "inputs": {"DELTA": num(5)}}}}}},
+                "next": {"block": {"type": "procedures_callnoreturn", "id": "c1", "extraState": {"name": "wave", "params": ["angle"]},
+                                   "inputs": {"ARG0": num(-20)},
+                                   "next": {"block": {"type": "procedures_callnoreturn", "id": "c2",
+                                                      "extraState": {"name": "wave", "params": ["angle"]}, "inputs": {"ARG0": num(25)}}}}}}}}
+    blocks = {"blocks": {"languageVersion": 0, "blocks": [main, define]},
+              "variables": [{"name": "step", "id": "v1"}, {"name": "angle", "id": "p1"}]}
+    pg = open_page("mk2plus")
+    f = tmp_path / "control.articula"
+    f.write_text(json.dumps(_project("Control", blocks=blocks)))
+    pg.page.click("#projects-button")
+    pg.page.set_input_files("#project-file", str(f))
+    pg.wait("a.blocksCode !== null && !a.blocksPending", timeout=15000)
+    lines = [l for l in pg.hook("a.blocksCode.text").splitlines() if l and not l.startswith("#")]
+    # step 10, 15, 20 doubled: the base to 20, 30, 40; then wave(-20) and wave(25)
+    assert lines == ["M 20 90 0", "M 30 90 0", "M 40 90 0", "M -20 90 0", "G 0", "M 25 90 0", "G 0"], lines
+
+
+def test_every_shipped_exercise_can_be_solved(open_page, tmp_path):
+    solutions = {
+        "reach-three-points.articula": None,  # below: three tool blocks
+        "pick-and-place.articula": _chain([(k, v) for _, k, v in SOLUTION]),
+        "stack-two-blocks.articula": _chain([(k, v) for _, k, v in SOLUTION]),
+    }
+    # reach: three tool blocks, with their points
+    points = [(200, -150, 150), (250, 100, 150), (260, 0, 100)]
+    reach = [{"type": "arm_tool_to", "id": f"t{i}", "inputs": {a: {"shadow": {"type": "math_number", "fields": {"NUM": v}}}
+                                                              for a, v in zip("XYZ", p)}} for i, p in enumerate(points)]
+    for a, b in zip(reach[:-1], reach[1:]):
+        a["next"] = {"block": b}
+    solutions["reach-three-points.articula"] = {"blocks": {"languageVersion": 0, "blocks": [{**reach[0], "x": 20, "y": 20}]}}
+    pg = open_page("mk2plus")
+    for name, blocks in solutions.items():
+        doc = json.loads((REPO / "exercises" / name).read_text())
+        doc["program"]["blocks"] = blocks
+        f = tmp_path / name
+        f.write_text(json.dumps(doc))
+        pg.page.click("#projects-button")
+        pg.page.set_input_files("#project-file", str(f))
+        pg.wait(f"a.project.goal !== null && a.project.goal.title === {json.dumps(doc['goal']['title'])}")
+        pg.wait("a.blocksCode !== null && !a.blocksPending && a.blocksCode.text.includes(" +
+                json.dumps("P 260 0 100" if name.startswith("reach") else "G 0") + ")", timeout=15000)
+        prev = pg.hook("a.exercise ? JSON.stringify(a.exercise) : ''")
+        pg.page.click("#exercise-check")
+        pg.wait(f"a.exercise !== null && JSON.stringify(a.exercise) !== {json.dumps(prev)}", timeout=30000)
+        assert pg.hook("a.exercise.met") is True, (name, pg.hook("a.exercise"))
+    # a program that misses says which part, and by how much
+    doc = json.loads((REPO / "exercises" / "reach-three-points.articula").read_text())
+    doc["program"]["blocks"] = {"blocks": {"languageVersion": 0, "blocks": [{**reach[0], "x": 20, "y": 20, "next": None}]}}
+    del doc["program"]["blocks"]["blocks"]["blocks"][0]["next"]
+    f = tmp_path / "miss.articula"
+    f.write_text(json.dumps(doc))
+    pg.page.click("#projects-button")
+    pg.page.set_input_files("#project-file", str(f))
+    pg.wait("a.exercise === null || true")
+    pg.wait("a.blocksCode !== null && !a.blocksPending && !a.blocksCode.text.includes('P 260 0 100')", timeout=15000)
+    prev = pg.hook("JSON.stringify(a.exercise)")
+    pg.page.click("#exercise-check")
+    pg.wait(f"JSON.stringify(a.exercise) !== {json.dumps(prev)}", timeout=30000)
+    parts = pg.hook("a.exercise.parts")
+    assert [p["met"] for p in parts] == [True, False, False]
+    assert "mm away: needs to be within 5 mm" in parts[1]["detail"]
+
+
+def test_a_project_file_dropped_on_the_page_opens(open_page):
+    pg = open_page("mk2plus")
+    doc = _project("Dropped", text="G 42\n", mode="text")
+    dt = pg.page.evaluate_handle("""(text) => { const d = new DataTransfer();
+        d.items.add(new File([text], 'dropped.articula', { type: 'application/json' })); return d; }""", json.dumps(doc))
+    pg.page.dispatch_event("#view", "dragover", {"dataTransfer": dt})
+    pg.page.dispatch_event("#view", "drop", {"dataTransfer": dt})
+    pg.wait("a.project.name === 'Dropped' && a.project.program === 'G 42\\n'", timeout=15000)

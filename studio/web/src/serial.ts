@@ -83,7 +83,14 @@ export class VirtualNanoPort implements SerialLike {
             /* the port was closed: bytes still on their way from the worker have no reader */
           }
         };
-        end = (e) => (e ? controller.error(e) : controller.close());
+        end = (e) => {
+          try {
+            if (e) controller.error(e);
+            else controller.close();
+          } catch {
+            /* already closed (a STOP, a flash or a run ending at once): nothing is left to end */
+          }
+        };
       },
     });
     this.writable = new WritableStream<Uint8Array>({
