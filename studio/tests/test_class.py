@@ -210,8 +210,14 @@ def test_a_pick_and_place_from_blocks_in_physics_on_the_nano_after_a_reload_and_
             timeout=30000)
     assert all(r == "ok" for _, r in pg.hook("a.arm.programLines"))
     pg.page.screenshot(path=str(SHOTS / "studio-class-nano.png"))
-    # 3: a reload brings it all back
+    # 3: a reload brings it all back, the camera too (turned with the keyboard first)
+    pg.page.evaluate("() => document.activeElement && document.activeElement.blur()")
+    for _ in range(4):
+        pg.page.keyboard.press("ArrowLeft")
+    view = pg.hook("a.viewpoint()")
     pg.wait("a.project.dirty === false && a.project.saves > 0", timeout=5000)
+    pg.page.wait_for_timeout(800)
+    pg.wait("a.project.dirty === false", timeout=5000)
     blocks_before = pg.hook("JSON.stringify(a.project.blocks.blocks)")
     pg.page.reload()
     pg.page.wait_for_function("() => window.articula && window.articula.ready && window.articula.project.name !== ''",
@@ -220,6 +226,8 @@ def test_a_pick_and_place_from_blocks_in_physics_on_the_nano_after_a_reload_and_
     assert pg.hook("a.project.name") == "Exercise: pick and place the block"
     assert pg.hook("a.blocksCode.text") == text
     assert pg.hook("JSON.stringify(a.project.blocks.blocks)") == blocks_before
+    pg.page.wait_for_timeout(300)
+    assert pg.hook("a.viewpoint()") == view
     assert pg.hook("a.scene && a.scene.name") is None  # as it was: physics off, for the Nano
     pg.page.click("#tab-program")
     pg.page.screenshot(path=str(SHOTS / "studio-class-reload.png"))

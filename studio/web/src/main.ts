@@ -47,6 +47,7 @@ const plots = new Plots($("plots"));
 const studio: Studio = { engine, view, plots };
 hook.armPixels = () => view.armPixels();
 hook.camera = () => view.cameraState();
+hook.viewpoint = () => view.viewpoint();
 hook.objectScreen = (n) => view.objectScreen(n);
 hook.engineSend = (msg) => engine.post(msg);
 

@@ -70,6 +70,8 @@ export class View {
   private dragPlane = new THREE.Plane();
   private dragging: { name: string; offset: THREE.Vector3 } | null = null;
   onDrag: (object: string, target: number[] | null) => void = () => {};
+  /** The user moved the camera (an orbit, a zoom, a pan ended). */
+  onViewChange: () => void = () => {};
   private ghostArm = new THREE.Group();
   private grid: THREE.GridHelper | null = null;
   // From the last frame's origin to the tool point: the tool offset, drawn for every robot.
@@ -181,6 +183,7 @@ export class View {
     el.addEventListener("pointermove", (e) => this.pull(e));
     window.addEventListener("pointerup", () => this.letGo());
     this.controls.addEventListener("change", () => (this.dirty = true));
+    this.controls.addEventListener("end", () => this.onViewChange());
     this.gizmo.addEventListener("change", () => (this.dirty = true));
     this.resize();
     if (this.renderer) this.renderer.setAnimationLoop((now) => this.draw(now));
@@ -580,10 +583,23 @@ export class View {
     offset.setFromSpherical(sph).applyQuaternion(toY.invert());
     this.camera.position.copy(this.controls.target).add(offset);
     this.dirty = true;
+    this.onViewChange();
     return true;
   }
 
-  /** The camera: its distance to the point it orbits (mm) and its azimuth about z (deg). */
+  /** Where the camera is and what it looks at (mm), for a project to keep. */
+  viewpoint(): { eye: number[]; target: number[] } {
+    const r = (v: THREE.Vector3) => [v.x, v.y, v.z].map((x) => Math.round(x * 10) / 10);
+    return { eye: r(this.camera.position), target: r(this.controls.target) };
+  }
+
+  setViewpoint(v: { eye: number[]; target: number[] }): void {
+    this.camera.position.set(v.eye[0], v.eye[1], v.eye[2]);
+    this.controls.target.set(v.target[0], v.target[1], v.target[2]);
+    this.controls.update();
+    this.dirty = true;
+  }
+
   cameraState(): { distance: number; azimuth: number } {
     const d = this.camera.position.clone().sub(this.controls.target);
     return { distance: d.length(), azimuth: (Math.atan2(d.y, d.x) * 180) / Math.PI };

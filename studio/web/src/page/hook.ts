@@ -30,7 +30,8 @@ export interface Hook {
          programLines: unknown[]; programDone: boolean; roundTrips: number[]; nano: unknown };
   stream: { messages: number }; // physics and pose messages while the physics runs
   armPixels: () => number;
-  camera: () => { distance: number; azimuth: number }; // the view's camera (view.ts cameraState) // share of the view's pixels that are the arm's colours (0..1)
+  camera: () => { distance: number; azimuth: number }; // the view's camera (view.ts cameraState)
+  viewpoint: () => { eye: number[]; target: number[] }; // where the camera is and looks (mm) // share of the view's pixels that are the arm's colours (0..1)
   errors: number; // error replies from the engine or the arm
   errorLog: string[]; // the last 50 of them, oldest first
   pageErrors: string[]; // the page's own uncaught errors and rejections (for browsers whose driver shows no console)
@@ -64,7 +65,7 @@ export const hook: Hook = {
   ready: false, connected: false, robot: null, pose: null, ik: null, timeline: null, playing: false,
   programError: "", robotError: "", lastError: "", teach: "", fps: 0, framesDrawn: 0, firstFrameAt: 0,
   latency: [], ikUpdates: [], messages: 0, targetScreen: [0, 0], armPixels: () => 0,
-  camera: () => ({ distance: 0, azimuth: 0 }),
+  camera: () => ({ distance: 0, azimuth: 0 }), viewpoint: () => ({ eye: [], target: [] }),
   scene: null, physics: null, events: [], simCommand: "", objectScreen: () => null,
   arm: { connected: false, error: "", label: "", status: null, reply: null, stopMs: null, programLines: [], programDone: false, roundTrips: [], nano: null },
   stream: { messages: 0 }, errors: 0, errorLog: [], pageErrors: [], internalErrors: [], engineStartMs: 0, engineSend: () => undefined,

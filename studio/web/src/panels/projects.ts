@@ -12,7 +12,7 @@ import type { Goal, Project } from "../project/document";
 import { ProjectStore, newId } from "../project/store";
 import type { Stored } from "../project/store";
 import { blocksMode, loadBlocks, setMode, workspaceJson } from "./blocks";
-import { openedRobotFile } from "./robot";
+import { keepView, openedRobotFile } from "./robot";
 
 const SAVE_AFTER_MS = 500; // a save this long after the last change
 const SESSION_KEY = "articula.project"; // this tab's project (a reload reopens it)
@@ -71,6 +71,7 @@ export async function chooseProject(params: URLSearchParams): Promise<{ robot?: 
 
 export function initProjects(studio: Studio, program: { setText: (text: string, name: string) => void; reveal: (id: string) => void }): void {
   s = studio;
+  s.view.onViewChange = projectChanged;
   setProgramText = program.setText;
   reveal = program.reveal;
   $("projects-button").onclick = () => {
@@ -127,6 +128,9 @@ export function projectRobotShown(): void {
   if (!d) return;
   pendingApply = null;
   applying = true;
+  // the camera as it was (shown where a new robot would be framed), else the robot framed
+  keepView(d.view ?? null);
+  if (d.view) s.view.setViewpoint(d.view);
   if ("file" in d.robot) {
     const f = d.robot.file;
     const files = d.robot.meshes.map((m) => ({ name: m.name, data: fromBase64(m.data).buffer }));
@@ -141,8 +145,11 @@ export function projectRobotShown(): void {
   }
   showGoal(d.goal);
   updateHook();
-  // what the engine answers to these is the project as it was, not an edit
-  s.engine.call({ type: "sync" }).catch(() => undefined).finally(() => (applying = false));
+  // what the engine answers to these is the project as it was, not an edit; the camera last,
+  // once a new robot's first pose has framed it
+  s.engine.call({ type: "sync" }).catch(() => undefined).finally(() => {
+    applying = false;
+  });
 }
 
 /** Something on screen changed: saved within a second. */
@@ -165,6 +172,7 @@ function capture(): Project {
     ...d, robot, scene: hook.scene?.name ?? "",
     program: { mode: blocksMode(), name: hook.programName || "program.arm", text: ed.value, blocks: blocksMode() === "blocks" || d.program.blocks ? workspaceJson() : null },
     pose: hook.pose ? { q: hook.pose.q, gripper: hook.pose.gripper } : d.pose,
+    view: s.view.viewpoint(),
   };
 }
 

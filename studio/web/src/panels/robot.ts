@@ -78,9 +78,19 @@ export function showRobot(r: RobotMsg): void {
 }
 
 /** The first pose of a new robot is drawn: frame it. */
+/** A project's camera, to show instead of framing the robot it opens. */
+let keptView: { eye: number[]; target: number[] } | null = null;
+export function keepView(v: { eye: number[]; target: number[] } | null): void {
+  keptView = v;
+}
+
 export function fitNewRobot(): void {
   if (!needFit) return;
-  needFit.then(() => requestAnimationFrame(() => s.view.fit(false)));
+  needFit.then(() => requestAnimationFrame(() => {
+    if (keptView) s.view.setViewpoint(keptView);
+    else s.view.fit(false);
+    keptView = null;
+  }));
   needFit = null;
 }
 

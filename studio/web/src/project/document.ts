@@ -27,6 +27,7 @@ export interface Project {
   scene: string; // "" for none
   program: { mode: "text" | "blocks"; name: string; text: string; blocks: object | null };
   pose: { q: number[]; gripper: number } | null;
+  view?: { eye: number[]; target: number[] } | null; // the camera (mm)
   goal: Goal | null;
 }
 
@@ -140,7 +141,12 @@ export function readProject(x: unknown): Project {
     const grip = nums([x.pose.gripper], "pose.gripper", 1)[0];
     pose = { q: nums(x.pose.q, "pose.q"), gripper: Math.min(100, Math.max(0, grip)) };
   }
-  return { format: FORMAT, version: VERSION, name, robot, scene, program, pose, goal: checkGoal(x.goal) };
+  let view: Project["view"] = null;
+  if (x.view !== null && x.view !== undefined) {
+    if (!isObj(x.view)) throw new ProjectError("view must be an object");
+    view = { eye: nums(x.view.eye, "view.eye", 3), target: nums(x.view.target, "view.target", 3) };
+  }
+  return { format: FORMAT, version: VERSION, name, robot, scene, program, pose, view, goal: checkGoal(x.goal) };
 }
 
 /** A project from a file's or a link's text. Throws ProjectError. */
