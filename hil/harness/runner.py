@@ -236,10 +236,18 @@ class Runner:
     def wait_idle(self, deadline: float, rec: Record | None, plan: str, faults: list[Fault]) -> tuple[Status, float]:
         """Polls `?` until the arm is at rest. Each report has `timeout` seconds to come (a
         hung port); the arm has until `deadline` to come to rest."""
+        moving = None  # the last report that said the arm moved
         while True:
-            st = self.status(time.monotonic() + self.timeout, rec, plan, faults)
+            asked = time.monotonic()
+            st = self.status(asked + self.timeout, rec, plan, faults)
             if st.state in ("Idle", "Alarm"):
+                # at rest, but first seen after the deadline while it still moved at the look
+                # before: it did not come to rest in time (a busy host can oversleep its poll
+                # while the arm, or the emulator, runs on; the deadline still holds)
+                if moving is not None and asked >= deadline:
+                    raise LinkTimeout(f"last status {moving.text} before the deadline")
                 return st, time.monotonic()
+            moving = st
             if time.monotonic() >= deadline:
                 raise LinkTimeout(f"last status {st.text}")
             time.sleep(self.poll)
