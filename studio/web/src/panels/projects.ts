@@ -6,7 +6,6 @@
 import type { Studio } from "../page/context";
 import { $, banner, download, fill, h, setOptions } from "../page/dom";
 import { hook } from "../page/hook";
-import { storage } from "../page/environment";
 import { LINK_KEY, MAX_FILE_BYTES, MAX_LINK, ProjectError, newProject, parseProject, projectFragment, projectOfFragment, readProject } from "../project/document";
 import type { Goal, Project } from "../project/document";
 import { ProjectStore, newId } from "../project/store";
@@ -248,7 +247,7 @@ async function show(doc: Project, id = newId(), rev = 0): Promise<void> {
 
 async function startNew(): Promise<void> {
   closeList();
-  await show(newProject(await freshName(), hook.robot?.robots.includes("mk2plus") ? "mk2plus" : "mk2plus"));
+  await show(newProject(await freshName()));
 }
 
 let listWanted = false; // the list is asked for (and not closed since): a slow listing must not reopen it
@@ -430,7 +429,6 @@ function sessionSet(id: string): void {
   } catch {
     /* no storage: the project lives in memory */
   }
-  void storage;
 }
 
 function fromBase64(s: string): Uint8Array {
