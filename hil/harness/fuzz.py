@@ -859,7 +859,7 @@ class Fuzzer:
                 ex.timeout = f"no reply within {self.timeout:.1f} s{e.got}"
                 reply = None
             if line.stop_after and reply == "ok":
-                time.sleep(0.01)
+                # at once: the virtual Nano runs far ahead of the wall clock through a move
                 self.link.send_realtime(b"!")
             # At rest before the next line: '?' until Idle (a rejected line: one '?').
             run_deadline = time.monotonic() + self.timeout + (20.0 if line.moves else 0.0)

@@ -463,6 +463,16 @@ class Runner:
             elif pred is not None and pred.queued and rec.reply == "ok" and rec.t_idle is not None:
                 rec.measured_s = rec.t_idle - rec.t_sent
                 rec.measured_source = "host clock"
+            # A plan's time limit holds in the arm's own time. The virtual Nano runs faster than
+            # the wall clock while it sleeps through a slow move, so there the limit is checked
+            # against the pins' cycle stamps too (the wall clock still catches a hung port).
+            if trace and cmd.timeout and rec.measured_s is not None and rec.measured_s > cmd.timeout:
+                self._abort(res, rec, Fault(name, cmd.line, cmd.text, "timeout",
+                                            f"timeout: not at rest within {cmd.timeout:.1f} s of sending the line "
+                                            f"(it took {rec.measured_s:.1f} s of the virtual Nano's time, "
+                                            f"by its pins' cycle stamps)"),
+                            faults, i + 1, stop=True)
+                return
             faults.extend(rec.faults)
             resets = [f for f in rec.faults if f.kind == "reset"]
             if resets:

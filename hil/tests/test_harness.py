@@ -167,9 +167,9 @@ def test_rejected_line_is_reported_with_its_plan_line(bins, tmp_path):
 
 def test_timeout_is_reported(bins, tmp_path):
     plan = tmp_path / "slow.arm"
-    # At 2 steps/s L 0 80 takes two minutes of simulated time: far more than 0.3 s of the wall
-    # clock at any speed the virtual Nano reaches (it sleeps through most of a slow move: about
-    # 100x real time).
+    # At 2 steps/s L 0 80 takes two minutes of the Nano's time. The virtual Nano sleeps through
+    # most of a slow move and can finish it within 0.3 s of the wall clock on a quiet machine:
+    # the limit holds in the Nano's time (the pins' cycle stamps) as well as the wall clock's.
     plan.write_text("L 0 5\n$0=2\n#@ timeout 0.3\nL 0 80\nL 0 -85\n")
     out = tmp_path / "out"
     p = harness(bins, plan, "--out", out)
