@@ -235,6 +235,7 @@ Simulation::Simulation(const Robot& robot, const Scene& scene, const SimOptions&
   }
   q_try_ = q_cmd_ = q_cmd_want_ = q_;
   opening_mm_ = opening_from_mm_ = robot_.gripper.present ? robot_.gripper.max_opening_mm : 0;
+  grip_from_ = grip_to_ = opening_mm_;  // open until a program or a command says otherwise
   build_arm();
   build_scene();
   build_pairs();

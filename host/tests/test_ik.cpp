@@ -99,12 +99,12 @@ void expect_honest(const Robot& r, const IkTarget& t, const IkResult& res, const
 // Craig (3rd ed.) eq. 3.14: the PUMA 560's tool position and approach vector (third
 // column of 0T6) in closed form, for his modified DH table.
 void puma_craig(const std::vector<double>& q, Vec3<double>& p, Vec3<double>& z6) {
-  const double a2 = 431.8, a3 = 20.32, d3 = 150.05, d4 = 431.8;
+  const double d1 = 660.4, a2 = 431.8, a3 = 20.32, d3 = 150.05, d4 = 431.8;  // d1: the pedestal
   const double c1 = std::cos(q[0]), s1 = std::sin(q[0]), c2 = std::cos(q[1]), s2 = std::sin(q[1]);
   const double c23 = std::cos(q[1] + q[2]), s23 = std::sin(q[1] + q[2]);
   const double c4 = std::cos(q[3]), s4 = std::sin(q[3]), c5 = std::cos(q[4]), s5 = std::sin(q[4]);
   const double reach = a2 * c2 + a3 * c23 - d4 * s23;
-  p = make_vec3(c1 * reach - d3 * s1, s1 * reach + d3 * c1, -a3 * s23 - a2 * s2 - d4 * c23);
+  p = make_vec3(c1 * reach - d3 * s1, s1 * reach + d3 * c1, d1 - a3 * s23 - a2 * s2 - d4 * c23);
   z6 = make_vec3(-c1 * (c23 * c4 * s5 + s23 * c5) - s1 * s4 * s5, -s1 * (c23 * c4 * s5 + s23 * c5) + c1 * s4 * s5,
                  s23 * c4 * s5 - c23 * c5);
 }
@@ -112,12 +112,13 @@ void puma_craig(const std::vector<double>& q, Vec3<double>& p, Vec3<double>& z6)
 TEST(IkForwardKinematics, Puma560MatchesCraigsClosedForm) {
   const Robot& r = robot("puma560");
   ASSERT_EQ(r.model.num_joints, 6);
-  // At q = 0 by hand: the upper arm along x (a2), the shoulder offset d3 along y, the
-  // forearm down the -z axis (d4), frame 6 turned 180 deg about x.
+  // At q = 0 by hand: the upper arm along x (a2) at the shoulder's height (d1, the pedestal),
+  // the shoulder offset d3 along y, the forearm down the -z axis (d4), frame 6 turned 180 deg
+  // about x.
   const Transform<double> T0 = fk(r, std::vector<double>(6, 0.0));
   EXPECT_NEAR(T0.p.x, 452.12, 1e-9);
   EXPECT_NEAR(T0.p.y, 150.05, 1e-9);
-  EXPECT_NEAR(T0.p.z, -431.8, 1e-9);
+  EXPECT_NEAR(T0.p.z, 660.4 - 431.8, 1e-9);
   const double R0[3][3] = {{1, 0, 0}, {0, -1, 0}, {0, 0, -1}};
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) EXPECT_NEAR(T0.R.m[i][j], R0[i][j], 1e-12);
@@ -548,7 +549,7 @@ TEST(IkStatus, UnreachableStretchesTowardTheTarget) {
   // nearest pose (then "limited"), but it is never "reached".
   const Robot& puma = robot("puma560");
   const double bound = InverseKinematics(puma).reach_bound();
-  const Vec3<double> far = make_vec3(2000.0, 0.0, 0.0);
+  const Vec3<double> far = make_vec3(2000.0, 0.0, 660.4);  // at the shoulder's height
   IkResult res = solve_ik(puma, IkTarget::at(far), puma.home);
   EXPECT_EQ(res.status, IkStatus::kUnreachable);
   EXPECT_TRUE(res.beyond_reach);

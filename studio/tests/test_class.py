@@ -563,6 +563,9 @@ def test_examples_fit_the_robot_and_a_scene_comes_with_its_example(open_page):
     pg.page.select_option("#program-select", "grasp-and-lift.arm")
     pg.wait("a.scene && a.scene.name === 'grasp-and-lift' && a.physics && a.physics.on", timeout=20000)
     assert "this program is made for" in pg.page.text_content("#program-status")
+    # the gripper starts open in physics, and stays open: the first move down meets no fingers
+    pg.wait("a.physics.t > 0.5", timeout=20000)
+    assert pg.hook("a.pose.gripper") == 100
 
 
 def test_stale_state_goes_and_bad_input_is_said(open_page):
@@ -630,6 +633,14 @@ def test_rough_edges(open_page, tmp_path):
     shot = Image.open(io.BytesIO(pg.page.screenshot(clip={"x": x - 1, "y": y - 1, "width": 3, "height": 3}))).convert("RGB")
     r, g, b = shot.getpixel((1, 1))
     assert r > 150 and r > g > b, (r, g, b)
+
+
+def test_the_puma_at_home_stands_above_the_floor(open_page):
+    pg = open_page("puma560")
+    pg.wait("a.pose && a.robot.name.startsWith('PUMA')")
+    heights = pg.hook("a.pose.frames.map(f => f[11])")  # row-major: z is the third row's last
+    assert min(heights) >= 0, heights
+    assert pg.hook("a.pose.tool.xyz[2]") > 100
 
 
 @pytest.mark.parametrize("size", [(768, 1024), (390, 844)], ids=["tablet", "phone"])

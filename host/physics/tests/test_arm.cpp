@@ -131,6 +131,19 @@ TEST(Arm, GraspAndLift) {
   EXPECT_EQ(count(sim, SimEvent::Kind::kCollision) + count(sim, SimEvent::Kind::kSqueeze), 0);
 }
 
+// The gripper starts open and stays open until something closes it: the first move down
+// onto the block must not push closed fingers into it (issue 21).
+TEST(Arm, GripperStartsOpenAndStaysOpen) {
+  const Robot r = robot("mk2plus");
+  Simulation sim(r, load_scene_file(kSrc + "/scenes/grasp-and-lift.json"));
+  EXPECT_DOUBLE_EQ(sim.gripper_opening_mm(), r.gripper.max_opening_mm);
+  for (int i = 0; i < 200; ++i) sim.step();
+  EXPECT_DOUBLE_EQ(sim.gripper_opening_mm(), r.gripper.max_opening_mm);
+  EXPECT_EQ(sim.command("L 0 10"), kOk);
+  while (!sim.done()) sim.step();
+  EXPECT_DOUBLE_EQ(sim.gripper_opening_mm(), r.gripper.max_opening_mm) << "a move leaves the gripper as it was";
+}
+
 TEST(Arm, PushingMovesABox) {
   const Robot r = robot("mk2plus");
   const Scene s = load_scene_file(kSrc + "/scenes/push.json");
@@ -197,16 +210,21 @@ TEST(Arm, MoveIntoItselfHolds) {
 TEST(Arm, MoveIntoTheGroundHolds) {
   const Robot r = robot("puma560");
   Simulation sim(r, Scene{});
-  // Upper arm up, then swung 30 degrees below the horizontal: into the floor.
-  sim.load_program(parse_robosim("m\n0\n-90\n0\n0\n0\n0\nm\n0\n30\n0\n0\n0\n0\n", "g.robosim", r));
+  // The arm straight out (q3 = -87.3 lines the forearm up with the upper arm), then the upper
+  // arm 45 deg down and the forearm straight down: 305 + 432 mm below a shoulder 660 mm above
+  // the floor.
+  sim.load_program(parse_robosim("m\n0\n0\n-87.3\n0\n0\n0\nm\n0\n45\n-45\n0\n0\n0\n", "g.robosim", r));
   while (!sim.done()) sim.step();
   const SimEvent* e = first(sim, SimEvent::Kind::kCollision);
   ASSERT_NE(e, nullptr);
   EXPECT_EQ(e->b, "ground");
   EXPECT_GE(count(sim, SimEvent::Kind::kBlocked), 1);
   const double q2 = sim.joints()[1] * 180 / M_PI;
-  EXPECT_LT(q2, 30 - 1) << "held short of the target";
-  EXPECT_GT(q2, -90 + 1) << "but moved";
+  EXPECT_LT(q2, 45 - 1) << "held short of the target";
+  EXPECT_GT(q2, 0 + 1) << "but moved";
+  // where it held: the wrist at the floor, about 80 % of the way (q2 = 36 deg, less the
+  // capsules' radius)
+  EXPECT_GT(q2, 20) << "not before the floor";
 }
 
 }  // namespace
