@@ -9,6 +9,7 @@ import json
 import random
 import subprocess
 import zlib
+from pathlib import Path
 
 import pytest
 
@@ -426,6 +427,31 @@ def test_bad_project_files_are_refused_and_a_broken_saved_project_does_not_stop_
     assert pg.hook("a.pageErrors") == []
 
 
+def test_a_project_too_big_for_a_link_offers_the_file(open_page, tmp_path):
+    """A robot from a file with a mesh of 120 KB that does not compress: the link would be
+    longer than the page reads, so Share says so and offers the file instead."""
+    pg = open_page("mk2plus")
+    noise = base64.b64encode(random.Random(7).randbytes(120_000)).decode()
+    doc = _project("Big", text="G 100\n", mode="text")
+    doc["robot"] = {"file": {"name": "mk2plus.json", "text": (REPO / "robots" / "mk2plus.json").read_text(),
+                             "legacy": False, "scale": 1}, "meshes": [{"name": "noise.stl", "data": noise}]}
+    _open_project(pg, tmp_path, doc)
+    pg.wait("a.project.name === 'Big'")
+    # a file named as a shipped robot is the file, meshes and all, not the shipped robot
+    assert pg.hook("a.robot.source") == "mk2plus.json"
+    pg.page.click("#share-button")
+    pg.page.wait_for_function("() => document.querySelector('#share-note').textContent.includes('too big for a link')")
+    assert pg.hook("a.shareLink") == ""
+    assert pg.page.input_value("#share-link") == ""
+    assert pg.page.locator("#share-copy").is_hidden()
+    with pg.page.expect_download() as dl:
+        pg.page.click("#share-note button")
+    assert dl.value.suggested_filename.endswith(".articula")
+    saved = json.loads(Path(dl.value.path()).read_text())
+    assert saved["robot"]["meshes"][0]["data"] == noise  # the file carries what the link cannot
+    assert pg.errors == []
+
+
 def test_projects_new_rename_duplicate_delete_with_undo(open_page, monkeypatch):
     pg = open_page("mk2plus")
     pg.page.fill("#editor", "G 10\n")
@@ -544,6 +570,15 @@ def test_the_editor_explains_itself_and_an_empty_program_says_so(open_page):
     pg.page.keyboard.press("Control+End")
     pg.page.keyboard.press("ArrowUp")
     pg.page.wait_for_function("() => document.querySelector('#line-help').textContent.startsWith('P x y z')")
+    # help on hover: the pointer over line 1 (the gripper's) says what G does, as the tooltip too
+    box = pg.page.locator("#editor").bounding_box()
+    lh = pg.page.evaluate("() => { const cs = getComputedStyle(document.querySelector('#editor')); "
+                          "return [parseFloat(cs.lineHeight), parseFloat(cs.paddingTop)]; }")
+    pg.page.mouse.move(box["x"] + 40, box["y"] + lh[1] + lh[0] * 0.5)
+    pg.page.wait_for_function("() => document.querySelector('#line-help').textContent.startsWith('line 1: G percent')")
+    assert pg.page.get_attribute("#editor", "title").startswith("line 1: G percent")
+    pg.page.mouse.move(box["x"] + 40, box["y"] + lh[1] + lh[0] * 1.5)
+    pg.page.wait_for_function("() => document.querySelector('#editor').title.startsWith('line 2: P x y z')")
     # the running line is not drawn as an error is
     run_bg = pg.page.evaluate("() => { const e = document.querySelector('#current-line'); e.hidden = false; return getComputedStyle(e).borderLeftColor; }")
     err_bg = pg.page.evaluate("() => { const e = document.querySelector('#current-line'); e.classList.add('error'); "

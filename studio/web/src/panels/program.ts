@@ -36,13 +36,28 @@ const HELP: Record<string, string> = {
   h: "RoboSim h: the hand, 0.0 open to 0.5 closed", s: "RoboSim s: speed, 1 slow to 82 fast",
   w: "RoboSim w: IK weights, one a joint", l: "RoboSim l: link lengths", z: "RoboSim z: the view's zoom",
 };
+function helpFor(line: string): string {
+  const word = line.trim().split(/\s+/)[0] ?? "";
+  const key = word.startsWith("#") ? "#" : word.startsWith("$") ? "$" : word.length === 1 ? (HELP[word] ? word : word.toUpperCase()) : "";
+  return key === "#" ? "# a note for people: the arm ignores it" : HELP[key] ?? "";
+}
 function lineHelp(): void {
   const ed = editor();
   const start = ed.value.lastIndexOf("\n", ed.selectionStart - 1) + 1;
-  const line = ed.value.slice(start, ed.value.indexOf("\n", start) < 0 ? undefined : ed.value.indexOf("\n", start));
-  const word = line.trim().split(/\s+/)[0] ?? "";
-  const key = word.startsWith("#") ? "#" : word.startsWith("$") ? "$" : word.length === 1 ? (HELP[word] ? word : word.toUpperCase()) : "";
-  $("line-help").textContent = key === "#" ? "# a note for people: the arm ignores it" : HELP[key] ?? "";
+  const end = ed.value.indexOf("\n", start);
+  $("line-help").textContent = helpFor(ed.value.slice(start, end < 0 ? undefined : end));
+}
+// Help on hover: the line under the pointer says what its command does (the editor's tooltip,
+// and the help line under it while the pointer is over the editor).
+function hoverHelp(e: MouseEvent): void {
+  const ed = editor();
+  const cs = getComputedStyle(ed);
+  const lh = parseFloat(cs.lineHeight) || 1.4 * parseFloat(cs.fontSize);
+  const row = Math.floor((e.offsetY + ed.scrollTop - parseFloat(cs.paddingTop)) / lh);
+  const line = ed.value.split("\n")[row];
+  const help = line === undefined ? "" : helpFor(line);
+  ed.title = help ? `line ${row + 1}: ${help}` : "";
+  if (help) $("line-help").textContent = ed.title;
 }
 
 export function initProgram(studio: Studio): void {
@@ -52,7 +67,8 @@ export function initProgram(studio: Studio): void {
     editorChanged();
     lineHelp();
   });
-  for (const ev of ["click", "keyup", "focus"]) ed.addEventListener(ev, lineHelp);
+  for (const ev of ["click", "keyup", "focus", "mouseleave"]) ed.addEventListener(ev, lineHelp);
+  ed.addEventListener("mousemove", hoverHelp);
   ed.addEventListener("scroll", () => {
     $("gutter").scrollTop = ed.scrollTop;
     positionLine();

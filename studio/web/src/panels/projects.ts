@@ -164,7 +164,8 @@ function capture(): Project {
   const r = hook.robot;
   const stem = r?.source.split("/").pop()?.replace(/\.json$/, "") ?? "";
   let robot: Project["robot"] = d.robot;
-  if (r && r.robots.includes(stem) && !r.source.startsWith("/user/")) robot = { shipped: stem };
+  // a shipped robot is read from /robots/; a file of the same name the user opened is not it
+  if (r && r.robots.includes(stem) && r.source === `/robots/${stem}.json`) robot = { shipped: stem };
   else if (openedRobotFile) robot = openedRobotFile;
   const ed = $("editor") as HTMLTextAreaElement;
   return {
