@@ -9,6 +9,7 @@ from __future__ import annotations
 import json
 import os
 import subprocess
+import time
 
 import numpy as np
 import pytest
@@ -137,17 +138,7 @@ def _block_path(block_id):
 
 def _drag_from_toolbox(pg, category, kind, below):
     before = set(_ids(pg, kind))
-    cat = pg.rect(f"return [...document.querySelectorAll('#blockly .blocklyToolboxCategory')].find(c => c.textContent.trim() === {json.dumps(category)});")
-    shown = (f"(() => {{ const f = document.querySelector('#blockly svg.blocklyToolboxFlyout'); "
-             f"return f && getComputedStyle(f).display !== 'none' && f.querySelector('g.{kind}[data-id]') !== null; }})()")
-    for _ in range(3):  # a click on an open category closes it: until its blocks show
-        pg.mouse_click(cat[0] + cat[2] / 2, cat[1] + cat[3] / 2)
-        try:
-            pg.wait(shown, 3, "the toolbox's blocks")
-            break
-        except AssertionError:
-            continue
-    pg.wait(shown, 10 * PATIENCE, "the toolbox's blocks")
+    _open_category(pg, category, kind)
     src = pg.rect(f"return document.querySelector('#blockly svg.blocklyToolboxFlyout g.{kind}[data-id] > path.blocklyPath');")
     if below:
         t = pg.rect(_block_path(below))
@@ -173,6 +164,42 @@ def _drag_from_toolbox(pg, category, kind, below):
     return new[0]
 
 
+def _open_category(pg, category, kind):
+    cat = pg.rect(f"return [...document.querySelectorAll('#blockly .blocklyToolboxCategory')].find(c => c.textContent.trim() === {json.dumps(category)});")
+    shown = (f"(() => {{ const f = document.querySelector('#blockly svg.blocklyToolboxFlyout'); "
+             f"return f && getComputedStyle(f).display !== 'none' && f.querySelector('g.{kind}[data-id]') !== null; }})()")
+    for _ in range(3):  # a click on an open category closes it: until its blocks show
+        pg.mouse_click(cat[0] + cat[2] / 2, cat[1] + cat[3] / 2)
+        try:
+            pg.wait(shown, 3, "the toolbox's blocks")
+            break
+        except AssertionError:
+            continue
+    pg.wait(shown, 10 * PATIENCE, "the toolbox's blocks")
+
+
+def _tap_from_toolbox(pg, category, kind):
+    """Taps the toolbox's block of type `kind`: it joins the end of the program. Returns the
+    new block's id."""
+    before = set(_ids(pg, kind))
+    n = -1
+    end = time.monotonic() + 10 * PATIENCE
+    while n < 0 and time.monotonic() < end:  # -1 while the blocks' program is being made
+        n = pg.hook(COMMANDS)
+        time.sleep(0.05)
+    _open_category(pg, category, kind)
+    src = pg.rect(f"return document.querySelector('#blockly svg.blocklyToolboxFlyout g.{kind}[data-id] > path.blocklyPath');")
+    pg.mouse_click(src[0] + 6, src[1] + 8)
+    try:
+        pg.wait(f"a.blockStacks === 1 && {COMMANDS} === {n + 1}", 10 * PATIENCE, f"{kind} at the end of the program")
+    except AssertionError as e:
+        pg.screenshot(SHOTS / f"studio-tap-failed-{pg.engine}.png")
+        raise AssertionError(f"{e}: {pg.hook('[a.blockStacks, a.blocksCode && a.blocksCode.text]')}") from None
+    new = [i for i in _ids(pg, kind) if i not in before]
+    assert len(new) == 1, (pg.engine, kind, new)
+    return new[0]
+
+
 def _type_into_block(pg, block_id, text):
     f = pg.rect(f"return [...document.querySelectorAll('#blockly svg.blocklySvg .blocklyEditableField')]"
                 f".find(x => x.closest('g[data-id]').dataset.id === {json.dumps(block_id)} && x.getBoundingClientRect().width > 0);")
@@ -183,34 +210,27 @@ def _type_into_block(pg, block_id, text):
 
 
 def test_a_class_session_blocks_physics_nano_reload_and_link(page, engines, site, tmp_path):
-    from test_class import _chain, _fragment
 
-    if page.engine in ("webkit", "firefox") and os.environ.get("ARTICULA_ENGINE_DRAGS") != "1":
-        # Dragging blocks with WebDriver's pointer actions is not steady enough for CI: WebKitGTK
-        # dropped blocks where they were not aimed (a stack taken apart), Firefox once left one
-        # beside the stack on a busy machine. Here the solution's blocks come in a link, as a
-        # teacher would send them; Chromium's suite drags them (test_class.py), and
-        # ARTICULA_ENGINE_DRAGS=1 drags them here too (Firefox passed that 6 times in a row).
-        doc = json.loads((REPO / "exercises" / "pick-and-place.articula").read_text())
-        doc["program"]["blocks"] = _chain([(k, v) for _, k, v in PICK_AND_PLACE])
-        pg = page(f"#{_fragment(doc)}")
-        pg.wait("a.project.goal !== null && a.blocksCode !== null", 30 * PATIENCE, "the exercise from the link")
-    else:
-        pg = page()
-        # the shipped exercise, from the projects
-        pg.click("#projects-button")
-        pg.wait("document.querySelector('#exercise-select').options.length > 1", 30 * PATIENCE, "the exercises listed")
-        pg.select("#exercise-select", "pick-and-place.articula")
-        pg.wait("a.project.goal !== null && a.scene && a.scene.name === 'grasp-and-lift'", 30 * PATIENCE, "the exercise open")
-        pg.click("#mode-blocks")
-        pg.wait("document.querySelector('#blockly .blocklyToolbox') !== null", 30 * PATIENCE, "the blocks")
-        pg.run("document.querySelector('#blockly').scrollIntoView({ block: 'end' });")  # the panel scrolls: the blocks in sight
-        # 1: the program from blocks alone, dragged from the toolbox, its numbers typed
-        last = None
-        for category, kind, value in PICK_AND_PLACE:
-            last = _drag_from_toolbox(pg, category, kind, last)
-            if value:
-                _type_into_block(pg, last, value)
+    # Blocks from the toolbox: Chromium drags them; Firefox and WebKit tap them (a tapped block
+    # joins the end of the program), since WebDriver's pointer drags are not steady enough for
+    # CI (WebKitGTK dropped blocks where they were not aimed, Firefox once left one beside the
+    # stack on a busy machine). ARTICULA_ENGINE_DRAGS=1 drags in every engine.
+    drag = page.engine == "chromium" or os.environ.get("ARTICULA_ENGINE_DRAGS") == "1"
+    pg = page()
+    # the shipped exercise, from the projects
+    pg.click("#projects-button")
+    pg.wait("document.querySelector('#exercise-select').options.length > 1", 30 * PATIENCE, "the exercises listed")
+    pg.select("#exercise-select", "pick-and-place.articula")
+    pg.wait("a.project.goal !== null && a.scene && a.scene.name === 'grasp-and-lift'", 30 * PATIENCE, "the exercise open")
+    pg.click("#mode-blocks")
+    pg.wait("document.querySelector('#blockly .blocklyToolbox') !== null", 30 * PATIENCE, "the blocks")
+    pg.run("document.querySelector('#blockly').scrollIntoView({ block: 'end' });")  # the panel scrolls: the blocks in sight
+    # 1: the program from blocks alone, from the toolbox, its numbers typed
+    last = None
+    for category, kind, value in PICK_AND_PLACE:
+        last = _drag_from_toolbox(pg, category, kind, last) if drag else _tap_from_toolbox(pg, category, kind)
+        if value:
+            _type_into_block(pg, last, value)
     pg.wait(f"{COMMANDS} === 7 && a.blocksCode.text.includes('M 40 75 -20')", 10 * PATIENCE, "the program of seven blocks")
     text = pg.hook("a.blocksCode.text")
     pg.screenshot(SHOTS / f"studio-blocks-{pg.engine}.png")

@@ -81,12 +81,40 @@ function ensureWorkspace(): void {
     grid: { spacing: 24, length: 2, colour: "#dde4ec", snap: true },
   });
   ws.addChangeListener(onChange);
+  ws.addChangeListener(tapToAdd);
+  // a press in the toolbox's flyout arms tapToAdd; a press anywhere else disarms it
+  $("blockly").addEventListener("pointerdown", (e) => {
+    flyoutPress = !!(e.target as Element).closest?.(".blocklyFlyout");
+  }, true);
   new ResizeObserver(() => ws && Blockly.svgResize(ws)).observe($("blockly"));
   if (pendingLoad) {
     load(pendingLoad);
     pendingLoad = null;
   }
   requestAnimationFrame(() => (hook.blocksFirstPaintMs = performance.now() - t0));
+}
+
+// A block tapped (not dragged) in the toolbox joins the end of the program: on a tablet or a
+// phone, and for anyone, it builds a program without a drag. (Blockly makes the tapped block
+// where the toolbox showed it; a dragged one is made while the workspace drags.)
+let flyoutPress = false;
+function tapToAdd(e: Blockly.Events.Abstract): void {
+  if (e.type !== Blockly.Events.BLOCK_CREATE || !flyoutPress || !ws) return;
+  flyoutPress = false;
+  if (ws.isDragging()) return;
+  const block = ws.getBlockById((e as Blockly.Events.BlockCreate).blockId ?? "");
+  if (!block || !block.previousConnection || block.getParent()) return;
+  // the program: the topmost stack of statements (procedure definitions aside)
+  const main = ws.getTopBlocks(true).find((b) => b !== block && b.nextConnection !== null && !b.type.startsWith("procedures_def"));
+  if (!main) {
+    block.moveTo(new Blockly.utils.Coordinate(24, 24));
+  } else {
+    let last: Blockly.Block = main;
+    while (last.getNextBlock()) last = last.getNextBlock()!;
+    if (last.nextConnection && ws.connectionChecker.canConnect(last.nextConnection, block.previousConnection, false))
+      last.nextConnection.connect(block.previousConnection);
+  }
+  ws.scrollBoundsIntoView?.((block as Blockly.BlockSvg).getBoundingRectangleWithoutChildren());
 }
 
 function onChange(e: Blockly.Events.Abstract): void {
