@@ -176,6 +176,12 @@ uint8_t queue_command(const Command& c) {
       queue::push(a);
       return kOk;
     }
+    case kCmdDwell:  // the parser checked its range
+      if (queue::full()) return kWait;
+      a.kind = queue::kDwell;
+      a.grip.settle_ticks = uint32_t(c.arg[0]) * (hal::kTickHz / 1000);
+      queue::push(a);
+      return kOk;
     case kCmdHome: {
       // Switch motors end at their minimum angle, the others at the home pose.
       const uint8_t mask = uint8_t(settings::value[settings::kEndstops]);

@@ -17,6 +17,7 @@ enum Kind : uint8_t {
   kGripper,  // a servo pulse width, then a pause for the servo to get there
   kHome,     // seek the switches of `mask`, then move to target[] (the switch motors'
              // targets are the steps their switch stands for)
+  kDwell,    // a pause of grip.settle_ticks (D), nothing else
 };
 
 struct Gripper {

@@ -111,6 +111,8 @@ uint32_t begin(const queue::Action& a) {
     case queue::kGripper:
       hal::set_servo_pulse(a.grip.pulse_us);
       g_gripper = a.grip.percent;
+      // fall through - the servo's settle time is a pause, as D's is
+    case queue::kDwell:
       if (a.grip.settle_ticks == 0) return 0;
       g_mode = kPause;
       return a.grip.settle_ticks;

@@ -403,6 +403,14 @@ Status ControllerModel::run_command(PredictRecord& r, const std::string& text) {
     }
     case kCmdHome:
       return home(r);
+    case kCmdDwell:  // (the parser checked its range) a pause in the queue, as the servo's settle
+      r.queued = true;
+      r.ticks = uint64_t(cmd.arg[0]) * (kControllerTickHz / 1000);
+      r.start_tick = clock_;
+      clock_ += r.ticks;
+      r.end_tick = clock_;
+      add_note(r, "waits; nothing moves");
+      return kOk;
   }
   return kUnknownCommand;
 }

@@ -281,6 +281,7 @@ std::string explain_line_error(const std::string& line, Status status, const Rob
     case 'P': takes = "P takes 3 values: x, y and z of the point, in mm"; break;
     case 'G': takes = "G takes 1 value: how far open, 0 (closed) to 100 (open) %"; break;
     case 'S': takes = "S takes 1 value: 1 closes the gripper, 0 opens it"; break;
+    case 'D': takes = "D takes 1 value: the seconds to wait, 0 to " + std::to_string(kMaxDwellMs / 1000); break;
     default: break;
   }
   switch (status) {
@@ -293,7 +294,7 @@ std::string explain_line_error(const std::string& line, Status status, const Rob
           return "'" + words[i] + "' is not a number: write digits, like 10 or -2.5";
       return "";
     case kUnknownCommand:
-      return "'" + words[0] + "' is not a command: a line starts with L, M, P, G, S, H, Z, I or $ (docs/protocol.md)";
+      return "'" + words[0] + "' is not a command: a line starts with L, M, P, G, S, D, H, Z, I or $ (docs/protocol.md)";
     case kBadJoint:
       return "the joints are numbered 0 to " + std::to_string(actuators - 1) + " (" + join_names(names) + ")";
     case kValueOutOfRange:

@@ -185,7 +185,7 @@ nlohmann::json program_json(const Robot& robot, const Program& program, const st
           }
         }
         for (size_t i = 0; i < kinds.size() && i < cmd.argc; ++i)
-          args.push_back(kinds[i] == 'n' || kinds[i] == 'p' ? cmd.arg[i] / 1000.0 : double(cmd.arg[i]));
+          args.push_back(in_thousandths(kinds[i]) ? cmd.arg[i] / 1000.0 : double(cmd.arg[i]));
         break;
       }
     }

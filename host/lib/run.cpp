@@ -98,6 +98,9 @@ Status KinematicModel::run_command(RunRecord& r, const std::string& text) {
     case kCmdInfo:
     case kCmdListSettings:
       return kOk;
+    case kCmdDwell:  // (the parser checked its range)
+      r.dwell_s = cmd.arg[0] / 1000.0;
+      return kOk;
     case kCmdSetSetting: {
       const Status s = check_setting(n_, cmd.arg[0], cmd.arg[1]);
       if (s == kOk) settings_.value[size_t(cmd.arg[0])] = uint32_t(cmd.arg[1] / 1000);

@@ -36,6 +36,7 @@ struct RunRecord {
   Transform<double> tool = Transform<double>::identity();  // tool pose, mm
   Vec3<double> rpy_deg{0, 0, 0};                           // its roll, pitch, yaw (fixed X-Y-Z), deg
   int gripper_percent = -1;                                // -1: no gripper command yet
+  double dwell_s = 0;                                      // D: how long the line waits
 
   bool has_target = false;  // RoboSim a, protocol P
   Vec3<double> target{0, 0, 0};

@@ -90,6 +90,7 @@ Timeline Timeline::of(const Robot& robot, const Program& program, const std::vec
       // as the physics times it: a move, else a gripper action
       if (s == 0 && (r.gripper_percent != grip || is_gripper_statement(program.statements[i])))
         s = timing.gripper_settle_s;
+      if (s == 0) s = r.dwell_s;  // D: a wait
       at = to;
       grip = r.gripper_percent;
     }

@@ -162,7 +162,7 @@ struct Simulation::MeshData {
 };
 
 struct Simulation::Action {
-  enum Kind { kMove, kHome, kGripper, kJoints, kSetCounts } kind = kMove;
+  enum Kind { kMove, kHome, kGripper, kJoints, kSetCounts, kDwell } kind = kMove;
   int line = 0;
   uint64_t start_tick = 0, end_tick = 0;
   int32_t to[8]{};  // counted steps at the end (moves, Z)
@@ -659,6 +659,8 @@ void Simulation::enqueue(const Statement& st, uint64_t now_tick) {
       a.kind = Action::kGripper;
       const int pct = r.gripper_percent < 0 ? 100 : r.gripper_percent;
       a.opening_to = robot_.gripper.max_opening_mm * pct / 100.0;
+    } else if (letter == 'D') {
+      a.kind = Action::kDwell;
     } else {
       a.kind = letter == 'H' ? Action::kHome : Action::kMove;
       a.settings = cm.settings();
@@ -693,6 +695,9 @@ void Simulation::enqueue(const Statement& st, uint64_t now_tick) {
       duration = opt_.joints.gripper_settle_s;
       queued_percent_ = r.gripper_percent;
       a.opening_to = robot_.gripper.max_opening_mm * (queued_percent_ < 0 ? 100 : queued_percent_) / 100.0;
+    } else if (r.dwell_s > 0) {
+      a.kind = Action::kDwell;
+      duration = r.dwell_s;
     } else {
       return;
     }
@@ -725,7 +730,8 @@ void Simulation::begin_action(size_t index) {
       grip_t0_ = double(a.start_tick) / kControllerTickHz;
       grip_t1_ = double(a.end_tick) / kControllerTickHz;
       return;
-    case Action::kJoints: return;
+    case Action::kJoints:
+    case Action::kDwell: return;
     case Action::kMove:
       stall_check(a);
       start_move(a.to, a.k, a.start_tick);
@@ -883,7 +889,8 @@ void Simulation::motor_events(uint64_t until) {
       continue;
     }
     Action& a = actions_[action_];
-    if (a.kind == Action::kGripper || a.kind == Action::kJoints || a.kind == Action::kSetCounts) {
+    if (a.kind == Action::kGripper || a.kind == Action::kJoints || a.kind == Action::kSetCounts ||
+        a.kind == Action::kDwell) {
       if (a.end_tick > until) return;
       event_tick_ = a.end_tick;
       end_action();

@@ -239,6 +239,22 @@ TEST(Predict, GripperActionsTakeTheSettleTime) {
   EXPECT_EQ(m.clock_ticks(), 3 * kSettleTicks);
 }
 
+TEST(Predict, DwellWaitsInTheQueue) {
+  ControllerModel m(mk2());
+  PredictRecord move = m.execute_line("L 0 10");
+  PredictRecord r = m.execute_line("D 1.5");
+  EXPECT_EQ(r.reply, kOk);
+  EXPECT_TRUE(r.queued);
+  EXPECT_EQ(r.start_tick, move.end_tick);
+  EXPECT_EQ(r.ticks, 3u * kControllerTickHz / 2);
+  EXPECT_EQ(r.steps, move.steps);  // nothing moves
+  const PredictRecord next = m.execute_line("L 0 -10");
+  EXPECT_EQ(next.start_tick, r.end_tick);
+  r = m.execute_line("D 600.5");
+  EXPECT_EQ(r.reply, kValueOutOfRange);
+  EXPECT_EQ(m.clock_ticks(), next.end_tick);  // a refused wait adds nothing
+}
+
 TEST(Predict, SettingsLinesChangeLaterMoves) {
   ControllerModel m(mk2());
   EXPECT_EQ(m.execute_line("$0=800").reply, kOk);

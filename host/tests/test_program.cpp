@@ -124,8 +124,8 @@ TEST(ProtocolProgram, EveryLineCheckedBeforeAnythingRuns) {
             "prog.arm:1: 'L 0 ten': error:3 bad number (expected digits with optional sign and decimal point): 'ten' is "
             "not a number: write digits, like 10 or -2.5");
   EXPECT_EQ(error_of("X\n", mk2(), false),
-            "prog.arm:1: 'X': error:2 unknown command: 'X' is not a command: a line starts with L, M, P, G, S, H, Z, I "
-            "or $ (docs/protocol.md)");
+            "prog.arm:1: 'X': error:2 unknown command: 'X' is not a command: a line starts with L, M, P, G, S, D, H, Z, "
+            "I or $ (docs/protocol.md)");
   EXPECT_EQ(error_of("L 0 " + std::string(70, '1') + "\n", mk2(), false), "prog.arm:1: line longer than 64 bytes (error:7)");
 }
 

@@ -68,3 +68,12 @@ TEST(Timeline, AGripperActionTakesTheSettleTimeWhateverItsCase) {
   const Program m = parse_program("M 0 0 0 0 0 0\n", "t.arm", r);
   EXPECT_FALSE(is_gripper_statement(m.statements[0]));
 }
+
+// D waits on a robot without motors too: the time line and the physics both pause.
+TEST(Timeline, AWaitPausesARobotWithoutMotors) {
+  const Robot& r = robot("puma560");
+  const Program p = parse_program("D 2\n", "t.arm", r);
+  const Timeline tl = Timeline::of_program(r, p, home_pose(r));
+  ASSERT_EQ(tl.actions().size(), 1u);
+  EXPECT_NEAR(tl.duration(), 2.0, 1e-9);
+}

@@ -107,3 +107,19 @@ def test_status_table_is_the_protocol_documents():
     assert articula.status_text("ok") == "ok"
     with pytest.raises(ValueError):
         articula.status_text("garbage")
+
+
+def test_a_wait_is_a_pause_in_the_prediction():
+    import articula
+
+    mk2 = articula.Robot.load("mk2plus")
+    res = mk2.predict(articula.Program("L 0 10\nD 1.5\nL 0 -10\n", "w.arm"))
+    move, wait, back = res.records
+    assert wait.reply == "ok" and wait.start_tick == move.end_tick
+    assert abs(wait.end_s - wait.start_s - 1.5) < 1e-9
+    assert back.start_tick == wait.end_tick
+    # beyond its range: the program is refused, the line named with the range
+    import pytest
+
+    with pytest.raises(articula.ProgramError, match=r"w\.arm:1: 'D 601': error:8 .* 0 to 600"):
+        mk2.predict(articula.Program("D 601\n", "w.arm"))

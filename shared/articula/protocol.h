@@ -31,7 +31,7 @@
 namespace articula {
 
 // 1: the original L and S. 2: M, P, G, H, Z, I, settings, realtime bytes, reports.
-static const uint8_t kProtocolVersion = 2;
+static const uint8_t kProtocolVersion = 3;  // 3: D (dwell)
 
 static const uint8_t kMaxLineLength = 64;
 
@@ -51,13 +51,19 @@ enum CommandType : uint8_t {
   kCmdInfo,          // I: report firmware and protocol version, joints, robot name
   kCmdListSettings,  // $: report every setting
   kCmdSetSetting,    // $<n>=<value>: set setting n (the firmware validates n and value)
+  kCmdDwell,         // D <seconds>: wait, in the queue, before the next queued command
 };
+
+// The longest wait `D` takes, in milliseconds (thousandths of its seconds).
+static const int32_t kMaxDwellMs = 600000L;
 
 // Argument kinds in a pattern, and what a bad one gives:
 //   'j' joint index, below num_joints                       kBadJoint
 //   'n' number, in thousandths                              kBadNumber
 //   'b' bit, 0 or 1                                         kBadNumber, kValueOutOfRange
 //   'p' percent: a number from 0 to 100, in thousandths     kBadNumber, kValueOutOfRange
+//   'w' wait: seconds from 0 to kMaxDwellMs / 1000, in thousandths (milliseconds)
+//                                                           kBadNumber, kValueOutOfRange
 //   's' setting `<n>=<value>` (one word, two arguments: n of 1 to 3 digits, then the value
 //       in thousandths)                                     kSettingUnknown, kMissingArgument,
 //                                                           kBadNumber
@@ -81,8 +87,13 @@ static const CommandSpec kCommandTable[] = {
     {'I', kCmdInfo, ""},
     {'$', kCmdListSettings, ""},    // `$` alone
     {'$', kCmdSetSetting, "s"},     // `$<n>=<value>`
+    {'D', kCmdDwell, "w"},          // seconds
 };
 static const uint8_t kCommandCount = sizeof(kCommandTable) / sizeof(kCommandTable[0]);
+
+// Whether an argument of this kind is a number held in thousandths (the others are whole:
+// joint indices, bits, setting numbers).
+inline bool in_thousandths(char kind) { return kind == 'n' || kind == 'p' || kind == 'w'; }
 
 // A parsed line. arg[] holds, in pattern order: joint indices, numbers in thousandths
 // (millidegrees, micrometres, thousandths of a percent), bits, setting numbers.
@@ -235,6 +246,7 @@ inline Status parse_words(CommandType& type, uint8_t& argc, int32_t* arg, uint8_
         const Status st = parse_thousandths(v, s, n);
         if (st != kOk) return st;
         if (*kind == 'p' && (v < 0 || v > 100000L)) return kValueOutOfRange;
+        if (*kind == 'w' && (v < 0 || v > kMaxDwellMs)) return kValueOutOfRange;
       }
       if (argc >= max_args) return kExtraArgument;
       arg[argc++] = v;
@@ -323,7 +335,7 @@ inline bool parse_reply(uint8_t& code, const char* line, uint8_t len) {
 // ---- Reports: lines the controller sends besides `ok` / `error:N` ----
 //
 //   status   <Idle|S:0,32,-5|A:0.000,10.133,-3.639|G:100|Q:15|C:1>      on '?', at any time
-//   info     [Articula|V:0.1.0|P:2|J:3|R:MK2 Plus]                      on I, before its ok
+//   info     [Articula|V:0.1.0|P:3|J:3|R:MK2 Plus]                      on I, before its ok
 //   setting  $3=200.000                                                 on $, before its ok
 // A report that has something to say once (settings reset to defaults) ends in |W:<code>.
 // Integers and fixed-point thousandths are written by hand (no printf on AVR).

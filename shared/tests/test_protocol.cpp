@@ -579,6 +579,16 @@ TEST(ParseLine, MoveTool) {
   for (const auto& c : bad) EXPECT_EQ(parse(c.first), c.second) << '"' << c.first << '"';
 }
 
+TEST(ParseLine, Dwell) {
+  EXPECT_TRUE(parses_to("D 0", kCmdDwell, {0}));
+  EXPECT_TRUE(parses_to("d 1.5 # a breath", kCmdDwell, {1500}));
+  EXPECT_TRUE(parses_to("D 600", kCmdDwell, {600000}));
+  const std::pair<const char*, Status> bad[] = {{"D 600.001", kValueOutOfRange}, {"D -0.001", kValueOutOfRange},
+                                                {"D x", kBadNumber},            {"D", kMissingArgument},
+                                                {"D 1 2", kExtraArgument}};
+  for (const auto& b : bad) EXPECT_EQ(parse(b.first), b.second) << b.first;
+}
+
 TEST(ParseLine, Aperture) {
   EXPECT_TRUE(parses_to("G 0", kCmdAperture, {0}));
   EXPECT_TRUE(parses_to("g 100", kCmdAperture, {100000}));
@@ -654,7 +664,7 @@ TEST(ParseLine, EveryTableRowIsReachable) {
     types.insert(row.type);
   }
   EXPECT_EQ(types.size(), size_t(kCommandCount));
-  EXPECT_EQ(kCommandCount, 10);
+  EXPECT_EQ(kCommandCount, 11);
 }
 
 // ---- Realtime bytes ----
@@ -959,13 +969,13 @@ TEST(Reports, Info) {
   InfoReport info = {{0, 1, 0}, kProtocolVersion, 3, "MK2 Plus", 0};
   char buf[kInfoReportSize];
   uint16_t n = format_info(buf, sizeof buf, info);
-  EXPECT_EQ(std::string(buf, n), "[Articula|V:0.1.0|P:2|J:3|R:MK2 Plus]\n");
+  EXPECT_EQ(std::string(buf, n), "[Articula|V:0.1.0|P:3|J:3|R:MK2 Plus]\n");
   InfoReport back;
   ASSERT_TRUE(parse_info(back, buf, n));
   EXPECT_EQ(back.version[0], 0);
   EXPECT_EQ(back.version[1], 1);
   EXPECT_EQ(back.version[2], 0);
-  EXPECT_EQ(back.protocol, 2);
+  EXPECT_EQ(back.protocol, 3);
   EXPECT_EQ(back.num_joints, 3);
   EXPECT_STREQ(back.name, "MK2 Plus");
   EXPECT_EQ(back.warning, 0);
@@ -1059,7 +1069,7 @@ TEST(Reports, SinkFormIsTheBufferForm) {
   sink.s.clear();
   const InfoReport info = {{1, 2, 3}, kProtocolVersion, 3, "x", 0};
   ASSERT_TRUE(write_info(sink, info));
-  EXPECT_EQ(sink.s, "[Articula|V:1.2.3|P:2|J:3|R:x]\n");
+  EXPECT_EQ(sink.s, "[Articula|V:1.2.3|P:3|J:3|R:x]\n");
   sink.s.clear();
   ASSERT_TRUE(write_setting(sink, 5, -1500));
   EXPECT_EQ(sink.s, "$5=-1.500\n");

@@ -255,6 +255,38 @@ def test_a_pick_and_place_from_blocks_in_physics_on_the_nano_after_a_reload_and_
     assert pg.hook("a.pageErrors") == []
 
 
+def test_a_wait_block_waits_and_a_wait_beyond_its_range_is_refused_on_it(open_page, tmp_path):
+    num = lambda n: {"shadow": {"type": "math_number", "fields": {"NUM": n}}}  # noqa: E731
+
+    def program(seconds):
+        return {"blocks": {"languageVersion": 0, "blocks": [{
+            "type": "arm_gripper_open", "id": "g1", "x": 20, "y": 20, "next": {"block": {
+                "type": "arm_wait", "id": "w", "inputs": {"SECONDS": num(seconds)}, "next": {"block": {
+                    "type": "arm_gripper_close", "id": "g2"}}}}}]}}
+
+    pg = open_page("mk2plus")
+    _open_project(pg, tmp_path, _project("Wait", blocks=program(1.5)))
+    pg.wait("a.project.name === 'Wait' && !a.blocksPending && a.blocksCode !== null")
+    assert [l for l in pg.hook("a.blocksCode.text").splitlines() if not l.startswith("#")] == ["G 100", "D 1.5", "G 0"]
+    pg.page.click("#run")
+    pg.wait("a.timeline !== null && a.timeline.duration > 0")
+    # two gripper actions of $5 = 300 ms each, and the wait between them
+    assert abs(pg.hook("a.timeline.duration") - (0.3 + 1.5 + 0.3)) < 1e-6, pg.hook("a.timeline.duration")
+    # a program file with a wait opens as blocks: the wait is a wait block
+    f = tmp_path / "wait.arm"
+    f.write_text("G 100\nD 2.5\n")
+    pg.page.set_input_files("#program-file", str(f))
+    pg.wait("!a.blocksPending && a.blocksCode !== null && a.blocksCode.text.includes('D 2.5')")
+    assert pg.page.locator("#blockly svg.blocklySvg g.arm_wait[data-id]").count() == 1
+    # beyond its range: refused on its block, with the range
+    _open_project(pg, tmp_path, _project("Too long", blocks=program(700)), name="q.articula")
+    pg.wait("a.project.name === 'Too long' && !a.blocksPending && a.blocksCode !== null && a.blocksCode.text.includes('D 700')")
+    pg.page.click("#run")
+    pg.wait("a.blockProblems.some(p => p.block === 'w')")
+    message = pg.hook("a.blockProblems.find(p => p.block === 'w').message")
+    assert "0 to 600" in message, message
+
+
 def test_a_program_file_opens_as_blocks_with_its_comments_and_gives_the_same_prediction(open_page):
     pg = open_page("mk2plus")
     _blocks(pg)

@@ -386,6 +386,48 @@ TEST(Controller, StopAtRest) {
   EXPECT_EQ(sim::status().steps[0], quantize_within_limits(robot::motor(0), zero(0) + 1000));
 }
 
+namespace {
+
+// The ticks between the last step of `L 0 10` and the first of `L 0 -10`, with `between`
+// sent between them.
+uint64_t gap_around(const std::string& between) {
+  sim::boot();
+  EXPECT_EQ(sim::command("L 0 10"), "ok");
+  if (!between.empty()) {
+    EXPECT_EQ(sim::command(between), "ok");
+  }
+  EXPECT_EQ(sim::command("L 0 -10"), "ok");
+  EXPECT_TRUE(sim::run_until_at_rest());
+  const std::vector<sim::Step> steps = sim::steps_of(0);
+  size_t i = 0;
+  while (i + 1 < steps.size() && steps[i + 1].dir == steps[0].dir) ++i;
+  EXPECT_LT(i + 1, steps.size());
+  return i + 1 < steps.size() ? steps[i + 1].tick - steps[i].tick : 0;
+}
+
+}  // namespace
+
+// D waits in the queue: the next move starts exactly that long later, and the status says
+// Run meanwhile; a wait out of range is refused and changes nothing.
+TEST(Controller, DwellWaitsInTheQueue) {
+  const uint64_t plain = gap_around("");
+  EXPECT_EQ(gap_around("D 1.5"), plain + 3 * sim::kSecond / 2);
+  EXPECT_EQ(gap_around("D 0"), plain);
+  sim::boot();
+  ASSERT_EQ(sim::command("D 2"), "ok");
+  sim::run_until([] { return false; }, sim::kSecond);
+  sim::take_lines();
+  sim::send("?");
+  const std::vector<std::string> lines = sim::take_lines();
+  ASSERT_EQ(lines.size(), 1u);
+  EXPECT_EQ(lines[0].rfind("<Run|", 0), 0u) << lines[0];
+  ASSERT_TRUE(sim::run_until_at_rest());
+  EXPECT_EQ(sim::command("D 600.001"), "error:8");
+  EXPECT_EQ(sim::command("D -1"), "error:8");
+  EXPECT_EQ(sim::command("D"), "error:4");
+  EXPECT_TRUE(sim::at_rest());
+}
+
 // The example session of docs/protocol.md, line by line, on the MK2 (each '?' after the
 // moves before it have ended, as a person typing would see it).
 TEST(Controller, ExampleSessionOfTheProtocolDocument) {

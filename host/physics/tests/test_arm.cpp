@@ -206,6 +206,23 @@ TEST(Arm, MoveIntoItselfHolds) {
   EXPECT_NE(sim.lost_steps(), std::vector<int32_t>(3, 0));
 }
 
+// D in the physics: the next move starts that much later, with or without motors.
+TEST(Arm, AWaitDelaysTheNextMove) {
+  for (const char* name : {"mk2plus", "puma560"}) {
+    const Robot r = robot(name);
+    const std::string move = std::string(name) == "mk2plus" ? "L 0 10\n" : "M 10 0 0 0 0 0\n";
+    Simulation plain(r, Scene{}), waits(r, Scene{});
+    plain.load_program(parse_program(move, "p.arm", r));
+    waits.load_program(parse_program("D 0.5\n" + move, "w.arm", r));
+    EXPECT_NEAR(waits.program_end() - plain.program_end(), 0.5, 1e-6) << name;
+    for (int i = 0; i < 100; ++i) waits.step();  // the wait's first 0.1 s: still at home
+    EXPECT_EQ(waits.joints(), plain.joints()) << name;
+    while (!waits.done()) waits.step();
+    while (!plain.done()) plain.step();
+    EXPECT_NEAR(waits.joints()[0], plain.joints()[0], 1e-9) << name;
+  }
+}
+
 // A robot without motors (capsules along its DH rows) driven into the ground.
 TEST(Arm, MoveIntoTheGroundHolds) {
   const Robot r = robot("puma560");

@@ -21,6 +21,7 @@ export const ARM_MESSAGES: Record<string, string> = {
   ARM_GRIPPER_TO: "open the gripper to %1 %%",
   ARM_SPEED: "set the speed to %1 %%",
   ARM_HOME: "go to the home pose",
+  ARM_WAIT: "wait %1 seconds",
   ARM_COMMENT: "note: %1",
   ARM_RAW: "line with no block: %1",
   ARM_CATEGORY_MOVE: "Move",
@@ -36,6 +37,7 @@ export const ARM_MESSAGES: Record<string, string> = {
   ARM_TIP_GRIPPER_TO: "0 % is closed, 100 % fully open",
   ARM_TIP_SPEED: "How fast the motors turn: 100 % is the arm's normal speed",
   ARM_TIP_HOME: "The robot's home pose, where its file says it rests",
+  ARM_TIP_WAIT: "The arm keeps still this long before its next block (0 to 600 seconds)",
   ARM_TIP_COMMENT: "A note for people: the arm does nothing",
   ARM_TIP_RAW: "A line of the program that no block stands for: it is sent as it is written",
 };
@@ -86,6 +88,8 @@ export function defineBlocks(): void {
     { type: "arm_gripper_close", message0: "%{BKY_ARM_GRIPPER_CLOSE}", previousStatement: null, nextStatement: null, colour: 30 },
     { type: "arm_gripper_to", message0: "%{BKY_ARM_GRIPPER_TO}", args0: [{ type: "input_value", name: "PERCENT", check: "Number" }],
       inputsInline: true, previousStatement: null, nextStatement: null, colour: 30, tooltip: "%{BKY_ARM_TIP_GRIPPER_TO}" },
+    { type: "arm_wait", message0: "%{BKY_ARM_WAIT}", args0: [{ type: "input_value", name: "SECONDS", check: "Number" }],
+      inputsInline: true, previousStatement: null, nextStatement: null, colour: 120, tooltip: "%{BKY_ARM_TIP_WAIT}" },
     { type: "arm_speed", message0: "%{BKY_ARM_SPEED}", args0: [{ type: "input_value", name: "PERCENT", check: "Number" }],
       inputsInline: true, previousStatement: null, nextStatement: null, colour: 120, tooltip: "%{BKY_ARM_TIP_SPEED}" },
     { type: "arm_comment", message0: "%{BKY_ARM_COMMENT}", args0: [{ type: "field_input", name: "TEXT", text: "what happens next" }],
@@ -118,6 +122,7 @@ export function toolbox(): Blockly.utils.toolbox.ToolboxDefinition {
       ] },
       { kind: "category", name: "%{BKY_ARM_CATEGORY_CONTROL}", colour: "120", contents: [
         { kind: "block", type: "controls_repeat_ext", inputs: { TIMES: num(3) } },
+        { kind: "block", type: "arm_wait", inputs: { SECONDS: num(1) } },
       ] },
       { kind: "category", name: "%{BKY_ARM_CATEGORY_VARIABLES}", colour: "330", custom: "VARIABLE" },
       { kind: "category", name: "%{BKY_ARM_CATEGORY_MATHS}", colour: "230", contents: [

@@ -13,6 +13,7 @@ export type Op =
   | { op: "tool_to"; xyz: number[]; block: string }
   | { op: "gripper"; percent: number; block: string }
   | { op: "speed"; percent: number; block: string }
+  | { op: "wait"; seconds: number; block: string }
   | { op: "home"; block: string }
   | { op: "comment"; text: string; block: string }
   | { op: "raw"; text: string; block: string };
@@ -31,7 +32,7 @@ export class BlockError extends Error {
 /** The block types a program may hold (a project or a link with any other is refused). */
 export const BLOCK_TYPES = new Set([
   "arm_joint_to", "arm_joint_by", "arm_joints", "arm_tool_to", "arm_home", "arm_gripper_open", "arm_gripper_close",
-  "arm_gripper_to", "arm_speed", "arm_comment", "arm_raw", "controls_repeat_ext", "variables_set", "variables_get",
+  "arm_gripper_to", "arm_speed", "arm_wait", "arm_comment", "arm_raw", "controls_repeat_ext", "variables_set", "variables_get",
   "math_change", "math_number", "math_arithmetic", "procedures_defnoreturn", "procedures_callnoreturn",
 ]);
 
@@ -118,6 +119,7 @@ function statement(b: J, ctx: Ctx): void {
     case "arm_gripper_close": return push(ctx, { op: "gripper", percent: 0, block: id });
     case "arm_gripper_to": return push(ctx, { op: "gripper", percent: n("PERCENT"), block: id });
     case "arm_speed": return push(ctx, { op: "speed", percent: n("PERCENT"), block: id });
+    case "arm_wait": return push(ctx, { op: "wait", seconds: n("SECONDS"), block: id });
     case "arm_home": return push(ctx, { op: "home", block: id });
     case "arm_comment": return push(ctx, { op: "comment", text: String(field(b, "TEXT") ?? ""), block: id });
     case "arm_raw": return push(ctx, { op: "raw", text: String(field(b, "TEXT") ?? ""), block: id });
@@ -199,6 +201,7 @@ export function opsToWorkspace(ops: Action[]): J {
       case "gripper": return o.percent >= 100 ? { type: "arm_gripper_open" } : o.percent <= 0 ? { type: "arm_gripper_close" }
         : { type: "arm_gripper_to", inputs: { PERCENT: num(o.percent) } };
       case "speed": return { type: "arm_speed", inputs: { PERCENT: num(o.percent) } };
+      case "wait": return { type: "arm_wait", inputs: { SECONDS: num(o.seconds) } };
       case "home": return { type: "arm_home" };
       case "comment": return { type: "arm_comment", fields: { TEXT: o.text } };
       case "raw": return { type: "arm_raw", fields: { TEXT: o.text } };

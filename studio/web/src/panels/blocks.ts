@@ -225,6 +225,7 @@ export function highlightBlockOfLine(line: number): void {
 
 /** The arm (or the model) refused line `line`: the refusal goes on its block. */
 export function refusedLine(line: number, message: string): void {
+  if (mode !== "blocks") return; // the text's line: no block made it
   const id = lineBlocks[line - 1];
   if (id) blockProblem(id, message, false);
 }

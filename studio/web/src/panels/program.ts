@@ -31,6 +31,7 @@ const HELP: Record<string, string> = {
   P: "P x y z: the tip of the tool to a point, mm from the base",
   G: "G percent: the gripper's opening, 0 closed to 100 open",
   S: "S 1 closes the gripper, S 0 opens it",
+  D: "D seconds: waits that long before the next line",
   H: "H: home", Z: "Z: here is home", I: "I: the arm says what it is", $: "$: a setting ($0 speed, $1 acceleration)",
   m: "RoboSim m: every joint's value follows, one a line", a: "RoboSim a: a point follows, x y z on three lines",
   h: "RoboSim h: the hand, 0.0 open to 0.5 closed", s: "RoboSim s: speed, 1 slow to 82 fast",
@@ -213,8 +214,10 @@ export const programHandlers = {
   program_error(m: { message: string; line: number }): void {
     hook.programError = m.message;
     // the program on screen: its line, not a file's name
-    programStatus(m.line > 0 ? m.message.replace(/^.*?:\d+: /, `line ${m.line}: `) : m.message, [], true);
+    const said = m.line > 0 ? m.message.replace(/^.*?:\d+: /, `line ${m.line}: `) : m.message;
+    programStatus(said, [], true);
     highlightLine(m.line, true);
+    if (m.line > 0) refusedLine(m.line, said); // a program from blocks: on the block it came from
   },
   program_text(m: { name: string; text: string }): void {
     setProgram(m.name, m.text);

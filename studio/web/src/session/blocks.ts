@@ -126,6 +126,10 @@ export function compile(ops: Op[]): { text: string; robosim: string; lines: stri
         rs.push("s", String(Math.max(1, Math.round((ROBOSIM_FAST * o.percent) / 100))));
         break;
       }
+      case "wait":
+        emit(b, `D ${f3(o.seconds)}`); // (its range is the parser's: a wait beyond it is refused on its block)
+        rs.push(`# (a wait of ${f3(o.seconds)} s: RoboSim has none)`);
+        break;
       case "comment":
         emit(b, ...commentLines(o.text));
         rs.push(...commentLines(o.text));
@@ -163,6 +167,7 @@ export function opsOfProgram(src: string, name: string): { ops: Action[]; format
         case "P": op = { op: "tool_to", xyz: a }; break;
         case "G": op = { op: "gripper", percent: a[0] }; break;
         case "S": op = { op: "gripper", percent: a[0] ? 0 : 100 }; break;
+        case "D": op = { op: "wait", seconds: a[0] }; break;
         default: op = { op: "raw", text: p.text };
       }
     } else {
