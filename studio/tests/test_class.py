@@ -484,6 +484,20 @@ def test_a_project_too_big_for_a_link_offers_the_file(open_page, tmp_path):
     assert pg.errors == []
 
 
+def test_a_long_project_name_leaves_the_header_whole(open_page, tmp_path):
+    """At 1366 px (a lab PC), a long project name gives way: STOP, Tour and the engine's chip
+    stay whole on screen; the name is cut with an ellipsis, and whole in its tooltip."""
+    pg = open_page("mk2plus", width=1366, height=768, query="&scene=grasp-and-lift")
+    name = "Exercise: pick and place the block, by a student with a very long name"
+    _open_project(pg, tmp_path, _project(name, text="G 100\n", mode="text"))
+    pg.wait(f"a.project.name === {json.dumps(name)}")
+    for sel in ("#stop", "#conn", "#share-button"):
+        box = pg.page.locator(sel).bounding_box()
+        assert box["x"] >= 0 and box["x"] + box["width"] <= 1366, (sel, box)
+        assert pg.page.evaluate(f"() => {{ const e = document.querySelector('{sel}'); return e.scrollWidth <= e.clientWidth + 1; }}"), sel
+    assert pg.page.get_attribute("#project-name", "title").startswith(name)
+
+
 def test_projects_new_rename_duplicate_delete_with_undo(open_page, monkeypatch):
     pg = open_page("mk2plus")
     pg.page.fill("#editor", "G 10\n")

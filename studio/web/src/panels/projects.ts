@@ -218,6 +218,7 @@ function updateHook(): void {
 
 function showName(): void {
   $("project-name").textContent = current.doc.name;
+  $("project-name").title = `${current.doc.name}: the project shown, kept in this browser as you work`;
 }
 
 async function freshName(): Promise<string> {
