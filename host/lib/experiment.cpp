@@ -1,0 +1,85 @@
+// host/lib/experiment.cpp - see experiment.h.
+#include "experiment.h"
+
+#include <cmath>
+#include <cstdio>
+#include <map>
+
+namespace articula::host {
+
+namespace {
+
+std::string mm_text(const Vec3<double>& v) {
+  char buf[96];
+  std::snprintf(buf, sizeof buf, "(%.1f, %.1f, %.1f) mm", v.x, v.y, v.z);
+  return buf;
+}
+
+double at(const Vec3<double>& v, int k) { return k == 0 ? v.x : k == 1 ? v.y : v.z; }
+
+}  // namespace
+
+AxisErrors axis_errors(const Vec3<double>& value, const Vec3<double>& reference) {
+  AxisErrors e;
+  for (int k = 0; k < 3; ++k) {
+    const double ref = at(reference, k);
+    e.mm[k] = std::fabs(at(value, k) - ref);
+    e.pct[k] = std::fabs(ref) >= kPctMinMm ? e.mm[k] / std::fabs(ref) * 100.0 : std::nan("");
+  }
+  return e;
+}
+
+std::vector<Table4Row> table4(const std::vector<JointPoint>& points) {
+  std::map<int, Table4Row> rows;
+  std::map<int, double[3]> sums;
+  for (const JointPoint& p : points) {
+    Table4Row& r = rows[p.joint];
+    if (r.poses == 0) {
+      r.joint = p.joint;
+      for (Table4Cell& c : r.axis) c.max_pct = std::nan("");
+    }
+    ++r.poses;
+    const AxisErrors e = axis_errors(p.value, p.reference);
+    for (int k = 0; k < 3; ++k) {
+      Table4Cell& c = r.axis[k];
+      c.max_mm = std::max(c.max_mm, e.mm[k]);
+      if (!std::isnan(e.pct[k]) && (std::isnan(c.max_pct) || e.pct[k] > c.max_pct)) c.max_pct = e.pct[k];
+      sums[p.joint][k] += e.mm[k];
+    }
+  }
+  std::vector<Table4Row> out;
+  for (auto& [joint, r] : rows) {
+    for (int k = 0; k < 3; ++k) r.axis[k].avg_mm = sums[joint][k] / r.poses;
+    out.push_back(r);
+  }
+  return out;
+}
+
+double distance_mm(const Vec3<double>& a, const Vec3<double>& b) {
+  return std::sqrt((a.x - b.x) * (a.x - b.x) + (a.y - b.y) * (a.y - b.y) + (a.z - b.z) * (a.z - b.z));
+}
+
+std::string measurement_question(const Vec3<double>& measured, const Vec3<double>& predicted, double reach_mm,
+                                 double far_mm) {
+  const char* names[3] = {"x", "y", "z"};
+  for (int k = 0; k < 3; ++k)
+    if (!std::isfinite(at(measured, k)))
+      return std::string(names[k]) + " is not a number: type the three coordinates in mm, digits like 235 or -12.5";
+  const double d = distance_mm(measured, predicted);
+  const Vec3<double> ten = make_vec3(measured.x * 10, measured.y * 10, measured.z * 10);
+  if (d > far_mm && distance_mm(ten, predicted) < 0.2 * d)
+    return mm_text(measured) + " looks like centimetres: the tool should be near " + mm_text(predicted) +
+           ". Type millimetres (10 times the centimetres)";
+  if (d > reach_mm)
+    return mm_text(measured) + " is farther from where the tool should be, " + mm_text(predicted) +
+           ", than the arm reaches: check the numbers and the axes (x forward, y left, z up, from the base)";
+  if (d > far_mm) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.0f mm", d);
+    return mm_text(measured) + " is " + buf + " from where the prediction puts the tool, " + mm_text(predicted) +
+           ": is it right?";
+  }
+  return "";
+}
+
+}  // namespace articula::host

@@ -1,0 +1,64 @@
+// host/lib/experiment.h - the numbers of the thesis's sim-vs-real experiment (section 5,
+// appendices I and K), in one place: per-axis errors and their per cent (Table 4, Figs.
+// 30-32), Table 4's maximum and average per joint and axis, the distances of repeatability
+// (Table 5), and the questions a typed measurement raises before it is used. The harness's
+// report (hil/harness/report.py, through Python) and the studio's Experiment panel (through
+// the web engine) both call these, so they agree to the digit on the same measurements.
+#ifndef ARTICULA_HOST_EXPERIMENT_H
+#define ARTICULA_HOST_EXPERIMENT_H
+
+#include <articula/transform.h>
+
+#include <string>
+#include <vector>
+
+#include "robot.h"
+
+namespace articula::host {
+
+// A per-axis % needs a coordinate at least this far from 0 (the thesis divides by it).
+constexpr double kPctMinMm = 1.0;
+
+// |value - reference| per axis, mm, and as a share of |reference| in per cent (NaN where
+// |reference| < kPctMinMm: no per cent).
+struct AxisErrors {
+  double mm[3] = {0, 0, 0};
+  double pct[3] = {0, 0, 0};
+};
+AxisErrors axis_errors(const Vec3<double>& value, const Vec3<double>& reference);
+
+// One pose of a single-joint test: the joint that moved, and a position against its reference
+// (quantized against ideal, measured against quantized, or measured against ideal).
+struct JointPoint {
+  int joint = 0;
+  Vec3<double> value{0, 0, 0};
+  Vec3<double> reference{0, 0, 0};
+};
+
+// Table 4: per joint and axis, the largest per cent (NaN: no coordinate far enough from 0),
+// the largest and the average error in mm.
+struct Table4Cell {
+  double max_pct = 0, max_mm = 0, avg_mm = 0;
+};
+struct Table4Row {
+  int joint = 0;
+  int poses = 0;
+  Table4Cell axis[3];
+};
+// Rows in ascending joint order, one per joint that has a point.
+std::vector<Table4Row> table4(const std::vector<JointPoint>& points);
+
+// The distance between two positions, mm (Table 5's destination and return errors).
+double distance_mm(const Vec3<double>& a, const Vec3<double>& b);
+
+// What a typed measurement raises before it is used, as a question to the student; "" when
+// it looks right. `predicted` is where the prediction puts the tool; `reach_mm` how far the
+// robot reaches from its base (InverseKinematics::reach_bound). Checked in order: not a number;
+// far beyond the arm's reach; typed in cm (ten times it lies much nearer the prediction);
+// far from the prediction (more than `far_mm`).
+std::string measurement_question(const Vec3<double>& measured, const Vec3<double>& predicted, double reach_mm,
+                                 double far_mm = 50);
+
+}  // namespace articula::host
+
+#endif  // ARTICULA_HOST_EXPERIMENT_H
