@@ -16,10 +16,12 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
+import articula  # noqa: E402
+
 from .runner import PlanResult, Record  # noqa: E402
 
 AXES = ("x", "y", "z")
-PCT_MIN_MM = 1.0  # a per-axis % needs a coordinate at least this far from 0
+PCT_MIN_MM = 1.0  # a per-axis % needs a coordinate this far from 0 (kPctMinMm, host/lib/experiment.h; for the text)
 
 
 # ---------------------------------------------------------------- small helpers
@@ -137,30 +139,33 @@ def single_joint(run: Run):
             refused.append((joint, angle, r))
             continue
         ideal, quant = r.pred.tool_ideal, r.pred.tool_quantized
-        err = [abs(q - i) for q, i in zip(quant, ideal)]
-        pct = [e / abs(i) * 100.0 if abs(i) >= PCT_MIN_MM else None for e, i in zip(err, ideal)]
-        row = {"joint": joint, "angle": angle, "rec": r, "ideal": ideal, "quant": quant, "err": err, "pct": pct}
+        # the numbers are the host library's (host/lib/experiment.h), as the studio's are
+        e = articula.axis_errors(quant, ideal)
+        row = {"joint": joint, "angle": angle, "rec": r, "ideal": ideal, "quant": quant, "err": e["mm"], "pct": e["pct"]}
         if r.measured_xyz is not None:
             m = r.measured_xyz
-            row["m_err_q"] = [abs(a - b) for a, b in zip(m, quant)]
-            row["m_pct_q"] = [e / abs(q) * 100.0 if abs(q) >= PCT_MIN_MM else None for e, q in zip(row["m_err_q"], quant)]
-            row["m_err_i"] = [abs(a - b) for a, b in zip(m, ideal)]
-            row["m_pct_i"] = [e / abs(i) * 100.0 if abs(i) >= PCT_MIN_MM else None for e, i in zip(row["m_err_i"], ideal)]
+            eq, ei = articula.axis_errors(m, quant), articula.axis_errors(m, ideal)
+            row["m_err_q"], row["m_pct_q"] = eq["mm"], eq["pct"]
+            row["m_err_i"], row["m_pct_i"] = ei["mm"], ei["pct"]
         acc.append(row)
     return acc, refused
 
 
+# Which positions a Table 4 compares: (value, reference) of a single-joint row.
+TABLE4_PAIRS = {"err": ("quant", "ideal"), "m_err_q": ("measured", "quant"), "m_err_i": ("measured", "ideal")}
+
+
 def table4(rows, err_key="err", pct_key="pct"):
-    """Per joint and axis: max %, max mm, average mm (thesis Table 4)."""
-    joints = sorted({r["joint"] for r in rows if err_key in r})
+    """Per joint and axis: max %, max mm, average mm (thesis Table 4), from the host library
+    (articula.table4: host/lib/experiment.h, the studio's Experiment panel's too)."""
+    value_key, ref_key = TABLE4_PAIRS[err_key]
+    points = [(r["joint"], r["rec"].measured_xyz if value_key == "measured" else r[value_key], r[ref_key])
+              for r in rows if err_key in r]
     out = {}
-    for j in joints:
-        jr = [r for r in rows if r["joint"] == j and err_key in r]
-        for k in range(3):
-            errs = [r[err_key][k] for r in jr]
-            pcts = [r[pct_key][k] for r in jr if r[pct_key][k] is not None]
-            out[(j, k)] = (max(pcts) if pcts else None, max(errs), sum(errs) / len(errs))
-    return joints, out
+    for t in articula.table4(points):
+        for k, a in enumerate(t["axes"]):
+            out[(t["joint"], k)] = (a["max_pct"], a["max_mm"], a["avg_mm"])
+    return sorted({j for j, _ in out}), out
 
 
 def repeatability(res: PlanResult, robot_zero_tool):

@@ -281,3 +281,13 @@ def test_a_step_mismatch_is_reported(tmp_path):
     assert "steps matched: 1/3 (prediction = firmware)" in summary and "MISMATCH OR FAULT" in summary
     assert "| 2 | `L 0 10` | ok | ok | ok | 63 0 0 | 32 0 0 | **no** |" in md.read_text()
     assert (tmp_path / "out" / "steps.png").stat().st_size > 0
+
+
+def test_the_reports_per_cent_rule_is_the_host_librarys():
+    """report.py's words about the per cent and the numbers it prints come from one rule:
+    host/lib/experiment.h's, through articula.axis_errors."""
+    import articula
+    from hil.harness.report import PCT_MIN_MM
+
+    assert articula.axis_errors((2.0, 0, 0), (PCT_MIN_MM, 0, 0))["pct"][0] == 100.0
+    assert articula.axis_errors((2.0, 0, 0), (PCT_MIN_MM - 0.001, 0, 0))["pct"][0] is None

@@ -1,5 +1,8 @@
 #include "records_json.h"
 
+#include <cmath>
+#include <stdexcept>
+
 namespace articula::host {
 namespace {
 
@@ -200,6 +203,51 @@ nlohmann::json program_json(const Robot& robot, const Program& program, const st
           {"source", program.source},
           {"statements", statements},
           {"comments", comments}};
+}
+
+namespace {
+nlohmann::json number_or_null(double v) { return std::isnan(v) ? nlohmann::json(nullptr) : nlohmann::json(v); }
+}  // namespace
+
+Vec3<double> vec3_of_json(const nlohmann::json& j, const std::string& what) {
+  if (!j.is_array() || j.size() != 3) throw std::invalid_argument(what + " must be three numbers [x, y, z]");
+  double v[3];
+  for (int k = 0; k < 3; ++k) {
+    if (!j[size_t(k)].is_number()) throw std::invalid_argument(what + " must be three numbers [x, y, z]");
+    v[k] = j[size_t(k)].get<double>();
+  }
+  return make_vec3(v[0], v[1], v[2]);
+}
+
+nlohmann::json axis_errors_json(const AxisErrors& e) {
+  nlohmann::json pct = nlohmann::json::array();
+  for (double p : e.pct) pct.push_back(number_or_null(p));
+  return {{"mm", {e.mm[0], e.mm[1], e.mm[2]}}, {"pct", pct}};
+}
+
+nlohmann::json table4_json(const std::vector<Table4Row>& rows) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const Table4Row& r : rows) {
+    nlohmann::json axes = nlohmann::json::array();
+    for (const Table4Cell& c : r.axis)
+      axes.push_back({{"max_pct", number_or_null(c.max_pct)}, {"max_mm", c.max_mm}, {"avg_mm", c.avg_mm}});
+    out.push_back({{"joint", r.joint}, {"poses", r.poses}, {"axes", axes}});
+  }
+  return out;
+}
+
+std::vector<JointPoint> joint_points_of_json(const nlohmann::json& points) {
+  if (!points.is_array()) throw std::invalid_argument("the points must be a list");
+  std::vector<JointPoint> out;
+  for (size_t i = 0; i < points.size(); ++i) {
+    const nlohmann::json& p = points[i];
+    const std::string where = "point " + std::to_string(i);
+    if (!p.is_object() || !p.contains("joint") || !p["joint"].is_number_integer())
+      throw std::invalid_argument(where + " must be {joint, value, reference} with a whole joint number");
+    out.push_back(JointPoint{p["joint"].get<int>(), vec3_of_json(p.value("value", nlohmann::json()), where + "'s value"),
+                             vec3_of_json(p.value("reference", nlohmann::json()), where + "'s reference")});
+  }
+  return out;
 }
 
 }  // namespace articula::host

@@ -9,6 +9,7 @@
 
 #include <vector>
 
+#include "experiment.h"
 #include "ik.h"
 #include "predict.h"
 #include "program.h"
@@ -43,6 +44,16 @@ nlohmann::json quantize_record_json(const Robot& robot, const QuantizeRecord& q)
 // protocol line (command its letter, args its numbers as written: joint indices, degrees,
 // mm, percent; a setting's number and value)], comments: [{line, text, whole_line}]}.
 nlohmann::json program_json(const Robot& robot, const Program& program, const std::string& text);
+
+// The experiment (experiment.h): per-axis errors {mm: [3], pct: [3] (null: none)}; Table 4's
+// rows [{joint, poses, axes: [{max_pct (null: none), max_mm, avg_mm}] for x, y, z}]; and the
+// points a binding receives as JSON, [{joint, value: [x, y, z], reference: [x, y, z]}] (throws
+// std::invalid_argument naming the entry that is not one).
+nlohmann::json axis_errors_json(const AxisErrors& e);
+nlohmann::json table4_json(const std::vector<Table4Row>& rows);
+std::vector<JointPoint> joint_points_of_json(const nlohmann::json& points);
+// [x, y, z] (throws std::invalid_argument: "<what> must be three numbers [x, y, z]").
+Vec3<double> vec3_of_json(const nlohmann::json& j, const std::string& what);
 
 }  // namespace articula::host
 

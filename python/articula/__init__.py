@@ -33,13 +33,17 @@ from ._core import (  # noqa: E402
     RobotFileError,
     SceneError,
     Sim,
+    axis_errors,
+    measurement_question,
     rpy_deg,
+    table4,
 )
 from ._records import Record  # noqa: E402
 
 __all__ = [
     "Robot", "IkResult", "Program", "Sim", "Record", "Status", "STATUS", "status_text",
     "RobotFileError", "ProgramError", "SceneError", "LegacyError", "IK_STATUS", "rpy_deg",
+    "axis_errors", "table4", "measurement_question",
 ]
 __version__ = "0.1.0"
 

@@ -96,6 +96,7 @@ void bind_program(nb::module_& m, nb::class_<PyRobot>& robot);
 void bind_sim(nb::module_& m);
 // The protocol: articula._core.parse_arm_line, first_interval_s, _status_table.
 void bind_protocol(nb::module_& m);
+void bind_experiment(nb::module_& m);
 
 }  // namespace articula::python
 

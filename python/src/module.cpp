@@ -254,4 +254,5 @@ NB_MODULE(_core, m) {
   bind_program(m, robot);
   bind_sim(m);
   bind_protocol(m);
+  bind_experiment(m);
 }

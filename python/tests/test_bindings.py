@@ -72,6 +72,10 @@ SAME = [
     ("_status_table", "statusText"),
     ("parse_arm_line", "parseArmLine"),
     ("first_interval_s", "firstIntervalS"),
+    # the sim-vs-real experiment
+    ("axis_errors", "axisErrors"),
+    ("table4", "table4"),
+    ("measurement_question", "measurementQuestion"),
 ]
 
 # What one side has alone, and why.
@@ -126,7 +130,8 @@ const ops = [];
 for (const cls of ["Robot", "Sim", "Timeline"])
   for (const k of Object.getOwnPropertyNames(M[cls].prototype))
     if (!["constructor", "delete", "isDeleted", "clone", "isAliasOf", "deleteLater"].includes(k)) ops.push(`${{cls}}.${{k}}`);
-for (const k of ["predict", "run", "quantize", "programFormat", "parseProgram", "statusText", "statusTable", "parseArmLine", "firstIntervalS"])
+for (const k of ["predict", "run", "quantize", "programFormat", "parseProgram", "statusText", "statusTable", "parseArmLine", "firstIntervalS",
+                 "axisErrors", "table4", "measurementQuestion"])
   if (typeof M[k] === "function") ops.push(k);
 console.log(JSON.stringify(ops));
 """
@@ -153,15 +158,23 @@ def test_no_operation_on_one_side_only_unless_listed():
     assert set(PYTHON_ONLY) <= py and set(WEB_ONLY) <= web, "a listed one-sided operation no longer exists"
 
 
+# Single-joint poses (joint, value, reference): appendix K's joint 0 errors, and a y near 0.
+POINTS = [(0, (14.095, 158.479, 8.4975), (14.0, 158.0, 8.0)), (0, (40.27, 158.48, 10.0), (37.6, 158.0, 8.0)),
+          (2, (100.0, 0.3, -50.0), (99.0, 0.1, -51.0))]
+
+
 def test_both_sides_answer_alike():
     """The same question through both doors: the same numbers and the same refusals."""
     mk2 = articula.Robot.load("mk2plus")
-    script = f"""
+    script = "const POINTS = " + json.dumps(POINTS) + ";\n" + f"""
 import {{ nodeEngine }} from {json.dumps(str(REPO / "wasm" / "js" / "node.mjs"))};
 const e = await nodeEngine({json.dumps(str(WASM_DIR))});
 const r = e.robot("mk2plus");
 const out = {{ jac: r.jacobian([10, 70, -60]), tl: e.timeline(r, "L 0 30\\nL 1 -20\\n", "t.arm", [0, 90, -90]).at(0.4),
-  arm: e.parseArmLine("<Run|S:95,0,0|A:30.083,90.000,0.000|G:100|Q:7|C:1>"), first: e.firstIntervalS(800, 3000) }};
+  arm: e.parseArmLine("<Run|S:95,0,0|A:30.083,90.000,0.000|G:100|Q:7|C:1>"), first: e.firstIntervalS(800, 3000),
+  t4: e.table4(POINTS.map(([joint, value, reference]) => ({{ joint, value, reference }}))),
+  ax: e.axisErrors([10.5, 0.4, -201], [10, 0.5, -200]), q: e.measurementQuestion([23.5, 0, 21.3], [235, 0, 213], 370) }};
+try {{ e.table4([{{ joint: 0, value: [1, 2] }}]); }} catch (x) {{ out.badPoint = x.message; }}
 try {{ r.pose([0, NaN, 0]); }} catch (x) {{ out.nan = x.message; }}
 try {{ r.ik({{ target: [1, 2] }}); }} catch (x) {{ out.target = x.message; }}
 console.log(JSON.stringify(out));
@@ -177,6 +190,11 @@ console.log(JSON.stringify(out));
     np.testing.assert_allclose(tl["q"], web["tl"]["q"], atol=1e-12)
     assert _core.parse_arm_line("<Run|S:95,0,0|A:30.083,90.000,0.000|G:100|Q:7|C:1>") == web["arm"]
     assert _core.first_interval_s(800, 3000) == web["first"]
+    # the experiment's numbers: the same to the digit
+    assert articula.table4(POINTS) == web["t4"]
+    assert articula.axis_errors((10.5, 0.4, -201), (10, 0.5, -200)) == web["ax"]
+    assert articula.measurement_question((23.5, 0, 21.3), (235, 0, 213), 370) == web["q"]
+    assert web["badPoint"] == "point 0's value must be three numbers [x, y, z]"
     for call, message in ((lambda: mk2.fk([0, float("nan"), 0]), web["nan"]), (lambda: mk2.ik([1, 2]), web["target"])):
         try:
             call()

@@ -173,6 +173,15 @@ export class Engine {
   parseArmLine(line) { return JSON.parse(this.M.parseArmLine(line)); }
   /** The first step interval of a move from rest at $0 = maxRate, $1 = accel (motion.h), s. */
   firstIntervalS(maxRate, accel) { return this.M.firstIntervalS(maxRate, accel); }
+  /** The sim-vs-real experiment's numbers (host/lib/experiment.h), as Python's articula has them:
+   * per-axis errors {mm, pct (null: none)} of a position against a reference, both [x, y, z] mm. */
+  axisErrors(value, reference) { return checked(this.M.axisErrors(JSON.stringify(value), JSON.stringify(reference))); }
+  /** The thesis's Table 4 from points [{joint, value, reference}]: [{joint, poses, axes: [{max_pct, max_mm, avg_mm}]}]. */
+  table4(points) { return checked(this.M.table4(JSON.stringify(points))); }
+  /** The question a typed tool position raises ("" when it looks right). */
+  measurementQuestion(measured, predicted, reachMm, farMm = 50) {
+    return checked(this.M.measurementQuestion(JSON.stringify(measured), JSON.stringify(predicted), reachMm, farMm));
+  }
   /** Files of the engine's in-memory file system (folders are made on the way). */
   writeFile(path, data) {
     const parts = path.split("/").filter(Boolean);

@@ -1,0 +1,53 @@
+// python/src/experiment.cpp - the numbers of the sim-vs-real experiment from the host library
+// (host/lib/experiment.h): hil/harness/report.py's tables are these, as the studio's
+// Experiment panel's are through the web engine (wasm/src/experiment.cpp).
+#include <nanobind/stl/array.h>
+#include <nanobind/stl/string.h>
+#include <nanobind/stl/tuple.h>
+#include <nanobind/stl/vector.h>
+
+#include <array>
+#include <tuple>
+
+#include "bindings.h"
+#include "experiment.h"
+#include "records_json.h"
+
+namespace articula::python {
+
+using namespace nb::literals;
+
+namespace {
+using Xyz = std::array<double, 3>;
+Vec3<double> v3(const Xyz& a) { return make_vec3(a[0], a[1], a[2]); }
+}  // namespace
+
+void bind_experiment(nb::module_& m) {
+  m.def(
+      "axis_errors", [](const Xyz& value, const Xyz& reference) {
+        return json_to_python(host::axis_errors_json(host::axis_errors(v3(value), v3(reference))));
+      },
+      "value"_a, "reference"_a,
+      "|value - reference| per axis in mm, and as a per cent of |reference| (None where the coordinate is "
+      "within 1 mm of 0), as the thesis's single-joint tables give them: {'mm': [x, y, z], 'pct': [x, y, z]}.");
+  m.def(
+      "table4",
+      [](const std::vector<std::tuple<int, Xyz, Xyz>>& points) {
+        std::vector<host::JointPoint> in;
+        for (const auto& [joint, value, reference] : points) in.push_back({joint, v3(value), v3(reference)});
+        return json_to_python(host::table4_json(host::table4(in)));
+      },
+      "points"_a,
+      "The thesis's Table 4 from (joint, value, reference) points: per joint, in ascending order, "
+      "{'joint', 'poses', 'axes': [{'max_pct' (None: no coordinate away from 0), 'max_mm', 'avg_mm'}] for x, y, z}.");
+  m.def(
+      "measurement_question",
+      [](const Xyz& measured, const Xyz& predicted, double reach_mm, double far_mm) {
+        return host::measurement_question(v3(measured), v3(predicted), reach_mm, far_mm);
+      },
+      "measured"_a, "predicted"_a, "reach_mm"_a, "far_mm"_a = 50.0,
+      "The question a typed tool position raises before it is used ('' when it looks right): not a number, "
+      "typed in centimetres, beyond the arm's reach, or far from the prediction.");
+}
+
+}  // namespace articula::python
