@@ -523,6 +523,31 @@ def test_projects_new_rename_duplicate_delete_with_undo(open_page, monkeypatch):
     assert pg.hook("a.pageErrors") == []
 
 
+def test_saves_at_once_never_fork_the_tabs_own_project(open_page):
+    """Two saves asked for at once (the page hidden twice, Share during an autosave) run one
+    after the other: the second never goes over a revision the first replaced, which would
+    make a copy "(other tab)" of the tab's own project. A change made during a save is kept."""
+    pg = open_page("mk2plus")
+    pg.page.fill("#editor", "G 100\n")
+    pg.wait("a.project.saves > 0 && !a.project.dirty")
+    name = pg.hook("a.project.name")
+    for n in range(12):  # the second save starts 0 to 11 ms after the first: one lands in its middle
+        pg.page.fill("#editor", f"G {n}\n")
+        pg.page.evaluate(f"""async () => {{
+            window.dispatchEvent(new Event('pagehide'));
+            await new Promise(r => setTimeout(r, {n}));
+            document.querySelector('#editor').value = 'G {n + 50}\\n';  // a change during the save
+            document.querySelector('#editor').dispatchEvent(new Event('input'));
+            window.dispatchEvent(new Event('pagehide'));
+        }}""")
+        pg.wait(f"!a.project.dirty && a.project.program === 'G {n + 50}\\n' && a.project.saves > {n}")
+    assert pg.hook("a.project.name") == name
+    assert pg.hook("a.project.otherTab") == 0
+    assert "other tab" not in pg.page.text_content("#banner-text")
+    pg.page.click("#projects-button")
+    assert "(other tab)" not in pg.page.text_content("#project-list")
+
+
 def test_private_mode_quota_and_two_tabs(browser, site):
     # no IndexedDB (private mode): the page works and says to save a file
     p = Page(browser, f"{site.url}?robot=mk2plus", init_script="Object.defineProperty(window, 'indexedDB', {value: undefined})")

@@ -155,6 +155,7 @@ export function projectRobotShown(): void {
 export function projectChanged(): void {
   if (applying) return;
   clearTimeout(timer);
+  edits++;
   hook.project.dirty = true;
   timer = window.setTimeout(() => void saveNow(), SAVE_AFTER_MS);
 }
@@ -176,10 +177,20 @@ function capture(): Project {
   };
 }
 
-async function saveNow(): Promise<void> {
+// Saves one after the other: a save that began before the last one ended would go over a
+// revision this tab no longer holds, and fork the tab's own project as "(other tab)".
+let saving: Promise<void> = Promise.resolve();
+let edits = 0; // changes so far: a change made while a save is under way keeps the project dirty
+function saveNow(): Promise<void> {
+  saving = saving.then(saveOnce, saveOnce);
+  return saving;
+}
+
+async function saveOnce(): Promise<void> {
   clearTimeout(timer);
   if (applying || !hook.project.dirty) return;
   const t0 = performance.now();
+  const editsSaved = edits;
   const doc = capture();
   const tCaptured = performance.now();
   try {
@@ -187,7 +198,8 @@ async function saveNow(): Promise<void> {
     if (res.forked) banner(`This project was changed in another tab: your work here is saved as "${doc.name} (other tab)", and the other tab's is kept too.`, "info");
     current = { id: res.id, rev: res.rev, doc: res.forked ? { ...doc, name: `${doc.name} (other tab)` } : doc };
     sessionSet(current.id);
-    hook.project.dirty = false;
+    hook.project.dirty = edits !== editsSaved;
+    if (hook.project.dirty) timer = window.setTimeout(() => void saveNow(), SAVE_AFTER_MS);
     hook.project.saves++;
     hook.project.saveMs.push(tCaptured - t0 + store.lastPutMs); // main-thread time: the capture and the store's copy
     if (hook.project.saveMs.length > 100) hook.project.saveMs.shift();
