@@ -230,13 +230,27 @@ class WebKitPage(EnginePage):
         self.driver.execute_script("const e = document.querySelector(arguments[0]); e.value = arguments[1]; "
                                    "e.dispatchEvent(new Event('input', { bubbles: true }));", selector, text)
 
+    def _interact(self, selector, act, within=20.0):
+        """`act(element)`, again while WebDriver says the element cannot be interacted with
+        yet (a dialog just opened, a layout still settling on a busy machine)."""
+        from selenium.common.exceptions import ElementNotInteractableException, StaleElementReferenceException
+
+        end = time.monotonic() + within
+        while True:
+            try:
+                return act(self._el(selector))
+            except (ElementNotInteractableException, StaleElementReferenceException):
+                if time.monotonic() > end:
+                    raise
+                time.sleep(0.2)
+
     def click(self, selector):
-        self._el(selector).click()
+        self._interact(selector, lambda e: e.click())
 
     def select(self, selector, value):
         from selenium.webdriver.support.ui import Select
 
-        Select(self._el(selector)).select_by_value(value)
+        self._interact(selector, lambda e: Select(e).select_by_value(value))
 
     def _pointer(self):
         from selenium.webdriver.common.action_chains import ActionChains

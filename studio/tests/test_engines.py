@@ -219,7 +219,8 @@ def test_a_class_session_blocks_physics_nano_reload_and_link(page, engines, site
     pg = page()
     # the shipped exercise, from the projects
     pg.click("#projects-button")
-    pg.wait("document.querySelector('#exercise-select').options.length > 1", 30 * PATIENCE, "the exercises listed")
+    pg.wait("document.querySelector('#projects-dialog').open && document.querySelector('#exercise-select').options.length > 1",
+            30 * PATIENCE, "the projects, with the exercises listed")
     pg.select("#exercise-select", "pick-and-place.articula")
     pg.wait("a.project.goal !== null && a.scene && a.scene.name === 'grasp-and-lift'", 30 * PATIENCE, "the exercise open")
     pg.click("#mode-blocks")
