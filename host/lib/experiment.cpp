@@ -15,15 +15,13 @@ std::string mm_text(const Vec3<double>& v) {
   return buf;
 }
 
-double at(const Vec3<double>& v, int k) { return k == 0 ? v.x : k == 1 ? v.y : v.z; }
-
 }  // namespace
 
 AxisErrors axis_errors(const Vec3<double>& value, const Vec3<double>& reference) {
   AxisErrors e;
   for (int k = 0; k < 3; ++k) {
-    const double ref = at(reference, k);
-    e.mm[k] = std::fabs(at(value, k) - ref);
+    const double ref = reference[k];
+    e.mm[k] = std::fabs(value[k] - ref);
     e.pct[k] = std::fabs(ref) >= kPctMinMm ? e.mm[k] / std::fabs(ref) * 100.0 : std::nan("");
   }
   return e;
@@ -55,19 +53,16 @@ std::vector<Table4Row> table4(const std::vector<JointPoint>& points) {
   return out;
 }
 
-double distance_mm(const Vec3<double>& a, const Vec3<double>& b) {
-  return std::sqrt((a.x - b.x) * (a.x - b.x) + (a.y - b.y) * (a.y - b.y) + (a.z - b.z) * (a.z - b.z));
-}
+double distance_mm(const Vec3<double>& a, const Vec3<double>& b) { return norm(a - b); }
 
 std::string measurement_question(const Vec3<double>& measured, const Vec3<double>& predicted, double reach_mm,
                                  double far_mm) {
   const char* names[3] = {"x", "y", "z"};
   for (int k = 0; k < 3; ++k)
-    if (!std::isfinite(at(measured, k)))
+    if (!std::isfinite(measured[k]))
       return std::string(names[k]) + " is not a number: type the three coordinates in mm, digits like 235 or -12.5";
   const double d = distance_mm(measured, predicted);
-  const Vec3<double> ten = make_vec3(measured.x * 10, measured.y * 10, measured.z * 10);
-  if (d > far_mm && distance_mm(ten, predicted) < 0.2 * d)
+  if (d > far_mm && distance_mm(10.0 * measured, predicted) < 0.2 * d)
     return mm_text(measured) + " looks like centimetres: the tool should be near " + mm_text(predicted) +
            ". Type millimetres (10 times the centimetres)";
   if (d > reach_mm)

@@ -253,12 +253,17 @@ Status ControllerModel::queue_move(PredictRecord& r, const MotorState<kMaxJoints
 }
 
 // G and S (queue_command): a servo pulse, then the settle pause; always queued.
-void ControllerModel::queue_gripper(PredictRecord& r, int32_t aperture) {
+// A pause in the queue (stepper.cpp: the gripper's settle time, or D).
+void ControllerModel::queue_pause(PredictRecord& r, uint64_t ms) {
   r.queued = true;
-  r.ticks = uint64_t(settings_.value[ControllerSettings::kSettleMs]) * (kControllerTickHz / 1000);
+  r.ticks = ms * (kControllerTickHz / 1000);
   r.start_tick = clock_;
   clock_ += r.ticks;
   r.end_tick = clock_;
+}
+
+void ControllerModel::queue_gripper(PredictRecord& r, int32_t aperture) {
+  queue_pause(r, settings_.value[ControllerSettings::kSettleMs]);
   gripper_percent_ = (aperture + 500) / 1000;
   add_note(r, "servo pulse " + std::to_string(servo_pulse_us(robot_, aperture)) + " us");
 }
@@ -403,12 +408,8 @@ Status ControllerModel::run_command(PredictRecord& r, const std::string& text) {
     }
     case kCmdHome:
       return home(r);
-    case kCmdDwell:  // (the parser checked its range) a pause in the queue, as the servo's settle
-      r.queued = true;
-      r.ticks = uint64_t(cmd.arg[0]) * (kControllerTickHz / 1000);
-      r.start_tick = clock_;
-      clock_ += r.ticks;
-      r.end_tick = clock_;
+    case kCmdDwell:  // (the parser checked its range)
+      queue_pause(r, uint64_t(cmd.arg[0]));
       add_note(r, "waits; nothing moves");
       return kOk;
   }

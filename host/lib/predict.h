@@ -135,6 +135,7 @@ class ControllerModel {
   void finish(PredictRecord& r);
   Status run_command(PredictRecord& r, const std::string& line);
   Status queue_move(PredictRecord& r, const MotorState<kMaxJoints>& next, bool home, uint64_t extra_ticks = 0);
+  void queue_pause(PredictRecord& r, uint64_t ms);
   void queue_gripper(PredictRecord& r, int32_t aperture);
   Status solve_point(MotorState<kMaxJoints>& next, const int32_t* um) const;
   Status home(PredictRecord& r);

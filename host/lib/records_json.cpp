@@ -207,7 +207,6 @@ nlohmann::json program_json(const Robot& robot, const Program& program, const st
 
 namespace {
 nlohmann::json number_or_null(double v) { return std::isnan(v) ? nlohmann::json(nullptr) : nlohmann::json(v); }
-}  // namespace
 
 Vec3<double> vec3_of_json(const nlohmann::json& j, const std::string& what) {
   if (!j.is_array() || j.size() != 3) throw std::invalid_argument(what + " must be three numbers [x, y, z]");
@@ -218,6 +217,7 @@ Vec3<double> vec3_of_json(const nlohmann::json& j, const std::string& what) {
   }
   return make_vec3(v[0], v[1], v[2]);
 }
+}  // namespace
 
 nlohmann::json axis_errors_json(const AxisErrors& e) {
   nlohmann::json pct = nlohmann::json::array();

@@ -52,8 +52,6 @@ nlohmann::json program_json(const Robot& robot, const Program& program, const st
 nlohmann::json axis_errors_json(const AxisErrors& e);
 nlohmann::json table4_json(const std::vector<Table4Row>& rows);
 std::vector<JointPoint> joint_points_of_json(const nlohmann::json& points);
-// [x, y, z] (throws std::invalid_argument: "<what> must be three numbers [x, y, z]").
-Vec3<double> vec3_of_json(const nlohmann::json& j, const std::string& what);
 
 }  // namespace articula::host
 

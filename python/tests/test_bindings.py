@@ -173,7 +173,8 @@ const r = e.robot("mk2plus");
 const out = {{ jac: r.jacobian([10, 70, -60]), tl: e.timeline(r, "L 0 30\\nL 1 -20\\n", "t.arm", [0, 90, -90]).at(0.4),
   arm: e.parseArmLine("<Run|S:95,0,0|A:30.083,90.000,0.000|G:100|Q:7|C:1>"), first: e.firstIntervalS(800, 3000),
   t4: e.table4(POINTS.map(([joint, value, reference]) => ({{ joint, value, reference }}))),
-  ax: e.axisErrors([10.5, 0.4, -201], [10, 0.5, -200]), q: e.measurementQuestion([23.5, 0, 21.3], [235, 0, 213], 370) }};
+  ax: e.axisErrors([10.5, 0.4, -201], [10, 0.5, -200]), q: e.measurementQuestion([23.5, 0, 21.3], [235, 0, 213], 370),
+  qnan: e.measurementQuestion([NaN, 0, 213], [235, 0, 213], 370) }};
 try {{ e.table4([{{ joint: 0, value: [1, 2] }}]); }} catch (x) {{ out.badPoint = x.message; }}
 try {{ r.pose([0, NaN, 0]); }} catch (x) {{ out.nan = x.message; }}
 try {{ r.ik({{ target: [1, 2] }}); }} catch (x) {{ out.target = x.message; }}
@@ -194,6 +195,8 @@ console.log(JSON.stringify(out));
     assert articula.table4(POINTS) == web["t4"]
     assert articula.axis_errors((10.5, 0.4, -201), (10, 0.5, -200)) == web["ax"]
     assert articula.measurement_question((23.5, 0, 21.3), (235, 0, 213), 370) == web["q"]
+    assert articula.measurement_question((float("nan"), 0, 213), (235, 0, 213), 370) == web["qnan"]
+    assert web["qnan"].startswith("x is not a number")
     assert web["badPoint"] == "point 0's value must be three numbers [x, y, z]"
     for call, message in ((lambda: mk2.fk([0, float("nan"), 0]), web["nan"]), (lambda: mk2.ik([1, 2]), web["target"])):
         try:

@@ -2,47 +2,41 @@
 // of python/src/experiment.cpp), from host/lib/experiment.h: JSON in, JSON out.
 #include <emscripten/bind.h>
 
-#include <functional>
 #include <string>
 
+#include "common.h"
 #include "experiment.h"
 #include "records_json.h"
 
 namespace {
 
-articula::Vec3<double> v3(const std::string& text, const char* what) {
-  return articula::host::vec3_of_json(nlohmann::json::parse(text), what);
-}
+using articula::web::json;
 
-// Errors come back as {"error": message}: the page's worker says them, nothing throws.
-std::string guarded(const std::function<nlohmann::json()>& f) {
-  try {
-    return f().dump();
-  } catch (const std::exception& e) {
-    return nlohmann::json{{"error", e.what()}}.dump();
-  }
+// [x, y, z] from JavaScript: a NaN arrives as null and stays NaN, for measurement_question to
+// name it.
+articula::Vec3<double> xyz(const std::string& text, const char* what) {
+  const std::vector<double> v = articula::web::numbers(json::parse(text), what);
+  if (v.size() != 3) throw std::invalid_argument(std::string(what) + " must be three numbers [x, y, z]");
+  return articula::make_vec3(v[0], v[1], v[2]);
 }
 
 }  // namespace
 
 EMSCRIPTEN_BINDINGS(articula_experiment) {
   using namespace emscripten;
-  using nlohmann::json;
+  using articula::web::guarded;
+  namespace host = articula::host;
   function("axisErrors", +[](const std::string& value, const std::string& reference) {
-    return guarded([&] {
-      return articula::host::axis_errors_json(articula::host::axis_errors(v3(value, "value"), v3(reference, "reference")));
-    });
+    return guarded([&] { return host::axis_errors_json(host::axis_errors(xyz(value, "value"), xyz(reference, "reference"))).dump(); });
   });
   function("table4", +[](const std::string& points) {
-    return guarded([&] {
-      return articula::host::table4_json(articula::host::table4(articula::host::joint_points_of_json(json::parse(points))));
-    });
+    return guarded([&] { return host::table4_json(host::table4(host::joint_points_of_json(json::parse(points)))).dump(); });
   });
   function("measurementQuestion", +[](const std::string& measured, const std::string& predicted, double reach_mm,
                                       double far_mm) {
     return guarded([&] {
-      return json(articula::host::measurement_question(v3(measured, "the measurement"), v3(predicted, "the prediction"),
-                                                        reach_mm, far_mm));
+      return json(host::measurement_question(xyz(measured, "the measurement"), xyz(predicted, "the prediction"), reach_mm,
+                                             far_mm)).dump();
     });
   });
 }

@@ -106,14 +106,9 @@ function tapToAdd(e: Blockly.Events.Abstract): void {
   if (!block || !block.previousConnection || block.getParent()) return;
   // the program: the topmost stack of statements (procedure definitions aside)
   const main = ws.getTopBlocks(true).find((b) => b !== block && b.nextConnection !== null && !b.type.startsWith("procedures_def"));
-  if (!main) {
-    block.moveTo(new Blockly.utils.Coordinate(24, 24));
-  } else {
-    let last: Blockly.Block = main;
-    while (last.getNextBlock()) last = last.getNextBlock()!;
-    if (last.nextConnection && ws.connectionChecker.canConnect(last.nextConnection, block.previousConnection, false))
-      last.nextConnection.connect(block.previousConnection);
-  }
+  const end = main?.lastConnectionInStack(false);
+  if (!main) block.moveTo(new Blockly.utils.Coordinate(24, 24));
+  else if (end && ws.connectionChecker.canConnect(end, block.previousConnection, false)) end.connect(block.previousConnection);
   ws.scrollBoundsIntoView?.((block as Blockly.BlockSvg).getBoundingRectangleWithoutChildren());
 }
 

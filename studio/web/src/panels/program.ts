@@ -49,12 +49,16 @@ function lineHelp(): void {
   $("line-help").textContent = helpFor(ed.value.slice(start, end < 0 ? undefined : end));
 }
 // Help on hover: the line under the pointer says what its command does (the editor's tooltip,
-// and the help line under it while the pointer is over the editor).
+// and the help line under it while the pointer is over the editor). Only when the pointer
+// comes to another line (-1: the text changed, or the pointer left).
+let hoverRow = -1;
 function hoverHelp(e: MouseEvent): void {
   const ed = editor();
   const cs = getComputedStyle(ed);
   const lh = parseFloat(cs.lineHeight) || 1.4 * parseFloat(cs.fontSize);
   const row = Math.floor((e.offsetY + ed.scrollTop - parseFloat(cs.paddingTop)) / lh);
+  if (row === hoverRow) return;
+  hoverRow = row;
   const line = ed.value.split("\n")[row];
   const help = line === undefined ? "" : helpFor(line);
   ed.title = help ? `line ${row + 1}: ${help}` : "";
@@ -68,7 +72,11 @@ export function initProgram(studio: Studio): void {
     editorChanged();
     lineHelp();
   });
-  for (const ev of ["click", "keyup", "focus", "mouseleave"]) ed.addEventListener(ev, lineHelp);
+  for (const ev of ["click", "keyup", "focus"]) ed.addEventListener(ev, lineHelp);
+  ed.addEventListener("mouseleave", () => {
+    hoverRow = -1;
+    lineHelp();
+  });
   ed.addEventListener("mousemove", hoverHelp);
   ed.addEventListener("scroll", () => {
     $("gutter").scrollTop = ed.scrollTop;
@@ -141,6 +149,7 @@ function load(): void {
 }
 
 function editorChanged(): void {
+  hoverRow = -1; // the text changed: the line under the pointer may say something else
   const ed = editor();
   const n = ed.value.split("\n").length;
   fill($("gutter"), ...Array.from({ length: n }, (_, i) => h("div", null, i + 1)));
