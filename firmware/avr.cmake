@@ -2,7 +2,8 @@
 # firmware/CMakeLists.txt. Makes:
 #   arduino_core       Debian's Arduino AVR core 1.8 (cores/arduino + the Nano's variant),
 #                      with the flags of its platform.txt, as a static LTO library;
-#   articula-nano.elf  every firmware/src/*.cpp + the core; runs unchanged in simavr;
+#   articula-nano.elf  every firmware/src/*.cpp + the core; runs unchanged in simavr; one
+#                      firmware for every arm (the robot configuration is in EEPROM);
 #   articula-nano.hex  what goes to the board (without the simavr and EEPROM sections),
 #                      after a size check that prints flash and RAM use and fails the
 #                      build above the budgets below.
@@ -10,7 +11,7 @@ enable_language(ASM)
 
 set(ARDUINO_AVR_DIR /usr/share/arduino/hardware/arduino/avr CACHE PATH
     "Arduino AVR core 1.8.x (Debian package arduino-core-avr)")
-set(ARTICULA_FLASH_BUDGET 24576 CACHE STRING "firmware flash budget in bytes (the Nano has 30,720)")
+set(ARTICULA_FLASH_BUDGET 28672 CACHE STRING "firmware flash budget in bytes (the Nano has 30,720)")
 set(ARTICULA_RAM_BUDGET 1536 CACHE STRING "firmware static RAM (.data + .bss) budget in bytes (the Nano has 2,048)")
 
 set(core_dir ${ARDUINO_AVR_DIR}/cores/arduino)
@@ -40,30 +41,12 @@ target_compile_options(arduino_core PRIVATE -w
   $<$<COMPILE_LANGUAGE:CXX>:-Os -fno-exceptions -ffunction-sections -fdata-sections -fno-threadsafe-statics -flto>
   $<$<COMPILE_LANGUAGE:ASM>:-x assembler-with-cpp -flto>)
 
-# ---- robot_config.h, from the robot file ----
-find_package(Python3 REQUIRED COMPONENTS Interpreter)
-get_filename_component(robot_file ${ARTICULA_ROBOT} ABSOLUTE BASE_DIR ${PROJECT_SOURCE_DIR})
-if(NOT EXISTS ${robot_file})
-  message(FATAL_ERROR "ARTICULA_ROBOT: no robot file ${robot_file}")
-endif()
-set(generated_dir ${CMAKE_CURRENT_BINARY_DIR}/generated)
-add_custom_command(
-  OUTPUT ${generated_dir}/robot_config.h
-  COMMAND ${Python3_EXECUTABLE} ${ARTICULA_FIRMWARE_DIR}/tools/robot_config.py ${robot_file}
-          ${generated_dir}/robot_config.h
-  DEPENDS ${robot_file} ${ARTICULA_FIRMWARE_DIR}/tools/robot_config.py
-  COMMENT "robot_config.h from ${robot_file}"
-  VERBATIM)
-add_custom_target(robot_config_avr DEPENDS ${generated_dir}/robot_config.h)
-message(STATUS "Nano firmware for the robot ${robot_file}")
-
 # ---- the firmware ----
 # Every source in src/: the AVR HAL and main.cpp, and the portable logic.
 file(GLOB firmware_sources CONFIGURE_DEPENDS ${ARTICULA_FIRMWARE_DIR}/src/*.cpp)
 add_executable(articula-nano ${firmware_sources})
 set_target_properties(articula-nano PROPERTIES SUFFIX ".elf")
-add_dependencies(articula-nano robot_config_avr)
-target_include_directories(articula-nano PRIVATE ${ARTICULA_FIRMWARE_DIR}/src ${ARTICULA_SHARED_DIR} ${generated_dir})
+target_include_directories(articula-nano PRIVATE ${ARTICULA_FIRMWARE_DIR}/src ${ARTICULA_SHARED_DIR})
 target_compile_definitions(articula-nano PRIVATE ${arduino_defines})
 target_compile_options(articula-nano PRIVATE ${ARTICULA_WARNINGS} -Os -ffunction-sections -fdata-sections
                                              -fno-exceptions -fno-threadsafe-statics -flto)
@@ -103,33 +86,3 @@ add_custom_target(articula-nano-hex ALL
   DEPENDS articula-nano
   COMMENT "articula-nano.hex"
   VERBATIM)
-
-# ---- articula-nano-halfstep.elf: a test build, not for a board ----
-# The same firmware for the same robot driven in half steps (tools/half_step_robot.py), for
-# the virtual Nano's throughput test (hil/tests/test_vnano.py): in full steps the MK2's
-# ranges (elbow 79 steps, shoulder 128) are too short for all three motors to cruise together
-# at the top rate ($0 = 4000 steps/s, ramps of 80 steps at $1 = 100000); in half steps they
-# are twice as long. No size check, no HEX.
-set(halfstep_dir ${CMAKE_CURRENT_BINARY_DIR}/generated-halfstep)
-add_custom_command(
-  OUTPUT ${halfstep_dir}/robot_config.h
-  COMMAND ${Python3_EXECUTABLE} ${ARTICULA_FIRMWARE_DIR}/tools/half_step_robot.py ${robot_file}
-          ${halfstep_dir}/robot.json
-  COMMAND ${Python3_EXECUTABLE} ${ARTICULA_FIRMWARE_DIR}/tools/robot_config.py ${halfstep_dir}/robot.json
-          ${halfstep_dir}/robot_config.h
-  DEPENDS ${robot_file} ${ARTICULA_FIRMWARE_DIR}/tools/half_step_robot.py
-          ${ARTICULA_FIRMWARE_DIR}/tools/robot_config.py
-  COMMENT "robot_config.h for the half-step test build"
-  VERBATIM)
-add_custom_target(robot_config_avr_halfstep DEPENDS ${halfstep_dir}/robot_config.h)
-add_executable(articula-nano-halfstep ${firmware_sources})
-set_target_properties(articula-nano-halfstep PROPERTIES SUFFIX ".elf")
-add_dependencies(articula-nano-halfstep robot_config_avr_halfstep)
-target_include_directories(articula-nano-halfstep PRIVATE ${ARTICULA_FIRMWARE_DIR}/src ${ARTICULA_SHARED_DIR}
-                                                          ${halfstep_dir})
-foreach(prop COMPILE_DEFINITIONS COMPILE_OPTIONS LINK_OPTIONS LINK_LIBRARIES SOURCES)
-  get_target_property(value articula-nano ${prop})
-  if(value)
-    set_property(TARGET articula-nano-halfstep PROPERTY ${prop} ${value})
-  endif()
-endforeach()

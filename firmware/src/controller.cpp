@@ -71,11 +71,9 @@ __attribute__((noinline)) void send_info() {
   InfoReport r;
   for (uint8_t i = 0; i < 3; ++i) r.version[i] = kVersion[i];
   r.protocol = kProtocolVersion;
-  r.num_joints = kJ;
-  const char* name = ARTICULA_ROBOT_NAME;
-  uint8_t n = 0;
-  for (; name[n] != '\0' && n < kMaxRobotName; ++n) r.name[n] = name[n];
-  r.name[n] = '\0';
+  r.num_joints = robot::count();
+  for (uint8_t n = 0; n <= kMaxRobotName; ++n) r.name[n] = robot::config.name[n];
+  r.checksum = robot::checksum;
   r.warning = settings::take_warning();
   char buf[kInfoReportSize];
   LineSink out = {buf};
@@ -99,23 +97,31 @@ void rederive_planned() {
   for (uint8_t i = 0; i < kJ; ++i) g_planned.commanded[i] = steps_to_millideg(robot::motor(i), g_planned.steps[i]);
 }
 
+// As at power-up: the motors at step 0, homed unless endstops are fitted.
+void reset_position() {
+  for (uint8_t i = 0; i < kJ; ++i) g_planned.steps[i] = 0;  // the motors a configuration leaves unused too
+  reset(g_planned, robot::actuation());
+  stepper::set_positions(g_planned.steps);
+  g_homed = settings::value[settings::kEndstops] == 0;
+}
+
 // P: the tool point (micrometres) to actuator angles, the in-limits solution nearest the
 // planned pose (least sum of squared actuator differences), into best. Not inlined: the
 // inverse kinematics' frame (its four solutions and more, ~120 B) is off the stack again
 // before move_absolute() runs, the deepest path of the main loop, on top of which a status
 // report and the step interrupt may come.
 __attribute__((noinline)) Status point_angles(Millideg* best, const int32_t* um) {
-  if (!robot::has_ik || kJ != 3) return kUnreachable;
+  if (!robot::config.has_point) return kNoClosedForm;
   // ypp_solve(..., polish = false) without its search for the nearest pose when nothing is
   // within the limits: the firmware only refuses such a point.
   YppResult<float> r;
   const int in_limits =
-      ypp_closed_form(r, robot::arm, make_vec3(float(um[0]) * 0.001f, float(um[1]) * 0.001f, float(um[2]) * 0.001f));
+      ypp_closed_form(r, robot::config.arm, make_vec3(float(um[0]) * 0.001f, float(um[1]) * 0.001f, float(um[2]) * 0.001f));
   if (in_limits == 0) return kUnreachable;
   float best_d2 = -1;
   for (uint8_t k = 0; k < in_limits; ++k) {  // the in-limits solutions come first
     float act[3];
-    ypp_actuated(act, robot::arm, r.solutions[k].q);
+    ypp_actuated(act, robot::config.arm, r.solutions[k].q);
     Millideg t[kJ];
     float d2 = 0;
     for (uint8_t i = 0; i < kJ; ++i) {
@@ -135,16 +141,32 @@ __attribute__((noinline)) Status point_angles(Millideg* best, const int32_t* um)
 Status solve_point(robot::State& next, const int32_t* um) {
   Millideg best[kJ];
   const Status s = point_angles(best, um);
-  return s != kOk ? s : move_absolute(next, robot::actuation, best);
+  return s != kOk ? s : move_absolute(next, robot::actuation(), best);
 }
 
 bool is_queued(CommandType t) { return t <= kCmdHome && t != kCmdNone; }
 
 // What a valid line still waits for: room in the queue, or (Z, $n=v) the arm at rest with
 // nothing queued.
+// The robot configuration's `$1xx=` only stage (config.h): they do not wait; its commit
+// `$199=` does.
 bool must_wait(const Command& c) {
   if (is_queued(c.type)) return queue::full();
-  return (c.type == kCmdSetZero || c.type == kCmdSetSetting) && busy();
+  const bool settles = c.type == kCmdSetSetting && (c.arg[0] < 100 || c.arg[0] == kCommitSetting);
+  return (c.type == kCmdSetZero || settles) && busy();
+}
+
+// `$1xx=v`, `$199=crc`: the robot configuration.
+uint8_t configure(int32_t n, int32_t v) {
+  if (n != kCommitSetting) return robot::stage(uint16_t(n), v);
+  if (v < 0 || v % 1000 != 0) return kConfigChecksum;
+  if (busy()) return kWait;
+  const Status s = robot::commit(v / 1000);
+  if (s != kOk) return s;
+  coils::setup();
+  stepper::update_constants();
+  reset_position();
+  return kOk;
 }
 
 // Commands that go through the queue: validated against the planned state (which nothing
@@ -160,8 +182,8 @@ uint8_t queue_command(const Command& c) {
     case kCmdMoveAbsolute:
     case kCmdMoveTool:
       if (!g_homed) return kNotHomed;
-      s = c.type == kCmdRotate         ? move_relative(next, robot::actuation, uint8_t(c.arg[0]), c.arg[1])
-          : c.type == kCmdMoveAbsolute ? move_absolute(next, robot::actuation, c.arg)
+      s = c.type == kCmdRotate         ? move_relative(next, robot::actuation(), uint8_t(c.arg[0]), c.arg[1])
+          : c.type == kCmdMoveAbsolute ? move_absolute(next, robot::actuation(), c.arg)
                                        : solve_point(next, c.arg);
       if (s != kOk) return s;
       break;
@@ -187,7 +209,7 @@ uint8_t queue_command(const Command& c) {
       const uint8_t mask = uint8_t(settings::value[settings::kEndstops]);
       for (uint8_t i = 0; i < kJ; ++i) {
         const MotorSpec& m = robot::motor(i);
-        next.commanded[i] = (mask & (1u << i)) ? m.min : robot::home[i];
+        next.commanded[i] = (mask & (1u << i)) ? m.min : robot::config.home[i];
         next.steps[i] = quantize_within_limits(m, next.commanded[i]);
       }
       a.kind = queue::kHome;
@@ -219,7 +241,10 @@ uint8_t execute(const Command& c) {
     case kCmdListSettings:
       list_settings();
       return kOk;
+    case kCmdName:  // the text is in the line just read: a name never waits
+      return robot::stage_name(g_line.line() + c.arg[0], uint8_t(c.arg[1]));
     case kCmdSetSetting: {
+      if (c.arg[0] >= 100) return configure(c.arg[0], c.arg[1]);
       const Status s = settings::check(c.arg[0], c.arg[1]);
       if (s != kOk) return s;
       if (busy()) return kWait;
@@ -230,7 +255,7 @@ uint8_t execute(const Command& c) {
     case kCmdSetZero:
       if (busy()) return kWait;
       for (uint8_t i = 0; i < kJ; ++i) {
-        g_planned.commanded[i] = robot::home[i];
+        g_planned.commanded[i] = robot::config.home[i];
         g_planned.steps[i] = robot::home_steps[i];
       }
       stepper::set_positions(g_planned.steps);
@@ -246,7 +271,7 @@ void run_line(LineEvent ev) {
     reply(kLineTooLong);
     return;
   }
-  const Status s = parse_line(g_pending, g_line, kJ);
+  const Status s = parse_line(g_pending, g_line, robot::count());
   if (s != kOk) {
     reply(s);
     return;
@@ -332,9 +357,9 @@ __attribute__((noinline)) uint8_t status_line(char* buf, uint8_t cap) {
             : (running || queued != 0)  ? kStateRun
             : homed                     ? kStateIdle
                                         : kStateAlarm;
-  r.num_joints = kJ;
+  r.num_joints = robot::count();
   r.free_slots = uint8_t(queue::kSize - queued);
-  for (uint8_t i = 0; i < kJ; ++i) r.millideg[i] = robot::step_angle(i, r.steps[i]);
+  for (uint8_t i = 0; i < r.num_joints; ++i) r.millideg[i] = robot::step_angle(i, r.steps[i]);
   r.warning = settings::take_warning();
   if (cap < status_report_size(kJ)) return 0;
   LineSink out = {buf};
@@ -354,8 +379,7 @@ __attribute__((noinline)) void setup() {
   g_has_pending = false;
   g_held = kLineNone;
   g_stop_flushed = false;
-  reset(g_planned, robot::actuation);
-  g_homed = settings::value[settings::kEndstops] == 0;
+  reset_position();
   g_was_busy = false;
   g_idle_since = hal::millis();
 }

@@ -3,12 +3,12 @@
 
 #include <articula/servo.h>
 
-#include "robot_config.h"
+#include "robot.h"
 
 namespace gripper {
 
 uint16_t pulse_us(int32_t aperture) {
-  return articula::servo_pulse_us<float>(ARTICULA_SERVO_CLOSED_DEG, ARTICULA_SERVO_OPEN_DEG, aperture);
+  return articula::servo_pulse_us<float>(robot::config.servo_closed_deg, robot::config.servo_open_deg, aperture);
 }
 
 }  // namespace gripper

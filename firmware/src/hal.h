@@ -65,6 +65,15 @@ void serial_write(char c);  // main loop only (interrupts enabled); blocks while
 void eeprom_read(uint16_t address, void* data, uint16_t size);
 void eeprom_write(uint16_t address, const void* data, uint16_t size);  // writes only changed bytes
 
+// Constants kept in flash only (the AVR copies ordinary constants into RAM at start-up):
+// declared ARTICULA_IN_FLASH and read with flash_read().
+#ifdef __AVR__
+#define ARTICULA_IN_FLASH __attribute__((__progmem__))
+#else
+#define ARTICULA_IN_FLASH
+#endif
+void flash_read(void* data, const void* flash, uint16_t size);
+
 // Nothing to do until an interrupt says otherwise: the CPU sleeps (idle mode: the timers, the
 // USART and the servo run on) until the next interrupt, the millis tick at the latest (1 ms),
 // unless a received byte already waits. Race-free: interrupts off, the check, then SEI right

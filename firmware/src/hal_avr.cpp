@@ -42,6 +42,7 @@
 #include <avr/eeprom.h>
 #include <avr/interrupt.h>
 #include <avr/io.h>
+#include <avr/pgmspace.h>
 #include <avr/sleep.h>
 
 #include "articula/protocol.h"
@@ -558,6 +559,8 @@ void eeprom_write(uint16_t address, const void* data, uint16_t size) {
   if (size > E2END + 1 - address) size = uint16_t(E2END + 1 - address);
   eeprom_update_block(data, reinterpret_cast<void*>(address), size);
 }
+
+void flash_read(void* data, const void* flash, uint16_t size) { memcpy_P(data, flash, size); }
 
 void idle() {
   cli();

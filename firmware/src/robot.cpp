@@ -1,18 +1,23 @@
-// firmware/src/robot.cpp - the robot's structures from robot_config.h.
+// firmware/src/robot.cpp - the robot configuration: EEPROM, the built-in default, staging.
 #include "robot.h"
+
+#include "hal.h"
+#include "builtin_config.h"
 
 using namespace articula;
 
 namespace robot {
 
-// Initialised in place (no copy of a constant table: on the AVR that would sit in RAM twice).
-const Actuation actuation = {ARTICULA_NUM_JOINTS, ARTICULA_MOTORS, ARTICULA_COUPLING, {}};
-YppArm<float> arm;
-bool has_ik;
-Millideg home[kJoints];
+ConfiguredArm<kJoints> config;
+uint16_t checksum;
 int32_t home_steps[kJoints];
 
 namespace {
+const uint16_t kAddress = kEepromAddress;
+const uint8_t kVersion = kEepromVersion;
+const uint16_t kImageAt = kAddress + 1;
+const uint16_t kCrcAt = kImageAt + kConfigImageSize;
+
 // step_angle(): angle = zero + direction * round(steps * den / num), num/den = steps per
 // millidegree in lowest terms (3/950 on the MK2's base, 47/34200 on its arm motors); `most`
 // is the largest |steps| for which 2 |steps| den + num fits a uint32 (0: none, use
@@ -45,31 +50,48 @@ void setup_scale(StepScale& k, const MotorSpec& m) {
   k.most = min_of(uint32_t((0xFFFFFFFFUL - num) / (2 * den)), uint32_t(0x7FFFFFFFUL));
 }
 
-#if ARTICULA_NUM_JOINTS == 3  // a yaw-pitch-pitch arm has three
-typedef Model<float, kJoints, ARTICULA_NUM_ROWS> RobotModel;
+// What a blank EEPROM gets: the MK2 (builtin_config.h, made by the host's nano_config).
+const uint8_t kBuiltIn[kConfigImageSize] ARTICULA_IN_FLASH = ARTICULA_BUILTIN_CONFIG;
+void built_in(uint8_t* image) { hal::flash_read(image, kBuiltIn, kConfigImageSize); }
 
-// The kinematic model, only to recognise the arm's family. A constant: the optimiser works
-// ypp_from_model's checks out at build time. The tool's rotation does not move the tool
-// point: identity here.
-const RobotModel kModel = {ARTICULA_NUM_ROWS,
-                           ARTICULA_NUM_JOINTS,
-                           ARTICULA_NUM_LINKED,
-                           ARTICULA_DH_ROWS,
-                           ARTICULA_JOINTS,
-                           ARTICULA_LINKED,
-                           {{{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}}, ARTICULA_TOOL_XYZ}};
+// Writes the version and the checksum that make the staged image the configuration.
+void seal(uint16_t c) {
+  const uint8_t head[1] = {kVersion}, sum[2] = {uint8_t(c), uint8_t(c >> 8)};
+  hal::eeprom_write(kCrcAt, sum, 2);
+  hal::eeprom_write(kAddress, head, 1);
+}
 
-// Whether P can be solved, and the arm to solve it on.
-bool setup_ik() { return ypp_from_model(arm, kModel) && ypp_limits_from_actuation(arm, actuation); }
-#else
-bool setup_ik() { return false; }
-#endif
+// The image in EEPROM when it is whole (version and CRC right), else the built-in one,
+// written back (as the settings' defaults are), so that values staged later change the
+// configuration in use and nothing else.
+void load(uint8_t* image) {
+  uint8_t head[1], crc[2];
+  hal::eeprom_read(kAddress, head, 1);
+  hal::eeprom_read(kImageAt, image, kConfigImageSize);
+  hal::eeprom_read(kCrcAt, crc, 2);
+  const uint16_t c = config_checksum(image);
+  if (head[0] == kVersion && crc[0] == uint8_t(c) && crc[1] == uint8_t(c >> 8)) return;
+  built_in(image);
+  hal::eeprom_write(kImageAt, image, kConfigImageSize);
+  seal(config_checksum(image));
+}
+
+// Puts a configuration read by config_read in use.
+void use(const ConfiguredArm<kJoints>& next, uint16_t sum) {
+  config = next;
+  checksum = sum;
+  for (uint8_t i = 0; i < kJoints; ++i) {
+    const MotorSpec& m = config.actuation.motors[i];
+    setup_scale(g_scale[i], m);
+    home_steps[i] = quantize_within_limits(m, config.home[i]);
+  }
+}
 }  // namespace
 
 Millideg step_angle(uint8_t i, int32_t steps) {
   StepScale& k = g_scale[i];
   if (steps == k.last_steps) return k.last_angle;
-  const MotorSpec& m = actuation.motors[i];
+  const MotorSpec& m = config.actuation.motors[i];
   const uint32_t mag = steps < 0 ? 0u - uint32_t(steps) : uint32_t(steps);
   Millideg a;
   if (mag > k.most) {  // (also when k.most is 0)
@@ -86,26 +108,46 @@ Millideg step_angle(uint8_t i, int32_t steps) {
 }
 
 void setup() {
-  for (uint8_t i = 0; i < kJoints; ++i) setup_scale(g_scale[i], actuation.motors[i]);
-  has_ik = setup_ik();
-  // Home: joint values from the robot file, u = C^-1 q (C padded to 3 x 3 with the identity
-  // for fewer motors), to millidegrees. solve3 rather than invert_coupling: a third of the
-  // code, and the inverse itself is never needed.
-  const float q_home[kJoints] = ARTICULA_HOME_Q;
-  float a[3][4], u[3];
-  for (uint8_t r = 0; r < 3; ++r) {
-    for (uint8_t c = 0; c < 3; ++c) a[r][c] = r < kJoints && c < kJoints ? actuation.coupling[r][c] : float(r == c);
-    a[r][3] = r < kJoints ? q_home[r] : 0.0f;
+  uint8_t image[kConfigImageSize];
+  ConfiguredArm<kJoints> next;
+  load(image);
+  if (config_read(next, image) != kConfigOk) {  // a whole image no firmware could use: never the built-in one
+    built_in(image);
+    config_read(next, image);
   }
-  if (!detail::solve3(u, a))
-    for (uint8_t i = 0; i < kJoints; ++i) u[i] = q_home[i];  // never: the loader rejects a singular C
-  for (uint8_t i = 0; i < kJoints; ++i) {
-    const MotorSpec& m = actuation.motors[i];
-    Millideg h = m.zero;
-    to_millideg(h, rad_to_deg(u[i]));
-    home[i] = clamp(h, m.min, m.max);
-    home_steps[i] = quantize_within_limits(m, home[i]);
-  }
+  use(next, config_checksum(image));
+}
+
+Status stage(uint16_t n, int32_t thousandths) {
+  const Status s = config_check(n, thousandths);
+  if (s != kOk) return s;
+  ConfigField f;
+  config_field(n, f);
+  uint8_t b[4];
+  config_bytes(b, n, thousandths);
+  hal::eeprom_write(uint16_t(kImageAt + f.offset), b, f.size);
+  return kOk;
+}
+
+Status stage_name(const char* s, uint8_t len) {
+  const Status st = config_check_name(s, len);
+  if (st != kOk) return st;
+  uint8_t b[kMaxRobotName];
+  config_name_bytes(b, s, len);
+  hal::eeprom_write(kImageAt + kConfigNameOffset, b, kMaxRobotName);
+  return kOk;
+}
+
+Status commit(int32_t crc) {
+  uint8_t image[kConfigImageSize];
+  hal::eeprom_read(kImageAt, image, kConfigImageSize);
+  const uint16_t c = config_checksum(image);
+  if (crc != int32_t(c)) return kConfigChecksum;
+  ConfiguredArm<kJoints> next;
+  if (config_read(next, image) != kConfigOk) return kConfigInvalid;
+  seal(c);
+  use(next, c);
+  return kOk;
 }
 
 }  // namespace robot

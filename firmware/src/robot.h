@@ -1,42 +1,53 @@
-// firmware/src/robot.h - the arm this firmware drives: robot_config.h (generated from the
-// robot file by tools/robot_config.py) turned into the core's structures at start-up, so
-// every computation on them is the shared core's, as on the host.
+// firmware/src/robot.h - the arm this firmware drives: the robot configuration
+// (articula/config.h) read from EEPROM at power-up and again whenever `$199` commits a new
+// one. A blank or corrupt EEPROM gets the MK2 (builtin_config.h, the image the host makes
+// from robots/mk2plus.json). Every computation on it is the shared core's, as on the host.
 #ifndef ARTICULA_FIRMWARE_ROBOT_H
 #define ARTICULA_FIRMWARE_ROBOT_H
 
-#include <articula/actuation.h>
-#include <articula/ik_ypp.h>
-
-#include "robot_config.h"
+#include <articula/config.h>
 
 namespace robot {
 
-static const uint8_t kJoints = ARTICULA_NUM_JOINTS;
-static_assert(kJoints >= 1 && kJoints <= 3, "the Nano's pin map wires one to three motors");
+// EEPROM: [kEepromAddress] kEepromVersion, the image, its CRC-16 (low byte first). The
+// settings (settings.h) sit below it.
+static const uint16_t kEepromAddress = 32;
+static const uint8_t kEepromVersion = 1;
+
+// Room for the most motors a configuration has; count() of them are used.
+static const uint8_t kJoints = articula::kMaxConfigMotors;
 
 typedef articula::Actuation<float, kJoints> Actuation;
 typedef articula::MotorState<kJoints> State;
 
-// The motors and how they drive the joints (coupling_inv is not used: left zero).
-extern const Actuation actuation;
-// P's inverse kinematics: the arm as a yaw-pitch-pitch arm with the motors' limits. Only
-// when has_ik: the robot is of that family and its coupling is the identity or the MK2's
-// parallelogram (ypp_limits_from_actuation).
-extern articula::YppArm<float> arm;
-extern bool has_ik;
-// The home pose as actuator angles (u = C^-1 q_home), and the steps they quantize to.
-extern articula::Millideg home[kJoints];
+// The configuration in use: motors, coupling, home (motor angles), P's arm, servo, name.
+extern articula::ConfiguredArm<kJoints> config;
+// Its checksum (the I banner's K).
+extern uint16_t checksum;
+// The steps the home pose quantizes to.
 extern int32_t home_steps[kJoints];
 
-inline const articula::MotorSpec& motor(uint8_t i) { return actuation.motors[i]; }
+inline const Actuation& actuation() { return config.actuation; }
+inline uint8_t count() { return config.actuation.num_motors; }
+inline const articula::MotorSpec& motor(uint8_t i) { return config.actuation.motors[i]; }
 
 // steps_to_millideg(motor(i), steps), the status report's A field: the same value, from a
 // fraction reduced at setup, in 32-bit arithmetic for every step count it fits (all within
 // the limits on the MK2), so a report costs no 64-bit division.
 articula::Millideg step_angle(uint8_t i, int32_t steps);
 
-// Once at start-up (and again when a test reboots the firmware).
+// Once at start-up (and again when a test reboots the firmware): the configuration from
+// EEPROM, or the built-in one.
 void setup();
+
+// `$1xx=v` and `N text`: checked (config_check, config_check_name) and written to the
+// staged image in EEPROM; nothing else changes.
+articula::Status stage(uint16_t n, int32_t thousandths);
+articula::Status stage_name(const char* s, uint8_t len);
+// `$199=crc`: the staged image becomes the configuration when its checksum is crc
+// (kConfigChecksum otherwise) and it describes an arm this firmware drives (kConfigInvalid
+// otherwise); then it is in use, as after setup(). On an error nothing changes.
+articula::Status commit(int32_t crc);
 
 }  // namespace robot
 

@@ -14,7 +14,7 @@ const Range kRanges[kCount] = {
     {1, 4000, 600},                     // $0 max rate, steps/s
     {1, 100000, 2000},                  // $1 acceleration, steps/s^2
     {0, 60000, 2000},                   // $2 coil release, ms (0: never)
-    {0, (1u << robot::kJoints) - 1, 0},  // $3 endstop mask
+    {0, (1u << robot::kJoints) - 1, 0},  // $3 endstop mask (bits of motors beyond count(): check())
     {1, 4000, 200},                     // $4 homing rate, steps/s
     {0, 10000, 300},                    // $5 gripper settle, ms
 };
@@ -28,26 +28,17 @@ void save() {
   uint8_t image[kImageSize];
   image[0] = kVersion;
   memcpy(image + 1, value, 4 * kCount);  // both targets are little-endian
-  const uint16_t crc = crc16(image, kImageSize - 2);
+  const uint16_t crc = articula::crc16(image, kImageSize - 2);
   image[kImageSize - 2] = uint8_t(crc);
   image[kImageSize - 1] = uint8_t(crc >> 8);
   hal::eeprom_write(kAddress, image, kImageSize);
 }
 }  // namespace
 
-uint16_t crc16(const uint8_t* data, uint16_t size) {
-  uint16_t crc = 0xFFFF;  // CRC-16/CCITT-FALSE: polynomial 0x1021, MSB first
-  for (uint16_t i = 0; i < size; ++i) {
-    crc ^= uint16_t(data[i]) << 8;
-    for (uint8_t b = 0; b < 8; ++b) crc = (crc & 0x8000) ? uint16_t((crc << 1) ^ 0x1021) : uint16_t(crc << 1);
-  }
-  return crc;
-}
-
 void load() {
   uint8_t image[kImageSize];
   hal::eeprom_read(kAddress, image, kImageSize);
-  const uint16_t crc = crc16(image, kImageSize - 2);
+  const uint16_t crc = articula::crc16(image, kImageSize - 2);
   bool good = image[0] == kVersion && image[kImageSize - 2] == uint8_t(crc) && image[kImageSize - 1] == uint8_t(crc >> 8);
   if (good) {
     memcpy(value, image + 1, 4 * kCount);
@@ -66,6 +57,7 @@ articula::Status check(int32_t n, int32_t thousandths) {
   if (thousandths < 0 || thousandths % 1000 != 0) return articula::kValueOutOfRange;
   const uint32_t v = uint32_t(thousandths / 1000);
   if (v < kRanges[n].min || v > kRanges[n].max) return articula::kValueOutOfRange;
+  if (n == kEndstops && (v >> robot::count()) != 0) return articula::kValueOutOfRange;
   return articula::kOk;
 }
 

@@ -3,7 +3,7 @@
 #ifndef ARTICULA_FIRMWARE_SETTINGS_H
 #define ARTICULA_FIRMWARE_SETTINGS_H
 
-#include <articula/status.h>
+#include <articula/config.h>
 
 namespace settings {
 
@@ -19,7 +19,7 @@ enum Id : uint8_t {
 };
 
 // EEPROM image: [0] kVersion, [1 .. 4 kCount] the values (uint32, little-endian), then the
-// CRC-16/CCITT-FALSE of all the bytes before it, low byte first.
+// CRC-16/CCITT-FALSE (articula::crc16) of all the bytes before it, low byte first.
 static const uint8_t kVersion = 1;
 static const uint16_t kAddress = 0;
 static const uint16_t kImageSize = 1 + 4 * kCount + 2;
@@ -45,8 +45,6 @@ articula::Status set(int32_t n, int32_t thousandths);
 // kSettingsReset once after load() fell back to the defaults, then 0: for the W field of
 // the next status or info report.
 uint8_t take_warning();
-
-uint16_t crc16(const uint8_t* data, uint16_t size);
 
 }  // namespace settings
 

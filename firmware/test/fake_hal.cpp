@@ -211,6 +211,8 @@ void serial_write(char c) {
   fake::flush_report();
 }
 
+void flash_read(void* data, const void* flash, uint16_t size) { std::memcpy(data, flash, size); }
+
 void eeprom_read(uint16_t address, void* data, uint16_t size) {
   fake::interrupt_point();
   if (address + size > sizeof hw.eeprom) {

@@ -3,10 +3,15 @@
 
 #include <gtest/gtest.h>
 
+#include <cstring>
+
 #include "firmware.h"
 #include "hal.h"
 #include "queue.h"
 #include "stepper.h"
+#ifdef ARTICULA_TEST_CONFIG
+#include ARTICULA_TEST_CONFIG
+#endif
 
 namespace sim {
 
@@ -34,7 +39,18 @@ bool is_reply(const std::string& s) { return s == "ok" || s.rfind("error:", 0) =
 
 void boot(bool blank_eeprom, const std::string& during_setup) {
   fake::reset(blank_eeprom);
-  for (int i = 0; i < robot::kJoints; ++i) fake::hw.microsteps[i] = robot::actuation.motors[i].microsteps;
+#ifdef ARTICULA_TEST_CONFIG
+  // This variant's arm, as `articula configure ROBOT` would have left it in EEPROM.
+  uint8_t* e = fake::hw.eeprom + robot::kEepromAddress;
+  if (blank_eeprom || e[0] != robot::kEepromVersion) {
+    static const uint8_t image[articula::kConfigImageSize] = ARTICULA_BUILTIN_CONFIG;
+    const uint16_t crc = articula::config_checksum(image);
+    e[0] = robot::kEepromVersion;
+    std::memcpy(e + 1, image, sizeof image);
+    e[1 + sizeof image] = uint8_t(crc);
+    e[2 + sizeof image] = uint8_t(crc >> 8);
+  }
+#endif
   g_partial.clear();
   g_lines.clear();
   g_reports.clear();
@@ -42,6 +58,7 @@ void boot(bool blank_eeprom, const std::string& during_setup) {
   hal::init();  // as main.cpp
   for (char c : during_setup) fake::receive(c);
   firmware::setup();
+  for (int i = 0; i < robot::kJoints; ++i) fake::hw.microsteps[i] = robot::actuation().motors[i].microsteps;
   hal::start();
 }
 
@@ -143,7 +160,7 @@ std::vector<std::pair<int, int32_t>> settings_listing() {
   EXPECT_EQ(command("$"), "ok");
   for (const std::string& l : reports()) {
     articula::BasicCommand<3> c;
-    EXPECT_EQ(articula::parse_line(c, l.data(), uint8_t(l.size()), robot::kJoints), articula::kOk) << l;
+    EXPECT_EQ(articula::parse_line(c, l.data(), uint8_t(l.size()), robot::count()), articula::kOk) << l;
     EXPECT_EQ(c.type, articula::kCmdSetSetting) << l;
     out.push_back(std::make_pair(int(c.arg[0]), c.arg[1]));
   }

@@ -6,6 +6,8 @@
 #include <articula/protocol.h>
 #include <articula/servo.h>
 
+#include "nano_config.h"
+
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -38,14 +40,6 @@ std::string limit_note(const Robot& robot, const int32_t* target_millideg) {
                          number_text(m.max / 1000.0) + " deg");
   }
   return out;
-}
-
-// The firmware's servo pulse for an aperture in thousandths of a percent (gripper.cpp), in
-// float as on the Nano.
-uint16_t servo_pulse_us(const Robot& robot, int32_t aperture) {
-  const float closed = robot.gripper.present ? float(robot.gripper.servo_closed_deg) : 90.0f;
-  const float open = robot.gripper.present ? float(robot.gripper.servo_open_deg) : 90.0f;
-  return articula::servo_pulse_us<float>(closed, open, aperture);
 }
 
 }  // namespace
@@ -142,44 +136,44 @@ ControllerModel::ControllerModel(const Robot& robot, const ControllerSettings& s
   homed_ = settings_.value[ControllerSettings::kEndstops] == 0;
   base_rate_ = settings_.value[ControllerSettings::kMaxRate];
 
-  // robot::setup() (firmware/src/robot.cpp): P's arm, from the model in float (the tool's
-  // rotation does not matter) and the motors' limits.
-  if (n_ == 3) {
-    const Model<float, kMaxJoints, kMaxRows> fm = cast_model<float>(robot_.model);
-    Actuation<float, kMaxJoints> fa{};
-    fa.num_motors = uint8_t(n_);
-    for (int i = 0; i < n_; ++i) {
-      fa.motors[i] = robot_.actuation.motors[i];
-      for (int j = 0; j < n_; ++j) fa.coupling[i][j] = float(robot_.actuation.coupling[i][j]);
-    }
-    has_ik_ = ypp_from_model(arm_, fm) && ypp_limits_from_actuation(arm_, fa);
-  }
-  // The home pose as actuator angles, u = C^-1 q_home, in float with the same 3x3 solve as
-  // the firmware (C padded with the identity for fewer motors), rounded to millidegrees.
+  // robot::setup() (firmware/src/robot.cpp): the arm as the Nano configured for this robot
+  // holds it (nano_config.h: P's arm, the home pose, the servo), read by the core's
+  // config_read as the firmware reads it.
   home_.assign(size_t(n_), 0);
   home_steps_.assign(size_t(n_), 0);
-  if (n_ <= 3) {
-    float a[3][4], u[3];
-    for (int r = 0; r < 3; ++r) {
-      for (int c = 0; c < 3; ++c) a[r][c] = r < n_ && c < n_ ? float(robot_.actuation.coupling[r][c]) : float(r == c);
-      a[r][3] = r < n_ ? float(robot_.home[size_t(r)]) : 0.0f;
+  try {
+    const ConfiguredArm<kMaxConfigMotors> c = configured_arm(nano_config(robot_));
+    has_ik_ = c.has_point;
+    arm_ = c.arm;
+    for (int i = 0; i < n_; ++i) home_[size_t(i)] = c.home[i];
+    servo_open_ = c.servo_open_deg;
+    servo_closed_ = c.servo_closed_deg;
+  } catch (const NanoConfigError& e) {  // not an arm the Nano takes: the same rules, P from the model
+    configurable_ = e.what();
+    if (n_ == 3) {
+      Actuation<float, kMaxJoints> fa{};
+      fa.num_motors = 3;
+      for (int i = 0; i < 3; ++i) {
+        fa.motors[i] = robot_.actuation.motors[i];
+        for (int j = 0; j < 3; ++j) fa.coupling[i][j] = float(robot_.actuation.coupling[i][j]);
+      }
+      has_ik_ = ypp_from_model(arm_, cast_model<float>(robot_.model)) && ypp_limits_from_actuation(arm_, fa);
     }
-    if (!detail::solve3(u, a))
-      for (int i = 0; i < n_; ++i) u[i] = float(robot_.home[size_t(i)]);
-    for (int i = 0; i < n_; ++i) {
-      const MotorSpec& m = robot_.actuation.motors[i];
-      Millideg h = m.zero;
-      to_millideg(h, rad_to_deg(u[i]));
-      home_[size_t(i)] = clamp(h, m.min, m.max);
-    }
-  } else {  // more motors than the Nano drives: the same in double
     double u[kMaxJoints];
-    actuators_from_joints(u, robot_.actuation, robot_.home.data());
+    HostActuation a = robot_.actuation;
+    if (!invert_coupling(a))
+      for (int i = 0; i < n_; ++i) a.coupling_inv[i][i] = 1;
+    actuators_from_joints(u, a, robot_.home.data());
     for (int i = 0; i < n_; ++i) {
       const MotorSpec& m = robot_.actuation.motors[i];
       Millideg h = m.zero;
       to_millideg(h, rad_to_deg(u[i]));
       home_[size_t(i)] = clamp(h, m.min, m.max);
+    }
+    servo_open_ = servo_closed_ = 90.0f;
+    if (robot_.gripper.present) {
+      servo_open_ = float(robot_.gripper.servo_open_deg);
+      servo_closed_ = float(robot_.gripper.servo_closed_deg);
     }
   }
   for (int i = 0; i < n_; ++i)
@@ -265,14 +259,14 @@ void ControllerModel::queue_pause(PredictRecord& r, uint64_t ms) {
 void ControllerModel::queue_gripper(PredictRecord& r, int32_t aperture) {
   queue_pause(r, settings_.value[ControllerSettings::kSettleMs]);
   gripper_percent_ = (aperture + 500) / 1000;
-  add_note(r, "servo pulse " + std::to_string(servo_pulse_us(robot_, aperture)) + " us");
+  add_note(r, "servo pulse " + std::to_string(articula::servo_pulse_us<float>(servo_closed_, servo_open_, aperture)) + " us");
 }
 
 // P (controller.cpp, solve_point): the closed form in float, the in-limits solution nearest
 // the planned pose (least sum of squared actuator differences, in float), each angle rounded
 // to a millidegree and clamped into its limits, then moved to as M would.
 Status ControllerModel::solve_point(MotorState<kMaxJoints>& next, const int32_t* um) const {
-  if (!has_ik_ || n_ != 3) return kUnreachable;
+  if (!has_ik_ || n_ != 3) return kNoClosedForm;
   YppResult<float> res;
   const int in_limits =
       ypp_closed_form(res, arm_, make_vec3(float(um[0]) * 0.001f, float(um[1]) * 0.001f, float(um[2]) * 0.001f));
@@ -346,7 +340,23 @@ Status ControllerModel::run_command(PredictRecord& r, const std::string& text) {
     case kCmdListSettings:
       add_note(r, "answered with the settings; nothing moves");
       return kOk;
+    case kCmdName: {
+      const Status s = config_check_name(text.data() + cmd.arg[0], uint8_t(cmd.arg[1]));
+      if (s == kOk) add_note(r, "stages the robot's name in the configuration (robot configuration: not simulated)");
+      return s;
+    }
     case kCmdSetSetting: {
+      if (cmd.arg[0] >= 100) {  // the robot configuration (articula/config.h)
+        if (cmd.arg[0] == kCommitSetting) {
+          add_note(r, "commits the staged robot configuration when its checksum is this one (not simulated: the "
+                      "prediction keeps this robot file's arm)");
+          add_note(r, kWaitsForRest);
+          return kOk;
+        }
+        const Status s = config_check(uint16_t(cmd.arg[0]), cmd.arg[1]);
+        if (s == kOk) add_note(r, "stages a value of the robot configuration (not simulated)");
+        return s;
+      }
       const Status s = check_setting(n_, cmd.arg[0], cmd.arg[1]);
       if (s != kOk) return s;
       settings_.value[size_t(cmd.arg[0])] = uint32_t(cmd.arg[1] / 1000);
@@ -392,7 +402,7 @@ Status ControllerModel::run_command(PredictRecord& r, const std::string& text) {
         r.has_target = true;
         r.target = make_vec3(cmd.arg[0] / 1000.0, cmd.arg[1] / 1000.0, cmd.arg[2] / 1000.0);
         s = solve_point(next, cmd.arg);
-        if (s != kOk && !has_ik_)
+        if (s == kNoClosedForm)
           add_note(r,
                    "the firmware solves P only for a yaw-pitch-pitch arm with 3 motors (identity or "
                    "parallelogram coupling)");

@@ -1,6 +1,8 @@
 // host/lib/run.cpp - programs on the kinematic model (run.h).
 #include "run.h"
 
+#include <articula/config.h>
+
 #include <articula/protocol.h>
 
 #include <algorithm>
@@ -101,7 +103,11 @@ Status KinematicModel::run_command(RunRecord& r, const std::string& text) {
     case kCmdDwell:  // (the parser checked its range)
       r.dwell_s = cmd.arg[0] / 1000.0;
       return kOk;
+    case kCmdName:  // the robot configuration: nothing to run
+      return config_check_name(text.data() + cmd.arg[0], uint8_t(cmd.arg[1]));
     case kCmdSetSetting: {
+      if (cmd.arg[0] >= 100)
+        return cmd.arg[0] == kCommitSetting ? kOk : config_check(uint16_t(cmd.arg[0]), cmd.arg[1]);
       const Status s = check_setting(n_, cmd.arg[0], cmd.arg[1]);
       if (s == kOk) settings_.value[size_t(cmd.arg[0])] = uint32_t(cmd.arg[1] / 1000);
       return s;

@@ -31,7 +31,7 @@
 namespace articula {
 
 // 1: the original L and S. 2: M, P, G, H, Z, I, settings, realtime bytes, reports.
-static const uint8_t kProtocolVersion = 3;  // 3: D (dwell)
+static const uint8_t kProtocolVersion = 4;  // 3: D (dwell). 4: the robot configuration (N, $1xx)
 
 static const uint8_t kMaxLineLength = 64;
 
@@ -52,6 +52,7 @@ enum CommandType : uint8_t {
   kCmdListSettings,  // $: report every setting
   kCmdSetSetting,    // $<n>=<value>: set setting n (the firmware validates n and value)
   kCmdDwell,         // D <seconds>: wait, in the queue, before the next queued command
+  kCmdName,          // N <text>: the robot's name, staged in the configuration (config.h)
 };
 
 // The longest wait `D` takes, in milliseconds (thousandths of its seconds).
@@ -64,6 +65,8 @@ static const int32_t kMaxDwellMs = 600000L;
 //   'p' percent: a number from 0 to 100, in thousandths     kBadNumber, kValueOutOfRange
 //   'w' wait: seconds from 0 to kMaxDwellMs / 1000, in thousandths (milliseconds)
 //                                                           kBadNumber, kValueOutOfRange
+//   't' text: the rest of the line, blanks around it dropped (arg: its offset in the line
+//       and its length; valid while the line is)            kMissingArgument
 //   's' setting `<n>=<value>` (one word, two arguments: n of 1 to 3 digits, then the value
 //       in thousandths)                                     kSettingUnknown, kMissingArgument,
 //                                                           kBadNumber
@@ -88,6 +91,7 @@ static const CommandSpec kCommandTable[] = {
     {'$', kCmdListSettings, ""},    // `$` alone
     {'$', kCmdSetSetting, "s"},     // `$<n>=<value>`
     {'D', kCmdDwell, "w"},          // seconds
+    {'N', kCmdName, "t"},           // the robot's name
 };
 static const uint8_t kCommandCount = sizeof(kCommandTable) / sizeof(kCommandTable[0]);
 
@@ -226,6 +230,15 @@ inline Status parse_words(CommandType& type, uint8_t& argc, int32_t* arg, uint8_
       const char* s = text + at;
       at = uint8_t(at + n);
       int32_t v = 0;
+      if (*kind == 't') {  // the rest of the line
+        uint8_t e = end;
+        while (e > at && detail::is_space(text[e - 1])) --e;
+        if (argc + 2 > max_args) return kExtraArgument;
+        arg[argc++] = int32_t(s - text);
+        arg[argc++] = int32_t(e - (s - text));
+        at = end;
+        continue;
+      }
       if (*kind == 's') {  // <n>=<value>: the setting number, then the value as a number
         uint8_t eq = 0;
         while (eq < n && s[eq] != '=') ++eq;
@@ -335,7 +348,7 @@ inline bool parse_reply(uint8_t& code, const char* line, uint8_t len) {
 // ---- Reports: lines the controller sends besides `ok` / `error:N` ----
 //
 //   status   <Idle|S:0,32,-5|A:0.000,10.133,-3.639|G:100|Q:15|C:1>      on '?', at any time
-//   info     [Articula|V:0.1.0|P:3|J:3|R:MK2 Plus]                      on I, before its ok
+//   info     [Articula|V:0.1.0|P:4|J:3|R:MK2 Plus|K:40233]              on I, before its ok
 //   setting  $3=200.000                                                 on $, before its ok
 // A report that has something to say once (settings reset to defaults) ends in |W:<code>.
 // Integers and fixed-point thousandths are written by hand (no printf on AVR).
@@ -379,11 +392,13 @@ struct InfoReport {
   uint8_t protocol;              // P: the protocol version the firmware speaks
   uint8_t num_joints;            // J: actuators, the count of numbers M takes
   char name[kMaxRobotName + 1];  // R: robot name, NUL-terminated; printable, no '|' or ']'
+  int32_t checksum;              // K: the robot configuration's checksum, 0 to 65535
+                                 //    (config.h); -1: none (a firmware before protocol 4)
   uint8_t warning;               // W: as in StatusReport
 };
 
 // Bytes a buffer needs for any info line, its LF and a NUL.
-static const uint8_t kInfoReportSize = 71;
+static const uint8_t kInfoReportSize = 79;
 // Bytes a buffer needs for any setting line ($999=-2147483.648), its LF and a NUL.
 static const uint8_t kSettingLineSize = 19;
 
@@ -513,6 +528,7 @@ inline bool write_info(Sink& out, const InfoReport& r) {
   detail::write_field(out, 'J', r.num_joints);
   detail::write_text(out, "|R:");
   detail::write_text(out, r.name);
+  if (r.checksum >= 0) detail::write_field(out, 'K', r.checksum);
   if (r.warning != 0) detail::write_field(out, 'W', r.warning);
   out.put(']');
   out.put('\n');
@@ -698,6 +714,7 @@ inline bool parse_info(InfoReport& out, const char* line, uint16_t len) {
   if (!pieces.begin(line, len, '[', ']') || !pieces.next(p, n) || !detail::equals(p, n, "Articula")) return false;
   InfoReport r;
   r.warning = 0;
+  r.checksum = -1;
   uint8_t seen = 0;
   while (pieces.next(p, n)) {
     if (n < 2 || p[1] != ':') return false;
@@ -732,6 +749,11 @@ inline bool parse_info(InfoReport& out, const char* line, uint16_t len) {
         bit = 16;
         ok = detail::parse_int(x[0], v, vn, 1, 255);
         r.warning = uint8_t(x[0]);
+        break;
+      case 'K':
+        bit = 32;
+        ok = detail::parse_int(x[0], v, vn, 0, 65535);
+        r.checksum = x[0];
         break;
       default:
         break;

@@ -29,7 +29,10 @@ namespace articula {
   X(12, kNotHomed, "not homed: send H or Z first")                                     \
   X(13, kSettingUnknown, "no such setting")                                            \
   X(14, kSettingsReset, "settings reset to defaults")                                  \
-  X(15, kStopped, "discarded by stop (!)")
+  X(15, kStopped, "discarded by stop (!)")                                             \
+  X(16, kNoClosedForm, "P needs a yaw-pitch-pitch arm: this robot has no closed form")  \
+  X(17, kConfigChecksum, "robot configuration incomplete: its checksum differs")        \
+  X(18, kConfigInvalid, "robot configuration unusable (a motor's steps, gear, limits or home)")
 
 enum Status : uint8_t {
 #define ARTICULA_STATUS_ENUM(code, name, text) name = code,

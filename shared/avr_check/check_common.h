@@ -16,6 +16,7 @@ void check_protocol();
 void check_motion();
 void check_servo();
 void check_articula();
+void check_config();
 // Inputs and outputs the optimiser cannot see through.
 extern volatile float g_in;
 extern volatile long g_out;

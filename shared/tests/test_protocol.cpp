@@ -655,6 +655,7 @@ TEST(ParseLine, EveryTableRowIsReachable) {
           case 'j': line += " 2", args.push_back(2); break;
           case 'b': line += " 1", args.push_back(1); break;
           case 's': line += " 4=7", args.push_back(4), args.push_back(7000); break;
+          case 't': line += " My arm ", args.push_back(2), args.push_back(6); break;  // offset, length
           default: line += " 7", args.push_back(7000);
         }
       }
@@ -664,7 +665,7 @@ TEST(ParseLine, EveryTableRowIsReachable) {
     types.insert(row.type);
   }
   EXPECT_EQ(types.size(), size_t(kCommandCount));
-  EXPECT_EQ(kCommandCount, 11);
+  EXPECT_EQ(kCommandCount, 12);
 }
 
 // ---- Realtime bytes ----
@@ -966,21 +967,22 @@ TEST(Reports, StatusParseTolerantAndStrict) {
 }
 
 TEST(Reports, Info) {
-  InfoReport info = {{0, 1, 0}, kProtocolVersion, 3, "MK2 Plus", 0};
+  InfoReport info = {{0, 1, 0}, kProtocolVersion, 3, "MK2 Plus", 40233, 0};
   char buf[kInfoReportSize];
   uint16_t n = format_info(buf, sizeof buf, info);
-  EXPECT_EQ(std::string(buf, n), "[Articula|V:0.1.0|P:3|J:3|R:MK2 Plus]\n");
+  EXPECT_EQ(std::string(buf, n), "[Articula|V:0.1.0|P:4|J:3|R:MK2 Plus|K:40233]\n");
   InfoReport back;
   ASSERT_TRUE(parse_info(back, buf, n));
   EXPECT_EQ(back.version[0], 0);
   EXPECT_EQ(back.version[1], 1);
   EXPECT_EQ(back.version[2], 0);
-  EXPECT_EQ(back.protocol, 3);
+  EXPECT_EQ(back.protocol, 4);
+  EXPECT_EQ(back.checksum, 40233);
   EXPECT_EQ(back.num_joints, 3);
   EXPECT_STREQ(back.name, "MK2 Plus");
   EXPECT_EQ(back.warning, 0);
   // The longest info line fills kInfoReportSize exactly.
-  InfoReport big = {{255, 255, 255}, 255, 255, "", kSettingsReset};
+  InfoReport big = {{255, 255, 255}, 255, 255, "", 65535, kSettingsReset};
   std::memset(big.name, '[', kMaxRobotName);
   big.name[kMaxRobotName] = '\0';
   big.warning = 255;
@@ -1010,6 +1012,7 @@ TEST(Reports, Info) {
   EXPECT_EQ(back.protocol, 3);
   EXPECT_EQ(back.warning, kSettingsReset);
   EXPECT_EQ(back.version[2], 33);
+  EXPECT_EQ(back.checksum, -1);  // a firmware before protocol 4 has no K
   const char* bad[] = {"[Articula|V:0.1.0|P:2|J:3]",          // no name
                        "[Articula|V:0.1|P:2|J:3|R:x]",        // two version parts
                        "[Articula|V:0.1.0.0|P:2|J:3|R:x]",    // four
@@ -1018,6 +1021,7 @@ TEST(Reports, Info) {
                        "[Articula|V:0.1.0|P:2|J:3|R:x",       // no ']'
                        "<Articula|V:0.1.0|P:2|J:3|R:x>",      // a status bracket
                        "[Articula|V:0.1.0|P:2|P:2|J:3|R:x]",  // twice
+                       "[Articula|V:0.1.0|P:2|J:3|R:x|K:65536]",              // not 16 bits
                        "[Articula|V:0.1.0|P:2|J:3|R:0123456789012345678901234]"};  // 25 characters
   for (const char* s : bad) {
     InfoReport out = info;
@@ -1067,9 +1071,9 @@ TEST(Reports, SinkFormIsTheBufferForm) {
   ASSERT_TRUE(write_status(sink, r));
   EXPECT_EQ(sink.s, status_text_of(r));
   sink.s.clear();
-  const InfoReport info = {{1, 2, 3}, kProtocolVersion, 3, "x", 0};
+  const InfoReport info = {{1, 2, 3}, kProtocolVersion, 3, "x", -1, 0};
   ASSERT_TRUE(write_info(sink, info));
-  EXPECT_EQ(sink.s, "[Articula|V:1.2.3|P:3|J:3|R:x]\n");
+  EXPECT_EQ(sink.s, "[Articula|V:1.2.3|P:4|J:3|R:x]\n");
   sink.s.clear();
   ASSERT_TRUE(write_setting(sink, 5, -1500));
   EXPECT_EQ(sink.s, "$5=-1.500\n");

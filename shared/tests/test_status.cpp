@@ -95,7 +95,10 @@ TEST(Status, EnumValuesAreTheCodes) {
   EXPECT_EQ(kSettingUnknown, 13);
   EXPECT_EQ(kSettingsReset, 14);
   EXPECT_EQ(kStopped, 15);
-  EXPECT_EQ(kStatusCount, 16);
+  EXPECT_EQ(kNoClosedForm, 16);
+  EXPECT_EQ(kConfigChecksum, 17);
+  EXPECT_EQ(kConfigInvalid, 18);
+  EXPECT_EQ(kStatusCount, 19);
   EXPECT_STREQ(status_name(kLineTooLong), "LineTooLong");
   EXPECT_STREQ(status_text(kOk), "ok");
 }

@@ -60,7 +60,8 @@ TEST(Controller, EveryLineOneReply) {
   ASSERT_TRUE(parse_info(info, l.data(), uint16_t(l.size()))) << l;
   EXPECT_EQ(info.protocol, kProtocolVersion);
   EXPECT_EQ(info.num_joints, kJ);
-  EXPECT_STREQ(info.name, ARTICULA_ROBOT_NAME);
+  EXPECT_STREQ(info.name, robot::config.name);  // the robot file's (test_robot checks)
+  EXPECT_EQ(info.checksum, robot::checksum);
   EXPECT_EQ(info.version[0], 0);
   EXPECT_EQ(info.version[1], 1);
   EXPECT_EQ(info.version[2], 0);
@@ -431,7 +432,8 @@ TEST(Controller, DwellWaitsInTheQueue) {
 // The example session of docs/protocol.md, line by line, on the MK2 (each '?' after the
 // moves before it have ended, as a person typing would see it).
 TEST(Controller, ExampleSessionOfTheProtocolDocument) {
-  if (std::string(ARTICULA_ROBOT_NAME) != "MK2 Plus") GTEST_SKIP() << "the example is the MK2's";
+  sim::boot();
+  if (std::string(robot::config.name) != "MK2 Plus") GTEST_SKIP() << "the example is the MK2's";
   std::ifstream doc(std::string(ARTICULA_SOURCE_DIR) + "/docs/protocol.md");
   ASSERT_TRUE(doc.good());
   std::string line;

@@ -16,9 +16,10 @@
 
 namespace {
 
-// Worked out here in double: aperture in percent.
+// Worked out here in double: aperture in percent, between the configuration's angles (the
+// robot file's, test_robot checks).
 uint16_t expected_us(double percent) {
-  const double closed = ARTICULA_SERVO_CLOSED_DEG, open = ARTICULA_SERVO_OPEN_DEG;
+  const double closed = robot::config.servo_closed_deg, open = robot::config.servo_open_deg;
   double deg = closed + (open - closed) * percent / 100.0;
   deg = std::min(180.0, std::max(0.0, deg));
   return uint16_t(std::lround(544.0 + deg * (2400.0 - 544.0) / 180.0));
@@ -27,6 +28,7 @@ uint16_t expected_us(double percent) {
 }  // namespace
 
 TEST(Gripper, PulseWidths) {
+  sim::boot();
   EXPECT_EQ(gripper::pulse_us(0), expected_us(0));
   EXPECT_EQ(gripper::pulse_us(100000), expected_us(100));
   for (int32_t a = 0; a <= 100000; a += 137) EXPECT_NEAR(gripper::pulse_us(a), expected_us(a / 1000.0), 1) << a;

@@ -2,7 +2,8 @@
 // closed-form inverse kinematics on the robot's YPP arm; the tool ends within a step's
 // worth of the target, checked with the shared forward kinematics in double; unreachable
 // points refused), the home pose from the robot file (H without endstops, Z), and the
-// power-up state.
+// power-up state. The robot file is read by the host library (CMake builds only: PlatformIO's
+// native environment, which has no host library, skips this folder).
 #include <articula/actuation.h>
 #include <articula/dh.h>
 #include <articula/ik_ypp.h>
@@ -16,25 +17,47 @@
 #include "fake_hal.h"
 #include "harness.h"
 #include "robot.h"
+#include "robot_file.h"
 
 using namespace articula;
 
 namespace {
 
 const int kJ = robot::kJoints;
-typedef Model<double, 3, ARTICULA_NUM_ROWS> ModelD;
+typedef Model<double, 3, 4> ModelD;
 
-// The robot in double, straight from robot_config.h (not through the firmware's setup).
+// The robot file, read by the host's loader (not through the firmware's configuration).
+const host::Robot& robot_file() {
+  static const host::Robot r = host::load_robot_file(ARTICULA_ROBOT_FILE);
+  return r;
+}
+
 ModelD model() {
-  ModelD m = {ARTICULA_NUM_ROWS, ARTICULA_NUM_JOINTS, ARTICULA_NUM_LINKED, ARTICULA_DH_ROWS, ARTICULA_JOINTS,
-              ARTICULA_LINKED, Transform<double>::identity()};
-  const double xyz[3] = ARTICULA_TOOL_XYZ, rpy[3] = ARTICULA_TOOL_RPY;
-  m.T_last_tool = make_transform(rpy_to_matrix(rpy[0], rpy[1], rpy[2]), make_vec3(xyz[0], xyz[1], xyz[2]));
+  const host::Robot& r = robot_file();
+  ModelD m{};
+  m.num_rows = r.model.num_rows;
+  m.num_joints = r.model.num_joints;
+  m.num_linked = r.model.num_linked;
+  for (int i = 0; i < m.num_rows; ++i) m.rows[i] = r.model.rows[i];
+  for (int j = 0; j < m.num_joints; ++j) m.joints[j] = r.model.joints[j];
+  for (int k = 0; k < m.num_linked; ++k) {
+    m.linked[k].row = r.model.linked[k].row;
+    m.linked[k].param = r.model.linked[k].param;
+    m.linked[k].offset = r.model.linked[k].offset;
+    for (int j = 0; j < 3; ++j) m.linked[k].gain[j] = r.model.linked[k].gain[j];
+  }
+  m.T_last_tool = r.model.T_last_tool;
   return m;
 }
 
 Actuation<double, 3> actuation() {
-  Actuation<double, 3> a = {ARTICULA_NUM_JOINTS, ARTICULA_MOTORS, ARTICULA_COUPLING, {}};
+  const host::Robot& r = robot_file();
+  Actuation<double, 3> a{};
+  a.num_motors = r.actuation.num_motors;
+  for (int i = 0; i < 3; ++i) {
+    a.motors[i] = r.actuation.motors[i];
+    for (int j = 0; j < 3; ++j) a.coupling[i][j] = r.actuation.coupling[i][j];
+  }
   EXPECT_TRUE(invert_coupling(a));
   return a;
 }
@@ -75,27 +98,30 @@ std::string p_line(const Vec3<double>& p) {
 
 TEST(Robot, StructuresFromTheConfig) {
   sim::boot();
-  EXPECT_EQ(robot::actuation.num_motors, kJ);
-  ASSERT_TRUE(robot::has_ik);  // both test robots are yaw-pitch-pitch arms
+  EXPECT_EQ(robot::actuation().num_motors, kJ);
+  EXPECT_STREQ(robot::config.name, robot_file().name.c_str());
+  EXPECT_EQ(robot::config.servo_open_deg, float(robot_file().gripper.servo_open_deg));
+  EXPECT_EQ(robot::config.servo_closed_deg, float(robot_file().gripper.servo_closed_deg));
+  ASSERT_TRUE(robot::config.has_point);  // both test robots are yaw-pitch-pitch arms
   YppArm<double> arm{};
   ASSERT_TRUE(ypp_from_model(arm, model()));
   ASSERT_TRUE(ypp_limits_from_actuation(arm, actuation()));
-  EXPECT_FLOAT_EQ(robot::arm.upper, float(arm.upper));
-  EXPECT_FLOAT_EQ(robot::arm.fore, float(arm.fore));
-  EXPECT_FLOAT_EQ(robot::arm.base_height, float(arm.base_height));
-  EXPECT_FLOAT_EQ(robot::arm.tool_forward, float(arm.tool_forward));
-  EXPECT_EQ(robot::arm.parallelogram, arm.parallelogram);
+  EXPECT_FLOAT_EQ(robot::config.arm.upper, float(arm.upper));
+  EXPECT_FLOAT_EQ(robot::config.arm.fore, float(arm.fore));
+  EXPECT_FLOAT_EQ(robot::config.arm.base_height, float(arm.base_height));
+  EXPECT_FLOAT_EQ(robot::config.arm.tool_forward, float(arm.tool_forward));
+  EXPECT_EQ(robot::config.arm.parallelogram, arm.parallelogram);
   for (int i = 0; i < 3; ++i) {
-    EXPECT_FLOAT_EQ(robot::arm.lo[i], float(arm.lo[i]));
-    EXPECT_FLOAT_EQ(robot::arm.hi[i], float(arm.hi[i]));
+    EXPECT_FLOAT_EQ(robot::config.arm.lo[i], float(arm.lo[i]));
+    EXPECT_FLOAT_EQ(robot::config.arm.hi[i], float(arm.hi[i]));
   }
   // Home: the robot file's joint values through C^-1, in millidegrees.
-  const double q_home[3] = ARTICULA_HOME_Q;
+  const double q_home[3] = {robot_file().home[0], robot_file().home[1], robot_file().home[2]};
   double u[3];
   actuators_from_joints(u, actuation(), q_home);
   for (int i = 0; i < kJ; ++i) {
-    EXPECT_EQ(robot::home[i], Millideg(std::lround(rad_to_deg(u[i]) * 1000))) << i;
-    EXPECT_EQ(robot::home_steps[i], quantize_within_limits(robot::motor(uint8_t(i)), robot::home[i]));
+    EXPECT_EQ(robot::config.home[i], Millideg(std::lround(rad_to_deg(u[i]) * 1000))) << i;
+    EXPECT_EQ(robot::home_steps[i], quantize_within_limits(robot::motor(uint8_t(i)), robot::config.home[i]));
   }
 }
 
@@ -162,7 +188,7 @@ TEST(Robot, UnreachablePointsAreRefused) {
   ASSERT_EQ(sim::command("L 0 5"), "ok");
   ASSERT_TRUE(sim::run_until_at_rest());
   const sim::Status before = sim::status();
-  const double reach = robot::arm.upper + robot::arm.fore + robot::arm.tool_forward;
+  const double reach = robot::config.arm.upper + robot::config.arm.fore + robot::config.arm.tool_forward;
   for (const Vec3<double>& p : {make_vec3(reach + 100, 0.0, 78.0), make_vec3(0.0, 0.0, -1000.0),
                                 make_vec3(-200.0, 0.0, 100.0),  // behind the base: beyond its +-90 degrees
                                 make_vec3(0.0, 0.0, 78.0)}) {
@@ -194,7 +220,7 @@ TEST(Robot, HomeAndZero) {
   // The commanded angles are the home angles: 0.1 degree more lands where home + 0.1 does.
   ASSERT_EQ(sim::command("L 2 0.4"), "ok");
   ASSERT_TRUE(sim::run_until_at_rest());
-  EXPECT_EQ(sim::status().steps[2], quantize_within_limits(robot::motor(2), robot::home[2] + 400));
+  EXPECT_EQ(sim::status().steps[2], quantize_within_limits(robot::motor(2), robot::config.home[2] + 400));
   // Z: no move, the steps become the home steps, the pins stay where they are.
   ASSERT_EQ(sim::command("L 0 -15"), "ok");
   ASSERT_TRUE(sim::run_until_at_rest());
@@ -209,7 +235,7 @@ TEST(Robot, HomeAndZero) {
   }
   ASSERT_EQ(sim::command("L 0 3"), "ok");
   ASSERT_TRUE(sim::run_until_at_rest());
-  const int32_t moved = quantize_within_limits(robot::motor(0), robot::home[0] + 3000) - robot::home_steps[0];
+  const int32_t moved = quantize_within_limits(robot::motor(0), robot::config.home[0] + 3000) - robot::home_steps[0];
   EXPECT_EQ(fake::hw.position[0] - pins[0], moved);
   EXPECT_EQ(sim::hal_errors(), "");
 }

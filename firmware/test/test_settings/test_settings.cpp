@@ -54,8 +54,8 @@ void store_some_settings() {
 
 TEST(Settings, Crc16IsCcittFalse) {
   const char* check = "123456789";
-  EXPECT_EQ(settings::crc16(reinterpret_cast<const uint8_t*>(check), 9), 0x29B1);
-  EXPECT_EQ(settings::crc16(nullptr, 0), 0xFFFF);
+  EXPECT_EQ(articula::crc16(reinterpret_cast<const uint8_t*>(check), 9), 0x29B1);
+  EXPECT_EQ(articula::crc16(nullptr, 0), 0xFFFF);
 }
 
 TEST(Settings, BlankEepromLoadsDefaultsWritesThemAndWarnsOnce) {
@@ -64,7 +64,7 @@ TEST(Settings, BlankEepromLoadsDefaultsWritesThemAndWarnsOnce) {
   // Written back: version, the values, a CRC that checks.
   const uint8_t* e = fake::hw.eeprom + settings::kAddress;
   EXPECT_EQ(e[0], settings::kVersion);
-  const uint16_t crc = settings::crc16(e, settings::kImageSize - 2);
+  const uint16_t crc = articula::crc16(e, settings::kImageSize - 2);
   EXPECT_EQ(e[settings::kImageSize - 2], crc & 0xFF);
   EXPECT_EQ(e[settings::kImageSize - 1], crc >> 8);
   // W:14 in the first report only (here a status report), not in the next ones.
@@ -94,7 +94,7 @@ TEST(Settings, CorruptImageLoadsDefaults) {
   store_some_settings();
   uint8_t* e = fake::hw.eeprom + settings::kAddress;
   e[1] = e[2] = e[3] = e[4] = 0;  // $0 = 0
-  const uint16_t crc = settings::crc16(e, settings::kImageSize - 2);
+  const uint16_t crc = articula::crc16(e, settings::kImageSize - 2);
   e[settings::kImageSize - 2] = uint8_t(crc);
   e[settings::kImageSize - 1] = uint8_t(crc >> 8);
   sim::boot(false);

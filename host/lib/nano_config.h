@@ -1,0 +1,42 @@
+// host/lib/nano_config.h - a robot file as the robot configuration of a Nano
+// (articula/config.h): the image, its checksum, and the protocol lines that write it. The
+// CLI (`articula configure`), Python, the page and the harness all get it from here.
+#ifndef ARTICULA_HOST_NANO_CONFIG_H
+#define ARTICULA_HOST_NANO_CONFIG_H
+
+#include <articula/config.h>
+
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "robot.h"
+
+namespace articula::host {
+
+// Why a robot cannot be a Nano's configuration; the message names the robot and the reason.
+class NanoConfigError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct NanoConfig {
+  std::vector<uint8_t> image;      // kConfigImageSize bytes
+  uint16_t checksum = 0;           // config_checksum(image): the I banner's K, $199's value
+  std::vector<std::string> lines;  // $100=... to $161=..., N <name>, $199=<checksum>
+  bool has_point = false;          // P works (a yaw-pitch-pitch arm)
+  std::string name;                // as the banner will show it
+};
+
+// Throws NanoConfigError for a robot the firmware cannot drive: no motors, more than three,
+// microsteps other than 1 or 2, a coupling entry not a multiple of 0.001, a number beyond
+// what the protocol carries.
+NanoConfig nano_config(const Robot& robot);
+
+// The arm a configuration describes, as the firmware reads it (config_read).
+ConfiguredArm<kMaxConfigMotors> configured_arm(const NanoConfig& config);
+
+}  // namespace articula::host
+
+#endif  // ARTICULA_HOST_NANO_CONFIG_H

@@ -1,0 +1,339 @@
+// articula/config.h - the robot configuration a Nano holds in EEPROM: one firmware for any
+// arm it can drive. docs/protocol.md ("Robot configuration") is the specification; this is
+// its code, shared by the firmware (which stores, checks and reads it), the host library
+// (which makes it from a robot file) and through it the CLI, Python and the page.
+//
+// The configuration is an image of kConfigImageSize bytes. Every number in it is a setting
+// in GRBL's manner, `$<n>=<value>`, numbered here and nowhere else:
+//
+//   $1mk    motor m (0 to 2), field k:  0 full steps per turn   1 microsteps (1 or 2)
+//           2 direction (1 or -1)       3 gear numerator        4 gear denominator
+//           5 zero, deg                 6 minimum, deg          7 maximum, deg
+//           8 home, deg (the motor's angle at the home pose)
+//   $130    motors, 1 to 3
+//   $14k    coupling C row-major (q = C u), k = 3 row + column: 3 decimals
+//   $150    1: P's closed form applies (a yaw-pitch-pitch arm), 0: it does not
+//   $151-6  P's geometry, mm: base height, shoulder offset, upper arm, forearm,
+//           tool forward, tool up (articula::YppArm)
+//   $160    servo angle with the gripper open, deg; $161 closed
+//   N text  the robot's name for the I banner (1 to kMaxRobotName characters)
+//   $199    commit: the CRC-16 of the image (config_checksum). The firmware checks the
+//           staged image against it and that it describes an arm it can drive, then uses it
+//           at once and at every power-up after. Until then the last committed one runs.
+//
+// Whole fields (steps, microsteps, direction, gear, motors, $150) take whole numbers; the
+// others keep the protocol's thousandths exactly (millidegrees, micrometres).
+#ifndef ARTICULA_CONFIG_H
+#define ARTICULA_CONFIG_H
+
+#include "actuation.h"
+#include "ik_ypp.h"
+#include "protocol.h"
+
+namespace articula {
+
+static const uint8_t kMaxConfigMotors = 3;  // the Nano's pin map wires three
+static const uint16_t kCommitSetting = 199;
+static const uint16_t kConfigImageSize = 178;
+
+// The bytes of a field of the image, and the values its setting takes (in the units it is
+// stored in: whole numbers, or thousandths).
+struct ConfigField {
+  uint8_t offset, size;
+  bool whole;
+  int32_t lo, hi;
+};
+
+// Where setting n lives in the image; false when n is not a configuration setting.
+inline bool config_field(uint16_t n, ConfigField& f) {
+  static const uint8_t kMotorOffset[9] = {0, 2, 3, 4, 8, 12, 16, 20, 24};
+  f.offset = 0;
+  f.whole = true;
+  f.size = 4;
+  const int32_t big = kMaxAbsMillideg;
+  if (n >= 100 && n <= 128 && n % 10 <= 8) {
+    const uint8_t m = uint8_t((n - 100) / 10), k = uint8_t(n % 10);
+    f.offset = uint8_t(1 + 28 * m + kMotorOffset[k]);
+    f.size = k == 0 ? 2 : k <= 2 ? 1 : 4;
+    f.lo = k == 2 ? -1 : 1;
+    f.hi = k == 0 ? 10000 : k == 1 ? 2 : k == 2 ? 1 : 1000000L;
+    if (k >= 5) {
+      f.whole = false;
+      f.lo = -big;
+      f.hi = big;
+    }
+    return true;
+  }
+  if (n == 130) {
+    f.offset = 0;
+    f.size = 1;
+    f.lo = 1;
+    f.hi = kMaxConfigMotors;
+    return true;
+  }
+  f.whole = false;
+  f.lo = -big;
+  f.hi = big;
+  if (n >= 140 && n <= 148) {
+    f.offset = uint8_t(85 + 4 * (n - 140));
+  } else if (n == 150) {
+    f.offset = 121;
+    f.size = 1;
+    f.whole = true;
+    f.lo = 0;
+    f.hi = 1;
+  } else if (n >= 151 && n <= 156) {
+    f.offset = uint8_t(122 + 4 * (n - 151));
+  } else if (n == 160 || n == 161) {
+    f.offset = uint8_t(146 + 4 * (n - 160));
+    f.lo = 0;
+    f.hi = 180000L;
+  } else {
+    return false;
+  }
+  return true;
+}
+static const uint8_t kConfigNameOffset = 154;  // kMaxRobotName bytes, NUL-padded
+
+// Whether `$n=<value>` (value in thousandths, as parsed) may be staged: kSettingUnknown for
+// no such setting, kValueOutOfRange for a value its field does not take (a direction of 0
+// among them).
+inline Status config_check(uint16_t n, int32_t thousandths) {
+  ConfigField f;
+  if (!config_field(n, f)) return kSettingUnknown;
+  int32_t v = thousandths;
+  if (f.whole) {
+    if (v % 1000 != 0) return kValueOutOfRange;
+    v /= 1000;
+  }
+  if (v < f.lo || v > f.hi || (n % 10 == 2 && n <= 128 && v == 0)) return kValueOutOfRange;
+  return kOk;
+}
+
+// The stored bytes of a checked value (little-endian, `size` of them) into out[0..3].
+inline uint8_t config_bytes(uint8_t* out, uint16_t n, int32_t thousandths) {
+  ConfigField f;
+  config_field(n, f);
+  uint32_t v = uint32_t(f.whole ? thousandths / 1000 : thousandths);
+  for (uint8_t i = 0; i < 4; ++i, v >>= 8) out[i] = uint8_t(v);
+  return f.offset;
+}
+
+// The value of setting n in an image, in its stored units (sign-extended where the field
+// takes negative values).
+inline int32_t config_get(const uint8_t* image, uint16_t n) {
+  ConfigField f;
+  if (!config_field(n, f)) return 0;
+  uint32_t v = 0;
+  for (uint8_t i = f.size; i > 0; --i) v = (v << 8) | image[f.offset + i - 1];
+  if (f.lo < 0 && f.size < 4 && (v & (1UL << (8 * f.size - 1)))) v |= ~((1UL << (8 * f.size)) - 1);
+  return int32_t(v);
+}
+
+// Stores setting n's value (thousandths, checked by config_check) into an image.
+inline void config_put(uint8_t* image, uint16_t n, int32_t thousandths) {
+  uint8_t b[4];
+  ConfigField f;
+  config_field(n, f);
+  config_bytes(b, n, thousandths);
+  for (uint8_t i = 0; i < f.size; ++i) image[f.offset + i] = b[i];
+}
+
+// The name of an `N` line: 1 to kMaxRobotName printable characters, none of them '|' or ']'
+// (the banner's separators). kMissingArgument, kValueOutOfRange (too long), kBadCharacter.
+inline Status config_check_name(const char* s, uint8_t len) {
+  if (len == 0) return kMissingArgument;
+  if (len > kMaxRobotName) return kValueOutOfRange;
+  for (uint8_t i = 0; i < len; ++i)
+    if (s[i] < 0x20 || s[i] > 0x7e || s[i] == '|' || s[i] == ']') return kBadCharacter;
+  return kOk;
+}
+
+// The name's bytes as the image holds them (NUL-padded to kMaxRobotName).
+inline void config_name_bytes(uint8_t* out, const char* s, uint8_t len) {
+  for (uint8_t i = 0; i < kMaxRobotName; ++i) out[i] = i < len ? uint8_t(s[i]) : 0;
+}
+
+// CRC-16/CCITT-FALSE (polynomial 0x1021, MSB first, from 0xFFFF): the configuration's
+// checksum (the I banner's K field and $199's value) and the settings image's.
+inline uint16_t crc16(const uint8_t* data, uint16_t size) {
+  uint16_t crc = 0xFFFF;
+  for (uint16_t i = 0; i < size; ++i) {
+    crc ^= uint16_t(data[i]) << 8;
+    for (uint8_t b = 0; b < 8; ++b) crc = (crc & 0x8000) ? uint16_t((crc << 1) ^ 0x1021) : uint16_t(crc << 1);
+  }
+  return crc;
+}
+
+inline uint16_t config_checksum(const uint8_t* image) { return crc16(image, kConfigImageSize); }
+
+// What the firmware runs on: the configuration read into the core's structures.
+template <int J>
+struct ConfiguredArm {
+  Actuation<float, J> actuation;  // coupling_inv unused (left zero)
+  Millideg home[J];               // the home pose as motor angles
+  YppArm<float> arm;              // P's closed form, when has_point
+  bool has_point;
+  float servo_open_deg, servo_closed_deg;
+  char name[kMaxRobotName + 1];
+};
+
+// Why an image is not a configuration the firmware can run (kConfigOk when it is).
+enum ConfigError : uint8_t {
+  kConfigOk = 0,
+  kConfigBadValue,    // a field outside its range (a blank or foreign image)
+  kConfigBadMotor,    // a motor's steps, gear or limits (articula::validate)
+  kConfigBadHome,     // a home angle outside its motor's limits
+  kConfigBadName,     // no name, or a character the banner cannot carry
+};
+
+// Reads an image into `out` (J >= the image's motor count), checking every field as
+// config_check does and every motor as validate() does. P applies when $150 says so, the
+// arm has three motors, and the coupling is one the closed form knows (the identity or the
+// MK2's parallelogram, ypp_limits_from_actuation).
+template <int J>
+inline ConfigError config_read(ConfiguredArm<J>& out, const uint8_t* image) {
+  for (uint16_t n = 100; n <= 161; ++n) {
+    ConfigField f;
+    if (!config_field(n, f)) continue;
+    const int32_t v = config_get(image, n);
+    if (v < f.lo || v > f.hi) return kConfigBadValue;
+  }
+  const uint8_t count = uint8_t(config_get(image, 130));
+  if (count > J) return kConfigBadValue;
+  Actuation<float, J>& a = out.actuation;
+  a.num_motors = count;
+  for (uint8_t i = 0; i < J; ++i) {
+    MotorSpec& m = a.motors[i];
+    const uint16_t b = uint16_t(100 + 10 * i);
+    const bool used = i < count;
+    m.full_steps_per_rev = used ? uint16_t(config_get(image, b)) : 200;
+    m.microsteps = used ? uint8_t(config_get(image, b + 1)) : 1;
+    m.direction = used ? int8_t(config_get(image, b + 2)) : 1;
+    m.gear_num = used ? config_get(image, b + 3) : 1;
+    m.gear_den = used ? config_get(image, b + 4) : 1;
+    m.zero = used ? config_get(image, b + 5) : 0;
+    m.min = used ? config_get(image, b + 6) : 0;
+    m.max = used ? config_get(image, b + 7) : 0;
+    out.home[i] = used ? config_get(image, b + 8) : 0;
+    if (validate(m) != kMotorOk) return kConfigBadMotor;
+    if (out.home[i] < m.min || out.home[i] > m.max) return kConfigBadHome;
+    for (uint8_t j = 0; j < J; ++j) {
+      a.coupling[i][j] = i < 3 && j < 3 ? float(config_get(image, uint16_t(140 + 3 * i + j))) / 1000.0f : 0.0f;
+      a.coupling_inv[i][j] = 0.0f;
+    }
+  }
+  YppArm<float>& arm = out.arm;
+  float* g[6] = {&arm.base_height, &arm.shoulder_offset, &arm.upper, &arm.fore, &arm.tool_forward, &arm.tool_up};
+  for (uint8_t k = 0; k < 6; ++k) *g[k] = float(config_get(image, uint16_t(151 + k))) / 1000.0f;
+  arm.parallelogram = false;
+  out.has_point = config_get(image, 150) == 1 && arm.upper > 0.0f && arm.fore > 0.0f &&
+                  ypp_limits_from_actuation(arm, a);
+  out.servo_open_deg = float(config_get(image, 160)) / 1000.0f;
+  out.servo_closed_deg = float(config_get(image, 161)) / 1000.0f;
+  uint8_t len = 0;
+  while (len < kMaxRobotName && image[kConfigNameOffset + len] != 0) ++len;
+  if (config_check_name(reinterpret_cast<const char*>(image + kConfigNameOffset), len) != kOk) return kConfigBadName;
+  for (uint8_t i = 0; i <= kMaxRobotName; ++i) out.name[i] = i < len ? char(image[kConfigNameOffset + i]) : '\0';
+  return kConfigOk;
+}
+
+// Why an arm cannot be written as a configuration (kConfigOk when it can).
+enum ConfigFit : uint8_t {
+  kFitOk = 0,
+  kFitTooManyMotors,  // more than kMaxConfigMotors
+  kFitNoMotors,       // none
+  kFitMicrosteps,     // the L298N drives full steps (1) or half steps (2) only
+  kFitOutOfRange,     // a number the protocol cannot carry (a limit beyond 1,000,000 deg, a gear
+                      // beyond 1,000,000, more than 10,000 steps per turn)
+  kFitCoupling,       // a coupling entry not a multiple of 0.001
+  kFitBadHome,        // the home pose puts a motor outside its limits
+  kFitBadMotor,       // validate() refuses a motor
+};
+
+// The image of an arm: its motors and coupling, its home pose as joint values (radians or
+// mm, u = C^-1 q solved in float, rounded to millidegrees and kept within the limits), P's
+// closed form when ypp_from_model recognises the model (geometry rounded to micrometres),
+// the servo's angles and the name (characters the banner cannot carry become '-', cut to
+// kMaxRobotName). Shared by the firmware (the arm it was built for: what a blank EEPROM
+// gets) and the host (any robot file), so both make the same image.
+template <int J, int R>
+inline ConfigFit config_make(uint8_t* image, const Model<float, J, R>& model, const Actuation<float, J>& a,
+                             const float* home_q, float servo_open_deg, float servo_closed_deg, const char* name) {
+  for (uint16_t i = 0; i < kConfigImageSize; ++i) image[i] = 0;
+  const uint8_t n = a.num_motors;
+  if (n == 0) return kFitNoMotors;
+  if (n > kMaxConfigMotors || n > J) return kFitTooManyMotors;
+  config_put(image, 130, int32_t(n) * 1000);
+  // Home: u = C^-1 q, C padded to 3 x 3 with the identity (the 3 x 3 solve of the core).
+  float sys[3][4], u[3];
+  for (uint8_t r = 0; r < 3; ++r) {
+    for (uint8_t c = 0; c < 3; ++c) sys[r][c] = r < n && c < n ? a.coupling[r][c] : float(r == c);
+    sys[r][3] = r < n ? home_q[r] : 0.0f;
+  }
+  if (!detail::solve3(u, sys))
+    for (uint8_t i = 0; i < n; ++i) u[i] = home_q[i];
+  for (uint8_t i = 0; i < 3; ++i) {
+    const bool used = i < n;
+    const MotorSpec m = used ? a.motors[i] : MotorSpec{200, 1, 1, 1, 1, 0, 0, 0};
+    if (validate(m) != kMotorOk) return kFitBadMotor;
+    if (m.microsteps > 2) return kFitMicrosteps;
+    const int32_t v[5] = {m.full_steps_per_rev, m.microsteps, m.direction, m.gear_num, m.gear_den};
+    const uint16_t b = uint16_t(100 + 10 * i);
+    for (uint8_t k = 0; k < 5; ++k) {
+      if (config_check(uint16_t(b + k), v[k] * 1000) != kOk) return kFitOutOfRange;
+      config_put(image, uint16_t(b + k), v[k] * 1000);
+    }
+    Millideg home = m.zero;
+    if (used) {
+      to_millideg(home, rad_to_deg(u[i]));
+      home = clamp(home, m.min, m.max);
+    }
+    const Millideg angles[4] = {m.zero, m.min, m.max, home};
+    for (uint8_t k = 0; k < 4; ++k) config_put(image, uint16_t(b + 5 + k), angles[k]);
+    for (uint8_t c = 0; c < 3; ++c) {
+      const float x = i < n && c < n ? a.coupling[i][c] : float(i == c);
+      const float t = x * 1000.0f;
+      const int32_t k = int32_t(t < 0 ? t - 0.5f : t + 0.5f);
+      if (!(Math<float>::fabs(x) <= 1000000.0f) || Math<float>::fabs(float(k) - t) > 1e-3f * (1.0f + Math<float>::fabs(t)))
+        return kFitCoupling;
+      config_put(image, uint16_t(140 + 3 * i + c), k);
+    }
+  }
+  YppArm<float> arm;
+  if (n == 3 && ypp_from_model(arm, model)) {
+    const float g[6] = {arm.base_height, arm.shoulder_offset, arm.upper, arm.fore, arm.tool_forward, arm.tool_up};
+    bool fits = true;
+    int32_t um[6];
+    for (uint8_t k = 0; k < 6; ++k) {
+      fits = fits && to_millideg(um[k], g[k]);  // mm to micrometres: the same rounding
+    }
+    if (fits) {
+      config_put(image, 150, 1000);
+      for (uint8_t k = 0; k < 6; ++k) config_put(image, uint16_t(151 + k), um[k]);
+    }
+  }
+  int32_t servo[2];
+  if (!to_millideg(servo[0], servo_open_deg) || !to_millideg(servo[1], servo_closed_deg)) return kFitOutOfRange;
+  for (uint8_t k = 0; k < 2; ++k) {
+    if (config_check(uint16_t(160 + k), servo[k]) != kOk) return kFitOutOfRange;
+    config_put(image, uint16_t(160 + k), servo[k]);
+  }
+  // The name as an `N` line carries it: no blanks at its ends (the parser drops them), and
+  // '-' for what the line cannot carry ('#' starts a comment, '?' and '!' act at once).
+  while (*name == ' ' || *name == '\t') ++name;
+  uint8_t len = 0, kept = 0;
+  for (; name[len] != '\0' && len < kMaxRobotName; ++len) {
+    const char c = name[len];
+    const bool bad = c < 0x20 || c > 0x7e || c == '|' || c == ']' || c == '#' || c == '?' || c == '!';
+    image[kConfigNameOffset + len] = uint8_t(bad ? '-' : c);
+    if (c != ' ') kept = uint8_t(len + 1);
+  }
+  for (uint8_t i = kept; i < len; ++i) image[kConfigNameOffset + i] = 0;
+  if (kept == 0) image[kConfigNameOffset] = '-';
+  return kFitOk;
+}
+
+}  // namespace articula
+
+#endif  // ARTICULA_CONFIG_H
