@@ -52,7 +52,27 @@ void setup_scale(StepScale& k, const MotorSpec& m) {
 
 // What a blank EEPROM gets: the MK2 (builtin_config.h, made by the host's nano_config).
 const uint8_t kBuiltIn[kConfigImageSize] ARTICULA_IN_FLASH = ARTICULA_BUILTIN_CONFIG;
-void built_in(uint8_t* image) { hal::flash_read(image, kBuiltIn, kConfigImageSize); }
+
+// The staged image's bytes, read from EEPROM one at a time (config_read takes them so).
+struct Staged {
+  uint8_t operator[](uint16_t i) const {
+    uint8_t b;
+    hal::eeprom_read(uint16_t(kImageAt + i), &b, 1);
+    return b;
+  }
+};
+
+uint16_t staged_checksum() {
+  const Staged image = {};
+  uint8_t bytes[16];
+  uint16_t crc = 0xFFFF;
+  for (uint16_t at = 0; at < kConfigImageSize; at = uint16_t(at + sizeof bytes)) {
+    const uint16_t n = min_of(uint16_t(sizeof bytes), uint16_t(kConfigImageSize - at));
+    for (uint16_t i = 0; i < n; ++i) bytes[i] = image[uint16_t(at + i)];
+    crc = crc16(bytes, n, crc);
+  }
+  return crc;
+}
 
 // Writes the version and the checksum that make the staged image the configuration.
 void seal(uint16_t c) {
@@ -61,24 +81,33 @@ void seal(uint16_t c) {
   hal::eeprom_write(kAddress, head, 1);
 }
 
-// The image in EEPROM when it is whole (version and CRC right), else the built-in one,
-// written back (as the settings' defaults are), so that values staged later change the
-// configuration in use and nothing else.
-void load(uint8_t* image) {
+// Whether the EEPROM holds a whole configuration (version and CRC right).
+bool sealed(uint16_t c) {
   uint8_t head[1], crc[2];
   hal::eeprom_read(kAddress, head, 1);
-  hal::eeprom_read(kImageAt, image, kConfigImageSize);
   hal::eeprom_read(kCrcAt, crc, 2);
-  const uint16_t c = config_checksum(image);
-  if (head[0] == kVersion && crc[0] == uint8_t(c) && crc[1] == uint8_t(c >> 8)) return;
-  built_in(image);
-  hal::eeprom_write(kImageAt, image, kConfigImageSize);
-  seal(config_checksum(image));
+  return head[0] == kVersion && crc[0] == uint8_t(c) && crc[1] == uint8_t(c >> 8);
+}
+
+// The built-in image into EEPROM (as the settings' defaults are written back), so that
+// values staged later change the configuration in use and nothing else. A piece at a time:
+// the whole image would take 178 bytes of the stack.
+uint16_t restore_built_in() {
+  uint8_t bytes[16];
+  uint16_t crc = 0xFFFF;
+  for (uint16_t at = 0; at < kConfigImageSize; at = uint16_t(at + sizeof bytes)) {
+    const uint16_t n = min_of(uint16_t(sizeof bytes), uint16_t(kConfigImageSize - at));
+    hal::flash_read(bytes, kBuiltIn + at, n);
+    hal::eeprom_write(uint16_t(kImageAt + at), bytes, n);
+    crc = crc16(bytes, n, crc);
+  }
+  seal(crc);
+  return crc;
 }
 
 // Puts a configuration read by config_read in use.
 void use(const ConfiguredArm<kJoints>& next, uint16_t sum) {
-  config = next;
+  if (&next != &config) config = next;
   checksum = sum;
   for (uint8_t i = 0; i < kJoints; ++i) {
     const MotorSpec& m = config.actuation.motors[i];
@@ -108,14 +137,13 @@ Millideg step_angle(uint8_t i, int32_t steps) {
 }
 
 void setup() {
-  uint8_t image[kConfigImageSize];
-  ConfiguredArm<kJoints> next;
-  load(image);
-  if (config_read(next, image) != kConfigOk) {  // a whole image no firmware could use: never the built-in one
-    built_in(image);
-    config_read(next, image);
+  // Read in place: nothing runs yet, and a copy would take ~250 bytes of the stack.
+  uint16_t c = staged_checksum();
+  if (!sealed(c) || config_read(config, Staged()) != kConfigOk) {
+    c = restore_built_in();
+    config_read(config, Staged());
   }
-  use(next, config_checksum(image));
+  use(config, c);
 }
 
 Status stage(uint16_t n, int32_t thousandths) {
@@ -139,12 +167,10 @@ Status stage_name(const char* s, uint8_t len) {
 }
 
 Status commit(int32_t crc) {
-  uint8_t image[kConfigImageSize];
-  hal::eeprom_read(kImageAt, image, kConfigImageSize);
-  const uint16_t c = config_checksum(image);
+  const uint16_t c = staged_checksum();
   if (crc != int32_t(c)) return kConfigChecksum;
   ConfiguredArm<kJoints> next;
-  if (config_read(next, image) != kConfigOk) return kConfigInvalid;
+  if (config_read(next, Staged()) != kConfigOk) return kConfigInvalid;
   seal(c);
   use(next, c);
   return kOk;

@@ -98,6 +98,9 @@ def parser() -> argparse.ArgumentParser:
     run.add_argument("--robot", metavar="FILE", default=str(REPO / "robots" / "mk2plus.json"),
                      help="the robot file the firmware was built for, or a shipped robot's name (default "
                           "robots/mk2plus.json)")
+    run.add_argument("--expect-predicted", action="store_true",
+                     help="each command must get the reply the prediction gives, not the plan's #@ expect (plans "
+                          "written for another arm, such as hil/plans on the arms of hil/robots)")
     run.add_argument("--out", metavar="DIR", help="the report folder (default reports/hil-YYYYmmdd-HHMMSS in the "
                                                   "repository)")
     run.add_argument("--measured", metavar="CSV", help="measured tool positions: columns plan_line,x_mm,y_mm,z_mm "
@@ -237,11 +240,12 @@ def _run(args, argv) -> int:
         vnano, elf = _vnano_and_elf(args)
         grip = (robot.servo_closed, robot.servo_open) if robot.servo_closed is not None and \
             robot.servo_open is not None else None
-        target = VirtualNanoTarget(vnano, elf, len(robot.motors), gripper=grip, keep_traces=args.keep_traces)
+        target = VirtualNanoTarget(vnano, elf, len(robot.motors), gripper=grip, keep_traces=args.keep_traces,
+                                   half_step=robot.half_step_motors)
 
     progress = Progress(sum(len(p.commands) for p in plans), enabled=not args.no_progress)
     runner = Runner(target, robot, out, settings=args.settings, timeout=args.timeout, poll=args.poll,
-                    progress=progress)
+                    progress=progress, expect_predicted=args.expect_predicted)
     results = []
     t0 = time.monotonic()
     interrupted = False

@@ -38,9 +38,22 @@ class Robot:
                   microsteps=m["microsteps"], gear=tuple(m["gear"]), direction=m["direction"],
                   deg_per_step=m["deg_per_step"])
             for m in self.model.motors]
+        # The Nano's configuration for this robot (docs/protocol.md, "Robot configuration"), or
+        # why there is none.
+        self.config: dict = {}
+        self.config_error = ""
+        try:
+            self.config = self.model.nano_config()
+        except ValueError as e:
+            self.config_error = str(e)
         gripper = self.model.gripper or {}
         self.servo_closed = gripper.get("servo_closed_deg")
         self.servo_open = gripper.get("servo_open_deg")
+
+    @property
+    def half_step_motors(self) -> list[int]:
+        """The motors driven in half steps (the virtual Nano decodes their coils so)."""
+        return [i for i, m in enumerate(self.motors) if m.microsteps == 2]
 
     @property
     def zero_angles(self) -> list[float]:

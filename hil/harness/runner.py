@@ -142,11 +142,16 @@ class PlanResult:
     wall_s: float = 0.0
     aborted: str = ""
     transcript: list[str] = field(default_factory=list)
+    configured: bool = False  # the harness wrote the robot's configuration before the plan
 
 
 class Runner:
     def __init__(self, target, robot: Robot, out_dir: Path, *, settings: dict[int, float] | None = None,
-                 timeout: float = 5.0, poll: float = 0.01, progress=None, hooks=None):
+                 timeout: float = 5.0, poll: float = 0.01, progress=None, hooks=None,
+                 expect_predicted: bool = False):
+        # expect_predicted: each command must get the reply the prediction gives (plans written
+        # for another arm, run on this one), not the plan's `#@ expect`.
+        self.expect_predicted = expect_predicted
         self.target = target
         self.robot = robot
         self.out_dir = out_dir
@@ -324,7 +329,18 @@ class Runner:
             res.aborted = f"the arm does not answer I with an info line (got {reply!r})"
             faults.append(Fault(name, None, "I", "setup", res.aborted))
             return
-        if info.robot != self.robot.name or info.joints != len(self.robot.motors):
+        if info.checksum is not None and self.robot.config_error:
+            res.aborted = f"the arm cannot be configured for this robot: {self.robot.config_error}"
+            faults.append(Fault(name, None, "I", "setup", res.aborted))
+            return
+        if info.checksum is not None and info.checksum != self.robot.config["checksum"]:
+            # Configured for another arm (a fresh Nano runs the MK2): configure it for this one.
+            info = self._configure(res, faults)
+            if info is None:
+                return
+        # (A firmware before protocol 4 has no checksum: its name says which arm it was built for.)
+        named = info.checksum is not None or info.robot == self.robot.name
+        if not named or info.joints != len(self.robot.motors):
             res.aborted = (f"the arm is '{info.robot}' with {info.joints} joints, the robot file "
                            f"'{self.robot.name}' with {len(self.robot.motors)}: wrong robot file or firmware")
             faults.append(Fault(name, None, "I", "setup", res.aborted))
@@ -365,6 +381,28 @@ class Runner:
             rec.pred = res.predictions.get(rec.line)
             if rec.pred is None:
                 raise PredictError(f"{res.plan.path}:{rec.line}: articula predict has no record for '{rec.command.text}'")
+
+    def _configure(self, res: PlanResult, faults: list[Fault]):
+        """Writes the robot's configuration (`articula configure`'s lines) and reads the banner
+        again: its Info when the checksum now agrees, else None with the plan aborted."""
+        name = res.plan.name
+        for line in self.robot.config["lines"]:
+            r, _ = self.command(line, name, faults)
+            if r != "ok":
+                res.aborted = f"the arm refuses its configuration at `{line}`: {r}"
+                faults.append(Fault(name, None, line, "setup", res.aborted))
+                return None
+        r, extra = self.command("I", name, faults)
+        info = next((parse_info(x) for x in extra if parse_info(x)), None)
+        res.configured = True
+        if info is None or info.checksum != self.robot.config["checksum"]:
+            res.aborted = (f"the arm's configuration checksum is {info and info.checksum} after configuring, "
+                           f"not {self.robot.config['checksum']}")
+            faults.append(Fault(name, None, "I", "setup", res.aborted))
+            return None
+        res.info = info
+        res.info_line = next((x for x in extra if x.startswith("[")), "")
+        return info
 
     def _run_commands(self, res: PlanResult, faults: list[Fault]) -> None:
         name = res.plan.name
@@ -416,10 +454,11 @@ class Runner:
                 self._expect_info = False
 
             # What the firmware says.
-            if rec.reply != cmd.expect:
+            expect = rec.pred.reply if self.expect_predicted and rec.pred is not None else cmd.expect
+            if rec.reply != expect:
                 what = f"error reply {rec.reply} ({status_text(rec.reply)})" if rec.reply.startswith("error:") \
                     else f"reply {rec.reply}"
-                rec.faults.append(Fault(name, cmd.line, cmd.text, "error-reply", f"{what}, the plan expects {cmd.expect}"))
+                rec.faults.append(Fault(name, cmd.line, cmd.text, "error-reply", f"{what}, the {'prediction' if self.expect_predicted else 'plan'} expects {expect}"))
             if rec.status is not None and rec.status.angles and len(rec.status.angles) == len(self.robot.motors):
                 rec.tool_firmware = list(self.robot.tool_from_actuators(rec.status.angles))
             if rec.reply == "ok" and cmd.word == "$" and "=" in cmd.text:

@@ -88,7 +88,8 @@ class VirtualNanoTarget:
     has_pins = True
 
     def __init__(self, vnano: str, elf: str | None, motors: int, gripper: tuple[float, float] | None = None,
-                 log=None, keep_traces: bool = False, start_timeout: float = 15.0):
+                 log=None, keep_traces: bool = False, start_timeout: float = 15.0, half_step: list[int] = ()):
+        self.half_step = list(half_step)
         self.vnano = vnano
         self.elf = elf
         self.motors = motors
@@ -126,6 +127,8 @@ class VirtualNanoTarget:
             cmd += ["--elf", self.elf]
         if self.gripper:
             cmd += ["--gripper", f"{self.gripper[0]:g}:{self.gripper[1]:g}"]
+        for m in self.half_step:
+            cmd += ["--half-step", str(m)]
         self.exit_status = None
         try:
             with open(self.stderr_path, "w") as err:

@@ -35,8 +35,8 @@ import serial
 SOURCE = Path(os.environ.get("ARTICULA_SOURCE_DIR", Path(__file__).resolve().parents[2]))
 VNANO = Path(os.environ.get("ARTICULA_VNANO", SOURCE / "build/hil/articula-vnano"))
 ELF = Path(os.environ.get("ARTICULA_NANO_ELF", SOURCE / "build/avr/firmware/articula-nano.elf"))
-# The same firmware built for the MK2 in half steps (firmware/avr.cmake), next to ELF.
-HALFSTEP_ELF = ELF.with_name("articula-nano-halfstep.elf")
+# The MK2 driven in half steps: the one firmware, configured for it at run time.
+HALFSTEP_ROBOT = SOURCE / "hil" / "robots" / "mk2-halfstep.json"
 CLI = Path(os.environ.get("ARTICULA_CLI", SOURCE / "build/host/cli/articula"))
 
 # The firmware's targets (firmware/README.md).
@@ -52,7 +52,7 @@ LINE_TIMEOUT = 15.0
 RUN_TIMEOUT = 30.0
 
 STATUS_RE = re.compile(r"^<(Idle|Run|Stop|Home|Alarm)((?:\|[A-Z]:[^|>]*)*)>$")
-INFO_RE = re.compile(r"^\[Articula\|V:\d+\.\d+\.\d+\|P:3\|J:3\|R:MK2 Plus(\|W:14)?\]$")
+INFO_RE = re.compile(r"^\[Articula\|V:\d+\.\d+\.\d+\|P:4\|J:3\|R:MK2 Plus\|K:15925(\|W:14)?\]$")
 
 
 @pytest.fixture(scope="session")
@@ -408,13 +408,16 @@ def test_target_summed_step_rate(tools, tmp_path):
     100000) take 80 steps each, so a move with a cruise needs a dominant motor of at least
     161 steps: only the base (568 steps between its limits) has them, and the shoulder (128)
     and elbow (79) then add at most 4000 * 207 / 161 steps/s: 9,143 summed at best, for one
-    cruise step. So the same firmware runs here built for the MK2 driven in half steps
-    (articula-nano-halfstep.elf), where the arm motors have twice the steps: shoulder 257
+    cruise step. So the same firmware runs here configured for the MK2 driven in half steps
+    (hil/robots/mk2-halfstep.json, at run time), where the arm motors have twice the steps: shoulder 257
     (dominant), base 256 and elbow 159 steps cruise together at 4000 * 672 / 257 = 10,459
     steps/s."""
-    assert HALFSTEP_ELF.is_file(), f"no half-step test build at {HALFSTEP_ELF}: build it (cmake --build build)"
+    config = subprocess.run([str(CLI), "configure", str(HALFSTEP_ROBOT), "--dry-run"], check=True,
+                            capture_output=True, text=True).stdout.splitlines()
     nano = Nano(tmp_path, "--half-step", 0, "--half-step", 1, "--half-step", 2, "--trace-steps",
-                tmp_path / "trace.csv", elf=HALFSTEP_ELF)
+                tmp_path / "trace.csv")
+    for line in config:
+        assert nano.command(line) == ["ok"], line
     lines = nano.command("I")
     assert lines[-1] == "ok" and "|R:MK2 Plus half-step" in lines[0], lines
     assert nano.command("$0=4000") == ["ok"]

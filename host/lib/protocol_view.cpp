@@ -35,6 +35,7 @@ nlohmann::json arm_line_json(const std::string& text) {
             {"protocol", info.protocol},
             {"joints", info.num_joints},
             {"robot", std::string(info.name)},
+            {"checksum", info.checksum >= 0 ? json(info.checksum) : json(nullptr)},
             {"warning", info.warning}};
   // A setting as the firmware lists it is the line that sets it: `$3=200.000`.
   Command cmd;

@@ -219,6 +219,10 @@ Vec3<double> vec3_of_json(const nlohmann::json& j, const std::string& what) {
 }
 }  // namespace
 
+nlohmann::json nano_config_json(const NanoConfig& c) {
+  return {{"name", c.name}, {"checksum", c.checksum}, {"lines", c.lines}, {"has_point", c.has_point}};
+}
+
 nlohmann::json axis_errors_json(const AxisErrors& e) {
   nlohmann::json pct = nlohmann::json::array();
   for (double p : e.pct) pct.push_back(number_or_null(p));

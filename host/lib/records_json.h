@@ -11,6 +11,7 @@
 
 #include "experiment.h"
 #include "ik.h"
+#include "nano_config.h"
 #include "predict.h"
 #include "program.h"
 #include "quantize.h"
@@ -50,6 +51,8 @@ nlohmann::json program_json(const Robot& robot, const Program& program, const st
 // points a binding receives as JSON, [{joint, value: [x, y, z], reference: [x, y, z]}] (throws
 // std::invalid_argument naming the entry that is not one).
 nlohmann::json axis_errors_json(const AxisErrors& e);
+// A Nano's configuration for a robot: {"name", "checksum", "lines", "has_point"}.
+nlohmann::json nano_config_json(const NanoConfig& c);
 nlohmann::json table4_json(const std::vector<Table4Row>& rows);
 std::vector<JointPoint> joint_points_of_json(const nlohmann::json& points);
 

@@ -66,13 +66,14 @@ class Status:
 
 @dataclass
 class Info:
-    """The banner, `[Articula|V:0.1.0|P:3|J:3|R:MK2 Plus]`, read by the firmware's parser."""
+    """The banner, `[Articula|V:0.1.0|P:4|J:3|R:MK2 Plus|K:15925]`, read by the firmware's parser."""
     version: str
     protocol: int
     joints: int
     robot: str
     warning: int | None
     text: str = ""
+    checksum: int | None = None  # K: the robot configuration's (protocol 4); None before
 
 
 def parse_status(line: str) -> Status | None:
@@ -88,7 +89,7 @@ def parse_info(line: str) -> Info | None:
     if p["kind"] != "info":
         return None
     return Info(version=p["version"], protocol=p["protocol"], joints=p["joints"], robot=p["robot"],
-                warning=p["warning"] or None, text=line)
+                warning=p["warning"] or None, text=line, checksum=p.get("checksum"))
 
 
 def parse_setting(line: str) -> tuple[int, float] | None:

@@ -12,6 +12,7 @@
 #include "bindings.h"
 #include "geometry.h"
 #include "legacy.h"
+#include "nano_config.h"
 #include "records_json.h"
 #include "robot_file.h"
 #include "robot_view.h"
@@ -334,6 +335,18 @@ nb::class_<PyRobot> bind_robot(nb::module_& m) {
       .def_prop_ro("description", [](const PyRobot& s) { return s.r().description; })
       .def_prop_ro("source", [](const PyRobot& s) { return s.r().source; }, "the file it was loaded from")
       .def_prop_ro("import_notes", [](const PyRobot& s) { return s.import_notes; })
+      .def(
+          "nano_config",
+          [](const PyRobot& s) {
+            try {
+              return json_to_python(host::nano_config_json(host::nano_config(s.r())));
+            } catch (const host::NanoConfigError& e) {
+              throw nb::value_error(e.what());
+            }
+          },
+          "The Nano's robot configuration for this robot (docs/protocol.md, 'Robot configuration'): {'name', "
+          "'checksum' (the I banner's K), 'lines' (the protocol lines that write it, $199 last), 'has_point'}. "
+          "ValueError, with the reason, for a robot the Nano cannot drive.")
       .def_prop_ro("num_joints", [](const PyRobot& s) { return int(s.r().model.num_joints); })
       .def_prop_ro("num_rows", [](const PyRobot& s) { return int(s.r().model.num_rows); })
       .def_prop_ro("num_motors", [](const PyRobot& s) { return s.r().has_motors ? int(s.r().actuation.num_motors) : 0; })

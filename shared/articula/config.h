@@ -120,8 +120,10 @@ inline uint8_t config_bytes(uint8_t* out, uint16_t n, int32_t thousandths) {
 }
 
 // The value of setting n in an image, in its stored units (sign-extended where the field
-// takes negative values).
-inline int32_t config_get(const uint8_t* image, uint16_t n) {
+// takes negative values). `image` is the bytes, or anything that gives them by index (the
+// firmware reads its EEPROM so, without a copy of the image on its stack).
+template <typename Bytes>
+inline int32_t config_get(const Bytes& image, uint16_t n) {
   ConfigField f;
   if (!config_field(n, f)) return 0;
   uint32_t v = 0;
@@ -156,8 +158,8 @@ inline void config_name_bytes(uint8_t* out, const char* s, uint8_t len) {
 
 // CRC-16/CCITT-FALSE (polynomial 0x1021, MSB first, from 0xFFFF): the configuration's
 // checksum (the I banner's K field and $199's value) and the settings image's.
-inline uint16_t crc16(const uint8_t* data, uint16_t size) {
-  uint16_t crc = 0xFFFF;
+// `crc` carries a checksum on over several pieces.
+inline uint16_t crc16(const uint8_t* data, uint16_t size, uint16_t crc = 0xFFFF) {
   for (uint16_t i = 0; i < size; ++i) {
     crc ^= uint16_t(data[i]) << 8;
     for (uint8_t b = 0; b < 8; ++b) crc = (crc & 0x8000) ? uint16_t((crc << 1) ^ 0x1021) : uint16_t(crc << 1);
@@ -191,8 +193,8 @@ enum ConfigError : uint8_t {
 // config_check does and every motor as validate() does. P applies when $150 says so, the
 // arm has three motors, and the coupling is one the closed form knows (the identity or the
 // MK2's parallelogram, ypp_limits_from_actuation).
-template <int J>
-inline ConfigError config_read(ConfiguredArm<J>& out, const uint8_t* image) {
+template <int J, typename Bytes>
+inline ConfigError config_read(ConfiguredArm<J>& out, const Bytes& image) {
   for (uint16_t n = 100; n <= 161; ++n) {
     ConfigField f;
     if (!config_field(n, f)) continue;
@@ -232,9 +234,13 @@ inline ConfigError config_read(ConfiguredArm<J>& out, const uint8_t* image) {
   out.servo_open_deg = float(config_get(image, 160)) / 1000.0f;
   out.servo_closed_deg = float(config_get(image, 161)) / 1000.0f;
   uint8_t len = 0;
-  while (len < kMaxRobotName && image[kConfigNameOffset + len] != 0) ++len;
-  if (config_check_name(reinterpret_cast<const char*>(image + kConfigNameOffset), len) != kOk) return kConfigBadName;
-  for (uint8_t i = 0; i <= kMaxRobotName; ++i) out.name[i] = i < len ? char(image[kConfigNameOffset + i]) : '\0';
+  for (uint8_t i = 0; i < kMaxRobotName; ++i) {
+    out.name[i] = char(image[uint16_t(kConfigNameOffset + i)]);
+    if (out.name[i] == '\0') break;
+    ++len;
+  }
+  out.name[len] = '\0';
+  if (config_check_name(out.name, len) != kOk) return kConfigBadName;
   return kConfigOk;
 }
 

@@ -50,6 +50,10 @@ export class Robot {
 
   /** name, description, source, joints, dh, home, limits, motors, links, gripper, reach_mm, ... */
   get info() { return (this._info ??= checked(this.h.info())); }
+  /** The Nano's robot configuration for this robot: {name, checksum (the banner's K), lines
+   * ($100 ... N name, $199 last), has_point}. Throws EngineError with the reason a Nano cannot
+   * drive it. */
+  nanoConfig() { return checked(this.h.nanoConfig()); }
   /** Frames (base, rows, tool: 16 numbers each, row-major), tool {xyz, rpy}, dh_table,
    * within_limits, and fingers at the gripper's opening (mm). */
   pose(q, openingMm = NaN) { return checked(this.h.pose(JSON.stringify(q), openingMm)); }

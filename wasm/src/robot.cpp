@@ -15,6 +15,7 @@ EMSCRIPTEN_BINDINGS(articula_robot) {
       .function("setLinkLengths", &WebRobot::set_link_lengths)
       .function("loaded", &WebRobot::loaded)
       .function("info", &WebRobot::info)
+      .function("nanoConfig", &WebRobot::nano_config)
       .function("pose", &WebRobot::pose)
       .function("jacobian", &WebRobot::jacobian)
       .function("ik", &WebRobot::ik_solve)

@@ -12,6 +12,7 @@
 #include "geometry.h"
 #include "ik.h"
 #include "legacy.h"
+#include "nano_config.h"
 #include "records_json.h"
 #include "robot.h"
 #include "urdf.h"
@@ -77,6 +78,12 @@ class WebRobot {
                   {"import_notes", notes_}}
           .dump();
     });
+  }
+
+  // The Nano's robot configuration for this robot (host/lib/nano_config.h): {name, checksum,
+  // lines, has_point}, or {"error"} with the reason a Nano cannot drive it.
+  std::string nano_config() const {
+    return guarded([&] { return host::nano_config_json(host::nano_config(*robot_)).dump(); });
   }
 
   // Everything a drawing of the arm at q (deg or mm) needs, in one crossing: every frame

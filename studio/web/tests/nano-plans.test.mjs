@@ -12,7 +12,8 @@ import { readFileSync, readdirSync } from "node:fs";
 import { join } from "node:path";
 import { test } from "node:test";
 import { REPO, nodeEngine, nodeNanoParts } from "../../../wasm/js/node.mjs";
-import { CLOCK_HZ, VirtualNano } from "../src/nano.mjs";
+import { VirtualNano } from "../src/nano.mjs";
+import { runRecords } from "./run-records.mjs";
 
 const HEX = process.env.ARTICULA_NANO_HEX || join(REPO, "build/avr/firmware/articula-nano.hex");
 const PLANS = readdirSync(join(REPO, "hil/plans")).filter((f) => f.endsWith(".arm")).sort();
@@ -29,48 +30,13 @@ test("the thesis's plans on avr8js: replies, steps and durations as predicted", 
     const n = new VirtualNano({ hex, parts });
     const lines = [];
     n.onLine = (l) => lines.push(l);
-    const until = (pred, s) => {
-      const end = n.seconds + s;
-      while (!pred() && n.seconds < end) n.runFor(0.0005);
-      return pred();
-    };
     n.runFor(0.3);
-    const settings = { 0: 600, 1: 2000 };
-    for (const rec of records) {
-      commands++;
-      lines.length = 0;
-      n.markSteps();
-      n.send(rec.command + "\n");
-      const isReply = (l) => l === "ok" || l.startsWith("error:");
-      assert.ok(until(() => lines.some(isReply), 1), `${plan}:${rec.line} ${rec.command}: no reply`);
-      const reply = lines.find(isReply);
-      assert.equal(reply, rec.code === 0 ? "ok" : `error:${rec.code}`, `${plan}:${rec.line} ${rec.command}`);
-      if (rec.code !== 0) refused++;
-      const set = /^\$(\d+)=([\d.]+)$/.exec(rec.command.trim());
-      if (set && rec.code === 0) settings[set[1]] = Number(set[2]);
-      // to rest: the status report's steps, and the coils'
-      let st;
-      for (let k = 0; k < 2000; k++) {
-        lines.length = 0;
-        n.send("?");
-        assert.ok(until(() => lines.some((l) => l.startsWith("<")), 0.5),
-          `${plan}:${rec.line} ${rec.command}: no status report (${JSON.stringify(lines)}); ${matched} commands matched before it`);
-        st = engine.parseArmLine(lines.find((l) => l.startsWith("<")));
-        if (st.state === "Idle") break;
-        n.runFor(0.01);
-      }
-      assert.equal(st.state, "Idle", `${plan}:${rec.line}: never at rest`);
-      assert.deepEqual(st.steps, rec.steps, `${plan}:${rec.line} ${rec.command}: status steps`);
-      assert.deepEqual(n.steps, rec.steps, `${plan}:${rec.line} ${rec.command}: the coils' steps`);
-      matched++;
-      if (rec.code === 0 && rec.seconds > 0 && n.firstStepCycle >= 0 && !/^[GS]\b/.test(rec.command)) {
-        const measured = engine.firstIntervalS(settings[0], settings[1]) + (n.lastStepCycle - n.firstStepCycle) / CLOCK_HZ;
-        const err = ((measured - rec.seconds) / rec.seconds) * 100;
-        assert.ok(Math.abs(err) <= 0.1, `${plan}:${rec.line} ${rec.command}: ${measured} s measured, ${rec.seconds} s predicted (${err.toFixed(4)} %)`);
-        worst = Math.abs(err) > Math.abs(worst) ? err : worst;
-        timed++;
-      }
-    }
+    const r = runRecords(n, lines, engine, records, plan);
+    commands += r.commands;
+    matched += r.commands;
+    refused += r.refused;
+    timed += r.timed;
+    if (Math.abs(r.worst) > Math.abs(worst)) worst = r.worst;
     assert.equal(n.coilFaults, 0, `${plan}: coil faults`);
     assert.equal(n.overruns, 0, `${plan}: received bytes lost`);
     n.delete();

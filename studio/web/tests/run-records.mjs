@@ -1,0 +1,60 @@
+// One prediction, run on the page's virtual Nano (avr8js): each record of `articula predict`
+// (robot.predict(...).records) sent as its line, its reply compared, the arm let come to
+// rest, the status report's steps and the coils' compared, and every move's duration
+// measured as the harness measures it on simavr (the first step interval, which no pin
+// shows, plus the span from the first step to the last). Shared by nano-plans.test.mjs and
+// nano-codesign.test.mjs.
+import assert from "node:assert/strict";
+import { CLOCK_HZ } from "../src/nano.mjs";
+
+/** Runs the emulated Nano `n` until pred() or s more seconds. */
+export function until(n, pred, s) {
+  const end = n.seconds + s;
+  while (!pred() && n.seconds < end) n.runFor(0.0005);
+  return pred();
+}
+
+/** Sends a line and waits for its reply; returns [reply, the lines before it]. */
+export function command(n, lines, text) {
+  lines.length = 0;
+  n.send(text + "\n");
+  const isReply = (l) => l === "ok" || l.startsWith("error:");
+  assert.ok(until(n, () => lines.some(isReply), 2), `${text}: no reply`);
+  return [lines.find(isReply), lines.filter((l) => !isReply(l))];
+}
+
+/** The records on `n` (whose onLine pushes into `lines`). `settings`: $0 and $1 at the start.
+ * Returns {commands, refused, timed, worst (duration error %, signed), worstUs}. */
+export function runRecords(n, lines, engine, records, where, settings = { 0: 600, 1: 2000 }) {
+  let refused = 0, timed = 0, worst = 0, worstUs = 0;
+  for (const rec of records) {
+    const at = `${where}:${rec.line} ${rec.command}`;
+    n.markSteps();
+    const [reply] = command(n, lines, rec.command);
+    assert.equal(reply, rec.code === 0 ? "ok" : `error:${rec.code}`, at);
+    if (rec.code !== 0) refused++;
+    const set = /^\$(\d+)=([\d.]+)$/.exec(rec.command.trim());
+    if (set && rec.code === 0) settings[set[1]] = Number(set[2]);
+    let st;
+    for (let k = 0; k < 4000; k++) {
+      lines.length = 0;
+      n.send("?");
+      assert.ok(until(n, () => lines.some((l) => l.startsWith("<")), 0.5), `${at}: no status report`);
+      st = engine.parseArmLine(lines.find((l) => l.startsWith("<")));
+      if (st.state === "Idle") break;
+      n.runFor(0.01);
+    }
+    assert.equal(st.state, "Idle", `${at}: never at rest`);
+    assert.deepEqual(st.steps, rec.steps, `${at}: status steps`);
+    assert.deepEqual(n.steps, rec.steps, `${at}: the coils' steps`);
+    if (rec.code === 0 && rec.seconds > 0 && n.firstStepCycle >= 0 && !/^[GSD]\b/i.test(rec.command)) {
+      const measured = engine.firstIntervalS(settings[0], settings[1]) + (n.lastStepCycle - n.firstStepCycle) / CLOCK_HZ;
+      const err = ((measured - rec.seconds) / rec.seconds) * 100;
+      assert.ok(Math.abs(err) <= 0.1, `${at}: ${measured} s measured, ${rec.seconds} s predicted (${err.toFixed(4)} %)`);
+      if (Math.abs(err) > Math.abs(worst)) worst = err;
+      worstUs = Math.max(worstUs, Math.abs(measured - rec.seconds) * 1e6);
+      timed++;
+    }
+  }
+  return { commands: records.length, refused, timed, worst, worstUs };
+}
