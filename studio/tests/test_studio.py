@@ -687,25 +687,31 @@ def test_web_serial_drives_the_arm_and_a_vanished_port_is_noticed(browser, site)
         assert errors == []
 
 
-def test_the_page_nano_refuses_a_robot_it_is_not(open_page):
+def test_the_page_nano_is_never_driven_as_a_robot_it_cannot_be(open_page):
+    """The PUMA has no motors: no Nano can drive it, the panel says why, and nothing is offered."""
     pg = open_page("puma560")
     pg.page.select_option("#arm-port", "page:virtual")
     pg.page.click("#arm-connect")
     pg.wait("a.arm.error !== ''", timeout=30000)
-    assert "the arm is a MK2 Plus, the studio shows PUMA" in pg.hook("a.arm.error")
-    assert pg.hook("a.arm.connected") is False
+    assert "a Nano cannot drive the robot shown" in pg.hook("a.arm.error")
+    assert "has no motors" in pg.hook("a.arm.error")
+    assert pg.hook("a.arm.connected") is False and pg.hook("a.arm.configurable") is False
+    assert not pg.page.is_visible("#arm-configure")
 
 
 # ---- flashing the Nano from the page (src/stk500.mjs), through the virtual Nano's Optiboot
 
 
 def test_the_page_flashes_the_virtual_nano_through_its_bootloader(open_page):
-    """The flash panel writes this site's firmware through the Nano's bootloader (Optiboot, built
-    from Debian's source, in the virtual Nano's boot section), reads it back, and the Nano then
-    answers I with the robot's banner and drives as predicted."""
+    """The flash panel writes this site's one firmware through the Nano's bootloader (Optiboot,
+    built from Debian's source, in the virtual Nano's boot section), reads it back, and the Nano
+    then answers I as the MK2 (what a blank EEPROM gets) and drives as predicted. Then a student's
+    own arm (hil/robots/thesis-example-arm.json, opened as a file): the Nano is configured for
+    the MK2, so it is not driven until "Configure the Nano for this robot" writes the arm shown;
+    then random lines end on the steps the model predicts."""
     pg = open_page("mk2plus")
     fw = pg.page.evaluate("fetch('data/firmware/firmware.json').then(r => r.json())")
-    assert re.fullmatch(r"Articula \S+ for the MK2 Plus, [\d,]+ bytes", pg.page.text_content("#flash-info"))
+    assert re.fullmatch(r"Articula \S+, [\d,]+ bytes: for every arm it can drive .*", pg.page.text_content("#flash-info"))
     assert f"{fw['bytes']:,}" in pg.page.text_content("#flash-info")
     pg.page.select_option("#arm-port", "page:virtual")
     pg.page.click("#arm-flash")
@@ -726,16 +732,40 @@ def test_the_page_flashes_the_virtual_nano_through_its_bootloader(open_page):
     reply = _send(pg, "L 0 10")
     assert reply["reply"] == "ok"
     pg.wait("a.arm.status.state === 'Idle' && a.arm.status.steps[0] === 32", timeout=20000)
-    assert pg.errors == []
+    pg.page.click("#arm-disconnect")
+    pg.wait("!a.arm.connected")
 
-
-def test_the_page_does_not_flash_a_firmware_for_another_robot(open_page):
-    pg = open_page("puma560")
+    # Another arm on the same firmware: configured from the page.
+    pg.page.set_input_files("#robot-file", str(REPO / "hil" / "robots" / "thesis-example-arm.json"))
+    pg.wait("a.robot.name === 'Thesis example arm'")
     pg.page.select_option("#arm-port", "page:virtual")
-    pg.page.click("#arm-flash")
-    pg.page.wait_for_function("() => document.querySelector('#flash-state').textContent !== ''")
-    assert "built for the MK2 Plus; the studio shows the PUMA" in pg.page.text_content("#flash-state")
-    assert pg.hook("a.flash.busy") is False and pg.hook("a.flash.result") is None
+    pg.page.click("#arm-connect")
+    pg.wait("a.arm.configurable && a.arm.error !== ''", timeout=30000)
+    assert "The Nano is configured for the MK2 Plus; the studio shows the Thesis example arm" in pg.hook("a.arm.error")
+    assert pg.hook("a.arm.connected") is False  # never driven as another robot
+    assert pg.page.is_visible("#arm-configure") and not pg.page.is_visible("#arm-send-row")
+    pg.page.screenshot(path=str(SHOTS / "studio-configure.png"))
+    pg.page.click("#arm-configure")
+    pg.wait("a.arm.connected && a.arm.configured !== null && a.arm.status !== null", timeout=60000)
+    assert pg.hook("a.arm.configured.name") == "Thesis example arm"
+    assert pg.hook("a.arm.checksum") == pg.hook("a.arm.configured.checksum")
+    assert pg.hook("a.arm.label").startswith("Thesis example arm (firmware ")
+    assert "configured for the Thesis example arm" in pg.page.text_content("#banner-text")
+    # random lines (a seeded generator): each reply and its steps as the model predicts
+    import random
+    rnd = random.Random(5)
+    motors = json.loads((REPO / "hil" / "robots" / "thesis-example-arm.json").read_text())["motors"]
+    for _ in range(6):
+        line = "M " + " ".join(f"{rnd.uniform(m['min'] - 5, m['max'] + 5):.2f}" for m in motors)
+        reply = _send(pg, line)
+        assert reply["reply"] == reply["predicted"]["reply"], reply
+        if reply["reply"] == "ok":
+            steps = reply["predicted"]["steps"]
+            pg.wait(f"a.arm.status.state === 'Idle' && JSON.stringify(a.arm.status.steps) === {json.dumps(json.dumps(steps, separators=(',', ':')))}",
+                    timeout=30000)
+    reply = _send(pg, "P 100 0 50")  # no closed form on this arm: refused as the model says
+    assert reply["reply"] == reply["predicted"]["reply"] == "error:16"
+    assert pg.errors == []
 
 
 def test_the_page_flashes_a_nano_over_web_serial(browser, site):

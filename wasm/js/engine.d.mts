@@ -21,6 +21,8 @@ export class Robot {
   parseProgram(text: string, name?: string): ParsedProgram;
   urdf(): string;
   jointsFromMotors(u: number[]): number[];
+  /** The Nano's robot configuration for this robot; throws EngineError with the reason a Nano cannot drive it. */
+  nanoConfig(): { name: string; checksum: number; lines: string[]; has_point: boolean };
   motorsFromJoints(q: number[]): number[];
   fkModel(q: ArrayLike<number>): Float64Array;
   ikModel(q: ArrayLike<number>, target: ArrayLike<number>, solver?: number): { status: number; q: Float64Array; error_mm: number };

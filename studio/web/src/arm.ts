@@ -1,18 +1,20 @@
 // The arm in the loop, in the page: a Nano on a Web Serial port or the virtual Nano (both a
-// SerialLike, serial.ts), spoken to in the arm's protocol (docs/protocol.md): the `I` banner
-// checked against the robot shown, `?` reports 15 times a second, one line at a time with
+// SerialLike, serial.ts), spoken to in the arm's protocol (docs/protocol.md): the `I` banner's
+// configuration checksum checked against the robot shown (an arm configured for another robot
+// is never driven: it can be configured for this one), `?` reports 15 times a second, one line at a time with
 // its reply, programs with the harness's flow control, `!` at once. Lines from the arm are
 // read by the core's parsers through the engine (`parseArmLine`), and the arm's pose and the
 // model's prediction come from the engine too: nothing here computes kinematics.
 //
 // It speaks to the page in messages (protocol.ts: arm, arm_status, arm_reply, arm_program,
 // arm_stopped), as the engine's worker does.
+import type { NanoConfig } from "./protocol";
 import { type SerialLike, deviceClock, sleepOn } from "./serial";
 
 type Parsed =
   | { kind: "reply"; code: number }
   | { kind: "status"; state: string; steps: number[]; angles: number[]; gripper: number; free: number; coils: boolean; warning: number }
-  | { kind: "info"; version: string; protocol: number; joints: number; robot: string; warning: number }
+  | { kind: "info"; version: string; protocol: number; joints: number; robot: string; checksum: number | null; warning: number }
   | { kind: "other" };
 
 /** What the arm needs of the engine (the worker): a line from the arm read by the core's
@@ -22,6 +24,8 @@ export interface ArmEngine {
   read(line: string): Promise<{ parsed: Parsed; pose: { q: number[]; frames: number[][] } | null }>;
   predict(history: string[], line: string): Promise<{ reply: string; steps: number[] | null; meaning: string; seconds?: number }>;
   meaning(reply: string): string;
+  /** The robot shown as a Nano's configuration, or why a Nano cannot drive it. */
+  config(): Promise<NanoConfig | { error: string }>;
 }
 
 const BAUD = 115200;
@@ -33,6 +37,10 @@ const BANNER_MS = 6000; // a Nano resets when its port opens: its bootloader wai
 export class ArmLink {
   label = "";
   connected = false;
+  /** The port is open and the Nano configured for another robot: nothing is driven until
+   * configure() makes it this one. */
+  configurable = false;
+  private portLabel = "";
   private port: SerialLike | null = null;
   private writer: WritableStreamDefaultWriter<Uint8Array> | null = null;
   private reader: ReadableStreamDefaultReader<Uint8Array> | null = null;
@@ -76,19 +84,96 @@ export class ArmLink {
       this.emit({ type: "arm", connected: false, port: portLabel, error: (e as Error).message });
       return;
     }
-    if (info.kind !== "info" || info.robot !== robot) {
-      await this.close();
-      this.emit({ type: "arm", connected: false, port: portLabel, error: info.kind === "info"
-        ? `the arm is a ${info.robot}, the studio shows ${robot}: load that robot first` : "no banner" });
+    const why = await this.mismatch(info, robot);
+    if (why) {
+      this.portLabel = portLabel;
+      this.configurable = why.configurable;
+      if (!why.configurable) await this.close();
+      this.emit({ type: "arm", connected: false, port: portLabel, error: why.text, configurable: why.configurable,
+        banner: info.kind === "info" ? { robot: info.robot, checksum: info.checksum } : null });
       return;
     }
+    this.start(info as Parsed & { kind: "info" }, portLabel);
+  }
+
+  // Why this arm is not the robot shown ("" when it is), and whether configuring would make it
+  // so. A firmware before protocol 4 has no checksum: its name must be the robot's.
+  private async mismatch(info: Parsed, robot: string): Promise<{ text: string; configurable: boolean } | null> {
+    if (info.kind !== "info") return { text: "no banner", configurable: false };
+    if (info.checksum === null) {
+      return info.robot === robot ? null : { configurable: false,
+        text: `the arm is a ${info.robot} (its firmware is older than protocol 4, so it cannot be configured): ` +
+          `load that robot, or flash this site's firmware first` };
+    }
+    const expected = await this.engine.config();
+    if ("error" in expected)
+      return { configurable: false, text: `a Nano cannot drive the robot shown: ${expected.error}` };
+    if (info.checksum === expected.checksum) return null;
+    return { configurable: true,
+      text: `The Nano is configured for the ${info.robot}; the studio shows the ${expected.name}. ` +
+        "It is not driven until you configure it for this robot (or load its robot)." };
+  }
+
+  private start(info: Parsed & { kind: "info" }, portLabel: string): void {
+    this.configurable = false;
     this.connected = true;
     this.label = `${info.robot} (firmware ${info.version})`;
     this.history = [];
     this.lastReport = this.now();
     this.emit({ type: "arm", connected: true, port: portLabel, label: this.label,
-      info: { version: info.version, protocol: String(info.protocol), robot: info.robot } });
+      info: { version: info.version, protocol: String(info.protocol), robot: info.robot, checksum: info.checksum } });
     this.poll();
+  }
+
+  /** Writes the robot shown into the Nano's configuration (stopping the arm first), then
+   * checks the banner: on the same checksum the arm is driven as this robot. */
+  configure(): Promise<void> {
+    return this.serial(async () => {
+      if (!this.port) throw new Error("no arm: Connect first");
+      const label = this.portLabel || "the arm";
+      const config = await this.engine.config();
+      if ("error" in config) {
+        this.emit({ type: "arm", connected: this.connected, port: label, error: `a Nano cannot drive the robot shown: ${config.error}` });
+        return;
+      }
+      if (this.connected) {
+        await this.write("!"); // whatever it was doing: it becomes another arm
+        this.connected = false;
+        if (this.pollTimer !== null) clearTimeout(this.pollTimer);
+        this.pollTimer = null;
+      }
+      this.configurable = true;
+      for (let k = 0; k < config.lines.length; k++) {
+        const line = config.lines[k];
+        this.emit({ type: "arm", connected: false, port: label, configuring: { done: k, total: config.lines.length, name: config.name } });
+        let reply: string;
+        try {
+          reply = await this.request(line);
+        } catch (e) {
+          this.emit({ type: "arm", connected: false, port: label, configurable: true, error: `configuring stopped: ${(e as Error).message}` });
+          return;
+        }
+        if (reply !== "ok") {
+          this.emit({ type: "arm", connected: false, port: label, configurable: true, error: `the Nano refused ${line}: ` +
+            `${reply} (${this.engine.meaning(reply)})${reply === "error:2" ? ": flash this site's firmware first" : ""}` });
+          return;
+        }
+      }
+      let info: Parsed & { line: string };
+      try {
+        info = await this.banner();
+      } catch (e) {
+        this.emit({ type: "arm", connected: false, port: label, configurable: true, error: (e as Error).message });
+        return;
+      }
+      if (info.kind !== "info" || info.checksum !== config.checksum) {
+        this.emit({ type: "arm", connected: false, port: label, configurable: true,
+          error: `the Nano's banner says checksum ${info.kind === "info" ? info.checksum : "?"}, not ${config.checksum}: the configuration did not take` });
+        return;
+      }
+      this.emit({ type: "arm_configured", name: config.name, checksum: config.checksum });
+      this.start(info, label);
+    });
   }
 
   // `I` until the banner comes (the firmware may still be starting).
@@ -126,9 +211,9 @@ export class ArmLink {
           if (line) await this.onLine(line);
         }
       }
-      if (this.connected) this.lost("the port closed");
+      if (this.connected || this.configurable) this.lost("the port closed");
     } catch (e) {
-      if (this.connected) this.lost(`the port failed: ${(e as Error).message}`);
+      if (this.connected || this.configurable) this.lost(`the port failed: ${(e as Error).message}`);
     }
   }
 
@@ -176,8 +261,9 @@ export class ArmLink {
   }
 
   private lost(why: string): void {
-    if (!this.connected) return;
+    if (!this.connected && !this.configurable) return;
     this.connected = false;
+    this.configurable = false;
     this.programStop = true;
     this.emit({ type: "arm", connected: false, error: why, lost: true });
     this.close();
@@ -204,6 +290,13 @@ export class ArmLink {
 
   private async command(line: string): Promise<string> {
     if (!this.connected) throw new Error("no arm connected: Connect first");
+    const reply = await this.request(line);
+    if (reply === "ok") this.history.push(line);
+    return reply;
+  }
+
+  // A line and its reply (ok or error:N), on an open port.
+  private async request(line: string): Promise<string> {
     const got = new Promise<Parsed & { line: string }>((resolve) => (this.waiting = resolve));
     await this.write(line + "\n");
     const r = await Promise.race([got, sleepOn(this.now, REPLY_MS).then(() => null)]);
@@ -211,7 +304,6 @@ export class ArmLink {
       this.waiting = null;
       throw new Error(`no reply to '${line}' within ${REPLY_MS / 1000} s`);
     }
-    if (r.kind === "reply" && r.code === 0) this.history.push(line);
     return r.line;
   }
 
@@ -280,8 +372,9 @@ export class ArmLink {
   }
 
   async disconnect(): Promise<void> {
-    const was = this.connected;
+    const was = this.connected || this.configurable;
     this.connected = false;
+    this.configurable = false;
     await this.close();
     if (was) this.emit({ type: "arm", connected: false });
   }

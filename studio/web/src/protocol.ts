@@ -166,7 +166,9 @@ export interface ArmStatusMsg {
 
 export type EngineMsg =
   | ArmStatusMsg
-  | { type: "arm"; connected: boolean; connecting?: boolean; port?: string; label?: string; info?: Record<string, string>; error?: string; lost?: boolean }
+  | { type: "arm"; connected: boolean; connecting?: boolean; port?: string; label?: string; info?: Record<string, unknown>; error?: string; lost?: boolean;
+      configurable?: boolean; configuring?: { done: number; total: number; name: string } }
+  | { type: "arm_configured"; name: string; checksum: number }
   | { type: "arm_reply"; line: string; reply: string | null; meaning?: string; error?: string;
       predicted: { reply: string; steps: number[] | null; meaning: string; seconds?: number } }
   | { type: "arm_stopped" }
@@ -187,4 +189,8 @@ export type EngineMsg =
   | { type: "urdf"; name: string; xml: string }
   | { type: "error"; message: string; request?: string | null; id?: number }
   | { type: "arm_read"; id: number; parsed: unknown; pose: { q: number[]; frames: Flat4x4[] } | null }
-  | { type: "arm_predicted"; id: number; reply: string; steps: number[] | null; meaning: string; seconds?: number };
+  | { type: "arm_predicted"; id: number; reply: string; steps: number[] | null; meaning: string; seconds?: number }
+  | { type: "arm_config"; id: number; config: NanoConfig | { error: string } };
+
+/** The robot shown as a Nano's configuration (the engine's nanoConfig, host/lib/nano_config.h). */
+export interface NanoConfig { name: string; checksum: number; lines: string[]; has_point: boolean }

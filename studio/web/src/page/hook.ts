@@ -27,7 +27,8 @@ export interface Hook {
   simCommand: string; // the last line a pose became for the simulated controller
   objectScreen: (name: string) => number[] | null;
   arm: { connected: boolean; error: string; label: string; status: ArmStatusMsg | null; reply: unknown; stopMs: number | null;
-         programLines: unknown[]; programDone: boolean; roundTrips: number[]; nano: unknown };
+         programLines: unknown[]; programDone: boolean; roundTrips: number[]; nano: unknown;
+         configurable: boolean; configured: { name: string; checksum: number } | null; checksum: number | null };
   stream: { messages: number }; // physics and pose messages while the physics runs
   armPixels: () => number;
   camera: () => { distance: number; azimuth: number }; // the view's camera (view.ts cameraState)
@@ -67,7 +68,8 @@ export const hook: Hook = {
   latency: [], ikUpdates: [], messages: 0, targetScreen: [0, 0], armPixels: () => 0,
   camera: () => ({ distance: 0, azimuth: 0 }), viewpoint: () => ({ eye: [], target: [] }),
   scene: null, physics: null, events: [], simCommand: "", objectScreen: () => null,
-  arm: { connected: false, error: "", label: "", status: null, reply: null, stopMs: null, programLines: [], programDone: false, roundTrips: [], nano: null },
+  arm: { connected: false, error: "", label: "", status: null, reply: null, stopMs: null, programLines: [], programDone: false, roundTrips: [], nano: null,
+         configurable: false, configured: null, checksum: null },
   stream: { messages: 0 }, errors: 0, errorLog: [], pageErrors: [], internalErrors: [], engineStartMs: 0, engineSend: () => undefined,
   layout: { mode: "", plotsInTab: false, tab: "" }, webgl: true, language: "", storage: true,
   project: { id: "", name: "", robot: "", program: "", blocks: null, mode: "text", rev: 0, goal: null, persistent: true, dirty: false,

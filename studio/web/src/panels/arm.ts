@@ -3,7 +3,7 @@
 // the arm's reply and the model's prediction side by side, programs run on the arm, STOP.
 // Everything the arm says (its banner's robot name, its replies) is shown as text.
 import { ArmLink } from "../arm";
-import type { ArmStatusMsg, EngineMsg } from "../protocol";
+import type { ArmStatusMsg, EngineMsg, NanoConfig } from "../protocol";
 import { VirtualNanoPort, webSerial } from "../serial";
 import type { SerialLike } from "../serial";
 import type { Studio } from "../page/context";
@@ -25,6 +25,7 @@ export function initArm(studio: Studio): void {
     else showPorts();
   };
   $("arm-disconnect").onclick = () => void disconnectArm();
+  $("arm-configure").onclick = () => void link?.configure();
   $("arm-send").onclick = sendLine;
   $("arm-line").addEventListener("keydown", (e) => {
     if ((e as KeyboardEvent).key === "Enter") sendLine();
@@ -79,9 +80,10 @@ async function connect(): Promise<void> {
     read: (line) => s.engine.call({ type: "arm_read", line }) as never,
     predict: (history, line) => s.engine.call({ type: "arm_predict", history, line }) as never,
     meaning: (reply) => s.engine.meaning(reply),
+    config: async () => ((await s.engine.call({ type: "arm_config" })) as unknown as { config: NanoConfig | { error: string } }).config,
   }, (m) => armMessage(m as unknown as EngineMsg));
   await link.connect(chosen.port, chosen.label, hook.robot?.name ?? "");
-  if (!link.connected) link = null;
+  if (!link.connected && !link.configurable) link = null;
 }
 
 /** Closes the arm's port (flashing needs it to itself). */
@@ -132,23 +134,37 @@ export function stopEverything(): void {
     : moving ? "STOP: the program is paused where it was." : "STOP: nothing was moving.", "info");
 }
 
-function showArm(m: { connected: boolean; connecting?: boolean; label?: string; error?: string; lost?: boolean }): void {
+interface ArmMsg {
+  connected: boolean; connecting?: boolean; label?: string; error?: string; lost?: boolean; configurable?: boolean;
+  configuring?: { done: number; total: number; name: string }; info?: { checksum: number | null };
+}
+
+function showArm(m: ArmMsg): void {
   hook.arm.connected = m.connected;
   hook.arm.error = m.error ?? "";
+  hook.arm.configurable = !!m.configurable || !!m.configuring;
+  if (m.info) hook.arm.checksum = m.info.checksum;
   if (m.label) hook.arm.label = m.label;
-  $("arm-connect").hidden = m.connected;
-  $("arm-disconnect").hidden = !m.connected;
+  const open = m.connected || hook.arm.configurable; // the port is ours
+  $("arm-connect").hidden = open;
+  $("arm-disconnect").hidden = !open;
+  $("arm-configure-row").hidden = !open || !!m.configuring;
   $("arm-send-row").hidden = !m.connected;
   $("drive-arm-row").hidden = !m.connected;
   const st = $("arm-state");
-  if (m.connecting) {
-    hook.arm.status = null; // the last connection's report is no news of this one
+  if (m.configuring) {
+    st.className = "status";
+    st.textContent = `configuring the Nano for the ${m.configuring.name}: line ${m.configuring.done + 1} of ${m.configuring.total}`;
+  } else if (m.connecting) {
+    hook.arm.status = null; // the last connection's report and reply are no news of this one
     hook.arm.reply = null;
+    $("arm-reply").textContent = "";
     st.className = "status";
     st.textContent = "connecting...";
   } else if (m.error) {
-    st.className = "status bad";
+    st.className = m.configurable && !m.lost ? "status ask" : "status bad";
     st.textContent = m.lost ? `Lost the arm: ${m.error}. The studio goes on with the model.` : m.error;
+
     if (m.lost) banner(`Lost the arm: ${m.error}`);
     s.view.liveFrames(null);
   } else if (!m.connected) {
@@ -180,7 +196,13 @@ export function armFrameDrawn(now: number): void {
 function armMessage(m: EngineMsg): void {
   switch (m.type) {
     case "arm":
-      return showArm(m);
+      return showArm(m as unknown as ArmMsg);
+    case "arm_configured": {
+      const c = m as unknown as { name: string; checksum: number };
+      hook.arm.configured = { name: c.name, checksum: c.checksum };
+      return banner(`The Nano is now configured for the ${c.name} (checksum ${c.checksum}), kept in its EEPROM: ` +
+        "it drives this robot from now on, after a power cycle too.", "info");
+    }
     case "arm_status": {
       hook.arm.status = m;
       if (m.stop_to_idle_ms !== undefined) hook.arm.stopMs = m.stop_to_idle_ms;

@@ -1,12 +1,12 @@
-// Flashing the Nano on the chosen port (stk500.mjs) with this site's firmware: its version,
-// robot and size from data/firmware/firmware.json, a progress bar, and a sentence for every
-// way it can fail.
+// Flashing the Nano on the chosen port (stk500.mjs) with this site's firmware (one for every
+// arm: the robot is configured after, in the arm panel): its version and size from
+// data/firmware/firmware.json, a progress bar, and a sentence for every way it can fail.
 import { FlashError, flashNano } from "../stk500.mjs";
 import { $, status } from "../page/dom";
 import { hook } from "../page/hook";
 import { choosePort, disconnectArm } from "./arm";
 
-interface FirmwareInfo { file: string; bytes: number; version: string; robot: string; sha256: string }
+interface FirmwareInfo { file: string; bytes: number; version: string; sha256: string }
 let firmware: FirmwareInfo | null = null;
 
 export function initFlash(): void {
@@ -22,7 +22,7 @@ async function loadFirmwareInfo(): Promise<void> {
     firmware = null;
   }
   $("flash-info").textContent = firmware
-    ? `Articula ${firmware.version} for the ${firmware.robot}, ${firmware.bytes.toLocaleString("en")} bytes`
+    ? `Articula ${firmware.version}, ${firmware.bytes.toLocaleString("en")} bytes: for every arm it can drive (up to three steppers and a gripper)`
     : "this site carries no firmware";
   ($("arm-flash") as HTMLButtonElement).disabled = !firmware;
 }
@@ -32,10 +32,6 @@ const flashState = (text: string, kind: "" | "ok" | "bad" = "") => status($("fla
 async function flashFirmware(): Promise<void> {
   const f = hook.flash;
   if (f.busy || !firmware) return;
-  const robot = hook.robot;
-  if (robot && robot.name !== firmware.robot)
-    return flashState(`This site's firmware is built for the ${firmware.robot}; the studio shows the ${robot.name}. ` +
-      "Load that robot, or build the firmware for this one (make ARTICULA_ROBOT=...).", "bad");
   const chosen = await choosePort();
   if ("why" in chosen) return chosen.why ? flashState(chosen.why, "bad") : undefined;
   await disconnectArm(); // the bootloader needs the port to itself
@@ -62,7 +58,8 @@ async function flashFirmware(): Promise<void> {
     f.result = result;
     f.phase = "done";
     flashState(`Flashed and verified: ${result.bytes.toLocaleString("en")} bytes in ${result.seconds.toFixed(1)} s ` +
-      `(${result.baud === 115200 ? "Optiboot" : "the old bootloader"}, ${result.baud.toLocaleString("en")} baud). Connect to drive it.`, "ok");
+      `(${result.baud === 115200 ? "Optiboot" : "the old bootloader"}, ${result.baud.toLocaleString("en")} baud). ` +
+      "Connect: a Nano keeps the robot it was configured for; if it is not this one, Configure the Nano for this robot.", "ok");
   } catch (e) {
     f.error = (e as Error).message;
     f.errorKind = e instanceof FlashError ? e.kind : "other";

@@ -1,6 +1,7 @@
-// The arm in the page (arm.ts, panels/arm.ts) asks the engine two things, each in one round
+// The arm in the page (arm.ts, panels/arm.ts) asks the engine three things, each in one round
 // trip: a line from the arm read by the core's parsers, with the arm's pose when it is a
-// status report; and the model's prediction of a line after those the arm accepted.
+// status report; the model's prediction of a line after those the arm accepted; and the
+// robot shown as a Nano's configuration (its lines and checksum, or why a Nano cannot take it).
 import { EngineError } from "../../../../wasm/js/engine.mjs";
 import { numbers, text } from "./checks";
 import type { Msg, Out } from "./checks";
@@ -15,6 +16,14 @@ export const armHandlers: Record<string, (m: Msg) => Out[]> = {
       pose = { q, frames: framesAt(q) };
     }
     return [{ type: "arm_read", parsed, pose }];
+  },
+  arm_config() {
+    try {
+      return [{ type: "arm_config", config: S.robot.nanoConfig() }];
+    } catch (e) {
+      if (!(e instanceof EngineError)) throw e;
+      return [{ type: "arm_config", config: { error: e.message } }];
+    }
   },
   arm_predict(m) {
     const line = text(m, "line", 200);
