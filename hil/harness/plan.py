@@ -1,4 +1,5 @@
-"""Test plans: protocol programs (docs/protocol.md, one command a line) with `#@` directives.
+"""Test plans: protocol programs (docs/protocol.md, one command a line) with `#@` directives,
+read by the host library (articula.parse_plan, host/lib/plan.h).
 
 A plan is an ordinary `.arm` program: `articula predict` and the arm read it as it is (a
 directive is a comment to them). hil/plans/README.md describes the format; in short, a line
@@ -17,9 +18,10 @@ applies to the next command line:
 
 from __future__ import annotations
 
-import re
 from dataclasses import dataclass, field
 from pathlib import Path
+
+import articula
 
 
 class PlanError(Exception):
@@ -70,90 +72,21 @@ class Plan:
         return None
 
 
-_C_SPACE = " \t\n\v\f\r"
-_EXPECT = re.compile(r"^(ok|error:\d{1,3})$")
-
-
-def _number(text: str, where: str, what: str) -> float:
-    try:
-        v = float(text)
-    except ValueError:
-        raise PlanError(f"{where}: {what} must be a number, not '{text}'") from None
-    if v != v or v in (float("inf"), float("-inf")):
-        raise PlanError(f"{where}: {what} must be a finite number, not '{text}'")
-    return v
-
-
 def parse_plan(path: str | Path, text: str | None = None) -> Plan:
-    """Reads a plan. Raises PlanError naming file:line for anything it cannot run."""
+    """Reads a plan (the host library's reader, host/lib/plan.h, the studio's too). Raises
+    PlanError naming file:line for anything it cannot run."""
     path = Path(path)
     if text is None:
         try:
             text = path.read_text(encoding="ascii", errors="surrogateescape")
         except OSError as e:
             raise PlanError(f"{path}: cannot read: {e.strerror}") from None
-    title = path.stem
-    notes: list[str] = []
-    commands: list[Command] = []
-    pending: dict = {}
-    pending_line = 0
-    for n, raw in enumerate(text.splitlines(), start=1):
-        where = f"{path}:{n}"
-        line = raw.rstrip("\r")
-        stripped = line.strip()
-        if stripped.startswith("#@"):
-            body = stripped[2:].strip()
-            name, _, rest = body.partition(" ")
-            rest = rest.strip()
-            args = rest.split()
-            if name == "title":
-                if not rest:
-                    raise PlanError(f"{where}: #@ title needs a text")
-                title = rest
-                continue
-            if name == "note":
-                if not rest:
-                    raise PlanError(f"{where}: #@ note needs a text")
-                notes.append(rest)
-                continue
-            if not pending:
-                pending_line = n
-            if name == "expect":
-                if len(args) != 1 or not _EXPECT.match(args[0]):
-                    raise PlanError(f"{where}: #@ expect takes ok or error:N, not '{rest}'")
-                pending["expect"] = args[0]
-            elif name == "timeout":
-                if len(args) != 1:
-                    raise PlanError(f"{where}: #@ timeout takes one number of seconds")
-                t = _number(args[0], where, "the timeout")
-                if t <= 0:
-                    raise PlanError(f"{where}: the timeout must be above 0 s")
-                pending["timeout"] = t
-            elif name == "single-joint":
-                if len(args) != 2 or not args[0].isdigit():
-                    raise PlanError(f"{where}: #@ single-joint takes a joint index and the thesis's angle")
-                pending["single_joint"] = (int(args[0]), _number(args[1], where, "the thesis's angle"))
-            elif name == "repeat":
-                if len(args) != 2 or not args[0].isdigit() or args[1] not in ("out", "back"):
-                    raise PlanError(f"{where}: #@ repeat takes a chain number and out or back")
-                pending["repeat"] = (int(args[0]), args[1])
-            else:
-                raise PlanError(f"{where}: unknown directive '#@ {name}' (title, note, expect, timeout, "
-                                "single-joint, repeat)")
-            continue
-        if not stripped or stripped.startswith("#"):
-            continue
-        # The arm acts on '?' and '!' wherever they come, comments included: a plan line must
-        # not hold them (the harness sends them itself, '?' to poll the status).
-        if "?" in line or "!" in line:
-            raise PlanError(f"{where}: '{line}' holds a realtime byte (? or !), which the arm would act on")
-        if "\n" in line:
-            raise PlanError(f"{where}: a line end inside a line")
-        # Sent as `articula predict` reads it: without the blanks around it (C isspace).
-        commands.append(Command(line=n, text=line.strip(_C_SPACE), **pending))
-        pending = {}
-    if pending:
-        raise PlanError(f"{path}:{pending_line}: directive without a command line after it")
-    if not commands:
-        raise PlanError(f"{path}: no command lines")
-    return Plan(path=path, title=title, commands=commands, notes=notes)
+    try:
+        doc = articula.parse_plan(text, str(path))
+    except ValueError as e:
+        raise PlanError(str(e)) from None
+    commands = [Command(line=c["line"], text=c["text"], expect=c["expect"], timeout=c["timeout_s"],
+                        single_joint=(c["single_joint"][0], float(c["single_joint"][1])) if c["single_joint"] else None,
+                        repeat=(c["repeat"][0], c["repeat"][1]) if c["repeat"] else None)
+                for c in doc["commands"]]
+    return Plan(path=path, title=doc["title"], commands=commands, notes=list(doc["notes"]))

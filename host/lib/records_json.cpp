@@ -1,5 +1,7 @@
 #include "records_json.h"
 
+#include <cctype>
+
 #include <cmath>
 #include <stdexcept>
 
@@ -218,6 +220,22 @@ Vec3<double> vec3_of_json(const nlohmann::json& j, const std::string& what) {
   return make_vec3(v[0], v[1], v[2]);
 }
 }  // namespace
+
+nlohmann::json plan_json(const Plan& p) {
+  nlohmann::json cmds = nlohmann::json::array();
+  for (const auto& c : p.commands) {
+    const std::string word = c.text.empty() ? "" : std::string(1, char(std::toupper(static_cast<unsigned char>(c.text[0]))));
+    const std::string kind = c.joint >= 0 ? "single-joint" : c.chain >= 0 ? "repeat-" + c.leg : word == "P" ? "target" : "";
+    cmds.push_back({{"line", c.line},
+                    {"text", c.text},
+                    {"expect", c.expect},
+                    {"timeout_s", c.timeout_s > 0 ? nlohmann::json(c.timeout_s) : nlohmann::json(nullptr)},
+                    {"single_joint", c.joint >= 0 ? nlohmann::json::array({c.joint, c.thesis_angle}) : nlohmann::json(nullptr)},
+                    {"repeat", c.chain >= 0 ? nlohmann::json::array({c.chain, c.leg}) : nlohmann::json(nullptr)},
+                    {"kind", kind}});
+  }
+  return {{"name", p.name}, {"title", p.title}, {"notes", p.notes}, {"commands", cmds}};
+}
 
 nlohmann::json nano_config_json(const NanoConfig& c) {
   return {{"name", c.name}, {"checksum", c.checksum}, {"lines", c.lines}, {"has_point", c.has_point}};

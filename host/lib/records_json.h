@@ -12,6 +12,7 @@
 #include "experiment.h"
 #include "ik.h"
 #include "nano_config.h"
+#include "plan.h"
 #include "predict.h"
 #include "program.h"
 #include "quantize.h"
@@ -51,6 +52,10 @@ nlohmann::json program_json(const Robot& robot, const Program& program, const st
 // points a binding receives as JSON, [{joint, value: [x, y, z], reference: [x, y, z]}] (throws
 // std::invalid_argument naming the entry that is not one).
 nlohmann::json axis_errors_json(const AxisErrors& e);
+// A test plan: {"name", "title", "notes", "commands": [{"line", "text", "expect", "timeout_s"
+// (null: the default), "single_joint" ([joint, thesis angle] or null), "repeat" ([chain,
+// "out"|"back"] or null), "kind" ("single-joint", "repeat-out", "repeat-back", "target", "")}]}.
+nlohmann::json plan_json(const Plan& p);
 // A Nano's configuration for a robot: {"name", "checksum", "lines", "has_point"}.
 nlohmann::json nano_config_json(const NanoConfig& c);
 nlohmann::json table4_json(const std::vector<Table4Row>& rows);

@@ -35,6 +35,7 @@ from ._core import (  # noqa: E402
     Sim,
     axis_errors,
     measurement_question,
+    parse_plan,
     rpy_deg,
     table4,
 )
@@ -43,7 +44,7 @@ from ._records import Record  # noqa: E402
 __all__ = [
     "Robot", "IkResult", "Program", "Sim", "Record", "Status", "STATUS", "status_text",
     "RobotFileError", "ProgramError", "SceneError", "LegacyError", "IK_STATUS", "rpy_deg",
-    "axis_errors", "table4", "measurement_question",
+    "axis_errors", "table4", "measurement_question", "parse_plan",
 ]
 __version__ = "0.1.0"
 

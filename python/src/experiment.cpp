@@ -11,6 +11,7 @@
 
 #include "bindings.h"
 #include "experiment.h"
+#include "plan.h"
 #include "records_json.h"
 
 namespace articula::python {
@@ -23,6 +24,18 @@ Vec3<double> v3(const Xyz& a) { return make_vec3(a[0], a[1], a[2]); }
 }  // namespace
 
 void bind_experiment(nb::module_& m) {
+  m.def(
+      "parse_plan",
+      [](const std::string& text, const std::string& name) {
+        try {
+          return json_to_python(host::plan_json(host::parse_plan(text, name)));
+        } catch (const host::PlanError& e) {
+          throw nb::value_error(e.what());
+        }
+      },
+      "text"_a, "name"_a,
+      "A test plan (hil/plans/README.md): {'name', 'title', 'notes', 'commands': [{'line', 'text', 'expect', "
+      "'timeout_s', 'single_joint', 'repeat', 'kind'}]}. ValueError naming name:line for a plan that cannot run.");
   m.def(
       "axis_errors", [](const Xyz& value, const Xyz& reference) {
         return json_to_python(host::axis_errors_json(host::axis_errors(v3(value), v3(reference))));

@@ -92,7 +92,7 @@ async function blocklyCss(media) {
 }
 
 // The shipped files, and their index (the worker lists robots, scenes and programs from it).
-const index = { robots: [], scenes: [], programs: [], meshes: [], exercises: [] };
+const index = { robots: [], scenes: [], programs: [], meshes: [], exercises: [], plans: [] };
 function copyTree(from, to, keep) {
   for (const name of readdirSync(from).sort()) {
     const src = join(from, name), dst = join(to, name);
@@ -110,6 +110,8 @@ copyTree(join(repo, "programs"), join(out, "data/programs"), (n) => /\.(arm|robo
 index.robots = readdirSync(join(out, "data/robots")).filter(isData).map((n) => n.replace(/\.json$/, ""));
 index.scenes = readdirSync(join(out, "data/scenes")).filter(isData).map((n) => n.replace(/\.json$/, ""));
 index.programs = readdirSync(join(out, "data/programs"));
+copyTree(join(repo, "hil/plans"), join(out, "data/plans"), (n) => n.endsWith(".arm"));
+index.plans = readdirSync(join(out, "data/plans"));
 copyTree(join(repo, "exercises"), join(out, "data/exercises"), (n) => n.endsWith(".articula"));
 index.exercises = readdirSync(join(out, "data/exercises"));
 mkdirSync(join(out, "data/firmware"), { recursive: true });

@@ -64,6 +64,11 @@ export class Timeline {
   readonly duration: number;
   delete(): void;
 }
+export interface PlanCommand {
+  line: number; text: string; expect: string; timeout_s: number | null;
+  single_joint: [number, number] | null; repeat: [number, "out" | "back"] | null;
+  kind: "single-joint" | "repeat-out" | "repeat-back" | "target" | "";
+}
 export class Engine {
   readonly status: Record<string, [string, string]>;
   robot(nameOrPath?: string): Robot;
@@ -71,10 +76,15 @@ export class Engine {
   timeline(robot: Robot, text: string, name: string, startQ: number[]): Timeline;
   statusText(code: number): string;
   firstIntervalS(maxRate: number, accel: number): number;
+  axisErrors(value: number[], reference: number[]): { mm: number[]; pct: (number | null)[] };
+  table4(points: { joint: number; value: number[]; reference: number[] }[]):
+    { joint: number; poses: number; axes: { max_pct: number | null; max_mm: number; avg_mm: number }[] }[];
+  measurementQuestion(measured: number[], predicted: number[], reachMm: number, farMm?: number): string;
+  parsePlan(text: string, name?: string): { name: string; title: string; notes: string[]; commands: PlanCommand[] };
   parseArmLine(line: string):
     | { kind: "reply"; code: number }
     | { kind: "status"; state: string; steps: number[]; angles: number[]; millideg: number[]; gripper: number; free: number; coils: boolean; warning: number }
-    | { kind: "info"; version: string; protocol: number; joints: number; robot: string; warning: number }
+    | { kind: "info"; version: string; protocol: number; joints: number; robot: string; checksum: number | null; warning: number }
     | { kind: "setting"; number: number; value: number }
     | { kind: "other" };
   writeFile(path: string, data: string | Uint8Array): void;

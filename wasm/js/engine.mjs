@@ -182,6 +182,9 @@ export class Engine {
   axisErrors(value, reference) { return checked(this.M.axisErrors(JSON.stringify(value), JSON.stringify(reference))); }
   /** The thesis's Table 4 from points [{joint, value, reference}]: [{joint, poses, axes: [{max_pct, max_mm, avg_mm}]}]. */
   table4(points) { return checked(this.M.table4(JSON.stringify(points))); }
+  /** A test plan (hil/plans/README.md): {name, title, notes, commands: [{line, text, expect,
+   * timeout_s, single_joint, repeat, kind}]}; EngineError naming name:line. */
+  parsePlan(text, name = "plan.arm") { return checked(this.M.parsePlan(text, name)); }
   /** The question a typed tool position raises ("" when it looks right). */
   measurementQuestion(measured, predicted, reachMm, farMm = 50) {
     return checked(this.M.measurementQuestion(JSON.stringify(measured), JSON.stringify(predicted), reachMm, farMm));

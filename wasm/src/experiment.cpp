@@ -6,6 +6,7 @@
 
 #include "common.h"
 #include "experiment.h"
+#include "plan.h"
 #include "records_json.h"
 
 namespace {
@@ -28,6 +29,9 @@ EMSCRIPTEN_BINDINGS(articula_experiment) {
   namespace host = articula::host;
   function("axisErrors", +[](const std::string& value, const std::string& reference) {
     return guarded([&] { return host::axis_errors_json(host::axis_errors(xyz(value, "value"), xyz(reference, "reference"))).dump(); });
+  });
+  function("parsePlan", +[](const std::string& text, const std::string& name) {
+    return guarded([&] { return host::plan_json(host::parse_plan(text, name)).dump(); });
   });
   function("table4", +[](const std::string& points) {
     return guarded([&] { return host::table4_json(host::table4(host::joint_points_of_json(json::parse(points)))).dump(); });

@@ -57,6 +57,7 @@ export class ArmLink {
   private stopSentAt = 0;
   private idleWaiters: (() => void)[] = [];
   private state = "";
+  private lastSteps: number[] = []; // the last status report's
   private programRunning = false;
   private programStop = false;
 
@@ -222,6 +223,7 @@ export class ArmLink {
     if (p.kind === "status" && pose) {
       this.lastReport = this.now();
       this.state = p.state;
+      this.lastSteps = p.steps;
       if (p.warning === 14) return this.lost("the arm reset (its settings were reset to their defaults)");
       const msg: Record<string, unknown> = { type: "arm_status", state: p.state, steps: p.steps, angles: p.angles,
         q: pose.q, frames: pose.frames, text: line, rtt_ms: performance.now() - this.lastPoll,
@@ -305,6 +307,19 @@ export class ArmLink {
       throw new Error(`no reply to '${line}' within ${REPLY_MS / 1000} s`);
     }
     return r.line;
+  }
+
+  /** One line for the Experiment panel: its reply beside the model's, then (accepted) the arm
+   * at rest; the steps it reports there. Throws when the arm is gone or does not come to rest. */
+  runLine(line: string): Promise<{ reply: string; predicted: { reply: string; steps: number[] | null }; steps: number[] }> {
+    return this.serial(async () => {
+      this.programStop = false; // a STOP from now on ends the wait (and the caller's run)
+      const predicted = await this.engine.predict(this.history, line);
+      const reply = await this.command(line);
+      this.emit({ type: "arm_reply", line, reply, meaning: this.engine.meaning(reply), predicted });
+      if (reply === "ok") await this.idle((3 * (predicted.seconds ?? 0) + 5) * 1000, 0);
+      return { reply, predicted, steps: [...this.lastSteps] };
+    });
   }
 
   /** A protocol program, line by line: a line, its reply, then `?` until Idle. */

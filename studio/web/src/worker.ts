@@ -13,6 +13,7 @@ import type { Msg, Out } from "./session/checks";
 import { armHandlers } from "./session/arm";
 import { blockHandlers } from "./session/blocks";
 import { exerciseHandlers } from "./session/exercise";
+import { experimentHandlers } from "./session/experiment";
 import { kinematicHandlers } from "./session/kinematics";
 import { PHYSICS_INTENTS, PHYSICS_ONLY, ensurePhysics, physicsIntent, physicsMessage, sceneIntent, sceneMessage,
   startPhysics } from "./session/physics";
@@ -36,6 +37,7 @@ const handlers: Record<string, Handler> = {
   ...armHandlers,
   ...blockHandlers,
   ...exerciseHandlers,
+  ...experimentHandlers,
 };
 
 // Intents that end a playing program or an animation.

@@ -30,6 +30,10 @@ export interface Hook {
          programLines: unknown[]; programDone: boolean; roundTrips: number[]; nano: unknown;
          configurable: boolean; configured: { name: string; checksum: number } | null; checksum: number | null };
   stream: { messages: number }; // physics and pose messages while the physics runs
+  // panels/experiment.ts: the pose waiting for its measurement, the engine's question, the
+  // poses so far, the report's tables and CSV, lines where the arm differed from the model
+  experiment: { running: boolean; waiting: { joint: number; angle: number; line: number; command: string; model: number[] } | null;
+    question: string; points: unknown[]; tables: unknown; csv: string; mismatches: string[] };
   armPixels: () => number;
   camera: () => { distance: number; azimuth: number }; // the view's camera (view.ts cameraState)
   viewpoint: () => { eye: number[]; target: number[] }; // where the camera is and looks (mm) // share of the view's pixels that are the arm's colours (0..1)
@@ -70,7 +74,7 @@ export const hook: Hook = {
   scene: null, physics: null, events: [], simCommand: "", objectScreen: () => null,
   arm: { connected: false, error: "", label: "", status: null, reply: null, stopMs: null, programLines: [], programDone: false, roundTrips: [], nano: null,
          configurable: false, configured: null, checksum: null },
-  stream: { messages: 0 }, errors: 0, errorLog: [], pageErrors: [], internalErrors: [], engineStartMs: 0, engineSend: () => undefined,
+  stream: { messages: 0 }, experiment: { running: false, waiting: null, question: "", points: [], tables: null, csv: "", mismatches: [] }, errors: 0, errorLog: [], pageErrors: [], internalErrors: [], engineStartMs: 0, engineSend: () => undefined,
   layout: { mode: "", plotsInTab: false, tab: "" }, webgl: true, language: "", storage: true,
   project: { id: "", name: "", robot: "", program: "", blocks: null, mode: "text", rev: 0, goal: null, persistent: true, dirty: false,
              saves: 0, saveMs: [], savedAt: 0, saveError: "", lastDeleted: "", otherTab: 0 },

@@ -86,6 +86,11 @@ async function connect(): Promise<void> {
   if (!link.connected && !link.configurable) link = null;
 }
 
+/** The arm while connected (or waiting to be configured), for the Experiment panel. */
+export function armLink(): ArmLink | null {
+  return link;
+}
+
 /** Closes the arm's port (flashing needs it to itself). */
 export async function disconnectArm(): Promise<void> {
   const l = link;

@@ -7,10 +7,11 @@ import type { Studio } from "../page/context";
 import { $, banner, download, fill, h, setOptions } from "../page/dom";
 import { hook } from "../page/hook";
 import { LINK_KEY, MAX_FILE_BYTES, MAX_LINK, ProjectError, newProject, parseProject, projectFragment, projectOfFragment, readProject } from "../project/document";
-import type { Goal, Project } from "../project/document";
+import type { Experiment, Goal, Project } from "../project/document";
 import { ProjectStore, newId } from "../project/store";
 import type { Stored } from "../project/store";
 import { blocksMode, loadBlocks, setMode, workspaceJson } from "./blocks";
+import { showSavedExperiment } from "./experiment";
 import { keepView, openedRobotFile } from "./robot";
 
 const SAVE_AFTER_MS = 500; // a save this long after the last change
@@ -143,12 +144,19 @@ export function projectRobotShown(): void {
     if (hook.robot?.gripper) s.engine.send({ type: "gripper", percent: d.pose.gripper });
   }
   showGoal(d.goal);
+  showSavedExperiment(d.experiment ?? null);
   updateHook();
   // what the engine answers to these is the project as it was, not an edit; the camera last,
   // once a new robot's first pose has framed it
   s.engine.call({ type: "sync" }).catch(() => undefined).finally(() => {
     applying = false;
   });
+}
+
+/** The experiment's measurements, kept with the project. */
+export function setProjectExperiment(e: Experiment): void {
+  current = { ...current, doc: { ...current.doc, experiment: e } };
+  projectChanged();
 }
 
 /** Something on screen changed: saved within a second. */

@@ -19,6 +19,15 @@ export type GoalPart =
 /** An exercise's goal; `scene`: where its objects are (Check runs the physics there). */
 export interface Goal { title: string; text: string; scene: string; parts: GoalPart[] }
 
+/** A pose of the sim-vs-real experiment: where the model puts the tool (ideal: the exact
+ * angles; quant: the whole steps) and where the student measured it (null: not measured). */
+export interface ExperimentPoint {
+  joint: number; angle: number; line: number; command: string;
+  ideal: number[]; quant: number[]; measured: number[] | null;
+}
+/** The experiment's measurements (the tables and plots are made from them again on opening). */
+export interface Experiment { plan: string; title: string; robot: string; when: string; points: ExperimentPoint[] }
+
 export interface Project {
   format: typeof FORMAT;
   version: number;
@@ -29,6 +38,7 @@ export interface Project {
   pose: { q: number[]; gripper: number } | null;
   view?: { eye: number[]; target: number[] } | null; // the camera (mm)
   goal: Goal | null;
+  experiment?: Experiment | null;
 }
 
 /** A document that is not a project, or not one this studio can open: `where` names the field. */
@@ -103,6 +113,25 @@ function checkGoal(g: unknown): Goal | null {
   };
 }
 
+function checkExperiment(e: unknown): Experiment | null {
+  if (e === null || e === undefined) return null;
+  if (!isObj(e)) throw new ProjectError("experiment must be an object");
+  const points = e.points;
+  if (!Array.isArray(points) || points.length > 1000) throw new ProjectError("experiment.points must be a list of up to 1000 poses");
+  return {
+    plan: str(e, "plan", "experiment", MAX_NAME), title: str(e, "title", "experiment", MAX_NAME),
+    robot: str(e, "robot", "experiment", MAX_NAME), when: str(e, "when", "experiment", MAX_NAME),
+    points: points.map((p, i) => {
+      const where = `experiment.points[${i}]`;
+      if (!isObj(p)) throw new ProjectError(`${where} must be an object`);
+      const [joint, angle, line] = nums([p.joint, p.angle, p.line], where, 3);
+      if (!Number.isInteger(joint) || joint < 0 || joint > 63) throw new ProjectError(`${where}.joint must be a joint index`);
+      return { joint, angle, line, command: str(p, "command", where, MAX_NAME), ideal: nums(p.ideal, `${where}.ideal`, 3),
+        quant: nums(p.quant, `${where}.quant`, 3), measured: p.measured === null ? null : nums(p.measured, `${where}.measured`, 3) };
+    }),
+  };
+}
+
 /** A project from untrusted JSON (a file, a link, the browser's store). Throws ProjectError. */
 export function readProject(x: unknown): Project {
   if (!isObj(x) || x.format !== FORMAT) throw new ProjectError("this is not an Articula project");
@@ -146,7 +175,8 @@ export function readProject(x: unknown): Project {
     if (!isObj(x.view)) throw new ProjectError("view must be an object");
     view = { eye: nums(x.view.eye, "view.eye", 3), target: nums(x.view.target, "view.target", 3) };
   }
-  return { format: FORMAT, version: VERSION, name, robot, scene, program, pose, view, goal: checkGoal(x.goal) };
+  return { format: FORMAT, version: VERSION, name, robot, scene, program, pose, view, goal: checkGoal(x.goal),
+    experiment: checkExperiment(x.experiment) };
 }
 
 /** A project from a file's or a link's text. Throws ProjectError. */

@@ -1,0 +1,141 @@
+"""The thesis's sim-vs-real experiment in the page (panels/experiment.ts), end to end on the
+static site: the one firmware on the virtual Nano, configured for a student's own arm (the
+thesis example arm of hil/robots, opened as a file), the single-joint plan run on it, the
+tool's positions typed at every pose (positions that reproduce appendix K's errors on joint 0),
+the questions a mistyped measurement raises, the report exported as CSV and HTML, kept with
+the project over a reload - and its numbers equal to the harness's report on the same
+measurements (hil/harness on simavr)."""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import os
+import re
+import subprocess
+import sys
+
+from conftest import REPO, SHOTS
+
+ARM = REPO / "hil" / "robots" / "thesis-example-arm.json"
+PLAN = "thesis-single-joint.arm"
+
+# Appendix K, "Changing Joint 0": the absolute errors per axis (cm) at the thesis's angles 0,
+# 10, 30, 90 (its first four poses; 120 and 180 follow).
+K_JOINT0_CM = {0: (0.0095, 0.0479, 0.04975), 10: (0.017874615, 0.0479, 0.04835335),
+               30: (0.005534722, 0.0479, 0.027489348), 90: (0.26575, 0.1525, 0.04975)}
+OTHER_MM = (0.8, -0.6, 1.1)  # a ruler's error elsewhere
+
+
+def measured_for(waiting):
+    """What the student types for a pose: the model's position plus appendix K's errors (joint
+    0, where the thesis gives them) or a ruler's error, to 0.01 mm."""
+    model = waiting["model"]
+    err = [c * 10 for c in K_JOINT0_CM[waiting["angle"]]] if waiting["joint"] == 0 and waiting["angle"] in K_JOINT0_CM \
+        else OTHER_MM
+    return [round(m + e, 2) for m, e in zip(model, err)]
+
+
+def type_xyz(pg, xyz):
+    for axis, v in zip("xyz", xyz):
+        pg.page.fill(f"#exp-{axis}", str(v))
+    pg.page.click("#exp-record")
+
+
+def test_the_experiment_in_the_page_equals_the_harness(open_page, tmp_path):
+    pg = open_page("mk2plus")
+    pg.page.set_input_files("#robot-file", str(ARM))
+    pg.wait("a.robot.name === 'Thesis example arm'")
+    pg.page.select_option("#arm-port", "page:virtual")
+    pg.page.click("#arm-connect")
+    pg.wait("a.arm.configurable", timeout=30000)
+    pg.page.click("#arm-configure")
+    pg.wait("a.arm.connected && a.arm.status !== null", timeout=60000)
+
+    assert pg.page.eval_on_selector_all("#exp-plan option", "os => os.map(o => o.value)") == \
+        ["thesis-repeatability.arm", "thesis-single-joint.arm", "tool-points.arm"]
+    pg.page.select_option("#exp-plan", PLAN)
+    pg.page.click("#exp-run")
+    typed = []  # (plan line, x, y, z), as the harness's --measured CSV has them
+    first = True
+    while True:
+        pg.wait("a.experiment.waiting !== null || !a.experiment.running", timeout=120000)
+        w = pg.hook("a.experiment.waiting")
+        if w is None:
+            break
+        xyz = measured_for(w)
+        if first:
+            # a measurement typed in cm, then one that is not a number: questions, not plots
+            type_xyz(pg, [round(v / 10, 2) for v in xyz])
+            pg.wait("a.experiment.question !== ''")
+            assert "centimetres" in pg.hook("a.experiment.question")
+            assert pg.page.is_visible("#exp-anyway")
+            pg.page.screenshot(path=str(SHOTS / "studio-experiment-measure.png"))
+            type_xyz(pg, ["abc", xyz[1], xyz[2]])
+            pg.wait("a.experiment.question !== '' && !a.experiment.question.includes('centimetres')")
+            assert "not a number" in pg.hook("a.experiment.question")
+            assert not pg.page.is_visible("#exp-anyway")  # a value that is not a number is never used
+            assert pg.hook("a.experiment.waiting.line") == w["line"]  # still this pose
+            first = False
+        type_xyz(pg, xyz)
+        pg.wait(f"a.experiment.waiting === null || a.experiment.waiting.line !== {w['line']}", timeout=30000)
+        typed.append((w["line"], *xyz))
+    assert pg.hook("a.experiment.mismatches") == []  # every reply and every step as the model predicts
+    assert "every reply and every step as the model predicts" in pg.page.text_content("#exp-state")
+    assert len(typed) >= 8
+    pg.wait("a.experiment.tables !== null")
+    pg.page.locator("#experiment-section").scroll_into_view_if_needed()
+    pg.page.screenshot(path=str(SHOTS / "studio-experiment-report.png"), full_page=False)
+
+    # The exports.
+    with pg.page.expect_download() as dl:
+        pg.page.click("#exp-csv")
+    page_csv = open(dl.value.path()).read()
+    with pg.page.expect_download() as dl:
+        pg.page.click("#exp-html")
+    html = open(dl.value.path()).read()
+    assert dl.value.suggested_filename == "articula-experiment-thesis-single-joint.html"
+    assert html.startswith("<!doctype html>") and "<table>" in html and html.count('<img src="data:image/png;base64,') >= 2
+    assert "<script" not in html and "Thesis example arm" in html
+    assert "Table 4: measured against the model" in html
+
+    # The page's Table 4 (measured against the model) is the harness's on the same measurements.
+    body = page_csv.split("\n\n", 1)[1]
+    page_t4 = {(r["joint"], r["axis"]): r for r in csv.DictReader(io.StringIO(body)) if r["table"] == "measured_vs_model"}
+    measured = tmp_path / "measured.csv"
+    measured.write_text("plan,plan_line,x_mm,y_mm,z_mm\n" + "".join(f"{PLAN},{n},{x},{y},{z}\n" for n, x, y, z in typed))
+    out = tmp_path / "report"
+    env = dict(os.environ, PYTHONPATH=f"{REPO}:{REPO / 'python'}")
+    p = subprocess.run([sys.executable, "-m", "hil.harness", "run", str(REPO / "hil" / "plans" / PLAN), "--robot", str(ARM),
+                        "--expect-predicted", "--measured", str(measured), "--out", str(out), "--no-progress",
+                        "--vnano", str(REPO / "build" / "hil" / "articula-vnano"),
+                        "--elf", str(REPO / "build" / "avr" / "firmware" / "articula-nano.elf")],
+                       cwd=REPO, env=env, capture_output=True, text=True, timeout=300)
+    assert p.returncode == 0, p.stdout + p.stderr
+    md = (out / "report.md").read_text()
+    section = md.split("**Measured vs predicted (quantized)**", 1)[1].split("**", 1)[0]
+    rows = [ln for ln in section.splitlines() if re.match(r"^\| [XYZ] \|", ln)]
+    head = next(ln for ln in section.splitlines() if ln.startswith("| axis"))
+    joints = [int(j) for j in re.findall(r"joint (\d+) max %", head)]
+    assert joints and len(rows) == 3
+    compared = 0
+    for row in rows:
+        cells = [c.strip() for c in row.strip("|").split("|")]
+        axis = cells[0].lower()
+        for k, j in enumerate(joints):
+            max_pct, max_mm, avg_mm = cells[1 + 3 * k: 4 + 3 * k]
+            mine = page_t4[(str(j), axis)]
+            assert max_mm == f"{float(mine['max_mm']):.3f}" and avg_mm == f"{float(mine['avg_mm']):.3f}", (j, axis, row)
+            assert max_pct == ("—" if mine["max_pct"] == "" else f"{float(mine['max_pct']):.2f}"), (j, axis, row)
+            compared += 1
+    assert compared == 3 * len(joints)
+    # appendix K's joint 0 errors come back: max |dx| 2.6575 mm (the 90 deg pose)
+    assert abs(float(page_t4[("0", "x")]["max_mm"]) - 2.6575) < 0.006
+
+    # Kept with the project: after a reload the report is there again, the same numbers.
+    pg.wait("!a.project.dirty", timeout=10000)
+    pg.page.reload()
+    pg.wait("a.experiment.tables !== null", timeout=60000)
+    assert pg.hook("a.experiment.csv") == page_csv
+    assert pg.errors == []

@@ -1,0 +1,342 @@
+// The Experiment panel: the thesis's sim-vs-real experiment (section 5, appendices I and K) on
+// the arm shown, the virtual Nano or a real one. A plan of hil/plans runs line by line (each
+// reply and each rest's steps against the model's); at each single-joint pose the student
+// measures the tool with a ruler and types x, y, z; then the report: the thesis's Table 4 and
+// Figs. 30-32 per joint (error per axis against the joint's angle, in mm and per cent), the
+// quantization error the prediction gives beside the measured error, and a verdict per joint.
+// It exports as HTML (with the plots) and CSV, and stays with the project.
+//
+// Every number is the host library's (host/lib/plan.h, experiment.h) through the engine's
+// worker (session/experiment.ts): the harness's report (hil/harness/report.py) has the same.
+import uPlot from "uplot";
+import type { Studio } from "../page/context";
+import { $, download, fill, h, setOptions, status } from "../page/dom";
+import { hook } from "../page/hook";
+import type { Experiment, ExperimentPoint } from "../project/document";
+import { armLink } from "./arm";
+
+type Xyz = [number, number, number];
+interface Axis { max_pct: number | null; max_mm: number; avg_mm: number }
+interface Table4Row { joint: number; poses: number; axes: Axis[] }
+interface Errors { mm: number[]; pct: (number | null)[] }
+interface Tables {
+  rows: { joint: number; angle: number; quant_vs_ideal: Errors; measured_vs_quant: Errors | null }[];
+  quant_vs_ideal: Table4Row[]; measured_vs_quant: Table4Row[]; measured_vs_ideal: Table4Row[];
+}
+interface PlanDoc {
+  plan: { title: string; notes: string[]; commands: { line: number; text: string; kind: string; single_joint: [number, number] | null }[] };
+  records: { line: number; code: number; steps: number[] | null; tool_ideal_mm: Xyz; tool_quantized_mm: Xyz }[];
+  zero: number[]; error?: string;
+}
+
+/** A joint's verdict: its measured error against the model's within this much (mm, per axis)
+ * is what a ruler and a printed arm's play account for. */
+export const VERDICT_MM = 5;
+const AXES = ["x", "y", "z"];
+const COLORS = ["#d1495b", "#2e86ab", "#3a7d44", "#8d6a9f"];
+
+let s: Studio;
+let save: (e: Experiment) => void = () => {};
+let shown: Experiment | null = null;
+let charts: uPlot[] = [];
+let answer: ((xyz: number[] | null) => void) | null = null; // the pose waiting for its measurement
+let asked: number[] | null = null; // the values the question was about ("Use it anyway" takes them)
+
+export function initExperiment(studio: Studio, onSave: (e: Experiment) => void): void {
+  s = studio;
+  save = onSave;
+  hook.experiment = { running: false, waiting: null, question: "", points: [], tables: null, csv: "", mismatches: [] };
+  $("exp-run").onclick = () => void run();
+  $("exp-record").onclick = () => void record();
+  $("exp-anyway").onclick = () => asked && give(asked);
+  $("exp-skip").onclick = () => give(null);
+  for (const id of ["exp-x", "exp-y", "exp-z"])
+    $(id).addEventListener("keydown", (e) => (e as KeyboardEvent).key === "Enter" && void record());
+  $("exp-html").onclick = () => void exportHtml();
+  $("exp-csv").onclick = () => shown && hook.experiment.csv && download(fileStem() + ".csv", hook.experiment.csv, "text/csv");
+  fetch(new URL("data/index.json", document.baseURI)).then((r) => r.json()).then((idx: { plans?: string[] }) => {
+    setOptions($("exp-plan") as HTMLSelectElement, (idx.plans ?? []).map((p) => ({ value: p, label: planLabel(p) })));
+  }).catch(() => undefined);
+}
+
+const planLabel = (p: string) => ({ "thesis-single-joint.arm": "single joints (thesis 5.2, appendix K)",
+  "thesis-repeatability.arm": "repeatability (thesis 5.3)", "tool-points.arm": "tool points (P)" } as Record<string, string>)[p] ?? p;
+const fileStem = () => `articula-experiment-${(shown?.plan ?? "plan").replace(/\.arm$/, "").replace(/[^\w-]+/g, "_")}`;
+const say = (text: string, kind: "" | "ok" | "bad" = "") => status($("exp-state"), text, kind);
+
+/** The project's experiment, shown again (its tables made from its measurements). */
+export function showSavedExperiment(e: Experiment | null): void {
+  shown = e;
+  hook.experiment.points = e?.points ?? [];
+  if (!e) {
+    fill($("exp-report"));
+    hook.experiment.tables = null;
+    return;
+  }
+  void report(e);
+}
+
+async function run(): Promise<void> {
+  if (hook.experiment.running) return;
+  hook.experiment.running = true; // at once: a test (or a second click) sees the run from its click on
+  ($("exp-run") as HTMLButtonElement).disabled = true;
+  try {
+    await runPlan();
+  } finally {
+    hook.experiment.running = false;
+    hook.experiment.waiting = null;
+    $("exp-measure").hidden = true;
+    ($("exp-run") as HTMLButtonElement).disabled = false;
+  }
+}
+
+async function runPlan(): Promise<void> {
+  const link = armLink();
+  if (!link || !hook.arm.connected) return say("Connect the arm first (the virtual Nano or a Nano on USB), above.", "bad");
+  const name = ($("exp-plan") as HTMLSelectElement).value;
+  if (!name) return say("Choose a plan first.", "bad");
+  say(`reading ${name}…`);
+  const text = await fetch(new URL(`data/plans/${name}`, document.baseURI)).then((r) => (r.ok ? r.text() : ""));
+  const doc = (await s.engine.call({ type: "experiment_plan", text, name })) as unknown as PlanDoc;
+  if (doc.error || !text) return say(`The plan cannot run: ${doc.error ?? "it is missing from this site"}`, "bad");
+  const byLine = new Map(doc.records.map((r) => [r.line, r]));
+  const stops = hook.stops;
+  const points: ExperimentPoint[] = [];
+  const mismatches: string[] = [];
+  hook.experiment.points = points;
+  hook.experiment.mismatches = mismatches;
+  try {
+    // From the power-up pose (every motor at step 0), as the prediction assumes.
+    say("to the start pose (every motor at step 0)…");
+    const start = await link.runLine("M " + doc.zero.map((z) => z.toFixed(3)).join(" "));
+    if (start.reply !== "ok") throw new Error(`the arm refused the start pose: ${start.reply}`);
+    const n = doc.plan.commands.length;
+    for (let i = 0; i < n; i++) {
+      if (hook.stops !== stops) return say(`Stopped after ${i} of ${n} lines: the measurements so far are kept below.`, "bad");
+      const c = doc.plan.commands[i];
+      const pred = byLine.get(c.line);
+      say(`line ${c.line} (${i + 1} of ${n}): ${c.text}`);
+      const r = await link.runLine(c.text);
+      const expected = pred ? (pred.code === 0 ? "ok" : `error:${pred.code}`) : "?";
+      if (r.reply !== expected) mismatches.push(`line ${c.line}, ${c.text}: the arm said ${r.reply}, the model ${expected}`);
+      else if (r.reply === "ok" && pred?.steps && r.steps.join() !== pred.steps.join())
+        mismatches.push(`line ${c.line}, ${c.text}: the arm is at steps ${r.steps.join(" ")}, the model at ${pred.steps.join(" ")}`);
+      if (c.single_joint && r.reply === "ok" && pred) {
+        const [joint, angle] = c.single_joint;
+        const measured = await ask(joint, angle, c.line, c.text, pred.tool_quantized_mm);
+        if (hook.stops !== stops) return say(`Stopped after ${i + 1} of ${n} lines: the measurements so far are kept below.`, "bad");
+        points.push({ joint, angle, line: c.line, command: c.text, ideal: pred.tool_ideal_mm, quant: pred.tool_quantized_mm, measured });
+      }
+    }
+    say(`The plan ran: ${n} lines, ${points.filter((p) => p.measured).length} of ${points.length} poses measured` +
+      (mismatches.length ? `; ${mismatches.length} differ from the model (below).` : "; every reply and every step as the model predicts."),
+      mismatches.length ? "bad" : "ok");
+  } catch (e) {
+    say(`The experiment stopped: ${(e as Error).message}`, "bad");
+  } finally {
+    if (points.length) {
+      shown = { plan: name, title: doc.plan.title, robot: hook.robot?.name ?? "", when: new Date().toISOString(), points };
+      save(shown);
+      await report(shown, mismatches);
+    }
+  }
+}
+
+// The measurement of one pose: the student's x, y, z, or null (skipped).
+function ask(joint: number, angle: number, line: number, command: string, model: Xyz): Promise<number[] | null> {
+  hook.experiment.waiting = { joint, angle, line, command, model };
+  hook.experiment.question = "";
+  asked = null;
+  $("exp-measure").hidden = false;
+  $("exp-question").textContent = "";
+  $("exp-anyway").hidden = true;
+  fill($("exp-prompt"), h("b", null, `Measure the tool: joint ${joint} at the thesis's ${angle} deg`), ` (line ${line}, ${command}). ` +
+    `The model puts it at x ${model[0].toFixed(1)}, y ${model[1].toFixed(1)}, z ${model[2].toFixed(1)} mm, from the base: ` +
+    "x forward, y to the left, z up.");
+  for (const id of ["exp-x", "exp-y", "exp-z"]) ($(id) as HTMLInputElement).value = "";
+  ($("exp-x") as HTMLInputElement).focus({ preventScroll: true });
+  const stops = hook.stops;
+  stopWatch = window.setInterval(() => hook.stops !== stops && give(null), 200); // STOP ends the wait too
+  return new Promise((resolve) => (answer = resolve));
+}
+
+let stopWatch = 0;
+
+function give(xyz: number[] | null): void {
+  clearInterval(stopWatch);
+  const a = answer;
+  answer = null;
+  hook.experiment.waiting = null;
+  $("exp-measure").hidden = true;
+  a?.(xyz);
+}
+
+// Record: the values typed, questioned by the engine (not a number, typed in cm, beyond the
+// reach, far from the model) before they are used.
+async function record(): Promise<void> {
+  const w = hook.experiment.waiting;
+  if (!w) return;
+  const xyz = ["exp-x", "exp-y", "exp-z"].map((id) => {
+    const t = ($(id) as HTMLInputElement).value.trim().replace(",", ".");
+    return t === "" ? NaN : Number(t);
+  });
+  const r = (await s.engine.call({ type: "experiment_question", measured: xyz, predicted: w.model })) as unknown as { question: string };
+  hook.experiment.question = r.question;
+  if (!r.question) return give(xyz);
+  $("exp-question").textContent = r.question;
+  asked = xyz.every(Number.isFinite) ? xyz : null;
+  $("exp-anyway").hidden = !asked; // a value that is not a number is never used
+}
+
+// ---- the report
+
+async function report(e: Experiment, mismatches: string[] = []): Promise<void> {
+  const t = (await s.engine.call({ type: "experiment_tables",
+    points: e.points.map((p) => ({ joint: p.joint, angle: p.angle, ideal: p.ideal, quant: p.quant, measured: p.measured })) })) as unknown as Tables;
+  hook.experiment.tables = t;
+  hook.experiment.csv = csv(e, t);
+  charts.forEach((c) => c.destroy());
+  charts = [];
+  const joints = [...new Set(e.points.map((p) => p.joint))].sort((a, b) => a - b);
+  const measured = e.points.filter((p) => p.measured).length;
+  const box = $("exp-report");
+  fill(box,
+    h("h3", null, `${e.title}: ${e.robot}`),
+    h("p", { class: "note" }, `${new Date(e.when).toLocaleString()}; ${e.points.length} poses, ${measured} measured with a ruler. ` +
+      "Errors per axis (x forward, y left, z up) in mm, and in per cent of the coordinate as the thesis gives them " +
+      "(none where the coordinate is within 1 mm of 0)."),
+    ...mismatches.map((m) => h("p", { class: "status bad" }, m)),
+    h("h4", null, "Verdict per joint"),
+    verdicts(joints, t),
+    measured ? table4("Table 4: measured against the model (whole steps)", t.measured_vs_quant) : null,
+    measured ? table4("Measured against the exact angles", t.measured_vs_ideal) : null,
+    table4("What whole steps alone leave: the model's quantization error", t.quant_vs_ideal),
+    h("h4", null, "Error against the joint's angle (thesis Figs. 30-32)"),
+    h("div", { id: "exp-plots" }),
+    poses(e, t),
+  );
+  for (const j of joints) plot(e, t, j);
+  $("exp-export").hidden = false;
+}
+
+function verdicts(joints: number[], t: Tables): HTMLElement {
+  return h("ul", { class: "verdicts" }, ...joints.map((j) => {
+    const m = t.measured_vs_quant.find((r) => r.joint === j);
+    const q = t.quant_vs_ideal.find((r) => r.joint === j);
+    const quant = q ? Math.max(...q.axes.map((a) => a.max_mm)) : 0;
+    if (!m) return h("li", null, `joint ${j}: not measured; whole steps alone leave up to ${quant.toFixed(2)} mm.`);
+    const worst = Math.max(...m.axes.map((a) => a.max_mm));
+    const ok = worst <= VERDICT_MM;
+    return h("li", { class: ok ? "ok" : "bad" }, h("b", null, `joint ${j}: `), ok
+      ? `as simulated: the arm is within ${worst.toFixed(2)} mm of the model on every axis (whole steps alone: ${quant.toFixed(2)} mm).`
+      : `differs from the model by up to ${worst.toFixed(2)} mm (whole steps alone: ${quant.toFixed(2)} mm): check this joint's ` +
+        "zero, gear and link lengths in the robot file, and the arm's play.");
+  }));
+}
+
+function table4(title: string, rows: Table4Row[]): HTMLElement {
+  const head = ["axis", ...rows.flatMap((r) => [`joint ${r.joint} max %`, `joint ${r.joint} max mm`, `joint ${r.joint} avg mm`])];
+  return h("div", { class: "table4" }, h("h4", null, title), h("table", null,
+    h("thead", null, h("tr", null, ...head.map((c) => h("th", null, c)))),
+    h("tbody", null, ...AXES.map((axis, k) => h("tr", null, h("th", null, axis.toUpperCase()),
+      ...rows.flatMap((r) => [num(r.axes[k].max_pct, 2), num(r.axes[k].max_mm, 3), num(r.axes[k].avg_mm, 3)]))))));
+}
+
+const num = (v: number | null, d: number) => h("td", null, v === null ? "—" : v.toFixed(d));
+
+function poses(e: Experiment, t: Tables): HTMLElement {
+  const head = ["joint", "thesis deg", "line", "command", "model mm (whole steps)", "measured mm", "|dx| mm", "|dy| mm", "|dz| mm", "quantization mm"];
+  return h("details", null, h("summary", null, "Every pose"), h("table", { class: "poses" },
+    h("thead", null, h("tr", null, ...head.map((c) => h("th", null, c)))),
+    h("tbody", null, ...e.points.map((p, i) => {
+      const r = t.rows[i];
+      const m = r.measured_vs_quant;
+      return h("tr", null, h("td", null, p.joint), h("td", null, p.angle), h("td", null, p.line), h("td", null, p.command),
+        h("td", null, p.quant.map((x) => x.toFixed(1)).join(", ")), h("td", null, p.measured ? p.measured.map((x) => x.toFixed(1)).join(", ") : "—"),
+        ...[0, 1, 2].map((k) => num(m ? m.mm[k] : null, 2)), num(Math.hypot(...r.quant_vs_ideal.mm), 3));
+    }))));
+}
+
+function plot(e: Experiment, t: Tables, joint: number): void {
+  const idx = e.points.map((p, i) => i).filter((i) => e.points[i].joint === joint).sort((a, b) => e.points[a].angle - e.points[b].angle);
+  const x = idx.map((i) => e.points[i].angle);
+  const series = [0, 1, 2].map((k) => idx.map((i) => t.rows[i].measured_vs_quant?.mm[k] ?? null));
+  const quant = idx.map((i) => Math.hypot(...t.rows[i].quant_vs_ideal.mm));
+  const div = h("div", { class: "plot" });
+  $("exp-plots").append(div);
+  const width = Math.max(260, Math.min(520, ($("exp-report").clientWidth || 320) - 8));
+  charts.push(new uPlot({
+    title: `joint ${joint}: error against its angle`, width, height: 200,
+    scales: { x: { time: false } },
+    axes: [{ label: "thesis angle (deg)", size: 34 }, { label: "mm", size: 46 }],
+    series: [{ label: "deg" }, ...AXES.map((a, k) => ({ label: `|d${a}| measured`, stroke: COLORS[k], width: 2, points: { show: true, size: 6 } })),
+      { label: "quantization", stroke: COLORS[3], width: 2, dash: [4, 4], points: { show: true, size: 5 } }],
+    legend: { show: true, live: false },
+    cursor: { drag: { x: false, y: false } },
+  }, [x, ...series, quant] as uPlot.AlignedData, div));
+}
+
+// The CSV: the poses, then each Table 4 (every number as the engine gave it).
+function csv(e: Experiment, t: Tables): string {
+  const q = (v: unknown) => (typeof v === "string" && /[",\n]/.test(v) ? `"${v.replace(/"/g, '""')}"` : v === null ? "" : String(v));
+  const lines = [`# ${e.title}; robot ${e.robot}; ${e.when}`,
+    "pose,joint,thesis_deg,line,command,ideal_x,ideal_y,ideal_z,model_x,model_y,model_z,measured_x,measured_y,measured_z," +
+    "err_x_mm,err_y_mm,err_z_mm,err_x_pct,err_y_pct,err_z_pct,quant_err_mm"];
+  e.points.forEach((p, i) => {
+    const m = t.rows[i].measured_vs_quant;
+    lines.push([i + 1, p.joint, p.angle, p.line, p.command, ...p.ideal, ...p.quant, ...(p.measured ?? [null, null, null]),
+      ...(m ? m.mm : [null, null, null]), ...(m ? m.pct : [null, null, null]), Math.hypot(...t.rows[i].quant_vs_ideal.mm)].map(q).join(","));
+  });
+  lines.push("", "table,joint,axis,poses,max_pct,max_mm,avg_mm");
+  for (const [name, rows] of [["measured_vs_model", t.measured_vs_quant], ["measured_vs_ideal", t.measured_vs_ideal],
+    ["model_vs_ideal", t.quant_vs_ideal]] as [string, Table4Row[]][])
+    for (const r of rows) r.axes.forEach((a, k) => lines.push([name, r.joint, AXES[k], r.poses, a.max_pct, a.max_mm, a.avg_mm].map(q).join(",")));
+  return lines.join("\n") + "\n";
+}
+
+// The HTML: the report's tables and verdicts, its plots as pictures, in one file. Written as
+// text with every string escaped (nothing here is parsed by this page).
+const esc = (v: unknown) => String(v).replace(/[&<>"']/g, (c) => `&#${c.charCodeAt(0)};`);
+
+function htmlTable(head: string[], rows: (string | number)[][]): string {
+  return `<table><tr>${head.map((c) => `<th>${esc(c)}</th>`).join("")}</tr>` +
+    rows.map((r) => `<tr>${r.map((c) => `<td>${esc(c)}</td>`).join("")}</tr>`).join("") + "</table>";
+}
+
+function htmlTable4(title: string, rows: Table4Row[]): string {
+  const head = ["axis", ...rows.flatMap((r) => [`joint ${r.joint} max %`, `joint ${r.joint} max mm`, `joint ${r.joint} avg mm`])];
+  const f = (v: number | null, d: number) => (v === null ? "—" : v.toFixed(d));
+  return `<h2>${esc(title)}</h2>` + htmlTable(head, AXES.map((axis, k) =>
+    [axis.toUpperCase(), ...rows.flatMap((r) => [f(r.axes[k].max_pct, 2), f(r.axes[k].max_mm, 3), f(r.axes[k].avg_mm, 3)])]));
+}
+
+async function exportHtml(): Promise<void> {
+  const e = shown, t = hook.experiment.tables as Tables | null;
+  if (!e || !t) return;
+  const measured = e.points.some((p) => p.measured);
+  const verdictItems = [...$("exp-report").querySelectorAll(".verdicts li")].map((li) =>
+    `<li class="${li.classList.contains("bad") ? "bad" : "ok"}">${esc(li.textContent)}</li>`);
+  const body = [
+    `<h1>${esc(e.title)}: ${esc(e.robot)}</h1>`,
+    `<p>${esc(new Date(e.when).toLocaleString())}; ${e.points.length} poses, ${e.points.filter((p) => p.measured).length} measured. ` +
+      "Errors per axis (x forward, y left, z up) in mm, and in per cent of the coordinate (none within 1 mm of 0). " +
+      "Made by Articula Studio from the host library's numbers (the harness's report has the same).</p>",
+    "<h2>Verdict per joint</h2>", `<ul>${verdictItems.join("")}</ul>`,
+    measured ? htmlTable4("Table 4: measured against the model (whole steps)", t.measured_vs_quant) : "",
+    measured ? htmlTable4("Measured against the exact angles", t.measured_vs_ideal) : "",
+    htmlTable4("What whole steps alone leave: the model's quantization error", t.quant_vs_ideal),
+    "<h2>Error against the joint's angle (thesis Figs. 30-32)</h2>",
+    ...charts.map((c) => `<img src="${c.ctx.canvas.toDataURL("image/png")}" alt="${esc(c.root.querySelector(".u-title")?.textContent ?? "plot")}">`),
+    "<h2>Every pose</h2>",
+    htmlTable(["joint", "thesis deg", "line", "command", "model mm", "measured mm", "|dx| mm", "|dy| mm", "|dz| mm"],
+      e.points.map((p, i) => {
+        const m = t.rows[i].measured_vs_quant;
+        return [p.joint, p.angle, p.line, p.command, p.quant.map((x) => x.toFixed(2)).join(", "),
+          p.measured ? p.measured.map((x) => x.toFixed(2)).join(", ") : "—", ...[0, 1, 2].map((k) => (m ? m.mm[k].toFixed(3) : "—"))];
+      })),
+  ];
+  const style = "body{font:14px system-ui,sans-serif;margin:24px;color:#1d2733;max-width:1000px}table{border-collapse:collapse;margin:8px 0}" +
+    "td,th{border:1px solid #c9d3dd;padding:3px 7px;text-align:right}li.bad{color:#8d1c1c}li.ok{color:#155e55}img{max-width:100%;display:block;margin:8px 0}";
+  download(fileStem() + ".html", `<!doctype html>\n<html lang="en"><head><meta charset="utf-8"><title>${esc(`Articula experiment: ${e.title}`)}</title>` +
+    `<style>${style}</style></head><body>${body.join("\n")}</body></html>\n`, "text/html");
+}
