@@ -493,3 +493,33 @@ def test_missing_elf_is_an_error(tools, tmp_path):
     r = subprocess.run([str(VNANO), "--stdio", "--elf", str(tmp_path / "none.elf")], input=b"", capture_output=True,
                        timeout=30)
     assert r.returncode == 2 and b"no firmware ELF" in r.stderr
+
+
+def test_articula_configure_on_the_port(tools, tmp_path):
+    """`articula configure ROBOT --port DEV` on the virtual Nano's pseudo-terminal, as on a real
+    Nano's port: every line answered ok, the banner's checksum checked, the arm then that robot
+    (and a robot no Nano can drive refused before anything is sent)."""
+    arm = SOURCE / "hil" / "robots" / "mk2-regeared.json"
+    link = tmp_path / "nano"
+    proc = subprocess.Popen([str(VNANO), "--elf", str(ELF), "--pty-link", str(link)], stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True)
+    try:
+        assert proc.stdout.readline().startswith("pty: /dev/pts/")
+        refused = subprocess.run([str(CLI), "configure", "puma560", "--port", str(link), "--wait", "0"],
+                                 capture_output=True, text=True, timeout=30)
+        assert refused.returncode == 2 and "has no motors" in refused.stderr, refused.stderr
+        p = subprocess.run([str(CLI), "configure", str(arm), "--port", str(link), "--wait", "0"],
+                           capture_output=True, text=True, timeout=60)
+        assert p.returncode == 0, p.stderr
+        lines = subprocess.run([str(CLI), "configure", str(arm), "--dry-run"], capture_output=True, text=True,
+                               check=True).stdout.splitlines()
+        checksum = int(float(lines[-1].split("=")[1]))
+        assert p.stdout == f"configured: MK2 regeared, 3 motors, checksum {checksum}\n", p.stdout
+        assert "configuring the Nano on" in p.stderr and f"({len(lines)} lines)" in p.stderr
+        with serial.Serial(str(link), 115200, timeout=LINE_TIMEOUT) as port:
+            port.write(b"I\n")
+            assert port.readline().decode().strip().endswith(f"|R:MK2 regeared|K:{checksum}]")
+            assert port.readline() == b"ok\n"
+    finally:
+        proc.send_signal(signal.SIGTERM)
+        proc.wait(timeout=10)

@@ -10,6 +10,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 namespace {
 
@@ -44,7 +45,7 @@ TEST(Cli, NoArgumentsPrintsUsageAndFails) {
 TEST(Cli, HelpListsEveryCommand) {
   const Result r = run("--help");
   EXPECT_EQ(r.code, 0);
-  for (const char* c : {"info", "fk", "quantize", "import-legacy"}) EXPECT_NE(r.out.find(c), std::string::npos) << c;
+  for (const char* c : {"info", "fk", "quantize", "import-legacy", "configure"}) EXPECT_NE(r.out.find(c), std::string::npos) << c;
 }
 
 TEST(Cli, UnknownCommandIsNamed) {
@@ -457,4 +458,34 @@ TEST(Cli, ExportUrdfWritesAFileCheckUrdfAccepts) {
   EXPECT_NE(r.out.find("note: row 4: a linked parameter of 2 joints"), std::string::npos) << r.out;
   EXPECT_EQ(std::system(("check_urdf " + out + " > /dev/null").c_str()), 0);
   EXPECT_EQ(run("export-urdf").code, 2);
+}
+
+TEST(Cli, ConfigurePrintsTheLinesForANano) {
+  const Result r = run_stdout("configure mk2plus --dry-run");
+  EXPECT_EQ(r.code, 0);
+  std::istringstream in(r.out);
+  std::vector<std::string> lines;
+  for (std::string l; std::getline(in, l);) lines.push_back(l);
+  ASSERT_EQ(lines.size(), 48u) << r.out;  // 45 settings, the name, the commit
+  EXPECT_EQ(lines[0], "$100=200.000");
+  EXPECT_EQ(lines[lines.size() - 2], "N MK2 Plus");
+  EXPECT_EQ(lines.back(), "$199=15925.000");
+  // --header: the firmware's built-in configuration, as the repository holds it
+  std::ifstream f(std::string(ARTICULA_SOURCE_DIR) + "/firmware/src/builtin_config.h");
+  std::stringstream held;
+  held << f.rdbuf();
+  EXPECT_EQ(run_stdout("configure mk2plus --header").out, held.str());
+}
+
+TEST(Cli, ConfigureRefusesWithTheReason) {
+  Result r = run("configure thesis-example --dry-run");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.out.find("cannot configure a Nano for Thesis example"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("has no motors"), std::string::npos) << r.out;
+  r = run("configure mk2plus");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.out.find("give exactly one of --port DEV, --dry-run and --header"), std::string::npos) << r.out;
+  r = run("configure mk2plus --port /nonexistent/tty --wait 0");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.out.find("cannot open /nonexistent/tty"), std::string::npos) << r.out;
 }

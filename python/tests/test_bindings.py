@@ -39,6 +39,7 @@ SAME = [
     ("Robot.joints_from_motors", "Robot.jointsFromMotors"),
     ("Robot.motors_from_joints", "Robot.motorsFromJoints"),
     ("Robot.to_urdf", "Robot.urdf"),
+    ("Robot.nano_config", "Robot.nanoConfig"),
     # programs
     ("Robot.predict", "predict"),
     ("Robot.run", "run"),
@@ -76,6 +77,7 @@ SAME = [
     ("axis_errors", "axisErrors"),
     ("table4", "table4"),
     ("measurement_question", "measurementQuestion"),
+    ("parse_plan", "parsePlan"),
 ]
 
 # What one side has alone, and why.
@@ -131,7 +133,7 @@ for (const cls of ["Robot", "Sim", "Timeline"])
   for (const k of Object.getOwnPropertyNames(M[cls].prototype))
     if (!["constructor", "delete", "isDeleted", "clone", "isAliasOf", "deleteLater"].includes(k)) ops.push(`${{cls}}.${{k}}`);
 for (const k of ["predict", "run", "quantize", "programFormat", "parseProgram", "statusText", "statusTable", "parseArmLine", "firstIntervalS",
-                 "axisErrors", "table4", "measurementQuestion"])
+                 "axisErrors", "table4", "measurementQuestion", "parsePlan"])
   if (typeof M[k] === "function") ops.push(k);
 console.log(JSON.stringify(ops));
 """
@@ -174,7 +176,10 @@ const out = {{ jac: r.jacobian([10, 70, -60]), tl: e.timeline(r, "L 0 30\\nL 1 -
   arm: e.parseArmLine("<Run|S:95,0,0|A:30.083,90.000,0.000|G:100|Q:7|C:1>"), first: e.firstIntervalS(800, 3000),
   t4: e.table4(POINTS.map(([joint, value, reference]) => ({{ joint, value, reference }}))),
   ax: e.axisErrors([10.5, 0.4, -201], [10, 0.5, -200]), q: e.measurementQuestion([23.5, 0, 21.3], [235, 0, 213], 370),
-  qnan: e.measurementQuestion([NaN, 0, 213], [235, 0, 213], 370) }};
+  qnan: e.measurementQuestion([NaN, 0, 213], [235, 0, 213], 370), cfg: r.nanoConfig(),
+  plan: e.parsePlan("#@ title T\\n#@ single-joint 1 15\\nL 1 0\\n#@ repeat 2 out\\nP 1 2 3\\n", "p.arm") }};
+try {{ e.parsePlan("#@ expct ok\\nL 0 1\\n", "bad.arm"); }} catch (x) {{ out.badPlan = x.message; }}
+try {{ e.robot("puma560").nanoConfig(); }} catch (x) {{ out.noNano = x.message; }}
 try {{ e.table4([{{ joint: 0, value: [1, 2] }}]); }} catch (x) {{ out.badPoint = x.message; }}
 try {{ r.pose([0, NaN, 0]); }} catch (x) {{ out.nan = x.message; }}
 try {{ r.ik({{ target: [1, 2] }}); }} catch (x) {{ out.target = x.message; }}
@@ -197,6 +202,19 @@ console.log(JSON.stringify(out));
     assert articula.measurement_question((23.5, 0, 21.3), (235, 0, 213), 370) == web["q"]
     assert articula.measurement_question((float("nan"), 0, 213), (235, 0, 213), 370) == web["qnan"]
     assert web["qnan"].startswith("x is not a number")
+    # the Nano's configuration and the plan reader: the same, and the same refusals
+    assert mk2.nano_config() == web["cfg"] and web["cfg"]["checksum"] == 15925
+    plan = articula.parse_plan("#@ title T\n#@ single-joint 1 15\nL 1 0\n#@ repeat 2 out\nP 1 2 3\n", "p.arm")
+    assert plan == web["plan"] and [c["kind"] for c in plan["commands"]] == ["single-joint", "repeat-out"]
+    # (the robot's file is where each side keeps it: /robots/ in the engine's files)
+    for call, message in ((lambda: articula.parse_plan("#@ expct ok\nL 0 1\n", "bad.arm"), web["badPlan"]),
+                          (lambda: articula.Robot.load("puma560").nano_config(), web["noNano"])):
+        try:
+            call()
+        except ValueError as e:
+            assert str(e).replace(str(REPO), "") == message
+        else:
+            raise AssertionError(f"Python accepted what the web engine refused: {message}")
     assert web["badPoint"] == "point 0's value must be three numbers [x, y, z]"
     for call, message in ((lambda: mk2.fk([0, float("nan"), 0]), web["nan"]), (lambda: mk2.ik([1, 2]), web["target"])):
         try:
