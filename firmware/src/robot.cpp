@@ -53,17 +53,16 @@ void setup_scale(StepScale& k, const MotorSpec& m) {
 // What a blank EEPROM gets: the MK2 (builtin_config.h, made by the host's nano_config).
 const uint8_t kBuiltIn[kConfigImageSize] ARTICULA_IN_FLASH = ARTICULA_BUILTIN_CONFIG;
 
-// The staged image's bytes, read from EEPROM one at a time (config_read takes them so).
-struct Staged {
-  uint8_t operator[](uint16_t i) const {
-    uint8_t b;
-    hal::eeprom_read(uint16_t(kImageAt + i), &b, 1);
-    return b;
-  }
+// An image's bytes one at a time (config_read takes them so, and one reader type keeps one
+// copy of it in flash): the staged one in EEPROM, or the built-in one in flash.
+struct Image {
+  bool built_in;
+  uint8_t operator[](uint16_t i) const;
 };
+const Image kStaged = {false};
 
 uint16_t staged_checksum() {
-  const Staged image = {};
+  const Image& image = kStaged;
   uint8_t bytes[16];
   uint16_t crc = 0xFFFF;
   for (uint16_t at = 0; at < kConfigImageSize; at = uint16_t(at + sizeof bytes)) {
@@ -89,20 +88,40 @@ bool sealed(uint16_t c) {
   return head[0] == kVersion && crc[0] == uint8_t(c) && crc[1] == uint8_t(c >> 8);
 }
 
-// The built-in image into EEPROM (as the settings' defaults are written back), so that
-// values staged later change the configuration in use and nothing else. A piece at a time:
+uint8_t Image::operator[](uint16_t i) const {
+  uint8_t b;
+  if (built_in)
+    hal::flash_read(&b, kBuiltIn + i, 1);
+  else
+    hal::eeprom_read(uint16_t(kImageAt + i), &b, 1);
+  return b;
+}
+
+// The CRC of the built-in image, and (write) the image into EEPROM, sealed: a piece at a time,
 // the whole image would take 178 bytes of the stack.
-uint16_t restore_built_in() {
+uint16_t built_in_image(bool write) {
   uint8_t bytes[16];
   uint16_t crc = 0xFFFF;
   for (uint16_t at = 0; at < kConfigImageSize; at = uint16_t(at + sizeof bytes)) {
     const uint16_t n = min_of(uint16_t(sizeof bytes), uint16_t(kConfigImageSize - at));
     hal::flash_read(bytes, kBuiltIn + at, n);
-    hal::eeprom_write(uint16_t(kImageAt + at), bytes, n);
+    if (write) hal::eeprom_write(uint16_t(kImageAt + at), bytes, n);
     crc = crc16(bytes, n, crc);
   }
-  seal(crc);
+  if (write) seal(crc);
   return crc;
+}
+
+// Whether the EEPROM holds the configuration in use. Not after a blank (or corrupt) one: the
+// built-in image goes there before the first value is staged (as the settings' defaults are
+// written back), so that staged values change the configuration in use and nothing else. Not
+// at power-up: 178 bytes take the EEPROM 0.6 s to write.
+bool g_in_eeprom;
+
+void ensure_in_eeprom() {
+  if (g_in_eeprom) return;
+  built_in_image(true);
+  g_in_eeprom = true;
 }
 
 // Puts a configuration read by config_read in use.
@@ -139,9 +158,11 @@ Millideg step_angle(uint8_t i, int32_t steps) {
 void setup() {
   // Read in place: nothing runs yet, and a copy would take ~250 bytes of the stack.
   uint16_t c = staged_checksum();
-  if (!sealed(c) || config_read(config, Staged()) != kConfigOk) {
-    c = restore_built_in();
-    config_read(config, Staged());
+  g_in_eeprom = sealed(c) && config_read(config, kStaged) == kConfigOk;
+  if (!g_in_eeprom) {
+    c = built_in_image(false);
+    const Image built_in = {true};
+    config_read(config, built_in);
   }
   use(config, c);
 }
@@ -149,6 +170,7 @@ void setup() {
 Status stage(uint16_t n, int32_t thousandths) {
   const Status s = config_check(n, thousandths);
   if (s != kOk) return s;
+  ensure_in_eeprom();
   ConfigField f;
   config_field(n, f);
   uint8_t b[4];
@@ -160,6 +182,7 @@ Status stage(uint16_t n, int32_t thousandths) {
 Status stage_name(const char* s, uint8_t len) {
   const Status st = config_check_name(s, len);
   if (st != kOk) return st;
+  ensure_in_eeprom();
   uint8_t b[kMaxRobotName];
   config_name_bytes(b, s, len);
   hal::eeprom_write(kImageAt + kConfigNameOffset, b, kMaxRobotName);
@@ -167,10 +190,11 @@ Status stage_name(const char* s, uint8_t len) {
 }
 
 Status commit(int32_t crc) {
+  ensure_in_eeprom();
   const uint16_t c = staged_checksum();
   if (crc != int32_t(c)) return kConfigChecksum;
   ConfiguredArm<kJoints> next;
-  if (config_read(next, Staged()) != kConfigOk) return kConfigInvalid;
+  if (config_read(next, kStaged) != kConfigOk) return kConfigInvalid;
   seal(c);
   use(next, c);
   return kOk;

@@ -54,8 +54,8 @@ from .robot import Robot
 
 RUN_SETTINGS = {0: 4000, 1: 100000, 5: 0}
 SETTING_DEFAULTS = {0: 600, 1: 2000, 2: 2000, 3: 0, 4: 200, 5: 300}
-COMMAND_LETTERS = set("LSMPGHZID")
-UNKNOWN_LETTERS = [c for c in "ABCEFJKNOQRTUVWXY"]
+COMMAND_LETTERS = set("LSMPGHZIDN")
+UNKNOWN_LETTERS = [c for c in "ABCEFJKOQRTUVWXY"]
 REALTIME = (ord("?"), ord("!"))
 MAX_LINE = 64
 VALID_MARGIN = 1500  # thousandths of a degree: valid targets stay this far inside the limits

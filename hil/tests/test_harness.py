@@ -283,7 +283,7 @@ def test_a_serial_port_takes_the_same_path(bins, tmp_path):
             # and up to one poll, and a virtual Nano in real time on a busy machine lags and
             # catches up (its pins, not the host clock, are what times it exactly).
             pred, meas = float(r["pred_duration_s"]), float(r["measured_duration_s"])
-            assert 0.5 * pred - 0.05 < meas < 2 * pred + 0.5, r
+            assert 0.5 * pred - 0.05 < meas < 2 * pred + 2.0, r
         assert "| target | serial port" in (out / "report.md").read_text()
         # Left as found: default settings, every motor on step 0.
         with serial.Serial(str(link), 115200, timeout=2) as s:
