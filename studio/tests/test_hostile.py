@@ -152,15 +152,16 @@ def test_hostile_strings_show_as_text_and_never_run(browser, hostile_site, tmp_p
         nothing_ran(page)
         page.select_option("#scene-select", "")
 
-        # the arm: the virtual Nano refuses this robot, naming both as text
+        # the arm: the virtual Nano is an MK2, not this robot: it says so, naming both as text
         page.select_option("#arm-port", "page:virtual")
         page.click("#arm-connect")
         pg.wait("a.arm.error !== ''", timeout=30000)
-        assert f"the studio shows {h('Robot')}" in page.text_content("#arm-state")
-        # the MK2 on the Nano: a line of markup sent, refused, shown as text on both sides
+        assert f"the studio shows the {h('Robot')}" in page.text_content("#arm-state")
+        assert pg.hook("a.arm.connected") is False and pg.hook("a.arm.configurable") is True
+        # the MK2 shown: the Nano is that robot, driven at once; a line of markup sent, refused,
+        # shown as text on both sides
         page.select_option("#robot-select", "mk2plus")
         pg.wait("a.robot.name === 'MK2 Plus'")
-        page.click("#arm-connect")
         pg.wait("a.arm.connected && a.arm.status !== null", timeout=30000)
         line = "L 0 <img src=x onerror=window.__pwned=1>"
         page.fill("#arm-line", line)

@@ -111,7 +111,7 @@ export class ArmLink {
       return { configurable: false, text: `a Nano cannot drive the robot shown: ${expected.error}` };
     if (info.checksum === expected.checksum) return null;
     return { configurable: true,
-      text: `The Nano is configured for the ${info.robot}; the studio shows the ${expected.name}. ` +
+      text: `The Nano is configured for the ${info.robot}; the studio shows the ${robot}. ` +
         "It is not driven until you configure it for this robot (or load its robot)." };
   }
 
@@ -124,6 +124,28 @@ export class ArmLink {
     this.emit({ type: "arm", connected: true, port: portLabel, label: this.label,
       info: { version: info.version, protocol: String(info.protocol), robot: info.robot, checksum: info.checksum } });
     this.poll();
+  }
+
+  /** The robot shown changed while the port waits to be configured: the banner asked again,
+   * and the arm driven if it is this robot's (or the panel told why not). */
+  recheck(robot: string): Promise<void> {
+    return this.serial(async () => {
+      if (!this.configurable || !this.port) return;
+      let info: Parsed & { line: string };
+      try {
+        info = await this.banner();
+      } catch (e) {
+        this.emit({ type: "arm", connected: false, port: this.portLabel, configurable: true, error: (e as Error).message });
+        return;
+      }
+      const why = await this.mismatch(info, robot);
+      if (!why) return this.start(info as Parsed & { kind: "info" }, this.portLabel);
+      if (!why.configurable) {
+        this.configurable = false;
+        await this.close();
+      }
+      this.emit({ type: "arm", connected: false, port: this.portLabel, error: why.text, configurable: why.configurable });
+    });
   }
 
   /** Writes the robot shown into the Nano's configuration (stopping the arm first), then

@@ -17,7 +17,7 @@ import { EngineClient } from "./page/engine";
 import { $, banner } from "./page/dom";
 import { exposeHook, hook, noteError } from "./page/hook";
 import type { Studio } from "./page/context";
-import { armFrameDrawn, initArm, runOnArm, stopEverything } from "./panels/arm";
+import { armFrameDrawn, armRobotShown, initArm, runOnArm, stopEverything } from "./panels/arm";
 import { initExperiment } from "./panels/experiment";
 import { initFlash } from "./panels/flash";
 import { followTool, initIk, showIk } from "./panels/ik";
@@ -87,6 +87,7 @@ function handle(m: EngineMsg): void {
     case "robot":
       showRobot(m);
       blocksRobot(m);
+      armRobotShown();
       projectRobotShown();
       return projectChanged();
     case "robot_error": return robotError(m.message);

@@ -86,6 +86,11 @@ async function connect(): Promise<void> {
   if (!link.connected && !link.configurable) link = null;
 }
 
+/** Another robot is shown: a Nano waiting to be configured may be that one's. */
+export function armRobotShown(): void {
+  if (link?.configurable) void link.recheck(hook.robot?.name ?? "");
+}
+
 /** The arm while connected (or waiting to be configured), for the Experiment panel. */
 export function armLink(): ArmLink | null {
   return link;
