@@ -191,21 +191,30 @@ def repeatability(res: PlanResult, robot_zero_tool):
         start_pins = before.pins if before is not None else (zeros if run_has_pins(res) else None)
         dest = c["out"][-1]
         back = c["back"][-1] if c["back"] else None
+        start_m = before.measured_xyz if before is not None else None
+        # the distances are the host library's Table 5 (articula.table5: host/lib/experiment.h),
+        # as the studio's Experiment panel's are
+        t5 = articula.table5([{"chain": n, "moves": len(c["out"]), "back_moves": len(c["back"]), "start": list(start_q),
+                               "dest_quant": list(dest.pred.tool_quantized), "dest_ideal": list(dest.pred.tool_ideal),
+                               "back_quant": list(back.pred.tool_quantized) if back else None,
+                               "start_measured": list(start_m) if start_m is not None else None,
+                               "dest_measured": list(dest.measured_xyz) if dest.measured_xyz is not None else None,
+                               "back_measured": list(back.measured_xyz) if back and back.measured_xyz is not None
+                               else None}])[0]
         row = {"n": n, "moves": len(c["out"]), "back_moves": len(c["back"]), "dest": dest, "back": back,
                "start_q": start_q,
-               "dest_err": dist(dest.pred.tool_quantized, dest.pred.tool_ideal),
-               "ret_err": dist(back.pred.tool_quantized, start_q) if back else None,
+               "dest_err": t5["dest_error_mm"],
+               "ret_err": t5["return_error_mm"],
                "fw_back": (back.fw_steps == start_fw) if back and back.fw_steps is not None else None,
                "pins_back": (back.pins == start_pins) if back and back.pins is not None and start_pins is not None
                else None,
                "start_steps": start_steps}
-        if dest.measured_xyz is not None:
-            row["m_dest_q"] = dist(dest.measured_xyz, dest.pred.tool_quantized)
-            row["m_dest_i"] = dist(dest.measured_xyz, dest.pred.tool_ideal)
-        if back is not None and back.measured_xyz is not None:
-            ref = before.measured_xyz if before is not None and before.measured_xyz is not None else start_q
-            row["m_ret"] = dist(back.measured_xyz, ref)
-            row["m_ret_ref"] = "measured start" if ref is not start_q else "predicted start"
+        if t5["measured_dest_mm"] is not None:
+            row["m_dest_q"] = t5["measured_dest_mm"]
+            row["m_dest_i"] = t5["measured_dest_ideal_mm"]
+        if t5["measured_return_mm"] is not None:
+            row["m_ret"] = t5["measured_return_mm"]
+            row["m_ret_ref"] = "measured start" if t5["return_from_measured_start"] else "predicted start"
         out.append(row)
     return out
 

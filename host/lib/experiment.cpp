@@ -1,6 +1,8 @@
 // host/lib/experiment.cpp - see experiment.h.
 #include "experiment.h"
 
+#include <limits>
+
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -75,6 +77,25 @@ std::string measurement_question(const Vec3<double>& measured, const Vec3<double
            ": is it right?";
   }
   return "";
+}
+
+std::vector<Table5Row> table5(const std::vector<ChainPoses>& chains) {
+  const double none = std::numeric_limits<double>::quiet_NaN();
+  std::vector<Table5Row> out;
+  for (const ChainPoses& c : chains) {
+    Table5Row r;
+    r.chain = c.chain;
+    r.moves = c.moves;
+    r.back_moves = c.back_moves;
+    r.dest_error_mm = distance_mm(c.dest_quant, c.dest_ideal);
+    r.return_error_mm = c.has_back ? distance_mm(c.back_quant, c.start) : none;
+    r.measured_dest_mm = c.dest_measured ? distance_mm(c.dest_m, c.dest_quant) : none;
+    r.measured_dest_ideal_mm = c.dest_measured ? distance_mm(c.dest_m, c.dest_ideal) : none;
+    r.return_from_measured_start = c.start_measured;
+    r.measured_return_mm = c.has_back && c.back_measured ? distance_mm(c.back_m, c.start_measured ? c.start_m : c.start) : none;
+    out.push_back(r);
+  }
+  return out;
 }
 
 }  // namespace articula::host

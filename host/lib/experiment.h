@@ -51,6 +51,32 @@ std::vector<Table4Row> table4(const std::vector<JointPoint>& points);
 // The distance between two positions, mm (Table 5's destination and return errors).
 double distance_mm(const Vec3<double>& a, const Vec3<double>& b);
 
+// One repeatability chain (thesis 5.3): moves out from a start to a destination, and the same
+// moves back. The model's tool positions (whole steps; the destination's exact angles too),
+// and where the student measured the tool, when they did.
+struct ChainPoses {
+  int chain = 0, moves = 0, back_moves = 0;
+  Vec3<double> start{0, 0, 0};  // before the chain's first move
+  Vec3<double> dest_quant{0, 0, 0}, dest_ideal{0, 0, 0};
+  bool has_back = false;
+  Vec3<double> back_quant{0, 0, 0};
+  bool start_measured = false, dest_measured = false, back_measured = false;
+  Vec3<double> start_m{0, 0, 0}, dest_m{0, 0, 0}, back_m{0, 0, 0};
+};
+
+// Table 5, a row per chain: the destination's quantization error (whole steps against the
+// exact angles), the model's return error (back against start), and with measurements the
+// destination measured against the model (and against the exact angles) and the return
+// measured against the start (the
+// measured start when there is one, else the model's). NaN where there is nothing to compare.
+struct Table5Row {
+  int chain = 0, moves = 0, back_moves = 0;
+  double dest_error_mm = 0, return_error_mm = 0;
+  double measured_dest_mm = 0, measured_dest_ideal_mm = 0, measured_return_mm = 0;
+  bool return_from_measured_start = false;
+};
+std::vector<Table5Row> table5(const std::vector<ChainPoses>& chains);
+
 // What a typed measurement raises before it is used, as a question to the student; "" when
 // it looks right. `predicted` is where the prediction puts the tool; `reach_mm` how far the
 // robot reaches from its base (InverseKinematics::reach_bound). Checked in order: not a number;

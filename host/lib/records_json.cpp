@@ -272,4 +272,50 @@ std::vector<JointPoint> joint_points_of_json(const nlohmann::json& points) {
   return out;
 }
 
+nlohmann::json table5_json(const std::vector<Table5Row>& rows) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const Table5Row& r : rows)
+    out.push_back({{"chain", r.chain},
+                   {"moves", r.moves},
+                   {"back_moves", r.back_moves},
+                   {"dest_error_mm", number_or_null(r.dest_error_mm)},
+                   {"return_error_mm", number_or_null(r.return_error_mm)},
+                   {"measured_dest_mm", number_or_null(r.measured_dest_mm)},
+                   {"measured_dest_ideal_mm", number_or_null(r.measured_dest_ideal_mm)},
+                   {"measured_return_mm", number_or_null(r.measured_return_mm)},
+                   {"return_from_measured_start", r.return_from_measured_start}});
+  return out;
+}
+
+std::vector<ChainPoses> chain_poses_of_json(const nlohmann::json& chains) {
+  if (!chains.is_array()) throw std::invalid_argument("the chains must be a list");
+  std::vector<ChainPoses> out;
+  for (size_t i = 0; i < chains.size(); ++i) {
+    const nlohmann::json& c = chains[i];
+    const std::string where = "chain " + std::to_string(i);
+    const auto whole = [&](const char* key) {
+      if (!c.is_object() || !c.contains(key) || !c[key].is_number_integer())
+        throw std::invalid_argument(where + "'s " + key + " must be a whole number");
+      return c[key].get<int>();
+    };
+    const auto optional = [&](const char* key, bool& has, Vec3<double>& v) {
+      has = c.contains(key) && !c[key].is_null();
+      if (has) v = vec3_of_json(c[key], where + "'s " + key);
+    };
+    ChainPoses p;
+    p.chain = whole("chain");
+    p.moves = whole("moves");
+    p.back_moves = whole("back_moves");
+    p.start = vec3_of_json(c.value("start", nlohmann::json()), where + "'s start");
+    p.dest_quant = vec3_of_json(c.value("dest_quant", nlohmann::json()), where + "'s dest_quant");
+    p.dest_ideal = vec3_of_json(c.value("dest_ideal", nlohmann::json()), where + "'s dest_ideal");
+    optional("back_quant", p.has_back, p.back_quant);
+    optional("start_measured", p.start_measured, p.start_m);
+    optional("dest_measured", p.dest_measured, p.dest_m);
+    optional("back_measured", p.back_measured, p.back_m);
+    out.push_back(p);
+  }
+  return out;
+}
+
 }  // namespace articula::host

@@ -52,6 +52,13 @@ nlohmann::json program_json(const Robot& robot, const Program& program, const st
 // points a binding receives as JSON, [{joint, value: [x, y, z], reference: [x, y, z]}] (throws
 // std::invalid_argument naming the entry that is not one).
 nlohmann::json axis_errors_json(const AxisErrors& e);
+// Table 5: [{"chain", "moves", "back_moves", "dest_error_mm", "return_error_mm", "measured_dest_mm",
+// "measured_return_mm" (null: nothing to compare), "return_from_measured_start"}].
+nlohmann::json table5_json(const std::vector<Table5Row>& rows);
+// Chains from JSON: [{"chain", "moves", "back_moves", "start", "dest_quant", "dest_ideal",
+// "back_quant" (or null), "start_measured", "dest_measured", "back_measured" (or null)}]; a
+// position is [x, y, z] mm. Throws std::invalid_argument naming the entry.
+std::vector<ChainPoses> chain_poses_of_json(const nlohmann::json& chains);
 // A test plan: {"name", "title", "notes", "commands": [{"line", "text", "expect", "timeout_s"
 // (null: the default), "single_joint" ([joint, thesis angle] or null), "repeat" ([chain,
 // "out"|"back"] or null), "kind" ("single-joint", "repeat-out", "repeat-back", "target", "")}]}.

@@ -101,3 +101,35 @@ TEST(Experiment, ATypedMeasurementIsQuestioned) {
   const std::string q = measurement_question(v3(235, 80, 213), predicted, 370);
   EXPECT_NE(q.find("80 mm from where the prediction puts the tool"), std::string::npos) << q;
 }
+
+TEST(Experiment, Table5MeasuresTheReturnFromTheMeasuredStartWhenThereIsOne) {
+  ChainPoses c;
+  c.chain = 3;
+  c.moves = c.back_moves = 2;
+  c.start = v3(300, 0, 150);
+  c.dest_quant = v3(253, 64, 150);
+  c.dest_ideal = v3(250, 60, 150);  // 5 mm of whole steps
+  c.has_back = true;
+  c.back_quant = v3(300, 0, 150);  // back exactly
+  std::vector<Table5Row> t = table5({c});
+  ASSERT_EQ(t.size(), 1u);
+  EXPECT_EQ(t[0].chain, 3);
+  EXPECT_DOUBLE_EQ(t[0].dest_error_mm, 5.0);
+  EXPECT_DOUBLE_EQ(t[0].return_error_mm, 0.0);
+  EXPECT_TRUE(std::isnan(t[0].measured_dest_mm) && std::isnan(t[0].measured_return_mm));
+  c.dest_measured = c.back_measured = true;
+  c.dest_m = v3(253, 64, 153);     // 3 mm from the model, sqrt(9 + 16 + 9) from the exact angles
+  c.back_m = v3(300, 4, 153);      // 5 mm from the model's start
+  t = table5({c});
+  EXPECT_DOUBLE_EQ(t[0].measured_dest_mm, 3.0);
+  EXPECT_DOUBLE_EQ(t[0].measured_dest_ideal_mm, std::sqrt(34.0));
+  EXPECT_DOUBLE_EQ(t[0].measured_return_mm, 5.0);
+  EXPECT_FALSE(t[0].return_from_measured_start);
+  c.start_measured = true;
+  c.start_m = v3(300, 4, 150);     // measured where it came back to, but 3 mm higher
+  t = table5({c});
+  EXPECT_DOUBLE_EQ(t[0].measured_return_mm, 3.0);
+  EXPECT_TRUE(t[0].return_from_measured_start);
+  c.has_back = false;
+  EXPECT_TRUE(std::isnan(table5({c})[0].return_error_mm));
+}

@@ -54,6 +54,22 @@ void bind_experiment(nb::module_& m) {
       "The thesis's Table 4 from (joint, value, reference) points: per joint, in ascending order, "
       "{'joint', 'poses', 'axes': [{'max_pct' (None: no coordinate away from 0), 'max_mm', 'avg_mm'}] for x, y, z}.");
   m.def(
+      "table5",
+      [](nb::handle chains) {
+        // (the chains through Python's own json: dicts and lists, positions as numbers)
+        const std::string text = nb::cast<std::string>(nb::module_::import_("json").attr("dumps")(chains));
+        try {
+          return json_to_python(host::table5_json(host::table5(host::chain_poses_of_json(nlohmann::json::parse(text)))));
+        } catch (const std::exception& e) {
+          throw nb::value_error(e.what());
+        }
+      },
+      "chains"_a,
+      "The thesis's Table 5 from repeatability chains [{'chain', 'moves', 'back_moves', 'start', 'dest_quant', "
+      "'dest_ideal', 'back_quant', 'start_measured', 'dest_measured', 'back_measured'}] (positions [x, y, z] mm, the "
+      "last four may be None): per chain {'dest_error_mm', 'return_error_mm', 'measured_dest_mm', "
+      "'measured_return_mm' (None: nothing to compare), 'return_from_measured_start'}.");
+  m.def(
       "measurement_question",
       [](const Xyz& measured, const Xyz& predicted, double reach_mm, double far_mm) {
         return host::measurement_question(v3(measured), v3(predicted), reach_mm, far_mm);

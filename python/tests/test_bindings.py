@@ -78,6 +78,7 @@ SAME = [
     ("table4", "table4"),
     ("measurement_question", "measurementQuestion"),
     ("parse_plan", "parsePlan"),
+    ("table5", "table5"),
 ]
 
 # What one side has alone, and why.
@@ -133,7 +134,7 @@ for (const cls of ["Robot", "Sim", "Timeline"])
   for (const k of Object.getOwnPropertyNames(M[cls].prototype))
     if (!["constructor", "delete", "isDeleted", "clone", "isAliasOf", "deleteLater"].includes(k)) ops.push(`${{cls}}.${{k}}`);
 for (const k of ["predict", "run", "quantize", "programFormat", "parseProgram", "statusText", "statusTable", "parseArmLine", "firstIntervalS",
-                 "axisErrors", "table4", "measurementQuestion", "parsePlan"])
+                 "axisErrors", "table4", "measurementQuestion", "parsePlan", "table5"])
   if (typeof M[k] === "function") ops.push(k);
 console.log(JSON.stringify(ops));
 """
@@ -165,10 +166,19 @@ POINTS = [(0, (14.095, 158.479, 8.4975), (14.0, 158.0, 8.0)), (0, (40.27, 158.48
           (2, (100.0, 0.3, -50.0), (99.0, 0.1, -51.0))]
 
 
+# Repeatability chains: one measured throughout (back against its measured start), one not.
+CHAINS = [{"chain": 1, "moves": 2, "back_moves": 2, "start": [300, 0, 150], "dest_quant": [250.4, 60.1, 150],
+           "dest_ideal": [250.0, 60.0, 150], "back_quant": [300, 0, 150], "start_measured": [301, 0.5, 149],
+           "dest_measured": [251, 61, 150.5], "back_measured": [301.5, 0.2, 149.3]},
+          {"chain": 2, "moves": 1, "back_moves": 0, "start": [300, 0, 150], "dest_quant": [280, 10, 150],
+           "dest_ideal": [280, 10, 150], "back_quant": None, "start_measured": None, "dest_measured": None,
+           "back_measured": None}]
+
+
 def test_both_sides_answer_alike():
     """The same question through both doors: the same numbers and the same refusals."""
     mk2 = articula.Robot.load("mk2plus")
-    script = "const POINTS = " + json.dumps(POINTS) + ";\n" + f"""
+    script = "const POINTS = " + json.dumps(POINTS) + ";\nconst CHAINS = " + json.dumps(CHAINS) + ";\n" + f"""
 import {{ nodeEngine }} from {json.dumps(str(REPO / "wasm" / "js" / "node.mjs"))};
 const e = await nodeEngine({json.dumps(str(WASM_DIR))});
 const r = e.robot("mk2plus");
@@ -177,6 +187,7 @@ const out = {{ jac: r.jacobian([10, 70, -60]), tl: e.timeline(r, "L 0 30\\nL 1 -
   t4: e.table4(POINTS.map(([joint, value, reference]) => ({{ joint, value, reference }}))),
   ax: e.axisErrors([10.5, 0.4, -201], [10, 0.5, -200]), q: e.measurementQuestion([23.5, 0, 21.3], [235, 0, 213], 370),
   qnan: e.measurementQuestion([NaN, 0, 213], [235, 0, 213], 370), cfg: r.nanoConfig(),
+  t5: e.table5(CHAINS),
   plan: e.parsePlan("#@ title T\\n#@ single-joint 1 15\\nL 1 0\\n#@ repeat 2 out\\nP 1 2 3\\n", "p.arm") }};
 try {{ e.parsePlan("#@ expct ok\\nL 0 1\\n", "bad.arm"); }} catch (x) {{ out.badPlan = x.message; }}
 try {{ e.robot("puma560").nanoConfig(); }} catch (x) {{ out.noNano = x.message; }}
@@ -202,6 +213,7 @@ console.log(JSON.stringify(out));
     assert articula.measurement_question((23.5, 0, 21.3), (235, 0, 213), 370) == web["q"]
     assert articula.measurement_question((float("nan"), 0, 213), (235, 0, 213), 370) == web["qnan"]
     assert web["qnan"].startswith("x is not a number")
+    assert articula.table5(CHAINS) == web["t5"] and web["t5"][1]["measured_return_mm"] is None
     # the Nano's configuration and the plan reader: the same, and the same refusals
     assert mk2.nano_config() == web["cfg"] and web["cfg"]["checksum"] == 15925
     plan = articula.parse_plan("#@ title T\n#@ single-joint 1 15\nL 1 0\n#@ repeat 2 out\nP 1 2 3\n", "p.arm")

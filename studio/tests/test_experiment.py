@@ -43,7 +43,8 @@ def type_xyz(pg, xyz):
     pg.page.click("#exp-record")
 
 
-def test_the_experiment_in_the_page_equals_the_harness(open_page, tmp_path):
+def configured_page(open_page):
+    """The static site with the thesis example arm, the virtual Nano configured for it."""
     pg = open_page("mk2plus")
     pg.page.set_input_files("#robot-file", str(ARM))
     pg.wait("a.robot.name === 'Thesis example arm'")
@@ -52,6 +53,26 @@ def test_the_experiment_in_the_page_equals_the_harness(open_page, tmp_path):
     pg.wait("a.arm.configurable", timeout=30000)
     pg.page.click("#arm-configure")
     pg.wait("a.arm.connected && a.arm.status !== null", timeout=60000)
+    return pg
+
+
+def harness_report(tmp_path, plan, typed):
+    """The harness's report.md on simavr for the same arm, plan and measurements."""
+    measured = tmp_path / "measured.csv"
+    measured.write_text("plan,plan_line,x_mm,y_mm,z_mm\n" + "".join(f"{plan},{n},{x},{y},{z}\n" for n, x, y, z in typed))
+    out = tmp_path / "report"
+    env = dict(os.environ, PYTHONPATH=f"{REPO}:{REPO / 'python'}")
+    p = subprocess.run([sys.executable, "-m", "hil.harness", "run", str(REPO / "hil" / "plans" / plan), "--robot", str(ARM),
+                        "--expect-predicted", "--measured", str(measured), "--out", str(out), "--no-progress",
+                        "--vnano", str(REPO / "build" / "hil" / "articula-vnano"),
+                        "--elf", str(REPO / "build" / "avr" / "firmware" / "articula-nano.elf")],
+                       cwd=REPO, env=env, capture_output=True, text=True, timeout=300)
+    assert p.returncode == 0, p.stdout + p.stderr
+    return (out / "report.md").read_text()
+
+
+def test_the_experiment_in_the_page_equals_the_harness(open_page, tmp_path):
+    pg = configured_page(open_page)
 
     assert pg.page.eval_on_selector_all("#exp-plan option", "os => os.map(o => o.value)") == \
         ["thesis-repeatability.arm", "thesis-single-joint.arm", "tool-points.arm"]
@@ -103,17 +124,7 @@ def test_the_experiment_in_the_page_equals_the_harness(open_page, tmp_path):
     # The page's Table 4 (measured against the model) is the harness's on the same measurements.
     body = page_csv.split("\n\n", 1)[1]
     page_t4 = {(r["joint"], r["axis"]): r for r in csv.DictReader(io.StringIO(body)) if r["table"] == "measured_vs_model"}
-    measured = tmp_path / "measured.csv"
-    measured.write_text("plan,plan_line,x_mm,y_mm,z_mm\n" + "".join(f"{PLAN},{n},{x},{y},{z}\n" for n, x, y, z in typed))
-    out = tmp_path / "report"
-    env = dict(os.environ, PYTHONPATH=f"{REPO}:{REPO / 'python'}")
-    p = subprocess.run([sys.executable, "-m", "hil.harness", "run", str(REPO / "hil" / "plans" / PLAN), "--robot", str(ARM),
-                        "--expect-predicted", "--measured", str(measured), "--out", str(out), "--no-progress",
-                        "--vnano", str(REPO / "build" / "hil" / "articula-vnano"),
-                        "--elf", str(REPO / "build" / "avr" / "firmware" / "articula-nano.elf")],
-                       cwd=REPO, env=env, capture_output=True, text=True, timeout=300)
-    assert p.returncode == 0, p.stdout + p.stderr
-    md = (out / "report.md").read_text()
+    md = harness_report(tmp_path, PLAN, typed)
     section = md.split("**Measured vs predicted (quantized)**", 1)[1].split("**", 1)[0]
     rows = [ln for ln in section.splitlines() if re.match(r"^\| [XYZ] \|", ln)]
     head = next(ln for ln in section.splitlines() if ln.startswith("| axis"))
@@ -138,4 +149,41 @@ def test_the_experiment_in_the_page_equals_the_harness(open_page, tmp_path):
     pg.page.reload()
     pg.wait("a.experiment.tables !== null", timeout=60000)
     assert pg.hook("a.experiment.csv") == page_csv
+    assert pg.errors == []
+
+
+def test_repeatability_in_the_page_equals_the_harness(open_page, tmp_path):
+    """Table 5 (thesis 5.3): the repeatability chains run on the arm, the tool measured before
+    each chain, at its destination and back; every chain's steps back where they started, and
+    the page's distances the harness's on the same measurements."""
+    pg = configured_page(open_page)
+    pg.page.select_option("#exp-plan", "thesis-repeatability.arm")
+    pg.page.click("#exp-run")
+    typed = []
+    while True:
+        pg.wait("a.experiment.waiting !== null || !a.experiment.running", timeout=120000)
+        w = pg.hook("a.experiment.waiting")
+        if w is None:
+            break
+        assert w["joint"] == -1
+        xyz = [round(m + e, 2) for m, e in zip(w["model"], OTHER_MM)]
+        type_xyz(pg, xyz)
+        pg.wait(f"a.experiment.waiting === null || a.experiment.waiting.line !== {w['line']}", timeout=30000)
+        typed.append((w["line"], *xyz))
+    assert pg.hook("a.experiment.mismatches") == []
+    pg.wait("a.experiment.tables !== null")
+    csv_text = pg.hook("a.experiment.csv")
+    body = csv_text.split("\nchain,", 1)[1]
+    chains = list(csv.DictReader(io.StringIO("chain," + body)))
+    assert len(chains) == 5 and all(c["steps_back"] == "true" for c in chains)
+    assert "Table 5: repeatability, out and back" in pg.page.text_content("#exp-report")
+    md = harness_report(tmp_path, "thesis-repeatability.arm", typed)
+    rows = [ln for ln in md.split("## Repeatability", 1)[1].splitlines() if re.match(r"^\| [1-5] \| \d+ \|", ln)]
+    assert len(rows) == 5, md
+    for row, c in zip(rows, chains):
+        cells = [x.strip() for x in row.strip("|").split("|")]
+        assert cells[2] == f"{float(c['dest_error_mm']):.3f}", (row, c)
+        assert cells[4] == f"{float(c['return_error_mm']):.3f}", (row, c)
+        assert cells[-2] == f"{float(c['measured_dest_mm']):.3f}", (row, c)
+        assert cells[-1].split(" ")[0] == f"{float(c['measured_return_mm']):.3f}", (row, c)
     assert pg.errors == []

@@ -182,6 +182,10 @@ export class Engine {
   axisErrors(value, reference) { return checked(this.M.axisErrors(JSON.stringify(value), JSON.stringify(reference))); }
   /** The thesis's Table 4 from points [{joint, value, reference}]: [{joint, poses, axes: [{max_pct, max_mm, avg_mm}]}]. */
   table4(points) { return checked(this.M.table4(JSON.stringify(points))); }
+  /** The thesis's Table 5 from repeatability chains (host/lib/experiment.h): [{chain, moves,
+   * back_moves, dest_error_mm, return_error_mm, measured_dest_mm, measured_return_mm,
+   * return_from_measured_start}]. */
+  table5(chains) { return checked(this.M.table5(JSON.stringify(chains))); }
   /** A test plan (hil/plans/README.md): {name, title, notes, commands: [{line, text, expect,
    * timeout_s, single_joint, repeat, kind}]}; EngineError naming name:line. */
   parsePlan(text, name = "plan.arm") { return checked(this.M.parsePlan(text, name)); }

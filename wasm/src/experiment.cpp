@@ -30,6 +30,9 @@ EMSCRIPTEN_BINDINGS(articula_experiment) {
   function("axisErrors", +[](const std::string& value, const std::string& reference) {
     return guarded([&] { return host::axis_errors_json(host::axis_errors(xyz(value, "value"), xyz(reference, "reference"))).dump(); });
   });
+  function("table5", +[](const std::string& chains) {
+    return guarded([&] { return host::table5_json(host::table5(host::chain_poses_of_json(json::parse(chains)))).dump(); });
+  });
   function("parsePlan", +[](const std::string& text, const std::string& name) {
     return guarded([&] { return host::plan_json(host::parse_plan(text, name)).dump(); });
   });

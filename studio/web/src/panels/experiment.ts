@@ -12,21 +12,26 @@ import uPlot from "uplot";
 import type { Studio } from "../page/context";
 import { $, download, fill, h, setOptions, status } from "../page/dom";
 import { hook } from "../page/hook";
-import type { Experiment, ExperimentPoint } from "../project/document";
+import type { Experiment, ExperimentChain, ExperimentPoint } from "../project/document";
 import { armLink } from "./arm";
 
 type Xyz = [number, number, number];
 interface Axis { max_pct: number | null; max_mm: number; avg_mm: number }
 interface Table4Row { joint: number; poses: number; axes: Axis[] }
 interface Errors { mm: number[]; pct: (number | null)[] }
+interface Table5Row {
+  chain: number; moves: number; back_moves: number; dest_error_mm: number; return_error_mm: number | null;
+  measured_dest_mm: number | null; measured_dest_ideal_mm: number | null; measured_return_mm: number | null; return_from_measured_start: boolean;
+}
 interface Tables {
   rows: { joint: number; angle: number; quant_vs_ideal: Errors; measured_vs_quant: Errors | null }[];
-  quant_vs_ideal: Table4Row[]; measured_vs_quant: Table4Row[]; measured_vs_ideal: Table4Row[];
+  quant_vs_ideal: Table4Row[]; measured_vs_quant: Table4Row[]; measured_vs_ideal: Table4Row[]; table5: Table5Row[];
 }
 interface PlanDoc {
-  plan: { title: string; notes: string[]; commands: { line: number; text: string; kind: string; single_joint: [number, number] | null }[] };
+  plan: { title: string; notes: string[]; commands: { line: number; text: string; kind: string; single_joint: [number, number] | null;
+    repeat: [number, "out" | "back"] | null }[] };
   records: { line: number; code: number; steps: number[] | null; tool_ideal_mm: Xyz; tool_quantized_mm: Xyz }[];
-  zero: number[]; error?: string;
+  zero: number[]; start: Xyz; error?: string;
 }
 
 /** A joint's verdict: its measured error against the model's within this much (mm, per axis)
@@ -102,6 +107,35 @@ async function runPlan(): Promise<void> {
   const byLine = new Map(doc.records.map((r) => [r.line, r]));
   const stops = hook.stops;
   const points: ExperimentPoint[] = [];
+  // Repeatability chains (thesis 5.3): the pose before each, its last move out and its last
+  // move back are measured (a pose measured once serves every chain that starts there).
+  const cmds = doc.plan.commands;
+  const chains = new Map<number, ExperimentChain & { before: number | null }>();
+  cmds.forEach((c, i) => {
+    if (!c.repeat) return;
+    const [n, leg] = c.repeat;
+    const pred = byLine.get(c.line);
+    if (!pred) return;
+    let ch = chains.get(n);
+    if (!ch) {
+      const before = i > 0 ? cmds[i - 1].line : null;
+      const b = before === null ? null : byLine.get(before);
+      ch = { chain: n, moves: 0, back_moves: 0, line_out: c.line, line_back: null, start: b ? b.tool_quantized_mm : doc.start,
+        dest_quant: pred.tool_quantized_mm, dest_ideal: pred.tool_ideal_mm, back_quant: null, start_measured: null,
+        dest_measured: null, back_measured: null, steps_back: null, before };
+      chains.set(n, ch);
+    }
+    if (leg === "out") {
+      ch.moves++;
+      Object.assign(ch, { line_out: c.line, dest_quant: pred.tool_quantized_mm, dest_ideal: pred.tool_ideal_mm });
+    } else {
+      ch.back_moves++;
+      Object.assign(ch, { line_back: c.line, back_quant: pred.tool_quantized_mm });
+    }
+  });
+  const chainAt = (line: number) => [...chains.values()].filter((ch) => ch.before === line || ch.line_out === line || ch.line_back === line);
+  const measuredAt = new Map<number, number[] | null>(); // line: what was measured there
+  const stepsAt = new Map<number, number[]>(); // line: the arm's steps after it
   const mismatches: string[] = [];
   hook.experiment.points = points;
   hook.experiment.mismatches = mismatches;
@@ -121,36 +155,54 @@ async function runPlan(): Promise<void> {
       if (r.reply !== expected) mismatches.push(`line ${c.line}, ${c.text}: the arm said ${r.reply}, the model ${expected}`);
       else if (r.reply === "ok" && pred?.steps && r.steps.join() !== pred.steps.join())
         mismatches.push(`line ${c.line}, ${c.text}: the arm is at steps ${r.steps.join(" ")}, the model at ${pred.steps.join(" ")}`);
-      if (c.single_joint && r.reply === "ok" && pred) {
-        const [joint, angle] = c.single_joint;
-        const measured = await ask(joint, angle, c.line, c.text, pred.tool_quantized_mm);
+      stepsAt.set(c.line, r.steps);
+      const inChains = chainAt(c.line);
+      if ((c.single_joint || inChains.length) && r.reply === "ok" && pred) {
+        const what = c.single_joint ? `joint ${c.single_joint[0]} at the thesis's ${c.single_joint[1]} deg`
+          : inChains.map((ch) => ch.line_out === c.line ? `chain ${ch.chain} at its destination`
+            : ch.line_back === c.line ? `chain ${ch.chain} back at its start` : `the start of chain ${ch.chain}`).join("; ");
+        const measured = await ask(what, c.single_joint ? c.single_joint[0] : -1, c.single_joint ? c.single_joint[1] : NaN,
+          c.line, c.text, pred.tool_quantized_mm);
         if (hook.stops !== stops) return say(`Stopped after ${i + 1} of ${n} lines: the measurements so far are kept below.`, "bad");
-        points.push({ joint, angle, line: c.line, command: c.text, ideal: pred.tool_ideal_mm, quant: pred.tool_quantized_mm, measured });
+        measuredAt.set(c.line, measured);
+        if (c.single_joint)
+          points.push({ joint: c.single_joint[0], angle: c.single_joint[1], line: c.line, command: c.text, ideal: pred.tool_ideal_mm,
+            quant: pred.tool_quantized_mm, measured });
       }
     }
-    say(`The plan ran: ${n} lines, ${points.filter((p) => p.measured).length} of ${points.length} poses measured` +
+    say(`The plan ran: ${n} lines, ${measuredAt.size ? [...measuredAt.values()].filter(Boolean).length : 0} of ${measuredAt.size} poses measured` +
       (mismatches.length ? `; ${mismatches.length} differ from the model (below).` : "; every reply and every step as the model predicts."),
       mismatches.length ? "bad" : "ok");
   } catch (e) {
     say(`The experiment stopped: ${(e as Error).message}`, "bad");
   } finally {
-    if (points.length) {
-      shown = { plan: name, title: doc.plan.title, robot: hook.robot?.name ?? "", when: new Date().toISOString(), points };
+    const done: ExperimentChain[] = [];
+    for (const { before, ...ch } of chains.values()) {
+      if (!stepsAt.has(ch.line_out)) continue; // not reached
+      const start = before === null ? doc.zero.map(() => 0) : stepsAt.get(before);
+      const back = ch.line_back === null ? undefined : stepsAt.get(ch.line_back);
+      done.push({ ...ch, start_measured: before === null ? null : measuredAt.get(before) ?? null,
+        dest_measured: measuredAt.get(ch.line_out) ?? null, back_measured: ch.line_back === null ? null : measuredAt.get(ch.line_back) ?? null,
+        back_quant: back ? ch.back_quant : null, steps_back: back && start ? back.join() === start.join() : null });
+    }
+    if (points.length || done.length) {
+      shown = { plan: name, title: doc.plan.title, robot: hook.robot?.name ?? "", when: new Date().toISOString(), points, chains: done };
       save(shown);
       await report(shown, mismatches);
     }
   }
 }
 
-// The measurement of one pose: the student's x, y, z, or null (skipped).
-function ask(joint: number, angle: number, line: number, command: string, model: Xyz): Promise<number[] | null> {
+// The measurement of one pose: the student's x, y, z, or null (skipped). joint -1: a
+// repeatability pose.
+function ask(what: string, joint: number, angle: number, line: number, command: string, model: Xyz): Promise<number[] | null> {
   hook.experiment.waiting = { joint, angle, line, command, model };
   hook.experiment.question = "";
   asked = null;
   $("exp-measure").hidden = false;
   $("exp-question").textContent = "";
   $("exp-anyway").hidden = true;
-  fill($("exp-prompt"), h("b", null, `Measure the tool: joint ${joint} at the thesis's ${angle} deg`), ` (line ${line}, ${command}). ` +
+  fill($("exp-prompt"), h("b", null, `Measure the tool: ${what}`), ` (line ${line}, ${command}). ` +
     `The model puts it at x ${model[0].toFixed(1)}, y ${model[1].toFixed(1)}, z ${model[2].toFixed(1)} mm, from the base: ` +
     "x forward, y to the left, z up.");
   for (const id of ["exp-x", "exp-y", "exp-z"]) ($(id) as HTMLInputElement).value = "";
@@ -192,7 +244,8 @@ async function record(): Promise<void> {
 
 async function report(e: Experiment, mismatches: string[] = []): Promise<void> {
   const t = (await s.engine.call({ type: "experiment_tables",
-    points: e.points.map((p) => ({ joint: p.joint, angle: p.angle, ideal: p.ideal, quant: p.quant, measured: p.measured })) })) as unknown as Tables;
+    points: e.points.map((p) => ({ joint: p.joint, angle: p.angle, ideal: p.ideal, quant: p.quant, measured: p.measured })),
+    chains: e.chains ?? [] })) as unknown as Tables;
   hook.experiment.tables = t;
   hook.experiment.csv = csv(e, t);
   charts.forEach((c) => c.destroy());
@@ -206,17 +259,39 @@ async function report(e: Experiment, mismatches: string[] = []): Promise<void> {
       "Errors per axis (x forward, y left, z up) in mm, and in per cent of the coordinate as the thesis gives them " +
       "(none where the coordinate is within 1 mm of 0)."),
     ...mismatches.map((m) => h("p", { class: "status bad" }, m)),
-    h("h4", null, "Verdict per joint"),
-    verdicts(joints, t),
+    joints.length ? h("h4", null, "Verdict per joint") : null,
+    joints.length ? verdicts(joints, t) : null,
+    (e.chains ?? []).length ? table5(e, t) : null,
     measured ? table4("Table 4: measured against the model (whole steps)", t.measured_vs_quant) : null,
     measured ? table4("Measured against the exact angles", t.measured_vs_ideal) : null,
-    table4("What whole steps alone leave: the model's quantization error", t.quant_vs_ideal),
-    h("h4", null, "Error against the joint's angle (thesis Figs. 30-32)"),
+    joints.length ? table4("What whole steps alone leave: the model's quantization error", t.quant_vs_ideal) : null,
+    joints.length ? h("h4", null, "Error against the joint's angle (thesis Figs. 30-32)") : null,
     h("div", { id: "exp-plots" }),
-    poses(e, t),
+    e.points.length ? poses(e, t) : null,
   );
   for (const j of joints) plot(e, t, j);
   $("exp-export").hidden = false;
+}
+
+const TABLE5_HEAD = ["chain", "moves", "line out", "destination: whole steps vs exact mm", "line back", "return: model vs start mm",
+  "steps back at start", "measured vs model at destination mm", "measured return vs start mm"];
+
+function table5Rows(e: Experiment, t: Tables): string[][] {
+  const f = (v: number | null | undefined) => (v === null || v === undefined ? "—" : v.toFixed(3));
+  return (e.chains ?? []).map((c, i) => {
+    const r = t.table5[i];
+    return [String(c.chain), `${c.moves} out, ${c.back_moves} back`, String(c.line_out), f(r.dest_error_mm), c.line_back === null ? "—" : String(c.line_back),
+      f(r.return_error_mm), c.steps_back === null ? "—" : c.steps_back ? "yes" : "no", f(r.measured_dest_mm),
+      r.measured_return_mm === null ? "—" : `${f(r.measured_return_mm)} (from the ${r.return_from_measured_start ? "measured" : "model's"} start)`];
+  });
+}
+
+// Table 5 (thesis 5.3): each chain's destination and return.
+function table5(e: Experiment, t: Tables): HTMLElement {
+  return h("div", { class: "table4" }, h("h4", null, "Table 5: repeatability, out and back"), h("table", null,
+    h("thead", null, h("tr", null, ...TABLE5_HEAD.map((c) => h("th", null, c)))),
+    h("tbody", null, ...table5Rows(e, t).map((row) => h("tr", null, ...row.map((c, k) => (k === 6 && c === "no"
+      ? h("td", { class: "bad" }, c) : h("td", null, c))))))));
 }
 
 function verdicts(joints: number[], t: Tables): HTMLElement {
@@ -291,6 +366,15 @@ function csv(e: Experiment, t: Tables): string {
   for (const [name, rows] of [["measured_vs_model", t.measured_vs_quant], ["measured_vs_ideal", t.measured_vs_ideal],
     ["model_vs_ideal", t.quant_vs_ideal]] as [string, Table4Row[]][])
     for (const r of rows) r.axes.forEach((a, k) => lines.push([name, r.joint, AXES[k], r.poses, a.max_pct, a.max_mm, a.avg_mm].map(q).join(",")));
+  if ((e.chains ?? []).length) {
+    lines.push("", "chain,moves,back_moves,line_out,line_back,dest_error_mm,return_error_mm,steps_back,measured_dest_mm," +
+      "measured_dest_ideal_mm,measured_return_mm,return_from_measured_start");
+    (e.chains ?? []).forEach((c, i) => {
+      const r = t.table5[i];
+      lines.push([c.chain, c.moves, c.back_moves, c.line_out, c.line_back, r.dest_error_mm, r.return_error_mm, c.steps_back,
+        r.measured_dest_mm, r.measured_dest_ideal_mm, r.measured_return_mm, r.return_from_measured_start].map(q).join(","));
+    });
+  }
   return lines.join("\n") + "\n";
 }
 
@@ -321,14 +405,15 @@ async function exportHtml(): Promise<void> {
     `<p>${esc(new Date(e.when).toLocaleString())}; ${e.points.length} poses, ${e.points.filter((p) => p.measured).length} measured. ` +
       "Errors per axis (x forward, y left, z up) in mm, and in per cent of the coordinate (none within 1 mm of 0). " +
       "Made by Articula Studio from the host library's numbers (the harness's report has the same).</p>",
-    "<h2>Verdict per joint</h2>", `<ul>${verdictItems.join("")}</ul>`,
+    verdictItems.length ? `<h2>Verdict per joint</h2><ul>${verdictItems.join("")}</ul>` : "",
+    (e.chains ?? []).length ? "<h2>Table 5: repeatability, out and back</h2>" + htmlTable(TABLE5_HEAD, table5Rows(e, t)) : "",
     measured ? htmlTable4("Table 4: measured against the model (whole steps)", t.measured_vs_quant) : "",
     measured ? htmlTable4("Measured against the exact angles", t.measured_vs_ideal) : "",
-    htmlTable4("What whole steps alone leave: the model's quantization error", t.quant_vs_ideal),
+    e.points.length ? htmlTable4("What whole steps alone leave: the model's quantization error", t.quant_vs_ideal) : "",
     "<h2>Error against the joint's angle (thesis Figs. 30-32)</h2>",
     ...charts.map((c) => `<img src="${c.ctx.canvas.toDataURL("image/png")}" alt="${esc(c.root.querySelector(".u-title")?.textContent ?? "plot")}">`),
-    "<h2>Every pose</h2>",
-    htmlTable(["joint", "thesis deg", "line", "command", "model mm", "measured mm", "|dx| mm", "|dy| mm", "|dz| mm"],
+    e.points.length ? "<h2>Every pose</h2>" : "",
+    !e.points.length ? "" : htmlTable(["joint", "thesis deg", "line", "command", "model mm", "measured mm", "|dx| mm", "|dy| mm", "|dz| mm"],
       e.points.map((p, i) => {
         const m = t.rows[i].measured_vs_quant;
         return [p.joint, p.angle, p.line, p.command, p.quant.map((x) => x.toFixed(2)).join(", "),

@@ -25,8 +25,16 @@ export interface ExperimentPoint {
   joint: number; angle: number; line: number; command: string;
   ideal: number[]; quant: number[]; measured: number[] | null;
 }
+/** A repeatability chain (thesis 5.3): the model's tool before it, at its destination (whole
+ * steps and exact angles) and back; what was measured (null: not); the arm's steps back at
+ * the start (null: it did not come back). */
+export interface ExperimentChain {
+  chain: number; moves: number; back_moves: number; line_out: number; line_back: number | null;
+  start: number[]; dest_quant: number[]; dest_ideal: number[]; back_quant: number[] | null;
+  start_measured: number[] | null; dest_measured: number[] | null; back_measured: number[] | null; steps_back: boolean | null;
+}
 /** The experiment's measurements (the tables and plots are made from them again on opening). */
-export interface Experiment { plan: string; title: string; robot: string; when: string; points: ExperimentPoint[] }
+export interface Experiment { plan: string; title: string; robot: string; when: string; points: ExperimentPoint[]; chains?: ExperimentChain[] }
 
 export interface Project {
   format: typeof FORMAT;
@@ -118,7 +126,20 @@ function checkExperiment(e: unknown): Experiment | null {
   if (!isObj(e)) throw new ProjectError("experiment must be an object");
   const points = e.points;
   if (!Array.isArray(points) || points.length > 1000) throw new ProjectError("experiment.points must be a list of up to 1000 poses");
+  const chains = e.chains ?? [];
+  if (!Array.isArray(chains) || chains.length > 100) throw new ProjectError("experiment.chains must be a list of up to 100 chains");
+  const xyzOrNull = (v: unknown, where: string) => (v === null || v === undefined ? null : nums(v, where, 3));
   return {
+    chains: chains.map((c, i) => {
+      const where = `experiment.chains[${i}]`;
+      if (!isObj(c)) throw new ProjectError(`${where} must be an object`);
+      const [chain, moves, back_moves, line_out] = nums([c.chain, c.moves, c.back_moves, c.line_out], where, 4);
+      return { chain, moves, back_moves, line_out, line_back: c.line_back == null ? null : nums([c.line_back], `${where}.line_back`, 1)[0],
+        start: nums(c.start, `${where}.start`, 3), dest_quant: nums(c.dest_quant, `${where}.dest_quant`, 3),
+        dest_ideal: nums(c.dest_ideal, `${where}.dest_ideal`, 3), back_quant: xyzOrNull(c.back_quant, `${where}.back_quant`),
+        start_measured: xyzOrNull(c.start_measured, `${where}.start_measured`), dest_measured: xyzOrNull(c.dest_measured, `${where}.dest_measured`),
+        back_measured: xyzOrNull(c.back_measured, `${where}.back_measured`), steps_back: typeof c.steps_back === "boolean" ? c.steps_back : null };
+    }),
     plan: str(e, "plan", "experiment", MAX_NAME), title: str(e, "title", "experiment", MAX_NAME),
     robot: str(e, "robot", "experiment", MAX_NAME), when: str(e, "when", "experiment", MAX_NAME),
     points: points.map((p, i) => {

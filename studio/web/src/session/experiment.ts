@@ -31,8 +31,10 @@ export const experimentHandlers: Record<string, (m: Msg) => Out[]> = {
       const doc = S.robot.predict(body, name) as { records: Record<string, unknown>[] };
       const records = doc.records.map((r) => ({ line: r.line, code: r.code, steps: r.steps, seconds: r.seconds,
         actuator_deg: r.actuator_deg, tool_ideal_mm: r.tool_ideal_mm, tool_quantized_mm: r.tool_quantized_mm }));
-      return [{ type: "experiment_plan", plan, records, reach_mm: info().reach_mm,
-        zero: (S.robot.info.motors as { zero: number }[]).map((x) => x.zero) }];
+      const zero = (S.robot.info.motors as { zero: number }[]).map((x) => x.zero);
+      // the tool at the power-up pose (every motor at step 0: its zero angle, exactly)
+      const start = (S.robot.pose(S.robot.jointsFromMotors(zero)) as { tool: { xyz: number[] } }).tool.xyz;
+      return [{ type: "experiment_plan", plan, records, reach_mm: info().reach_mm, zero, start }];
     } catch (e) {
       if (!(e instanceof EngineError)) throw e;
       return [{ type: "experiment_plan", error: e.message }];
@@ -43,7 +45,8 @@ export const experimentHandlers: Record<string, (m: Msg) => Out[]> = {
     return [{ type: "experiment_question", question }];
   },
   // points: [{joint, angle, ideal, quant, measured (or null)}]. Per point its errors, and per
-  // comparison the thesis's Table 4 (quantized vs ideal; measured vs quantized; measured vs ideal).
+  // comparison the thesis's Table 4 (quantized vs ideal; measured vs quantized; measured vs ideal);
+  // chains: the repeatability chains, for Table 5 (host/lib/records_json.h's shape).
   experiment_tables(m) {
     const points = m.points;
     if (!Array.isArray(points) || points.length > 10000) throw new BadMessage("'points' must be a list");
@@ -61,7 +64,8 @@ export const experimentHandlers: Record<string, (m: Msg) => Out[]> = {
         const [value, reference] = pick(r);
         return value ? [{ joint: r.joint, value, reference }] : [];
       }));
-    return [{ type: "experiment_tables", rows,
+    const chains = Array.isArray(m.chains) ? (m.chains as Record<string, unknown>[]).slice(0, 100) : [];
+    return [{ type: "experiment_tables", rows, table5: S.engine.table5(chains),
       quant_vs_ideal: table((r) => [r.quant, r.ideal]),
       measured_vs_quant: table((r) => [r.measured, r.quant]),
       measured_vs_ideal: table((r) => [r.measured, r.ideal]) }];
