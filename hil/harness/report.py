@@ -765,10 +765,14 @@ def build(run: Run, out: Path, robot) -> Path:
     for r in run.records:
         if r.command.word == "P" and r.pred is not None:
             t = r.pred.target_mm
+            # the distances are the host library's (articula.tool_points), as the studio's are
+            tp = articula.tool_points([{"line": r.line, "target": list(t), "quant": list(r.pred.tool_quantized),
+                                        "ideal": list(r.pred.tool_ideal), "measured": None}])[0] if t else None
+            ok = tp is not None and r.reply == "ok"
             prow.append([f"`{r.plan}`", r.line, _cmd(r), r.reply or "not run",
                          vec(r.pred.tool_quantized, 2) if r.reply == "ok" else "—",
-                         f3(dist(r.pred.tool_quantized, t)) if t and r.reply == "ok" else "—",
-                         f3(dist(r.pred.tool_ideal, t), 4) if t and r.reply == "ok" else "—", ints(r.fw_steps)])
+                         f3(tp["model_from_target_mm"]) if ok else "—",
+                         f3(tp["ideal_from_target_mm"], 4) if ok else "—", ints(r.fw_steps)])
     if prow:
         d.h(2, "Tool to points (P)")
         d.p("The firmware solves each target in closed form (in float), keeps the angles to 0.001 degree and "

@@ -98,4 +98,19 @@ std::vector<Table5Row> table5(const std::vector<ChainPoses>& chains) {
   return out;
 }
 
+std::vector<TargetRow> tool_points(const std::vector<TargetPoses>& points) {
+  const double none = std::numeric_limits<double>::quiet_NaN();
+  std::vector<TargetRow> out;
+  for (const TargetPoses& p : points) {
+    TargetRow r;
+    r.line = p.line;
+    r.model_from_target_mm = distance_mm(p.quant, p.target);
+    r.ideal_from_target_mm = distance_mm(p.ideal, p.target);
+    r.measured_from_target_mm = p.measured ? distance_mm(p.m, p.target) : none;
+    r.measured_from_model_mm = p.measured ? distance_mm(p.m, p.quant) : none;
+    out.push_back(r);
+  }
+  return out;
+}
+
 }  // namespace articula::host

@@ -1,7 +1,8 @@
 // host/lib/experiment.h - the numbers of the thesis's sim-vs-real experiment (section 5,
 // appendices I and K), in one place: per-axis errors and their per cent (Table 4, Figs.
 // 30-32), Table 4's maximum and average per joint and axis, the distances of repeatability
-// (Table 5), and the questions a typed measurement raises before it is used. The harness's
+// (Table 5) and of the tool sent to points, and the questions a typed measurement raises
+// before it is used. The harness's
 // report (hil/harness/report.py, through Python) and the studio's Experiment panel (through
 // the web engine) both call these, so they agree to the digit on the same measurements.
 #ifndef ARTICULA_HOST_EXPERIMENT_H
@@ -76,6 +77,24 @@ struct Table5Row {
   bool return_from_measured_start = false;
 };
 std::vector<Table5Row> table5(const std::vector<ChainPoses>& chains);
+
+// The tool sent to a point (P): the target, the model's tool there (whole steps, and the
+// closed form's exact angles), and where the student measured it, when they did.
+struct TargetPoses {
+  int line = 0;
+  Vec3<double> target{0, 0, 0}, quant{0, 0, 0}, ideal{0, 0, 0};
+  bool measured = false;
+  Vec3<double> m{0, 0, 0};
+};
+// Per point: how far the model's tool is from the target (whole steps; exact angles, the closed
+// form's own error), and the measured tool from the target and from the model (NaN: not
+// measured).
+struct TargetRow {
+  int line = 0;
+  double model_from_target_mm = 0, ideal_from_target_mm = 0;
+  double measured_from_target_mm = 0, measured_from_model_mm = 0;
+};
+std::vector<TargetRow> tool_points(const std::vector<TargetPoses>& points);
 
 // What a typed measurement raises before it is used, as a question to the student; "" when
 // it looks right. `predicted` is where the prediction puts the tool; `reach_mm` how far the

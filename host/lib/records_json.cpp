@@ -318,4 +318,35 @@ std::vector<ChainPoses> chain_poses_of_json(const nlohmann::json& chains) {
   return out;
 }
 
+nlohmann::json tool_points_json(const std::vector<TargetRow>& rows) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const TargetRow& r : rows)
+    out.push_back({{"line", r.line},
+                   {"model_from_target_mm", number_or_null(r.model_from_target_mm)},
+                   {"ideal_from_target_mm", number_or_null(r.ideal_from_target_mm)},
+                   {"measured_from_target_mm", number_or_null(r.measured_from_target_mm)},
+                   {"measured_from_model_mm", number_or_null(r.measured_from_model_mm)}});
+  return out;
+}
+
+std::vector<TargetPoses> target_poses_of_json(const nlohmann::json& points) {
+  if (!points.is_array()) throw std::invalid_argument("the tool points must be a list");
+  std::vector<TargetPoses> out;
+  for (size_t i = 0; i < points.size(); ++i) {
+    const nlohmann::json& p = points[i];
+    const std::string where = "tool point " + std::to_string(i);
+    if (!p.is_object() || !p.contains("line") || !p["line"].is_number_integer())
+      throw std::invalid_argument(where + " must be {line, target, quant, ideal, measured} with a whole line number");
+    TargetPoses t;
+    t.line = p["line"].get<int>();
+    t.target = vec3_of_json(p.value("target", nlohmann::json()), where + "'s target");
+    t.quant = vec3_of_json(p.value("quant", nlohmann::json()), where + "'s quant");
+    t.ideal = vec3_of_json(p.value("ideal", nlohmann::json()), where + "'s ideal");
+    t.measured = p.contains("measured") && !p["measured"].is_null();
+    if (t.measured) t.m = vec3_of_json(p["measured"], where + "'s measured");
+    out.push_back(t);
+  }
+  return out;
+}
+
 }  // namespace articula::host

@@ -59,6 +59,11 @@ nlohmann::json table5_json(const std::vector<Table5Row>& rows);
 // "back_quant" (or null), "start_measured", "dest_measured", "back_measured" (or null)}]; a
 // position is [x, y, z] mm. Throws std::invalid_argument naming the entry.
 std::vector<ChainPoses> chain_poses_of_json(const nlohmann::json& chains);
+// Tool points: [{"line", "model_from_target_mm", "ideal_from_target_mm", "measured_from_target_mm",
+// "measured_from_model_mm" (null: not measured)}], from [{"line", "target", "quant", "ideal",
+// "measured" (or null)}].
+nlohmann::json tool_points_json(const std::vector<TargetRow>& rows);
+std::vector<TargetPoses> target_poses_of_json(const nlohmann::json& points);
 // A test plan: {"name", "title", "notes", "commands": [{"line", "text", "expect", "timeout_s"
 // (null: the default), "single_joint" ([joint, thesis angle] or null), "repeat" ([chain,
 // "out"|"back"] or null), "kind" ("single-joint", "repeat-out", "repeat-back", "target", "")}]}.

@@ -133,3 +133,21 @@ TEST(Experiment, Table5MeasuresTheReturnFromTheMeasuredStartWhenThereIsOne) {
   c.has_back = false;
   EXPECT_TRUE(std::isnan(table5({c})[0].return_error_mm));
 }
+
+TEST(Experiment, ToolPointsMeasureFromTheTargetAndFromTheModel) {
+  TargetPoses p;
+  p.line = 14;
+  p.target = v3(171, 120, 185);
+  p.quant = v3(171, 123, 189);  // 5 mm away: whole steps
+  p.ideal = v3(171, 120, 185);
+  std::vector<TargetRow> t = tool_points({p});
+  EXPECT_EQ(t[0].line, 14);
+  EXPECT_DOUBLE_EQ(t[0].model_from_target_mm, 5.0);
+  EXPECT_DOUBLE_EQ(t[0].ideal_from_target_mm, 0.0);
+  EXPECT_TRUE(std::isnan(t[0].measured_from_target_mm) && std::isnan(t[0].measured_from_model_mm));
+  p.measured = true;
+  p.m = v3(171, 120, 187);
+  t = tool_points({p});
+  EXPECT_DOUBLE_EQ(t[0].measured_from_target_mm, 2.0);
+  EXPECT_DOUBLE_EQ(t[0].measured_from_model_mm, std::sqrt(9.0 + 4.0));
+}

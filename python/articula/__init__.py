@@ -39,13 +39,14 @@ from ._core import (  # noqa: E402
     rpy_deg,
     table4,
     table5,
+    tool_points,
 )
 from ._records import Record  # noqa: E402
 
 __all__ = [
     "Robot", "IkResult", "Program", "Sim", "Record", "Status", "STATUS", "status_text",
     "RobotFileError", "ProgramError", "SceneError", "LegacyError", "IK_STATUS", "rpy_deg",
-    "axis_errors", "table4", "measurement_question", "parse_plan", "table5",
+    "axis_errors", "table4", "measurement_question", "parse_plan", "table5", "tool_points",
 ]
 __version__ = "0.1.0"
 

@@ -70,6 +70,20 @@ void bind_experiment(nb::module_& m) {
       "last four may be None): per chain {'dest_error_mm', 'return_error_mm', 'measured_dest_mm', "
       "'measured_return_mm' (None: nothing to compare), 'return_from_measured_start'}.");
   m.def(
+      "tool_points",
+      [](nb::handle points) {
+        const std::string text = nb::cast<std::string>(nb::module_::import_("json").attr("dumps")(points));
+        try {
+          return json_to_python(host::tool_points_json(host::tool_points(host::target_poses_of_json(nlohmann::json::parse(text)))));
+        } catch (const std::exception& e) {
+          throw nb::value_error(e.what());
+        }
+      },
+      "points"_a,
+      "The tool sent to points (P) from [{'line', 'target', 'quant', 'ideal', 'measured'}] (positions [x, y, z] mm; "
+      "measured may be None): per point {'line', 'model_from_target_mm', 'ideal_from_target_mm', "
+      "'measured_from_target_mm', 'measured_from_model_mm' (None: not measured)}.");
+  m.def(
       "measurement_question",
       [](const Xyz& measured, const Xyz& predicted, double reach_mm, double far_mm) {
         return host::measurement_question(v3(measured), v3(predicted), reach_mm, far_mm);

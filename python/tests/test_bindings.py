@@ -79,6 +79,7 @@ SAME = [
     ("measurement_question", "measurementQuestion"),
     ("parse_plan", "parsePlan"),
     ("table5", "table5"),
+    ("tool_points", "toolPoints"),
 ]
 
 # What one side has alone, and why.
@@ -134,7 +135,7 @@ for (const cls of ["Robot", "Sim", "Timeline"])
   for (const k of Object.getOwnPropertyNames(M[cls].prototype))
     if (!["constructor", "delete", "isDeleted", "clone", "isAliasOf", "deleteLater"].includes(k)) ops.push(`${{cls}}.${{k}}`);
 for (const k of ["predict", "run", "quantize", "programFormat", "parseProgram", "statusText", "statusTable", "parseArmLine", "firstIntervalS",
-                 "axisErrors", "table4", "measurementQuestion", "parsePlan", "table5"])
+                 "axisErrors", "table4", "measurementQuestion", "parsePlan", "table5", "toolPoints"])
   if (typeof M[k] === "function") ops.push(k);
 console.log(JSON.stringify(ops));
 """
@@ -175,10 +176,16 @@ CHAINS = [{"chain": 1, "moves": 2, "back_moves": 2, "start": [300, 0, 150], "des
            "back_measured": None}]
 
 
+# Tool points: one measured 2 mm above its target.
+TARGETS = [{"line": 14, "target": [171, 120, 185], "quant": [171.5, 119.8, 185.2], "ideal": [171, 120, 185],
+            "measured": [171, 120, 187]},
+           {"line": 15, "target": [150, -70, 169], "quant": [150, -70, 169], "ideal": [150, -70, 169], "measured": None}]
+
+
 def test_both_sides_answer_alike():
     """The same question through both doors: the same numbers and the same refusals."""
     mk2 = articula.Robot.load("mk2plus")
-    script = "const POINTS = " + json.dumps(POINTS) + ";\nconst CHAINS = " + json.dumps(CHAINS) + ";\n" + f"""
+    script = "const POINTS = " + json.dumps(POINTS) + ";\nconst CHAINS = " + json.dumps(CHAINS) + ";\nconst TARGETS = " + json.dumps(TARGETS) + ";\n" + f"""
 import {{ nodeEngine }} from {json.dumps(str(REPO / "wasm" / "js" / "node.mjs"))};
 const e = await nodeEngine({json.dumps(str(WASM_DIR))});
 const r = e.robot("mk2plus");
@@ -187,7 +194,7 @@ const out = {{ jac: r.jacobian([10, 70, -60]), tl: e.timeline(r, "L 0 30\\nL 1 -
   t4: e.table4(POINTS.map(([joint, value, reference]) => ({{ joint, value, reference }}))),
   ax: e.axisErrors([10.5, 0.4, -201], [10, 0.5, -200]), q: e.measurementQuestion([23.5, 0, 21.3], [235, 0, 213], 370),
   qnan: e.measurementQuestion([NaN, 0, 213], [235, 0, 213], 370), cfg: r.nanoConfig(),
-  t5: e.table5(CHAINS),
+  t5: e.table5(CHAINS), tp: e.toolPoints(TARGETS),
   plan: e.parsePlan("#@ title T\\n#@ single-joint 1 15\\nL 1 0\\n#@ repeat 2 out\\nP 1 2 3\\n", "p.arm") }};
 try {{ e.parsePlan("#@ expct ok\\nL 0 1\\n", "bad.arm"); }} catch (x) {{ out.badPlan = x.message; }}
 try {{ e.robot("puma560").nanoConfig(); }} catch (x) {{ out.noNano = x.message; }}
@@ -214,6 +221,7 @@ console.log(JSON.stringify(out));
     assert articula.measurement_question((float("nan"), 0, 213), (235, 0, 213), 370) == web["qnan"]
     assert web["qnan"].startswith("x is not a number")
     assert articula.table5(CHAINS) == web["t5"] and web["t5"][1]["measured_return_mm"] is None
+    assert articula.tool_points(TARGETS) == web["tp"] and web["tp"][0]["measured_from_target_mm"] == 2.0
     # the Nano's configuration and the plan reader: the same, and the same refusals
     assert mk2.nano_config() == web["cfg"] and web["cfg"]["checksum"] == 15925
     plan = articula.parse_plan("#@ title T\n#@ single-joint 1 15\nL 1 0\n#@ repeat 2 out\nP 1 2 3\n", "p.arm")

@@ -56,13 +56,13 @@ def configured_page(open_page):
     return pg
 
 
-def harness_report(tmp_path, plan, typed):
+def harness_report(tmp_path, plan, typed, arm=ARM):
     """The harness's report.md on simavr for the same arm, plan and measurements."""
     measured = tmp_path / "measured.csv"
     measured.write_text("plan,plan_line,x_mm,y_mm,z_mm\n" + "".join(f"{plan},{n},{x},{y},{z}\n" for n, x, y, z in typed))
     out = tmp_path / "report"
     env = dict(os.environ, PYTHONPATH=f"{REPO}:{REPO / 'python'}")
-    p = subprocess.run([sys.executable, "-m", "hil.harness", "run", str(REPO / "hil" / "plans" / plan), "--robot", str(ARM),
+    p = subprocess.run([sys.executable, "-m", "hil.harness", "run", str(REPO / "hil" / "plans" / plan), "--robot", str(arm),
                         "--expect-predicted", "--measured", str(measured), "--out", str(out), "--no-progress",
                         "--vnano", str(REPO / "build" / "hil" / "articula-vnano"),
                         "--elf", str(REPO / "build" / "avr" / "firmware" / "articula-nano.elf")],
@@ -186,4 +186,43 @@ def test_repeatability_in_the_page_equals_the_harness(open_page, tmp_path):
         assert cells[4] == f"{float(c['return_error_mm']):.3f}", (row, c)
         assert cells[-2] == f"{float(c['measured_dest_mm']):.3f}", (row, c)
         assert cells[-1].split(" ")[0] == f"{float(c['measured_return_mm']):.3f}", (row, c)
+    assert pg.errors == []
+
+
+def test_tool_points_in_the_page_equal_the_harness(open_page, tmp_path):
+    """The tool sent to points (P) on the MK2 (a fresh virtual Nano is one): measured 2 mm above
+    each target; the model's distance to each target is the harness's, the measured one 2 mm."""
+    pg = open_page("mk2plus")
+    pg.page.select_option("#arm-port", "page:virtual")
+    pg.page.click("#arm-connect")
+    pg.wait("a.arm.connected && a.arm.status !== null", timeout=60000)
+    pg.page.select_option("#exp-plan", "tool-points.arm")
+    pg.page.click("#exp-run")
+    typed = []
+    while True:
+        pg.wait("a.experiment.waiting !== null || !a.experiment.running", timeout=120000)
+        w = pg.hook("a.experiment.waiting")
+        if w is None:
+            break
+        target = [float(v) for v in w["command"].split("#")[0].split()[1:4]]
+        xyz = [target[0], target[1], target[2] + 2]
+        type_xyz(pg, xyz)
+        pg.wait(f"a.experiment.waiting === null || a.experiment.waiting.line !== {w['line']}", timeout=30000)
+        typed.append((w["line"], *xyz))
+    assert pg.hook("a.experiment.mismatches") == []
+    pg.wait("a.experiment.tables !== null")
+    body = pg.hook("a.experiment.csv").split("\ntarget_line,", 1)[1]
+    rows = list(csv.DictReader(io.StringIO("target_line," + body)))
+    assert len(rows) == len(typed) >= 8
+    assert "Tool to points (P)" in pg.page.text_content("#exp-report")
+    md = harness_report(tmp_path, "tool-points.arm", typed, arm=REPO / "robots" / "mk2plus.json")
+    harness = {}
+    for ln in md.split("\n## Tool to points (P)\n", 1)[1].split("\n## ", 1)[0].splitlines():
+        cells = [c.strip() for c in ln.strip("|").split("|")]
+        if len(cells) >= 8 and cells[1].isdigit() and cells[3] == "ok":
+            harness[cells[1]] = cells
+    for r in rows:
+        assert abs(float(r["measured_from_target_mm"]) - 2.0) < 1e-9, r
+        h = harness[r["target_line"]]
+        assert h[5] == f"{float(r['model_from_target_mm']):.3f}" and h[6] == f"{float(r['ideal_from_target_mm']):.4f}", (h, r)
     assert pg.errors == []

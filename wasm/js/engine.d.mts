@@ -80,6 +80,8 @@ export class Engine {
   table4(points: { joint: number; value: number[]; reference: number[] }[]):
     { joint: number; poses: number; axes: { max_pct: number | null; max_mm: number; avg_mm: number }[] }[];
   measurementQuestion(measured: number[], predicted: number[], reachMm: number, farMm?: number): string;
+  toolPoints(points: Record<string, unknown>[]): { line: number; model_from_target_mm: number; ideal_from_target_mm: number;
+    measured_from_target_mm: number | null; measured_from_model_mm: number | null }[];
   table5(chains: Record<string, unknown>[]): { chain: number; moves: number; back_moves: number; dest_error_mm: number;
     return_error_mm: number | null; measured_dest_mm: number | null; measured_return_mm: number | null; return_from_measured_start: boolean }[];
   parsePlan(text: string, name?: string): { name: string; title: string; notes: string[]; commands: PlanCommand[] };

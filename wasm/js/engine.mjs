@@ -186,6 +186,9 @@ export class Engine {
    * back_moves, dest_error_mm, return_error_mm, measured_dest_mm, measured_return_mm,
    * return_from_measured_start}]. */
   table5(chains) { return checked(this.M.table5(JSON.stringify(chains))); }
+  /** The tool sent to points (P), from [{line, target, quant, ideal, measured}]: [{line,
+   * model_from_target_mm, ideal_from_target_mm, measured_from_target_mm, measured_from_model_mm}]. */
+  toolPoints(points) { return checked(this.M.toolPoints(JSON.stringify(points))); }
   /** A test plan (hil/plans/README.md): {name, title, notes, commands: [{line, text, expect,
    * timeout_s, single_joint, repeat, kind}]}; EngineError naming name:line. */
   parsePlan(text, name = "plan.arm") { return checked(this.M.parsePlan(text, name)); }

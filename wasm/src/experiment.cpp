@@ -33,6 +33,9 @@ EMSCRIPTEN_BINDINGS(articula_experiment) {
   function("table5", +[](const std::string& chains) {
     return guarded([&] { return host::table5_json(host::table5(host::chain_poses_of_json(json::parse(chains)))).dump(); });
   });
+  function("toolPoints", +[](const std::string& points) {
+    return guarded([&] { return host::tool_points_json(host::tool_points(host::target_poses_of_json(json::parse(points)))).dump(); });
+  });
   function("parsePlan", +[](const std::string& text, const std::string& name) {
     return guarded([&] { return host::plan_json(host::parse_plan(text, name)).dump(); });
   });

@@ -12,7 +12,7 @@ import uPlot from "uplot";
 import type { Studio } from "../page/context";
 import { $, download, fill, h, setOptions, status } from "../page/dom";
 import { hook } from "../page/hook";
-import type { Experiment, ExperimentChain, ExperimentPoint } from "../project/document";
+import type { Experiment, ExperimentChain, ExperimentPoint, ExperimentTarget } from "../project/document";
 import { armLink } from "./arm";
 
 type Xyz = [number, number, number];
@@ -26,11 +26,13 @@ interface Table5Row {
 interface Tables {
   rows: { joint: number; angle: number; quant_vs_ideal: Errors; measured_vs_quant: Errors | null }[];
   quant_vs_ideal: Table4Row[]; measured_vs_quant: Table4Row[]; measured_vs_ideal: Table4Row[]; table5: Table5Row[];
+  targets: { line: number; model_from_target_mm: number; ideal_from_target_mm: number; measured_from_target_mm: number | null;
+    measured_from_model_mm: number | null }[];
 }
 interface PlanDoc {
   plan: { title: string; notes: string[]; commands: { line: number; text: string; kind: string; single_joint: [number, number] | null;
     repeat: [number, "out" | "back"] | null }[] };
-  records: { line: number; code: number; steps: number[] | null; tool_ideal_mm: Xyz; tool_quantized_mm: Xyz }[];
+  records: { line: number; code: number; steps: number[] | null; tool_ideal_mm: Xyz; tool_quantized_mm: Xyz; target_mm: Xyz | null }[];
   zero: number[]; start: Xyz; error?: string;
 }
 
@@ -136,6 +138,7 @@ async function runPlan(): Promise<void> {
   const chainAt = (line: number) => [...chains.values()].filter((ch) => ch.before === line || ch.line_out === line || ch.line_back === line);
   const measuredAt = new Map<number, number[] | null>(); // line: what was measured there
   const stepsAt = new Map<number, number[]>(); // line: the arm's steps after it
+  const targets: ExperimentTarget[] = [];
   const mismatches: string[] = [];
   hook.experiment.points = points;
   hook.experiment.mismatches = mismatches;
@@ -157,14 +160,18 @@ async function runPlan(): Promise<void> {
         mismatches.push(`line ${c.line}, ${c.text}: the arm is at steps ${r.steps.join(" ")}, the model at ${pred.steps.join(" ")}`);
       stepsAt.set(c.line, r.steps);
       const inChains = chainAt(c.line);
-      if ((c.single_joint || inChains.length) && r.reply === "ok" && pred) {
+      const target = c.kind === "target" && pred?.target_mm ? pred.target_mm : null;
+      if ((c.single_joint || inChains.length || target) && r.reply === "ok" && pred) {
         const what = c.single_joint ? `joint ${c.single_joint[0]} at the thesis's ${c.single_joint[1]} deg`
+          : target ? `the point (${target.map((x) => x.toFixed(0)).join(", ")}) it was sent to`
           : inChains.map((ch) => ch.line_out === c.line ? `chain ${ch.chain} at its destination`
             : ch.line_back === c.line ? `chain ${ch.chain} back at its start` : `the start of chain ${ch.chain}`).join("; ");
         const measured = await ask(what, c.single_joint ? c.single_joint[0] : -1, c.single_joint ? c.single_joint[1] : NaN,
           c.line, c.text, pred.tool_quantized_mm);
         if (hook.stops !== stops) return say(`Stopped after ${i + 1} of ${n} lines: the measurements so far are kept below.`, "bad");
         measuredAt.set(c.line, measured);
+        if (target)
+          targets.push({ line: c.line, command: c.text, target, quant: pred.tool_quantized_mm, ideal: pred.tool_ideal_mm, measured });
         if (c.single_joint)
           points.push({ joint: c.single_joint[0], angle: c.single_joint[1], line: c.line, command: c.text, ideal: pred.tool_ideal_mm,
             quant: pred.tool_quantized_mm, measured });
@@ -185,8 +192,8 @@ async function runPlan(): Promise<void> {
         dest_measured: measuredAt.get(ch.line_out) ?? null, back_measured: ch.line_back === null ? null : measuredAt.get(ch.line_back) ?? null,
         back_quant: back ? ch.back_quant : null, steps_back: back && start ? back.join() === start.join() : null });
     }
-    if (points.length || done.length) {
-      shown = { plan: name, title: doc.plan.title, robot: hook.robot?.name ?? "", when: new Date().toISOString(), points, chains: done };
+    if (points.length || done.length || targets.length) {
+      shown = { plan: name, title: doc.plan.title, robot: hook.robot?.name ?? "", when: new Date().toISOString(), points, chains: done, targets };
       save(shown);
       await report(shown, mismatches);
     }
@@ -245,7 +252,7 @@ async function record(): Promise<void> {
 async function report(e: Experiment, mismatches: string[] = []): Promise<void> {
   const t = (await s.engine.call({ type: "experiment_tables",
     points: e.points.map((p) => ({ joint: p.joint, angle: p.angle, ideal: p.ideal, quant: p.quant, measured: p.measured })),
-    chains: e.chains ?? [] })) as unknown as Tables;
+    chains: e.chains ?? [], targets: e.targets ?? [] })) as unknown as Tables;
   hook.experiment.tables = t;
   hook.experiment.csv = csv(e, t);
   charts.forEach((c) => c.destroy());
@@ -262,6 +269,7 @@ async function report(e: Experiment, mismatches: string[] = []): Promise<void> {
     joints.length ? h("h4", null, "Verdict per joint") : null,
     joints.length ? verdicts(joints, t) : null,
     (e.chains ?? []).length ? table5(e, t) : null,
+    (e.targets ?? []).length ? targetTable(e, t) : null,
     measured ? table4("Table 4: measured against the model (whole steps)", t.measured_vs_quant) : null,
     measured ? table4("Measured against the exact angles", t.measured_vs_ideal) : null,
     joints.length ? table4("What whole steps alone leave: the model's quantization error", t.quant_vs_ideal) : null,
@@ -292,6 +300,25 @@ function table5(e: Experiment, t: Tables): HTMLElement {
     h("thead", null, h("tr", null, ...TABLE5_HEAD.map((c) => h("th", null, c)))),
     h("tbody", null, ...table5Rows(e, t).map((row) => h("tr", null, ...row.map((c, k) => (k === 6 && c === "no"
       ? h("td", { class: "bad" }, c) : h("td", null, c))))))));
+}
+
+const TARGET_HEAD = ["line", "command", "model tool mm", "model from target mm", "exact angles from target mm", "measured mm",
+  "measured from target mm", "measured from model mm"];
+
+function targetRows(e: Experiment, t: Tables): string[][] {
+  const f = (v: number | null, d = 3) => (v === null ? "—" : v.toFixed(d));
+  return (e.targets ?? []).map((p, i) => {
+    const r = t.targets[i];
+    return [String(p.line), p.command, p.quant.map((x) => x.toFixed(1)).join(", "), f(r.model_from_target_mm), f(r.ideal_from_target_mm, 4),
+      p.measured ? p.measured.map((x) => x.toFixed(1)).join(", ") : "—", f(r.measured_from_target_mm), f(r.measured_from_model_mm)];
+  });
+}
+
+// The tool sent to points (P): the closed form's, the steps' and the arm's distance to each.
+function targetTable(e: Experiment, t: Tables): HTMLElement {
+  return h("div", { class: "table4" }, h("h4", null, "Tool to points (P)"), h("table", null,
+    h("thead", null, h("tr", null, ...TARGET_HEAD.map((c) => h("th", null, c)))),
+    h("tbody", null, ...targetRows(e, t).map((row) => h("tr", null, ...row.map((c) => h("td", null, c)))))));
 }
 
 function verdicts(joints: number[], t: Tables): HTMLElement {
@@ -375,6 +402,15 @@ function csv(e: Experiment, t: Tables): string {
         r.measured_dest_mm, r.measured_dest_ideal_mm, r.measured_return_mm, r.return_from_measured_start].map(q).join(","));
     });
   }
+  if ((e.targets ?? []).length) {
+    lines.push("", "target_line,command,target_x,target_y,target_z,model_x,model_y,model_z,measured_x,measured_y,measured_z," +
+      "model_from_target_mm,ideal_from_target_mm,measured_from_target_mm,measured_from_model_mm");
+    (e.targets ?? []).forEach((p, i) => {
+      const r = t.targets[i];
+      lines.push([p.line, p.command, ...p.target, ...p.quant, ...(p.measured ?? [null, null, null]), r.model_from_target_mm,
+        r.ideal_from_target_mm, r.measured_from_target_mm, r.measured_from_model_mm].map(q).join(","));
+    });
+  }
   return lines.join("\n") + "\n";
 }
 
@@ -407,6 +443,7 @@ async function exportHtml(): Promise<void> {
       "Made by Articula Studio from the host library's numbers (the harness's report has the same).</p>",
     verdictItems.length ? `<h2>Verdict per joint</h2><ul>${verdictItems.join("")}</ul>` : "",
     (e.chains ?? []).length ? "<h2>Table 5: repeatability, out and back</h2>" + htmlTable(TABLE5_HEAD, table5Rows(e, t)) : "",
+    (e.targets ?? []).length ? "<h2>Tool to points (P)</h2>" + htmlTable(TARGET_HEAD, targetRows(e, t)) : "",
     measured ? htmlTable4("Table 4: measured against the model (whole steps)", t.measured_vs_quant) : "",
     measured ? htmlTable4("Measured against the exact angles", t.measured_vs_ideal) : "",
     e.points.length ? htmlTable4("What whole steps alone leave: the model's quantization error", t.quant_vs_ideal) : "",

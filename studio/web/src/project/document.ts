@@ -33,8 +33,14 @@ export interface ExperimentChain {
   start: number[]; dest_quant: number[]; dest_ideal: number[]; back_quant: number[] | null;
   start_measured: number[] | null; dest_measured: number[] | null; back_measured: number[] | null; steps_back: boolean | null;
 }
+/** The tool sent to a point (P): the target, the model's tool (whole steps; exact angles), and
+ * where it was measured (null: not). */
+export interface ExperimentTarget { line: number; command: string; target: number[]; quant: number[]; ideal: number[]; measured: number[] | null }
 /** The experiment's measurements (the tables and plots are made from them again on opening). */
-export interface Experiment { plan: string; title: string; robot: string; when: string; points: ExperimentPoint[]; chains?: ExperimentChain[] }
+export interface Experiment {
+  plan: string; title: string; robot: string; when: string; points: ExperimentPoint[]; chains?: ExperimentChain[];
+  targets?: ExperimentTarget[];
+}
 
 export interface Project {
   format: typeof FORMAT;
@@ -129,7 +135,15 @@ function checkExperiment(e: unknown): Experiment | null {
   const chains = e.chains ?? [];
   if (!Array.isArray(chains) || chains.length > 100) throw new ProjectError("experiment.chains must be a list of up to 100 chains");
   const xyzOrNull = (v: unknown, where: string) => (v === null || v === undefined ? null : nums(v, where, 3));
+  const targets = e.targets ?? [];
+  if (!Array.isArray(targets) || targets.length > 1000) throw new ProjectError("experiment.targets must be a list of up to 1000 points");
   return {
+    targets: targets.map((t, i) => {
+      const where = `experiment.targets[${i}]`;
+      if (!isObj(t)) throw new ProjectError(`${where} must be an object`);
+      return { line: nums([t.line], `${where}.line`, 1)[0], command: str(t, "command", where, MAX_NAME), target: nums(t.target, `${where}.target`, 3),
+        quant: nums(t.quant, `${where}.quant`, 3), ideal: nums(t.ideal, `${where}.ideal`, 3), measured: xyzOrNull(t.measured, `${where}.measured`) };
+    }),
     chains: chains.map((c, i) => {
       const where = `experiment.chains[${i}]`;
       if (!isObj(c)) throw new ProjectError(`${where} must be an object`);

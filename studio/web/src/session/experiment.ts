@@ -30,7 +30,7 @@ export const experimentHandlers: Record<string, (m: Msg) => Out[]> = {
       const plan = S.engine.parsePlan(body, name);
       const doc = S.robot.predict(body, name) as { records: Record<string, unknown>[] };
       const records = doc.records.map((r) => ({ line: r.line, code: r.code, steps: r.steps, seconds: r.seconds,
-        actuator_deg: r.actuator_deg, tool_ideal_mm: r.tool_ideal_mm, tool_quantized_mm: r.tool_quantized_mm }));
+        actuator_deg: r.actuator_deg, tool_ideal_mm: r.tool_ideal_mm, tool_quantized_mm: r.tool_quantized_mm, target_mm: r.target_mm ?? null }));
       const zero = (S.robot.info.motors as { zero: number }[]).map((x) => x.zero);
       // the tool at the power-up pose (every motor at step 0: its zero angle, exactly)
       const start = (S.robot.pose(S.robot.jointsFromMotors(zero)) as { tool: { xyz: number[] } }).tool.xyz;
@@ -46,7 +46,7 @@ export const experimentHandlers: Record<string, (m: Msg) => Out[]> = {
   },
   // points: [{joint, angle, ideal, quant, measured (or null)}]. Per point its errors, and per
   // comparison the thesis's Table 4 (quantized vs ideal; measured vs quantized; measured vs ideal);
-  // chains: the repeatability chains, for Table 5 (host/lib/records_json.h's shape).
+  // chains: the repeatability chains, for Table 5; targets: the tool points (P) (host/lib/records_json.h's shapes).
   experiment_tables(m) {
     const points = m.points;
     if (!Array.isArray(points) || points.length > 10000) throw new BadMessage("'points' must be a list");
@@ -65,7 +65,8 @@ export const experimentHandlers: Record<string, (m: Msg) => Out[]> = {
         return value ? [{ joint: r.joint, value, reference }] : [];
       }));
     const chains = Array.isArray(m.chains) ? (m.chains as Record<string, unknown>[]).slice(0, 100) : [];
-    return [{ type: "experiment_tables", rows, table5: S.engine.table5(chains),
+    const targets = Array.isArray(m.targets) ? (m.targets as Record<string, unknown>[]).slice(0, 1000) : [];
+    return [{ type: "experiment_tables", rows, table5: S.engine.table5(chains), targets: S.engine.toolPoints(targets),
       quant_vs_ideal: table((r) => [r.quant, r.ideal]),
       measured_vs_quant: table((r) => [r.measured, r.quant]),
       measured_vs_ideal: table((r) => [r.measured, r.ideal]) }];
