@@ -62,7 +62,9 @@ export function initExperiment(studio: Studio, onSave: (e: Experiment) => void):
   $("exp-html").onclick = () => void exportHtml();
   $("exp-csv").onclick = () => shown && hook.experiment.csv && download(fileStem() + ".csv", hook.experiment.csv, "text/csv");
   fetch(new URL("data/index.json", document.baseURI)).then((r) => r.json()).then((idx: { plans?: string[] }) => {
-    setOptions($("exp-plan") as HTMLSelectElement, (idx.plans ?? []).map((p) => ({ value: p, label: planLabel(p) })));
+    const sel = $("exp-plan") as HTMLSelectElement;
+    setOptions(sel, (idx.plans ?? []).map((p) => ({ value: p, label: planLabel(p) })));
+    if ((idx.plans ?? []).includes("thesis-single-joint.arm")) sel.value = "thesis-single-joint.arm"; // the thesis's first
   }).catch(() => undefined);
 }
 

@@ -3,7 +3,7 @@
 // are shown as text, and a file that cannot be used keeps the robot that was there.
 import type { RobotMsg } from "../protocol";
 import type { Studio } from "../page/context";
-import { $, banner, download, setOptions } from "../page/dom";
+import { $, banner, download, h, setOptions } from "../page/dom";
 import { hook } from "../page/hook";
 import { buildJoints } from "./joints";
 import { buildWeights, clearIk } from "./ik";
@@ -66,7 +66,10 @@ export function showRobot(r: RobotMsg): void {
   const sel = $("robot-select") as HTMLSelectElement;
   setOptions(sel, r.robots);
   const stem = r.source.split("/").pop()?.replace(/\.json$/, "") ?? "";
-  sel.value = r.robots.includes(stem) ? stem : "";
+  const shipped = r.robots.includes(stem) && r.source === `/robots/${stem}.json`;
+  // a robot opened from a file: named in the list (not chosen again from it)
+  if (!shipped) sel.append(h("option", { value: "", disabled: true }, `${r.name} (opened file)`));
+  sel.value = shipped ? stem : "";
   showExamples(r.programs);
   buildJoints(r);
   buildWeights(r);
