@@ -59,19 +59,7 @@ struct Image {
   bool built_in;
   uint8_t operator[](uint16_t i) const;
 };
-const Image kStaged = {false};
-
-uint16_t staged_checksum() {
-  const Image& image = kStaged;
-  uint8_t bytes[16];
-  uint16_t crc = 0xFFFF;
-  for (uint16_t at = 0; at < kConfigImageSize; at = uint16_t(at + sizeof bytes)) {
-    const uint16_t n = min_of(uint16_t(sizeof bytes), uint16_t(kConfigImageSize - at));
-    for (uint16_t i = 0; i < n; ++i) bytes[i] = image[uint16_t(at + i)];
-    crc = crc16(bytes, n, crc);
-  }
-  return crc;
-}
+const Image kStaged = {false}, kBuiltInImage = {true};
 
 // Writes the version and the checksum that make the staged image the configuration.
 void seal(uint16_t c) {
@@ -97,18 +85,18 @@ uint8_t Image::operator[](uint16_t i) const {
   return b;
 }
 
-// The CRC of the built-in image, and (write) the image into EEPROM, sealed: a piece at a time,
-// the whole image would take 178 bytes of the stack.
-uint16_t built_in_image(bool write) {
+// The CRC of an image, read a piece at a time (the whole would take 178 bytes of the stack);
+// with `copy`, each piece written to the EEPROM's image too, then sealed (the built-in one).
+uint16_t image_crc(const Image& image, bool copy) {
   uint8_t bytes[16];
   uint16_t crc = 0xFFFF;
   for (uint16_t at = 0; at < kConfigImageSize; at = uint16_t(at + sizeof bytes)) {
     const uint16_t n = min_of(uint16_t(sizeof bytes), uint16_t(kConfigImageSize - at));
-    hal::flash_read(bytes, kBuiltIn + at, n);
-    if (write) hal::eeprom_write(uint16_t(kImageAt + at), bytes, n);
+    for (uint16_t i = 0; i < n; ++i) bytes[i] = image[uint16_t(at + i)];
+    if (copy) hal::eeprom_write(uint16_t(kImageAt + at), bytes, n);
     crc = crc16(bytes, n, crc);
   }
-  if (write) seal(crc);
+  if (copy) seal(crc);
   return crc;
 }
 
@@ -120,7 +108,7 @@ bool g_in_eeprom;
 
 void ensure_in_eeprom() {
   if (g_in_eeprom) return;
-  built_in_image(true);
+  image_crc(kBuiltInImage, true);
   g_in_eeprom = true;
 }
 
@@ -157,12 +145,11 @@ Millideg step_angle(uint8_t i, int32_t steps) {
 
 void setup() {
   // Read in place: nothing runs yet, and a copy would take ~250 bytes of the stack.
-  uint16_t c = staged_checksum();
+  uint16_t c = image_crc(kStaged, false);
   g_in_eeprom = sealed(c) && config_read(config, kStaged) == kConfigOk;
   if (!g_in_eeprom) {
-    c = built_in_image(false);
-    const Image built_in = {true};
-    config_read(config, built_in);
+    c = image_crc(kBuiltInImage, false);
+    config_read(config, kBuiltInImage);
   }
   use(config, c);
 }
@@ -174,7 +161,7 @@ Status stage(uint16_t n, int32_t thousandths) {
   ConfigField f;
   config_field(n, f);
   uint8_t b[4];
-  config_bytes(b, n, thousandths);
+  config_bytes(b, f, thousandths);
   hal::eeprom_write(uint16_t(kImageAt + f.offset), b, f.size);
   return kOk;
 }
@@ -191,7 +178,7 @@ Status stage_name(const char* s, uint8_t len) {
 
 Status commit(int32_t crc) {
   ensure_in_eeprom();
-  const uint16_t c = staged_checksum();
+  const uint16_t c = image_crc(kStaged, false);
   if (crc != int32_t(c)) return kConfigChecksum;
   ConfiguredArm<kJoints> next;
   if (config_read(next, kStaged) != kConfigOk) return kConfigInvalid;

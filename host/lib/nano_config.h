@@ -34,6 +34,11 @@ struct NanoConfig {
 // what the protocol carries.
 NanoConfig nano_config(const Robot& robot);
 
+// P's arm for a robot, from its model and motors in float as the Nano holds them: false when
+// the closed form does not apply (not a yaw-pitch-pitch arm with the identity or the MK2's
+// parallelogram coupling). For robots the Nano cannot take, which the prediction still runs.
+bool float_ypp_arm(const Robot& robot, YppArm<float>& arm);
+
 // The arm a configuration describes, as the firmware reads it (config_read).
 ConfiguredArm<kMaxConfigMotors> configured_arm(const NanoConfig& config);
 

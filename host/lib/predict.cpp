@@ -150,15 +150,7 @@ ControllerModel::ControllerModel(const Robot& robot, const ControllerSettings& s
     servo_closed_ = c.servo_closed_deg;
   } catch (const NanoConfigError& e) {  // not an arm the Nano takes: the same rules, P from the model
     configurable_ = e.what();
-    if (n_ == 3) {
-      Actuation<float, kMaxJoints> fa{};
-      fa.num_motors = 3;
-      for (int i = 0; i < 3; ++i) {
-        fa.motors[i] = robot_.actuation.motors[i];
-        for (int j = 0; j < 3; ++j) fa.coupling[i][j] = float(robot_.actuation.coupling[i][j]);
-      }
-      has_ik_ = ypp_from_model(arm_, cast_model<float>(robot_.model)) && ypp_limits_from_actuation(arm_, fa);
-    }
+    has_ik_ = float_ypp_arm(robot_, arm_);
     double u[kMaxJoints];
     HostActuation a = robot_.actuation;
     if (!invert_coupling(a))

@@ -1,7 +1,8 @@
 // articula/config.h - the robot configuration a Nano holds in EEPROM: one firmware for any
 // arm it can drive. docs/protocol.md ("Robot configuration") is the specification; this is
-// its code, shared by the firmware (which stores, checks and reads it), the host library
-// (which makes it from a robot file) and through it the CLI, Python and the page.
+// its code, shared by the firmware (which stores, checks and reads it) and the host library
+// (which makes it from a robot file, host/lib/nano_config.cpp, for the CLI, Python, the page,
+// and the firmware's built-in image).
 //
 // The configuration is an image of kConfigImageSize bytes. Every number in it is a setting
 // in GRBL's manner, `$<n>=<value>`, numbered here and nowhere else:
@@ -110,13 +111,10 @@ inline Status config_check(uint16_t n, int32_t thousandths) {
   return kOk;
 }
 
-// The stored bytes of a checked value (little-endian, `size` of them) into out[0..3].
-inline uint8_t config_bytes(uint8_t* out, uint16_t n, int32_t thousandths) {
-  ConfigField f;
-  config_field(n, f);
+// The stored bytes of a checked value of field f (little-endian, f.size of them) into out[0..3].
+inline void config_bytes(uint8_t* out, const ConfigField& f, int32_t thousandths) {
   uint32_t v = uint32_t(f.whole ? thousandths / 1000 : thousandths);
   for (uint8_t i = 0; i < 4; ++i, v >>= 8) out[i] = uint8_t(v);
-  return f.offset;
 }
 
 // The value of setting n in an image, in its stored units (sign-extended where the field
@@ -137,7 +135,7 @@ inline void config_put(uint8_t* image, uint16_t n, int32_t thousandths) {
   uint8_t b[4];
   ConfigField f;
   config_field(n, f);
-  config_bytes(b, n, thousandths);
+  config_bytes(b, f, thousandths);
   for (uint8_t i = 0; i < f.size; ++i) image[f.offset + i] = b[i];
 }
 
@@ -242,102 +240,6 @@ inline ConfigError config_read(ConfiguredArm<J>& out, const Bytes& image) {
   out.name[len] = '\0';
   if (config_check_name(out.name, len) != kOk) return kConfigBadName;
   return kConfigOk;
-}
-
-// Why an arm cannot be written as a configuration (kConfigOk when it can).
-enum ConfigFit : uint8_t {
-  kFitOk = 0,
-  kFitTooManyMotors,  // more than kMaxConfigMotors
-  kFitNoMotors,       // none
-  kFitMicrosteps,     // the L298N drives full steps (1) or half steps (2) only
-  kFitOutOfRange,     // a number the protocol cannot carry (a limit beyond 1,000,000 deg, a gear
-                      // beyond 1,000,000, more than 10,000 steps per turn)
-  kFitCoupling,       // a coupling entry not a multiple of 0.001
-  kFitBadHome,        // the home pose puts a motor outside its limits
-  kFitBadMotor,       // validate() refuses a motor
-};
-
-// The image of an arm: its motors and coupling, its home pose as joint values (radians or
-// mm, u = C^-1 q solved in float, rounded to millidegrees and kept within the limits), P's
-// closed form when ypp_from_model recognises the model (geometry rounded to micrometres),
-// the servo's angles and the name (characters the banner cannot carry become '-', cut to
-// kMaxRobotName). Shared by the firmware (the arm it was built for: what a blank EEPROM
-// gets) and the host (any robot file), so both make the same image.
-template <int J, int R>
-inline ConfigFit config_make(uint8_t* image, const Model<float, J, R>& model, const Actuation<float, J>& a,
-                             const float* home_q, float servo_open_deg, float servo_closed_deg, const char* name) {
-  for (uint16_t i = 0; i < kConfigImageSize; ++i) image[i] = 0;
-  const uint8_t n = a.num_motors;
-  if (n == 0) return kFitNoMotors;
-  if (n > kMaxConfigMotors || n > J) return kFitTooManyMotors;
-  config_put(image, 130, int32_t(n) * 1000);
-  // Home: u = C^-1 q, C padded to 3 x 3 with the identity (the 3 x 3 solve of the core).
-  float sys[3][4], u[3];
-  for (uint8_t r = 0; r < 3; ++r) {
-    for (uint8_t c = 0; c < 3; ++c) sys[r][c] = r < n && c < n ? a.coupling[r][c] : float(r == c);
-    sys[r][3] = r < n ? home_q[r] : 0.0f;
-  }
-  if (!detail::solve3(u, sys))
-    for (uint8_t i = 0; i < n; ++i) u[i] = home_q[i];
-  for (uint8_t i = 0; i < 3; ++i) {
-    const bool used = i < n;
-    const MotorSpec m = used ? a.motors[i] : MotorSpec{200, 1, 1, 1, 1, 0, 0, 0};
-    if (validate(m) != kMotorOk) return kFitBadMotor;
-    if (m.microsteps > 2) return kFitMicrosteps;
-    const int32_t v[5] = {m.full_steps_per_rev, m.microsteps, m.direction, m.gear_num, m.gear_den};
-    const uint16_t b = uint16_t(100 + 10 * i);
-    for (uint8_t k = 0; k < 5; ++k) {
-      if (config_check(uint16_t(b + k), v[k] * 1000) != kOk) return kFitOutOfRange;
-      config_put(image, uint16_t(b + k), v[k] * 1000);
-    }
-    Millideg home = m.zero;
-    if (used) {
-      to_millideg(home, rad_to_deg(u[i]));
-      home = clamp(home, m.min, m.max);
-    }
-    const Millideg angles[4] = {m.zero, m.min, m.max, home};
-    for (uint8_t k = 0; k < 4; ++k) config_put(image, uint16_t(b + 5 + k), angles[k]);
-    for (uint8_t c = 0; c < 3; ++c) {
-      const float x = i < n && c < n ? a.coupling[i][c] : float(i == c);
-      const float t = x * 1000.0f;
-      const int32_t k = int32_t(t < 0 ? t - 0.5f : t + 0.5f);
-      if (!(Math<float>::fabs(x) <= 1000000.0f) || Math<float>::fabs(float(k) - t) > 1e-3f * (1.0f + Math<float>::fabs(t)))
-        return kFitCoupling;
-      config_put(image, uint16_t(140 + 3 * i + c), k);
-    }
-  }
-  YppArm<float> arm;
-  if (n == 3 && ypp_from_model(arm, model)) {
-    const float g[6] = {arm.base_height, arm.shoulder_offset, arm.upper, arm.fore, arm.tool_forward, arm.tool_up};
-    bool fits = true;
-    int32_t um[6];
-    for (uint8_t k = 0; k < 6; ++k) {
-      fits = fits && to_millideg(um[k], g[k]);  // mm to micrometres: the same rounding
-    }
-    if (fits) {
-      config_put(image, 150, 1000);
-      for (uint8_t k = 0; k < 6; ++k) config_put(image, uint16_t(151 + k), um[k]);
-    }
-  }
-  int32_t servo[2];
-  if (!to_millideg(servo[0], servo_open_deg) || !to_millideg(servo[1], servo_closed_deg)) return kFitOutOfRange;
-  for (uint8_t k = 0; k < 2; ++k) {
-    if (config_check(uint16_t(160 + k), servo[k]) != kOk) return kFitOutOfRange;
-    config_put(image, uint16_t(160 + k), servo[k]);
-  }
-  // The name as an `N` line carries it: no blanks at its ends (the parser drops them), and
-  // '-' for what the line cannot carry ('#' starts a comment, '?' and '!' act at once).
-  while (*name == ' ' || *name == '\t') ++name;
-  uint8_t len = 0, kept = 0;
-  for (; name[len] != '\0' && len < kMaxRobotName; ++len) {
-    const char c = name[len];
-    const bool bad = c < 0x20 || c > 0x7e || c == '|' || c == ']' || c == '#' || c == '?' || c == '!';
-    image[kConfigNameOffset + len] = uint8_t(bad ? '-' : c);
-    if (c != ' ') kept = uint8_t(len + 1);
-  }
-  for (uint8_t i = kept; i < len; ++i) image[kConfigNameOffset + i] = 0;
-  if (kept == 0) image[kConfigNameOffset] = '-';
-  return kFitOk;
 }
 
 }  // namespace articula
