@@ -129,26 +129,17 @@ NanoConfig nano_config(const Robot& robot) {
   const std::string name = line_name(robot.name);
   config_name_bytes(image + kConfigNameOffset, name.data(), uint8_t(name.size()));
 
-  ConfiguredArm<kMaxConfigMotors> read;
-  if (config_read(read, image) != kConfigOk) throw fail("the configuration does not read back (a bug)");
+  if (config_read(out.arm, image) != kConfigOk) throw fail("the configuration does not read back (a bug)");
   out.checksum = config_checksum(image);
-  out.has_point = read.has_point;
-  out.name = read.name;
   for (uint16_t s = 100; s <= 161; ++s) {
     ConfigField field;
     if (!config_field(s, field)) continue;
     const int32_t v = config_get(image, s);
     out.lines.push_back(setting_line(s, field.whole ? v * 1000 : v));
   }
-  out.lines.push_back("N " + out.name);
+  out.lines.push_back(std::string("N ") + out.arm.name);
   out.lines.push_back(setting_line(kCommitSetting, int32_t(out.checksum) * 1000));
   return out;
-}
-
-ConfiguredArm<kMaxConfigMotors> configured_arm(const NanoConfig& config) {
-  ConfiguredArm<kMaxConfigMotors> arm;
-  config_read(arm, config.image.data());
-  return arm;
 }
 
 }  // namespace articula::host

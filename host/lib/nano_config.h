@@ -22,11 +22,11 @@ class NanoConfigError : public std::runtime_error {
 };
 
 struct NanoConfig {
-  std::vector<uint8_t> image;      // kConfigImageSize bytes
-  uint16_t checksum = 0;           // config_checksum(image): the I banner's K, $199's value
-  std::vector<std::string> lines;  // $100=... to $161=..., N <name>, $199=<checksum>
-  bool has_point = false;          // P works (a yaw-pitch-pitch arm)
-  std::string name;                // as the banner will show it
+  std::vector<uint8_t> image;        // kConfigImageSize bytes
+  uint16_t checksum = 0;             // config_checksum(image): the I banner's K, $199's value
+  std::vector<std::string> lines;    // $100=... to $161=..., N <name>, $199=<checksum>
+  ConfiguredArm<kMaxConfigMotors> arm;  // the image as the firmware reads it (config_read): its
+                                        // name as the banner shows it, has_point when P works
 };
 
 // Throws NanoConfigError for a robot the firmware cannot drive: no motors, more than three,
@@ -39,8 +39,6 @@ NanoConfig nano_config(const Robot& robot);
 // parallelogram coupling). For robots the Nano cannot take, which the prediction still runs.
 bool float_ypp_arm(const Robot& robot, YppArm<float>& arm);
 
-// The arm a configuration describes, as the firmware reads it (config_read).
-ConfiguredArm<kMaxConfigMotors> configured_arm(const NanoConfig& config);
 
 }  // namespace articula::host
 

@@ -1,6 +1,8 @@
 // host/lib/plan.cpp - the test plan reader (plan.h).
 #include "plan.h"
 
+#include "program.h"  // trim_blanks
+
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
@@ -10,13 +12,6 @@
 namespace articula::host {
 
 namespace {
-std::string trim(const std::string& s) {
-  size_t b = 0, e = s.size();
-  while (b < e && std::isspace(static_cast<unsigned char>(s[b]))) ++b;
-  while (e > b && std::isspace(static_cast<unsigned char>(s[e - 1]))) --e;
-  return s.substr(b, e - b);
-}
-
 std::vector<std::string> words(const std::string& s) {
   std::istringstream in(s);
   std::vector<std::string> out;
@@ -62,12 +57,12 @@ Plan parse_plan(const std::string& text, const std::string& name) {
     const std::string where = name + ":" + std::to_string(n);
     std::string line = raw;
     if (!line.empty() && line.back() == '\r') line.pop_back();
-    const std::string stripped = trim(line);
+    const std::string stripped = trim_blanks(line);
     if (stripped.rfind("#@", 0) == 0) {
-      const std::string body = trim(stripped.substr(2));
+      const std::string body = trim_blanks(stripped.substr(2));
       const size_t sp = body.find(' ');
       const std::string directive = body.substr(0, sp);
-      const std::string rest = sp == std::string::npos ? "" : trim(body.substr(sp + 1));
+      const std::string rest = sp == std::string::npos ? "" : trim_blanks(body.substr(sp + 1));
       const std::vector<std::string> args = words(rest);
       if (directive == "title" || directive == "note") {
         if (rest.empty()) throw PlanError(where + ": #@ " + directive + " needs a text");

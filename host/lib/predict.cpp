@@ -142,14 +142,13 @@ ControllerModel::ControllerModel(const Robot& robot, const ControllerSettings& s
   home_.assign(size_t(n_), 0);
   home_steps_.assign(size_t(n_), 0);
   try {
-    const ConfiguredArm<kMaxConfigMotors> c = configured_arm(nano_config(robot_));
+    const ConfiguredArm<kMaxConfigMotors> c = nano_config(robot_).arm;
     has_ik_ = c.has_point;
     arm_ = c.arm;
     for (int i = 0; i < n_; ++i) home_[size_t(i)] = c.home[i];
     servo_open_ = c.servo_open_deg;
     servo_closed_ = c.servo_closed_deg;
-  } catch (const NanoConfigError& e) {  // not an arm the Nano takes: the same rules, P from the model
-    configurable_ = e.what();
+  } catch (const NanoConfigError&) {  // not an arm the Nano takes: the same rules, P from the model
     has_ik_ = float_ypp_arm(robot_, arm_);
     double u[kMaxJoints];
     HostActuation a = robot_.actuation;

@@ -156,7 +156,6 @@ class ControllerModel {
   bool has_ik_ = false;
   YppArm<float> arm_{};
   float servo_open_ = 90.0f, servo_closed_ = 90.0f;
-  std::string configurable_;  // why a Nano cannot be configured for this robot ("" when it can)
   std::vector<Millideg> home_;
   std::vector<int32_t> home_steps_;
 

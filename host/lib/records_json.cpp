@@ -238,7 +238,7 @@ nlohmann::json plan_json(const Plan& p) {
 }
 
 nlohmann::json nano_config_json(const NanoConfig& c) {
-  return {{"name", c.name}, {"checksum", c.checksum}, {"lines", c.lines}, {"has_point", c.has_point}};
+  return {{"name", c.arm.name}, {"checksum", c.checksum}, {"lines", c.lines}, {"has_point", c.arm.has_point}};
 }
 
 nlohmann::json axis_errors_json(const AxisErrors& e) {

@@ -45,8 +45,8 @@ TEST(NanoConfig, TheBuiltInConfigurationIsTheMk2s) {
   ASSERT_EQ(sizeof builtin, c.image.size());
   EXPECT_EQ(std::vector<uint8_t>(builtin, builtin + sizeof builtin), c.image)
       << "regenerate: articula configure mk2plus --header > firmware/src/builtin_config.h";
-  EXPECT_EQ(c.name, "MK2 Plus");
-  EXPECT_TRUE(c.has_point);
+  EXPECT_STREQ(c.arm.name, "MK2 Plus");
+  EXPECT_TRUE(c.arm.has_point);
 }
 
 TEST(NanoConfig, TheLinesWriteTheImageAndTheCommitNamesItsChecksum) {
@@ -65,7 +65,7 @@ TEST(NanoConfig, TheLinesWriteTheImageAndTheCommitNamesItsChecksum) {
 
 TEST(NanoConfig, TheArmReadBackIsTheRobotFiles) {
   const Robot r = load("hil/robots/mk2-regeared.json");
-  const ConfiguredArm<3> a = configured_arm(nano_config(r));
+  const ConfiguredArm<3> a = nano_config(r).arm;
   ASSERT_EQ(a.actuation.num_motors, 3);
   for (int i = 0; i < 3; ++i) {
     const MotorSpec& m = r.actuation.motors[i];
@@ -90,8 +90,8 @@ TEST(NanoConfig, TheArmReadBackIsTheRobotFiles) {
   // The prediction uses the same home: the firmware's steps.
   const ControllerModel model(r, ControllerSettings{});
   EXPECT_EQ(model.home_commanded()[1], 90000);
-  EXPECT_FALSE(configured_arm(nano_config(load("hil/robots/thesis-example-arm.json"))).has_point);
-  EXPECT_TRUE(configured_arm(nano_config(load("hil/robots/three-link-arm.json"))).has_point);
+  EXPECT_FALSE(nano_config(load("hil/robots/thesis-example-arm.json")).arm.has_point);
+  EXPECT_TRUE(nano_config(load("hil/robots/three-link-arm.json")).arm.has_point);
 }
 
 TEST(NanoConfig, ARobotTheNanoCannotDriveIsRefusedWithTheReason) {
@@ -135,6 +135,6 @@ TEST(NanoConfig, EveryValueIsRangeChecked) {
   Robot r = load("robots/mk2plus.json");
   r.name = "  Bob's arm #2!  ";
   const NanoConfig c = nano_config(r);
-  EXPECT_EQ(c.name, "Bob's arm -2-");
+  EXPECT_STREQ(c.arm.name, "Bob's arm -2-");
   EXPECT_EQ(c.lines[c.lines.size() - 2], "N Bob's arm -2-");
 }

@@ -21,6 +21,19 @@ using namespace nb::literals;
 namespace {
 using Xyz = std::array<double, 3>;
 Vec3<double> v3(const Xyz& a) { return make_vec3(a[0], a[1], a[2]); }
+
+// A list of records from Python (dicts and lists, positions as numbers) through Python's own
+// json into the host library's JSON reader `of_json`, its rows back through `to_json`; the
+// reader's complaint (naming the entry) as a ValueError.
+template <typename Of, typename To>
+nb::object via_json(nb::handle records, Of of_json, To to_json) {
+  const std::string text = nb::cast<std::string>(nb::module_::import_("json").attr("dumps")(records));
+  try {
+    return json_to_python(to_json(of_json(nlohmann::json::parse(text))));
+  } catch (const std::exception& e) {
+    throw nb::value_error(e.what());
+  }
+}
 }  // namespace
 
 void bind_experiment(nb::module_& m) {
@@ -56,13 +69,7 @@ void bind_experiment(nb::module_& m) {
   m.def(
       "table5",
       [](nb::handle chains) {
-        // (the chains through Python's own json: dicts and lists, positions as numbers)
-        const std::string text = nb::cast<std::string>(nb::module_::import_("json").attr("dumps")(chains));
-        try {
-          return json_to_python(host::table5_json(host::table5(host::chain_poses_of_json(nlohmann::json::parse(text)))));
-        } catch (const std::exception& e) {
-          throw nb::value_error(e.what());
-        }
+        return via_json(chains, host::chain_poses_of_json, [](const auto& c) { return host::table5_json(host::table5(c)); });
       },
       "chains"_a,
       "The thesis's Table 5 from repeatability chains [{'chain', 'moves', 'back_moves', 'start', 'dest_quant', "
@@ -72,12 +79,8 @@ void bind_experiment(nb::module_& m) {
   m.def(
       "tool_points",
       [](nb::handle points) {
-        const std::string text = nb::cast<std::string>(nb::module_::import_("json").attr("dumps")(points));
-        try {
-          return json_to_python(host::tool_points_json(host::tool_points(host::target_poses_of_json(nlohmann::json::parse(text)))));
-        } catch (const std::exception& e) {
-          throw nb::value_error(e.what());
-        }
+        return via_json(points, host::target_poses_of_json,
+                        [](const auto& p) { return host::tool_points_json(host::tool_points(p)); });
       },
       "points"_a,
       "The tool sent to points (P) from [{'line', 'target', 'quant', 'ideal', 'measured'}] (positions [x, y, z] mm; "

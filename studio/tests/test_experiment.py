@@ -71,41 +71,51 @@ def harness_report(tmp_path, plan, typed, arm=ARM):
     return (out / "report.md").read_text()
 
 
-def test_the_experiment_in_the_page_equals_the_harness(open_page, tmp_path):
-    pg = configured_page(open_page)
-
-    assert pg.page.eval_on_selector_all("#exp-plan option", "os => os.map(o => o.value)") == \
-        ["thesis-repeatability.arm", "thesis-single-joint.arm", "tool-points.arm"]
-    pg.page.select_option("#exp-plan", PLAN)
+def run_plan(pg, plan, xyz_for, first_pose=None):
+    """Runs a plan in the Experiment panel, typing xyz_for(pose asked about) at every pose
+    (first_pose(pose, xyz) runs once before the first is typed); returns what was typed as
+    (plan line, x, y, z), as the harness's --measured CSV has it."""
+    pg.page.select_option("#exp-plan", plan)
     pg.page.click("#exp-run")
-    typed = []  # (plan line, x, y, z), as the harness's --measured CSV has them
-    first = True
+    typed = []
     while True:
         pg.wait("a.experiment.waiting !== null || !a.experiment.running", timeout=120000)
         w = pg.hook("a.experiment.waiting")
         if w is None:
             break
-        xyz = measured_for(w)
-        if first:
-            # a measurement typed in cm, then one that is not a number: questions, not plots
-            type_xyz(pg, [round(v / 10, 2) for v in xyz])
-            pg.wait("a.experiment.question !== ''")
-            assert "centimetres" in pg.hook("a.experiment.question")
-            assert pg.page.is_visible("#exp-anyway")
-            pg.page.screenshot(path=str(SHOTS / "studio-experiment-measure.png"))
-            type_xyz(pg, ["abc", xyz[1], xyz[2]])
-            pg.wait("a.experiment.question !== '' && !a.experiment.question.includes('centimetres')")
-            assert "not a number" in pg.hook("a.experiment.question")
-            assert not pg.page.is_visible("#exp-anyway")  # a value that is not a number is never used
-            assert pg.hook("a.experiment.waiting.line") == w["line"]  # still this pose
-            first = False
+        xyz = xyz_for(w)
+        if first_pose and not typed:
+            first_pose(w, xyz)
         type_xyz(pg, xyz)
         pg.wait(f"a.experiment.waiting === null || a.experiment.waiting.line !== {w['line']}", timeout=30000)
         typed.append((w["line"], *xyz))
     assert pg.hook("a.experiment.mismatches") == []  # every reply and every step as the model predicts
+    pg.wait("a.experiment.tables !== null")
+    return typed
+
+
+def test_the_experiment_in_the_page_equals_the_harness(open_page, tmp_path):
+    pg = configured_page(open_page)
+
+    assert pg.page.eval_on_selector_all("#exp-plan option", "os => os.map(o => o.value)") == \
+        ["thesis-repeatability.arm", "thesis-single-joint.arm", "tool-points.arm"]
+
+    def mistyped_first(w, xyz):
+        # a measurement typed in cm, then one that is not a number: questions, not plots
+        type_xyz(pg, [round(v / 10, 2) for v in xyz])
+        pg.wait("a.experiment.question !== ''")
+        assert "centimetres" in pg.hook("a.experiment.question")
+        assert pg.page.is_visible("#exp-anyway")
+        pg.page.screenshot(path=str(SHOTS / "studio-experiment-measure.png"))
+        type_xyz(pg, ["abc", xyz[1], xyz[2]])
+        pg.wait("a.experiment.question !== '' && !a.experiment.question.includes('centimetres')")
+        assert "not a number" in pg.hook("a.experiment.question")
+        assert not pg.page.is_visible("#exp-anyway")  # a value that is not a number is never used
+        assert pg.hook("a.experiment.waiting.line") == w["line"]  # still this pose
+
+    typed = run_plan(pg, PLAN, measured_for, mistyped_first)
     assert "every reply and every step as the model predicts" in pg.page.text_content("#exp-state")
     assert len(typed) >= 8
-    pg.wait("a.experiment.tables !== null")
     pg.page.locator("#experiment-section").scroll_into_view_if_needed()
     pg.page.screenshot(path=str(SHOTS / "studio-experiment-report.png"), full_page=False)
 
@@ -157,21 +167,12 @@ def test_repeatability_in_the_page_equals_the_harness(open_page, tmp_path):
     each chain, at its destination and back; every chain's steps back where they started, and
     the page's distances the harness's on the same measurements."""
     pg = configured_page(open_page)
-    pg.page.select_option("#exp-plan", "thesis-repeatability.arm")
-    pg.page.click("#exp-run")
-    typed = []
-    while True:
-        pg.wait("a.experiment.waiting !== null || !a.experiment.running", timeout=120000)
-        w = pg.hook("a.experiment.waiting")
-        if w is None:
-            break
-        assert w["joint"] == -1
-        xyz = [round(m + e, 2) for m, e in zip(w["model"], OTHER_MM)]
-        type_xyz(pg, xyz)
-        pg.wait(f"a.experiment.waiting === null || a.experiment.waiting.line !== {w['line']}", timeout=30000)
-        typed.append((w["line"], *xyz))
-    assert pg.hook("a.experiment.mismatches") == []
-    pg.wait("a.experiment.tables !== null")
+
+    def ruler(w):
+        assert w["joint"] == -1  # a repeatability pose
+        return [round(m + e, 2) for m, e in zip(w["model"], OTHER_MM)]
+
+    typed = run_plan(pg, "thesis-repeatability.arm", ruler)
     csv_text = pg.hook("a.experiment.csv")
     body = csv_text.split("\nchain,", 1)[1]
     chains = list(csv.DictReader(io.StringIO("chain," + body)))
@@ -196,21 +197,12 @@ def test_tool_points_in_the_page_equal_the_harness(open_page, tmp_path):
     pg.page.select_option("#arm-port", "page:virtual")
     pg.page.click("#arm-connect")
     pg.wait("a.arm.connected && a.arm.status !== null", timeout=60000)
-    pg.page.select_option("#exp-plan", "tool-points.arm")
-    pg.page.click("#exp-run")
-    typed = []
-    while True:
-        pg.wait("a.experiment.waiting !== null || !a.experiment.running", timeout=120000)
-        w = pg.hook("a.experiment.waiting")
-        if w is None:
-            break
+
+    def two_mm_above_the_target(w):
         target = [float(v) for v in w["command"].split("#")[0].split()[1:4]]
-        xyz = [target[0], target[1], target[2] + 2]
-        type_xyz(pg, xyz)
-        pg.wait(f"a.experiment.waiting === null || a.experiment.waiting.line !== {w['line']}", timeout=30000)
-        typed.append((w["line"], *xyz))
-    assert pg.hook("a.experiment.mismatches") == []
-    pg.wait("a.experiment.tables !== null")
+        return [target[0], target[1], target[2] + 2]
+
+    typed = run_plan(pg, "tool-points.arm", two_mm_above_the_target)
     body = pg.hook("a.experiment.csv").split("\ntarget_line,", 1)[1]
     rows = list(csv.DictReader(io.StringIO("target_line," + body)))
     assert len(rows) == len(typed) >= 8

@@ -85,16 +85,18 @@ export class ArmLink {
       this.emit({ type: "arm", connected: false, port: portLabel, error: (e as Error).message });
       return;
     }
+    this.portLabel = portLabel;
+    await this.admit(info, robot);
+  }
+
+  // The arm driven when its banner says it is `robot`; else the port kept for configuring (or
+  // closed when configuring cannot help), and the panel told why.
+  private async admit(info: Parsed, robot: string): Promise<void> {
     const why = await this.mismatch(info, robot);
-    if (why) {
-      this.portLabel = portLabel;
-      this.configurable = why.configurable;
-      if (!why.configurable) await this.close();
-      this.emit({ type: "arm", connected: false, port: portLabel, error: why.text, configurable: why.configurable,
-        banner: info.kind === "info" ? { robot: info.robot, checksum: info.checksum } : null });
-      return;
-    }
-    this.start(info as Parsed & { kind: "info" }, portLabel);
+    if (!why) return this.start(info as Parsed & { kind: "info" }, this.portLabel);
+    this.configurable = why.configurable;
+    if (!why.configurable) await this.close();
+    this.emit({ type: "arm", connected: false, port: this.portLabel, error: why.text, configurable: why.configurable });
   }
 
   // Why this arm is not the robot shown ("" when it is), and whether configuring would make it
@@ -138,13 +140,7 @@ export class ArmLink {
         this.emit({ type: "arm", connected: false, port: this.portLabel, configurable: true, error: (e as Error).message });
         return;
       }
-      const why = await this.mismatch(info, robot);
-      if (!why) return this.start(info as Parsed & { kind: "info" }, this.portLabel);
-      if (!why.configurable) {
-        this.configurable = false;
-        await this.close();
-      }
-      this.emit({ type: "arm", connected: false, port: this.portLabel, error: why.text, configurable: why.configurable });
+      await this.admit(info, robot);
     });
   }
 
