@@ -765,6 +765,13 @@ def test_the_page_flashes_the_virtual_nano_through_its_bootloader(open_page):
                     timeout=30000)
     reply = _send(pg, "P 100 0 50")  # no closed form on this arm: refused as the model says
     assert reply["reply"] == reply["predicted"]["reply"] == "error:16"
+    # Another robot shown: the Nano, configured for the thesis arm, is driven no more
+    assert pg.page.is_hidden("#arm-configure")  # nothing to configure while the robots agree
+    pg.page.select_option("#robot-select", "mk2plus")
+    pg.wait("a.robot.name === 'MK2 Plus'")
+    pg.wait("!a.arm.connected && a.arm.configurable", timeout=30000)
+    assert "configured for the Thesis example arm; the studio shows the MK2 Plus" in pg.hook("a.arm.error")
+    assert pg.page.is_visible("#arm-configure") and not pg.page.is_visible("#arm-send-row")
     assert pg.errors == []
 
 

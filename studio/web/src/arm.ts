@@ -128,11 +128,17 @@ export class ArmLink {
     this.poll();
   }
 
-  /** The robot shown changed while the port waits to be configured: the banner asked again,
-   * and the arm driven if it is this robot's (or the panel told why not). */
+  /** The robot shown changed: the arm is driven no more until its banner, asked again, says
+   * it is this robot's (or the panel says why not, and offers to configure it). */
   recheck(robot: string): Promise<void> {
     return this.serial(async () => {
-      if (!this.configurable || !this.port) return;
+      if (!this.port || (!this.connected && !this.configurable)) return;
+      if (this.connected) {
+        this.connected = false; // no polls and no lines meanwhile: its banner is not this robot's yet
+        this.configurable = true;
+        if (this.pollTimer !== null) clearTimeout(this.pollTimer);
+        this.pollTimer = null;
+      }
       let info: Parsed & { line: string };
       try {
         info = await this.banner();

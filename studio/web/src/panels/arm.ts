@@ -86,9 +86,9 @@ async function connect(): Promise<void> {
   if (!link.connected && !link.configurable) link = null;
 }
 
-/** Another robot is shown: a Nano waiting to be configured may be that one's. */
+/** Another robot is shown: the Nano is driven only if it is configured for that one. */
 export function armRobotShown(): void {
-  if (link?.configurable) void link.recheck(hook.robot?.name ?? "");
+  if (link && (link.connected || link.configurable)) void link.recheck(hook.robot?.name ?? "");
 }
 
 /** The arm while connected (or waiting to be configured), for the Experiment panel. */
@@ -158,7 +158,7 @@ function showArm(m: ArmMsg): void {
   const open = m.connected || hook.arm.configurable; // the port is ours
   $("arm-connect").hidden = open;
   $("arm-disconnect").hidden = !open;
-  $("arm-configure-row").hidden = !open || !!m.configuring;
+  $("arm-configure-row").hidden = !m.configurable; // only when the Nano is another robot's
   $("arm-send-row").hidden = !m.connected;
   $("drive-arm-row").hidden = !m.connected;
   const st = $("arm-state");

@@ -52,7 +52,6 @@ let asked: number[] | null = null; // the values the question was about ("Use it
 export function initExperiment(studio: Studio, onSave: (e: Experiment) => void): void {
   s = studio;
   save = onSave;
-  hook.experiment = { running: false, waiting: null, question: "", points: [], tables: null, csv: "", mismatches: [] };
   $("exp-run").onclick = () => void run();
   $("exp-record").onclick = () => void record();
   $("exp-anyway").onclick = () => asked && give(asked);
@@ -264,7 +263,7 @@ async function report(e: Experiment, mismatches: string[] = []): Promise<void> {
   const box = $("exp-report");
   fill(box,
     h("h3", null, `${e.title}: ${e.robot}`),
-    h("p", { class: "note" }, `${new Date(e.when).toLocaleString()}; ${e.points.length} poses, ${measured} measured with a ruler. ` +
+    h("p", { class: "note" }, `${new Date(e.when).toLocaleString()}; measured with a ruler: ${measuredSummary(e)}. ` +
       "Errors per axis (x forward, y left, z up) in mm, and in per cent of the coordinate as the thesis gives them " +
       "(none where the coordinate is within 1 mm of 0)."),
     ...mismatches.map((m) => h("p", { class: "status bad" }, m)),
@@ -321,6 +320,17 @@ function targetTable(e: Experiment, t: Tables): HTMLElement {
   return h("div", { class: "table4" }, h("h4", null, "Tool to points (P)"), h("table", null,
     h("thead", null, h("tr", null, ...TARGET_HEAD.map((c) => h("th", null, c)))),
     h("tbody", null, ...targetRows(e, t).map((row) => h("tr", null, ...row.map((c) => h("td", null, c)))))));
+}
+
+// What was measured, of what the plan asked about: "9 of 12 single-joint poses, 5 chains ...".
+function measuredSummary(e: Experiment): string {
+  const chains = e.chains ?? [], targets = e.targets ?? [];
+  const parts = [
+    e.points.length ? `${e.points.filter((p) => p.measured).length} of ${e.points.length} single-joint poses` : "",
+    chains.length ? `${chains.filter((c) => c.dest_measured).length} of ${chains.length} repeatability chains` : "",
+    targets.length ? `${targets.filter((p) => p.measured).length} of ${targets.length} points` : "",
+  ].filter(Boolean);
+  return parts.join(", ") || "nothing";
 }
 
 function verdicts(joints: number[], t: Tables): HTMLElement {
@@ -440,7 +450,7 @@ async function exportHtml(): Promise<void> {
     `<li class="${li.classList.contains("bad") ? "bad" : "ok"}">${esc(li.textContent)}</li>`);
   const body = [
     `<h1>${esc(e.title)}: ${esc(e.robot)}</h1>`,
-    `<p>${esc(new Date(e.when).toLocaleString())}; ${e.points.length} poses, ${e.points.filter((p) => p.measured).length} measured. ` +
+    `<p>${esc(new Date(e.when).toLocaleString())}; measured with a ruler: ${esc(measuredSummary(e))}. ` +
       "Errors per axis (x forward, y left, z up) in mm, and in per cent of the coordinate (none within 1 mm of 0). " +
       "Made by Articula Studio from the host library's numbers (the harness's report has the same).</p>",
     verdictItems.length ? `<h2>Verdict per joint</h2><ul>${verdictItems.join("")}</ul>` : "",
