@@ -11,8 +11,8 @@ enable_language(ASM)
 
 set(ARDUINO_AVR_DIR /usr/share/arduino/hardware/arduino/avr CACHE PATH
     "Arduino AVR core 1.8.x (Debian package arduino-core-avr)")
-set(ARTICULA_FLASH_BUDGET 28672 CACHE STRING "firmware flash budget in bytes (the Nano has 30,720)")
-set(ARTICULA_RAM_BUDGET 1536 CACHE STRING "firmware static RAM (.data + .bss) budget in bytes (the Nano has 2,048)")
+set(ARTICULA_FLASH_BUDGET 30720 CACHE STRING "firmware flash budget in bytes: all a Nano with the old bootloader takes")
+set(ARTICULA_RAM_BUDGET 1600 CACHE STRING "firmware static RAM (.data + .bss) budget in bytes (the Nano has 2,048)")
 
 set(core_dir ${ARDUINO_AVR_DIR}/cores/arduino)
 set(variant_dir ${ARDUINO_AVR_DIR}/variants/eightanaloginputs)

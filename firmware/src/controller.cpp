@@ -12,6 +12,7 @@
 // line boundary, whatever the main loop is doing (a P's inverse kinematics takes ms).
 #include "firmware.h"
 
+#include <articula/planner.h>
 #include <articula/protocol.h>
 
 #include "coils.h"
@@ -56,6 +57,8 @@ volatile bool g_homed;       // position known: moves allowed (read by status_li
 bool g_stop_flushed;         // the queue and waiting lines of the current stop are dealt with
 bool g_was_busy;             // busy at the last pass
 uint32_t g_idle_since;       // millis() at the first pass at rest
+int32_t g_last_delta[kJ];    // the last move queued, in steps, for the planner's junction
+uint32_t g_last_steps;       //   with the next: its dominant steps, 0 after any other action
 
 void reply(uint8_t status) {
   char buf[10];
@@ -93,12 +96,14 @@ __attribute__((noinline)) void list_settings() {
 // After a stop or a failed homing: the commanded angles become those of the steps the
 // motors really reached (the A field of a status report).
 void rederive_planned() {
+  g_last_steps = 0;
   stepper::read_positions(g_planned.steps);
   for (uint8_t i = 0; i < kJ; ++i) g_planned.commanded[i] = steps_to_millideg(robot::motor(i), g_planned.steps[i]);
 }
 
 // As at power-up: the motors at step 0, homed unless endstops are fitted.
 void reset_position() {
+  g_last_steps = 0;
   for (uint8_t i = 0; i < kJ; ++i) g_planned.steps[i] = 0;  // the motors a configuration leaves unused too
   reset(g_planned, robot::actuation());
   stepper::set_positions(g_planned.steps);
@@ -144,7 +149,9 @@ Status solve_point(robot::State& next, const int32_t* um) {
   return s != kOk ? s : move_absolute(next, robot::actuation(), best);
 }
 
-bool is_queued(CommandType t) { return t <= kCmdHome && t != kCmdNone; }
+// The commands that take a place in the queue (D too: held while the queue is full, it
+// waited with no room and was answered error:255).
+bool is_queued(CommandType t) { return (t <= kCmdHome && t != kCmdNone) || t == kCmdDwell; }
 
 // What a valid line still waits for: room in the queue, or (Z, $n=v) the arm at rest with
 // nothing queued.
@@ -167,6 +174,32 @@ uint8_t configure(int32_t n, int32_t v) {
   stepper::update_constants();
   reset_position();
   return kOk;
+}
+
+// Into the queue, planned (articula/planner.h): a move's junction level with the move queued
+// before it (none when the arm is at rest with nothing queued, or after another action),
+// then the reverse pass, then the move under way told how fast it may end.
+void push_planned(queue::Action& a) {
+  a.plan.steps = 0;
+  a.plan.max_entry = a.plan.entry = 0;
+  if (a.kind == queue::kMove) {
+    int32_t delta[kJ];
+    uint32_t n = 0;
+    for (uint8_t i = 0; i < kJ; ++i) {
+      delta[i] = a.target[i] - g_planned.steps[i];
+      n = max_of(n, uint32_t(delta[i] < 0 ? -delta[i] : delta[i]));
+    }
+    a.plan.steps = n;
+    if (g_last_steps != 0 && busy())
+      a.plan.max_entry = junction_level(g_last_delta, g_last_steps, delta, n, kJ, settings::value[settings::kJunction]);
+    for (uint8_t i = 0; i < kJ; ++i) g_last_delta[i] = delta[i];
+    g_last_steps = n;
+  } else {
+    g_last_steps = 0;
+  }
+  queue::push(a);
+  queue::replan();
+  stepper::raise_exit();
 }
 
 // Commands that go through the queue: validated against the planned state (which nothing
@@ -195,14 +228,14 @@ uint8_t queue_command(const Command& c) {
       a.grip.pulse_us = gripper::pulse_us(aperture);
       a.grip.percent = uint8_t((aperture + 500) / 1000);
       a.grip.settle_ticks = settings::value[settings::kSettleMs] * (hal::kTickHz / 1000);
-      queue::push(a);
+      push_planned(a);
       return kOk;
     }
     case kCmdDwell:  // the parser checked its range
       if (queue::full()) return kWait;
       a.kind = queue::kDwell;
       a.grip.settle_ticks = uint32_t(c.arg[0]) * (hal::kTickHz / 1000);
-      queue::push(a);
+      push_planned(a);
       return kOk;
     case kCmdHome: {
       // Switch motors end at their minimum angle, the others at the home pose.
@@ -226,7 +259,7 @@ uint8_t queue_command(const Command& c) {
     a.target[i] = next.steps[i];
     moves = moves || next.steps[i] != g_planned.steps[i];
   }
-  if (moves) queue::push(a);  // a move within the same steps changes only the commanded angles
+  if (moves) push_planned(a);  // a move within the same steps changes only the commanded angles
   g_planned = next;
   return kOk;
 }
@@ -260,6 +293,7 @@ uint8_t execute(const Command& c) {
       }
       stepper::set_positions(g_planned.steps);
       g_homed = true;
+      g_last_steps = 0;
       return kOk;
     default:
       return queue_command(c);
@@ -316,7 +350,6 @@ void service_lines() {
 // the position it reached and read lines again.
 void service_stop() {
   if (!g_stop_flushed) {
-    queue::clear();
     stepper::cut_pause();
     if (g_has_pending) {  // and the line read behind it, if any
       reply(kStopped);
@@ -326,7 +359,8 @@ void service_stop() {
     }
     g_stop_flushed = true;
   }
-  if (!stepper::busy()) {
+  if (!stepper::busy()) {  // the queue kept the moves a stop at speed runs on into
+    queue::clear();
     rederive_planned();
     g_stop_flushed = false;
     stepper::clear_stop();
@@ -358,7 +392,8 @@ __attribute__((noinline)) uint8_t status_line(char* buf, uint8_t cap) {
             : homed                     ? kStateIdle
                                         : kStateAlarm;
   r.num_joints = robot::count();
-  r.free_slots = uint8_t(queue::kSize - queued);
+  // '!' empties the queue: what a stop at speed still runs on into is not the host's any more.
+  r.free_slots = stop ? queue::kSize : uint8_t(queue::kSize - queued);
   for (uint8_t i = 0; i < r.num_joints; ++i) r.millideg[i] = robot::step_angle(i, r.steps[i]);
   r.warning = settings::take_warning();
   if (cap < status_report_size(kJ)) return 0;

@@ -29,6 +29,19 @@ void push(const Action& a) {
 
 const Action& front() { return g_ring[g_head]; }
 
+void replan() {
+  uint8_t s = hal::interrupts_off();
+  const uint8_t head = g_head, n = g_count;
+  hal::interrupts_restore(s);
+  articula::plan_entries([head](uint8_t k) -> const articula::PlanBlock& { return g_ring[(head + k) % kSize].plan; },
+                                [head](uint8_t k, uint16_t e) {
+                                  const uint8_t t = hal::interrupts_off();
+                                  g_ring[(head + k) % kSize].plan.entry = e;
+                                  hal::interrupts_restore(t);
+                                },
+                                n);
+}
+
 void pop() {
   g_head = uint8_t((g_head + 1) % kSize);
   g_count = uint8_t(g_count - 1);

@@ -6,11 +6,16 @@
 
 #include <stdint.h>
 
+#include <articula/planner.h>
+
 #include "robot.h"
 
 namespace queue {
 
-static const uint8_t kSize = 8;  // what the status report's Q counts down from
+// What the status report's Q counts down from: as many as the RAM allows (22 bytes each).
+// The planner looks this far ahead; docs/protocol.md says how long a move must be for a
+// speed to hold.
+static const uint8_t kSize = 16;
 
 enum Kind : uint8_t {
   kMove,     // every motor to target[] (absolute steps), along a line, one StepProfile
@@ -26,7 +31,7 @@ struct Gripper {
   uint32_t settle_ticks;  // pause after it, step-timer ticks
 };
 
-// 2 + 4 * joints bytes on the Nano (14 for three motors).
+// 10 + 4 * joints bytes on the Nano (22 for three motors).
 struct Action {
   uint8_t kind;
   uint8_t mask;  // kHome: motors with a switch
@@ -34,6 +39,7 @@ struct Action {
     int32_t target[robot::kJoints];
     Gripper grip;
   };
+  articula::PlanBlock plan;  // a kMove's steps and levels; steps 0 for the others
 };
 
 void clear();
@@ -48,6 +54,11 @@ void push(const Action& a);
 // The step interrupt (or the main loop with interrupts off): the front action, then pop().
 const Action& front();
 void pop();
+
+// The planner's reverse pass (articula/planner.h) over the queued actions. The step
+// interrupt may take the front meanwhile: the pass works on the ring as it was, and each
+// entry is stored with interrupts off.
+void replan();
 
 }  // namespace queue
 

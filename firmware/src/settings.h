@@ -1,33 +1,34 @@
-// firmware/src/settings.h - the $n settings: a table of numbers with their ranges, kept in
-// EEPROM behind a version byte and a CRC-16. docs/protocol.md ("Settings") lists them.
+// firmware/src/settings.h - the $n settings (articula/settings.h numbers them and gives
+// their ranges), kept in EEPROM behind a version byte and a CRC-16. docs/protocol.md
+// ("Settings") lists them.
 #ifndef ARTICULA_FIRMWARE_SETTINGS_H
 #define ARTICULA_FIRMWARE_SETTINGS_H
 
 #include <articula/config.h>
+#include <articula/settings.h>
 
 namespace settings {
 
-// Setting numbers: $0 .. $5. Never renumbered (hosts and saved listings use them).
+// The names the firmware uses for the shared numbers.
 enum Id : uint8_t {
-  kMaxRate = 0,     // top step rate of a move's dominant motor, steps/s
-  kAccel = 1,       // acceleration of the dominant motor, steps/s^2
-  kReleaseMs = 2,   // coils switched off after this long at rest, ms; 0 never
-  kEndstops = 3,    // bit i: motor i has a homing switch at its minimum
-  kHomingRate = 4,  // step rate while seeking a switch, steps/s
-  kSettleMs = 5,    // pause after each gripper action for the servo to get there, ms
-  kCount = 6,
+  kMaxRate = articula::kSetMaxRate,
+  kAccel = articula::kSetAccel,
+  kReleaseMs = articula::kSetReleaseMs,
+  kEndstops = articula::kSetEndstops,
+  kHomingRate = articula::kSetHomingRate,
+  kSettleMs = articula::kSetSettleMs,
+  kJunction = articula::kSetJunction,
+  kChord = articula::kSetChord,
+  kCount = articula::kSettingCount,
 };
 
 // EEPROM image: [0] kVersion, [1 .. 4 kCount] the values (uint32, little-endian), then the
-// CRC-16/CCITT-FALSE (articula::crc16) of all the bytes before it, low byte first.
-static const uint8_t kVersion = 1;
-static const uint16_t kAddress = 0;
+// CRC-16/CCITT-FALSE (articula::crc16) of all the bytes before it, low byte first. Version 2
+// (eight settings) lives after the robot configuration (robot.h); version 1's six at 0 are
+// not read: an arm updated to it starts from the defaults, with the SettingsReset warning.
+static const uint8_t kVersion = 2;
+static const uint16_t kAddress = 256;
 static const uint16_t kImageSize = 1 + 4 * kCount + 2;
-
-struct Range {
-  uint32_t min, max, fallback;  // fallback: the default
-};
-extern const Range kRanges[kCount];
 
 // The current values (whole numbers in the units above).
 extern uint32_t value[kCount];

@@ -45,6 +45,7 @@ int32_t g_home_target[kJ];
 
 // Stops the interrupt's work: nothing runs until the main loop kicks again.
 uint32_t halt() {
+  g_profile = StepProfile();  // at rest: the next move starts from rest
   g_mode = kIdle;
   g_homing = 0;
   g_running = 0;
@@ -77,14 +78,29 @@ void stage_move_step() {
     if (mask & bit) coils::stage_step(i, (negative & bit) != 0);
 }
 
-// Starts a move to absolute steps; 0 when there is nothing to step.
-uint32_t begin_move(const int32_t* target) {
+// The level the move about to start may end at: the plan's entry of the move queued behind
+// it (the front, once the move itself is popped), 0 when an action that is not a move or
+// nothing is next.
+uint32_t planned_exit() {
+  if (queue::empty()) return 0;
+  const queue::Action& next = queue::front();
+  return next.kind == queue::kMove ? next.plan.entry : 0;
+}
+
+// Starts a move to absolute steps, ending at level `exit` (a stop: cut to rest at once); 0
+// when there is nothing to step. After a move that ended moving it goes on from that speed
+// (a blended junction).
+uint32_t begin_move(const int32_t* target, uint32_t exit, bool stopping = false) {
   int32_t delta[kJ];
   for (uint8_t i = 0; i < kJ; ++i) delta[i] = target[i] - g_pos[i];
   g_line.start(delta, kJ);
   if (g_line.dominant == 0) return 0;
   if (!coils::on()) coils::energise();
-  g_profile.start(g_line.dominant, g_constants);
+  if (g_profile.level() > 0)
+    g_profile.follow(g_line.dominant, exit);
+  else
+    g_profile.start(g_line.dominant, g_constants, exit);
+  if (stopping) g_profile.stop();
   g_mode = kMove;
   const uint32_t t = g_profile.next_interval();
   stage_move_step();
@@ -101,13 +117,14 @@ uint32_t next_seek() {
       return g_homing_ticks;
     }
   }
-  return begin_move(g_home_target);
+  return begin_move(g_home_target, 0);
 }
 
+// Starts an action already taken off the queue (so the front is the one after it).
 uint32_t begin(const queue::Action& a) {
   switch (a.kind) {
     case queue::kMove:
-      return begin_move(a.target);
+      return begin_move(a.target, planned_exit());
     case queue::kGripper:
       hal::set_servo_pulse(a.grip.pulse_us);
       g_gripper = a.grip.percent;
@@ -135,8 +152,21 @@ uint32_t next_action() {
   g_mode = kIdle;
   g_homing = 0;
   while (!g_stop && !g_fault && !queue::empty()) {
-    const uint32_t t = begin(queue::front());
+    const queue::Action a = queue::front();
     queue::pop();
+    const uint32_t t = begin(a);
+    if (t != 0) return t;
+  }
+  return halt();
+}
+
+// '!' with the move ended and the arm still moving (a short move at speed): the stop goes on
+// along the path, into the next queued move, until the arm is at rest.
+uint32_t continue_stop() {
+  while (g_profile.level() != 0 && !g_homing && !queue::empty() && queue::front().kind == queue::kMove) {
+    const queue::Action a = queue::front();
+    queue::pop();
+    const uint32_t t = begin_move(a.target, 0, true);
     if (t != 0) return t;
   }
   return halt();
@@ -171,7 +201,7 @@ uint32_t seek_tick() {
 // by the HAL before this one) and booked: what remains is the next one.
 uint32_t move_tick() {
   if (g_stop) g_profile.stop();
-  if (g_profile.done()) return next_action();
+  if (g_profile.done()) return g_stop ? continue_stop() : next_action();
   const uint32_t t = g_profile.next_interval();
   stage_move_step();
   return t;
@@ -216,6 +246,12 @@ void kick() {
 }
 
 bool busy() { return g_running != 0; }
+
+void raise_exit() {
+  const uint8_t s = hal::interrupts_off();
+  if (g_mode == kMove && !g_homing && !g_stop) g_profile.raise_exit(planned_exit());
+  hal::interrupts_restore(s);
+}
 bool homing() { return g_homing != 0; }
 
 void read_positions(int32_t* steps) {

@@ -39,6 +39,10 @@ const articula::MotionSettings& motion_settings();
 void kick();
 // An action is under way (the timer runs).
 bool busy();
+// The planner (main loop, after queue::replan()): the move under way may end at the entry
+// planned for the move queued behind it; refused once the move's profile depends on its
+// exit (StepProfile::raise_exit), and for homing or a stop.
+void raise_exit();
 // A Home action (seek or its final move) is under way.
 bool homing();
 

@@ -48,12 +48,14 @@ from dataclasses import dataclass, field
 from fractions import Fraction
 from pathlib import Path
 
+import articula
 from articula.link import Link, LinkTimeout, LinkVanished, parse_info, parse_setting, parse_status, Status
 from .randplan import millis_text as fmt
 from .robot import Robot
 
 RUN_SETTINGS = {0: 4000, 1: 100000, 5: 0}
-SETTING_DEFAULTS = {0: 600, 1: 2000, 2: 2000, 3: 0, 4: 200, 5: 300}
+# The firmware's settings and their defaults: shared/articula/settings.h, through the bindings.
+SETTING_DEFAULTS = {n: default for n, (_lo, _hi, default) in articula._core._settings_table.items()}
 COMMAND_LETTERS = set("LSMPGHZIDN")
 UNKNOWN_LETTERS = [c for c in "ABCEFJKOQRTUVWXY"]
 REALTIME = (ord("?"), ord("!"))

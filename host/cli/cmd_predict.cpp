@@ -40,10 +40,17 @@ int run(int argc, char** argv) {
                         "What the real arm will do with a program, step-exact: for each command the motor steps, "
                         "the joint values they give, the ideal and the quantized tool position and their "
                         "difference, and the timing of the controller's queue.");
-  opts.custom_help("ROBOT PROGRAM [--json|--csv] [--settings n=v,...] [-o FILE]");
+  opts.custom_help("ROBOT PROGRAM [--json|--csv] [--settings n=v,...] [--sender rest|stream] [-o FILE]");
   opts.add_options()("json", "one JSON document")("csv", "CSV: a header and one row per command")(
       "settings", "the controller's settings at power-up, e.g. \"0=800,1=3000\" ($0 max rate, $1 accel, ...)",
-      cxxopts::value<std::string>())("o,output", "write to FILE instead of standard output",
+      cxxopts::value<std::string>())(
+      "sender",
+      "how the lines reach the arm, which decides how far its planner sees ahead: rest (each line once the arm "
+      "is at rest: the harness, the studio's program runner; the default), stream (the next line when the "
+      "previous one is answered, 115,200 baud)",
+      cxxopts::value<std::string>()->default_value("rest"))(
+      "bits-per-byte", "bits a byte takes on the line: 10 on a UART, 11 in simavr",
+      cxxopts::value<int>()->default_value("10"))("o,output", "write to FILE instead of standard output",
                                      cxxopts::value<std::string>())("h,help", "this help")(
       "robot", "robot file or shipped robot name", cxxopts::value<std::string>())(
       "program", "program file: RoboSim (.robosim) or protocol lines (.arm)", cxxopts::value<std::string>());
@@ -59,8 +66,10 @@ int run(int argc, char** argv) {
            "coupling), a -> inverse kinematics, then M (not reached: error:10, nothing moves), h -> G\n"
            "(0.0 open = 100 %, 0.5 closed = 0 %), s -> $0 = round($0 at start * s / 82), w -> IK weights,\n"
            "l -> link lengths of the host model only (the real arm cannot), z -> nothing.\n"
-           "Durations are motion.h's (2 MHz ticks): a move takes profile_duration_ticks of its dominant\n"
-           "motor's steps, G and S the settle time; actions run back to back from the first one.\n"
+           "Durations are motion.h's (2 MHz ticks), each action's start and end counted from the first line's\n"
+           "arrival. With --sender rest every move runs from rest to rest (profile_duration_ticks of its dominant\n"
+           "motor's steps), G and S take the settle time, actions back to back. With stream, queued\n"
+           "moves blend as the firmware's planner blends them ($6, docs/protocol.md \"Timing of moves\").\n"
            "Exit code: 0 every command accepted, 1 some rejected, 2 a usage error (bad robot or program).\n";
     return 0;
   }
@@ -71,7 +80,18 @@ int run(int argc, char** argv) {
                      "kinematic model)");
   const host::ControllerSettings settings = settings_argument(args, robot);
   const host::Program program = program_argument(args, robot);
-  const host::Prediction p = host::predict_program(robot, program, settings);
+  host::SenderModel sender;
+  const std::string sender_text = args["sender"].as<std::string>();
+  if (sender_text == "rest")
+    sender.kind = host::SenderModel::kRest;
+  else if (sender_text == "stream")
+    sender.kind = host::SenderModel::kStream;
+  else
+    throw UsageError("--sender " + sender_text + ": expected rest or stream");
+  const int bits = args["bits-per-byte"].as<int>();
+  if (bits < 8 || bits > 12) throw UsageError("--bits-per-byte " + std::to_string(bits) + ": expected 8 to 12");
+  sender.bits_per_byte = uint32_t(bits);
+  const host::Prediction p = host::predict_program(robot, program, settings, sender);
 
   const std::string format = output_format(args);
   const std::string out_path = args.count("output") ? args["output"].as<std::string>() : "";

@@ -54,31 +54,13 @@ const char* const kWaitsForRest =
 // ---- settings (firmware/src/settings.cpp) ----
 
 std::array<uint32_t, 2> setting_range(int num_motors, int n) {
-  switch (n) {
-    case ControllerSettings::kMaxRate:
-      return {1, 4000};
-    case ControllerSettings::kAccel:
-      return {1, 100000};
-    case ControllerSettings::kReleaseMs:
-      return {0, 60000};
-    case ControllerSettings::kEndstops:
-      return {0, (1u << std::min(num_motors, 31)) - 1};
-    case ControllerSettings::kHomingRate:
-      return {1, 4000};
-    case ControllerSettings::kSettleMs:
-      return {0, 10000};
-    default:
-      return {0, 0};
-  }
+  if (n < 0 || n >= ControllerSettings::kCount) return {0, 0};
+  const SettingRange r = articula::setting_range(uint8_t(n), uint8_t(std::min(num_motors, 31)));
+  return {r.min, r.max};
 }
 
 Status check_setting(int num_motors, int32_t n, int32_t thousandths) {
-  if (n < 0 || n >= ControllerSettings::kCount) return kSettingUnknown;
-  if (thousandths < 0 || thousandths % 1000 != 0) return kValueOutOfRange;
-  const uint32_t v = uint32_t(thousandths / 1000);
-  const auto range = setting_range(num_motors, n);
-  if (v < range[0] || v > range[1]) return kValueOutOfRange;
-  return kOk;
+  return articula::check_setting(n, thousandths, uint8_t(std::min(num_motors, 31)));
 }
 
 void apply_settings_text(ControllerSettings& s, const std::string& text, int num_motors) {
@@ -218,6 +200,7 @@ Status ControllerModel::queue_move(PredictRecord& r, const MotorState<kMaxJoints
                                    uint64_t extra_ticks) {
   uint32_t dominant = 0;
   bool moves = home;
+  const MotorState<kMaxJoints> before = planned_;
   for (int i = 0; i < n_; ++i) {
     const int64_t d = int64_t(next.steps[i]) - planned_.steps[i];
     dominant = std::max(dominant, uint32_t(d < 0 ? -d : d));
@@ -229,6 +212,12 @@ Status ControllerModel::queue_move(PredictRecord& r, const MotorState<kMaxJoints
     return kOk;
   }
   r.queued = true;
+  r.action = home ? PredictRecord::Action::kHome : PredictRecord::Action::kMove;
+  r.delta_steps.clear();
+  for (int i = 0; i < n_; ++i) r.delta_steps.push_back(next.steps[i] - before.steps[i]);
+  r.seek_ticks = extra_ticks;
+  r.motion = settings_.motion();
+  r.junction = settings_.value[ControllerSettings::kJunction];
   r.dominant_steps = dominant;
   r.ticks = extra_ticks + profile_duration_ticks(dominant, settings_.motion());
   r.start_tick = clock_;
@@ -241,6 +230,7 @@ Status ControllerModel::queue_move(PredictRecord& r, const MotorState<kMaxJoints
 // A pause in the queue (stepper.cpp: the gripper's settle time, or D).
 void ControllerModel::queue_pause(PredictRecord& r, uint64_t ms) {
   r.queued = true;
+  r.action = PredictRecord::Action::kPause;
   r.ticks = ms * (kControllerTickHz / 1000);
   r.start_tick = clock_;
   clock_ += r.ticks;
@@ -342,6 +332,7 @@ Status ControllerModel::run_command(PredictRecord& r, const std::string& text) {
           add_note(r, "commits the staged robot configuration when its checksum is this one (not simulated: the "
                       "prediction keeps this robot file's arm)");
           add_note(r, kWaitsForRest);
+          r.waits_for_rest = true;
           return kOk;
         }
         const Status s = config_check(uint16_t(cmd.arg[0]), cmd.arg[1]);
@@ -355,6 +346,7 @@ Status ControllerModel::run_command(PredictRecord& r, const std::string& text) {
                       ? "saved; decides Alarm at the next power-up, H uses it from now"
                       : "takes effect for the actions after it");
       add_note(r, kWaitsForRest);
+      r.waits_for_rest = true;
       return kOk;
     }
     case kCmdSetZero: {
@@ -371,6 +363,7 @@ Status ControllerModel::run_command(PredictRecord& r, const std::string& text) {
                             "and limits are off the arm's (joint values and tools below are where the arm really is)"
                           : "nothing moves");
       add_note(r, kWaitsForRest);
+      r.waits_for_rest = true;
       return kOk;
     }
     case kCmdRotate:
@@ -425,6 +418,8 @@ PredictRecord ControllerModel::execute_line(const std::string& line, int line_nu
   if (r.reply != kOk) {  // (no command changes anything before it fails; the copy makes sure)
     *this = saved;
     r.queued = false;
+    r.action = PredictRecord::Action::kNone;
+    r.waits_for_rest = false;
     r.ticks = r.dominant_steps = 0;
   }
   finish(r);
@@ -521,6 +516,7 @@ void ControllerModel::robosim(PredictRecord& r, const Statement& st) {
       add_note(r, "top step rate " + std::to_string(rate) + " steps/s (" + number_text(st.values[0]) + "/82 of " +
                       std::to_string(base_rate_) + ")");
       add_note(r, kWaitsForRest);
+      r.waits_for_rest = true;
       return;
     }
     case Statement::Kind::kHand: {
@@ -547,6 +543,8 @@ PredictRecord ControllerModel::execute(const Statement& st) {
   if (r.reply != kOk) {  // nothing changes, but keep what the attempt found out
     *this = saved;
     r.queued = false;
+    r.action = PredictRecord::Action::kNone;
+    r.waits_for_rest = false;
     r.ticks = r.dominant_steps = 0;
     r.protocol.clear();
   }
@@ -554,7 +552,8 @@ PredictRecord ControllerModel::execute(const Statement& st) {
   return r;
 }
 
-Prediction predict_program(const Robot& robot, const Program& program, const ControllerSettings& settings) {
+Prediction predict_program(const Robot& robot, const Program& program, const ControllerSettings& settings,
+                           const SenderModel& sender) {
   ControllerModel model(robot, settings);
   Prediction p;
   p.robot = robot.name;
@@ -567,6 +566,7 @@ Prediction predict_program(const Robot& robot, const Program& program, const Con
     p.worst_error_mm = std::max(p.worst_error_mm, r.error_mm);
   }
   p.total_ticks = model.clock_ticks();
+  if (sender.kind != SenderModel::kRest) schedule(p, sender);
   return p;
 }
 

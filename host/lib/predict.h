@@ -23,6 +23,7 @@
 #include <articula/actuation.h>
 #include <articula/ik_ypp.h>
 #include <articula/motion.h>
+#include <articula/settings.h>
 #include <articula/status.h>
 
 #include <array>
@@ -41,18 +42,25 @@ namespace articula::host {
 // The firmware's step timer: 2 MHz (Timer1 at 16 MHz / 8).
 inline constexpr uint32_t kControllerTickHz = 2000000;
 
-// The controller's settings, $0 .. $5 (docs/protocol.md, "Settings"): whole numbers.
+// The controller's settings, $0 .. $7 (articula/settings.h numbers them and gives their
+// ranges and defaults): whole numbers.
 struct ControllerSettings {
-  static constexpr int kCount = 6;
-  enum Id { kMaxRate = 0, kAccel = 1, kReleaseMs = 2, kEndstops = 3, kHomingRate = 4, kSettleMs = 5 };
-  std::array<uint32_t, kCount> value{600, 2000, 2000, 0, 200, 300};  // the firmware's defaults
+  static constexpr int kCount = kSettingCount;
+  enum Id {
+    kMaxRate = kSetMaxRate, kAccel = kSetAccel, kReleaseMs = kSetReleaseMs, kEndstops = kSetEndstops,
+    kHomingRate = kSetHomingRate, kSettleMs = kSetSettleMs, kJunction = kSetJunction, kChord = kSetChord
+  };
+  std::array<uint32_t, kCount> value = defaults();  // the firmware's defaults
 
   MotionSettings motion() const { return {kControllerTickHz, value[kMaxRate], value[kAccel]}; }
+  static std::array<uint32_t, kCount> defaults() {
+    std::array<uint32_t, kCount> v{};
+    for (int n = 0; n < kCount; ++n) v[size_t(n)] = setting_range(uint8_t(n), 3).fallback;
+    return v;
+  }
 };
 
-// The firmware's check of `$n=v` (settings.cpp): n a setting number, v in thousandths, a
-// whole number within the setting's range ($3: 0 .. 2^motors - 1). kSettingUnknown or
-// kValueOutOfRange, else kOk.
+// The firmware's check of `$n=v` (articula::check_setting for the arm's motors).
 Status check_setting(int num_motors, int32_t n, int32_t thousandths);
 // The range of a setting, for messages: {min, max}.
 std::array<uint32_t, 2> setting_range(int num_motors, int n);
@@ -96,6 +104,13 @@ struct PredictRecord {
 
   // The action in the motion queue; 0 steps and 0 ticks when the statement queued nothing
   // (or a move within the same steps).
+  enum class Action { kNone, kMove, kPause, kHome };
+  Action action = Action::kNone;
+  std::vector<int32_t> delta_steps;  // a move (and Home's final move): per motor
+  uint64_t seek_ticks = 0;           // Home: the switch search before its move
+  MotionSettings motion{};           // the settings the action runs with ($0, $1)
+  uint32_t junction = 0;             // $6 when it was queued
+  bool waits_for_rest = false;       // Z, $n=v: answered only at rest
   bool queued = false;
   uint32_t dominant_steps = 0;  // a move: the most steps any motor makes
   uint64_t ticks = 0;           // duration in 2 MHz ticks
@@ -164,6 +179,22 @@ class ControllerModel {
   std::optional<InverseKinematics> ik_;
 };
 
+// How the lines reach the controller, which decides when each is queued and so how far the
+// planner sees ahead (docs/protocol.md, "Timing of moves"). Byte times at `baud`, with
+// `bits_per_byte` bits each (10 on a UART line; simavr counts 11).
+struct SenderModel {
+  enum Kind {
+    kRest,    // each line once the arm is at rest after the one before (the harness, the
+              // page's program runner): every move from rest to rest, as with $6=0
+    kStream,  // the next line as soon as the previous one is answered (GRBL's simple sender;
+              // a host must wait for each reply: the Nano's receive buffer holds one line)
+  };
+  Kind kind = kRest;
+  uint32_t baud = 115200;
+  uint32_t bits_per_byte = 10;
+};
+const char* sender_name(SenderModel::Kind k);
+
 struct Prediction {
   std::string robot;
   std::string program;
@@ -175,8 +206,17 @@ struct Prediction {
   double total_s() const { return double(total_ticks) / kControllerTickHz; }
 };
 
-// Runs a whole program. Throws PredictError for a robot without motors.
-Prediction predict_program(const Robot& robot, const Program& program, const ControllerSettings& settings = {});
+// Runs a whole program. Throws PredictError for a robot without motors. The times are
+// those of `sender` (schedule()).
+Prediction predict_program(const Robot& robot, const Program& program, const ControllerSettings& settings = {},
+                           const SenderModel& sender = {});
+
+// When each action starts and ends, in the controller's ticks from the first line's arrival:
+// the firmware's queue of kQueueSize actions, its planner (articula/planner.h) and its step
+// interrupt (firmware/src/stepper.cpp) run on the lines as `sender` delivers them. Exact
+// given when each line arrives; the sender model says when that is.
+inline constexpr int kQueueSize = 16;
+void schedule(Prediction& p, const SenderModel& sender);
 
 // RoboSim's h (0.0 open .. 0.5 closed) as G's aperture in thousandths of a percent:
 // 100 % - 200 % * h, rounded to a thousandth (h 0 -> 100000, 0.25 -> 50000, 0.5 -> 0).

@@ -47,6 +47,8 @@ nlohmann::json predict_record_json(const PredictRecord& r) {
   j["queued"] = r.queued;
   j["dominant_steps"] = r.dominant_steps;
   j["ticks"] = r.ticks;
+  j["start_tick"] = r.start_tick;
+  j["end_tick"] = r.end_tick;
   j["seconds"] = r.seconds();
   j["start_tick"] = r.start_tick;
   j["end_tick"] = r.end_tick;

@@ -2,6 +2,7 @@
 // status table, a line from the arm read by the firmware's own parsers, and the motion
 // profile's first step. articula.link and the harness (hil/harness) read the arm with these,
 // as the studio's page does through the web engine.
+#include <articula/settings.h>
 #include <nanobind/stl/string.h>
 
 #include <articula/status.h>
@@ -18,6 +19,13 @@ void bind_protocol(nb::module_& m) {
   nb::dict status;
   for (uint8_t c = 0; c < kStatusCount; ++c) status[nb::int_(c)] = nb::make_tuple(status_name(c), status_text(c));
   m.attr("_status_table") = status;
+  // The settings table: shared/articula/settings.h, for a three-motor arm.
+  nb::dict settings;
+  for (uint8_t n = 0; n < kSettingCount; ++n) {
+    const SettingRange r = setting_range(n, 3);
+    settings[nb::int_(n)] = nb::make_tuple(r.min, r.max, r.fallback);
+  }
+  m.attr("_settings_table") = settings;
 
   m.def("parse_arm_line", [](const std::string& line) { return json_to_python(host::arm_line_json(line)); }, "line"_a,
         "A line from the arm, read by the firmware's own parsers (shared/articula/protocol.h): a dict with kind "

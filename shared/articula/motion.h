@@ -177,10 +177,24 @@ inline MotionError profile_constants(ProfileConstants& out, const MotionSettings
 }
 
 // The intervals of one move of the dominant motor. start(), then next_interval() until
-// done(). Small enough to live in the firmware's interrupt state (25 bytes on the Nano).
+// done(). Small enough to live in the firmware's interrupt state (30 bytes on the Nano).
+//
+// Blending (the look-ahead planner, planner.h). A move need not end at rest: it ends at an
+// exit level E, the ramp level the next move starts from, and the next move follow()s on
+// from the state this one left (level, interval, remainder), so the speed carries over the
+// junction. Such a move is the part of a rest-to-rest move of entry + steps + E steps that
+// lies after its first `entry` steps: the rules above hold with R = steps left + E. With
+// E = 0 everywhere every move is today's rest-to-rest move, tick for tick.
+//
+// The exit may be raised while the move runs (a line arrived behind it), until the first
+// step whose interval depends on it: the middle step of a triangle or the first step of the
+// descent. That step latches the exit; a later raise is refused. Every interval before the
+// latch is the same for any higher exit, so a raise that comes in time gives the very move
+// it would have been had the next line been there from the start.
 class StepProfile {
  public:
-  StepProfile() : left_(0), level_(0), c_(0), rem_(0), cruise_(0), first_(0), cruising_(false) {}
+  StepProfile()
+      : left_(0), level_(0), c_(0), rem_(0), cruise_(0), first_(0), exit_(0), cruising_(false), latched_(false) {}
 
   // A move of total_steps from rest to rest. Invalid settings (validate()) give an empty
   // move. Costs a 64-bit division and a 32-round square root: call it outside the
@@ -193,29 +207,53 @@ class StepProfile {
 
   // The same move from constants computed beforehand (profile_constants()): a few
   // assignments, cheap enough for an interrupt. Constants of invalid settings (all zero)
-  // give an empty move.
-  void start(uint32_t total_steps, const ProfileConstants& k) {
+  // give an empty move. `exit`: the level to end at (0: at rest).
+  void start(uint32_t total_steps, const ProfileConstants& k, uint32_t exit = 0) {
     left_ = k.cruise != 0 ? total_steps : 0;
     level_ = 0;
     rem_ = 0;
     cruising_ = false;
+    latched_ = false;
+    exit_ = exit;
     cruise_ = k.cruise << detail::kMotionFracBits;
     first_ = k.first;
     c_ = k.c0r;
   }
 
+  // The next move of a blended stream, from where the last one ended (its level, at its
+  // exit), to end at level `exit`. After a move that ended at rest it is start().
+  void follow(uint32_t total_steps, uint32_t exit) {
+    left_ = cruise_ != 0 ? total_steps : 0;
+    exit_ = exit;
+    latched_ = false;
+  }
+
+  // Raises the level the move ends at, unless a step already depended on it. True when taken.
+  bool raise_exit(uint32_t exit) {
+    if (latched_ || exit < exit_) return false;
+    exit_ = exit;
+    return true;
+  }
+
   bool done() const { return left_ == 0; }
   uint32_t steps_left() const { return left_; }
+  // The ramp level now: about v^2 / (2 accel) at the speed v of the last step.
+  uint32_t level() const { return level_; }
+  uint32_t exit_level() const { return exit_; }
+  bool latched() const { return latched_; }
 
   // Ticks from the previous step (or the start) to the next step; 0 once done().
   uint32_t next_interval() {
     const uint32_t left = left_;
     if (left == 0) return 0;
     left_ = left - 1;
-    if (left <= level_) {
+    const uint32_t r = left + exit_;  // R: steps left of the rest-to-rest move this is part of
+    if (r <= level_) {
       // Descend: emit c_{L-1}, then go one level down with the exact inverse of a climb,
       // q = ceil((2C - r) / d) written as floor((2C - r + d - 1) / d) (never negative:
       // r <= d + 1), which also gives q = 0, r -= 2C when 2C <= r.
+      latched_ = true;
+      cruising_ = false;  // a move that follows may climb again
       if (--level_ == 0) return first_;
       const uint32_t out = detail::whole_ticks(c_);
       const uint32_t d = 4 * level_ - 1;
@@ -226,7 +264,10 @@ class StepProfile {
     }
     if (cruising_) return cruise_ >> detail::kMotionFracBits;
     if (level_ == 0) {
-      if (left > 1) level_ = 1;  // the state already holds c_0'
+      if (r > 1)
+        level_ = 1;  // the state already holds c_0'
+      else
+        latched_ = true;
       return first_;
     }
     // Climb: c_L from c_{L-1}, the one division of the step.
@@ -237,19 +278,27 @@ class StepProfile {
       cruising_ = true;  // top speed: the level stays, the descent starts from c_{L-1}
       return cruise_ >> detail::kMotionFracBits;
     }
-    if (left > level_ + 1) {  // else the middle step: c_L without climbing
+    if (r > level_ + 1) {  // else the middle step: c_L without climbing
       c_ = next;
       rem_ = y % d;
       ++level_;
+    } else {
+      latched_ = true;
     }
     return detail::whole_ticks(next);
   }
 
   // Decelerate now, from the current speed, to rest in as few steps as accel allows: the
   // current ramp level, about v^2 / (2 accel) steps. Does nothing while already slowing.
-  void stop() { left_ = min_of(left_, level_); }
+  // When fewer steps are left than that, the move ends still moving, at level() - steps
+  // left: the stop goes on into the move after it (follow(..., 0) and stop() again).
+  void stop() {
+    left_ = min_of(left_, level_);
+    exit_ = 0;
+    latched_ = true;
+  }
 
-  // Steps a stop() now would still take.
+  // Steps a stop() now would still take (in this move).
   uint32_t stop_steps() const { return min_of(left_, level_); }
 
  private:
@@ -259,7 +308,9 @@ class StepProfile {
   uint32_t rem_;     // the recurrence's carried remainder
   uint32_t cruise_;  // cruise interval, ticks * 256
   uint32_t first_;   // the level-0 interval c0 in ticks (never below the cruise interval)
+  uint32_t exit_;    // the level to end at (0: at rest)
   bool cruising_;
+  bool latched_;     // a step depended on exit_: it may not change any more
 };
 
 namespace detail {

@@ -17,6 +17,8 @@ void check_motion();
 void check_servo();
 void check_articula();
 void check_config();
+void check_planner();
+void check_settings();
 // Inputs and outputs the optimiser cannot see through.
 extern volatile float g_in;
 extern volatile long g_out;

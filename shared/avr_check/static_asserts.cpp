@@ -36,7 +36,7 @@ static_assert(sizeof(MotorState<3>) == 24, "three commanded angles and three ste
 static_assert(sizeof(LineAssembler) <= kMaxLineLength + 8, "one line buffer");
 
 // Step timing in motion.h: the interrupt's state is small, and the fixed-point limits hold.
-static_assert(sizeof(StepProfile) == 25, "six uint32 and a flag");
+static_assert(sizeof(StepProfile) == 30, "seven uint32 and two flags");
 static_assert(sizeof(LineStepper<3>) == 34, "the line of three motors");
 static_assert(2ULL * (kMaxStepTicks << 8) + 4ULL * (1ULL << 25) + 1 < 4294967296ULL,
               "2C + r of the recurrence fits a uint32 (ramp levels stay below 2^24, margin 2x)");

@@ -124,7 +124,7 @@ TEST(Controller, EveryErrorLeavesEverythingAsItWas) {
       {"P 0 0 -500", "error:10"},
       {"L 0 1\x01", "error:11"},
       {"L 0 \xC3\xA9", "error:11"},
-      {"$6=1", "error:13"},
+      {"$8=1", "error:13"},
       {"$99=1", "error:13"},
       {"$x=1", "error:13"},
   };

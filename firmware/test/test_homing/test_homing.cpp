@@ -11,6 +11,7 @@
 
 #include "fake_hal.h"
 #include "harness.h"
+#include "queue.h"
 #include "robot.h"
 
 using namespace articula;
@@ -107,7 +108,7 @@ TEST(Homing, SwitchNeverFoundLeavesAlarm) {
   ASSERT_TRUE(sim::run_until_at_rest(120 * sim::kSecond));
   const sim::Status st = sim::status();
   EXPECT_EQ(st.state, kStateAlarm);
-  EXPECT_EQ(st.free_slots, 8);
+  EXPECT_EQ(st.free_slots, queue::kSize);
   EXPECT_EQ(st.gripper, 0);  // the queued G was discarded
   const MotorSpec& base = robot::motor(0);
   const size_t range = size_t(2 * (max_steps(base) - min_steps(base)) + 16);

@@ -19,7 +19,7 @@ using namespace articula;
 namespace {
 
 // The documented defaults (docs/protocol.md, Settings), setting -> value.
-const std::map<int, int32_t> kDefaults = {{0, 600}, {1, 2000}, {2, 2000}, {3, 0}, {4, 200}, {5, 300}};
+const std::map<int, int32_t> kDefaults = {{0, 600}, {1, 2000}, {2, 2000}, {3, 0}, {4, 200}, {5, 300}, {6, 50}, {7, 100}};
 
 std::map<int, int32_t> listing() {
   std::map<int, int32_t> m;
@@ -107,7 +107,7 @@ TEST(Settings, CorruptImageLoadsDefaults) {
 TEST(Settings, EverySettingRoundTrips) {
   sim::boot();
   for (int n = 0; n < settings::kCount; ++n) {
-    const settings::Range& r = settings::kRanges[n];
+    const articula::SettingRange r = articula::setting_range(uint8_t(n), robot::kJoints);
     for (uint32_t v : {r.min, r.max, (r.min + r.max) / 2}) {
       const std::string line = "$" + std::to_string(n) + "=" + std::to_string(v);
       ASSERT_EQ(sim::command(line), "ok") << line;
@@ -141,7 +141,7 @@ TEST(Settings, RefusedValuesChangeNothing) {
   sim::boot();
   const uint32_t written = fake::hw.eeprom_bytes_written;
   for (int n = 0; n < settings::kCount; ++n) {
-    const settings::Range& r = settings::kRanges[n];
+    const articula::SettingRange r = articula::setting_range(uint8_t(n), robot::kJoints);
     const std::string p = "$" + std::to_string(n) + "=";
     if (r.min > 0) {
       EXPECT_EQ(sim::command(p + std::to_string(r.min - 1)), "error:8") << n;
@@ -156,18 +156,18 @@ TEST(Settings, RefusedValuesChangeNothing) {
   EXPECT_EQ(listing(), kDefaults);
   EXPECT_EQ(fake::hw.eeprom_bytes_written, written);
   // The endstop mask allows one bit per motor.
-  EXPECT_EQ(settings::kRanges[settings::kEndstops].max, (1u << robot::kJoints) - 1);
+  EXPECT_EQ(articula::setting_range(settings::kEndstops, robot::kJoints).max, (1u << robot::kJoints) - 1);
 }
 
 // Every pair of rate and acceleration the settings allow is a valid profile (the firmware
 // never checks the combination at run time).
 TEST(Settings, EveryAllowedRateAndAccelerationIsAValidProfile) {
-  const settings::Range& v = settings::kRanges[settings::kMaxRate];
-  const settings::Range& a = settings::kRanges[settings::kAccel];
+  const articula::SettingRange v = articula::setting_range(settings::kMaxRate, robot::kJoints);
+  const articula::SettingRange a = articula::setting_range(settings::kAccel, robot::kJoints);
   for (uint32_t rate : {v.min, v.min + 1, v.fallback, v.max - 1, v.max})
     for (uint32_t acc : {a.min, a.min + 1, a.fallback, a.max - 1, a.max})
       EXPECT_EQ(validate(MotionSettings{2000000, rate, acc}), kMotionOk) << rate << " " << acc;
-  const settings::Range& h = settings::kRanges[settings::kHomingRate];
+  const articula::SettingRange h = articula::setting_range(settings::kHomingRate, robot::kJoints);
   EXPECT_GE(h.min, 1u);
   EXPECT_LE(2000000u / h.min, kMaxStepTicks);
 }

@@ -34,6 +34,14 @@ const SILENT_MS = 1500; // no report for this long: the arm stopped answering
 const REPLY_MS = 5000;
 const BANNER_MS = 6000; // a Nano resets when its port opens: its bootloader waits first
 
+/** A line written to the arm, waiting for its reply (and an `I` for its banner first). */
+interface Outstanding {
+  line: string;
+  banner: boolean; // an `I` whose banner has not come yet
+  onBanner?: (p: Parsed & { line: string }) => void;
+  onReply?: (p: Parsed & { line: string }) => void;
+}
+
 export class ArmLink {
   label = "";
   connected = false;
@@ -44,8 +52,10 @@ export class ArmLink {
   private port: SerialLike | null = null;
   private writer: WritableStreamDefaultWriter<Uint8Array> | null = null;
   private reader: ReadableStreamDefaultReader<Uint8Array> | null = null;
-  private waiting: ((p: Parsed & { line: string }) => void) | null = null; // a reply or the banner
-  private wantBanner = false;
+  // The lines written and not yet answered, oldest first. The arm answers every line once, in
+  // order, so each reply belongs to the oldest; an `I`'s banner comes before its reply. A
+  // waiter gone (timed out) leaves its line here, so a late reply is still its own.
+  private unanswered: Outstanding[] = [];
   private queue: Promise<unknown> = Promise.resolve();
   // the arm's time: waits for its answers count in it (the virtual Nano's runs slow on a busy machine)
   private now: () => number = () => performance.now();
@@ -201,19 +211,26 @@ export class ArmLink {
     });
   }
 
-  // `I` until the banner comes (the firmware may still be starting).
+  // `I` until the banner comes (the firmware may still be starting). An `I` asked again
+  // while the first is unanswered is answered too: its banner and reply are its own.
   private async banner(): Promise<Parsed & { line: string }> {
     const end = this.now() + BANNER_MS;
+    let resolve: (p: Parsed & { line: string }) => void = () => undefined;
+    const got = new Promise<Parsed & { line: string }>((r) => (resolve = r));
     while (this.now() < end) {
-      const got = new Promise<Parsed & { line: string }>((resolve) => {
-        this.wantBanner = true;
-        this.waiting = resolve;
-      });
-      await this.write("I\n");
+      await this.writeLine("I", { onBanner: resolve });
       const r = await Promise.race([got, sleepOn(this.now, 600).then(() => null)]);
       if (r) return r;
     }
     throw new Error(`no answer to I within ${BANNER_MS / 1000} s: is it a Nano with Articula's firmware, at ${BAUD} baud?`);
+  }
+
+  // A line to the arm, remembered until its reply comes.
+  private async writeLine(line: string, waiter: Pick<Outstanding, "onBanner" | "onReply">): Promise<Outstanding> {
+    const entry: Outstanding = { line, banner: /^I\s*(#.*)?$/.test(line), ...waiter };
+    this.unanswered.push(entry);
+    await this.write(line + "\n");
+    return entry;
   }
 
   private async write(text: string): Promise<void> {
@@ -261,18 +278,17 @@ export class ArmLink {
       if (p.state === "Idle") for (const w of this.idleWaiters.splice(0)) w();
       this.emit(msg);
     } else if (p.kind === "info") {
-      if (this.wantBanner && this.waiting) {
-        this.wantBanner = false;
-        const w = this.waiting;
-        this.waiting = null;
-        w({ ...p, line });
-      } else if (this.connected) {
-        this.lost("the arm reset (its banner came out of turn)");
-      }
-    } else if (p.kind === "reply" && this.waiting && !this.wantBanner) {
-      const w = this.waiting;
-      this.waiting = null;
-      w({ ...p, line });
+      // The answer to the oldest `I` still waiting for its banner (the firmware sends a
+      // banner only when asked: a banner is never a reset).
+      const asked = this.unanswered.find((o) => o.banner);
+      if (!asked) return;
+      asked.banner = false;
+      const w = asked.onBanner;
+      asked.onBanner = undefined;
+      w?.({ ...p, line });
+    } else if (p.kind === "reply") {
+      const answered = this.unanswered.shift();
+      answered?.onReply?.({ ...p, line });
     }
   }
 
@@ -323,11 +339,12 @@ export class ArmLink {
 
   // A line and its reply (ok or error:N), on an open port.
   private async request(line: string): Promise<string> {
-    const got = new Promise<Parsed & { line: string }>((resolve) => (this.waiting = resolve));
-    await this.write(line + "\n");
+    let resolve: (p: Parsed & { line: string }) => void = () => undefined;
+    const got = new Promise<Parsed & { line: string }>((r) => (resolve = r));
+    const entry = await this.writeLine(line, { onReply: resolve });
     const r = await Promise.race([got, sleepOn(this.now, REPLY_MS).then(() => null)]);
     if (!r) {
-      this.waiting = null;
+      entry.onReply = undefined; // a late reply is still this line's
       throw new Error(`no reply to '${line}' within ${REPLY_MS / 1000} s`);
     }
     return r.line;
@@ -419,6 +436,7 @@ export class ArmLink {
   }
 
   private async close(): Promise<void> {
+    this.unanswered = [];
     if (this.pollTimer !== null) clearTimeout(this.pollTimer);
     this.pollTimer = null;
     const port = this.port;

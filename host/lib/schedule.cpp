@@ -1,0 +1,261 @@
+// host/lib/schedule.cpp - when each action runs (predict.h, schedule()): the firmware's
+// motion queue, planner and step interrupt, replayed on the lines as a sender delivers them.
+// Each rule names the firmware code it follows; the step timing and the plan are the shared
+// core's own (articula/motion.h, articula/planner.h), so the ticks are the firmware's.
+#include <articula/planner.h>
+
+#include <algorithm>
+#include <deque>
+
+#include "predict.h"
+
+namespace articula::host {
+
+const char* sender_name(SenderModel::Kind k) {
+  switch (k) {
+    case SenderModel::kRest: return "rest";
+    case SenderModel::kStream: return "stream";
+  }
+  return "?";
+}
+
+namespace {
+
+// An action in the queue (queue::Action): its record and its plan.
+struct Queued {
+  size_t record;
+  PlanBlock plan;
+};
+
+// The firmware's step interrupt and queue, stepped deadline by deadline.
+class Controller {
+ public:
+  explicit Controller(std::vector<PredictRecord>& records) : rec_(records) {}
+
+  bool idle() const { return mode_ == kIdle && queue_.empty(); }
+  bool full() const { return queue_.size() >= size_t(kQueueSize); }
+  bool busy() const { return mode_ != kIdle || !queue_.empty(); }
+  uint64_t next_deadline() const { return deadline_; }
+  bool running() const { return mode_ != kIdle; }
+
+  // Every deadline up to and including `t` (the interrupt comes before a line that arrives
+  // at the same tick).
+  void advance_to(uint64_t t) {
+    while (mode_ != kIdle && deadline_ <= t) on_timer();
+  }
+  // Until the queue has room: the tick a slot freed (a pop), or `t` when it has room.
+  uint64_t room_after(uint64_t t) {
+    advance_to(t);
+    while (full()) {
+      const size_t before = queue_.size();
+      while (queue_.size() == before) on_timer();
+      t = std::max(t, last_);
+    }
+    return t;
+  }
+  // Until nothing runs and nothing is queued.
+  uint64_t rest_after(uint64_t t) {
+    advance_to(t);
+    while (mode_ != kIdle) on_timer();
+    return std::max(t, last_);
+  }
+
+  // controller.cpp push_planned(), then stepper::kick() when nothing runs.
+  void push(size_t k, uint64_t now) {
+    const PredictRecord& r = rec_[k];
+    Queued q{k, {0, 0, 0}};
+    if (r.action == PredictRecord::Action::kMove) {
+      uint32_t n = 0;
+      for (int32_t d : r.delta_steps) n = std::max(n, uint32_t(d < 0 ? -int64_t(d) : d));
+      q.plan.steps = n;
+      if (last_steps_ != 0 && busy())
+        q.plan.max_entry = junction_level(last_delta_.data(), last_steps_, r.delta_steps.data(), n,
+                                          uint8_t(r.delta_steps.size()), r.junction);
+      last_delta_ = r.delta_steps;
+      last_steps_ = n;
+    } else {
+      last_steps_ = 0;
+    }
+    queue_.push_back(q);
+    plan_entries([this](uint8_t i) -> const PlanBlock& { return queue_[i].plan; },
+                 [this](uint8_t i, uint16_t e) { queue_[i].plan.entry = e; }, uint8_t(queue_.size()));
+    if (mode_ == kMove && !homing_) profile_.raise_exit(planned_exit());  // stepper::raise_exit()
+    if (mode_ == kIdle) {  // kick()
+      last_ = now;
+      next_action(now);
+    }
+  }
+
+  // After Z (stepper::set_positions, no move to blend with).
+  void forget_last_move() { last_steps_ = 0; }
+
+ private:
+  enum Mode { kIdle, kMove, kPause, kSeek };
+
+  uint32_t planned_exit() const {
+    if (queue_.empty()) return 0;
+    const Queued& q = queue_.front();
+    return rec_[q.record].action == PredictRecord::Action::kMove ? q.plan.entry : 0;
+  }
+
+  void end_running(uint64_t t) {
+    if (running_ != kNone) rec_[running_].end_tick = t;
+    running_ = kNone;
+  }
+
+  // stepper.cpp next_action(): the next queued action that takes time, from tick t.
+  void next_action(uint64_t t) {
+    end_running(t);
+    mode_ = kIdle;
+    homing_ = false;
+    while (!queue_.empty()) {
+      const Queued q = queue_.front();
+      queue_.pop_front();
+      PredictRecord& r = rec_[q.record];
+      r.start_tick = t;
+      running_ = q.record;
+      uint64_t dt = 0;
+      switch (r.action) {
+        case PredictRecord::Action::kMove:
+          dt = begin_move(r, planned_exit());
+          break;
+        case PredictRecord::Action::kPause:
+          dt = r.ticks;
+          if (dt != 0) mode_ = kPause;
+          break;
+        case PredictRecord::Action::kHome:
+          homing_ = true;
+          if (r.seek_ticks != 0) {
+            mode_ = kSeek;
+            dt = r.seek_ticks;
+          } else {
+            dt = begin_move(r, 0);
+          }
+          break;
+        case PredictRecord::Action::kNone:
+          break;
+      }
+      if (dt != 0) {
+        deadline_ = t + dt;
+        return;
+      }
+      end_running(t);
+    }
+    profile_ = StepProfile();  // halt(): at rest
+    homing_ = false;
+  }
+
+  // stepper.cpp begin_move(): blended on from a move that ended moving.
+  uint64_t begin_move(const PredictRecord& r, uint32_t exit) {
+    uint32_t n = 0;
+    for (int32_t d : r.delta_steps) n = std::max(n, uint32_t(d < 0 ? -int64_t(d) : d));
+    if (n == 0) return 0;
+    if (constants_for_ != r.motion.max_rate * 1000003ULL + r.motion.accel) {
+      profile_constants(constants_, r.motion);
+      constants_for_ = r.motion.max_rate * 1000003ULL + r.motion.accel;
+    }
+    if (profile_.level() > 0)
+      profile_.follow(n, exit);
+    else
+      profile_.start(n, constants_, exit);
+    mode_ = kMove;
+    return profile_.next_interval();
+  }
+
+  // stepper.cpp on_timer() at the current deadline.
+  void on_timer() {
+    const uint64_t t = deadline_;
+    last_ = t;
+    switch (mode_) {
+      case kMove:
+        if (profile_.done()) {
+          next_action(t);
+        } else {
+          deadline_ = t + profile_.next_interval();
+        }
+        break;
+      case kSeek: {  // the switches found: Home's final move, from rest
+        PredictRecord& r = rec_[running_];
+        const uint64_t dt = begin_move(r, 0);
+        if (dt != 0)
+          deadline_ = t + dt;
+        else
+          next_action(t);
+        break;
+      }
+      case kPause:
+        next_action(t);
+        break;
+      case kIdle:
+        break;
+    }
+  }
+
+  static constexpr size_t kNone = size_t(-1);
+  std::vector<PredictRecord>& rec_;
+  std::deque<Queued> queue_;
+  Mode mode_ = kIdle;
+  bool homing_ = false;
+  size_t running_ = kNone;
+  StepProfile profile_;
+  ProfileConstants constants_{};
+  uint64_t constants_for_ = 0;
+  uint64_t deadline_ = 0;
+  uint64_t last_ = 0;  // the last deadline handled
+  std::vector<int32_t> last_delta_;
+  uint32_t last_steps_ = 0;
+};
+
+// Ticks for `bytes` bytes on the line, rounded up.
+uint64_t byte_ticks(const SenderModel& s, uint64_t bytes) {
+  const uint64_t num = bytes * s.bits_per_byte * kControllerTickHz;
+  return (num + s.baud - 1) / s.baud;
+}
+
+size_t reply_bytes(Status st) {
+  char buf[16];
+  return format_reply(buf, sizeof buf, st);
+}
+
+}  // namespace
+
+void schedule(Prediction& p, const SenderModel& sender) {
+  Controller c(p.records);
+  uint64_t reply = 0;       // when the previous line was answered
+  size_t reply_len = 0;     // its bytes
+  bool first = true;
+  for (size_t k = 0; k < p.records.size(); ++k) {
+    PredictRecord& r = p.records[k];
+    const std::string line = r.protocol.empty() ? r.text : r.protocol;
+    const uint64_t line_bytes = line.size() + 1;
+    uint64_t arrive = 0;
+    switch (sender.kind) {
+      case SenderModel::kRest:
+        arrive = first ? 0 : c.rest_after(reply);
+        break;
+      case SenderModel::kStream:
+        arrive = first ? 0 : reply + byte_ticks(sender, reply_len + line_bytes);
+        break;
+    }
+    first = false;
+    uint64_t answered = arrive;
+    r.start_tick = r.end_tick = arrive;
+    if (r.waits_for_rest) {
+      answered = c.rest_after(arrive);
+      if (r.text.rfind('Z', 0) == 0) c.forget_last_move();
+      r.start_tick = r.end_tick = answered;
+    } else if (r.queued) {
+      answered = c.room_after(arrive);
+      c.push(k, answered);
+    } else {
+      c.advance_to(arrive);
+    }
+    reply = answered;
+    reply_len = reply_bytes(r.reply);
+  }
+  p.total_ticks = c.rest_after(reply);
+  for (PredictRecord& r : p.records)
+    r.ticks = r.end_tick - r.start_tick;
+}
+
+}  // namespace articula::host
