@@ -101,12 +101,12 @@ TEST(Planner, JunctionSettingZeroIsRestToRestTickForTick) {
   ASSERT_EQ(sim::command("$6=0"), "ok");
   const MotionSettings s = sim::motion_settings();
   const uint64_t t0 = fake::hw.now;
+  int32_t from = sim::status().steps[0];
   const std::vector<std::string> lines = base_turn(30, 5);
   ASSERT_EQ(stream(lines), std::vector<std::string>(5, "ok"));
   // Each move of the base its own rest-to-rest profile, back to back.
   std::vector<uint64_t> expected;
   uint64_t t = t0;
-  int32_t from = robot::home_steps[0];
   for (const std::string& l : lines) {
     double b = 0;
     std::sscanf(l.c_str(), "M %lf", &b);
@@ -155,9 +155,11 @@ TEST(Planner, ADwellSentWhileTheQueueIsFullWaitsForRoomAndIsAnsweredOk) {
 
 TEST(Planner, StopAtSpeedGoesOnAlongThePathIntoTheNextMove) {
   sim::boot();
-  const std::vector<std::string> lines = base_turn(60, 20);
-  const size_t ticks_per_turn = size_t(quantize_within_limits(robot::motor(0), robot::config.home[0] + 60000) -
-                                       robot::home_steps[0]);
+  // As many lines as the firmware reads before it is at rest again: the one under way, 16
+  // queued, one held unanswered and one read behind it (later ones would run after the stop).
+  const std::vector<std::string> lines = base_turn(57, queue::kSize + 3);
+  const size_t ticks_per_turn = size_t(quantize_within_limits(robot::motor(0), robot::config.home[0] + 57000) -
+                                       sim::status().steps[0]);
   std::string all;
   for (const std::string& l : lines) all += l + "\n";
   const uint64_t t0 = fake::hw.now;
