@@ -316,7 +316,7 @@ TEST(Cli, PredictSettingsAreHonoured) {
   const Result bad = run("predict mk2plus " + program_path("demo.arm") + " --settings 0=9000");
   EXPECT_EQ(bad.code, 2);
   EXPECT_NE(bad.out.find("--settings: '0=9000': $0 takes a whole number from 1 to 4000"), std::string::npos) << bad.out;
-  const Result unknown = run("predict mk2plus " + program_path("demo.arm") + " --settings 7=1");
+  const Result unknown = run("predict mk2plus " + program_path("demo.arm") + " --settings 8=1");
   EXPECT_EQ(unknown.code, 2);
   EXPECT_NE(unknown.out.find("no such setting"), std::string::npos) << unknown.out;
 }

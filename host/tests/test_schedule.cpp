@@ -63,8 +63,9 @@ TEST(Schedule, JunctionZeroAndTheRestSenderAreRestToRest) {
   ASSERT_EQ(rest.records.size(), zero.records.size());
   for (size_t k = 0; k < rest.records.size(); ++k) {
     EXPECT_EQ(zero.records[k].ticks, rest.records[k].ticks) << k;
-    if (rest.records[k].action == PredictRecord::Action::kMove)
+    if (rest.records[k].action == PredictRecord::Action::kMove) {
       EXPECT_EQ(rest.records[k].ticks, profile_duration_ticks(rest.records[k].dominant_steps, rest.settings.motion()));
+    }
   }
   EXPECT_EQ(zero.total_ticks - zero.records.front().start_tick, rest.total_ticks);
 }

@@ -71,6 +71,7 @@ SAME = [
     # the arm's protocol
     ("_status_table", "statusTable"),
     ("_status_table", "statusText"),
+    ("_settings_table", "settingsTable"),
     ("parse_arm_line", "parseArmLine"),
     ("first_interval_s", "firstIntervalS"),
     # the sim-vs-real experiment
@@ -134,7 +135,7 @@ const ops = [];
 for (const cls of ["Robot", "Sim", "Timeline"])
   for (const k of Object.getOwnPropertyNames(M[cls].prototype))
     if (!["constructor", "delete", "isDeleted", "clone", "isAliasOf", "deleteLater"].includes(k)) ops.push(`${{cls}}.${{k}}`);
-for (const k of ["predict", "run", "quantize", "programFormat", "parseProgram", "statusText", "statusTable", "parseArmLine", "firstIntervalS",
+for (const k of ["predict", "run", "quantize", "programFormat", "parseProgram", "statusText", "statusTable", "settingsTable", "parseArmLine", "firstIntervalS",
                  "axisErrors", "table4", "measurementQuestion", "parsePlan", "table5", "toolPoints"])
   if (typeof M[k] === "function") ops.push(k);
 console.log(JSON.stringify(ops));

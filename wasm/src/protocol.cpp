@@ -1,6 +1,7 @@
 // wasm/src/protocol.cpp - the arm's protocol for JavaScript (the twin of python/src/protocol.cpp),
 // from the core through host/lib/protocol_view.h: the status table, a line from the arm read
 // by the firmware's own parsers, the motion profile's first step.
+#include <articula/settings.h>
 #include <emscripten/bind.h>
 
 #include <articula/status.h>
@@ -13,6 +14,15 @@ EMSCRIPTEN_BINDINGS(articula_protocol) {
   using namespace emscripten;
   function("statusText", +[](int code) { return std::string(articula::status_text(uint8_t(code))); });
   function("statusTable", +[] { return articula::host::status_table_json().dump(); });
+  // The settings table (shared/articula/settings.h) for a three-motor arm: [[min, max, default], ...].
+  function("settingsTable", +[] {
+    std::string out = "[";
+    for (uint8_t n = 0; n < articula::kSettingCount; ++n) {
+      const articula::SettingRange r = articula::setting_range(n, 3);
+      out += (n ? ",[" : "[") + std::to_string(r.min) + "," + std::to_string(r.max) + "," + std::to_string(r.fallback) + "]";
+    }
+    return out + "]";
+  });
   function("parseArmLine", +[](const std::string& line) { return articula::host::arm_line_json(line).dump(); });
   function("firstIntervalS", &articula::host::first_interval_s);
 }

@@ -53,8 +53,8 @@ export class ArmLink {
   private writer: WritableStreamDefaultWriter<Uint8Array> | null = null;
   private reader: ReadableStreamDefaultReader<Uint8Array> | null = null;
   // The lines written and not yet answered, oldest first. The arm answers every line once, in
-  // order, so each reply belongs to the oldest; an `I`'s banner comes before its reply. A
-  // waiter gone (timed out) leaves its line here, so a late reply is still its own.
+  // order, so each reply belongs to the oldest; an `I`'s banner comes right before its reply.
+  // A waiter gone (timed out) leaves its line here, so a late reply is still its own.
   private unanswered: Outstanding[] = [];
   private queue: Promise<unknown> = Promise.resolve();
   // the arm's time: waits for its answers count in it (the virtual Nano's runs slow on a busy machine)
@@ -287,6 +287,9 @@ export class ArmLink {
       asked.onBanner = undefined;
       w?.({ ...p, line });
     } else if (p.kind === "reply") {
+      // An `I` is answered by its banner first: one still waiting for its banner was lost
+      // (sent while the Nano was starting), and this reply is a later line's.
+      while (this.unanswered.length && this.unanswered[0].banner) this.unanswered.shift();
       const answered = this.unanswered.shift();
       answered?.onReply?.({ ...p, line });
     }
