@@ -179,7 +179,8 @@ uint8_t configure(int32_t n, int32_t v) {
 // Into the queue, planned (articula/planner.h): a move's junction level with the move queued
 // before it (none when the arm is at rest with nothing queued, or after another action),
 // then the reverse pass, then the move under way told how fast it may end.
-void push_planned(queue::Action& a) {
+// Not inlined: its frame (and the junction's) is not on the stack under P's inverse kinematics.
+__attribute__((noinline)) void push_planned(queue::Action& a) {
   a.plan.steps = 0;
   a.plan.max_entry = a.plan.entry = 0;
   if (a.kind == queue::kMove) {
@@ -189,9 +190,9 @@ void push_planned(queue::Action& a) {
       delta[i] = a.target[i] - g_planned.steps[i];
       n = max_of(n, uint32_t(delta[i] < 0 ? -delta[i] : delta[i]));
     }
-    a.plan.steps = n;
+    a.plan.steps = uint16_t(min_of(n, uint32_t(0xFFFF)));
     if (g_last_steps != 0 && busy())
-      a.plan.max_entry = junction_level(g_last_delta, g_last_steps, delta, n, kJ, settings::value[settings::kJunction]);
+      a.plan.max_entry = junction_level<kJ>(g_last_delta, g_last_steps, delta, n, kJ, settings::value[settings::kJunction]);
     for (uint8_t i = 0; i < kJ; ++i) g_last_delta[i] = delta[i];
     g_last_steps = n;
   } else {

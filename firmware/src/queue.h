@@ -12,10 +12,10 @@
 
 namespace queue {
 
-// What the status report's Q counts down from: as many as the RAM allows (22 bytes each).
-// The planner looks this far ahead; docs/protocol.md says how long a move must be for a
-// speed to hold.
-static const uint8_t kSize = 16;
+// What the status report's Q counts down from (articula/planner.h: as many as the RAM
+// allows). The planner looks this far ahead; docs/protocol.md says how long a move must be
+// for a speed to hold.
+static const uint8_t kSize = articula::kQueueSize;
 
 enum Kind : uint8_t {
   kMove,     // every motor to target[] (absolute steps), along a line, one StepProfile
@@ -31,7 +31,7 @@ struct Gripper {
   uint32_t settle_ticks;  // pause after it, step-timer ticks
 };
 
-// 10 + 4 * joints bytes on the Nano (22 for three motors).
+// 8 + 4 * joints bytes on the Nano (20 for three motors).
 struct Action {
   uint8_t kind;
   uint8_t mask;  // kHome: motors with a switch

@@ -152,7 +152,9 @@ uint32_t next_action() {
   g_mode = kIdle;
   g_homing = 0;
   while (!g_stop && !g_fault && !queue::empty()) {
-    const queue::Action a = queue::front();
+    // Popped first, so the front is the action after it; the slot is not overwritten while
+    // this interrupt runs (only the main loop pushes), so no copy on the stack.
+    const queue::Action& a = queue::front();
     queue::pop();
     const uint32_t t = begin(a);
     if (t != 0) return t;
@@ -164,7 +166,7 @@ uint32_t next_action() {
 // along the path, into the next queued move, until the arm is at rest.
 uint32_t continue_stop() {
   while (g_profile.level() != 0 && !g_homing && !queue::empty() && queue::front().kind == queue::kMove) {
-    const queue::Action a = queue::front();
+    const queue::Action& a = queue::front();  // (as in next_action)
     queue::pop();
     const uint32_t t = begin_move(a.target, 0, true);
     if (t != 0) return t;

@@ -44,7 +44,7 @@ MAX_JITTER_US = 10.0
 MAX_STATUS_FIRST_BYTE_US = 1000.0
 MAX_P_US = 5000.0
 MIN_SUMMED_STEPS_PER_S = 10000.0
-MIN_FREE_STACK = 256
+MIN_FREE_STACK = 128  # the planner issue's budget: at least 128 of the 2,048 bytes never used
 TICK_HZ = 2000000  # the step timer (motion.h's tick_hz on the Nano)
 
 # Wall-clock limits for a hang; the simulation itself runs faster than real time.

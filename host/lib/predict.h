@@ -212,10 +212,9 @@ Prediction predict_program(const Robot& robot, const Program& program, const Con
                            const SenderModel& sender = {});
 
 // When each action starts and ends, in the controller's ticks from the first line's arrival:
-// the firmware's queue of kQueueSize actions, its planner (articula/planner.h) and its step
+// the firmware's queue of articula::kQueueSize actions, its planner (articula/planner.h) and its step
 // interrupt (firmware/src/stepper.cpp) run on the lines as `sender` delivers them. Exact
 // given when each line arrives; the sender model says when that is.
-inline constexpr int kQueueSize = 16;
 void schedule(Prediction& p, const SenderModel& sender);
 
 // RoboSim's h (0.0 open .. 0.5 closed) as G's aperture in thousandths of a percent:

@@ -33,7 +33,7 @@ class Controller {
   explicit Controller(std::vector<PredictRecord>& records) : rec_(records) {}
 
   bool idle() const { return mode_ == kIdle && queue_.empty(); }
-  bool full() const { return queue_.size() >= size_t(kQueueSize); }
+  bool full() const { return queue_.size() >= size_t(articula::kQueueSize); }
   bool busy() const { return mode_ != kIdle || !queue_.empty(); }
   uint64_t next_deadline() const { return deadline_; }
   bool running() const { return mode_ != kIdle; }
@@ -67,9 +67,9 @@ class Controller {
     if (r.action == PredictRecord::Action::kMove) {
       uint32_t n = 0;
       for (int32_t d : r.delta_steps) n = std::max(n, uint32_t(d < 0 ? -int64_t(d) : d));
-      q.plan.steps = n;
+      q.plan.steps = uint16_t(std::min(n, uint32_t(0xFFFF)));
       if (last_steps_ != 0 && busy())
-        q.plan.max_entry = junction_level(last_delta_.data(), last_steps_, r.delta_steps.data(), n,
+        q.plan.max_entry = junction_level<kMaxJoints>(last_delta_.data(), last_steps_, r.delta_steps.data(), n,
                                           uint8_t(r.delta_steps.size()), r.junction);
       last_delta_ = r.delta_steps;
       last_steps_ = n;

@@ -85,16 +85,16 @@ TEST(Schedule, APauseOrTheGripperEndsAStream) {
 TEST(JunctionLevel, FollowsTheRule) {
   const int32_t x[3] = {10, 0, 0}, x2[3] = {20, 0, 0}, y[3] = {0, 10, 0}, back[3] = {-10, 0, 0},
                 diag[3] = {10, 10, 0};
-  EXPECT_EQ(junction_level(x, 10, x2, 20, 3, 50), kMaxJunctionLevel);  // the same direction
-  EXPECT_EQ(junction_level(x, 10, x2, 20, 3, 0), 0);                   // $6=0: at rest
+  EXPECT_EQ(junction_level<3>(x, 10, x2, 20, 3, 50), kMaxJunctionLevel);  // the same direction
+  EXPECT_EQ(junction_level<3>(x, 10, x2, 20, 3, 0), 0);                   // $6=0: at rest
   // A right angle in steps: m = 1, level 4 d = 2 at d = 0.5 step; a reversal: m = 2, level d.
-  EXPECT_EQ(junction_level(x, 10, y, 10, 3, 50), 2);
-  EXPECT_EQ(junction_level(x, 10, back, 10, 3, 400), 4);
+  EXPECT_EQ(junction_level<3>(x, 10, y, 10, 3, 50), 2);
+  EXPECT_EQ(junction_level<3>(x, 10, back, 10, 3, 400), 4);
   // 45 degrees in steps: the base's share stays 1, the shoulder's rises from 0 to 1: m = 1.
-  EXPECT_EQ(junction_level(x, 10, diag, 10, 3, 100), 4);
+  EXPECT_EQ(junction_level<3>(x, 10, diag, 10, 3, 100), 4);
   // Long moves are scaled to at most 1023 dominant steps and give the same level.
   const int32_t lx[3] = {100000, 0, 0}, ly[3] = {0, 100000, 0};
-  EXPECT_EQ(junction_level(lx, 100000, ly, 100000, 3, 50), 2);
+  EXPECT_EQ(junction_level<3>(lx, 100000, ly, 100000, 3, 50), 2);
 }
 
 TEST(JunctionLevel, APlanEndsAtRestAndNeverEntersFasterThanItCanStop) {

@@ -67,10 +67,12 @@ inline uint32_t junction_direction(int32_t* out, const int32_t* delta, uint32_t 
 // level in float: IEEE single precision, each operation rounded the same way on the Nano,
 // the host and the web engine (three operations, no library call; 64-bit integers would
 // cost the Nano 1.5 KB of flash).
-inline uint16_t junction_level(const int32_t* delta_a, uint32_t n_a, const int32_t* delta_b, uint32_t n_b,
-                               uint8_t motors, uint32_t deviation) {
-  if (deviation == 0 || n_a == 0 || n_b == 0 || motors > 8) return 0;
-  int32_t a[8], b[8];
+// MaxMotors: the arrays' size (the Nano's three; its stack is short).
+template <int MaxMotors>
+uint16_t junction_level(const int32_t* delta_a, uint32_t n_a, const int32_t* delta_b, uint32_t n_b, uint8_t motors,
+                        uint32_t deviation) {
+  if (deviation == 0 || n_a == 0 || n_b == 0 || motors > MaxMotors) return 0;
+  int32_t a[MaxMotors], b[MaxMotors];
   n_a = detail::junction_direction(a, delta_a, n_a, motors);
   n_b = detail::junction_direction(b, delta_b, n_b, motors);
   if (n_a == 0 || n_b == 0) return 0;
@@ -87,10 +89,16 @@ inline uint16_t junction_level(const int32_t* delta_a, uint32_t n_a, const int32
   return level >= float(kMaxJunctionLevel) ? kMaxJunctionLevel : uint16_t(level);
 }
 
+// The motion queue's places (the firmware's queue::kSize, the prediction's): how far the
+// planner sees ahead. As many as the Nano's RAM holds with 128 bytes of stack to spare at the
+// deepest (20 bytes each; GRBL has 16 of 32 bytes and 1,633 bytes of static RAM).
+static const uint8_t kQueueSize = 12;
+
 // What the planner keeps of each queued action (the firmware's queue::Action, the host's
 // model of it).
 struct PlanBlock {
-  uint32_t steps;      // a move's dominant steps; 0 for an action that is not a move
+  uint16_t steps;      // a move's dominant steps, at most 65535 (no level is higher: the plan
+                       // is the same); 0 for an action that is not a move
   uint16_t max_entry;  // the junction level with the move before (0 after rest or a non-move)
   uint16_t entry;      // the level the plan lets it start at
 };

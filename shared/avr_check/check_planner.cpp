@@ -7,9 +7,9 @@ static PlanBlock s_blocks[4];
 
 void check_planner() {
   int32_t a[3] = {int32_t(g_out), 1, -2}, b[3] = {int32_t(g_in), 3, 0};
-  const uint16_t level = junction_level(a, uint32_t(g_out), b, uint32_t(g_in), 3, uint32_t(g_out));
+  const uint16_t level = junction_level<3>(a, uint32_t(g_out), b, uint32_t(g_in), 3, uint32_t(g_out));
   for (uint8_t k = 0; k < 4; ++k) {
-    s_blocks[k].steps = uint32_t(g_in) + k;
+    s_blocks[k].steps = uint16_t(g_in + k);
     s_blocks[k].max_entry = level;
   }
   const uint16_t first = plan_entries([](uint8_t k) -> const PlanBlock& { return s_blocks[k]; },
