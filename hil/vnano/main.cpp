@@ -56,6 +56,9 @@ const char kHelp[] =
     "  --gripper CLOSED:OPEN  servo angles in degrees of the closed and open gripper (the\n"
     "                       robot file's servo_closed, servo_open), to report the aperture\n"
     "  --trace-steps FILE   CSV of every coil event: cycle,motor,steps,pattern,event,time_us\n"
+    "  --paced              lines go in one at a time: each starts on the wire when the reply to\n"
+    "                       the one before has been sent whole (a host that waits for each reply,\n"
+    "                       taking no time itself: `articula predict --sender stream`)\n"
     "  --realtime           never run ahead of the wall clock (for a person at a terminal)\n"
     "  --quiet              no summary on stderr at exit\n"
     "  -h, --help           this text\n"
@@ -121,6 +124,8 @@ Args parse_args(int argc, char** argv) {
       a.pty_link = need("--pty-link");
     } else if (arg == "--stdio") {
       a.stdio = true;
+    } else if (arg == "--paced") {
+      a.config.paced = true;
     } else if (arg == "--report") {
       a.report = need("--report");
     } else if (arg == "--seconds") {

@@ -90,6 +90,7 @@ VirtualNano::~VirtualNano() {
 
 bool VirtualNano::load(const Config& config, std::string& error) {
   config_ = config;
+  paced_ = config.paced;
   if (!syms_.load(config.elf, error)) return false;
   avr_global_logger_set(vnano_logger);  // before simavr's loader talks (stdout may be the serial line)
   elf_firmware_t fw;
@@ -245,8 +246,48 @@ void VirtualNano::run_until(uint64_t end) {
 // ---- serial ----
 
 void VirtualNano::host_send(const char* data, size_t n) {
-  for (size_t i = 0; i < n; ++i) host_in_.push_back(uint8_t(data[i]));
+  if (!paced_) {
+    for (size_t i = 0; i < n; ++i) host_in_.push_back(uint8_t(data[i]));
+    try_inject();
+    return;
+  }
+  for (size_t i = 0; i < n; ++i) {
+    partial_in_.push_back(data[i]);
+    if (data[i] != '\n') continue;
+    // Realtime bytes and blank lines get no reply: they go with the next line.
+    held_lines_.push_back(partial_in_);
+    partial_in_.clear();
+  }
+  release_line();
+}
+
+// Paced: the next held line to the USART once every line released so far has its reply.
+void VirtualNano::release_line() {
+  while (!held_lines_.empty() && replies_sent_ >= lines_released_) {
+    const std::string line = held_lines_.front();
+    held_lines_.pop_front();
+    for (char c : line) host_in_.push_back(uint8_t(c));
+    // Does the firmware answer it? Every line but one of realtime bytes and blanks only (a
+    // comment is answered ok).
+    bool answered = false;
+    for (char c : line)
+      if (c != '?' && c != '!' && c != ' ' && c != '\t' && c != '\r' && c != '\n') answered = true;
+    if (answered) ++lines_released_;
+    // (an unanswered line leaves the condition true: the next one goes behind it)
+  }
   try_inject();
+}
+
+namespace {
+avr_cycle_count_t reply_sent_cb(avr_t*, avr_cycle_count_t, void* p) {
+  static_cast<VirtualNano*>(p)->on_reply_sent();
+  return 0;
+}
+}  // namespace
+
+void VirtualNano::on_reply_sent() {
+  ++replies_sent_;
+  release_line();
 }
 
 bool VirtualNano::serial_idle() const { return host_in_.empty() && (uart_->input.read == uart_->input.write); }
@@ -304,6 +345,15 @@ void VirtualNano::on_uart_xoff(bool off) { xoff_ = off; }
 void VirtualNano::on_uart_output(uint8_t c) {
   const uint64_t now = avr_->cycle;
   out_.push_back(char(c));
+  if (paced_) {
+    line_out_.push_back(char(c));
+    if (c == '\n') {
+      // A reply: the host has it when its LF is off the wire, one frame from now.
+      if (line_out_ == "ok\n" || line_out_.rfind("error:", 0) == 0)
+        avr_cycle_timer_register(avr_, uart_->cycles_per_byte, reply_sent_cb, this);
+      line_out_.clear();
+    }
+  }
   ++bytes_out_;
   last_activity_ = now;
   if (line_start_ && c == '<' && !status_waiting_.empty()) {

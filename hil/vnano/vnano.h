@@ -47,6 +47,10 @@ struct Config {
   bool gripper_range = false;  // servo_closed_deg/servo_open_deg given: report the aperture
   double servo_closed_deg = 0, servo_open_deg = 0;
   FILE* trace = nullptr;       // CSV of coil events, or null
+  // Lines from the host go in one at a time: the next one starts on the wire when the reply
+  // to the one before (ok or error:N) has been sent whole, as a host that waits for each
+  // reply with no time of its own would send them (the prediction's `stream` sender).
+  bool paced = false;
 };
 
 class VirtualNano {
@@ -72,7 +76,7 @@ class VirtualNano {
 
   // Serial, host side. Bytes from the host wait here and go to the USART one at a time.
   void host_send(const char* data, size_t n);
-  size_t host_pending() const { return host_in_.size(); }
+  size_t host_pending() const { return host_in_.size() + held_lines_.size() + partial_in_.size(); }
   // Bytes the firmware sent; the caller erases what it has passed on.
   std::string& output() { return out_; }
   // Nothing waits to reach the firmware (our queue and simavr's receive FIFO are empty).
@@ -93,6 +97,8 @@ class VirtualNano {
   void on_uart_xoff(bool off);
   void on_vector_pending(int vector, bool raised);
   void on_vector_running(int vector, bool running);
+  // Paced input: the reply's LF is off the wire, the next line may go.
+  void on_reply_sent();
 
  private:
   // An interrupts-off stretch ends now: keep it if it is the longest so far.
@@ -169,6 +175,12 @@ class VirtualNano {
   avr_irq_t* uart_in_ = nullptr;
   bool xoff_ = false, injecting_ = false;
   std::deque<uint8_t> host_in_;
+  // Paced input (Config::paced): whole lines held back, replies seen, the line being read out.
+  std::deque<std::string> held_lines_;
+  std::string partial_in_, line_out_;
+  uint64_t lines_released_ = 0, replies_sent_ = 0;
+  bool paced_ = false;
+  void release_line();
   std::string out_;
   uint64_t bytes_in_ = 0, bytes_out_ = 0;
   uint64_t frame_cycles_ = 0, simavr_frame_cycles_ = 0;

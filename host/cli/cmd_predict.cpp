@@ -47,10 +47,12 @@ int run(int argc, char** argv) {
       "sender",
       "how the lines reach the arm, which decides how far its planner sees ahead: rest (each line once the arm "
       "is at rest: the harness, the studio's program runner; the default), stream (the next line when the "
-      "previous one is answered, 115,200 baud)",
+      "previous one is answered, at the Nano's baud rate, taking no time itself)",
       cxxopts::value<std::string>()->default_value("rest"))(
-      "bits-per-byte", "bits a byte takes on the line: 10 on a UART, 11 in simavr",
-      cxxopts::value<int>()->default_value("10"))("o,output", "write to FILE instead of standard output",
+      "bits-per-byte", "bits a byte takes on the line (8N1: 10), at the Nano's 117,647 baud",
+      cxxopts::value<int>()->default_value("10"))(
+      "queue", "the motion queue's places (the firmware's 12): a larger one shows what a longer look-ahead gives",
+      cxxopts::value<int>()->default_value(std::to_string(kQueueSize)))("o,output", "write to FILE instead of standard output",
                                      cxxopts::value<std::string>())("h,help", "this help")(
       "robot", "robot file or shipped robot name", cxxopts::value<std::string>())(
       "program", "program file: RoboSim (.robosim) or protocol lines (.arm)", cxxopts::value<std::string>());
@@ -91,6 +93,9 @@ int run(int argc, char** argv) {
   const int bits = args["bits-per-byte"].as<int>();
   if (bits < 8 || bits > 12) throw UsageError("--bits-per-byte " + std::to_string(bits) + ": expected 8 to 12");
   sender.bits_per_byte = uint32_t(bits);
+  const int places = args["queue"].as<int>();
+  if (places < 1 || places > 100000) throw UsageError("--queue " + std::to_string(places) + ": expected 1 to 100000");
+  sender.queue_size = uint32_t(places);
   const host::Prediction p = host::predict_program(robot, program, settings, sender);
 
   const std::string format = output_format(args);

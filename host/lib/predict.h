@@ -23,6 +23,7 @@
 #include <articula/actuation.h>
 #include <articula/ik_ypp.h>
 #include <articula/motion.h>
+#include <articula/planner.h>
 #include <articula/settings.h>
 #include <articula/status.h>
 
@@ -180,8 +181,8 @@ class ControllerModel {
 };
 
 // How the lines reach the controller, which decides when each is queued and so how far the
-// planner sees ahead (docs/protocol.md, "Timing of moves"). Byte times at `baud`, with
-// `bits_per_byte` bits each (10 on a UART line; simavr counts 11).
+// planner sees ahead (docs/protocol.md, "Timing of moves"). A byte takes `bits_per_byte`
+// bits (8N1: 10) at the Nano's real 117,647 baud (it asks for 115,200).
 struct SenderModel {
   enum Kind {
     kRest,    // each line once the arm is at rest after the one before (the harness, the
@@ -190,8 +191,8 @@ struct SenderModel {
               // a host must wait for each reply: the Nano's receive buffer holds one line)
   };
   Kind kind = kRest;
-  uint32_t baud = 115200;
   uint32_t bits_per_byte = 10;
+  uint32_t queue_size = kQueueSize;  // the firmware's; larger: what a longer look-ahead would give
 };
 const char* sender_name(SenderModel::Kind k);
 

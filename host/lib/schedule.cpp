@@ -30,10 +30,10 @@ struct Queued {
 // The firmware's step interrupt and queue, stepped deadline by deadline.
 class Controller {
  public:
-  explicit Controller(std::vector<PredictRecord>& records) : rec_(records) {}
+  Controller(std::vector<PredictRecord>& records, uint32_t queue_size) : rec_(records), size_(queue_size) {}
 
   bool idle() const { return mode_ == kIdle && queue_.empty(); }
-  bool full() const { return queue_.size() >= size_t(articula::kQueueSize); }
+  bool full() const { return queue_.size() >= size_; }
   bool busy() const { return mode_ != kIdle || !queue_.empty(); }
   uint64_t next_deadline() const { return deadline_; }
   bool running() const { return mode_ != kIdle; }
@@ -77,8 +77,8 @@ class Controller {
       last_steps_ = 0;
     }
     queue_.push_back(q);
-    plan_entries([this](uint8_t i) -> const PlanBlock& { return queue_[i].plan; },
-                 [this](uint8_t i, uint16_t e) { queue_[i].plan.entry = e; }, uint8_t(queue_.size()));
+    plan_entries([this](size_t i) -> const PlanBlock& { return queue_[i].plan; },
+                 [this](size_t i, uint16_t e) { queue_[i].plan.entry = e; }, queue_.size());
     if (mode_ == kMove && !homing_) profile_.raise_exit(planned_exit());  // stepper::raise_exit()
     if (mode_ == kIdle) {  // kick()
       last_ = now;
@@ -193,6 +193,7 @@ class Controller {
 
   static constexpr size_t kNone = size_t(-1);
   std::vector<PredictRecord>& rec_;
+  size_t size_;
   std::deque<Queued> queue_;
   Mode mode_ = kIdle;
   bool homing_ = false;
@@ -206,11 +207,10 @@ class Controller {
   uint32_t last_steps_ = 0;
 };
 
-// Ticks for `bytes` bytes on the line, rounded up.
-uint64_t byte_ticks(const SenderModel& s, uint64_t bytes) {
-  const uint64_t num = bytes * s.bits_per_byte * kControllerTickHz;
-  return (num + s.baud - 1) / s.baud;
-}
+// Ticks for `bytes` bytes on the line. The Nano asks for 115,200 baud and gets 117,647
+// (16 MHz / 8 / 17, UBRR0 16 with U2X0): a bit is 136 CPU cycles, 17 ticks of the 2 MHz
+// step timer.
+uint64_t byte_ticks(const SenderModel& s, uint64_t bytes) { return bytes * s.bits_per_byte * 17; }
 
 size_t reply_bytes(Status st) {
   char buf[16];
@@ -220,7 +220,7 @@ size_t reply_bytes(Status st) {
 }  // namespace
 
 void schedule(Prediction& p, const SenderModel& sender) {
-  Controller c(p.records);
+  Controller c(p.records, std::max<uint32_t>(1, sender.queue_size));
   uint64_t reply = 0;       // when the previous line was answered
   size_t reply_len = 0;     // its bytes
   bool first = true;

@@ -107,10 +107,10 @@ struct PlanBlock {
 // array), set_entry(k, e) stores its entry (the firmware: with interrupts off, as the step
 // interrupt reads it). The newest ends at rest. Returns the entry of the oldest (the exit of
 // the move under way before it, when that is a move).
-template <class BlockAt, class SetEntry>
-uint16_t plan_entries(BlockAt block, SetEntry set_entry, uint8_t count) {
+template <class BlockAt, class SetEntry, class Count>
+uint16_t plan_entries(BlockAt block, SetEntry set_entry, Count count) {
   uint32_t exit = 0;
-  for (uint8_t k = count; k-- > 0;) {
+  for (Count k = count; k-- > 0;) {
     const PlanBlock& b = block(k);
     uint32_t e = 0;  // an action that is not a move: the move before it ends at rest
     if (b.steps != 0) {
