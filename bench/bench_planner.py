@@ -1,6 +1,6 @@
 """The look-ahead planner, measured on the real firmware in simavr (the virtual Nano).
 
-For each streamed plan of hil/plans (the 60 degree split, the circle, the zigzag, the square
+For each streamed plan of hil/streams (the 60 degree split, the circle, the zigzag, the square
 with pen-up travel) on the MK2 in full steps and in half steps, streamed as a host that waits
 for each reply sends it (`articula-vnano --paced`, the prediction's `stream` sender):
 

@@ -1,6 +1,6 @@
 """The look-ahead planner on the real firmware in simavr, against the prediction.
 
-Each plan of hil/plans that is meant to be streamed (the collinear split, the circle, the
+Each plan of hil/streams (the collinear split, the circle, the
 zigzag, the square with pen-up travel, a stream mixed with G, D, S and a setting) goes into
 the virtual Nano paced as `articula predict --sender stream` models the host: each line as
 soon as the reply to the one before is off the wire (`articula-vnano --paced`). On the MK2

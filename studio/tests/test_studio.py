@@ -673,6 +673,21 @@ def test_web_serial_drives_the_arm_and_a_vanished_port_is_noticed(browser, site)
         page.click("#arm-send")
         page.wait_for_function("() => window.articula.arm.status.state === 'Idle' && window.articula.arm.status.steps[0] === 32",
                                timeout=20000 * PATIENCE)
+        # `I` typed by a student: its banner is the answer, not a reset (it dropped the link)
+        page.fill("#arm-line", "I")
+        page.click("#arm-send")
+        page.wait_for_function("() => window.articula.arm.reply && window.articula.arm.reply.line === 'I'",
+                               timeout=20000 * PATIENCE)
+        assert page.evaluate("window.articula.arm.reply.reply") == "ok"
+        page.fill("#arm-line", "L 0 -5")
+        page.click("#arm-send")
+        page.wait_for_function("() => window.articula.arm.reply && window.articula.arm.reply.line === 'L 0 -5'",
+                               timeout=20000 * PATIENCE)
+        assert page.evaluate("window.articula.arm.reply.reply") == "ok"
+        page.wait_for_function("() => window.articula.arm.status.state === 'Idle' && window.articula.arm.status.steps[0] === 16",
+                               timeout=20000 * PATIENCE)
+        assert page.evaluate("window.articula.arm.connected") is True
+        assert "Lost the arm" not in page.text_content("#arm-state")
         page.fill("#arm-line", "M 80 90 0")
         page.click("#arm-send")
         page.wait_for_function("() => window.articula.arm.status.state === 'Run'", timeout=15000 * PATIENCE)
