@@ -71,6 +71,8 @@ export interface PlanCommand {
 }
 export class Engine {
   readonly status: Record<string, [string, string]>;
+  /** The controller's settings $0, $1, ... (shared/articula/settings.h): [min, max, default]. */
+  readonly settings: [number, number, number][];
   robot(nameOrPath?: string): Robot;
   sim(robot: Robot, sceneText?: string, sceneName?: string, dt?: number): Sim;
   timeline(robot: Robot, text: string, name: string, startQ: number[]): Timeline;

@@ -156,6 +156,8 @@ export class Engine {
   constructor(M) {
     this.M = M;
     this.status = checked(M.statusTable());
+    // The controller's settings (shared/articula/settings.h): [min, max, default] by number.
+    this.settings = JSON.parse(M.settingsTable());
   }
   robot(nameOrPath) {
     const r = new Robot(this);

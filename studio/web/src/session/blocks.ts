@@ -12,7 +12,6 @@ import type { Msg, Out } from "./checks";
 import { info, powerUpQ, S } from "./state";
 import type { Action, Op } from "../blocks/unroll";
 
-const DEFAULT_RATE = 600; // steps/s: the firmware's $0 at 100 % (docs/protocol.md, "Settings")
 const ROBOSIM_FAST = 82; // RoboSim's s: 1 (slow) .. 82 (fast), appendix B
 const COMMENT_BYTES = 60; // a protocol line holds 64 bytes, "# " and the comment included
 
@@ -122,7 +121,8 @@ export function compile(ops: Op[]): { text: string; robosim: string; lines: stri
         break;
       case "speed": {
         if (o.percent <= 0 || o.percent > 100) throw new BlockProblem(b, `the speed is from 1 % to 100 %, not ${f3(o.percent)} %`);
-        emit(b, `$0=${Math.max(1, Math.round((DEFAULT_RATE * o.percent) / 100))}`);
+        // $0 at 100 %: the firmware's default top rate (shared/articula/settings.h, through the engine)
+        emit(b, `$0=${Math.max(1, Math.round((S.engine.settings[0][2] * o.percent) / 100))}`);
         rs.push("s", String(Math.max(1, Math.round((ROBOSIM_FAST * o.percent) / 100))));
         break;
       }
