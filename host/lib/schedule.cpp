@@ -65,8 +65,7 @@ class Controller {
     const PredictRecord& r = rec_[k];
     Queued q{k, {0, 0, 0}};
     if (r.action == PredictRecord::Action::kMove) {
-      uint32_t n = 0;
-      for (int32_t d : r.delta_steps) n = std::max(n, uint32_t(d < 0 ? -int64_t(d) : d));
+      const uint32_t n = r.dominant_steps;  // the controller model's (predict.cpp, queue_move)
       q.plan.steps = uint16_t(std::min(n, uint32_t(0xFFFF)));
       if (last_steps_ != 0 && busy())
         q.plan.max_entry = junction_level<kMaxJoints>(last_delta_.data(), last_steps_, r.delta_steps.data(), n,
@@ -147,8 +146,7 @@ class Controller {
 
   // stepper.cpp begin_move(): blended on from a move that ended moving.
   uint64_t begin_move(const PredictRecord& r, uint32_t exit) {
-    uint32_t n = 0;
-    for (int32_t d : r.delta_steps) n = std::max(n, uint32_t(d < 0 ? -int64_t(d) : d));
+    const uint32_t n = r.dominant_steps;
     if (n == 0) return 0;
     if (constants_for_ != r.motion.max_rate * 1000003ULL + r.motion.accel) {
       profile_constants(constants_, r.motion);
