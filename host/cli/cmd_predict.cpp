@@ -84,12 +84,10 @@ int run(int argc, char** argv) {
   const host::Program program = program_argument(args, robot);
   host::SenderModel sender;
   const std::string sender_text = args["sender"].as<std::string>();
-  if (sender_text == "rest")
-    sender.kind = host::SenderModel::kRest;
-  else if (sender_text == "stream")
-    sender.kind = host::SenderModel::kStream;
-  else
-    throw UsageError("--sender " + sender_text + ": expected rest or stream");
+  bool known = false;
+  for (host::SenderModel::Kind k : {host::SenderModel::kRest, host::SenderModel::kStream})
+    if (sender_text == host::sender_name(k)) sender.kind = k, known = true;
+  if (!known) throw UsageError("--sender " + sender_text + ": expected rest or stream");
   const int bits = args["bits-per-byte"].as<int>();
   if (bits < 8 || bits > 12) throw UsageError("--bits-per-byte " + std::to_string(bits) + ": expected 8 to 12");
   sender.bits_per_byte = uint32_t(bits);

@@ -32,11 +32,8 @@ class Controller {
  public:
   Controller(std::vector<PredictRecord>& records, uint32_t queue_size) : rec_(records), size_(queue_size) {}
 
-  bool idle() const { return mode_ == kIdle && queue_.empty(); }
   bool full() const { return queue_.size() >= size_; }
   bool busy() const { return mode_ != kIdle || !queue_.empty(); }
-  uint64_t next_deadline() const { return deadline_; }
-  bool running() const { return mode_ != kIdle; }
 
   // Every deadline up to and including `t` (the interrupt comes before a line that arrives
   // at the same tick).
