@@ -48,11 +48,17 @@ add_executable(articula-nano ${firmware_sources})
 set_target_properties(articula-nano PROPERTIES SUFFIX ".elf")
 target_include_directories(articula-nano PRIVATE ${ARTICULA_FIRMWARE_DIR}/src ${ARTICULA_SHARED_DIR})
 target_compile_definitions(articula-nano PRIVATE ${arduino_defines})
-target_compile_options(articula-nano PRIVATE ${ARTICULA_WARNINGS} -Os -ffunction-sections -fdata-sections
-                                             -fno-exceptions -fno-threadsafe-statics -flto)
+# -mcall-prologues: functions save and restore their registers through one shared routine
+# (1.3 KB less flash; a few cycles more per call, none in the interrupt handlers themselves).
+# -mstrict-X: the X register only as a pointer, as the AVR addresses it (240 B less).
+# -fno-gcse: no global common subexpression elimination, which -Os pays for in size here
+# (110 B less).
+set(firmware_flags -Os -mcall-prologues -mstrict-X -fno-gcse -ffunction-sections -fdata-sections -fno-exceptions
+                   -fno-threadsafe-statics -flto)
+target_compile_options(articula-nano PRIVATE ${ARTICULA_WARNINGS} ${firmware_flags})
 # -mrelax: the linker turns calls and jumps within reach into rcall and rjmp (2 bytes less
 # each, a cycle faster).
-target_link_options(articula-nano PRIVATE -Os -flto -fuse-linker-plugin -Wl,--gc-sections -mrelax)
+target_link_options(articula-nano PRIVATE ${firmware_flags} -fuse-linker-plugin -Wl,--gc-sections -mrelax)
 target_link_libraries(articula-nano PRIVATE arduino_core m)
 
 # The simavr metadata (MCU name and clock) in a .mmcu section, so simavr and the virtual Nano

@@ -12,6 +12,7 @@
 // line boundary, whatever the main loop is doing (a P's inverse kinematics takes ms).
 #include "firmware.h"
 
+#include <articula/line.h>
 #include <articula/planner.h>
 #include <articula/protocol.h>
 
@@ -32,7 +33,7 @@ const uint8_t kVersion[3] = {0, 1, 0};
 // execute()'s answer for "not yet": not a status code.
 const uint8_t kWait = 0xFF;
 
-typedef BasicCommand<3> Command;  // P's three numbers; M's one per motor (at most three)
+typedef BasicCommand<4> Command;  // T's four numbers, P's three; M's one per motor (at most three)
 
 // Every report is written by the protocol's write_* into a buffer of the size the protocol
 // gives for it (status_report_size, kInfoReportSize, kSettingLineSize: the longest line
@@ -58,7 +59,11 @@ bool g_stop_flushed;         // the queue and waiting lines of the current stop 
 bool g_was_busy;             // busy at the last pass
 uint32_t g_idle_since;       // millis() at the first pass at rest
 int32_t g_last_delta[kJ];    // the last move queued, in steps, for the planner's junction
-uint32_t g_last_steps;       //   with the next: its dominant steps, 0 after any other action
+uint32_t g_last_steps;       //   with the next: its dominant steps, 0 after any other action,
+uint16_t g_last_cap;         //   and the highest level its cruise may be entered at
+LineCutter<float, kJ> g_cut;  // T (articula/line.h): the segments of the line being queued
+bool g_cutting;               // the pending T passed its check; g_cut holds what is left of it
+float g_cut_speed;            //   its tool speed, mm/s
 
 void reply(uint8_t status) {
   char buf[10];
@@ -110,48 +115,36 @@ void reset_position() {
   g_homed = settings::value[settings::kEndstops] == 0;
 }
 
-// P: the tool point (micrometres) to actuator angles, the in-limits solution nearest the
-// planned pose (least sum of squared actuator differences), into best. Not inlined: the
-// inverse kinematics' frame (its four solutions and more, ~120 B) is off the stack again
-// before move_absolute() runs, the deepest path of the main loop, on top of which a status
-// report and the step interrupt may come.
-__attribute__((noinline)) Status point_angles(Millideg* best, const int32_t* um) {
-  if (!robot::config.has_point) return kNoClosedForm;
-  // ypp_solve(..., polish = false) without its search for the nearest pose when nothing is
-  // within the limits: the firmware only refuses such a point.
-  YppResult<float> r;
-  const int in_limits =
-      ypp_closed_form(r, robot::config.arm, make_vec3(float(um[0]) * 0.001f, float(um[1]) * 0.001f, float(um[2]) * 0.001f));
-  if (in_limits == 0) return kUnreachable;
-  float best_d2 = -1;
-  for (uint8_t k = 0; k < in_limits; ++k) {  // the in-limits solutions come first
-    float act[3];
-    ypp_actuated(act, robot::config.arm, r.solutions[k].q);
-    Millideg t[kJ];
-    float d2 = 0;
-    for (uint8_t i = 0; i < kJ; ++i) {
-      const MotorSpec& m = robot::motor(i);
-      if (!to_millideg(t[i], rad_to_deg(act[i]))) return kUnreachable;
-      t[i] = clamp(t[i], m.min, m.max);  // in limits in float: at most a rounding beyond
-      d2 += square(float(t[i] - g_planned.commanded[i]));
-    }
-    if (best_d2 < 0 || d2 < best_d2) {
-      best_d2 = d2;
-      for (uint8_t i = 0; i < kJ; ++i) best[i] = t[i];
-    }
+// P's and T's closed form (articula/line.h, ypp_point_angles: a tool point in mm to the
+// in-limits actuator angles nearest `near`) and T's forward kinematics, through the Nano's
+// one copy of each. solve() is not inlined: the inverse kinematics' frame (its four
+// solutions and more, ~120 B) is off the stack again before move_absolute() runs, the
+// deepest path of the main loop, on top of which a status report and the step interrupt
+// may come.
+struct Solver {
+  __attribute__((noinline)) Status solve(Millideg* out, const float* p, const Millideg* near) const {
+    return ypp_point_angles(out, robot::config.arm, robot::config.actuation.motors, make_vec3(p[0], p[1], p[2]), near);
   }
-  return kOk;
+  void tool(float* p, const Millideg* act) const { ypp_tool_at(p, robot::config.arm, act); }
+};
+
+// Micrometres (or thousandths of mm/s) to mm (mm/s).
+void to_mm(float* out, const int32_t* um, uint8_t n) {
+  for (uint8_t k = 0; k < n; ++k) out[k] = float(um[k]) * 0.001f;
 }
 
 Status solve_point(robot::State& next, const int32_t* um) {
+  if (!robot::config.has_point) return kNoClosedForm;
   Millideg best[kJ];
-  const Status s = point_angles(best, um);
+  float p[3];
+  to_mm(p, um, 3);
+  const Status s = Solver().solve(best, p, g_planned.commanded);
   return s != kOk ? s : move_absolute(next, robot::actuation(), best);
 }
 
 // The commands that take a place in the queue (D too: held while the queue is full, it
 // waited with no room and was answered error:255).
-bool is_queued(CommandType t) { return (t <= kCmdHome && t != kCmdNone) || t == kCmdDwell; }
+bool is_queued(CommandType t) { return (t <= kCmdHome && t != kCmdNone) || t == kCmdDwell || t == kCmdLine; }
 
 // What a valid line still waits for: room in the queue, or (Z, $n=v) the arm at rest with
 // nothing queued.
@@ -178,11 +171,14 @@ uint8_t configure(int32_t n, int32_t v) {
 
 // Into the queue, planned (articula/planner.h): a move's junction level with the move queued
 // before it (none when the arm is at rest with nothing queued, or after another action),
-// then the reverse pass, then the move under way told how fast it may end.
+// kept below the cruise levels of both (a T segment's own cruise: the segment lasts `ticks4`
+// at its tool speed, articula/line.h; 0: $0's), then the reverse pass, then the move under
+// way told how fast it may end.
 // Not inlined: its frame (and the junction's) is not on the stack under P's inverse kinematics.
-__attribute__((noinline)) void push_planned(queue::Action& a) {
+__attribute__((noinline)) void push_planned(queue::Action& a, uint32_t ticks4 = 0) {
   a.plan.steps = 0;
   a.plan.max_entry = a.plan.entry = 0;
+  a.plan.cruise4 = 0;
   if (a.kind == queue::kMove) {
     int32_t delta[kJ];
     uint32_t n = 0;
@@ -191,16 +187,33 @@ __attribute__((noinline)) void push_planned(queue::Action& a) {
       n = max_of(n, uint32_t(delta[i] < 0 ? -delta[i] : delta[i]));
     }
     a.plan.steps = uint16_t(min_of(n, uint32_t(0xFFFF)));
+    a.plan.cruise4 = segment_cruise4(n, ticks4);
+    const uint32_t cruise = stepper::constants().cruise;
+    const uint16_t cap = cruise_level_cap(stepper::motion_settings(), cruise, block_cruise(a.plan, cruise));
     if (g_last_steps != 0 && busy())
-      a.plan.max_entry = junction_level<kJ>(g_last_delta, g_last_steps, delta, n, kJ, settings::value[settings::kJunction]);
+      a.plan.max_entry = min_of(min_of(cap, g_last_cap),
+                                junction_level<kJ>(g_last_delta, g_last_steps, delta, n, kJ, settings::value[settings::kJunction]));
     for (uint8_t i = 0; i < kJ; ++i) g_last_delta[i] = delta[i];
     g_last_steps = n;
+    g_last_cap = cap;
   } else {
     g_last_steps = 0;
   }
   queue::push(a);
   queue::replan();
   stepper::raise_exit();
+}
+
+// A move (or Home) to `next` into the queue, planned; `ticks4`: a T segment's duration at its
+// speed (0: not a segment). A move within the same steps changes only the commanded angles.
+void queue_action(queue::Action& a, const robot::State& next, uint32_t ticks4 = 0) {
+  bool moves = a.kind == queue::kHome;
+  for (uint8_t i = 0; i < kJ; ++i) {
+    a.target[i] = next.steps[i];
+    moves = moves || next.steps[i] != g_planned.steps[i];
+  }
+  if (moves) push_planned(a, ticks4);
+  g_planned = next;
 }
 
 // Commands that go through the queue: validated against the planned state (which nothing
@@ -255,13 +268,47 @@ uint8_t queue_command(const Command& c) {
   }
   if (queue::full()) return kWait;
   if (a.kind == queue::kHome) g_homed = true;  // until the search fails
-  bool moves = a.kind == queue::kHome;
-  for (uint8_t i = 0; i < kJ; ++i) {
-    a.target[i] = next.steps[i];
-    moves = moves || next.steps[i] != g_planned.steps[i];
+  queue_action(a, next);
+  return kOk;
+}
+
+// T: the tool along a straight line (articula/line.h). The first time, the whole line is cut
+// once to check it (nothing queued: a line the arm cannot follow is refused before anything
+// moves); then again, its segments queued as there is room (the line waits as a pending one
+// while the queue is full) and answered once the last is in.
+void start_line(const Command& c) {
+  float from[3], to[4];  // x, y, z in mm, and the speed in mm/s
+  to_mm(to, c.arg, 4);
+  Solver().tool(from, g_planned.commanded);
+  g_cut.start(from, to, g_planned.commanded, kJ,
+              float(int32_t(settings::value[settings::kChord])) * 0.001f);
+  g_cut_speed = to[3];
+}
+
+uint8_t line_command(const Command& c) {
+  if (!g_homed) return kNotHomed;
+  if (!robot::config.has_point) return kNoClosedForm;
+  Millideg end[kJ];
+  if (!g_cutting) {
+    start_line(c);
+    while (!g_cut.done()) {
+      const Status s = g_cut.next(Solver(), end);
+      if (s != kOk) return s;
+    }
+    start_line(c);
+    g_cutting = true;
   }
-  if (moves) push_planned(a);  // a move within the same steps changes only the commanded angles
-  g_planned = next;
+  while (!g_cut.done()) {
+    if (queue::full()) return kWait;
+    g_cut.next(Solver(), end);  // as it was when checked
+    robot::State next = g_planned;
+    move_absolute(next, robot::actuation(), end);  // within the limits: checked
+    queue::Action a;
+    a.kind = queue::kMove;
+    a.mask = 0;
+    queue_action(a, next, segment_ticks4(g_cut.segment_length(), g_cut_speed, hal::kTickHz));
+  }
+  g_cutting = false;
   return kOk;
 }
 
@@ -296,6 +343,8 @@ uint8_t execute(const Command& c) {
       g_homed = true;
       g_last_steps = 0;
       return kOk;
+    case kCmdLine:
+      return line_command(c);
     default:
       return queue_command(c);
   }
@@ -332,11 +381,13 @@ void service_lines() {
   if (g_has_pending) {
     // Valid when first run; what it waits for is checked cheaply (P's inverse kinematics
     // runs again only once there is room).
-    if (must_wait(g_pending)) {
+    // (A T still queueing its segments waits again when the queue fills.)
+    const uint8_t r = must_wait(g_pending) ? kWait : execute(g_pending);
+    if (r == kWait) {
       read_ahead();
       return;
     }
-    reply(execute(g_pending));
+    reply(r);
     g_has_pending = false;
   }
   read_ahead();
@@ -352,6 +403,7 @@ void service_lines() {
 void service_stop() {
   if (!g_stop_flushed) {
     stepper::cut_pause();
+    g_cutting = false;
     if (g_has_pending) {  // and the line read behind it, if any
       reply(kStopped);
       if (g_held != kLineNone) reply(kStopped);

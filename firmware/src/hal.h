@@ -9,6 +9,8 @@
 
 #include <stdint.h>
 
+#include <articula/platform.h>
+
 namespace hal {
 
 // Timer ticks per second of the step timer (Timer1 at 16 MHz with prescaler 8).
@@ -66,12 +68,7 @@ void eeprom_read(uint16_t address, void* data, uint16_t size);
 void eeprom_write(uint16_t address, const void* data, uint16_t size);  // writes only changed bytes
 
 // Constants kept in flash only (the AVR copies ordinary constants into RAM at start-up):
-// declared ARTICULA_IN_FLASH and read with flash_read().
-#ifdef __AVR__
-#define ARTICULA_IN_FLASH __attribute__((__progmem__))
-#else
-#define ARTICULA_IN_FLASH
-#endif
+// declared ARTICULA_IN_FLASH (articula/platform.h) and read with flash_read().
 void flash_read(void* data, const void* flash, uint16_t size);
 
 // Nothing to do until an interrupt says otherwise: the CPU sleeps (idle mode: the timers, the

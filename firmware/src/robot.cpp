@@ -18,38 +18,6 @@ const uint8_t kVersion = kEepromVersion;
 const uint16_t kImageAt = kAddress + 1;
 const uint16_t kCrcAt = kImageAt + kConfigImageSize;
 
-// step_angle(): angle = zero + direction * round(steps * den / num), num/den = steps per
-// millidegree in lowest terms (3/950 on the MK2's base, 47/34200 on its arm motors); `most`
-// is the largest |steps| for which 2 |steps| den + num fits a uint32 (0: none, use
-// steps_to_millideg). The last angle is kept: a report at rest, or of a motor that did not
-// move, computes nothing.
-struct StepScale {
-  uint32_t num, den, most;
-  int32_t last_steps;
-  Millideg last_angle;
-};
-StepScale g_scale[kJoints];
-
-void setup_scale(StepScale& k, const MotorSpec& m) {
-  k.num = k.den = k.most = 0;
-  k.last_steps = 0;
-  k.last_angle = m.zero;
-  const int64_t den64 = detail::steps_den(m);  // steps_num is below 2^31 (validate)
-  if (den64 > 0x7FFFFFFFLL) return;
-  uint32_t num = uint32_t(detail::steps_num(m)), den = uint32_t(den64);
-  uint32_t a = num, b = den;  // gcd
-  while (b != 0) {
-    const uint32_t t = a % b;
-    a = b;
-    b = t;
-  }
-  num /= a;
-  den /= a;
-  k.num = num;
-  k.den = den;
-  k.most = min_of(uint32_t((0xFFFFFFFFUL - num) / (2 * den)), uint32_t(0x7FFFFFFFUL));
-}
-
 // What a blank EEPROM gets: the MK2 (builtin_config.h, made by the host's nano_config).
 const uint8_t kBuiltIn[kConfigImageSize] ARTICULA_IN_FLASH = ARTICULA_BUILTIN_CONFIG;
 
@@ -118,30 +86,12 @@ void use(const ConfiguredArm<kJoints>& next, uint16_t sum) {
   checksum = sum;
   for (uint8_t i = 0; i < kJoints; ++i) {
     const MotorSpec& m = config.actuation.motors[i];
-    setup_scale(g_scale[i], m);
     home_steps[i] = quantize_within_limits(m, config.home[i]);
   }
 }
 }  // namespace
 
-Millideg step_angle(uint8_t i, int32_t steps) {
-  StepScale& k = g_scale[i];
-  if (steps == k.last_steps) return k.last_angle;
-  const MotorSpec& m = config.actuation.motors[i];
-  const uint32_t mag = steps < 0 ? 0u - uint32_t(steps) : uint32_t(steps);
-  Millideg a;
-  if (mag > k.most) {  // (also when k.most is 0)
-    a = steps_to_millideg(m, steps);
-  } else {
-    // round(mag den / num), a half away from zero, as detail::div_round_half_away.
-    const uint32_t q = (2 * mag * k.den + k.num) / (2 * k.num);
-    a = (steps < 0) != (m.direction < 0) ? m.zero - Millideg(q) : m.zero + Millideg(q);
-  }
-  // Called from the status report only (one at a time): the cache needs no lock.
-  k.last_steps = steps;
-  k.last_angle = a;
-  return a;
-}
+Millideg step_angle(uint8_t i, int32_t steps) { return steps_to_millideg(config.actuation.motors[i], steps); }
 
 void setup() {
   // Read in place: nothing runs yet, and a copy would take ~250 bytes of the stack.

@@ -87,19 +87,21 @@ uint32_t planned_exit() {
   return next.kind == queue::kMove ? next.plan.entry : 0;
 }
 
-// Starts a move to absolute steps, ending at level `exit` (a stop: cut to rest at once); 0
-// when there is nothing to step. After a move that ended moving it goes on from that speed
-// (a blended junction).
-uint32_t begin_move(const int32_t* target, uint32_t exit, bool stopping = false) {
+// Starts a move to absolute steps, ending at level `exit` (a stop: cut to rest at once), at
+// its own cruise (PlanBlock::cruise4: a straight line's segment; 0: $0's); 0 when there is
+// nothing to step. After a move that ended moving it goes on from that speed (a blended
+// junction).
+uint32_t begin_move(const int32_t* target, uint32_t exit, uint16_t cruise4 = 0, bool stopping = false) {
   int32_t delta[kJ];
   for (uint8_t i = 0; i < kJ; ++i) delta[i] = target[i] - g_pos[i];
   g_line.start(delta, kJ);
   if (g_line.dominant == 0) return 0;
   if (!coils::on()) coils::energise();
+  const uint32_t cruise = max_of(uint32_t(cruise4) * 4, g_constants.cruise);
   if (g_profile.level() > 0)
-    g_profile.follow(g_line.dominant, exit);
+    g_profile.follow(g_line.dominant, exit, cruise);
   else
-    g_profile.start(g_line.dominant, g_constants, exit);
+    g_profile.start(g_line.dominant, g_constants, exit, cruise);
   if (stopping) g_profile.stop();
   g_mode = kMove;
   const uint32_t t = g_profile.next_interval();
@@ -124,7 +126,7 @@ uint32_t next_seek() {
 uint32_t begin(const queue::Action& a) {
   switch (a.kind) {
     case queue::kMove:
-      return begin_move(a.target, planned_exit());
+      return begin_move(a.target, planned_exit(), a.plan.cruise4);
     case queue::kGripper:
       hal::set_servo_pulse(a.grip.pulse_us);
       g_gripper = a.grip.percent;
@@ -168,7 +170,7 @@ uint32_t continue_stop() {
   while (g_profile.level() != 0 && !g_homing && !queue::empty() && queue::front().kind == queue::kMove) {
     const queue::Action& a = queue::front();  // (as in next_action)
     queue::pop();
-    const uint32_t t = begin_move(a.target, 0, true);
+    const uint32_t t = begin_move(a.target, 0, a.plan.cruise4, true);
     if (t != 0) return t;
   }
   return halt();
@@ -223,6 +225,8 @@ void setup() {
   }
   update_constants();
 }
+
+const ProfileConstants& constants() { return g_constants; }
 
 void update_constants() {
   g_motion.tick_hz = hal::kTickHz;

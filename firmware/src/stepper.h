@@ -33,6 +33,8 @@ void setup();
 void update_constants();
 // The constants a move's StepProfile starts from (the host's prediction uses the same).
 const articula::MotionSettings& motion_settings();
+// What every move's profile starts from (update_constants()).
+const articula::ProfileConstants& constants();
 
 // From the main loop: starts the queue when nothing runs (with interrupts enabled: the
 // timer is stopped, so only starting it is a critical section).

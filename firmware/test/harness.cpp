@@ -159,7 +159,7 @@ std::vector<std::pair<int, int32_t>> settings_listing() {
   std::vector<std::pair<int, int32_t>> out;
   EXPECT_EQ(command("$"), "ok");
   for (const std::string& l : reports()) {
-    articula::BasicCommand<3> c;
+    articula::BasicCommand<4> c;
     EXPECT_EQ(articula::parse_line(c, l.data(), uint8_t(l.size()), robot::count()), articula::kOk) << l;
     EXPECT_EQ(c.type, articula::kCmdSetSetting) << l;
     out.push_back(std::make_pair(int(c.arg[0]), c.arg[1]));

@@ -2,6 +2,7 @@
 // firmware code it follows; the firmware itself is never linked or called.
 #include "predict.h"
 
+#include <articula/line.h>
 #include <articula/motion.h>
 #include <articula/protocol.h>
 #include <articula/servo.h>
@@ -40,6 +41,37 @@ std::string limit_note(const Robot& robot, const int32_t* target_millideg) {
                          number_text(m.max / 1000.0) + " deg");
   }
   return out;
+}
+
+// The worst distance (mm) of the tool from the segment a-b at every step of `segments`
+// (LineStepper: each segment's steps as the firmware spreads them), from `steps`.
+double line_path_error(const Robot& robot, const int32_t* steps, const int32_t* offset,
+                       const std::vector<PredictRecord::Segment>& segments, const Vec3<double>& a,
+                       const Vec3<double>& b) {
+  const int n = robot.actuation.num_motors;
+  int32_t pos[kMaxJoints];
+  for (int i = 0; i < n; ++i) pos[i] = steps[i] + offset[i];
+  const Vec3<double> ab = b - a;
+  const double len2 = dot(ab, ab);
+  auto distance = [&]() {
+    double q[kMaxJoints];
+    joints_from_steps(q, robot.actuation, pos);
+    const Vec3<double> p = tool_position(robot.model, q);
+    const double t = len2 > 0 ? std::clamp(dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
+    return norm(p - (a + t * ab));
+  };
+  double worst = distance();
+  for (const auto& seg : segments) {
+    LineStepper<3> ls;  // T: three motors
+    ls.start(seg.delta_steps.data(), uint8_t(n));
+    while (!ls.done()) {
+      const uint8_t mask = ls.next();
+      for (int i = 0; i < n; ++i)
+        if (mask & (1u << i)) pos[i] += (ls.negative & (1u << i)) ? -1 : 1;
+      worst = std::max(worst, distance());
+    }
+  }
+  return worst;
 }
 
 }  // namespace
@@ -244,33 +276,88 @@ void ControllerModel::queue_gripper(PredictRecord& r, int32_t aperture) {
 }
 
 // P (controller.cpp, solve_point): the closed form in float, the in-limits solution nearest
-// the planned pose (least sum of squared actuator differences, in float), each angle rounded
-// to a millidegree and clamped into its limits, then moved to as M would.
+// the planned pose, each angle rounded to a millidegree and clamped into its limits
+// (articula/line.h, ypp_point_angles, the firmware's own), then moved to as M would.
 Status ControllerModel::solve_point(MotorState<kMaxJoints>& next, const int32_t* um) const {
   if (!has_ik_ || n_ != 3) return kNoClosedForm;
-  YppResult<float> res;
-  const int in_limits =
-      ypp_closed_form(res, arm_, make_vec3(float(um[0]) * 0.001f, float(um[1]) * 0.001f, float(um[2]) * 0.001f));
-  if (in_limits == 0) return kUnreachable;
   Millideg best[kMaxJoints] = {};
-  float best_d2 = -1;
-  for (int k = 0; k < in_limits; ++k) {
-    float act[3];
-    ypp_actuated(act, arm_, res.solutions[k].q);
-    Millideg t[3];
-    float d2 = 0;
-    for (int i = 0; i < 3; ++i) {
-      const MotorSpec& m = robot_.actuation.motors[i];
-      if (!to_millideg(t[i], rad_to_deg(act[i]))) return kUnreachable;
-      t[i] = clamp(t[i], m.min, m.max);
-      d2 += square(float(t[i] - planned_.commanded[i]));
-    }
-    if (best_d2 < 0 || d2 < best_d2) {
-      best_d2 = d2;
-      for (int i = 0; i < 3; ++i) best[i] = t[i];
-    }
+  const Status s = ypp_point_angles(best, arm_, robot_.actuation.motors,
+                                    make_vec3(float(um[0]) * 0.001f, float(um[1]) * 0.001f, float(um[2]) * 0.001f),
+                                    planned_.commanded);
+  return s != kOk ? s : move_absolute(next, robot_.actuation, best);
+}
+
+// T (controller.cpp, line_command): the line cut by the firmware's rule in float
+// (articula/line.h), checked whole before anything is queued, then each segment a move.
+Status ControllerModel::line(PredictRecord& r, const int32_t* arg) {
+  if (!has_ik_ || n_ != 3) return kNoClosedForm;
+  const YppLineSolver solver = {&arm_, robot_.actuation.motors};
+  float from[3], to[4];
+  for (int k = 0; k < 4; ++k) to[k] = float(arg[k]) * 0.001f;
+  solver.tool(from, planned_.commanded);
+  const float tol = float(int32_t(settings_.value[ControllerSettings::kChord])) * 0.001f;
+  LineCutter<float, kMaxJoints> cut;
+  Millideg end[kMaxJoints] = {};
+  cut.start(from, to, planned_.commanded, 3, tol);
+  while (!cut.done()) {
+    const Status s = cut.next(solver, end);
+    if (s == kOk) continue;
+    const float f = cut.refused_fraction();
+    add_note(r, std::string(s == kLineNotFollowed ? "the pose would jump" : "cannot be reached") + " at " +
+                    number_text(std::round(double(f) * cut.length() * 10) / 10) + " mm along the line of " +
+                    number_text(std::round(double(cut.length()) * 10) / 10) + " mm, at (" +
+                    number_text(std::round((from[0] + f * (to[0] - from[0])) * 10) / 10) + ", " +
+                    number_text(std::round((from[1] + f * (to[1] - from[1])) * 10) / 10) + ", " +
+                    number_text(std::round((from[2] + f * (to[2] - from[2])) * 10) / 10) + ") mm; nothing moves");
+    return s;
   }
-  return move_absolute(next, robot_.actuation, best);
+  cut.start(from, to, planned_.commanded, 3, tol);
+  const MotorState<kMaxJoints> before = planned_;
+  r.segments.clear();
+  uint64_t ticks = 0;
+  while (!cut.done()) {
+    cut.next(solver, end);
+    MotorState<kMaxJoints> next = planned_;
+    move_absolute(next, robot_.actuation, end);
+    PredictRecord::Segment seg;
+    for (int i = 0; i < n_; ++i) {
+      const int32_t d = next.steps[i] - planned_.steps[i];
+      seg.delta_steps.push_back(d);
+      seg.dominant_steps = std::max(seg.dominant_steps, uint32_t(d < 0 ? -d : d));
+    }
+    planned_ = next;
+    if (seg.dominant_steps == 0) continue;  // within the same steps: nothing queued
+    seg.cruise4 = segment_cruise4(seg.dominant_steps,
+                                  segment_ticks4(cut.segment_length(), to[3], kControllerTickHz));
+    ticks += profile_duration_ticks(seg.dominant_steps, settings_.motion());
+    r.segments.push_back(seg);
+  }
+  // The tool at every step the motors make, against the line.
+  const Vec3<double> a = make_vec3(double(from[0]), double(from[1]), double(from[2]));
+  const Vec3<double> b = make_vec3(double(to[0]), double(to[1]), double(to[2]));
+  r.line_error_mm = line_path_error(robot_, before.steps, offset_, r.segments, a, b);
+  add_note(r, std::to_string(r.segments.size()) + " segments; the tool at every step stays within " +
+                  number_text(std::round(r.line_error_mm * 1000) / 1000) + " mm of the line");
+  r.delta_steps.clear();
+  r.dominant_steps = 0;
+  for (int i = 0; i < n_; ++i) {
+    const int32_t d = planned_.steps[i] - before.steps[i];
+    r.delta_steps.push_back(d);
+  }
+  if (r.segments.empty()) {
+    add_note(r, "within the same steps: only the commanded angles change, nothing is queued");
+    return kOk;
+  }
+  r.queued = true;
+  r.action = PredictRecord::Action::kMove;
+  r.motion = settings_.motion();
+  r.junction = settings_.value[ControllerSettings::kJunction];
+  for (const auto& sg : r.segments) r.dominant_steps += sg.dominant_steps;
+  r.ticks = ticks;
+  r.start_tick = clock_;
+  clock_ += ticks;
+  r.end_tick = clock_;
+  return kOk;
 }
 
 // H (queue_command and stepper.cpp): switch motors seek their switch one after the other at
@@ -393,6 +480,16 @@ Status ControllerModel::run_command(PredictRecord& r, const std::string& text) {
       }
       if (s != kOk) return s;
       return queue_move(r, next, false);
+    }
+    case kCmdLine: {
+      if (!homed_) return kNotHomed;
+      r.has_target = true;
+      r.target = make_vec3(cmd.arg[0] / 1000.0, cmd.arg[1] / 1000.0, cmd.arg[2] / 1000.0);
+      const Status s = line(r, cmd.arg);
+      if (s == kNoClosedForm)
+        add_note(r, "the firmware runs T only for a yaw-pitch-pitch arm with 3 motors (identity or parallelogram "
+                    "coupling); articula run follows the line on any robot");
+      return s;
     }
     case kCmdGripper:
     case kCmdAperture: {
@@ -566,7 +663,11 @@ Prediction predict_program(const Robot& robot, const Program& program, const Con
     p.worst_error_mm = std::max(p.worst_error_mm, r.error_mm);
   }
   p.total_ticks = model.clock_ticks();
-  if (sender.kind != SenderModel::kRest) schedule(p, sender);
+  // Rest to rest, each action's own ticks are its time, back to back; a T's segments blend,
+  // and their time is the planner's, as it is for every action of a stream.
+  bool segments = false;
+  for (const PredictRecord& r : p.records) segments = segments || !r.segments.empty();
+  if (sender.kind != SenderModel::kRest || segments) schedule(p, sender);
   return p;
 }
 

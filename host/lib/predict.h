@@ -113,6 +113,15 @@ struct PredictRecord {
   uint32_t junction = 0;             // $6 when it was queued
   bool waits_for_rest = false;       // Z, $n=v: answered only at rest
   bool queued = false;
+  // T: its segments, each a move of the queue (the record's delta_steps are their sum), and
+  // the worst distance of the tool, at every step the motors make, from the straight line.
+  struct Segment {
+    std::vector<int32_t> delta_steps;
+    uint32_t dominant_steps = 0;
+    uint16_t cruise4 = 0;  // PlanBlock::cruise4: its own cruise at the tool speed
+  };
+  std::vector<Segment> segments;
+  double line_error_mm = -1;  // -1: not a straight line
   uint32_t dominant_steps = 0;  // a move: the most steps any motor makes
   uint64_t ticks = 0;           // duration in 2 MHz ticks
   uint64_t start_tick = 0;      // when the action starts and ends, counted from the first
@@ -154,6 +163,7 @@ class ControllerModel {
   void queue_pause(PredictRecord& r, uint64_t ms);
   void queue_gripper(PredictRecord& r, int32_t aperture);
   Status solve_point(MotorState<kMaxJoints>& next, const int32_t* um) const;
+  Status line(PredictRecord& r, const int32_t* arg);
   Status home(PredictRecord& r);
   void robosim(PredictRecord& r, const Statement& st);
   void ensure_ik();

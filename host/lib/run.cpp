@@ -119,6 +119,9 @@ Status KinematicModel::run_command(RunRecord& r, const std::string& text) {
     }
     case kCmdMoveAbsolute:
       return set_commanded(std::vector<int64_t>(cmd.arg, cmd.arg + n_));
+    case kCmdLine:  // the line's end, as P's; the segments on the way are the controller's (predict)
+      add_note(r, "the straight line's end; articula predict gives its segments and the path at every step");
+      [[fallthrough]];
     case kCmdMoveTool: {
       IkResult res;
       try {

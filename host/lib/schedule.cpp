@@ -21,11 +21,25 @@ const char* sender_name(SenderModel::Kind k) {
 
 namespace {
 
-// An action in the queue (queue::Action): its record and its plan.
+// An action in the queue (queue::Action): its record (and which of a T's segments) and its
+// plan.
 struct Queued {
   size_t record;
+  int segment;  // -1: the record's own action
   PlanBlock plan;
 };
+
+// The move a queued action makes: the record's, or one of its segments.
+struct MoveOf {
+  const std::vector<int32_t>& delta;
+  uint32_t steps;
+  uint16_t cruise4;
+};
+MoveOf move_of(const PredictRecord& r, int segment) {
+  if (segment < 0) return {r.delta_steps, r.dominant_steps, 0};
+  const PredictRecord::Segment& s = r.segments[size_t(segment)];
+  return {s.delta_steps, s.dominant_steps, s.cruise4};
+}
 
 // The firmware's step interrupt and queue, stepped deadline by deadline.
 class Controller {
@@ -58,17 +72,25 @@ class Controller {
   }
 
   // controller.cpp push_planned(), then stepper::kick() when nothing runs.
-  void push(size_t k, uint64_t now) {
+  void push(size_t k, uint64_t now, int segment = -1) {
     const PredictRecord& r = rec_[k];
-    Queued q{k, {0, 0, 0}};
+    Queued q{k, segment, {0, 0, 0, 0}};
     if (r.action == PredictRecord::Action::kMove) {
-      const uint32_t n = r.dominant_steps;  // the controller model's (predict.cpp, queue_move)
+      const MoveOf m = move_of(r, segment);
+      const uint32_t n = m.steps;  // the controller model's (predict.cpp, queue_move, line)
       q.plan.steps = uint16_t(std::min(n, uint32_t(0xFFFF)));
+      q.plan.cruise4 = m.cruise4;
+      ProfileConstants k0;
+      profile_constants(k0, r.motion);
+      const uint16_t cap = cruise_level_cap(r.motion, k0.cruise, block_cruise(q.plan, k0.cruise));
       if (last_steps_ != 0 && busy())
-        q.plan.max_entry = junction_level<kMaxJoints>(last_delta_.data(), last_steps_, r.delta_steps.data(), n,
-                                          uint8_t(r.delta_steps.size()), r.junction);
-      last_delta_ = r.delta_steps;
+        q.plan.max_entry =
+            std::min({cap, last_cap_,
+                      junction_level<kMaxJoints>(last_delta_.data(), last_steps_, m.delta.data(), n,
+                                                 uint8_t(m.delta.size()), r.junction)});
+      last_delta_ = m.delta;
       last_steps_ = n;
+      last_cap_ = cap;
     } else {
       last_steps_ = 0;
     }
@@ -108,12 +130,12 @@ class Controller {
       const Queued q = queue_.front();
       queue_.pop_front();
       PredictRecord& r = rec_[q.record];
-      r.start_tick = t;
+      if (q.segment <= 0) r.start_tick = t;
       running_ = q.record;
       uint64_t dt = 0;
       switch (r.action) {
         case PredictRecord::Action::kMove:
-          dt = begin_move(r, planned_exit());
+          dt = begin_move(r, planned_exit(), q.segment, q.plan.cruise4);
           break;
         case PredictRecord::Action::kPause:
           dt = r.ticks;
@@ -142,17 +164,18 @@ class Controller {
   }
 
   // stepper.cpp begin_move(): blended on from a move that ended moving.
-  uint64_t begin_move(const PredictRecord& r, uint32_t exit) {
-    const uint32_t n = r.dominant_steps;
+  uint64_t begin_move(const PredictRecord& r, uint32_t exit, int segment = -1, uint16_t cruise4 = 0) {
+    const uint32_t n = move_of(r, segment).steps;
     if (n == 0) return 0;
     if (constants_for_ != r.motion.max_rate * 1000003ULL + r.motion.accel) {
       profile_constants(constants_, r.motion);
       constants_for_ = r.motion.max_rate * 1000003ULL + r.motion.accel;
     }
+    const uint32_t cruise = std::max(uint32_t(cruise4) * 4, constants_.cruise);
     if (profile_.level() > 0)
-      profile_.follow(n, exit);
+      profile_.follow(n, exit, cruise);
     else
-      profile_.start(n, constants_, exit);
+      profile_.start(n, constants_, exit, cruise);
     mode_ = kMove;
     return profile_.next_interval();
   }
@@ -200,6 +223,7 @@ class Controller {
   uint64_t last_ = 0;  // the last deadline handled
   std::vector<int32_t> last_delta_;
   uint32_t last_steps_ = 0;
+  uint16_t last_cap_ = 0xFFFF;
 };
 
 // Ticks for `bytes` bytes on the line. The Nano asks for 115,200 baud and gets 117,647
@@ -239,6 +263,12 @@ void schedule(Prediction& p, const SenderModel& sender) {
       answered = c.rest_after(arrive);
       if (r.text.rfind('Z', 0) == 0) c.forget_last_move();
       r.start_tick = r.end_tick = answered;
+    } else if (r.queued && !r.segments.empty()) {  // T: each segment as the queue has room
+      answered = arrive;
+      for (size_t s = 0; s < r.segments.size(); ++s) {
+        answered = c.room_after(answered);
+        c.push(k, answered, int(s));
+      }
     } else if (r.queued) {
       answered = c.room_after(arrive);
       c.push(k, answered);

@@ -98,7 +98,7 @@ TEST(JunctionLevel, FollowsTheRule) {
 }
 
 TEST(JunctionLevel, APlanEndsAtRestAndNeverEntersFasterThanItCanStop) {
-  PlanBlock b[4] = {{10, 0, 0}, {10, 65535, 0}, {3, 8, 0}, {10, 65535, 0}};
+  PlanBlock b[4] = {{10, 0, 0, 0}, {10, 65535, 0, 0}, {3, 8, 0, 0}, {10, 65535, 0, 0}};
   const uint16_t first = plan_entries([&](uint8_t k) -> const PlanBlock& { return b[k]; },
                                       [&](uint8_t k, uint16_t e) { b[k].entry = e; }, 4);
   EXPECT_EQ(first, 0);       // after rest

@@ -270,8 +270,10 @@ inline void ypp_facings(YppFacing<S>* f, const YppArm<S>& arm, const Vec3<S>& p_
 // out.solutions only, and returns how many solutions are within the limits. What the
 // firmware needs for P (none within the limits: refused, no search for the nearest pose);
 // ypp_solve starts with it.
+// With sort = false the solutions stay in that order, each marked in_limits, and the
+// count within the limits is still returned (the Nano's P and T look at all of them).
 template <typename S>
-inline int ypp_closed_form(YppResult<S>& out, const YppArm<S>& arm, const Vec3<S>& p_base_tool) {
+inline int ypp_closed_form(YppResult<S>& out, const YppArm<S>& arm, const Vec3<S>& p_base_tool, bool sort = true) {
   const S L1 = arm.upper, L2 = arm.fore;
   detail::YppFacing<S> f[2];
   detail::ypp_facings(f, arm, p_base_tool);
@@ -295,6 +297,10 @@ inline int ypp_closed_form(YppResult<S>& out, const YppArm<S>& arm, const Vec3<S
   int first_out = 0;
   for (int i = 0; i < out.count; ++i) {
     if (!out.solutions[i].in_limits) continue;
+    if (!sort) {
+      ++first_out;
+      continue;
+    }
     const YppSolution<S> t = out.solutions[i];
     for (int k = i; k > first_out; --k) out.solutions[k] = out.solutions[k - 1];
     out.solutions[first_out++] = t;

@@ -207,25 +207,32 @@ class StepProfile {
 
   // The same move from constants computed beforehand (profile_constants()): a few
   // assignments, cheap enough for an interrupt. Constants of invalid settings (all zero)
-  // give an empty move. `exit`: the level to end at (0: at rest).
-  void start(uint32_t total_steps, const ProfileConstants& k, uint32_t exit = 0) {
+  // give an empty move. `exit`: the level to end at (0: at rest). `cruise`: this move's
+  // own cruise interval in whole ticks, slower than the settings' (a straight line's
+  // segment at its tool speed, line.h); 0: the settings' (k.cruise).
+  void start(uint32_t total_steps, const ProfileConstants& k, uint32_t exit = 0, uint32_t cruise = 0) {
     left_ = k.cruise != 0 ? total_steps : 0;
     level_ = 0;
     rem_ = 0;
     cruising_ = false;
     latched_ = false;
     exit_ = exit;
-    cruise_ = k.cruise << detail::kMotionFracBits;
+    cruise_ = max_of(cruise, k.cruise) << detail::kMotionFracBits;
     first_ = k.first;
     c_ = k.c0r;
   }
 
   // The next move of a blended stream, from where the last one ended (its level, at its
-  // exit), to end at level `exit`. After a move that ended at rest it is start().
-  void follow(uint32_t total_steps, uint32_t exit) {
+  // exit), to end at level `exit`, cruising at `cruise` whole ticks (its own, or the
+  // settings'). After a move that ended at rest it is start(). A faster cruise climbs on
+  // from the level reached; a slower one is entered at or below its level
+  // (cruise_level_cap(), which the planner keeps to), so every interval stays on the ramp.
+  void follow(uint32_t total_steps, uint32_t exit, uint32_t cruise) {
     left_ = cruise_ != 0 ? total_steps : 0;
     exit_ = exit;
     latched_ = false;
+    if (cruise_ != 0) cruise_ = cruise << detail::kMotionFracBits;
+    cruising_ = false;  // the next climb looks at this move's cruise again
   }
 
   // Raises the level the move ends at, unless a step already depended on it. True when taken.
@@ -254,7 +261,7 @@ class StepProfile {
       // r <= d + 1), which also gives q = 0, r -= 2C when 2C <= r.
       latched_ = true;
       cruising_ = false;  // a move that follows may climb again
-      if (--level_ == 0) return first_;
+      if (--level_ == 0) return first_interval();
       const uint32_t out = detail::whole_ticks(c_);
       const uint32_t d = 4 * level_ - 1;
       const uint32_t y = 2 * c_ + (d - 1) - rem_;
@@ -268,7 +275,7 @@ class StepProfile {
         level_ = 1;  // the state already holds c_0'
       else
         latched_ = true;
-      return first_;
+      return first_interval();
     }
     // Climb: c_L from c_{L-1}, the one division of the step.
     const uint32_t y = 2 * c_ + rem_;
@@ -302,6 +309,9 @@ class StepProfile {
   uint32_t stop_steps() const { return min_of(left_, level_); }
 
  private:
+  // The level-0 interval: c0, or a slower cruise.
+  uint32_t first_interval() const { return max_of(first_, cruise_ >> detail::kMotionFracBits); }
+
   uint32_t left_;    // steps still to time (cut by stop())
   uint32_t level_;   // ramp level L
   uint32_t c_;       // c_{L-1} (c_0' at level 0), ticks * 256
@@ -312,6 +322,21 @@ class StepProfile {
   bool cruising_;
   bool latched_;     // a step depended on exit_: it may not change any more
 };
+
+// The highest ramp level a move cruising at `cruise` whole ticks may be entered at: a level
+// whose speed is still below that cruise, so the move goes on climbing (or cruises) and never
+// jumps down to it. Level n is the speed f / c_n with c_n >= 0.979 c0 / (2 sqrt(n + 1)) on
+// the recurrence (2.1 % short of the ideal at n = 1, less beyond) and c0 = f sqrt(2 / a): at
+// most sqrt(2 a (n + 1)) / 0.979 steps/s. So n + 1 <= 0.479 r^2 / a for the cruise rate
+// r = f / cruise keeps it below; 15/32 (0.469) leaves room for whole ticks. Integers only
+// (r is at most $0's 4000 steps/s: r^2 * 15 fits in 32 bits). A cruise no slower than the
+// settings' needs no cap (0xFFFF: any level).
+inline uint16_t cruise_level_cap(const MotionSettings& s, uint32_t settings_cruise, uint32_t cruise) {
+  if (cruise <= settings_cruise || s.accel == 0) return 0xFFFF;
+  const uint32_t r = s.tick_hz / cruise;
+  const uint32_t n = r * r * 15 / 32 / s.accel;
+  return n == 0 ? 0 : n > 0xFFFF ? 0xFFFF : uint16_t(n - 1);
+}
 
 namespace detail {
 // Runs a whole profile: returns its duration in ticks and writes the first max_times step

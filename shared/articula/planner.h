@@ -101,7 +101,14 @@ struct PlanBlock {
                        // is the same); 0 for an action that is not a move
   uint16_t max_entry;  // the junction level with the move before (0 after rest or a non-move)
   uint16_t entry;      // the level the plan lets it start at
+  uint16_t cruise4;    // a straight line's segment: its own cruise interval in units of 4
+                       // ticks (line.h, segment_cruise4); 0: the settings' ($0)
 };
+
+// A move's cruise interval in whole ticks: its own, unless the settings' is slower.
+inline uint32_t block_cruise(const PlanBlock& b, uint32_t settings_cruise) {
+  return max_of(uint32_t(b.cruise4) * 4, settings_cruise);
+}
 
 // The reverse pass over `count` blocks, oldest first: block(k) reads block k (a ring, an
 // array), set_entry(k, e) stores its entry (the firmware: with interrupts off, as the step

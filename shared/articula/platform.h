@@ -26,7 +26,28 @@
 #define ARTICULA_INLINE inline
 #endif
 
+// ARTICULA_IN_FLASH on a constant table keeps it in flash on the Nano (PROGMEM: its RAM is
+// short), read with from_flash(); elsewhere both are nothing.
+#if defined(__AVR__)
+#include <avr/pgmspace.h>
+#define ARTICULA_IN_FLASH PROGMEM
+#else
+#define ARTICULA_IN_FLASH
+#endif
+
 namespace articula {
+
+// A copy of a constant marked ARTICULA_IN_FLASH.
+template <class T>
+inline T from_flash(const T& x) {
+#if defined(__AVR__)
+  T t;
+  memcpy_P(&t, &x, sizeof t);
+  return t;
+#else
+  return x;
+#endif
+}
 
 // Whether to take the faster, larger code paths (dh.h): not on the Nano, where flash is
 // short.

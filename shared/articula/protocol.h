@@ -53,10 +53,14 @@ enum CommandType : uint8_t {
   kCmdSetSetting,    // $<n>=<value>: set setting n (the firmware validates n and value)
   kCmdDwell,         // D <seconds>: wait, in the queue, before the next queued command
   kCmdName,          // N <text>: the robot's name, staged in the configuration (config.h)
+  kCmdLine,          // T <x> <y> <z> <mm/s>: the tool along a straight line to a point (line.h)
 };
 
 // The longest wait `D` takes, in milliseconds (thousandths of its seconds).
 static const int32_t kMaxDwellMs = 600000L;
+
+// The fastest tool speed `T` takes, in thousandths of a mm/s (1,000 mm/s).
+static const int32_t kMaxLineSpeed = 1000000L;
 
 // Argument kinds in a pattern, and what a bad one gives:
 //   'j' joint index, below num_joints                       kBadJoint
@@ -65,6 +69,7 @@ static const int32_t kMaxDwellMs = 600000L;
 //   'p' percent: a number from 0 to 100, in thousandths     kBadNumber, kValueOutOfRange
 //   'w' wait: seconds from 0 to kMaxDwellMs / 1000, in thousandths (milliseconds)
 //                                                           kBadNumber, kValueOutOfRange
+//   'v' speed: above 0, at most kMaxLineSpeed, in thousandths kBadNumber, kValueOutOfRange
 //   't' text: the rest of the line, blanks around it dropped (arg: its offset in the line
 //       and its length; valid while the line is)            kMissingArgument
 //   's' setting `<n>=<value>` (one word, two arguments: n of 1 to 3 digits, then the value
@@ -76,10 +81,10 @@ static const int32_t kMaxDwellMs = 600000L;
 struct CommandSpec {
   char word;
   CommandType type;
-  char args[4];
+  char args[5];
 };
 
-static const CommandSpec kCommandTable[] = {
+static const CommandSpec kCommandTable[] ARTICULA_IN_FLASH = {
     {'L', kCmdRotate, "jn"},        // joint, degrees
     {'S', kCmdGripper, "b"},        // 1 close, 0 open
     {'M', kCmdMoveAbsolute, "n*"},  // degrees, one per joint
@@ -92,18 +97,19 @@ static const CommandSpec kCommandTable[] = {
     {'$', kCmdSetSetting, "s"},     // `$<n>=<value>`
     {'D', kCmdDwell, "w"},          // seconds
     {'N', kCmdName, "t"},           // the robot's name
+    {'T', kCmdLine, "nnnv"},        // x, y, z in mm, the tool's speed in mm/s
 };
 static const uint8_t kCommandCount = sizeof(kCommandTable) / sizeof(kCommandTable[0]);
 
 // Whether an argument of this kind is a number held in thousandths (the others are whole:
 // joint indices, bits, setting numbers).
-inline bool in_thousandths(char kind) { return kind == 'n' || kind == 'p' || kind == 'w'; }
+inline bool in_thousandths(char kind) { return kind == 'n' || kind == 'p' || kind == 'w' || kind == 'v'; }
 
 // A parsed line. arg[] holds, in pattern order: joint indices, numbers in thousandths
 // (millidegrees, micrometres, thousandths of a percent), bits, setting numbers.
 template <uint8_t MaxArgs>
 struct BasicCommand {
-  static_assert(MaxArgs >= 3, "P takes three numbers");
+  static_assert(MaxArgs >= 4, "T takes four numbers");
   CommandType type;
   uint8_t argc;
   int32_t arg[MaxArgs];
@@ -211,18 +217,20 @@ inline Status parse_words(CommandType& type, uint8_t& argc, int32_t* arg, uint8_
   at = uint8_t(at + size);
   uint8_t peek = at;
   const bool has_args = detail::next_word(text, peek, end) > 0;
-  const CommandSpec* spec = 0;
+  CommandSpec spec;
+  bool found = false;
   for (uint8_t c = 0; c < kCommandCount; ++c) {
-    const CommandSpec& row = kCommandTable[c];
+    const CommandSpec row = from_flash(kCommandTable[c]);
     if (row.word != word) continue;
-    if (!spec) spec = &row;  // the only row, or the one to blame for a wrong argument count
+    if (!found) spec = row;  // the only row, or the one to blame for a wrong argument count
+    found = true;
     if ((row.args[0] != '\0') == has_args) {
-      spec = &row;
+      spec = row;
       break;
     }
   }
-  if (!spec) return kUnknownCommand;
-  for (const char* kind = spec->args; *kind; ++kind) {
+  if (!found) return kUnknownCommand;
+  for (const char* kind = spec.args; *kind; ++kind) {
     const bool per_joint = kind[1] == '*';
     for (uint8_t r = per_joint ? num_joints : 1; r > 0; --r) {
       uint8_t n = detail::next_word(text, at, end);
@@ -260,6 +268,7 @@ inline Status parse_words(CommandType& type, uint8_t& argc, int32_t* arg, uint8_
         if (st != kOk) return st;
         if (*kind == 'p' && (v < 0 || v > 100000L)) return kValueOutOfRange;
         if (*kind == 'w' && (v < 0 || v > kMaxDwellMs)) return kValueOutOfRange;
+        if (*kind == 'v' && (v <= 0 || v > kMaxLineSpeed)) return kValueOutOfRange;
       }
       if (argc >= max_args) return kExtraArgument;
       arg[argc++] = v;
@@ -267,7 +276,7 @@ inline Status parse_words(CommandType& type, uint8_t& argc, int32_t* arg, uint8_
     if (per_joint) ++kind;
   }
   if (detail::next_word(text, at, end) > 0) return kExtraArgument;
-  type = spec->type;
+  type = spec.type;
   return kOk;
 }
 

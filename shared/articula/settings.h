@@ -29,26 +29,30 @@ struct SettingRange {
   uint32_t min, max, fallback;  // fallback: the default
 };
 
-// A switch, not a table: on the Nano a table would sit in RAM.
 // Defaults for an L298N driving a NEMA17 at 12 V in full steps. The rate limits keep the
 // step interrupt (about 100 us for three motors) well inside the interval. The junction
 // default, half a step, lets a motor's rate jump by sqrt(8 a d) = 89 steps/s at the default
 // acceleration: about what every start from rest asks already (the first step ends at
 // 2 / c0 = 63 steps/s) and far below a NEMA17's pull-in rate. The chord default, 0.1 mm, is
-// a tenth of the MK2's finest step at the tool.
+// a tenth of the MK2's finest step at the tool. In flash on the Nano (ARTICULA_IN_FLASH).
+static const SettingRange kSettingTable[kSettingCount] ARTICULA_IN_FLASH = {
+    {1, 4000, 600},    // $0 kSetMaxRate
+    {1, 100000, 2000}, // $1 kSetAccel
+    {0, 60000, 2000},  // $2 kSetReleaseMs
+    {0, 0, 0},         // $3 kSetEndstops: its maximum is the motors' bits (setting_range)
+    {1, 4000, 200},    // $4 kSetHomingRate
+    {0, 10000, 300},   // $5 kSetSettleMs
+    {0, 10000, 50},    // $6 kSetJunction
+    {10, 10000, 100},  // $7 kSetChord
+};
+
 inline SettingRange setting_range(uint8_t n, uint8_t motors) {
-  SettingRange r = {0, 0, 0};
-  switch (n) {
-    case kSetMaxRate: r.min = 1, r.max = 4000, r.fallback = 600; break;
-    case kSetAccel: r.min = 1, r.max = 100000, r.fallback = 2000; break;
-    case kSetReleaseMs: r.min = 0, r.max = 60000, r.fallback = 2000; break;
-    case kSetEndstops: r.min = 0, r.max = (motors >= 31 ? 0x7FFFFFFFUL : (1UL << motors) - 1), r.fallback = 0; break;
-    case kSetHomingRate: r.min = 1, r.max = 4000, r.fallback = 200; break;
-    case kSetSettleMs: r.min = 0, r.max = 10000, r.fallback = 300; break;
-    case kSetJunction: r.min = 0, r.max = 10000, r.fallback = 50; break;
-    case kSetChord: r.min = 10, r.max = 10000, r.fallback = 100; break;
-    default: break;
+  if (n >= kSettingCount) {
+    const SettingRange none = {0, 0, 0};
+    return none;
   }
+  SettingRange r = from_flash(kSettingTable[n]);
+  if (n == kSetEndstops) r.max = motors >= 31 ? 0x7FFFFFFFUL : (1UL << motors) - 1;
   return r;
 }
 

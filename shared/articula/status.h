@@ -30,9 +30,10 @@ namespace articula {
   X(13, kSettingUnknown, "no such setting")                                            \
   X(14, kSettingsReset, "settings reset to defaults")                                  \
   X(15, kStopped, "discarded by stop (!)")                                             \
-  X(16, kNoClosedForm, "P needs a yaw-pitch-pitch arm: this robot has no closed form")  \
+  X(16, kNoClosedForm, "P and T need a yaw-pitch-pitch arm: this robot has no closed form") \
   X(17, kConfigChecksum, "robot configuration incomplete: its checksum differs")        \
-  X(18, kConfigInvalid, "robot configuration unusable (a motor's steps, gear, limits or home)")
+  X(18, kConfigInvalid, "robot configuration unusable (a motor's steps, gear, limits or home)") \
+  X(19, kLineNotFollowed, "the straight line passes where the arm must change its pose (a singularity)")
 
 enum Status : uint8_t {
 #define ARTICULA_STATUS_ENUM(code, name, text) name = code,

@@ -19,6 +19,7 @@ void check_articula();
 void check_config();
 void check_planner();
 void check_settings();
+void check_line();
 // Inputs and outputs the optimiser cannot see through.
 extern volatile float g_in;
 extern volatile long g_out;

@@ -23,7 +23,7 @@ __attribute__((noinline)) static long check_constants() {
   return long(p.next_interval()) + e;
 }
 
-__attribute__((noinline)) static long check_line() {
+__attribute__((noinline)) static long check_line_stepper() {
   int32_t delta[kJoints];
   for (int i = 0; i < kJoints; ++i) delta[i] = int32_t(g_out);
   LineStepper<kJoints> line;
@@ -38,5 +38,5 @@ void check_motion() {
   uint64_t times[2] = {0, 0};
   const long host = long(profile_duration_ticks(uint32_t(g_out), s_settings)) +
                     long(profile_step_times(times, 2, 10, s_settings)) + long(times[1]);
-  g_out = host + check_profile() + check_constants() + check_line() + motion_error_text(validate(s_settings))[0];
+  g_out = host + check_profile() + check_constants() + check_line_stepper() + motion_error_text(validate(s_settings))[0];
 }

@@ -3,7 +3,7 @@
 using namespace articula;
 
 // What the firmware holds, at its size: a command for three joints, one line buffer.
-static_assert(sizeof(BasicCommand<kJoints>) == 2 + 4 * kJoints, "a firmware command holds only its joints");
+static_assert(sizeof(BasicCommand<kJoints + 1>) == 2 + 4 * (kJoints + 1), "a firmware command holds only its joints, or T's four numbers");
 static_assert(sizeof(StatusReport<kJoints>) <= 32, "a status report is built on the stack");
 static_assert(sizeof(RealtimeCommand) == 1 && sizeof(MachineState) == 1, "one-byte enums");
 
@@ -13,7 +13,7 @@ struct SerialOut {
 };
 
 static LineAssembler s_line;
-static BasicCommand<kJoints> s_command;
+static BasicCommand<kJoints + 1> s_command;  // the firmware's: T's four numbers
 
 // The firmware's receive path, linked: every byte goes to realtime_command first, the others
 // build lines, each parsed and answered. (A function of its own, as in the firmware: inlined

@@ -556,13 +556,13 @@ TEST(ParseLine, MoveAbsolute) {
 
 TEST(ParseLine, MoveAbsoluteNeedsRoomForEveryJoint) {
   // A command sized for fewer joints than the arm has cannot hold an M line.
-  BasicCommand<3> small;
-  EXPECT_EQ(parse_line(small, "M 1 2 3", 7, 3), kOk);
-  EXPECT_EQ(small.argc, 3);
-  EXPECT_EQ(parse_line(small, "M 1 2 3 4", 9, 4), kExtraArgument);
-  EXPECT_EQ(parse_line(small, "M 1 2 3", 7, 4), kMissingArgument);  // the line's own fault comes first
-  EXPECT_EQ(parse_line(small, "L 3 1", 5, 4), kOk);
-  EXPECT_LE(sizeof(BasicCommand<3>), 4 + 3 * sizeof(int32_t));  // 14 bytes on AVR (no padding there)
+  BasicCommand<4> small;  // the Nano's: T's four numbers
+  EXPECT_EQ(parse_line(small, "M 1 2 3 4", 9, 4), kOk);
+  EXPECT_EQ(small.argc, 4);
+  EXPECT_EQ(parse_line(small, "M 1 2 3 4 5", 11, 5), kExtraArgument);
+  EXPECT_EQ(parse_line(small, "M 1 2 3", 7, 5), kMissingArgument);  // the line's own fault comes first
+  EXPECT_EQ(parse_line(small, "L 3 1", 5, 5), kOk);
+  EXPECT_LE(sizeof(BasicCommand<4>), 4 + 4 * sizeof(int32_t));  // 18 bytes on AVR (no padding there)
   EXPECT_EQ(sizeof(Command::arg) / sizeof(int32_t), 12u);        // M on a 12-joint host robot
 }
 
@@ -716,7 +716,7 @@ TEST(Realtime, LineAssemblerDropsThem) {
   ASSERT_EQ(parse(cmd, ev[0].line), kOk);
   EXPECT_EQ(cmd.arg[1], 10000);
   // The firmware's path: parse what the assembler holds.
-  BasicCommand<3> fw;
+  BasicCommand<4> fw;
   for (char c : std::string("M 1?0 2! 3\n")) a.feed(c);
   ASSERT_EQ(parse_line(fw, a, 3), kOk);
   EXPECT_EQ(fw.type, kCmdMoveAbsolute);
