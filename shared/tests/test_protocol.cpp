@@ -665,7 +665,7 @@ TEST(ParseLine, EveryTableRowIsReachable) {
     types.insert(row.type);
   }
   EXPECT_EQ(types.size(), size_t(kCommandCount));
-  EXPECT_EQ(kCommandCount, 12);
+  EXPECT_EQ(kCommandCount, 13);
 }
 
 // ---- Realtime bytes ----

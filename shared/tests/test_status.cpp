@@ -98,7 +98,8 @@ TEST(Status, EnumValuesAreTheCodes) {
   EXPECT_EQ(kNoClosedForm, 16);
   EXPECT_EQ(kConfigChecksum, 17);
   EXPECT_EQ(kConfigInvalid, 18);
-  EXPECT_EQ(kStatusCount, 19);
+  EXPECT_EQ(kLineNotFollowed, 19);
+  EXPECT_EQ(kStatusCount, 20);
   EXPECT_STREQ(status_name(kLineTooLong), "LineTooLong");
   EXPECT_STREQ(status_text(kOk), "ok");
 }
