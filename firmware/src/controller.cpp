@@ -156,8 +156,10 @@ bool must_wait(const Command& c) {
   return (c.type == kCmdSetZero || settles) && busy();
 }
 
-// `$1xx=v`, `$199=crc`: the robot configuration.
-uint8_t configure(int32_t n, int32_t v) {
+// `$1xx=v`, `$199=crc`: the robot configuration. Not inlined: a commit reads the staged
+// configuration into a copy (about 250 B), which would otherwise sit in execute()'s frame under
+// every command (a T's inverse kinematics is the deepest path).
+__attribute__((noinline)) uint8_t configure(int32_t n, int32_t v) {
   if (n != kCommitSetting) return robot::stage(uint16_t(n), v);
   if (v < 0 || v % 1000 != 0) return kConfigChecksum;
   if (busy()) return kWait;

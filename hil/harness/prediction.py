@@ -125,9 +125,12 @@ def lines_original(path: Path, n: int) -> str:
         return ""
 
 
-def first_interval_s(settings: dict[int, float]) -> float:
+def first_interval_s(settings: dict[int, float], pred: Prediction | None = None) -> float:
     """The first step interval of a move, from rest (docs/protocol.md, "Timing of moves"): the
     firmware's own profile (shared/articula/motion.h, through articula._core). No pin shows
     when a move starts, so the virtual Nano's measured duration is this interval plus the span
-    of the move's steps."""
-    return articula._core.first_interval_s(int(settings.get(0, 600)), int(settings.get(1, 2000)))
+    of the move's steps. A straight line (T) whose first segment cruises slower than that
+    first step takes its cruise interval (the prediction's `cruise4`, in 4-tick units)."""
+    c0 = articula._core.first_interval_s(int(settings.get(0, 600)), int(settings.get(1, 2000)))
+    segments = pred.raw.get("segments") if pred is not None else None
+    return max(c0, 4 * segments[0]["cruise4"] / 2_000_000) if segments else c0

@@ -496,7 +496,7 @@ class Runner:
                 # Duration from the cycle stamps: the first interval (no pin shows a move's
                 # start) plus the span from the first step to the last.
                 if steps and pred is not None and pred.seconds > 0:
-                    rec.first_interval_s = first_interval_s(self.current_settings)
+                    rec.first_interval_s = first_interval_s(self.current_settings, pred)
                     rec.measured_s = rec.first_interval_s + (rec.last_step_us - rec.first_step_us) / 1e6
                     rec.measured_source = "pins"
             elif pred is not None and pred.queued and rec.reply == "ok" and rec.t_idle is not None:

@@ -16,7 +16,7 @@ VNANO = Path(os.environ.get("ARTICULA_VNANO", SOURCE / "build/hil/articula-vnano
 ELF = Path(os.environ.get("ARTICULA_NANO_ELF", SOURCE / "build/avr/firmware/articula-nano.elf"))
 CLI = Path(os.environ.get("ARTICULA_CLI", SOURCE / "build/host/cli/articula"))
 PLANS = SOURCE / "hil" / "streams"
-STREAMED = ["collinear-split", "circle", "zigzag", "square", "stream-mixed"]
+STREAMED = ["collinear-split", "circle", "zigzag", "square", "stream-mixed", "lines"]
 ARMS = {"full": SOURCE / "robots" / "mk2plus.json", "half": SOURCE / "hil" / "robots" / "mk2-halfstep.json"}
 TICKS_PER_CYCLE = 8          # the 2 MHz step timer on the 16 MHz Nano
 MAX_END_TICKS = 20           # 10 us: the HAL's jitter bound (firmware/README.md)
@@ -90,13 +90,16 @@ def compare(robot: Path, plan: Path, tmp: Path) -> dict:
     worst, k, offset, prev_end = 0.0, 0, None, None
     for r in moves:
         if prev_end is None or r["start_tick"] != prev_end:  # after rest with the arm idle: anchor again
-            offset = steps[k] - (r["start_tick"] + c0)
+            # (a T's first segment may cruise slower than the first step from rest: its interval)
+            first = max(c0, 4 * r["segments"][0]["cruise4"]) if r.get("segments") else c0
+            offset = steps[k] - (r["start_tick"] + first)
         k += r["dominant_steps"]
         d = steps[k - 1] - offset - r["end_tick"]
         worst = max(worst, abs(d))
         prev_end = r["end_tick"]
     measured = steps[-1] - steps[0]
-    expect = moves[-1]["end_tick"] - (moves[0]["start_tick"] + c0)
+    first = max(c0, 4 * moves[0]["segments"][0]["cruise4"]) if moves[0].get("segments") else c0
+    expect = moves[-1]["end_tick"] - (moves[0]["start_tick"] + first)
     return {"worst_end_ticks": worst, "measured_ticks": measured, "predicted_ticks": expect, "steps": steps,
             "moves": moves}
 

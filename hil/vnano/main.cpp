@@ -365,8 +365,8 @@ int main(int argc, char** argv) {
       reason = "time limit";
       break;
     }
-    if (eof && nano.host_pending() == 0 && nano.serial_idle() && !nano.step_timer_led() && nano.output().empty() &&
-        nano.cycle() - nano.last_activity() >= quiet) {
+    if (eof && nano.host_pending() == 0 && !nano.awaiting_reply() && nano.serial_idle() && !nano.step_timer_led() &&
+        nano.output().empty() && nano.cycle() - nano.last_activity() >= quiet) {
       reason = "end of input";
       break;
     }

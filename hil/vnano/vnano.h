@@ -77,6 +77,9 @@ class VirtualNano {
   // Serial, host side. Bytes from the host wait here and go to the USART one at a time.
   void host_send(const char* data, size_t n);
   size_t host_pending() const { return host_in_.size() + held_lines_.size() + partial_in_.size(); }
+  // Paced: a line released to the firmware still waits for its reply (a T line's check may
+  // keep the firmware silent for longer than the end-of-input quiet time).
+  bool awaiting_reply() const { return paced_ && replies_sent_ < lines_released_; }
   // Bytes the firmware sent; the caller erases what it has passed on.
   std::string& output() { return out_; }
   // Nothing waits to reach the firmware (our queue and simavr's receive FIFO are empty).

@@ -40,8 +40,9 @@ int run(int argc, char** argv) {
                         "What the real arm will do with a program, step-exact: for each command the motor steps, "
                         "the joint values they give, the ideal and the quantized tool position and their "
                         "difference, and the timing of the controller's queue.");
-  opts.custom_help("ROBOT PROGRAM [--json|--csv] [--settings n=v,...] [--sender rest|stream] [-o FILE]");
+  opts.custom_help("ROBOT PROGRAM [--json [--path]|--csv] [--settings n=v,...] [--sender rest|stream] [-o FILE]");
   opts.add_options()("json", "one JSON document")("csv", "CSV: a header and one row per command")(
+      "path", "with --json: each move's tool position after every step (path_mm), as the arm spreads its steps")(
       "settings", "the controller's settings at power-up, e.g. \"0=800,1=3000\" ($0 max rate, $1 accel, ...)",
       cxxopts::value<std::string>())(
       "sender",
@@ -63,8 +64,9 @@ int run(int argc, char** argv) {
         << opts.help()
         << "The arm powers up with every motor at step 0 and the settings of docs/protocol.md ($0 600 steps/s,\n"
            "$1 2000 steps/s^2, $5 gripper settle 300 ms, ...), or those of --settings; `$n=v` lines change them.\n"
-           "Each command runs as the firmware runs it (L, M, P, G, S, H, Z; a rejected command changes\n"
-           "nothing). RoboSim programs map onto the same commands: m -> M (joint values through the\n"
+           "Each command runs as the firmware runs it (L, M, P, T, G, S, H, Z; a rejected command changes\n"
+           "nothing). T's line is cut into segments within $7 of it (docs/protocol.md \"Straight lines\");\n"
+           "the text adds how far the tool strays from the line at any step, --json --path the tool at every step. RoboSim programs map onto the same commands: m -> M (joint values through the\n"
            "coupling), a -> inverse kinematics, then M (not reached: error:10, nothing moves), h -> G\n"
            "(0.0 open = 100 %, 0.5 closed = 0 %), s -> $0 = round($0 at start * s / 82), w -> IK weights,\n"
            "l -> link lengths of the host model only (the real arm cannot), z -> nothing.\n"
@@ -94,7 +96,8 @@ int run(int argc, char** argv) {
   const int places = args["queue"].as<int>();
   if (places < 1 || places > 100000) throw UsageError("--queue " + std::to_string(places) + ": expected 1 to 100000");
   sender.queue_size = uint32_t(places);
-  const host::Prediction p = host::predict_program(robot, program, settings, sender);
+  if (args.count("path") && output_format(args) != "json") throw UsageError("--path needs --json");
+  const host::Prediction p = host::predict_program(robot, program, settings, sender, args.count("path") > 0);
 
   const std::string format = output_format(args);
   const std::string out_path = args.count("output") ? args["output"].as<std::string>() : "";

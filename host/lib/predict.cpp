@@ -43,33 +43,39 @@ std::string limit_note(const Robot& robot, const int32_t* target_millideg) {
   return out;
 }
 
-// The worst distance (mm) of the tool from the segment a-b at every step of `segments`
-// (LineStepper: each segment's steps as the firmware spreads them), from `steps`.
-double line_path_error(const Robot& robot, const int32_t* steps, const int32_t* offset,
-                       const std::vector<PredictRecord::Segment>& segments, const Vec3<double>& a,
-                       const Vec3<double>& b) {
+// The tool (mm) after every dominant step of `moves`, from `steps` (counted) + `offset`
+// (Z's shift: the physical steps), each move's steps spread as LineStepper spreads them on
+// the arm. Empty for a robot of more than 8 motors (LineStepper's byte of bits).
+std::vector<Vec3<double>> tool_path(const Robot& robot, const int32_t* steps, const int32_t* offset,
+                                    const std::vector<const std::vector<int32_t>*>& moves) {
+  std::vector<Vec3<double>> out;
   const int n = robot.actuation.num_motors;
+  if (n > 8) return out;
   int32_t pos[kMaxJoints];
   for (int i = 0; i < n; ++i) pos[i] = steps[i] + offset[i];
-  const Vec3<double> ab = b - a;
-  const double len2 = dot(ab, ab);
-  auto distance = [&]() {
-    double q[kMaxJoints];
-    joints_from_steps(q, robot.actuation, pos);
-    const Vec3<double> p = tool_position(robot.model, q);
-    const double t = len2 > 0 ? std::clamp(dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
-    return norm(p - (a + t * ab));
-  };
-  double worst = distance();
-  for (const auto& seg : segments) {
-    LineStepper<3> ls;  // T: three motors
-    ls.start(seg.delta_steps.data(), uint8_t(n));
+  for (const std::vector<int32_t>* delta : moves) {
+    LineStepper<8> ls;
+    ls.start(delta->data(), uint8_t(n));
     while (!ls.done()) {
       const uint8_t mask = ls.next();
       for (int i = 0; i < n; ++i)
         if (mask & (1u << i)) pos[i] += (ls.negative & (1u << i)) ? -1 : 1;
-      worst = std::max(worst, distance());
+      double q[kMaxJoints];
+      joints_from_steps(q, robot.actuation, pos);
+      out.push_back(tool_position(robot.model, q));
     }
+  }
+  return out;
+}
+
+// The worst distance (mm) of the points from the segment a-b.
+double distance_from_segment(const std::vector<Vec3<double>>& points, const Vec3<double>& a, const Vec3<double>& b) {
+  const Vec3<double> ab = b - a;
+  const double len2 = dot(ab, ab);
+  double worst = 0;
+  for (const Vec3<double>& p : points) {
+    const double t = len2 > 0 ? std::clamp(dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
+    worst = std::max(worst, norm(p - (a + t * ab)));
   }
   return worst;
 }
@@ -247,6 +253,7 @@ Status ControllerModel::queue_move(PredictRecord& r, const MotorState<kMaxJoints
   r.action = home ? PredictRecord::Action::kHome : PredictRecord::Action::kMove;
   r.delta_steps.clear();
   for (int i = 0; i < n_; ++i) r.delta_steps.push_back(next.steps[i] - before.steps[i]);
+  if (keep_path_) r.path = tool_path(robot_, before.steps, offset_, {&r.delta_steps});
   r.seek_ticks = extra_ticks;
   r.motion = settings_.motion();
   r.junction = settings_.value[ControllerSettings::kJunction];
@@ -314,7 +321,6 @@ Status ControllerModel::line(PredictRecord& r, const int32_t* arg) {
   cut.start(from, to, planned_.commanded, 3, tol);
   const MotorState<kMaxJoints> before = planned_;
   r.segments.clear();
-  uint64_t ticks = 0;
   while (!cut.done()) {
     cut.next(solver, end);
     MotorState<kMaxJoints> next = planned_;
@@ -329,13 +335,20 @@ Status ControllerModel::line(PredictRecord& r, const int32_t* arg) {
     if (seg.dominant_steps == 0) continue;  // within the same steps: nothing queued
     seg.cruise4 = segment_cruise4(seg.dominant_steps,
                                   segment_ticks4(cut.segment_length(), to[3], kControllerTickHz));
-    ticks += profile_duration_ticks(seg.dominant_steps, settings_.motion());
     r.segments.push_back(seg);
   }
+  // From rest to rest, all its segments planned at once (schedule() replays the queue).
+  const uint64_t ticks = segments_ticks(
+      r.segments, plan_segments(r.segments, settings_.motion(), settings_.value[ControllerSettings::kJunction]),
+      settings_.motion());
   // The tool at every step the motors make, against the line.
+  std::vector<const std::vector<int32_t>*> moves;
+  for (const auto& sg : r.segments) moves.push_back(&sg.delta_steps);
+  const std::vector<Vec3<double>> path = tool_path(robot_, before.steps, offset_, moves);
   const Vec3<double> a = make_vec3(double(from[0]), double(from[1]), double(from[2]));
   const Vec3<double> b = make_vec3(double(to[0]), double(to[1]), double(to[2]));
-  r.line_error_mm = line_path_error(robot_, before.steps, offset_, r.segments, a, b);
+  r.line_error_mm = distance_from_segment(path, a, b);
+  if (keep_path_) r.path = path;
   add_note(r, std::to_string(r.segments.size()) + " segments; the tool at every step stays within " +
                   number_text(std::round(r.line_error_mm * 1000) / 1000) + " mm of the line");
   r.delta_steps.clear();
@@ -650,8 +663,9 @@ PredictRecord ControllerModel::execute(const Statement& st) {
 }
 
 Prediction predict_program(const Robot& robot, const Program& program, const ControllerSettings& settings,
-                           const SenderModel& sender) {
+                           const SenderModel& sender, bool path) {
   ControllerModel model(robot, settings);
+  model.keep_path(path);
   Prediction p;
   p.robot = robot.name;
   p.program = program.source;

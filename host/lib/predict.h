@@ -122,6 +122,9 @@ struct PredictRecord {
   };
   std::vector<Segment> segments;
   double line_error_mm = -1;  // -1: not a straight line
+  // On request (ControllerModel::keep_path): the tool (mm) after every step of the dominant
+  // motor of its moves, the steps spread as the arm spreads them.
+  std::vector<Vec3<double>> path;
   uint32_t dominant_steps = 0;  // a move: the most steps any motor makes
   uint64_t ticks = 0;           // duration in 2 MHz ticks
   uint64_t start_tick = 0;      // when the action starts and ends, counted from the first
@@ -138,6 +141,8 @@ class ControllerModel {
   // from EEPROM), Alarm when $3 says the arm has endstops. Throws PredictError for a robot
   // without motors.
   ControllerModel(const Robot& robot, const ControllerSettings& settings = {});
+  // Keep the tool at every step of each move in its record (PredictRecord::path).
+  void keep_path(bool on) { keep_path_ = on; }
 
   PredictRecord execute(const Statement& st);
   // One protocol line, as the controller reads it.
@@ -177,6 +182,7 @@ class ControllerModel {
   uint32_t base_rate_ = 600;  // $0 at power-up: RoboSim's s 82
   int gripper_percent_ = -1;
   uint64_t clock_ = 0;
+  bool keep_path_ = false;
 
   // The firmware's P: the arm in float, from the robot as loaded.
   bool has_ik_ = false;
@@ -219,14 +225,26 @@ struct Prediction {
 
 // Runs a whole program. Throws PredictError for a robot without motors. The times are
 // those of `sender` (schedule()).
+// With `path`, each record that moves keeps the tool at every step (PredictRecord::path).
 Prediction predict_program(const Robot& robot, const Program& program, const ControllerSettings& settings = {},
-                           const SenderModel& sender = {});
+                           const SenderModel& sender = {}, bool path = false);
 
 // When each action starts and ends, in the controller's ticks from the first line's arrival:
 // the firmware's queue of articula::kQueueSize actions, its planner (articula/planner.h) and its step
 // interrupt (firmware/src/stepper.cpp) run on the lines as `sender` delivers them. Exact
 // given when each line arrives; the sender model says when that is.
 void schedule(Prediction& p, const SenderModel& sender);
+
+// A T line's segments as the firmware plans them from rest to rest, all queued at once
+// (controller.cpp push_planned: each junction's level kept below both cruise caps, then the
+// reverse pass): one PlanBlock each, in order. `motion` and `junction` are $0, $1 and $6.
+std::vector<PlanBlock> plan_segments(const std::vector<PredictRecord::Segment>& segments, const MotionSettings& motion,
+                                     uint32_t junction);
+// Their duration in ticks, run through the step profile as stepper.cpp runs them (each
+// segment at its own cruise, ending at the next one's entry).
+// `ends`, when given, gets each segment's end in ticks from the first one's start.
+uint64_t segments_ticks(const std::vector<PredictRecord::Segment>& segments, const std::vector<PlanBlock>& plan,
+                        const MotionSettings& motion, std::vector<uint64_t>* ends = nullptr);
 
 // RoboSim's h (0.0 open .. 0.5 closed) as G's aperture in thousandths of a percent:
 // 100 % - 200 % * h, rounded to a thousandth (h 0 -> 100000, 0.25 -> 50000, 0.5 -> 0).

@@ -44,14 +44,24 @@ nlohmann::json predict_record_json(const PredictRecord& r) {
     j["target_error_mm"] = r.target_error_mm;
   }
   if (!r.ik_status.empty()) j["ik_status"] = r.ik_status;
+  if (r.line_error_mm >= 0) {  // T: its segments, and the tool's worst distance from the line
+    j["line_error_mm"] = r.line_error_mm;
+    nlohmann::json segs = nlohmann::json::array();
+    for (const auto& s : r.segments)
+      segs.push_back({{"delta_steps", s.delta_steps}, {"dominant_steps", s.dominant_steps}, {"cruise4", s.cruise4}});
+    j["segments"] = segs;
+  }
+  if (!r.path.empty()) {
+    nlohmann::json path = nlohmann::json::array();
+    for (const Vec3<double>& v : r.path) path.push_back(vec_json(v));
+    j["path_mm"] = path;
+  }
   j["queued"] = r.queued;
   j["dominant_steps"] = r.dominant_steps;
   j["ticks"] = r.ticks;
   j["start_tick"] = r.start_tick;
   j["end_tick"] = r.end_tick;
   j["seconds"] = r.seconds();
-  j["start_tick"] = r.start_tick;
-  j["end_tick"] = r.end_tick;
   j["start_s"] = r.start_s();
   j["end_s"] = r.end_s();
   return j;

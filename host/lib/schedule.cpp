@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <deque>
+#include <optional>
 
 #include "predict.h"
 
@@ -39,6 +40,22 @@ MoveOf move_of(const PredictRecord& r, int segment) {
   if (segment < 0) return {r.delta_steps, r.dominant_steps, 0};
   const PredictRecord::Segment& s = r.segments[size_t(segment)];
   return {s.delta_steps, s.dominant_steps, s.cruise4};
+}
+
+// controller.cpp push_planned(): a move's block, with its junction level to the move queued
+// before it (`before`: none when the arm is at rest with nothing queued, or after another
+// action) kept below the cruise caps of both; `cap` is set to this move's cap.
+PlanBlock plan_block(const MoveOf& m, const MoveOf* before, uint16_t before_cap, const MotionSettings& motion,
+                     uint32_t junction, uint16_t& cap) {
+  PlanBlock b{uint16_t(std::min(m.steps, uint32_t(0xFFFF))), 0, 0, m.cruise4};
+  ProfileConstants k;
+  profile_constants(k, motion);
+  cap = cruise_level_cap(motion, k.cruise, block_cruise(b, k.cruise));
+  if (before)
+    b.max_entry = std::min({cap, before_cap,
+                            junction_level<kMaxJoints>(before->delta.data(), before->steps, m.delta.data(), m.steps,
+                                                       uint8_t(m.delta.size()), junction)});
+  return b;
 }
 
 // The firmware's step interrupt and queue, stepped deadline by deadline.
@@ -76,20 +93,12 @@ class Controller {
     const PredictRecord& r = rec_[k];
     Queued q{k, segment, {0, 0, 0, 0}};
     if (r.action == PredictRecord::Action::kMove) {
-      const MoveOf m = move_of(r, segment);
-      const uint32_t n = m.steps;  // the controller model's (predict.cpp, queue_move, line)
-      q.plan.steps = uint16_t(std::min(n, uint32_t(0xFFFF)));
-      q.plan.cruise4 = m.cruise4;
-      ProfileConstants k0;
-      profile_constants(k0, r.motion);
-      const uint16_t cap = cruise_level_cap(r.motion, k0.cruise, block_cruise(q.plan, k0.cruise));
-      if (last_steps_ != 0 && busy())
-        q.plan.max_entry =
-            std::min({cap, last_cap_,
-                      junction_level<kMaxJoints>(last_delta_.data(), last_steps_, m.delta.data(), n,
-                                                 uint8_t(m.delta.size()), r.junction)});
+      const MoveOf m = move_of(r, segment);  // the controller model's (predict.cpp, queue_move, line)
+      const MoveOf last{last_delta_, last_steps_, 0};
+      uint16_t cap = 0;
+      q.plan = plan_block(m, last_steps_ != 0 && busy() ? &last : nullptr, last_cap_, r.motion, r.junction, cap);
       last_delta_ = m.delta;
-      last_steps_ = n;
+      last_steps_ = m.steps;
       last_cap_ = cap;
     } else {
       last_steps_ = 0;
@@ -225,6 +234,48 @@ class Controller {
   uint32_t last_steps_ = 0;
   uint16_t last_cap_ = 0xFFFF;
 };
+
+}  // namespace
+
+std::vector<PlanBlock> plan_segments(const std::vector<PredictRecord::Segment>& segments, const MotionSettings& motion,
+                                     uint32_t junction) {
+  std::vector<PlanBlock> plan;
+  uint16_t last_cap = 0xFFFF;
+  for (size_t i = 0; i < segments.size(); ++i) {
+    const PredictRecord::Segment& s = segments[i];
+    const MoveOf m{s.delta_steps, s.dominant_steps, s.cruise4};
+    std::optional<MoveOf> before;
+    if (i > 0) before.emplace(MoveOf{segments[i - 1].delta_steps, segments[i - 1].dominant_steps, 0});
+    uint16_t cap = 0;
+    plan.push_back(plan_block(m, before ? &*before : nullptr, last_cap, motion, junction, cap));
+    last_cap = cap;
+  }
+  plan_entries([&](size_t k) -> const PlanBlock& { return plan[k]; }, [&](size_t k, uint16_t e) { plan[k].entry = e; },
+               plan.size());
+  return plan;
+}
+
+uint64_t segments_ticks(const std::vector<PredictRecord::Segment>& segments, const std::vector<PlanBlock>& plan,
+                        const MotionSettings& motion, std::vector<uint64_t>* ends) {
+  if (ends) ends->clear();
+  ProfileConstants k;
+  profile_constants(k, motion);
+  StepProfile p;
+  uint64_t t = 0;
+  for (size_t i = 0; i < segments.size(); ++i) {
+    const uint32_t exit = i + 1 < plan.size() ? plan[i + 1].entry : 0;
+    const uint32_t cruise = block_cruise(plan[i], k.cruise);
+    if (p.level() > 0)
+      p.follow(segments[i].dominant_steps, exit, cruise);
+    else
+      p.start(segments[i].dominant_steps, k, exit, cruise);
+    while (!p.done()) t += p.next_interval();
+    if (ends) ends->push_back(t);
+  }
+  return t;
+}
+
+namespace {
 
 // Ticks for `bytes` bytes on the line. The Nano asks for 115,200 baud and gets 117,647
 // (16 MHz / 8 / 17, UBRR0 16 with U2X0): a bit is 136 CPU cycles, 17 ticks of the 2 MHz

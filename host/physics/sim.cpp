@@ -171,6 +171,7 @@ struct Simulation::Action {
   double opening_to = 0;                     // kGripper, mm
   std::vector<double> q_from, q_to;          // kJoints, model units
   ControllerSettings settings;               // kMove: the controller's settings for it (stall check)
+  uint32_t exit = 0, cruise = 0;             // kMove: a T segment's planned exit level and cruise
 };
 
 Simulation::Simulation(const Robot& robot, const Scene& scene, const SimOptions& options)
@@ -655,6 +656,31 @@ void Simulation::enqueue(const Statement& st, uint64_t now_tick) {
     const char letter = command_letter(r.protocol.empty() ? r.text : r.protocol);
     a.start_tick = start;
     a.end_tick = start + (r.end_tick - r.start_tick);
+    if (!r.segments.empty()) {  // T: a move per segment, blended as the firmware plans them
+      const MotionSettings motion = cm.settings().motion();
+      const std::vector<PlanBlock> plan = plan_segments(r.segments, motion, r.junction);
+      std::vector<uint64_t> ends;
+      segments_ticks(r.segments, plan, motion, &ends);
+      ProfileConstants k;
+      profile_constants(k, motion);
+      std::vector<int32_t> at = queued_steps_;
+      for (size_t s = 0; s < r.segments.size(); ++s) {
+        Action seg = a;
+        seg.kind = Action::kMove;
+        seg.settings = cm.settings();
+        seg.k = k;
+        for (int i = 0; i < n_motors_; ++i) seg.to[i] = at[size_t(i)] += r.segments[s].delta_steps[size_t(i)];
+        seg.start_tick = start + (s == 0 ? 0 : ends[s - 1]);
+        seg.end_tick = start + ends[s];
+        seg.exit = s + 1 < plan.size() ? plan[s + 1].entry : 0;
+        seg.cruise = block_cruise(plan[s], k.cruise);
+        actions_.push_back(seg);
+      }
+      queue_end_tick_ = actions_.back().end_tick;
+      queued_steps_ = r.steps;
+      program_end_s_ = double(queue_end_tick_) / kControllerTickHz;
+      return;
+    }
     if (letter == 'G' || letter == 'S' || st.kind == Statement::Kind::kHand) {
       a.kind = Action::kGripper;
       const int pct = r.gripper_percent < 0 ? 100 : r.gripper_percent;
@@ -734,7 +760,7 @@ void Simulation::begin_action(size_t index) {
     case Action::kDwell: return;
     case Action::kMove:
       stall_check(a);
-      start_move(a.to, a.k, a.start_tick);
+      start_move(a.to, a.k, a.start_tick, a.exit, a.cruise);
       return;
     case Action::kHome: start_seek(0); return;
   }
@@ -772,7 +798,7 @@ void Simulation::stall_check(const Action& a) {
 
 // A move as stepper.cpp's begin_move: LineStepper over the deltas, StepProfile of the
 // dominant count; the first step is due one interval after the start.
-void Simulation::start_move(const int32_t* to, const ProfileConstants& k, uint64_t t0) {
+void Simulation::start_move(const int32_t* to, const ProfileConstants& k, uint64_t t0, uint32_t exit, uint32_t cruise) {
   int32_t delta[8];
   for (int i = 0; i < n_motors_; ++i) delta[i] = to[i] - counted_[i];
   line_.start(delta, uint8_t(n_motors_));
@@ -781,7 +807,11 @@ void Simulation::start_move(const int32_t* to, const ProfileConstants& k, uint64
     next_step_tick_ = UINT64_MAX;  // nothing to step: the action ends now
     return;
   }
-  profile_.start(line_.dominant, k);
+  // (after a T segment that ended moving, the next goes on from its speed: stepper.cpp's follow)
+  if (profile_.level() > 0)
+    profile_.follow(line_.dominant, exit, cruise != 0 ? cruise : k.cruise);
+  else
+    profile_.start(line_.dominant, k, exit, cruise);
   next_step_tick_ = t0 + profile_.next_interval();
   pending_mask_ = line_.next();
   pending_negative_ = line_.negative;

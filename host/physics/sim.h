@@ -179,7 +179,7 @@ class Simulation {
   void accept_pose();
   bool try_joints(const double* q_candidate, double opening_mm);
   void motor_events(uint64_t until_tick);
-  void start_move(const int32_t* to, const ProfileConstants& k, uint64_t t0);
+  void start_move(const int32_t* to, const ProfileConstants& k, uint64_t t0, uint32_t exit = 0, uint32_t cruise = 0);
   void start_seek(size_t from_motor);
   void apply_steps(uint8_t mask, uint8_t negative);
   bool try_steps(const int32_t* steps);

@@ -98,7 +98,7 @@ def test_the_experiment_in_the_page_equals_the_harness(open_page, tmp_path):
     pg = configured_page(open_page)
 
     assert pg.page.eval_on_selector_all("#exp-plan option", "os => os.map(o => o.value)") == \
-        ["thesis-repeatability.arm", "thesis-single-joint.arm", "tool-points.arm"]
+        ["straight-lines.arm", "thesis-repeatability.arm", "thesis-single-joint.arm", "tool-points.arm"]
 
     def mistyped_first(w, xyz):
         # a measurement typed in cm, then one that is not a number: questions, not plots

@@ -11,6 +11,7 @@ export type Op =
   | { op: "joint_by"; joint: number; value: number; block: string }
   | { op: "joints"; values: number[]; block: string }
   | { op: "tool_to"; xyz: number[]; block: string }
+  | { op: "line_to"; xyz: number[]; speed: number; block: string }
   | { op: "gripper"; percent: number; block: string }
   | { op: "speed"; percent: number; block: string }
   | { op: "wait"; seconds: number; block: string }
@@ -31,7 +32,7 @@ export class BlockError extends Error {
 
 /** The block types a program may hold (a project or a link with any other is refused). */
 export const BLOCK_TYPES = new Set([
-  "arm_joint_to", "arm_joint_by", "arm_joints", "arm_tool_to", "arm_home", "arm_gripper_open", "arm_gripper_close",
+  "arm_joint_to", "arm_joint_by", "arm_joints", "arm_tool_to", "arm_line_to", "arm_home", "arm_gripper_open", "arm_gripper_close",
   "arm_gripper_to", "arm_speed", "arm_wait", "arm_comment", "arm_raw", "controls_repeat_ext", "variables_set", "variables_get",
   "math_change", "math_number", "math_arithmetic", "procedures_defnoreturn", "procedures_callnoreturn",
 ]);
@@ -115,6 +116,8 @@ function statement(b: J, ctx: Ctx): void {
     }
     case "arm_tool_to":
       return push(ctx, { op: "tool_to", xyz: [n("X"), n("Y"), n("Z")], block: id });
+    case "arm_line_to":
+      return push(ctx, { op: "line_to", xyz: [n("X"), n("Y"), n("Z")], speed: n("SPEED"), block: id });
     case "arm_gripper_open": return push(ctx, { op: "gripper", percent: 100, block: id });
     case "arm_gripper_close": return push(ctx, { op: "gripper", percent: 0, block: id });
     case "arm_gripper_to": return push(ctx, { op: "gripper", percent: n("PERCENT"), block: id });
@@ -198,6 +201,7 @@ export function opsToWorkspace(ops: Action[]): J {
       case "joint_by": return { type: "arm_joint_by", fields: { JOINT: String(o.joint) }, inputs: { VALUE: num(o.value) } };
       case "joints": return { type: "arm_joints", fields: { VALUES: o.values.map(r3).join(", ") } };
       case "tool_to": return { type: "arm_tool_to", inputs: { X: num(o.xyz[0]), Y: num(o.xyz[1]), Z: num(o.xyz[2]) } };
+      case "line_to": return { type: "arm_line_to", inputs: { X: num(o.xyz[0]), Y: num(o.xyz[1]), Z: num(o.xyz[2]), SPEED: num(o.speed) } };
       case "gripper": return o.percent >= 100 ? { type: "arm_gripper_open" } : o.percent <= 0 ? { type: "arm_gripper_close" }
         : { type: "arm_gripper_to", inputs: { PERCENT: num(o.percent) } };
       case "speed": return { type: "arm_speed", inputs: { PERCENT: num(o.percent) } };

@@ -68,7 +68,8 @@ export function initExperiment(studio: Studio, onSave: (e: Experiment) => void):
 }
 
 const planLabel = (p: string) => ({ "thesis-single-joint.arm": "single joints (thesis 5.2, appendix K)",
-  "thesis-repeatability.arm": "repeatability (thesis 5.3)", "tool-points.arm": "tool points (P)" } as Record<string, string>)[p] ?? p;
+  "thesis-repeatability.arm": "repeatability (thesis 5.3)", "tool-points.arm": "tool points (P)",
+  "straight-lines.arm": "straight lines (T)" } as Record<string, string>)[p] ?? p;
 const fileStem = () => `articula-experiment-${(shown?.plan ?? "plan").replace(/\.arm$/, "").replace(/[^\w-]+/g, "_")}`;
 const say = (text: string, kind: "" | "ok" | "bad" = "") => status($("exp-state"), text, kind);
 

@@ -29,6 +29,7 @@ const HELP: Record<string, string> = {
   L: "L joint degrees: turns one motor by an angle",
   M: "M a b c: every motor to an angle (the motors' angles, shown beside the sliders)",
   P: "P x y z: the tip of the tool to a point, mm from the base",
+  T: "T x y z speed: the tip of the tool along a straight line to a point, mm from the base, at mm/s",
   G: "G percent: the gripper's opening, 0 closed to 100 open",
   S: "S 1 closes the gripper, S 0 opens it",
   D: "D seconds: waits that long before the next line",

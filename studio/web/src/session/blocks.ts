@@ -113,6 +113,24 @@ export function compile(ops: Op[]): { text: string; robosim: string; lines: stri
         else problems.push({ block: b, message: `the tool cannot reach (${o.xyz.map(f3).join(", ")}) mm: it is out of reach or beyond a joint's range` });
         break;
       }
+      case "line_to": {
+        // The line itself is checked where the arm checks it: the engine's prediction refuses
+        // a line it cannot follow, on this block's line, and says where.
+        if (!(o.speed > 0 && o.speed <= 1000))
+          problems.push({ block: b, message: `the speed is from more than 0 to 1000 mm/s, not ${f3(o.speed)} mm/s` });
+        emit(b, `T ${o.xyz.map(f3).join(" ")} ${f3(o.speed)}`);
+        rs.push("# (a straight line: RoboSim moves to its end)", "a", ...o.xyz.map(f3));
+        let res: { status: string; q: number[] };
+        try {
+          res = S.robot.ik({ target: o.xyz, solver: "auto", start: q }) as unknown as { status: string; q: number[] };
+        } catch (e) {
+          if (e instanceof EngineError) throw new BlockProblem(b, e.message);
+          throw e;
+        }
+        if (res.status === "reached") q = res.q;
+        else problems.push({ block: b, message: `the tool cannot reach (${o.xyz.map(f3).join(", ")}) mm: it is out of reach or beyond a joint's range` });
+        break;
+      }
       case "gripper":
         if (!r.gripper) problems.push({ block: b, message: `${r.name} has no gripper` });
         if (o.percent < 0 || o.percent > 100) problems.push({ block: b, message: `the gripper opens from 0 % to 100 %, not ${f3(o.percent)} %` });
@@ -165,6 +183,7 @@ export function opsOfProgram(src: string, name: string): { ops: Action[]; format
       switch (p.command) {
         case "M": op = { op: "joints", values: motors ? (S.robot.jointsFromMotors(a) as number[]) : a }; break;
         case "P": op = { op: "tool_to", xyz: a }; break;
+        case "T": op = { op: "line_to", xyz: a.slice(0, 3), speed: a[3] }; break;
         case "G": op = { op: "gripper", percent: a[0] }; break;
         case "S": op = { op: "gripper", percent: a[0] ? 0 : 100 }; break;
         case "D": op = { op: "wait", seconds: a[0] }; break;
