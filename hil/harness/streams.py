@@ -41,25 +41,36 @@ def configure_lines(robot: Path) -> list[str]:
     return [l for l in p.stdout.splitlines() if l.strip()]
 
 
-def run_streamed(robot: Path, lines: list[str], tmp: Path) -> tuple[list[str], list[int]]:
+def run_streamed(robot: Path, lines: list[str], tmp: Path, positions: list | None = None,
+                 half_step: list[int] | None = None) -> tuple[list[str], list[int]]:
     """The lines through the virtual Nano, paced; its replies and the ticks of its steps (one
-    a dominant step: the coil events of one deadline together)."""
+    a dominant step: the coil events of one deadline together). `positions`, when given, gets
+    every motor's count after each of those steps (`half_step`: the motors counted in half
+    steps)."""
     trace = tmp / "trace.csv"
     setup = configure_lines(robot)
-    p = subprocess.run([str(VNANO), "--elf", str(ELF), "--stdio", "--paced", "--quiet", "--trace-steps", str(trace)],
-                       input="".join(l + "\n" for l in setup + lines), capture_output=True, text=True, timeout=300)
+    extra = [a for m in (half_step or []) for a in ("--half-step", str(m))]
+    p = subprocess.run([str(VNANO), "--elf", str(ELF), "--stdio", "--paced", "--quiet", "--trace-steps", str(trace),
+                        *extra], input="".join(l + "\n" for l in setup + lines), capture_output=True, text=True,
+                       timeout=300)
     assert p.returncode == 0, p.stderr
     replies = [l for l in p.stdout.splitlines() if l == "ok" or l.startswith("error:")]
     assert replies[:len(setup)] == ["ok"] * len(setup), replies[:len(setup)]
     cycles: list[int] = []
+    counts = [0, 0, 0]
     with trace.open() as f:
         for row in csv.DictReader(f):
             if not row["event"].startswith("step"):
                 continue
             c = int(row["cycle"])
+            counts[int(row["motor"])] = int(row["steps"])
             if cycles and c - cycles[-1] < 400:  # the same deadline: motors step a few cycles apart
+                if positions is not None:
+                    positions[-1] = list(counts)
                 continue
             cycles.append(c)
+            if positions is not None:
+                positions.append(list(counts))
     return replies[len(setup):], [c // TICKS_PER_CYCLE for c in cycles]
 
 

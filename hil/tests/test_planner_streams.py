@@ -11,7 +11,9 @@ in full steps and in half steps (configured at run time, hil/robots/mk2-halfstep
   whole stream within 0.01 % of its predicted duration;
 - a stream without reversals does not stop: no step interval at an inner junction is as
   long as the first step from rest;
-- with $6=0 the same split takes its rest-to-rest time (the issue's 4.6x).
+- with $6=0 the same split takes its rest-to-rest time (the issue's 4.6x);
+- the straight lines (T) of lines.arm keep the tool, at every step the firmware makes, within
+  the chord tolerance plus one step of each motor of the line.
 
 The figures are printed (pytest -s shows them); bench/bench_planner.py reports them.
 """
@@ -69,3 +71,50 @@ def test_the_junction_setting_at_zero_is_rest_to_rest(tmp_path):
     print(f"60 deg base turn as 20 moves: blended {ratio_blended / 2000:.3f} ms, $6=0 {ratio_rest / 2000:.3f} ms "
           f"({ratio_rest / ratio_blended:.2f}x)")
     assert ratio_rest > 4 * ratio_blended
+
+
+@pytest.mark.parametrize("arm", ["full", "half"])
+def test_a_straight_line_stays_within_one_step_of_the_line(arm, tmp_path):
+    """The straight lines of lines.arm, the tool at every step the firmware makes (its coils'
+    trace through the forward kinematics): within the chord tolerance ($7, 0.1 mm) plus the
+    one-step bound of the ideal line, the bound where the tool is (each motor one step on,
+    the tool's displacements summed: |J_i| times the step angle, summed)."""
+    from hil.harness.robot import Robot
+    robot = Robot(ARMS[arm])
+    plan = PLANS / "lines.arm"
+    pred = predicted(ARMS[arm], plan)
+    positions: list[list[int]] = []
+    replies, _ = run_streamed(ARMS[arm], lines_of(plan), tmp_path, positions, robot.half_step_motors)
+    assert replies == ["ok"] * len(lines_of(plan))
+
+    def tool(counts):
+        return robot.tool_from_actuators([m.zero + m.direction * c * m.deg_per_step for m, c in zip(robot.motors, counts)])
+
+    def distance(p, a, b):
+        ab = [b[i] - a[i] for i in range(3)]
+        t = sum((p[i] - a[i]) * ab[i] for i in range(3)) / max(sum(x * x for x in ab), 1e-12)
+        t = min(1.0, max(0.0, t))
+        return sum((p[i] - a[i] - t * ab[i]) ** 2 for i in range(3)) ** 0.5
+
+    k, start, worst, worst_ratio = 0, list(robot.tool_from_actuators(robot.zero_angles)), 0.0, 0.0
+    for r in pred["records"]:
+        n = r.get("dominant_steps", 0)
+        if r.get("segments"):
+            a, b = start, r["target_mm"]
+            for counts in positions[k:k + n]:
+                here = tool(counts)
+                bound = 0.0
+                for i in range(3):
+                    moved = list(counts)
+                    moved[i] += 1
+                    bound += sum((x - y) ** 2 for x, y in zip(tool(moved), here)) ** 0.5
+                d = distance(here, a, b)
+                assert d <= 0.1 + bound + 1e-6, f"line {r['line']}: {d:.3f} mm off the line, bound {0.1 + bound:.3f}"
+                worst = max(worst, d)
+                worst_ratio = max(worst_ratio, d / (0.1 + bound))
+            assert abs(r["line_error_mm"] - max(distance(tool(c), a, b) for c in positions[k:k + n])) < 1e-3
+        k += n
+        start = r["tool_ideal_mm"]
+    assert k == len(positions)
+    print(f"lines.arm ({arm} step): the tool at every step within {worst:.3f} mm of its line, at most "
+          f"{worst_ratio * 100:.0f} % of the chord tolerance plus one step")
