@@ -13,6 +13,15 @@ for each reply sends it (`articula-vnano --paced`, the prediction's `stream` sen
 Also the 60 degree base turn as one move against the same turn as 20 collinear moves (the
 issue's benchmark: at most 1.03x).
 
+Straight lines (T, hil/streams/lines.arm):
+- the tool's worst distance from its line at every step the firmware makes, against the
+  chord tolerance plus the one-step bound (hil/tests/test_planner_streams.py asserts it);
+- the Nano's cost of a line: from the end of its bytes to its first step, less the first
+  step's interval and what a plain `M` line costs the same way (reading and quantizing),
+  over its segments: the time to check the whole line and cut and plan its first segment;
+  and the segments a second that leaves (two passes over each), against what a 50 mm/s
+  drawing of the line's segments needs.
+
     .venv/bin/python bench/bench_planner.py            # after `make`
 """
 from __future__ import annotations
@@ -63,7 +72,54 @@ def main() -> int:
                 big = predicted_ms(robot, plan, queue=100000)
                 print(f"| {name} | {arm} | {blended:.1f} | {span(rest):.1f} | {blended / span(rest):.3f} | {p12:.1f} | "
                       f"{big:.1f} | {p12 / big:.3f}x | {r['worst_end_ticks'] / 2:.1f} us |")
+        print()
+        lines_figures(tmp_path)
     return 0
+
+
+def first_step_ms(robot: Path, line: str, tmp: Path) -> float:
+    """The Nano's time (ms from the start of the run) of the first step of `line`, sent alone."""
+    _, steps = run_streamed(robot, [line], tmp)
+    return steps[0] / 2000.0
+
+
+def lines_figures(tmp: Path) -> None:
+    plan = PLANS / "lines.arm"
+    byte_ms = 10 * 17 / 2000.0  # a byte at the Nano's 117,647 baud, in 2 MHz ticks
+    c0 = first_interval_ticks() / 2000.0
+    print("| arm | lines | segments | firmware ms | predicted ms | $6=0 ms | line's worst distance mm | "
+          "check + first segment ms (a line of n segments) | per segment ms | segments/s the Nano cuts | "
+          "segments/s at 50 mm/s |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|")
+    for arm in ("full", "half"):
+        robot = ARMS[arm]
+        r = compare(robot, plan, tmp)
+        _, rest = run_streamed(robot, ["$6=0"] + lines_of(plan), tmp)
+        pred = predicted(robot, plan)
+        ts = [x for x in pred["records"] if x.get("segments")]
+        segments = sum(len(x["segments"]) for x in ts)
+        worst = max(x["line_error_mm"] for x in ts)
+        # One line from the power-up pose: the first record of lines.arm.
+        first = ts[0]
+        t_line = first["command"]
+        m_line = "M " + " ".join(f"{v:.3f}" for v in first_segment_angles(robot, first, pred))
+        cruise_ms = max(c0, 4 * first["segments"][0]["cruise4"] / 2000.0)
+        cost = (first_step_ms(robot, t_line, tmp) - cruise_ms) - (first_step_ms(robot, m_line, tmp) - c0) \
+            - (len(t_line) - len(m_line)) * byte_ms
+        n = len(first["segments"])
+        per = cost / n
+        length = sum(((a - b) ** 2 for a, b in zip(first["target_mm"], [235.0, 0.0, 213.0]))) ** 0.5
+        need = 50.0 / (length / n)
+        print(f"| {arm} | {len(ts)} | {segments} | {span(r['steps']):.1f} | {r['predicted_ticks'] / 2000:.1f} | "
+              f"{span(rest):.1f} | {worst:.3f} | {cost:.1f} ({n}) | {per:.2f} | {1000 / (2 * per):.0f} | {need:.1f} |")
+
+
+def first_segment_angles(robot: Path, rec: dict, pred: dict) -> list[float]:
+    """The motor angles at the end of a T record's first segment (its steps from power-up)."""
+    import articula
+    motors = articula.Robot.load(str(robot)).motors
+    steps = rec["segments"][0]["delta_steps"]
+    return [m["zero"] + m["direction"] * s * m["deg_per_step"] for m, s in zip(motors, steps)]
 
 
 if __name__ == "__main__":
