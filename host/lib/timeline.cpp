@@ -38,6 +38,35 @@ std::vector<double> lerp(const std::vector<double>& a, const std::vector<double>
   return out;
 }
 
+// A T record's segment ends as time line points: their steps (from the record's end back
+// by its segments), in joint values (the record's own shift by Z added: the joints are linear
+// in the steps), at the times the planner gives them (segments_ticks, scaled to the record's
+// span).
+void add_segments(const Robot& robot, const PredictRecord& r, TimelineAction& a) {
+  const int n = robot.actuation.num_motors, nj = robot.model.num_joints;
+  std::vector<uint64_t> ends;
+  segments_ticks(r.segments, plan_segments(r.segments, r.motion, r.junction), r.motion, &ends);
+  if (ends.empty() || ends.back() == 0) return;
+  std::vector<int32_t> steps = r.steps;
+  for (const auto& s : r.segments)
+    for (int i = 0; i < n; ++i) steps[size_t(i)] -= s.delta_steps[size_t(i)];
+  auto joints_at = [&](const std::vector<int32_t>& st) {
+    double q[kMaxJoints];
+    joints_from_steps(q, robot.actuation, st.data());
+    std::vector<double> out(static_cast<size_t>(nj));
+    for (int j = 0; j < nj; ++j) out[size_t(j)] = joint_from_model(robot, j, q[j]);
+    return out;
+  };
+  const std::vector<double> at_end = joints_at(r.steps);
+  for (size_t k = 0; k < r.segments.size(); ++k) {
+    for (int i = 0; i < n; ++i) steps[size_t(i)] += r.segments[k].delta_steps[size_t(i)];
+    std::vector<double> q = joints_at(steps);
+    for (int j = 0; j < nj; ++j) q[size_t(j)] += r.joints[size_t(j)] - at_end[size_t(j)];
+    a.via_s.push_back(a.start_s + (a.end_s - a.start_s) * double(ends[k]) / double(ends.back()));
+    a.via_q.push_back(std::move(q));
+  }
+}
+
 }  // namespace
 
 double JointTiming::move_s(const Robot& robot, const double* q_from, const double* q_to) const {
@@ -63,6 +92,7 @@ Timeline Timeline::of(const Robot& robot, const Prediction& prediction) {
     a.error_mm = r.error_mm;
     a.steps = r.steps;
     a.gripper_percent = r.gripper_percent;
+    if (r.reply == kOk && !r.segments.empty()) add_segments(robot, r, a);
     tl.actions_.push_back(std::move(a));
   }
   tl.duration_ = tl.actions_.empty() ? 0.0 : tl.actions_.back().end_s;
@@ -130,9 +160,20 @@ TimelinePose Timeline::at(double t) const {
       continue;
     }
     if (p.t >= a.start_s) {  // running
-      const double f = a.end_s > a.start_s ? (p.t - a.start_s) / (a.end_s - a.start_s) : 1.0;
-      p.q = lerp(prev, a.q, f);
-      p.q_ideal = lerp(prev_ideal, a.q_ideal, f);
+      double t0 = a.start_s, t1 = a.end_s;
+      std::vector<double> from = prev, to = a.q, from_ideal = prev_ideal, to_ideal = a.q_ideal;
+      for (size_t k = 0; k < a.via_s.size(); ++k) {  // a T: within one of its segments
+        if (p.t < a.via_s[k]) {
+          to = to_ideal = a.via_q[k];
+          t1 = a.via_s[k];
+          break;
+        }
+        from = from_ideal = a.via_q[k];
+        t0 = a.via_s[k];
+      }
+      const double f = t1 > t0 ? (p.t - t0) / (t1 - t0) : 1.0;
+      p.q = lerp(from, to, f);
+      p.q_ideal = lerp(from_ideal, to_ideal, f);
       p.line = a.line;
     }
     break;

@@ -44,6 +44,10 @@ struct TimelineAction {
   double error_mm = 0;              // |tool - tool_ideal|
   std::vector<int32_t> steps;       // per motor, after it (none without motors)
   int gripper_percent = -1;         // -1: no gripper action yet
+  // A straight line (T): where each of its segments ends, and when; the arm goes through
+  // them (each segment straight in steps), not straight from the start to q.
+  std::vector<double> via_s;
+  std::vector<std::vector<double>> via_q;
 };
 
 // The arm at an instant of the time line.

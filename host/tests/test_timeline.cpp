@@ -77,3 +77,37 @@ TEST(Timeline, AWaitPausesARobotWithoutMotors) {
   ASSERT_EQ(tl.actions().size(), 1u);
   EXPECT_NEAR(tl.duration(), 2.0, 1e-9);
 }
+
+TEST(Timeline, AStraightLineIsPlayedThroughItsSegments) {
+  // The line from (300, -100, 150) to (300, 100, 150): as one move the tool would bow
+  // millimetres off it; played through its segments it stays within the chord tolerance and a
+  // step or two of it at every instant.
+  const Robot& r = robot("mk2plus");
+  const Program p = parse_program("P 300 -100 150\nT 300 100 150 50\n", "t.arm", r);
+  const Timeline tl = Timeline::of_program(r, p, home_pose(r));
+  ASSERT_EQ(tl.actions().size(), 2u);
+  const TimelineAction& a = tl.actions()[1];
+  ASSERT_EQ(a.reply, articula::kOk);
+  ASSERT_GT(a.via_s.size(), 3u);
+  const articula::Vec3<double> A = tl.actions()[0].tool, B = articula::make_vec3(300.0, 100.0, 150.0);
+  double worst = 0, worst_one_move = 0;
+  for (int k = 1; k < 100; ++k) {
+    const double t = a.start_s + (a.end_s - a.start_s) * k / 100.0;
+    const TimelinePose pose = tl.at(t);
+    std::vector<double> q(pose.q.size()), q1(pose.q.size());
+    const double f = double(k) / 100.0;
+    for (size_t j = 0; j < q.size(); ++j) {
+      q[j] = joint_to_model(r, int(j), pose.q[j]);
+      q1[j] = joint_to_model(r, int(j), tl.actions()[0].q[j] + f * (a.q[j] - tl.actions()[0].q[j]));
+    }
+    auto off = [&](const articula::Vec3<double>& x) {
+      const articula::Vec3<double> ab = B - A;
+      const double s = std::clamp(articula::dot(x - A, ab) / articula::dot(ab, ab), 0.0, 1.0);
+      return articula::norm(x - (A + s * ab));
+    };
+    worst = std::max(worst, off(articula::tool_position(r.model, q.data())));
+    worst_one_move = std::max(worst_one_move, off(articula::tool_position(r.model, q1.data())));
+  }
+  EXPECT_LT(worst, 2.0);
+  EXPECT_GT(worst_one_move, 5.0);
+}

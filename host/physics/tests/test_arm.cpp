@@ -101,6 +101,35 @@ TEST(Arm, StepsFollowTheFirmwareTiming) {
   EXPECT_EQ(sim.counted_steps()[0], pr.records[0].steps[0]);
 }
 
+// A straight line (T) in physics: a move per segment on the predicted step times, blended;
+// the tool stays near the line at every world step (as one move it would bow millimetres off
+// it), and the line ends on the predicted steps at the predicted tick.
+TEST(Arm, AStraightLineFollowsItsSegments) {
+  const Robot r = robot("mk2plus");
+  const Program p = parse_protocol_program("P 300 -100 150\nT 300 100 150 50\n", "t.arm", r);
+  const Prediction pr = predict_program(r, p);
+  ASSERT_EQ(pr.records[1].reply, kOk);
+  ASSERT_GT(pr.records[1].segments.size(), 3u);
+  Simulation sim(r, Scene{});
+  sim.load_program(p);
+  sim.run_until(pr.records[0].end_s() + 0.001);
+  const Vec3<double> A = pr.records[0].tool_ideal, B = make_vec3(300.0, 100.0, 150.0);
+  double worst = 0;
+  while (sim.time() < pr.records[1].end_s() - 0.001) {
+    sim.step();
+    std::vector<double> q(size_t(r.model.num_joints));
+    const std::vector<int32_t> steps = sim.counted_steps();
+    joints_from_steps(q.data(), r.actuation, steps.data());
+    const Vec3<double> x = tool_position(r.model, q.data());
+    const double f = std::clamp(dot(x - A, B - A) / dot(B - A, B - A), 0.0, 1.0);
+    worst = std::max(worst, norm(x - (A + f * (B - A))));
+  }
+  EXPECT_LT(worst, pr.records[1].line_error_mm + 1e-6);  // never farther than the prediction's worst step
+  EXPECT_NE(sim.counted_steps(), pr.records[1].steps);     // not there before its predicted end
+  sim.run_until(pr.records[1].end_s() + 0.001);
+  EXPECT_EQ(sim.counted_steps(), pr.records[1].steps);
+}
+
 // Thesis Fig. 20: the gripper closes on the block, lifts it, turns, lets go, and it falls.
 TEST(Arm, GraspAndLift) {
   const Robot r = robot("mk2plus");
