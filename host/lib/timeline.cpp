@@ -38,6 +38,13 @@ std::vector<double> lerp(const std::vector<double>& a, const std::vector<double>
   return out;
 }
 
+// The ideal tool where the last accepted action left it (the power-up pose before any).
+Vec3<double> last_tool(const std::vector<TimelineAction>& actions, const Robot& robot, const std::vector<double>& start_q) {
+  for (auto it = actions.rbegin(); it != actions.rend(); ++it)
+    if (it->reply == kOk) return it->tool_ideal;
+  return tool_position(robot.model, model_units(robot, start_q).data());
+}
+
 // A T record's segment ends as time line points: their steps (from the record's end back
 // by its segments), in joint values (the record's own shift by Z added: the joints are linear
 // in the steps), at the times the planner gives them (segments_ticks, scaled to the record's
@@ -81,6 +88,7 @@ double JointTiming::move_s(const Robot& robot, const double* q_from, const doubl
 Timeline Timeline::of(const Robot& robot, const Prediction& prediction) {
   Timeline tl;
   tl.start_q_ = user_units(robot, KinematicModel(robot).q());  // power-up: every motor at its zero
+  tl.start_tool_ = tool_position(robot.model, model_units(robot, tl.start_q_).data());
   for (const PredictRecord& r : prediction.records) {
     TimelineAction a = action(r.line, r.text, r.reply, r.note);
     a.start_s = r.start_s();
@@ -92,7 +100,14 @@ Timeline Timeline::of(const Robot& robot, const Prediction& prediction) {
     a.error_mm = r.error_mm;
     a.steps = r.steps;
     a.gripper_percent = r.gripper_percent;
-    if (r.reply == kOk && !r.segments.empty()) add_segments(robot, r, a);
+    if (r.reply == kOk && !r.segments.empty()) {
+      add_segments(robot, r, a);
+      a.straight = true;
+      a.line_from = last_tool(tl.actions_, robot, tl.start_q_);
+      a.line_to = r.target;
+      a.line_error_mm = r.line_error_mm;
+    }
+    a.path = r.path;
     tl.actions_.push_back(std::move(a));
   }
   tl.duration_ = tl.actions_.empty() ? 0.0 : tl.actions_.back().end_s;
@@ -104,6 +119,7 @@ Timeline Timeline::of(const Robot& robot, const Program& program, const std::vec
                       const std::vector<double>& start_q, const JointTiming& timing) {
   Timeline tl;
   tl.start_q_ = start_q;
+  tl.start_tool_ = tool_position(robot.model, model_units(robot, start_q).data());
   std::vector<double> at = model_units(robot, start_q);  // where the last accepted action left the arm
   int grip = -1;
   double clock = 0;
@@ -135,7 +151,7 @@ Timeline Timeline::of(const Robot& robot, const Program& program, const std::vec
 
 Timeline Timeline::of_program(const Robot& robot, const Program& program, const std::vector<double>& start_q,
                               const JointTiming& timing) {
-  if (robot.has_motors) return of(robot, predict_program(robot, program));
+  if (robot.has_motors) return of(robot, predict_program(robot, program, {}, {}, true));
   return of(robot, program, run_program(robot, program), start_q, timing);
 }
 
@@ -181,6 +197,23 @@ TimelinePose Timeline::at(double t) const {
   return p;
 }
 
+// A path as one flat list, x y z after x y z, to the micrometre (it is drawn, not computed on).
+static nlohmann::json path_json(const std::vector<Vec3<double>>& path) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const Vec3<double>& p : path)
+    for (double v : {p.x, p.y, p.z}) out.push_back(std::round(v * 1000) / 1000);
+  return out;
+}
+
+// A straight line's {from, to, error_mm}.
+static nlohmann::json line_json(const TimelineAction& a) {
+  nlohmann::json j = nlohmann::json::object();
+  j["from"] = nlohmann::json::array({a.line_from.x, a.line_from.y, a.line_from.z});
+  j["to"] = nlohmann::json::array({a.line_to.x, a.line_to.y, a.line_to.z});
+  j["error_mm"] = a.line_error_mm;
+  return j;
+}
+
 nlohmann::json timeline_json(const Timeline& tl) {
   using json = nlohmann::json;
   json records = json::array();
@@ -199,6 +232,8 @@ nlohmann::json timeline_json(const Timeline& tl) {
                        {"tool_ideal", {a.tool_ideal.x, a.tool_ideal.y, a.tool_ideal.z}},
                        {"error_mm", a.error_mm},
                        {"steps", a.steps.empty() ? json(nullptr) : json(a.steps)},
+                       {"path", path_json(a.path)},
+                       {"straight", a.straight ? line_json(a) : json(nullptr)},
                        {"gripper", a.gripper_percent < 0 ? json(nullptr) : json(a.gripper_percent)}});
   }
   json summary = {{"commands", tl.actions().size()}, {"rejected", 0}};
@@ -210,7 +245,11 @@ nlohmann::json timeline_json(const Timeline& tl) {
   }
   summary["rejected"] = rejected;
   if (tl.predicted()) summary["worst_error_mm"] = worst;
-  return {{"start_q", tl.start_q()}, {"duration", tl.duration()}, {"summary", summary}, {"records", records}};
+  return {{"start_q", tl.start_q()},
+          {"start_tool", json::array({tl.start_tool().x, tl.start_tool().y, tl.start_tool().z})},
+          {"duration", tl.duration()},
+          {"summary", summary},
+          {"records", records}};
 }
 
 nlohmann::json timeline_pose_json(const TimelinePose& p) {

@@ -48,6 +48,13 @@ struct TimelineAction {
   // them (each segment straight in steps), not straight from the start to q.
   std::vector<double> via_s;
   std::vector<std::vector<double>> via_q;
+  // Predicted: the tool (mm) after every step of its moves, as the arm spreads them; and for
+  // a straight line the line it follows (from the tool where it began to the point asked for)
+  // and its worst distance from it at any step.
+  std::vector<Vec3<double>> path;
+  bool straight = false;
+  Vec3<double> line_from{0, 0, 0}, line_to{0, 0, 0};
+  double line_error_mm = 0;
 };
 
 // The arm at an instant of the time line.
@@ -84,9 +91,12 @@ class Timeline {
   bool predicted() const { return predicted_; }
   const std::vector<TimelineAction>& actions() const { return actions_; }
   const std::vector<double>& start_q() const { return start_q_; }
+  // The tool at start_q, mm (where a drawn path begins).
+  const Vec3<double>& start_tool() const { return start_tool_; }
 
  private:
   std::vector<double> start_q_;
+  Vec3<double> start_tool_{0, 0, 0};
   std::vector<TimelineAction> actions_;
   double duration_ = 0;
   bool predicted_ = false;

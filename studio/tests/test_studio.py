@@ -608,6 +608,36 @@ def test_a_program_drives_the_page_nano_to_the_predicted_steps(open_page, tmp_pa
             timeout=20000)
 
 
+def test_a_straight_line_on_the_page_nano_with_its_predicted_path_drawn(open_page, tmp_path):
+    """A student types straight lines (T): the view draws the tool's predicted path at every
+    step over the lines asked for, the status line says how close the path keeps to them, and
+    the page's virtual Nano runs the lines to the predicted steps."""
+    pg = open_page("mk2plus")
+    text = "T 240 0 140 50\nT 280 -40 140 50\nT 280 40 140 50\n"
+    pg.page.fill("#editor", text)
+    pg.page.click("#run")  # the model plays it
+    pg.wait("a.timeline !== null && a.timeline.records.length === 3 && a.paths.lines === 3", timeout=20000)
+    pg.wait("a.playing === false && a.pose.t >= a.timeline.duration - 1e-9", timeout=30000)
+    program = tmp_path / "lines.arm"
+    program.write_text(text)
+    pred = cli_json("predict", "mk2plus", str(program))["records"]
+    steps = sum(r["dominant_steps"] for r in pred)
+    worst = max(r["line_error_mm"] for r in pred)
+    assert pg.hook("a.paths.points") == steps + 1  # every step, from where the tool began
+    assert abs(pg.hook("a.paths.worstMm") - worst) < 1e-6
+    assert f"3 straight lines: the tool within {worst:.2f} mm of them at every step" in pg.page.text_content("#program-status")
+    pg.page.screenshot(path=str(SHOTS / "studio-straight-lines.png"))
+    _connect_page_nano(pg)
+    pg.page.check("#drive-arm")
+    pg.page.click("#run")
+    pg.wait("a.arm.programDone === true", timeout=90000)
+    assert pg.hook("a.arm.programLines") == [[1, "ok"], [2, "ok"], [3, "ok"]]
+    want = pred[-1]["steps"]
+    pg.wait(f"a.arm.status.state === 'Idle' && JSON.stringify(a.arm.status.steps) === '{json.dumps(want, separators=(',', ':'))}'",
+            timeout=30000)
+    assert pg.errors == []
+
+
 # A stand-in for navigator.serial (headless Chromium has no serial device to offer): its port
 # carries the same bytes to and from the virtual Nano's worker, so the page's Web Serial code
 # path is the real one, all but the browser API. unplug() makes the port vanish mid-read.

@@ -95,6 +95,8 @@ export interface TimelineRecord {
   error_mm: number;
   steps: number[] | null;
   gripper: number | null;
+  path: number[]; // predicted: the tool after every step, x y z after x y z (mm)
+  straight: { from: number[]; to: number[]; error_mm: number } | null; // a straight line (T)
 }
 
 export interface TimelineMsg {
@@ -103,6 +105,7 @@ export interface TimelineMsg {
   format: "protocol" | "robosim";
   records: TimelineRecord[];
   duration: number;
+  start_tool?: number[]; // the tool where the program starts (mm)
   joints: string[];
   summary: Record<string, number>;
 }

@@ -73,6 +73,8 @@ export class View {
   /** The user moved the camera (an orbit, a zoom, a pan ended). */
   onViewChange: () => void = () => {};
   private ghostArm = new THREE.Group();
+  // A program's predicted tool path (every step) and the straight lines it asks for.
+  private paths = new THREE.Group();
   private grid: THREE.GridHelper | null = null;
   // From the last frame's origin to the tool point: the tool offset, drawn for every robot.
   private toolLine = new THREE.Line(new THREE.BufferGeometry(), new THREE.LineBasicMaterial({ color: 0x9a3412 }));
@@ -149,7 +151,7 @@ export class View {
     );
     this.ground.position.z = -0.5;
     this.scene.add(this.ground);
-    this.scene.add(this.arm, this.ghostArm, this.objectGroup, this.liveArm);
+    this.scene.add(this.arm, this.ghostArm, this.objectGroup, this.liveArm, this.paths);
 
     // The IK target: a ball with its own axes, moved by the gizmo.
     const ball = new THREE.Mesh(
@@ -377,6 +379,32 @@ export class View {
     } catch {
       return null;
     }
+  }
+
+  /** The tool's predicted path, every step (x y z after x y z, mm; the stairs the steps make),
+   * and the straight lines a program asks for (each [x0, y0, z0, x1, y1, z1]), drawn over
+   * each other; nothing: both cleared. */
+  showPaths(predicted: number[], lines: number[][]): void {
+    for (const o of [...this.paths.children]) {
+      o.removeFromParent();
+      ((o as THREE.Line).geometry as THREE.BufferGeometry).dispose();
+    }
+    if (predicted.length >= 6) {
+      const g = new THREE.BufferGeometry();
+      g.setAttribute("position", new THREE.Float32BufferAttribute(predicted, 3));
+      const path = new THREE.Line(g, new THREE.LineBasicMaterial({ color: 0xc2410c }));
+      path.name = "predicted path";
+      this.paths.add(path);
+    }
+    if (lines.length) {
+      const g = new THREE.BufferGeometry();
+      g.setAttribute("position", new THREE.Float32BufferAttribute(lines.flat(), 3));
+      const ideal = new THREE.LineSegments(g, new THREE.LineDashedMaterial({ color: 0x1d4ed8, dashSize: this.reach * 0.012, gapSize: this.reach * 0.008 }));
+      ideal.computeLineDistances();
+      ideal.name = "ideal lines";
+      this.paths.add(ideal);
+    }
+    this.dirty = true;
   }
 
   pose(p: PoseMsg): void {

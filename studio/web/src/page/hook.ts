@@ -9,6 +9,9 @@ export interface Hook {
   pose: PoseMsg | null;
   ik: IkMsg | null;
   timeline: TimelineMsg | null;
+  // What the view draws of the program: the tool's predicted path (points, every step) and the
+  // straight lines asked for (T), with the worst distance of the path from them.
+  paths: { points: number; lines: number; worstMm: number };
   playing: boolean;
   programError: string;
   robotError: string;
@@ -68,6 +71,7 @@ export interface Hook {
 
 export const hook: Hook = {
   ready: false, connected: false, robot: null, pose: null, ik: null, timeline: null, playing: false,
+  paths: { points: 0, lines: 0, worstMm: 0 },
   programError: "", robotError: "", lastError: "", teach: "", fps: 0, framesDrawn: 0, firstFrameAt: 0,
   latency: [], ikUpdates: [], messages: 0, targetScreen: [0, 0], armPixels: () => 0,
   camera: () => ({ distance: 0, azimuth: 0 }), viewpoint: () => ({ eye: [], target: [] }),

@@ -205,12 +205,32 @@ export const programHandlers = {
     hook.timeline = m;
     hook.programError = "";
     s.plots.show(m);
+    // The path the tool will take, every step, over the straight lines the program asks for.
+    const path: number[] = [];
+    const lines: number[][] = [];
+    let worst = 0;
+    let before: number[] | null = m.start_tool ?? null; // the tool where the last action left it
+    for (const r of m.records) {
+      if (r.reply !== "ok") continue;
+      if (r.path?.length) {
+        if (!path.length && before) path.push(...before);
+        path.push(...r.path);
+      }
+      before = r.tool;
+      if (r.straight) {
+        lines.push([...r.straight.from, ...r.straight.to]);
+        worst = Math.max(worst, r.straight.error_mm);
+      }
+    }
+    s.view.showPaths(path, lines);
+    hook.paths = { points: path.length / 3, lines: lines.length, worstMm: worst };
     for (const r of m.records) if (r.reply !== "ok") refusedLine(r.line, `the arm refuses this: ${r.reply}, ${r.error}`);
     const rejected = m.records.filter((r) => r.reply !== "ok")
       .map((r) => `line ${r.line}: ${r.command} → error:${r.code}, ${r.error}: nothing moves` +
         (r.note ? ` (${r.note.replace(/^.*?nothing changes; /, "")})` : ""));
     programStatus(`${m.records.length} commands, ${m.summary.rejected ?? 0} rejected` +
       (m.summary.worst_error_mm !== undefined ? `, worst quantization error ${m.summary.worst_error_mm.toFixed(3)} mm` : "") +
+      (lines.length ? `, ${lines.length} straight line${lines.length > 1 ? "s" : ""}: the tool within ${worst.toFixed(2)} mm of ${lines.length > 1 ? "them" : "it"} at every step` : "") +
       `, ${m.duration.toFixed(2)} s`, rejected);
     if (autoplay) {
       autoplay = false;

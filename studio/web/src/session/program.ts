@@ -46,7 +46,7 @@ export const programHandlers: Record<string, (m: Msg) => Out[] | Promise<Out[]>>
     S.t = 0;
     S.q = [...tl.doc.start_q];
     const d = tl.doc;
-    return [{ type: "timeline", name, format: d.format, records: d.records, duration: d.duration,
+    return [{ type: "timeline", name, format: d.format, records: d.records, duration: d.duration, start_tool: d.start_tool,
       joints: info().joint_names, summary: d.summary }, poseMessage(S.q, { t: 0, line: 0 })];
   },
   play(m) {
