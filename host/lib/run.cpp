@@ -3,6 +3,7 @@
 
 #include <articula/config.h>
 
+#include <articula/line.h>
 #include <articula/protocol.h>
 
 #include <algorithm>
@@ -32,31 +33,107 @@ KinematicModel::KinematicModel(const Robot& robot) : robot_(robot) {
   }
 }
 
-void KinematicModel::q_from_commanded() {
+std::vector<double> KinematicModel::q_of(const int64_t* thousandths) const {
+  std::vector<double> q(size_t(robot_.model.num_joints), 0.0);
   if (motors_) {
     double u[kMaxJoints];
-    for (int i = 0; i < n_; ++i) u[i] = deg_to_rad(double(commanded_[size_t(i)] + offset_[size_t(i)]) / 1000.0);
-    joints_from_actuators(q_.data(), robot_.actuation, u);
+    for (int i = 0; i < n_; ++i) u[i] = deg_to_rad(double(thousandths[i] + offset_[size_t(i)]) / 1000.0);
+    joints_from_actuators(q.data(), robot_.actuation, u);
   } else {
-    for (int j = 0; j < n_; ++j) {
-      const double v = double(commanded_[size_t(j)] + offset_[size_t(j)]) / 1000.0;
-      q_[size_t(j)] = joint_to_model(robot_, j, v);
-    }
+    for (int j = 0; j < n_; ++j) q[size_t(j)] = joint_to_model(robot_, j, double(thousandths[j] + offset_[size_t(j)]) / 1000.0);
   }
+  return q;
 }
 
-void KinematicModel::commanded_from_q() {
-  commanded_.assign(size_t(n_), 0);
+std::vector<int64_t> KinematicModel::thousandths_of(const double* q) const {
+  std::vector<int64_t> out(size_t(n_), 0);
   if (motors_) {
     double u[kMaxJoints];
-    actuators_from_joints(u, robot_.actuation, q_.data());
-    for (int i = 0; i < n_; ++i) commanded_[size_t(i)] = std::llround(rad_to_deg(u[i]) * 1000.0) - offset_[size_t(i)];
+    actuators_from_joints(u, robot_.actuation, q);
+    for (int i = 0; i < n_; ++i) out[size_t(i)] = std::llround(rad_to_deg(u[i]) * 1000.0) - offset_[size_t(i)];
   } else {
-    for (int j = 0; j < n_; ++j) {
-      const double v = joint_from_model(robot_, j, q_[size_t(j)]);
-      commanded_[size_t(j)] = std::llround(v * 1000.0) - offset_[size_t(j)];
-    }
+    for (int j = 0; j < n_; ++j) out[size_t(j)] = std::llround(joint_from_model(robot_, j, q[j]) * 1000.0) - offset_[size_t(j)];
   }
+  return out;
+}
+
+void KinematicModel::q_from_commanded() { q_ = q_of(commanded_.data()); }
+
+void KinematicModel::commanded_from_q() { commanded_ = thousandths_of(q_.data()); }
+
+// T on the kinematic model (articula/line.h's rule, as the Nano's): each end solved by the
+// robot's IK from the last end (so the pose follows on), its commanded values to the
+// thousandth; the tool of commanded values by the forward kinematics. For every robot.
+struct RunLineSolver {
+  KinematicModel* m;
+  Status solve(Millideg* out, const double* p, const Millideg* near) const {
+    int64_t at[kMaxJoints];
+    for (int i = 0; i < m->n_; ++i) at[i] = near[i];
+    if (!m->ik_) m->ik_.emplace(m->robot_);
+    IkOptions opt;
+    opt.weights = m->weights_;
+    IkResult res;
+    try {
+      res = m->ik_->solve(IkTarget::at(make_vec3(p[0], p[1], p[2])), m->q_of(at), opt);
+    } catch (const std::invalid_argument&) {
+      return kUnreachable;
+    }
+    if (!res.reached()) return kUnreachable;
+    const std::vector<int64_t> t = m->thousandths_of(res.q.data());
+    for (int i = 0; i < m->n_; ++i) {
+      if (m->motors_ && (t[size_t(i)] < m->robot_.actuation.motors[i].min || t[size_t(i)] > m->robot_.actuation.motors[i].max))
+        return kJointLimit;
+      if (t[size_t(i)] < -kMaxAbsMillideg || t[size_t(i)] > kMaxAbsMillideg) return kValueOutOfRange;
+      out[i] = Millideg(t[size_t(i)]);
+    }
+    return kOk;
+  }
+  void tool(double* p, const Millideg* act) const {
+    int64_t t[kMaxJoints];
+    for (int i = 0; i < m->n_; ++i) t[i] = act[i];
+    const Vec3<double> x = tool_position(m->robot_.model, m->q_of(t).data());
+    p[0] = x.x, p[1] = x.y, p[2] = x.z;
+  }
+};
+
+Status KinematicModel::line(RunRecord& r, const int32_t* arg) {
+  RunLineSolver solver{this};
+  Millideg at[kMaxJoints] = {}, end[kMaxJoints] = {};
+  for (int i = 0; i < n_; ++i) at[i] = Millideg(commanded_[size_t(i)]);
+  double from[3];
+  solver.tool(from, at);
+  const double to[3] = {arg[0] / 1000.0, arg[1] / 1000.0, arg[2] / 1000.0};
+  const double tol = settings_.value[ControllerSettings::kChord] / 1000.0;
+  LineCutter<double, kMaxJoints> cut;
+  cut.start(from, to, at, uint8_t(n_), tol);
+  while (!cut.done()) {
+    const Status s = cut.next(solver, end);
+    if (s == kOk) continue;
+    const double f = cut.refused_fraction();
+    add_note(r, std::string(s == kLineNotFollowed ? "the pose would jump" : s == kJointLimit ? "beyond a joint limit"
+                                                                                              : "cannot be reached") +
+                    " at " + number_text(std::round(f * cut.length() * 10) / 10) + " mm along the line of " +
+                    number_text(std::round(cut.length() * 10) / 10) + " mm; nothing moves");
+    return s;
+  }
+  cut.start(from, to, at, uint8_t(n_), tol);
+  r.line_length_mm = cut.length();
+  r.line_speed = arg[3] / 1000.0;
+  double along = 0;
+  std::vector<int64_t> last(commanded_);
+  while (!cut.done()) {
+    cut.next(solver, end);
+    along += cut.segment_length();
+    for (int i = 0; i < n_; ++i) last[size_t(i)] = end[i];
+    const std::vector<double> q = q_of(last.data());
+    std::vector<double> joints;
+    for (int j = 0; j < robot_.model.num_joints; ++j) joints.push_back(joint_from_model(robot_, j, q[size_t(j)]));
+    r.via_joints.push_back(std::move(joints));
+    r.via_mm.push_back(along);
+  }
+  add_note(r, std::to_string(r.via_joints.size()) + " segments, each within " + number_text(tol) +
+                  " mm ($7) of the line at its middle");
+  return set_commanded(last);
 }
 
 // The controller's checks of a new commanded state (move_absolute for motors; the joint
@@ -119,9 +196,10 @@ Status KinematicModel::run_command(RunRecord& r, const std::string& text) {
     }
     case kCmdMoveAbsolute:
       return set_commanded(std::vector<int64_t>(cmd.arg, cmd.arg + n_));
-    case kCmdLine:  // the line's end, as P's; the segments on the way are the controller's (predict)
-      add_note(r, "the straight line's end; articula predict gives its segments and the path at every step");
-      [[fallthrough]];
+    case kCmdLine:
+      r.has_target = true;
+      r.target = make_vec3(cmd.arg[0] / 1000.0, cmd.arg[1] / 1000.0, cmd.arg[2] / 1000.0);
+      return line(r, cmd.arg);
     case kCmdMoveTool: {
       IkResult res;
       try {

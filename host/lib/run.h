@@ -38,8 +38,13 @@ struct RunRecord {
   int gripper_percent = -1;                                // -1: no gripper command yet
   double dwell_s = 0;                                      // D: how long the line waits
 
-  bool has_target = false;  // RoboSim a, protocol P
+  bool has_target = false;  // RoboSim a, protocol P, T
   Vec3<double> target{0, 0, 0};
+  // T: the line's segments (articula/line.h through the robot's IK), each end's joint values
+  // (deg or mm) and its distance along the line (mm); the line's length and speed.
+  std::vector<std::vector<double>> via_joints;
+  std::vector<double> via_mm;
+  double line_length_mm = 0, line_speed = 0;
   std::string ik_status;       // ik.h's status name
   double target_error_mm = 0;  // |tool - target|
 };
@@ -63,6 +68,12 @@ class KinematicModel {
   void q_from_commanded();
   void commanded_from_q();
   Status set_commanded(const std::vector<int64_t>& target);
+  Status line(RunRecord& r, const int32_t* arg);
+  // The joint values (model units) of commanded thousandths, and back; limits checked by
+  // set_commanded only.
+  std::vector<double> q_of(const int64_t* thousandths) const;
+  std::vector<int64_t> thousandths_of(const double* q) const;
+  friend struct RunLineSolver;
   IkResult solve(const Vec3<double>& target, RunRecord& r);
 
   Robot robot_;

@@ -130,7 +130,31 @@ Timeline Timeline::of(const Robot& robot, const Program& program, const std::vec
     a.tool = a.tool_ideal = r.tool.p;
     a.gripper_percent = r.gripper_percent;
     double s = 0;
-    if (r.reply == kOk) {
+    if (r.reply == kOk && !r.via_joints.empty() && r.line_speed > 0) {  // T: along its line at its speed
+      s = r.line_length_mm / r.line_speed;
+      for (size_t k = 0; k < r.via_joints.size(); ++k) {
+        a.via_s.push_back(clock + s * r.via_mm[k] / std::max(r.line_length_mm, 1e-9));
+        a.via_q.push_back(r.via_joints[k]);
+      }
+      a.straight = true;
+      a.line_from = tool_position(robot.model, at.data());
+      a.line_to = r.target;
+      // The tool as the model moves it (each segment straight in joints), 8 points a segment.
+      std::vector<double> from = at;
+      const Vec3<double> ab = a.line_to - a.line_from;
+      for (const auto& via : r.via_joints) {
+        const std::vector<double> to = model_units(robot, via);
+        for (int k = 1; k <= 8; ++k) {
+          const Vec3<double> p = tool_position(robot.model, lerp(from, to, k / 8.0).data());
+          a.path.push_back(p);
+          const double f = std::clamp(dot(p - a.line_from, ab) / std::max(dot(ab, ab), 1e-12), 0.0, 1.0);
+          a.line_error_mm = std::max(a.line_error_mm, norm(p - (a.line_from + f * ab)));
+        }
+        from = to;
+      }
+      at = model_units(robot, r.joints);
+      grip = r.gripper_percent;
+    } else if (r.reply == kOk) {
       const std::vector<double> to = model_units(robot, r.joints);
       s = timing.move_s(robot, at.data(), to.data());
       // as the physics times it: a move, else a gripper action

@@ -708,6 +708,23 @@ void Simulation::enqueue(const Statement& st, uint64_t now_tick) {
     }
     Action a;
     a.line = r.line;
+    if (!r.via_joints.empty() && r.line_speed > 0) {  // T: a move per segment, along its line at its speed
+      uint64_t t = start;
+      for (size_t k = 0; k < r.via_joints.size(); ++k) {
+        Action seg = a;
+        seg.kind = Action::kJoints;
+        seg.q_from = queued_q_;
+        seg.q_to.resize(size_t(n_joints_));
+        for (int j = 0; j < n_joints_; ++j) seg.q_to[size_t(j)] = joint_to_model(robot_, j, r.via_joints[k][size_t(j)]);
+        seg.start_tick = t;
+        seg.end_tick = t = start + uint64_t(std::ceil((r.via_mm[k] / r.line_speed) * kControllerTickHz));
+        queued_q_ = seg.q_to;
+        actions_.push_back(seg);
+      }
+      queue_end_tick_ = t;
+      program_end_s_ = double(queue_end_tick_) / kControllerTickHz;
+      return;
+    }
     std::vector<double> q_to(static_cast<size_t>(n_joints_));
     for (int j = 0; j < n_joints_; ++j) q_to[size_t(j)] = joint_to_model(robot_, j, r.joints[size_t(j)]);
     double duration = opt_.joints.move_s(robot_, queued_q_.data(), q_to.data());

@@ -151,3 +151,41 @@ TEST(Run, ShippedProgramsRun) {
     }
   }
 }
+
+// T on robots the Nano cannot run it on: the same rule through each robot's own IK. The Panda
+// (7 joints, no closed form) and the PUMA 560 follow a straight line: every segment end is on
+// it, and the tool half way through each segment (straight in joints) within the tolerance of
+// it (0.1 mm, $7) and a little.
+TEST(Run, AStraightLineOnEveryRobot) {
+  for (const char* name : {"panda", "puma560"}) {
+    const Robot r = load_robot_file(std::string(ARTICULA_SOURCE_DIR) + "/robots/" + name + ".json");
+    KinematicModel m(r);
+    ASSERT_EQ(m.execute_line("T 500 100 400 50").reply, kOk) << name;
+    const Vec3<double> a = m.execute_line("I").tool.p;  // (nothing moves: where the tool is)
+    const RunRecord rec = m.execute_line("T 500 -100 400 50");
+    ASSERT_EQ(rec.reply, kOk) << name << ": " << rec.note;
+    ASSERT_GE(rec.via_joints.size(), 2u) << name;
+    EXPECT_NEAR(rec.line_length_mm, 200.0, 0.01) << name;
+    EXPECT_NEAR(norm(rec.tool.p - make_vec3(500.0, -100.0, 400.0)), 0.0, 0.01) << name;
+    const Vec3<double> b = make_vec3(500.0, -100.0, 400.0);
+    auto off = [&](const std::vector<double>& joints) {
+      std::vector<double> q(joints.size());
+      for (size_t j = 0; j < q.size(); ++j) q[j] = joint_to_model(r, int(j), joints[j]);
+      const Vec3<double> p = tool_position(r.model, q.data());
+      const double f = std::clamp(dot(p - a, b - a) / dot(b - a, b - a), 0.0, 1.0);
+      return norm(p - (a + f * (b - a)));
+    };
+    std::vector<double> before(rec.via_joints.front().size());
+    {
+      KinematicModel m2(r);
+      before = m2.execute_line("T 500 100 400 50").joints;
+    }
+    for (const auto& via : rec.via_joints) {
+      EXPECT_LT(off(via), 0.01) << name;
+      std::vector<double> mid(via.size());
+      for (size_t j = 0; j < via.size(); ++j) mid[j] = (before[j] + via[j]) / 2;
+      EXPECT_LT(off(mid), 0.1 + 0.01) << name;
+      before = via;
+    }
+  }
+}
