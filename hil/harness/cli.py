@@ -146,6 +146,8 @@ def parser() -> argparse.ArgumentParser:
     fz.add_argument("--timeout", metavar="S", type=float, default=5.0, help="seconds to wait for a reply (default 5)")
     fz.add_argument("--boot-wait", metavar="S", type=float, default=2.0,
                     help="with --port: seconds to wait after opening the port (default 2)")
+    fz.add_argument("--bursts", action="store_true",
+                    help="also send bursts: moves streamed to fill the queue, then a line held until there is room")
     fz.add_argument("--no-progress", action="store_true", help="no progress on stderr")
     return ap
 

@@ -132,6 +132,8 @@ class FuzzLine:
     stop_after: bool = False      # class stop: '!' sent after the reply, mid-move
     start: list[int] | None = None  # class stop: the steps the move starts from
     estimate: bool = False        # P, H: the commanded angles afterwards are taken from the status
+    burst: list[bytes] = field(default_factory=list)  # class burst: lines streamed before this one,
+                                                      # each sent once the one before is answered ok
 
     def text(self) -> str:
         return repr(self.data)[2:-1]
@@ -168,14 +170,19 @@ class Generator:
                ("target", 10), ("args", 5), ("unknown", 6), ("control", 5), ("empty", 2), ("settings", 6),
                ("realtime", 9), ("stop", 1)]
 
-    def __init__(self, robot: Robot, seed: int):
+    # With bursts: a stream of moves that fills the queue, then a line held until there is room
+    # (opt-in: the default classes, and so every seed's lines, stay as they were).
+    BURST_WEIGHT = ("burst", 6)
+
+    def __init__(self, robot: Robot, seed: int, bursts: bool = False):
         self.robot = robot
         self.rng = random.Random(seed)
         self.n = len(robot.motors)
         self.arm = ArmModel(robot)
         self.pending: list[FuzzLine] = []  # lines that must follow (a setting put back)
-        self.classes = [c for c, _ in self.WEIGHTS]
-        self.weights = [w for _, w in self.WEIGHTS]
+        weights = self.WEIGHTS + ([self.BURST_WEIGHT] if bursts else [])
+        self.classes = [c for c, _ in weights]
+        self.weights = [w for _, w in weights]
 
     # -- helpers --
     def _num(self, millis: int) -> str:
@@ -495,7 +502,7 @@ class Generator:
         q, bang = (1, False) if r < 0.65 else (0, True) if r < 0.85 else (1, True)
         if bang:  # at rest, '!' makes the commanded angles those of the steps: before the line runs
             self.arm.rederive(self.arm.steps)
-        inner_cls = rng.choices([c for c in self.classes if c not in ("realtime", "stop", "settings")],
+        inner_cls = rng.choices([c for c, _ in self.WEIGHTS if c not in ("realtime", "stop", "settings")],
                                 [w for c, w in self.WEIGHTS if c not in ("realtime", "stop", "settings")])[0]
         inner = getattr(self, "_" + inner_cls)(inner_cls)
         body = bytearray(inner.data[:-1])
@@ -506,6 +513,25 @@ class Generator:
         inner.data = bytes(body) + b"\n"
         inner.queries, inner.stop = q, bang
         return inner
+
+    def _burst(self, cls: str) -> FuzzLine:
+        """Fourteen short moves of one motor, there and back, streamed as GRBL's senders stream
+        (the next line as soon as the last is answered), so the queue (12 places) fills; then
+        D, held until there is room and answered ok (it was error:255). The arm ends where it
+        began."""
+        arm = self.arm
+        j = self._rj()
+        lo, hi = self._inside(j)
+        d = self.rng.choice([1000, 2000, 3000])
+        if arm.commanded[j] + d > hi:
+            d = -d
+        if not lo <= arm.commanded[j] + d <= hi:
+            return self._valid("valid")
+        lines = [f"L {j} {fmt(d if k % 2 == 0 else -d)}\n".encode() for k in range(14)]
+        target = list(arm.steps) if arm.exact else None
+        wait = self.rng.choice(["D 0.2", "D 0", "D 0.05"])
+        return self._line(cls, wait, "ok", f"14 moves streamed, then {wait} held for room", moves=True,
+                          target=target, burst=lines)
 
     def _stop(self, cls: str) -> FuzzLine:
         """A long M, then '!' mid-move."""
@@ -762,11 +788,11 @@ class Fuzzer:
     trace (None on a real port); `coil_events(rows_from, rows_to)` those rows (trace.TraceRow)."""
 
     def __init__(self, link: Link, robot: Robot, seed: int, *, pins=None, coil_events=None, timeout: float = 5.0,
-                 poll: float = 0.002, progress=None):
+                 poll: float = 0.002, progress=None, bursts: bool = False):
         self.link = link
         self.reader = LineReader(link)
         self.robot = robot
-        self.gen = Generator(robot, seed)
+        self.gen = Generator(robot, seed, bursts)
         self.pins = pins
         self.coil_events = coil_events
         self.timeout = timeout
@@ -853,6 +879,11 @@ class Fuzzer:
         if self.pins:
             ex.pins_before = self.pins()
         try:
+            for sub in line.burst:  # each as soon as the one before is answered (not checked as the line)
+                self.link.write(sub)
+                got = self._until_reply(Exchange(), time.monotonic() + self.timeout)
+                if got != "ok":
+                    ex.received.append(f"(streamed {sub!r} answered {got})")
             self.link.write(line.data)
             deadline = time.monotonic() + self.timeout
             try:
@@ -987,7 +1018,7 @@ def run_fuzz(args, robot: Robot, vnano: str | None, elf: str | None, command_lin
 
         progress = _progress_printer(args.lines) if not args.no_progress else None
         fz = Fuzzer(link, robot, args.seed, pins=pins, coil_events=coil_events, timeout=args.timeout,
-                    progress=progress)
+                    progress=progress, bursts=getattr(args, "bursts", False))
         try:
             fz.start(restore_settings=bool(args.port))
             summary = fz.run(args.lines)

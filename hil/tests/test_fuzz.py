@@ -39,6 +39,24 @@ def _binary(name: str, default: Path) -> str:
 
 # ---- the real firmware on the virtual Nano ----
 
+def test_fuzz_with_bursts_that_fill_the_queue_before_a_held_line(tmp_path):
+    """--bursts: besides the usual classes, moves streamed as GRBL's senders stream (the next
+    line as soon as the last is answered) until the queue is full, then D, held until there is
+    room: answered ok (it was error:255), the arm back where it began, pins = status."""
+    vnano = _binary("ARTICULA_VNANO", SOURCE / "build" / "hil" / "articula-vnano")
+    elf = _binary("ARTICULA_NANO_ELF", SOURCE / "build" / "avr" / "firmware" / "articula-nano.elf")
+    report = tmp_path / "fuzz.json"
+    p = subprocess.run([sys.executable, "-m", "hil.harness", "fuzz", "--lines", "300", "--seed", "5", "--bursts",
+                        "--vnano", vnano, "--elf", elf, "--report", str(report), "--no-progress"],
+                       cwd=SOURCE, capture_output=True, text=True, timeout=300)
+    print(p.stdout, p.stderr)
+    assert p.returncode == 0, p.stdout + p.stderr
+    s = json.loads(report.read_text())["summary"]
+    assert s["by_class"].get("burst", 0) >= 10
+    assert all(v == 0 for v in s["findings"].values()), s["findings"]
+    assert (s["resets"], s["hangs"], s["mismatches"]) == (0, 0, 0)
+
+
 def test_fuzz_on_the_virtual_nano(tmp_path):
     vnano = _binary("ARTICULA_VNANO", SOURCE / "build" / "hil" / "articula-vnano")
     elf = _binary("ARTICULA_NANO_ELF", SOURCE / "build" / "avr" / "firmware" / "articula-nano.elf")
