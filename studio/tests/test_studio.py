@@ -627,6 +627,14 @@ def test_a_straight_line_on_the_page_nano_with_its_predicted_path_drawn(open_pag
     assert abs(pg.hook("a.paths.worstMm") - worst) < 1e-6
     assert f"3 straight lines: the tool within {worst:.2f} mm of them at every step" in pg.page.text_content("#program-status")
     pg.page.screenshot(path=str(SHOTS / "studio-straight-lines.png"))
+    # the IK panel's straight line, no arm connected: a line of the program
+    for box, v in (("#tx", "250"), ("#ty", "-30"), ("#tz", "150")):
+        pg.page.fill(box, v)
+    pg.page.click("#ik-line")
+    assert pg.hook("a.ikLine") == "T 250.0 -30.0 150.0 30"
+    assert pg.page.input_value("#editor").endswith("T 250.0 -30.0 150.0 30\n")
+    assert "Added to the program" in pg.page.text_content("#ik-status")
+    pg.page.fill("#editor", text)
     _connect_page_nano(pg)
     pg.page.check("#drive-arm")
     pg.page.click("#run")
@@ -635,6 +643,12 @@ def test_a_straight_line_on_the_page_nano_with_its_predicted_path_drawn(open_pag
     want = pred[-1]["steps"]
     pg.wait(f"a.arm.status.state === 'Idle' && JSON.stringify(a.arm.status.steps) === '{json.dumps(want, separators=(',', ':'))}'",
             timeout=30000)
+    # with the arm connected, the IK panel's straight line goes to the arm
+    pg.page.fill("#tx", "250")
+    pg.page.click("#ik-line")
+    pg.wait("a.arm.reply && a.arm.reply.line === a.ikLine", timeout=30000)
+    assert pg.hook("a.arm.reply.reply") == "ok" and pg.hook("a.arm.reply.predicted.reply") == "ok"
+    assert "Sent to the arm" in pg.page.text_content("#ik-status")
     assert pg.errors == []
 
 

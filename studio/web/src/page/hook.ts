@@ -12,6 +12,7 @@ export interface Hook {
   // What the view draws of the program: the tool's predicted path (points, every step) and the
   // straight lines asked for (T), with the worst distance of the path from them.
   paths: { points: number; lines: number; worstMm: number };
+  ikLine: string; // the last straight line the IK panel made
   playing: boolean;
   programError: string;
   robotError: string;
@@ -71,7 +72,7 @@ export interface Hook {
 
 export const hook: Hook = {
   ready: false, connected: false, robot: null, pose: null, ik: null, timeline: null, playing: false,
-  paths: { points: 0, lines: 0, worstMm: 0 },
+  paths: { points: 0, lines: 0, worstMm: 0 }, ikLine: "",
   programError: "", robotError: "", lastError: "", teach: "", fps: 0, framesDrawn: 0, firstFrameAt: 0,
   latency: [], ikUpdates: [], messages: 0, targetScreen: [0, 0], armPixels: () => 0,
   camera: () => ({ distance: 0, azimuth: 0 }), viewpoint: () => ({ eye: [], target: [] }),

@@ -122,6 +122,13 @@ function sendLine(): void {
   if (line && link) void link.send(line);
 }
 
+/** One line to the arm, as the Send box sends it; false when no arm is connected. */
+export function sendToArm(line: string): boolean {
+  if (!link) return false;
+  void link.send(line);
+  return true;
+}
+
 /** A program on the arm, line by line (the program panel's Run with "on the arm"). */
 export function runOnArm(text: string): void {
   hook.arm.programLines = [];

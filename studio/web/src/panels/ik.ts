@@ -8,6 +8,14 @@ import { hook } from "../page/hook";
 
 let s: Studio;
 let dragging = false;
+// Where the straight line goes (main.ts connects them; the panels import no panel): the arm
+// when one is connected (true), else a line of the program.
+let lineToArm: (line: string) => boolean = () => false;
+let lineToProgram: (line: string) => void = () => undefined;
+export const setLineTargets = (arm: (line: string) => boolean, program: (line: string) => void) => {
+  lineToArm = arm;
+  lineToProgram = program;
+};
 
 export const isDragging = () => dragging;
 
@@ -37,6 +45,28 @@ export function initIk(studio: Studio): void {
     s.engine.send(m);
   };
   $("solve").onclick = () => solveWith("ik");
+  // The target along a straight line: T x y z speed (docs/protocol.md, "Straight lines").
+  $("ik-line").onclick = () => {
+    const num = (id: string) => parseFloat(($(id) as HTMLInputElement).value);
+    const xyz = [num("tx"), num("ty"), num("tz")];
+    const speed = num("ik-line-speed");
+    const el = $("ik-status");
+    if (xyz.some((v) => !Number.isFinite(v) || Math.abs(v) > 1e6) || !(speed > 0 && speed <= 1000)) {
+      el.textContent = "A straight line needs x, y and z as numbers, and a speed from 1 to 1000 mm/s.";
+      el.className = "status bad";
+      return;
+    }
+    const line = `T ${xyz.map((v) => fmt(v, 1)).join(" ")} ${fmt(speed, 0)}`;
+    hook.ikLine = line;
+    if (lineToArm(line)) {
+      el.textContent = `Sent to the arm: ${line}. It answers with its reply in the arm panel.`;
+      el.className = "status ok";
+    } else {
+      lineToProgram(line);
+      el.textContent = `Added to the program: ${line}. Run plays it; the view draws the path the tool will take.`;
+      el.className = "status";
+    }
+  };
   $("animate-jt").onclick = () => solveWith("jt_animate");
   for (const id of ["tx", "ty", "tz", "troll", "tpitch", "tyaw"]) {
     $(id).addEventListener("keydown", (e) => {

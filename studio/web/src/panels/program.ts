@@ -138,6 +138,13 @@ export function showExamples(names: string[]): void {
 }
 
 /** The program's text and file name (from a file, an example, the blocks, a project). */
+/** A line added at the end of the program (the IK panel's straight line without an arm). */
+export function appendProgramLine(line: string): void {
+  const ed = editor();
+  ed.value = (ed.value && !ed.value.endsWith("\n") ? ed.value + "\n" : ed.value) + line + "\n";
+  ed.dispatchEvent(new Event("input"));
+}
+
 export function setProgram(name: string, text: string): void {
   editor().value = text;
   currentProgram = name;
