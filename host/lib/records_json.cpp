@@ -102,6 +102,13 @@ nlohmann::json run_record_json(const RunRecord& r) {
     e["target_error_mm"] = r.target_error_mm;
     if (!r.ik_status.empty()) e["ik_status"] = r.ik_status;
   }
+  if (!r.via_joints.empty()) {  // T: each segment's end (joint values) and how far along the line
+    e["line_length_mm"] = r.line_length_mm;
+    e["speed_mm_s"] = r.line_speed;
+    nlohmann::json segs = nlohmann::json::array();
+    for (size_t k = 0; k < r.via_joints.size(); ++k) segs.push_back({{"joints", r.via_joints[k]}, {"along_mm", r.via_mm[k]}});
+    e["segments"] = segs;
+  }
   return e;
 }
 

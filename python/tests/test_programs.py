@@ -123,3 +123,17 @@ def test_a_wait_is_a_pause_in_the_prediction():
 
     with pytest.raises(articula.ProgramError, match=r"w\.arm:1: 'D 601': error:8 .* 0 to 600"):
         mk2.predict(articula.Program("D 601\n", "w.arm"))
+
+
+def test_a_straight_line_from_python_on_the_nano_and_on_any_robot():
+    """T through Python: the MK2's prediction has the Nano's segments and the tool's worst
+    distance from the line at any step; the Panda's run cuts the same line through its IK."""
+    line = articula.Program("P 300 -100 150\nT 300 100 150 50\n", "line.arm")
+    rec = articula.Robot.load("mk2plus").predict(line).records[1]
+    assert rec.reply == "ok" and len(rec.segments) > 3
+    assert sum(s.dominant_steps for s in rec.segments) == rec.dominant_steps
+    assert 0 < rec.line_error_mm < 2.5
+    panda = articula.Robot.load("panda").run(articula.Program("T 500 100 400 50\nT 500 -100 400 50\n", "p.arm"))
+    last = panda.records[1]
+    assert last.reply == "ok" and len(last.segments) >= 2
+    assert abs(last.line_length_mm - 200) < 0.01 and last.segments[-1].along_mm == pytest.approx(200, abs=0.01)

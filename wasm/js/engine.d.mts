@@ -58,7 +58,7 @@ export interface TimelineRecord {
   error_mm: number; steps: number[] | null; gripper: number | null;
 }
 export class Timeline {
-  readonly doc: { start_q: number[]; duration: number; format: "protocol" | "robosim";
+  readonly doc: { start_q: number[]; start_tool: number[]; duration: number; format: "protocol" | "robosim";
     summary: { commands: number; rejected: number; worst_error_mm?: number }; records: TimelineRecord[] };
   at(t: number): { t: number; line: number; q: number[]; q_ideal: number[]; steps: number[] | null; error_mm: number; gripper: number | null };
   readonly duration: number;
