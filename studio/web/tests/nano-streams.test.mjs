@@ -14,7 +14,7 @@ import { until } from "./run-records.mjs";
 
 const HEX = process.env.ARTICULA_NANO_HEX || join(REPO, "build/avr/firmware/articula-nano.hex");
 const CLI = process.env.ARTICULA_CLI || join(REPO, "build/host/cli/articula");
-const STREAMS = ["collinear-split", "circle", "square", "lines"];
+const STREAMS = ["collinear-split", "circle", "zigzag", "square", "lines"];
 
 test("streams on avr8js: blended to the predicted steps and span", async (t) => {
   const engine = await nodeEngine();
