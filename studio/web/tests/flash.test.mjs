@@ -26,8 +26,11 @@ before(async () => {
   image = parseHex(firmware);
 });
 
-// The banner, asked of whatever runs on the Nano now (at 115,200 baud, as the firmware talks).
-async function banner(port, seconds = 3) {
+// The banner, asked of whatever runs on the Nano now (at 115,200 baud, as the firmware talks),
+// `I` every 300 ms, for at most `seconds` of the wall's time: it comes within about 1.5 s on a
+// quiet machine, and the wait ends when it does; the emulator runs slower on a busy machine,
+// so the default leaves it ten times that.
+async function banner(port, seconds = 15) {
   await port.open({ baudRate: 115200 });
   const reader = port.readable.getReader();
   const writer = port.writable.getWriter();

@@ -61,6 +61,12 @@ export class NanoPort {
     this.nano.setDtr(false);
   }
 
+  /** The Nano's own time, ms (src/serial.ts's clock(): the flasher's timeouts count in it, so a
+   * busy machine that slows the emulator does not make the Nano look silent). */
+  clock() {
+    return this.nano.seconds * 1000;
+  }
+
   /** The cable pulled: the port fails, the Nano stops (no power). */
   pull() {
     this.plugged = false;
