@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -284,6 +285,32 @@ TEST(Cli, PredictJsonIsOneDocument) {
   }
   EXPECT_NEAR(j["summary"]["total_s"].get<double>(), end, 1e-12);
   EXPECT_EQ(j["summary"]["rejected"], 0);
+}
+
+TEST(Cli, PredictAStraightLineWithThePathAtEveryStep) {
+  // T: the text says how far the tool strays from the line; --json --path gives the tool after
+  // every step of each move, the straight line's worst distance the largest of them.
+  const std::string p = write_temp("line.arm", "P 300 -100 150\nT 300 100 150 50\nT 250 0 100 50\n");
+  const Result text = run("predict mk2plus " + p);
+  EXPECT_EQ(text.code, 1) << text.out;  // the last line is refused
+  EXPECT_NE(text.out.find("the tool at every step stays within"), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find("cannot be reached at"), std::string::npos) << text.out;
+  const Result r = run_stdout("predict mk2plus " + p + " --json --path");
+  const auto j = nlohmann::json::parse(r.out);
+  const auto& line = j["records"][1];
+  ASSERT_EQ(line["reply"], "ok");
+  EXPECT_EQ(line["path_mm"].size(), line["dominant_steps"].get<size_t>());
+  EXPECT_EQ(j["records"][0]["path_mm"].size(), j["records"][0]["dominant_steps"].get<size_t>());
+  EXPECT_GT(line["segments"].size(), 3u);
+  const double ax = 300, ay = -100, bx = 300, by = 100;  // the line, at z 150 (from P's ideal tool)
+  double worst = 0;
+  for (const auto& q : line["path_mm"]) {
+    const double x = q[0], y = q[1], z = q[2];
+    const double t = std::clamp(((x - ax) * (bx - ax) + (y - ay) * (by - ay)) / ((bx - ax) * (bx - ax) + (by - ay) * (by - ay)), 0.0, 1.0);
+    worst = std::max(worst, std::hypot(x - (ax + t * (bx - ax)), y - (ay + t * (by - ay)), z - 150));
+  }
+  EXPECT_NEAR(worst, line["line_error_mm"].get<double>(), 0.01);
+  EXPECT_EQ(run("predict mk2plus " + p + " --path").code, 2);  // --path needs --json
 }
 
 TEST(Cli, PredictCsvHasAHeaderAndOneRowPerCommand) {
