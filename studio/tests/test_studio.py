@@ -647,6 +647,7 @@ def test_a_straight_line_on_the_page_nano_with_its_predicted_path_drawn(open_pag
     pg.page.fill("#tx", "250")
     pg.page.click("#ik-line")
     pg.wait("a.arm.reply && a.arm.reply.line === a.ikLine", timeout=30000)
+    assert pg.hook("a.arm.reply.error || ''") == ""
     assert pg.hook("a.arm.reply.reply") == "ok" and pg.hook("a.arm.reply.predicted.reply") == "ok"
     assert "Sent to the arm" in pg.page.text_content("#ik-status")
     assert pg.errors == []

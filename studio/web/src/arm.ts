@@ -318,7 +318,7 @@ export class ArmLink {
   send(line: string): Promise<void> {
     return this.serial(async () => {
       const predicted = await this.engine.predict(this.history, line);
-      const reply = await this.command(line).catch((e) => {
+      const reply = await this.command(line, predicted.seconds ?? 0).catch((e) => {
         this.emit({ type: "arm_reply", line, reply: null, error: (e as Error).message, predicted });
         return null;
       });
@@ -333,22 +333,25 @@ export class ArmLink {
     return next;
   }
 
-  private async command(line: string): Promise<string> {
+  // `seconds`: the line's predicted duration. A queued line is answered once it has a place,
+  // and a straight line (T) once its last segment has one: a line answered late waits that
+  // much longer for its reply.
+  private async command(line: string, seconds = 0): Promise<string> {
     if (!this.connected) throw new Error("no arm connected: Connect first");
-    const reply = await this.request(line);
+    const reply = await this.request(line, REPLY_MS + seconds * 1000);
     if (reply === "ok") this.history.push(line);
     return reply;
   }
 
   // A line and its reply (ok or error:N), on an open port.
-  private async request(line: string): Promise<string> {
+  private async request(line: string, ms = REPLY_MS): Promise<string> {
     let resolve: (p: Parsed & { line: string }) => void = () => undefined;
     const got = new Promise<Parsed & { line: string }>((r) => (resolve = r));
     const entry = await this.writeLine(line, { onReply: resolve });
-    const r = await Promise.race([got, sleepOn(this.now, REPLY_MS).then(() => null)]);
+    const r = await Promise.race([got, sleepOn(this.now, ms).then(() => null)]);
     if (!r) {
       entry.onReply = undefined; // a late reply is still this line's
-      throw new Error(`no reply to '${line}' within ${REPLY_MS / 1000} s`);
+      throw new Error(`no reply to '${line}' within ${(ms / 1000).toFixed(ms % 1000 ? 1 : 0)} s`);
     }
     return r.line;
   }
@@ -359,7 +362,7 @@ export class ArmLink {
     return this.serial(async () => {
       this.programStop = false; // a STOP from now on ends the wait (and the caller's run)
       const predicted = await this.engine.predict(this.history, line);
-      const reply = await this.command(line);
+      const reply = await this.command(line, predicted.seconds ?? 0);
       this.emit({ type: "arm_reply", line, reply, meaning: this.engine.meaning(reply), predicted });
       if (reply === "ok") await this.idle((3 * (predicted.seconds ?? 0) + 5) * 1000, 0);
       return { reply, predicted, steps: [...this.lastSteps] };
@@ -386,7 +389,7 @@ export class ArmLink {
             return;
           }
           const predicted = await this.engine.predict(this.history, line);
-          const reply = await this.command(line);
+          const reply = await this.command(line, predicted.seconds ?? 0);
           sent++;
           this.emit({ type: "arm_program", line: n, command: line, reply, meaning: this.engine.meaning(reply), predicted });
           if (reply === "ok") {
