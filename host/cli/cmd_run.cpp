@@ -39,7 +39,8 @@ int run(int argc, char** argv) {
            "not (the status and the distance to the target say which); l changes link lengths, h the gripper;\n"
            "s and z have no effect here. Protocol lines take the commanded angles as exact (no steps): L and M\n"
            "are checked against the limits as the controller does (error:9, nothing moves), P is solved by\n"
-           "ik.h (error:10 unless reached). Roll/pitch/yaw are fixed X-Y-Z angles, R = Rz(yaw) Ry(pitch) Rx(roll).\n"
+           "ik.h (error:10 unless reached), T is cut into segments within $7 of its line, each end solved by ik.h\n"
+           "from the last (the segments are in --json). Roll/pitch/yaw are fixed X-Y-Z angles, R = Rz(yaw) Ry(pitch) Rx(roll).\n"
            "`articula predict` shows what whole motor steps and the controller's timing make of the same program.\n"
            "Exit code: 0 every command accepted, 1 some rejected, 2 a usage error (bad robot or program).\n";
     return 0;
