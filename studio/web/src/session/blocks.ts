@@ -79,6 +79,18 @@ export function compile(ops: Op[]): { text: string; robosim: string; lines: stri
     rs.push("m", ...target.map(f3));
     if (ok) q = target;
   };
+  // The tool to a point (P, and T's end): the pose follows when the engine's IK reaches it.
+  const reach = (block: string, xyz: number[]) => {
+    let res: { status: string; q: number[] };
+    try {
+      res = S.robot.ik({ target: xyz, solver: "auto", start: q }) as unknown as { status: string; q: number[] };
+    } catch (e) {
+      if (e instanceof EngineError) throw new BlockProblem(block, e.message);
+      throw e;
+    }
+    if (res.status === "reached") q = res.q;
+    else problems.push({ block, message: `the tool cannot reach (${xyz.map(f3).join(", ")}) mm: it is out of reach or beyond a joint's range` });
+  };
   for (const o of ops) {
     const b = o.block;
     switch (o.op) {
@@ -99,20 +111,11 @@ export function compile(ops: Op[]): { text: string; robosim: string; lines: stri
       case "home":
         move(b, [...r.home]);
         break;
-      case "tool_to": {
+      case "tool_to":
         emit(b, `P ${o.xyz.map(f3).join(" ")}`);
         rs.push("a", ...o.xyz.map(f3));
-        let res: { status: string; q: number[] };
-        try {
-          res = S.robot.ik({ target: o.xyz, solver: "auto", start: q }) as unknown as { status: string; q: number[] };
-        } catch (e) {
-          if (e instanceof EngineError) throw new BlockProblem(b, e.message);
-          throw e;
-        }
-        if (res.status === "reached") q = res.q;
-        else problems.push({ block: b, message: `the tool cannot reach (${o.xyz.map(f3).join(", ")}) mm: it is out of reach or beyond a joint's range` });
+        reach(b, o.xyz);
         break;
-      }
       case "line_to": {
         // The line itself is checked where the arm checks it: the engine's prediction refuses
         // a line it cannot follow, on this block's line, and says where.
@@ -120,15 +123,7 @@ export function compile(ops: Op[]): { text: string; robosim: string; lines: stri
           problems.push({ block: b, message: `the speed is from more than 0 to 1000 mm/s, not ${f3(o.speed)} mm/s` });
         emit(b, `T ${o.xyz.map(f3).join(" ")} ${f3(o.speed)}`);
         rs.push("# (a straight line: RoboSim moves to its end)", "a", ...o.xyz.map(f3));
-        let res: { status: string; q: number[] };
-        try {
-          res = S.robot.ik({ target: o.xyz, solver: "auto", start: q }) as unknown as { status: string; q: number[] };
-        } catch (e) {
-          if (e instanceof EngineError) throw new BlockProblem(b, e.message);
-          throw e;
-        }
-        if (res.status === "reached") q = res.q;
-        else problems.push({ block: b, message: `the tool cannot reach (${o.xyz.map(f3).join(", ")}) mm: it is out of reach or beyond a joint's range` });
+        reach(b, o.xyz);
         break;
       }
       case "gripper":
