@@ -42,14 +42,15 @@ def configure_lines(robot: Path) -> list[str]:
 
 
 def run_streamed(robot: Path, lines: list[str], tmp: Path, positions: list | None = None,
-                 half_step: list[int] | None = None) -> tuple[list[str], list[int]]:
+                 half_step: list[int] | None = None, stop_at: list[float] | None = None) -> tuple[list[str], list[int]]:
     """The lines through the virtual Nano, paced; its replies and the ticks of its steps (one
     a dominant step: the coil events of one deadline together). `positions`, when given, gets
     every motor's count after each of those steps (`half_step`: the motors counted in half
-    steps)."""
+    steps). `stop_at`: a '!' at each of these times (seconds from the first line's arrival)."""
     trace = tmp / "trace.csv"
     setup = configure_lines(robot)
     extra = [a for m in (half_step or []) for a in ("--half-step", str(m))]
+    extra += [a for t in (stop_at or []) for a in ("--stop-at", repr(t))]
     p = subprocess.run([str(VNANO), "--elf", str(ELF), "--stdio", "--paced", "--quiet", "--trace-steps", str(trace),
                         *extra], input="".join(l + "\n" for l in setup + lines), capture_output=True, text=True,
                        timeout=300)
@@ -74,8 +75,10 @@ def run_streamed(robot: Path, lines: list[str], tmp: Path, positions: list | Non
     return replies[len(setup):], [c // TICKS_PER_CYCLE for c in cycles]
 
 
-def predicted(robot: Path, plan: Path, settings: str = "", queue: int = 0) -> dict:
+def predicted(robot: Path, plan: Path, settings: str = "", queue: int = 0, stop_at: list[float] | None = None) -> dict:
     cmd = [str(CLI), "predict", str(robot), str(plan), "--sender", "stream", "--json"]
+    if stop_at:
+        cmd += ["--stop-at", ",".join(repr(t) for t in stop_at)]
     if settings:
         cmd += ["--settings", settings]
     if queue:

@@ -58,7 +58,10 @@ const char kHelp[] =
     "  --trace-steps FILE   CSV of every coil event: cycle,motor,steps,pattern,event,time_us\n"
     "  --paced              lines go in one at a time: each starts on the wire when the reply to\n"
     "                       the one before has been sent whole (a host that waits for each reply,\n"
-    "                       taking no time itself: `articula predict --sender stream`)\n"
+    "                       taking no time itself: `articula predict --sender stream`); a line\n"
+    "                       of realtime bytes only (\"!\") goes out alone, without its LF\n"
+    "  --stop-at S          send '!' S seconds after the first step, whatever the lines are\n"
+    "                       doing (repeat it for more; `articula predict --stop-at`)\n"
     "  --realtime           never run ahead of the wall clock (for a person at a terminal)\n"
     "  --quiet              no summary on stderr at exit\n"
     "  -h, --help           this text\n"
@@ -126,6 +129,12 @@ Args parse_args(int argc, char** argv) {
       a.stdio = true;
     } else if (arg == "--paced") {
       a.config.paced = true;
+    } else if (arg == "--stop-at") {
+      double v = 0;
+      if (!parse_double(need("--stop-at"), v) || v < 0 ||
+          (!a.config.stop_at_s.empty() && v < a.config.stop_at_s.back()))
+        usage_error("--stop-at: seconds, 0 or more, each no earlier than the one before");
+      a.config.stop_at_s.push_back(v);
     } else if (arg == "--report") {
       a.report = need("--report");
     } else if (arg == "--seconds") {

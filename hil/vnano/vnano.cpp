@@ -91,6 +91,7 @@ VirtualNano::~VirtualNano() {
 bool VirtualNano::load(const Config& config, std::string& error) {
   config_ = config;
   paced_ = config.paced;
+  stop_at_s_ = config.stop_at_s;
   if (!syms_.load(config.elf, error)) return false;
   avr_global_logger_set(vnano_logger);  // before simavr's loader talks (stdout may be the serial line)
   elf_firmware_t fw;
@@ -254,7 +255,7 @@ void VirtualNano::host_send(const char* data, size_t n) {
   for (size_t i = 0; i < n; ++i) {
     partial_in_.push_back(data[i]);
     if (data[i] != '\n') continue;
-    // Realtime bytes and blank lines get no reply: they go with the next line.
+    // Each line held until the ones before it are answered (release_line).
     held_lines_.push_back(partial_in_);
     partial_in_.clear();
   }
@@ -266,12 +267,14 @@ void VirtualNano::release_line() {
   while (!held_lines_.empty() && replies_sent_ >= lines_released_) {
     const std::string line = held_lines_.front();
     held_lines_.pop_front();
-    for (char c : line) host_in_.push_back(uint8_t(c));
-    // Does the firmware answer it? Every line but one of realtime bytes and blanks only (a
-    // comment is answered ok).
+    // A line of realtime bytes (and blanks) only is how a stream file writes them: they go
+    // out alone, without the LF (docs/protocol.md, "Realtime bytes"), and get no reply.
+    // Every other line is answered (a blank one error:1, a comment ok).
     bool answered = false;
     for (char c : line)
       if (c != '?' && c != '!' && c != ' ' && c != '\t' && c != '\r' && c != '\n') answered = true;
+    for (char c : line)
+      if (answered || c == '?' || c == '!') host_in_.push_back(uint8_t(c));
     if (answered) ++lines_released_;
     // (an unanswered line leaves the condition true: the next one goes behind it)
   }
@@ -284,6 +287,26 @@ avr_cycle_count_t reply_sent_cb(avr_t*, avr_cycle_count_t, void* p) {
   return 0;
 }
 }  // namespace
+
+avr_cycle_count_t stop_due_cb(avr_t*, avr_cycle_count_t, void* p) {
+  static_cast<VirtualNano*>(p)->on_stop_due();
+  return 0;
+}
+
+// The next timed '!': on the wire so that it is in at its time (one frame after it starts).
+void VirtualNano::schedule_stop() {
+  if (stops_sent_ >= stop_at_s_.size()) return;
+  const uint64_t in = first_step_cycle_ + uint64_t(std::llround(stop_at_s_[stops_sent_] * freq_));
+  const uint64_t start = in > uart_->cycles_per_byte ? in - uart_->cycles_per_byte : 0;
+  avr_cycle_timer_register(avr_, start > avr_->cycle ? start - avr_->cycle : 1, stop_due_cb, this);
+}
+
+void VirtualNano::on_stop_due() {
+  ++stops_sent_;
+  host_in_.push_front('!');  // (behind a byte already on the wire, if any)
+  try_inject();
+  schedule_stop();
+}
 
 void VirtualNano::on_reply_sent() {
   ++replies_sent_;
@@ -331,6 +354,7 @@ void VirtualNano::try_inject() {
   ++bytes_in_;
   rx_outstanding_ = true;
   rx_arrival_ = avr_->cycle + uart_->cycles_per_byte;
+
   avr_raise_irq(uart_in_, b);
   injecting_ = false;
 }
@@ -446,7 +470,13 @@ void VirtualNano::step_event(Motor& m, const CoilChange& c, uint8_t pattern) {
   m.last_epoch = epoch_;
 
   uint64_t deadline = 0;
-  if (in_vector(kVecTimer1CompA) && step_deadline(now, deadline)) {
+  const bool on_deadline = in_vector(kVecTimer1CompA) && step_deadline(now, deadline);
+  if (!first_step_seen_) {  // the timed stops count from the step's deadline
+    first_step_seen_ = true;
+    first_step_cycle_ = on_deadline ? deadline : now;
+    schedule_stop();
+  }
+  if (on_deadline) {
     const double delay = us(double(now - deadline));
     m.delay_us.add(delay);
     if (same_run && m.have_last_delay) {

@@ -51,6 +51,9 @@ struct Config {
   // to the one before (ok or error:N) has been sent whole, as a host that waits for each
   // reply with no time of its own would send them (the prediction's `stream` sender).
   bool paced = false;
+  // A '!' at each of these times, seconds after the first step (a coil change), sent
+  // whatever the lines are doing (`articula predict --stop-at`). Increasing.
+  std::vector<double> stop_at_s;
 };
 
 class VirtualNano {
@@ -102,8 +105,11 @@ class VirtualNano {
   void on_vector_running(int vector, bool running);
   // Paced input: the reply's LF is off the wire, the next line may go.
   void on_reply_sent();
+  // A timed '!' is due (Config::stop_at_s).
+  void on_stop_due();
 
  private:
+  void schedule_stop();
   // An interrupts-off stretch ends now: keep it if it is the longest so far.
   void end_irq_off();
   struct Motor {
@@ -182,6 +188,10 @@ class VirtualNano {
   std::deque<std::string> held_lines_;
   std::string partial_in_, line_out_;
   uint64_t lines_released_ = 0, replies_sent_ = 0;
+  std::vector<double> stop_at_s_;
+  size_t stops_sent_ = 0;
+  bool first_step_seen_ = false;
+  uint64_t first_step_cycle_ = 0;  // the first coil step
   bool paced_ = false;
   void release_line();
   std::string out_;

@@ -40,7 +40,7 @@ int run(int argc, char** argv) {
                         "What the real arm will do with a program, step-exact: for each command the motor steps, "
                         "the joint values they give, the ideal and the quantized tool position and their "
                         "difference, and the timing of the controller's queue.");
-  opts.custom_help("ROBOT PROGRAM [--json [--path]|--csv] [--settings n=v,...] [--sender rest|stream] [-o FILE]");
+  opts.custom_help("ROBOT PROGRAM [--json [--path]|--csv] [--settings n=v,...] [--sender rest|stream] [--stop-at S,...] [-o FILE]");
   opts.add_options()("json", "one JSON document")("csv", "CSV: a header and one row per command")(
       "path", "with --json: each move's tool position after every step (path_mm), as the arm spreads its steps")(
       "settings", "the controller's settings at power-up, e.g. \"0=800,1=3000\" ($0 max rate, $1 accel, ...)",
@@ -53,7 +53,11 @@ int run(int argc, char** argv) {
       "bits-per-byte", "bits a byte takes on the line (8N1: 10), at the Nano's 117,647 baud",
       cxxopts::value<int>()->default_value("10"))(
       "queue", "the motion queue's places (the firmware's 12): a larger one shows what a longer look-ahead gives",
-      cxxopts::value<int>()->default_value(std::to_string(kQueueSize)))("o,output", "write to FILE instead of standard output",
+      cxxopts::value<int>()->default_value(std::to_string(kQueueSize)))(
+      "stop-at",
+      "send '!' at these times, seconds after the arm's first step, e.g. 0.5 or 0.5,2 (a student pressing "
+      "STOP): where the arm comes to rest and what it never does",
+      cxxopts::value<std::string>())("o,output", "write to FILE instead of standard output",
                                      cxxopts::value<std::string>())("h,help", "this help")(
       "robot", "robot file or shipped robot name", cxxopts::value<std::string>())(
       "program", "program file: RoboSim (.robosim) or protocol lines (.arm)", cxxopts::value<std::string>());
@@ -74,6 +78,10 @@ int run(int argc, char** argv) {
            "arrival. With --sender rest every move runs from rest to rest (profile_duration_ticks of its dominant\n"
            "motor's steps), G and S take the settle time, actions back to back. With stream, queued\n"
            "moves blend as the firmware's planner blends them ($6, docs/protocol.md \"Timing of moves\").\n"
+           "A line holding only '!' is the stop, sent alone when the line before it is answered; --stop-at\n"
+           "sends it at a time instead. The arm decelerates along its path; the lines after it start from the\n"
+           "steps it reached. Where that is depends on when the '!' arrives, to the step: the Nano's own time\n"
+           "to answer a line is not modelled (docs/protocol.md \"Timing of moves\").\n"
            "Exit code: 0 every command accepted, 1 some rejected, 2 a usage error (bad robot or program).\n";
     return 0;
   }
@@ -96,6 +104,21 @@ int run(int argc, char** argv) {
   const int places = args["queue"].as<int>();
   if (places < 1 || places > 100000) throw UsageError("--queue " + std::to_string(places) + ": expected 1 to 100000");
   sender.queue_size = uint32_t(places);
+  if (args.count("stop-at")) {
+    const std::string text = args["stop-at"].as<std::string>();
+    std::stringstream in(text);
+    std::string item;
+    double last = -1;
+    while (std::getline(in, item, ',')) {
+      char* end = nullptr;
+      const double v = std::strtod(item.c_str(), &end);
+      if (item.empty() || *end != '\0' || !(v >= 0) || v > 1e6 || v < last)
+        throw UsageError("--stop-at " + text + ": '" + item +
+                         "' is not a time in seconds (0 or more, in increasing order, comma-separated)");
+      last = v;
+      sender.stop_ticks.push_back(uint64_t(std::llround(v * host::kControllerTickHz)));
+    }
+  }
   if (args.count("path") && output_format(args) != "json") throw UsageError("--path needs --json");
   const host::Prediction p = host::predict_program(robot, program, settings, sender, args.count("path") > 0);
 
@@ -118,7 +141,7 @@ int run(int argc, char** argv) {
     out << '\n';
     for (const auto& r : p.records) {
       std::vector<std::string> row = {std::to_string(r.line), command_text(r.text), r.protocol,
-                                      r.reply == kOk ? "ok" : "error", std::to_string(int(r.reply))};
+                                      r.stop ? "none" : r.reply == kOk ? "ok" : "error", std::to_string(int(r.reply))};
       for (int i = 0; i < n; ++i) row.push_back(std::to_string(r.steps[size_t(i)]));
       for (double q : r.joints) row.push_back(fmt_g(q));
       for (const auto& v : {r.tool_ideal, r.tool_quantized})
@@ -146,7 +169,8 @@ int run(int argc, char** argv) {
     Table t(head);
     std::vector<std::string> notes;
     for (const auto& r : p.records) {
-      std::vector<std::string> row = {std::to_string(r.line), command_text(r.text), host::reply_text(r.reply)};
+      std::vector<std::string> row = {std::to_string(r.line), command_text(r.text),
+                                      r.stop ? "-" : host::reply_text(r.reply)};
       if (robosim) row.push_back(r.protocol);
       for (const std::string& c : {joined(r.steps), joined(r.joints, 4), joined(r.tool_ideal), joined(r.tool_quantized),
                                    fmt(r.error_mm), fmt(r.seconds()), fmt(r.start_s()), fmt(r.end_s())})

@@ -202,18 +202,24 @@ PredictRecord ControllerModel::begin(int line, const std::string& text) const {
 // The state after the statement: steps, the angles and joint values they give, the ideal
 // and the quantized tool position.
 void ControllerModel::finish(PredictRecord& r) {
+  describe(r, planned_);
+  r.gripper_percent = gripper_percent_;
+  if (!r.queued) r.start_tick = r.end_tick = clock_;
+}
+
+void ControllerModel::describe(PredictRecord& r, const MotorState<kMaxJoints>& state) const {
   const auto& a = robot_.actuation;
   const int nj = robot_.model.num_joints;
   int32_t physical[kMaxJoints];
   double u_ideal[kMaxJoints], q_ideal[kMaxJoints], q_real[kMaxJoints];
-  r.steps.assign(planned_.steps, planned_.steps + n_);
-  r.commanded.assign(planned_.commanded, planned_.commanded + n_);
+  r.steps.assign(state.steps, state.steps + n_);
+  r.commanded.assign(state.commanded, state.commanded + n_);
   r.actuator_deg.clear();
   for (int i = 0; i < n_; ++i) {
-    physical[i] = planned_.steps[i] + offset_[i];
+    physical[i] = state.steps[i] + offset_[i];
     r.actuator_deg.push_back(steps_to_degrees<double>(a.motors[i], physical[i]));
     // The commanded angle where the arm really is: shifted by what Z declared.
-    u_ideal[i] = deg_to_rad(planned_.commanded[i] / 1000.0 +
+    u_ideal[i] = deg_to_rad(state.commanded[i] / 1000.0 +
                             a.motors[i].direction * offset_[i] * degrees_per_step<double>(a.motors[i]));
   }
   joints_from_actuators(q_ideal, a, u_ideal);
@@ -227,9 +233,24 @@ void ControllerModel::finish(PredictRecord& r) {
   r.tool_ideal = tool_position(robot_.model, q_ideal);
   r.tool_quantized = tool_position(robot_.model, q_real);
   r.error_mm = norm(r.tool_quantized - r.tool_ideal);
-  r.gripper_percent = gripper_percent_;
   if (r.has_target) r.target_error_mm = norm(r.tool_quantized - r.target);
-  if (!r.queued) r.start_tick = r.end_tick = clock_;
+}
+
+void ControllerModel::stopped_at(const std::vector<int32_t>& steps, int gripper_percent) {
+  for (int i = 0; i < n_; ++i) {
+    planned_.steps[i] = steps[size_t(i)];
+    planned_.commanded[i] = steps_to_millideg(robot_.actuation.motors[i], steps[size_t(i)]);
+  }
+  gripper_percent_ = gripper_percent;
+}
+
+void ControllerModel::restate(PredictRecord& r) const {
+  MotorState<kMaxJoints> s = planned_;
+  for (int i = 0; i < n_; ++i) {
+    s.steps[i] = r.steps[size_t(i)];
+    s.commanded[i] = steps_to_millideg(robot_.actuation.motors[i], s.steps[i]);
+  }
+  describe(r, s);
 }
 
 // queue_command()'s tail: an action that moves goes into the queue and runs after the ones
@@ -522,6 +543,13 @@ Status ControllerModel::run_command(PredictRecord& r, const std::string& text) {
 
 PredictRecord ControllerModel::execute_line(const std::string& line, int line_number) {
   PredictRecord r = begin(line_number, line);
+  if (is_stop_line(line)) {  // the realtime stop: schedule() replays it, predict_program() goes on from where it stops
+    r.stop = true;
+    add_note(r, "stops the arm: it decelerates along its path to rest and empties its queue; the lines after it "
+                "wait for rest and start from the steps reached (never answered)");
+    finish(r);
+    return r;
+  }
   // A rejected line changes nothing: run it on a copy of the whole model.
   ControllerModel saved = *this;
   r.reply = run_command(r, line);
@@ -670,18 +698,69 @@ Prediction predict_program(const Robot& robot, const Program& program, const Con
   p.robot = robot.name;
   p.program = program.source;
   p.settings = settings;
-  for (const Statement& st : program.statements) {
-    p.records.push_back(model.execute(st));
-    const PredictRecord& r = p.records.back();
-    if (r.reply != kOk) ++p.rejected;
-    p.worst_error_mm = std::max(p.worst_error_mm, r.error_mm);
+  uint64_t first_step = 0;
+  std::vector<uint64_t> stop_ticks;
+  if (!sender.stop_ticks.empty()) {  // after the first step: the program without them says when that is
+    SenderModel plain = sender;
+    plain.stop_ticks.clear();
+    Prediction q = predict_program(robot, program, settings, plain, false);
+    schedule(q, plain);
+    first_step = q.first_step_tick;
+    for (uint64_t t : sender.stop_ticks) stop_ticks.push_back(first_step + t);
   }
+  bool stops = false;
+  // Where the arm comes to rest after a '!' depends on when it arrives: the lines so far are
+  // scheduled to find out, and the model goes on from there.
+  auto stop_here = [&](PredictRecord r) {
+    Prediction upto = p;
+    upto.records.push_back(r);
+    schedule(upto, sender);
+    const PredictRecord& s = upto.records.back();
+    model.stopped_at(s.steps, s.gripper_percent);
+    const int64_t at = r.stop_at;
+    r = model.execute_line("!", r.line);
+    r.stop_at = at;
+    if (at >= 0)
+      append_note(r.note, "sent " + number_text(double(uint64_t(at) - first_step) / kControllerTickHz) +
+                              " s after the first step, whatever the lines are doing");
+    p.records.push_back(r);
+    stops = true;
+  };
+  size_t timed = 0;  // the sender's timed stops placed so far
+  auto timed_stop = [&](int line) {
+    PredictRecord r = model.execute_line("!", line);
+    r.stop_at = int64_t(stop_ticks[timed++]);
+    stop_here(r);
+  };
+  for (const Statement& st : program.statements) {
+    if (timed < stop_ticks.size()) {
+      // A timed '!' goes before the first line that arrives after it.
+      ControllerModel before = model;
+      Prediction upto = p;
+      upto.records.push_back(model.execute(st));
+      schedule(upto, sender);
+      model = before;
+      while (timed < stop_ticks.size() && stop_ticks[timed] < upto.records.back().arrive_tick)
+        timed_stop(st.line);
+    }
+    PredictRecord r = model.execute(st);
+    if (r.stop)
+      stop_here(r);
+    else
+      p.records.push_back(r);
+  }
+  while (timed < stop_ticks.size()) timed_stop(p.records.empty() ? 0 : p.records.back().line);
   p.total_ticks = model.clock_ticks();
   // Rest to rest, each action's own ticks are its time, back to back; a T's segments blend,
   // and their time is the planner's, as it is for every action of a stream.
   bool segments = false;
   for (const PredictRecord& r : p.records) segments = segments || !r.segments.empty();
-  if (sender.kind != SenderModel::kRest || segments) schedule(p, sender);
+  if (sender.kind != SenderModel::kRest || segments || stops) schedule(p, sender);
+  for (PredictRecord& r : p.records) {
+    if (r.cut) model.restate(r);  // (the state a '!' left them in)
+    if (r.reply != kOk) ++p.rejected;
+    p.worst_error_mm = std::max(p.worst_error_mm, r.error_mm);
+  }
   return p;
 }
 

@@ -113,6 +113,15 @@ struct PredictRecord {
   uint32_t junction = 0;             // $6 when it was queued
   bool waits_for_rest = false;       // Z, $n=v: answered only at rest
   bool queued = false;
+  // '!' alone on a line: the realtime stop (never answered). The arm decelerates along its
+  // path to rest and empties its queue (schedule() replays it at the tick it arrives); the
+  // lines after it wait for rest and start from the steps reached.
+  bool stop = false;
+  int64_t stop_at = -1;  // a '!' the sender sends at this tick (from SenderModel::stop_ticks), not after a reply
+  uint64_t arrive_tick = 0;  // when the line was in (schedule())
+  // A '!' cut this action short or emptied it from the queue: its steps, delta_steps,
+  // dominant_steps and segments are what it really made (schedule()).
+  bool cut = false;
   // T: its segments, each a move of the queue (the record's delta_steps are their sum), and
   // the worst distance of the tool, at every step the motors make, from the straight line.
   struct Segment {
@@ -156,6 +165,12 @@ class ControllerModel {
   // Whether the firmware could solve P for this robot (a yaw-pitch-pitch arm with identity
   // or parallelogram coupling): the firmware's robot::has_ik.
   bool has_point_ik() const { return has_ik_; }
+  // After a '!' (controller.cpp rederive_planned): the arm at rest at `steps`, the commanded
+  // angles theirs, the gripper at `gripper_percent` (the last gripper action that ran).
+  void stopped_at(const std::vector<int32_t>& steps, int gripper_percent);
+  // A record's state fields (angles, joints, tools) for the steps it holds, the commanded
+  // angles those of the steps: a record a '!' cut short.
+  void restate(PredictRecord& r) const;
   // The home pose as the firmware computes it (float), millidegrees, and its steps.
   const std::vector<Millideg>& home_commanded() const { return home_; }
   const std::vector<int32_t>& home_steps() const { return home_steps_; }
@@ -163,6 +178,7 @@ class ControllerModel {
  private:
   PredictRecord begin(int line, const std::string& text) const;
   void finish(PredictRecord& r);
+  void describe(PredictRecord& r, const MotorState<kMaxJoints>& state) const;
   Status run_command(PredictRecord& r, const std::string& line);
   Status queue_move(PredictRecord& r, const MotorState<kMaxJoints>& next, bool home, uint64_t extra_ticks = 0);
   void queue_pause(PredictRecord& r, uint64_t ms);
@@ -209,6 +225,11 @@ struct SenderModel {
   Kind kind = kRest;
   uint32_t bits_per_byte = 10;
   uint32_t queue_size = kQueueSize;  // the firmware's; larger: what a longer look-ahead would give
+  // A '!' at each of these ticks after the arm's first step, whatever the lines are doing:
+  // a student pressing STOP. A line still waiting to be answered then is answered error:15
+  // (Stopped) and does nothing. (From the first step, not the first line: the Nano's own time
+  // to read the first lines is not modelled, the steps' times from there on are.)
+  std::vector<uint64_t> stop_ticks;
 };
 const char* sender_name(SenderModel::Kind k);
 
@@ -220,6 +241,7 @@ struct Prediction {
   int rejected = 0;
   double worst_error_mm = 0;  // largest error_mm of the accepted commands
   uint64_t total_ticks = 0;   // end of the last action
+  uint64_t first_step_tick = 0;  // the first step any motor makes (schedule(); 0 if none)
   double total_s() const { return double(total_ticks) / kControllerTickHz; }
 };
 

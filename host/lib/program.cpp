@@ -185,7 +185,7 @@ Program parse_protocol_program(const std::string& text, const std::string& name,
     if (t.size() > kMaxLineLength)
       throw ProgramError(name, n, "line longer than " + std::to_string(kMaxLineLength) + " bytes (error:7)");
     Command cmd;
-    const Status st = parse_line(cmd, t.data(), uint8_t(t.size()), uint8_t(joints));
+    const Status st = is_stop_line(t) ? kOk : parse_line(cmd, t.data(), uint8_t(t.size()), uint8_t(joints));
     if (st != kOk) {
       const std::string why = explain_line_error(t, st, robot);
       throw ProgramError(name, n, "'" + t + "': error:" + std::to_string(int(st)) + " " + status_text(st) +
@@ -212,6 +212,8 @@ Program parse_program(const std::string& text, const std::string& name, const Ro
   return detect_format(text, name) == Program::Format::kRoboSim ? parse_robosim(text, name, robot)
                                                                  : parse_protocol_program(text, name, robot);
 }
+
+bool is_stop_line(const std::string& text) { return trim_blanks(text) == "!"; }
 
 Status parse_protocol_line(Command& cmd, const std::string& text, int num_joints) {
   if (text.size() > 255) return kLineTooLong;

@@ -97,6 +97,9 @@ std::vector<Comment> program_comments(const std::string& text);
 // one protocol line through the shared codec as the controller reads it, for a robot with
 // `num_joints` joint variables (kLineTooLong beyond 255 bytes);
 Status parse_protocol_line(Command& cmd, const std::string& text, int num_joints);
+// Whether a protocol program's line is the realtime stop alone ("!", blanks around it): a
+// stream may hold one where its sender sends '!' (docs/protocol.md, "Realtime bytes").
+bool is_stop_line(const std::string& text);
 // a number as messages and notes print it (ostream's default: "12.5", "0.001");
 std::string number_text(double v);
 // text without leading and trailing blanks;

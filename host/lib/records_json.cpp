@@ -26,6 +26,12 @@ std::string reply_text(Status s) { return s == kOk ? "ok" : "error:" + std::to_s
 
 nlohmann::json predict_record_json(const PredictRecord& r) {
   nlohmann::json j = reply_json(r.line, r.text, r.reply);
+  if (r.stop) {  // '!': never answered
+    j["reply"] = "none";
+    j["stop"] = true;
+  }
+  if (r.cut) j["cut"] = true;
+  if (r.stop_at >= 0) j["stop_at_tick"] = r.stop_at;
   if (!r.protocol.empty()) j["protocol"] = r.protocol;
   if (!r.note.empty()) j["note"] = r.note;
   j["steps"] = r.steps;
@@ -85,6 +91,7 @@ nlohmann::json prediction_json(const Robot& robot, const Program& program, const
                   {"rejected", p.rejected},
                   {"worst_error_mm", p.worst_error_mm},
                   {"total_ticks", p.total_ticks},
+                  {"first_step_tick", p.first_step_tick},
                   {"total_s", p.total_s()}};
   return j;
 }

@@ -516,3 +516,39 @@ TEST(Cli, ConfigureRefusesWithTheReason) {
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.out.find("cannot open /nonexistent/tty"), std::string::npos) << r.out;
 }
+
+TEST(Cli, PredictAStopSentWhileTheArmMoves) {
+  // A 60 degree turn as 20 moves, streamed; '!' 0.1 s after the first step (near the top of the
+  // ramp): the arm decelerates along its path, so it ends past where it was, short of 60
+  // degrees; the line waiting for room then is answered error:15, the queued ones never run,
+  // and the lines after it start from where the arm came to rest.
+  std::string text = "M 0 90 0\n";
+  for (int a = 3; a <= 60; a += 3) text += "M " + std::to_string(a) + " 90 0\n";
+  text += "M 0 90 0\n";
+  const std::string p = write_temp("stop.arm", text);
+  const Result r = run_stdout("predict mk2plus " + p + " --sender stream --stop-at 0.1 --json");
+  const auto j = nlohmann::json::parse(r.out);
+  const auto& recs = j["records"];
+  size_t stop = 0, stopped = 0, dropped = 0;
+  for (size_t k = 0; k < recs.size(); ++k) {
+    if (recs[k].value("stop", false)) stop = k;
+    if (recs[k]["code"] == 15) ++stopped;
+    if (recs[k].value("cut", false) && recs[k]["dominant_steps"] == 0) ++dropped;
+  }
+  ASSERT_GT(stop, 0u) << r.out;
+  EXPECT_EQ(recs[stop]["reply"], "none");
+  EXPECT_EQ(stopped, 1u);  // the line that waited for room
+  EXPECT_GT(dropped, 5u);
+  const int rest = recs[stop]["steps"][0];
+  EXPECT_GT(rest, 20);
+  EXPECT_LT(rest, 189);  // 60 degrees is 189 steps
+  EXPECT_EQ(recs[stop]["stop_at_tick"].get<uint64_t>(), j["summary"]["first_step_tick"].get<uint64_t>() + 200000);
+  ASSERT_LT(stop + 1, recs.size());
+  const auto& next = recs[stop + 1];  // read once the arm is at rest: from the steps reached
+  EXPECT_EQ(next["dominant_steps"].get<int>(), std::abs(next["steps"][0].get<int>() - rest));
+  EXPECT_EQ(recs[recs.size() - 1]["steps"][0], 0);
+  // A bad time is a usage error naming it.
+  const Result bad = run("predict mk2plus " + p + " --sender stream --stop-at 0.5,x");
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_NE(bad.out.find("'x' is not a time"), std::string::npos) << bad.out;
+}
