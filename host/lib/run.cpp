@@ -349,6 +349,12 @@ RunRecord KinematicModel::execute_line(const std::string& line, int line_number)
   RunRecord r;
   r.line = line_number;
   r.text = line;
+  if (is_stop_line(line)) {  // each line runs to its end here: a '!' between two finds the arm at rest
+    add_note(r, "stops the arm: between lines, at rest here, nothing changes (articula predict --sender stream "
+                "says where a stream stops)");
+    finish(r);
+    return r;
+  }
   KinematicModel saved = *this;
   r.reply = run_command(r, line);
   if (r.reply != kOk) *this = saved;  // a rejected line changes nothing

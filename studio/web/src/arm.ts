@@ -338,6 +338,12 @@ export class ArmLink {
   // much longer for its reply.
   private async command(line: string, seconds = 0): Promise<string> {
     if (!this.connected) throw new Error("no arm connected: Connect first");
+    if (line.trim() === "!") {
+      // A program's stop: the byte alone, no LF, and no reply to wait for (docs/protocol.md);
+      // the next line is held by the arm until it is at rest.
+      await this.write("!");
+      return "ok";
+    }
     const reply = await this.request(line, REPLY_MS + seconds * 1000);
     if (reply === "ok") this.history.push(line);
     return reply;
