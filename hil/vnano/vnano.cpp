@@ -289,23 +289,29 @@ avr_cycle_count_t reply_sent_cb(avr_t*, avr_cycle_count_t, void* p) {
 }  // namespace
 
 avr_cycle_count_t stop_due_cb(avr_t*, avr_cycle_count_t, void* p) {
-  static_cast<VirtualNano*>(p)->on_stop_due();
-  return 0;
+  return static_cast<VirtualNano*>(p)->on_stop_due();
 }
 
-// The next timed '!': on the wire so that it is in at its time (one frame after it starts).
-void VirtualNano::schedule_stop() {
-  if (stops_sent_ >= stop_at_s_.size()) return;
+// When the next timed '!' goes on the wire, so that it is in at its time (one frame after it
+// starts); 0 when none is left.
+uint64_t VirtualNano::next_stop_cycle() const {
+  if (stops_sent_ >= stop_at_s_.size()) return 0;
   const uint64_t in = first_step_cycle_ + uint64_t(std::llround(stop_at_s_[stops_sent_] * freq_));
   const uint64_t start = in > uart_->cycles_per_byte ? in - uart_->cycles_per_byte : 0;
-  avr_cycle_timer_register(avr_, start > avr_->cycle ? start - avr_->cycle : 1, stop_due_cb, this);
+  return std::max(start, avr_->cycle + 1);
 }
 
-void VirtualNano::on_stop_due() {
+void VirtualNano::schedule_stop() {
+  const uint64_t at = next_stop_cycle();
+  if (at != 0) avr_cycle_timer_register(avr_, at - avr_->cycle, stop_due_cb, this);
+}
+
+// (simavr: the callback's answer is the cycle it is due again, 0 for never)
+uint64_t VirtualNano::on_stop_due() {
   ++stops_sent_;
   host_in_.push_front('!');  // (behind a byte already on the wire, if any)
   try_inject();
-  schedule_stop();
+  return next_stop_cycle();
 }
 
 void VirtualNano::on_reply_sent() {

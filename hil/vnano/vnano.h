@@ -105,11 +105,12 @@ class VirtualNano {
   void on_vector_running(int vector, bool running);
   // Paced input: the reply's LF is off the wire, the next line may go.
   void on_reply_sent();
-  // A timed '!' is due (Config::stop_at_s).
-  void on_stop_due();
+  // A timed '!' is due (Config::stop_at_s); the cycle the next one is, 0 if none.
+  uint64_t on_stop_due();
 
  private:
   void schedule_stop();
+  uint64_t next_stop_cycle() const;
   // An interrupts-off stretch ends now: keep it if it is the longest so far.
   void end_irq_off();
   struct Motor {

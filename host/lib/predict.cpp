@@ -709,6 +709,7 @@ Prediction predict_program(const Robot& robot, const Program& program, const Con
     for (uint64_t t : sender.stop_ticks) stop_ticks.push_back(first_step + t);
   }
   bool stops = false;
+  std::optional<ControllerModel> before_last;  // the model before the last line
   // Where the arm comes to rest after a '!' depends on when it arrives: the lines so far are
   // scheduled to find out, and the model goes on from there.
   auto stop_here = [&](PredictRecord r) {
@@ -716,6 +717,12 @@ Prediction predict_program(const Robot& robot, const Program& program, const Con
     upto.records.push_back(r);
     schedule(upto, sender);
     const PredictRecord& s = upto.records.back();
+    // The line still waiting when a timed '!' came (the last: the sender waits for each
+    // reply) was answered error:15: it changed nothing.
+    if (before_last && !p.records.empty() && p.records.back().reply == kOk &&
+        upto.records[p.records.size() - 1].reply == kStopped)
+      model = *before_last;
+    before_last.reset();
     model.stopped_at(s.steps, s.gripper_percent);
     const int64_t at = r.stop_at;
     r = model.execute_line("!", r.line);
@@ -733,16 +740,18 @@ Prediction predict_program(const Robot& robot, const Program& program, const Con
     stop_here(r);
   };
   for (const Statement& st : program.statements) {
-    if (timed < stop_ticks.size()) {
-      // A timed '!' goes before the first line that arrives after it.
+    // A timed '!' goes before the first line that arrives after it (when that is, the stops
+    // before it decide: one at a time).
+    while (timed < stop_ticks.size()) {
       ControllerModel before = model;
       Prediction upto = p;
       upto.records.push_back(model.execute(st));
       schedule(upto, sender);
       model = before;
-      while (timed < stop_ticks.size() && stop_ticks[timed] < upto.records.back().arrive_tick)
-        timed_stop(st.line);
+      if (stop_ticks[timed] >= upto.records.back().arrive_tick) break;
+      timed_stop(st.line);
     }
+    before_last = model;
     PredictRecord r = model.execute(st);
     if (r.stop)
       stop_here(r);
