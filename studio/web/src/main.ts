@@ -27,6 +27,7 @@ import { appendProgramLine, ghostShown, initProgram, programHandlers, setProgram
 import { blocksRobot, initBlocks } from "./panels/blocks";
 import { chooseProject, initProjects, projectChanged, projectRobotShown, setProjectExperiment } from "./panels/projects";
 import { fitNewRobot, initRobot, robotError, saveUrdf, showRobot } from "./panels/robot";
+import { Editor } from "./editor/editor";
 
 const params = new URLSearchParams(location.search);
 exposeHook();
@@ -73,8 +74,39 @@ initExperiment(studio, setProjectExperiment);
 setRunOnArm(runOnArm);
 setLineTargets(sendToArm, appendProgramLine);
 initBlocks(studio, { setText: (text, name) => setProgram(name, text), changed: projectChanged });
-initProjects(studio, { setText: (text, name) => setProgram(name, text), reveal: (id) => layout.reveal(id) });
+const editor = new Editor();
+initProjects(studio, { setText: (text, name) => setProgram(name, text), reveal: (id) => layout.reveal(id) }, editor);
+wireHistory(editor);
 setProgramChanged(projectChanged);
+
+// Undo and redo: the buttons (a tablet has no keyboard) and Ctrl+Z, Ctrl+Shift+Z, Ctrl+Y
+// everywhere on the page, the program's text and the blocks included (their own undo would
+// keep a history beside this one).
+function wireHistory(ed: Editor): void {
+  const undo = $("undo") as HTMLButtonElement, redo = $("redo") as HTMLButtonElement;
+  const show = () => {
+    const h = ed.history;
+    undo.disabled = !h.canUndo;
+    redo.disabled = !h.canRedo;
+    undo.title = h.canUndo ? `Undo: ${h.undoName} (Ctrl+Z)` : "Nothing to undo";
+    redo.title = h.canRedo ? `Redo: ${h.redoName} (Ctrl+Shift+Z)` : "Nothing to redo";
+    hook.history = { ...h.steps, undoName: h.undoName, redoName: h.redoName };
+  };
+  ed.signals.historyChanged.add(show);
+  show();
+  undo.onclick = () => ed.undo();
+  redo.onclick = () => ed.redo();
+  window.addEventListener("keydown", (e) => {
+    if (!(e.ctrlKey || e.metaKey) || e.altKey) return;
+    const k = e.key.toLowerCase();
+    const isUndo = k === "z" && !e.shiftKey, isRedo = (k === "z" && e.shiftKey) || (k === "y" && !e.shiftKey);
+    if (!isUndo && !isRedo) return;
+    e.preventDefault();
+    e.stopPropagation();
+    if (isUndo) ed.undo();
+    else ed.redo();
+  }, true);
+}
 
 function setConn(text: string, kind: "ok" | "bad"): void {
   const c = $("conn");

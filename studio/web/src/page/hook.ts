@@ -68,6 +68,7 @@ export interface Hook {
   exercise: { parts: { label: string; met: boolean; detail: string; distance_mm: number }[]; met: boolean; error?: string } | null;
   flash: { busy: boolean; phase: string; done: number; total: number; error: string; errorKind: string;
            result: { bytes: number; pages: number; baud: number; seconds: number } | null };
+  history: { undo: number; redo: number; undoName: string; redoName: string }; // editor/history.ts: the steps
 }
 
 export const hook: Hook = {
@@ -86,6 +87,7 @@ export const hook: Hook = {
   shareLink: "", programMode: "text", programName: "program.arm", blocksCode: null, blockProblems: [], runningBlock: "", blockStacks: 0, blocksPending: false, stops: 0, pngCaption: "",
   blocksFirstPaintMs: 0, exercise: null,
   flash: { busy: false, phase: "", done: 0, total: 0, error: "", errorKind: "", result: null },
+  history: { undo: 0, redo: 0, undoName: "", redoName: "" },
 };
 
 /** `window.articula`, read-only from outside. */

@@ -13,6 +13,8 @@ import type { Stored } from "../project/store";
 import { blocksMode, loadBlocks, setMode, workspaceJson } from "./blocks";
 import { showSavedExperiment } from "./experiment";
 import { keepView, openedRobotFile } from "./robot";
+import type { Editor } from "../editor/editor";
+import { ProjectEdit, changedParts, describeChange } from "../editor/project-edit";
 
 const SAVE_AFTER_MS = 500; // a save this long after the last change
 const SESSION_KEY = "articula.project"; // this tab's project (a reload reopens it)
@@ -25,6 +27,10 @@ let timer = 0;
 let pendingApply: Project | null = null;
 let setProgramText: (text: string, name: string) => void = () => undefined;
 let reveal: (id: string) => void = () => undefined;
+let editor: Editor | null = null;
+// The document as of the history's last step (null until the project is on screen): an edit is
+// what differs from it (editor/project-edit.ts).
+let recorded: Project | null = null;
 
 /** The project to start with, before the engine starts (it loads the project's robot first). */
 export async function chooseProject(params: URLSearchParams): Promise<{ robot?: string; scene?: string }> {
@@ -69,8 +75,14 @@ export async function chooseProject(params: URLSearchParams): Promise<{ robot?: 
   return { robot: "shipped" in d.robot ? d.robot.shipped : undefined, scene: d.scene || undefined };
 }
 
-export function initProjects(studio: Studio, program: { setText: (text: string, name: string) => void; reveal: (id: string) => void }): void {
+export function initProjects(studio: Studio, program: { setText: (text: string, name: string) => void; reveal: (id: string) => void },
+                             ed: Editor): void {
   s = studio;
+  editor = ed;
+  ed.busy = () => applying;
+  ed.signals.settle.add(() => {
+    if (!applying && hook.project.dirty) noteEdit(capture());
+  });
   s.view.onViewChange = projectChanged;
   setProgramText = program.setText;
   reveal = program.reveal;
@@ -150,7 +162,61 @@ export function projectRobotShown(): void {
   // once a new robot's first pose has framed it
   s.engine.call({ type: "sync" }).catch(() => undefined).finally(() => {
     applying = false;
+    if (undoing) {  // an undo or redo that changed the robot: the rest is on screen now
+      undoing = false;
+      recorded = undoTarget;
+      edited();
+    } else {
+      recorded = capture();
+    }
   });
+}
+
+// A step of the history: `doc`'s history parts on screen, the pose and the camera as they are.
+let undoing = false;
+let undoTarget: Project | null = null;
+function showEdit(doc: Project): void {
+  const now = capture();
+  current = { ...current, doc: { ...current.doc, robot: doc.robot, scene: doc.scene, program: doc.program, goal: doc.goal,
+    experiment: doc.experiment } };
+  applying = true;
+  const parts = changedParts(now, doc);
+  if (parts.includes("the scene")) s.engine.send({ type: "scene", name: doc.scene || null });
+  if (parts.includes("the robot")) {
+    undoing = true;
+    undoTarget = doc;
+    pendingApply = { ...current.doc, pose: null, view: s.view.viewpoint() };
+    if ("shipped" in doc.robot) s.engine.send({ type: "load_robot", name: doc.robot.shipped });
+    else projectRobotShown();
+    return;
+  }
+  setProgramText(doc.program.text, doc.program.name);
+  setMode(doc.program.mode, true);
+  if (JSON.stringify(now.program.blocks) !== JSON.stringify(doc.program.blocks)) loadBlocks(doc.program.blocks);
+  if (parts.includes("the exercise")) showGoal(doc.goal);
+  if (parts.includes("the measurements")) showSavedExperiment(doc.experiment ?? null);
+  recorded = doc;
+  updateHook();
+  s.engine.call({ type: "sync" }).catch(() => undefined).finally(() => {
+    applying = false;
+    edited();
+  });
+}
+
+// What an undo or a redo put on screen is the project now: saved as an edit would be.
+function edited(): void {
+  edits++;
+  hook.project.dirty = true;
+  clearTimeout(timer);
+  timer = window.setTimeout(() => void saveNow(), SAVE_AFTER_MS);
+}
+
+// The project as captured: a step of the history if its history parts changed.
+function noteEdit(doc: Project): void {
+  if (!recorded || !editor) return;
+  if (!describeChange(recorded, doc)) return;
+  editor.history.record(new ProjectEdit(recorded, doc, showEdit));
+  recorded = doc;
 }
 
 /** The experiment's measurements, kept with the project. */
@@ -200,6 +266,7 @@ async function saveOnce(): Promise<void> {
   const t0 = performance.now();
   const editsSaved = edits;
   const doc = capture();
+  noteEdit(doc);
   const tCaptured = performance.now();
   try {
     const res = await store.save(current.id, current.rev, doc);
@@ -253,6 +320,9 @@ async function show(doc: Project, id = newId(), rev = 0): Promise<void> {
   sessionSet(id);
   pendingApply = doc;
   applying = true;
+  recorded = null;  // another project: its own history (opening one is not a step yet)
+  undoing = false;
+  editor?.history.clear();
   showName();
   const robot = "shipped" in doc.robot ? doc.robot.shipped : null;
   s.engine.send({ type: "scene", name: doc.scene || null });

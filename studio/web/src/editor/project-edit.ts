@@ -1,0 +1,59 @@
+// A student's edit of the project as one command: the document before and after it. What a
+// step covers is what the project keeps (the robot, the scene, the program as text and
+// blocks, an exercise's goal, the experiment's measurements); the pose, the camera and the
+// project's name are not history (as in three.js's editor). Pure: the page hands in how a
+// document is put on screen.
+import type { Project } from "../project/document";
+import type { Command } from "./history";
+
+/** The parts of a project that are history, in the order a change is named by. */
+const PARTS: { key: keyof Project; name: string }[] = [
+  { key: "robot", name: "the robot" },
+  { key: "scene", name: "the scene" },
+  { key: "goal", name: "the exercise" },
+  { key: "program", name: "the program" },
+  { key: "experiment", name: "the measurements" },
+];
+
+const same = (a: unknown, b: unknown) => JSON.stringify(a ?? null) === JSON.stringify(b ?? null);
+
+/** Which history parts differ between two documents (none: not an edit). */
+export function changedParts(a: Project, b: Project): string[] {
+  return PARTS.filter((p) => !same(a[p.key], b[p.key])).map((p) => p.name);
+}
+
+/** How a change is named on the undo button, and the kind that joins a burst of it into one step
+ * (typing, or dragging blocks about). */
+export function describeChange(a: Project, b: Project): { name: string; kind: string } | null {
+  const parts = changedParts(a, b);
+  if (parts.length === 0) return null;
+  if (parts.length === 1 && parts[0] === "the program") {
+    const text = a.program.text !== b.program.text, blocks = !same(a.program.blocks, b.program.blocks);
+    const mode = a.program.mode !== b.program.mode;
+    if (mode) return { name: `the program as ${b.program.mode}`, kind: "" };
+    if (blocks) return { name: "the blocks", kind: "program-blocks" };
+    if (text) return { name: "the program's text", kind: "program-text" };
+    return { name: "the program's name", kind: "" };
+  }
+  return { name: parts.join(" and "), kind: "" };
+}
+
+/** The edit from `before` to `after`; `show` puts a document's history parts on screen. */
+export class ProjectEdit implements Command {
+  name: string;
+  kind: string;
+  constructor(public before: Project, public after: Project, private show: (doc: Project) => void) {
+    const d = describeChange(before, after);
+    this.name = d?.name ?? "nothing";
+    this.kind = d?.kind ?? "";
+  }
+  undo(): void {
+    this.show(this.before);
+  }
+  redo(): void {
+    this.show(this.after);
+  }
+  merge(later: Command): void {
+    this.after = (later as ProjectEdit).after;
+  }
+}
