@@ -58,3 +58,39 @@ def test_edits_undone_to_the_start_and_redone_to_the_end(open_page):
     pg.wait("document.getElementById('editor').value === 'M 0 90 0\\nG 50\\n'")
     assert pg.hook("(a.scene && a.scene.name) || ''") == ""
     assert pg.errors == []
+
+
+def test_an_exercise_and_its_blocks_undone_by_touch_on_a_tablet(open_page):
+    """On an upright tablet (touch, no keyboard): opening an exercise is one step, each block
+    tapped in is one; the Undo button takes them back to the project before, Redo brings them again."""
+    pg = open_page("mk2plus", width=768, height=1024, touch=True)
+    pg.wait("a.project.id !== '' && !a.project.dirty")
+    first = pg.hook("a.project.name")
+    pg.page.tap("#projects-button")
+    pg.page.select_option("#exercise-select", "pick-and-place.articula")
+    pg.wait("a.project.goal !== null && a.programMode === 'blocks' && a.history.undo === 1")
+    assert pg.hook("a.history.undoName").startswith("opening")
+    pg.page.keyboard.press("Escape")  # (the projects list closed)
+    count = "(a.blocksPending ? -1 : a.blocksCode ? a.blocksCode.text.split('\\n').filter(l => /^[A-Z]/.test(l)).length : 0)"
+    n0 = pg.hook(count)
+    pg.page.locator("#blockly").scroll_into_view_if_needed()
+    for i, (category, kind) in enumerate([("Gripper", "arm_gripper_open"), ("Move", "arm_joints")], 1):
+        pg.page.tap(f"#blockly .blocklyToolboxCategory:has-text('{category}')")
+        pg.page.wait_for_selector(f"#blockly svg.blocklyToolboxFlyout g.{kind}[data-id]")
+        pg.page.locator(f"#blockly svg.blocklyToolboxFlyout g.{kind}[data-id] > path.blocklyPath").first.tap(position={"x": 6, "y": 8})
+        pg.wait(f"{count} === {n0 + i}", timeout=10000)
+    pg.wait("a.history.undo >= 2 && !a.project.dirty")
+    steps = pg.hook("a.history.undo")
+    assert pg.page.locator("#undo").is_visible()
+    seen = []
+    for n in range(steps):  # the blocks, then the opening: the project before it, again
+        pg.page.tap("#undo")
+        pg.wait(f"a.history.undo === {steps - 1 - n} && a.history.redo === {n + 1}")
+        seen.append(pg.hook(f"[{count}, a.project.goal !== null]"))
+    assert [n0, True] in seen, seen  # the exercise as it opened, its blocks taken back
+    pg.wait(f"a.project.goal === null && a.project.name === {first!r}")
+    for n in range(steps):
+        pg.page.tap("#redo")
+        pg.wait(f"a.history.undo === {n + 1}")
+    pg.wait(f"a.project.goal !== null && {count} === {n0 + 2}")
+    assert pg.errors == []

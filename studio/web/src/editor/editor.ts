@@ -12,18 +12,35 @@ export class Editor {
     // before an undo or a redo: an edit still waiting to be recorded (typing) is recorded now
     settle: new Signal<void>(),
   };
-  // true while an edit is being put on screen (a robot loading): undo and redo wait for it
+  // true while an edit is being put on screen (a robot loading): undo and redo wait for it,
+  // in the order they were asked for (a student tapping Undo three times gets three steps)
   busy: () => boolean = () => false;
+  private waiting: ("undo" | "redo")[] = [];
 
-  undo(): boolean {
-    if (this.busy()) return false;
-    this.signals.settle.dispatch();
-    return this.history.undo();
+  undo(): void {
+    this.ask("undo");
   }
 
-  redo(): boolean {
-    if (this.busy()) return false;
+  redo(): void {
+    this.ask("redo");
+  }
+
+  /** The page has put an edit on screen: the next undo or redo asked for meanwhile, if any. */
+  settled(): void {
+    while (this.waiting.length && !this.busy()) this.act(this.waiting.shift()!);
+  }
+
+  private ask(what: "undo" | "redo"): void {
+    if (this.busy() || this.waiting.length) {
+      if (this.waiting.length < 50) this.waiting.push(what);
+      return;
+    }
+    this.act(what);
+  }
+
+  private act(what: "undo" | "redo"): void {
     this.signals.settle.dispatch();
-    return this.history.redo();
+    if (what === "undo") this.history.undo();
+    else this.history.redo();
   }
 }

@@ -5,6 +5,7 @@
 // physics, the virtual Nano, the arm). The running line's block is highlighted; a block the
 // arm would refuse, or the engine did, says why on itself.
 import * as Blockly from "blockly/core";
+import type { Editor } from "../editor/editor";
 import type { Studio } from "../page/context";
 import { $, fill, h } from "../page/dom";
 import { hook } from "../page/hook";
@@ -12,6 +13,7 @@ import { defineBlocks, setJoints, toolbox } from "../blocks/define";
 import { BlockError, opsToWorkspace, unroll } from "../blocks/unroll";
 import type { RobotMsg } from "../protocol";
 
+let editor: Editor | null = null;
 let s: Studio;
 let ws: Blockly.WorkspaceSvg | null = null;
 let mode: "text" | "blocks" = "text";
@@ -28,8 +30,10 @@ let changed: () => void = () => undefined;
 
 export const blocksMode = () => mode;
 
-export function initBlocks(studio: Studio, hooks: { setText: (text: string, name: string) => void; changed: () => void }): void {
+export function initBlocks(studio: Studio, hooks: { setText: (text: string, name: string) => void; changed: () => void },
+                           ed: Editor): void {
   s = studio;
+  editor = ed;
   setText = hooks.setText;
   changed = hooks.changed;
   $("mode-blocks").onclick = () => setMode("blocks");
@@ -68,10 +72,26 @@ class Renderer extends Blockly.zelos.Renderer {
   }
 }
 
+// Blockly's Undo and Redo (its workspace menu, a long press on a tablet) are the Editor's: one
+// History for the blocks and everything else (its Ctrl+Z the page takes before Blockly sees it).
+function historyMenu(): void {
+  const reg = Blockly.ContextMenuRegistry.registry;
+  for (const [id, label, act, can] of [
+    ["undoWorkspace", "Undo", () => editor?.undo(), () => editor?.history.canUndo],
+    ["redoWorkspace", "Redo", () => editor?.redo(), () => editor?.history.canRedo],
+  ] as const) {
+    const weight = reg.getItem(id)?.weight ?? 1;
+    if (reg.getItem(id)) reg.unregister(id);
+    reg.register({ id, weight, displayText: label, scopeType: Blockly.ContextMenuRegistry.ScopeType.WORKSPACE,
+      preconditionFn: () => (can() ? "enabled" : "disabled"), callback: () => void act() });
+  }
+}
+
 function ensureWorkspace(): void {
   if (ws) return;
   const t0 = performance.now();
   defineBlocks();
+  historyMenu();
   Blockly.blockRendering.unregister("zelos");
   Blockly.blockRendering.register("zelos", Renderer);
   if (hook.robot) setJoints(hook.robot.joints);

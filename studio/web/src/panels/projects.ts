@@ -160,15 +160,16 @@ export function projectRobotShown(): void {
   updateHook();
   // what the engine answers to these is the project as it was, not an edit; the camera last,
   // once a new robot's first pose has framed it
-  s.engine.call({ type: "sync" }).catch(() => undefined).finally(() => {
+  s.engine.call({ type: "sync" }).catch(() => undefined).then(blocksSettled).finally(() => {
     applying = false;
     if (undoing) {  // an undo or redo that changed the robot: the rest is on screen now
       undoing = false;
-      recorded = undoTarget;
+      recorded = undoTarget ? capture() : null;
       edited();
     } else {
       recorded = capture();
     }
+    editor?.settled();
   });
 }
 
@@ -195,12 +196,20 @@ function showEdit(doc: Project): void {
   if (JSON.stringify(now.program.blocks) !== JSON.stringify(doc.program.blocks)) loadBlocks(doc.program.blocks);
   if (parts.includes("the exercise")) showGoal(doc.goal);
   if (parts.includes("the measurements")) showSavedExperiment(doc.experiment ?? null);
-  recorded = doc;
   updateHook();
-  s.engine.call({ type: "sync" }).catch(() => undefined).finally(() => {
+  s.engine.call({ type: "sync" }).catch(() => undefined).then(blocksSettled).finally(() => {
     applying = false;
+    recorded = capture();  // (the text the blocks make, as they make it)
     edited();
+    editor?.settled();
   });
+}
+
+// Once blocks put on screen have made their program (Blockly reports its changes a moment later,
+// the blocks panel compiles 150 ms after the last): what they make is part of what was applied.
+async function blocksSettled(): Promise<void> {
+  await new Promise((r) => setTimeout(r, 30));
+  for (let i = 0; i < 60 && hook.blocksPending; i++) await new Promise((r) => setTimeout(r, 50));
 }
 
 // What an undo or a redo put on screen is the project now: saved as an edit would be.
@@ -313,16 +322,38 @@ async function freshName(): Promise<string> {
   for (let i = 1; ; i++) if (!names.has(`Project ${i}`)) return `Project ${i}`;
 }
 
-/** Opens `doc` as the project on screen (a new id unless `id` is given). */
+/** Opens `doc` as the project on screen (a new id unless `id` is given): one step of the
+ * history, whose undo opens the project that was on screen again. */
 async function show(doc: Project, id = newId(), rev = 0): Promise<void> {
   await saveNow();
+  if (editor && recorded && !applying) {
+    const before = { id: current.id, doc: capture() }, after = { id, doc };
+    editor.history.record({ name: `opening "${doc.name}"`, undo: () => void reopen(before), redo: () => void reopen(after) });
+  }
+  await put(doc, id, rev);
+}
+
+// A project of the history on screen again: as its store keeps it (its latest revision), else
+// as it was when it was left.
+async function reopen(p: { id: string; doc: Project }): Promise<void> {
+  const rec = await store.get(p.id).catch(() => undefined);
+  let doc = p.doc;
+  try {
+    if (rec) doc = readProject(rec.doc);
+  } catch {
+    // (unreadable now: the copy the history kept)
+  }
+  await saveNow();
+  await put(doc, p.id, rec?.rev ?? 0);
+}
+
+async function put(doc: Project, id: string, rev: number): Promise<void> {
   current = { id, rev, doc };
   sessionSet(id);
   pendingApply = doc;
   applying = true;
-  recorded = null;  // another project: its own history (opening one is not a step yet)
+  recorded = null;  // set again once it is on screen (projectRobotShown)
   undoing = false;
-  editor?.history.clear();
   showName();
   const robot = "shipped" in doc.robot ? doc.robot.shipped : null;
   s.engine.send({ type: "scene", name: doc.scene || null });
@@ -333,6 +364,7 @@ async function show(doc: Project, id = newId(), rev = 0): Promise<void> {
     setTimeout(() => {
       applying = false;
       void saveNow();
+      editor?.settled();
     }, SAVE_AFTER_MS * 2);
   }
 }
