@@ -111,6 +111,10 @@ class EnginePage:
     def keys(self, text: str, select_all=False, enter=False):
         raise NotImplementedError
 
+    def shortcut(self, combo: str):
+        """A key with modifiers held, as Playwright writes it: "Control+Shift+Z"."""
+        raise NotImplementedError
+
     def reload(self):
         raise NotImplementedError
 
@@ -177,6 +181,9 @@ class PlaywrightPage(EnginePage):
         self.page.keyboard.type(text)
         if enter:
             self.page.keyboard.press("Enter")
+
+    def shortcut(self, combo):
+        self.page.keyboard.press(combo)
 
     def reload(self):
         self.page.reload()
@@ -282,6 +289,19 @@ class WebKitPage(EnginePage):
         chain.send_keys(text)
         if enter:
             chain.send_keys(Keys.ENTER)
+        chain.perform()
+
+    def shortcut(self, combo):
+        from selenium.webdriver.common.keys import Keys
+
+        *mods, key = combo.split("+")
+        held = [{"Control": Keys.CONTROL, "Shift": Keys.SHIFT, "Alt": Keys.ALT, "Meta": Keys.META}[m] for m in mods]
+        chain, _ = self._pointer()
+        for m in held:
+            chain.key_down(m)
+        chain.send_keys(key.lower())
+        for m in reversed(held):
+            chain.key_up(m)
         chain.perform()
 
     def reload(self):

@@ -209,6 +209,31 @@ def _type_into_block(pg, block_id, text):
     pg.wait("document.querySelector('.blocklyHtmlInput') === null", 10 * PATIENCE, "the field's editor closed")
 
 
+def test_undo_and_redo_by_the_buttons_and_the_keys(page):
+    """The robot, the scene and the program's text edited, undone to the start by the buttons
+    and redone to the end by the keys (Ctrl+Shift+Z, Ctrl+Y), in this engine."""
+    pg = page()
+    pg.wait("a.project.id !== '' && !a.project.dirty", 30 * PATIENCE, "the project saved")
+    state = "[a.robot.name, (a.scene && a.scene.name) || '', document.getElementById('editor').value]"
+    start = pg.hook(state)
+    pg.set_text("#editor", "M 0 90 0\nG 50\n")
+    pg.wait("a.history.undo === 1", 30 * PATIENCE, "the text's step")
+    pg.select("#robot-select", "panda")
+    pg.wait("a.robot.name !== 'MK2 Plus' && a.history.undo === 2", 60 * PATIENCE, "the robot's step")
+    pg.select("#scene-select", "push")
+    pg.wait("a.scene && a.scene.name === 'push' && a.history.undo === 3", 60 * PATIENCE, "the scene's step")
+    end = pg.hook(state)
+    for n in (2, 1, 0):
+        pg.click("#undo")
+        pg.wait(f"a.history.undo === {n} && a.history.redo === {3 - n}", 60 * PATIENCE, f"undo to {n}")
+    pg.wait(f"JSON.stringify({state}) === {json.dumps(json.dumps(start, separators=(',', ':')))}", 60 * PATIENCE, "the start again")
+    pg.click("#editor")
+    for n, combo in ((1, "Control+Shift+Z"), (2, "Control+Y"), (3, "Control+Shift+Z")):
+        pg.shortcut(combo)
+        pg.wait(f"a.history.undo === {n}", 60 * PATIENCE, f"redo to {n} by {combo}")
+    pg.wait(f"JSON.stringify({state}) === {json.dumps(json.dumps(end, separators=(',', ':')))}", 60 * PATIENCE, "the end again")
+
+
 def test_a_class_session_blocks_physics_nano_reload_and_link(page, engines, site, tmp_path):
 
     # Blocks from the toolbox: Chromium drags them; Firefox and WebKit tap them (a tapped block
