@@ -237,6 +237,12 @@ def test_a_pick_and_place_from_blocks_in_physics_on_the_nano_after_a_reload_and_
     pg.wait("a.shareLink !== ''")
     link = pg.hook("a.shareLink")
     assert pg.page.get_by_role("button", name="Share").count() == 1
+    # "Copy the link" says it copied, and the clipboard holds the link
+    pg.context.grant_permissions(["clipboard-read", "clipboard-write"], origin=pg.page.url.split("/articula-site")[0])
+    pg.page.click("#share-copy")
+    pg.wait("a.shareCopied === 'copied'")
+    assert "Copied" in pg.page.inner_text("#share-copy")
+    assert pg.page.evaluate("() => navigator.clipboard.readText()") == link
     pg.page.screenshot(path=str(SHOTS / "studio-class-share.png"))
     other = Page(browser, link, width=1366, height=768,
                  ready="window.articula.project.name.includes('from a link')")

@@ -55,6 +55,7 @@ export interface Hook {
              persistent: boolean; dirty: boolean; saves: number; saveMs: number[]; savedAt: number; saveError: string;
              lastDeleted: string; otherTab: number };
   shareLink: string; // the last link Share made
+  shareCopied: string; // what "Copy the link" did last: "copied", "selected" (no clipboard), "" (not pressed)
   programMode: string; // "text" or "blocks"
   programName: string; // the program's file name (a typed one: "program.arm")
   blocksCode: { text: string; robosim: string; python: string } | null; // the program the blocks make
@@ -84,7 +85,7 @@ export const hook: Hook = {
   layout: { mode: "", plotsInTab: false, tab: "" }, webgl: true, language: "", storage: true,
   project: { id: "", name: "", robot: "", program: "", blocks: null, mode: "text", rev: 0, goal: null, persistent: true, dirty: false,
              saves: 0, saveMs: [], savedAt: 0, saveError: "", lastDeleted: "", otherTab: 0 },
-  shareLink: "", programMode: "text", programName: "program.arm", blocksCode: null, blockProblems: [], runningBlock: "", blockStacks: 0, blocksPending: false, stops: 0, pngCaption: "",
+  shareLink: "", shareCopied: "", programMode: "text", programName: "program.arm", blocksCode: null, blockProblems: [], runningBlock: "", blockStacks: 0, blocksPending: false, stops: 0, pngCaption: "",
   blocksFirstPaintMs: 0, exercise: null,
   flash: { busy: false, phase: "", done: 0, total: 0, error: "", errorKind: "", result: null },
   history: { undo: 0, redo: 0, undoName: "", redoName: "" },

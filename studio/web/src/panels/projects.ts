@@ -28,6 +28,7 @@ let pendingApply: Project | null = null;
 let setProgramText: (text: string, name: string) => void = () => undefined;
 let reveal: (id: string) => void = () => undefined;
 let editor: Editor | null = null;
+let copyTimer = 0;
 // The document as of the history's last step (null until the project is on screen): an edit is
 // what differs from it (editor/project-edit.ts).
 let recorded: Project | null = null;
@@ -106,10 +107,36 @@ export function initProjects(studio: Studio, program: { setText: (text: string, 
   });
   $("share-button").onclick = () => void share();
   $("share-close").onclick = () => ($("share-dialog") as HTMLDialogElement).close();
-  $("share-copy").onclick = () => {
+  $("share-copy").onclick = async () => {
     const t = $("share-link") as HTMLTextAreaElement;
+    const b = $("share-copy") as HTMLButtonElement;
     t.select();
-    navigator.clipboard?.writeText(t.value).catch(() => undefined);
+    // said on the button: copied, or (no clipboard for this page: plain http, a browser's
+    // setting) selected for Ctrl+C
+    let copied = false;
+    try {
+      if (navigator.clipboard) {
+        await navigator.clipboard.writeText(t.value);
+        copied = true;
+      }
+    } catch {
+      copied = false;
+    }
+    if (!copied) {
+      try {
+        copied = document.execCommand("copy");
+      } catch {
+        copied = false;
+      }
+    }
+    hook.shareCopied = copied ? "copied" : "selected";
+    b.textContent = copied ? "✓ Copied" : "Selected: press Ctrl+C";
+    b.classList.toggle("done", copied);
+    clearTimeout(copyTimer);
+    copyTimer = window.setTimeout(() => {
+      b.textContent = "Copy the link";
+      b.classList.remove("done");
+    }, 2500);
   };
   $("exercise-check").onclick = () => void check();
   // a .articula file dropped anywhere on the page opens as a project
