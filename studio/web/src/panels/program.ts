@@ -162,7 +162,14 @@ function editorChanged(): void {
   const n = ed.value.split("\n").length;
   fill($("gutter"), ...Array.from({ length: n }, (_, i) => h("div", null, i + 1)));
   $("gutter").scrollTop = ed.scrollTop;
-  hook.timeline = null;
+  if (hook.timeline) {
+    // what was worked out for the text before is not this text's: no old result on screen
+    hook.timeline = null;
+    s.plots.clear();
+    s.view.showPaths([], []);
+    hook.paths = { points: 0, lines: 0, worstMm: 0 };
+    programStatus("Changed: Play works it out and runs it.");
+  }
   onChanged();
 }
 

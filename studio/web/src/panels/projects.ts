@@ -29,6 +29,7 @@ let setProgramText: (text: string, name: string) => void = () => undefined;
 let reveal: (id: string) => void = () => undefined;
 let editor: Editor | null = null;
 let copyTimer = 0;
+let checkedText: string | null = null; // the program the exercise's result shown is for
 // The document as of the history's last step (null until the project is on screen): an edit is
 // what differs from it (editor/project-edit.ts).
 let recorded: Project | null = null;
@@ -263,6 +264,12 @@ export function setProjectExperiment(e: Experiment): void {
 
 /** Something on screen changed: saved within a second. */
 export function projectChanged(): void {
+  // an exercise's result is for the program that was checked: gone once it changes
+  if (checkedText !== null && ($("editor") as HTMLTextAreaElement).value !== checkedText) {
+    checkedText = null;
+    hook.exercise = null;
+    fill($("exercise-result"));
+  }
   if (applying) return;
   clearTimeout(timer);
   edits++;
@@ -551,6 +558,7 @@ async function check(): Promise<void> {
   const ed = $("editor") as HTMLTextAreaElement;
   fill($("exercise-result"), h("li", null, "checking…"));
   try {
+    checkedText = ed.value;
     const r = await s.engine.call({ type: "exercise_check", parts: goal.parts, text: ed.value, name: hook.programName || "program.arm",
       scene: goal.scene || current.doc.scene }) as { parts: { label: string; met: boolean; detail: string }[]; met?: boolean; error?: string };
     hook.exercise = r as unknown as typeof hook.exercise;
