@@ -194,7 +194,7 @@ def _tap_from_toolbox(pg, category, kind):
         pg.wait(f"a.blockStacks === 1 && {COMMANDS} === {n + 1}", 10 * PATIENCE, f"{kind} at the end of the program")
     except AssertionError as e:
         pg.screenshot(SHOTS / f"studio-tap-failed-{pg.engine}.png")
-        raise AssertionError(f"{e}: {pg.hook('[a.blockStacks, a.blocksCode && a.blocksCode.text]')}") from None
+        raise AssertionError(f"{e}: {pg.hook('[a.blockStacks, a.blocksCode && a.blocksCode.text, a.blockProblems, a.blocksPending, a.errorLog.slice(-3), a.engineWaiting()]')}") from None
     new = [i for i in _ids(pg, kind) if i not in before]
     assert len(new) == 1, (pg.engine, kind, new)
     return new[0]

@@ -741,6 +741,10 @@ def test_web_serial_drives_the_arm_and_a_vanished_port_is_noticed(browser, site)
         # noticed from the port itself (its read fails at once), not from 1.5 s of silence
         assert page.evaluate("window.articula.arm.error").startswith("the port failed"), page.evaluate("window.articula.arm.error")
         assert "Lost the arm" in page.text_content("#arm-state")
+        # no green state left, and a report still in flight does not bring it back
+        page.wait_for_timeout(300)
+        assert "ok" not in page.get_attribute("#arm-state", "class").split()
+        assert page.evaluate("window.articula.arm.status") is None
         # the studio goes on with the model
         page.fill('#joints input[type=number][data-joint="0"]', "15")
         page.wait_for_function("() => Math.abs(window.articula.pose.q[0] - 15) < 1e-9")

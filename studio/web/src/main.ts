@@ -52,6 +52,7 @@ hook.camera = () => view.cameraState();
 hook.viewpoint = () => view.viewpoint();
 hook.objectScreen = (n) => view.objectScreen(n);
 hook.engineSend = (msg) => engine.post(msg);
+hook.engineWaiting = () => engine.waiting();
 
 engine.onReady = () => {
   setConn("engine ready", "ok");

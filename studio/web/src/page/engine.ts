@@ -24,7 +24,7 @@ export class EngineClient {
   private inFlight = 0;
   private queued: Msg | null = null;
   private callId = 0;
-  private calls = new Map<number, { resolve: (m: Msg) => void; reject: (e: Error) => void }>();
+  private calls = new Map<number, { resolve: (m: Msg) => void; reject: (e: Error) => void; type: string; at: number }>();
 
   constructor() {
     this.worker = new Worker(new URL("assets/worker.js", document.baseURI), { type: "module" });
@@ -94,9 +94,15 @@ export class EngineClient {
   call(msg: Msg): Promise<Msg> {
     const id = ++this.callId;
     return new Promise((resolve, reject) => {
-      this.calls.set(id, { resolve, reject });
+      this.calls.set(id, { resolve, reject, type: String(msg.type), at: performance.now() });
       this.worker.postMessage({ ...msg, id });
     });
+  }
+
+  /** The requests not answered yet: their type and how long they have waited, ms (for the hook). */
+  waiting(): { type: string; ms: number }[] {
+    const now = performance.now();
+    return [...this.calls.values()].map((c) => ({ type: c.type, ms: Math.round(now - c.at) }));
   }
 
   /** What a reply ("ok", "error:9") means, from the core's status table. */

@@ -47,6 +47,7 @@ export interface Hook {
   internalErrors: string[]; // replies that say the engine itself went wrong (never expected)
   engineStartMs: number; // the worker's time from its first message to the robot loaded
   engineSend: (msg: unknown) => void; // for tests: a message to the engine as the page would post it
+  engineWaiting: () => { type: string; ms: number }[]; // the engine's requests not answered yet (what a stuck page waits for)
   layout: { mode: string; plotsInTab: boolean; tab: string }; // layout.ts: the screen's layout, the tab shown
   webgl: boolean; // false where the browser gives the page no WebGL (the 3D view is then off)
   language: string; // the language the page formats with (a valid tag, whatever the browser says)
@@ -81,7 +82,7 @@ export const hook: Hook = {
   scene: null, physics: null, events: [], simCommand: "", objectScreen: () => null,
   arm: { connected: false, error: "", label: "", status: null, reply: null, stopMs: null, programLines: [], programDone: false, roundTrips: [], nano: null,
          configurable: false, configured: null, checksum: null },
-  stream: { messages: 0 }, experiment: { running: false, waiting: null, question: "", points: [], tables: null, csv: "", mismatches: [] }, errors: 0, errorLog: [], pageErrors: [], internalErrors: [], engineStartMs: 0, engineSend: () => undefined,
+  stream: { messages: 0 }, experiment: { running: false, waiting: null, question: "", points: [], tables: null, csv: "", mismatches: [] }, errors: 0, errorLog: [], pageErrors: [], internalErrors: [], engineStartMs: 0, engineSend: () => undefined, engineWaiting: () => [],
   layout: { mode: "", plotsInTab: false, tab: "" }, webgl: true, language: "", storage: true,
   project: { id: "", name: "", robot: "", program: "", blocks: null, mode: "text", rev: 0, goal: null, persistent: true, dirty: false,
              saves: 0, saveMs: [], savedAt: 0, saveError: "", lastDeleted: "", otherTab: 0 },

@@ -186,8 +186,12 @@ function showArm(m: ArmMsg): void {
     s.view.liveFrames(null);
   } else if (!m.connected) {
     st.textContent = "";
+    st.className = "status";
     s.view.liveFrames(null);
+  } else if (/^Lost the arm/.test($("banner-text").textContent ?? "")) {
+    $("banner").hidden = true; // connected again: the old loss is no news
   }
+  if (!m.connected) hook.arm.status = null;
 }
 
 // The arm's tool from the model's (both drawn from the engine's frames), mm.
@@ -221,6 +225,7 @@ function armMessage(m: EngineMsg): void {
         "it drives this robot from now on, after a power cycle too.", "info");
     }
     case "arm_status": {
+      if (!hook.arm.connected) return; // a report still in flight when the link was lost: not news of an arm
       hook.arm.status = m;
       if (m.stop_to_idle_ms !== undefined) hook.arm.stopMs = m.stop_to_idle_ms;
       s.view.liveFrames(m.frames);
