@@ -379,13 +379,13 @@ TEST(Cli, PredictAndRunErrorsAreClear) {
     r = run(c + " mk2plus " + program_path("demo.arm") + " --json --csv");
     EXPECT_EQ(r.code, 2) << c;
   }
-  const Result r = run("predict thesis-example " + program_path("pick-and-place.robosim"));
+  const Result r = run("predict thesis-example " + program_path("robosim-example.robosim"));
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.out.find("has no motors"), std::string::npos) << r.out;
 }
 
 TEST(Cli, RunPrintsThePoseAfterEachCommand) {
-  Result r = run("run mk2plus " + program_path("pick-and-place.robosim"));
+  Result r = run("run mk2plus " + program_path("robosim-example.robosim"));
   ASSERT_EQ(r.code, 0) << r.out;
   EXPECT_NE(r.out.find("reached"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("14 commands, 0 rejected"), std::string::npos) << r.out;

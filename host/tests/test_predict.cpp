@@ -468,7 +468,7 @@ TEST(Predict, ProgramSummaryAddsUp) {
 }
 
 TEST(Predict, ShippedProgramsRun) {
-  for (const char* name : {"demo.arm", "thesis-repeatability.arm", "pick-and-place.robosim"}) {
+  for (const char* name : {"demo.arm", "thesis-repeatability.arm", "robosim-example.robosim"}) {
     const Program prog = load_program(std::string(ARTICULA_SOURCE_DIR) + "/programs/" + name, mk2());
     const Prediction p = predict_program(mk2(), prog);
     EXPECT_EQ(p.rejected, 0) << name;

@@ -139,7 +139,7 @@ TEST(Run, RobotWithoutMotors) {
 }
 
 TEST(Run, ShippedProgramsRun) {
-  for (const char* name : {"demo.arm", "thesis-repeatability.arm", "pick-and-place.robosim"}) {
+  for (const char* name : {"demo.arm", "thesis-repeatability.arm", "robosim-example.robosim"}) {
     const Program prog = load_program(std::string(ARTICULA_SOURCE_DIR) + "/programs/" + name, mk2());
     const std::vector<RunRecord> records = run_program(mk2(), prog);
     ASSERT_EQ(records.size(), prog.statements.size()) << name;

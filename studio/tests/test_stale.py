@@ -30,3 +30,19 @@ def test_a_changed_program_takes_its_old_results_away(open_page):
     pg.page.fill("#editor", "G 100\nM 0 75 -20\n")
     pg.wait("a.exercise === null && document.querySelectorAll('#exercise-result li').length === 0")
     assert pg.errors == []
+
+
+def test_the_exercises_lead_the_examples_menu(open_page):
+    """Exercises are found where programs are (issue 28, what a class hit, 4): the examples menu
+    starts with them, and choosing one opens it with its goal; no look-alike without a goal."""
+    pg = open_page("mk2plus")
+    pg.page.click("#tab-program") if pg.page.is_visible("#tab-program") else None
+    pg.page.wait_for_function("() => document.querySelector('#program-select optgroup') !== null")
+    groups = pg.page.eval_on_selector_all("#program-select optgroup", "gs => gs.map(g => [g.label, [...g.children].map(o => o.value)])")
+    assert groups[0][0].startswith("Exercises")
+    assert "exercise:pick-and-place.articula" in groups[0][1]
+    assert not any("pick-and-place" in v for v in groups[1][1]), groups[1]
+    pg.page.select_option("#program-select", "exercise:pick-and-place.articula")
+    pg.wait("a.project.goal !== null && a.project.goal.title === 'Pick and place the block'")
+    assert pg.page.is_visible("#exercise-check")
+    assert pg.errors == []

@@ -33,12 +33,13 @@ def test_the_static_site_loads_without_errors_and_shows_the_arm(open_page, site)
     """Served by a plain file server under a sub-path of another name, no articula process."""
     pg = open_page("mk2plus", tour=True, query="&quality=high")  # antialiased, full size: a screenshot for the docs
     assert pg.page.url.startswith(f"http://127.0.0.1:{site.port}/articula-site/")
-    # the first-run tour: four steps
+    # the first-run tour: five steps, the last the exercises
     assert pg.page.is_visible("#tour")
-    assert pg.page.text_content("#tour-step") == "1 of 4"
-    for _ in range(3):
+    assert pg.page.text_content("#tour-step") == "1 of 5"
+    for _ in range(4):
         pg.page.click("#tour-next")
-    assert pg.page.text_content("#tour-step") == "4 of 4"
+    assert pg.page.text_content("#tour-step") == "5 of 5"
+    assert "exercises" in pg.page.text_content("#tour-text")
     pg.page.click("#tour-next")
     assert not pg.page.is_visible("#tour")
     pg.page.wait_for_timeout(500)
@@ -349,12 +350,12 @@ def test_articula_studio_serves_the_robot_file_it_was_given_with_its_mesh(open_s
 
 def test_a_robosim_program_plays_and_the_time_line_exports_as_csv(open_page):
     pg = open_page("mk2plus")
-    pg.page.select_option("#program-select", "pick-and-place.robosim")
+    pg.page.select_option("#program-select", "robosim-example.robosim")
     pg.page.wait_for_function("() => document.querySelector('#editor').value.length > 0")
     pg.page.click("#step")
     pg.wait("a.timeline !== null")
     assert pg.hook("a.timeline.format") == "robosim"
-    predicted = cli_json("predict", "mk2plus", "programs/pick-and-place.robosim")
+    predicted = cli_json("predict", "mk2plus", "programs/robosim-example.robosim")
     assert pg.hook("a.timeline.records.map(r => r.steps)") == [r["steps"] for r in predicted["records"]]
     with pg.page.expect_download() as d:
         pg.page.click("#export-csv")

@@ -1,4 +1,4 @@
-// A first-run tour of four steps: what the panels are for. Shown once (remembered in the
+// A first-run tour of five steps: what the panels are for, and where the exercises are. Shown once (remembered in the
 // browser), again from the Tour button.
 interface Step {
   target: string;
@@ -15,6 +15,8 @@ const STEPS: Step[] = [
     text: "Type a target, or tick IK target and drag the ball: inverse kinematics finds the joint values. Animate JT shows the thesis's Jacobian transpose at work." },
   { target: "program-section", title: "Program it",
     text: "Open an example or write commands (L 0 30, M 0 60 -60, P 200 0 150). Run plays them with the real controller's timing; the ghost shows the ideal pose, Teach records the current one." },
+  { target: "program-section", title: "Try an exercise",
+    text: "The examples menu starts with the exercises: a task for the arm, and Check says whether your program does it. Undo (\u21B6) takes back any change; Projects keeps your work." },
 ];
 import { store, stored } from "./page/environment";
 

@@ -11,6 +11,8 @@ export class Editor {
     historyChanged: this.history.changed,
     // before an undo or a redo: an edit still waiting to be recorded (typing) is recorded now
     settle: new Signal<void>(),
+    // an exercise asked for by name (the examples menu, the projects list): the projects open it
+    exerciseWanted: new Signal<string>(),
   };
   // true while an edit is being put on screen (a robot loading): undo and redo wait for it,
   // in the order they were asked for (a student tapping Undo three times gets three steps)

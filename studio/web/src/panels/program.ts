@@ -2,6 +2,7 @@
 // open and save, Run (on the model, or on the arm when asked), Pause, Step, Reset, Teach, the
 // ghost, the plots of the time line. The engine predicts and plays; this panel shows.
 import type { PoseMsg, TimelineMsg } from "../protocol";
+import type { Editor } from "../editor/editor";
 import type { Studio } from "../page/context";
 import { $, download, fill, h, setOptions } from "../page/dom";
 import { hook } from "../page/hook";
@@ -66,8 +67,14 @@ function hoverHelp(e: MouseEvent): void {
   if (help) $("line-help").textContent = ed.title;
 }
 
-export function initProgram(studio: Studio): void {
+export function initProgram(studio: Studio, ed0: Editor): void {
   s = studio;
+  theEditor = ed0;
+  // the exercises, first in the examples menu: each has a goal the page checks
+  fetch(new URL("data/index.json", document.baseURI)).then((r) => r.json()).then((idx: { exercises?: string[] }) => {
+    exercises = idx.exercises ?? [];
+    showExamples(examples);
+  }).catch(() => undefined);
   const ed = editor();
   ed.addEventListener("input", () => {
     editorChanged();
@@ -85,7 +92,8 @@ export function initProgram(studio: Studio): void {
   });
   $("program-select").addEventListener("change", (e) => {
     const name = (e.target as HTMLSelectElement).value;
-    if (name) s.engine.send({ type: "program_open", name });
+    if (name.startsWith("exercise:")) theEditor?.signals.exerciseWanted.dispatch(name.slice("exercise:".length));
+    else if (name) s.engine.send({ type: "program_open", name });
     (e.target as HTMLSelectElement).value = "";
   });
   $("open-program").onclick = () => $("program-file").click();
@@ -130,12 +138,21 @@ export function initProgram(studio: Studio): void {
   editorChanged();
 }
 
-/** The shipped examples, for the menu. */
+/** The shipped examples, for the menu: the exercises first (a goal the page checks), then the
+ * programs that fit the robot shown. */
 export function showExamples(names: string[]): void {
+  examples = names;
   const sel = $("program-select") as HTMLSelectElement;
-  setOptions(sel, [{ value: "", label: "examples…" }, ...names]);
+  fill(sel, h("option", { value: "" }, "examples…"),
+    ...(exercises.length ? [h("optgroup", { label: "Exercises: the page checks them" },
+      ...exercises.map((x) => h("option", { value: `exercise:${x}` }, exerciseLabel(x))))] : []),
+    h("optgroup", { label: "Programs" }, ...names.map((n) => h("option", { value: n }, n))));
   sel.value = "";
 }
+let examples: string[] = [];
+let exercises: string[] = [];
+let theEditor: Editor | null = null;
+const exerciseLabel = (file: string) => file.replace(/\.articula$/, "").replace(/-/g, " ");
 
 /** The program's text and file name (from a file, an example, the blocks, a project). */
 /** A line added at the end of the program (the IK panel's straight line without an arm). */

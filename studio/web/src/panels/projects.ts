@@ -82,6 +82,7 @@ export function initProjects(studio: Studio, program: { setText: (text: string, 
   s = studio;
   editor = ed;
   ed.busy = () => applying;
+  ed.signals.exerciseWanted.add((name) => void openExercise(name));
   ed.signals.settle.add(() => {
     if (!applying && hook.project.dirty) noteEdit(capture());
   });
