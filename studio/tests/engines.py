@@ -78,8 +78,13 @@ class EnginePage:
                 last = None
             if time.monotonic() > end:
                 errors = self.page_errors()
+                try:  # what the page still waits for from its engine, if anything
+                    waiting = self.hook("a.engineWaiting()")
+                except Exception:
+                    waiting = "?"
                 raise AssertionError(f"{self.engine}: {what or expr} did not happen within {timeout:.0f} s"
-                                     f"{f' ({last})' if last else ''}; the page's errors: {errors}")
+                                     f"{f' ({last})' if last else ''}; the page's errors: {errors}; "
+                                     f"the engine's unanswered requests: {waiting}")
             time.sleep(0.1)
 
     def run(self, script: str):

@@ -204,7 +204,11 @@ def _type_into_block(pg, block_id, text):
     f = pg.rect(f"return [...document.querySelectorAll('#blockly svg.blocklySvg .blocklyEditableField')]"
                 f".find(x => x.closest('g[data-id]').dataset.id === {json.dumps(block_id)} && x.getBoundingClientRect().width > 0);")
     pg.mouse_click(f[0] + f[2] / 2, f[1] + f[3] / 2)
-    pg.wait("document.querySelector('.blocklyHtmlInput') !== null", 10 * PATIENCE, "the field's editor")
+    try:
+        pg.wait("document.querySelector('.blocklyHtmlInput') !== null", 10 * PATIENCE, "the field's editor")
+    except AssertionError as e:
+        pg.screenshot(SHOTS / f"studio-field-failed-{pg.engine}.png")
+        raise AssertionError(f"{e}: {pg.hook('[a.blockStacks, a.blocksCode && a.blocksCode.text, a.blocksPending, a.engineWaiting(), a.physics && a.physics.rtf]')}") from None
     pg.keys(text, select_all=True, enter=True)
     pg.wait("document.querySelector('.blocklyHtmlInput') === null", 10 * PATIENCE, "the field's editor closed")
 

@@ -101,7 +101,8 @@ export class Layout {
   apply(): void {
     const w = window.innerWidth, h = window.innerHeight;
     const mode = modeFor(w, h);
-    const plotsInTab = mode === "stacked" || h < 600;
+    // (below 800 px the plots strip would leave the blocks a sliver: a 1366x768 lab PC)
+    const plotsInTab = mode === "stacked" || h < 800;
     const menusInHeader = w >= 1200; // else they crowd STOP: the Robot tab holds them
     if (mode === this.mode && plotsInTab === this.plotsInTab && menusInHeader === this.menusInHeader) return;
     this.menusInHeader = menusInHeader;

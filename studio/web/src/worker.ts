@@ -107,6 +107,10 @@ async function start(first: Msg): Promise<void> {
 let started: Promise<void> | null = null;
 self.onmessage = (e: MessageEvent) => {
   const m = e.data;
+  if (typeof m === "object" && m !== null && m.type === "physics_ack") {  // not queued: it frees the stream
+    S.unacked = Math.max(0, S.unacked - 1);
+    return;
+  }
   if (!started) {
     started = start(typeof m === "object" && m !== null ? m : {}).catch((err) => {
       post([{ type: "fatal", message: `the engine did not start: ${(err as Error)?.message ?? err}` }]);

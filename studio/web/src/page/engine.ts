@@ -135,5 +135,6 @@ export class EngineClient {
     }
     if (hook.physics?.on) hook.stream.messages++;
     this.onMessage(m);
+    if (m.type === "physics") this.worker.postMessage({ type: "physics_ack" }); // taken: the next frame may come
   }
 }

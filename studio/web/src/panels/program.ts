@@ -150,6 +150,9 @@ export function showExamples(names: string[]): void {
   sel.value = "";
 }
 let examples: string[] = [];
+let timelineCommands = ""; // the commands the time line shown was made from
+/** A program's commands without its comments and blank lines (what the arm is sent). */
+const commandsOf = (text: string) => text.split("\n").map((l) => l.replace(/#.*/, "").trim()).filter((l) => l).join("\n");
 let exercises: string[] = [];
 let theEditor: Editor | null = null;
 const exerciseLabel = (file: string) => file.replace(/\.articula$/, "").replace(/-/g, " ");
@@ -179,8 +182,9 @@ function editorChanged(): void {
   const n = ed.value.split("\n").length;
   fill($("gutter"), ...Array.from({ length: n }, (_, i) => h("div", null, i + 1)));
   $("gutter").scrollTop = ed.scrollTop;
-  if (hook.timeline) {
+  if (hook.timeline && commandsOf(ed.value) !== timelineCommands) {
     // what was worked out for the text before is not this text's: no old result on screen
+    // (the same commands written again, as the blocks write them, keep it)
     hook.timeline = null;
     s.plots.clear();
     s.view.showPaths([], []);
@@ -234,6 +238,7 @@ export function showTime(p: PoseMsg): void {
 export const programHandlers = {
   timeline(m: TimelineMsg): void {
     hook.timeline = m;
+    timelineCommands = commandsOf(editor().value);
     hook.programError = "";
     s.plots.show(m);
     // The path the tool will take, every step, over the straight lines the program asks for.

@@ -143,8 +143,10 @@ export function physicsIntent(kind: string, m: Msg, kinematic: (kind: string, m:
 // Steps the simulation in real time and streams the world to the page, one message a display
 // frame. `rtf` is simulated time over wall time (1.0 when keeping up), `capacity` how many
 // times real time the stepping alone could run; `behind` when it cannot keep up.
+const MAX_UNACKED = 3;
 export function ensurePhysics(): void {
   if (loop !== null || !S.sim || !S.greeted) return;
+  S.unacked = 0;
   const meter = new RealTimeMeter(60);
   let last = performance.now();
   loop = every(FRAME_MS, () => {
@@ -175,9 +177,11 @@ export function ensurePhysics(): void {
     meter.slice(stepped, busy);
     const capacity = meter.capacity;
     const behind = running && (wall > 0.1 || (capacity !== null && capacity < 1));
+    if (S.unacked >= MAX_UNACKED) return; // (the page is behind: this frame is skipped, the physics runs on)
     const msg = physicsMessage(meter.rtf, behind);
     msg.capacity = capacity;
     msg.running = running;
+    S.unacked++;
     post([poseMessage(), msg]);
   });
 }

@@ -29,6 +29,10 @@ export const S = {
   sceneName: null as string | null, // live physics: the scene (null: none)
   sim: null as Sim | null,
   greeted: false, // the page said hello: it has the robot, poses may stream
+  // physics frames posted that the page has not taken yet (physics_ack): the stream waits at a
+  // few, so that a page slower than the physics (a busy tablet) gets the engine's answers
+  // between frames instead of behind a queue of them that only grows
+  unacked: 0,
   programTexts: new Map<string, string>(), // the shipped examples' texts (site.ts reads them)
 };
 
