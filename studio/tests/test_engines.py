@@ -217,7 +217,7 @@ def test_undo_and_redo_by_the_buttons_and_the_keys(page):
     """The robot, the scene and the program's text edited, undone to the start by the buttons
     and redone to the end by the keys (Ctrl+Shift+Z, Ctrl+Y), in this engine."""
     pg = page()
-    pg.wait("a.project.id !== '' && !a.project.dirty", 30 * PATIENCE, "the project saved")
+    pg.wait("a.history.ready && !a.project.dirty", 30 * PATIENCE, "the project on screen, saved")
     state = "[a.robot.name, (a.scene && a.scene.name) || '', document.getElementById('editor').value]"
     start = pg.hook(state)
     pg.set_text("#editor", "M 0 90 0\nG 50\n")

@@ -10,7 +10,7 @@ def robot_scene_text(pg):
 
 def test_edits_undone_to_the_start_and_redone_to_the_end(open_page):
     pg = open_page("mk2plus")
-    pg.wait("a.project.id !== '' && !a.project.dirty")
+    pg.wait("a.history.ready && !a.project.dirty")
     start = robot_scene_text(pg)
     assert pg.hook("a.history.undo") == 0
     assert pg.page.is_disabled("#undo") and pg.page.is_disabled("#redo")
@@ -64,7 +64,7 @@ def test_an_exercise_and_its_blocks_undone_by_touch_on_a_tablet(open_page):
     """On an upright tablet (touch, no keyboard): opening an exercise is one step, each block
     tapped in is one; the Undo button takes them back to the project before, Redo brings them again."""
     pg = open_page("mk2plus", width=768, height=1024, touch=True)
-    pg.wait("a.project.id !== '' && !a.project.dirty")
+    pg.wait("a.history.ready && !a.project.dirty")
     first = pg.hook("a.project.name")
     pg.page.tap("#projects-button")
     pg.page.select_option("#exercise-select", "pick-and-place.articula")

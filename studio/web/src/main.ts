@@ -91,7 +91,7 @@ function wireHistory(ed: Editor): void {
     redo.disabled = !h.canRedo;
     undo.title = h.canUndo ? `Undo: ${h.undoName} (Ctrl+Z)` : "Nothing to undo";
     redo.title = h.canRedo ? `Redo: ${h.redoName} (Ctrl+Shift+Z)` : "Nothing to redo";
-    hook.history = { ...h.steps, undoName: h.undoName, redoName: h.redoName };
+    hook.history = { ...h.steps, undoName: h.undoName, redoName: h.redoName, ready: hook.history.ready };
   };
   ed.signals.historyChanged.add(show);
   show();

@@ -70,7 +70,7 @@ export interface Hook {
   exercise: { parts: { label: string; met: boolean; detail: string; distance_mm: number }[]; met: boolean; error?: string } | null;
   flash: { busy: boolean; phase: string; done: number; total: number; error: string; errorKind: string;
            result: { bytes: number; pages: number; baud: number; seconds: number } | null };
-  history: { undo: number; redo: number; undoName: string; redoName: string }; // editor/history.ts: the steps
+  history: { undo: number; redo: number; undoName: string; redoName: string; ready: boolean }; // editor/history.ts: the steps; ready: the project is on screen, an edit now is a step
 }
 
 export const hook: Hook = {
@@ -89,7 +89,7 @@ export const hook: Hook = {
   shareLink: "", shareCopied: "", programMode: "text", programName: "program.arm", blocksCode: null, blockProblems: [], runningBlock: "", blockStacks: 0, blocksPending: false, stops: 0, pngCaption: "",
   blocksFirstPaintMs: 0, exercise: null,
   flash: { busy: false, phase: "", done: 0, total: 0, error: "", errorKind: "", result: null },
-  history: { undo: 0, redo: 0, undoName: "", redoName: "" },
+  history: { undo: 0, redo: 0, undoName: "", redoName: "", ready: false },
 };
 
 /** `window.articula`, read-only from outside. */

@@ -198,6 +198,7 @@ export function projectRobotShown(): void {
     } else {
       recorded = capture();
     }
+    hook.history.ready = recorded !== null;
     editor?.settled();
   });
 }
@@ -229,6 +230,7 @@ function showEdit(doc: Project): void {
   s.engine.call({ type: "sync" }).catch(() => undefined).then(blocksSettled).finally(() => {
     applying = false;
     recorded = capture();  // (the text the blocks make, as they make it)
+    hook.history.ready = true;
     edited();
     editor?.settled();
   });
@@ -388,6 +390,7 @@ async function put(doc: Project, id: string, rev: number): Promise<void> {
   pendingApply = doc;
   applying = true;
   recorded = null;  // set again once it is on screen (projectRobotShown)
+  hook.history.ready = false;
   undoing = false;
   showName();
   const robot = "shipped" in doc.robot ? doc.robot.shipped : null;
