@@ -434,7 +434,7 @@ void cut(Prediction& p, size_t stop, const std::vector<Item>& hit, const Control
       if (!dropped_gripper) gripper = r.gripper_percent;
       continue;
     }
-    const bool ran = c.done(mine.front()).steps > 0 || (k == first && hit.front().first == k);
+    const bool ran = k == first || c.done(mine.front()).steps > 0;  // (the first one hit was running)
     std::vector<int32_t> delta(at.size(), 0);
     uint32_t dominant = 0;
     std::vector<PredictRecord::Segment> segments;

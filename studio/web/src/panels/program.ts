@@ -4,7 +4,7 @@
 import type { PoseMsg, TimelineMsg } from "../protocol";
 import type { Editor } from "../editor/editor";
 import type { Studio } from "../page/context";
-import { $, download, fill, h, setOptions } from "../page/dom";
+import { $, download, fill, h } from "../page/dom";
 import { hook } from "../page/hook";
 import { blocksMode, fromText, highlightBlockOfLine, refusedLine, teachBlock } from "./blocks";
 
