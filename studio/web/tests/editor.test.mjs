@@ -2,20 +2,17 @@
 // TypeScript sources with esbuild as the page's bundle is.
 import assert from "node:assert/strict";
 import { buildSync } from "esbuild";
-import { mkdtempSync, writeFileSync } from "node:fs";
-import { tmpdir } from "node:os";
 import { join } from "node:path";
 import { test } from "node:test";
-import { fileURLToPath, pathToFileURL } from "node:url";
+import { fileURLToPath } from "node:url";
 
 const SRC = fileURLToPath(new URL("../src/", import.meta.url));
 
-/** A page module (TypeScript) as an ES module node can import. */
+/** A page module (TypeScript) as an ES module node can import (bundled, so it imports nothing
+ *  itself: a data: URL holds it, and no file is left behind). */
 async function load(path) {
-  const out = join(mkdtempSync(join(tmpdir(), "articula-editor-")), "m.mjs");
   const r = buildSync({ entryPoints: [join(SRC, path)], bundle: true, format: "esm", platform: "neutral", write: false });
-  writeFileSync(out, r.outputFiles[0].text);
-  return import(pathToFileURL(out).href);
+  return import("data:text/javascript;base64," + Buffer.from(r.outputFiles[0].text).toString("base64"));
 }
 
 /** A value edited through commands, as the page's program text is. */
