@@ -15,6 +15,8 @@ from pathlib import Path
 
 import pytest
 
+from engines import driver_made
+
 REPO = Path(__file__).resolve().parents[2]
 CHROMIUM = os.environ.get("ARTICULA_CHROMIUM", "/usr/bin/chromium")
 SHOTS = Path(os.environ.get("ARTICULA_SCREENSHOTS") or REPO / "docs" / "img")
@@ -153,8 +155,23 @@ class Page:
     def wait(self, expr: str, timeout=15000):
         self.page.wait_for_function(f"() => {{ const a = window.articula; return {expr}; }}", timeout=timeout * PATIENCE)
 
-    def close(self):
+    def csp_refusals(self) -> list[str]:
+        """What the site's Content-Security-Policy refused in this page: the page's own record
+        (hook.pageErrors) and the console's."""
+        try:
+            kept = [e for e in self.page.evaluate("() => window.articula ? window.articula.pageErrors : []")
+                    if "Content-Security-Policy" in e and not driver_made(e)]
+        except Exception:  # the page is gone
+            kept = []
+        said = [e for e in self.errors if "Content Security Policy" in e or "Content-Security-Policy" in e]
+        return kept + said
+
+    def close(self, csp_refusals_expected=False):
+        """Closes the page; fails if the Content-Security-Policy refused anything (the page
+        writes no inline style or script: a refusal is a broken feature in some engine)."""
+        refused = [] if csp_refusals_expected or self.context is None else self.csp_refusals()
         self.context.close()
+        assert not refused, f"the page's Content-Security-Policy refused: {refused}"
 
 
 @pytest.fixture

@@ -57,6 +57,13 @@ def _fn(expr: str) -> str:
     return f"() => {{ const a = window.articula; return {expr}; }}"
 
 
+def driver_made(refusal: str) -> bool:
+    """A refusal of code the test's driver evaluated, not the page's: Firefox names such code's
+    source "<page> line N > eval" (Playwright's screenshot there adds a <style> of its own).
+    The page's own code cannot eval: its policy has no 'unsafe-eval'."""
+    return "> eval" in refusal or "%3E%20eval" in refusal
+
+
 class EnginePage:
     """The studio in one engine: the operations the cross-engine tests need, the same in each."""
 
@@ -125,9 +132,23 @@ class EnginePage:
 
     def page_errors(self) -> list[str]:
         try:
-            return self.hook("a.pageErrors.concat(a.internalErrors)")
+            return [e for e in self.hook("a.pageErrors.concat(a.internalErrors)") if not driver_made(e)]
         except Exception as e:
             return [f"(no hook: {e})"]
+
+    def csp_refusals(self) -> list[str]:
+        """What the site's Content-Security-Policy refused in this page (the page keeps each
+        refusal in hook.pageErrors: WebKit's driver shows no console)."""
+        try:
+            return [e for e in self.hook("a.pageErrors") if "Content-Security-Policy" in e and not driver_made(e)]
+        except Exception:
+            return []
+
+    def close(self):
+        """Closes the page; fails if the Content-Security-Policy refused anything."""
+        refused = self.csp_refusals()
+        self._close()
+        assert not refused, f"{self.engine}: the page's Content-Security-Policy refused: {refused}"
 
 
 class PlaywrightPage(EnginePage):
@@ -193,7 +214,7 @@ class PlaywrightPage(EnginePage):
     def reload(self):
         self.page.reload()
 
-    def close(self):
+    def _close(self):
         self.context.close()
 
 
@@ -317,7 +338,7 @@ class WebKitPage(EnginePage):
         self.driver.execute_async_script("const done = arguments[0]; requestAnimationFrame(() => requestAnimationFrame(done));")
         self.driver.save_screenshot(str(path))
 
-    def close(self):
+    def _close(self):
         self.driver.quit()
 
 

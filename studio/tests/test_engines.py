@@ -213,6 +213,31 @@ def _type_into_block(pg, block_id, text):
     pg.wait("document.querySelector('.blocklyHtmlInput') === null", 10 * PATIENCE, "the field's editor closed")
 
 
+def test_a_blocks_warning_opens_in_full_with_nothing_refused(page):
+    """A block beyond a joint's range: its warning's bubble opens with the whole text, in lines
+    (Blockly's bubble set a style attribute the page's policy refused in Firefox; one long line
+    reached past the workspace). The fixture fails on any refusal the page records."""
+    pg = page("", width=1366, height=768)
+    pg.click("#tab-program")
+    pg.set_text("#editor", "M 0 90 -150\nG 100\n")
+    pg.click("#mode-blocks")
+    pg.wait("a.programMode === 'blocks' && !a.blocksPending && a.blocksCode !== null", 30 * PATIENCE, "the blocks made")
+    pg.click("#run")
+    pg.wait("a.blockProblems.length >= 2", 30 * PATIENCE, "the refusal on its block")
+    icon = pg.rect("return document.querySelector('#blockly .blocklyIconGroup');")
+    assert icon is not None, "no warning icon on the block"
+    pg.mouse_click(icon[0] + icon[2] / 2, icon[1] + icon[3] / 2)
+    pg.wait("document.querySelector('#blockly .blocklyTextBubble') !== null", 10 * PATIENCE, "the bubble open")
+    lines = pg.run("return [...document.querySelectorAll('#blockly .blocklyTextBubble .blocklyBubbleText > text')].map(t => t.textContent);")
+    text = " ".join(lines)
+    assert "beyond its range" in text and "error:9" in text, lines
+    assert max(len(l) for l in lines) <= 40, lines
+    bubble = pg.rect("return document.querySelector('#blockly .blocklyTextBubble');")
+    ws = pg.rect("return document.querySelector('#blockly .blocklyMainBackground');")
+    assert bubble[0] >= ws[0] - 1 and bubble[0] + bubble[2] <= ws[0] + ws[2] + 1, (bubble, ws)
+    pg.screenshot(SHOTS / f"studio-warning-{pg.engine}.png")
+
+
 def test_undo_and_redo_by_the_buttons_and_the_keys(page):
     """The robot, the scene and the program's text edited, undone to the start by the buttons
     and redone to the end by the keys (Ctrl+Shift+Z, Ctrl+Y), in this engine."""

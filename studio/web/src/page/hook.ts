@@ -102,6 +102,10 @@ export function exposeHook(): void {
   };
   window.addEventListener("error", (e) => keep(e.error ?? e.message));
   window.addEventListener("unhandledrejection", (e) => keep(e.reason));
+  // what the page's Content-Security-Policy refused: never expected (the page writes no inline
+  // style or script), so the browser tests fail on any
+  document.addEventListener("securitypolicyviolation", (e) =>
+    keep(`Content-Security-Policy refused ${e.effectiveDirective || e.violatedDirective}: ${e.blockedURI || "inline"} ${e.sample || ""} (${e.sourceFile || "?"}:${e.lineNumber})`));
 }
 
 /** An error reply from the engine or the arm, as the hook keeps it. */

@@ -18,7 +18,7 @@ let s: Studio;
 let ws: Blockly.WorkspaceSvg | null = null;
 let mode: "text" | "blocks" = "text";
 let lineBlocks: string[] = []; // block id of each program line (index: line - 1)
-let warned = new Set<string>();
+const warned = new Map<string, string[]>(); // a block's problems, each in its bubble
 let compiling = 0;
 let compiles = 0; // the compiles asked for: only the newest one's answer counts
 let pendingLoad: unknown = null; // a workspace to load once Blockly is up
@@ -72,6 +72,39 @@ class Renderer extends Blockly.zelos.Renderer {
   }
 }
 
+// A warning's bubble (Blockly's TextBubble) sets its text's direction with a style attribute,
+// which the Content-Security-Policy refuses (style-src 'self'; Firefox says so in its console):
+// the same paragraph, its direction set through the CSSOM, which the policy allows.
+function paragraphWithoutStyleAttribute(): void {
+  const proto = Blockly.bubbles.TextBubble.prototype as unknown as { createParagraph(container: SVGGElement): SVGGElement;
+    workspace: Blockly.WorkspaceSvg };
+  proto.createParagraph = function (this: typeof proto, container: SVGGElement): SVGGElement {
+    const p = Blockly.utils.dom.createSvgElement(Blockly.utils.Svg.G, {
+      class: "blocklyText blocklyBubbleText blocklyNoPointerEvents",
+      transform: `translate(0,${Blockly.bubbles.Bubble.BORDER_WIDTH})`,
+    }, container);
+    p.style.direction = this.workspace.RTL ? "rtl" : "ltr";
+    return p;
+  };
+}
+
+/** A warning's text in lines of about `width` characters: Blockly's bubble does not wrap, and a
+ *  long one-line bubble reached past the workspace's left edge and over the blocks beside. */
+function wrapWords(text: string, width = 38): string {
+  const out: string[] = [];
+  for (const para of text.split("\n")) {
+    let line = "";
+    for (const word of para.split(" ")) {
+      if (line && line.length + 1 + word.length > width) {
+        out.push(line);
+        line = word;
+      } else line = line ? `${line} ${word}` : word;
+    }
+    out.push(line);
+  }
+  return out.join("\n");
+}
+
 // Blockly's Undo and Redo (its workspace menu, a long press on a tablet) are the Editor's: one
 // History for the blocks and everything else (its Ctrl+Z the page takes before Blockly sees it).
 function historyMenu(): void {
@@ -92,6 +125,7 @@ function ensureWorkspace(): void {
   const t0 = performance.now();
   defineBlocks();
   historyMenu();
+  paragraphWithoutStyleAttribute();
   Blockly.blockRendering.unregister("zelos");
   Blockly.blockRendering.register("zelos", Renderer);
   if (hook.robot) setJoints(hook.robot.joints);
@@ -208,7 +242,7 @@ function compile(): void {
 }
 
 function clearWarnings(): void {
-  for (const id of warned) ws?.getBlockById(id)?.setWarningText(null);
+  for (const id of warned.keys()) ws?.getBlockById(id)?.setWarningText(null);
   warned.clear();
   hook.blockProblems = [];
 }
@@ -217,8 +251,9 @@ function clearWarnings(): void {
 export function blockProblem(id: string, message: string, fatal: boolean): void {
   const b = id ? ws?.getBlockById(id) : null;
   if (b) {
-    b.setWarningText(message);
-    warned.add(id);
+    const all = [...(warned.get(id) ?? []), message];
+    warned.set(id, all);
+    b.setWarningText(all.map((m) => wrapWords(m)).join("\n\n"));
   }
   hook.blockProblems = [...hook.blockProblems, { block: id, message }];
   if (fatal) {
