@@ -21,6 +21,21 @@ REPO = Path(__file__).resolve().parents[2]
 CHROMIUM = os.environ.get("ARTICULA_CHROMIUM", "/usr/bin/chromium")
 SHOTS = Path(os.environ.get("ARTICULA_SCREENSHOTS") or REPO / "docs" / "img")
 SHOTS.mkdir(parents=True, exist_ok=True)
+ARTICULA = REPO / "build" / "host" / "cli" / "articula"
+
+
+def cli_path() -> str:
+    """The articula CLI the tests compare the page with (ARTICULA_CLI: an installed one)."""
+    return os.environ.get("ARTICULA_CLI") or str(ARTICULA)
+
+
+def cli_json(*args: str) -> dict:
+    """`articula ARGS --json`'s answer (exit 0, or 1 for a result that says no)."""
+    import json
+
+    p = subprocess.run([cli_path(), *args, "--json"], capture_output=True, text=True, cwd=REPO, timeout=60)
+    assert p.returncode in (0, 1), p.stderr
+    return json.loads(p.stdout)
 DIST = REPO / "studio" / "web" / "dist"
 # A wait's timeout guards against a hang; it is not a speed check. Every wait gets this many
 # times what it names, so that a busy machine (two test jobs on two cores) still passes.

@@ -13,8 +13,8 @@ from pathlib import Path
 
 import pytest
 
-from conftest import PATIENCE, REPO, SHOTS, Page
-from test_studio import _connect_page_nano, cli_json
+from conftest import PATIENCE, REPO, SHOTS, Page, cli_json
+from test_studio import _connect_page_nano
 
 SOLUTION = [  # pick and place: the thesis's Fig. 20 (programs/grasp-and-lift.arm) in the sliders' values
     ("Gripper", "arm_gripper_open", None),

@@ -13,20 +13,8 @@ import subprocess
 import numpy as np
 import pytest
 
-from conftest import PATIENCE, REPO, SHOTS
+from conftest import PATIENCE, REPO, SHOTS, cli_json, cli_path
 
-ARTICULA = REPO / "build" / "host" / "cli" / "articula"
-
-
-def cli_path() -> str:
-    import os
-    return os.environ.get("ARTICULA_CLI") or str(ARTICULA)
-
-
-def cli_json(*args: str) -> dict:
-    p = subprocess.run([cli_path(), *args, "--json"], capture_output=True, text=True, cwd=REPO, timeout=60)
-    assert p.returncode in (0, 1), p.stderr
-    return json.loads(p.stdout)
 
 
 def test_the_static_site_loads_without_errors_and_shows_the_arm(open_page, site):
@@ -591,6 +579,41 @@ def test_stop_ends_a_long_move_on_the_page_nano(open_page):
     # it stays there: the queue is empty, nothing more moves
     pg.page.wait_for_timeout(500)
     assert pg.hook("a.arm.status.steps") == steps and pg.hook("a.arm.status.state") == "Idle"
+
+
+def test_run_says_where_it_runs_with_an_arm_connected(open_page):
+    """With the Nano connected, Run drives it, and its face says so; the choice sits beside Run
+    (not three swipes below); unticked, Run plays the model only and the status says the arm
+    did not move. A legend names the teal arm (the arm as it reports itself)."""
+    pg = open_page("mk2plus")
+    assert pg.page.is_hidden("#drive-arm-row") and pg.page.is_hidden("#view-legend")
+    assert pg.page.inner_text("#run").strip() == "▶ Run"
+    _connect_page_nano(pg)
+    pg.wait("a.runOnArm === true")
+    # beside Run: the same row, on screen with it
+    assert pg.page.evaluate("() => document.querySelector('#drive-arm-row').parentElement === document.querySelector('#run').parentElement")
+    assert pg.page.is_checked("#drive-arm") and "on the arm" in pg.page.inner_text("#run")
+    assert pg.page.is_visible("#view-legend") and "as it reports itself" in pg.page.inner_text("#view-legend")
+    # the model only: the arm stays where it is, and the status says so
+    steps = pg.hook("a.arm.status.steps")
+    pg.page.uncheck("#drive-arm")
+    assert pg.page.inner_text("#run").strip() == "▶ Run" and not pg.hook("a.runOnArm")
+    pg.page.fill("#editor", "L 0 20\n")
+    pg.page.click("#run")
+    pg.wait("a.timeline !== null && !a.playing && a.pose.t > 0")
+    status = pg.page.inner_text("#program-status")
+    assert "the arm did not move" in status, status
+    assert pg.hook("a.arm.status.steps") == steps and pg.hook("a.arm.programLines") == []
+    # on the arm again: it moves
+    pg.page.check("#drive-arm")
+    pg.page.click("#run")
+    pg.wait("a.arm.programDone === true", timeout=30000)
+    assert pg.hook("a.arm.programLines") == [[1, "ok"]]
+    # closed: Run is the model's again, and the legend goes with the teal arm
+    pg.page.click("#arm-disconnect")
+    pg.wait("!a.arm.connected")
+    assert pg.page.is_hidden("#drive-arm-row") and pg.page.is_hidden("#view-legend") and not pg.hook("a.runOnArm")
+    assert pg.page.inner_text("#run").strip() == "▶ Run"
 
 
 def test_a_program_drives_the_page_nano_to_the_predicted_steps(open_page, tmp_path):

@@ -17,15 +17,15 @@ import { EngineClient } from "./page/engine";
 import { $, banner } from "./page/dom";
 import { exposeHook, hook, noteError } from "./page/hook";
 import type { Studio } from "./page/context";
-import { armFrameDrawn, armRobotShown, initArm, runOnArm, sendToArm, stopEverything } from "./panels/arm";
+import { armFrameDrawn, initArm, stopEverything } from "./panels/arm";
 import { initExperiment } from "./panels/experiment";
 import { initFlash } from "./panels/flash";
 import { followTool, initIk, setLineTargets, showIk } from "./panels/ik";
 import { initJoints, showJointValues } from "./panels/joints";
 import { showPhysics, showScene, initPhysics } from "./panels/physics";
-import { appendProgramLine, ghostShown, initProgram, programHandlers, setProgram, setProgramChanged, setRunOnArm, showTime } from "./panels/program";
-import { blocksRobot, initBlocks } from "./panels/blocks";
-import { chooseProject, initProjects, projectChanged, projectRobotShown, setProjectExperiment } from "./panels/projects";
+import { appendProgramLine, ghostShown, initProgram, programHandlers, setProgram, setProgramChanged, showTime } from "./panels/program";
+import { initBlocks } from "./panels/blocks";
+import { chooseProject, initProjects, projectChanged, setProjectExperiment } from "./panels/projects";
 import { fitNewRobot, initRobot, robotError, saveUrdf, showRobot } from "./panels/robot";
 import { Editor } from "./editor/editor";
 
@@ -46,7 +46,8 @@ layout.onChange();
 const view = new View($("view"));
 Object.assign(hook, { webgl: view.renderer !== null, language, storage: storage !== null });
 const plots = new Plots($("plots"));
-const studio: Studio = { engine, view, plots };
+const editor = new Editor();
+const studio: Studio = { engine, view, plots, editor };
 hook.armPixels = () => view.armPixels();
 hook.camera = () => view.cameraState();
 hook.viewpoint = () => view.viewpoint();
@@ -67,16 +68,14 @@ engine.onMessage = handle;
 initRobot(studio);
 initJoints(studio);
 initIk(studio);
-const editor = new Editor();
-initProgram(studio, editor);
+initProgram(studio);
 initPhysics(studio);
 initArm(studio);
-initFlash();
+initFlash(studio);
 initExperiment(studio, setProjectExperiment);
-setRunOnArm(runOnArm);
-setLineTargets(sendToArm, appendProgramLine);
-initBlocks(studio, { setText: (text, name) => setProgram(name, text), changed: projectChanged }, editor);
-initProjects(studio, { setText: (text, name) => setProgram(name, text), reveal: (id) => layout.reveal(id) }, editor);
+setLineTargets((line) => editor.arm.send(line), appendProgramLine);
+initBlocks(studio, { setText: (text, name) => setProgram(name, text), changed: projectChanged });
+initProjects(studio, { setText: (text, name) => setProgram(name, text), reveal: (id) => layout.reveal(id) });
 wireHistory(editor);
 setProgramChanged(projectChanged);
 
@@ -119,10 +118,7 @@ function setConn(text: string, kind: "ok" | "bad"): void {
 function handle(m: EngineMsg): void {
   switch (m.type) {
     case "robot":
-      showRobot(m);
-      blocksRobot(m);
-      armRobotShown();
-      projectRobotShown();
+      showRobot(m); // the other panels follow it (the Editor's robotShown)
       return projectChanged();
     case "robot_error": return robotError(m.message);
     case "urdf": return saveUrdf(m);

@@ -65,6 +65,7 @@ export class View {
   // The physics scene's objects by name, and what flashes (an event names it) until when.
   private objects = new Map<string, THREE.Mesh>();
   private objectGroup = new THREE.Group();
+  private goalGroup = new THREE.Group();
   private flashes = new Map<THREE.Mesh, number>();
   private raycaster = new THREE.Raycaster();
   private dragPlane = new THREE.Plane();
@@ -151,7 +152,7 @@ export class View {
     );
     this.ground.position.z = -0.5;
     this.scene.add(this.ground);
-    this.scene.add(this.arm, this.ghostArm, this.objectGroup, this.liveArm, this.paths);
+    this.scene.add(this.arm, this.ghostArm, this.objectGroup, this.goalGroup, this.liveArm, this.paths);
 
     // The IK target: a ball with its own axes, moved by the gizmo.
     const ball = new THREE.Mesh(
@@ -446,6 +447,46 @@ export class View {
   showAxes(on: boolean): void {
     this.dirty = true;
     this.axes.forEach((a) => (a.visible = on));
+  }
+
+  // ---- an exercise's goal: where the tool must go (a ball of the tolerance, numbered) and where
+  // an object must end (a see-through box), drawn faintly in every view
+
+  showGoal(parts: ({ kind: "reach"; xyz: number[]; tolerance_mm: number } | { kind: "object"; min: number[]; max: number[] })[]): void {
+    for (const o of [...this.goalGroup.children]) o.removeFromParent();
+    const color = 0x16a34a;
+    let n = 0;
+    for (const p of parts) {
+      const g = new THREE.Group();
+      g.name = "goal";
+      if (p.kind === "reach") {
+        const ball = new THREE.Mesh(new THREE.SphereGeometry(Math.max(p.tolerance_mm, 4), 24, 16),
+          new THREE.MeshBasicMaterial({ color, transparent: true, opacity: 0.35, depthWrite: false }));
+        g.position.set(p.xyz[0], p.xyz[1], p.xyz[2]);
+        g.add(ball);
+        const tag = label(String(++n), "#15803d");
+        tag.scale.setScalar(22);
+        tag.position.set(0, 0, Math.max(p.tolerance_mm, 4) + 14);
+        g.add(tag);
+      } else {
+        const size = [0, 1, 2].map((i) => Math.max(p.max[i] - p.min[i], 1));
+        const geo = new THREE.BoxGeometry(size[0], size[1], size[2]);
+        g.position.set((p.min[0] + p.max[0]) / 2, (p.min[1] + p.max[1]) / 2, (p.min[2] + p.max[2]) / 2);
+        g.add(new THREE.Mesh(geo, new THREE.MeshBasicMaterial({ color, transparent: true, opacity: 0.18, depthWrite: false })));
+        g.add(new THREE.LineSegments(new THREE.EdgesGeometry(geo), new THREE.LineBasicMaterial({ color })));
+        const tag = label("✓", "#15803d");
+        tag.scale.setScalar(22);
+        tag.position.set(0, 0, size[2] / 2 + 16);
+        g.add(tag);
+      }
+      this.goalGroup.add(g);
+    }
+    this.dirty = true;
+  }
+
+  /** The goal's parts drawn (for the hook): reach balls and places. */
+  goalShown(): number {
+    return this.goalGroup.children.length;
   }
 
   // ---- the physics scene

@@ -1,18 +1,70 @@
 // The Editor (after three.js's editor/js/Editor.js): the page's edits as one History with
-// undo and redo. Panels record their edits into it and listen to its signals; main.ts wires the
-// buttons and the keys. (The project document, the robot, the scene and the program still live
-// in panels/projects.ts and the panels: moving them here is issue 28's next part.)
+// undo and redo, the signals the panels talk through (no panel imports another), and the parts
+// of the project's state the panel that owns them answers for (the blocks, the arm's link, the
+// robot file opened). main.ts makes it and wires the buttons and the keys. (The project
+// document itself still lives in panels/projects.ts: moving it here is issue 28's next part.)
+import type { ArmLink } from "../arm";
+import type { Experiment } from "../project/document";
+import type { RobotMsg } from "../protocol";
+import type { SerialLike } from "../serial";
 import { History } from "./history";
 import { Signal } from "./signal";
 
+/** The program as blocks (the blocks panel answers for it). */
+export interface BlocksPart {
+  mode(): "text" | "blocks";
+  setMode(m: "text" | "blocks", fromProject?: boolean): void;
+  json(): object | null; // the workspace as Blockly's JSON, what a project keeps
+  load(json: unknown): void; // a project's blocks (null: none)
+  fromText(): void; // the program's text as blocks
+  teach(q: number[]): void; // the pose shown, as a block at the end
+}
+
+/** The arm's link (the arm panel answers for it). */
+export interface ArmPart {
+  link(): ArmLink | null; // while connected
+  run(text: string): void; // a program on the arm, line by line
+  send(line: string): boolean; // one line, as the Send box sends it; false: no arm
+  choosePort(): Promise<{ port: SerialLike; label: string } | { why: string }>;
+  disconnect(): Promise<void>;
+}
+
+/** The robot file a student opened (with its meshes, base64): the project keeps it. */
+export interface RobotFile {
+  file: { name: string; text: string; legacy: boolean; scale: number };
+  meshes: { name: string; data: string }[];
+}
+
+const none = (): never => {
+  throw new Error("the Editor's part is not wired yet (main.ts)");
+};
+
 export class Editor {
   readonly history = new History();
+  blocks: BlocksPart = { mode: () => "text", setMode: none, json: () => null, load: none, fromText: none, teach: none };
+  arm: ArmPart = { link: () => null, run: none, send: () => false, choosePort: none, disconnect: async () => undefined };
+  robotFile: RobotFile | null = null;
+  // the camera a project opens with, taken when its robot is first drawn (else the robot is framed)
+  keptView: { eye: number[]; target: number[] } | null = null;
   readonly signals = {
     historyChanged: this.history.changed,
     // before an undo or a redo: an edit still waiting to be recorded (typing) is recorded now
     settle: new Signal<void>(),
     // an exercise asked for by name (the examples menu, the projects list): the projects open it
     exerciseWanted: new Signal<string>(),
+    // the arm's link opened (true) or closed or lost (false)
+    armConnected: new Signal<boolean>(),
+    // a program's line is running (0: none), on the model, in the physics or on the arm;
+    // `refused`: it was refused. The text shows the line, the blocks light its block.
+    lineRunning: new Signal<{ line: number; refused: boolean }>(),
+    // the model or the arm refused a line of the program: the blocks put it on its block
+    lineRefused: new Signal<{ line: number; message: string }>(),
+    // what the program's status line says (the program panel shows it)
+    programSaid: new Signal<{ text: string; rejected?: string[]; bad?: boolean }>(),
+    // a robot is shown (the robot panel built its view): the other panels follow it
+    robotShown: new Signal<RobotMsg>(),
+    // a project's saved experiment (null: none) to show
+    experimentOpened: new Signal<Experiment | null>(),
   };
   // true while an edit is being put on screen (a robot loading): undo and redo wait for it,
   // in the order they were asked for (a student tapping Undo three times gets three steps)

@@ -18,6 +18,8 @@ export interface Hook {
   robotError: string;
   lastError: string;
   teach: string;
+  goal: { drawn: number; facts: string[] }; // an exercise's goal: its parts drawn in the view, the facts under it
+  runOnArm: boolean; // Run sends the program to the connected arm ("on the arm" beside it ticked)
   fps: number;
   framesDrawn: number;
   firstFrameAt: number; // performance.now() of the first frame with the arm drawn
@@ -76,7 +78,7 @@ export interface Hook {
 export const hook: Hook = {
   ready: false, connected: false, robot: null, pose: null, ik: null, timeline: null, playing: false,
   paths: { points: 0, lines: 0, worstMm: 0 }, ikLine: "",
-  programError: "", robotError: "", lastError: "", teach: "", fps: 0, framesDrawn: 0, firstFrameAt: 0,
+  programError: "", robotError: "", lastError: "", teach: "", goal: { drawn: 0, facts: [] }, runOnArm: false, fps: 0, framesDrawn: 0, firstFrameAt: 0,
   latency: [], ikUpdates: [], messages: 0, targetScreen: [0, 0], armPixels: () => 0,
   camera: () => ({ distance: 0, azimuth: 0 }), viewpoint: () => ({ eye: [], target: [] }),
   scene: null, physics: null, events: [], simCommand: "", objectScreen: () => null,

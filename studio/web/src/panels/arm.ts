@@ -8,17 +8,20 @@ import { VirtualNanoPort, webSerial } from "../serial";
 import type { SerialLike } from "../serial";
 import type { Studio } from "../page/context";
 import { $, banner, fill, h, setOptions } from "../page/dom";
-import { refusedLine } from "./blocks";
 import { hook, noteError } from "../page/hook";
-import { highlightLine, programStatus } from "./program";
 
 let armRefusals: { line: number; command: string; reply: string; meaning: string }[] = []; // this run's refused lines
 let s: Studio;
 let link: ArmLink | null = null; // the arm, while connected (or connecting)
 let nanoPort: VirtualNanoPort | null = null;
+let wasConnected = false;
+const say = (text: string, rejected: string[] = [], bad = false) => s.editor.signals.programSaid.dispatch({ text, rejected, bad });
 
 export function initArm(studio: Studio): void {
   s = studio;
+  // the arm while connected (or waiting to be configured), for the other panels
+  s.editor.arm = { link: () => link, run: runOnArm, send: sendToArm, choosePort, disconnect: disconnectArm };
+  s.editor.signals.robotShown.add(armRobotShown);
   $("arm-connect").onclick = () => {
     const port = ($("arm-port") as HTMLSelectElement).value;
     if (port) void connect();
@@ -48,7 +51,7 @@ function showPorts(): void {
 /** The port the panel's choice names: the virtual Nano, or a Nano on USB that the browser asks
  * the user to pick (Web Serial, with their permission). `why` when there is none: no Web
  * Serial here, or (empty) the user chose none. */
-export async function choosePort(): Promise<{ port: SerialLike; label: string } | { why: string }> {
+async function choosePort(): Promise<{ port: SerialLike; label: string } | { why: string }> {
   const which = ($("arm-port") as HTMLSelectElement).value;
   if (which === "page:virtual") {
     const port = virtualNano();
@@ -87,17 +90,13 @@ async function connect(): Promise<void> {
 }
 
 /** Another robot is shown: the Nano is driven only if it is configured for that one. */
-export function armRobotShown(): void {
+function armRobotShown(): void {
   if (link && (link.connected || link.configurable)) void link.recheck(hook.robot?.name ?? "");
 }
 
-/** The arm while connected (or waiting to be configured), for the Experiment panel. */
-export function armLink(): ArmLink | null {
-  return link;
-}
 
 /** Closes the arm's port (flashing needs it to itself). */
-export async function disconnectArm(): Promise<void> {
+async function disconnectArm(): Promise<void> {
   const l = link;
   link = null;
   await l?.disconnect();
@@ -123,14 +122,14 @@ function sendLine(): void {
 }
 
 /** One line to the arm, as the Send box sends it; false when no arm is connected. */
-export function sendToArm(line: string): boolean {
+function sendToArm(line: string): boolean {
   if (!link) return false;
   void link.send(line);
   return true;
 }
 
 /** A program on the arm, line by line (the program panel's Run with "on the arm"). */
-export function runOnArm(text: string): void {
+function runOnArm(text: string): void {
   hook.arm.programLines = [];
   hook.arm.programDone = false;
   armRefusals = [];
@@ -167,7 +166,11 @@ function showArm(m: ArmMsg): void {
   $("arm-disconnect").hidden = !open;
   $("arm-configure-row").hidden = !m.configurable; // only when the Nano is another robot's
   $("arm-send-row").hidden = !m.connected;
-  $("drive-arm-row").hidden = !m.connected;
+  $("view-legend").hidden = !m.connected; // the teal arm beside the model: which is which
+  if (m.connected !== wasConnected) {
+    wasConnected = m.connected;
+    s.editor.signals.armConnected.dispatch(m.connected);
+  }
   const st = $("arm-state");
   if (m.configuring) {
     st.className = "status";
@@ -249,23 +252,23 @@ function armMessage(m: EngineMsg): void {
         hook.arm.programDone = true;
         // every refusal stays in sight, under the summary
         const refused = armRefusals.map((r) => `line ${r.line}: ${r.command} → ${r.reply} (${r.meaning}): nothing moved`);
-        programStatus(m.error ? `The arm stopped: ${m.error}` : m.stopped ? "Stopped: no further line is sent."
+        say(m.error ? `The arm stopped: ${m.error}` : m.stopped ? "Stopped: no further line is sent."
           : refused.length ? `The arm ran the program: ${m.sent} lines, ${refused.length} refused.`
           : `The arm ran the program: ${m.sent} lines, all accepted.`, refused, !!m.error || refused.length > 0);
         armRefusals = [];
       } else {
-        highlightLine(m.line ?? 0, m.reply !== "ok");
+        s.editor.signals.lineRunning.dispatch({ line: m.line ?? 0, refused: m.reply !== "ok" });
         if (m.reply !== "ok") {
           armRefusals.push({ line: m.line ?? 0, command: m.command ?? "", reply: m.reply ?? "", meaning: m.meaning ?? "" });
-          refusedLine(m.line ?? 0, `the arm refused this: ${m.reply}, ${m.meaning}`);
+          s.editor.signals.lineRefused.dispatch({ line: m.line ?? 0, message: `the arm refused this: ${m.reply}, ${m.meaning}` });
         }
         hook.arm.programLines.push([m.line, m.reply]);
-        programStatus(`on the arm, line ${m.line}: ${m.command} -> ${m.reply}${m.reply !== "ok" ? ` (${m.meaning})` : ""}` +
+        say(`on the arm, line ${m.line}: ${m.command} -> ${m.reply}${m.reply !== "ok" ? ` (${m.meaning})` : ""}` +
           (m.predicted && m.predicted.reply !== m.reply ? `; the model said ${m.predicted.reply}` : ""));
       }
       return;
     case "arm_stopped":
-      return programStatus("stop sent: the arm decelerates to rest and empties its queue");
+      return say("stop sent: the arm decelerates to rest and empties its queue");
     case "error":
       noteError(m.message);
       return banner(m.message);

@@ -28,12 +28,15 @@ let code = { text: "", robosim: "", python: "" };
 let setText: (text: string, name: string) => void = () => undefined;
 let changed: () => void = () => undefined;
 
-export const blocksMode = () => mode;
 
-export function initBlocks(studio: Studio, hooks: { setText: (text: string, name: string) => void; changed: () => void },
-                           ed: Editor): void {
+export function initBlocks(studio: Studio, hooks: { setText: (text: string, name: string) => void; changed: () => void }): void {
   s = studio;
-  editor = ed;
+  editor = s.editor;
+  editor.blocks = { mode: () => mode, setMode, json: workspaceJson, load: loadBlocks, fromText, teach: teachBlock };
+  const sig = editor.signals;
+  sig.robotShown.add(blocksRobot);
+  sig.lineRunning.add(({ line }) => highlightBlockOfLine(line));
+  sig.lineRefused.add(({ line, message }) => refusedLine(line, message));
   setText = hooks.setText;
   changed = hooks.changed;
   $("mode-blocks").onclick = () => setMode("blocks");
@@ -45,7 +48,7 @@ export function initBlocks(studio: Studio, hooks: { setText: (text: string, name
 }
 
 /** Shows the blocks or the text editor. */
-export function setMode(m: "text" | "blocks", fromProject = false): void {
+function setMode(m: "text" | "blocks", fromProject = false): void {
   mode = m;
   $("blockly").hidden = m !== "blocks";
   $("text-editor").hidden = m !== "text";
@@ -174,12 +177,12 @@ function onChange(e: Blockly.Events.Abstract): void {
 }
 
 /** The workspace as Blockly's JSON (what a project keeps). */
-export function workspaceJson(): object | null {
+function workspaceJson(): object | null {
   return ws ? Blockly.serialization.workspaces.save(ws) : (pendingLoad as object | null);
 }
 
 /** A project's blocks (null: none). */
-export function loadBlocks(json: unknown): void {
+function loadBlocks(json: unknown): void {
   lineBlocks = [];
   if (!ws) {
     pendingLoad = json;
@@ -200,7 +203,7 @@ function load(json: unknown): void {
 }
 
 /** The robot changed: the joint menus follow it. */
-export function blocksRobot(r: RobotMsg): void {
+function blocksRobot(r: RobotMsg): void {
   setJoints(r.joints);
   if (ws) compile();
 }
@@ -264,7 +267,7 @@ export function blockProblem(id: string, message: string, fatal: boolean): void 
 }
 
 /** The program's line `line` is running: its block lights up. */
-export function highlightBlockOfLine(line: number): void {
+function highlightBlockOfLine(line: number): void {
   if (!ws || mode !== "blocks") return;
   const id = line > 0 ? lineBlocks[line - 1] ?? "" : "";
   if (id === lastHighlight) return;
@@ -274,14 +277,14 @@ export function highlightBlockOfLine(line: number): void {
 }
 
 /** The arm (or the model) refused line `line`: the refusal goes on its block. */
-export function refusedLine(line: number, message: string): void {
+function refusedLine(line: number, message: string): void {
   if (mode !== "blocks") return; // the text's line: no block made it
   const id = lineBlocks[line - 1];
   if (id) blockProblem(id, message, false);
 }
 
 /** The editor's text as blocks (the engine reads it; its comments kept). */
-export function fromText(): void {
+function fromText(): void {
   const ed = $("editor") as HTMLTextAreaElement;
   if (!ed.value.trim()) return;
   s.engine.call({ type: "program_ops", text: ed.value, name: hook.programName || "program.arm" }).then((m) => {
@@ -295,7 +298,7 @@ export function fromText(): void {
 }
 
 /** Teach: the pose shown, as a block at the end of the program. */
-export function teachBlock(q: number[]): void {
+function teachBlock(q: number[]): void {
   if (!ws) return;
   const b = ws.newBlock("arm_joints");
   b.setFieldValue(q.map((v) => String(Math.round(v * 10) / 10)).join(", "), "VALUES");

@@ -13,7 +13,6 @@ import type { Studio } from "../page/context";
 import { $, download, fill, h, setOptions, status } from "../page/dom";
 import { hook } from "../page/hook";
 import type { Experiment, ExperimentChain, ExperimentPoint, ExperimentTarget } from "../project/document";
-import { armLink } from "./arm";
 
 type Xyz = [number, number, number];
 interface Axis { max_pct: number | null; max_mm: number; avg_mm: number }
@@ -52,6 +51,7 @@ let asked: number[] | null = null; // the values the question was about ("Use it
 export function initExperiment(studio: Studio, onSave: (e: Experiment) => void): void {
   s = studio;
   save = onSave;
+  s.editor.signals.experimentOpened.add(showSavedExperiment);
   $("exp-run").onclick = () => void run();
   $("exp-record").onclick = () => void record();
   $("exp-anyway").onclick = () => asked && give(asked);
@@ -74,7 +74,7 @@ const fileStem = () => `articula-experiment-${(shown?.plan ?? "plan").replace(/\
 const say = (text: string, kind: "" | "ok" | "bad" = "") => status($("exp-state"), text, kind);
 
 /** The project's experiment, shown again (its tables made from its measurements). */
-export function showSavedExperiment(e: Experiment | null): void {
+function showSavedExperiment(e: Experiment | null): void {
   shown = e;
   hook.experiment.points = e?.points ?? [];
   if (!e) {
@@ -100,7 +100,7 @@ async function run(): Promise<void> {
 }
 
 async function runPlan(): Promise<void> {
-  const link = armLink();
+  const link = s.editor.arm.link();
   if (!link || !hook.arm.connected) return say("Connect the arm first (the virtual Nano or a Nano on USB), above.", "bad");
   const name = ($("exp-plan") as HTMLSelectElement).value;
   if (!name) return say("Choose a plan first.", "bad");

@@ -4,12 +4,15 @@
 import { FlashError, flashNano } from "../stk500.mjs";
 import { $, status } from "../page/dom";
 import { hook } from "../page/hook";
-import { choosePort, disconnectArm } from "./arm";
+import type { Studio } from "../page/context";
 
 interface FirmwareInfo { file: string; bytes: number; version: string; sha256: string }
 let firmware: FirmwareInfo | null = null;
 
-export function initFlash(): void {
+let s: Studio;
+
+export function initFlash(studio: Studio): void {
+  s = studio;
   $("arm-flash").onclick = () => void flashFirmware();
   void loadFirmwareInfo();
 }
@@ -32,9 +35,9 @@ const flashState = (text: string, kind: "" | "ok" | "bad" = "") => status($("fla
 async function flashFirmware(): Promise<void> {
   const f = hook.flash;
   if (f.busy || !firmware) return;
-  const chosen = await choosePort();
+  const chosen = await s.editor.arm.choosePort();
   if ("why" in chosen) return chosen.why ? flashState(chosen.why, "bad") : undefined;
-  await disconnectArm(); // the bootloader needs the port to itself
+  await s.editor.arm.disconnect(); // the bootloader needs the port to itself
   Object.assign(f, { busy: true, phase: "connect", done: 0, total: 0, error: "", errorKind: "", result: null });
   const bar = $("flash-progress") as HTMLProgressElement;
   const button = $("arm-flash") as HTMLButtonElement;

@@ -21,6 +21,10 @@ export const isDragging = () => dragging;
 
 export function initIk(studio: Studio): void {
   s = studio;
+  s.editor.signals.robotShown.add((r) => {
+    buildWeights(r);
+    if (!r.keep_view) clearIk();
+  });
   $("show-target").addEventListener("change", (e) => {
     const on = (e.target as HTMLInputElement).checked;
     if (on && hook.pose) s.view.setTarget(hook.pose.tool.xyz, hook.pose.tool.rpy);
@@ -82,7 +86,7 @@ export function initIk(studio: Studio): void {
 }
 
 /** A weight box for each motor (or joint variable) of a robot just loaded. */
-export function buildWeights(r: RobotMsg): void {
+function buildWeights(r: RobotMsg): void {
   fill($("weights"), ...(r.motors.length ? r.motors : r.joints.map((j) => j.name)).map((n, i) =>
     h("label", null, `${n} `, h("input", { type: "number", min: 0, step: 0.1, value: 1, "data-weight": i, "aria-label": `weight of ${n}` }))));
 }
@@ -108,7 +112,7 @@ export function followTool(xyz: number[], rpy: number[], first: boolean): void {
 }
 
 /** A new robot: the last robot's IK verdict goes. */
-export function clearIk(): void {
+function clearIk(): void {
   hook.ik = null;
   $("ik-status").textContent = "";
   $("ik-status").className = "status";

@@ -11,6 +11,7 @@ let typing: HTMLInputElement | null = null; // the number box being typed in (le
 
 export function initJoints(studio: Studio): void {
   s = studio;
+  s.editor.signals.robotShown.add(buildJoints);
   $("home").onclick = () => s.engine.send({ type: "home" });
   $("zero").onclick = () => s.engine.send({ type: "zero" });
   for (const id of ["gripper", "gripper-num"]) {
@@ -24,7 +25,7 @@ export function initJoints(studio: Studio): void {
 const PARAM_TITLE: Record<string, string> = { theta: "An angle about z", alpha: "A twist about x", d: "A slide along z" };
 
 /** The sliders of a robot just loaded. */
-export function buildJoints(r: RobotMsg): void {
+function buildJoints(r: RobotMsg): void {
   const box = $("joints");
   const rows: HTMLElement[] = r.joints.map((j, i) => {
     const step = j.unit === "deg" ? 0.1 : 0.5;

@@ -4,8 +4,6 @@ import type { PhysicsMsg, RobotMsg, SceneMsg, SimEvent } from "../protocol";
 import type { Studio } from "../page/context";
 import { $, fill, h, setOptions } from "../page/dom";
 import { hook } from "../page/hook";
-import { highlightBlockOfLine } from "./blocks";
-import { highlightLine } from "./program";
 
 let s: Studio;
 let dragSent = 0;
@@ -73,8 +71,7 @@ export function showPhysics(p: PhysicsMsg, robot: RobotMsg | null): void {
   s.view.physics(p);
   if (p.t !== undefined && hook.timeline) s.plots.playhead(p.t);
   if (p.line !== undefined) {
-    highlightLine(p.line, false);
-    highlightBlockOfLine(p.line);
+    s.editor.signals.lineRunning.dispatch({ line: p.line, refused: false });
   }
   if (p.fresh) {
     hook.events = [];

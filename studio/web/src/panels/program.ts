@@ -2,25 +2,30 @@
 // open and save, Run (on the model, or on the arm when asked), Pause, Step, Reset, Teach, the
 // ghost, the plots of the time line. The engine predicts and plays; this panel shows.
 import type { PoseMsg, TimelineMsg } from "../protocol";
-import type { Editor } from "../editor/editor";
 import type { Studio } from "../page/context";
 import { $, download, fill, h } from "../page/dom";
 import { hook } from "../page/hook";
-import { blocksMode, fromText, highlightBlockOfLine, refusedLine, teachBlock } from "./blocks";
 
 let s: Studio;
 let currentProgram = "program.arm";
 let autoplay = false;
 let showGhost = true;
 let lineShown = 0;
-// Run with "on the arm": the arm panel's (main.ts connects them; the panels import no panel
-// that imports them back).
-let runOnArm: (text: string) => void = () => undefined;
-export const setRunOnArm = (f: (text: string) => void) => (runOnArm = f);
 // What the program panel tells the project (main.ts connects it): the program changed.
 let onChanged: () => void = () => undefined;
 export const setProgramChanged = (f: () => void) => (onChanged = f);
 const editor = () => $("editor") as HTMLTextAreaElement;
+// Run goes to the arm: one is connected and "on the arm" (beside Run) is ticked
+const onTheArm = () => hook.arm.connected && ($("drive-arm") as HTMLInputElement).checked;
+/** Run's face says where it runs. */
+function runTarget(): void {
+  const run = $("run");
+  run.textContent = onTheArm() ? "▶ Run on the arm" : "▶ Run";
+  run.title = onTheArm() ? "Send the program to the arm, line by line (untick “on the arm” to play it on the model only)"
+    : hook.arm.connected ? "Play the program on the model only: the arm stays still (tick “on the arm” to drive it)"
+    : "Run the program with the controller's real timing";
+  hook.runOnArm = onTheArm();
+}
 
 export const ghostShown = () => showGhost;
 const playSpeed = () => parseFloat(($("play-speed") as HTMLSelectElement).value) || 1;
@@ -67,9 +72,22 @@ function hoverHelp(e: MouseEvent): void {
   if (help) $("line-help").textContent = ed.title;
 }
 
-export function initProgram(studio: Studio, ed0: Editor): void {
+export function initProgram(studio: Studio): void {
   s = studio;
-  theEditor = ed0;
+  const sig = s.editor.signals;
+  sig.lineRunning.add(({ line, refused }) => highlightLine(line, refused));
+  sig.programSaid.add(({ text, rejected, bad }) => programStatus(text, rejected, bad));
+  sig.robotShown.add((r) => {
+    showExamples(r.programs);
+    if (!r.keep_view) resetProgramView(); // keep_view: the same robot, other link lengths
+  });
+  // the arm connected: Run drives it (the choice beside Run); lost or closed: the model only
+  sig.armConnected.add((on) => {
+    $("drive-arm-row").hidden = !on;
+    (($("drive-arm") as HTMLInputElement).checked = on);
+    runTarget();
+  });
+  $("drive-arm").addEventListener("change", runTarget);
   // the exercises, first in the examples menu: each has a goal the page checks
   fetch(new URL("data/index.json", document.baseURI)).then((r) => r.json()).then((idx: { exercises?: string[] }) => {
     exercises = idx.exercises ?? [];
@@ -92,7 +110,7 @@ export function initProgram(studio: Studio, ed0: Editor): void {
   });
   $("program-select").addEventListener("change", (e) => {
     const name = (e.target as HTMLSelectElement).value;
-    if (name.startsWith("exercise:")) theEditor?.signals.exerciseWanted.dispatch(name.slice("exercise:".length));
+    if (name.startsWith("exercise:")) s.editor.signals.exerciseWanted.dispatch(name.slice("exercise:".length));
     else if (name) s.engine.send({ type: "program_open", name });
     (e.target as HTMLSelectElement).value = "";
   });
@@ -102,13 +120,13 @@ export function initProgram(studio: Studio, ed0: Editor): void {
     if (!f) return;
     setProgram(f.name, await f.text());
     (e.target as HTMLInputElement).value = "";
-    if (blocksMode() === "blocks") fromText();
+    if (s.editor.blocks.mode() === "blocks") s.editor.blocks.fromText();
   });
   $("save-program").onclick = () => download(currentProgram, ed.value, "text/plain");
   $("run").onclick = () => {
     if (!ed.value.trim())
       return programStatus("The program is empty: type commands (“What the commands mean” below says how), choose an example, or build it from Blocks.", [], true);
-    if (hook.arm.connected && ($("drive-arm") as HTMLInputElement).checked) return runOnArm(ed.value);
+    if (onTheArm()) return s.editor.arm.run(ed.value);
     if (hook.timeline) s.engine.send({ type: "play", speed: playSpeed() });
     else {
       autoplay = true;
@@ -119,7 +137,7 @@ export function initProgram(studio: Studio, ed0: Editor): void {
   $("step").onclick = () => (hook.timeline ? s.engine.send({ type: "step" }) : load());
   $("reset").onclick = () => (hook.timeline ? s.engine.send({ type: "rewind" }) : load());
   $("teach").onclick = () => {
-    if (blocksMode() === "blocks" && hook.pose) return teachBlock(hook.pose.q);
+    if (s.editor.blocks.mode() === "blocks" && hook.pose) return s.editor.blocks.teach(hook.pose.q);
     const first = ed.value.split("\n").find((l) => l.trim() && !l.trim().startsWith("#")) ?? "";
     const robosim = currentProgram.endsWith(".robosim") || /^\s*[a-z]\s*$/m.test(first);
     s.engine.send({ type: "teach", format: robosim ? "robosim" : "protocol" });
@@ -140,7 +158,7 @@ export function initProgram(studio: Studio, ed0: Editor): void {
 
 /** The shipped examples, for the menu: the exercises first (a goal the page checks), then the
  * programs that fit the robot shown. */
-export function showExamples(names: string[]): void {
+function showExamples(names: string[]): void {
   examples = names;
   const sel = $("program-select") as HTMLSelectElement;
   fill(sel, h("option", { value: "" }, "examples…"),
@@ -154,7 +172,6 @@ let timelineCommands = ""; // the commands the time line shown was made from
 /** A program's commands without its comments and blank lines (what the arm is sent). */
 const commandsOf = (text: string) => text.split("\n").map((l) => l.replace(/#.*/, "").trim()).filter((l) => l).join("\n");
 let exercises: string[] = [];
-let theEditor: Editor | null = null;
 const exerciseLabel = (file: string) => file.replace(/\.articula$/, "").replace(/-/g, " ");
 
 /** The program's text and file name (from a file, an example, the blocks, a project). */
@@ -194,7 +211,7 @@ function editorChanged(): void {
   onChanged();
 }
 
-export function highlightLine(line: number, error: boolean): void {
+function highlightLine(line: number, error: boolean): void {
   const ed = editor();
   if (line > 0 && line !== lineShown) {
     // keep the line in sight: scroll the editor when it leaves the visible part
@@ -219,7 +236,7 @@ function positionLine(): void {
 }
 
 /** The panel's status: a sentence, and the refused lines under it. */
-export function programStatus(text: string, rejected: string[] = [], bad = false): void {
+function programStatus(text: string, rejected: string[] = [], bad = false): void {
   const el = $("program-status");
   fill(el, h("div", null, text), ...rejected.map((r) => h("div", { class: "rejected" }, r)));
   el.className = `status ${bad ? "bad" : ""}`;
@@ -229,8 +246,7 @@ export function programStatus(text: string, rejected: string[] = [], bad = false
 export function showTime(p: PoseMsg): void {
   if (p.t === undefined) return;
   s.plots.playhead(p.t);
-  highlightLine(p.line ?? 0, false);
-  highlightBlockOfLine(p.line ?? 0);
+  s.editor.signals.lineRunning.dispatch({ line: p.line ?? 0, refused: false });
   const err = p.error_mm !== undefined ? `, quantization error ${p.error_mm.toFixed(3)} mm` : "";
   $("view-status").textContent = `t = ${p.t.toFixed(2)} s, line ${p.line ?? 0}${err}${p.steps ? `, steps ${p.steps.join(" ")}` : ""}`;
 }
@@ -260,14 +276,15 @@ export const programHandlers = {
     }
     s.view.showPaths(path, lines);
     hook.paths = { points: path.length / 3, lines: lines.length, worstMm: worst };
-    for (const r of m.records) if (r.reply !== "ok") refusedLine(r.line, `the arm refuses this: ${r.reply}, ${r.error}`);
+    for (const r of m.records) if (r.reply !== "ok") s.editor.signals.lineRefused.dispatch({ line: r.line, message: `the arm refuses this: ${r.reply}, ${r.error}` });
     const rejected = m.records.filter((r) => r.reply !== "ok")
       .map((r) => `line ${r.line}: ${r.command} → error:${r.code}, ${r.error}: nothing moves` +
         (r.note ? ` (${r.note.replace(/^.*?nothing changes; /, "")})` : ""));
     programStatus(`${m.records.length} commands, ${m.summary.rejected ?? 0} rejected` +
       (m.summary.worst_error_mm !== undefined ? `, worst quantization error ${m.summary.worst_error_mm.toFixed(3)} mm` : "") +
       (lines.length ? `, ${lines.length} straight line${lines.length > 1 ? "s" : ""}: the tool within ${worst.toFixed(2)} mm of ${lines.length > 1 ? "them" : "it"} at every step` : "") +
-      `, ${m.duration.toFixed(2)} s`, rejected);
+      `, ${m.duration.toFixed(2)} s` +
+      (hook.arm.connected ? ". On the model only: the arm did not move (tick “on the arm” beside Run to drive it)" : ""), rejected);
     if (autoplay) {
       autoplay = false;
       s.engine.send({ type: "play", speed: playSpeed() });
@@ -282,8 +299,8 @@ export const programHandlers = {
     // the program on screen: its line, not a file's name
     const said = m.line > 0 ? m.message.replace(/^.*?:\d+: /, `line ${m.line}: `) : m.message;
     programStatus(said, [], true);
-    highlightLine(m.line, true);
-    if (m.line > 0) refusedLine(m.line, said); // a program from blocks: on the block it came from
+    s.editor.signals.lineRunning.dispatch({ line: m.line, refused: true });
+    if (m.line > 0) s.editor.signals.lineRefused.dispatch({ line: m.line, message: said }); // from blocks: on the block it came from
   },
   program_text(m: { name: string; text: string }): void {
     setProgram(m.name, m.text);
@@ -293,7 +310,7 @@ export const programHandlers = {
       s.engine.send({ type: "scene", name: stem });
       programStatus(`The physics is on, with the scene "${stem}" this program is made for: its objects are in the view.`);
     }
-    if (blocksMode() === "blocks") fromText();
+    if (s.editor.blocks.mode() === "blocks") s.editor.blocks.fromText();
   },
   teach(m: { line: string }): void {
     hook.teach = m.line;
@@ -305,7 +322,7 @@ export const programHandlers = {
 };
 
 /** A new robot: its plots and time line start afresh. */
-export function resetProgramView(): void {
+function resetProgramView(): void {
   hook.timeline = null;
   s.plots.clear();
 }

@@ -10,9 +10,6 @@ import { LINK_KEY, MAX_FILE_BYTES, MAX_LINK, ProjectError, newProject, parseProj
 import type { Experiment, Goal, Project } from "../project/document";
 import { ProjectStore, newId } from "../project/store";
 import type { Stored } from "../project/store";
-import { blocksMode, loadBlocks, setMode, workspaceJson } from "./blocks";
-import { showSavedExperiment } from "./experiment";
-import { keepView, openedRobotFile } from "./robot";
 import type { Editor } from "../editor/editor";
 import { ProjectEdit, changedParts, describeChange } from "../editor/project-edit";
 
@@ -77,10 +74,11 @@ export async function chooseProject(params: URLSearchParams): Promise<{ robot?: 
   return { robot: "shipped" in d.robot ? d.robot.shipped : undefined, scene: d.scene || undefined };
 }
 
-export function initProjects(studio: Studio, program: { setText: (text: string, name: string) => void; reveal: (id: string) => void },
-                             ed: Editor): void {
+export function initProjects(studio: Studio, program: { setText: (text: string, name: string) => void; reveal: (id: string) => void }): void {
   s = studio;
+  const ed = s.editor;
   editor = ed;
+  ed.signals.robotShown.add(projectRobotShown);
   ed.busy = () => applying;
   ed.signals.exerciseWanted.add((name) => void openExercise(name));
   ed.signals.settle.add(() => {
@@ -164,13 +162,13 @@ export function initProjects(studio: Studio, program: { setText: (text: string, 
 }
 
 /** The robot shown is the engine's first: put the rest of the project on screen. */
-export function projectRobotShown(): void {
+function projectRobotShown(): void {
   const d = pendingApply;
   if (!d) return;
   pendingApply = null;
   applying = true;
   // the camera as it was (shown where a new robot would be framed), else the robot framed
-  keepView(d.view ?? null);
+  s.editor.keptView = d.view ?? null;
   if (d.view) s.view.setViewpoint(d.view);
   if ("file" in d.robot) {
     const f = d.robot.file;
@@ -178,14 +176,14 @@ export function projectRobotShown(): void {
     s.engine.send({ type: "load_robot", text: f.text, filename: f.name, legacy: f.legacy, scale: f.scale, files }, files.map((x) => x.data as ArrayBuffer));
   }
   setProgramText(d.program.text, d.program.name);
-  setMode(d.program.mode, true);
-  loadBlocks(d.program.blocks); // none: an empty workspace, not the last project's blocks
+  s.editor.blocks.setMode(d.program.mode, true);
+  s.editor.blocks.load(d.program.blocks); // none: an empty workspace, not the last project's blocks
   if (d.pose) {
     s.engine.send({ type: "set_joints", q: d.pose.q });
     if (hook.robot?.gripper) s.engine.send({ type: "gripper", percent: d.pose.gripper });
   }
   showGoal(d.goal);
-  showSavedExperiment(d.experiment ?? null);
+  s.editor.signals.experimentOpened.dispatch(d.experiment ?? null);
   updateHook();
   // what the engine answers to these is the project as it was, not an edit; the camera last,
   // once a new robot's first pose has framed it
@@ -222,10 +220,10 @@ function showEdit(doc: Project): void {
     return;
   }
   setProgramText(doc.program.text, doc.program.name);
-  setMode(doc.program.mode, true);
-  if (JSON.stringify(now.program.blocks) !== JSON.stringify(doc.program.blocks)) loadBlocks(doc.program.blocks);
+  s.editor.blocks.setMode(doc.program.mode, true);
+  if (JSON.stringify(now.program.blocks) !== JSON.stringify(doc.program.blocks)) s.editor.blocks.load(doc.program.blocks);
   if (parts.includes("the exercise")) showGoal(doc.goal);
-  if (parts.includes("the measurements")) showSavedExperiment(doc.experiment ?? null);
+  if (parts.includes("the measurements")) s.editor.signals.experimentOpened.dispatch(doc.experiment ?? null);
   updateHook();
   s.engine.call({ type: "sync" }).catch(() => undefined).then(blocksSettled).finally(() => {
     applying = false;
@@ -287,11 +285,12 @@ function capture(): Project {
   let robot: Project["robot"] = d.robot;
   // a shipped robot is read from /robots/; a file of the same name the user opened is not it
   if (r && r.robots.includes(stem) && r.source === `/robots/${stem}.json`) robot = { shipped: stem };
-  else if (openedRobotFile) robot = openedRobotFile;
+  else if (s.editor.robotFile) robot = s.editor.robotFile;
   const ed = $("editor") as HTMLTextAreaElement;
   return {
     ...d, robot, scene: hook.scene?.name ?? "",
-    program: { mode: blocksMode(), name: hook.programName || "program.arm", text: ed.value, blocks: blocksMode() === "blocks" || d.program.blocks ? workspaceJson() : null },
+    program: { mode: s.editor.blocks.mode(), name: hook.programName || "program.arm", text: ed.value,
+      blocks: s.editor.blocks.mode() === "blocks" || d.program.blocks ? s.editor.blocks.json() : null },
     pose: hook.pose ? { q: hook.pose.q, gripper: hook.pose.gripper } : d.pose,
     view: s.view.viewpoint(),
   };
@@ -344,7 +343,7 @@ function updateHook(): void {
   const d = current.doc;
   Object.assign(hook.project, {
     id: current.id, name: d.name, robot: "shipped" in d.robot ? d.robot.shipped : d.robot.file.name,
-    program: ($("editor") as HTMLTextAreaElement).value, blocks: workspaceJson(), mode: blocksMode(), rev: current.rev,
+    program: ($("editor") as HTMLTextAreaElement).value, blocks: s.editor.blocks.json(), mode: s.editor.blocks.mode(), rev: current.rev,
     goal: d.goal,
   });
 }
@@ -550,10 +549,41 @@ async function share(): Promise<void> {
 function showGoal(goal: Goal | null): void {
   $("exercise").hidden = !goal;
   fill($("exercise-result"));
+  fill($("exercise-facts"));
+  s.view.showGoal(goal?.parts ?? []); // the goal drawn: where the tool must go, where an object must end
+  hook.goal = { drawn: s.view.goalShown(), facts: [] };
   if (!goal) return;
   reveal("exercise"); // an exercise: its goal and the program in sight
   $("exercise-title").textContent = goal.title;
   $("exercise-text").textContent = goal.text;
+  void goalFacts(goal);
+}
+
+/** What the student needs to know of the objects a goal moves: their size, and how low the
+ *  tool's point comes above them (a grasp too high fails only at Check, else). */
+async function goalFacts(goal: Goal): Promise<void> {
+  const facts: string[] = [];
+  const show = () => {
+    hook.goal = { drawn: s.view.goalShown(), facts };
+    fill($("exercise-facts"), ...facts.map((t) => h("li", null, t)));
+  };
+  const reach = goal.parts.filter((p) => p.kind === "reach").length;
+  if (reach) facts.push(`In the view: ${reach > 1 ? `the ${reach} numbered green balls are the points` : "the green ball is the point"}, each as wide as its tolerance.`);
+  show();
+  if (!goal.parts.some((p) => p.kind === "object")) return;
+  const f0 = (v: number) => Math.round(v).toString();
+  try {
+    const r = await s.engine.call({ type: "exercise_targets", parts: goal.parts, scene: goal.scene || current.doc.scene }) as
+      { objects: { name: string; size: number[]; xyz: number[]; lowest_tool_z: number | null }[] };
+    if (current.doc.goal !== goal) return; // another project came meanwhile
+    facts.push(...r.objects.map((o) => `The ${o.name}: ${o.size.map(f0).join(" × ")} mm, standing at (${f0(o.xyz[0])}, ${f0(o.xyz[1])}) mm, ` +
+      `its top ${f0(o.xyz[2] + (o.size[2] ?? 0) / 2)} mm above the table.` +
+      (o.lowest_tool_z !== null ? ` Above it the tool's point comes down to ${f0(o.lowest_tool_z)} mm, no lower: grasp it above that.` : "")));
+    facts.push("The green box in the view is where it must end.");
+    show();
+  } catch {
+    /* the facts are a help: the goal and Check stand without them */
+  }
 }
 
 async function check(): Promise<void> {

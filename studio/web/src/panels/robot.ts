@@ -5,15 +5,10 @@ import type { RobotMsg } from "../protocol";
 import type { Studio } from "../page/context";
 import { $, banner, download, h, setOptions } from "../page/dom";
 import { hook } from "../page/hook";
-import { buildJoints } from "./joints";
-import { buildWeights, clearIk } from "./ik";
-import { resetProgramView, showExamples } from "./program";
 
 const MAX_FILE = 20_000_000; // bytes of a robot file or mesh the page opens
 let s: Studio;
 let needFit: Promise<void> | null = null;
-/** The robot file the user opened last (with its meshes, base64), for the project to keep. */
-export let openedRobotFile: { file: { name: string; text: string; legacy: boolean; scale: number }; meshes: { name: string; data: string }[] } | null = null;
 
 function base64(buf: ArrayBuffer): string {
   const bytes = new Uint8Array(buf);
@@ -44,18 +39,18 @@ async function openFiles(input: HTMLInputElement): Promise<void> {
   const transfer = files.map((x) => x.data);
   const meshesKept = files.map((x) => ({ name: x.name, data: base64(x.data) }));
   if (f.name.toLowerCase().endsWith(".json")) {
-    openedRobotFile = { file: { name: f.name, text, legacy: false, scale: 1 }, meshes: meshesKept };
+    s.editor.robotFile = { file: { name: f.name, text, legacy: false, scale: 1 }, meshes: meshesKept };
     return s.engine.send({ type: "load_robot", text, filename: f.name, files }, transfer);
   }
   const answer = prompt(`${f.name} is a robot file of the thesis's original system: how many millimetres is one of its units? (the thesis's MK2 model: 25.75)`, "10");
   if (answer === null) return;
   const scale = parseFloat(answer);
   if (!(scale > 0)) return banner("The scale must be a number above 0");
-  openedRobotFile = { file: { name: f.name, text, legacy: true, scale }, meshes: meshesKept };
+  s.editor.robotFile = { file: { name: f.name, text, legacy: true, scale }, meshes: meshesKept };
   s.engine.send({ type: "load_robot", text, filename: f.name, legacy: true, scale }, transfer);
 }
 
-/** A robot to show: its view, sliders, weights, menus. */
+/** A robot to show: its view and the robot menu; then the other panels follow it (robotShown). */
 export function showRobot(r: RobotMsg): void {
   hook.robot = r;
   hook.robotError = "";
@@ -70,29 +65,21 @@ export function showRobot(r: RobotMsg): void {
   // a robot opened from a file: named in the list (not chosen again from it)
   if (!shipped) sel.append(h("option", { value: "", disabled: true }, `${r.name} (opened file)`));
   sel.value = shipped ? stem : "";
-  showExamples(r.programs);
-  buildJoints(r);
-  buildWeights(r);
-  if (r.keep_view) return; // the same robot, other link lengths
-  resetProgramView();
-  clearIk();
-  if (r.import_notes.length) banner(`Imported. ${r.import_notes.length} things had no place in a robot file; the first: ${r.import_notes[0]}`, "info");
-  needFit = built;
+  if (!r.keep_view) { // keep_view: the same robot, other link lengths
+    if (r.import_notes.length) banner(`Imported. ${r.import_notes.length} things had no place in a robot file; the first: ${r.import_notes[0]}`, "info");
+    needFit = built;
+  }
+  s.editor.signals.robotShown.dispatch(r);
 }
 
-/** The first pose of a new robot is drawn: frame it. */
-/** A project's camera, to show instead of framing the robot it opens. */
-let keptView: { eye: number[]; target: number[] } | null = null;
-export function keepView(v: { eye: number[]; target: number[] } | null): void {
-  keptView = v;
-}
-
+/** The first pose of a new robot is drawn: frame it (or show the camera its project kept). */
 export function fitNewRobot(): void {
   if (!needFit) return;
   needFit.then(() => requestAnimationFrame(() => {
-    if (keptView) s.view.setViewpoint(keptView);
+    const kept = s.editor.keptView;
+    if (kept) s.view.setViewpoint(kept);
     else s.view.fit(false);
-    keptView = null;
+    s.editor.keptView = null;
   }));
   needFit = null;
 }

@@ -14,7 +14,37 @@ interface PartResult { label: string; met: boolean; detail: string; distance_mm:
 
 const f1 = (v: number) => v.toFixed(1);
 
+/** An object of the scene a goal moves, and how low the tool's point can come above it. */
+export interface GoalObject { name: string; size: number[]; xyz: number[]; lowest_tool_z: number | null }
+
 export const exerciseHandlers: Record<string, (m: Msg) => Promise<Out[]>> = {
+  // What the student needs to see of a goal: each object it moves (its size, where it stands)
+  // and how low the tool's point can come there (the IK's closest pose to the table under it:
+  // the MK2's motors stop it tens of mm above the ground). The page draws the goal's places.
+  async exercise_targets(m) {
+    const parts = m.parts as GoalPart[];
+    if (!Array.isArray(parts)) throw new BadMessage("'parts' must be a list of the goal's parts");
+    const scene = typeof m.scene === "string" ? m.scene : "";
+    const names = new Set(parts.filter((p) => p.kind === "object").map((p) => (p as { object: string }).object));
+    const objects: GoalObject[] = [];
+    if (names.size && scene && S.index.scenes.includes(scene)) {
+      const doc = JSON.parse(await sceneFile(scene)) as { objects?: { name: string; type: string; size?: number[]; radius?: number; height?: number; xyz: number[] }[] };
+      for (const o of doc.objects ?? []) {
+        if (!names.has(o.name)) continue;
+        const size = o.size ?? (o.radius !== undefined ? [2 * o.radius, 2 * o.radius, o.height ?? 2 * o.radius] : []);
+        let lowest: number | null = null;
+        try {
+          const r = S.robot.ik({ target: [o.xyz[0], o.xyz[1], 0], solver: "auto", start: S.q }) as unknown as { tool?: number[] };
+          lowest = r.tool ? r.tool[2] : null;
+        } catch (e) {
+          if (!(e instanceof EngineError)) throw e;
+        }
+        objects.push({ name: o.name, size, xyz: o.xyz, lowest_tool_z: lowest });
+      }
+    }
+    return [{ type: "exercise_targets", objects }];
+  },
+
   async exercise_check(m) {
     const src = text(m, "text");
     const name = typeof m.name === "string" && m.name ? m.name : "program.arm";
