@@ -287,4 +287,36 @@ nlohmann::json timeline_pose_json(const TimelinePose& p) {
           {"gripper", p.gripper_percent < 0 ? json(nullptr) : json(p.gripper_percent)}};
 }
 
+nlohmann::json timeline_samples_json(const Robot& robot, const Timeline& tl, double per_s, size_t max_samples) {
+  using json = nlohmann::json;
+  std::vector<double> ts{0.0, tl.duration()};
+  for (const TimelineAction& a : tl.actions()) {
+    if (a.reply != kOk) continue;
+    ts.push_back(a.start_s);
+    ts.push_back(a.end_s);
+    ts.insert(ts.end(), a.via_s.begin(), a.via_s.end());
+  }
+  const double d = tl.duration();
+  const size_t even = d > 0 ? static_cast<size_t>(std::ceil(d * std::max(per_s, 0.0))) : 0;
+  const size_t room = max_samples > ts.size() ? max_samples - ts.size() : 0;
+  const size_t n = std::min(even, room);
+  for (size_t k = 1; k < n; ++k) ts.push_back(d * static_cast<double>(k) / static_cast<double>(n));
+  std::sort(ts.begin(), ts.end());
+  ts.erase(std::unique(ts.begin(), ts.end(), [](double a, double b) { return b - a < 1e-9; }), ts.end());
+  const size_t nj = tl.start_q().size();
+  json t = json::array(), line = json::array(), q = json::array(), tool = json::array({json::array(), json::array(), json::array()});
+  for (size_t j = 0; j < nj; ++j) q.push_back(json::array());
+  for (double at_s : ts) {
+    const TimelinePose p = tl.at(at_s);
+    t.push_back(p.t);
+    line.push_back(p.line);
+    for (size_t j = 0; j < nj && j < p.q.size(); ++j) q[j].push_back(p.q[j]);
+    const Vec3<double> x = tool_position(robot.model, model_units(robot, p.q).data());
+    tool[0].push_back(x.x);
+    tool[1].push_back(x.y);
+    tool[2].push_back(x.z);
+  }
+  return {{"t", t}, {"line", line}, {"q", q}, {"tool", tool}};
+}
+
 }  // namespace articula::host

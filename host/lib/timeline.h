@@ -108,6 +108,14 @@ class Timeline {
 // and a pose {t, line, q, q_ideal, steps, error_mm, gripper}. Records' steps and gripper are
 // null where there are none.
 nlohmann::json timeline_json(const Timeline& tl);
+
+// The path the arm takes, for plots and CSV: the time line sampled at every action's start and
+// end (and a straight line's every segment end), and evenly between, about `per_s` samples a
+// second (at most `max_samples` in all); at each, at(t)'s joint values and the tool there
+// (forward kinematics of them: a move between two points is a curve, not the line joining
+// them). Column by column: {t: [...], line: [...], q: [[joint 0...], ...], tool: [[x...], [y...],
+// [z...]]}, seconds, deg or mm, mm.
+nlohmann::json timeline_samples_json(const Robot& robot, const Timeline& tl, double per_s = 50, size_t max_samples = 4000);
 nlohmann::json timeline_pose_json(const TimelinePose& p);
 
 }  // namespace articula::host

@@ -111,3 +111,41 @@ TEST(Timeline, AStraightLineIsPlayedThroughItsSegments) {
   EXPECT_LT(worst, 2.0);
   EXPECT_GT(worst_one_move, 5.0);
 }
+
+TEST(Timeline, ItsSamplesFollowTheToolAlongItsCurveNotTheLineBetweenTheEnds) {
+  // two points 200 mm apart at one height: a P moves straight in steps, which swings the tool
+  // off the line between them (issue 27 measured 19 mm); the samples show that, the ends joined
+  // would not
+  const Robot& r = robot("mk2plus");
+  const Program p = parse_program("P 250 -100 100\nP 250 100 100\nD 0.5\n", "t.arm", r);
+  const Timeline tl = Timeline::of_program(r, p, home_pose(r));
+  const nlohmann::json s = timeline_samples_json(r, tl, 50, 4000);
+  const auto& t = s["t"];
+  ASSERT_GT(t.size(), 20u);
+  EXPECT_DOUBLE_EQ(t.front().get<double>(), 0.0);
+  EXPECT_DOUBLE_EQ(t.back().get<double>(), tl.duration());
+  for (size_t k = 1; k < t.size(); ++k) EXPECT_LT(t[k - 1].get<double>(), t[k].get<double>());
+  // every action's start and end is a sample, with the action's own tool at its end
+  const TimelineAction& second = tl.actions()[1];
+  size_t end = 0;
+  while (end < t.size() && t[end].get<double>() < second.end_s - 1e-12) ++end;
+  ASSERT_LT(end, t.size());
+  EXPECT_NEAR(s["tool"][1][end].get<double>(), second.tool.y, 1e-6);
+  EXPECT_EQ(s["line"][end - 1].get<int>(), 2);  // (at its end the wait begins: line 3)
+  // during the second move, the tool leaves the straight line between its ends by more than 10 mm
+  double worst = 0;
+  for (size_t k = 0; k < t.size(); ++k) {
+    const double at = t[k].get<double>();
+    if (at <= second.start_s || at >= second.end_s) continue;
+    const double y = s["tool"][1][k], x = s["tool"][0][k], z = s["tool"][2][k];
+    const double f = (y - tl.actions()[0].tool.y) / (second.tool.y - tl.actions()[0].tool.y);
+    const double lx = tl.actions()[0].tool.x + f * (second.tool.x - tl.actions()[0].tool.x);
+    const double lz = tl.actions()[0].tool.z + f * (second.tool.z - tl.actions()[0].tool.z);
+    worst = std::max(worst, std::hypot(x - lx, z - lz));
+  }
+  EXPECT_GT(worst, 10.0);
+  // one list a joint, as long as the times; and never more samples than asked
+  ASSERT_EQ(s["q"].size(), 3u);
+  EXPECT_EQ(s["q"][2].size(), t.size());
+  EXPECT_LE(timeline_samples_json(r, tl, 1000, 50)["t"].size(), 50u);
+}

@@ -79,6 +79,12 @@ void bind_program(nb::module_& m, nb::class_<PyRobot>& robot) {
       .def("at", [](const PyTimeline& s, double t) { return json_to_python(host::timeline_pose_json(s.tl.at(t))); }, "t"_a,
            "The arm at time t (s, clamped to the time line): t, line, q, q_ideal (the ghost's), steps, error_mm, "
            "gripper (joint values linear in time within an action: a drawing of the move, not the motors' profile).")
+      .def("samples", [](const PyTimeline& s, double per_s, size_t max_samples) {
+             return json_to_python(host::timeline_samples_json(*s.robot, s.tl, per_s, max_samples));
+           }, "per_s"_a = 50.0, "max_samples"_a = 4000,
+           "The path the arm takes, for plots: the time line at every action's start and end and evenly between "
+           "(about per_s a second, at most max_samples), column by column: t, line, q (one list a joint), tool "
+           "(x, y and z lists, mm: forward kinematics at each sample, so a move shows as the curve it is).")
       .def("__repr__", [](const PyTimeline& s) {
         return "<Timeline of " + std::to_string(s.tl.actions().size()) + " statements, " + std::to_string(s.tl.duration()) +
                " s>";

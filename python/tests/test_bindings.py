@@ -49,7 +49,7 @@ SAME = [
     ("Robot.timeline", "Timeline.make"),
     ("Timeline.at", "Timeline.at"),
     ("Timeline.duration", "Timeline.duration"),
-    ("Timeline.records", "Timeline.make"), ("Timeline.start_q", "Timeline.make"),
+    ("Timeline.records", "Timeline.make"), ("Timeline.start_q", "Timeline.make"), ("Timeline.samples", "Timeline.make"),
     # physics
     ("Sim.__init__", "Sim.create"),
     ("Sim.reset", "Sim.reset"),
@@ -191,6 +191,7 @@ import {{ nodeEngine }} from {json.dumps(str(REPO / "wasm" / "js" / "node.mjs"))
 const e = await nodeEngine({json.dumps(str(WASM_DIR))});
 const r = e.robot("mk2plus");
 const out = {{ jac: r.jacobian([10, 70, -60]), tl: e.timeline(r, "L 0 30\\nL 1 -20\\n", "t.arm", [0, 90, -90]).at(0.4),
+  samples: e.timeline(r, "P 250 -100 100\\nP 250 100 100\\n", "s.arm", [0, 90, -90]).doc.samples,
   arm: e.parseArmLine("<Run|S:95,0,0|A:30.083,90.000,0.000|G:100|Q:7|C:1>"), first: e.firstIntervalS(800, 3000),
   t4: e.table4(POINTS.map(([joint, value, reference]) => ({{ joint, value, reference }}))),
   ax: e.axisErrors([10.5, 0.4, -201], [10, 0.5, -200]), q: e.measurementQuestion([23.5, 0, 21.3], [235, 0, 213], 370),
@@ -213,6 +214,11 @@ console.log(JSON.stringify(out));
     tl = mk2.timeline(articula.Program.parse("L 0 30\nL 1 -20\n", "t.arm")).at(0.4)
     assert tl["line"] == web["tl"]["line"] and tl["steps"] == web["tl"]["steps"]
     np.testing.assert_allclose(tl["q"], web["tl"]["q"], atol=1e-12)
+    # the path the plots draw: the same samples, the tool's curve and all
+    samples = mk2.timeline(articula.Program.parse("P 250 -100 100\nP 250 100 100\n", "s.arm")).samples()
+    assert samples["t"] == web["samples"]["t"] and samples["line"] == web["samples"]["line"]
+    np.testing.assert_allclose(samples["tool"], web["samples"]["tool"], atol=1e-9)
+    np.testing.assert_allclose(samples["q"], web["samples"]["q"], atol=1e-9)
     assert _core.parse_arm_line("<Run|S:95,0,0|A:30.083,90.000,0.000|G:100|Q:7|C:1>") == web["arm"]
     assert _core.first_interval_s(800, 3000) == web["first"]
     # the experiment's numbers: the same to the digit

@@ -80,9 +80,12 @@ def test_jacobian_is_the_derivative_of_fk_per_degree_or_mm(name):
         # rotation: dR R^T is the skew matrix of the rotation vector, per unit of q (deg/deg for angles)
         W = (Tp[:3, :3] - Tm[:3, :3]) / (2 * h) @ robot.fk(q)[:3, :3].T
         w = np.array([W[2, 1], W[0, 2], W[1, 0]])
-        unit = 180 / np.pi if robot.joints[j]["unit"] == "deg" else 180 / np.pi
-        np.testing.assert_allclose(J[3:, j], w * unit if robot.joints[j]["unit"] == "mm" else w * 180 / np.pi,
-                                   rtol=1e-5, atol=1e-7)
+        # a revolute joint: rad per rad, and J's angles per degree; a prismatic one turns nothing
+        if robot.joints[j]["unit"] == "deg":
+            np.testing.assert_allclose(J[3:, j], w * 180 / np.pi, rtol=1e-5, atol=1e-7)
+        else:
+            np.testing.assert_allclose(J[3:, j], [0, 0, 0], atol=1e-9)
+            np.testing.assert_allclose(w, [0, 0, 0], atol=1e-9)
 
 
 def test_dh_table_fills_in_variables_and_links():
@@ -106,7 +109,8 @@ def test_robot_facts_match_the_file():
     assert mk2.gripper["max_opening_mm"] > 0
     assert any(link["shapes"] for link in mk2.links)
     panda = articula.Robot.load("panda")
-    assert panda.num_motors == 0 and panda.motors == [] and panda.gripper is None or panda.gripper is not None
+    # a robot file with no motors and no gripper (robots/panda.json has neither)
+    assert panda.num_motors == 0 and panda.motors == [] and panda.gripper is None
 
 
 # ---- errors: a clear Python exception, never a crash or a silent wrong answer ----

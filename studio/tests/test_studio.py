@@ -348,8 +348,18 @@ def test_a_robosim_program_plays_and_the_time_line_exports_as_csv(open_page):
     with pg.page.expect_download() as d:
         pg.page.click("#export-csv")
     text = open(d.value.path()).read().splitlines()
-    assert text[0].startswith("line,command,reply,start_s,end_s,joint_base,joint_shoulder,joint_elbow")
-    assert len(text) == 1 + len(predicted["records"])
+    # the path the arm takes (issue 28, what a class hit, 8): the time line's samples, not each
+    # command's end joined; each line's command and reply on its first row
+    assert text[0] == "t_s,line,command,reply,joint_base,joint_shoulder,joint_elbow,tool_x,tool_y,tool_z"
+    samples = pg.hook("a.timeline.samples")
+    rows = [r.split(",") for r in text[1:]]
+    assert len(rows) == len(samples["t"]) > 2 * len(predicted["records"])
+    assert [float(r[0]) for r in rows] == samples["t"] and [int(r[1]) for r in rows] == samples["line"]
+    assert [float(r[7]) for r in rows] == samples["tool"][0]
+    lines = [int(r[1]) for r in rows]
+    assert lines == sorted(lines)
+    named = [(int(r[1]), r[2], r[3]) for r in rows if r[2]]
+    assert named == [(rec["line"], rec["command"], rec["reply"]) for rec in predicted["records"] if rec["line"] in lines]
     with pg.page.expect_download() as d:
         pg.page.click("#export-png")
     assert open(d.value.path(), "rb").read(8) == b"\x89PNG\r\n\x1a\n"

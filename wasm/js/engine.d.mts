@@ -57,9 +57,12 @@ export interface TimelineRecord {
   start_s: number; end_s: number; q: number[]; q_ideal: number[]; tool: number[]; tool_ideal: number[];
   error_mm: number; steps: number[] | null; gripper: number | null;
 }
+/** The path the arm takes (host/lib/timeline.h, timeline_samples_json): column by column. */
+export interface TimelineSamples { t: number[]; line: number[]; q: number[][]; tool: number[][] }
 export class Timeline {
   readonly doc: { start_q: number[]; start_tool: number[]; duration: number; format: "protocol" | "robosim";
-    summary: { commands: number; rejected: number; worst_error_mm?: number }; records: TimelineRecord[] };
+    summary: { commands: number; rejected: number; worst_error_mm?: number }; records: TimelineRecord[];
+    samples: TimelineSamples };
   at(t: number): { t: number; line: number; q: number[]; q_ideal: number[]; steps: number[] | null; error_mm: number; gripper: number | null };
   readonly duration: number;
   delete(): void;

@@ -69,6 +69,7 @@ class WebTimeline {
       const host::Program p = host::parse_program(text, name, r);
       auto tl = std::make_unique<host::Timeline>(host::Timeline::of_program(r, p, start));
       json out = host::timeline_json(*tl);
+      out["samples"] = host::timeline_samples_json(r, *tl);
       out["format"] = p.format == host::Program::Format::kRoboSim ? "robosim" : "protocol";
       tl_ = std::move(tl);
       return out.dump();

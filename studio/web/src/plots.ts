@@ -38,24 +38,11 @@ export class Plots {
     document.body.classList.add("no-plots"); // the plots' row takes only the hint's height
   }
 
-  // Each action moves from the pose before it to its own between its start and its end; a
-  // zero-time command adds nothing.
+  // The path the arm takes: the time line's samples (the engine's), every action's start and
+  // end and evenly between, the tool at each; a move between two points is the curve it is,
+  // not the straight line joining its ends.
   private series(m: TimelineMsg) {
-    const t: number[] = [0];
-    const ok = m.records.filter((r) => r.reply === "ok");
-    const first = ok[0];
-    const joints: number[][] = m.joints.map((_, j) => [first ? first.q[j] : 0]);
-    const tool: number[][] = [0, 1, 2].map((k) => [first ? first.tool[k] : 0]);
-    let prev = first;
-    for (const r of ok) {
-      if (r.end_s > r.start_s) {
-        t.push(r.start_s, r.end_s);
-        joints.forEach((s, j) => s.push(prev.q[j], r.q[j]));
-        tool.forEach((s, k) => s.push(prev.tool[k], r.tool[k]));
-      }
-      prev = r;
-    }
-    return { t, joints, tool };
+    return { t: m.samples.t, joints: m.samples.q, tool: m.samples.tool };
   }
 
   show(m: TimelineMsg): void {
@@ -153,12 +140,21 @@ export class Plots {
     return new Promise((resolve) => out.toBlob(resolve, "image/png"));
   }
 
+  /** The path the arm takes, as the plots show it: one row a sample of the time line (t, the
+   *  line running, each joint, the tool), and each line's command and reply on its first row. */
   csv(m: TimelineMsg): string {
-    const head = ["line", "command", "reply", "start_s", "end_s", ...m.joints.map((j) => `joint_${j}`),
-      "tool_x", "tool_y", "tool_z", "ideal_x", "ideal_y", "ideal_z", "error_mm"];
-    const q = (s: string) => (/[",\n]/.test(s) ? `"${s.replace(/"/g, '""')}"` : s);
-    const rows = m.records.map((r) => [r.line, q(r.command), r.reply === "ok" ? "ok" : `error:${r.code}`, r.start_s, r.end_s,
-      ...r.q, ...r.tool, ...r.tool_ideal, r.error_mm].join(","));
+    const head = ["t_s", "line", "command", "reply", ...m.joints.map((j) => `joint_${j}`), "tool_x", "tool_y", "tool_z"];
+    const q = (s: string) => (/[",\n\r]/.test(s) ? `"${s.replace(/"/g, '""')}"` : s);
+    const byLine = new Map(m.records.map((r) => [r.line, r]));
+    const said = new Set<number>();
+    const S = m.samples;
+    const rows = S.t.map((t, i) => {
+      const line = S.line[i];
+      const r = line > 0 && !said.has(line) ? byLine.get(line) : undefined;
+      if (r) said.add(line);
+      return [t, line, r ? q(r.command) : "", r ? (r.reply === "ok" ? "ok" : `error:${r.code}`) : "",
+        ...S.q.map((c) => c[i]), S.tool[0][i], S.tool[1][i], S.tool[2][i]].join(",");
+    });
     return [head.join(","), ...rows].join("\n") + "\n";
   }
 }

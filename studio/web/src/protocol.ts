@@ -107,6 +107,9 @@ export interface TimelineMsg {
   duration: number;
   start_tool?: number[]; // the tool where the program starts (mm)
   joints: string[];
+  // the path the arm takes, for the plots and the CSV: the time line sampled at every action's
+  // start and end and evenly between, the tool at each (a move is the curve it is)
+  samples: { t: number[]; line: number[]; q: number[][]; tool: number[][] };
   summary: Record<string, number>;
 }
 

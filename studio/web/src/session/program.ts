@@ -47,7 +47,7 @@ export const programHandlers: Record<string, (m: Msg) => Out[] | Promise<Out[]>>
     S.q = [...tl.doc.start_q];
     const d = tl.doc;
     return [{ type: "timeline", name, format: d.format, records: d.records, duration: d.duration, start_tool: d.start_tool,
-      joints: info().joint_names, summary: d.summary }, poseMessage(S.q, { t: 0, line: 0 })];
+      joints: info().joint_names, summary: d.summary, samples: d.samples }, poseMessage(S.q, { t: 0, line: 0 })];
   },
   play(m) {
     const tl = needTimeline();
