@@ -1,19 +1,8 @@
 // The Editor's pure modules in node (src/editor/): the History of commands, built from the
 // TypeScript sources with esbuild as the page's bundle is.
 import assert from "node:assert/strict";
-import { buildSync } from "esbuild";
-import { join } from "node:path";
 import { test } from "node:test";
-import { fileURLToPath } from "node:url";
-
-const SRC = fileURLToPath(new URL("../src/", import.meta.url));
-
-/** A page module (TypeScript) as an ES module node can import (bundled, so it imports nothing
- *  itself: a data: URL holds it, and no file is left behind). */
-async function load(path) {
-  const r = buildSync({ entryPoints: [join(SRC, path)], bundle: true, format: "esm", platform: "neutral", write: false });
-  return import("data:text/javascript;base64," + Buffer.from(r.outputFiles[0].text).toString("base64"));
-}
+import { load } from "./page-module.mjs";
 
 /** A value edited through commands, as the page's program text is. */
 function setter(box, name, from, to, kind) {

@@ -1,0 +1,144 @@
+// The page's pure modules in node, without a browser: the project reader (project/document.ts),
+// which takes files, links and the browser's store as untrusted input, and the blocks'
+// unrolling (blocks/unroll.ts), which turns a workspace into the arm's actions.
+import assert from "node:assert/strict";
+import { test } from "node:test";
+import { load } from "./page-module.mjs";
+
+const doc = await load("project/document.ts");
+const { readProject, parseProject, newProject, projectFragment, projectOfFragment, ProjectError } = doc;
+
+/** A project that reads, to break one part of at a time. */
+function good() {
+  const p = newProject("Mine");
+  p.program.text = "L 0 30\n";
+  return JSON.parse(JSON.stringify(p));
+}
+
+/** The reader's refusal of `x`: a ProjectError whose message names the part. */
+function refusal(x) {
+  try {
+    readProject(x);
+  } catch (e) {
+    assert.ok(e instanceof ProjectError, `not a ProjectError: ${e}`);
+    return e.message;
+  }
+  assert.fail(`accepted: ${JSON.stringify(x).slice(0, 200)}`);
+}
+
+test("a project reads back as it was written, through a file and through a link", async () => {
+  const p = good();
+  assert.deepEqual(readProject(p).program, p.program);
+  assert.deepEqual(parseProject(JSON.stringify(p)).name, "Mine");
+  const back = await projectOfFragment(await projectFragment(readProject(p)));
+  assert.equal(back.program.text, "L 0 30\n");
+  assert.equal(back.robot.shipped, "mk2plus");
+});
+
+test("hostile projects are refused with the part named, never half read", () => {
+  const cases = [
+    [null, "not an Articula project"],
+    [{ ...good(), format: "x" }, "not an Articula project"],
+    [{ ...good(), version: 99 }, "newer Articula"],
+    [{ ...good(), version: 1.5 }, "version"],
+    [{ ...good(), name: 42 }, "project.name must be text"],
+    [{ ...good(), name: "x".repeat(201) }, "project.name is longer than 200"],
+    [{ ...good(), robot: { url: "http://evil" } }, "robot must name a shipped robot"],
+    [{ ...good(), robot: { file: { name: "r.json", text: "{}" }, meshes: [{ name: "m.stl", data: "<script>" }] } }, "robot.meshes[0].data is not base64"],
+    [{ ...good(), program: { ...good().program, mode: "python" } }, 'program.mode must be "text" or "blocks"'],
+    [{ ...good(), program: { ...good().program, blocks: { blocks: { blocks: [{ type: "js_eval" }] } } } }, '"js_eval" is not a block of Articula'],
+    [{ ...good(), pose: { q: [0, NaN], gripper: 0 } }, "pose.q[1] must be a number"],
+    [{ ...good(), pose: { q: [0, 1e300], gripper: 0 } }, "pose.q[1] must be a number"],
+    [{ ...good(), view: { eye: [0, 0], target: [0, 0, 0] } }, "view.eye must be a list of 3 numbers"],
+    [{ ...good(), goal: { title: "t", text: "x", parts: [] } }, "goal.parts must be a list of 1 to 50 parts"],
+    [{ ...good(), goal: { title: "t", text: "x", parts: [{ kind: "reach", xyz: [1, 2, 3], tolerance_mm: 0 }] } }, "goal.parts[0].tolerance_mm must be above 0"],
+    [{ ...good(), goal: { title: "t", text: "x", parts: [{ kind: "teleport" }] } }, 'goal.parts[0].kind must be "reach" or "object"'],
+    [{ ...good(), experiment: { points: "all" } }, "experiment.points must be a list"],
+  ];
+  for (const [x, said] of cases) {
+    const message = refusal(x);
+    assert.ok(message.includes(said), `${JSON.stringify(said)} not in ${JSON.stringify(message)}`);
+  }
+  // blocks nested past any program's depth, and text that is no JSON at all
+  let deep = { type: "math_number", fields: { NUM: 1 } };
+  for (let i = 0; i < 300; i++) deep = { type: "controls_repeat_ext", inputs: { DO: { block: deep } } };
+  assert.match(refusal({ ...good(), program: { ...good().program, mode: "blocks", blocks: { blocks: { blocks: [deep] } } } }), /nest too deeply/);
+  assert.throws(() => parseProject("{ not json"), (e) => e instanceof ProjectError && /not JSON/.test(e.message));
+});
+
+test("strings stay strings: markup in a project is kept as text, for the page to show as text", () => {
+  const p = good();
+  p.name = '<img src=x onerror="alert(1)">';
+  p.program.text = "# <script>alert(1)</script>\nL 0 1\n";
+  const r = readProject(p);
+  assert.equal(r.name, p.name);
+  assert.equal(r.program.text, p.program.text);
+  // what the reader does not know is dropped, not carried along
+  const extra = { ...good(), onload: "alert(1)", __proto__: { polluted: true } };
+  const q = readProject(extra);
+  assert.equal("onload" in q, false);
+  assert.equal({}.polluted, undefined);
+});
+
+test("a damaged or oversized link is refused saying so", async () => {
+  await assert.rejects(projectOfFragment("#nothing"), /holds no project/);
+  await assert.rejects(projectOfFragment("#project=abc$def"), /a character a project link never has, at position 4/);
+  await assert.rejects(projectOfFragment("#project=AAAA"), /damaged or was cut short/);
+  await assert.rejects(projectOfFragment("#project=" + "A".repeat(100_001)), /longer than 100,000 characters/);
+  // a link that unpacks to far more than any project (a zip bomb): refused, not unpacked
+  const big = { ...good(), program: { ...good().program, text: "L 0 1\n".repeat(1_000_000) } };
+  const frag = await projectFragment(big);
+  assert.ok(frag.length < 100_000, `the bomb's link is ${frag.length} characters`);
+  await assert.rejects(projectOfFragment(frag), /unpacks to more than 4 MB/);
+});
+
+const { unroll, opsToWorkspace, BlockError, MAX_LINES } = await load("blocks/unroll.ts");
+
+const num = (v) => ({ shadow: { type: "math_number", fields: { NUM: v } } });
+const chain = (...blocks) => {
+  for (let i = blocks.length - 2; i >= 0; i--) blocks[i].next = { block: blocks[i + 1] };
+  return blocks[0];
+};
+const ws = (...top) => ({ blocks: { blocks: top }, variables: [{ id: "v", name: "angle" }] });
+
+test("blocks unroll to the arm's actions: loops, variables, arithmetic and procedures end here", () => {
+  const body = chain({ type: "arm_joint_by", id: "by", fields: { JOINT: 0 }, inputs: { VALUE: { block: { type: "variables_get", fields: { VAR: { id: "v" } } } } } },
+    { type: "math_change", id: "ch", fields: { VAR: { id: "v" } }, inputs: { DELTA: num(5) } });
+  const program = chain({ type: "variables_set", id: "set", fields: { VAR: { id: "v" } }, inputs: { VALUE: num(10) } },
+    { type: "controls_repeat_ext", id: "rep", inputs: { TIMES: num(3), DO: { block: body } } },
+    { type: "procedures_callnoreturn", id: "call", extraState: { name: "wave" } });
+  const def = { type: "procedures_defnoreturn", id: "def", fields: { NAME: "wave" }, y: -100,
+    inputs: { STACK: { block: { type: "arm_gripper_to", id: "g", inputs: { PERCENT: { block: { type: "math_arithmetic", fields: { OP: "MULTIPLY" }, inputs: { A: num(20), B: num(2.5) } } } } } } } };
+  const ops = unroll(ws(program, def));
+  assert.deepEqual(ops.map((o) => [o.op, o.value ?? o.percent]), [["joint_by", 10], ["joint_by", 15], ["joint_by", 20], ["gripper", 50]]);
+  assert.deepEqual(ops.map((o) => o.block), ["by", "by", "by", "g"]);
+  // and back: actions as one stack of blocks, which unrolls to the same actions
+  const again = unroll(opsToWorkspace(ops.map(({ block, ...a }) => a)));
+  assert.deepEqual(again.map(({ block, ...a }) => a), ops.map(({ block, ...a }) => a));
+});
+
+test("a block that cannot be unrolled is named, with a reason a student reads", () => {
+  const refused = (w) => {
+    try {
+      unroll(w);
+    } catch (e) {
+      assert.ok(e instanceof BlockError, String(e));
+      return [e.block, e.message];
+    }
+    assert.fail("unrolled");
+  };
+  const [b1, m1] = refused(ws({ type: "controls_repeat_ext", id: "many", inputs: { TIMES: num(MAX_LINES + 1), DO: { block: { type: "arm_home", id: "h" } } } }));
+  assert.equal(b1, "many");
+  assert.match(m1, /more than 10,000 lines: repeat fewer times/);
+  const [b2, m2] = refused(ws({ type: "arm_joint_to", id: "empty", fields: { JOINT: 0 } }));
+  assert.equal(b2, "empty");
+  assert.match(m2, /needs a number in its value slot/);
+  const [b3, m3] = refused(ws({ type: "procedures_callnoreturn", id: "self", extraState: { name: "loop" } },
+    { type: "procedures_defnoreturn", fields: { NAME: "loop" }, inputs: { STACK: { block: { type: "procedures_callnoreturn", id: "inner", extraState: { name: "loop" } } } } }));
+  assert.equal(b3, "inner");
+  assert.match(m3, /calls itself too deeply/);
+  const [, m4] = refused(ws({ type: "arm_joints", id: "j", fields: { VALUES: "0, ninety, 0" } }));
+  assert.match(m4, /is not a list of numbers/);
+  const [, m5] = refused(ws({ type: "arm_wait", id: "w", inputs: { SECONDS: { block: { type: "math_arithmetic", id: "div", fields: { OP: "DIVIDE" }, inputs: { A: num(1), B: num(0) } } } } }));
+  assert.match(m5, /1 divide 0 gives no number/);
+});
