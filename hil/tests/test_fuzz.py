@@ -1,4 +1,4 @@
-"""The protocol fuzz (hil/harness/fuzz.py): a seeded run on the virtual Nano with the real
+"""The protocol fuzz (hil/harness/fuzz/): a seeded run on the virtual Nano with the real
 firmware ELF, the generator's framing, and the checker on transcripts that break the
 protocol (two replies, none, a reset, motion from a rejected line, pins that disagree), so
 a pass means something. Run by ctest (hil.fuzz) with the binaries' paths in the environment:

@@ -109,6 +109,15 @@ class Link:
         self.alive = alive or (lambda: True)
         self.log = log
         self._buf = b""
+        # A POSIX serial port or pseudo-terminal is read with select() on its file descriptor:
+        # no termios call per read (setting pyserial's timeout is one), which halves the time
+        # of a short exchange. Anything else (a port without one) through pyserial's read.
+        try:
+            self._fd = port.fileno()
+        except (AttributeError, OSError, ValueError, TypeError):
+            self._fd = None
+        if not isinstance(self._fd, int):
+            self._fd = None
 
     def _note(self, direction: str, text: str) -> None:
         if self.log:
@@ -137,15 +146,21 @@ class Link:
             if remaining <= 0:
                 raise LinkTimeout("no answer", self._buf.decode("ascii", errors="replace"))
             try:
-                t = min(remaining, 0.05)
-                if self.port.timeout != t:
-                    self.port.timeout = t
-                waiting = self.port.in_waiting
-                data = self.port.read(max(1, min(waiting, 4096)))
+                if self._fd is not None:
+                    ready, _, _ = select.select([self._fd], [], [], min(remaining, 0.1))
+                    data = os.read(self._fd, 4096) if ready else None
+                else:
+                    t = min(remaining, 0.05)
+                    if self.port.timeout != t:
+                        self.port.timeout = t
+                    waiting = self.port.in_waiting
+                    data = self.port.read(max(1, min(waiting, 4096)))
             except (serial.SerialException, OSError, ValueError, TypeError) as e:
                 raise LinkVanished(str(e) or type(e).__name__) from None
             if data:
                 self._buf += data
+            elif data == b"" and self._fd is not None:  # ready, and nothing: the other end closed
+                raise LinkVanished("the device at its other end is gone")
             elif not self.alive():
                 raise LinkVanished("the device at its other end is gone")
         raw, _, self._buf = self._buf.partition(b"\n")
@@ -167,7 +182,7 @@ class Link:
         self._buf = b""
         try:
             self.port.reset_input_buffer()
-        except (serial.SerialException, OSError, ValueError):
+        except (serial.SerialException, OSError, ValueError, AttributeError):  # (a port with no such call)
             pass
 
 
