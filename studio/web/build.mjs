@@ -2,8 +2,8 @@
 // server, at the site's root or under a sub-path, with no articula process:
 //   index.html, icon.svg, manifest.webmanifest, sw.js (offline use, an installable app)
 //   assets/app.js, app.css  the page (esbuild: src/main.ts, three.js, uPlot)
-//   assets/worker.js        the engine's Web Worker (src/worker.ts)
-//   assets/nano-worker.js   the virtual Nano's Web Worker (src/nano-worker.ts, avr8js)
+//   assets/worker.js        the engine's Web Worker (src/engine/worker.ts)
+//   assets/nano-worker.js   the virtual Nano's Web Worker (src/virtual-nano/worker.ts, avr8js)
 //   engine/engine.mjs, .wasm the web engine (wasm/, built by emscripten; ARTICULA_WASM_DIR)
 //   engine/nano.mjs, .wasm   the virtual Nano's parts for its worker (wasm/src/nano.cpp)
 //   data/                   the shipped robots, scenes and programs, and data/index.json;
@@ -43,8 +43,8 @@ rmSync(out, { recursive: true, force: true });
 mkdirSync(join(out, "assets"), { recursive: true });
 const common = { bundle: true, format: "esm", target: "es2020", minify: true, sourcemap: true, logLevel: "warning" };
 await esbuild.build({ ...common, entryPoints: [join(here, "src/main.ts")], outfile: join(out, "assets/app.js") });
-await esbuild.build({ ...common, entryPoints: [join(here, "src/worker.ts")], outfile: join(out, "assets/worker.js") });
-await esbuild.build({ ...common, entryPoints: [join(here, "src/nano-worker.ts")], outfile: join(out, "assets/nano-worker.js") });
+await esbuild.build({ ...common, entryPoints: [join(here, "src/engine/worker.ts")], outfile: join(out, "assets/worker.js") });
+await esbuild.build({ ...common, entryPoints: [join(here, "src/virtual-nano/worker.ts")], outfile: join(out, "assets/nano-worker.js") });
 const css = readFileSync(join(here, "node_modules/uplot/dist/uPlot.min.css"), "utf8") + "\n" +
   await blocklyCss("blockly-media") + "\n" + readFileSync(join(here, "src/style.css"), "utf8");
 copyTree(join(here, "node_modules/blockly/media"), join(out, "assets/blockly-media"), () => true);
@@ -121,7 +121,7 @@ copyFileSync(bootFile, join(out, "data/firmware/optiboot_atmega328.hex"));
 // flash panel: the robot it is built for, its version, its size.
 {
   const { nodeEngine, nodeNanoParts } = await import("../../wasm/js/node.mjs");
-  const { VirtualNano } = await import("./src/nano.mjs");
+  const { VirtualNano } = await import("./src/virtual-nano/avr-nano.mjs");
   const hex = readFileSync(hexFile, "utf8");
   const engine = await nodeEngine(wasmDir);
   const nano = new VirtualNano({ hex, parts: await nodeNanoParts(wasmDir) });

@@ -1,19 +1,19 @@
 // Articula Studio's page: panels around the 3D view. It sends intents to the engine, which
-// runs in a Web Worker (worker.ts: the C++ core, host library and ODE in WebAssembly) -
+// runs in a Web Worker (engine/worker.ts: the C++ core, host library and ODE in WebAssembly) -
 // "set joint 2 to 30 deg", "solve for this target", "run this program" - and draws the poses
 // that come back; it never computes kinematics itself (docs/studio.md). The arm in the loop
-// is the page's too (panels/arm.ts): the virtual Nano (nano-worker.ts) or a Nano over Web
+// is the page's too (panels/arm.ts): the virtual Nano (virtual-nano/) or a Nano over Web
 // Serial, which the page can flash (panels/flash.ts). No server takes part.
 //
 // This file only wires the parts together: the hook (page/hook.ts), the engine's client
-// (page/engine.ts), the 3D view, the plots and one module per panel (panels/).
+// (page/engine-client.ts), the 3D view, the plots and one module per panel (panels/).
 import { language, storage } from "./page/environment"; // first: a page must not die on its locale (uPlot reads it as it loads)
 import { View } from "./view";
 import { Plots } from "./plots";
 import { startTour } from "./tour";
 import { Layout } from "./layout";
-import type { PoseMsg, EngineMsg } from "./protocol";
-import { EngineClient } from "./page/engine";
+import type { PoseMsg, EngineMsg } from "./engine/messages";
+import { EngineClient } from "./page/engine-client";
 import { $, banner } from "./page/dom";
 import { exposeHook, hook, noteError } from "./page/hook";
 import type { Studio } from "./page/context";

@@ -1,5 +1,5 @@
 // Real time for the two loops that run a model against the wall clock: the live physics (the
-// engine's worker, session/physics.ts) and the virtual Nano (nano-worker.ts). One meter of
+// engine's worker, engine/physics.ts) and the virtual Nano (virtual-nano/worker.ts). One meter of
 // simulated time against wall time, and one timer that keeps a period without drifting.
 
 /** Simulated (or emulated) seconds against wall seconds over the last `size` slices: `rtf`

@@ -2,7 +2,7 @@
 // error, a playhead that follows the arm, PNG and CSV export. The values are the engine's
 // (the prediction's records); the page only draws them.
 import uPlot from "uplot";
-import type { TimelineMsg } from "./protocol";
+import type { TimelineMsg } from "./engine/messages";
 import { fill, h } from "./page/dom";
 
 const COLORS = ["#3d5a80", "#ee6c4d", "#2a9d8f", "#e0a458", "#6d597a", "#b56576", "#457b9d", "#8d99ae"];

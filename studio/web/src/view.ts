@@ -6,7 +6,7 @@ import { OrbitControls } from "three/examples/jsm/controls/OrbitControls.js";
 import { TransformControls } from "three/examples/jsm/controls/TransformControls.js";
 import { STLLoader } from "three/examples/jsm/loaders/STLLoader.js";
 import { OBJLoader } from "three/examples/jsm/loaders/OBJLoader.js";
-import type { Flat4x4, PhysicsMsg, PoseMsg, RobotMsg, SceneObjectInfo, Shape } from "./protocol";
+import type { Flat4x4, PhysicsMsg, PoseMsg, RobotMsg, SceneObjectInfo, Shape } from "./engine/messages";
 
 const LINK_COLORS = [0x3d5a80, 0xee6c4d, 0x98c1d9, 0xe0a458, 0x6d9f71, 0xb56576, 0x8d99ae];
 

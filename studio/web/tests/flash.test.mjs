@@ -1,14 +1,14 @@
-// Flashing from the page, end to end in node: the page's flasher (src/stk500.mjs) writes the
+// Flashing from the page, end to end in node: the page's flasher (src/link/stk500.mjs) writes the
 // firmware's hex through Debian's own Optiboot (and the old ATmegaBOOT) running on the
-// page's virtual Nano (src/nano.mjs, SPM emulated as the chip does it), reads it back, and
+// page's virtual Nano (src/virtual-nano/avr-nano.mjs, SPM emulated as the chip does it), reads it back, and
 // the Nano resets into it and answers `I` with the robot's banner. And every way it fails.
 import assert from "node:assert/strict";
 import { existsSync, readFileSync } from "node:fs";
 import { join } from "node:path";
 import { before, describe, test } from "node:test";
 import { REPO, nodeNanoParts } from "../../../wasm/js/node.mjs";
-import { RESET_POWER, VirtualNano, parseHex } from "../src/nano.mjs";
-import { FlashError, flashNano } from "../src/stk500.mjs";
+import { RESET_POWER, VirtualNano, parseHex } from "../src/virtual-nano/avr-nano.mjs";
+import { FlashError, flashNano } from "../src/link/stk500.mjs";
 import { NanoPort } from "./nano-port.mjs";
 
 const HEX = process.env.ARTICULA_NANO_HEX || join(REPO, "build/avr/firmware/articula-nano.hex");

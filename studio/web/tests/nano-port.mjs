@@ -1,9 +1,9 @@
-// For node's tests: a VirtualNano (src/nano.mjs) behind Web Serial's SerialPort interface -
+// For node's tests: a VirtualNano (src/virtual-nano/avr-nano.mjs) behind Web Serial's SerialPort interface -
 // open, close, readable, writable, setSignals - as a Nano on a USB cable is: the host's baud
 // rate, DTR's auto-reset, and a cable that can be pulled (the port fails, the Nano loses
 // power) and plugged in again (it powers up). The emulator runs as fast as node can while
 // the port is open.
-import { RESET_POWER } from "../src/nano.mjs";
+import { RESET_POWER } from "../src/virtual-nano/avr-nano.mjs";
 
 export class NanoPort {
   constructor(nano) {
@@ -61,7 +61,7 @@ export class NanoPort {
     this.nano.setDtr(false);
   }
 
-  /** The Nano's own time, ms (src/serial.ts's clock(): the flasher's timeouts count in it, so a
+  /** The Nano's own time, ms (src/link/ports.ts's clock(): the flasher's timeouts count in it, so a
    * busy machine that slows the emulator does not make the Nano look silent). */
   clock() {
     return this.nano.seconds * 1000;

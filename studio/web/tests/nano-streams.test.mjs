@@ -10,7 +10,7 @@ import { readFileSync } from "node:fs";
 import { join } from "node:path";
 import { test } from "node:test";
 import { REPO, nodeEngine, nodeNanoParts } from "../../../wasm/js/node.mjs";
-import { CLOCK_HZ, VirtualNano } from "../src/nano.mjs";
+import { CLOCK_HZ, VirtualNano } from "../src/virtual-nano/avr-nano.mjs";
 import { until } from "./run-records.mjs";
 
 const HEX = process.env.ARTICULA_NANO_HEX || join(REPO, "build/avr/firmware/articula-nano.hex");

@@ -1,4 +1,4 @@
-// The page's virtual Nano (src/nano.mjs: avr8js) running the firmware's own hex, in node:
+// The page's virtual Nano (src/virtual-nano/avr-nano.mjs: avr8js) running the firmware's own hex, in node:
 // it answers as the firmware does, and its coils turn the motors by the steps the prediction
 // gives. ARTICULA_NANO_HEX names the hex (default build/avr/firmware/articula-nano.hex).
 import assert from "node:assert/strict";
@@ -6,7 +6,7 @@ import { readFileSync } from "node:fs";
 import { join } from "node:path";
 import { before, describe, test } from "node:test";
 import { REPO, nodeEngine, nodeNanoParts } from "../../../wasm/js/node.mjs";
-import { VirtualNano, parseHex } from "../src/nano.mjs";
+import { VirtualNano, parseHex } from "../src/virtual-nano/avr-nano.mjs";
 
 const HEX = process.env.ARTICULA_NANO_HEX || join(REPO, "build/avr/firmware/articula-nano.hex");
 

@@ -5,7 +5,7 @@
 // shows, plus the span from the first step to the last). Shared by nano-plans.test.mjs and
 // nano-codesign.test.mjs.
 import assert from "node:assert/strict";
-import { CLOCK_HZ } from "../src/nano.mjs";
+import { CLOCK_HZ } from "../src/virtual-nano/avr-nano.mjs";
 
 /** Runs the emulated Nano `n` until pred() or s more seconds. */
 export function until(n, pred, s) {

@@ -2,7 +2,7 @@
 // link carries it) unrolled into a flat list of actions in the student's units (joint values
 // as the sliders show them, mm, percent), each naming the block it came from. Loops,
 // variables, arithmetic and procedures end here: what leaves is a list the engine turns into
-// program lines (session/blocks.ts), and the program runs as any other. Pure data in, data
+// program lines (engine/blocks.ts), and the program runs as any other. Pure data in, data
 // out, no Blockly and no DOM: node's tests run it too.
 
 /** One action of the arm, from one block. */

@@ -3,10 +3,10 @@
 // of the project's state the panel that owns them answers for (the blocks, the arm's link, the
 // robot file opened). main.ts makes it and wires the buttons and the keys. (The project
 // document itself still lives in panels/projects.ts: moving it here is issue 28's next part.)
-import type { ArmLink } from "../arm";
+import type { ArmLink } from "../link/arm-link";
 import type { Experiment } from "../project/document";
-import type { RobotMsg } from "../protocol";
-import type { SerialLike } from "../serial";
+import type { RobotMsg } from "../engine/messages";
+import type { SerialLike } from "../link/ports";
 import { History } from "./history";
 import { Signal } from "./signal";
 

@@ -1,4 +1,4 @@
-// The arm in the page (arm.ts, panels/arm.ts) asks the engine three things, each in one round
+// The arm in the page (link/arm-link.ts, panels/arm.ts) asks the engine three things, each in one round
 // trip: a line from the arm read by the core's parsers, with the arm's pose when it is a
 // status report; the model's prediction of a line after those the arm accepted; and the
 // robot shown as a Nano's configuration (its lines and checksum, or why a Nano cannot take it).

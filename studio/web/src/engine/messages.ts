@@ -1,4 +1,4 @@
-// The messages between the page and its engine (worker.ts), and from its arm link (arm.ts) to
+// The messages between the page and its engine (engine/worker.ts), and from its arm link (link/arm-link.ts) to
 // the arm panel (docs/studio.md, "Messages"). The engine computes every pose; the page sends intents
 // and draws what comes back.
 

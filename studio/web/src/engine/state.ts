@@ -1,6 +1,6 @@
 // One page's session in the engine's worker: the robot shown, its pose and gripper, the
 // program's time line and its clock, the live physics. The engine computes; this holds what
-// the page is looking at, and turns it into the messages the page draws (protocol.ts).
+// the page is looking at, and turns it into the messages the page draws (engine/messages.ts).
 import type { Engine, Robot, Sim, Timeline } from "../../../../wasm/js/engine.mjs";
 import { clamp, round6 } from "./checks";
 import type { Out } from "./checks";

@@ -1,25 +1,25 @@
 // The studio's engine in a Web Worker: the web engine (wasm/, the same C++ as the CLI and
 // the Python package) and one page's session - the robot shown, its pose, the program's time
 // line, the Jacobian transpose animated, the live physics, the arm's lines. The page posts
-// intents (the messages of protocol.ts) and draws what comes back; nothing here blocks its
+// intents (the messages of engine/messages.ts) and draws what comes back; nothing here blocks its
 // drawing.
 //
 // Every pose, solve, prediction and physics step is the engine's: this file only dispatches
-// intents to the session's parts (session/: kinematics, program, physics, arm), which keep the
+// intents to the session's parts (engine/: kinematics, program, physics, arm), which keep the
 // state of the page and turn intents into engine calls (docs/studio.md, "What runs where").
-import { EngineError, loadEngine } from "../../../wasm/js/engine.mjs";
-import { BadMessage } from "./session/checks";
-import type { Msg, Out } from "./session/checks";
-import { armHandlers } from "./session/arm";
-import { blockHandlers } from "./session/blocks";
-import { exerciseHandlers } from "./session/exercise";
-import { experimentHandlers } from "./session/experiment";
-import { kinematicHandlers } from "./session/kinematics";
+import { EngineError, loadEngine } from "../../../../wasm/js/engine.mjs";
+import { BadMessage } from "./checks";
+import type { Msg, Out } from "./checks";
+import { armHandlers } from "./arm";
+import { blockHandlers } from "./blocks";
+import { exerciseHandlers } from "./exercise";
+import { experimentHandlers } from "./experiment";
+import { kinematicHandlers } from "./kinematics";
 import { PHYSICS_INTENTS, PHYSICS_ONLY, ensurePhysics, physicsIntent, physicsMessage, sceneIntent, sceneMessage,
-  startPhysics } from "./session/physics";
-import { programHandlers } from "./session/program";
-import { loadIndex, sceneFile, shippedRobot, site, urlRobot } from "./session/site";
-import { info, poseMessage, post, robotMessage, S, stopTasks } from "./session/state";
+  startPhysics } from "./physics";
+import { programHandlers } from "./program";
+import { loadIndex, sceneFile, shippedRobot, site, urlRobot } from "./site";
+import { info, poseMessage, post, robotMessage, S, stopTasks } from "./state";
 
 type Handler = (m: Msg) => Out[] | Promise<Out[]>;
 

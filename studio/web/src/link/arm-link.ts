@@ -1,15 +1,15 @@
 // The arm in the loop, in the page: a Nano on a Web Serial port or the virtual Nano (both a
-// SerialLike, serial.ts), spoken to in the arm's protocol (docs/protocol.md): the `I` banner's
+// SerialLike, link/ports.ts), spoken to in the arm's protocol (docs/protocol.md): the `I` banner's
 // configuration checksum checked against the robot shown (an arm configured for another robot
 // is never driven: it can be configured for this one), `?` reports 15 times a second, one line at a time with
 // its reply, programs with the harness's flow control, `!` at once. Lines from the arm are
 // read by the core's parsers through the engine (`parseArmLine`), and the arm's pose and the
 // model's prediction come from the engine too: nothing here computes kinematics.
 //
-// It speaks to the page in messages (protocol.ts: arm, arm_status, arm_reply, arm_program,
+// It speaks to the page in messages (engine/messages.ts: arm, arm_status, arm_reply, arm_program,
 // arm_stopped), as the engine's worker does.
-import type { NanoConfig } from "./protocol";
-import { type SerialLike, deviceClock, sleepOn } from "./serial";
+import type { NanoConfig } from "../engine/messages";
+import { type SerialLike, deviceClock, sleepOn } from "./ports";
 
 type Parsed =
   | { kind: "reply"; code: number }

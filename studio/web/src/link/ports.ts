@@ -1,10 +1,10 @@
 // Serial ports for the arm panel: a real Nano through Web Serial (navigator.serial: Chrome,
-// Edge, Opera, in a secure context), and the virtual Nano in the page (nano-worker.ts) behind
-// the same interface, so that arm.ts has one code path for both.
+// Edge, Opera, in a secure context), and the virtual Nano in the page (virtual-nano/worker.ts) behind
+// the same interface, so that arm-link.ts has one code path for both.
 
-import { store, stored } from "./page/environment";
+import { store, stored } from "../page/environment";
 
-/** What arm.ts needs of a port: the part of Web Serial's SerialPort it uses. */
+/** What arm-link.ts needs of a port: the part of Web Serial's SerialPort it uses. */
 export interface SerialLike {
   open(options: { baudRate: number }): Promise<void>;
   close(): Promise<void>;

@@ -1,5 +1,5 @@
 // Types of stk500.mjs for TypeScript.
-import type { SerialLike } from "./serial";
+import type { SerialLike } from "./ports";
 export const SIGNATURE: number[];
 export const BAUD_RATES: number[];
 export type FlashErrorKind = "hex" | "no-bootloader" | "signature" | "verify" | "vanished";

@@ -9,7 +9,7 @@
 //
 // The bootloader sits in the boot section, which the Nano's lock bits keep from being
 // written: a flash that fails anywhere leaves a Nano whose bootloader takes the next one.
-import { BOOT_START, PAGE_BYTES, parseHex } from "./nano.mjs";
+import { BOOT_START, PAGE_BYTES, parseHex } from "../virtual-nano/avr-nano.mjs";
 
 // STK500v1 (Atmel's AVR061), what the bootloaders answer
 const STK_OK = 0x10, STK_INSYNC = 0x14, CRC_EOP = 0x20;

@@ -4,7 +4,7 @@
 import type { Editor } from "../editor/editor";
 import type { View } from "../view";
 import type { Plots } from "../plots";
-import type { EngineClient } from "./engine";
+import type { EngineClient } from "./engine-client";
 
 export interface Studio {
   engine: EngineClient;

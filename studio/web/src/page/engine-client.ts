@@ -1,7 +1,7 @@
-// The engine, as the page sees it: the Web Worker (worker.ts: the C++ core, host library and
+// The engine, as the page sees it: the Web Worker (engine/worker.ts: the C++ core, host library and
 // ODE in WebAssembly) that computes every pose, solve, prediction and physics step. The page
 // posts intents and handles what comes back; a request with an `id` gets its own answer.
-import type { EngineMsg } from "../protocol";
+import type { EngineMsg } from "../engine/messages";
 import { hook } from "./hook";
 
 type Msg = Record<string, unknown>;

@@ -1,6 +1,6 @@
 // The test hook, `window.articula`: the page's state to read, never to write. Tests and people
 // who script the page read it instead of pixels. The panels keep it up to date.
-import type { ArmStatusMsg, IkMsg, PhysicsMsg, PoseMsg, RobotMsg, SceneMsg, SimEvent, TimelineMsg } from "../protocol";
+import type { ArmStatusMsg, IkMsg, PhysicsMsg, PoseMsg, RobotMsg, SceneMsg, SimEvent, TimelineMsg } from "../engine/messages";
 
 export interface Hook {
   ready: boolean;

@@ -2,10 +2,10 @@
 // Serial, opened only when the user asks), its state beside the model's, a line to send with
 // the arm's reply and the model's prediction side by side, programs run on the arm, STOP.
 // Everything the arm says (its banner's robot name, its replies) is shown as text.
-import { ArmLink } from "../arm";
-import type { ArmStatusMsg, EngineMsg, NanoConfig } from "../protocol";
-import { VirtualNanoPort, webSerial } from "../serial";
-import type { SerialLike } from "../serial";
+import { ArmLink } from "../link/arm-link";
+import type { ArmStatusMsg, EngineMsg, NanoConfig } from "../engine/messages";
+import { VirtualNanoPort, webSerial } from "../link/ports";
+import type { SerialLike } from "../link/ports";
 import type { Studio } from "../page/context";
 import { $, banner, fill, h, setOptions } from "../page/dom";
 import { hook, noteError } from "../page/hook";

@@ -1,6 +1,6 @@
 // The program as blocks (Blockly, bundled with the site): the workspace, the mode switch
 // between blocks and text, Show code. Blocks unroll into actions (blocks/unroll.ts), the
-// engine turns the actions into the program text it runs (session/blocks.ts), and that text
+// engine turns the actions into the program text it runs (engine/blocks.ts), and that text
 // is the program: the editor holds it, Run plays it wherever a program plays (the model, the
 // physics, the virtual Nano, the arm). The running line's block is highlighted; a block the
 // arm would refuse, or the engine did, says why on itself.
@@ -11,7 +11,7 @@ import { $, fill, h } from "../page/dom";
 import { hook } from "../page/hook";
 import { defineBlocks, setJoints, toolbox } from "../blocks/define";
 import { BlockError, opsToWorkspace, unroll } from "../blocks/unroll";
-import type { RobotMsg } from "../protocol";
+import type { RobotMsg } from "../engine/messages";
 
 let editor: Editor | null = null;
 let s: Studio;
@@ -91,6 +91,18 @@ function paragraphWithoutStyleAttribute(): void {
   };
 }
 
+// A finger drags one block, not the stack under it: on a tablet, a block dragged to the bin
+// took the four below it with it. A mouse drags the stack (Ctrl or Cmd: one block), as Blockly
+// does everywhere; a drag made by mistake is one tap on Undo away.
+function touchDragsOneBlock(): void {
+  const proto = Blockly.dragging.BlockDragStrategy.prototype as unknown as {
+    shouldHealStack(e?: PointerEvent | KeyboardEvent): boolean };
+  const asBlockly = proto.shouldHealStack;
+  proto.shouldHealStack = function (this: unknown, e?: PointerEvent | KeyboardEvent): boolean {
+    return (e instanceof PointerEvent && (e.pointerType === "touch" || e.pointerType === "pen")) || asBlockly.call(this, e);
+  };
+}
+
 /** A warning's text in lines of about `width` characters: Blockly's bubble does not wrap, and a
  *  long one-line bubble reached past the workspace's left edge and over the blocks beside. */
 function wrapWords(text: string, width = 38): string {
@@ -129,6 +141,7 @@ function ensureWorkspace(): void {
   defineBlocks();
   historyMenu();
   paragraphWithoutStyleAttribute();
+  touchDragsOneBlock();
   Blockly.blockRendering.unregister("zelos");
   Blockly.blockRendering.register("zelos", Renderer);
   if (hook.robot) setJoints(hook.robot.joints);

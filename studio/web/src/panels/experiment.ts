@@ -7,7 +7,7 @@
 // It exports as HTML (with the plots) and CSV, and stays with the project.
 //
 // Every number is the host library's (host/lib/plan.h, experiment.h) through the engine's
-// worker (session/experiment.ts): the harness's report (hil/harness/report.py) has the same.
+// worker (engine/experiment.ts): the harness's report (hil/harness/report.py) has the same.
 import uPlot from "uplot";
 import type { Studio } from "../page/context";
 import { $, download, fill, h, setOptions, status } from "../page/dom";

@@ -1,7 +1,7 @@
-// Flashing the Nano on the chosen port (stk500.mjs) with this site's firmware (one for every
+// Flashing the Nano on the chosen port (link/stk500.mjs) with this site's firmware (one for every
 // arm: the robot is configured after, in the arm panel): its version and size from
 // data/firmware/firmware.json, a progress bar, and a sentence for every way it can fail.
-import { FlashError, flashNano } from "../stk500.mjs";
+import { FlashError, flashNano } from "../link/stk500.mjs";
 import { $, status } from "../page/dom";
 import { hook } from "../page/hook";
 import type { Studio } from "../page/context";

@@ -1,7 +1,7 @@
 // The IK panel: a typed target (position, and orientation when asked), the solver, per-joint
 // weights, Solve and the thesis's Jacobian transpose animated; the target in the 3D view,
 // dragged. What the solver says is shown as a sentence.
-import type { IkMsg, RobotMsg } from "../protocol";
+import type { IkMsg, RobotMsg } from "../engine/messages";
 import type { Studio } from "../page/context";
 import { $, fill, fmt, h } from "../page/dom";
 import { hook } from "../page/hook";

@@ -1,7 +1,7 @@
 // The joints panel: a slider and a box for every joint variable of the DH table (and for each
 // row length the robot file lets change, RoboSim's l), Home, Zero, the gripper; the DH table
 // at the pose and the tool pose. The names come from the robot file: shown as text only.
-import type { PoseMsg, RobotMsg } from "../protocol";
+import type { PoseMsg, RobotMsg } from "../engine/messages";
 import type { Studio } from "../page/context";
 import { $, fill, fmt, h } from "../page/dom";
 import { hook } from "../page/hook";

@@ -1,6 +1,6 @@
 // Live physics: the scene menu, run / pause / step / reset, the speed against real time, the
 // events as they come (objects named by the scene file: shown as text), objects to drag.
-import type { PhysicsMsg, RobotMsg, SceneMsg, SimEvent } from "../protocol";
+import type { PhysicsMsg, RobotMsg, SceneMsg, SimEvent } from "../engine/messages";
 import type { Studio } from "../page/context";
 import { $, fill, h, setOptions } from "../page/dom";
 import { hook } from "../page/hook";

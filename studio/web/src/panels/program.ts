@@ -1,7 +1,7 @@
 // The program panel: the editor with its line numbers and running line, the shipped examples,
 // open and save, Run (on the model, or on the arm when asked), Pause, Step, Reset, Teach, the
 // ghost, the plots of the time line. The engine predicts and plays; this panel shows.
-import type { PoseMsg, TimelineMsg } from "../protocol";
+import type { PoseMsg, TimelineMsg } from "../engine/messages";
 import type { Studio } from "../page/context";
 import { $, download, fill, h } from "../page/dom";
 import { hook } from "../page/hook";

@@ -1,7 +1,7 @@
 // The robot: the shipped ones, a robot file opened with its meshes (or a thesis appendix C
 // file with its scale), URDF out. A robot file is untrusted input: its names and description
 // are shown as text, and a file that cannot be used keeps the robot that was there.
-import type { RobotMsg } from "../protocol";
+import type { RobotMsg } from "../engine/messages";
 import type { Studio } from "../page/context";
 import { $, banner, download, h, setOptions } from "../page/dom";
 import { hook } from "../page/hook";

@@ -1,11 +1,11 @@
 // The virtual Nano's Web Worker: the firmware's own hex (data/firmware/articula-nano.hex, the
-// file `make flash` writes) on avr8js (nano.mjs), paced to real time, its serial line as
-// bytes to and from the page (serial.ts makes it a port like a real one). The virtual Nano's
+// file `make flash` writes) on avr8js (avr-nano.mjs), paced to real time, its serial line as
+// bytes to and from the page (link/ports.ts makes it a port like a real one). The virtual Nano's
 // parts (engine/nano.mjs: the coil decoder, the board's pins, the servo's scale; a few
 // kilobytes, not the engine) read its pins as simavr's virtual Nano does.
 //
 // The Nano is one as shipped: Optiboot (data/firmware/optiboot_atmega328.hex, built from
-// Debian's source) in its boot section, so the page's flasher (stk500.mjs) can write it; the
+// Debian's source) in its boot section, so the page's flasher (link/stk500.mjs) can write it; the
 // host's DTR resets it, and bytes at another baud rate than the USART's arrive garbled.
 //
 // In: {type: "start", eeprom?, image?, baud, servo?} (a power-up: the page keeps the EEPROM's
@@ -13,10 +13,10 @@
 // Out: {type: "ready", flashBytes, ms}, {type: "tx", bytes}, {type: "state", seconds, steps,
 // faults, servoUs, gripper (the aperture its pulse asks for, %), flashWrites, rtf, capacity, behind}, {type: "eeprom", bytes}, {type: "flash", bytes} (after
 // pages were written), {type: "closed"}, {type: "fatal", message}.
-import { loadNanoParts } from "../../../wasm/js/nano-parts.mjs";
-import type { NanoParts } from "../../../wasm/js/nano-parts.mjs";
-import { CLOCK_HZ, VirtualNano } from "./nano.mjs";
-import { RealTimeMeter, every } from "./pacer";
+import { loadNanoParts } from "../../../../wasm/js/nano-parts.mjs";
+import type { NanoParts } from "../../../../wasm/js/nano-parts.mjs";
+import { CLOCK_HZ, VirtualNano } from "./avr-nano.mjs";
+import { RealTimeMeter, every } from "../pacer";
 
 const site = new URL("./", self.location.href.replace(/assets\/[^/]*$/, ""));
 const post = (m: Record<string, unknown>, transfer: Transferable[] = []) =>
