@@ -797,7 +797,7 @@ def test_the_page_nano_is_never_driven_as_a_robot_it_cannot_be(open_page):
     assert not pg.page.is_visible("#arm-configure")
 
 
-# ---- flashing the Nano from the page (src/stk500.mjs), through the virtual Nano's Optiboot
+# ---- flashing the Nano from the page (src/link/stk500.mjs), through the virtual Nano's Optiboot
 
 
 def test_the_page_flashes_the_virtual_nano_through_its_bootloader(open_page):
