@@ -10,8 +10,8 @@
 
 namespace articula::host {
 
-ProgramError::ProgramError(const std::string& file, int line, const std::string& problem)
-    : std::runtime_error(file + ":" + std::to_string(line) + ": " + problem), line_(line) {}
+ProgramError::ProgramError(const std::string& file, int line, const std::string& problem, bool other_arm)
+    : std::runtime_error(file + ":" + std::to_string(line) + ": " + problem), line_(line), other_arm_(other_arm) {}
 
 namespace {
 
@@ -112,8 +112,17 @@ Program parse_robosim(const std::string& text, const std::string& name, const Ro
   int adjustable_rows = 0;
   for (const auto& r : robot.length_ranges) adjustable_rows += r.adjustable;
 
+  std::string prev_what;  // the last m, w or l statement's, while its values may still follow
+  int prev_count = 0;
   for (size_t i = 0; i < lines.size();) {
     const Line& cmd = lines[i++];
+    // a number where a command letter should be, right after an m, w or l: more values than
+    // this robot has joints or rows (a program for an arm of another shape)
+    if (!prev_what.empty() && !cmd.text.empty() &&
+        (std::isdigit(static_cast<unsigned char>(cmd.text[0])) || cmd.text[0] == '-' || cmd.text[0] == '+' || cmd.text[0] == '.'))
+      throw ProgramError(name, cmd.number,
+                         prev_what + ": " + std::to_string(prev_count) + " values expected, more given", true);
+    prev_what.clear();
     if (cmd.text.size() != 1)
       throw ProgramError(name, cmd.number,
                          "expected a command letter alone on its line (m, a, l, w, s, h, z), got '" + cmd.text + "'");
@@ -138,7 +147,8 @@ Program parse_robosim(const std::string& text, const std::string& name, const Ro
     for (int k = 0; k < count; ++k) {
       if (i >= lines.size() || (lines[i].text.size() == 1 && std::isalpha(static_cast<unsigned char>(lines[i].text[0]))))
         throw ProgramError(name, i < lines.size() ? lines[i].number : cmd.number,
-                           what + ": " + std::to_string(count) + " values expected, " + std::to_string(k) + " given");
+                           what + ": " + std::to_string(count) + " values expected, " + std::to_string(k) + " given",
+                           c == 'm' || c == 'w' || c == 'l');  // counts this robot's joints or rows
       const Line& l = lines[i++];
       const double v = number_line(name, l, what);
       switch (st.kind) {
@@ -166,6 +176,7 @@ Program parse_robosim(const std::string& text, const std::string& name, const Ro
       }
       st.values.push_back(v);
     }
+    if (c == 'm' || c == 'w' || c == 'l') prev_what = what, prev_count = count;
     p.statements.push_back(st);
   }
   return p;
@@ -189,7 +200,8 @@ Program parse_protocol_program(const std::string& text, const std::string& name,
     if (st != kOk) {
       const std::string why = explain_line_error(t, st, robot);
       throw ProgramError(name, n, "'" + t + "': error:" + std::to_string(int(st)) + " " + status_text(st) +
-                                      (why.empty() ? "" : ": " + why));
+                                      (why.empty() ? "" : ": " + why),
+                         st == kMissingArgument || st == kExtraArgument || st == kBadJoint);
     }
     Statement statement;
     statement.kind = Statement::Kind::kProtocol;
@@ -324,6 +336,23 @@ std::string command_text(const std::string& line) {
   std::string s = line.substr(0, line.find('#'));
   while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.pop_back();
   return s.empty() ? line : s;
+}
+
+ProgramFit program_fit(const std::string& text, const std::string& name, const Robot& robot) {
+  ProgramFit f;
+  try {
+    parse_program(text, name, robot);
+  } catch (const ProgramError& e) {
+    f.fits = false;
+    f.other_arm = e.other_arm();
+    f.line = e.line();
+    f.problem = e.what();
+  }
+  return f;
+}
+
+nlohmann::json program_fit_json(const ProgramFit& fit) {
+  return {{"fits", fit.fits}, {"other_arm", fit.other_arm}, {"line", fit.line}, {"problem", fit.problem}};
 }
 
 }  // namespace articula::host

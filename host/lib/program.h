@@ -8,6 +8,7 @@
 #include <articula/status.h>
 
 #include <stdexcept>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -44,11 +45,15 @@ struct Program {
 // A program that cannot be read: what() is "<file>:<line>: <problem>".
 class ProgramError : public std::runtime_error {
  public:
-  ProgramError(const std::string& file, int line, const std::string& problem);
+  // `other_arm`: the program is written for an arm of another shape (a wrong number of values
+  // for this robot's joints or motors, a joint it does not have), not broken for every arm.
+  ProgramError(const std::string& file, int line, const std::string& problem, bool other_arm = false);
   int line() const { return line_; }
+  bool other_arm() const { return other_arm_; }
 
  private:
   int line_;
+  bool other_arm_;
 };
 
 // The RoboSim letter of a statement kind ('m', 'a', ...); '?' for kProtocol.
@@ -77,6 +82,19 @@ Program parse_protocol_program(const std::string& text, const std::string& name,
 Program load_program(const std::string& path, const Robot& robot);
 // The same from text in memory; `name` stands for the file (and its extension picks the language).
 Program parse_program(const std::string& text, const std::string& name, const Robot& robot);
+
+// Whether a program fits a robot, as a structured answer (the studio's examples menu offers a
+// shipped program only where it fits): it reads (fits), or it is written for an arm of
+// another shape (other_arm: error:4, 5 or 6 on a protocol line, or a RoboSim m, w or l with
+// this robot's count of values wrong), or it is broken for every arm; the line and the problem.
+struct ProgramFit {
+  bool fits = true;
+  bool other_arm = false;
+  int line = 0;
+  std::string problem;
+};
+ProgramFit program_fit(const std::string& text, const std::string& name, const Robot& robot);
+nlohmann::json program_fit_json(const ProgramFit& fit);
 
 // Why a protocol line was refused, in words a beginner reads, or "" when the status says it
 // all: how many values its command takes and what they are (error:4, error:5), the word that

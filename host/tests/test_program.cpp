@@ -152,3 +152,27 @@ TEST(Programs, LoadProgramReadsFilesAndNamesMissingOnes) {
     EXPECT_NE(std::string(e.what()).find("nope.arm:0: cannot read the file"), std::string::npos);
   }
 }
+
+TEST(ProgramFit, AProgramForAnotherArmIsToldFromABrokenOne) {
+  // fits
+  const ProgramFit ok = program_fit("M 0 90 -90\nG 100\n", "p.arm", mk2());
+  EXPECT_TRUE(ok.fits);
+  EXPECT_FALSE(ok.other_arm);
+  // written for a six-motor arm (error:5, too many values), a joint the MK2 has not (error:6),
+  // RoboSim's m with six values: another arm's, not broken
+  for (const auto& [text, name] : std::vector<std::pair<std::string, std::string>>{
+           {"M 0 0 0 0 0 0\n", "six.arm"}, {"L 5 10\n", "j5.arm"}, {"m\n0\n0\n0\n0\n0\n0\na\n1\n2\n3\n", "six.robosim"}}) {
+    const ProgramFit f = program_fit(text, name, adjustable());
+    EXPECT_FALSE(f.fits) << name;
+    EXPECT_TRUE(f.other_arm) << name << ": " << f.problem;
+  }
+  // broken for every arm: a bad number, an unknown letter, a RoboSim a with two values
+  for (const auto& [text, name] : std::vector<std::pair<std::string, std::string>>{
+           {"L 0 ten\n", "bad.arm"}, {"Q 1\n", "q.arm"}, {"a\n1\n2\n", "a.robosim"}}) {
+    const ProgramFit f = program_fit(text, name, mk2());
+    EXPECT_FALSE(f.fits) << name;
+    EXPECT_FALSE(f.other_arm) << name << ": " << f.problem;
+    EXPECT_EQ(f.line, 1) << name;  // (a RoboSim statement short of values: its letter's line)
+    EXPECT_NE(f.problem.find(name), std::string::npos) << f.problem;
+  }
+}

@@ -105,6 +105,14 @@ void bind_program(nb::module_& m, nb::class_<PyRobot>& robot) {
            "program"_a,
            "Reads a program for this robot (argument counts and ranges follow the robot) and returns its number "
            "of statements; raises ProgramError naming the line of the first problem.")
+      .def("program_fit",
+           [](const PyRobot& self, const std::string& text, const std::string& name) {
+             return json_to_python(host::program_fit_json(host::program_fit(text, name, self.r())));
+           },
+           "text"_a, "name"_a = "program.arm",
+           "Whether a program fits the robot: {fits, other_arm, line, problem}; other_arm: written for an arm of "
+           "another shape (a wrong count of values for its joints or motors, a joint it has not), not broken for "
+           "every arm.")
       .def("parse_program",
            [](const PyRobot& self, nb::handle program) {
              const host::Program p = program_from(program, self.r());

@@ -46,6 +46,7 @@ SAME = [
     ("Robot.quantize", "quantize"),
     ("detect_format", "programFormat"),
     ("Robot.parse_program", "parseProgram"),
+    ("Robot.program_fit", "programFit"),
     ("Robot.timeline", "Timeline.make"),
     ("Timeline.at", "Timeline.at"),
     ("Timeline.duration", "Timeline.duration"),
@@ -135,7 +136,7 @@ const ops = [];
 for (const cls of ["Robot", "Sim", "Timeline"])
   for (const k of Object.getOwnPropertyNames(M[cls].prototype))
     if (!["constructor", "delete", "isDeleted", "clone", "isAliasOf", "deleteLater"].includes(k)) ops.push(`${{cls}}.${{k}}`);
-for (const k of ["predict", "run", "quantize", "programFormat", "parseProgram", "statusText", "statusTable", "settingsTable", "parseArmLine", "firstIntervalS",
+for (const k of ["predict", "run", "quantize", "programFormat", "parseProgram", "programFit", "statusText", "statusTable", "settingsTable", "parseArmLine", "firstIntervalS",
                  "axisErrors", "table4", "measurementQuestion", "parsePlan", "table5", "toolPoints"])
   if (typeof M[k] === "function") ops.push(k);
 console.log(JSON.stringify(ops));

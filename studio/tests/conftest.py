@@ -168,7 +168,18 @@ class Page:
         return self.page.evaluate(f"() => {{ const a = window.articula; return {expr}; }}")
 
     def wait(self, expr: str, timeout=15000):
-        self.page.wait_for_function(f"() => {{ const a = window.articula; return {expr}; }}", timeout=timeout * PATIENCE)
+        """Until `expr` holds; else fails with what the page was doing (its history, the engine's
+        unanswered requests, its errors), to tell a slow machine from a stuck page."""
+        try:
+            self.page.wait_for_function(f"() => {{ const a = window.articula; return {expr}; }}", timeout=timeout * PATIENCE)
+        except Exception as e:
+            try:
+                state = self.page.evaluate("() => { const a = window.articula; return { history: a.history, "
+                                           "engine: a.engineWaiting(), errors: a.pageErrors, robot: a.robot && a.robot.name, "
+                                           "project: a.project && a.project.name }; }")
+            except Exception as e2:  # the page is gone
+                state = f"(no page: {e2})"
+            raise AssertionError(f"{expr} did not happen: {e}\nthe page: {state}") from None
 
     def csp_refusals(self) -> list[str]:
         """What the site's Content-Security-Policy refused in this page: the page's own record

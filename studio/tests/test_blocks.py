@@ -242,7 +242,9 @@ def test_a_finger_drags_one_block_to_the_bin_not_the_stack_under_it(open_page, t
                                           ("arm_joints", "20, 80, -90"), ("arm_joints", "30, 80, -90"), ("arm_gripper_close", None)]))
     _open_project(pg, tmp_path, doc, "four.articula")
     pg.wait("a.project.name === 'Four' && !a.blocksPending && a.blocksCode !== null && a.history.ready")
-    pg.page.keyboard.press("Escape")
+    if pg.page.evaluate("() => document.getElementById('projects-dialog').open"):
+        pg.page.keyboard.press("Escape")
+    pg.page.tap("#tab-program")
     lines = "a.blocksCode.text.split('\\n').filter(l => /^[A-Z]/.test(l))"
     before = pg.hook(lines)
     assert len(before) == 5, before

@@ -19,6 +19,7 @@ export class Robot {
   quantize(lines: string[]): Record<string, unknown>[];
   programFormat(text: string, name?: string): "protocol" | "robosim";
   parseProgram(text: string, name?: string): ParsedProgram;
+  programFit(text: string, name?: string): { fits: boolean; other_arm: boolean; line: number; problem: string };
   urdf(): string;
   jointsFromMotors(u: number[]): number[];
   /** The Nano's robot configuration for this robot; throws EngineError with the reason a Nano cannot drive it. */

@@ -67,6 +67,8 @@ export class Robot {
   /** The program as its parser reads it: {format, statements, comments} (host/lib/records_json.h). */
   parseProgram(text, name = "program.arm") { return checked(this.engine.M.parseProgram(this.h, text, name)); }
   programFormat(text, name = "") { return this.engine.M.programFormat(text, name); }
+  /** Whether a program fits this robot: {fits, other_arm (written for an arm of another shape), line, problem}. */
+  programFit(text, name = "program.arm") { return checked(this.engine.M.programFit(this.h, text, name)); }
   urdf() { return checked(this.h.urdf()).xml; }
   jointsFromMotors(u) { return checked(this.h.jointsFromMotors(JSON.stringify(u))); }
   motorsFromJoints(q) { return checked(this.h.motorsFromJoints(JSON.stringify(q))); }

@@ -51,6 +51,11 @@ std::string parse_program(const WebRobot& robot, const std::string& text, const 
   });
 }
 
+// Whether a program fits the robot (host::program_fit): {fits, other_arm, line, problem}.
+std::string program_fit(const WebRobot& robot, const std::string& text, const std::string& name) {
+  return guarded([&] { return host::program_fit_json(host::program_fit(text, name, robot.robot())).dump(); });
+}
+
 std::string program_format(const std::string& text, const std::string& name) {
   return host::detect_format(text, name) == host::Program::Format::kRoboSim ? "robosim" : "protocol";
 }
@@ -98,6 +103,7 @@ EMSCRIPTEN_BINDINGS(articula_program) {
   function("quantize", &articula::web::quantize);
   function("parseProgram", &articula::web::parse_program);
   function("programFormat", &articula::web::program_format);
+  function("programFit", &articula::web::program_fit);
   class_<WebTimeline>("Timeline")
       .constructor<>()
       .function("make", &WebTimeline::make)

@@ -82,4 +82,12 @@ test("A project edit names what changed; the pose, the camera and the name are n
   e.redo();
   assert.equal(shown[0], a);
   assert.equal(shown[1].program.text, "M 0 90 0\nG 0", "a merged edit redoes to the last text");
+  // a program in blocks: the text the blocks make is not an edit (it comes after the blocks, late
+  // on a busy machine, and recorded as one it dropped the redo steps), the blocks are
+  const inBlocks = { ...a, program: { ...a.program, mode: "blocks", blocks: { blocks: { blocks: [] } } } };
+  assert.equal(describeChange(inBlocks, { ...inBlocks, program: { ...inBlocks.program, text: "G 100" } }), null);
+  const dragged = { ...inBlocks, program: { ...inBlocks.program, blocks: { blocks: { blocks: [{ type: "arm_home" }] } }, text: "H" } };
+  assert.deepEqual(describeChange(inBlocks, dragged), { name: "the blocks", kind: "program-blocks" });
+  // into blocks from text: the text still tells them apart
+  assert.equal(describeChange(typed, { ...typed, program: { ...typed.program, mode: "blocks" } }).name, "the program as blocks");
 });

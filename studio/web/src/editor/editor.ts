@@ -18,6 +18,7 @@ export interface BlocksPart {
   load(json: unknown): void; // a project's blocks (null: none)
   fromText(): void; // the program's text as blocks
   teach(q: number[]): void; // the pose shown, as a block at the end
+  dragging(): boolean; // a block is being dragged: what the workspace holds is not an edit yet
 }
 
 /** The arm's link (the arm panel answers for it). */
@@ -41,7 +42,8 @@ const none = (): never => {
 
 export class Editor {
   readonly history = new History();
-  blocks: BlocksPart = { mode: () => "text", setMode: none, json: () => null, load: none, fromText: none, teach: none };
+  blocks: BlocksPart = { mode: () => "text", setMode: none, json: () => null, load: none, fromText: none, teach: none,
+    dragging: () => false };
   arm: ArmPart = { link: () => null, run: none, send: () => false, choosePort: none, disconnect: async () => undefined };
   robotFile: RobotFile | null = null;
   // the camera a project opens with, taken when its robot is first drawn (else the robot is framed)

@@ -17,9 +17,17 @@ const PARTS: { key: keyof Project; name: string }[] = [
 
 const same = (a: unknown, b: unknown) => JSON.stringify(a ?? null) === JSON.stringify(b ?? null);
 
+// A part as history sees it. A program in blocks on both sides: its text is what the blocks
+// make (the engine writes it, on a busy machine seconds after the blocks are on screen), not
+// a student's edit, so only the blocks count.
+function part(d: Project, key: keyof Project, other: Project): unknown {
+  if (key === "program" && d.program.mode === "blocks" && other.program.mode === "blocks") return { ...d.program, text: "" };
+  return d[key];
+}
+
 /** Which history parts differ between two documents (none: not an edit). */
 export function changedParts(a: Project, b: Project): string[] {
-  return PARTS.filter((p) => !same(a[p.key], b[p.key])).map((p) => p.name);
+  return PARTS.filter((p) => !same(part(a, p.key, b), part(b, p.key, a))).map((p) => p.name);
 }
 
 /** How a change is named on the undo button, and the kind that joins a burst of it into one step

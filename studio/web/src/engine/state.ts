@@ -36,18 +36,11 @@ export const S = {
   programTexts: new Map<string, string>(), // the shipped examples' texts (site.ts reads them)
 };
 
-/** The shipped examples for the robot shown: not those made for an arm of another shape (its
- * parser finds a wrong number of values or a joint it has not: error:4, 5 or 6, or RoboSim's
- * "values expected"); a program broken for every arm is offered, and says why when opened. */
+/** The shipped examples for the robot shown: not those made for an arm of another shape (the
+ * engine's program_fit says so); a program broken for every arm is offered, and says why when
+ * opened. */
 export function examplesFor(robot: Robot): string[] {
-  return S.index.programs.filter((p) => {
-    try {
-      robot.parseProgram(S.programTexts.get(p) ?? "", p);
-      return true;
-    } catch (e) {
-      return !/error:[456]\b|values expected/.test(String((e as Error)?.message));
-    }
-  });
+  return S.index.programs.filter((p) => !robot.programFit(S.programTexts.get(p) ?? "", p).other_arm);
 }
 
 const meshUrls = new Map<string, string>(); // engine path -> blob URL the page draws

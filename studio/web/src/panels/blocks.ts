@@ -32,7 +32,8 @@ let changed: () => void = () => undefined;
 export function initBlocks(studio: Studio, hooks: { setText: (text: string, name: string) => void; changed: () => void }): void {
   s = studio;
   editor = s.editor;
-  editor.blocks = { mode: () => mode, setMode, json: workspaceJson, load: loadBlocks, fromText, teach: teachBlock };
+  editor.blocks = { mode: () => mode, setMode, json: workspaceJson, load: loadBlocks, fromText, teach: teachBlock,
+    dragging: () => !!ws?.isDragging() };
   const sig = editor.signals;
   sig.robotShown.add(blocksRobot);
   sig.lineRunning.add(({ line }) => highlightBlockOfLine(line));

@@ -308,6 +308,10 @@ function saveNow(): Promise<void> {
 async function saveOnce(): Promise<void> {
   clearTimeout(timer);
   if (applying || !hook.project.dirty) return;
+  if (s.editor.blocks.dragging()) { // mid-drag: the edit is the drag's end (one step, not two)
+    timer = window.setTimeout(() => void saveNow(), SAVE_AFTER_MS);
+    return;
+  }
   const t0 = performance.now();
   const editsSaved = edits;
   const doc = capture();
