@@ -308,7 +308,7 @@ def test_a_class_session_blocks_physics_nano_reload_and_link(page, engines, site
     pg.wait("a.arm.connected && a.arm.status !== null", 60 * PATIENCE, "the virtual Nano connected")
     # connected: Run drives the arm, and says so (the choice ticked, beside Run)
     pg.wait("a.runOnArm === true", 10 * PATIENCE, "Run set to drive the arm")
-    assert "on the arm" in pg.run("return document.querySelector('#run').textContent;")
+    assert pg.run("return document.querySelector('#drive-arm').checked;") is True
     pg.click("#run")
     pg.wait("a.arm.programDone === true", 120 * PATIENCE, "the program on the virtual Nano")
     prog = tmp_path / "blocks.arm"

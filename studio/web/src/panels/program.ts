@@ -17,10 +17,9 @@ export const setProgramChanged = (f: () => void) => (onChanged = f);
 const editor = () => $("editor") as HTMLTextAreaElement;
 // Run goes to the arm: one is connected and "on the arm" (beside Run) is ticked
 const onTheArm = () => hook.arm.connected && ($("drive-arm") as HTMLInputElement).checked;
-/** Run's face says where it runs. */
+/** Where Run runs: "▶ Run [✓] on the arm" reads as one sentence; the tooltip says it whole. */
 function runTarget(): void {
   const run = $("run");
-  run.textContent = onTheArm() ? "▶ Run on the arm" : "▶ Run";
   run.title = onTheArm() ? "Send the program to the arm, line by line (untick “on the arm” to play it on the model only)"
     : hook.arm.connected ? "Play the program on the model only: the arm stays still (tick “on the arm” to drive it)"
     : "Run the program with the controller's real timing";
