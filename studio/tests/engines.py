@@ -85,13 +85,15 @@ class EnginePage:
                 last = None
             if time.monotonic() > end:
                 errors = self.page_errors()
-                try:  # what the page still waits for from its engine, if anything
+                try:  # what the page still waits for from its engine, if anything, and its history
                     waiting = self.hook("a.engineWaiting()")
+                    history = self.hook("[a.history, a.project && a.project.dirty, a.blocksPending]")
                 except Exception:
-                    waiting = "?"
+                    waiting = history = "?"
                 raise AssertionError(f"{self.engine}: {what or expr} did not happen within {timeout:.0f} s"
                                      f"{f' ({last})' if last else ''}; the page's errors: {errors}; "
-                                     f"the engine's unanswered requests: {waiting}")
+                                     f"the engine's unanswered requests: {waiting}; [history, dirty, blocks "
+                                     f"pending]: {history}")
             time.sleep(0.1)
 
     def run(self, script: str):

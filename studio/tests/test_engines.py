@@ -239,28 +239,57 @@ def test_a_blocks_warning_opens_in_full_with_nothing_refused(page):
 
 
 def test_undo_and_redo_by_the_buttons_and_the_keys(page):
-    """The robot, the scene and the program's text edited, undone to the start by the buttons
-    and redone to the end by the keys (Ctrl+Shift+Z, Ctrl+Y), in this engine."""
+    """The program's text, the robot and the scene edited, an exercise loaded and a block added
+    to it; undone to the start by the buttons and redone to the end by the keys (Ctrl+Shift+Z,
+    Ctrl+Y), in this engine; a reload keeps the project."""
     pg = page()
     pg.wait("a.history.ready && !a.project.dirty", 30 * PATIENCE, "the project on screen, saved")
-    state = "[a.robot.name, (a.scene && a.scene.name) || '', document.getElementById('editor').value]"
+    state = ("[a.robot.name, (a.scene && a.scene.name) || '', document.getElementById('editor').value, "
+             "a.project.goal ? a.project.goal.title : '', a.programMode, a.blockStacks]")
     start = pg.hook(state)
+
+    def shows(want, what):
+        try:
+            pg.wait(f"JSON.stringify({state}) === {json.dumps(json.dumps(want, separators=(',', ':')))}", 60 * PATIENCE, what)
+        except AssertionError as e:
+            raise AssertionError(f"{e}: the page shows {pg.hook(state)}, not {want}") from None
+
     pg.set_text("#editor", "M 0 90 0\nG 50\n")
     pg.wait("a.history.undo === 1", 30 * PATIENCE, "the text's step")
     pg.select("#robot-select", "panda")
     pg.wait("a.robot.name !== 'MK2 Plus' && a.history.undo === 2", 60 * PATIENCE, "the robot's step")
     pg.select("#scene-select", "push")
     pg.wait("a.scene && a.scene.name === 'push' && a.history.undo === 3", 60 * PATIENCE, "the scene's step")
+    # an exercise from the examples menu (it opens in blocks), and a block tapped into it
+    pg.click("#tab-program") if pg.run("const t = document.getElementById('tab-program'); return !!t && t.offsetParent !== null;") else None
+    pg.select("#program-select", "exercise:reach-three-points.articula")
+    pg.wait("a.project.goal !== null && a.history.undo === 4 && a.history.ready && !a.blocksPending && !a.project.dirty",
+            60 * PATIENCE, "the exercise's step, saved")
+    if pg.hook("a.programMode") != "blocks":
+        pg.click("#mode-blocks")
+        pg.wait("a.programMode === 'blocks' && a.history.undo === 5", 30 * PATIENCE, "the blocks")
+    pg.wait("document.querySelector('#blockly .blocklyToolbox') !== null", 30 * PATIENCE, "the toolbox")
+    pg.run("document.querySelector('#blockly').scrollIntoView({ block: 'end' });")
+    steps_before_block = pg.hook("a.history.undo")
+    _tap_from_toolbox(pg, "Gripper", "arm_gripper_open")
+    pg.wait(f"a.history.undo === {steps_before_block + 1} && !a.project.dirty", 30 * PATIENCE, "the block's step")
+    steps = pg.hook("a.history.undo")
     end = pg.hook(state)
-    for n in (2, 1, 0):
+    for n in range(steps - 1, -1, -1):
         pg.click("#undo")
-        pg.wait(f"a.history.undo === {n} && a.history.redo === {3 - n}", 60 * PATIENCE, f"undo to {n}")
-    pg.wait(f"JSON.stringify({state}) === {json.dumps(json.dumps(start, separators=(',', ':')))}", 60 * PATIENCE, "the start again")
-    pg.click("#editor")
-    for n, combo in ((1, "Control+Shift+Z"), (2, "Control+Y"), (3, "Control+Shift+Z")):
+        pg.wait(f"a.history.undo === {n} && a.history.redo === {steps - n}", 60 * PATIENCE, f"undo to {n}")
+    shows(start, "the start again")
+    for n in range(1, steps + 1):
+        combo = "Control+Y" if n % 2 == 0 else "Control+Shift+Z"
+        saves = pg.hook("a.project.saves")
         pg.shortcut(combo)
-        pg.wait(f"a.history.undo === {n}", 60 * PATIENCE, f"redo to {n} by {combo}")
-    pg.wait(f"JSON.stringify({state}) === {json.dumps(json.dumps(end, separators=(',', ':')))}", 60 * PATIENCE, "the end again")
+        pg.wait(f"a.history.undo === {n} && a.history.ready", 60 * PATIENCE, f"redo to {n} by {combo}")
+    shows(end, "the end again")
+    pg.wait(f"a.project.saves > {saves} && !a.project.dirty", 30 * PATIENCE, "the last redo saved")
+    # a reload keeps the project: the exercise with its added block
+    pg.reload()
+    pg.wait("a.ready && a.firstFrameAt > 0 && a.history.ready && !a.blocksPending", 60 * PATIENCE, "the page again")
+    shows(end, "the project after the reload")
 
 
 def test_a_class_session_blocks_physics_nano_reload_and_link(page, engines, site, tmp_path):
@@ -321,7 +350,7 @@ def test_a_class_session_blocks_physics_nano_reload_and_link(page, engines, site
     # 3: a reload: it is all there
     pg.wait("a.project.dirty === false && a.project.saves > 0", 10 * PATIENCE, "the project saved")
     pg.reload()
-    pg.wait("a.ready && a.programMode === 'blocks' && a.blocksCode !== null", 60 * PATIENCE, "the project after the reload")
+    pg.wait("a.ready && a.programMode === 'blocks' && a.blocksCode !== null", 20, "the project after the reload")
     assert pg.hook("a.project.name").startswith("Exercise: pick and place the block")
     assert pg.hook("a.blocksCode.text") == text
     # 4: shared, and opened in a second profile: the same project

@@ -79,7 +79,7 @@ export function initProjects(studio: Studio, program: { setText: (text: string, 
   const ed = s.editor;
   editor = ed;
   ed.signals.robotShown.add(projectRobotShown);
-  ed.busy = () => applying;
+  ed.busy = () => applying || opening > 0;
   ed.signals.exerciseWanted.add((name) => void openExercise(name));
   ed.signals.settle.add(() => {
     if (!applying && hook.project.dirty) noteEdit(capture());
@@ -375,16 +375,28 @@ async function show(doc: Project, id = newId(), rev = 0): Promise<void> {
 
 // A project of the history on screen again: as its store keeps it (its latest revision), else
 // as it was when it was left.
+// A project being opened by an undo or a redo: its record read and the current project saved
+// before it is put on screen. Undo and redo wait for it (a redo taken meanwhile was put on
+// screen first, and then covered by the project still opening).
+let opening = 0;
+
 async function reopen(p: { id: string; doc: Project }): Promise<void> {
-  const rec = await store.get(p.id).catch(() => undefined);
-  let doc = p.doc;
+  opening++;
+  hook.history.ready = false;
   try {
-    if (rec) doc = readProject(rec.doc);
-  } catch {
-    // (unreadable now: the copy the history kept)
+    const rec = await store.get(p.id).catch(() => undefined);
+    let doc = p.doc;
+    try {
+      if (rec) doc = readProject(rec.doc);
+    } catch {
+      // (unreadable now: the copy the history kept)
+    }
+    await saveNow();
+    await put(doc, p.id, rec?.rev ?? 0);
+  } finally {
+    opening--;
+    if (!applying) editor?.settled();
   }
-  await saveNow();
-  await put(doc, p.id, rec?.rev ?? 0);
 }
 
 async function put(doc: Project, id: string, rev: number): Promise<void> {
