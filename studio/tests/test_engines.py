@@ -165,10 +165,11 @@ def _drag_from_toolbox(pg, category, kind, below):
 
 
 def _open_category(pg, category, kind):
-    cat = pg.rect(f"return [...document.querySelectorAll('#blockly .blocklyToolboxCategory')].find(c => c.textContent.trim() === {json.dumps(category)});")
     shown = (f"(() => {{ const f = document.querySelector('#blockly svg.blocklyToolboxFlyout'); "
              f"return f && getComputedStyle(f).display !== 'none' && f.querySelector('g.{kind}[data-id]') !== null; }})()")
-    for _ in range(3):  # a click on an open category closes it: until its blocks show
+    for _ in range(4):  # a click on an open category closes it: until its blocks show
+        # measured again each time: the status line above the blocks comes and goes
+        cat = pg.rect(f"return [...document.querySelectorAll('#blockly .blocklyToolboxCategory')].find(c => c.textContent.trim() === {json.dumps(category)});")
         pg.mouse_click(cat[0] + cat[2] / 2, cat[1] + cat[3] / 2)
         try:
             pg.wait(shown, 3, "the toolbox's blocks")
@@ -201,14 +202,21 @@ def _tap_from_toolbox(pg, category, kind):
 
 
 def _type_into_block(pg, block_id, text):
-    f = pg.rect(f"return [...document.querySelectorAll('#blockly svg.blocklySvg .blocklyEditableField')]"
-                f".find(x => x.closest('g[data-id]').dataset.id === {json.dumps(block_id)} && x.getBoundingClientRect().width > 0);")
-    pg.mouse_click(f[0] + f[2] / 2, f[1] + f[3] / 2)
-    try:
-        pg.wait("document.querySelector('.blocklyHtmlInput') !== null", 10 * PATIENCE, "the field's editor")
-    except AssertionError as e:
-        pg.screenshot(SHOTS / f"studio-field-failed-{pg.engine}.png")
-        raise AssertionError(f"{e}: {pg.hook('[a.blockStacks, a.blocksCode && a.blocksCode.text, a.blocksPending, a.engineWaiting(), a.physics && a.physics.rtf]')}") from None
+    # the field where it is now, clicked; again if no editor opened: the panel's status line
+    # comes and goes as the blocks' program is made, and on a busy machine it moved the block
+    # after it was measured (a person clicks again)
+    for attempt in range(4):
+        f = pg.rect(f"return [...document.querySelectorAll('#blockly svg.blocklySvg .blocklyEditableField')]"
+                    f".find(x => x.closest('g[data-id]').dataset.id === {json.dumps(block_id)} && x.getBoundingClientRect().width > 0);")
+        pg.mouse_click(f[0] + f[2] / 2, f[1] + f[3] / 2)
+        try:
+            pg.wait("document.querySelector('.blocklyHtmlInput') !== null", 5 * PATIENCE, "the field's editor")
+            break
+        except AssertionError as e:
+            if attempt < 3:
+                continue
+            pg.screenshot(SHOTS / f"studio-field-failed-{pg.engine}.png")
+            raise AssertionError(f"{e}: {pg.hook('[a.blockStacks, a.blocksCode && a.blocksCode.text, a.blocksPending, a.engineWaiting(), a.physics && a.physics.rtf]')}") from None
     pg.keys(text, select_all=True, enter=True)
     pg.wait("document.querySelector('.blocklyHtmlInput') === null", 10 * PATIENCE, "the field's editor closed")
 
