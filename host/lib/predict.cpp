@@ -138,7 +138,7 @@ int32_t robosim_hand_to_aperture(double h) {
 }
 
 uint32_t robosim_speed_to_rate(double s, uint32_t base) {
-  const long long r = std::llround(double(base) * s / 82.0);
+  const long long r = std::llround(double(base) * s / kRoboSimFastest);
   return uint32_t(std::clamp(r, 1LL, 4000LL));
 }
 
@@ -651,7 +651,7 @@ void ControllerModel::robosim(PredictRecord& r, const Statement& st) {
       const uint32_t rate = robosim_speed_to_rate(st.values[0], base_rate_);
       settings_.value[ControllerSettings::kMaxRate] = rate;
       r.protocol = "$0=" + std::to_string(rate);
-      add_note(r, "top step rate " + std::to_string(rate) + " steps/s (" + number_text(st.values[0]) + "/82 of " +
+      add_note(r, "top step rate " + std::to_string(rate) + " steps/s (" + number_text(st.values[0]) + "/" + number_text(kRoboSimFastest) + " of " +
                       std::to_string(base_rate_) + ")");
       add_note(r, kWaitsForRest);
       r.waits_for_rest = true;

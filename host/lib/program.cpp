@@ -169,8 +169,8 @@ Program parse_robosim(const std::string& text, const std::string& name, const Ro
           if (v < 0 || v != std::floor(v))
             throw ProgramError(name, l.number, "w: weights are whole numbers >= 0, got " + number_text(v));
           break;
-        case Statement::Kind::kSpeed: check_range(name, l.number, "speed", v, 1, 82); break;
-        case Statement::Kind::kHand: check_range(name, l.number, "hand aperture", v, 0.0, 0.5); break;
+        case Statement::Kind::kSpeed: check_range(name, l.number, "speed", v, 1, kRoboSimFastest); break;
+        case Statement::Kind::kHand: check_range(name, l.number, "hand aperture", v, 0.0, kRoboSimClosedHand); break;
         case Statement::Kind::kZoom: check_range(name, l.number, "zoom", v, 0.1, 3.5); break;
         default: break;
       }

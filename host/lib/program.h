@@ -16,6 +16,11 @@
 
 namespace articula::host {
 
+// RoboSim's ranges (appendix B): s from 1 (slow) to kRoboSimFastest, h from 0.0 (open) to
+// kRoboSimClosedHand.
+constexpr double kRoboSimFastest = 82;
+constexpr double kRoboSimClosedHand = 0.5;
+
 struct Statement {
   enum class Kind {
     // RoboSim (appendix B)

@@ -319,7 +319,7 @@ void KinematicModel::robosim(RunRecord& r, const Statement& st) {
       weights_ = st.values;
       return;
     case Statement::Kind::kSpeed:
-      add_note(r, "speed " + number_text(st.values[0]) + " of 82: no timing in the kinematic model");
+      add_note(r, "speed " + number_text(st.values[0]) + " of " + number_text(kRoboSimFastest) + ": no timing in the kinematic model");
       return;
     case Statement::Kind::kHand:
       gripper_percent_ = (robosim_hand_to_aperture(st.values[0]) + 500) / 1000;

@@ -5,6 +5,7 @@
 #include <nanobind/stl/vector.h>
 
 #include "bindings.h"
+#include "blocks.h"
 #include "robot_view.h"
 #include "timeline.h"
 #include "predict.h"
@@ -113,6 +114,29 @@ void bind_program(nb::module_& m, nb::class_<PyRobot>& robot) {
            "Whether a program fits the robot: {fits, other_arm, line, problem}; other_arm: written for an arm of "
            "another shape (a wrong count of values for its joints or motors, a joint it has not), not broken for "
            "every arm.")
+      .def("blocks_program",
+           [](const PyRobot& self, nb::handle ops) {
+             const std::string text = nb::cast<std::string>(nb::module_::import_("json").attr("dumps")(ops));
+             return json_to_python(host::blocks_program_json(self.r(), self.ik(), nlohmann::json::parse(text)));
+           },
+           "ops"_a,
+           "The program of the studio's block actions ([{'op', 'block', ...}]): {text, robosim, lines, problems}, "
+           "or {error: {block, message}} for an action that cannot become a line.")
+      .def("program_actions",
+           [](const PyRobot& self, const std::string& text, const std::string& name) {
+             return json_to_python(host::program_actions_json(self.r(), text, name));
+           },
+           "text"_a, "name"_a = "program.arm", "A program's text as block actions: {ops, format}.")
+      .def("protocol_line",
+           [](const PyRobot& self, const std::string& word, const std::vector<double>& values) {
+             if (word.size() != 1) throw nb::value_error("a protocol command is one letter");
+             return host::protocol_line(self.r(), word[0], values);
+           },
+           "word"_a, "values"_a = std::vector<double>{},
+           "One protocol line, as every tool here writes it: protocol_line('P', [200, 0, 50]) -> 'P 200 0 50'.")
+      .def("move_line",
+           [](const PyRobot& self, const std::vector<double>& q) { return host::move_line(self.r(), q); }, "q"_a,
+           "The line that moves the arm to joint values q (deg or mm): M with the motors' angles.")
       .def("parse_program",
            [](const PyRobot& self, nb::handle program) {
              const host::Program p = program_from(program, self.r());

@@ -47,6 +47,10 @@ SAME = [
     ("detect_format", "programFormat"),
     ("Robot.parse_program", "parseProgram"),
     ("Robot.program_fit", "programFit"),
+    ("Robot.blocks_program", "blocksProgram"),
+    ("Robot.program_actions", "programActions"),
+    ("Robot.protocol_line", "protocolLine"),
+    ("Robot.move_line", "moveLine"),
     ("Robot.timeline", "Timeline.make"),
     ("Timeline.at", "Timeline.at"),
     ("Timeline.duration", "Timeline.duration"),
@@ -136,7 +140,7 @@ const ops = [];
 for (const cls of ["Robot", "Sim", "Timeline"])
   for (const k of Object.getOwnPropertyNames(M[cls].prototype))
     if (!["constructor", "delete", "isDeleted", "clone", "isAliasOf", "deleteLater"].includes(k)) ops.push(`${{cls}}.${{k}}`);
-for (const k of ["predict", "run", "quantize", "programFormat", "parseProgram", "programFit", "statusText", "statusTable", "settingsTable", "parseArmLine", "firstIntervalS",
+for (const k of ["predict", "run", "quantize", "programFormat", "parseProgram", "programFit", "blocksProgram", "programActions", "protocolLine", "moveLine", "statusText", "statusTable", "settingsTable", "parseArmLine", "firstIntervalS",
                  "axisErrors", "table4", "measurementQuestion", "parsePlan", "table5", "toolPoints"])
   if (typeof M[k] === "function") ops.push(k);
 console.log(JSON.stringify(ops));
@@ -184,10 +188,21 @@ TARGETS = [{"line": 14, "target": [171, 120, 185], "quant": [171.5, 119.8, 185.2
            {"line": 15, "target": [150, -70, 169], "quant": [150, -70, 169], "ideal": [150, -70, 169], "measured": None}]
 
 
+# Block actions as the studio unrolls them: a move, a refused joint, a line, the gripper, a speed.
+BLOCK_OPS = [
+    {"op": "joints", "values": [0, 90, -110], "block": "a"},
+    {"op": "joint_to", "joint": 1, "value": 140, "block": "b"},
+    {"op": "line_to", "xyz": [235, 0, 213], "speed": 30, "block": "c"},
+    {"op": "gripper", "percent": 40, "block": "d"},
+    {"op": "speed", "percent": 50, "block": "e"},
+]
+
+
 def test_both_sides_answer_alike():
     """The same question through both doors: the same numbers and the same refusals."""
     mk2 = articula.Robot.load("mk2plus")
-    script = "const POINTS = " + json.dumps(POINTS) + ";\nconst CHAINS = " + json.dumps(CHAINS) + ";\nconst TARGETS = " + json.dumps(TARGETS) + ";\n" + f"""
+    script = "const POINTS = " + json.dumps(POINTS) + ";\nconst CHAINS = " + json.dumps(CHAINS) + ";\nconst TARGETS = " + json.dumps(TARGETS) + ";\n" + \
+        "const BLOCK_OPS = " + json.dumps(BLOCK_OPS) + ";\n" + f"""
 import {{ nodeEngine }} from {json.dumps(str(REPO / "wasm" / "js" / "node.mjs"))};
 const e = await nodeEngine({json.dumps(str(WASM_DIR))});
 const r = e.robot("mk2plus");
@@ -198,6 +213,8 @@ const out = {{ jac: r.jacobian([10, 70, -60]), tl: e.timeline(r, "L 0 30\\nL 1 -
   ax: e.axisErrors([10.5, 0.4, -201], [10, 0.5, -200]), q: e.measurementQuestion([23.5, 0, 21.3], [235, 0, 213], 370),
   qnan: e.measurementQuestion([NaN, 0, 213], [235, 0, 213], 370), cfg: r.nanoConfig(),
   t5: e.table5(CHAINS), tp: e.toolPoints(TARGETS),
+  blocks: r.blocksProgram(BLOCK_OPS), back: r.programActions("# hi\\nM 10 80 -20\\nG 40\\n", "b.arm"),
+  line: r.protocolLine("T", [250.12345, -30, 150, 30]), move: r.moveLine([10, 80, -100]),
   plan: e.parsePlan("#@ title T\\n#@ single-joint 1 15\\nL 1 0\\n#@ repeat 2 out\\nP 1 2 3\\n", "p.arm") }};
 try {{ e.parsePlan("#@ expct ok\\nL 0 1\\n", "bad.arm"); }} catch (x) {{ out.badPlan = x.message; }}
 try {{ e.robot("puma560").nanoConfig(); }} catch (x) {{ out.noNano = x.message; }}
@@ -220,6 +237,12 @@ console.log(JSON.stringify(out));
     assert samples["t"] == web["samples"]["t"] and samples["line"] == web["samples"]["line"]
     np.testing.assert_allclose(samples["tool"], web["samples"]["tool"], atol=1e-9)
     np.testing.assert_allclose(samples["q"], web["samples"]["q"], atol=1e-9)
+    # blocks to a program and back, and the one line formatter: the same text, problems and actions
+    assert mk2.blocks_program(BLOCK_OPS) == web["blocks"]
+    assert web["blocks"]["problems"] and web["blocks"]["text"].count("\n") == len(BLOCK_OPS) + 1
+    assert mk2.program_actions("# hi\nM 10 80 -20\nG 40\n", "b.arm") == web["back"]
+    assert mk2.protocol_line("T", [250.12345, -30, 150, 30]) == web["line"] == "T 250.123 -30 150 30"
+    assert mk2.move_line([10, 80, -100]) == web["move"]
     assert _core.parse_arm_line("<Run|S:95,0,0|A:30.083,90.000,0.000|G:100|Q:7|C:1>") == web["arm"]
     assert _core.first_interval_s(800, 3000) == web["first"]
     # the experiment's numbers: the same to the digit

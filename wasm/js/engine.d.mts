@@ -20,6 +20,11 @@ export class Robot {
   programFormat(text: string, name?: string): "protocol" | "robosim";
   parseProgram(text: string, name?: string): ParsedProgram;
   programFit(text: string, name?: string): { fits: boolean; other_arm: boolean; line: number; problem: string };
+  blocksProgram(ops: unknown[]): { text: string; robosim: string; lines: string[]; problems: { block: string; message: string }[] }
+    | { error: { block: string; message: string } };
+  programActions(text: string, name?: string): { ops: Record<string, unknown>[]; format: "protocol" | "robosim" };
+  protocolLine(word: string, values?: number[]): string;
+  moveLine(q: number[]): string;
   urdf(): string;
   jointsFromMotors(u: number[]): number[];
   /** The Nano's robot configuration for this robot; throws EngineError with the reason a Nano cannot drive it. */

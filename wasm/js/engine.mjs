@@ -69,6 +69,15 @@ export class Robot {
   programFormat(text, name = "") { return this.engine.M.programFormat(text, name); }
   /** Whether a program fits this robot: {fits, other_arm (written for an arm of another shape), line, problem}. */
   programFit(text, name = "program.arm") { return checked(this.engine.M.programFit(this.h, text, name)); }
+  /** The program of the studio's block actions: {text, robosim, lines, problems}, or
+   * {error: {block, message}} (host/lib/blocks.h). */
+  blocksProgram(ops) { return checked(this.engine.M.blocksProgram(this.h, JSON.stringify(ops))); }
+  /** A program's text as block actions: {ops, format}. */
+  programActions(text, name = "program.arm") { return checked(this.engine.M.programActions(this.h, text, name)); }
+  /** One protocol line, as every tool here writes it: protocolLine("P", [200, 0, 50]). */
+  protocolLine(word, values = []) { return checked(this.engine.M.protocolLine(this.h, word, JSON.stringify(values))); }
+  /** The line that moves the arm to joint values q (deg or mm): M with the motors' angles. */
+  moveLine(q) { return checked(this.engine.M.moveLine(this.h, JSON.stringify(q))); }
   urdf() { return checked(this.h.urdf()).xml; }
   jointsFromMotors(u) { return checked(this.h.jointsFromMotors(JSON.stringify(u))); }
   motorsFromJoints(q) { return checked(this.h.motorsFromJoints(JSON.stringify(q))); }

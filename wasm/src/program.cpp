@@ -3,6 +3,7 @@
 // lines through the firmware's arithmetic (`quantize --json`), and a program's time line.
 #include <emscripten/bind.h>
 
+#include "blocks.h"
 #include "predict.h"
 #include "records_json.h"
 #include "quantize.h"
@@ -56,6 +57,23 @@ std::string program_fit(const WebRobot& robot, const std::string& text, const st
   return guarded([&] { return host::program_fit_json(host::program_fit(text, name, robot.robot())).dump(); });
 }
 
+// Blocks to a program and back, and the protocol's one line formatter (host/lib/blocks.h).
+std::string blocks_program(const WebRobot& robot, const std::string& ops_json) {
+  return guarded([&] { return host::blocks_program_json(robot.robot(), robot.ik(), json::parse(ops_json)).dump(); });
+}
+std::string program_actions(const WebRobot& robot, const std::string& text, const std::string& name) {
+  return guarded([&] { return host::program_actions_json(robot.robot(), text, name).dump(); });
+}
+std::string protocol_line(const WebRobot& robot, const std::string& word, const std::string& values_json) {
+  return guarded([&] {
+    if (word.size() != 1) throw std::invalid_argument("a protocol command is one letter");
+    return json(host::protocol_line(robot.robot(), word[0], numbers(json::parse(values_json), "values"))).dump();
+  });
+}
+std::string move_line(const WebRobot& robot, const std::string& q_json) {
+  return guarded([&] { return json(host::move_line(robot.robot(), numbers(json::parse(q_json), "q"))).dump(); });
+}
+
 std::string program_format(const std::string& text, const std::string& name) {
   return host::detect_format(text, name) == host::Program::Format::kRoboSim ? "robosim" : "protocol";
 }
@@ -104,6 +122,10 @@ EMSCRIPTEN_BINDINGS(articula_program) {
   function("parseProgram", &articula::web::parse_program);
   function("programFormat", &articula::web::program_format);
   function("programFit", &articula::web::program_fit);
+  function("blocksProgram", &articula::web::blocks_program);
+  function("programActions", &articula::web::program_actions);
+  function("protocolLine", &articula::web::protocol_line);
+  function("moveLine", &articula::web::move_line);
   class_<WebTimeline>("Timeline")
       .constructor<>()
       .function("make", &WebTimeline::make)

@@ -202,6 +202,11 @@ class WebRobot {
 
   std::shared_ptr<const Robot> shared() const { return robot_; }
   const Robot& robot() const { return *robot_; }
+  // Its IK, prepared on first use.
+  const host::InverseKinematics& ik() const {
+    if (!ik_) ik_ = std::make_shared<const host::InverseKinematics>(*robot_);
+    return *ik_;
+  }
 
  private:
   template <typename F>
@@ -214,11 +219,6 @@ class WebRobot {
     });
     if (err.empty()) notes_ = notes;
     return err;
-  }
-
-  const host::InverseKinematics& ik() const {
-    if (!ik_) ik_ = std::make_shared<const host::InverseKinematics>(*robot_);
-    return *ik_;
   }
 
   // Joint values (deg or mm, one per joint variable) into model units, checked.

@@ -422,16 +422,7 @@ export class View {
     if (p.ghost) {
       this.ghostArm.visible = true;
       p.ghost.forEach((m, i) => this.ghost[i] && setMatrix(this.ghost[i], m));
-      // the ghost's fingers: as the arm's, moved by the ghost tool's offset from the tool
-      const tool = new THREE.Matrix4(), gtool = new THREE.Matrix4();
-      const f = p.frames[p.frames.length - 1], g = p.ghost[p.ghost.length - 1];
-      tool.set(...(f as [number, number, number, number, number, number, number, number, number, number, number, number, number, number, number, number]));
-      gtool.set(...(g as [number, number, number, number, number, number, number, number, number, number, number, number, number, number, number, number]));
-      const d = gtool.multiply(tool.invert());
-      this.fingers.forEach((fm, i) => {
-        this.ghostFingers[i].matrix.multiplyMatrices(d, fm.matrix);
-        this.ghostFingers[i].matrixWorldNeedsUpdate = true;
-      });
+      p.ghost_fingers?.forEach((m, i) => this.ghostFingers[i] && setMatrix(this.ghostFingers[i], m));
     } else {
       this.ghostArm.visible = false;
     }

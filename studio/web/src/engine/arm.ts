@@ -8,12 +8,26 @@ import type { Msg, Out } from "./checks";
 import { framesAt, info, S } from "./state";
 
 export const armHandlers: Record<string, (m: Msg) => Out[]> = {
+  // One protocol line, formatted by the engine (host/lib/blocks.h, protocol_line): the page
+  // writes no line itself.
+  protocol_line(m) {
+    const word = text(m, "word", 1);
+    const values = Array.isArray(m.values) ? numbers(m, "values", [m.values.length]) : [];
+    try {
+      return [{ type: "protocol_line", line: S.robot.protocolLine(word, values) }];
+    } catch (e) {
+      if (!(e instanceof EngineError)) throw e;
+      return [{ type: "protocol_line", error: e.message }];
+    }
+  },
   arm_read(m) {
     const parsed = S.engine.parseArmLine(text(m, "line", 1000));
     let pose: Out | null = null;
     if (parsed.kind === "status" && parsed.angles.length === info().num_motors) {
-      const q = S.robot.jointsFromMotors(numbers({ angles: parsed.angles }, "angles", [info().num_motors])) as number[];
-      pose = { q, frames: framesAt(q) };
+      const angles = numbers({ angles: parsed.angles }, "angles", [info().num_motors]);
+      const q = S.robot.jointsFromMotors(angles) as number[];
+      // the line that commands the reported angles: after a stop, what the arm holds
+      pose = { q, frames: framesAt(q), line: S.robot.protocolLine("M", angles) };
     }
     return [{ type: "arm_read", parsed, pose }];
   },

@@ -34,7 +34,7 @@ export const experimentHandlers: Record<string, (m: Msg) => Out[]> = {
       const zero = (S.robot.info.motors as { zero: number }[]).map((x) => x.zero);
       // the tool at the power-up pose (every motor at step 0: its zero angle, exactly)
       const start = (S.robot.pose(S.robot.jointsFromMotors(zero)) as { tool: { xyz: number[] } }).tool.xyz;
-      return [{ type: "experiment_plan", plan, records, reach_mm: info().reach_mm, zero, start }];
+      return [{ type: "experiment_plan", plan, records, reach_mm: info().reach_mm, zero, start, start_line: S.robot.protocolLine("M", zero) }];
     } catch (e) {
       if (!(e instanceof EngineError)) throw e;
       return [{ type: "experiment_plan", error: e.message }];

@@ -58,6 +58,7 @@ export interface PoseMsg {
   fingers?: Flat4x4[];
   motors?: number[]; // the motors' angles (deg), for a robot with motors
   ghost?: Flat4x4[];
+  ghost_fingers?: Flat4x4[]; // the ghost's fingers, posed by the engine
   seq?: number | null;
   t?: number;
   line?: number;

@@ -96,7 +96,7 @@ export function physicsIntent(kind: string, m: Msg, kinematic: (kind: string, m:
   }
   switch (kind) {
     case "gripper":
-      pendingGrip = `G ${num(m, "percent", 0, 100)}`;
+      pendingGrip = S.robot.protocolLine("G", [num(m, "percent", 0, 100)]);
       return [];
     case "drag": {
       const target = numbers(m, "target", [3]);

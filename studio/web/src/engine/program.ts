@@ -4,7 +4,7 @@
 import { EngineError } from "../../../../wasm/js/engine.mjs";
 import { BadMessage, num, text } from "./checks";
 import type { Msg, Out } from "./checks";
-import { dropTimeline, framesAt, info, poseMessage, post, powerUpQ, S, stopTasks } from "./state";
+import { dropTimeline, ghostAt, info, poseMessage, post, powerUpQ, S, stopTasks } from "./state";
 import { fetchText } from "./site";
 
 const FRAME_MS = 1000 / 60;
@@ -19,7 +19,7 @@ export function poseAt(s: number): Out {
   const p = needTimeline().at(s);
   S.q = p.q;
   if (p.gripper !== null) S.gripper = p.gripper;
-  return poseMessage(S.q, { t: p.t, line: p.line, steps: p.steps, error_mm: p.error_mm, ghost: framesAt(p.q_ideal) });
+  return poseMessage(S.q, { t: p.t, line: p.line, steps: p.steps, error_mm: p.error_mm, ...ghostAt(p.q_ideal) });
 }
 
 export const programHandlers: Record<string, (m: Msg) => Out[] | Promise<Out[]>> = {

@@ -101,9 +101,20 @@ export function poseMessage(at: number[] = S.q, extra: Out = {}): Out {
   return Object.assign(msg, extra);
 }
 
-/** The frames of a pose, for the ghost and the arm in the loop. */
+/** The frames of a pose, for the arm in the loop. */
 export function framesAt(q: number[]): number[][] {
   return (S.robot.pose(q).frames as number[][]).map((f) => f.map(round6));
+}
+
+/** The ghost (the ideal pose) as the engine poses it: its frames, and its fingers at the
+ * gripper's opening. */
+export function ghostAt(q: number[]): Out {
+  const r = info();
+  const opening = r.gripper ? (r.gripper.max_opening_mm * S.gripper) / 100 : NaN;
+  const p = S.robot.pose(q, opening) as { frames: number[][]; fingers?: number[][] };
+  const out: Out = { ghost: p.frames.map((f) => f.map(round6)) };
+  if (p.fingers) out.ghost_fingers = p.fingers.map((f) => f.map(round6));
+  return out;
 }
 
 // A robot becomes the one shown: at its home, the gripper open, no program.
@@ -134,6 +145,5 @@ export function clampQ(v: number[]): number[] {
 // The protocol line that moves the (simulated) arm to joint values v: `M` with the motor
 // angles, or the joint variables of a robot without motors.
 export function moveLine(v: number[]): string {
-  const values = info().num_motors ? (S.robot.motorsFromJoints(v) as number[]) : v;
-  return "M " + values.map((x) => x.toFixed(3)).join(" ");
+  return S.robot.moveLine(v);
 }

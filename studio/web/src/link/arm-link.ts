@@ -21,7 +21,7 @@ type Parsed =
  * parsers, with the arm's pose when it is a status report (one round trip); the model's
  * prediction of a line; what a reply means (the core's status table, held by the page). */
 export interface ArmEngine {
-  read(line: string): Promise<{ parsed: Parsed; pose: { q: number[]; frames: number[][] } | null }>;
+  read(line: string): Promise<{ parsed: Parsed; pose: { q: number[]; frames: number[][]; line: string } | null }>;
   predict(history: string[], line: string): Promise<{ reply: string; steps: number[] | null; meaning: string; seconds?: number }>;
   meaning(reply: string): string;
   /** The robot shown as a Nano's configuration, or why a Nano cannot drive it. */
@@ -273,7 +273,7 @@ export class ArmLink {
         msg.stop_to_idle_ms = performance.now() - this.stopSentAt;
         this.stopSentAt = 0;
         // After a stop the commanded angles are those of the steps reached.
-        this.history = ["M " + p.angles.map((a) => a.toFixed(3)).join(" ")];
+        if (pose) this.history = [pose.line];
       }
       if (p.state === "Idle") for (const w of this.idleWaiters.splice(0)) w();
       this.emit(msg);

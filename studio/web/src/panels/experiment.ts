@@ -32,7 +32,7 @@ interface PlanDoc {
   plan: { title: string; notes: string[]; commands: { line: number; text: string; kind: string; single_joint: [number, number] | null;
     repeat: [number, "out" | "back"] | null }[] };
   records: { line: number; code: number; steps: number[] | null; tool_ideal_mm: Xyz; tool_quantized_mm: Xyz; target_mm: Xyz | null }[];
-  zero: number[]; start: Xyz; error?: string;
+  zero: number[]; start: Xyz; start_line: string; error?: string;
 }
 
 /** A joint's verdict: its measured error against the model's within this much (mm, per axis)
@@ -147,7 +147,7 @@ async function runPlan(): Promise<void> {
   try {
     // From the power-up pose (every motor at step 0), as the prediction assumes.
     say("to the start pose (every motor at step 0)…");
-    const start = await link.runLine("M " + doc.zero.map((z) => z.toFixed(3)).join(" "));
+    const start = await link.runLine(doc.start_line);
     if (start.reply !== "ok") throw new Error(`the arm refused the start pose: ${start.reply}`);
     const n = doc.plan.commands.length;
     for (let i = 0; i < n; i++) {

@@ -50,7 +50,7 @@ export function initIk(studio: Studio): void {
   };
   $("solve").onclick = () => solveWith("ik");
   // The target along a straight line: T x y z speed (docs/protocol.md, "Straight lines").
-  $("ik-line").onclick = () => {
+  $("ik-line").onclick = async () => {
     const num = (id: string) => parseFloat(($(id) as HTMLInputElement).value);
     const xyz = [num("tx"), num("ty"), num("tz")];
     const speed = num("ik-line-speed");
@@ -60,7 +60,14 @@ export function initIk(studio: Studio): void {
       el.className = "status bad";
       return;
     }
-    const line = `T ${xyz.map((v) => fmt(v, 1)).join(" ")} ${fmt(speed, 0)}`;
+    // the target to a tenth of a mm (a dragged target holds many more digits), the line the engine's
+    const r = await s.engine.call({ type: "protocol_line", word: "T", values: [...xyz.map((v) => Math.round(v * 10) / 10), speed] });
+    if (typeof r.line !== "string") {
+      el.textContent = `No straight line: ${String(r.error)}`;
+      el.className = "status bad";
+      return;
+    }
+    const line = r.line;
     hook.ikLine = line;
     if (lineToArm(line)) {
       el.textContent = `Sent to the arm: ${line}. It answers with its reply in the arm panel.`;

@@ -1,0 +1,386 @@
+// host/lib/blocks.cpp - blocks to programs and back, and the protocol line formatter
+// (blocks.h).
+#include "blocks.h"
+
+#include <articula/protocol.h>
+#include <articula/settings.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+
+#include "program.h"
+#include "records_json.h"
+#include "robot_view.h"
+
+namespace articula::host {
+
+using nlohmann::json;
+
+namespace {
+
+constexpr size_t kCommentBytes = 60;  // a protocol line holds 64 bytes, "# " and the comment included
+const char* const kHeader = "# made from blocks in Articula Studio";
+
+// Line ends inside a block's text become blanks (a program line is one line).
+std::string one_line(const std::string& s) {
+  std::string out;
+  bool in_break = false;
+  for (char c : s) {
+    const bool brk = c == '\r' || c == '\n';
+    if (brk && !in_break) out += ' ';
+    if (!brk) out += c;
+    in_break = brk;
+  }
+  return out;
+}
+
+std::string trim_end(std::string s) {
+  while (!s.empty() && (s.back() == ' ' || s.back() == '\t')) s.pop_back();
+  return s;
+}
+
+// Comment lines of at most kCommentBytes bytes each, split between characters (UTF-8).
+std::vector<std::string> comment_lines(const std::string& text) {
+  const std::string s = one_line(text);
+  std::vector<std::string> out;
+  std::string cur;
+  for (size_t i = 0; i < s.size();) {
+    size_t n = 1;
+    const unsigned char c = static_cast<unsigned char>(s[i]);
+    if (c >= 0xF0) n = 4;
+    else if (c >= 0xE0) n = 3;
+    else if (c >= 0xC0) n = 2;
+    n = std::min(n, s.size() - i);
+    if (cur.size() + n > kCommentBytes) {
+      out.push_back(cur);
+      cur.clear();
+    }
+    cur.append(s, i, n);
+    i += n;
+  }
+  out.push_back(cur);
+  for (std::string& l : out) l = trim_end("# " + l);
+  return out;
+}
+
+std::vector<double> numbers_of(const json& v, const std::string& block, const char* what);
+
+struct BlockError : std::runtime_error {
+  BlockError(std::string b, const std::string& m) : std::runtime_error(m), block(std::move(b)) {}
+  std::string block;
+};
+
+double number_of(const json& op, const char* key, const std::string& block) {
+  const auto it = op.find(key);
+  if (it == op.end() || !it->is_number()) throw BlockError(block, std::string("'") + key + "' must be a number");
+  const double v = it->get<double>();
+  if (!std::isfinite(v)) throw BlockError(block, std::string("'") + key + "' must be a finite number");
+  return v;
+}
+
+std::vector<double> numbers_of(const json& v, const std::string& block, const char* what) {
+  if (!v.is_array()) throw BlockError(block, std::string("'") + what + "' must be a list of numbers");
+  std::vector<double> out;
+  for (const json& x : v) {
+    if (!x.is_number() || !std::isfinite(x.get<double>()))
+      throw BlockError(block, std::string("'") + what + "' must hold finite numbers");
+    out.push_back(x.get<double>());
+  }
+  return out;
+}
+
+std::string text_of(const json& op, const char* key) {
+  const auto it = op.find(key);
+  return it != op.end() && it->is_string() ? it->get<std::string>() : std::string();
+}
+
+std::string joined(const std::vector<std::string>& parts, const std::string& sep) {
+  std::string out;
+  for (size_t i = 0; i < parts.size(); ++i) out += (i ? sep : "") + parts[i];
+  return out;
+}
+
+// The compiler's state: the pose the actions have reached, and what they wrote.
+class Compiler {
+ public:
+  Compiler(const Robot& r, const InverseKinematics& ik) : r_(r), ik_(ik), joints_(joints_json(r)) {
+    if (r.has_motors) {
+      motors_ = motors_json(r);
+      std::vector<double> zeros;
+      for (const json& m : motors_) zeros.push_back(m.at("zero").get<double>());
+      q_ = joints_from_motors(r, zeros);
+    } else {
+      q_ = home_pose(r);
+    }
+    limits_ = joint_limits(r);
+    proto_.push_back(kHeader);
+    lines_.push_back("");
+    rs_.push_back(kHeader);
+  }
+
+  void action(const json& o) {
+    const std::string b = text_of(o, "block");
+    const std::string op = text_of(o, "op");
+    const int n = r_.model.num_joints;
+    if (op == "joint_to" || op == "joint_by") {
+      const double j = number_of(o, "joint", b);
+      if (j != std::floor(j) || j < 0 || j >= n)
+        throw BlockError(b, r_.name + " has no joint " + protocol_number(j + 1) + ": choose one of " +
+                                joined(r_.joint_names, ", "));
+      std::vector<double> t = q_;
+      const double v = number_of(o, "value", b);
+      t[size_t(j)] = op == "joint_to" ? v : q_[size_t(j)] + v;
+      move(b, t);
+    } else if (op == "joints") {
+      const std::vector<double> v = numbers_of(o.value("values", json()), b, "values");
+      if (int(v.size()) != n)
+        throw BlockError(b, r_.name + " has " + std::to_string(n) + " joints (" + joined(r_.joint_names, ", ") +
+                                "): this block gives " + std::to_string(v.size()) + " values");
+      move(b, v);
+    } else if (op == "home") {
+      move(b, home_pose(r_));
+    } else if (op == "tool_to") {
+      const std::vector<double> p = point(o, b);
+      emit(b, {protocol_line(r_, 'P', p)});
+      rs_.push_back("a");
+      for (double x : p) rs_.push_back(protocol_number(x));
+      reach(b, p);
+    } else if (op == "line_to") {
+      // The line itself is checked where the arm checks it: the prediction refuses a line it
+      // cannot follow, on this block's line, and says where.
+      const std::vector<double> p = point(o, b);
+      const double speed = number_of(o, "speed", b);
+      if (!(speed > 0 && speed <= kMaxLineSpeed / 1000.0))
+        problem(b, "the speed is from more than 0 to 1000 mm/s, not " + protocol_number(speed) + " mm/s");
+      emit(b, {protocol_line(r_, 'T', {p[0], p[1], p[2], speed})});
+      rs_.push_back("# (a straight line: RoboSim moves to its end)");
+      rs_.push_back("a");
+      for (double x : p) rs_.push_back(protocol_number(x));
+      reach(b, p);
+    } else if (op == "gripper") {
+      const double pct = number_of(o, "percent", b);
+      if (!r_.gripper.present) problem(b, r_.name + " has no gripper");
+      if (pct < 0 || pct > 100) problem(b, "the gripper opens from 0 % to 100 %, not " + protocol_number(pct) + " %");
+      emit(b, {protocol_line(r_, 'G', {pct})});
+      rs_.push_back("h");
+      rs_.push_back(protocol_number((100 - pct) / 100 * kRoboSimClosedHand));
+    } else if (op == "speed") {
+      const double pct = number_of(o, "percent", b);
+      if (pct <= 0 || pct > 100) throw BlockError(b, "the speed is from 1 % to 100 %, not " + protocol_number(pct) + " %");
+      // $0 at 100 %: the firmware's default top rate (the settings table)
+      const double top = setting_range(kSetMaxRate, uint8_t(std::max(1, int(r_.actuation.num_motors)))).fallback;
+      emit(b, {protocol_line(r_, '$', {double(kSetMaxRate), std::max(1.0, std::round(top * pct / 100))})});
+      rs_.push_back("s");
+      rs_.push_back(std::to_string(int(std::max(1.0, std::round(kRoboSimFastest * pct / 100)))));
+    } else if (op == "wait") {
+      const double s = number_of(o, "seconds", b);
+      // its range is the parser's: a wait beyond it is refused on its block by the prediction
+      emit(b, {"D " + protocol_number(s)});
+      rs_.push_back("# (a wait of " + protocol_number(s) + " s: RoboSim has none)");
+    } else if (op == "comment") {
+      const std::vector<std::string> c = comment_lines(text_of(o, "text"));
+      emit(b, c);
+      rs_.insert(rs_.end(), c.begin(), c.end());
+    } else if (op == "raw") {
+      const std::string t = one_line(text_of(o, "text"));
+      emit(b, {t});
+      rs_.push_back("# (a protocol line, no RoboSim) " + t);
+    } else {
+      throw BlockError(b, "no action '" + op + "'");
+    }
+  }
+
+  json result() const {
+    std::string text, robosim;
+    for (const std::string& l : proto_) text += l + "\n";
+    for (const std::string& l : rs_) robosim += l + "\n";
+    return json{{"text", text}, {"robosim", robosim}, {"lines", lines_}, {"problems", problems_}};
+  }
+
+ private:
+  std::string unit(int j) const { return joints_[size_t(j)].value("unit", "deg"); }
+  std::string show(int j, double v) const {
+    return protocol_number(v) + (unit(j) == "mm" ? " mm" : "\xC2\xB0");
+  }
+  void emit(const std::string& block, const std::vector<std::string>& ls) {
+    for (const std::string& l : ls) {
+      proto_.push_back(l);
+      lines_.push_back(block);
+    }
+  }
+  void problem(const std::string& block, const std::string& message) {
+    problems_.push_back({{"block", block}, {"message", message}});
+  }
+  std::vector<double> point(const json& o, const std::string& b) const {
+    std::vector<double> p = numbers_of(o.value("xyz", json()), b, "xyz");
+    if (p.size() != 3) throw BlockError(b, "a point is x, y and z in mm");
+    return p;
+  }
+
+  // Joint values to a move: the problems the arm would refuse it for, in the student's
+  // units; the pose follows only when the move is allowed.
+  void move(const std::string& b, const std::vector<double>& target) {
+    bool ok = true;
+    for (size_t j = 0; j < target.size(); ++j) {
+      const double lo = limits_[j][0], hi = limits_[j][1], v = target[j];
+      if (v < lo - 1e-9 || v > hi + 1e-9) {
+        ok = false;
+        problem(b, r_.joint_names[j] + " at " + show(int(j), v) + " is beyond its range, " + show(int(j), lo) + " to " +
+                       show(int(j), hi));
+      }
+    }
+    std::vector<double> values = target;
+    if (r_.has_motors) {
+      values = motors_from_joints(r_, joints_in(r_, target, "joints"));
+      for (size_t k = 0; k < values.size(); ++k) {
+        const double m = values[k], lo = motors_[k].at("min").get<double>(), hi = motors_[k].at("max").get<double>();
+        if (ok && (m < lo - 1e-6 || m > hi + 1e-6)) {
+          ok = false;
+          std::vector<std::string> pose;
+          for (size_t j = 0; j < target.size(); ++j) pose.push_back(r_.joint_names[j] + " " + show(int(j), target[j]));
+          problem(b, "this pose needs the " + motors_[k].at("name").get<std::string>() + " motor at " + protocol_number(m) +
+                         "\xC2\xB0, beyond its range " + protocol_number(lo) + "\xC2\xB0 to " + protocol_number(hi) +
+                         "\xC2\xB0 (the joints: " + joined(pose, ", ") + ")");
+        }
+      }
+    }
+    emit(b, {protocol_line(r_, 'M', values)});
+    rs_.push_back("m");
+    for (double v : target) rs_.push_back(protocol_number(v));
+    if (ok) q_ = target;
+  }
+
+  // The tool to a point (P, and T's end): the pose follows when the IK reaches it.
+  void reach(const std::string& b, const std::vector<double>& xyz) {
+    IkResult res;
+    try {
+      res = ik_.solve(ik_target(xyz.data(), 3), joints_in(r_, q_, "start"), ik_options("auto", nullptr, 0.01, 0, 1));
+    } catch (const std::invalid_argument& e) {
+      throw BlockError(b, e.what());
+    }
+    if (res.status == IkStatus::kReached) {
+      q_ = joints_out(r_, res.q.data());
+    } else {
+      problem(b, "the tool cannot reach (" + protocol_number(xyz[0]) + ", " + protocol_number(xyz[1]) + ", " +
+                     protocol_number(xyz[2]) + ") mm: it is out of reach or beyond a joint's range");
+    }
+  }
+
+  const Robot& r_;
+  const InverseKinematics& ik_;
+  json joints_, motors_;
+  std::vector<std::array<double, 2>> limits_;
+  std::vector<double> q_;
+  std::vector<std::string> proto_, lines_, rs_;
+  json problems_ = json::array();
+};
+
+}  // namespace
+
+std::string protocol_number(double v) {
+  if (std::fabs(v) < 0.0005) return "0";
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3f", v);
+  std::string s = buf;
+  while (!s.empty() && s.back() == '0') s.pop_back();
+  if (!s.empty() && s.back() == '.') s.pop_back();
+  return s;
+}
+
+std::string protocol_line(const Robot& robot, char word, const std::vector<double>& values) {
+  const int actuators = robot.has_motors ? robot.actuation.num_motors : robot.model.num_joints;
+  const bool any = !values.empty();
+  for (const CommandSpec& spec : kCommandTable) {
+    if (spec.word != word || (word == '$' && (spec.args[0] != '\0') != any)) continue;
+    std::string kinds;
+    for (const char* k = spec.args; *k; ++k) {
+      if (k[1] == '*') {
+        kinds.append(size_t(actuators), *k);
+        ++k;
+      } else {
+        kinds += *k == 's' ? std::string("jn") : std::string(1, *k);
+      }
+    }
+    if (kinds.find('t') != std::string::npos)
+      throw std::invalid_argument(std::string(1, word) + " takes text, not numbers");
+    if (values.size() != kinds.size())
+      throw std::invalid_argument(std::string(1, word) + " takes " + std::to_string(kinds.size()) + " values on " +
+                                  robot.name + ", not " + std::to_string(values.size()));
+    std::string line(1, word);
+    for (size_t i = 0; i < values.size(); ++i) {
+      const double v = values[i];
+      if (!std::isfinite(v) || std::fabs(v) > 1e6)
+        throw std::invalid_argument(std::string(1, word) + ": value " + std::to_string(i + 1) +
+                                    " must be a finite number within +-1,000,000");
+      if (!in_thousandths(kinds[i]) && v != std::floor(v))
+        throw std::invalid_argument(std::string(1, word) + ": value " + std::to_string(i + 1) + " must be whole");
+      if (word == '$') line += i == 0 ? protocol_number(v) : "=" + protocol_number(v);
+      else line += " " + protocol_number(v);
+    }
+    return line;
+  }
+  throw std::invalid_argument(std::string("the protocol has no command '") + word + "'");
+}
+
+std::string move_line(const Robot& robot, const std::vector<double>& q) {
+  return protocol_line(robot, 'M', robot.has_motors ? motors_from_joints(robot, joints_in(robot, q, "q")) : q);
+}
+
+json blocks_program_json(const Robot& robot, const InverseKinematics& ik, const json& ops) {
+  if (!ops.is_array()) throw std::invalid_argument("'ops' must be a list of actions");
+  Compiler c(robot, ik);
+  for (const json& o : ops) {
+    if (!o.is_object()) throw std::invalid_argument("an action is an object with an 'op'");
+    try {
+      c.action(o);
+    } catch (const BlockError& e) {
+      return json{{"error", {{"block", e.block}, {"message", e.what()}}}};
+    } catch (const std::invalid_argument& e) {
+      return json{{"error", {{"block", text_of(o, "block")}, {"message", e.what()}}}};
+    }
+  }
+  return c.result();
+}
+
+json program_actions_json(const Robot& robot, const std::string& text, const std::string& name) {
+  const Program program = parse_program(text, name, robot);
+  const json parsed = program_json(robot, program, text);
+  std::vector<std::pair<double, json>> ops;
+  for (const Comment& c : program_comments(text))
+    ops.emplace_back(c.line - (c.whole_line ? 0 : 0.5), json{{"op", "comment"}, {"text", c.text}});
+  for (const json& st : parsed.at("statements")) {
+    json op;
+    const std::string kind = st.at("kind");
+    if (kind == "protocol") {
+      const std::string cmd = st.value("command", "");
+      const std::vector<double> a = st.at("args").get<std::vector<double>>();
+      if (cmd == "M") op = {{"op", "joints"}, {"values", robot.has_motors ? joints_from_motors(robot, a) : a}};
+      else if (cmd == "P") op = {{"op", "tool_to"}, {"xyz", a}};
+      else if (cmd == "T") op = {{"op", "line_to"}, {"xyz", {a[0], a[1], a[2]}}, {"speed", a[3]}};
+      else if (cmd == "G") op = {{"op", "gripper"}, {"percent", a[0]}};
+      else if (cmd == "S") op = {{"op", "gripper"}, {"percent", a[0] != 0 ? 0 : 100}};
+      else if (cmd == "D") op = {{"op", "wait"}, {"seconds", a[0]}};
+      else op = {{"op", "raw"}, {"text", st.at("text")}};
+    } else {
+      const std::vector<double> v = st.at("values").get<std::vector<double>>();
+      if (kind == "m") op = {{"op", "joints"}, {"values", v}};
+      else if (kind == "a") op = {{"op", "tool_to"}, {"xyz", {v[0], v[1], v[2]}}};
+      else if (kind == "h") op = {{"op", "gripper"}, {"percent", (kRoboSimClosedHand - v[0]) / kRoboSimClosedHand * 100}};
+      else if (kind == "s") op = {{"op", "speed"}, {"percent", v[0] / kRoboSimFastest * 100}};
+      else {
+        std::string t = kind;
+        for (double x : v) t += " " + protocol_number(x);
+        op = {{"op", "raw"}, {"text", t}};
+      }
+    }
+    ops.emplace_back(st.at("line").get<double>(), op);
+  }
+  std::stable_sort(ops.begin(), ops.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+  json out = json::array();
+  for (auto& o : ops) out.push_back(std::move(o.second));
+  return json{{"ops", out}, {"format", program.format == Program::Format::kRoboSim ? "robosim" : "protocol"}};
+}
+
+}  // namespace articula::host

@@ -1,0 +1,55 @@
+// host/lib/blocks.h - the studio's blocks as programs, and programs as blocks: the actions a
+// workspace unrolls into (the student's units: joint values as the sliders show them, mm,
+// percent; studio/web/src/blocks/unroll.ts) become protocol lines and RoboSim, with the blocks
+// whose values the arm would refuse and why; a program's text becomes actions again. And the
+// one formatter of protocol lines every tool here writes (the page's moves, its IK's straight
+// lines, the experiment's start, the blocks).
+//
+// One home for these rules, so the page, Python and the tests agree: the joint and motor
+// limits are the robot's (robot_view.h), the speed is the settings table's $0
+// (shared/articula/settings.h) and RoboSim's s (program.h), the IK is ik.h's.
+#ifndef ARTICULA_HOST_BLOCKS_H
+#define ARTICULA_HOST_BLOCKS_H
+
+#include <nlohmann/json.hpp>
+
+#include <string>
+#include <vector>
+
+#include "ik.h"
+#include "robot.h"
+
+namespace articula::host {
+
+// A number as a protocol line writes it: at most three decimals, no trailing zeros, no "-0"
+// ("12.5", "0", "-0.001").
+std::string protocol_number(double v);
+
+// One protocol line: the command `word` ('M', 'P', 'T', 'G', 'L', 'D', '$', ...) with its
+// values, as the command table (shared/articula/protocol.h) reads them: `M` one per actuator
+// (motors, or joint variables for a robot without), `$` the setting's number and its value
+// ("$0=600"). Throws std::invalid_argument for a word the protocol lacks, a wrong count, a
+// non-finite value, or a magnitude the parser refuses (above 1,000,000).
+std::string protocol_line(const Robot& robot, char word, const std::vector<double>& values);
+
+// The line that moves the arm to joint values q (deg or mm, one per joint variable): `M` with
+// the motors' angles for a robot with motors, else with the joint values.
+std::string move_line(const Robot& robot, const std::vector<double>& q);
+
+// The program of a list of actions (JSON: [{"op", "block", ...}], the ops of unroll.ts):
+// {"text": the protocol program, "robosim": the same in RoboSim, "lines": the block of each
+// protocol line (index = line - 1 of the text, "" for the header), "problems": [{"block",
+// "message"}] for values the arm would refuse (beyond a joint's or a motor's range, a point
+// out of reach, a speed, a gripper)}. An action that cannot become a line at all (a joint the
+// robot lacks, a wrong count of values) gives {"error": {"block", "message"}} instead.
+// Poses follow the actions from power-up (every motor at zero) or, without motors, the home
+// pose; a refused move leaves the pose where it was.
+nlohmann::json blocks_program_json(const Robot& robot, const InverseKinematics& ik, const nlohmann::json& ops);
+
+// A program's text as actions, for blocks: {"ops": [{"op", ...}], "format": "protocol" or
+// "robosim"}; its comments kept, in order. Throws ProgramError (program.h) as the parser does.
+nlohmann::json program_actions_json(const Robot& robot, const std::string& text, const std::string& name);
+
+}  // namespace articula::host
+
+#endif  // ARTICULA_HOST_BLOCKS_H
