@@ -15,6 +15,7 @@ int cmd_run(int argc, char** argv);
 int cmd_import_legacy(int argc, char** argv);
 int cmd_sim(int argc, char** argv);
 int cmd_configure(int argc, char** argv);
+int cmd_draw(int argc, char** argv);
 
 }  // namespace articula::cli
 

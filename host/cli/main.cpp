@@ -22,6 +22,7 @@ const CommandEntry kCommands[] = {
     {"predict", articula::cli::cmd_predict, "what the real arm does with a program: steps, tool error, timing"},
     {"run", articula::cli::cmd_run, "run a program on the kinematic model: the pose after each command"},
     {"sim", articula::cli::cmd_sim, "run a program on the arm as rigid bodies (ODE): trajectory, contacts, grasps"},
+    {"draw", articula::cli::cmd_draw, "a program that draws text or a shape with a pen in the gripper, reach checked"},
     {"configure", articula::cli::cmd_configure, "configure a Nano for a robot (its EEPROM), or print the lines that do"},
     {"export-urdf", articula::cli::cmd_export_urdf, "the robot as URDF, for ROS tools"},
     {"import-legacy", articula::cli::cmd_import_legacy, "convert the original system's robot text file (thesis appendix C)"},

@@ -46,7 +46,7 @@ TEST(Cli, NoArgumentsPrintsUsageAndFails) {
 TEST(Cli, HelpListsEveryCommand) {
   const Result r = run("--help");
   EXPECT_EQ(r.code, 0);
-  for (const char* c : {"info", "fk", "quantize", "import-legacy", "configure"}) EXPECT_NE(r.out.find(c), std::string::npos) << c;
+  for (const char* c : {"info", "fk", "quantize", "import-legacy", "configure", "draw"}) EXPECT_NE(r.out.find(c), std::string::npos) << c;
 }
 
 TEST(Cli, UnknownCommandIsNamed) {
@@ -56,7 +56,7 @@ TEST(Cli, UnknownCommandIsNamed) {
 }
 
 TEST(Cli, EveryCommandHasHelp) {
-  for (const char* c : {"info", "fk", "quantize"}) {
+  for (const char* c : {"info", "fk", "quantize", "draw"}) {
     const Result r = run(std::string(c) + " --help");
     EXPECT_EQ(r.code, 0) << c;
     EXPECT_NE(r.out.find("ROBOT"), std::string::npos) << c << ": " << r.out;
@@ -551,4 +551,32 @@ TEST(Cli, PredictAStopSentWhileTheArmMoves) {
   const Result bad = run("predict mk2plus " + p + " --sender stream --stop-at 0.5,x");
   EXPECT_EQ(bad.code, 2);
   EXPECT_NE(bad.out.find("'x' is not a time"), std::string::npos) << bad.out;
+}
+
+TEST(Cli, DrawWritesAProgramThePredictionTakes) {
+  const std::string out = testing::TempDir() + "draw-hello.arm";
+  const Result r = run("draw mk2plus --text Hello --width 60 --at 250,0 --z 0 --pen 120 -o " + out);
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("\"Hello\": 18.5 x 60.0 mm, centred at (250.0, 0.0) mm, 7 strokes"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("reach: the pen reaches all"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("prediction: 58 lines, the pen within"), std::string::npos) << r.out;
+  // the program it wrote, predicted on its own: every line taken
+  const Result p = run("predict mk2plus " + out);
+  ASSERT_EQ(p.code, 0) << p.out;
+  EXPECT_NE(p.out.find("58 commands, 0 rejected"), std::string::npos) << p.out;
+}
+
+TEST(Cli, DrawSaysWhichWayToMoveADrawingThatDoesNotFit) {
+  Result r = run("draw mk2plus --shape square --width 40 --at 120,0 --z 0 --pen 120 -o /dev/null");
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("articula draw: "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("mm toward +x (away from the base)"), std::string::npos) << r.out;
+  r = run("draw mk2plus --text \"H\xC3\xA9llo\" --width 40 --at 250,0 --z 0 --pen 120");
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("has no '\xC3\xA9' (U+00E9)"), std::string::npos) << r.out;
+  r = run("draw mk2plus --shape square --width 40 --at 250 --z 0");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.out.find("--at takes x,y (mm), not 1 numbers"), std::string::npos) << r.out;
+  r = run("draw mk2plus --width 40 --at 250,0 --z 0");
+  EXPECT_NE(r.out.find("give one of --text and --shape"), std::string::npos) << r.out;
 }

@@ -1,0 +1,159 @@
+// articula draw ROBOT (--text TEXT | --shape NAME) --width MM --at X,Y --z MM ... -o PROGRAM:
+// a drawing for a pen held in the gripper, as a protocol program (host/lib/draw.h): placed on
+// the paper, checked against the arm's reach (exit 2 with which way to move it when it does
+// not fit), ordered to cut the travel, then predicted step by step as the Nano will draw it.
+#include <cxxopts.hpp>
+#include <iostream>
+
+#include "cli_util.h"
+#include "commands.h"
+#include "draw.h"
+#include "ik.h"
+#include "predict.h"
+#include "program.h"
+#include "robot_file.h"
+#include "robot_view.h"
+
+namespace articula::cli {
+namespace {
+
+double positive(const cxxopts::ParseResult& args, const char* name) {
+  const double v = args[name].as<double>();
+  if (!(v > 0) || !std::isfinite(v)) throw UsageError(std::string("--") + name + " must be a number > 0, not " + fmt(v, 3));
+  return v;
+}
+
+int run(int argc, char** argv) {
+  cxxopts::Options opts("articula draw",
+                        "Writes the program that draws text or a shape with a pen held in the gripper: the strokes "
+                        "placed on the paper, checked against the arm's reach, ordered to cut the travel, the pen "
+                        "lifted between them; then predicts how far the steps keep the pen from the lines.");
+  opts.custom_help("ROBOT (--text TEXT | --shape square|circle|star) --width MM --at X,Y --z MM [options] [-o PROGRAM.arm]");
+  opts.add_options()("text", "text to write, in a single-stroke Hershey font ('\\n' in it starts a line)",
+                     cxxopts::value<std::string>())(
+      "shape", "a first lesson's shape: square, circle or star", cxxopts::value<std::string>())(
+      "width", "the drawing's width on the paper, mm", cxxopts::value<double>())(
+      "at", "the drawing's centre on the table, x,y mm", cxxopts::value<std::string>())(
+      "z", "the paper's height in the robot's base frame, mm", cxxopts::value<double>())(
+      "pen", "the pen's tip below the tool point, mm", cxxopts::value<double>()->default_value("0"))(
+      "lift", "how far the pen lifts between strokes, mm", cxxopts::value<double>()->default_value("10"))(
+      "speed", "drawing speed, mm/s", cxxopts::value<double>()->default_value("20"))(
+      "travel-speed", "speed between strokes, pen up, mm/s", cxxopts::value<double>()->default_value("40"))(
+      "rotate", "turn the drawing about its centre, degrees counterclockwise seen from above (90: upright for someone at +x facing the arm)",
+      cxxopts::value<double>()->default_value("90"))(
+      "line-spacing", "text: lines this many capital heights apart", cxxopts::value<double>()->default_value("1.6"))(
+      "font", "a Hershey .jhf font", cxxopts::value<std::string>()->default_value(host::default_font_path()))(
+      "o,output", "write the program here (default: standard output, the report to standard error)",
+      cxxopts::value<std::string>())("h,help", "this help")(
+      "robot", "robot file or shipped robot name", cxxopts::value<std::string>());
+  opts.parse_positional({"robot"});
+  const auto args = opts.parse(argc, argv);
+  if (args.count("help")) {
+    std::cout << opts.help()
+              << "The pen hangs straight down from the tool point (the MK2's gripper stays level), so the tool\n"
+                 "goes --pen mm above each point of the paper. Every stroke is drawn with T (straight lines, pen\n"
+                 "down); between strokes the pen lifts --lift mm and travels with T. A drawing the pen cannot\n"
+                 "reach exits with code 2 and says which way and how far to move it.\n"
+                 "Example: articula draw mk2plus --text Hello --width 60 --at 250,0 --z 0 --pen 120 -o hello.arm\n"
+                 "Then: articula predict mk2plus hello.arm\n";
+    return 0;
+  }
+  if (!args.count("robot")) throw UsageError("no robot given");
+  if (args.count("text") == args.count("shape")) throw UsageError("give one of --text and --shape");
+  for (const char* req : {"width", "at", "z"})
+    if (!args.count(req)) throw UsageError(std::string("--") + req + " is needed");
+  const std::vector<double> at = parse_number_list(args["at"].as<std::string>(), "--at");
+  if (at.size() != 2) throw UsageError("--at takes x,y (mm), not " + std::to_string(at.size()) + " numbers");
+  host::PenSettings pen;
+  pen.paper_z = args["z"].as<double>();
+  pen.pen_mm = args["pen"].as<double>();
+  if (!(pen.pen_mm >= 0) || !std::isfinite(pen.paper_z)) throw UsageError("--pen must be >= 0 mm and --z a number");
+  pen.lift_mm = positive(args, "lift");
+  pen.speed = positive(args, "speed");
+  pen.travel_speed = positive(args, "travel-speed");
+  const double width = positive(args, "width");
+
+  const host::Robot robot = host::load_robot_file(host::resolve_robot_path(args["robot"].as<std::string>()));
+  std::vector<host::Stroke> strokes;
+  std::string what;
+  try {
+    if (args.count("text")) {
+      const std::string text = args["text"].as<std::string>();
+      const host::HersheyFont font = host::load_hershey(args["font"].as<std::string>());
+      std::string unescaped;  // "\n" typed in a shell
+      for (size_t i = 0; i < text.size(); ++i) {
+        if (text[i] == '\\' && i + 1 < text.size() && text[i + 1] == 'n') unescaped += '\n', ++i;
+        else unescaped += text[i];
+      }
+      strokes = host::text_strokes(font, unescaped, 10, positive(args, "line-spacing"));
+      what = "\"" + text + "\"";
+    } else {
+      strokes = host::shape_strokes(args["shape"].as<std::string>());
+      what = "a " + args["shape"].as<std::string>();
+    }
+    strokes = host::place_strokes(strokes, width, at[0], at[1], args["rotate"].as<double>());
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(e.what());
+  }
+  const host::Bounds b = host::bounds_of(strokes);
+  std::ostream& report = args.count("output") ? std::cout : std::cerr;
+  report << what << ": " << fmt(b.width(), 1) << " x " << fmt(b.height(), 1) << " mm, centred at (" << fmt(at[0], 1)
+         << ", " << fmt(at[1], 1) << ") mm, " << strokes.size() << (strokes.size() == 1 ? " stroke" : " strokes") << std::endl;
+
+  const host::InverseKinematics ik(robot);
+  const host::ReachCheck reach = host::check_reach(robot, ik, strokes, pen);
+  if (!reach.fits) {
+    std::cerr << "articula draw: " << reach.advice << "\n";
+    return 2;
+  }
+  report << "reach: the pen reaches all " << reach.points << " points checked (every 2 mm along the strokes)\n";
+
+  // from where the arm powers up: every motor at its zero angle (without motors: its home)
+  std::vector<double> q0 = host::home_pose(robot);
+  if (robot.has_motors) {
+    std::vector<double> zeros;
+    for (int k = 0; k < robot.actuation.num_motors; ++k) zeros.push_back(robot.actuation.motors[k].zero / 1000.0);
+    q0 = host::joints_from_motors(robot, zeros);
+  }
+  host::HostFrames frames;
+  forward_kinematics(frames, robot.model, host::joints_in(robot, q0, "start").data());
+  const host::Point2 start{frames.T_base_tool.p.x, frames.T_base_tool.p.y};
+  const double before = host::travel_mm(strokes, start);
+  strokes = host::order_strokes(strokes, start);
+  const double after = host::travel_mm(strokes, start);
+  report << "order: the pen travels " << fmt(after, 0) << " mm between strokes (" << fmt(before, 0)
+         << " mm in the order given)\n";
+
+  const std::string program = host::drawing_program(robot, strokes, pen, "drawn by articula draw: " + what);
+  if (robot.has_motors) {
+    const host::Program p = host::parse_program(program, "drawing.arm", robot);
+    const host::Prediction pred = host::predict_program(robot, p);
+    int refused = 0;
+    double worst = 0;
+    int worst_line = 0;
+    for (const host::PredictRecord& r : pred.records) {
+      if (r.reply != kOk) ++refused;
+      if (r.line_error_mm > worst) worst = r.line_error_mm, worst_line = r.line;
+    }
+    if (refused) {
+      for (const host::PredictRecord& r : pred.records)
+        if (r.reply != kOk) {
+          std::cerr << "articula draw: the arm would refuse line " << r.line << " (" << r.text << "): error:" << int(r.reply)
+                    << "\n";
+          break;
+        }
+      return 2;
+    }
+    report << "prediction: " << pred.records.size() << " lines, the pen within " << fmt(worst, 2)
+           << " mm of the lines at every step (worst on line " << worst_line << ")\n";
+  }
+  write_output(args.count("output") ? args["output"].as<std::string>() : "", program);
+  if (args.count("output")) report << "wrote " << args["output"].as<std::string>() << "\n";
+  return 0;
+}
+
+}  // namespace
+
+int cmd_draw(int argc, char** argv) { return run(argc, argv); }
+
+}  // namespace articula::cli

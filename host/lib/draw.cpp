@@ -1,0 +1,390 @@
+// host/lib/draw.cpp - strokes from text and shapes, placed, checked, ordered and written as a
+// program (draw.h).
+#include "draw.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include "blocks.h"
+#include "robot_view.h"
+
+namespace articula::host {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kSampleMm = 2;      // the reach check's spacing along a stroke
+constexpr double kMoveStepMm = 5;    // the reach check's search for a move that fits
+constexpr double kMoveMaxMm = 300;
+constexpr double kSameMm = 0.01;     // points closer than this are one
+
+double dist(Point2 a, Point2 b) { return std::hypot(a.x - b.x, a.y - b.y); }
+
+std::string mm(double v) { return protocol_number(v); }
+
+// The code points of UTF-8 text (a malformed byte stands for itself).
+std::vector<uint32_t> code_points(const std::string& s) {
+  std::vector<uint32_t> out;
+  for (size_t i = 0; i < s.size();) {
+    const unsigned char c = static_cast<unsigned char>(s[i]);
+    int n = c < 0x80 ? 0 : c >= 0xF0 ? 3 : c >= 0xE0 ? 2 : c >= 0xC0 ? 1 : 0;
+    uint32_t cp = n == 0 ? c : c & (0x3F >> n);
+    size_t k = 1;
+    for (; k <= size_t(n) && i + k < s.size() && (static_cast<unsigned char>(s[i + k]) & 0xC0) == 0x80; ++k)
+      cp = (cp << 6) | (static_cast<unsigned char>(s[i + k]) & 0x3F);
+    if (k != size_t(n) + 1) cp = c, k = 1;
+    out.push_back(cp);
+    i += k;
+  }
+  return out;
+}
+
+std::string utf8(uint32_t cp) {
+  std::string s;
+  if (cp < 0x80) {
+    s += char(cp);
+  } else if (cp < 0x800) {
+    s += char(0xC0 | (cp >> 6)), s += char(0x80 | (cp & 0x3F));
+  } else if (cp < 0x10000) {
+    s += char(0xE0 | (cp >> 12)), s += char(0x80 | ((cp >> 6) & 0x3F)), s += char(0x80 | (cp & 0x3F));
+  } else {
+    s += char(0xF0 | (cp >> 18)), s += char(0x80 | ((cp >> 12) & 0x3F)), s += char(0x80 | ((cp >> 6) & 0x3F)),
+        s += char(0x80 | (cp & 0x3F));
+  }
+  return s;
+}
+
+// Every point the pen must reach: along each stroke every kSampleMm at the paper, and its
+// ends at the lifted height (z). Shifted by (dx, dy).
+struct Sample {
+  Point2 p;
+  bool lifted;
+};
+std::vector<Sample> samples_of(const std::vector<Stroke>& strokes) {
+  std::vector<Sample> out;
+  for (const Stroke& s : strokes) {
+    if (s.empty()) continue;
+    out.push_back({s.front(), true});
+    out.push_back({s.front(), false});
+    for (size_t i = 1; i < s.size(); ++i) {
+      const double d = dist(s[i - 1], s[i]);
+      const int n = std::max(1, int(std::ceil(d / kSampleMm)));
+      for (int k = 1; k <= n; ++k) {
+        const double t = double(k) / n;
+        out.push_back({{s[i - 1].x + (s[i].x - s[i - 1].x) * t, s[i - 1].y + (s[i].y - s[i - 1].y) * t}, false});
+      }
+    }
+    out.push_back({s.back(), true});
+  }
+  return out;
+}
+
+class Reach {
+ public:
+  Reach(const Robot& r, const InverseKinematics& ik, const PenSettings& pen)
+      : ik_(ik), pen_(pen), opts_(ik_options("auto", nullptr, 0.01, 0, 1)), q_(joints_in(r, home_pose(r), "home")) {}
+  bool reaches(const Sample& s, double dx, double dy) {
+    const double z = pen_.paper_z + pen_.pen_mm + (s.lifted ? pen_.lift_mm : 0);
+    const double target[3] = {s.p.x + dx, s.p.y + dy, z};
+    const IkResult res = ik_.solve(ik_target(target, 3), q_, opts_);
+    if (res.status != IkStatus::kReached) return false;
+    q_ = res.q;
+    return true;
+  }
+  bool all(const std::vector<Sample>& samples, double dx, double dy) {
+    for (const Sample& s : samples)
+      if (!reaches(s, dx, dy)) return false;
+    return true;
+  }
+
+ private:
+  const InverseKinematics& ik_;
+  PenSettings pen_;
+  IkOptions opts_;
+  std::vector<double> q_;
+};
+
+std::string toward(double d, const char* axis) {
+  return mm(std::fabs(d)) + " mm toward " + (d > 0 ? "+" : "-") + axis;
+}
+
+}  // namespace
+
+// ---- the font
+
+std::string default_font_path() { return "/usr/share/hershey-fonts/futural.jhf"; }
+
+HersheyFont parse_hershey(const std::string& text, const std::string& name) {
+  HersheyFont font;
+  font.source = name;
+  std::istringstream in(text);
+  std::string line;
+  int number = 0;
+  while (std::getline(in, line)) {
+    ++number;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line.find_first_not_of(" \t") == std::string::npos) continue;
+    const int first = number;
+    auto bad = [&](const std::string& why) {
+      return std::invalid_argument(name + ":" + std::to_string(first) + ": " + why + " (a Hershey .jhf glyph)");
+    };
+    if (line.size() < 10) throw bad("too short");
+    int count = 0;
+    try {
+      count = std::stoi(line.substr(5, 3));
+    } catch (const std::exception&) {
+      throw bad("no vertex count in columns 6-8");
+    }
+    if (count < 1) throw bad("a vertex count below 1");
+    std::string pairs = line.substr(8);
+    // a long glyph may go on over the next lines
+    while (pairs.size() < size_t(count) * 2 && std::getline(in, line)) {
+      ++number;
+      if (!line.empty() && line.back() == '\r') line.pop_back();
+      pairs += line;
+    }
+    if (pairs.size() < size_t(count) * 2) throw bad("fewer coordinates than its count, " + std::to_string(count));
+    HersheyGlyph g;
+    g.left = pairs[0] - 'R';
+    g.right = pairs[1] - 'R';
+    Stroke cur;
+    for (int i = 1; i < count; ++i) {
+      const char cx = pairs[size_t(i) * 2], cy = pairs[size_t(i) * 2 + 1];
+      if (cx == ' ' && cy == 'R') {
+        if (!cur.empty()) g.strokes.push_back(cur);
+        cur.clear();
+        continue;
+      }
+      if (cx < ' ' || cx > '~' || cy < ' ' || cy > '~') throw bad("a coordinate outside ' ' .. '~'");
+      cur.push_back({double(cx - 'R'), -double(cy - 'R')});  // the font's y points down
+    }
+    if (!cur.empty()) g.strokes.push_back(cur);
+    font.glyphs.push_back(std::move(g));
+  }
+  if (font.glyphs.size() < size_t('H' - ' ' + 1))
+    throw std::invalid_argument(name + ": " + std::to_string(font.glyphs.size()) +
+                                " glyphs: a font for text has one for each character from ' ' to '~' (95)");
+  const Bounds h = bounds_of(font.glyphs[size_t('H' - ' ')].strokes);
+  if (!(h.height() > 0)) throw std::invalid_argument(name + ": its 'H' has no height");
+  font.cap_height = h.height();
+  // the baseline at y 0: the foot of the 'H'
+  for (HersheyGlyph& g : font.glyphs)
+    for (Stroke& s : g.strokes)
+      for (Point2& p : s) p.y -= h.min_y;
+  return font;
+}
+
+HersheyFont load_hershey(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  if (!f)
+    throw std::invalid_argument("cannot read the font " + path +
+                                (path == default_font_path() ? " (Debian's hershey-fonts-data: scripts/bootstrap installs it)" : ""));
+  std::ostringstream s;
+  s << f.rdbuf();
+  return parse_hershey(s.str(), path);
+}
+
+std::vector<Stroke> text_strokes(const HersheyFont& font, const std::string& text, double cap_height_mm,
+                                 double line_spacing) {
+  if (!(cap_height_mm > 0) || !std::isfinite(cap_height_mm)) throw std::invalid_argument("the text's height must be > 0 mm");
+  if (!(line_spacing > 0) || !std::isfinite(line_spacing)) throw std::invalid_argument("the line spacing must be > 0");
+  const std::vector<uint32_t> cps = code_points(text);
+  std::vector<std::string> missing;
+  for (uint32_t c : cps) {
+    if (c == '\n' || c == '\r') continue;
+    if (c < 32 || c > 126 || c - 32 >= font.glyphs.size()) {
+      char code[16];
+      std::snprintf(code, sizeof code, "U+%04X", unsigned(c));
+      const std::string name = c < 32 || c == 0x7F ? std::string(code) : "'" + utf8(c) + "' (" + code + ")";
+      if (std::find(missing.begin(), missing.end(), name) == missing.end()) missing.push_back(name);
+    }
+  }
+  if (!missing.empty()) {
+    std::string list;
+    for (size_t i = 0; i < missing.size(); ++i) list += (i ? ", " : "") + missing[i];
+    throw std::invalid_argument("the font (" + font.source + ") has no " + list +
+                                ": it holds the characters from ' ' to '~' (ASCII)");
+  }
+  const double s = cap_height_mm / font.cap_height;
+  std::vector<Stroke> out;
+  double x = 0, y = 0;
+  for (uint32_t c : cps) {
+    if (c == '\r') continue;
+    if (c == '\n') {
+      x = 0;
+      y -= line_spacing * cap_height_mm;
+      continue;
+    }
+    const HersheyGlyph& g = font.glyphs[c - 32];
+    for (const Stroke& st : g.strokes) {
+      Stroke placed;
+      for (const Point2& p : st) placed.push_back({x + (p.x - g.left) * s, y + p.y * s});
+      out.push_back(placed);
+    }
+    x += (g.right - g.left) * s;
+  }
+  return out;
+}
+
+std::vector<Stroke> shape_strokes(const std::string& shape) {
+  Stroke s;
+  if (shape == "square") {
+    s = {{-0.5, -0.5}, {0.5, -0.5}, {0.5, 0.5}, {-0.5, 0.5}, {-0.5, -0.5}};
+  } else if (shape == "circle") {
+    const int n = 96;  // a chord 0.2 % of the radius from the circle
+    for (int i = 0; i <= n; ++i) s.push_back({0.5 * std::cos(2 * kPi * i / n), 0.5 * std::sin(2 * kPi * i / n)});
+  } else if (shape == "star") {
+    // five points: the outer corners and the inner ones between, from the top
+    const double inner = 0.5 * std::sin(kPi / 10) / std::sin(7 * kPi / 10);
+    for (int i = 0; i <= 10; ++i) {
+      const double a = kPi / 2 + kPi * i / 5, r = i % 2 ? inner : 0.5;
+      s.push_back({r * std::cos(a), r * std::sin(a)});
+    }
+  } else {
+    throw std::invalid_argument("no shape '" + shape + "': square, circle or star");
+  }
+  return {s};
+}
+
+// ---- placing, reaching, ordering, the program
+
+Bounds bounds_of(const std::vector<Stroke>& strokes) {
+  Bounds b;
+  bool any = false;
+  for (const Stroke& s : strokes)
+    for (const Point2& p : s) {
+      if (!any) b = {p.x, p.y, p.x, p.y};
+      any = true;
+      b.min_x = std::min(b.min_x, p.x), b.max_x = std::max(b.max_x, p.x);
+      b.min_y = std::min(b.min_y, p.y), b.max_y = std::max(b.max_y, p.y);
+    }
+  return b;
+}
+
+std::vector<Stroke> place_strokes(const std::vector<Stroke>& strokes, double width_mm, double x, double y,
+                                  double rotation_deg) {
+  if (!(width_mm > 0) || !std::isfinite(width_mm)) throw std::invalid_argument("the drawing's width must be > 0 mm");
+  if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(rotation_deg))
+    throw std::invalid_argument("the drawing's place and turn must be finite numbers");
+  const Bounds b = bounds_of(strokes);
+  if (!(b.width() > 0)) throw std::invalid_argument("the drawing has no width: nothing to scale");
+  const double s = width_mm / b.width(), cx = (b.min_x + b.max_x) / 2, cy = (b.min_y + b.max_y) / 2;
+  const double c = std::cos(rotation_deg * kPi / 180), sn = std::sin(rotation_deg * kPi / 180);
+  std::vector<Stroke> out;
+  for (const Stroke& st : strokes) {
+    Stroke o;
+    for (const Point2& p : st) {
+      const double u = (p.x - cx) * s, v = (p.y - cy) * s;
+      o.push_back({x + c * u - sn * v, y + sn * u + c * v});
+    }
+    out.push_back(o);
+  }
+  return out;
+}
+
+ReachCheck check_reach(const Robot& robot, const InverseKinematics& ik, const std::vector<Stroke>& strokes,
+                       const PenSettings& pen) {
+  ReachCheck out;
+  const std::vector<Sample> samples = samples_of(strokes);
+  out.points = int(samples.size());
+  Reach reach(robot, ik, pen);
+  for (const Sample& s : samples)
+    if (!reach.reaches(s, 0, 0)) out.unreachable.push_back(s.p);
+  out.fits = out.unreachable.empty();
+  if (out.fits) return out;
+  const Bounds b = bounds_of(strokes);
+  const Point2 centre{(b.min_x + b.max_x) / 2, (b.min_y + b.max_y) / 2};
+  for (double d = kMoveStepMm; d <= kMoveMaxMm && !out.movable; d += kMoveStepMm) {
+    for (int k = 0; k < 8 && !out.movable; ++k) {
+      const double dx = std::round(d * std::cos(kPi * k / 4) * 10) / 10, dy = std::round(d * std::sin(kPi * k / 4) * 10) / 10;
+      if (reach.all(samples, dx, dy)) out.movable = true, out.move_x = dx, out.move_y = dy;
+    }
+  }
+  const std::string unreached = std::to_string(out.unreachable.size()) + " of " + std::to_string(out.points) +
+                                " points of the drawing are out of the pen's reach";
+  if (!out.movable) {
+    if (out.unreachable.size() == size_t(out.points))
+      out.advice = "the pen reaches none of the drawing's " + std::to_string(out.points) + " points, nor after a move of up to " +
+                   mm(kMoveMaxMm) + " mm: the tool would go down to z " + mm(pen.paper_z + pen.pen_mm) +
+                   " mm; a longer pen or the paper higher up brings it within reach";
+    else
+      out.advice = unreached + ", and no move of up to " + mm(kMoveMaxMm) +
+                   " mm brings all of it within reach: make it smaller";
+    return out;
+  }
+  std::string where;
+  if (out.move_x != 0) where = toward(out.move_x, "x");
+  if (out.move_y != 0) where += (where.empty() ? "" : " and ") + toward(out.move_y, "y");
+  const double radial = out.move_x * centre.x + out.move_y * centre.y;
+  const char* side = radial > 0 ? " (away from the base)" : radial < 0 ? " (toward the base)" : "";
+  out.advice = unreached + ": move it " + where + side + ", to (" + mm(centre.x + out.move_x) + ", " +
+               mm(centre.y + out.move_y) + ") mm";
+  return out;
+}
+
+std::vector<Stroke> order_strokes(std::vector<Stroke> strokes, Point2 start) {
+  // drop repeated points
+  std::vector<Stroke> left;
+  for (Stroke& s : strokes) {
+    Stroke c;
+    for (const Point2& p : s)
+      if (c.empty() || dist(c.back(), p) >= kSameMm) c.push_back(p);
+    if (!c.empty()) left.push_back(std::move(c));
+  }
+  std::vector<Stroke> out;
+  Point2 at = start;
+  while (!left.empty()) {
+    size_t best = 0;
+    bool reverse = false;
+    double best_d = INFINITY;
+    for (size_t i = 0; i < left.size(); ++i) {
+      const double a = dist(at, left[i].front()), z = dist(at, left[i].back());
+      if (a < best_d) best_d = a, best = i, reverse = false;
+      if (z < best_d) best_d = z, best = i, reverse = true;
+    }
+    Stroke s = std::move(left[best]);
+    left.erase(left.begin() + long(best));
+    if (reverse) std::reverse(s.begin(), s.end());
+    at = s.back();
+    out.push_back(std::move(s));
+  }
+  return out;
+}
+
+double travel_mm(const std::vector<Stroke>& strokes, Point2 start) {
+  double d = 0;
+  Point2 at = start;
+  for (const Stroke& s : strokes) {
+    if (s.empty()) continue;
+    d += dist(at, s.front());
+    at = s.back();
+  }
+  return d;
+}
+
+std::string drawing_program(const Robot& robot, const std::vector<Stroke>& strokes, const PenSettings& pen,
+                            const std::string& title) {
+  const double down = pen.paper_z + pen.pen_mm, up = down + pen.lift_mm;
+  auto line = [&](char word, Point2 p, double z, double speed) {
+    return protocol_line(robot, word, word == 'P' ? std::vector<double>{p.x, p.y, z} : std::vector<double>{p.x, p.y, z, speed}) + "\n";
+  };
+  std::string out = "# " + title + "\n# the pen " + mm(pen.pen_mm) + " mm below the tool point, the paper at z " +
+                    mm(pen.paper_z) + " mm; " + mm(pen.speed) + " mm/s drawing, " + mm(pen.travel_speed) +
+                    " mm/s between strokes, the pen " + mm(pen.lift_mm) + " mm up\n";
+  bool first = true;
+  for (const Stroke& s : strokes) {
+    if (s.empty()) continue;
+    out += first ? line('P', s.front(), up, 0) : line('T', s.front(), up, pen.travel_speed);
+    first = false;
+    out += line('T', s.front(), down, pen.speed);
+    for (size_t i = 1; i < s.size(); ++i) out += line('T', s[i], down, pen.speed);
+    out += line('T', s.back(), up, pen.speed);
+  }
+  return out;
+}
+
+}  // namespace articula::host

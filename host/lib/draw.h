@@ -1,0 +1,108 @@
+// host/lib/draw.h - drawing and writing with a pen held in the gripper: strokes (polylines on
+// the paper, mm) from text in a single-stroke Hershey font (Debian's hershey-fonts-data, read
+// here and nowhere else) or from a first lesson's shapes; placed on the paper (width, centre,
+// rotation); checked against the arm's reach at the paper's height, with which way and how
+// far to move a drawing that does not fit; ordered to cut the pen's travel; and written as a
+// protocol program: `T` straight lines with the pen down, the pen lifted between strokes.
+//
+// The pen hangs straight down from the tool point (the MK2's gripper stays level): its tip is
+// the tool point less the pen's length in z. Paper coordinates are the table's x and y, mm.
+#ifndef ARTICULA_HOST_DRAW_H
+#define ARTICULA_HOST_DRAW_H
+
+#include <string>
+#include <vector>
+
+#include "ik.h"
+#include "robot.h"
+
+namespace articula::host {
+
+struct Point2 {
+  double x = 0, y = 0;
+};
+using Stroke = std::vector<Point2>;  // the pen down from the first point to the last
+
+// ---- the font
+
+// A Hershey font in James Hurt's format (.jhf): the glyphs of the characters from ' ' to '~'
+// in file order, each its strokes (y up) and its left and right edges, in font units.
+struct HersheyGlyph {
+  std::vector<Stroke> strokes;
+  double left = 0, right = 0;
+};
+struct HersheyFont {
+  std::string source;
+  std::vector<HersheyGlyph> glyphs;  // [c - 32]; text takes ' ' to '~'
+  double cap_height = 1;             // the height of 'H', font units
+};
+
+// Where the font comes from: Debian's hershey-fonts-data (futural: Roman simplex).
+std::string default_font_path();
+// Reads a .jhf file; throws std::invalid_argument naming the file and line of a bad glyph.
+HersheyFont parse_hershey(const std::string& text, const std::string& name);
+HersheyFont load_hershey(const std::string& path);
+
+// Text as strokes, its capital letters `cap_height_mm` high, lines `line_spacing` capital
+// heights apart ('\n' starts a line), the first line's baseline at y 0, left aligned.
+// Throws std::invalid_argument naming every character the font lacks.
+std::vector<Stroke> text_strokes(const HersheyFont& font, const std::string& text, double cap_height_mm = 10,
+                                 double line_spacing = 1.6);
+
+// A first lesson's shapes, 1 wide, centred on (0, 0): "square", "circle", "star" (five points).
+// Throws std::invalid_argument for another name.
+std::vector<Stroke> shape_strokes(const std::string& shape);
+
+// ---- placing, reaching, ordering, the program
+
+struct Bounds {
+  double min_x = 0, min_y = 0, max_x = 0, max_y = 0;
+  double width() const { return max_x - min_x; }
+  double height() const { return max_y - min_y; }
+};
+Bounds bounds_of(const std::vector<Stroke>& strokes);
+
+// Strokes scaled to `width_mm` wide, turned by `rotation_deg` about their centre, the centre
+// of their bounds at (x, y) on the table.
+std::vector<Stroke> place_strokes(const std::vector<Stroke>& strokes, double width_mm, double x, double y,
+                                  double rotation_deg = 0);
+
+struct PenSettings {
+  double paper_z = 0;      // the paper's height above the base frame's origin, mm
+  double pen_mm = 0;       // the pen's tip below the tool point, mm
+  double lift_mm = 10;     // the pen lifts this high above the paper between strokes
+  double speed = 20;       // drawing, mm/s
+  double travel_speed = 40;  // between strokes, pen up, mm/s
+};
+
+// Whether the pen reaches every point of the drawing (its strokes at the paper, sampled every
+// 2 mm, and the lifted ends above them); if not, the points it cannot reach, and the shortest
+// move of the whole drawing found (5 mm steps, eight directions, up to 300 mm) that makes it
+// fit, in words: "move it 35 mm toward +x (away from the base)", or that none does at this size.
+struct ReachCheck {
+  bool fits = true;
+  int points = 0;                    // points checked
+  std::vector<Point2> unreachable;   // of them, the pen cannot reach these
+  bool movable = false;              // a move was found
+  double move_x = 0, move_y = 0;     // that move, mm
+  std::string advice;                // what to do, "" when it fits
+};
+ReachCheck check_reach(const Robot& robot, const InverseKinematics& ik, const std::vector<Stroke>& strokes,
+                       const PenSettings& pen);
+
+// The strokes in a drawing order: each next the nearest end to where the pen is (a stroke is
+// reversed when its last point is nearer), from `start`. Points closer than 0.01 mm to the one
+// before are dropped, and strokes left with one point become a dot (the pen down and up).
+std::vector<Stroke> order_strokes(std::vector<Stroke> strokes, Point2 start);
+// The pen's travel with the pen up, mm, along strokes drawn in this order from `start`.
+double travel_mm(const std::vector<Stroke>& strokes, Point2 start);
+
+// The protocol program that draws the strokes in their order: to above the first stroke
+// (`P`), then per stroke the pen down, along it and up again (`T` at `speed`), and to the next
+// at the lifted height (`T` at `travel_speed`). `title` becomes its first comment.
+std::string drawing_program(const Robot& robot, const std::vector<Stroke>& strokes, const PenSettings& pen,
+                            const std::string& title);
+
+}  // namespace articula::host
+
+#endif  // ARTICULA_HOST_DRAW_H
