@@ -64,67 +64,47 @@ int run(int argc, char** argv) {
     if (!args.count(req)) throw UsageError(std::string("--") + req + " is needed");
   const std::vector<double> at = parse_number_list(args["at"].as<std::string>(), "--at");
   if (at.size() != 2) throw UsageError("--at takes x,y (mm), not " + std::to_string(at.size()) + " numbers");
-  host::PenSettings pen;
-  pen.paper_z = args["z"].as<double>();
-  pen.pen_mm = args["pen"].as<double>();
-  if (!(pen.pen_mm >= 0) || !std::isfinite(pen.paper_z)) throw UsageError("--pen must be >= 0 mm and --z a number");
-  pen.lift_mm = positive(args, "lift");
-  pen.speed = positive(args, "speed");
-  pen.travel_speed = positive(args, "travel-speed");
-  const double width = positive(args, "width");
+  host::DrawRequest req;
+  if (args.count("text")) {
+    const std::string text = args["text"].as<std::string>();
+    for (size_t i = 0; i < text.size(); ++i) {  // "\n" typed in a shell starts a line
+      if (text[i] == '\\' && i + 1 < text.size() && text[i + 1] == 'n') req.text += '\n', ++i;
+      else req.text += text[i];
+    }
+  } else {
+    req.shape = args["shape"].as<std::string>();
+  }
+  req.font_path = args["font"].as<std::string>();
+  req.line_spacing = positive(args, "line-spacing");
+  req.width_mm = positive(args, "width");
+  req.x = at[0], req.y = at[1];
+  req.rotation_deg = args["rotate"].as<double>();
+  req.pen.paper_z = args["z"].as<double>();
+  req.pen.pen_mm = args["pen"].as<double>();
+  req.pen.lift_mm = positive(args, "lift");
+  req.pen.speed = positive(args, "speed");
+  req.pen.travel_speed = positive(args, "travel-speed");
 
   const host::Robot robot = host::load_robot_file(host::resolve_robot_path(args["robot"].as<std::string>()));
-  std::vector<host::Stroke> strokes;
-  std::string what;
+  const host::InverseKinematics ik(robot);
+  host::Drawing d;
   try {
-    if (args.count("text")) {
-      const std::string text = args["text"].as<std::string>();
-      const host::HersheyFont font = host::load_hershey(args["font"].as<std::string>());
-      std::string unescaped;  // "\n" typed in a shell
-      for (size_t i = 0; i < text.size(); ++i) {
-        if (text[i] == '\\' && i + 1 < text.size() && text[i + 1] == 'n') unescaped += '\n', ++i;
-        else unescaped += text[i];
-      }
-      strokes = host::text_strokes(font, unescaped, 10, positive(args, "line-spacing"));
-      what = "\"" + text + "\"";
-    } else {
-      strokes = host::shape_strokes(args["shape"].as<std::string>());
-      what = "a " + args["shape"].as<std::string>();
-    }
-    strokes = host::place_strokes(strokes, width, at[0], at[1], args["rotate"].as<double>());
+    d = host::make_drawing(robot, ik, req);
   } catch (const std::invalid_argument& e) {
     throw UsageError(e.what());
   }
-  const host::Bounds b = host::bounds_of(strokes);
   std::ostream& report = args.count("output") ? std::cout : std::cerr;
-  report << what << ": " << fmt(b.width(), 1) << " x " << fmt(b.height(), 1) << " mm, centred at (" << fmt(at[0], 1)
-         << ", " << fmt(at[1], 1) << ") mm, " << strokes.size() << (strokes.size() == 1 ? " stroke" : " strokes") << std::endl;
-
-  const host::InverseKinematics ik(robot);
-  const host::ReachCheck reach = host::check_reach(robot, ik, strokes, pen);
-  if (!reach.fits) {
-    std::cerr << "articula draw: " << reach.advice << "\n";
+  report << d.what << ": " << fmt(d.bounds.width(), 1) << " x " << fmt(d.bounds.height(), 1) << " mm, centred at ("
+         << fmt(at[0], 1) << ", " << fmt(at[1], 1) << ") mm, " << d.strokes.size()
+         << (d.strokes.size() == 1 ? " stroke" : " strokes") << std::endl;
+  if (!d.reach.fits) {
+    std::cerr << "articula draw: " << d.reach.advice << "\n";
     return 2;
   }
-  report << "reach: the pen reaches all " << reach.points << " points checked (every 2 mm along the strokes)\n";
-
-  // from where the arm powers up: every motor at its zero angle (without motors: its home)
-  std::vector<double> q0 = host::home_pose(robot);
-  if (robot.has_motors) {
-    std::vector<double> zeros;
-    for (int k = 0; k < robot.actuation.num_motors; ++k) zeros.push_back(robot.actuation.motors[k].zero / 1000.0);
-    q0 = host::joints_from_motors(robot, zeros);
-  }
-  host::HostFrames frames;
-  forward_kinematics(frames, robot.model, host::joints_in(robot, q0, "start").data());
-  const host::Point2 start{frames.T_base_tool.p.x, frames.T_base_tool.p.y};
-  const double before = host::travel_mm(strokes, start);
-  strokes = host::order_strokes(strokes, start);
-  const double after = host::travel_mm(strokes, start);
-  report << "order: the pen travels " << fmt(after, 0) << " mm between strokes (" << fmt(before, 0)
+  report << "reach: the pen reaches all " << d.reach.points << " points checked (every 2 mm along the strokes)\n";
+  report << "order: the pen travels " << fmt(d.travel_mm, 0) << " mm between strokes (" << fmt(d.travel_unordered_mm, 0)
          << " mm in the order given)\n";
-
-  const std::string program = host::drawing_program(robot, strokes, pen, "drawn by articula draw: " + what);
+  const std::string& program = d.program;
   if (robot.has_motors) {
     const host::Program p = host::parse_program(program, "drawing.arm", robot);
     const host::Prediction pred = host::predict_program(robot, p);

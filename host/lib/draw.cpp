@@ -387,4 +387,104 @@ std::string drawing_program(const Robot& robot, const std::vector<Stroke>& strok
   return out;
 }
 
+Drawing make_drawing(const Robot& robot, const InverseKinematics& ik, const DrawRequest& req) {
+  if (req.text.empty() == req.shape.empty()) throw std::invalid_argument("give one of a text and a shape");
+  const PenSettings& pen = req.pen;
+  if (!std::isfinite(pen.paper_z) || !(pen.pen_mm >= 0) || !std::isfinite(pen.pen_mm))
+    throw std::invalid_argument("the paper's height must be a number and the pen's length >= 0 mm");
+  if (!(pen.lift_mm > 0) || !(pen.speed > 0) || !(pen.travel_speed > 0) || !std::isfinite(pen.lift_mm) ||
+      pen.speed > 1000 || pen.travel_speed > 1000)
+    throw std::invalid_argument("the lift must be > 0 mm and the speeds from more than 0 to 1000 mm/s");
+  Drawing d;
+  std::vector<Stroke> laid;
+  if (!req.text.empty()) {
+    const HersheyFont font = load_hershey(req.font_path.empty() ? default_font_path() : req.font_path);
+    laid = text_strokes(font, req.text, 10, req.line_spacing);
+    d.what = "\"" + req.text + "\"";
+  } else {
+    laid = shape_strokes(req.shape);
+    d.what = "a " + req.shape;
+  }
+  d.strokes = place_strokes(laid, req.width_mm, req.x, req.y, req.rotation_deg);
+  d.bounds = bounds_of(d.strokes);
+  d.reach = check_reach(robot, ik, d.strokes, pen);
+  // from where the arm powers up: every motor at its zero angle (without motors: its home)
+  std::vector<double> q0 = home_pose(robot);
+  if (robot.has_motors) {
+    std::vector<double> zeros;
+    for (int k = 0; k < robot.actuation.num_motors; ++k) zeros.push_back(robot.actuation.motors[k].zero / 1000.0);
+    q0 = joints_from_motors(robot, zeros);
+  }
+  HostFrames frames;
+  forward_kinematics(frames, robot.model, joints_in(robot, q0, "start").data());
+  d.start = {frames.T_base_tool.p.x, frames.T_base_tool.p.y};
+  d.travel_unordered_mm = travel_mm(d.strokes, d.start);
+  if (d.reach.fits) {
+    d.strokes = order_strokes(d.strokes, d.start);
+    d.travel_mm = travel_mm(d.strokes, d.start);
+    d.program = drawing_program(robot, d.strokes, pen, "drawn by Articula: " + d.what);
+  } else {
+    d.travel_mm = d.travel_unordered_mm;
+  }
+  return d;
+}
+
+nlohmann::json drawing_json(const Drawing& d) {
+  using nlohmann::json;
+  auto pt = [](Point2 p) { return json::array({p.x, p.y}); };
+  json strokes = json::array();
+  for (const Stroke& s : d.strokes) {
+    json st = json::array();
+    for (const Point2& p : s) st.push_back(pt(p));
+    strokes.push_back(st);
+  }
+  json unreachable = json::array();
+  for (const Point2& p : d.reach.unreachable) unreachable.push_back(pt(p));
+  return json{{"what", d.what},
+              {"bounds", {{"min_x", d.bounds.min_x}, {"min_y", d.bounds.min_y}, {"max_x", d.bounds.max_x}, {"max_y", d.bounds.max_y}}},
+              {"strokes", strokes},
+              {"reach", {{"fits", d.reach.fits}, {"points", d.reach.points}, {"unreachable", unreachable},
+                         {"movable", d.reach.movable}, {"move", {d.reach.move_x, d.reach.move_y}}, {"advice", d.reach.advice}}},
+              {"start", pt(d.start)},
+              {"travel_mm", d.travel_mm},
+              {"travel_unordered_mm", d.travel_unordered_mm},
+              {"program", d.program}};
+}
+
+DrawRequest draw_request_from_json(const nlohmann::json& j) {
+  if (!j.is_object()) throw std::invalid_argument("a drawing request is an object");
+  static const char* const kKeys[] = {"text", "shape", "font", "line_spacing", "width", "at", "z", "pen", "lift",
+                                      "speed", "travel_speed", "rotate"};
+  for (auto it = j.begin(); it != j.end(); ++it)
+    if (std::find_if(std::begin(kKeys), std::end(kKeys), [&](const char* k) { return it.key() == k; }) == std::end(kKeys))
+      throw std::invalid_argument("a drawing request has no '" + it.key() + "'");
+  auto num = [&](const char* key, double fallback) {
+    if (!j.contains(key)) return fallback;
+    if (!j[key].is_number()) throw std::invalid_argument(std::string("'") + key + "' must be a number");
+    return j[key].get<double>();
+  };
+  auto str = [&](const char* key) {
+    if (!j.contains(key) || j[key].is_null()) return std::string();
+    if (!j[key].is_string()) throw std::invalid_argument(std::string("'") + key + "' must be text");
+    return j[key].get<std::string>();
+  };
+  DrawRequest r;
+  r.text = str("text");
+  r.shape = str("shape");
+  r.font_path = str("font");
+  r.line_spacing = num("line_spacing", r.line_spacing);
+  r.width_mm = num("width", 0);
+  if (!j.contains("at") || !j["at"].is_array() || j["at"].size() != 2 || !j["at"][0].is_number() || !j["at"][1].is_number())
+    throw std::invalid_argument("'at' must be the drawing's centre, [x, y] mm");
+  r.x = j["at"][0].get<double>();
+  r.y = j["at"][1].get<double>();
+  r.rotation_deg = num("rotate", r.rotation_deg);
+  r.pen.paper_z = num("z", 0);
+  r.pen.pen_mm = num("pen", 0);
+  r.pen.lift_mm = num("lift", r.pen.lift_mm);
+  r.pen.speed = num("speed", r.pen.speed);
+  r.pen.travel_speed = num("travel_speed", r.pen.travel_speed);
+  return r;
+}
+
 }  // namespace articula::host

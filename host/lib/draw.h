@@ -10,6 +10,8 @@
 #ifndef ARTICULA_HOST_DRAW_H
 #define ARTICULA_HOST_DRAW_H
 
+#include <nlohmann/json.hpp>
+
 #include <string>
 #include <vector>
 
@@ -102,6 +104,43 @@ double travel_mm(const std::vector<Stroke>& strokes, Point2 start);
 // at the lifted height (`T` at `travel_speed`). `title` becomes its first comment.
 std::string drawing_program(const Robot& robot, const std::vector<Stroke>& strokes, const PenSettings& pen,
                             const std::string& title);
+
+// ---- the whole of it, as the CLI, Python and the page ask for it
+
+struct DrawRequest {
+  std::string text;          // text to write ('\n' starts a line), or
+  std::string shape;         // a shape: square, circle, star (exactly one of the two)
+  std::string font_path;     // "" : default_font_path()
+  double line_spacing = 1.6;
+  double width_mm = 0;       // the drawing's width on the paper
+  double x = 0, y = 0;       // its centre on the table
+  double rotation_deg = 90;  // 90: upright for someone at +x facing the arm
+  PenSettings pen;
+};
+
+struct Drawing {
+  std::string what;              // "\"Hello\"", "a square"
+  std::vector<Stroke> strokes;   // placed, in drawing order (when it fits; else as laid out)
+  Bounds bounds;
+  ReachCheck reach;
+  Point2 start{0, 0};            // where the pen starts: the tool at power-up (motors at zero)
+  double travel_mm = 0;          // pen up between strokes, in this order
+  double travel_unordered_mm = 0;  // the same in the order laid out
+  std::string program;           // "" when it does not fit
+};
+
+// Strokes from the text or the shape, placed, checked, ordered, and the program when the pen
+// reaches all of it. Throws std::invalid_argument for a request that cannot be drawn at all
+// (no text and no shape, both, a character the font lacks, a width <= 0, a font unread).
+Drawing make_drawing(const Robot& robot, const InverseKinematics& ik, const DrawRequest& request);
+
+// {what, bounds {min_x, min_y, max_x, max_y}, strokes [[[x, y], ...], ...], reach {fits,
+// points, unreachable [[x, y]...], movable, move [dx, dy], advice}, start, travel_mm,
+// travel_unordered_mm, program}: how the bindings hand a drawing out.
+nlohmann::json drawing_json(const Drawing& d);
+// A request from JSON (the bindings): {text | shape, width, at [x, y], z, pen, lift, speed,
+// travel_speed, rotate, line_spacing, font}; unknown keys refused by name.
+DrawRequest draw_request_from_json(const nlohmann::json& j);
 
 }  // namespace articula::host
 

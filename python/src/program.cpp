@@ -6,6 +6,7 @@
 
 #include "bindings.h"
 #include "blocks.h"
+#include "draw.h"
 #include "robot_view.h"
 #include "timeline.h"
 #include "predict.h"
@@ -127,6 +128,17 @@ void bind_program(nb::module_& m, nb::class_<PyRobot>& robot) {
              return json_to_python(host::program_actions_json(self.r(), text, name));
            },
            "text"_a, "name"_a = "program.arm", "A program's text as block actions: {ops, format}.")
+      .def("draw",
+           [](const PyRobot& self, nb::kwargs request) {
+             const std::string text = nb::cast<std::string>(nb::module_::import_("json").attr("dumps")(request));
+             return json_to_python(host::drawing_json(
+                 host::make_drawing(self.r(), self.ik(), host::draw_request_from_json(nlohmann::json::parse(text)))));
+           },
+           "A drawing for a pen held in the gripper (articula draw): text='Hello' or shape='square'|'circle'|'star', "
+           "width (mm), at=(x, y) its centre, z the paper's height, pen (mm below the tool point), lift, speed, "
+           "travel_speed (mm/s), rotate (deg, 90: upright from +x), line_spacing, font (a .jhf path). Returns {what, "
+           "bounds, strokes, reach {fits, points, unreachable, movable, move, advice}, start, travel_mm, "
+           "travel_unordered_mm, program}; the program is '' when the pen cannot reach all of it.")
       .def("protocol_line",
            [](const PyRobot& self, const std::string& word, const std::vector<double>& values) {
              if (word.size() != 1) throw nb::value_error("a protocol command is one letter");

@@ -51,6 +51,7 @@ SAME = [
     ("Robot.program_actions", "programActions"),
     ("Robot.protocol_line", "protocolLine"),
     ("Robot.move_line", "moveLine"),
+    ("Robot.draw", "drawing"),
     ("Robot.timeline", "Timeline.make"),
     ("Timeline.at", "Timeline.at"),
     ("Timeline.duration", "Timeline.duration"),
@@ -140,7 +141,7 @@ const ops = [];
 for (const cls of ["Robot", "Sim", "Timeline"])
   for (const k of Object.getOwnPropertyNames(M[cls].prototype))
     if (!["constructor", "delete", "isDeleted", "clone", "isAliasOf", "deleteLater"].includes(k)) ops.push(`${{cls}}.${{k}}`);
-for (const k of ["predict", "run", "quantize", "programFormat", "parseProgram", "programFit", "blocksProgram", "programActions", "protocolLine", "moveLine", "statusText", "statusTable", "settingsTable", "parseArmLine", "firstIntervalS",
+for (const k of ["predict", "run", "quantize", "programFormat", "parseProgram", "programFit", "blocksProgram", "programActions", "protocolLine", "moveLine", "drawing", "statusText", "statusTable", "settingsTable", "parseArmLine", "firstIntervalS",
                  "axisErrors", "table4", "measurementQuestion", "parsePlan", "table5", "toolPoints"])
   if (typeof M[k] === "function") ops.push(k);
 console.log(JSON.stringify(ops));
@@ -215,6 +216,8 @@ const out = {{ jac: r.jacobian([10, 70, -60]), tl: e.timeline(r, "L 0 30\\nL 1 -
   t5: e.table5(CHAINS), tp: e.toolPoints(TARGETS),
   blocks: r.blocksProgram(BLOCK_OPS), back: r.programActions("# hi\\nM 10 80 -20\\nG 40\\n", "b.arm"),
   line: r.protocolLine("T", [250.12345, -30, 150, 30]), move: r.moveLine([10, 80, -100]),
+  drawing: r.draw({{ text: "Hi", width: 30, at: [260, 0], z: 0, pen: 120 }}),
+  far: r.draw({{ shape: "star", width: 40, at: [120, 0], z: 0, pen: 120 }}),
   plan: e.parsePlan("#@ title T\\n#@ single-joint 1 15\\nL 1 0\\n#@ repeat 2 out\\nP 1 2 3\\n", "p.arm") }};
 try {{ e.parsePlan("#@ expct ok\\nL 0 1\\n", "bad.arm"); }} catch (x) {{ out.badPlan = x.message; }}
 try {{ e.robot("puma560").nanoConfig(); }} catch (x) {{ out.noNano = x.message; }}
@@ -243,6 +246,14 @@ console.log(JSON.stringify(out));
     assert mk2.program_actions("# hi\nM 10 80 -20\nG 40\n", "b.arm") == web["back"]
     assert mk2.protocol_line("T", [250.12345, -30, 150, 30]) == web["line"] == "T 250.123 -30 150 30"
     assert mk2.move_line([10, 80, -100]) == web["move"]
+    # a drawing: the same strokes, program and reach check (a moved star's advice too)
+    hi = mk2.draw(text="Hi", width=30, at=(260, 0), z=0, pen=120)
+    same = lambda a, b: {k: v for k, v in a.items() if "travel" not in k} == {k: v for k, v in b.items() if "travel" not in k}
+    assert same(hi, web["drawing"]) and hi["reach"]["fits"] and hi["program"].count("\nT ") > 5
+    assert abs(hi["travel_mm"] - web["drawing"]["travel_mm"]) < 1e-9  # summed in another order of rounding
+    far = mk2.draw(shape="star", width=40, at=(120, 0), z=0, pen=120)
+    assert same(far, web["far"]) and not far["reach"]["fits"] and far["program"] == ""
+    assert "toward +x (away from the base)" in far["reach"]["advice"]
     assert _core.parse_arm_line("<Run|S:95,0,0|A:30.083,90.000,0.000|G:100|Q:7|C:1>") == web["arm"]
     assert _core.first_interval_s(800, 3000) == web["first"]
     # the experiment's numbers: the same to the digit

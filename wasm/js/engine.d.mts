@@ -25,6 +25,10 @@ export class Robot {
   programActions(text: string, name?: string): { ops: Record<string, unknown>[]; format: "protocol" | "robosim" };
   protocolLine(word: string, values?: number[]): string;
   moveLine(q: number[]): string;
+  draw(request: Record<string, unknown>): {
+    what: string; bounds: { min_x: number; min_y: number; max_x: number; max_y: number }; strokes: number[][][];
+    reach: { fits: boolean; points: number; unreachable: number[][]; movable: boolean; move: number[]; advice: string };
+    start: number[]; travel_mm: number; travel_unordered_mm: number; program: string };
   urdf(): string;
   jointsFromMotors(u: number[]): number[];
   /** The Nano's robot configuration for this robot; throws EngineError with the reason a Nano cannot drive it. */

@@ -78,6 +78,9 @@ export class Robot {
   protocolLine(word, values = []) { return checked(this.engine.M.protocolLine(this.h, word, JSON.stringify(values))); }
   /** The line that moves the arm to joint values q (deg or mm): M with the motors' angles. */
   moveLine(q) { return checked(this.engine.M.moveLine(this.h, JSON.stringify(q))); }
+  /** A drawing for a pen in the gripper (`articula draw`): {text | shape, width, at, z, pen, ...}
+   * -> {what, bounds, strokes, reach, start, travel_mm, travel_unordered_mm, program}. */
+  draw(request) { return checked(this.engine.M.drawing(this.h, JSON.stringify(request))); }
   urdf() { return checked(this.h.urdf()).xml; }
   jointsFromMotors(u) { return checked(this.h.jointsFromMotors(JSON.stringify(u))); }
   motorsFromJoints(q) { return checked(this.h.motorsFromJoints(JSON.stringify(q))); }

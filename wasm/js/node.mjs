@@ -1,9 +1,9 @@
 // wasm/js/node.mjs - the web engine in node, for the parity tests and the benchmark: loads
 // build/wasm/wasm/engine.mjs (or $ARTICULA_WASM_DIR) and puts the shipped robots and scenes
-// into its files, where the studio's worker puts what it fetched; and the virtual Nano's
+// (and the drawing's font) into its files, where the studio's worker puts what it fetched; and the virtual Nano's
 // parts (nano.mjs) for the emulated Nano's tests.
 import { createRequire } from "node:module";
-import { readFileSync, readdirSync } from "node:fs";
+import { existsSync, readFileSync, readdirSync } from "node:fs";
 import { dirname, join, resolve } from "node:path";
 import { fileURLToPath, pathToFileURL } from "node:url";
 import { loadEngine } from "./engine.mjs";
@@ -20,6 +20,9 @@ export async function nodeEngine(wasmDir = process.env.ARTICULA_WASM_DIR || join
   for (const kind of ["robots", "scenes"])
     for (const f of readdirSync(join(REPO, kind)).filter((f) => f.endsWith(".json")))
       engine.writeFile(`/${kind}/${f}`, readFileSync(join(REPO, kind, f)));
+  // the drawing's font, at the path the engine reads it from (host/lib/draw.h, default_font_path)
+  const font = "/usr/share/hershey-fonts/futural.jhf";
+  if (existsSync(font)) engine.writeFile(font, readFileSync(font));
   return engine;
 }
 

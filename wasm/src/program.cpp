@@ -4,6 +4,7 @@
 #include <emscripten/bind.h>
 
 #include "blocks.h"
+#include "draw.h"
 #include "predict.h"
 #include "records_json.h"
 #include "quantize.h"
@@ -74,6 +75,14 @@ std::string move_line(const WebRobot& robot, const std::string& q_json) {
   return guarded([&] { return json(host::move_line(robot.robot(), numbers(json::parse(q_json), "q"))).dump(); });
 }
 
+// A drawing for a pen in the gripper (host/lib/draw.h): the request as JSON, the drawing's JSON.
+std::string drawing(const WebRobot& robot, const std::string& request_json) {
+  return guarded([&] {
+    return host::drawing_json(host::make_drawing(robot.robot(), robot.ik(), host::draw_request_from_json(json::parse(request_json))))
+        .dump();
+  });
+}
+
 std::string program_format(const std::string& text, const std::string& name) {
   return host::detect_format(text, name) == host::Program::Format::kRoboSim ? "robosim" : "protocol";
 }
@@ -126,6 +135,7 @@ EMSCRIPTEN_BINDINGS(articula_program) {
   function("programActions", &articula::web::program_actions);
   function("protocolLine", &articula::web::protocol_line);
   function("moveLine", &articula::web::move_line);
+  function("drawing", &articula::web::drawing);
   class_<WebTimeline>("Timeline")
       .constructor<>()
       .function("make", &WebTimeline::make)
