@@ -104,7 +104,8 @@ def parser() -> argparse.ArgumentParser:
     run.add_argument("--out", metavar="DIR", help="the report folder (default reports/hil-YYYYmmdd-HHMMSS in the "
                                                   "repository)")
     run.add_argument("--measured", metavar="CSV", help="measured tool positions: columns plan_line,x_mm,y_mm,z_mm "
-                                                       "(and plan, with several plans)")
+                                                       "(and plan, with several plans); the studio's Experiment CSV "
+                                                       "as it is exported")
     run.add_argument("--random", metavar="N", type=int, help="also run a random plan of N commands (saved in the "
                                                              "report folder)")
     run.add_argument("--seed", metavar="S", type=int, default=1, help="the random plan's seed (default 1)")

@@ -5,6 +5,10 @@ ignored), one row per measured plan step: the tool's position in the base frame 
 command on that line of the plan. An optional `plan` column names the plan (its file name,
 as `thesis-single-joint.arm`); without it the CSV belongs to the only plan of the run. A line
 measured several times is averaged (the report says how many).
+
+The studio's Experiment panel exports its CSV in this format too: `#` lines are comments, and
+the measurements are the file's first section (the tables after the first blank line are
+not read), so measurements typed in the page make the harness's report.
 """
 
 from __future__ import annotations
@@ -24,7 +28,14 @@ def load_measured(path: str | Path, plan_names: list[str]) -> dict[tuple[str, in
         text = path.read_text()
     except OSError as e:
         raise MeasuredError(f"{path}: cannot read: {e.strerror}") from None
-    rows = list(csv.DictReader(text.splitlines()))
+    # the first section, without comments, each line with its number in the file
+    numbered = [(n, ln) for n, ln in enumerate(text.splitlines(), start=1) if not ln.startswith("#")]
+    while numbered and not numbered[0][1].strip():
+        numbered.pop(0)
+    end = next((i for i, (_, ln) in enumerate(numbered) if not ln.strip()), len(numbered))
+    first = numbered[:end]
+    rows = list(csv.DictReader([ln for _, ln in first]))
+    line_of = [n for n, _ in first[1:]]
     if not rows:
         raise MeasuredError(f"{path}: no rows (a header plan_line,x_mm,y_mm,z_mm and one row per measurement)")
     header = set(rows[0].keys())
@@ -35,7 +46,8 @@ def load_measured(path: str | Path, plan_names: list[str]) -> dict[tuple[str, in
     if not has_plan and len(plan_names) != 1:
         raise MeasuredError(f"{path}: {len(plan_names)} plans in this run: add a 'plan' column naming each row's plan")
     sums: dict[tuple[str, int], list[float]] = {}
-    for i, row in enumerate(rows, start=2):
+    for k, row in enumerate(rows):
+        i = line_of[k] if k < len(line_of) else k + 2
         plan = (row.get("plan") or "").strip() if has_plan else plan_names[0]
         if plan not in plan_names:
             matches = [p for p in plan_names if Path(p).stem == plan]

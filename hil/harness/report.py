@@ -706,6 +706,11 @@ def build(run: Run, out: Path, robot) -> Path:
                 hm = ["axis"] + [f"joint {j} {c}" for j in joints_m for c in ("max %", "max mm", "avg mm")]
                 d.p(f"**{what}**, per joint and axis:")
                 d.table(hm, rows, right=set(range(1, len(hm))))
+            # the verdict per joint: the host library's (articula.joint_verdicts), the studio's too
+            verdicts = articula.joint_verdicts([{"joint": r["joint"], "ideal": list(r["ideal"]), "quant": list(r["quant"]),
+                                                 "measured": list(r["rec"].measured_xyz) if r["rec"].measured_xyz else None}
+                                                for r in sj_rows])
+            d.p("**Verdict per joint**: " + " ".join(f"joint {v['joint']}: {v['text']}" for v in verdicts))
         rows = []
         for r in sorted(sj_rows, key=lambda r: (r["joint"], r["rec"].line)):
             rec = r["rec"]

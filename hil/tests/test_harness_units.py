@@ -147,6 +147,44 @@ def test_measured_csv(tmp_path):
         load_measured(f, ["a.arm"])
 
 
+def test_the_studios_experiment_csv_is_read_as_measurements(tmp_path):
+    """The Experiment panel's CSV (the host library's experiment_csv): its first section is
+    the measurements; the tables after it are not measurements."""
+    import articula
+    pt = lambda line, joint, m: {"joint": joint, "angle": 15, "line": line, "command": f"L {joint} 15",
+                                 "ideal": [200, 10, 150], "quant": [200.5, 10, 150], "measured": m}
+    e = {"plan": "a.arm", "title": "T, with a comma", "robot": "MK2", "when": "now",
+         "points": [pt(5, 0, [201, 10.5, 149]), pt(7, 1, None), pt(9, 1, [199, 9, 151.25])],
+         "chains": [{"chain": 1, "moves": 1, "back_moves": 1, "line_before": 9, "line_out": 11, "line_back": 12,
+                     "start": [199, 9, 151], "dest_quant": [210, 0, 100], "dest_ideal": [210, 0, 100],
+                     "back_quant": [199, 9, 151], "start_measured": [199, 9, 151.25], "dest_measured": [211, 0, 99],
+                     "back_measured": None, "steps_back": True}], "targets": []}
+    text = articula.experiment_csv(e)
+    assert text.startswith('# T, with a comma; robot MK2; now\nplan,plan_line,x_mm,y_mm,z_mm\na.arm,5,201,10.5,149\n')
+    f = tmp_path / "page.csv"
+    f.write_text(text)
+    m = load_measured(f, ["a.arm"])
+    # every measured pose once (line 9 is a point and the chain's start), nothing from the tables
+    assert m == {("a.arm", 5): ([201.0, 10.5, 149.0], 1), ("a.arm", 9): ([199.0, 9.0, 151.25], 1),
+                 ("a.arm", 11): ([211.0, 0.0, 99.0], 1)}
+    assert "\ntable,joint,axis,poses,max_pct,max_mm,avg_mm\nmeasured_vs_model,0,x,1," in text
+    assert "\nchain,moves,back_moves," in text
+    # a bad row names its line in the file, the comment counted
+    f.write_text(text.replace("a.arm,5,201", "a.arm,five,201"))
+    with pytest.raises(MeasuredError, match=":3:"):
+        load_measured(f, ["a.arm"])
+
+
+def test_joint_verdicts():
+    import articula
+    p = lambda joint, m: {"joint": joint, "ideal": [200, 0, 100], "quant": [200.4, 0, 100], "measured": m}
+    v = articula.joint_verdicts([p(0, [203, 0, 100]), p(1, [209, 0, 100]), p(2, None)])
+    assert [(x["joint"], x["measured"], x["within"]) for x in v] == [(0, True, True), (1, True, False), (2, False, False)]
+    assert v[0]["text"] == "as simulated: the arm is within 2.60 mm of the model on every axis (whole steps alone: 0.40 mm)."
+    assert v[1]["text"].startswith("differs from the model by up to 8.60 mm") and "check this joint's zero" in v[1]["text"]
+    assert v[2]["text"] == "not measured; whole steps alone leave up to 0.40 mm."
+
+
 # ---- the serial line
 
 def test_parse_reports():

@@ -3,6 +3,7 @@
 
 #include <limits>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -109,6 +110,41 @@ std::vector<TargetRow> tool_points(const std::vector<TargetPoses>& points) {
     r.measured_from_target_mm = p.measured ? distance_mm(p.m, p.target) : none;
     r.measured_from_model_mm = p.measured ? distance_mm(p.m, p.quant) : none;
     out.push_back(r);
+  }
+  return out;
+}
+
+std::vector<JointVerdict> joint_verdicts(const std::vector<VerdictPoint>& points) {
+  std::vector<JointPoint> measured, quant;
+  for (const VerdictPoint& p : points) {
+    quant.push_back({p.joint, p.quant, p.ideal});
+    if (p.measured) measured.push_back({p.joint, p.m, p.quant});
+  }
+  const std::vector<Table4Row> m = table4(measured), q = table4(quant);
+  auto worst = [](const Table4Row& r) { return std::max({r.axis[0].max_mm, r.axis[1].max_mm, r.axis[2].max_mm}); };
+  auto mm2 = [](double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.2f", v);
+    return std::string(buf);
+  };
+  std::vector<JointVerdict> out;
+  for (const Table4Row& qr : q) {
+    JointVerdict v;
+    v.joint = qr.joint;
+    v.quant_mm = worst(qr);
+    const auto mr = std::find_if(m.begin(), m.end(), [&](const Table4Row& r) { return r.joint == qr.joint; });
+    v.measured = mr != m.end();
+    if (!v.measured) {
+      v.text = "not measured; whole steps alone leave up to " + mm2(v.quant_mm) + " mm.";
+    } else {
+      v.worst_mm = worst(*mr);
+      v.within = v.worst_mm <= kVerdictMm;
+      v.text = v.within ? "as simulated: the arm is within " + mm2(v.worst_mm) + " mm of the model on every axis (whole steps alone: " +
+                              mm2(v.quant_mm) + " mm)."
+                        : "differs from the model by up to " + mm2(v.worst_mm) + " mm (whole steps alone: " + mm2(v.quant_mm) +
+                              " mm): check this joint's zero, gear and link lengths in the robot file, and the arm's play.";
+    }
+    out.push_back(v);
   }
   return out;
 }

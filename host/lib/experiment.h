@@ -96,6 +96,28 @@ struct TargetRow {
 };
 std::vector<TargetRow> tool_points(const std::vector<TargetPoses>& points);
 
+// A joint's verdict (the Experiment panel's and the harness report's): its measured error
+// against the model (whole steps) within kVerdictMm on every axis is what a ruler and a
+// printed arm's play account for; beyond it, the robot file or the arm needs a look. From the
+// single-joint poses: the model's tool (quant), the exact angles' (ideal), the measurement.
+constexpr double kVerdictMm = 5;
+struct VerdictPoint {
+  int joint = 0;
+  Vec3<double> ideal{0, 0, 0}, quant{0, 0, 0};
+  bool measured = false;
+  Vec3<double> m{0, 0, 0};
+};
+struct JointVerdict {
+  int joint = 0;
+  bool measured = false;       // any pose of it measured
+  double worst_mm = 0;         // the largest measured-vs-model error on any axis
+  double quant_mm = 0;         // the largest the whole steps alone leave on any axis
+  bool within = false;         // measured and worst_mm <= kVerdictMm
+  std::string text;            // what it means, in a sentence (after "joint N: ")
+};
+// Per joint, in ascending order.
+std::vector<JointVerdict> joint_verdicts(const std::vector<VerdictPoint>& points);
+
 // What a typed measurement raises before it is used, as a question to the student; "" when
 // it looks right. `predicted` is where the prediction puts the tool; `reach_mm` how far the
 // robot reaches from its base (InverseKinematics::reach_bound). Checked in order: not a number;

@@ -1,5 +1,6 @@
 #include "records_json.h"
 
+#include <algorithm>
 #include <cctype>
 
 #include <cmath>
@@ -294,6 +295,167 @@ std::vector<JointPoint> joint_points_of_json(const nlohmann::json& points) {
       throw std::invalid_argument(where + " must be {joint, value, reference} with a whole joint number");
     out.push_back(JointPoint{p["joint"].get<int>(), vec3_of_json(p.value("value", nlohmann::json()), where + "'s value"),
                              vec3_of_json(p.value("reference", nlohmann::json()), where + "'s reference")});
+  }
+  return out;
+}
+
+nlohmann::json joint_verdicts_json(const std::vector<JointVerdict>& v) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const JointVerdict& j : v)
+    out.push_back({{"joint", j.joint}, {"measured", j.measured}, {"worst_mm", j.worst_mm}, {"quant_mm", j.quant_mm},
+                   {"within", j.within}, {"text", j.text}});
+  return out;
+}
+
+std::vector<VerdictPoint> verdict_points_of_json(const nlohmann::json& points) {
+  if (!points.is_array()) throw std::invalid_argument("the points must be a list");
+  std::vector<VerdictPoint> out;
+  for (size_t i = 0; i < points.size(); ++i) {
+    const nlohmann::json& p = points[i];
+    const std::string where = "point " + std::to_string(i);
+    if (!p.is_object() || !p.contains("joint") || !p["joint"].is_number_integer())
+      throw std::invalid_argument(where + " must be {joint, ideal, quant, measured} with a whole joint number");
+    VerdictPoint v;
+    v.joint = p["joint"].get<int>();
+    v.ideal = vec3_of_json(p.value("ideal", nlohmann::json()), where + "'s ideal");
+    v.quant = vec3_of_json(p.value("quant", nlohmann::json()), where + "'s quant");
+    const nlohmann::json m = p.value("measured", nlohmann::json());
+    v.measured = !m.is_null();
+    if (v.measured) v.m = vec3_of_json(m, where + "'s measured");
+    out.push_back(v);
+  }
+  return out;
+}
+
+namespace {
+// A CSV cell as JavaScript's String() writes a number (shortest round trip), "" for null, and
+// text quoted when it holds a comma, a quote or a line break.
+std::string csv_cell(const nlohmann::json& v) {
+  if (v.is_null()) return "";
+  if (v.is_boolean()) return v.get<bool>() ? "true" : "false";
+  if (v.is_number_integer() || v.is_number_unsigned()) return v.dump();
+  if (v.is_number_float()) {
+    const double d = v.get<double>();
+    if (std::isnan(d)) return "";
+    if (d == std::floor(d) && std::fabs(d) < 1e15) return std::to_string(static_cast<long long>(d));
+    return v.dump();
+  }
+  const std::string s = v.is_string() ? v.get<std::string>() : v.dump();
+  if (s.find_first_of(",\"\n\r") == std::string::npos) return s;
+  std::string q = "\"";
+  for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return q + "\"";
+}
+std::string csv_row(const std::vector<nlohmann::json>& cells) {
+  std::string out;
+  for (size_t i = 0; i < cells.size(); ++i) out += (i ? "," : "") + csv_cell(cells[i]);
+  return out + "\n";
+}
+// Three cells of an [x, y, z] (null: three empty cells).
+void xyz_cells(std::vector<nlohmann::json>& row, const nlohmann::json& v) {
+  for (int k = 0; k < 3; ++k) row.push_back(v.is_array() && v.size() == 3 ? v[size_t(k)] : nlohmann::json());
+}
+const nlohmann::json& list_of(const nlohmann::json& e, const char* key) {
+  static const nlohmann::json empty = nlohmann::json::array();
+  const auto it = e.find(key);
+  return it != e.end() && it->is_array() ? *it : empty;
+}
+}  // namespace
+
+std::string experiment_csv(const nlohmann::json& e) {
+  using nlohmann::json;
+  if (!e.is_object()) throw std::invalid_argument("the experiment must be an object");
+  const json& points = list_of(e, "points");
+  const json& chains = list_of(e, "chains");
+  const json& targets = list_of(e, "targets");
+  const std::string plan = e.value("plan", "");
+  std::string out = "# " + e.value("title", "") + "; robot " + e.value("robot", "") + "; " + e.value("when", "") + "\n";
+  // every measurement, by the plan line it was taken after (a pose measured once counts once)
+  out += "plan,plan_line,x_mm,y_mm,z_mm\n";
+  std::vector<int> seen;
+  auto measurement = [&](const json& line, const json& xyz) {
+    if (!line.is_number() || !xyz.is_array() || xyz.size() != 3) return;
+    const int n = line.get<int>();
+    if (std::find(seen.begin(), seen.end(), n) != seen.end()) return;
+    seen.push_back(n);
+    out += csv_row({plan, n, xyz[0], xyz[1], xyz[2]});
+  };
+  for (const json& p : points) measurement(p.value("line", json()), p.value("measured", json()));
+  for (const json& c : chains) {
+    measurement(c.value("line_before", json()), c.value("start_measured", json()));
+    measurement(c.value("line_out", json()), c.value("dest_measured", json()));
+    measurement(c.value("line_back", json()), c.value("back_measured", json()));
+  }
+  for (const json& t : targets) measurement(t.value("line", json()), t.value("measured", json()));
+
+  // the single-joint poses and their errors
+  std::vector<VerdictPoint> vp;
+  out += "\npose,joint,thesis_deg,line,command,ideal_x,ideal_y,ideal_z,model_x,model_y,model_z,measured_x,measured_y,"
+         "measured_z,err_x_mm,err_y_mm,err_z_mm,err_x_pct,err_y_pct,err_z_pct,quant_err_mm\n";
+  std::vector<JointPoint> quant_ideal, meas_quant, meas_ideal;
+  for (size_t i = 0; i < points.size(); ++i) {
+    const json& p = points[i];
+    const std::string where = "points[" + std::to_string(i) + "]";
+    const int joint = p.value("joint", 0);
+    const Vec3<double> ideal = vec3_of_json(p.value("ideal", json()), where + ".ideal");
+    const Vec3<double> quant = vec3_of_json(p.value("quant", json()), where + ".quant");
+    const json measured = p.value("measured", json());
+    std::vector<json> row = {json(i + 1), joint, p.value("angle", json()), p.value("line", json()), p.value("command", json())};
+    xyz_cells(row, p.value("ideal", json()));
+    xyz_cells(row, p.value("quant", json()));
+    xyz_cells(row, measured);
+    quant_ideal.push_back({joint, quant, ideal});
+    if (!measured.is_null()) {
+      const Vec3<double> m = vec3_of_json(measured, where + ".measured");
+      meas_quant.push_back({joint, m, quant});
+      meas_ideal.push_back({joint, m, ideal});
+      const AxisErrors a = axis_errors(m, quant);
+      for (double v : a.mm) row.push_back(v);
+      for (double v : a.pct) row.push_back(number_or_null(v));
+    } else {
+      for (int k = 0; k < 6; ++k) row.push_back(json());
+    }
+    const AxisErrors q = axis_errors(quant, ideal);
+    row.push_back(std::hypot(q.mm[0], q.mm[1], q.mm[2]));
+    out += csv_row(row);
+  }
+  out += "\ntable,joint,axis,poses,max_pct,max_mm,avg_mm\n";
+  const char* const axes[3] = {"x", "y", "z"};
+  const std::pair<const char*, const std::vector<JointPoint>*> tables[] = {
+      {"measured_vs_model", &meas_quant}, {"measured_vs_ideal", &meas_ideal}, {"model_vs_ideal", &quant_ideal}};
+  for (const auto& [name, pts] : tables)
+    for (const Table4Row& r : table4(*pts))
+      for (int k = 0; k < 3; ++k)
+        out += csv_row({name, r.joint, axes[k], r.poses, number_or_null(r.axis[k].max_pct), r.axis[k].max_mm, r.axis[k].avg_mm});
+  if (!chains.empty()) {
+    const std::vector<Table5Row> t5 = table5(chain_poses_of_json(chains));
+    out += "\nchain,moves,back_moves,line_out,line_back,dest_error_mm,return_error_mm,steps_back,measured_dest_mm,"
+           "measured_dest_ideal_mm,measured_return_mm,return_from_measured_start\n";
+    for (size_t i = 0; i < chains.size() && i < t5.size(); ++i) {
+      const json& c = chains[i];
+      const Table5Row& r = t5[i];
+      out += csv_row({c.value("chain", json()), c.value("moves", json()), c.value("back_moves", json()), c.value("line_out", json()),
+                      c.value("line_back", json()), number_or_null(r.dest_error_mm), number_or_null(r.return_error_mm),
+                      c.value("steps_back", json()), number_or_null(r.measured_dest_mm), number_or_null(r.measured_dest_ideal_mm),
+                      number_or_null(r.measured_return_mm), r.return_from_measured_start});
+    }
+  }
+  if (!targets.empty()) {
+    const std::vector<TargetRow> tp = tool_points(target_poses_of_json(targets));
+    out += "\ntarget_line,command,target_x,target_y,target_z,model_x,model_y,model_z,measured_x,measured_y,measured_z,"
+           "model_from_target_mm,ideal_from_target_mm,measured_from_target_mm,measured_from_model_mm\n";
+    for (size_t i = 0; i < targets.size() && i < tp.size(); ++i) {
+      const json& t = targets[i];
+      std::vector<json> row = {t.value("line", json()), t.value("command", json())};
+      xyz_cells(row, t.value("target", json()));
+      xyz_cells(row, t.value("quant", json()));
+      xyz_cells(row, t.value("measured", json()));
+      row.push_back(number_or_null(tp[i].model_from_target_mm));
+      row.push_back(number_or_null(tp[i].ideal_from_target_mm));
+      row.push_back(number_or_null(tp[i].measured_from_target_mm));
+      row.push_back(number_or_null(tp[i].measured_from_model_mm));
+      out += csv_row(row);
+    }
   }
   return out;
 }

@@ -71,6 +71,21 @@ nlohmann::json plan_json(const Plan& p);
 // A Nano's configuration for a robot: {"name", "checksum", "lines", "has_point"}.
 nlohmann::json nano_config_json(const NanoConfig& c);
 nlohmann::json table4_json(const std::vector<Table4Row>& rows);
+// Verdicts per joint: [{"joint", "measured", "worst_mm", "quant_mm", "within", "text"}], from
+// single-joint poses [{"joint", "ideal", "quant", "measured" (or null)}].
+nlohmann::json joint_verdicts_json(const std::vector<JointVerdict>& v);
+
+// The experiment as CSV (the studio's Experiment panel exports it): first every measurement in
+// the harness's --measured format (`plan,plan_line,x_mm,y_mm,z_mm`: hil/harness/measured.py
+// reads this section, so measurements typed in the page make the harness's report), then the
+// single-joint poses with their errors, each Table 4, Table 5 and the tool points, a blank
+// line between sections; `#` lines are comments. From the project's experiment: {plan, title,
+// robot, when, points [{joint, angle, line, command, ideal, quant, measured}], chains
+// [{chain, moves, back_moves, line_before, line_out, line_back, start, dest_quant, dest_ideal,
+// back_quant, start_measured, dest_measured, back_measured, steps_back}], targets [{line,
+// command, target, quant, ideal, measured}]}.
+std::string experiment_csv(const nlohmann::json& experiment);
+std::vector<VerdictPoint> verdict_points_of_json(const nlohmann::json& points);
 std::vector<JointPoint> joint_points_of_json(const nlohmann::json& points);
 
 }  // namespace articula::host

@@ -34,6 +34,8 @@ from ._core import (  # noqa: E402
     SceneError,
     Sim,
     axis_errors,
+    experiment_csv,
+    joint_verdicts,
     measurement_question,
     parse_plan,
     rpy_deg,
@@ -46,7 +48,8 @@ from ._records import Record  # noqa: E402
 __all__ = [
     "Robot", "IkResult", "Program", "Sim", "Record", "Status", "STATUS", "status_text",
     "RobotFileError", "ProgramError", "SceneError", "LegacyError", "IK_STATUS", "rpy_deg",
-    "axis_errors", "table4", "measurement_question", "parse_plan", "table5", "tool_points",
+    "axis_errors", "table4", "measurement_question", "parse_plan", "table5", "tool_points", "joint_verdicts",
+    "experiment_csv",
 ]
 __version__ = "0.1.0"
 

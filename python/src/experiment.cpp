@@ -67,6 +67,25 @@ void bind_experiment(nb::module_& m) {
       "The thesis's Table 4 from (joint, value, reference) points: per joint, in ascending order, "
       "{'joint', 'poses', 'axes': [{'max_pct' (None: no coordinate away from 0), 'max_mm', 'avg_mm'}] for x, y, z}.");
   m.def(
+      "joint_verdicts",
+      [](nb::handle points) {
+        return via_json(points, host::verdict_points_of_json,
+                        [](const auto& p) { return host::joint_verdicts_json(host::joint_verdicts(p)); });
+      },
+      "points"_a,
+      "A verdict per joint from single-joint poses [{'joint', 'ideal', 'quant', 'measured' (or None)}]: "
+      "[{'joint', 'measured', 'worst_mm', 'quant_mm', 'within' (measured within 5 mm of the model on every axis), "
+      "'text'}], as the studio's Experiment panel and the harness report give them.");
+  m.def(
+      "experiment_csv",
+      [](nb::handle experiment) {
+        const std::string text = nb::cast<std::string>(nb::module_::import_("json").attr("dumps")(experiment));
+        return host::experiment_csv(nlohmann::json::parse(text));
+      },
+      "experiment"_a,
+      "The experiment as the studio exports it (CSV): the measurements first, in the harness's --measured format "
+      "(plan,plan_line,x_mm,y_mm,z_mm), then the poses, Table 4, Table 5 and the tool points.");
+  m.def(
       "table5",
       [](nb::handle chains) {
         return via_json(chains, host::chain_poses_of_json, [](const auto& c) { return host::table5_json(host::table5(c)); });

@@ -86,6 +86,8 @@ SAME = [
     ("measurement_question", "measurementQuestion"),
     ("parse_plan", "parsePlan"),
     ("table5", "table5"),
+    ("joint_verdicts", "jointVerdicts"),
+    ("experiment_csv", "experimentCsv"),
     ("tool_points", "toolPoints"),
 ]
 
@@ -142,7 +144,7 @@ for (const cls of ["Robot", "Sim", "Timeline"])
   for (const k of Object.getOwnPropertyNames(M[cls].prototype))
     if (!["constructor", "delete", "isDeleted", "clone", "isAliasOf", "deleteLater"].includes(k)) ops.push(`${{cls}}.${{k}}`);
 for (const k of ["predict", "run", "quantize", "programFormat", "parseProgram", "programFit", "blocksProgram", "programActions", "protocolLine", "moveLine", "drawing", "statusText", "statusTable", "settingsTable", "parseArmLine", "firstIntervalS",
-                 "axisErrors", "table4", "measurementQuestion", "parsePlan", "table5", "toolPoints"])
+                 "axisErrors", "table4", "measurementQuestion", "parsePlan", "table5", "toolPoints", "jointVerdicts", "experimentCsv"])
   if (typeof M[k] === "function") ops.push(k);
 console.log(JSON.stringify(ops));
 """

@@ -56,10 +56,12 @@ def configured_page(open_page):
     return pg
 
 
-def harness_report(tmp_path, plan, typed, arm=ARM):
-    """The harness's report.md on simavr for the same arm, plan and measurements."""
+def harness_report(tmp_path, plan, typed, arm=ARM, page_csv=None):
+    """The harness's report.md on simavr for the same arm, plan and measurements: those typed,
+    or the page's exported CSV as it is (its first section is the harness's --measured format)."""
     measured = tmp_path / "measured.csv"
-    measured.write_text("plan,plan_line,x_mm,y_mm,z_mm\n" + "".join(f"{plan},{n},{x},{y},{z}\n" for n, x, y, z in typed))
+    measured.write_text(page_csv if page_csv is not None else
+                        "plan,plan_line,x_mm,y_mm,z_mm\n" + "".join(f"{plan},{n},{x},{y},{z}\n" for n, x, y, z in typed))
     out = tmp_path / "report"
     env = dict(os.environ, PYTHONPATH=f"{REPO}:{REPO / 'python'}")
     p = subprocess.run([sys.executable, "-m", "hil.harness", "run", str(REPO / "hil" / "plans" / plan), "--robot", str(arm),
@@ -131,10 +133,18 @@ def test_the_experiment_in_the_page_equals_the_harness(open_page, tmp_path):
     assert "<script" not in html and "Thesis example arm" in html
     assert "Table 4: measured against the model" in html
 
-    # The page's Table 4 (measured against the model) is the harness's on the same measurements.
-    body = page_csv.split("\n\n", 1)[1]
-    page_t4 = {(r["joint"], r["axis"]): r for r in csv.DictReader(io.StringIO(body)) if r["table"] == "measured_vs_model"}
-    md = harness_report(tmp_path, PLAN, typed)
+    # The page's CSV opens with every measurement in the harness's --measured format
+    first = page_csv.split("\n\n", 1)[0].splitlines()
+    assert first[0].startswith("# ") and first[1] == "plan,plan_line,x_mm,y_mm,z_mm"
+    assert [(int(r["plan_line"]), float(r["x_mm"]), float(r["y_mm"]), float(r["z_mm"]))
+            for r in csv.DictReader(first[1:])] == [(n, float(x), float(y), float(z)) for n, x, y, z in typed]
+    # and fed to the harness as it is, makes its report: the page's Table 4 (measured against the
+    # model) and verdicts are the harness's on the same measurements.
+    body = "table," + page_csv.split("\ntable,", 1)[1]
+    page_t4 = {(r["joint"], r["axis"]): r for r in csv.DictReader(io.StringIO(body.split("\n\n", 1)[0])) if r["table"] == "measured_vs_model"}
+    md = harness_report(tmp_path, PLAN, typed, page_csv=page_csv)
+    page_verdicts = pg.page.eval_on_selector_all("#exp-report .verdicts li", "ls => ls.map(l => l.textContent)")
+    assert page_verdicts and " ".join(page_verdicts) in md.split("**Verdict per joint**: ", 1)[1]
     section = md.split("**Measured vs predicted (quantized)**", 1)[1].split("**", 1)[0]
     rows = [ln for ln in section.splitlines() if re.match(r"^\| [XYZ] \|", ln)]
     head = next(ln for ln in section.splitlines() if ln.startswith("| axis"))

@@ -92,6 +92,9 @@ export class Engine {
   statusText(code: number): string;
   firstIntervalS(maxRate: number, accel: number): number;
   axisErrors(value: number[], reference: number[]): { mm: number[]; pct: (number | null)[] };
+  experimentCsv(experiment: Record<string, unknown>): string;
+  jointVerdicts(points: { joint: number; ideal: number[]; quant: number[]; measured: number[] | null }[]):
+    { joint: number; measured: boolean; worst_mm: number; quant_mm: number; within: boolean; text: string }[];
   table4(points: { joint: number; value: number[]; reference: number[] }[]):
     { joint: number; poses: number; axes: { max_pct: number | null; max_mm: number; avg_mm: number }[] }[];
   measurementQuestion(measured: number[], predicted: number[], reachMm: number, farMm?: number): string;

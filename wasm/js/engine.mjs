@@ -198,6 +198,10 @@ export class Engine {
   axisErrors(value, reference) { return checked(this.M.axisErrors(JSON.stringify(value), JSON.stringify(reference))); }
   /** The thesis's Table 4 from points [{joint, value, reference}]: [{joint, poses, axes: [{max_pct, max_mm, avg_mm}]}]. */
   table4(points) { return checked(this.M.table4(JSON.stringify(points))); }
+  /** A verdict per joint from single-joint poses [{joint, ideal, quant, measured|null}]. */
+  /** The experiment as CSV: the measurements first (the harness's --measured format), then the tables. */
+  experimentCsv(experiment) { return checked(this.M.experimentCsv(JSON.stringify(experiment))); }
+  jointVerdicts(points) { return checked(this.M.jointVerdicts(JSON.stringify(points))); }
   /** The thesis's Table 5 from repeatability chains (host/lib/experiment.h): [{chain, moves,
    * back_moves, dest_error_mm, return_error_mm, measured_dest_mm, measured_return_mm,
    * return_from_measured_start}]. */

@@ -36,6 +36,12 @@ EMSCRIPTEN_BINDINGS(articula_experiment) {
   function("toolPoints", +[](const std::string& points) {
     return guarded([&] { return host::tool_points_json(host::tool_points(host::target_poses_of_json(json::parse(points)))).dump(); });
   });
+  function("jointVerdicts", +[](const std::string& points) {
+    return guarded([&] { return host::joint_verdicts_json(host::joint_verdicts(host::verdict_points_of_json(json::parse(points)))).dump(); });
+  });
+  function("experimentCsv", +[](const std::string& experiment) {
+    return guarded([&] { return json(host::experiment_csv(json::parse(experiment))).dump(); });
+  });
   function("parsePlan", +[](const std::string& text, const std::string& name) {
     return guarded([&] { return host::plan_json(host::parse_plan(text, name)).dump(); });
   });

@@ -67,6 +67,8 @@ export const experimentHandlers: Record<string, (m: Msg) => Out[]> = {
     const chains = Array.isArray(m.chains) ? (m.chains as Record<string, unknown>[]).slice(0, 100) : [];
     const targets = Array.isArray(m.targets) ? (m.targets as Record<string, unknown>[]).slice(0, 1000) : [];
     return [{ type: "experiment_tables", rows, table5: S.engine.table5(chains), targets: S.engine.toolPoints(targets),
+      csv: typeof m.experiment === "object" && m.experiment !== null ? S.engine.experimentCsv(m.experiment as Record<string, unknown>) : "",
+      verdicts: S.engine.jointVerdicts(rows.map((r) => ({ joint: r.joint, ideal: r.ideal, quant: r.quant, measured: r.measured }))),
       quant_vs_ideal: table((r) => [r.quant, r.ideal]),
       measured_vs_quant: table((r) => [r.measured, r.quant]),
       measured_vs_ideal: table((r) => [r.measured, r.ideal]) }];

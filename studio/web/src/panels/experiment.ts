@@ -27,6 +27,8 @@ interface Tables {
   quant_vs_ideal: Table4Row[]; measured_vs_quant: Table4Row[]; measured_vs_ideal: Table4Row[]; table5: Table5Row[];
   targets: { line: number; model_from_target_mm: number; ideal_from_target_mm: number; measured_from_target_mm: number | null;
     measured_from_model_mm: number | null }[];
+  csv: string; // the experiment as CSV, the engine's (host/lib/records_json.h, experiment_csv)
+  verdicts: { joint: number; measured: boolean; worst_mm: number; quant_mm: number; within: boolean; text: string }[];
 }
 interface PlanDoc {
   plan: { title: string; notes: string[]; commands: { line: number; text: string; kind: string; single_joint: [number, number] | null;
@@ -35,9 +37,6 @@ interface PlanDoc {
   zero: number[]; start: Xyz; start_line: string; error?: string;
 }
 
-/** A joint's verdict: its measured error against the model's within this much (mm, per axis)
- * is what a ruler and a printed arm's play account for. */
-export const VERDICT_MM = 5;
 const AXES = ["x", "y", "z"];
 const COLORS = ["#d1495b", "#2e86ab", "#3a7d44", "#8d6a9f"];
 
@@ -187,6 +186,7 @@ async function runPlan(): Promise<void> {
   } finally {
     const done: ExperimentChain[] = [];
     for (const { before, ...ch } of chains.values()) {
+      ch.line_before = before;
       if (!stepsAt.has(ch.line_out)) continue; // not reached
       const start = before === null ? doc.zero.map(() => 0) : stepsAt.get(before);
       const back = ch.line_back === null ? undefined : stepsAt.get(ch.line_back);
@@ -254,9 +254,9 @@ async function record(): Promise<void> {
 async function report(e: Experiment, mismatches: string[] = []): Promise<void> {
   const t = (await s.engine.call({ type: "experiment_tables",
     points: e.points.map((p) => ({ joint: p.joint, angle: p.angle, ideal: p.ideal, quant: p.quant, measured: p.measured })),
-    chains: e.chains ?? [], targets: e.targets ?? [] })) as unknown as Tables;
+    chains: e.chains ?? [], targets: e.targets ?? [], experiment: e })) as unknown as Tables;
   hook.experiment.tables = t;
-  hook.experiment.csv = csv(e, t);
+  hook.experiment.csv = t.csv;
   charts.forEach((c) => c.destroy());
   charts = [];
   const joints = [...new Set(e.points.map((p) => p.joint))].sort((a, b) => a - b);
@@ -269,7 +269,7 @@ async function report(e: Experiment, mismatches: string[] = []): Promise<void> {
       "(none where the coordinate is within 1 mm of 0)."),
     ...mismatches.map((m) => h("p", { class: "status bad" }, m)),
     joints.length ? h("h4", null, "Verdict per joint") : null,
-    joints.length ? verdicts(joints, t) : null,
+    joints.length ? verdicts(t) : null,
     (e.chains ?? []).length ? table5(e, t) : null,
     (e.targets ?? []).length ? targetTable(e, t) : null,
     measured ? table4("Table 4: measured against the model (whole steps)", t.measured_vs_quant) : null,
@@ -334,19 +334,10 @@ function measuredSummary(e: Experiment): string {
   return parts.join(", ") || "nothing";
 }
 
-function verdicts(joints: number[], t: Tables): HTMLElement {
-  return h("ul", { class: "verdicts" }, ...joints.map((j) => {
-    const m = t.measured_vs_quant.find((r) => r.joint === j);
-    const q = t.quant_vs_ideal.find((r) => r.joint === j);
-    const quant = q ? Math.max(...q.axes.map((a) => a.max_mm)) : 0;
-    if (!m) return h("li", null, `joint ${j}: not measured; whole steps alone leave up to ${quant.toFixed(2)} mm.`);
-    const worst = Math.max(...m.axes.map((a) => a.max_mm));
-    const ok = worst <= VERDICT_MM;
-    return h("li", { class: ok ? "ok" : "bad" }, h("b", null, `joint ${j}: `), ok
-      ? `as simulated: the arm is within ${worst.toFixed(2)} mm of the model on every axis (whole steps alone: ${quant.toFixed(2)} mm).`
-      : `differs from the model by up to ${worst.toFixed(2)} mm (whole steps alone: ${quant.toFixed(2)} mm): check this joint's ` +
-        "zero, gear and link lengths in the robot file, and the arm's play.");
-  }));
+// The engine's verdict per joint (host/lib/experiment.h, joint_verdicts): the harness report's too.
+function verdicts(t: Tables): HTMLElement {
+  return h("ul", { class: "verdicts" }, ...t.verdicts.map((v) =>
+    h("li", v.measured ? { class: v.within ? "ok" : "bad" } : null, h("b", null, `joint ${v.joint}: `), v.text)));
 }
 
 function table4(title: string, rows: Table4Row[]): HTMLElement {
@@ -389,42 +380,6 @@ function plot(e: Experiment, t: Tables, joint: number): void {
     legend: { show: true, live: false },
     cursor: { drag: { x: false, y: false } },
   }, [x, ...series, quant] as uPlot.AlignedData, div));
-}
-
-// The CSV: the poses, then each Table 4 (every number as the engine gave it).
-function csv(e: Experiment, t: Tables): string {
-  const q = (v: unknown) => (typeof v === "string" && /[",\n]/.test(v) ? `"${v.replace(/"/g, '""')}"` : v === null ? "" : String(v));
-  const lines = [`# ${e.title}; robot ${e.robot}; ${e.when}`,
-    "pose,joint,thesis_deg,line,command,ideal_x,ideal_y,ideal_z,model_x,model_y,model_z,measured_x,measured_y,measured_z," +
-    "err_x_mm,err_y_mm,err_z_mm,err_x_pct,err_y_pct,err_z_pct,quant_err_mm"];
-  e.points.forEach((p, i) => {
-    const m = t.rows[i].measured_vs_quant;
-    lines.push([i + 1, p.joint, p.angle, p.line, p.command, ...p.ideal, ...p.quant, ...(p.measured ?? [null, null, null]),
-      ...(m ? m.mm : [null, null, null]), ...(m ? m.pct : [null, null, null]), Math.hypot(...t.rows[i].quant_vs_ideal.mm)].map(q).join(","));
-  });
-  lines.push("", "table,joint,axis,poses,max_pct,max_mm,avg_mm");
-  for (const [name, rows] of [["measured_vs_model", t.measured_vs_quant], ["measured_vs_ideal", t.measured_vs_ideal],
-    ["model_vs_ideal", t.quant_vs_ideal]] as [string, Table4Row[]][])
-    for (const r of rows) r.axes.forEach((a, k) => lines.push([name, r.joint, AXES[k], r.poses, a.max_pct, a.max_mm, a.avg_mm].map(q).join(",")));
-  if ((e.chains ?? []).length) {
-    lines.push("", "chain,moves,back_moves,line_out,line_back,dest_error_mm,return_error_mm,steps_back,measured_dest_mm," +
-      "measured_dest_ideal_mm,measured_return_mm,return_from_measured_start");
-    (e.chains ?? []).forEach((c, i) => {
-      const r = t.table5[i];
-      lines.push([c.chain, c.moves, c.back_moves, c.line_out, c.line_back, r.dest_error_mm, r.return_error_mm, c.steps_back,
-        r.measured_dest_mm, r.measured_dest_ideal_mm, r.measured_return_mm, r.return_from_measured_start].map(q).join(","));
-    });
-  }
-  if ((e.targets ?? []).length) {
-    lines.push("", "target_line,command,target_x,target_y,target_z,model_x,model_y,model_z,measured_x,measured_y,measured_z," +
-      "model_from_target_mm,ideal_from_target_mm,measured_from_target_mm,measured_from_model_mm");
-    (e.targets ?? []).forEach((p, i) => {
-      const r = t.targets[i];
-      lines.push([p.line, p.command, ...p.target, ...p.quant, ...(p.measured ?? [null, null, null]), r.model_from_target_mm,
-        r.ideal_from_target_mm, r.measured_from_target_mm, r.measured_from_model_mm].map(q).join(","));
-    });
-  }
-  return lines.join("\n") + "\n";
 }
 
 // The HTML: the report's tables and verdicts, its plots as pictures, in one file. Written as

@@ -29,7 +29,7 @@ export interface ExperimentPoint {
  * steps and exact angles) and back; what was measured (null: not); the arm's steps back at
  * the start (null: it did not come back). */
 export interface ExperimentChain {
-  chain: number; moves: number; back_moves: number; line_out: number; line_back: number | null;
+  chain: number; moves: number; back_moves: number; line_before?: number | null; line_out: number; line_back: number | null;
   start: number[]; dest_quant: number[]; dest_ideal: number[]; back_quant: number[] | null;
   start_measured: number[] | null; dest_measured: number[] | null; back_measured: number[] | null; steps_back: boolean | null;
 }
@@ -149,6 +149,7 @@ function checkExperiment(e: unknown): Experiment | null {
       if (!isObj(c)) throw new ProjectError(`${where} must be an object`);
       const [chain, moves, back_moves, line_out] = nums([c.chain, c.moves, c.back_moves, c.line_out], where, 4);
       return { chain, moves, back_moves, line_out, line_back: c.line_back == null ? null : nums([c.line_back], `${where}.line_back`, 1)[0],
+        line_before: c.line_before == null ? null : nums([c.line_before], `${where}.line_before`, 1)[0],
         start: nums(c.start, `${where}.start`, 3), dest_quant: nums(c.dest_quant, `${where}.dest_quant`, 3),
         dest_ideal: nums(c.dest_ideal, `${where}.dest_ideal`, 3), back_quant: xyzOrNull(c.back_quant, `${where}.back_quant`),
         start_measured: xyzOrNull(c.start_measured, `${where}.start_measured`), dest_measured: xyzOrNull(c.dest_measured, `${where}.dest_measured`),
