@@ -257,7 +257,12 @@ def test_gripper_servo_pulse(tools, tmp_path):
     assert abs(median - expected_us) <= 2.0, servo["widths"]
     assert servo["width_us"]["min"] >= expected_us - 10 and servo["width_us"]["max"] <= expected_us + 10
     assert abs(servo["period_us"]["mean"] - 20000.0) <= 1.0
-    assert abs(servo["last_aperture_percent"] - 50.0) <= 0.5
+    # The last pulse alone gives the aperture: its width carries the same latency (within 10
+    # us), which on this servo's 60 degrees is up to 10 / (1856 / 180 * 0.6) = 1.6 % (it once
+    # read 50.822 % on a busy machine: the edges' latency depends on when the line came in).
+    us_per_percent = (2400 - 544) / 180 * abs(opened - closed) / 100
+    assert abs(servo["last_us"] - expected_us) <= 10
+    assert abs(servo["last_aperture_percent"] - 50.0) <= 10 / us_per_percent
     print(f"  servo: {servo['width_us']['min']}..{servo['width_us']['max']} us, median {median} us, for {expected_us} us")
 
 
