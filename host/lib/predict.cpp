@@ -430,6 +430,7 @@ Status ControllerModel::run_command(PredictRecord& r, const std::string& text) {
   Command cmd;
   const Status parsed = parse_protocol_line(cmd, text, n_);
   if (parsed != kOk) return parsed;
+  r.command = cmd.type;
   if (text.find('!') != std::string::npos)
     add_note(r, "the line holds '!': sent to the arm it stops the arm and empties the queue (not simulated)");
   if (text.find('?') != std::string::npos) add_note(r, "the line holds '?': the arm answers it with a status report");
@@ -626,6 +627,7 @@ void ControllerModel::robosim(PredictRecord& r, const Statement& st) {
         line += " " + milli_text(target[i]);
       }
       r.protocol = line;
+      r.command = kCmdMoveAbsolute;
       MotorState<kMaxJoints> next = planned_;
       r.reply = move_absolute(next, robot_.actuation, target);
       if (r.reply == kOk) queue_move(r, next, false);
@@ -651,6 +653,7 @@ void ControllerModel::robosim(PredictRecord& r, const Statement& st) {
       const uint32_t rate = robosim_speed_to_rate(st.values[0], base_rate_);
       settings_.value[ControllerSettings::kMaxRate] = rate;
       r.protocol = "$0=" + std::to_string(rate);
+      r.command = kCmdSetSetting;
       add_note(r, "top step rate " + std::to_string(rate) + " steps/s (" + number_text(st.values[0]) + "/" + number_text(kRoboSimFastest) + " of " +
                       std::to_string(base_rate_) + ")");
       add_note(r, kWaitsForRest);
@@ -660,6 +663,7 @@ void ControllerModel::robosim(PredictRecord& r, const Statement& st) {
     case Statement::Kind::kHand: {
       const int32_t aperture = robosim_hand_to_aperture(st.values[0]);
       r.protocol = "G " + milli_text(aperture);
+      r.command = kCmdAperture;
       queue_gripper(r, aperture);
       return;
     }

@@ -84,6 +84,10 @@ struct PredictRecord {
   std::string
       protocol;        // RoboSim: the protocol line that does the same on the arm ("M 0.000 90.000 0.000"); "" if none
   Status reply = kOk;  // ok, or the error the controller answers (then nothing changed)
+  // The command it is: the protocol line's, or RoboSim's equivalent (m and a: M; h: G; s: $0=).
+  // What the physics replays it as, without reading its text again. kCmdNone for a comment,
+  // an empty line, a line that did not parse, and RoboSim's l, w and z.
+  CommandType command = kCmdNone;
   std::string note;    // what a reader should know (not simulated parts, host-only effects)
 
   // The state after the statement (unchanged when rejected).

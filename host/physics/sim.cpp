@@ -83,12 +83,6 @@ std::string fmt_mm(double v) {
 
 bool is_mesh(dGeomID g) { return dGeomGetClass(g) == dTriMeshClass; }
 
-char command_letter(const std::string& text) {
-  for (char c : text)
-    if (c != ' ' && c != '\t') return char(std::toupper(static_cast<unsigned char>(c)));
-  return 0;
-}
-
 }  // namespace
 
 const char* event_kind_name(SimEvent::Kind k) {
@@ -653,7 +647,6 @@ void Simulation::enqueue(const Statement& st, uint64_t now_tick) {
       }
       return;
     }
-    const char letter = command_letter(r.protocol.empty() ? r.text : r.protocol);
     a.start_tick = start;
     a.end_tick = start + (r.end_tick - r.start_tick);
     if (!r.segments.empty()) {  // T: a move per segment, blended as the firmware plans them
@@ -681,14 +674,14 @@ void Simulation::enqueue(const Statement& st, uint64_t now_tick) {
       program_end_s_ = double(queue_end_tick_) / kControllerTickHz;
       return;
     }
-    if (letter == 'G' || letter == 'S' || st.kind == Statement::Kind::kHand) {
+    if (r.command == kCmdAperture || r.command == kCmdGripper) {
       a.kind = Action::kGripper;
       const int pct = r.gripper_percent < 0 ? 100 : r.gripper_percent;
       a.opening_to = robot_.gripper.max_opening_mm * pct / 100.0;
-    } else if (letter == 'D') {
+    } else if (r.command == kCmdDwell) {
       a.kind = Action::kDwell;
     } else {
-      a.kind = letter == 'H' ? Action::kHome : Action::kMove;
+      a.kind = r.command == kCmdHome ? Action::kHome : Action::kMove;
       a.settings = cm.settings();
       profile_constants(a.k, cm.settings().motion());
       if (a.kind == Action::kHome) {

@@ -486,3 +486,22 @@ TEST(Predict, RobotWithoutMotorsIsRefused) {
     EXPECT_NE(std::string(e.what()).find("has no motors"), std::string::npos) << e.what();
   }
 }
+
+// A record says which command it is, so the physics replays it without reading its text again.
+TEST(Predict, EachRecordNamesItsCommand) {
+  const Prediction p = predict_program(mk2(), parse_program("M 0 90 0\nG 50\nD 0.5\nS 1\n$0=500\nT 235 0 213 20\nH\n", "k.arm", mk2()));
+  std::vector<CommandType> kinds;
+  for (const PredictRecord& r : p.records) kinds.push_back(r.command);
+  EXPECT_EQ(kinds, (std::vector<CommandType>{kCmdMoveAbsolute, kCmdAperture, kCmdDwell, kCmdGripper, kCmdSetSetting, kCmdLine,
+                                             kCmdHome}));
+  // RoboSim's as the protocol line each stands for: m a move, h the gripper, s the top rate
+  const Prediction rs = predict_program(mk2(), parse_program("m\n0\n90\n-110\nh\n0.25\ns\n41\nz\n1\n", "k.robosim", mk2()));
+  ASSERT_EQ(rs.records.size(), 4u);
+  EXPECT_EQ(rs.records[0].command, kCmdMoveAbsolute);
+  EXPECT_EQ(rs.records[1].command, kCmdAperture);
+  EXPECT_EQ(rs.records[2].command, kCmdSetSetting);
+  EXPECT_EQ(rs.records[3].command, kCmdNone);  // z: for a viewer
+  // a refused line is no command the arm runs
+  const Prediction bad = predict_program(mk2(), parse_program("L 0 500\n", "b.arm", mk2()));
+  EXPECT_NE(bad.records[0].reply, kOk);
+}
