@@ -43,6 +43,8 @@ int run(int argc, char** argv) {
       cxxopts::value<double>()->default_value("90"))(
       "line-spacing", "text: lines this many capital heights apart", cxxopts::value<double>()->default_value("1.6"))(
       "font", "a Hershey .jhf font", cxxopts::value<std::string>()->default_value(host::default_font_path()))(
+      "svg-out", "also write the drawing and the line the arm will draw (the pen at every step) as SVG",
+      cxxopts::value<std::string>())(
       "o,output", "write the program here (default: standard output, the report to standard error)",
       cxxopts::value<std::string>())("h,help", "this help")(
       "robot", "robot file or shipped robot name", cxxopts::value<std::string>());
@@ -107,25 +109,23 @@ int run(int argc, char** argv) {
   const std::string& program = d.program;
   if (robot.has_motors) {
     const host::Program p = host::parse_program(program, "drawing.arm", robot);
-    const host::Prediction pred = host::predict_program(robot, p);
-    int refused = 0;
-    double worst = 0;
-    int worst_line = 0;
-    for (const host::PredictRecord& r : pred.records) {
-      if (r.reply != kOk) ++refused;
-      if (r.line_error_mm > worst) worst = r.line_error_mm, worst_line = r.line;
+    const host::Prediction pred = host::predict_program(robot, p, {}, {}, true);
+    for (const host::PredictRecord& r : pred.records)
+      if (r.reply != kOk) {
+        std::cerr << "articula draw: the arm would refuse line " << r.line << " (" << r.text << "): error:" << int(r.reply)
+                  << " " << status_text(r.reply) << "\n";
+        return 2;
+      }
+    // the line the arm will draw: the pen's tip at every step, on the paper
+    const host::PredictedInk ink = host::predicted_ink(d, pred, req.pen);
+    report << "prediction: " << pred.records.size() << " lines, " << fmt(pred.total_s(), 1) << " s; on the paper the pen "
+           << "stays within " << fmt(ink.worst_mm, 2) << " mm of the drawing at every step (" << ink.steps
+           << " steps; the worst on line " << ink.worst_line << ", at (" << fmt(ink.worst_at.x, 1) << ", "
+           << fmt(ink.worst_at.y, 1) << ") mm)\n";
+    if (args.count("svg-out")) {
+      write_output(args["svg-out"].as<std::string>(), host::drawing_svg(d, ink, d.what + " on " + robot.name));
+      report << "wrote " << args["svg-out"].as<std::string>() << ": the drawing (blue) and the line the arm will draw (orange)\n";
     }
-    if (refused) {
-      for (const host::PredictRecord& r : pred.records)
-        if (r.reply != kOk) {
-          std::cerr << "articula draw: the arm would refuse line " << r.line << " (" << r.text << "): error:" << int(r.reply)
-                    << "\n";
-          break;
-        }
-      return 2;
-    }
-    report << "prediction: " << pred.records.size() << " lines, the pen within " << fmt(worst, 2)
-           << " mm of the lines at every step (worst on line " << worst_line << ")\n";
   }
   write_output(args.count("output") ? args["output"].as<std::string>() : "", program);
   if (args.count("output")) report << "wrote " << args["output"].as<std::string>() << "\n";

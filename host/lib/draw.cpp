@@ -6,10 +6,12 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <stdexcept>
 
 #include "blocks.h"
+#include "predict.h"
 #include "robot_view.h"
 
 namespace articula::host {
@@ -368,21 +370,30 @@ double travel_mm(const std::vector<Stroke>& strokes, Point2 start) {
 
 std::string drawing_program(const Robot& robot, const std::vector<Stroke>& strokes, const PenSettings& pen,
                             const std::string& title) {
+  return drawing_program(robot, strokes, pen, title, nullptr);
+}
+
+std::string drawing_program(const Robot& robot, const std::vector<Stroke>& strokes, const PenSettings& pen,
+                            const std::string& title, std::vector<int>* ink_lines) {
   const double down = pen.paper_z + pen.pen_mm, up = down + pen.lift_mm;
-  auto line = [&](char word, Point2 p, double z, double speed) {
-    return protocol_line(robot, word, word == 'P' ? std::vector<double>{p.x, p.y, z} : std::vector<double>{p.x, p.y, z, speed}) + "\n";
-  };
+  int line_no = 2;  // the two comment lines
   std::string out = "# " + title + "\n# the pen " + mm(pen.pen_mm) + " mm below the tool point, the paper at z " +
                     mm(pen.paper_z) + " mm; " + mm(pen.speed) + " mm/s drawing, " + mm(pen.travel_speed) +
                     " mm/s between strokes, the pen " + mm(pen.lift_mm) + " mm up\n";
+  auto line = [&](char word, Point2 p, double z, double speed, bool ink) {
+    out += protocol_line(robot, word, word == 'P' ? std::vector<double>{p.x, p.y, z} : std::vector<double>{p.x, p.y, z, speed}) + "\n";
+    ++line_no;
+    if (ink && ink_lines) ink_lines->push_back(line_no);
+  };
   bool first = true;
   for (const Stroke& s : strokes) {
     if (s.empty()) continue;
-    out += first ? line('P', s.front(), up, 0) : line('T', s.front(), up, pen.travel_speed);
+    if (first) line('P', s.front(), up, 0, false);
+    else line('T', s.front(), up, pen.travel_speed, false);
     first = false;
-    out += line('T', s.front(), down, pen.speed);
-    for (size_t i = 1; i < s.size(); ++i) out += line('T', s[i], down, pen.speed);
-    out += line('T', s.back(), up, pen.speed);
+    line('T', s.front(), down, pen.speed, false);
+    for (size_t i = 1; i < s.size(); ++i) line('T', s[i], down, pen.speed, true);
+    line('T', s.back(), up, pen.speed, false);
   }
   return out;
 }
@@ -422,7 +433,7 @@ Drawing make_drawing(const Robot& robot, const InverseKinematics& ik, const Draw
   if (d.reach.fits) {
     d.strokes = order_strokes(d.strokes, d.start);
     d.travel_mm = travel_mm(d.strokes, d.start);
-    d.program = drawing_program(robot, d.strokes, pen, "drawn by Articula: " + d.what);
+    d.program = drawing_program(robot, d.strokes, pen, "drawn by Articula: " + d.what, &d.ink_lines);
   } else {
     d.travel_mm = d.travel_unordered_mm;
   }
@@ -448,7 +459,8 @@ nlohmann::json drawing_json(const Drawing& d) {
               {"start", pt(d.start)},
               {"travel_mm", d.travel_mm},
               {"travel_unordered_mm", d.travel_unordered_mm},
-              {"program", d.program}};
+              {"program", d.program},
+              {"ink_lines", d.ink_lines}};
 }
 
 DrawRequest draw_request_from_json(const nlohmann::json& j) {
@@ -485,6 +497,114 @@ DrawRequest draw_request_from_json(const nlohmann::json& j) {
   r.pen.speed = num("speed", r.pen.speed);
   r.pen.travel_speed = num("travel_speed", r.pen.travel_speed);
   return r;
+}
+
+namespace {
+double segment_distance(Point2 p, Point2 a, Point2 b) {
+  const double dx = b.x - a.x, dy = b.y - a.y, len2 = dx * dx + dy * dy;
+  const double t = len2 > 0 ? std::clamp(((p.x - a.x) * dx + (p.y - a.y) * dy) / len2, 0.0, 1.0) : 0.0;
+  return std::hypot(p.x - (a.x + t * dx), p.y - (a.y + t * dy));
+}
+std::string svg_text(const std::string& s) {
+  std::string out;
+  for (char c : s) {
+    if (c == '<') out += "&lt;";
+    else if (c == '>') out += "&gt;";
+    else if (c == '&') out += "&amp;";
+    else if (c == '"') out += "&quot;";
+    else out += c;
+  }
+  return out;
+}
+}  // namespace
+
+PredictedInk predicted_ink(const Drawing& d, const Prediction& prediction, const PenSettings& pen) {
+  (void)pen;  // the tip is the tool less the pen's length in z: on the paper, x and y are the tool's
+  PredictedInk ink;
+  // the program's ink lines, in order, each the segment of the ideal stroke it draws
+  std::vector<std::pair<Point2, Point2>> ideal_of_line;
+  std::map<int, size_t> index_of_line;
+  {
+    size_t k = 0;
+    for (const Stroke& s : d.strokes)
+      for (size_t i = 1; i < s.size(); ++i) {
+        if (k < d.ink_lines.size()) index_of_line[d.ink_lines[k]] = ideal_of_line.size();
+        ideal_of_line.push_back({s[i - 1], s[i]});
+        ++k;
+      }
+  }
+  int previous_line = -2;
+  Point2 last{0, 0};
+  bool have_last = false;
+  for (const PredictRecord& r : prediction.records) {
+    const auto it = index_of_line.find(r.line);
+    if (r.reply != kOk) continue;
+    if (it == index_of_line.end()) {
+      last = {r.tool_quantized.x, r.tool_quantized.y};
+      have_last = true;
+      continue;
+    }
+    const auto [a, b] = ideal_of_line[it->second];
+    if (r.line != previous_line + 1 || ink.strokes.empty()) {
+      ink.strokes.push_back({});
+      if (have_last) ink.strokes.back().push_back(last);  // where the pen came down
+    }
+    for (const Vec3<double>& t : r.path) {
+      const Point2 p{t.x, t.y};
+      ink.strokes.back().push_back(p);
+      ++ink.steps;
+      const double dist = segment_distance(p, a, b);
+      if (dist > ink.worst_mm) ink.worst_mm = dist, ink.worst_at = p, ink.worst_line = r.line;
+    }
+    last = {r.tool_quantized.x, r.tool_quantized.y};
+    have_last = true;
+    previous_line = r.line;
+  }
+  return ink;
+}
+
+std::string drawing_svg(const Drawing& d, const PredictedInk& ink, const std::string& title) {
+  Bounds b = d.bounds;
+  for (const Stroke& s : ink.strokes)
+    for (const Point2& p : s) b.min_x = std::min(b.min_x, p.x), b.max_x = std::max(b.max_x, p.x),
+                              b.min_y = std::min(b.min_y, p.y), b.max_y = std::max(b.max_y, p.y);
+  const double margin = 5 + 0.05 * std::max(b.width(), b.height());
+  // seen from above by someone at +x facing the arm: +y to the right, +x down
+  const double w = std::max(b.height() + 2 * margin, 150.0), h = b.width() + 2 * margin + 8;  // room for the caption
+  auto sx = [&](const Point2& p) { return p.y - b.min_y + margin; };
+  auto sy = [&](const Point2& p) { return p.x - b.min_x + margin; };
+  auto poly = [&](const Stroke& s) {
+    std::string pts;
+    char buf[64];
+    for (const Point2& p : s) {
+      std::snprintf(buf, sizeof buf, "%s%.3f,%.3f", pts.empty() ? "" : " ", sx(p), sy(p));
+      pts += buf;
+    }
+    return "<polyline points=\"" + pts + "\"/>";
+  };
+  char head[512];
+  std::snprintf(head, sizeof head,
+                "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%.1fmm\" height=\"%.1fmm\" viewBox=\"0 0 %.3f %.3f\">\n",
+                w, h, w, h);
+  std::string out = "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n" + std::string(head);
+  out += "<title>" + svg_text(title) + "</title>\n";
+  out += "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
+  out += "<g id=\"ideal\" fill=\"none\" stroke=\"#1d4ed8\" stroke-width=\"0.6\" stroke-linecap=\"round\" "
+         "stroke-linejoin=\"round\" opacity=\"0.45\">\n";
+  for (const Stroke& s : d.strokes) out += "  " + poly(s) + "\n";
+  out += "</g>\n<g id=\"predicted\" fill=\"none\" stroke=\"#c2410c\" stroke-width=\"0.2\" stroke-linejoin=\"round\">\n";
+  for (const Stroke& s : ink.strokes) out += "  " + poly(s) + "\n";
+  out += "</g>\n";
+  if (ink.steps) {
+    char mark[600];
+    std::snprintf(mark, sizeof mark,
+                  "<g id=\"worst\"><circle cx=\"%.3f\" cy=\"%.3f\" r=\"1.5\" fill=\"none\" stroke=\"#b91c1c\" "
+                  "stroke-width=\"0.3\"/>\n<text x=\"%.3f\" y=\"%.3f\" font-family=\"sans-serif\" font-size=\"3.5\" "
+                  "fill=\"#333\">blue: the drawing; orange: the pen at every step; worst %.2f mm (line %d)</text></g>\n",
+                  sx(ink.worst_at), sy(ink.worst_at), margin, h - 3, ink.worst_mm, ink.worst_line);
+    out += mark;
+  }
+  return out + "</svg>\n";
 }
 
 }  // namespace articula::host

@@ -105,6 +105,10 @@ double travel_mm(const std::vector<Stroke>& strokes, Point2 start);
 std::string drawing_program(const Robot& robot, const std::vector<Stroke>& strokes, const PenSettings& pen,
                             const std::string& title);
 
+// The program and, per line (1-based), whether it draws (the pen down along a stroke).
+std::string drawing_program(const Robot& robot, const std::vector<Stroke>& strokes, const PenSettings& pen,
+                            const std::string& title, std::vector<int>* ink_lines);
+
 // ---- the whole of it, as the CLI, Python and the page ask for it
 
 struct DrawRequest {
@@ -127,6 +131,7 @@ struct Drawing {
   double travel_mm = 0;          // pen up between strokes, in this order
   double travel_unordered_mm = 0;  // the same in the order laid out
   std::string program;           // "" when it does not fit
+  std::vector<int> ink_lines;    // the program's lines (1-based) that draw: the pen down along a stroke
 };
 
 // Strokes from the text or the shape, placed, checked, ordered, and the program when the pen
@@ -138,6 +143,24 @@ Drawing make_drawing(const Robot& robot, const InverseKinematics& ik, const Draw
 // points, unreachable [[x, y]...], movable, move [dx, dy], advice}, start, travel_mm,
 // travel_unordered_mm, program}: how the bindings hand a drawing out.
 nlohmann::json drawing_json(const Drawing& d);
+
+// The line the arm will draw: the pen's tip at every step of the prediction (a prediction
+// made with its path kept, predict.h) along the drawing's ink lines, a polyline per stroke, on
+// the paper (x, y mm); and the worst distance of the tip from the ideal stroke, and where.
+struct PredictedInk {
+  std::vector<Stroke> strokes;
+  double worst_mm = 0;
+  Point2 worst_at{0, 0};
+  int worst_line = 0;
+  size_t steps = 0;  // tip positions drawn
+};
+struct Prediction;
+PredictedInk predicted_ink(const Drawing& d, const Prediction& prediction, const PenSettings& pen);
+
+// The drawing seen from above as SVG, the ideal strokes and the predicted ink as two layers
+// (groups "ideal" and "predicted"), the worst distance marked: for someone at +x facing the
+// arm, the table's +y to the right and +x down.
+std::string drawing_svg(const Drawing& d, const PredictedInk& ink, const std::string& title);
 // A request from JSON (the bindings): {text | shape, width, at [x, y], z, pen, lift, speed,
 // travel_speed, rotate, line_spacing, font}; unknown keys refused by name.
 DrawRequest draw_request_from_json(const nlohmann::json& j);

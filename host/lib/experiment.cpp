@@ -114,6 +114,33 @@ std::vector<TargetRow> tool_points(const std::vector<TargetPoses>& points) {
   return out;
 }
 
+std::vector<RepeatChain> repeat_chains(const std::vector<PlanStep>& steps) {
+  std::map<int, RepeatChain> chains;
+  for (size_t i = 0; i < steps.size(); ++i) {
+    const PlanStep& s = steps[i];
+    if (s.chain < 0) continue;
+    auto it = chains.find(s.chain);
+    if (it == chains.end()) {
+      RepeatChain c;
+      c.chain = s.chain;
+      c.line_before = i > 0 ? steps[i - 1].line : -1;
+      it = chains.emplace(s.chain, c).first;
+    }
+    RepeatChain& c = it->second;
+    if (s.back) {
+      ++c.back_moves;
+      c.line_back = s.line;
+    } else {
+      ++c.moves;
+      c.line_out = s.line;
+    }
+  }
+  std::vector<RepeatChain> out;
+  for (const auto& [n, c] : chains)
+    if (c.moves > 0) out.push_back(c);
+  return out;
+}
+
 std::vector<JointVerdict> joint_verdicts(const std::vector<VerdictPoint>& points) {
   std::vector<JointPoint> measured, quant;
   for (const VerdictPoint& p : points) {

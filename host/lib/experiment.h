@@ -65,6 +65,22 @@ struct ChainPoses {
   Vec3<double> start_m{0, 0, 0}, dest_m{0, 0, 0}, back_m{0, 0, 0};
 };
 
+// A plan's repeatability chains, from its commands in order (each its line and, for a move of
+// a chain, the chain's number and whether it goes out or back): per chain, in ascending
+// order, how many moves out and back, the line before its first move (-1: none, the arm at
+// power-up), and its last move out and back (-1: none). A chain without a move out is left
+// out. The studio's Experiment panel and the harness report group chains here.
+struct PlanStep {
+  int line = 0;
+  int chain = -1;  // -1: not a move of a chain
+  bool back = false;
+};
+struct RepeatChain {
+  int chain = 0, moves = 0, back_moves = 0;
+  int line_before = -1, line_out = -1, line_back = -1;
+};
+std::vector<RepeatChain> repeat_chains(const std::vector<PlanStep>& steps);
+
 // Table 5, a row per chain: the destination's quantization error (whole steps against the
 // exact angles), the model's return error (back against start), and with measurements the
 // destination measured against the model (and against the exact angles) and the return

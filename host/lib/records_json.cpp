@@ -299,6 +299,38 @@ std::vector<JointPoint> joint_points_of_json(const nlohmann::json& points) {
   return out;
 }
 
+nlohmann::json repeat_chains_json(const std::vector<RepeatChain>& chains) {
+  auto line = [](int l) { return l < 0 ? nlohmann::json(nullptr) : nlohmann::json(l); };
+  nlohmann::json out = nlohmann::json::array();
+  for (const RepeatChain& c : chains)
+    out.push_back({{"chain", c.chain}, {"moves", c.moves}, {"back_moves", c.back_moves}, {"line_before", line(c.line_before)},
+                   {"line_out", line(c.line_out)}, {"line_back", line(c.line_back)}});
+  return out;
+}
+
+std::vector<PlanStep> plan_steps_of_json(const nlohmann::json& commands) {
+  if (!commands.is_array()) throw std::invalid_argument("the plan's commands must be a list");
+  std::vector<PlanStep> out;
+  for (size_t i = 0; i < commands.size(); ++i) {
+    const nlohmann::json& c = commands[i];
+    const std::string where = "command " + std::to_string(i);
+    if (!c.is_object() || !c.contains("line") || !c["line"].is_number_integer())
+      throw std::invalid_argument(where + " must be {line, repeat} with a whole line number");
+    PlanStep s;
+    s.line = c["line"].get<int>();
+    const nlohmann::json r = c.value("repeat", nlohmann::json());
+    if (!r.is_null()) {
+      if (!r.is_array() || r.size() != 2 || !r[0].is_number_integer() || !r[1].is_string() ||
+          (r[1] != "out" && r[1] != "back") || r[0].get<int>() < 0)
+        throw std::invalid_argument(where + "'s repeat must be [chain, \"out\" or \"back\"]");
+      s.chain = r[0].get<int>();
+      s.back = r[1] == "back";
+    }
+    out.push_back(s);
+  }
+  return out;
+}
+
 nlohmann::json joint_verdicts_json(const std::vector<JointVerdict>& v) {
   nlohmann::json out = nlohmann::json::array();
   for (const JointVerdict& j : v)

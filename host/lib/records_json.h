@@ -74,6 +74,11 @@ nlohmann::json table4_json(const std::vector<Table4Row>& rows);
 // Verdicts per joint: [{"joint", "measured", "worst_mm", "quant_mm", "within", "text"}], from
 // single-joint poses [{"joint", "ideal", "quant", "measured" (or null)}].
 nlohmann::json joint_verdicts_json(const std::vector<JointVerdict>& v);
+// A plan's repeatability chains: [{"chain", "moves", "back_moves", "line_before", "line_out",
+// "line_back"} (null: none)], from its commands [{"line", "repeat": [chain, "out"|"back"] or
+// null}] (plan_json's commands).
+nlohmann::json repeat_chains_json(const std::vector<RepeatChain>& chains);
+std::vector<PlanStep> plan_steps_of_json(const nlohmann::json& commands);
 
 // The experiment as CSV (the studio's Experiment panel exports it): first every measurement in
 // the harness's --measured format (`plan,plan_line,x_mm,y_mm,z_mm`: hil/harness/measured.py

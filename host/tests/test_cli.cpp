@@ -555,11 +555,18 @@ TEST(Cli, PredictAStopSentWhileTheArmMoves) {
 
 TEST(Cli, DrawWritesAProgramThePredictionTakes) {
   const std::string out = testing::TempDir() + "draw-hello.arm";
-  const Result r = run("draw mk2plus --text Hello --width 60 --at 250,0 --z 0 --pen 120 -o " + out);
+  const std::string svg = testing::TempDir() + "draw-hello.svg";
+  const Result r = run("draw mk2plus --text Hello --width 60 --at 250,0 --z 0 --pen 120 -o " + out + " --svg-out " + svg);
   ASSERT_EQ(r.code, 0) << r.out;
   EXPECT_NE(r.out.find("\"Hello\": 18.5 x 60.0 mm, centred at (250.0, 0.0) mm, 7 strokes"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("reach: the pen reaches all"), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("prediction: 58 lines, the pen within"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("prediction: 58 lines, "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("on the paper the pen stays within "), std::string::npos) << r.out;
+  std::ifstream f(svg);
+  std::stringstream text;
+  text << f.rdbuf();
+  EXPECT_NE(text.str().find("<g id=\"ideal\""), std::string::npos);
+  EXPECT_NE(text.str().find("<g id=\"predicted\""), std::string::npos);
   // the program it wrote, predicted on its own: every line taken
   const Result p = run("predict mk2plus " + out);
   ASSERT_EQ(p.code, 0) << p.out;

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <algorithm>
 #include <functional>
 #include <sstream>
 
@@ -196,4 +197,40 @@ TEST(Program, DrawsEachStrokePenDownAndTheArmTakesEveryLine) {
   const Program prog = parse_program(text, "hi.arm", mk2());
   const Prediction pred = predict_program(mk2(), prog);
   for (const PredictRecord& r : pred.records) EXPECT_EQ(r.reply, articula::kOk) << r.text;
+}
+
+TEST(Ink, ThePenAtEveryStepAndItsWorstDistanceFromTheDrawing) {
+  DrawRequest req;
+  req.text = "Hi<&>";
+  req.width_mm = 40;
+  req.x = 260;
+  req.pen = pen120();
+  const Drawing d = make_drawing(mk2(), mk2_ik(), req);
+  ASSERT_TRUE(d.reach.fits) << d.reach.advice;
+  ASSERT_FALSE(d.ink_lines.empty());
+  const Prediction p = predict_program(mk2(), parse_program(d.program, "hi.arm", mk2()), {}, {}, true);
+  const PredictedInk ink = predicted_ink(d, p, req.pen);
+  EXPECT_GT(ink.steps, 20u);
+  // the steps leave the pen off the ideal lines, by less than a few of the MK2's steps at the tool
+  EXPECT_GT(ink.worst_mm, 0.05);
+  EXPECT_LT(ink.worst_mm, 3.0);
+  // the worst is the largest distance of any inked point from the nearest ideal stroke
+  double worst = 0;
+  for (const Stroke& s : ink.strokes)
+    for (size_t k = 1; k < s.size(); ++k) {  // (the first point: where the pen came down)
+      double nearest = INFINITY;
+      for (const Stroke& id : d.strokes)
+        for (size_t i = 1; i < id.size(); ++i) {
+          const double dx = id[i].x - id[i - 1].x, dy = id[i].y - id[i - 1].y, l2 = dx * dx + dy * dy;
+          const double t = l2 > 0 ? std::clamp(((s[k].x - id[i - 1].x) * dx + (s[k].y - id[i - 1].y) * dy) / l2, 0.0, 1.0) : 0;
+          nearest = std::min(nearest, std::hypot(s[k].x - id[i - 1].x - t * dx, s[k].y - id[i - 1].y - t * dy));
+        }
+      worst = std::max(worst, nearest);
+    }
+  EXPECT_LE(worst, ink.worst_mm + 1e-9);  // against its own segment the distance is at least the nearest
+  const std::string svg = drawing_svg(d, ink, d.what);
+  EXPECT_NE(svg.find("<g id=\"ideal\""), std::string::npos);
+  EXPECT_NE(svg.find("<g id=\"predicted\""), std::string::npos);
+  EXPECT_NE(svg.find("<title>&quot;Hi&lt;&amp;&gt;&quot;</title>"), std::string::npos) << svg.substr(0, 400);
+  EXPECT_EQ(svg.find("<&>"), std::string::npos);
 }
