@@ -170,20 +170,16 @@ def table4(rows, err_key="err", pct_key="pct"):
 
 def repeatability(res: PlanResult, robot_zero_tool):
     """Per chain: start, destination and return (thesis Table 5)."""
-    chains: dict[int, dict] = {}
-    prev = None
-    for r in res.records:
-        if r.command.repeat and r.pred is not None:
-            n, leg = r.command.repeat
-            c = chains.setdefault(n, {"out": [], "back": [], "before": prev})
-            c[leg].append(r)
-        prev = r
+    # the chains as the host library groups them (articula.repeat_chains), the studio's too
+    by_line = {r.line: r for r in res.records}
+    grouped = articula.repeat_chains([{"line": r.line, "repeat": list(r.command.repeat)
+                                       if r.command.repeat and r.pred is not None else None} for r in res.records])
     out = []
-    for n in sorted(chains):
-        c = chains[n]
-        if not c["out"]:
-            continue
-        before = c["before"]
+    for g in grouped:
+        n = g["chain"]
+        c = {"out": [by_line[g["line_out"]]] * g["moves"],
+             "back": [by_line[g["line_back"]]] * g["back_moves"] if g["line_back"] is not None else []}
+        before = by_line.get(g["line_before"]) if g["line_before"] is not None else None
         start_q = before.pred.tool_quantized if before is not None and before.pred else robot_zero_tool
         start_steps = before.pred.steps if before is not None and before.pred else None
         zeros = [0] * len(c["out"][0].pred.steps)

@@ -35,6 +35,7 @@ from ._core import (  # noqa: E402
     Sim,
     axis_errors,
     experiment_csv,
+    repeat_chains,
     joint_verdicts,
     measurement_question,
     parse_plan,
@@ -49,7 +50,7 @@ __all__ = [
     "Robot", "IkResult", "Program", "Sim", "Record", "Status", "STATUS", "status_text",
     "RobotFileError", "ProgramError", "SceneError", "LegacyError", "IK_STATUS", "rpy_deg",
     "axis_errors", "table4", "measurement_question", "parse_plan", "table5", "tool_points", "joint_verdicts",
-    "experiment_csv",
+    "experiment_csv", "repeat_chains",
 ]
 __version__ = "0.1.0"
 

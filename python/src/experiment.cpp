@@ -77,6 +77,15 @@ void bind_experiment(nb::module_& m) {
       "[{'joint', 'measured', 'worst_mm', 'quant_mm', 'within' (measured within 5 mm of the model on every axis), "
       "'text'}], as the studio's Experiment panel and the harness report give them.");
   m.def(
+      "repeat_chains",
+      [](nb::handle commands) {
+        return via_json(commands, host::plan_steps_of_json,
+                        [](const auto& s) { return host::repeat_chains_json(host::repeat_chains(s)); });
+      },
+      "commands"_a,
+      "A plan's repeatability chains from its commands in order [{'line', 'repeat': [chain, 'out'|'back'] or None}]: "
+      "[{'chain', 'moves', 'back_moves', 'line_before', 'line_out', 'line_back'} (None: none)], in chain order.");
+  m.def(
       "experiment_csv",
       [](nb::handle experiment) {
         const std::string text = nb::cast<std::string>(nb::module_::import_("json").attr("dumps")(experiment));

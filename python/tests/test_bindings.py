@@ -88,6 +88,7 @@ SAME = [
     ("table5", "table5"),
     ("joint_verdicts", "jointVerdicts"),
     ("experiment_csv", "experimentCsv"),
+    ("repeat_chains", "repeatChains"),
     ("tool_points", "toolPoints"),
 ]
 
@@ -144,7 +145,7 @@ for (const cls of ["Robot", "Sim", "Timeline"])
   for (const k of Object.getOwnPropertyNames(M[cls].prototype))
     if (!["constructor", "delete", "isDeleted", "clone", "isAliasOf", "deleteLater"].includes(k)) ops.push(`${{cls}}.${{k}}`);
 for (const k of ["predict", "run", "quantize", "programFormat", "parseProgram", "programFit", "blocksProgram", "programActions", "protocolLine", "moveLine", "drawing", "statusText", "statusTable", "settingsTable", "parseArmLine", "firstIntervalS",
-                 "axisErrors", "table4", "measurementQuestion", "parsePlan", "table5", "toolPoints", "jointVerdicts", "experimentCsv"])
+                 "axisErrors", "table4", "measurementQuestion", "parsePlan", "table5", "toolPoints", "jointVerdicts", "experimentCsv", "repeatChains"])
   if (typeof M[k] === "function") ops.push(k);
 console.log(JSON.stringify(ops));
 """

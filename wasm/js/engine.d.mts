@@ -93,6 +93,8 @@ export class Engine {
   firstIntervalS(maxRate: number, accel: number): number;
   axisErrors(value: number[], reference: number[]): { mm: number[]; pct: (number | null)[] };
   experimentCsv(experiment: Record<string, unknown>): string;
+  repeatChains(commands: { line: number; repeat: [number, string] | null }[]):
+    { chain: number; moves: number; back_moves: number; line_before: number | null; line_out: number; line_back: number | null }[];
   jointVerdicts(points: { joint: number; ideal: number[]; quant: number[]; measured: number[] | null }[]):
     { joint: number; measured: boolean; worst_mm: number; quant_mm: number; within: boolean; text: string }[];
   table4(points: { joint: number; value: number[]; reference: number[] }[]):

@@ -199,6 +199,8 @@ export class Engine {
   /** The thesis's Table 4 from points [{joint, value, reference}]: [{joint, poses, axes: [{max_pct, max_mm, avg_mm}]}]. */
   table4(points) { return checked(this.M.table4(JSON.stringify(points))); }
   /** A verdict per joint from single-joint poses [{joint, ideal, quant, measured|null}]. */
+  /** A plan's repeatability chains from its commands [{line, repeat}]. */
+  repeatChains(commands) { return checked(this.M.repeatChains(JSON.stringify(commands))); }
   /** The experiment as CSV: the measurements first (the harness's --measured format), then the tables. */
   experimentCsv(experiment) { return checked(this.M.experimentCsv(JSON.stringify(experiment))); }
   jointVerdicts(points) { return checked(this.M.jointVerdicts(JSON.stringify(points))); }

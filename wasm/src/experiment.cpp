@@ -39,6 +39,9 @@ EMSCRIPTEN_BINDINGS(articula_experiment) {
   function("jointVerdicts", +[](const std::string& points) {
     return guarded([&] { return host::joint_verdicts_json(host::joint_verdicts(host::verdict_points_of_json(json::parse(points)))).dump(); });
   });
+  function("repeatChains", +[](const std::string& commands) {
+    return guarded([&] { return host::repeat_chains_json(host::repeat_chains(host::plan_steps_of_json(json::parse(commands)))).dump(); });
+  });
   function("experimentCsv", +[](const std::string& experiment) {
     return guarded([&] { return json(host::experiment_csv(json::parse(experiment))).dump(); });
   });

@@ -34,7 +34,9 @@ export const experimentHandlers: Record<string, (m: Msg) => Out[]> = {
       const zero = (S.robot.info.motors as { zero: number }[]).map((x) => x.zero);
       // the tool at the power-up pose (every motor at step 0: its zero angle, exactly)
       const start = (S.robot.pose(S.robot.jointsFromMotors(zero)) as { tool: { xyz: number[] } }).tool.xyz;
-      return [{ type: "experiment_plan", plan, records, reach_mm: info().reach_mm, zero, start, start_line: S.robot.protocolLine("M", zero) }];
+      // the repeatability chains, grouped by the engine (host/lib/experiment.h, repeat_chains)
+      const chains = S.engine.repeatChains((plan as { commands: { line: number; repeat: [number, string] | null }[] }).commands);
+      return [{ type: "experiment_plan", plan, records, chains, reach_mm: info().reach_mm, zero, start, start_line: S.robot.protocolLine("M", zero) }];
     } catch (e) {
       if (!(e instanceof EngineError)) throw e;
       return [{ type: "experiment_plan", error: e.message }];

@@ -34,6 +34,7 @@ interface PlanDoc {
   plan: { title: string; notes: string[]; commands: { line: number; text: string; kind: string; single_joint: [number, number] | null;
     repeat: [number, "out" | "back"] | null }[] };
   records: { line: number; code: number; steps: number[] | null; tool_ideal_mm: Xyz; tool_quantized_mm: Xyz; target_mm: Xyz | null }[];
+  chains: { chain: number; moves: number; back_moves: number; line_before: number | null; line_out: number; line_back: number | null }[];
   zero: number[]; start: Xyz; start_line: string; error?: string;
 }
 
@@ -110,32 +111,20 @@ async function runPlan(): Promise<void> {
   const byLine = new Map(doc.records.map((r) => [r.line, r]));
   const stops = hook.stops;
   const points: ExperimentPoint[] = [];
-  // Repeatability chains (thesis 5.3): the pose before each, its last move out and its last
-  // move back are measured (a pose measured once serves every chain that starts there).
-  const cmds = doc.plan.commands;
+  // Repeatability chains (thesis 5.3), as the engine groups them: the pose before each, its
+  // last move out and its last move back are measured (a pose measured once serves every
+  // chain that starts there).
   const chains = new Map<number, ExperimentChain & { before: number | null }>();
-  cmds.forEach((c, i) => {
-    if (!c.repeat) return;
-    const [n, leg] = c.repeat;
-    const pred = byLine.get(c.line);
-    if (!pred) return;
-    let ch = chains.get(n);
-    if (!ch) {
-      const before = i > 0 ? cmds[i - 1].line : null;
-      const b = before === null ? null : byLine.get(before);
-      ch = { chain: n, moves: 0, back_moves: 0, line_out: c.line, line_back: null, start: b ? b.tool_quantized_mm : doc.start,
-        dest_quant: pred.tool_quantized_mm, dest_ideal: pred.tool_ideal_mm, back_quant: null, start_measured: null,
-        dest_measured: null, back_measured: null, steps_back: null, before };
-      chains.set(n, ch);
-    }
-    if (leg === "out") {
-      ch.moves++;
-      Object.assign(ch, { line_out: c.line, dest_quant: pred.tool_quantized_mm, dest_ideal: pred.tool_ideal_mm });
-    } else {
-      ch.back_moves++;
-      Object.assign(ch, { line_back: c.line, back_quant: pred.tool_quantized_mm });
-    }
-  });
+  for (const rc of doc.chains) {
+    const out = byLine.get(rc.line_out);
+    if (!out) continue;
+    const b = rc.line_before === null ? null : byLine.get(rc.line_before);
+    const back = rc.line_back === null ? null : byLine.get(rc.line_back);
+    chains.set(rc.chain, { chain: rc.chain, moves: rc.moves, back_moves: rc.back_moves, line_out: rc.line_out, line_back: rc.line_back,
+      start: b ? b.tool_quantized_mm : doc.start, dest_quant: out.tool_quantized_mm, dest_ideal: out.tool_ideal_mm,
+      back_quant: back ? back.tool_quantized_mm : null, start_measured: null, dest_measured: null, back_measured: null,
+      steps_back: null, before: rc.line_before });
+  }
   const chainAt = (line: number) => [...chains.values()].filter((ch) => ch.before === line || ch.line_out === line || ch.line_back === line);
   const measuredAt = new Map<number, number[] | null>(); // line: what was measured there
   const stepsAt = new Map<number, number[]>(); // line: the arm's steps after it
