@@ -13,6 +13,9 @@
 #include "program.h"
 #include "robot_file.h"
 #include "robot_view.h"
+#include "svg.h"
+
+#include <fstream>
 
 namespace articula::cli {
 namespace {
@@ -28,10 +31,12 @@ int run(int argc, char** argv) {
                         "Writes the program that draws text or a shape with a pen held in the gripper: the strokes "
                         "placed on the paper, checked against the arm's reach, ordered to cut the travel, the pen "
                         "lifted between them; then predicts how far the steps keep the pen from the lines.");
-  opts.custom_help("ROBOT (--text TEXT | --shape square|circle|star) --width MM --at X,Y --z MM [options] [-o PROGRAM.arm]");
+  opts.custom_help("ROBOT (FILE.svg | --text TEXT | --shape square|circle|star) --width MM --at X,Y --z MM [options] "
+                   "[-o PROGRAM.arm]");
   opts.add_options()("text", "text to write, in a single-stroke Hershey font ('\\n' in it starts a line)",
                      cxxopts::value<std::string>())(
       "shape", "a first lesson's shape: square, circle or star", cxxopts::value<std::string>())(
+      "tolerance", "an SVG's curves as straight lines within this of the curve, mm", cxxopts::value<double>()->default_value("0.1"))(
       "width", "the drawing's width on the paper, mm", cxxopts::value<double>())(
       "at", "the drawing's centre on the table, x,y mm", cxxopts::value<std::string>())(
       "z", "the paper's height in the robot's base frame, mm", cxxopts::value<double>())(
@@ -47,8 +52,9 @@ int run(int argc, char** argv) {
       cxxopts::value<std::string>())(
       "o,output", "write the program here (default: standard output, the report to standard error)",
       cxxopts::value<std::string>())("h,help", "this help")(
-      "robot", "robot file or shipped robot name", cxxopts::value<std::string>());
-  opts.parse_positional({"robot"});
+      "robot", "robot file or shipped robot name", cxxopts::value<std::string>())(
+      "svg", "an SVG file to draw", cxxopts::value<std::string>());
+  opts.parse_positional({"robot", "svg"});
   const auto args = opts.parse(argc, argv);
   if (args.count("help")) {
     std::cout << opts.help()
@@ -61,7 +67,8 @@ int run(int argc, char** argv) {
     return 0;
   }
   if (!args.count("robot")) throw UsageError("no robot given");
-  if (args.count("text") == args.count("shape")) throw UsageError("give one of --text and --shape");
+  if (args.count("text") + args.count("shape") + args.count("svg") != 1)
+    throw UsageError("give one of an SVG file, --text and --shape");
   for (const char* req : {"width", "at", "z"})
     if (!args.count(req)) throw UsageError(std::string("--") + req + " is needed");
   const std::vector<double> at = parse_number_list(args["at"].as<std::string>(), "--at");
@@ -73,9 +80,21 @@ int run(int argc, char** argv) {
       if (text[i] == '\\' && i + 1 < text.size() && text[i + 1] == 'n') req.text += '\n', ++i;
       else req.text += text[i];
     }
-  } else {
+  } else if (args.count("shape")) {
     req.shape = args["shape"].as<std::string>();
+  } else {
+    const std::string path = args["svg"].as<std::string>();
+    std::ifstream f(path, std::ios::binary | std::ios::ate);
+    if (!f) throw UsageError("cannot read " + path);
+    const auto size = static_cast<size_t>(f.tellg());
+    if (size > host::kMaxSvgBytes) throw UsageError(path + ": " + std::to_string(size / 1024) + " KB: a drawing is at most 5 MB");
+    f.seekg(0);
+    req.svg.assign(size, '\0');
+    f.read(req.svg.data(), std::streamsize(size));
+    if (req.svg.empty()) throw UsageError(path + ": empty: not an SVG file");
+    req.svg_name = path;
   }
+  req.tolerance_mm = positive(args, "tolerance");
   req.font_path = args["font"].as<std::string>();
   req.line_spacing = positive(args, "line-spacing");
   req.width_mm = positive(args, "width");
@@ -93,6 +112,8 @@ int run(int argc, char** argv) {
   try {
     d = host::make_drawing(robot, ik, req);
   } catch (const std::invalid_argument& e) {
+    throw UsageError(e.what());
+  } catch (const host::SvgError& e) {
     throw UsageError(e.what());
   }
   std::ostream& report = args.count("output") ? std::cout : std::cerr;

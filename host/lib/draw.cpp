@@ -12,6 +12,7 @@
 
 #include "blocks.h"
 #include "predict.h"
+#include "svg.h"
 #include "robot_view.h"
 
 namespace articula::host {
@@ -399,7 +400,8 @@ std::string drawing_program(const Robot& robot, const std::vector<Stroke>& strok
 }
 
 Drawing make_drawing(const Robot& robot, const InverseKinematics& ik, const DrawRequest& req) {
-  if (req.text.empty() == req.shape.empty()) throw std::invalid_argument("give one of a text and a shape");
+  if (int(!req.text.empty()) + int(!req.shape.empty()) + int(!req.svg.empty()) != 1)
+    throw std::invalid_argument("give one of a text, a shape and an SVG file");
   const PenSettings& pen = req.pen;
   if (!std::isfinite(pen.paper_z) || !(pen.pen_mm >= 0) || !std::isfinite(pen.pen_mm))
     throw std::invalid_argument("the paper's height must be a number and the pen's length >= 0 mm");
@@ -412,9 +414,17 @@ Drawing make_drawing(const Robot& robot, const InverseKinematics& ik, const Draw
     const HersheyFont font = load_hershey(req.font_path.empty() ? default_font_path() : req.font_path);
     laid = text_strokes(font, req.text, 10, req.line_spacing);
     d.what = "\"" + req.text + "\"";
-  } else {
+  } else if (!req.shape.empty()) {
     laid = shape_strokes(req.shape);
     d.what = "a " + req.shape;
+  } else {
+    if (!(req.tolerance_mm > 0) || !std::isfinite(req.tolerance_mm)) throw std::invalid_argument("the chord tolerance must be > 0 mm");
+    if (!(req.width_mm > 0) || !std::isfinite(req.width_mm)) throw std::invalid_argument("the drawing's width must be > 0 mm");
+    const SvgDrawing svg = read_svg(req.svg, req.svg_name);
+    if (!(svg.bounds.width() > 0)) throw SvgError(req.svg_name + ": the drawing has no width: nothing to scale");
+    // the tolerance on the paper, in the file's units: the drawing is scaled to the width
+    laid = flatten_svg(svg, req.tolerance_mm * svg.bounds.width() / req.width_mm);
+    d.what = req.svg_name;
   }
   d.strokes = place_strokes(laid, req.width_mm, req.x, req.y, req.rotation_deg);
   d.bounds = bounds_of(d.strokes);
@@ -465,7 +475,7 @@ nlohmann::json drawing_json(const Drawing& d) {
 
 DrawRequest draw_request_from_json(const nlohmann::json& j) {
   if (!j.is_object()) throw std::invalid_argument("a drawing request is an object");
-  static const char* const kKeys[] = {"text", "shape", "font", "line_spacing", "width", "at", "z", "pen", "lift",
+  static const char* const kKeys[] = {"text", "shape", "svg", "svg_name", "tolerance", "font", "line_spacing", "width", "at", "z", "pen", "lift",
                                       "speed", "travel_speed", "rotate"};
   for (auto it = j.begin(); it != j.end(); ++it)
     if (std::find_if(std::begin(kKeys), std::end(kKeys), [&](const char* k) { return it.key() == k; }) == std::end(kKeys))
@@ -483,6 +493,9 @@ DrawRequest draw_request_from_json(const nlohmann::json& j) {
   DrawRequest r;
   r.text = str("text");
   r.shape = str("shape");
+  r.svg = str("svg");
+  if (!str("svg_name").empty()) r.svg_name = str("svg_name");
+  r.tolerance_mm = num("tolerance", r.tolerance_mm);
   r.font_path = str("font");
   r.line_spacing = num("line_spacing", r.line_spacing);
   r.width_mm = num("width", 0);

@@ -113,7 +113,10 @@ std::string drawing_program(const Robot& robot, const std::vector<Stroke>& strok
 
 struct DrawRequest {
   std::string text;          // text to write ('\n' starts a line), or
-  std::string shape;         // a shape: square, circle, star (exactly one of the two)
+  std::string shape;         // a shape: square, circle, star, or
+  std::string svg;           // an SVG file's text (svg.h), named svg_name (exactly one of the three)
+  std::string svg_name = "drawing.svg";
+  double tolerance_mm = 0.1;  // an SVG's curves flattened within this of the curve, on the paper
   std::string font_path;     // "" : default_font_path()
   double line_spacing = 1.6;
   double width_mm = 0;       // the drawing's width on the paper
@@ -134,9 +137,10 @@ struct Drawing {
   std::vector<int> ink_lines;    // the program's lines (1-based) that draw: the pen down along a stroke
 };
 
-// Strokes from the text or the shape, placed, checked, ordered, and the program when the pen
-// reaches all of it. Throws std::invalid_argument for a request that cannot be drawn at all
-// (no text and no shape, both, a character the font lacks, a width <= 0, a font unread).
+// Strokes from the text, the shape or the SVG, placed, checked, ordered, and the program when
+// the pen reaches all of it. Throws std::invalid_argument for a request that cannot be drawn
+// at all (not exactly one of text, shape and SVG, a character the font lacks, a width <= 0, a
+// font unread), SvgError (svg.h) for an SVG refused.
 Drawing make_drawing(const Robot& robot, const InverseKinematics& ik, const DrawRequest& request);
 
 // {what, bounds {min_x, min_y, max_x, max_y}, strokes [[[x, y], ...], ...], reach {fits,

@@ -587,3 +587,19 @@ TEST(Cli, DrawSaysWhichWayToMoveADrawingThatDoesNotFit) {
   r = run("draw mk2plus --width 40 --at 250,0 --z 0");
   EXPECT_NE(r.out.find("give one of --text and --shape"), std::string::npos) << r.out;
 }
+
+TEST(Cli, DrawAnSvgFileAndRefuseAHostileOne) {
+  Result r = run(std::string("draw mk2plus ") + ARTICULA_SOURCE_DIR + "/examples/drawings/bicycle.svg --width 50 --at 260,0 --z 0 "
+                 "--pen 120 -o " + testing::TempDir() + "bicycle.arm");
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("bicycle.svg: "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("on the paper the pen stays within "), std::string::npos) << r.out;
+  const std::string bad = testing::TempDir() + "hostile.svg";
+  std::ofstream(bad) << "<svg xmlns=\"http://www.w3.org/2000/svg\" onload=\"alert(1)\"><path d=\"M0 0 L1 1\"/></svg>";
+  r = run("draw mk2plus " + bad + " --width 50 --at 260,0 --z 0 --pen 120");
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("has an event handler (onload): a drawing never runs code"), std::string::npos) << r.out;
+  r = run("draw mk2plus /nonexistent.svg --width 50 --at 260,0 --z 0");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.out.find("cannot read /nonexistent.svg"), std::string::npos) << r.out;
+}

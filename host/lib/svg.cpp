@@ -1,0 +1,221 @@
+// host/lib/svg.cpp - an SVG's geometry through SVG++ (svg.h).
+#include "svg.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstring>
+
+#include <rapidxml_ns/rapidxml_ns.hpp>
+#include <svgpp/policy/xml/rapidxml_ns.hpp>
+#include <svgpp/svgpp.hpp>
+
+namespace articula::host {
+
+namespace {
+
+using Matrix = std::array<double, 6>;  // x' = a x + c y + e, y' = b x + d y + f: SVG's [a b c d e f]
+
+Matrix multiply(const Matrix& m, const Matrix& n) {  // m then n inside it: m * n
+  return {m[0] * n[0] + m[2] * n[1], m[1] * n[0] + m[3] * n[1], m[0] * n[2] + m[2] * n[3],
+          m[1] * n[2] + m[3] * n[3], m[0] * n[4] + m[2] * n[5] + m[4], m[1] * n[4] + m[3] * n[5] + m[5]};
+}
+
+// What SVG++ hands over: the transforms of the elements entered, and their geometry in
+// absolute coordinates, curves as cubic Beziers (the "minimal" path policy).
+class Context {
+ public:
+  explicit Context(SvgDrawing& out) : out_(out) { stack_.push_back({1, 0, 0, 1, 0, 0}); }
+
+  void on_enter_element(svgpp::tag::element::any) { stack_.push_back(stack_.back()); }
+  void on_exit_element() { stack_.pop_back(); }
+  void transform_matrix(const boost::array<double, 6>& m) {
+    stack_.back() = multiply(stack_.back(), {m[0], m[1], m[2], m[3], m[4], m[5]});
+  }
+  void set_viewport(double, double, double, double) {}
+  void set_viewbox_size(double, double) {}
+  void disable_rendering() {}
+
+  void path_move_to(double x, double y, svgpp::tag::coordinate::absolute) {
+    SvgPath p;
+    p.start = at(x, y);
+    out_.paths.push_back(p);
+    current_ = {x, y};
+    subpath_start_ = current_;
+  }
+  void path_line_to(double x, double y, svgpp::tag::coordinate::absolute) {
+    const Point2 a = at(current_.x, current_.y), b = at(x, y);
+    add({Point2{a.x + (b.x - a.x) / 3, a.y + (b.y - a.y) / 3}, Point2{a.x + 2 * (b.x - a.x) / 3, a.y + 2 * (b.y - a.y) / 3}, b});
+    current_ = {x, y};
+  }
+  void path_cubic_bezier_to(double x1, double y1, double x2, double y2, double x, double y,
+                            svgpp::tag::coordinate::absolute) {
+    add({at(x1, y1), at(x2, y2), at(x, y)});
+    current_ = {x, y};
+  }
+  void path_close_subpath() {
+    if (out_.paths.empty()) return;
+    if (current_.x != subpath_start_.x || current_.y != subpath_start_.y)
+      path_line_to(subpath_start_.x, subpath_start_.y, svgpp::tag::coordinate::absolute());
+    out_.paths.back().closed = true;
+    // a path goes on from its subpath's start after a close
+    SvgPath p;
+    p.start = at(subpath_start_.x, subpath_start_.y);
+    out_.paths.push_back(p);
+    current_ = subpath_start_;
+  }
+  void path_exit() {}
+
+ private:
+  Point2 at(double x, double y) const {
+    const Matrix& m = stack_.back();
+    return {m[0] * x + m[2] * y + m[4], -(m[1] * x + m[3] * y + m[5])};  // y up
+  }
+  void add(const std::array<Point2, 3>& c) {
+    if (out_.paths.empty()) {
+      SvgPath p;
+      p.start = at(current_.x, current_.y);
+      out_.paths.push_back(p);
+    }
+    out_.paths.back().cubics.push_back(c);
+  }
+
+  SvgDrawing& out_;
+  std::vector<Matrix> stack_;
+  Point2 current_{0, 0}, subpath_start_{0, 0};
+};
+
+typedef boost::mpl::set<svgpp::tag::element::svg, svgpp::tag::element::g, svgpp::tag::element::circle,
+                        svgpp::tag::element::ellipse, svgpp::tag::element::line, svgpp::tag::element::path,
+                        svgpp::tag::element::polygon, svgpp::tag::element::polyline, svgpp::tag::element::rect>::type
+    processed_elements_t;
+
+typedef boost::mpl::fold<
+    boost::mpl::protect<boost::mpl::joint_view<svgpp::traits::shapes_attributes_by_element, svgpp::traits::viewport_attributes>>,
+    boost::mpl::set<svgpp::tag::attribute::transform>::type, boost::mpl::insert<boost::mpl::_1, boost::mpl::_2>>::type
+    processed_attributes_t;
+
+bool starts_with_ci(const char* s, size_t n, const char* prefix) {
+  const size_t k = std::strlen(prefix);
+  if (n < k) return false;
+  for (size_t i = 0; i < k; ++i)
+    if (std::tolower(static_cast<unsigned char>(s[i])) != prefix[i]) return false;
+  return true;
+}
+
+// Refuses what could run or reach outside the file, element by element.
+void check_node(const rapidxml_ns::xml_node<>* n, const std::string& name) {
+  for (; n; n = n->next_sibling()) {
+    if (n->type() != rapidxml_ns::node_element) continue;
+    const std::string local(n->local_name(), n->local_name_size());
+    if (local == "script") throw SvgError(name + ": holds a <script>: a drawing never runs code");
+    if (local == "foreignObject") throw SvgError(name + ": holds a <foreignObject> (HTML inside the drawing): not drawn");
+    for (const rapidxml_ns::xml_attribute<>* a = n->first_attribute(); a; a = a->next_attribute()) {
+      const std::string attr(a->local_name(), a->local_name_size());
+      if (starts_with_ci(a->local_name(), a->local_name_size(), "on"))
+        throw SvgError(name + ": <" + local + "> has an event handler (" + attr + "): a drawing never runs code");
+      if (attr == "href" && !(a->value_size() > 0 && a->value()[0] == '#'))
+        throw SvgError(name + ": <" + local + "> refers to something outside the file (" +
+                       std::string(a->value(), std::min<size_t>(a->value_size(), 80)) + "): nothing is fetched");
+      const std::string value(a->value(), a->value_size());
+      if (value.find("url(") != std::string::npos && value.find("url(#") == std::string::npos)
+        throw SvgError(name + ": <" + local + "> refers to something outside the file (" + value.substr(0, 80) +
+                       "): nothing is fetched");
+    }
+    check_node(n->first_node(), name);
+  }
+}
+
+void grow(Bounds& b, bool& any, Point2 p) {
+  if (!any) b = {p.x, p.y, p.x, p.y};
+  any = true;
+  b.min_x = std::min(b.min_x, p.x), b.max_x = std::max(b.max_x, p.x);
+  b.min_y = std::min(b.min_y, p.y), b.max_y = std::max(b.max_y, p.y);
+}
+
+// A cubic flattened: subdivided until its control points are within `tol` of its chord.
+void flatten_cubic(Point2 p0, Point2 p1, Point2 p2, Point2 p3, double tol, Stroke& out, int depth = 0) {
+  const double dx = p3.x - p0.x, dy = p3.y - p0.y, len = std::hypot(dx, dy);
+  auto off = [&](Point2 p) {
+    return len > 1e-12 ? std::fabs((p.x - p0.x) * dy - (p.y - p0.y) * dx) / len : std::hypot(p.x - p0.x, p.y - p0.y);
+  };
+  if (depth >= 16 || std::max(off(p1), off(p2)) <= tol) {
+    out.push_back(p3);
+    return;
+  }
+  auto mid = [](Point2 a, Point2 b) { return Point2{(a.x + b.x) / 2, (a.y + b.y) / 2}; };
+  const Point2 a = mid(p0, p1), b = mid(p1, p2), c = mid(p2, p3), ab = mid(a, b), bc = mid(b, c), m = mid(ab, bc);
+  flatten_cubic(p0, a, ab, m, tol, out, depth + 1);
+  flatten_cubic(m, bc, c, p3, tol, out, depth + 1);
+}
+
+}  // namespace
+
+SvgDrawing read_svg(const std::string& text, const std::string& name) {
+  if (text.size() > kMaxSvgBytes)
+    throw SvgError(name + ": " + std::to_string(text.size() / 1024) + " KB: a drawing is at most 5 MB");
+  // rapidxml expands no entity but the five of XML; a DOCTYPE with declarations is refused
+  // before it is read (the way into an XML bomb or an outside file)
+  const size_t doctype = text.find("<!DOCTYPE");
+  if (text.find("<!ENTITY") != std::string::npos || (doctype != std::string::npos && text.find('[', doctype) != std::string::npos &&
+                                                     text.find('[', doctype) < text.find('>', doctype)))
+    throw SvgError(name + ": declares entities (a DOCTYPE with declarations): refused, as an XML bomb would be");
+  std::vector<char> buf(text.begin(), text.end());
+  buf.push_back('\0');
+  rapidxml_ns::xml_document<> doc;
+  try {
+    doc.parse<rapidxml_ns::parse_no_entity_translation>(buf.data());
+  } catch (const rapidxml_ns::parse_error& e) {
+    throw SvgError(name + ": not an SVG file: " + e.what() + " at byte " + std::to_string(e.where<char>() - buf.data()));
+  }
+  const rapidxml_ns::xml_node<>* root = doc.first_node();
+  while (root && root->type() != rapidxml_ns::node_element) root = root->next_sibling();
+  if (!root || std::string(root->local_name(), root->local_name_size()) != "svg")
+    throw SvgError(name + ": not an SVG file: its first element is " +
+                   (root ? "<" + std::string(root->name(), root->name_size()) + ">" : std::string("missing")));
+  check_node(root, name);
+
+  SvgDrawing out;
+  out.source = name;
+  Context context(out);
+  try {
+    svgpp::document_traversal<svgpp::processed_elements<processed_elements_t>,
+                              svgpp::processed_attributes<processed_attributes_t>,
+                              svgpp::viewport_policy<svgpp::policy::viewport::as_transform>,
+                              svgpp::path_policy<svgpp::policy::path::minimal>>::load_document(root, context);
+  } catch (const std::exception& e) {
+    throw SvgError(name + ": cannot be read: " + e.what());
+  }
+  // drop subpaths with nothing drawn
+  out.paths.erase(std::remove_if(out.paths.begin(), out.paths.end(), [](const SvgPath& p) { return p.cubics.empty(); }),
+                  out.paths.end());
+  if (out.paths.empty()) throw SvgError(name + ": no drawable path (paths, lines, polylines, polygons, rects, circles, ellipses)");
+  bool any = false;
+  for (const SvgPath& p : out.paths) {
+    grow(out.bounds, any, p.start);
+    for (const auto& c : p.cubics)
+      for (const Point2& q : c) grow(out.bounds, any, q);
+  }
+  for (const SvgPath& p : out.paths)
+    for (const auto& c : p.cubics)
+      for (const Point2& q : c)
+        if (!std::isfinite(q.x) || !std::isfinite(q.y)) throw SvgError(name + ": a coordinate is not a finite number");
+  return out;
+}
+
+std::vector<Stroke> flatten_svg(const SvgDrawing& svg, double tolerance) {
+  if (!(tolerance > 0)) throw std::invalid_argument("the chord tolerance must be > 0");
+  std::vector<Stroke> out;
+  for (const SvgPath& p : svg.paths) {
+    Stroke s{p.start};
+    Point2 at = p.start;
+    for (const auto& c : p.cubics) {
+      flatten_cubic(at, c[0], c[1], c[2], tolerance, s);
+      at = c[2];
+    }
+    out.push_back(std::move(s));
+  }
+  return out;
+}
+
+}  // namespace articula::host

@@ -1,0 +1,116 @@
+// Tests host/lib/svg.cpp: every shape SVG draws, transforms and the viewBox, curves flattened
+// within the tolerance, and a hostile file refused with its reason.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <functional>
+#include <sstream>
+
+#include "svg.h"
+
+using namespace articula::host;
+
+namespace {
+std::string svg(const std::string& body, const std::string& attrs = "") {
+  return "<svg xmlns=\"http://www.w3.org/2000/svg\" xmlns:xlink=\"http://www.w3.org/1999/xlink\" " + attrs + ">" + body +
+         "</svg>";
+}
+std::string refusal(const std::string& text) {
+  try {
+    read_svg(text, "t.svg");
+  } catch (const SvgError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+std::string file(const std::string& path) {
+  std::ifstream f(std::string(ARTICULA_SOURCE_DIR) + "/" + path);
+  std::stringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+}  // namespace
+
+TEST(Svg, EveryShapeWithItsTransformAndTheViewBoxYUp) {
+  // viewBox 0 0 100 50 on 200 x 100: twice; the rect moved 5 right by its transform
+  const SvgDrawing d = read_svg(svg("<rect x=\"10\" y=\"10\" width=\"20\" height=\"10\" transform=\"translate(5,0)\"/>",
+                                    "width=\"200\" height=\"100\" viewBox=\"0 0 100 50\""),
+                                "t.svg");
+  ASSERT_EQ(d.paths.size(), 1u);
+  EXPECT_TRUE(d.paths[0].closed);
+  EXPECT_NEAR(d.bounds.min_x, 30, 1e-9);
+  EXPECT_NEAR(d.bounds.max_x, 70, 1e-9);
+  EXPECT_NEAR(d.bounds.max_y, -20, 1e-9);  // y up: SVG's y 10 .. 20, doubled, below 0
+  EXPECT_NEAR(d.bounds.min_y, -40, 1e-9);
+  // each kind of element draws
+  for (const char* e : {"<line x1=\"0\" y1=\"0\" x2=\"10\" y2=\"5\"/>", "<polyline points=\"0,0 10,0 10,10\"/>",
+                        "<polygon points=\"0,0 10,0 5,8\"/>", "<circle cx=\"5\" cy=\"5\" r=\"4\"/>",
+                        "<ellipse cx=\"5\" cy=\"5\" rx=\"4\" ry=\"2\"/>", "<path d=\"M0 0 Q 5 10 10 0 T 20 0\"/>",
+                        "<g transform=\"rotate(90)\"><path d=\"m0 0 h10 v10 z\"/></g>"})
+    EXPECT_FALSE(read_svg(svg(e), "t.svg").paths.empty()) << e;
+  // a group's transform applies to its children, and not after it
+  const SvgDrawing g = read_svg(svg("<g transform=\"translate(100 0)\"><line x1=\"0\" y1=\"0\" x2=\"1\" y2=\"0\"/></g>"
+                                    "<line x1=\"0\" y1=\"0\" x2=\"1\" y2=\"0\"/>"),
+                                "t.svg");
+  ASSERT_EQ(g.paths.size(), 2u);
+  EXPECT_NEAR(g.paths[0].start.x, 100, 1e-9);
+  EXPECT_NEAR(g.paths[1].start.x, 0, 1e-9);
+}
+
+TEST(Svg, CurvesAndArcsFlattenWithinTheTolerance) {
+  const SvgDrawing c = read_svg(svg("<circle cx=\"0\" cy=\"0\" r=\"50\"/><path d=\"M 100 0 A 10 10 0 0 1 120 0\"/>"), "t.svg");
+  for (double tol : {1.0, 0.1, 0.01}) {
+    const std::vector<Stroke> s = flatten_svg(c, tol);
+    ASSERT_EQ(s.size(), 2u);
+    double worst = 0;
+    for (const Point2& p : s[0]) worst = std::max(worst, std::fabs(std::hypot(p.x, p.y) - 50));
+    // every vertex on the circle (the cubics' own error, about 0.03 % of the radius, beside)
+    EXPECT_LT(worst, 0.02 + 1e-9) << tol;
+    // and between vertices the chord stays within the tolerance: its middle
+    for (size_t i = 1; i < s[0].size(); ++i) {
+      const Point2 m{(s[0][i - 1].x + s[0][i].x) / 2, (s[0][i - 1].y + s[0][i].y) / 2};
+      EXPECT_LT(50 - std::hypot(m.x, m.y), tol + 0.02) << tol;
+    }
+    for (const Point2& p : s[1]) EXPECT_NEAR(std::hypot(p.x - 110, p.y), 10, tol + 0.01) << tol;
+    if (tol < 1) {
+      EXPECT_GT(s[0].size(), 20u);
+    }
+  }
+}
+
+TEST(Svg, TheShippedIconsRead) {
+  for (const char* f : {"examples/drawings/house.svg", "examples/drawings/bicycle.svg"}) {
+    const SvgDrawing d = read_svg(file(f), f);
+    EXPECT_GE(d.paths.size(), 2u) << f;
+    EXPECT_NEAR(d.bounds.width(), 16, 1.5) << f;  // a 16-unit icon
+  }
+}
+
+TEST(Svg, AHostileFileIsRefusedWithItsReason) {
+  EXPECT_EQ(refusal(svg("<script>alert(1)</script><line x1=\"0\" y1=\"0\" x2=\"1\" y2=\"1\"/>")),
+            "t.svg: holds a <script>: a drawing never runs code");
+  EXPECT_EQ(refusal(svg("<line x1=\"0\" y1=\"0\" x2=\"1\" y2=\"1\" onclick=\"x()\"/>")),
+            "t.svg: <line> has an event handler (onclick): a drawing never runs code");
+  EXPECT_EQ(refusal(svg("<line x1=\"0\" y1=\"0\" x2=\"1\" y2=\"1\"/>", "onload=\"x()\"")),
+            "t.svg: <svg> has an event handler (onload): a drawing never runs code");
+  EXPECT_EQ(refusal(svg("<image xlink:href=\"http://example.com/a.png\"/><line x1=\"0\" y1=\"0\" x2=\"1\" y2=\"1\"/>")),
+            "t.svg: <image> refers to something outside the file (http://example.com/a.png): nothing is fetched");
+  EXPECT_EQ(refusal(svg("<use href=\"other.svg#a\"/>")),
+            "t.svg: <use> refers to something outside the file (other.svg#a): nothing is fetched");
+  EXPECT_EQ(refusal(svg("<line x1=\"0\" y1=\"0\" x2=\"1\" y2=\"1\" style=\"fill:url(http://x/y)\"/>")),
+            "t.svg: <line> refers to something outside the file (fill:url(http://x/y)): nothing is fetched");
+  EXPECT_EQ(refusal(svg("<foreignObject><p>hi</p></foreignObject>")),
+            "t.svg: holds a <foreignObject> (HTML inside the drawing): not drawn");
+  // a billion laughs
+  const std::string bomb = "<?xml version=\"1.0\"?><!DOCTYPE svg [<!ENTITY a \"aaaaaaaaaa\"><!ENTITY b \"&a;&a;&a;&a;\">]>" +
+                           svg("<text>&b;</text>");
+  EXPECT_EQ(refusal(bomb), "t.svg: declares entities (a DOCTYPE with declarations): refused, as an XML bomb would be");
+  EXPECT_EQ(refusal(std::string(kMaxSvgBytes + 1, ' ')), "t.svg: 5120 KB: a drawing is at most 5 MB");
+  EXPECT_EQ(refusal("hello, not XML"), "t.svg: not an SVG file: expected < at byte 0");
+  EXPECT_EQ(refusal("<html><body/></html>"), "t.svg: not an SVG file: its first element is <html>");
+  EXPECT_EQ(refusal(svg("<text x=\"0\" y=\"0\">words only</text>")),
+            "t.svg: no drawable path (paths, lines, polylines, polygons, rects, circles, ellipses)");
+  EXPECT_EQ(refusal(svg("<path d=\"M 0 0 L 10\"/>")),
+            "t.svg: cannot be read: Invalid value of SVG attribute (or property) \"d\": \"M 0 0 L 10\"");
+}
