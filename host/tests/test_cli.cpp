@@ -585,7 +585,7 @@ TEST(Cli, DrawSaysWhichWayToMoveADrawingThatDoesNotFit) {
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.out.find("--at takes x,y (mm), not 1 numbers"), std::string::npos) << r.out;
   r = run("draw mk2plus --width 40 --at 250,0 --z 0");
-  EXPECT_NE(r.out.find("give one of --text and --shape"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("give one of an SVG file, --text and --shape"), std::string::npos) << r.out;
 }
 
 TEST(Cli, DrawAnSvgFileAndRefuseAHostileOne) {
