@@ -48,6 +48,9 @@ int run(int argc, char** argv) {
       cxxopts::value<double>()->default_value("90"))(
       "line-spacing", "text: lines this many capital heights apart", cxxopts::value<double>()->default_value("1.6"))(
       "font", "a Hershey .jhf font", cxxopts::value<std::string>()->default_value(host::default_font_path()))(
+      "paper", "the sheet: A4, A5 or Letter (the drawing must fit on it)", cxxopts::value<std::string>())(
+      "microsteps", "predict with the motors in full steps (1) or half steps (2), whatever the robot file says",
+      cxxopts::value<int>())(
       "svg-out", "also write the drawing and the line the arm will draw (the pen at every step) as SVG",
       cxxopts::value<std::string>())(
       "o,output", "write the program here (default: standard output, the report to standard error)",
@@ -95,6 +98,7 @@ int run(int argc, char** argv) {
     req.svg_name = path;
   }
   req.tolerance_mm = positive(args, "tolerance");
+  if (args.count("paper")) req.paper = args["paper"].as<std::string>();
   req.font_path = args["font"].as<std::string>();
   req.line_spacing = positive(args, "line-spacing");
   req.width_mm = positive(args, "width");
@@ -106,7 +110,14 @@ int run(int argc, char** argv) {
   req.pen.speed = positive(args, "speed");
   req.pen.travel_speed = positive(args, "travel-speed");
 
-  const host::Robot robot = host::load_robot_file(host::resolve_robot_path(args["robot"].as<std::string>()));
+  host::Robot robot = host::load_robot_file(host::resolve_robot_path(args["robot"].as<std::string>()));
+  if (args.count("microsteps")) {
+    try {
+      robot = host::with_microsteps(robot, args["microsteps"].as<int>());
+    } catch (const std::invalid_argument& e) {
+      throw UsageError(e.what());
+    }
+  }
   const host::InverseKinematics ik(robot);
   host::Drawing d;
   try {
@@ -117,7 +128,7 @@ int run(int argc, char** argv) {
     throw UsageError(e.what());
   }
   std::ostream& report = args.count("output") ? std::cout : std::cerr;
-  report << d.what << ": " << fmt(d.bounds.width(), 1) << " x " << fmt(d.bounds.height(), 1) << " mm, centred at ("
+  report << d.what << ": " << fmt(d.width_mm, 1) << " mm wide, " << fmt(d.height_mm, 1) << " mm high, centred at ("
          << fmt(at[0], 1) << ", " << fmt(at[1], 1) << ") mm, " << d.strokes.size()
          << (d.strokes.size() == 1 ? " stroke" : " strokes") << std::endl;
   if (!d.reach.fits) {

@@ -399,6 +399,23 @@ std::string drawing_program(const Robot& robot, const std::vector<Stroke>& strok
   return out;
 }
 
+bool paper_size(const std::string& name, double& width_mm, double& height_mm) {
+  if (name == "A4") width_mm = 210, height_mm = 297;
+  else if (name == "A5") width_mm = 148, height_mm = 210;
+  else if (name == "Letter") width_mm = 215.9, height_mm = 279.4;
+  else return false;
+  return true;
+}
+
+Robot with_microsteps(const Robot& robot, int microsteps) {
+  if (!robot.has_motors) throw std::invalid_argument(robot.name + " has no motors: no steps to make finer");
+  if (microsteps != 1 && microsteps != 2)
+    throw std::invalid_argument("microsteps: 1 (full steps) or 2 (half steps), the two the Nano's L298N table makes");
+  Robot r = robot;
+  for (int k = 0; k < r.actuation.num_motors; ++k) r.actuation.motors[k].microsteps = uint8_t(microsteps);
+  return r;
+}
+
 Drawing make_drawing(const Robot& robot, const InverseKinematics& ik, const DrawRequest& req) {
   if (int(!req.text.empty()) + int(!req.shape.empty()) + int(!req.svg.empty()) != 1)
     throw std::invalid_argument("give one of a text, a shape and an SVG file");
@@ -427,6 +444,19 @@ Drawing make_drawing(const Robot& robot, const InverseKinematics& ik, const Draw
     d.what = req.svg_name;
   }
   d.strokes = place_strokes(laid, req.width_mm, req.x, req.y, req.rotation_deg);
+  {
+    const Bounds own = bounds_of(laid);
+    d.width_mm = req.width_mm;
+    d.height_mm = own.width() > 0 ? own.height() * req.width_mm / own.width() : 0;
+  }
+  if (!req.paper.empty()) {
+    double pw = 0, ph = 0;
+    if (!paper_size(req.paper, pw, ph)) throw std::invalid_argument("no paper '" + req.paper + "': A4, A5 or Letter");
+    const double w = d.width_mm, h = d.height_mm;
+    if (!((w <= pw && h <= ph) || (w <= ph && h <= pw)))
+      throw std::invalid_argument("the drawing, " + mm(w) + " x " + mm(h) + " mm, is bigger than " + req.paper + " (" + mm(pw) +
+                                  " x " + mm(ph) + " mm): make it narrower");
+  }
   d.bounds = bounds_of(d.strokes);
   d.reach = check_reach(robot, ik, d.strokes, pen);
   // from where the arm powers up: every motor at its zero angle (without motors: its home)
@@ -462,6 +492,8 @@ nlohmann::json drawing_json(const Drawing& d) {
   json unreachable = json::array();
   for (const Point2& p : d.reach.unreachable) unreachable.push_back(pt(p));
   return json{{"what", d.what},
+              {"width_mm", d.width_mm},
+              {"height_mm", d.height_mm},
               {"bounds", {{"min_x", d.bounds.min_x}, {"min_y", d.bounds.min_y}, {"max_x", d.bounds.max_x}, {"max_y", d.bounds.max_y}}},
               {"strokes", strokes},
               {"reach", {{"fits", d.reach.fits}, {"points", d.reach.points}, {"unreachable", unreachable},
@@ -475,7 +507,7 @@ nlohmann::json drawing_json(const Drawing& d) {
 
 DrawRequest draw_request_from_json(const nlohmann::json& j) {
   if (!j.is_object()) throw std::invalid_argument("a drawing request is an object");
-  static const char* const kKeys[] = {"text", "shape", "svg", "svg_name", "tolerance", "font", "line_spacing", "width", "at", "z", "pen", "lift",
+  static const char* const kKeys[] = {"text", "shape", "svg", "svg_name", "tolerance", "paper", "font", "line_spacing", "width", "at", "z", "pen", "lift",
                                       "speed", "travel_speed", "rotate"};
   for (auto it = j.begin(); it != j.end(); ++it)
     if (std::find_if(std::begin(kKeys), std::end(kKeys), [&](const char* k) { return it.key() == k; }) == std::end(kKeys))
@@ -494,6 +526,7 @@ DrawRequest draw_request_from_json(const nlohmann::json& j) {
   r.text = str("text");
   r.shape = str("shape");
   r.svg = str("svg");
+  r.paper = str("paper");
   if (!str("svg_name").empty()) r.svg_name = str("svg_name");
   r.tolerance_mm = num("tolerance", r.tolerance_mm);
   r.font_path = str("font");

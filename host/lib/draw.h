@@ -122,11 +122,21 @@ struct DrawRequest {
   double width_mm = 0;       // the drawing's width on the paper
   double x = 0, y = 0;       // its centre on the table
   double rotation_deg = 90;  // 90: upright for someone at +x facing the arm
+  std::string paper;         // "A4", "A5", "Letter" or "": the drawing must fit on it
   PenSettings pen;
 };
 
+// A sheet's size, mm (portrait): A4, A5, Letter; false for another name.
+bool paper_size(const std::string& name, double& width_mm, double& height_mm);
+
+// A copy of the robot whose motors make `microsteps` steps a full step (1 full steps, 2 half
+// steps: the Nano's L298N table has both): the same drawing predicted both ways shows what
+// half steps do to the stairs. Throws std::invalid_argument for another count or no motors.
+Robot with_microsteps(const Robot& robot, int microsteps);
+
 struct Drawing {
   std::string what;              // "\"Hello\"", "a square"
+  double width_mm = 0, height_mm = 0;  // its own width and height (before it is turned)
   std::vector<Stroke> strokes;   // placed, in drawing order (when it fits; else as laid out)
   Bounds bounds;
   ReachCheck reach;

@@ -558,7 +558,7 @@ TEST(Cli, DrawWritesAProgramThePredictionTakes) {
   const std::string svg = testing::TempDir() + "draw-hello.svg";
   const Result r = run("draw mk2plus --text Hello --width 60 --at 250,0 --z 0 --pen 120 -o " + out + " --svg-out " + svg);
   ASSERT_EQ(r.code, 0) << r.out;
-  EXPECT_NE(r.out.find("\"Hello\": 18.5 x 60.0 mm, centred at (250.0, 0.0) mm, 7 strokes"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\"Hello\": 60.0 mm wide, 18.5 mm high, centred at (250.0, 0.0) mm, 7 strokes"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("reach: the pen reaches all"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("prediction: 58 lines, "), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("on the paper the pen stays within "), std::string::npos) << r.out;

@@ -234,3 +234,41 @@ TEST(Ink, ThePenAtEveryStepAndItsWorstDistanceFromTheDrawing) {
   EXPECT_NE(svg.find("<title>&quot;Hi&lt;&amp;&gt;&quot;</title>"), std::string::npos) << svg.substr(0, 400);
   EXPECT_EQ(svg.find("<&>"), std::string::npos);
 }
+
+TEST(Ink, HalfStepsHalveTheStairs) {
+  DrawRequest req;
+  req.shape = "circle";
+  req.width_mm = 40;
+  req.x = 260;
+  req.pen = pen120();
+  double worst[2] = {0, 0};
+  size_t steps[2] = {0, 0};
+  for (int m = 1; m <= 2; ++m) {
+    const Robot r = with_microsteps(mk2(), m);
+    const InverseKinematics ik(r);
+    const Drawing d = make_drawing(r, ik, req);
+    ASSERT_TRUE(d.reach.fits) << d.reach.advice;
+    const PredictedInk ink = predicted_ink(d, predict_program(r, parse_program(d.program, "c.arm", r), {}, {}, true), req.pen);
+    worst[m - 1] = ink.worst_mm;
+    steps[m - 1] = ink.steps;
+  }
+  EXPECT_LT(worst[1], 0.75 * worst[0]);  // finer steps, smaller stairs
+  EXPECT_GT(steps[1], steps[0] * 3 / 2);  // about twice the steps
+  EXPECT_EQ(error_of([] { with_microsteps(mk2(), 4); }),
+            "microsteps: 1 (full steps) or 2 (half steps), the two the Nano's L298N table makes");
+}
+
+TEST(Place, ADrawingBiggerThanThePaperIsRefused) {
+  DrawRequest req;
+  req.text = "Hello";
+  req.width_mm = 300;
+  req.x = 260;
+  req.pen = pen120();
+  req.paper = "A5";
+  EXPECT_EQ(error_of([&] { make_drawing(mk2(), mk2_ik(), req); }),
+            "the drawing, 300 x 92.647 mm, is bigger than A5 (148 x 210 mm): make it narrower");
+  req.width_mm = 60;
+  EXPECT_NO_THROW(make_drawing(mk2(), mk2_ik(), req));
+  req.paper = "A3";
+  EXPECT_EQ(error_of([&] { make_drawing(mk2(), mk2_ik(), req); }), "no paper 'A3': A4, A5 or Letter");
+}
