@@ -12,6 +12,7 @@
 
 #include "blocks.h"
 #include "predict.h"
+#include "program.h"
 #include "svg.h"
 #include "robot_view.h"
 
@@ -503,6 +504,26 @@ nlohmann::json drawing_json(const Drawing& d) {
               {"travel_unordered_mm", d.travel_unordered_mm},
               {"program", d.program},
               {"ink_lines", d.ink_lines}};
+}
+
+nlohmann::json drawing_with_ink_json(const Robot& robot, const InverseKinematics& ik, const DrawRequest& request, bool svg) {
+  using nlohmann::json;
+  const Drawing d = make_drawing(robot, ik, request);
+  json out = drawing_json(d);
+  if (d.program.empty() || !robot.has_motors) return out;
+  const Prediction p = predict_program(robot, parse_program(d.program, "drawing.arm", robot), {}, {}, true);
+  const PredictedInk ink = predicted_ink(d, p, request.pen);
+  json strokes = json::array();
+  for (const Stroke& s : ink.strokes) {
+    json st = json::array();
+    for (const Point2& q : s) st.push_back({q.x, q.y});
+    strokes.push_back(st);
+  }
+  out["ink"] = {{"strokes", strokes}, {"worst_mm", ink.worst_mm}, {"worst_at", {ink.worst_at.x, ink.worst_at.y}},
+                {"worst_line", ink.worst_line}, {"steps", ink.steps}};
+  out["seconds"] = p.total_s();
+  if (svg) out["svg"] = drawing_svg(d, ink, d.what + " on " + robot.name);
+  return out;
 }
 
 DrawRequest draw_request_from_json(const nlohmann::json& j) {

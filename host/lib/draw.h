@@ -175,6 +175,12 @@ PredictedInk predicted_ink(const Drawing& d, const Prediction& prediction, const
 // (groups "ideal" and "predicted"), the worst distance marked: for someone at +x facing the
 // arm, the table's +y to the right and +x down.
 std::string drawing_svg(const Drawing& d, const PredictedInk& ink, const std::string& title);
+// What the bindings answer: drawing_json, and when the pen reaches it on a robot with motors,
+// "ink": the line the arm will draw ({strokes, worst_mm, worst_at [x, y], worst_line, steps},
+// predicted_ink) and "seconds", the prediction's duration. `svg`: also the drawing as SVG.
+nlohmann::json drawing_with_ink_json(const Robot& robot, const InverseKinematics& ik, const DrawRequest& request,
+                                     bool svg = false);
+
 // A request from JSON (the bindings): {text | shape, width, at [x, y], z, pen, lift, speed,
 // travel_speed, rotate, line_spacing, font}; unknown keys refused by name.
 DrawRequest draw_request_from_json(const nlohmann::json& j);

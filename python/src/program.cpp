@@ -131,14 +131,16 @@ void bind_program(nb::module_& m, nb::class_<PyRobot>& robot) {
       .def("draw",
            [](const PyRobot& self, nb::kwargs request) {
              const std::string text = nb::cast<std::string>(nb::module_::import_("json").attr("dumps")(request));
-             return json_to_python(host::drawing_json(
-                 host::make_drawing(self.r(), self.ik(), host::draw_request_from_json(nlohmann::json::parse(text)))));
+             return json_to_python(
+                 host::drawing_with_ink_json(self.r(), self.ik(), host::draw_request_from_json(nlohmann::json::parse(text))));
            },
            "A drawing for a pen held in the gripper (articula draw): text='Hello' or shape='square'|'circle'|'star', "
            "width (mm), at=(x, y) its centre, z the paper's height, pen (mm below the tool point), lift, speed, "
            "travel_speed (mm/s), rotate (deg, 90: upright from +x), line_spacing, font (a .jhf path). Returns {what, "
            "bounds, strokes, reach {fits, points, unreachable, movable, move, advice}, start, travel_mm, "
-           "travel_unordered_mm, program}; the program is '' when the pen cannot reach all of it.")
+           "travel_unordered_mm, program, ink_lines} and, when the pen reaches it on a robot with motors, 'ink': the line "
+           "the arm will draw (the pen at every step: {strokes, worst_mm, worst_at, worst_line, steps}) and 'seconds'; "
+           "the program is '' when the pen cannot reach all of it. Also svg= (an SVG file's text), paper=, tolerance=.")
       .def("protocol_line",
            [](const PyRobot& self, const std::string& word, const std::vector<double>& values) {
              if (word.size() != 1) throw nb::value_error("a protocol command is one letter");

@@ -78,8 +78,7 @@ std::string move_line(const WebRobot& robot, const std::string& q_json) {
 // A drawing for a pen in the gripper (host/lib/draw.h): the request as JSON, the drawing's JSON.
 std::string drawing(const WebRobot& robot, const std::string& request_json) {
   return guarded([&] {
-    return host::drawing_json(host::make_drawing(robot.robot(), robot.ik(), host::draw_request_from_json(json::parse(request_json))))
-        .dump();
+    return host::drawing_with_ink_json(robot.robot(), robot.ik(), host::draw_request_from_json(json::parse(request_json))).dump();
   });
 }
 
