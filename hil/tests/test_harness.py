@@ -331,3 +331,21 @@ def test_one_firmware_configured_for_each_arm(bins, tmp_path, arm):
     # Every step lands on the tick the prediction gives; a pin shows it a few microseconds
     # late (the step interrupt's entry), never more than the firmware's jitter target.
     assert worst_us <= 10.0
+
+
+def test_a_drawing_runs_on_the_firmware_step_for_step(bins, tmp_path):
+    """Issue 29: `articula draw`, then the harness on simavr: the firmware's steps and its pins
+    along every line of the drawing are the prediction's."""
+    cli = _binary("ARTICULA_CLI", SOURCE / "build" / "host" / "cli" / "articula")
+    for name, what in (("hi", ["--text", "Hi"]), ("house", [str(SOURCE / "examples" / "drawings" / "house.svg")])):
+        program = tmp_path / f"{name}.arm"
+        d = subprocess.run([cli, "draw", "mk2plus", *what, "--width", "40", "--at", "260,0", "--z", "0", "--pen", "120",
+                            "-o", str(program)], capture_output=True, text=True, timeout=120)
+        assert d.returncode == 0, d.stdout + d.stderr
+        lines = [ln for ln in program.read_text().splitlines() if ln and not ln.startswith("#")]
+        out = tmp_path / f"{name}-report"
+        p = harness(bins, program, "--expect-predicted", "--out", out, "--no-progress")
+        assert p.returncode == 0, p.stdout + p.stderr
+        assert f"steps matched: {len(lines)}/{len(lines)} (prediction = firmware = pins)" in p.stdout, p.stdout
+        assert "result: every command matched" in p.stdout
+        assert len(rows(out)) == len(lines)
