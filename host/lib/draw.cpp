@@ -511,7 +511,8 @@ nlohmann::json drawing_with_ink_json(const Robot& robot, const InverseKinematics
   const Drawing d = make_drawing(robot, ik, request);
   json out = drawing_json(d);
   if (d.program.empty() || !robot.has_motors) return out;
-  const Prediction p = predict_program(robot, parse_program(d.program, "drawing.arm", robot), {}, {}, true);
+  const Robot stepped = request.microsteps ? with_microsteps(robot, request.microsteps) : robot;
+  const Prediction p = predict_program(stepped, parse_program(d.program, "drawing.arm", stepped), {}, {}, true);
   const PredictedInk ink = predicted_ink(d, p, request.pen);
   json strokes = json::array();
   for (const Stroke& s : ink.strokes) {
@@ -528,7 +529,7 @@ nlohmann::json drawing_with_ink_json(const Robot& robot, const InverseKinematics
 
 DrawRequest draw_request_from_json(const nlohmann::json& j) {
   if (!j.is_object()) throw std::invalid_argument("a drawing request is an object");
-  static const char* const kKeys[] = {"text", "shape", "svg", "svg_name", "tolerance", "paper", "font", "line_spacing", "width", "at", "z", "pen", "lift",
+  static const char* const kKeys[] = {"text", "shape", "svg", "svg_name", "tolerance", "paper", "microsteps", "font", "line_spacing", "width", "at", "z", "pen", "lift",
                                       "speed", "travel_speed", "rotate"};
   for (auto it = j.begin(); it != j.end(); ++it)
     if (std::find_if(std::begin(kKeys), std::end(kKeys), [&](const char* k) { return it.key() == k; }) == std::end(kKeys))
@@ -548,6 +549,7 @@ DrawRequest draw_request_from_json(const nlohmann::json& j) {
   r.shape = str("shape");
   r.svg = str("svg");
   r.paper = str("paper");
+  r.microsteps = int(num("microsteps", 0));
   if (!str("svg_name").empty()) r.svg_name = str("svg_name");
   r.tolerance_mm = num("tolerance", r.tolerance_mm);
   r.font_path = str("font");

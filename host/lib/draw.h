@@ -123,6 +123,7 @@ struct DrawRequest {
   double x = 0, y = 0;       // its centre on the table
   double rotation_deg = 90;  // 90: upright for someone at +x facing the arm
   std::string paper;         // "A4", "A5", "Letter" or "": the drawing must fit on it
+  int microsteps = 0;        // the prediction's motors in full (1) or half (2) steps; 0: the robot's
   PenSettings pen;
 };
 

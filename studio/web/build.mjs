@@ -114,6 +114,13 @@ copyTree(join(repo, "hil/plans"), join(out, "data/plans"), (n) => n.endsWith(".a
 index.plans = readdirSync(join(out, "data/plans"));
 copyTree(join(repo, "exercises"), join(out, "data/exercises"), (n) => n.endsWith(".articula"));
 index.exercises = readdirSync(join(out, "data/exercises"));
+// The drawing's single-stroke font, from Debian's hershey-fonts-data (scripts/bootstrap installs it).
+{
+  const font = "/usr/share/hershey-fonts/futural.jhf";
+  if (!existsSync(font)) throw new Error(`${font} is missing: scripts/bootstrap installs hershey-fonts-data`);
+  mkdirSync(join(out, "data/fonts"), { recursive: true });
+  copyFileSync(font, join(out, "data/fonts/futural.jhf"));
+}
 mkdirSync(join(out, "data/firmware"), { recursive: true });
 copyFileSync(hexFile, join(out, "data/firmware/articula-nano.hex"));
 copyFileSync(bootFile, join(out, "data/firmware/optiboot_atmega328.hex"));

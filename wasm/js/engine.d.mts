@@ -28,7 +28,9 @@ export class Robot {
   draw(request: Record<string, unknown>): {
     what: string; bounds: { min_x: number; min_y: number; max_x: number; max_y: number }; strokes: number[][][];
     reach: { fits: boolean; points: number; unreachable: number[][]; movable: boolean; move: number[]; advice: string };
-    start: number[]; travel_mm: number; travel_unordered_mm: number; program: string };
+    start: number[]; travel_mm: number; travel_unordered_mm: number; program: string; width_mm: number; height_mm: number;
+    ink_lines: number[]; seconds?: number;
+    ink?: { strokes: number[][][]; worst_mm: number; worst_at: number[]; worst_line: number; steps: number } };
   urdf(): string;
   jointsFromMotors(u: number[]): number[];
   /** The Nano's robot configuration for this robot; throws EngineError with the reason a Nano cannot drive it. */

@@ -76,6 +76,7 @@ export class View {
   private ghostArm = new THREE.Group();
   // A program's predicted tool path (every step) and the straight lines it asks for.
   private paths = new THREE.Group();
+  private drawing = new THREE.Group();
   private grid: THREE.GridHelper | null = null;
   // From the last frame's origin to the tool point: the tool offset, drawn for every robot.
   private toolLine = new THREE.Line(new THREE.BufferGeometry(), new THREE.LineBasicMaterial({ color: 0x9a3412 }));
@@ -152,7 +153,7 @@ export class View {
     );
     this.ground.position.z = -0.5;
     this.scene.add(this.ground);
-    this.scene.add(this.arm, this.ghostArm, this.objectGroup, this.goalGroup, this.liveArm, this.paths);
+    this.scene.add(this.arm, this.ghostArm, this.objectGroup, this.goalGroup, this.liveArm, this.paths, this.drawing);
 
     // The IK target: a ball with its own axes, moved by the gizmo.
     const ball = new THREE.Mesh(
@@ -380,6 +381,32 @@ export class View {
     } catch {
       return null;
     }
+  }
+
+  /** A drawing on the paper at height z (mm): its strokes (blue) and the line the arm will
+   * draw, the pen's tip at every step (orange), each a list of [x, y] polylines; nothing:
+   * cleared. */
+  showDrawing(ideal: number[][][], ink: number[][][], z: number): void {
+    for (const o of [...this.drawing.children]) {
+      o.removeFromParent();
+      ((o as THREE.LineSegments).geometry as THREE.BufferGeometry).dispose();
+    }
+    const segments = (strokes: number[][][], dz: number) => {
+      const v: number[] = [];
+      for (const s of strokes) for (let i = 1; i < s.length; i++) v.push(s[i - 1][0], s[i - 1][1], z + dz, s[i][0], s[i][1], z + dz);
+      return v;
+    };
+    for (const [strokes, color, name, dz] of [[ideal, 0x1d4ed8, "drawing", 0.3], [ink, 0xc2410c, "drawing as the arm draws it", 0.6]] as
+      [number[][][], number, string, number][]) {
+      const v = segments(strokes, dz);
+      if (!v.length) continue;
+      const g = new THREE.BufferGeometry();
+      g.setAttribute("position", new THREE.Float32BufferAttribute(v, 3));
+      const lines = new THREE.LineSegments(g, new THREE.LineBasicMaterial({ color }));
+      lines.name = name;
+      this.drawing.add(lines);
+    }
+    this.dirty = true;
   }
 
   /** The tool's predicted path, every step (x y z after x y z, mm; the stairs the steps make),

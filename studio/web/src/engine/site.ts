@@ -14,7 +14,7 @@ export async function fetchText(path: string): Promise<string> {
   return r.text();
 }
 
-async function fetchBytes(path: string): Promise<Uint8Array> {
+export async function fetchBytes(path: string): Promise<Uint8Array> {
   const r = await fetch(new URL(path, site));
   if (!r.ok) throw new Error(`${path}: ${r.status} ${r.statusText}`);
   return new Uint8Array(await r.arrayBuffer());

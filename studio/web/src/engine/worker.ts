@@ -12,6 +12,7 @@ import { BadMessage } from "./checks";
 import type { Msg, Out } from "./checks";
 import { armHandlers } from "./arm";
 import { blockHandlers } from "./blocks";
+import { drawHandlers } from "./draw";
 import { exerciseHandlers } from "./exercise";
 import { experimentHandlers } from "./experiment";
 import { kinematicHandlers } from "./kinematics";
@@ -38,6 +39,7 @@ const handlers: Record<string, Handler> = {
   ...blockHandlers,
   ...exerciseHandlers,
   ...experimentHandlers,
+  ...drawHandlers,
 };
 
 // Intents that end a playing program or an animation.

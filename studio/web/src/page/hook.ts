@@ -13,6 +13,9 @@ export interface Hook {
   // straight lines asked for (T), with the worst distance of the path from them.
   paths: { points: number; lines: number; worstMm: number };
   ikLine: string; // the last straight line the IK panel made
+  // the Draw panel's last drawing: whether the pen reaches it, the engine's refusal or advice,
+  // the line the arm will draw (its worst distance, mm, and steps), the program's lines
+  drawing: { fits: boolean; error: string; advice: string; worstMm: number; steps: number; lines: number; program: string } | null;
   playing: boolean;
   programError: string;
   robotError: string;
@@ -77,7 +80,7 @@ export interface Hook {
 
 export const hook: Hook = {
   ready: false, connected: false, robot: null, pose: null, ik: null, timeline: null, playing: false,
-  paths: { points: 0, lines: 0, worstMm: 0 }, ikLine: "",
+  paths: { points: 0, lines: 0, worstMm: 0 }, ikLine: "", drawing: null,
   programError: "", robotError: "", lastError: "", teach: "", goal: { drawn: 0, facts: [] }, runOnArm: false, fps: 0, framesDrawn: 0, firstFrameAt: 0,
   latency: [], ikUpdates: [], messages: 0, targetScreen: [0, 0], armPixels: () => 0,
   camera: () => ({ distance: 0, azimuth: 0 }), viewpoint: () => ({ eye: [], target: [] }),

@@ -1,0 +1,26 @@
+// Drawing and writing, in the engine's worker: the page's request (text, a shape or an SVG
+// file's text; its width, place, the paper's height, the pen) goes to the engine as it is
+// (host/lib/draw.h, which checks every key and value), and back comes the drawing: its strokes,
+// the reach check, the program, and the line the arm will draw, step by step.
+import { EngineError } from "../../../../wasm/js/engine.mjs";
+import { BadMessage } from "./checks";
+import type { Msg, Out } from "./checks";
+import { fetchBytes } from "./site";
+import { S } from "./state";
+
+// Where the engine reads the font (host/lib/draw.h, default_font_path): the site ships it.
+const FONT = "/usr/share/hershey-fonts/futural.jhf";
+
+export const drawHandlers: Record<string, (m: Msg) => Promise<Out[]>> = {
+  async draw(m) {
+    const req = m.request;
+    if (typeof req !== "object" || req === null || Array.isArray(req)) throw new BadMessage("'request' must be an object");
+    if (!S.engine.exists(FONT)) S.engine.writeFile(FONT, await fetchBytes("data/fonts/futural.jhf"));
+    try {
+      return [{ type: "drawing", ...S.robot.draw(req as Record<string, unknown>) }];
+    } catch (e) {
+      if (!(e instanceof EngineError)) throw e;
+      return [{ type: "drawing", error: e.message }];
+    }
+  },
+};
