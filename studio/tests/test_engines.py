@@ -373,3 +373,22 @@ def test_a_class_session_blocks_physics_nano_reload_and_link(page, engines, site
         assert other.page_errors() == []
     finally:
         other.close()
+
+
+def test_write_hello_and_see_the_line_the_arm_will_draw(page):
+    """Issue 29 in every engine: "Hello" with the Draw panel's defaults (60 mm wide at (250, 0),
+    the paper at z 0, a 120 mm pen): the engine's drawing and its prediction, as Python's."""
+    import sys
+    sys.path.insert(0, str(REPO / "python"))
+    import articula
+    pg = page()
+    if pg.hook("(() => { const t = document.querySelector('#tab-program'); return !!t && t.offsetParent !== null; })()"):
+        pg.click("#tab-program")
+    pg.type_into("#draw-text", "Hello")
+    pg.click("#draw-go")
+    pg.wait("a.drawing !== null && a.drawing.fits", 60 * PATIENCE, "the drawing")
+    want = articula.Robot.load("mk2plus").draw(text="Hello", width=60, at=(250, 0), z=0, pen=120)
+    assert pg.hook("a.drawing.program") == want["program"]
+    assert pg.hook("a.drawing.steps") == want["ink"]["steps"]
+    assert abs(pg.hook("a.drawing.worstMm") - want["ink"]["worst_mm"]) < 1e-9
+    pg.screenshot(SHOTS / f"studio-draw-{pg.engine}.png")
