@@ -18,9 +18,9 @@ def _draw(pg, kind="text", text=None, width=60, x=250, y=0, z=0, pen=120, steps=
     for box, v in (("#draw-width", width), ("#draw-x", x), ("#draw-y", y), ("#draw-z", z), ("#draw-pen", pen)):
         pg.page.fill(box, str(v))
     pg.page.select_option("#draw-steps", steps)
-    pg.page.evaluate("() => { window.articula.drawing = null; }")
+    n = pg.hook("a.drawings")  # (the page's hook is read-only: wait for the next drawing)
     pg.page.click("#draw-go")
-    pg.wait("a.drawing !== null", timeout=60000)
+    pg.wait(f"a.drawings > {n}", timeout=60000)
     return pg.hook("a.drawing")
 
 

@@ -384,6 +384,7 @@ def test_write_hello_and_see_the_line_the_arm_will_draw(page):
     pg = page()
     if pg.hook("(() => { const t = document.querySelector('#tab-program'); return !!t && t.offsetParent !== null; })()"):
         pg.click("#tab-program")
+    pg.run("document.querySelector('#draw-section').scrollIntoView({ block: 'center' });")  # the panel scrolls
     pg.type_into("#draw-text", "Hello")
     pg.click("#draw-go")
     pg.wait("a.drawing !== null && a.drawing.fits", 60 * PATIENCE, "the drawing")

@@ -16,6 +16,7 @@ export interface Hook {
   // the Draw panel's last drawing: whether the pen reaches it, the engine's refusal or advice,
   // the line the arm will draw (its worst distance, mm, and steps), the program's lines
   drawing: { fits: boolean; error: string; advice: string; worstMm: number; steps: number; lines: number; program: string } | null;
+  drawings: number; // how many drawings the panel has shown (a test waits for the next)
   playing: boolean;
   programError: string;
   robotError: string;
@@ -80,7 +81,7 @@ export interface Hook {
 
 export const hook: Hook = {
   ready: false, connected: false, robot: null, pose: null, ik: null, timeline: null, playing: false,
-  paths: { points: 0, lines: 0, worstMm: 0 }, ikLine: "", drawing: null,
+  paths: { points: 0, lines: 0, worstMm: 0 }, ikLine: "", drawing: null, drawings: 0,
   programError: "", robotError: "", lastError: "", teach: "", goal: { drawn: 0, facts: [] }, runOnArm: false, fps: 0, framesDrawn: 0, firstFrameAt: 0,
   latency: [], ikUpdates: [], messages: 0, targetScreen: [0, 0], armPixels: () => 0,
   camera: () => ({ distance: 0, azimuth: 0 }), viewpoint: () => ({ eye: [], target: [] }),

@@ -81,11 +81,13 @@ async function draw(): Promise<void> {
   if (d.error) {
     s.view.showDrawing([], [], 0);
     hook.drawing = { fits: false, error: d.error, advice: "", worstMm: 0, steps: 0, lines: 0, program: "" };
+    hook.drawings++;
     return say(d.error, "bad");
   }
   s.view.showDrawing(d.strokes, d.ink?.strokes ?? [], request.z as number);
   hook.drawing = { fits: d.reach.fits, error: "", advice: d.reach.advice, worstMm: d.ink?.worst_mm ?? 0, steps: d.ink?.steps ?? 0,
     lines: d.program ? d.program.split("\n").length - 1 : 0, program: d.program };
+  hook.drawings++;
   if (!d.reach.fits) return say(`${d.what}: ${d.reach.advice}.`, "bad");
   program = d.program;
   ($("draw-use") as HTMLButtonElement).disabled = false;
