@@ -106,14 +106,8 @@ std::string joined(const std::vector<std::string>& parts, const std::string& sep
 class Compiler {
  public:
   Compiler(const Robot& r, const InverseKinematics& ik) : r_(r), ik_(ik), joints_(joints_json(r)) {
-    if (r.has_motors) {
-      motors_ = motors_json(r);
-      std::vector<double> zeros;
-      for (const json& m : motors_) zeros.push_back(m.at("zero").get<double>());
-      q_ = joints_from_motors(r, zeros);
-    } else {
-      q_ = home_pose(r);
-    }
+    if (r.has_motors) motors_ = motors_json(r);
+    q_ = power_up_pose(r);
     limits_ = joint_limits(r);
     proto_.push_back(kHeader);
     lines_.push_back("");

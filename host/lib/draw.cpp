@@ -461,12 +461,7 @@ Drawing make_drawing(const Robot& robot, const InverseKinematics& ik, const Draw
   d.bounds = bounds_of(d.strokes);
   d.reach = check_reach(robot, ik, d.strokes, pen);
   // from where the arm powers up: every motor at its zero angle (without motors: its home)
-  std::vector<double> q0 = home_pose(robot);
-  if (robot.has_motors) {
-    std::vector<double> zeros;
-    for (int k = 0; k < robot.actuation.num_motors; ++k) zeros.push_back(robot.actuation.motors[k].zero / 1000.0);
-    q0 = joints_from_motors(robot, zeros);
-  }
+  const std::vector<double> q0 = power_up_pose(robot);
   HostFrames frames;
   forward_kinematics(frames, robot.model, joints_in(robot, q0, "start").data());
   d.start = {frames.T_base_tool.p.x, frames.T_base_tool.p.y};

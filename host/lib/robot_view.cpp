@@ -224,6 +224,13 @@ std::vector<double> home_pose(const Robot& r) {
   return out;
 }
 
+std::vector<double> power_up_pose(const Robot& r) {
+  if (!r.has_motors) return home_pose(r);
+  std::vector<double> zeros;
+  for (int k = 0; k < r.actuation.num_motors; ++k) zeros.push_back(r.actuation.motors[k].zero / 1000.0);
+  return joints_from_motors(r, zeros);
+}
+
 std::vector<double> joints_from_motors(const Robot& r, const std::vector<double>& motor_deg) {
   need_motors(r);
   check_finite(motor_deg.data(), motor_deg.size(), "motor angles");

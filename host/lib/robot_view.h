@@ -66,6 +66,9 @@ void check_finite(const double* values, size_t count, const char* what);
 // Each joint variable's [min, max] and the home pose, deg or mm.
 std::vector<std::array<double, 2>> joint_limits(const Robot& r);
 std::vector<double> home_pose(const Robot& r);
+// Where the arm is at power-up, deg or mm: every motor at step 0 (its zero angle); without
+// motors, the home pose.
+std::vector<double> power_up_pose(const Robot& r);
 
 // Motor angles (deg, at the gears' outputs) to joint values (deg or mm), q = C u, and back.
 // Refused for a robot without motors, or the wrong count.
