@@ -330,6 +330,105 @@ ReachCheck check_reach(const Robot& robot, const InverseKinematics& ik, const st
   return out;
 }
 
+namespace {
+double segment_distance(Point2 p, Point2 a, Point2 b);
+void simplify(const Stroke& s, size_t i, size_t j, double tol, std::vector<bool>& keep) {
+  double worst = 0;
+  size_t at = i;
+  for (size_t k = i + 1; k < j; ++k) {
+    const double d = segment_distance(s[k], s[i], s[j]);
+    if (d > worst) worst = d, at = k;
+  }
+  if (worst <= tol) return;
+  keep[at] = true;
+  simplify(s, i, at, tol, keep);
+  simplify(s, at, j, tol, keep);
+}
+}  // namespace
+
+std::vector<Stroke> smooth_strokes(const std::vector<Stroke>& strokes, double tolerance_mm) {
+  std::vector<Stroke> out;
+  for (const Stroke& s : strokes) {
+    if (s.empty()) continue;
+    Stroke m = s;
+    for (size_t i = 1; i + 1 < s.size(); ++i) {
+      const size_t a = i >= 2 ? i - 2 : 0, b = std::min(s.size() - 1, i + 2);
+      Point2 sum{0, 0};
+      for (size_t k = a; k <= b; ++k) sum.x += s[k].x, sum.y += s[k].y;
+      m[i] = {sum.x / double(b - a + 1), sum.y / double(b - a + 1)};
+    }
+    std::vector<bool> keep(m.size(), false);
+    keep.front() = keep.back() = true;
+    if (m.size() > 2) simplify(m, 0, m.size() - 1, tolerance_mm, keep);
+    Stroke k;
+    for (size_t i = 0; i < m.size(); ++i)
+      if (keep[i]) k.push_back(m[i]);
+    out.push_back(std::move(k));
+  }
+  return out;
+}
+
+ReachMap reach_map(const Robot& robot, const InverseKinematics& ik, const PenSettings& pen, const Bounds& area,
+                   double cell_mm) {
+  if (!(cell_mm > 0) || !(area.width() > 0) || !(area.height() > 0))
+    throw std::invalid_argument("a reach map needs an area and a cell of some size");
+  ReachMap m;
+  m.area = area;
+  m.cell_mm = cell_mm;
+  m.rows = std::max(1, int(std::ceil(area.width() / cell_mm)));
+  m.cols = std::max(1, int(std::ceil(area.height() / cell_mm)));
+  m.reached.assign(size_t(m.rows) * size_t(m.cols), 0);
+  Reach reach(robot, ik, pen);
+  for (int r = 0; r < m.rows; ++r)
+    for (int k = 0; k < m.cols; ++k) {
+      const int c = r % 2 ? m.cols - 1 - k : k;  // to and fro: each solve starts beside the last
+      const Sample s{{area.min_x + (r + 0.5) * cell_mm, area.min_y + (c + 0.5) * cell_mm}, false};
+      m.reached[size_t(r) * size_t(m.cols) + size_t(c)] = reach.reaches(s, 0, 0) ? 1 : 0;
+    }
+  return m;
+}
+
+nlohmann::json reach_map_json(const Robot& robot, const InverseKinematics& ik, const nlohmann::json& j) {
+  using nlohmann::json;
+  if (!j.is_object()) throw std::invalid_argument("a reach map request is an object: {area | paper, at, landscape; cell, z, pen}");
+  static const char* const kKeys[] = {"area", "paper", "at", "landscape", "cell", "z", "pen"};
+  for (auto it = j.begin(); it != j.end(); ++it)
+    if (std::find_if(std::begin(kKeys), std::end(kKeys), [&](const char* k) { return it.key() == k; }) == std::end(kKeys))
+      throw std::invalid_argument("a reach map request has no '" + it.key() + "'");
+  auto num = [&](const char* key, double fallback) {
+    if (!j.contains(key)) return fallback;
+    if (!j[key].is_number()) throw std::invalid_argument(std::string("'") + key + "' must be a number");
+    return j[key].get<double>();
+  };
+  auto pair = [](const json& v) { return v.is_array() && v.size() == 2 && v[0].is_number() && v[1].is_number(); };
+  Bounds area;
+  if (j.contains("paper")) {  // a sheet: portrait with its height along x (away from a student at +x), or landscape
+    double w = 0, h = 0;
+    if (!j["paper"].is_string() || !paper_size(j["paper"].get<std::string>(), w, h))
+      throw std::invalid_argument("'paper' must be A4, A5 or Letter");
+    if (!pair(j.value("at", json()))) throw std::invalid_argument("'at' must be the sheet's centre, [x, y] mm");
+    if (j.value("landscape", false)) std::swap(w, h);
+    const double x = j["at"][0].get<double>(), y = j["at"][1].get<double>();
+    area = {x - h / 2, y - w / 2, x + h / 2, y + w / 2};
+  } else {
+    const json& a = j.value("area", json());
+    if (!a.is_array() || a.size() != 4 || !std::all_of(a.begin(), a.end(), [](const json& v) { return v.is_number(); }))
+      throw std::invalid_argument("'area' must be [min_x, min_y, max_x, max_y] mm");
+    area = {a[0].get<double>(), a[1].get<double>(), a[2].get<double>(), a[3].get<double>()};
+  }
+  const double cell = num("cell", 5);
+  if (cell > 0 && area.width() / cell * area.height() / cell > 20000)
+    throw std::invalid_argument("a reach map of more than 20,000 cells: make the cell bigger");
+  PenSettings pen;
+  pen.paper_z = num("z", 0);
+  pen.pen_mm = num("pen", 0);
+  const ReachMap m = reach_map(robot, ik, pen, area, cell);
+  std::string bits(m.reached.size(), '0');
+  for (size_t i = 0; i < bits.size(); ++i) bits[i] = m.reached[i] ? '1' : '0';
+  return json{{"rows", m.rows}, {"cols", m.cols}, {"cell", m.cell_mm},
+              {"area", {area.min_x, area.min_y, area.max_x, area.max_y}}, {"reached", bits}};
+}
+
 std::vector<Stroke> order_strokes(std::vector<Stroke> strokes, Point2 start) {
   // drop repeated points
   std::vector<Stroke> left;
@@ -418,8 +517,8 @@ Robot with_microsteps(const Robot& robot, int microsteps) {
 }
 
 Drawing make_drawing(const Robot& robot, const InverseKinematics& ik, const DrawRequest& req) {
-  if (int(!req.text.empty()) + int(!req.shape.empty()) + int(!req.svg.empty()) != 1)
-    throw std::invalid_argument("give one of a text, a shape and an SVG file");
+  if (int(!req.text.empty()) + int(!req.shape.empty()) + int(!req.svg.empty()) + int(!req.freehand.empty()) != 1)
+    throw std::invalid_argument("give one of a text, a shape, an SVG file and strokes drawn by hand");
   const PenSettings& pen = req.pen;
   if (!std::isfinite(pen.paper_z) || !(pen.pen_mm >= 0) || !std::isfinite(pen.pen_mm))
     throw std::invalid_argument("the paper's height must be a number and the pen's length >= 0 mm");
@@ -435,6 +534,9 @@ Drawing make_drawing(const Robot& robot, const InverseKinematics& ik, const Draw
   } else if (!req.shape.empty()) {
     laid = shape_strokes(req.shape);
     d.what = "a " + req.shape;
+  } else if (!req.freehand.empty()) {
+    laid = smooth_strokes(req.freehand);
+    d.what = "a drawing by hand";
   } else {
     if (!(req.tolerance_mm > 0) || !std::isfinite(req.tolerance_mm)) throw std::invalid_argument("the chord tolerance must be > 0 mm");
     if (!(req.width_mm > 0) || !std::isfinite(req.width_mm)) throw std::invalid_argument("the drawing's width must be > 0 mm");
@@ -444,8 +546,13 @@ Drawing make_drawing(const Robot& robot, const InverseKinematics& ik, const Draw
     laid = flatten_svg(svg, req.tolerance_mm * svg.bounds.width() / req.width_mm);
     d.what = req.svg_name;
   }
-  d.strokes = place_strokes(laid, req.width_mm, req.x, req.y, req.rotation_deg);
-  {
+  if (!req.freehand.empty()) {  // drawn where it goes
+    d.strokes = laid;
+    const Bounds own = bounds_of(laid);
+    d.width_mm = own.height();  // across the student's view: the table's y
+    d.height_mm = own.width();
+  } else {
+    d.strokes = place_strokes(laid, req.width_mm, req.x, req.y, req.rotation_deg);
     const Bounds own = bounds_of(laid);
     d.width_mm = req.width_mm;
     d.height_mm = own.width() > 0 ? own.height() * req.width_mm / own.width() : 0;
@@ -523,8 +630,9 @@ nlohmann::json drawing_with_ink_json(const Robot& robot, const InverseKinematics
 }
 
 DrawRequest draw_request_from_json(const nlohmann::json& j) {
+  using nlohmann::json;
   if (!j.is_object()) throw std::invalid_argument("a drawing request is an object");
-  static const char* const kKeys[] = {"text", "shape", "svg", "svg_name", "tolerance", "paper", "microsteps", "font", "line_spacing", "width", "at", "z", "pen", "lift",
+  static const char* const kKeys[] = {"text", "shape", "svg", "strokes", "svg_name", "tolerance", "paper", "microsteps", "font", "line_spacing", "width", "at", "z", "pen", "lift",
                                       "speed", "travel_speed", "rotate"};
   for (auto it = j.begin(); it != j.end(); ++it)
     if (std::find_if(std::begin(kKeys), std::end(kKeys), [&](const char* k) { return it.key() == k; }) == std::end(kKeys))
@@ -541,6 +649,25 @@ DrawRequest draw_request_from_json(const nlohmann::json& j) {
   };
   DrawRequest r;
   r.text = str("text");
+  if (j.contains("strokes")) {
+    const json& st = j["strokes"];
+    size_t points = 0;
+    if (!st.is_array()) throw std::invalid_argument("'strokes' must be a list of strokes, each a list of [x, y] mm");
+    for (const json& s : st) {
+      if (!s.is_array()) throw std::invalid_argument("'strokes' must be a list of strokes, each a list of [x, y] mm");
+      Stroke stroke;
+      for (const json& p : s) {
+        if (!p.is_array() || p.size() != 2 || !p[0].is_number() || !p[1].is_number() ||
+            !std::isfinite(p[0].get<double>()) || !std::isfinite(p[1].get<double>()))
+          throw std::invalid_argument("stroke " + std::to_string(r.freehand.size() + 1) + " holds " + p.dump().substr(0, 40) +
+                                      ", not a point [x, y] mm");
+        stroke.push_back({p[0].get<double>(), p[1].get<double>()});
+      }
+      points += stroke.size();
+      if (points > 20000) throw std::invalid_argument("strokes of more than 20,000 points: draw less");
+      if (!stroke.empty()) r.freehand.push_back(std::move(stroke));
+    }
+  }
   r.shape = str("shape");
   r.svg = str("svg");
   r.paper = str("paper");
@@ -550,10 +677,12 @@ DrawRequest draw_request_from_json(const nlohmann::json& j) {
   r.font_path = str("font");
   r.line_spacing = num("line_spacing", r.line_spacing);
   r.width_mm = num("width", 0);
-  if (!j.contains("at") || !j["at"].is_array() || j["at"].size() != 2 || !j["at"][0].is_number() || !j["at"][1].is_number())
-    throw std::invalid_argument("'at' must be the drawing's centre, [x, y] mm");
-  r.x = j["at"][0].get<double>();
-  r.y = j["at"][1].get<double>();
+  if (r.freehand.empty() || j.contains("at")) {  // strokes by hand are where they were drawn
+    if (!j.contains("at") || !j["at"].is_array() || j["at"].size() != 2 || !j["at"][0].is_number() || !j["at"][1].is_number())
+      throw std::invalid_argument("'at' must be the drawing's centre, [x, y] mm");
+    r.x = j["at"][0].get<double>();
+    r.y = j["at"][1].get<double>();
+  }
   r.rotation_deg = num("rotate", r.rotation_deg);
   r.pen.paper_z = num("z", 0);
   r.pen.pen_mm = num("pen", 0);
@@ -582,47 +711,94 @@ std::string svg_text(const std::string& s) {
 }
 }  // namespace
 
-PredictedInk predicted_ink(const Drawing& d, const Prediction& prediction, const PenSettings& pen) {
-  (void)pen;  // the tip is the tool less the pen's length in z: on the paper, x and y are the tool's
-  PredictedInk ink;
-  // the program's ink lines, in order, each the segment of the ideal stroke it draws
-  std::vector<std::pair<Point2, Point2>> ideal_of_line;
-  std::map<int, size_t> index_of_line;
-  {
-    size_t k = 0;
-    for (const Stroke& s : d.strokes)
-      for (size_t i = 1; i < s.size(); ++i) {
-        if (k < d.ink_lines.size()) index_of_line[d.ink_lines[k]] = ideal_of_line.size();
-        ideal_of_line.push_back({s[i - 1], s[i]});
-        ++k;
-      }
+bool pen_on_paper(const Vec3<double>& tool, const PenSettings& pen) {
+  return tool.z - pen.pen_mm < pen.paper_z + pen.lift_mm / 2;
+}
+
+std::vector<Stroke> ink_of_tool_path(const std::vector<Vec3<double>>& tool, const PenSettings& pen) {
+  std::vector<Stroke> out;
+  bool down = false;
+  for (const Vec3<double>& t : tool) {
+    const bool on = pen_on_paper(t, pen);
+    if (on && !down) out.push_back({});
+    if (on) out.back().push_back({t.x, t.y});
+    down = on;
   }
-  int previous_line = -2;
-  Point2 last{0, 0};
-  bool have_last = false;
+  return out;
+}
+
+std::vector<Vec3<double>> tool_from_steps(const Robot& robot, const std::vector<int32_t>& steps) {
+  const size_t n = size_t(robot.actuation.num_motors);
+  if (n == 0) throw std::invalid_argument("the robot has no motors: steps say nothing of where it is");
+  if (steps.size() % n)
+    throw std::invalid_argument(std::to_string(steps.size()) + " step counts are not rows of " + std::to_string(n) + " (a count per motor)");
+  std::vector<Vec3<double>> out;
+  out.reserve(steps.size() / n);
+  for (size_t k = 0; k < steps.size(); k += n) {
+    double q[kMaxJoints];
+    joints_from_steps(q, robot.actuation, steps.data() + k);
+    out.push_back(tool_position(robot.model, q));
+  }
+  return out;
+}
+
+nlohmann::json ink_from_steps_json(const Robot& robot, const nlohmann::json& j) {
+  using nlohmann::json;
+  if (!j.is_object()) throw std::invalid_argument("an ink request is an object: {steps, z, pen, lift}");
+  for (auto it = j.begin(); it != j.end(); ++it)
+    if (it.key() != "steps" && it.key() != "z" && it.key() != "pen" && it.key() != "lift")
+      throw std::invalid_argument("an ink request has no '" + it.key() + "'");
+  if (!j.contains("steps") || !j["steps"].is_array()) throw std::invalid_argument("'steps' must be a list of step counts");
+  std::vector<int32_t> steps;
+  steps.reserve(j["steps"].size());
+  for (const json& v : j["steps"]) {
+    if (!v.is_number_integer()) throw std::invalid_argument("'steps' holds " + v.dump() + ", not a whole number of steps");
+    steps.push_back(v.get<int32_t>());
+  }
+  PenSettings pen;
+  auto num = [&](const char* key, double& into) {
+    if (!j.contains(key)) return;
+    if (!j[key].is_number()) throw std::invalid_argument(std::string("'") + key + "' must be a number");
+    into = j[key].get<double>();
+  };
+  num("z", pen.paper_z);
+  num("pen", pen.pen_mm);
+  num("lift", pen.lift_mm);
+  json strokes = json::array();
+  size_t points = 0;
+  for (const Stroke& s : ink_of_tool_path(tool_from_steps(robot, steps), pen)) {
+    json st = json::array();
+    for (const Point2& p : s) st.push_back({p.x, p.y});
+    points += s.size();
+    strokes.push_back(st);
+  }
+  return json{{"strokes", strokes}, {"points", points}};
+}
+
+PredictedInk predicted_ink(const Drawing& d, const Prediction& prediction, const PenSettings& pen) {
+  PredictedInk ink;
+  std::vector<Vec3<double>> tool;  // every step of every move, in order
+  std::vector<int> line_of;        // the program line that made it
   for (const PredictRecord& r : prediction.records) {
-    const auto it = index_of_line.find(r.line);
     if (r.reply != kOk) continue;
-    if (it == index_of_line.end()) {
-      last = {r.tool_quantized.x, r.tool_quantized.y};
-      have_last = true;
-      continue;
+    tool.insert(tool.end(), r.path.begin(), r.path.end());
+    line_of.insert(line_of.end(), r.path.size(), r.line);
+  }
+  bool down = false;
+  for (size_t k = 0; k < tool.size(); ++k) {
+    const bool on = pen_on_paper(tool[k], pen);
+    if (on && !down) ink.strokes.push_back({});
+    down = on;
+    if (!on) continue;
+    const Point2 p{tool[k].x, tool[k].y};
+    ink.strokes.back().push_back(p);
+    ++ink.steps;
+    double nearest = INFINITY;
+    for (const Stroke& s : d.strokes) {
+      if (s.size() == 1) nearest = std::min(nearest, dist(p, s[0]));
+      for (size_t i = 1; i < s.size(); ++i) nearest = std::min(nearest, segment_distance(p, s[i - 1], s[i]));
     }
-    const auto [a, b] = ideal_of_line[it->second];
-    if (r.line != previous_line + 1 || ink.strokes.empty()) {
-      ink.strokes.push_back({});
-      if (have_last) ink.strokes.back().push_back(last);  // where the pen came down
-    }
-    for (const Vec3<double>& t : r.path) {
-      const Point2 p{t.x, t.y};
-      ink.strokes.back().push_back(p);
-      ++ink.steps;
-      const double dist = segment_distance(p, a, b);
-      if (dist > ink.worst_mm) ink.worst_mm = dist, ink.worst_at = p, ink.worst_line = r.line;
-    }
-    last = {r.tool_quantized.x, r.tool_quantized.y};
-    have_last = true;
-    previous_line = r.line;
+    if (nearest > ink.worst_mm) ink.worst_mm = nearest, ink.worst_at = p, ink.worst_line = line_of[k];
   }
   return ink;
 }

@@ -55,6 +55,11 @@ std::vector<Stroke> text_strokes(const HersheyFont& font, const std::string& tex
 // Throws std::invalid_argument for another name.
 std::vector<Stroke> shape_strokes(const std::string& shape);
 
+// Freehand strokes (a finger's or a mouse's points) smoothed: each point the mean of it and
+// its two neighbours either side (the ends kept), then points dropped while the stroke stays
+// within `tolerance_mm` of them (Douglas-Peucker).
+std::vector<Stroke> smooth_strokes(const std::vector<Stroke>& strokes, double tolerance_mm = 0.3);
+
 // ---- placing, reaching, ordering, the program
 
 struct Bounds {
@@ -92,6 +97,22 @@ struct ReachCheck {
 ReachCheck check_reach(const Robot& robot, const InverseKinematics& ik, const std::vector<Stroke>& strokes,
                        const PenSettings& pen);
 
+// Where on an area of the table (a sheet of paper) the pen reaches the paper: the centre of
+// every cell of `cell_mm`, row after row from min_x, each row from min_y; 1 where it reaches.
+// The studio shades it: the arm's workspace at the paper's height.
+struct ReachMap {
+  Bounds area;
+  double cell_mm = 5;
+  int rows = 0, cols = 0;       // rows along x, columns along y
+  std::vector<uint8_t> reached;  // rows * cols
+};
+ReachMap reach_map(const Robot& robot, const InverseKinematics& ik, const PenSettings& pen, const Bounds& area,
+                   double cell_mm);
+// {area [min_x, min_y, max_x, max_y] | paper (A4, A5, Letter), at [x, y] its centre, landscape;
+// cell, z, pen} -> {rows, cols, cell, area, reached "0110..."}: as the bindings ask; at most
+// 20,000 cells. A sheet lies portrait for a student at +x (its height along x) unless landscape.
+nlohmann::json reach_map_json(const Robot& robot, const InverseKinematics& ik, const nlohmann::json& request);
+
 // The strokes in a drawing order: each next the nearest end to where the pen is (a stroke is
 // reversed when its last point is nearer), from `start`. Points closer than 0.01 mm to the one
 // before are dropped, and strokes left with one point become a dot (the pen down and up).
@@ -114,7 +135,8 @@ std::string drawing_program(const Robot& robot, const std::vector<Stroke>& strok
 struct DrawRequest {
   std::string text;          // text to write ('\n' starts a line), or
   std::string shape;         // a shape: square, circle, star, or
-  std::string svg;           // an SVG file's text (svg.h), named svg_name (exactly one of the three)
+  std::string svg;           // an SVG file's text (svg.h), named svg_name, or
+  std::vector<Stroke> freehand;  // strokes drawn by hand on the table (mm), smoothed, not placed (exactly one of the four)
   std::string svg_name = "drawing.svg";
   double tolerance_mm = 0.1;  // an SVG's curves flattened within this of the curve, on the paper
   std::string font_path;     // "" : default_font_path()
@@ -154,14 +176,36 @@ struct Drawing {
 // font unread), SvgError (svg.h) for an SVG refused.
 Drawing make_drawing(const Robot& robot, const InverseKinematics& ik, const DrawRequest& request);
 
+// {strokes [[[x, y], ...], ...], points}: ink_of_tool_path of tool_from_steps, as the
+// bindings answer a virtual Nano's steps ({steps, z, pen, lift}).
+nlohmann::json ink_from_steps_json(const Robot& robot, const nlohmann::json& request);
+
 // {what, bounds {min_x, min_y, max_x, max_y}, strokes [[[x, y], ...], ...], reach {fits,
 // points, unreachable [[x, y]...], movable, move [dx, dy], advice}, start, travel_mm,
 // travel_unordered_mm, program}: how the bindings hand a drawing out.
 nlohmann::json drawing_json(const Drawing& d);
 
+// ---- ink: where the pen touches the paper
+
+// The pen is on the paper while its tip is lower than half the lift above it: the pen holder's
+// spring takes up the steps' error in height (a step of the MK2's shoulder moves the tip about
+// a millimetre), and a lifted pen is a whole lift above. One rule for the prediction, the
+// virtual Nano's steps and the physics.
+bool pen_on_paper(const Vec3<double>& tool, const PenSettings& pen);
+
+// The ink the tool's positions leave, in order (every step): a polyline on the paper for each
+// time the pen is down, its first point where it came down.
+std::vector<Stroke> ink_of_tool_path(const std::vector<Vec3<double>>& tool, const PenSettings& pen);
+
+// The tool's positions (mm) from motor step counts: `steps` holds a row of each motor's count
+// (from power-up, as the status report's S) per moment, row after row.
+// Throws std::invalid_argument when its length is not a whole number of rows.
+std::vector<Vec3<double>> tool_from_steps(const Robot& robot, const std::vector<int32_t>& steps);
+
 // The line the arm will draw: the pen's tip at every step of the prediction (a prediction
-// made with its path kept, predict.h) along the drawing's ink lines, a polyline per stroke, on
-// the paper (x, y mm); and the worst distance of the tip from the ideal stroke, and where.
+// made with its path kept, predict.h) where the pen is on the paper (pen_on_paper), a polyline
+// each time it comes down, on the paper (x, y mm); and the worst distance of the tip from the
+// nearest ideal stroke, where and on which line.
 struct PredictedInk {
   std::vector<Stroke> strokes;
   double worst_mm = 0;
@@ -182,7 +226,7 @@ std::string drawing_svg(const Drawing& d, const PredictedInk& ink, const std::st
 nlohmann::json drawing_with_ink_json(const Robot& robot, const InverseKinematics& ik, const DrawRequest& request,
                                      bool svg = false);
 
-// A request from JSON (the bindings): {text | shape, width, at [x, y], z, pen, lift, speed,
+// A request from JSON (the bindings): {text | shape | svg | strokes (freehand), width, at [x, y], z, pen, lift, speed,
 // travel_speed, rotate, line_spacing, font}; unknown keys refused by name.
 DrawRequest draw_request_from_json(const nlohmann::json& j);
 

@@ -217,7 +217,7 @@ TEST(Ink, ThePenAtEveryStepAndItsWorstDistanceFromTheDrawing) {
   // the worst is the largest distance of any inked point from the nearest ideal stroke
   double worst = 0;
   for (const Stroke& s : ink.strokes)
-    for (size_t k = 1; k < s.size(); ++k) {  // (the first point: where the pen came down)
+    for (size_t k = 0; k < s.size(); ++k) {
       double nearest = INFINITY;
       for (const Stroke& id : d.strokes)
         for (size_t i = 1; i < id.size(); ++i) {
@@ -227,7 +227,9 @@ TEST(Ink, ThePenAtEveryStepAndItsWorstDistanceFromTheDrawing) {
         }
       worst = std::max(worst, nearest);
     }
-  EXPECT_LE(worst, ink.worst_mm + 1e-9);  // against its own segment the distance is at least the nearest
+  EXPECT_NEAR(worst, ink.worst_mm, 1e-9);
+  // a stroke of ink each time the pen comes down: one per stroke drawn (and per dot)
+  EXPECT_EQ(ink.strokes.size(), d.strokes.size());
   const std::string svg = drawing_svg(d, ink, d.what);
   EXPECT_NE(svg.find("<g id=\"ideal\""), std::string::npos);
   EXPECT_NE(svg.find("<g id=\"predicted\""), std::string::npos);
@@ -271,4 +273,109 @@ TEST(Place, ADrawingBiggerThanThePaperIsRefused) {
   EXPECT_NO_THROW(make_drawing(mk2(), mk2_ik(), req));
   req.paper = "A3";
   EXPECT_EQ(error_of([&] { make_drawing(mk2(), mk2_ik(), req); }), "no paper 'A3': A4, A5 or Letter");
+}
+
+TEST(Ink, ThePenIsOnThePaperBelowHalfItsLift) {
+  PenSettings pen;
+  pen.paper_z = 10;
+  pen.pen_mm = 100;
+  pen.lift_mm = 10;
+  EXPECT_TRUE(pen_on_paper({0, 0, 110}, pen));
+  EXPECT_TRUE(pen_on_paper({0, 0, 114.9}, pen));  // a step's error in height: still drawing
+  EXPECT_FALSE(pen_on_paper({0, 0, 115}, pen));
+  EXPECT_FALSE(pen_on_paper({0, 0, 120}, pen));   // lifted
+  const std::vector<articula::Vec3<double>> path = {{1, 0, 120}, {2, 0, 110}, {3, 0, 110}, {4, 0, 120}, {5, 0, 111}, {6, 0, 130}};
+  const std::vector<Stroke> ink = ink_of_tool_path(path, pen);
+  ASSERT_EQ(ink.size(), 2u);
+  ASSERT_EQ(ink[0].size(), 2u);
+  EXPECT_EQ(ink[0][0].x, 2);
+  EXPECT_EQ(ink[0][1].x, 3);
+  ASSERT_EQ(ink[1].size(), 1u);  // a dot
+  EXPECT_EQ(ink[1][0].x, 5);
+}
+
+TEST(Ink, StepCountsGiveTheToolThePredictionGives) {
+  DrawRequest req;
+  req.shape = "square";
+  req.width_mm = 30;
+  req.x = 250;
+  req.pen = pen120();
+  const Drawing d = make_drawing(mk2(), mk2_ik(), req);
+  ASSERT_TRUE(d.reach.fits) << d.reach.advice;
+  const Prediction p = predict_program(mk2(), parse_program(d.program, "sq.arm", mk2()), {}, {}, true);
+  std::vector<int32_t> rows;
+  std::vector<articula::Vec3<double>> expected;
+  for (const PredictRecord& r : p.records)
+    if (r.reply == articula::kOk && !r.steps.empty()) {
+      rows.insert(rows.end(), r.steps.begin(), r.steps.end());
+      expected.push_back(r.tool_quantized);
+    }
+  const std::vector<articula::Vec3<double>> tool = tool_from_steps(mk2(), rows);
+  ASSERT_EQ(tool.size(), expected.size());
+  for (size_t i = 0; i < tool.size(); ++i) EXPECT_LT(articula::norm(tool[i] - expected[i]), 1e-9) << i;
+  // as the bindings ask: rows of the wrong length, a count that is not whole, an unknown key
+  const nlohmann::json ok = ink_from_steps_json(mk2(), {{"steps", rows}, {"z", 0}, {"pen", 120}});
+  EXPECT_GT(ok["points"].get<int>(), 0);
+  EXPECT_THROW(ink_from_steps_json(mk2(), {{"steps", {1, 2}}}), std::invalid_argument);
+  EXPECT_THROW(ink_from_steps_json(mk2(), {{"steps", {1.5, 2, 3}}}), std::invalid_argument);
+  EXPECT_THROW(ink_from_steps_json(mk2(), {{"steps", {1, 2, 3}}, {"colour", 1}}), std::invalid_argument);
+}
+
+TEST(Reach, TheMapOfASheetAgreesWithTheCheck) {
+  // an A5 sheet in front of the MK2, its near edge close to the base: the pen reaches its middle
+  // and not the corner nearest the base (the arm cannot fold that far)
+  const Bounds sheet{120, -74, 330, 74};
+  const ReachMap m = reach_map(mk2(), mk2_ik(), pen120(), sheet, 10);
+  EXPECT_EQ(m.rows, 21);
+  EXPECT_EQ(m.cols, 15);
+  const size_t reached = size_t(std::count(m.reached.begin(), m.reached.end(), 1));
+  EXPECT_GT(reached, m.reached.size() / 3);
+  EXPECT_LT(reached, m.reached.size());
+  // every cell says what check_reach says of a dot at its centre (the lifted pen aside)
+  for (int r = 0; r < m.rows; r += 4)
+    for (int c = 0; c < m.cols; c += 3) {
+      const Point2 p{sheet.min_x + (r + 0.5) * 10, sheet.min_y + (c + 0.5) * 10};
+      PenSettings flat = pen120();
+      flat.lift_mm = 0;
+      const ReachCheck rc = check_reach(mk2(), mk2_ik(), {{p}}, flat);
+      EXPECT_EQ(m.reached[size_t(r * m.cols + c)] == 1, rc.fits) << p.x << ", " << p.y;
+    }
+  EXPECT_THROW(reach_map_json(mk2(), mk2_ik(), {{"area", {0, 0, 1000, 1000}}, {"cell", 1}}), std::invalid_argument);
+  EXPECT_THROW(reach_map_json(mk2(), mk2_ik(), {{"area", {0, 0}}}), std::invalid_argument);
+  const nlohmann::json j = reach_map_json(mk2(), mk2_ik(), {{"area", {120, -74, 330, 74}}, {"cell", 10}, {"pen", 120}});
+  EXPECT_EQ(j["reached"].get<std::string>().size(), m.reached.size());
+  // a sheet by its name and centre: A5 portrait, its 210 mm along x
+  const nlohmann::json a5 = reach_map_json(mk2(), mk2_ik(), {{"paper", "A5"}, {"at", {225, 0}}, {"cell", 10}, {"pen", 120}});
+  EXPECT_EQ(a5["area"], nlohmann::json({120, -74, 330, 74}));
+  EXPECT_EQ(a5["reached"], j["reached"]);
+  const nlohmann::json wide = reach_map_json(mk2(), mk2_ik(), {{"paper", "A5"}, {"at", {225, 0}}, {"landscape", true}, {"cell", 10}});
+  EXPECT_EQ(wide["area"], nlohmann::json({151, -105, 299, 105}));
+  EXPECT_THROW(reach_map_json(mk2(), mk2_ik(), {{"paper", "A3"}, {"at", {225, 0}}}), std::invalid_argument);
+}
+
+TEST(Freehand, AShakyLineIsSmoothedAndDrawnWhereItWasDrawn) {
+  // a finger's line across the paper, shaking 0.4 mm either side of y = 0
+  std::vector<Point2> shaky;
+  for (int i = 0; i <= 60; ++i) shaky.push_back({230 + i * 0.5, (i % 2 ? 0.4 : -0.4)});
+  const std::vector<Stroke> smooth = smooth_strokes({shaky}, 0.3);
+  ASSERT_EQ(smooth.size(), 1u);
+  EXPECT_LT(smooth[0].size(), 10u);  // a straight line needs few points
+  EXPECT_EQ(smooth[0].front().x, shaky.front().x);
+  EXPECT_EQ(smooth[0].back().x, shaky.back().x);
+  for (const Point2& p : smooth[0]) EXPECT_LT(std::fabs(p.y), 0.41);
+  // through the bindings' request: the strokes are not moved or scaled
+  const nlohmann::json strokes = {{{230, 0}, {240, 5}, {250, 0}}, {{260, -5}, {260, 5}}};
+  const Drawing d = make_drawing(mk2(), mk2_ik(), draw_request_from_json({{"strokes", strokes}, {"pen", 120}}));
+  ASSERT_TRUE(d.reach.fits) << d.reach.advice;
+  EXPECT_EQ(d.what, "a drawing by hand");
+  EXPECT_NEAR(d.bounds.min_x, 230, 1e-9);
+  EXPECT_NEAR(d.bounds.max_x, 260, 1e-9);
+  EXPECT_NEAR(d.bounds.min_y, -5, 1e-9);
+  EXPECT_FALSE(d.program.empty());
+  try {
+    draw_request_from_json({{"strokes", {{{230, 0}, {"a", 1}}}}});
+    ADD_FAILURE() << "a point that is not a number was taken";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("stroke 1"), std::string::npos) << e.what();
+  }
 }

@@ -74,3 +74,60 @@ def test_a_drawing_out_of_reach_and_a_hostile_svg_are_said_plainly(open_page, tm
     d = _draw(pg, kind="svg", width=50, x=260)
     assert d["fits"] and d["steps"] > 100, d
     assert pg.errors == []
+
+
+def test_hello_on_a5_on_the_virtual_nano_leaves_the_predicted_ink(open_page):
+    """Issue 29's first 'done when' in Chromium at 1366x768: the MK2 on A5, "Hello" written, the
+    drawing and the line the arm will draw on the paper view, then run on the virtual Nano: the
+    ink its own steps leave (the emulator's pins, through the engine's forward kinematics) is the
+    predicted ink, point for point, and within the stated bound of the letters."""
+    pg = open_page("mk2plus", width=1366, height=768)
+    if pg.page.is_visible("#tab-program"):
+        pg.page.click("#tab-program")
+    pg.page.locator("#draw-section").scroll_into_view_if_needed()
+    # the sheet: A5 on the table, the part the pen reaches shaded (the engine's reach map)
+    pg.wait("a.paper.maps > 0", timeout=30000)
+    assert pg.hook("a.paper.area") == [120, -74, 330, 74]
+    share = pg.hook("a.paper.reachShare")
+    assert 0.3 < share < 1, share
+    shaded = pg.page.locator("#paper-view #reach rect").count()
+    assert shaded > 10
+    d = _draw(pg, text="Hello")
+    assert d["fits"], d
+    assert pg.page.locator("#paper-view #ideal polyline").count() == 7  # H e l l o: seven strokes
+    assert pg.page.locator("#paper-view #predicted polyline").count() == len(d["ink"])
+    pg.page.click("#draw-use")
+    pg.page.click("#tab-arm") if pg.page.is_visible("#tab-arm") else None
+    pg.page.select_option("#arm-port", "page:virtual")
+    pg.page.click("#arm-connect")
+    pg.wait("a.arm.connected && a.arm.status !== null", timeout=30000)
+    if pg.page.is_visible("#tab-program"):
+        pg.page.click("#tab-program")
+    pg.page.check("#drive-arm")
+    pg.page.click("#run")
+    pg.wait("a.arm.programDone === true", timeout=90000)
+    pg.wait("a.arm.status.state === 'Idle'", timeout=30000)
+    steps = sum(len(s) for s in d["ink"])
+    pg.wait(f"a.paper.ink.points === {steps}", timeout=30000)
+    ink = pg.hook("a.paper.ink.strokes")
+    assert len(ink) == len(d["ink"])
+    worst = max(abs(p[k] - q[k]) for s, t in zip(ink, d["ink"]) for p, q in zip(s, t) for k in (0, 1))
+    assert [len(s) for s in ink] == [len(s) for s in d["ink"]] and worst < 1e-6, worst
+    # within the bound the status states: every point of the ink from the nearest stroke of the
+    # letters (the engine's drawing, as Python has it)
+    ideal = articula.Robot.load("mk2plus").draw(text="Hello", width=60, at=(250, 0), z=0, pen=120)["strokes"]
+
+    def nearest(p):
+        best = float("inf")
+        for st in ideal:
+            for a, b in zip(st, st[1:]):
+                dx, dy = b[0] - a[0], b[1] - a[1]
+                t = max(0.0, min(1.0, ((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / (dx * dx + dy * dy or 1)))
+                best = min(best, ((p[0] - a[0] - t * dx) ** 2 + (p[1] - a[1] - t * dy) ** 2) ** 0.5)
+        return best
+    far = max(nearest(p) for st in ink for p in st)
+    assert abs(far - d["worstMm"]) < 1e-6 and far < 2.0, (far, d["worstMm"])
+    assert pg.page.locator("#paper-view #ink polyline").count() == len(ink)
+    pg.page.locator("#draw-section").scroll_into_view_if_needed()
+    pg.page.screenshot(path=str(SHOTS / "studio-draw-nano.png"))
+    assert pg.errors == []

@@ -31,6 +31,9 @@ export class Robot {
     start: number[]; travel_mm: number; travel_unordered_mm: number; program: string; width_mm: number; height_mm: number;
     ink_lines: number[]; seconds?: number;
     ink?: { strokes: number[][][]; worst_mm: number; worst_at: number[]; worst_line: number; steps: number } };
+  reachMap(request: { area: number[]; cell?: number; z?: number; pen?: number }):
+    { rows: number; cols: number; cell: number; area: number[]; reached: string };
+  inkFromSteps(request: { steps: number[]; z?: number; pen?: number; lift?: number }): { strokes: number[][][]; points: number };
   urdf(): string;
   jointsFromMotors(u: number[]): number[];
   /** The Nano's robot configuration for this robot; throws EngineError with the reason a Nano cannot drive it. */

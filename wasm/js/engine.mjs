@@ -81,6 +81,12 @@ export class Robot {
   /** A drawing for a pen in the gripper (`articula draw`): {text | shape, width, at, z, pen, ...}
    * -> {what, bounds, strokes, reach, start, travel_mm, travel_unordered_mm, program}. */
   draw(request) { return checked(this.engine.M.drawing(this.h, JSON.stringify(request))); }
+  /** Where on an area of the table the pen reaches the paper: {area [min_x, min_y, max_x,
+   * max_y], cell, z, pen} -> {rows, cols, cell, area, reached: "0110..." row after row}. */
+  reachMap(request) { return checked(this.engine.M.reachMap(this.h, JSON.stringify(request))); }
+  /** The ink motor step counts leave (a row per moment, the pen on the paper below half its
+   * lift): {steps: [flat rows], z, pen, lift} -> {strokes, points}. */
+  inkFromSteps(request) { return checked(this.engine.M.inkFromSteps(this.h, JSON.stringify(request))); }
   urdf() { return checked(this.h.urdf()).xml; }
   jointsFromMotors(u) { return checked(this.h.jointsFromMotors(JSON.stringify(u))); }
   motorsFromJoints(q) { return checked(this.h.motorsFromJoints(JSON.stringify(q))); }

@@ -82,6 +82,16 @@ std::string drawing(const WebRobot& robot, const std::string& request_json) {
   });
 }
 
+// The ink a virtual Nano's steps leave (host/lib/draw.h): {steps, z, pen, lift} -> {strokes, points}.
+std::string ink_from_steps(const WebRobot& robot, const std::string& request_json) {
+  return guarded([&] { return host::ink_from_steps_json(robot.robot(), json::parse(request_json)).dump(); });
+}
+
+// Where on a sheet the pen reaches the paper (host/lib/draw.h): {area, cell, z, pen} -> the map.
+std::string reach_map(const WebRobot& robot, const std::string& request_json) {
+  return guarded([&] { return host::reach_map_json(robot.robot(), robot.ik(), json::parse(request_json)).dump(); });
+}
+
 std::string program_format(const std::string& text, const std::string& name) {
   return host::detect_format(text, name) == host::Program::Format::kRoboSim ? "robosim" : "protocol";
 }
@@ -135,6 +145,8 @@ EMSCRIPTEN_BINDINGS(articula_program) {
   function("protocolLine", &articula::web::protocol_line);
   function("moveLine", &articula::web::move_line);
   function("drawing", &articula::web::drawing);
+  function("inkFromSteps", &articula::web::ink_from_steps);
+  function("reachMap", &articula::web::reach_map);
   class_<WebTimeline>("Timeline")
       .constructor<>()
       .function("make", &WebTimeline::make)

@@ -80,6 +80,10 @@ export class View {
   private grid: THREE.GridHelper | null = null;
   // From the last frame's origin to the tool point: the tool offset, drawn for every robot.
   private toolLine = new THREE.Line(new THREE.BufferGeometry(), new THREE.LineBasicMaterial({ color: 0x9a3412 }));
+  // a pen held in the gripper, hanging straight down from the tool point (setPen)
+  private pen = new THREE.Mesh(new THREE.CylinderGeometry(1, 0.35, 1, 16).rotateX(Math.PI / 2),
+    new THREE.MeshStandardMaterial({ color: 0x2563eb, roughness: 0.5 }));
+  private penMm = 0;
   private toolDot = new THREE.Mesh(new THREE.SphereGeometry(1, 16, 12), new THREE.MeshStandardMaterial({ color: 0x9a3412 }));
   private ground: THREE.Mesh;
   private frameTimes: number[] = [];
@@ -320,7 +324,9 @@ export class View {
     this.ghostArm.visible = false;
     this.toolLine.geometry.setAttribute("position", new THREE.Float32BufferAttribute(new Float32Array(6), 3));
     this.toolDot.scale.setScalar(Math.max(3, this.reach * 0.012));
-    this.arm.add(this.toolLine, this.toolDot);
+    this.arm.add(this.toolLine, this.toolDot, this.pen);
+    this.pen.visible = false;
+    this.penMm = 0;
     // Ground and grid to the robot's size.
     const size = Math.ceil((this.reach * 3) / 100) * 100;
     if (this.grid) this.scene.remove(this.grid);
@@ -388,6 +394,7 @@ export class View {
    * cleared. */
   showDrawing(ideal: number[][][], ink: number[][][], z: number): void {
     for (const o of [...this.drawing.children]) {
+      if (o.name === "sheet" || o.name === "ink") continue;
       o.removeFromParent();
       ((o as THREE.LineSegments).geometry as THREE.BufferGeometry).dispose();
     }
@@ -396,7 +403,7 @@ export class View {
       for (const s of strokes) for (let i = 1; i < s.length; i++) v.push(s[i - 1][0], s[i - 1][1], z + dz, s[i][0], s[i][1], z + dz);
       return v;
     };
-    for (const [strokes, color, name, dz] of [[ideal, 0x1d4ed8, "drawing", 0.3], [ink, 0xc2410c, "drawing as the arm draws it", 0.6]] as
+    for (const [strokes, color, name, dz] of [[ideal, 0x1d4ed8, "drawing", 1.2], [ink, 0xc2410c, "drawing as the arm draws it", 1.6]] as
       [number[][][], number, string, number][]) {
       const v = segments(strokes, dz);
       if (!v.length) continue;
@@ -405,6 +412,61 @@ export class View {
       const lines = new THREE.LineSegments(g, new THREE.LineBasicMaterial({ color }));
       lines.name = name;
       this.drawing.add(lines);
+    }
+    this.dirty = true;
+  }
+
+  /** A pen in the gripper, its tip `mm` below the tool point; 0: none. */
+  setPen(mm: number): void {
+    const at = this.toolDot.position;
+    this.penMm = mm > 0 ? mm : 0;
+    this.pen.visible = this.penMm > 0;
+    this.pen.scale.set(4, 4, Math.max(this.penMm, 1));
+    this.pen.position.set(at.x, at.y, at.z - this.penMm / 2);
+    this.dirty = true;
+  }
+
+  /** A sheet of paper on the table, its corners [min_x, min_y, max_x, max_y] mm, at height z;
+   * null: none. */
+  showSheet(area: number[] | null, z: number): void {
+    const old = this.drawing.getObjectByName("sheet") as THREE.Mesh | undefined;
+    if (old) {
+      old.removeFromParent();
+      old.geometry.dispose();
+      (old.material as THREE.Material).dispose();
+    }
+    if (area) {
+      const [x0, y0, x1, y1] = area;
+      const sheet = new THREE.Mesh(new THREE.PlaneGeometry(x1 - x0, y1 - y0),
+        new THREE.MeshStandardMaterial({ color: 0xfdfdf8, roughness: 1, metalness: 0, polygonOffset: true, polygonOffsetFactor: -1,
+          polygonOffsetUnits: -1 }));
+      sheet.position.set((x0 + x1) / 2, (y0 + y1) / 2, z + 0.2); // above the table, below the lines
+      sheet.name = "sheet";
+      sheet.receiveShadow = true;
+      this.drawing.add(sheet);
+    }
+    this.dirty = true;
+  }
+
+  /** Ink on the paper at height z: what the pen left as the arm moved (the virtual Nano's steps,
+   * the physics), a list of [x, y] polylines; nothing: cleared. */
+  showInk(strokes: number[][][], z: number): void {
+    const old = this.drawing.getObjectByName("ink") as THREE.LineSegments | undefined;
+    if (old) {
+      old.removeFromParent();
+      old.geometry.dispose();
+    }
+    const v: number[] = [];
+    for (const st of strokes) {
+      if (st.length === 1) v.push(st[0][0], st[0][1], z + 2, st[0][0] + 0.3, st[0][1], z + 2);
+      for (let i = 1; i < st.length; i++) v.push(st[i - 1][0], st[i - 1][1], z + 2, st[i][0], st[i][1], z + 2);
+    }
+    if (v.length) {
+      const g = new THREE.BufferGeometry();
+      g.setAttribute("position", new THREE.Float32BufferAttribute(v, 3));
+      const ink = new THREE.LineSegments(g, new THREE.LineBasicMaterial({ color: 0x111827 }));
+      ink.name = "ink";
+      this.drawing.add(ink);
     }
     this.dirty = true;
   }
@@ -446,6 +508,7 @@ export class View {
     pos.needsUpdate = true;
     this.toolLine.geometry.computeBoundingSphere();
     this.toolDot.position.set(tool[3], tool[7], tool[11]);
+    this.pen.position.set(tool[3], tool[7], tool[11] - this.penMm / 2);
     if (p.ghost) {
       this.ghostArm.visible = true;
       p.ghost.forEach((m, i) => this.ghost[i] && setMatrix(this.ghost[i], m));

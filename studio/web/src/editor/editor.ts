@@ -56,6 +56,8 @@ export class Editor {
     exerciseWanted: new Signal<string>(),
     // the arm's link opened (true) or closed or lost (false)
     armConnected: new Signal<boolean>(),
+    // the virtual Nano's motors stepped: each motor's steps after every step, row after row
+    nanoSteps: new Signal<{ rows: Int32Array; motors: number }>(),
     // a program's line is running (0: none), on the model, in the physics or on the arm;
     // `refused`: it was refused. The text shows the line, the blocks light its block.
     lineRunning: new Signal<{ line: number; refused: boolean }>(),

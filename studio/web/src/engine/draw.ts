@@ -23,4 +23,27 @@ export const drawHandlers: Record<string, (m: Msg) => Promise<Out[]>> = {
       return [{ type: "drawing", error: e.message }];
     }
   },
+  // Where on the sheet the pen reaches the paper: the paper view shades it.
+  async reach_map(m) {
+    const req = m.request;
+    if (typeof req !== "object" || req === null || Array.isArray(req)) throw new BadMessage("'request' must be an object");
+    try {
+      return [{ type: "reach_map", ...S.robot.reachMap(req as { area: number[] }) }];
+    } catch (e) {
+      if (!(e instanceof EngineError)) throw e;
+      return [{ type: "reach_map", error: e.message }];
+    }
+  },
+  // The ink the virtual Nano's steps leave: its step counts, row after row, through the
+  // engine's rule for where the pen touches the paper (the prediction's rule too).
+  async ink_from_steps(m) {
+    const req = m.request;
+    if (typeof req !== "object" || req === null || Array.isArray(req)) throw new BadMessage("'request' must be an object");
+    try {
+      return [{ type: "ink", ...S.robot.inkFromSteps(req as { steps: number[] }) }];
+    } catch (e) {
+      if (!(e instanceof EngineError)) throw e;
+      return [{ type: "ink", error: e.message }];
+    }
+  },
 };

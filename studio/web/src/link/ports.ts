@@ -50,7 +50,7 @@ export class VirtualNanoPort implements SerialLike {
   writable: WritableStream<Uint8Array> | null = null;
   /** The emulator's speed against real time, its steps as the coils moved them. */
   state: { seconds: number; steps: number[]; faults: number; servoUs: number | null; gripper: number | null; flashWrites: number;
-    rtf: number; capacity: number | null; behind: boolean } | null = null;
+    rtf: number; capacity: number | null; behind: boolean; trail: Int32Array } | null = null;
   /** The robot's servo angles (deg), for the aperture its pulses ask for. */
   servo: { closed: number; open: number } | null = null;
   flashBytes = 0;

@@ -15,8 +15,14 @@ export interface Hook {
   ikLine: string; // the last straight line the IK panel made
   // the Draw panel's last drawing: whether the pen reaches it, the engine's refusal or advice,
   // the line the arm will draw (its worst distance, mm, and steps), the program's lines
-  drawing: { fits: boolean; error: string; advice: string; worstMm: number; steps: number; lines: number; program: string } | null;
+  // the line the arm will draw (its worst distance, mm, and steps; `ink` its strokes), the program's lines
+  drawing: { fits: boolean; error: string; advice: string; worstMm: number; steps: number; lines: number; program: string;
+    ink: number[][][] } | null;
   drawings: number; // how many drawings the panel has shown (a test waits for the next)
+  // the paper: its sheet on the table ([min_x, min_y, max_x, max_y] mm), the share of it the pen
+  // reaches, the strokes drawn by hand; the ink the virtual Nano's steps left (rows: the step rows
+  // seen, strokes of [x, y]); the exercise check's last verdict
+  paper: { area: number[]; reachShare: number; maps: number; hand: number; ink: { rows: number; points: number; strokes: number[][][] } };
   playing: boolean;
   programError: string;
   robotError: string;
@@ -82,6 +88,7 @@ export interface Hook {
 export const hook: Hook = {
   ready: false, connected: false, robot: null, pose: null, ik: null, timeline: null, playing: false,
   paths: { points: 0, lines: 0, worstMm: 0 }, ikLine: "", drawing: null, drawings: 0,
+  paper: { area: [], reachShare: 0, maps: 0, hand: 0, ink: { rows: 0, points: 0, strokes: [] } },
   programError: "", robotError: "", lastError: "", teach: "", goal: { drawn: 0, facts: [] }, runOnArm: false, fps: 0, framesDrawn: 0, firstFrameAt: 0,
   latency: [], ikUpdates: [], messages: 0, targetScreen: [0, 0], armPixels: () => 0,
   camera: () => ({ distance: 0, azimuth: 0 }), viewpoint: () => ({ eye: [], target: [] }),

@@ -107,7 +107,9 @@ function virtualNano(): VirtualNanoPort {
   if (nanoPort) return nanoPort;
   const port = (nanoPort = new VirtualNanoPort());
   port.onState = (st) => {
-    hook.arm.nano = st;
+    const { trail, ...rest } = st;
+    hook.arm.nano = rest;
+    if (trail?.length) s.editor.signals.nanoSteps.dispatch({ rows: trail, motors: st.steps.length });
     const servo = st.gripper === null ? "" : `; its servo pulse ${Math.round(st.servoUs ?? 0)} us: gripper ${st.gripper.toFixed(0)} %`;
     $("arm-speed").textContent = (st.behind ? `the virtual Nano is behind real time: ${st.rtf.toFixed(2)}x`
       : `the virtual Nano keeps real time (it could run ${(st.capacity ?? 0).toFixed(1)}x; ${port.flashBytes.toLocaleString("en")} B of firmware)`) + servo;

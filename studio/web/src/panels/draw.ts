@@ -1,26 +1,40 @@
-// The Draw and write panel: text, a shape or an SVG file for a pen held in the gripper, its
-// width and place on the paper, the paper's height and the pen's length; the engine lays it
-// out, checks the pen reaches it, orders it, writes the program and predicts it step by step
-// (host/lib/draw.h, through the worker). The view draws the drawing and the line the arm will
-// draw over each other on the paper; "Put in the program" hands the program to the editor.
-// Everything from a file is shown as text, never as HTML.
+// The Draw and write panel: a sheet of paper on the table and a pen held in the gripper; text,
+// a shape, an SVG file or strokes drawn by hand on the paper view; the drawing's width and place,
+// the paper's height and the pen's length. The engine (host/lib/draw.h, through the worker) lays
+// it out, checks the pen reaches it, orders it, writes the program and predicts it step by step,
+// and says where on the sheet the pen reaches (the paper view shades it). The paper view and the
+// 3D view draw the drawing and the line the arm will draw over each other, and the ink the
+// virtual Nano's own steps leave as it runs (the engine's rule for where the pen touches the
+// paper, the prediction's too). "Put in the program" hands the program to the editor.
+// Everything from a file is shown as text, never as markup.
 import type { Studio } from "../page/context";
-import { $ } from "../page/dom";
+import { $, download } from "../page/dom";
 import { hook } from "../page/hook";
+import { PaperView } from "./paper-view";
 
 const MAX_SVG_BYTES = 5 * 1024 * 1024; // the engine's limit too (host/lib/svg.h)
+const REACH_CELL_MM = 4;
 
 interface Drawing {
   error?: string; what: string; strokes: number[][][]; program: string; width_mm: number; height_mm: number; seconds?: number;
-  reach: { fits: boolean; points: number; advice: string };
-  ink?: { strokes: number[][][]; worst_mm: number; worst_line: number; steps: number };
+  reach: { fits: boolean; points: number; unreachable: number[][]; advice: string };
+  ink?: { strokes: number[][][]; worst_mm: number; worst_at: number[]; worst_line: number; steps: number };
 }
+interface ReachMap { error?: string; rows: number; cols: number; cell: number; area: number[]; reached: string }
 
 let s: Studio;
+let paper: PaperView;
 let program = "";
+let drawing: Drawing | null = null;
+let hand: number[][][] = []; // strokes drawn by hand, on the table (mm)
+let nanoRows: number[] = []; // the virtual Nano's steps since the sheet was new, row after row
+let nanoMotors = 0;
+let inkAsked = false;
 let setText: (text: string, name: string) => void = () => undefined;
 
-const num = (id: string) => parseFloat(($(id) as HTMLInputElement).value);
+const plural = (n: number, word: string) => `${n} ${word}${n === 1 ? "" : "s"}`;
+const input = (id: string) => $(id) as HTMLInputElement;
+const num = (id: string) => parseFloat(input(id).value);
 
 function say(text: string, kind: "" | "ok" | "bad" = ""): void {
   const el = $("draw-status");
@@ -28,28 +42,150 @@ function say(text: string, kind: "" | "ok" | "bad" = ""): void {
   el.className = kind ? `status ${kind}` : "status";
 }
 
+// The sheet as the engine takes it: its name, centre and whether it lies landscape.
+const sheet = () => ({ paper: ($("draw-paper") as HTMLSelectElement).value, at: [num("paper-x"), num("paper-y")],
+  landscape: ($("draw-orient") as HTMLSelectElement).value === "landscape" });
+
+// The sheet's reach map from the engine: the paper view frames and shades it, the 3D view lays it.
+let reachTimer = 0;
+function askReach(): void {
+  clearTimeout(reachTimer);
+  reachTimer = window.setTimeout(async () => {
+    const { paper: name, at, landscape } = sheet();
+    const z = num("draw-z"), pen = num("draw-pen");
+    if (![...at, z, pen].every(Number.isFinite)) return;
+    const m = (await s.engine.call({ type: "reach_map", request: { paper: name, at, landscape, z, pen, cell: REACH_CELL_MM } })) as
+      unknown as ReachMap;
+    if (m.error) return say(m.error, "bad");
+    paper.setSheet(m.area);
+    paper.setReach(m);
+    s.view.showSheet(m.area, z);
+    hook.paper.area = m.area;
+    hook.paper.reachShare = m.reached.length ? [...m.reached].filter((c) => c === "1").length / m.reached.length : 0;
+    hook.paper.maps++;
+  }, 120);
+}
+
+function showInk(strokes: number[][][]): void {
+  paper.setLayer("ink", strokes);
+  s.view.showInk(strokes, num("draw-z"));
+}
+
+// The ink of the virtual Nano's steps, asked of the engine at most every 250 ms.
+function askInk(): void {
+  if (inkAsked) return;
+  inkAsked = true;
+  window.setTimeout(async () => {
+    const rows = nanoRows.length;
+    const m = (await s.engine.call({ type: "ink_from_steps", request: { steps: nanoRows.slice(), z: num("draw-z"), pen: num("draw-pen") } })) as
+      unknown as { error?: string; strokes: number[][][]; points: number };
+    inkAsked = false;
+    if (m.error) return say(`The virtual Nano's ink: ${m.error}`, "bad");
+    showInk(m.strokes);
+    hook.paper.ink = { rows: rows / Math.max(1, nanoMotors), points: m.points, strokes: m.strokes };
+    if (nanoRows.length > rows) askInk();
+  }, 250);
+}
+
+// A new sheet: no ink, nothing drawn by hand.
+function newSheet(): void {
+  nanoRows = [];
+  hand = [];
+  hook.paper.hand = 0;
+  hook.paper.ink = { rows: 0, points: 0, strokes: [] };
+  paper.setLayer("hand", []);
+  showInk([]);
+}
+
+function clearDrawing(): void {
+  drawing = null;
+  program = "";
+  ($("draw-use") as HTMLButtonElement).disabled = true;
+  for (const l of ["ideal", "predicted"] as const) paper.setLayer(l, []);
+  paper.setMarks([], null);
+  s.view.showDrawing([], [], 0);
+}
+
 export function initDraw(studio: Studio, program_: { setText: (text: string, name: string) => void }): void {
   s = studio;
   setText = program_.setText;
+  paper = new PaperView($("paper-view") as unknown as SVGSVGElement);
   const kind = $("draw-kind") as HTMLSelectElement;
   const showKind = () => {
     $("draw-text").hidden = kind.value !== "text";
     $("draw-file").hidden = kind.value !== "svg";
+    paper.freehand = kind.value === "hand";
+    $("paper-view").classList.toggle("freehand", paper.freehand);
+    $("paper-hint").textContent = paper.freehand
+      ? "Draw on the paper with a finger or the mouse, then Draw."
+      : "Drag the sheet to move it. Shaded: where the pen reaches the paper.";
   };
   kind.addEventListener("change", showKind);
   showKind();
+  paper.onStroke = (points) => {
+    hand.push(points);
+    hook.paper.hand = hand.length;
+  };
+  paper.onMoveSheet = (dx, dy) => {
+    input("paper-x").value = String(num("paper-x") + dx);
+    input("paper-y").value = String(num("paper-y") + dy);
+    input("draw-x").value = String(num("draw-x") + dx);
+    input("draw-y").value = String(num("draw-y") + dy);
+    hand = hand.map((st) => st.map(([x, y]) => [x + dx, y + dy]));
+    paper.setLayer("hand", hand);
+    askReach();
+    if (drawing) void draw();
+  };
+  for (const id of ["draw-paper", "draw-orient", "paper-x", "paper-y", "draw-z", "draw-pen"]) $(id).addEventListener("change", askReach);
   $("draw-go").onclick = () => void draw();
   $("draw-use").onclick = () => {
     if (!program) return;
     setText(program, "drawing.arm");
     say("The drawing is the program now: Run plays it, on the arm too when it is connected.", "ok");
   };
+  $("draw-new-sheet").onclick = () => {
+    newSheet();
+    say("A new sheet: no ink on it.", "ok");
+  };
+  $("draw-save-svg").onclick = () => download("drawing.svg", paper.svgText(drawing?.what ?? "a sheet"), "image/svg+xml");
+  $("draw-save-png").onclick = () => void savePng();
+  $("draw-pen").addEventListener("change", () => drawing && s.view.setPen(num("draw-pen")));
   s.editor.signals.robotShown.add(() => {
-    s.view.showDrawing([], [], 0);
-    program = "";
-    ($("draw-use") as HTMLButtonElement).disabled = true;
+    clearDrawing();
+    s.view.setPen(0);
     hook.drawing = null;
+    askReach();
   });
+  s.editor.signals.nanoSteps.add(({ rows, motors }) => {
+    nanoMotors = motors;
+    for (const v of rows) nanoRows.push(v);
+    askInk();
+  });
+}
+
+// The paper view as a PNG, 8 pixels a millimetre: its SVG drawn on a canvas.
+async function savePng(): Promise<void> {
+  const text = paper.svgText(drawing?.what ?? "a sheet");
+  const url = URL.createObjectURL(new Blob([text], { type: "image/svg+xml" }));
+  try {
+    const img = new Image();
+    img.src = url;
+    await img.decode();
+    const [, , w, h] = (paper.svg.getAttribute("viewBox") ?? "0 0 100 100").split(" ").map(Number);
+    const canvas = document.createElement("canvas");
+    canvas.width = Math.round(w * 8);
+    canvas.height = Math.round(h * 8);
+    const g = canvas.getContext("2d")!;
+    g.fillStyle = "#ffffff";
+    g.fillRect(0, 0, canvas.width, canvas.height);
+    g.drawImage(img, 0, 0, canvas.width, canvas.height);
+    const blob = await new Promise<Blob | null>((r) => canvas.toBlob(r, "image/png"));
+    if (blob) download("drawing.png", blob, "image/png");
+  } catch (e) {
+    say(`No PNG: ${(e as Error).message}`, "bad");
+  } finally {
+    URL.revokeObjectURL(url);
+  }
 }
 
 async function draw(): Promise<void> {
@@ -63,38 +199,54 @@ async function draw(): Promise<void> {
     if ((typeof v === "number" && !Number.isFinite(v)) || (Array.isArray(v) && !v.every(Number.isFinite)))
       return say(`The ${k === "at" ? "place (x, y)" : k} holds no number: type one.`, "bad");
   if (kind === "text") {
-    request.text = ($("draw-text") as HTMLInputElement).value;
+    request.text = input("draw-text").value;
     if (!request.text) return say("Type the text to write.", "bad");
   } else if (kind === "svg") {
-    const f = ($("draw-file") as HTMLInputElement).files?.[0];
+    const f = input("draw-file").files?.[0];
     if (!f) return say("Choose an SVG file to draw.", "bad");
     if (f.size > MAX_SVG_BYTES) return say(`${f.name}: ${Math.round(f.size / 1024)} KB: a drawing is at most 5 MB.`, "bad");
     request.svg = await f.text();
     request.svg_name = f.name;
+  } else if (kind === "hand") {
+    if (!hand.length) return say("Draw on the paper first: with a finger or the mouse.", "bad");
+    request.strokes = hand;
+    delete request.at; // drawn where it goes
+    delete request.width;
   } else {
     request.shape = kind;
   }
   say("drawing…");
   const d = (await s.engine.call({ type: "draw", request })) as unknown as Drawing;
-  program = "";
-  ($("draw-use") as HTMLButtonElement).disabled = true;
+  clearDrawing();
+  nanoRows = []; // the ink from here on is this drawing's
+  showInk([]);
   if (d.error) {
-    s.view.showDrawing([], [], 0);
-    hook.drawing = { fits: false, error: d.error, advice: "", worstMm: 0, steps: 0, lines: 0, program: "" };
+    hook.drawing = { fits: false, error: d.error, advice: "", worstMm: 0, steps: 0, lines: 0, program: "", ink: [] };
     hook.drawings++;
     return say(d.error, "bad");
   }
-  s.view.showDrawing(d.strokes, d.ink?.strokes ?? [], request.z as number);
+  drawing = d;
+  if (kind === "hand") {
+    hand = [];
+    paper.setLayer("hand", []);
+  }
+  const z = request.z as number;
+  s.view.setPen(request.pen as number);
+  s.view.showDrawing(d.strokes, d.ink?.strokes ?? [], z);
+  paper.setLayer("ideal", d.strokes);
+  paper.setLayer("predicted", d.ink?.strokes ?? []);
+  paper.setMarks(d.reach.unreachable, d.ink ? d.ink.worst_at : null);
   hook.drawing = { fits: d.reach.fits, error: "", advice: d.reach.advice, worstMm: d.ink?.worst_mm ?? 0, steps: d.ink?.steps ?? 0,
-    lines: d.program ? d.program.split("\n").length - 1 : 0, program: d.program };
+    lines: d.program ? d.program.split("\n").length - 1 : 0, program: d.program, ink: d.ink?.strokes ?? [] };
   hook.drawings++;
-  if (!d.reach.fits) return say(`${d.what}: ${d.reach.advice}.`, "bad");
+  if (!d.reach.fits) return say(`${d.what}: ${d.reach.advice}. The red dots are out of the pen's reach.`, "bad");
   program = d.program;
   ($("draw-use") as HTMLButtonElement).disabled = false;
   const size = `${d.width_mm.toFixed(0)} × ${d.height_mm.toFixed(0)} mm`;
   say(d.ink
-    ? `${d.what}, ${size}: ${d.strokes.length} strokes, ${hook.drawing.lines} lines, ${d.seconds?.toFixed(0)} s. ` +
+    ? `${d.what}, ${size}: ${plural(d.strokes.length, "stroke")}, ${hook.drawing.lines} lines, ${d.seconds?.toFixed(0)} s. ` +
       `The pen (orange) stays within ${d.ink.worst_mm.toFixed(2)} mm of the drawing (blue) at every one of its ${d.ink.steps} ` +
-      `steps; the worst on line ${d.ink.worst_line}.`
-    : `${d.what}, ${size}: ${d.strokes.length} strokes, ${hook.drawing.lines} lines.`, "ok");
+      `steps; the worst (ringed) on line ${d.ink.worst_line}.`
+    : `${d.what}, ${size}: ${plural(d.strokes.length, "stroke")}, ${hook.drawing.lines} lines.`, "ok");
+  $("draw-status").scrollIntoView({ block: "nearest" });
 }

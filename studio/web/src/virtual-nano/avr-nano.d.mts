@@ -21,6 +21,8 @@ export class VirtualNano {
   servoPulseUs: number | null;
   onLine: ((line: string) => void) | null;
   onByte: ((byte: number) => void) | null;
+  /** After any motor's step (its steps already counted), at the CPU's cycle. */
+  onStep: ((cycle: number) => void) | null;
   send(data: string | ArrayLike<number>): void;
   readonly seconds: number;
   readonly steps: number[];

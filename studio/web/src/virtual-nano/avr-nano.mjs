@@ -156,6 +156,7 @@ export class VirtualNano {
     this.firstStepCycle = -1; // the first and last step of any motor since markSteps()
     this.lastStepCycle = -1;
     this.servoPulseUs = null; // the last pulse's width
+    this.onStep = null; // (cycle) after any motor's step, its steps already counted
     let servoRise = -1;
     const last = { B: 0, C: 0, D: 0 };
     const listeners = {};
@@ -167,6 +168,7 @@ export class VirtualNano {
           if (m.port === name && (changed >> m.shift) & 0xf && this.decoders[i].feed((value >> m.shift) & 0xf) === 1) {
             if (this.firstStepCycle < 0) this.firstStepCycle = this.cpu.cycles;
             this.lastStepCycle = this.cpu.cycles;
+            this.onStep?.(this.cpu.cycles);
           }
         });
         const s = wiring.servo;

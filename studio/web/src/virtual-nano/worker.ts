@@ -11,7 +11,9 @@
 // In: {type: "start", eeprom?, image?, baud, servo?} (a power-up: the page keeps the EEPROM's
 // bytes, and the flash's after a flash; servo: the robot's servo angles {closed, open}), {type: "rx", bytes}, {type: "signals", dtr}, {type: "close"}.
 // Out: {type: "ready", flashBytes, ms}, {type: "tx", bytes}, {type: "state", seconds, steps,
-// faults, servoUs, gripper (the aperture its pulse asks for, %), flashWrites, rtf, capacity, behind}, {type: "eeprom", bytes}, {type: "flash", bytes} (after
+// faults, servoUs, gripper (the aperture its pulse asks for, %), flashWrites, rtf, capacity, behind,
+// trail (Int32Array: each motor's steps after every step interrupt since the last state, row
+// after row: where the pen went, step by step)}, {type: "eeprom", bytes}, {type: "flash", bytes} (after
 // pages were written), {type: "closed"}, {type: "fatal", message}.
 import { loadNanoParts } from "../../../../wasm/js/nano-parts.mjs";
 import type { NanoParts } from "../../../../wasm/js/nano-parts.mjs";
@@ -29,6 +31,13 @@ let nano: VirtualNano | null = null;
 let loop: { stop(): void } | null = null;
 let tx: number[] = [];
 let servo: { closed: number; open: number } | null = null; // the robot's servo angles, deg
+// The motors' steps after each step interrupt: the firmware steps every motor of a tick in one
+// interrupt, microseconds apart; ticks are at least 250 us apart ($0 at most 4000 steps/s).
+// Steps closer than 100 us are one row. At most a million counts wait for the page.
+const TICK_CYCLES = Math.round(CLOCK_HZ * 100e-6);
+const TRAIL_MAX = 1_000_000;
+let trail: number[] = [];
+let tickAt = -Infinity;
 
 async function fetchText(path: string): Promise<string> {
   const r = await fetch(new URL(path, site));
@@ -48,6 +57,17 @@ async function start(eeprom: Uint8Array | undefined, image: Uint8Array | undefin
   nano = new VirtualNano({ hex, parts, eeprom, bootloader, image });
   nano.hostBaud = baud;
   nano.onByte = (b) => tx.push(b);
+  trail = [];
+  tickAt = -Infinity;
+  nano.onStep = (cycle) => {
+    const steps = nano!.steps;
+    if (cycle - tickAt > TICK_CYCLES) {
+      tickAt = cycle;
+      if (trail.length + steps.length <= TRAIL_MAX) trail.push(...steps);
+    } else {
+      trail.splice(trail.length - steps.length, steps.length, ...steps); // the same tick's next motor
+    }
+  };
   post({ type: "ready", flashBytes: nano.flashUsed, ms: performance.now() - t0 });
   run();
 }
@@ -94,8 +114,10 @@ function run(): void {
       const gripper = us !== null && servo && parts && servo.open !== servo.closed
         ? parts.servoAperturePercent(parts.servoAngleDeg(us), servo.closed, servo.open) : null;
       const rtf = meter.rtf;
+      const rows = new Int32Array(trail);
+      trail = [];
       post({ type: "state", seconds: n.seconds, steps: n.steps, faults: n.coilFaults, servoUs: us, gripper, flashWrites: n.flashWrites,
-        rtf, capacity: meter.capacity, behind: meter.slices >= 50 && rtf < 0.97 }); // judged over 50+ slices
+        rtf, capacity: meter.capacity, behind: meter.slices >= 50 && rtf < 0.97, trail: rows }, [rows.buffer]); // judged over 50+ slices
       if (n.flashWrites !== flashWrites) {
         flashWrites = n.flashWrites;
         post({ type: "flash", bytes: n.flash.slice() });
