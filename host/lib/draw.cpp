@@ -742,18 +742,32 @@ std::vector<Vec3<double>> tool_from_steps(const Robot& robot, const std::vector<
   return out;
 }
 
-nlohmann::json ink_from_steps_json(const Robot& robot, const nlohmann::json& j) {
+nlohmann::json ink_json(const Robot& robot, const nlohmann::json& j) {
   using nlohmann::json;
-  if (!j.is_object()) throw std::invalid_argument("an ink request is an object: {steps, z, pen, lift}");
+  if (!j.is_object()) throw std::invalid_argument("an ink request is an object: {steps | tool, z, pen, lift}");
   for (auto it = j.begin(); it != j.end(); ++it)
-    if (it.key() != "steps" && it.key() != "z" && it.key() != "pen" && it.key() != "lift")
+    if (it.key() != "steps" && it.key() != "tool" && it.key() != "z" && it.key() != "pen" && it.key() != "lift")
       throw std::invalid_argument("an ink request has no '" + it.key() + "'");
-  if (!j.contains("steps") || !j["steps"].is_array()) throw std::invalid_argument("'steps' must be a list of step counts");
-  std::vector<int32_t> steps;
-  steps.reserve(j["steps"].size());
-  for (const json& v : j["steps"]) {
-    if (!v.is_number_integer()) throw std::invalid_argument("'steps' holds " + v.dump() + ", not a whole number of steps");
-    steps.push_back(v.get<int32_t>());
+  if (j.contains("steps") == j.contains("tool")) throw std::invalid_argument("give the motors' 'steps' or the 'tool' positions");
+  std::vector<Vec3<double>> tool;
+  if (j.contains("steps")) {
+    if (!j["steps"].is_array()) throw std::invalid_argument("'steps' must be a list of step counts");
+    std::vector<int32_t> steps;
+    steps.reserve(j["steps"].size());
+    for (const json& v : j["steps"]) {
+      if (!v.is_number_integer()) throw std::invalid_argument("'steps' holds " + v.dump() + ", not a whole number of steps");
+      steps.push_back(v.get<int32_t>());
+    }
+    tool = tool_from_steps(robot, steps);
+  } else {
+    const json& t = j["tool"];
+    if (!t.is_array() || t.size() % 3) throw std::invalid_argument("'tool' must be x, y, z (mm) after x, y, z");
+    for (size_t k = 0; k < t.size(); k += 3) {
+      for (size_t i = k; i < k + 3; ++i)
+        if (!t[i].is_number() || !std::isfinite(t[i].get<double>()))
+          throw std::invalid_argument("'tool' holds " + t[i].dump() + " at " + std::to_string(i) + ", not a position in mm");
+      tool.push_back({t[k].get<double>(), t[k + 1].get<double>(), t[k + 2].get<double>()});
+    }
   }
   PenSettings pen;
   auto num = [&](const char* key, double& into) {
@@ -766,7 +780,7 @@ nlohmann::json ink_from_steps_json(const Robot& robot, const nlohmann::json& j) 
   num("lift", pen.lift_mm);
   json strokes = json::array();
   size_t points = 0;
-  for (const Stroke& s : ink_of_tool_path(tool_from_steps(robot, steps), pen)) {
+  for (const Stroke& s : ink_of_tool_path(tool, pen)) {
     json st = json::array();
     for (const Point2& p : s) st.push_back({p.x, p.y});
     points += s.size();

@@ -176,9 +176,10 @@ struct Drawing {
 // font unread), SvgError (svg.h) for an SVG refused.
 Drawing make_drawing(const Robot& robot, const InverseKinematics& ik, const DrawRequest& request);
 
-// {strokes [[[x, y], ...], ...], points}: ink_of_tool_path of tool_from_steps, as the
-// bindings answer a virtual Nano's steps ({steps, z, pen, lift}).
-nlohmann::json ink_from_steps_json(const Robot& robot, const nlohmann::json& request);
+// {strokes [[[x, y], ...], ...], points}: ink_of_tool_path of the tool's positions, as the
+// bindings answer a virtual Nano's steps ({steps: rows of step counts, z, pen, lift}, through
+// tool_from_steps) or the physics' tool ({tool: x, y, z after x, y, z, ...}).
+nlohmann::json ink_json(const Robot& robot, const nlohmann::json& request);
 
 // {what, bounds {min_x, min_y, max_x, max_y}, strokes [[[x, y], ...], ...], reach {fits,
 // points, unreachable [[x, y]...], movable, move [dx, dy], advice}, start, travel_mm,

@@ -314,11 +314,16 @@ TEST(Ink, StepCountsGiveTheToolThePredictionGives) {
   ASSERT_EQ(tool.size(), expected.size());
   for (size_t i = 0; i < tool.size(); ++i) EXPECT_LT(articula::norm(tool[i] - expected[i]), 1e-9) << i;
   // as the bindings ask: rows of the wrong length, a count that is not whole, an unknown key
-  const nlohmann::json ok = ink_from_steps_json(mk2(), {{"steps", rows}, {"z", 0}, {"pen", 120}});
+  const nlohmann::json ok = ink_json(mk2(), {{"steps", rows}, {"z", 0}, {"pen", 120}});
   EXPECT_GT(ok["points"].get<int>(), 0);
-  EXPECT_THROW(ink_from_steps_json(mk2(), {{"steps", {1, 2}}}), std::invalid_argument);
-  EXPECT_THROW(ink_from_steps_json(mk2(), {{"steps", {1.5, 2, 3}}}), std::invalid_argument);
-  EXPECT_THROW(ink_from_steps_json(mk2(), {{"steps", {1, 2, 3}}, {"colour", 1}}), std::invalid_argument);
+  EXPECT_THROW(ink_json(mk2(), {{"steps", {1, 2}}}), std::invalid_argument);
+  EXPECT_THROW(ink_json(mk2(), {{"steps", {1.5, 2, 3}}}), std::invalid_argument);
+  EXPECT_THROW(ink_json(mk2(), {{"steps", {1, 2, 3}}, {"colour", 1}}), std::invalid_argument);
+  // the physics' tool positions: the same rule
+  const nlohmann::json by_tool = ink_json(mk2(), {{"tool", {250, 0, 130, 250, 0, 120, 251, 0, 120.5, 252, 0, 131}}, {"pen", 120}});
+  EXPECT_EQ(by_tool["strokes"], nlohmann::json::parse("[[[250, 0], [251, 0]]]"));
+  EXPECT_THROW(ink_json(mk2(), {{"tool", {1, 2}}}), std::invalid_argument);
+  EXPECT_THROW(ink_json(mk2(), {{"tool", {1, 2, 3}}, {"steps", {1, 2, 3}}}), std::invalid_argument);
 }
 
 TEST(Reach, TheMapOfASheetAgreesWithTheCheck) {

@@ -141,14 +141,15 @@ void bind_program(nb::module_& m, nb::class_<PyRobot>& robot) {
            "travel_unordered_mm, program, ink_lines} and, when the pen reaches it on a robot with motors, 'ink': the line "
            "the arm will draw (the pen at every step: {strokes, worst_mm, worst_at, worst_line, steps}) and 'seconds'; "
            "the program is '' when the pen cannot reach all of it. Also svg= (an SVG file's text), paper=, tolerance=.")
-      .def("ink_from_steps",
+      .def("ink",
            [](const PyRobot& self, nb::kwargs request) {
              const std::string text = nb::cast<std::string>(nb::module_::import_("json").attr("dumps")(request));
-             return json_to_python(host::ink_from_steps_json(self.r(), nlohmann::json::parse(text)));
+             return json_to_python(host::ink_json(self.r(), nlohmann::json::parse(text)));
            },
-           "The ink motor step counts leave: steps=[a row of each motor's count per moment, flat], z (the paper's "
-           "height), pen (mm below the tool point), lift (the pen is on the paper below half of it). Returns {strokes, "
-           "points}: what the virtual Nano's steps draw, by the rule the prediction's ink follows.")
+           "The ink the pen leaves where its tip is on the paper (below half its lift above it): steps=[a row of "
+           "each motor's count per moment, flat] (a virtual Nano's) or tool=[x, y, z after x, y, z, mm] (the physics'), "
+           "z (the paper's height), pen (mm below the tool point), lift. Returns {strokes, points}: the rule the "
+           "prediction's ink follows.")
       .def("reach_map",
            [](const PyRobot& self, nb::kwargs request) {
              const std::string text = nb::cast<std::string>(nb::module_::import_("json").attr("dumps")(request));

@@ -131,3 +131,30 @@ def test_hello_on_a5_on_the_virtual_nano_leaves_the_predicted_ink(open_page):
     pg.page.locator("#draw-section").scroll_into_view_if_needed()
     pg.page.screenshot(path=str(SHOTS / "studio-draw-nano.png"))
     assert pg.errors == []
+
+
+def test_a_square_in_live_physics_leaves_ink_where_the_pen_went(open_page):
+    """The physics' arm (ODE, in real time) carries the pen: where its tip is on the paper it
+    leaves ink, by the engine's rule (the prediction's); the ink follows the square's sides."""
+    pg = open_page("mk2plus", width=1366, height=768)
+    pg.page.select_option("#scene-select", "push")
+    pg.wait("a.physics !== null && a.physics.on", timeout=30000)
+    if pg.page.is_visible("#tab-program"):
+        pg.page.click("#tab-program")
+    pg.page.locator("#draw-section").scroll_into_view_if_needed()
+    d = _draw(pg, kind="square", width=30, x=250, y=0)
+    assert d["fits"], d
+    pg.page.click("#draw-use")
+    pg.page.click("#run")
+    pg.wait("a.physics.busy === true", timeout=20000)
+    pg.wait("a.physics.busy === false && a.paper.physicsInk.points > 20", timeout=90000)
+    ink = [p for s in pg.hook("a.paper.physicsInk.strokes") for p in s]
+    # on the square's sides (x 235..265, y -15..15), within the physics' tracking error
+    for x, y in ink:
+        side = min(abs(x - 235), abs(x - 265), abs(y + 15), abs(y - 15))
+        assert side < 3 and 232 < x < 268 and -18 < y < 18, (x, y)
+    # and all round it: ink near every corner
+    for cx, cy in ((235, -15), (235, 15), (265, -15), (265, 15)):
+        assert min(((x - cx) ** 2 + (y - cy) ** 2) ** 0.5 for x, y in ink) < 3, (cx, cy)
+    assert pg.page.locator("#paper-view #ink polyline").count() >= 1
+    assert pg.errors == []

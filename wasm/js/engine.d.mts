@@ -33,7 +33,7 @@ export class Robot {
     ink?: { strokes: number[][][]; worst_mm: number; worst_at: number[]; worst_line: number; steps: number } };
   reachMap(request: { area: number[]; cell?: number; z?: number; pen?: number }):
     { rows: number; cols: number; cell: number; area: number[]; reached: string };
-  inkFromSteps(request: { steps: number[]; z?: number; pen?: number; lift?: number }): { strokes: number[][][]; points: number };
+  ink(request: { steps?: number[]; tool?: number[]; z?: number; pen?: number; lift?: number }): { strokes: number[][][]; points: number };
   urdf(): string;
   jointsFromMotors(u: number[]): number[];
   /** The Nano's robot configuration for this robot; throws EngineError with the reason a Nano cannot drive it. */

@@ -84,9 +84,9 @@ export class Robot {
   /** Where on an area of the table the pen reaches the paper: {area [min_x, min_y, max_x,
    * max_y], cell, z, pen} -> {rows, cols, cell, area, reached: "0110..." row after row}. */
   reachMap(request) { return checked(this.engine.M.reachMap(this.h, JSON.stringify(request))); }
-  /** The ink motor step counts leave (a row per moment, the pen on the paper below half its
-   * lift): {steps: [flat rows], z, pen, lift} -> {strokes, points}. */
-  inkFromSteps(request) { return checked(this.engine.M.inkFromSteps(this.h, JSON.stringify(request))); }
+  /** The ink the pen leaves (on the paper below half its lift): {steps: [flat rows of motor
+   * counts] | tool: [x, y, z, ...], z, pen, lift} -> {strokes, points}. */
+  ink(request) { return checked(this.engine.M.ink(this.h, JSON.stringify(request))); }
   urdf() { return checked(this.h.urdf()).xml; }
   jointsFromMotors(u) { return checked(this.h.jointsFromMotors(JSON.stringify(u))); }
   motorsFromJoints(q) { return checked(this.h.motorsFromJoints(JSON.stringify(q))); }

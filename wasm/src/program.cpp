@@ -83,8 +83,8 @@ std::string drawing(const WebRobot& robot, const std::string& request_json) {
 }
 
 // The ink a virtual Nano's steps leave (host/lib/draw.h): {steps, z, pen, lift} -> {strokes, points}.
-std::string ink_from_steps(const WebRobot& robot, const std::string& request_json) {
-  return guarded([&] { return host::ink_from_steps_json(robot.robot(), json::parse(request_json)).dump(); });
+std::string ink(const WebRobot& robot, const std::string& request_json) {
+  return guarded([&] { return host::ink_json(robot.robot(), json::parse(request_json)).dump(); });
 }
 
 // Where on a sheet the pen reaches the paper (host/lib/draw.h): {area, cell, z, pen} -> the map.
@@ -145,7 +145,7 @@ EMSCRIPTEN_BINDINGS(articula_program) {
   function("protocolLine", &articula::web::protocol_line);
   function("moveLine", &articula::web::move_line);
   function("drawing", &articula::web::drawing);
-  function("inkFromSteps", &articula::web::ink_from_steps);
+  function("ink", &articula::web::ink);
   function("reachMap", &articula::web::reach_map);
   class_<WebTimeline>("Timeline")
       .constructor<>()

@@ -154,6 +154,7 @@ function showPose(p: PoseMsg): void {
   fitNewRobot();
   hook.pose = p;
   if (p.t === undefined && !hook.physics?.on) projectChanged();
+  if (hook.physics?.on) studio.editor.signals.physicsTool.dispatch(p.tool.xyz);
   if (!hook.robot) return;
   showJointValues(p, hook.robot);
   showTime(p);

@@ -58,6 +58,8 @@ export class Editor {
     armConnected: new Signal<boolean>(),
     // the virtual Nano's motors stepped: each motor's steps after every step, row after row
     nanoSteps: new Signal<{ rows: Int32Array; motors: number }>(),
+    // the physics moved the arm: its tool point, mm
+    physicsTool: new Signal<number[]>(),
     // a program's line is running (0: none), on the model, in the physics or on the arm;
     // `refused`: it was refused. The text shows the line, the blocks light its block.
     lineRunning: new Signal<{ line: number; refused: boolean }>(),

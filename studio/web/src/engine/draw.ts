@@ -34,13 +34,13 @@ export const drawHandlers: Record<string, (m: Msg) => Promise<Out[]>> = {
       return [{ type: "reach_map", error: e.message }];
     }
   },
-  // The ink the virtual Nano's steps leave: its step counts, row after row, through the
-  // engine's rule for where the pen touches the paper (the prediction's rule too).
-  async ink_from_steps(m) {
+  // The ink the virtual Nano's steps (its step counts, row after row) or the physics' tool
+  // leave, by the engine's rule for where the pen touches the paper (the prediction's too).
+  async ink(m) {
     const req = m.request;
     if (typeof req !== "object" || req === null || Array.isArray(req)) throw new BadMessage("'request' must be an object");
     try {
-      return [{ type: "ink", ...S.robot.inkFromSteps(req as { steps: number[] }) }];
+      return [{ type: "ink", ...S.robot.ink(req as { steps?: number[]; tool?: number[] }) }];
     } catch (e) {
       if (!(e instanceof EngineError)) throw e;
       return [{ type: "ink", error: e.message }];

@@ -2,6 +2,8 @@
 // who script the page read it instead of pixels. The panels keep it up to date.
 import type { ArmStatusMsg, IkMsg, PhysicsMsg, PoseMsg, RobotMsg, SceneMsg, SimEvent, TimelineMsg } from "../engine/messages";
 
+type Ink = { rows: number; points: number; strokes: number[][][] };
+
 export interface Hook {
   ready: boolean;
   connected: boolean;
@@ -21,8 +23,8 @@ export interface Hook {
   drawings: number; // how many drawings the panel has shown (a test waits for the next)
   // the paper: its sheet on the table ([min_x, min_y, max_x, max_y] mm), the share of it the pen
   // reaches, the strokes drawn by hand; the ink the virtual Nano's steps left (rows: the step rows
-  // seen, strokes of [x, y]); the exercise check's last verdict
-  paper: { area: number[]; reachShare: number; maps: number; hand: number; ink: { rows: number; points: number; strokes: number[][][] } };
+  // seen, strokes of [x, y]) and the physics' tool left (rows: its positions seen)
+  paper: { area: number[]; reachShare: number; maps: number; hand: number; ink: Ink; physicsInk: Ink };
   playing: boolean;
   programError: string;
   robotError: string;
@@ -88,7 +90,7 @@ export interface Hook {
 export const hook: Hook = {
   ready: false, connected: false, robot: null, pose: null, ik: null, timeline: null, playing: false,
   paths: { points: 0, lines: 0, worstMm: 0 }, ikLine: "", drawing: null, drawings: 0,
-  paper: { area: [], reachShare: 0, maps: 0, hand: 0, ink: { rows: 0, points: 0, strokes: [] } },
+  paper: { area: [], reachShare: 0, maps: 0, hand: 0, ink: { rows: 0, points: 0, strokes: [] }, physicsInk: { rows: 0, points: 0, strokes: [] } },
   programError: "", robotError: "", lastError: "", teach: "", goal: { drawn: 0, facts: [] }, runOnArm: false, fps: 0, framesDrawn: 0, firstFrameAt: 0,
   latency: [], ikUpdates: [], messages: 0, targetScreen: [0, 0], armPixels: () => 0,
   camera: () => ({ distance: 0, azimuth: 0 }), viewpoint: () => ({ eye: [], target: [] }),

@@ -27,9 +27,7 @@ let paper: PaperView;
 let program = "";
 let drawing: Drawing | null = null;
 let hand: number[][][] = []; // strokes drawn by hand, on the table (mm)
-let nanoRows: number[] = []; // the virtual Nano's steps since the sheet was new, row after row
 let nanoMotors = 0;
-let inkAsked = false;
 let setText: (text: string, name: string) => void = () => undefined;
 
 const plural = (n: number, word: string) => `${n} ${word}${n === 1 ? "" : "s"}`;
@@ -66,35 +64,55 @@ function askReach(): void {
   }, 120);
 }
 
-function showInk(strokes: number[][][]): void {
-  paper.setLayer("ink", strokes);
-  s.view.showInk(strokes, num("draw-z"));
+// The ink on the sheet: the virtual Nano's (from its steps) and the physics' (from its tool).
+interface InkSource { rows: number[]; strokes: number[][][]; asked: boolean; body: (rows: number[]) => Record<string, unknown> }
+const ink: Record<"nano" | "physics", InkSource> = {
+  nano: { rows: [], strokes: [], asked: false, body: (rows) => ({ steps: rows }) },
+  physics: { rows: [], strokes: [], asked: false, body: (rows) => ({ tool: rows }) },
+};
+
+function showInk(): void {
+  const all = [...ink.nano.strokes, ...ink.physics.strokes];
+  paper.setLayer("ink", all);
+  s.view.showInk(all, num("draw-z"));
 }
 
-// The ink of the virtual Nano's steps, asked of the engine at most every 250 ms.
-function askInk(): void {
-  if (inkAsked) return;
-  inkAsked = true;
+// A source's ink, asked of the engine at most every 250 ms.
+function askInk(which: "nano" | "physics"): void {
+  const src = ink[which];
+  if (src.asked) return;
+  src.asked = true;
   window.setTimeout(async () => {
-    const rows = nanoRows.length;
-    const m = (await s.engine.call({ type: "ink_from_steps", request: { steps: nanoRows.slice(), z: num("draw-z"), pen: num("draw-pen") } })) as
+    const rows = src.rows.length;
+    const m = (await s.engine.call({ type: "ink", request: { ...src.body(src.rows.slice()), z: num("draw-z"), pen: num("draw-pen") } })) as
       unknown as { error?: string; strokes: number[][][]; points: number };
-    inkAsked = false;
-    if (m.error) return say(`The virtual Nano's ink: ${m.error}`, "bad");
-    showInk(m.strokes);
-    hook.paper.ink = { rows: rows / Math.max(1, nanoMotors), points: m.points, strokes: m.strokes };
-    if (nanoRows.length > rows) askInk();
+    src.asked = false;
+    if (m.error) return say(`The ${which === "nano" ? "virtual Nano's" : "physics'"} ink: ${m.error}`, "bad");
+    src.strokes = m.strokes;
+    showInk();
+    const seen = { rows: rows / Math.max(1, which === "nano" ? nanoMotors : 3), points: m.points, strokes: m.strokes };
+    if (which === "nano") hook.paper.ink = seen;
+    else hook.paper.physicsInk = seen;
+    if (src.rows.length > rows) askInk(which);
   }, 250);
+}
+
+function clearInk(): void {
+  for (const src of Object.values(ink)) {
+    src.rows = [];
+    src.strokes = [];
+  }
+  hook.paper.ink = { rows: 0, points: 0, strokes: [] };
+  hook.paper.physicsInk = { rows: 0, points: 0, strokes: [] };
+  showInk();
 }
 
 // A new sheet: no ink, nothing drawn by hand.
 function newSheet(): void {
-  nanoRows = [];
   hand = [];
   hook.paper.hand = 0;
-  hook.paper.ink = { rows: 0, points: 0, strokes: [] };
   paper.setLayer("hand", []);
-  showInk([]);
+  clearInk();
 }
 
 function clearDrawing(): void {
@@ -158,8 +176,13 @@ export function initDraw(studio: Studio, program_: { setText: (text: string, nam
   });
   s.editor.signals.nanoSteps.add(({ rows, motors }) => {
     nanoMotors = motors;
-    for (const v of rows) nanoRows.push(v);
-    askInk();
+    for (const v of rows) ink.nano.rows.push(v);
+    askInk("nano");
+  });
+  s.editor.signals.physicsTool.add((xyz) => {
+    if (!drawing) return; // ink on a sheet with a drawing to draw
+    ink.physics.rows.push(...xyz);
+    askInk("physics");
   });
 }
 
@@ -218,8 +241,7 @@ async function draw(): Promise<void> {
   say("drawing…");
   const d = (await s.engine.call({ type: "draw", request })) as unknown as Drawing;
   clearDrawing();
-  nanoRows = []; // the ink from here on is this drawing's
-  showInk([]);
+  clearInk(); // the ink from here on is this drawing's
   if (d.error) {
     hook.drawing = { fits: false, error: d.error, advice: "", worstMm: 0, steps: 0, lines: 0, program: "", ink: [] };
     hook.drawings++;
