@@ -817,6 +817,102 @@ PredictedInk predicted_ink(const Drawing& d, const Prediction& prediction, const
   return ink;
 }
 
+std::vector<Stroke> program_ink(const Robot& robot, const std::string& program, const std::string& name,
+                                const PenSettings& pen) {
+  const Prediction p = predict_program(robot, parse_program(program, name, robot), {}, {}, true);
+  std::vector<Vec3<double>> tool;
+  for (const PredictRecord& r : p.records)
+    if (r.reply == kOk) tool.insert(tool.end(), r.path.begin(), r.path.end());
+  return ink_of_tool_path(tool, pen);
+}
+
+namespace {
+// The distance of p from the nearest of the strokes (a one-point stroke: a dot).
+double nearest_of(Point2 p, const std::vector<Stroke>& strokes) {
+  double best = INFINITY;
+  for (const Stroke& s : strokes) {
+    if (s.size() == 1) best = std::min(best, dist(p, s[0]));
+    for (size_t i = 1; i < s.size(); ++i) best = std::min(best, segment_distance(p, s[i - 1], s[i]));
+  }
+  return best;
+}
+std::string at_text(Point2 p) { return "(" + mm(std::round(p.x)) + ", " + mm(std::round(p.y)) + ") mm"; }
+}  // namespace
+
+DrawingCheck check_drawing(const std::vector<Stroke>& target, const std::vector<Stroke>& ink, double tolerance_mm) {
+  DrawingCheck c;
+  for (const Stroke& s : ink)
+    for (const Point2& p : s) {
+      ++c.ink_points;
+      const double d = nearest_of(p, target);
+      if (d > c.ink_off_mm) c.ink_off_mm = d, c.ink_off_at = p;
+    }
+  if (c.ink_points == 0) {
+    c.says = "no ink: the pen never touched the paper (is it down at the paper's height?)";
+    c.uncovered_mm = INFINITY;
+    return c;
+  }
+  for (const Stroke& s : target)
+    for (size_t i = 0; i < s.size(); ++i) {
+      const Point2 a = s[i], b = i + 1 < s.size() ? s[i + 1] : s[i];
+      const int n = std::max(1, int(std::ceil(dist(a, b))));  // every mm
+      for (int k = 0; k <= n; ++k) {
+        const Point2 p{a.x + (b.x - a.x) * k / n, a.y + (b.y - a.y) * k / n};
+        const double d = nearest_of(p, ink);
+        if (d > c.uncovered_mm) c.uncovered_mm = d, c.uncovered_at = p;
+      }
+    }
+  c.met = c.ink_off_mm <= tolerance_mm && c.uncovered_mm <= tolerance_mm;
+  const std::string tol = mm(tolerance_mm) + " mm";
+  if (c.met)
+    c.says = "the ink stays within " + mm(std::round(c.ink_off_mm * 10) / 10) + " mm of the target and covers all of it (within " +
+             tol + ")";
+  else if (c.ink_off_mm > tolerance_mm && c.uncovered_mm > tolerance_mm)
+    c.says = "ink " + mm(std::round(c.ink_off_mm * 10) / 10) + " mm off the target at " + at_text(c.ink_off_at) +
+             ", and the target not drawn at " + at_text(c.uncovered_at) + " (" + mm(std::round(c.uncovered_mm * 10) / 10) +
+             " mm from any ink): both must be within " + tol;
+  else if (c.ink_off_mm > tolerance_mm)
+    c.says = "ink " + mm(std::round(c.ink_off_mm * 10) / 10) + " mm off the target at " + at_text(c.ink_off_at) + ": it must stay within " + tol;
+  else
+    c.says = "the target is not drawn at " + at_text(c.uncovered_at) + ": the nearest ink is " +
+             mm(std::round(c.uncovered_mm * 10) / 10) + " mm away (within " + tol + " counts)";
+  return c;
+}
+
+nlohmann::json drawing_check_json(const Robot& robot, const InverseKinematics& ik, const nlohmann::json& j) {
+  using nlohmann::json;
+  if (!j.is_object()) throw std::invalid_argument("a drawing check is an object: {program, target, z, pen, tolerance}");
+  static const char* const kKeys[] = {"program", "name", "target", "z", "pen", "lift", "tolerance"};
+  for (auto it = j.begin(); it != j.end(); ++it)
+    if (std::find_if(std::begin(kKeys), std::end(kKeys), [&](const char* k) { return it.key() == k; }) == std::end(kKeys))
+      throw std::invalid_argument("a drawing check has no '" + it.key() + "'");
+  if (!j.contains("program") || !j["program"].is_string()) throw std::invalid_argument("'program' must be the program's text");
+  if (!j.contains("target") || !j["target"].is_object()) throw std::invalid_argument("'target' must be a drawing request");
+  const double tolerance = j.value("tolerance", json(0)).is_number() ? j.value("tolerance", 0.0) : -1;
+  if (!(tolerance > 0)) throw std::invalid_argument("'tolerance' must be a number of mm above 0");
+  json target = j["target"];
+  for (const char* k : {"z", "pen", "lift"})
+    if (j.contains(k)) target[k] = j[k];
+  const DrawRequest req = draw_request_from_json(target);
+  const Drawing d = make_drawing(robot, ik, req);
+  const std::vector<Stroke> ink = program_ink(robot, j["program"].get<std::string>(), j.value("name", std::string("program.arm")), req.pen);
+  const DrawingCheck c = check_drawing(d.strokes, ink, tolerance);
+  auto strokes_json = [](const std::vector<Stroke>& ss) {
+    json out = json::array();
+    for (const Stroke& s : ss) {
+      json st = json::array();
+      for (const Point2& p : s) st.push_back({p.x, p.y});
+      out.push_back(st);
+    }
+    return out;
+  };
+  auto finite = [](double v) { return std::isfinite(v) ? json(v) : json(nullptr); };
+  return json{{"met", c.met}, {"ink_off_mm", finite(c.ink_off_mm)}, {"uncovered_mm", finite(c.uncovered_mm)},
+              {"ink_off_at", {c.ink_off_at.x, c.ink_off_at.y}}, {"uncovered_at", {c.uncovered_at.x, c.uncovered_at.y}},
+              {"ink_points", c.ink_points}, {"says", c.says}, {"what", d.what},
+              {"target", strokes_json(d.strokes)}, {"ink", strokes_json(ink)}};
+}
+
 std::string drawing_svg(const Drawing& d, const PredictedInk& ink, const std::string& title) {
   Bounds b = d.bounds;
   for (const Stroke& s : ink.strokes)

@@ -217,6 +217,30 @@ struct PredictedInk {
 struct Prediction;
 PredictedInk predicted_ink(const Drawing& d, const Prediction& prediction, const PenSettings& pen);
 
+// ---- checking a drawing against a target (the studio's drawing exercises)
+
+// The ink a program leaves: its prediction's every step (predict.h, path kept) through
+// pen_on_paper. Throws std::invalid_argument for a program that does not parse.
+std::vector<Stroke> program_ink(const Robot& robot, const std::string& program, const std::string& name,
+                                const PenSettings& pen);
+
+// How far ink is from a target, both ways: the farthest point of ink from the target's strokes
+// (ink where it should not be) and the farthest point of the target (sampled every mm) from
+// the ink (the target not covered). Met when both are within the tolerance.
+struct DrawingCheck {
+  bool met = false;
+  double ink_off_mm = 0, uncovered_mm = 0;
+  Point2 ink_off_at{0, 0}, uncovered_at{0, 0};
+  size_t ink_points = 0;
+  std::string says;  // in words: what is met, or which way it is not and where
+};
+DrawingCheck check_drawing(const std::vector<Stroke>& target, const std::vector<Stroke>& ink, double tolerance_mm);
+
+// {program, name, target {text | shape, width, at, rotate ...: a drawing request}, z, pen, lift,
+// tolerance} -> {met, ink_off_mm, uncovered_mm, ink_off_at, uncovered_at, ink_points, says,
+// target (its strokes), ink (the program's)}: as the bindings ask.
+nlohmann::json drawing_check_json(const Robot& robot, const InverseKinematics& ik, const nlohmann::json& request);
+
 // The drawing seen from above as SVG, the ideal strokes and the predicted ink as two layers
 // (groups "ideal" and "predicted"), the worst distance marked: for someone at +x facing the
 // arm, the table's +y to the right and +x down.

@@ -384,3 +384,36 @@ TEST(Freehand, AShakyLineIsSmoothedAndDrawnWhereItWasDrawn) {
     EXPECT_NE(std::string(e.what()).find("stroke 1"), std::string::npos) << e.what();
   }
 }
+
+TEST(Check, ASquareOf40mmIsMetAndAWrongOneIsNot) {
+  const nlohmann::json target = {{"shape", "square"}, {"width", 40}, {"at", {250, 0}}};
+  auto check = [&](const nlohmann::json& drawn) {
+    nlohmann::json req = drawn;
+    req["z"] = 0;
+    req["pen"] = 120;
+    const Drawing d = make_drawing(mk2(), mk2_ik(), draw_request_from_json(req));
+    EXPECT_TRUE(d.reach.fits);
+    return drawing_check_json(mk2(), mk2_ik(), {{"program", d.program}, {"target", target}, {"z", 0}, {"pen", 120}, {"tolerance", 3}});
+  };
+  const nlohmann::json right = check(target);
+  EXPECT_TRUE(right["met"].get<bool>()) << right["says"];
+  EXPECT_LT(right["ink_off_mm"].get<double>(), 2.0);
+  EXPECT_LT(right["uncovered_mm"].get<double>(), 2.0);
+  // 30 mm: its ink is 5 mm inside the target's sides
+  const nlohmann::json small = check({{"shape", "square"}, {"width", 30}, {"at", {250, 0}}});
+  EXPECT_FALSE(small["met"].get<bool>());
+  EXPECT_NEAR(small["ink_off_mm"].get<double>(), 5, 1.5);
+  EXPECT_NE(small["says"].get<std::string>().find("must be within 3 mm"), std::string::npos) << small["says"];
+  // half of it: the ink is on the target, but does not cover it
+  const nlohmann::json half = drawing_check_json(mk2(), mk2_ik(), {{"program", "P 230 -20 130\nT 230 -20 120 20\nT 270 -20 120 20\nT 270 20 120 20\nT 270 20 130 20\n"},
+                                                                  {"target", target}, {"z", 0}, {"pen", 120}, {"tolerance", 3}});
+  EXPECT_FALSE(half["met"].get<bool>());
+  EXPECT_GT(half["uncovered_mm"].get<double>(), 20);
+  EXPECT_NE(half["says"].get<std::string>().find("not drawn at"), std::string::npos) << half["says"];
+  // no ink at all: said so
+  const nlohmann::json none = drawing_check_json(mk2(), mk2_ik(), {{"program", "P 250 0 200\n"}, {"target", target}, {"pen", 120}, {"tolerance", 3}});
+  EXPECT_FALSE(none["met"].get<bool>());
+  EXPECT_NE(none["says"].get<std::string>().find("no ink"), std::string::npos);
+  EXPECT_TRUE(none["uncovered_mm"].is_null());
+  EXPECT_THROW(drawing_check_json(mk2(), mk2_ik(), {{"program", ""}, {"target", target}, {"tolerance", 0}}), std::invalid_argument);
+}

@@ -150,6 +150,15 @@ void bind_program(nb::module_& m, nb::class_<PyRobot>& robot) {
            "each motor's count per moment, flat] (a virtual Nano's) or tool=[x, y, z after x, y, z, mm] (the physics'), "
            "z (the paper's height), pen (mm below the tool point), lift. Returns {strokes, points}: the rule the "
            "prediction's ink follows.")
+      .def("drawing_check",
+           [](const PyRobot& self, nb::kwargs request) {
+             const std::string text = nb::cast<std::string>(nb::module_::import_("json").attr("dumps")(request));
+             return json_to_python(host::drawing_check_json(self.r(), self.ik(), nlohmann::json::parse(text)));
+           },
+           "A program's ink against a target drawing, both ways (the studio's drawing exercises): program (its text), "
+           "target (a draw request: shape= or text=, width, at), z, pen, tolerance (mm). Returns {met, ink_off_mm "
+           "(the farthest ink from the target), uncovered_mm (the farthest part of the target from the ink), ink_off_at, "
+           "uncovered_at, ink_points, says, what, target, ink}.")
       .def("reach_map",
            [](const PyRobot& self, nb::kwargs request) {
              const std::string text = nb::cast<std::string>(nb::module_::import_("json").attr("dumps")(request));

@@ -54,6 +54,7 @@ SAME = [
     ("Robot.draw", "drawing"),
     ("Robot.reach_map", "reachMap"),
     ("Robot.ink", "ink"),
+    ("Robot.drawing_check", "drawingCheck"),
     ("Robot.timeline", "Timeline.make"),
     ("Timeline.at", "Timeline.at"),
     ("Timeline.duration", "Timeline.duration"),
@@ -146,7 +147,7 @@ const ops = [];
 for (const cls of ["Robot", "Sim", "Timeline"])
   for (const k of Object.getOwnPropertyNames(M[cls].prototype))
     if (!["constructor", "delete", "isDeleted", "clone", "isAliasOf", "deleteLater"].includes(k)) ops.push(`${{cls}}.${{k}}`);
-for (const k of ["predict", "run", "quantize", "programFormat", "parseProgram", "programFit", "blocksProgram", "programActions", "protocolLine", "moveLine", "drawing", "reachMap", "ink", "statusText", "statusTable", "settingsTable", "parseArmLine", "firstIntervalS",
+for (const k of ["predict", "run", "quantize", "programFormat", "parseProgram", "programFit", "blocksProgram", "programActions", "protocolLine", "moveLine", "drawing", "reachMap", "ink", "drawingCheck", "statusText", "statusTable", "settingsTable", "parseArmLine", "firstIntervalS",
                  "axisErrors", "table4", "measurementQuestion", "parsePlan", "table5", "toolPoints", "jointVerdicts", "experimentCsv", "repeatChains"])
   if (typeof M[k] === "function") ops.push(k);
 console.log(JSON.stringify(ops));
@@ -225,6 +226,8 @@ const out = {{ jac: r.jacobian([10, 70, -60]), tl: e.timeline(r, "L 0 30\\nL 1 -
   far: r.draw({{ shape: "star", width: 40, at: [120, 0], z: 0, pen: 120 }}),
   map: r.reachMap({{ paper: "A5", at: [225, 0], z: 0, pen: 120, cell: 10 }}),
   ink: r.ink({{ steps: [0, 0, 0, 40, -300, 200, 41, -300, 200], z: 0, pen: 120 }}),
+  check: r.drawingCheck({{ program: r.draw({{ shape: "square", width: 30, at: [250, 0], z: 0, pen: 120 }}).program,
+                          target: {{ shape: "square", width: 40, at: [250, 0] }}, z: 0, pen: 120, tolerance: 3 }}),
   plan: e.parsePlan("#@ title T\\n#@ single-joint 1 15\\nL 1 0\\n#@ repeat 2 out\\nP 1 2 3\\n", "p.arm") }};
 try {{ e.parsePlan("#@ expct ok\\nL 0 1\\n", "bad.arm"); }} catch (x) {{ out.badPlan = x.message; }}
 try {{ e.robot("puma560").nanoConfig(); }} catch (x) {{ out.noNano = x.message; }}
@@ -272,6 +275,9 @@ console.log(JSON.stringify(out));
     # the sheet's reach map and the ink of step counts: the same
     assert mk2.reach_map(paper="A5", at=(225, 0), z=0, pen=120, cell=10) == web["map"] and "1" in web["map"]["reached"]
     assert same(mk2.ink(steps=[0, 0, 0, 40, -300, 200, 41, -300, 200], z=0, pen=120), web["ink"])
+    sq30 = mk2.draw(shape="square", width=30, at=(250, 0), z=0, pen=120)["program"]
+    check = mk2.drawing_check(program=sq30, target={"shape": "square", "width": 40, "at": [250, 0]}, z=0, pen=120, tolerance=3)
+    assert same(check, web["check"]) and not check["met"] and check["ink_off_mm"] > 3
     assert _core.parse_arm_line("<Run|S:95,0,0|A:30.083,90.000,0.000|G:100|Q:7|C:1>") == web["arm"]
     assert _core.first_interval_s(800, 3000) == web["first"]
     # the experiment's numbers: the same to the digit

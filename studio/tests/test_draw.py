@@ -158,3 +158,55 @@ def test_a_square_in_live_physics_leaves_ink_where_the_pen_went(open_page):
         assert min(((x - cx) ** 2 + (y - cy) ** 2) ** 0.5 for x, y in ink) < 3, (cx, cy)
     assert pg.page.locator("#paper-view #ink polyline").count() >= 1
     assert pg.errors == []
+
+
+def _exercise(pg, name, title):
+    pg.page.click("#projects-button")
+    pg.page.select_option("#exercise-select", name)
+    pg.wait(f"a.project.goal !== null && a.project.name === {title!r}", timeout=30000)
+    if pg.page.is_visible("#tab-program"):
+        pg.page.click("#tab-program")
+
+
+def _check(pg, drawing):
+    """The drawing's program into the editor, then the exercise's Check: its verdict."""
+    pg.page.click("#draw-use")
+    pg.page.wait_for_function("document.querySelector('#editor').value.startsWith('# drawn by Articula')")
+    assert pg.page.input_value("#editor") == drawing["program"]
+    pg.wait("a.exercise === null", timeout=10000)  # the last verdict was for another program
+    pg.page.locator("#exercise-check").scroll_into_view_if_needed()
+    pg.page.click("#exercise-check")
+    pg.wait("a.exercise !== null && a.exercise.parts !== undefined && a.exercise.parts.length === 1", timeout=60000)
+    return pg.hook("a.exercise")
+
+
+def test_the_three_drawing_exercises_are_solved_and_a_wrong_drawing_is_not_met(open_page):
+    """Issue 29's fourth 'done when': draw a square of 40 mm, write your initials, trace the star;
+    each met by the right drawing, and not by a wrong one (too small, other letters, a circle)."""
+    pg = open_page("mk2plus", width=1366, height=768)
+    _exercise(pg, "draw-a-square.articula", "Exercise: draw a square of 40 mm")
+    pg.wait("a.goal.target > 0", timeout=30000)  # the target, faintly on the paper
+    assert pg.page.locator("#paper-view #target polyline").count() == 1
+    pg.page.locator("#draw-section").scroll_into_view_if_needed()
+    r = _check(pg, _draw(pg, kind="square", width=40, x=250, y=0))
+    assert r["met"] and r["parts"][0]["met"], r
+    wrong = _check(pg, _draw(pg, kind="square", width=30, x=250, y=0))
+    assert not wrong["met"] and "off the target" in wrong["parts"][0]["detail"], wrong
+    pg.page.locator("#draw-section").scroll_into_view_if_needed()
+    pg.page.screenshot(path=str(SHOTS / "studio-draw-exercise.png"))
+
+    _exercise(pg, "write-your-initials.articula", "Exercise: write your initials")
+    assert pg.page.is_visible("#exercise-answer")
+    pg.page.fill("#exercise-answer", "AB")
+    pg.wait("a.goal.target > 0", timeout=30000)
+    r = _check(pg, _draw(pg, kind="text", text="AB", width=40, x=250, y=0))
+    assert r["met"], r
+    wrong = _check(pg, _draw(pg, kind="text", text="AC", width=40, x=250, y=0))
+    assert not wrong["met"], wrong
+
+    _exercise(pg, "trace-the-star.articula", "Exercise: trace the star")
+    r = _check(pg, _draw(pg, kind="star", width=50, x=250, y=0))
+    assert r["met"], r
+    wrong = _check(pg, _draw(pg, kind="circle", width=50, x=250, y=0))
+    assert not wrong["met"], wrong
+    assert pg.errors == []

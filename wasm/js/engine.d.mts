@@ -34,6 +34,9 @@ export class Robot {
   reachMap(request: { area: number[]; cell?: number; z?: number; pen?: number }):
     { rows: number; cols: number; cell: number; area: number[]; reached: string };
   ink(request: { steps?: number[]; tool?: number[]; z?: number; pen?: number; lift?: number }): { strokes: number[][][]; points: number };
+  drawingCheck(request: { program: string; name?: string; target: Record<string, unknown>; z?: number; pen?: number; tolerance: number }): {
+    met: boolean; ink_off_mm: number | null; uncovered_mm: number | null; ink_off_at: number[]; uncovered_at: number[];
+    ink_points: number; says: string; what: string; target: number[][][]; ink: number[][][] };
   urdf(): string;
   jointsFromMotors(u: number[]): number[];
   /** The Nano's robot configuration for this robot; throws EngineError with the reason a Nano cannot drive it. */

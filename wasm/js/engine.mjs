@@ -87,6 +87,9 @@ export class Robot {
   /** The ink the pen leaves (on the paper below half its lift): {steps: [flat rows of motor
    * counts] | tool: [x, y, z, ...], z, pen, lift} -> {strokes, points}. */
   ink(request) { return checked(this.engine.M.ink(this.h, JSON.stringify(request))); }
+  /** A program's ink against a target drawing, both ways: {program, target (a draw request), z,
+   * pen, tolerance} -> {met, ink_off_mm, uncovered_mm, says, target, ink, ...}. */
+  drawingCheck(request) { return checked(this.engine.M.drawingCheck(this.h, JSON.stringify(request))); }
   urdf() { return checked(this.h.urdf()).xml; }
   jointsFromMotors(u) { return checked(this.h.jointsFromMotors(JSON.stringify(u))); }
   motorsFromJoints(q) { return checked(this.h.motorsFromJoints(JSON.stringify(q))); }

@@ -92,6 +92,11 @@ std::string reach_map(const WebRobot& robot, const std::string& request_json) {
   return guarded([&] { return host::reach_map_json(robot.robot(), robot.ik(), json::parse(request_json)).dump(); });
 }
 
+// A program's ink against a drawing exercise's target (host/lib/draw.h).
+std::string drawing_check(const WebRobot& robot, const std::string& request_json) {
+  return guarded([&] { return host::drawing_check_json(robot.robot(), robot.ik(), json::parse(request_json)).dump(); });
+}
+
 std::string program_format(const std::string& text, const std::string& name) {
   return host::detect_format(text, name) == host::Program::Format::kRoboSim ? "robosim" : "protocol";
 }
@@ -147,6 +152,7 @@ EMSCRIPTEN_BINDINGS(articula_program) {
   function("drawing", &articula::web::drawing);
   function("ink", &articula::web::ink);
   function("reachMap", &articula::web::reach_map);
+  function("drawingCheck", &articula::web::drawing_check);
   class_<WebTimeline>("Timeline")
       .constructor<>()
       .function("make", &WebTimeline::make)

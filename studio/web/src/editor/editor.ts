@@ -60,6 +60,8 @@ export class Editor {
     nanoSteps: new Signal<{ rows: Int32Array; motors: number }>(),
     // the physics moved the arm: its tool point, mm
     physicsTool: new Signal<number[]>(),
+    // a drawing exercise's target on the paper (and, after Check, the program's ink); null: none
+    drawingGoal: new Signal<{ target: number[][][]; z: number; pen: number; ink?: number[][][] } | null>(),
     // a program's line is running (0: none), on the model, in the physics or on the arm;
     // `refused`: it was refused. The text shows the line, the blocks light its block.
     lineRunning: new Signal<{ line: number; refused: boolean }>(),

@@ -11,11 +11,16 @@ import { S } from "./state";
 // Where the engine reads the font (host/lib/draw.h, default_font_path): the site ships it.
 const FONT = "/usr/share/hershey-fonts/futural.jhf";
 
+/** The font where the engine reads it, fetched from the site once. */
+export async function ensureFont(): Promise<void> {
+  if (!S.engine.exists(FONT)) S.engine.writeFile(FONT, await fetchBytes("data/fonts/futural.jhf"));
+}
+
 export const drawHandlers: Record<string, (m: Msg) => Promise<Out[]>> = {
   async draw(m) {
     const req = m.request;
     if (typeof req !== "object" || req === null || Array.isArray(req)) throw new BadMessage("'request' must be an object");
-    if (!S.engine.exists(FONT)) S.engine.writeFile(FONT, await fetchBytes("data/fonts/futural.jhf"));
+    await ensureFont();
     try {
       return [{ type: "drawing", ...S.robot.draw(req as Record<string, unknown>) }];
     } catch (e) {

@@ -6,11 +6,18 @@ import { BadMessage, text } from "./checks";
 import type { Msg, Out } from "./checks";
 import { info, powerUpQ, S } from "./state";
 import { sceneFile } from "./site";
-import type { GoalPart } from "../project/document";
+import type { DrawingPart, GoalPart } from "../project/document";
+import { ensureFont } from "./draw";
 
 const SETTLE_S = 1.5; // the physics runs on this long after the program, for objects to come to rest
 
-interface PartResult { label: string; met: boolean; detail: string; distance_mm: number }
+interface PartResult { label: string; met: boolean; detail: string; distance_mm: number; target?: number[][][]; ink?: number[][][] }
+
+// A drawing part's target as the engine takes it: the student's text where the part asks for it.
+function drawingTarget(p: DrawingPart, answer: string): Record<string, unknown> {
+  if (p.ask && !answer.trim()) throw new BadMessage(`type ${p.ask} first`);
+  return p.ask ? { ...p.target, text: answer.trim().slice(0, 40) } : { ...p.target };
+}
 
 const f1 = (v: number) => v.toFixed(1);
 
@@ -27,6 +34,22 @@ export const exerciseHandlers: Record<string, (m: Msg) => Promise<Out[]>> = {
     const scene = typeof m.scene === "string" ? m.scene : "";
     const names = new Set(parts.filter((p) => p.kind === "object").map((p) => (p as { object: string }).object));
     const objects: GoalObject[] = [];
+    // a drawing's target: its strokes on the paper, to draw faintly there
+    const drawings: { strokes: number[][][]; z: number; pen: number; error?: string }[] = [];
+    const answer = typeof m.answer === "string" ? m.answer : "";
+    for (const p of parts.filter((x) => x.kind === "drawing") as DrawingPart[]) {
+      if (p.ask && !answer.trim()) {
+        drawings.push({ strokes: [], z: p.z, pen: p.pen });
+        continue;
+      }
+      await ensureFont();
+      try {
+        drawings.push({ strokes: S.robot.draw({ ...drawingTarget(p, answer), z: p.z, pen: p.pen }).strokes, z: p.z, pen: p.pen });
+      } catch (e) {
+        if (!(e instanceof EngineError)) throw e;
+        drawings.push({ strokes: [], z: p.z, pen: p.pen, error: e.message });
+      }
+    }
     if (names.size && scene && S.index.scenes.includes(scene)) {
       const doc = JSON.parse(await sceneFile(scene)) as { objects?: { name: string; type: string; size?: number[]; radius?: number; height?: number; xyz: number[] }[] };
       for (const o of doc.objects ?? []) {
@@ -42,7 +65,7 @@ export const exerciseHandlers: Record<string, (m: Msg) => Promise<Out[]>> = {
         objects.push({ name: o.name, size, xyz: o.xyz, lowest_tool_z: lowest });
       }
     }
-    return [{ type: "exercise_targets", objects }];
+    return [{ type: "exercise_targets", objects, drawings }];
   },
 
   async exercise_check(m) {
@@ -54,7 +77,15 @@ export const exerciseHandlers: Record<string, (m: Msg) => Promise<Out[]>> = {
     const results: PartResult[] = [];
     const reach = parts.filter((p) => p.kind === "reach") as Extract<GoalPart, { kind: "reach" }>[];
     const objects = parts.filter((p) => p.kind === "object") as Extract<GoalPart, { kind: "object" }>[];
+    const drawings = parts.filter((p) => p.kind === "drawing") as DrawingPart[];
+    const answer = typeof m.answer === "string" ? m.answer : "";
     try {
+      if (drawings.length) await ensureFont();
+      for (const p of drawings) {
+        const c = S.robot.drawingCheck({ program: src, name, target: drawingTarget(p, answer), z: p.z, pen: p.pen, tolerance: p.tolerance_mm });
+        results.push({ label: p.label || `the drawing (${c.what})`, met: c.met, detail: c.says,
+          distance_mm: Math.max(c.ink_off_mm ?? Infinity, c.uncovered_mm ?? Infinity), target: c.target, ink: c.ink });
+      }
       if (reach.length) {
         const start = info().num_motors ? powerUpQ() : [...S.q];
         const tl = S.engine.timeline(S.robot, src, name, start);

@@ -30,7 +30,8 @@ export interface Hook {
   robotError: string;
   lastError: string;
   teach: string;
-  goal: { drawn: number; facts: string[] }; // an exercise's goal: its parts drawn in the view, the facts under it
+  // an exercise's goal: its parts drawn in the view, the facts under it, a drawing target's strokes on the paper
+  goal: { drawn: number; facts: string[]; target?: number };
   runOnArm: boolean; // Run sends the program to the connected arm ("on the arm" beside it ticked)
   fps: number;
   framesDrawn: number;

@@ -179,6 +179,17 @@ export function initDraw(studio: Studio, program_: { setText: (text: string, nam
     for (const v of rows) ink.nano.rows.push(v);
     askInk("nano");
   });
+  s.editor.signals.drawingGoal.add((g) => {
+    paper.setLayer("target", g?.target ?? []);
+    if (!g) return;
+    input("draw-z").value = String(g.z); // the exercise's paper and pen
+    input("draw-pen").value = String(g.pen);
+    askReach();
+    if (g.ink) {
+      paper.setLayer("predicted", g.ink);
+      $("draw-section").scrollIntoView({ block: "nearest" });
+    }
+  });
   s.editor.signals.physicsTool.add((xyz) => {
     if (!drawing) return; // ink on a sheet with a drawing to draw
     ink.physics.rows.push(...xyz);

@@ -7,7 +7,7 @@ import type { Studio } from "../page/context";
 import { $, banner, download, fill, h, setOptions } from "../page/dom";
 import { hook } from "../page/hook";
 import { LINK_KEY, MAX_FILE_BYTES, MAX_LINK, ProjectError, newProject, parseProject, projectFragment, projectOfFragment, readProject } from "../project/document";
-import type { Experiment, Goal, Project } from "../project/document";
+import type { DrawingPart, Experiment, Goal, GoalPart, Project } from "../project/document";
 import { ProjectStore, newId } from "../project/store";
 import type { Stored } from "../project/store";
 import type { Editor } from "../editor/editor";
@@ -139,6 +139,11 @@ export function initProjects(studio: Studio, program: { setText: (text: string, 
     }, 2500);
   };
   $("exercise-check").onclick = () => void check();
+  let asked = 0;
+  $("exercise-answer").addEventListener("input", () => { // the target follows what the student types
+    clearTimeout(asked);
+    asked = window.setTimeout(() => current.doc.goal && void showDrawingTarget(current.doc.goal), 250);
+  });
   // a .articula file dropped anywhere on the page opens as a project
   window.addEventListener("dragover", (e) => {
     if (e.dataTransfer?.types.includes("Files")) e.preventDefault();
@@ -566,8 +571,13 @@ function showGoal(goal: Goal | null): void {
   $("exercise").hidden = !goal;
   fill($("exercise-result"));
   fill($("exercise-facts"));
-  s.view.showGoal(goal?.parts ?? []); // the goal drawn: where the tool must go, where an object must end
+  // the goal drawn: where the tool must go, where an object must end (a drawing's target: on the paper)
+  s.view.showGoal((goal?.parts ?? []).filter((p) => p.kind !== "drawing") as Exclude<GoalPart, DrawingPart>[]);
   hook.goal = { drawn: s.view.goalShown(), facts: [] };
+  const ask = goal?.parts.find((p) => p.kind === "drawing" && p.ask) as DrawingPart | undefined;
+  $("exercise-ask-row").hidden = !ask;
+  $("exercise-ask-label").textContent = ask ? ask.ask : "";
+  if (!goal?.parts.some((p) => p.kind === "drawing")) s.editor.signals.drawingGoal.dispatch(null);
   if (!goal) return;
   reveal("exercise"); // an exercise: its goal and the program in sight
   $("exercise-title").textContent = goal.title;
@@ -585,6 +595,12 @@ async function goalFacts(goal: Goal): Promise<void> {
   };
   const reach = goal.parts.filter((p) => p.kind === "reach").length;
   if (reach) facts.push(`In the view: ${reach > 1 ? `the ${reach} numbered green balls are the points` : "the green ball is the point"}, each as wide as its tolerance.`);
+  const drawing = goal.parts.find((p) => p.kind === "drawing") as DrawingPart | undefined;
+  if (drawing) {
+    facts.push(`On the paper (Draw and write): the faint purple line is the target. The paper lies at z ${drawing.z} mm, ` +
+      `the pen is ${drawing.pen} mm long; the ink must stay within ${drawing.tolerance_mm} mm of the target and cover all of it.`);
+    void showDrawingTarget(goal);
+  }
   show();
   if (!goal.parts.some((p) => p.kind === "object")) return;
   const f0 = (v: number) => Math.round(v).toString();
@@ -602,6 +618,19 @@ async function goalFacts(goal: Goal): Promise<void> {
   }
 }
 
+/** A drawing exercise's target, from the engine (with the student's answer where it asks for one), to the paper. */
+async function showDrawingTarget(goal: Goal): Promise<void> {
+  const part = goal.parts.find((p) => p.kind === "drawing") as DrawingPart;
+  const r = await s.engine.call({ type: "exercise_targets", parts: goal.parts, scene: "", answer: answer() }) as
+    { drawings: { strokes: number[][][]; z: number; pen: number; error?: string }[] };
+  if (current.doc.goal !== goal) return;
+  const t = r.drawings[0];
+  s.editor.signals.drawingGoal.dispatch({ target: t?.strokes ?? [], z: part.z, pen: part.pen });
+  hook.goal = { ...hook.goal, target: t?.strokes.length ?? 0 };
+}
+
+const answer = () => ($("exercise-answer") as HTMLInputElement).value;
+
 async function check(): Promise<void> {
   const goal = current.doc.goal;
   if (!goal) return;
@@ -610,9 +639,15 @@ async function check(): Promise<void> {
   try {
     checkedText = ed.value;
     const r = await s.engine.call({ type: "exercise_check", parts: goal.parts, text: ed.value, name: hook.programName || "program.arm",
-      scene: goal.scene || current.doc.scene }) as { parts: { label: string; met: boolean; detail: string }[]; met?: boolean; error?: string };
+      scene: goal.scene || current.doc.scene, answer: answer() }) as
+      { parts: { label: string; met: boolean; detail: string; target?: number[][][]; ink?: number[][][] }[]; met?: boolean; error?: string };
     hook.exercise = r as unknown as typeof hook.exercise;
     if (r.error) return fill($("exercise-result"), h("li", { class: "bad" }, r.error));
+    const drawn = goal.parts.findIndex((p) => p.kind === "drawing");
+    if (drawn >= 0 && r.parts[drawn]?.target) { // the target and the program's ink, on the paper
+      const part = goal.parts[drawn] as DrawingPart;
+      s.editor.signals.drawingGoal.dispatch({ target: r.parts[drawn].target!, z: part.z, pen: part.pen, ink: r.parts[drawn].ink });
+    }
     fill($("exercise-result"), h("li", { class: r.met ? "ok" : "bad" }, r.met ? "Every part is met: well done!" : "Not yet:"),
       ...r.parts.map((p) => h("li", { class: p.met ? "ok" : "bad" }, p.met ? "✓ " : "✗ ", h("b", null, p.label), `: ${p.detail}`)));
   } catch (e) {

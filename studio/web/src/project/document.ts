@@ -14,7 +14,17 @@ const MAX_BLOCKS_JSON = 2_000_000;
 /** One part of an exercise's goal: the tool at a point, or an object inside a box. */
 export type GoalPart =
   | { kind: "reach"; xyz: number[]; tolerance_mm: number }
-  | { kind: "object"; object: string; min: number[]; max: number[]; label: string };
+  | { kind: "object"; object: string; min: number[]; max: number[]; label: string }
+  | DrawingPart;
+
+/** A drawing to draw with a pen in the gripper: the ink of the program (its prediction) within
+ * `tolerance_mm` of the target and covering it. The target is a drawing request (a shape, or
+ * text: `ask` names what the student types instead, "your initials"), on paper at `z` with a
+ * pen `pen` mm long. */
+export interface DrawingPart {
+  kind: "drawing"; target: { shape?: string; text?: string; width: number; at: number[]; rotate?: number };
+  ask: string; tolerance_mm: number; z: number; pen: number; label: string;
+}
 
 /** An exercise's goal; `scene`: where its objects are (Check runs the physics there). */
 export interface Goal { title: string; text: string; scene: string; parts: GoalPart[] }
@@ -122,7 +132,24 @@ function checkGoal(g: unknown): Goal | null {
       if (p.kind === "object")
         return { kind: "object", object: str(p, "object", where, MAX_NAME), min: nums(p.min, `${where}.min`, 3),
           max: nums(p.max, `${where}.max`, 3), label: typeof p.label === "string" ? p.label.slice(0, MAX_NAME) : "" };
-      throw new ProjectError(`${where}.kind must be "reach" or "object"`);
+      if (p.kind === "drawing") {
+        const t = p.target;
+        if (!isObj(t)) throw new ProjectError(`${where}.target must be an object: a shape or text, its width and place`);
+        const target: DrawingPart["target"] = { width: nums([t.width], `${where}.target.width`, 1, 500)[0], at: nums(t.at, `${where}.target.at`, 2) };
+        if (t.shape !== undefined) {
+          if (!["square", "circle", "star"].includes(t.shape as string)) throw new ProjectError(`${where}.target.shape must be square, circle or star`);
+          target.shape = t.shape as string;
+        }
+        if (t.text !== undefined) target.text = str(t, "text", `${where}.target`, 40);
+        if (t.rotate !== undefined) target.rotate = nums([t.rotate], `${where}.target.rotate`, 1, 360)[0];
+        const ask = typeof p.ask === "string" ? p.ask.slice(0, MAX_NAME) : "";
+        if (!target.shape && !target.text && !ask) throw new ProjectError(`${where}.target needs a shape or a text (or ask for one)`);
+        const tol = nums([p.tolerance_mm], `${where}.tolerance_mm`, 1, 50)[0];
+        if (tol <= 0) throw new ProjectError(`${where}.tolerance_mm must be above 0`);
+        return { kind: "drawing", target, ask, tolerance_mm: tol, z: nums([p.z ?? 0], `${where}.z`, 1, 1000)[0],
+          pen: nums([p.pen ?? 0], `${where}.pen`, 1, 1000)[0], label: typeof p.label === "string" ? p.label.slice(0, MAX_NAME) : "" };
+      }
+      throw new ProjectError(`${where}.kind must be "reach", "object" or "drawing"`);
     }),
   };
 }
