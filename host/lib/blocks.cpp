@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <stdexcept>
 
+#include "draw.h"
 #include "program.h"
 #include "records_json.h"
 #include "robot_view.h"
@@ -177,6 +178,60 @@ class Compiler {
       const std::vector<std::string> c = comment_lines(text_of(o, "text"));
       emit(b, c);
       rs_.insert(rs_.end(), c.begin(), c.end());
+    } else if (op == "pen") {
+      pen_.pen_mm = number_of(o, "pen", b);
+      pen_.paper_z = number_of(o, "z", b);
+      if (pen_.pen_mm < 0 || pen_.pen_mm > 1000) throw BlockError(b, "a pen is from 0 to 1000 mm long, not " + protocol_number(pen_.pen_mm) + " mm");
+      pen_set_ = true;
+      const std::vector<std::string> c = comment_lines("the pen " + protocol_number(pen_.pen_mm) + " mm below the tool point, the paper at z " +
+                                                       protocol_number(pen_.paper_z) + " mm");
+      emit(b, c);
+      rs_.insert(rs_.end(), c.begin(), c.end());
+    } else if (op == "pen_down" || op == "pen_up" || op == "pen_to") {
+      need_pen(b);
+      const Vec3<double> at = tool();
+      double x = at.x, y = at.y;
+      if (op == "pen_to") {
+        const std::vector<double> xy = numbers_of(o.value("xy", json()), b, "xy");
+        if (xy.size() != 2) throw BlockError(b, "a point on the paper is x and y in mm");
+        x = xy[0], y = xy[1];
+      } else {
+        pen_down_ = op == "pen_down";
+      }
+      line(b, {x, y, pen_.paper_z + pen_.pen_mm + (pen_down_ ? 0 : pen_.lift_mm)}, pen_down_ ? pen_.speed : pen_.travel_speed);
+    } else if (op == "write" || op == "shape") {
+      need_pen(b);
+      DrawRequest req;
+      (op == "write" ? req.text : req.shape) = text_of(o, op == "write" ? "text" : "shape");
+      if (op == "write" && req.text.empty()) throw BlockError(b, "type the text to write");
+      req.width_mm = number_of(o, "width", b);
+      const std::vector<double> xy = numbers_of(o.value("at", json()), b, "at");
+      if (xy.size() != 2) throw BlockError(b, "a place on the paper is x and y in mm");
+      req.x = xy[0], req.y = xy[1];
+      req.pen = pen_;
+      Drawing d;
+      try {
+        d = make_drawing(r_, ik_, req);
+      } catch (const std::invalid_argument& e) {
+        throw BlockError(b, e.what());
+      }
+      if (!d.reach.fits) return problem(b, d.what + ": " + d.reach.advice);
+      bool first = true;
+      for (const Stroke& st : d.strokes) {  // the drawing's own order; the pen up between strokes
+        const std::vector<double> above{st[0].x, st[0].y, pen_.paper_z + pen_.pen_mm + pen_.lift_mm};
+        if (first) {  // from wherever the arm is: a move, not a line
+          emit(b, {protocol_line(r_, 'P', above)});
+          rs_.push_back("a");
+          for (double x : above) rs_.push_back(protocol_number(x));
+          reach(b, above);
+        } else {
+          line(b, above, pen_.travel_speed);
+        }
+        first = false;
+        for (const Point2& p : st) line(b, {p.x, p.y, pen_.paper_z + pen_.pen_mm}, pen_.speed);
+        line(b, {st.back().x, st.back().y, pen_.paper_z + pen_.pen_mm + pen_.lift_mm}, pen_.speed);
+      }
+      pen_down_ = false;
     } else if (op == "raw") {
       const std::string t = one_line(text_of(o, "text"));
       emit(b, {t});
@@ -211,6 +266,22 @@ class Compiler {
     std::vector<double> p = numbers_of(o.value("xyz", json()), b, "xyz");
     if (p.size() != 3) throw BlockError(b, "a point is x, y and z in mm");
     return p;
+  }
+
+  // The pen's blocks need its length and the paper's height first.
+  void need_pen(const std::string& b) const {
+    if (!pen_set_) throw BlockError(b, "say first where the pen and the paper are: the block 'the pen is ... mm long, the paper at z ...'");
+  }
+  Vec3<double> tool() const {
+    const std::vector<double> q = joints_in(r_, q_, "pose");
+    return tool_position(r_.model, q.data());
+  }
+  // A straight line (T) to p at speed mm/s, the pose following it.
+  void line(const std::string& b, const std::vector<double>& p, double speed) {
+    emit(b, {protocol_line(r_, 'T', {p[0], p[1], p[2], speed})});
+    rs_.push_back("a");
+    for (double x : p) rs_.push_back(protocol_number(x));
+    reach(b, p);
   }
 
   // Joint values to a move: the problems the arm would refuse it for, in the student's
@@ -269,6 +340,8 @@ class Compiler {
   std::vector<double> q_;
   std::vector<std::string> proto_, lines_, rs_;
   json problems_ = json::array();
+  PenSettings pen_;  // the pen's blocks: its length, the paper's height (lift and speeds: draw.h's)
+  bool pen_set_ = false, pen_down_ = false;
 };
 
 }  // namespace

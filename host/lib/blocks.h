@@ -44,6 +44,10 @@ std::string move_line(const Robot& robot, const std::vector<double>& q);
 // robot lacks, a wrong count of values) gives {"error": {"block", "message"}} instead.
 // Poses follow the actions from power-up (every motor at zero) or, without motors, the home
 // pose; a refused move leaves the pose where it was.
+// The pen's actions (draw.h): "pen" {pen, z} says how long the pen is and where the paper is;
+// then "pen_down" and "pen_up" (a straight line down to the paper, or up by the lift, where the
+// tool is), "pen_to" {xy} (a straight line at the pen's height), "write" {text, width, at} and
+// "shape" {shape, width, at} (the drawing's strokes, pen down along each, up between).
 nlohmann::json blocks_program_json(const Robot& robot, const InverseKinematics& ik, const nlohmann::json& ops);
 
 // A program's text as actions, for blocks: {"ops": [{"op", ...}], "format": "protocol" or

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "blocks.h"
+#include "draw.h"
 #include "program.h"
 #include "robot_file.h"
 #include "robot_view.h"
@@ -193,4 +194,40 @@ TEST(ProgramActions, AProgramFromBlocksReadsBackAsTheSameBlocks) {
   EXPECT_EQ(rs["format"], "robosim");
   EXPECT_EQ(rs["ops"][1]["percent"], 50.0);
   EXPECT_EQ(rs["ops"][2]["percent"], 50.0);
+}
+
+TEST(BlocksProgram, ThePensBlocksDrawWhatTheDrawingDraws) {
+  const json out = compile(json::parse(R"([
+    {"op": "pen", "pen": 120, "z": 0, "block": "p"},
+    {"op": "tool_to", "xyz": [230, -20, 130], "block": "a"},
+    {"op": "pen_down", "block": "d"},
+    {"op": "pen_to", "xy": [270, -20], "block": "l"},
+    {"op": "pen_up", "block": "u"},
+    {"op": "shape", "shape": "square", "width": 30, "at": [250, 0], "block": "s"},
+    {"op": "write", "text": "Hi", "width": 30, "at": [250, 0], "block": "w"}
+  ])"));
+  ASSERT_FALSE(out.contains("error")) << out.dump();
+  EXPECT_TRUE(out["problems"].empty()) << out["problems"].dump();
+  const std::vector<std::string> lines = out["lines"];
+  const std::string text = out["text"];
+  // the pen goes down and up where the tool is, and along at the paper's height
+  EXPECT_NE(text.find("\nT 230 -20 120 20\nT 270 -20 120 20\nT 270 -20 130 40\n"), std::string::npos) << text;
+  // the square's and the text's lines are their blocks', pen down along each stroke
+  const auto count = [&](const std::string& b) { return std::count(lines.begin(), lines.end(), b); };
+  EXPECT_EQ(count("s"), 1 + 5 + 1);  // above its start, round its four sides, up
+  EXPECT_GT(count("w"), 10);
+  // and the arm takes every line: the ink of the program is the square and the letters
+  const json check = drawing_check_json(mk2(), mk2_ik(), {{"program", text}, {"target", {{"shape", "square"}, {"width", 30}, {"at", {250, 0}}}},
+                                                          {"z", 0}, {"pen", 120}, {"tolerance", 3}});
+  EXPECT_LT(check["uncovered_mm"].get<double>(), 3) << check["says"];  // (the line and "Hi" are ink too)
+  // a pen block before the pen is said is an error on it
+  const json early = compile(json::parse(R"([{"op": "pen_down", "block": "d"}])"));
+  ASSERT_TRUE(early.contains("error"));
+  EXPECT_EQ(early["error"]["block"], "d");
+  // a drawing out of reach is a problem on its block, with the way to move it
+  const json far = compile(json::parse(R"([{"op": "pen", "pen": 120, "z": 0, "block": "p"},
+    {"op": "shape", "shape": "star", "width": 40, "at": [120, 0], "block": "s"}])"));
+  ASSERT_EQ(far["problems"].size(), 1u);
+  EXPECT_EQ(far["problems"][0]["block"], "s");
+  EXPECT_NE(far["problems"][0]["message"].get<std::string>().find("toward +x"), std::string::npos);
 }

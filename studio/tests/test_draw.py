@@ -210,3 +210,28 @@ def test_the_three_drawing_exercises_are_solved_and_a_wrong_drawing_is_not_met(o
     wrong = _check(pg, _draw(pg, kind="circle", width=50, x=250, y=0))
     assert not wrong["met"], wrong
     assert pg.errors == []
+
+
+def test_the_pens_blocks_draw_a_square_and_write(open_page):
+    """The Pen blocks, dragged from the toolbox: the pen's length, a square, pen down and up, a
+    line; the program they make is the engine's (Python gives the same lines), and its ink is
+    the square's."""
+    from class_page import _blocks, _drag_block
+    pg = open_page("mk2plus", width=1366, height=768)
+    _blocks(pg)
+    pen = _drag_block(pg, "Pen", "arm_pen", None)
+    shape = _drag_block(pg, "Pen", "arm_shape", pen)
+    down = _drag_block(pg, "Pen", "arm_pen_down", shape)
+    line = _drag_block(pg, "Pen", "arm_pen_to", down)
+    _drag_block(pg, "Pen", "arm_pen_up", line)
+    pg.wait("a.blocksCode !== null && a.blocksCode.text.includes('T 260 0 120 20')", timeout=20000)
+    text = pg.hook("a.blocksCode.text")
+    want = articula.Robot.load("mk2plus").blocks_program([
+        {"op": "pen", "pen": 120, "z": 0, "block": "p"}, {"op": "shape", "shape": "square", "width": 40, "at": [250, 0], "block": "s"},
+        {"op": "pen_down", "block": "d"}, {"op": "pen_to", "xy": [260, 0], "block": "l"}, {"op": "pen_up", "block": "u"}])
+    assert text == want["text"] and want["problems"] == [], (text, want)
+    check = articula.Robot.load("mk2plus").drawing_check(program=text, target={"shape": "square", "width": 40, "at": [250, 0]},
+                                                         z=0, pen=120, tolerance=3)
+    assert check["uncovered_mm"] < 3, check  # all of the square is drawn (and a line from its corner)
+    pg.page.screenshot(path=str(SHOTS / "studio-draw-blocks.png"))
+    assert pg.errors == []

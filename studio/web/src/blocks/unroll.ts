@@ -17,7 +17,13 @@ export type Op =
   | { op: "wait"; seconds: number; block: string }
   | { op: "home"; block: string }
   | { op: "comment"; text: string; block: string }
-  | { op: "raw"; text: string; block: string };
+  | { op: "raw"; text: string; block: string }
+  | { op: "pen"; pen: number; z: number; block: string }
+  | { op: "pen_down"; block: string }
+  | { op: "pen_up"; block: string }
+  | { op: "pen_to"; xy: number[]; block: string }
+  | { op: "write"; text: string; width: number; at: number[]; block: string }
+  | { op: "shape"; shape: string; width: number; at: number[]; block: string };
 
 type Bare<T> = T extends unknown ? Omit<T, "block"> : never;
 /** An action without its block (a program's text read as actions). */
@@ -33,7 +39,8 @@ export class BlockError extends Error {
 /** The block types a program may hold (a project or a link with any other is refused). */
 export const BLOCK_TYPES = new Set([
   "arm_joint_to", "arm_joint_by", "arm_joints", "arm_tool_to", "arm_line_to", "arm_home", "arm_gripper_open", "arm_gripper_close",
-  "arm_gripper_to", "arm_speed", "arm_wait", "arm_comment", "arm_raw", "controls_repeat_ext", "variables_set", "variables_get",
+  "arm_gripper_to", "arm_speed", "arm_wait", "arm_comment", "arm_raw", "arm_pen", "arm_pen_down", "arm_pen_up", "arm_pen_to",
+  "arm_write", "arm_shape", "controls_repeat_ext", "variables_set", "variables_get",
   "math_change", "math_number", "math_arithmetic", "procedures_defnoreturn", "procedures_callnoreturn",
 ]);
 
@@ -126,6 +133,14 @@ function statement(b: J, ctx: Ctx): void {
     case "arm_home": return push(ctx, { op: "home", block: id });
     case "arm_comment": return push(ctx, { op: "comment", text: String(field(b, "TEXT") ?? ""), block: id });
     case "arm_raw": return push(ctx, { op: "raw", text: String(field(b, "TEXT") ?? ""), block: id });
+    case "arm_pen": return push(ctx, { op: "pen", pen: n("PEN"), z: n("Z"), block: id });
+    case "arm_pen_down": return push(ctx, { op: "pen_down", block: id });
+    case "arm_pen_up": return push(ctx, { op: "pen_up", block: id });
+    case "arm_pen_to": return push(ctx, { op: "pen_to", xy: [n("X"), n("Y")], block: id });
+    case "arm_write":
+      return push(ctx, { op: "write", text: String(field(b, "TEXT") ?? ""), width: n("WIDTH"), at: [n("X"), n("Y")], block: id });
+    case "arm_shape":
+      return push(ctx, { op: "shape", shape: String(field(b, "SHAPE") ?? ""), width: n("WIDTH"), at: [n("X"), n("Y")], block: id });
     case "controls_repeat_ext": {
       const times = n("TIMES");
       if (!Number.isFinite(times) || times < 0) throw new BlockError(id, `repeat needs a number of times of 0 or more, not ${times}`);
@@ -209,6 +224,12 @@ export function opsToWorkspace(ops: Action[]): J {
       case "home": return { type: "arm_home" };
       case "comment": return { type: "arm_comment", fields: { TEXT: o.text } };
       case "raw": return { type: "arm_raw", fields: { TEXT: o.text } };
+      case "pen": return { type: "arm_pen", inputs: { PEN: num(o.pen), Z: num(o.z) } };
+      case "pen_down": return { type: "arm_pen_down" };
+      case "pen_up": return { type: "arm_pen_up" };
+      case "pen_to": return { type: "arm_pen_to", inputs: { X: num(o.xy[0]), Y: num(o.xy[1]) } };
+      case "write": return { type: "arm_write", fields: { TEXT: o.text }, inputs: { WIDTH: num(o.width), X: num(o.at[0]), Y: num(o.at[1]) } };
+      case "shape": return { type: "arm_shape", fields: { SHAPE: o.shape }, inputs: { WIDTH: num(o.width), X: num(o.at[0]), Y: num(o.at[1]) } };
     }
   });
   for (let i = blocks.length - 2; i >= 0; i--) blocks[i].next = { block: blocks[i + 1] };

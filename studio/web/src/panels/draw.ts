@@ -28,6 +28,17 @@ let program = "";
 let drawing: Drawing | null = null;
 let hand: number[][][] = []; // strokes drawn by hand, on the table (mm)
 let nanoMotors = 0;
+// The sheet and the pen appear in 3D once the student draws (the panel used, a drawing exercise):
+// not on the table of every other lesson.
+let inUse = false;
+let goalActive = false;
+let sheetArea: number[] | null = null;
+function use(): void {
+  if (inUse) return;
+  inUse = true;
+  if (sheetArea) s.view.showSheet(sheetArea, num("draw-z"));
+  s.view.setPen(num("draw-pen"));
+}
 let setText: (text: string, name: string) => void = () => undefined;
 
 const plural = (n: number, word: string) => `${n} ${word}${n === 1 ? "" : "s"}`;
@@ -57,7 +68,8 @@ function askReach(): void {
     if (m.error) return say(m.error, "bad");
     paper.setSheet(m.area);
     paper.setReach(m);
-    s.view.showSheet(m.area, z);
+    sheetArea = m.area;
+    if (inUse) s.view.showSheet(m.area, z);
     hook.paper.area = m.area;
     hook.paper.reachShare = m.reached.length ? [...m.reached].filter((c) => c === "1").length / m.reached.length : 0;
     hook.paper.maps++;
@@ -167,10 +179,16 @@ export function initDraw(studio: Studio, program_: { setText: (text: string, nam
   };
   $("draw-save-svg").onclick = () => download("drawing.svg", paper.svgText(drawing?.what ?? "a sheet"), "image/svg+xml");
   $("draw-save-png").onclick = () => void savePng();
-  $("draw-pen").addEventListener("change", () => drawing && s.view.setPen(num("draw-pen")));
+  $("draw-pen").addEventListener("change", () => inUse && s.view.setPen(num("draw-pen")));
+  for (const id of ["draw-paper", "draw-orient", "paper-x", "paper-y", "draw-z", "draw-kind", "draw-go"])
+    $(id).addEventListener(id === "draw-go" ? "click" : "change", use);
+  $("paper-view").addEventListener("pointerdown", use);
   s.editor.signals.robotShown.add(() => {
     clearDrawing();
+    inUse = false;
     s.view.setPen(0);
+    s.view.showSheet(null, 0);
+    if (goalActive) use(); // a drawing exercise's robot: its paper and pen stay
     hook.drawing = null;
     askReach();
   });
@@ -181,9 +199,11 @@ export function initDraw(studio: Studio, program_: { setText: (text: string, nam
   });
   s.editor.signals.drawingGoal.add((g) => {
     paper.setLayer("target", g?.target ?? []);
+    goalActive = !!g;
     if (!g) return;
     input("draw-z").value = String(g.z); // the exercise's paper and pen
     input("draw-pen").value = String(g.pen);
+    use();
     askReach();
     if (g.ink) {
       paper.setLayer("predicted", g.ink);
@@ -264,6 +284,7 @@ async function draw(): Promise<void> {
     paper.setLayer("hand", []);
   }
   const z = request.z as number;
+  use();
   s.view.setPen(request.pen as number);
   s.view.showDrawing(d.strokes, d.ink?.strokes ?? [], z);
   paper.setLayer("ideal", d.strokes);
