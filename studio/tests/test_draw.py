@@ -235,3 +235,25 @@ def test_the_pens_blocks_draw_a_square_and_write(open_page):
     assert check["uncovered_mm"] < 3, check  # all of the square is drawn (and a line from its corner)
     pg.page.screenshot(path=str(SHOTS / "studio-draw-blocks.png"))
     assert pg.errors == []
+
+
+def test_the_project_keeps_the_paper_and_the_pen(open_page):
+    """The pen's length and the sheet are the project's (the robot file stays as it is): saved,
+    and back after a reload."""
+    pg = open_page("mk2plus", width=1366, height=768)
+    if pg.page.is_visible("#tab-program"):
+        pg.page.click("#tab-program")
+    pg.page.locator("#draw-section").scroll_into_view_if_needed()
+    saves = pg.hook("a.project.saves")
+    for box, v in (("#draw-pen", "95"), ("#paper-x", "240")):
+        pg.page.fill(box, v)
+        pg.page.press(box, "Tab")  # (a change: the box left)
+    pg.page.select_option("#draw-paper", "A4")
+    pg.wait(f"a.project.saves > {saves} && a.project.dirty === false", timeout=10000)
+    pg.wait("a.paper.area.length === 4 && a.paper.area[0] === 240 - 297 / 2", timeout=10000)
+    pg.page.reload()
+    pg.wait("a.ready && a.paper.maps > 0", timeout=30000)
+    assert pg.page.input_value("#draw-pen") == "95" and pg.page.input_value("#paper-x") == "240"
+    assert pg.page.input_value("#draw-paper") == "A4"
+    assert pg.hook("a.paper.area") == [240 - 297 / 2, -105, 240 + 297 / 2, 105]
+    assert pg.errors == []

@@ -83,6 +83,8 @@ def test_bad_project_files_are_refused_and_a_broken_saved_project_does_not_stop_
         ("corrupt.articula", '{"format": "articula-project", "version": 1, "name": ', "is not JSON"),
         ("newer.articula", json.dumps(_project("Future", version=7)), "newer Articula"),
         ("bad-robot.articula", json.dumps({**_project("X"), "robot": 5}), "robot must"),
+        ("bad-paper.articula", json.dumps({**_project("X"), "paper": {"sheet": "A3", "at": [0, 0], "z": 0, "pen": 1}}), "paper.sheet"),
+        ("bad-pen.articula", json.dumps({**_project("X"), "paper": {"sheet": "A5", "at": [0, 0], "z": 0, "pen": "long"}}), "paper.pen"),
     ]:
         f = tmp_path / name
         f.write_text(body)

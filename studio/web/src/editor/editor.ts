@@ -4,7 +4,7 @@
 // robot file opened). main.ts makes it and wires the buttons and the keys. (The project
 // document itself still lives in panels/projects.ts: moving it here is issue 28's next part.)
 import type { ArmLink } from "../link/arm-link";
-import type { Experiment } from "../project/document";
+import type { Experiment, Paper } from "../project/document";
 import type { RobotMsg } from "../engine/messages";
 import type { SerialLike } from "../link/ports";
 import { History } from "./history";
@@ -30,6 +30,12 @@ export interface ArmPart {
   disconnect(): Promise<void>;
 }
 
+/** Draw and write's paper and pen, as a project keeps them (the draw panel answers for it). */
+export interface PaperPart {
+  get(): Paper;
+  set(p: Paper | null): void; // null: the panel's defaults
+}
+
 /** The robot file a student opened (with its meshes, base64): the project keeps it. */
 export interface RobotFile {
   file: { name: string; text: string; legacy: boolean; scale: number };
@@ -45,6 +51,7 @@ export class Editor {
   blocks: BlocksPart = { mode: () => "text", setMode: none, json: () => null, load: none, fromText: none, teach: none,
     dragging: () => false };
   arm: ArmPart = { link: () => null, run: none, send: () => false, choosePort: none, disconnect: async () => undefined };
+  paper: PaperPart = { get: none, set: none };
   robotFile: RobotFile | null = null;
   // the camera a project opens with, taken when its robot is first drawn (else the robot is framed)
   keptView: { eye: number[]; target: number[] } | null = null;
@@ -61,6 +68,8 @@ export class Editor {
     // the physics moved the arm: its tool point, mm
     physicsTool: new Signal<number[]>(),
     // a drawing exercise's target on the paper (and, after Check, the program's ink); null: none
+    // a setting the project keeps changed (the paper, the pen): saved with it
+    settingsChanged: new Signal<void>(),
     drawingGoal: new Signal<{ target: number[][][]; z: number; pen: number; ink?: number[][][] } | null>(),
     // a program's line is running (0: none), on the model, in the physics or on the arm;
     // `refused`: it was refused. The text shows the line, the blocks light its block.

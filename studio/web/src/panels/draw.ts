@@ -11,6 +11,7 @@ import type { Studio } from "../page/context";
 import { $, download } from "../page/dom";
 import { hook } from "../page/hook";
 import { PaperView } from "./paper-view";
+import type { Paper } from "../project/document";
 
 const MAX_SVG_BYTES = 5 * 1024 * 1024; // the engine's limit too (host/lib/svg.h)
 const REACH_CELL_MM = 4;
@@ -52,7 +53,7 @@ function say(text: string, kind: "" | "ok" | "bad" = ""): void {
 }
 
 // The sheet as the engine takes it: its name, centre and whether it lies landscape.
-const sheet = () => ({ paper: ($("draw-paper") as HTMLSelectElement).value, at: [num("paper-x"), num("paper-y")],
+const sheet_ = () => ({ paper: ($("draw-paper") as HTMLSelectElement).value, at: [num("paper-x"), num("paper-y")],
   landscape: ($("draw-orient") as HTMLSelectElement).value === "landscape" });
 
 // The sheet's reach map from the engine: the paper view frames and shades it, the 3D view lays it.
@@ -60,7 +61,7 @@ let reachTimer = 0;
 function askReach(): void {
   clearTimeout(reachTimer);
   reachTimer = window.setTimeout(async () => {
-    const { paper: name, at, landscape } = sheet();
+    const { paper: name, at, landscape } = sheet_();
     const z = num("draw-z"), pen = num("draw-pen");
     if (![...at, z, pen].every(Number.isFinite)) return;
     const m = (await s.engine.call({ type: "reach_map", request: { paper: name, at, landscape, z, pen, cell: REACH_CELL_MM } })) as
@@ -136,6 +137,25 @@ function clearDrawing(): void {
   s.view.showDrawing([], [], 0);
 }
 
+const DEFAULT_PAPER: Paper = { sheet: "A5", at: [225, 0], landscape: false, z: 0, pen: 120 };
+
+function paperSettings(): Paper {
+  const { paper: sheet, at, landscape } = sheet_();
+  const v = (x: number, d: number) => (Number.isFinite(x) ? x : d);
+  return { sheet: sheet as Paper["sheet"], at: [v(at[0], 225), v(at[1], 0)], landscape, z: v(num("draw-z"), 0), pen: v(num("draw-pen"), 120) };
+}
+
+function setPaper(p: Paper | null): void {
+  const q = p ?? DEFAULT_PAPER;
+  ($("draw-paper") as HTMLSelectElement).value = q.sheet;
+  ($("draw-orient") as HTMLSelectElement).value = q.landscape ? "landscape" : "portrait";
+  input("paper-x").value = String(q.at[0]);
+  input("paper-y").value = String(q.at[1]);
+  input("draw-z").value = String(q.z);
+  input("draw-pen").value = String(q.pen);
+  askReach();
+}
+
 export function initDraw(studio: Studio, program_: { setText: (text: string, name: string) => void }): void {
   s = studio;
   setText = program_.setText;
@@ -164,9 +184,15 @@ export function initDraw(studio: Studio, program_: { setText: (text: string, nam
     hand = hand.map((st) => st.map(([x, y]) => [x + dx, y + dy]));
     paper.setLayer("hand", hand);
     askReach();
+    s.editor.signals.settingsChanged.dispatch();
     if (drawing) void draw();
   };
-  for (const id of ["draw-paper", "draw-orient", "paper-x", "paper-y", "draw-z", "draw-pen"]) $(id).addEventListener("change", askReach);
+  for (const id of ["draw-paper", "draw-orient", "paper-x", "paper-y", "draw-z", "draw-pen"])
+    $(id).addEventListener("change", () => {
+      askReach();
+      s.editor.signals.settingsChanged.dispatch(); // the project keeps them
+    });
+  s.editor.paper = { get: paperSettings, set: setPaper };
   $("draw-go").onclick = () => void draw();
   $("draw-use").onclick = () => {
     if (!program) return;

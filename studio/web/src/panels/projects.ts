@@ -139,6 +139,7 @@ export function initProjects(studio: Studio, program: { setText: (text: string, 
     }, 2500);
   };
   $("exercise-check").onclick = () => void check();
+  s.editor.signals.settingsChanged.add(projectChanged);
   let asked = 0;
   $("exercise-answer").addEventListener("input", () => { // the target follows what the student types
     clearTimeout(asked);
@@ -181,6 +182,7 @@ function projectRobotShown(): void {
     s.engine.send({ type: "load_robot", text: f.text, filename: f.name, legacy: f.legacy, scale: f.scale, files }, files.map((x) => x.data as ArrayBuffer));
   }
   setProgramText(d.program.text, d.program.name);
+  s.editor.paper.set(d.paper ?? null);
   s.editor.blocks.setMode(d.program.mode, true);
   s.editor.blocks.load(d.program.blocks); // none: an empty workspace, not the last project's blocks
   if (d.pose) {
@@ -298,6 +300,7 @@ function capture(): Project {
       blocks: s.editor.blocks.mode() === "blocks" || d.program.blocks ? s.editor.blocks.json() : null },
     pose: hook.pose ? { q: hook.pose.q, gripper: hook.pose.gripper } : d.pose,
     view: s.view.viewpoint(),
+    paper: s.editor.paper.get(),
   };
 }
 

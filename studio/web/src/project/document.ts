@@ -63,7 +63,11 @@ export interface Project {
   view?: { eye: number[]; target: number[] } | null; // the camera (mm)
   goal: Goal | null;
   experiment?: Experiment | null;
+  paper?: Paper | null; // Draw and write's sheet and pen (the robot file stays as it is)
 }
+
+/** The sheet on the table (its size, centre, whether it lies landscape), its height and the pen's length, mm. */
+export interface Paper { sheet: "A4" | "A5" | "Letter"; at: number[]; landscape: boolean; z: number; pen: number }
 
 /** A document that is not a project, or not one this studio can open: `where` names the field. */
 export class ProjectError extends Error {}
@@ -238,8 +242,17 @@ export function readProject(x: unknown): Project {
     if (!isObj(x.view)) throw new ProjectError("view must be an object");
     view = { eye: nums(x.view.eye, "view.eye", 3), target: nums(x.view.target, "view.target", 3) };
   }
+  let paper: Paper | null = null;
+  if (x.paper !== null && x.paper !== undefined) {
+    const q = x.paper;
+    if (!isObj(q)) throw new ProjectError("paper must be an object");
+    if (q.sheet !== "A4" && q.sheet !== "A5" && q.sheet !== "Letter") throw new ProjectError('paper.sheet must be "A4", "A5" or "Letter"');
+    const pen = nums([q.pen], "paper.pen", 1, 1000)[0];
+    if (pen < 0) throw new ProjectError("paper.pen must be 0 mm or more");
+    paper = { sheet: q.sheet, at: nums(q.at, "paper.at", 2, 10000), landscape: q.landscape === true, z: nums([q.z], "paper.z", 1, 10000)[0], pen };
+  }
   return { format: FORMAT, version: VERSION, name, robot, scene, program, pose, view, goal: checkGoal(x.goal),
-    experiment: checkExperiment(x.experiment) };
+    experiment: checkExperiment(x.experiment), paper };
 }
 
 /** A project from a file's or a link's text. Throws ProjectError. */
