@@ -392,4 +392,27 @@ def test_write_hello_and_see_the_line_the_arm_will_draw(page):
     assert pg.hook("a.drawing.program") == want["program"]
     assert pg.hook("a.drawing.steps") == want["ink"]["steps"]
     assert abs(pg.hook("a.drawing.worstMm") - want["ink"]["worst_mm"]) < 1e-9
+    assert pg.hook("document.querySelectorAll('#paper-view #ideal polyline').length") == len(want["strokes"])
     pg.screenshot(SHOTS / f"studio-draw-{pg.engine}.png")
+    pg.click("#draw-use")
+    # in the live physics: the pen leaves ink as the arm moves
+    pg.select("#scene-select", "push")
+    pg.wait("a.physics !== null && a.physics.on", 30 * PATIENCE, "the physics")
+    pg.click("#run")
+    pg.wait("a.physics.busy === true", 20 * PATIENCE, "the program in the physics")
+    pg.wait("a.physics.busy === false && a.paper.physicsInk.points > 50", 90 * PATIENCE, "the physics' ink")
+    pg.select("#scene-select", "")
+    pg.wait("!a.physics || !a.physics.on", 30 * PATIENCE)
+    # on the virtual Nano: its steps' ink is the prediction's, point for point
+    pg.select("#arm-port", "page:virtual")
+    pg.click("#arm-connect")
+    pg.wait("a.arm.connected && a.arm.status !== null && a.runOnArm === true", 60 * PATIENCE, "the virtual Nano connected")
+    pg.click("#run")
+    pg.wait("a.arm.programDone === true", 120 * PATIENCE, "the drawing on the virtual Nano")
+    points = sum(len(st) for st in want["ink"]["strokes"])
+    pg.wait(f"a.arm.status.state === 'Idle' && a.paper.ink.points === {points}", 60 * PATIENCE, "the virtual Nano's ink")
+    ink = pg.hook("a.paper.ink.strokes")
+    assert [len(st) for st in ink] == [len(st) for st in want["ink"]["strokes"]]
+    assert max(abs(p[k] - q[k]) for a, b in zip(ink, want["ink"]["strokes"]) for p, q in zip(a, b) for k in (0, 1)) < 1e-6
+    pg.run("document.querySelector('#paper-view').scrollIntoView({ block: 'center' });")
+    pg.screenshot(SHOTS / f"studio-draw-nano-{pg.engine}.png")
