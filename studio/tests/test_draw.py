@@ -257,3 +257,61 @@ def test_the_project_keeps_the_paper_and_the_pen(open_page):
     assert pg.page.input_value("#draw-paper") == "A4"
     assert pg.hook("a.paper.area") == [240 - 297 / 2, -105, 240 + 297 / 2, 105]
     assert pg.errors == []
+
+
+def test_on_a_tablet_a_finger_draws_on_the_paper_and_hello_runs_on_the_virtual_nano(open_page):
+    """Issue 29's third 'done when', and the first on a tablet: an upright tablet with touch; a
+    finger draws two strokes on the paper view (the page does not scroll under it), Draw lays
+    them where they were drawn and predicts them; then "Hello" on the virtual Nano leaves the
+    predicted ink."""
+    from test_screens import Fingers
+    pg = open_page("mk2plus", width=768, height=1024, touch=True)
+    fingers = Fingers(pg)
+    pg.page.tap("#tab-program")
+    pg.page.select_option("#draw-kind", "hand")
+    pg.page.locator("#paper-view").scroll_into_view_if_needed()
+    pg.wait("a.paper.maps > 0", timeout=30000)
+    box = pg.page.locator("#paper-view").bounding_box()
+    scrolled = pg.page.evaluate("() => [scrollY, ...[...document.querySelectorAll('.panel, .dock, aside')].map(e => e.scrollTop)]")
+    cx, cy = box["x"] + box["width"] / 2, box["y"] + box["height"] / 2
+    fingers.gesture([(cx - 60, cy - 20)], [(cx + 60, cy - 20)])  # across
+    fingers.gesture([(cx, cy - 50)], [(cx, cy + 30)])  # down
+    pg.wait("a.paper.hand === 2", timeout=5000)
+    assert pg.page.evaluate("() => [scrollY, ...[...document.querySelectorAll('.panel, .dock, aside')].map(e => e.scrollTop)]") == scrolled
+    n = pg.hook("a.drawings")
+    pg.page.tap("#draw-go")
+    pg.wait(f"a.drawings > {n}", timeout=30000)
+    d = pg.hook("a.drawing")
+    assert d["fits"], d
+    # two strokes, each a straight line (smoothed to few points), 120 and 80 px long on the paper
+    mm_per_px = pg.page.evaluate("() => { const s = document.querySelector('#paper-view'), v = s.viewBox.baseVal, "
+                                 "r = s.getBoundingClientRect(); return Math.max(v.width / r.width, v.height / r.height); }")
+    strokes = pg.page.evaluate("() => [...document.querySelectorAll('#paper-view #ideal polyline')].map(p => "
+                               "p.getAttribute('points').trim().split(' ').map(q => q.split(',').map(Number)))")
+    assert len(strokes) == 2
+    lengths = sorted(((s[-1][0] - s[0][0]) ** 2 + (s[-1][1] - s[0][1]) ** 2) ** 0.5 for s in strokes)
+    for got, want in zip(lengths, sorted([120 * mm_per_px, 80 * mm_per_px])):
+        assert abs(got - want) < 3, (lengths, mm_per_px)
+    pg.page.screenshot(path=str(SHOTS / "studio-draw-tablet-hand.png"))
+    # "Hello" on the virtual Nano, from the tablet
+    pg.page.select_option("#draw-kind", "text")
+    n = pg.hook("a.drawings")
+    pg.page.tap("#draw-go")
+    pg.wait(f"a.drawings > {n} && a.drawing.fits", timeout=30000)
+    hello = pg.hook("a.drawing")
+    pg.page.tap("#draw-use")
+    pg.page.tap("#tab-arm")
+    pg.page.select_option("#arm-port", "page:virtual")
+    pg.page.tap("#arm-connect")
+    pg.wait("a.arm.connected && a.arm.status !== null && a.runOnArm === true", timeout=30000)
+    pg.page.tap("#tab-program")
+    pg.page.locator("#run").scroll_into_view_if_needed()
+    pg.page.tap("#run")
+    pg.wait("a.arm.programDone === true", timeout=90000)
+    points = sum(len(s) for s in hello["ink"])
+    pg.wait(f"a.arm.status.state === 'Idle' && a.paper.ink.points === {points}", timeout=30000)
+    ink = pg.hook("a.paper.ink.strokes")
+    assert max(abs(p[k] - q[k]) for a, b in zip(ink, hello["ink"]) for p, q in zip(a, b) for k in (0, 1)) < 1e-6
+    pg.page.locator("#paper-view").scroll_into_view_if_needed()
+    pg.page.screenshot(path=str(SHOTS / "studio-draw-tablet.png"))
+    assert pg.errors == []

@@ -165,6 +165,7 @@ export function initDraw(studio: Studio, program_: { setText: (text: string, nam
     $("draw-text").hidden = kind.value !== "text";
     $("draw-file").hidden = kind.value !== "svg";
     paper.freehand = kind.value === "hand";
+    $("draw-place").hidden = paper.freehand; // drawn by hand: where it was drawn, as big
     $("paper-view").classList.toggle("freehand", paper.freehand);
     $("paper-hint").textContent = paper.freehand
       ? "Draw on the paper with a finger or the mouse, then Draw."
