@@ -92,7 +92,7 @@ def main() -> int:
             d = mk2.draw(**req)
             ms.append((time.perf_counter() - t) * 1000)
         w = web[name]
-        assert w["lines"] == d["program"].count("\n") and w["steps"] == d["ink"]["steps"], "the two engines differ"
+        assert w["lines"] == d["program"].count("\n") and w["steps"] == d["ink"]["steps"], ("the two engines differ", name, w["lines"], w["steps"], d["ink"]["steps"])
         what = (f"{len(d['strokes'])} strokes, {w['lines']} lines, {w['steps']} steps, worst {d['ink']['worst_mm']:.2f} mm")
         print(f"{name:<6} {'native (Python)':<16} {min(ms):>8.1f} {statistics.median(ms):>10.1f}  {what}")
         print(f"{name:<6} {'web (node wasm)':<16} {min(w['ms']):>8.1f} {statistics.median(w['ms']):>10.1f}  "

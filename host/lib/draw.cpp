@@ -25,6 +25,7 @@ constexpr double kSampleMm = 2;      // the reach check's spacing along a stroke
 constexpr double kMoveStepMm = 5;    // the reach check's search for a move that fits
 constexpr double kMoveMaxMm = 300;
 constexpr double kSameMm = 0.01;     // points closer than this are one
+constexpr double kTieMm = 1e-6;      // the order's nearest ends: closer than this are a tie
 
 double dist(Point2 a, Point2 b) { return std::hypot(a.x - b.x, a.y - b.y); }
 
@@ -445,9 +446,11 @@ std::vector<Stroke> order_strokes(std::vector<Stroke> strokes, Point2 start) {
     bool reverse = false;
     double best_d = INFINITY;
     for (size_t i = 0; i < left.size(); ++i) {
+      // nearer by more than a micrometre: ties (a pattern's repeats) go to the first, whatever
+      // the compiler's rounding (the page's engine and the native library order alike)
       const double a = dist(at, left[i].front()), z = dist(at, left[i].back());
-      if (a < best_d) best_d = a, best = i, reverse = false;
-      if (z < best_d) best_d = z, best = i, reverse = true;
+      if (a < best_d - kTieMm) best_d = a, best = i, reverse = false;
+      if (z < best_d - kTieMm) best_d = z, best = i, reverse = true;
     }
     Stroke s = std::move(left[best]);
     left.erase(left.begin() + long(best));
@@ -789,6 +792,65 @@ nlohmann::json ink_json(const Robot& robot, const nlohmann::json& j) {
   return json{{"strokes", strokes}, {"points", points}};
 }
 
+namespace {
+// The strokes' segments (a one-point stroke: a dot) in a grid of 4 mm cells, for the distance
+// of a point from the nearest: the cells ring by ring outward from the point's, until a ring
+// is farther than the nearest found.
+class NearestSegment {
+ public:
+  explicit NearestSegment(const std::vector<Stroke>& strokes) {
+    for (const Stroke& s : strokes)
+      for (size_t i = 0; i < s.size(); ++i)
+        if (i > 0 || s.size() == 1) segs_.push_back({s[i > 0 ? i - 1 : 0], s[i]});
+    if (segs_.empty()) return;
+    bounds_ = {INFINITY, INFINITY, -INFINITY, -INFINITY};
+    for (const auto& [a, b] : segs_)
+      for (const Point2& p : {a, b})
+        bounds_.min_x = std::min(bounds_.min_x, p.x), bounds_.max_x = std::max(bounds_.max_x, p.x),
+        bounds_.min_y = std::min(bounds_.min_y, p.y), bounds_.max_y = std::max(bounds_.max_y, p.y);
+    nx_ = std::max(1, int(bounds_.width() / kCell) + 1);
+    ny_ = std::max(1, int(bounds_.height() / kCell) + 1);
+    cells_.resize(size_t(nx_) * size_t(ny_));
+    for (size_t k = 0; k < segs_.size(); ++k) {
+      const auto& [a, b] = segs_[k];
+      const int x0 = cx(std::min(a.x, b.x)), x1 = cx(std::max(a.x, b.x)), y0 = cy(std::min(a.y, b.y)), y1 = cy(std::max(a.y, b.y));
+      for (int i = x0; i <= x1; ++i)
+        for (int j = y0; j <= y1; ++j) cells_[size_t(i) * size_t(ny_) + size_t(j)].push_back(k);
+    }
+  }
+  double operator()(Point2 p) const {
+    if (segs_.empty()) return INFINITY;
+    // outside the grid: start from the nearest cell; the rings then grow from there
+    const int pi = cx(p.x), pj = cy(p.y);
+    const double outside = std::hypot(std::max({bounds_.min_x - p.x, 0.0, p.x - bounds_.max_x}),
+                                      std::max({bounds_.min_y - p.y, 0.0, p.y - bounds_.max_y}));
+    double best = INFINITY;
+    for (int r = 0;; ++r) {
+      if (r > 0 && std::max(outside, (r - 1) * kCell) > best) break;  // no nearer segment is left
+      bool any = false;
+      for (int i = pi - r; i <= pi + r; ++i)
+        for (int j = pj - r; j <= pj + r; ++j) {
+          if (std::max(std::abs(i - pi), std::abs(j - pj)) != r || i < 0 || j < 0 || i >= nx_ || j >= ny_) continue;
+          any = true;
+          for (size_t k : cells_[size_t(i) * size_t(ny_) + size_t(j)])
+            best = std::min(best, segment_distance(p, segs_[k].first, segs_[k].second));
+        }
+      if (!any && r > nx_ + ny_) break;
+    }
+    return best;
+  }
+
+ private:
+  static constexpr double kCell = 4;
+  int cx(double x) const { return std::clamp(int((x - bounds_.min_x) / kCell), 0, nx_ - 1); }
+  int cy(double y) const { return std::clamp(int((y - bounds_.min_y) / kCell), 0, ny_ - 1); }
+  std::vector<std::pair<Point2, Point2>> segs_;
+  Bounds bounds_;
+  int nx_ = 0, ny_ = 0;
+  std::vector<std::vector<size_t>> cells_;
+};
+}  // namespace
+
 PredictedInk predicted_ink(const Drawing& d, const Prediction& prediction, const PenSettings& pen) {
   PredictedInk ink;
   std::vector<Vec3<double>> tool;  // every step of every move, in order
@@ -798,6 +860,7 @@ PredictedInk predicted_ink(const Drawing& d, const Prediction& prediction, const
     tool.insert(tool.end(), r.path.begin(), r.path.end());
     line_of.insert(line_of.end(), r.path.size(), r.line);
   }
+  const NearestSegment to_drawing(d.strokes);
   bool down = false;
   for (size_t k = 0; k < tool.size(); ++k) {
     const bool on = pen_on_paper(tool[k], pen);
@@ -807,11 +870,7 @@ PredictedInk predicted_ink(const Drawing& d, const Prediction& prediction, const
     const Point2 p{tool[k].x, tool[k].y};
     ink.strokes.back().push_back(p);
     ++ink.steps;
-    double nearest = INFINITY;
-    for (const Stroke& s : d.strokes) {
-      if (s.size() == 1) nearest = std::min(nearest, dist(p, s[0]));
-      for (size_t i = 1; i < s.size(); ++i) nearest = std::min(nearest, segment_distance(p, s[i - 1], s[i]));
-    }
+    const double nearest = to_drawing(p);
     if (nearest > ink.worst_mm) ink.worst_mm = nearest, ink.worst_at = p, ink.worst_line = line_of[k];
   }
   return ink;
@@ -827,24 +886,17 @@ std::vector<Stroke> program_ink(const Robot& robot, const std::string& program, 
 }
 
 namespace {
-// The distance of p from the nearest of the strokes (a one-point stroke: a dot).
-double nearest_of(Point2 p, const std::vector<Stroke>& strokes) {
-  double best = INFINITY;
-  for (const Stroke& s : strokes) {
-    if (s.size() == 1) best = std::min(best, dist(p, s[0]));
-    for (size_t i = 1; i < s.size(); ++i) best = std::min(best, segment_distance(p, s[i - 1], s[i]));
-  }
-  return best;
-}
+
 std::string at_text(Point2 p) { return "(" + mm(std::round(p.x)) + ", " + mm(std::round(p.y)) + ") mm"; }
 }  // namespace
 
 DrawingCheck check_drawing(const std::vector<Stroke>& target, const std::vector<Stroke>& ink, double tolerance_mm) {
   DrawingCheck c;
+  const NearestSegment to_target(target), to_ink(ink);
   for (const Stroke& s : ink)
     for (const Point2& p : s) {
       ++c.ink_points;
-      const double d = nearest_of(p, target);
+      const double d = to_target(p);
       if (d > c.ink_off_mm) c.ink_off_mm = d, c.ink_off_at = p;
     }
   if (c.ink_points == 0) {
@@ -858,7 +910,7 @@ DrawingCheck check_drawing(const std::vector<Stroke>& target, const std::vector<
       const int n = std::max(1, int(std::ceil(dist(a, b))));  // every mm
       for (int k = 0; k <= n; ++k) {
         const Point2 p{a.x + (b.x - a.x) * k / n, a.y + (b.y - a.y) * k / n};
-        const double d = nearest_of(p, ink);
+        const double d = to_ink(p);
         if (d > c.uncovered_mm) c.uncovered_mm = d, c.uncovered_at = p;
       }
     }

@@ -417,3 +417,22 @@ TEST(Check, ASquareOf40mmIsMetAndAWrongOneIsNot) {
   EXPECT_TRUE(none["uncovered_mm"].is_null());
   EXPECT_THROW(drawing_check_json(mk2(), mk2_ik(), {{"program", ""}, {"target", target}, {"tolerance", 0}}), std::invalid_argument);
 }
+
+TEST(Check, TheNearestSegmentIsFoundAsByLookingAtEvery) {
+  // a scatter of strokes, and points inside, between and far outside them
+  std::vector<Stroke> strokes;
+  for (int i = 0; i < 40; ++i) {
+    const double x = 200 + (i * 37 % 90), y = -40 + (i * 53 % 80);
+    strokes.push_back({{x, y}, {x + (i % 7) - 3, y + (i % 5) * 2 - 4}});
+    if (i % 9 == 0) strokes.push_back({{x + 5, y + 5}});  // a dot
+  }
+  for (int k = 0; k < 300; ++k) {
+    const Point2 p{150 + (k * 31 % 250) * 0.9, -120 + (k * 17 % 240) * 1.1};
+    double brute = INFINITY;
+    for (const Stroke& s : strokes) {
+      const std::vector<Stroke> one{s};
+      brute = std::min(brute, check_drawing(one, {{p}}, 1e9).ink_off_mm);
+    }
+    EXPECT_NEAR(check_drawing(strokes, {{p}}, 1e9).ink_off_mm, brute, 1e-9) << p.x << ", " << p.y;
+  }
+}
