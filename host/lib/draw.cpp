@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <fstream>
 #include <map>
+#include <mutex>
 #include <sstream>
 #include <stdexcept>
 
@@ -183,15 +184,38 @@ HersheyFont parse_hershey(const std::string& text, const std::string& name) {
   return font;
 }
 
+namespace {
+std::invalid_argument unreadable_font(const std::string& path) {
+  return std::invalid_argument("cannot read the font " + path +
+                               (path == default_font_path() ? " (Debian's hershey-fonts-data: scripts/bootstrap installs it)" : ""));
+}
+}  // namespace
+
 HersheyFont load_hershey(const std::string& path) {
   std::ifstream f(path, std::ios::binary);
-  if (!f)
-    throw std::invalid_argument("cannot read the font " + path +
-                                (path == default_font_path() ? " (Debian's hershey-fonts-data: scripts/bootstrap installs it)" : ""));
+  if (!f) throw unreadable_font(path);
   std::ostringstream s;
   s << f.rdbuf();
   return parse_hershey(s.str(), path);
 }
+
+namespace {
+// The fonts read so far, by path and text: a file read again is parsed once (the page's engine
+// and a Python session draw many times with the same font).
+const HersheyFont& cached_font(const std::string& path) {
+  static std::mutex lock;
+  static std::map<std::string, std::pair<std::string, HersheyFont>> fonts;
+  std::ifstream f(path, std::ios::binary);
+  if (!f) throw unreadable_font(path);
+  std::ostringstream s;
+  s << f.rdbuf();
+  const std::lock_guard<std::mutex> hold(lock);
+  auto it = fonts.find(path);
+  if (it == fonts.end() || it->second.first != s.str())
+    it = fonts.insert_or_assign(path, std::make_pair(s.str(), parse_hershey(s.str(), path))).first;
+  return it->second.second;
+}
+}  // namespace
 
 std::vector<Stroke> text_strokes(const HersheyFont& font, const std::string& text, double cap_height_mm,
                                  double line_spacing) {
@@ -531,7 +555,7 @@ Drawing make_drawing(const Robot& robot, const InverseKinematics& ik, const Draw
   Drawing d;
   std::vector<Stroke> laid;
   if (!req.text.empty()) {
-    const HersheyFont font = load_hershey(req.font_path.empty() ? default_font_path() : req.font_path);
+    const HersheyFont& font = cached_font(req.font_path.empty() ? default_font_path() : req.font_path);
     laid = text_strokes(font, req.text, 10, req.line_spacing);
     d.what = "\"" + req.text + "\"";
   } else if (!req.shape.empty()) {
