@@ -39,6 +39,23 @@ def test_write_hello_see_the_line_the_arm_will_draw_and_run_it(open_page):
     status = pg.page.text_content("#draw-status")
     assert f"stays within {py['ink']['worst_mm']:.2f} mm of the drawing" in status, status
     pg.page.screenshot(path=str(SHOTS / "studio-draw.png"))
+    # saved as SVG (the drawing and the line the arm will draw, each a layer) and as PNG
+    with pg.page.expect_download() as dl:
+        pg.page.click("#draw-save-svg")
+    svg = open(dl.value.path(), encoding="utf-8").read()
+    assert dl.value.suggested_filename == "drawing.svg" and svg.startswith("<svg")
+    assert '<g id="ideal"' in svg and '<g id="predicted"' in svg and svg.count("<polyline") >= 2 * 7
+    assert "<title>\"Hello\"</title>" in svg and "<script" not in svg
+    with pg.page.expect_download() as dl:
+        pg.page.click("#draw-save-png")
+    png = open(dl.value.path(), "rb").read()
+    assert dl.value.suggested_filename == "drawing.png" and png[:8] == b"\x89PNG\r\n\x1a\n" and len(png) > 5000
+    # turned on the paper: a quarter turn makes it as tall as it was wide
+    pg.page.fill("#draw-turn", "90")
+    turned = _draw(pg, text="Hello")
+    box = pg.page.evaluate("() => { const b = document.querySelector('#paper-view #ideal').getBBox(); return { width: b.width, height: b.height }; }")
+    assert turned["fits"] and box["height"] > 55 and box["width"] < 25, box
+    pg.page.fill("#draw-turn", "0")
     # half steps: the same program, smaller stairs
     half = _draw(pg, text="Hello", steps="2")
     assert half["program"] == d["program"] and half["worstMm"] < d["worstMm"] and half["steps"] > d["steps"]

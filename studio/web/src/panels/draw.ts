@@ -274,6 +274,9 @@ async function draw(): Promise<void> {
   const request: Record<string, unknown> = {
     width: num("draw-width"), at: [num("draw-x"), num("draw-y")], z: num("draw-z"), pen: num("draw-pen"),
   };
+  // the engine's rotation is from the drawing's own axes; 90 stands it upright for a student at +x
+  const turn = num("draw-turn");
+  if (turn) request.rotate = 90 + turn;
   const steps = ($("draw-steps") as HTMLSelectElement).value;
   if (steps) request.microsteps = Number(steps);
   for (const [k, v] of Object.entries(request))
