@@ -29,6 +29,7 @@ let program = "";
 let drawing: Drawing | null = null;
 let hand: number[][][] = []; // strokes drawn by hand, on the table (mm)
 let nanoMotors = 0;
+let drawnLift = 10; // the last drawing's lift, mm
 // The sheet and the pen appear in 3D once the student draws (the panel used, a drawing exercise):
 // not on the table of every other lesson.
 let inUse = false;
@@ -97,7 +98,8 @@ function askInk(which: "nano" | "physics"): void {
   src.asked = true;
   window.setTimeout(async () => {
     const rows = src.rows.length;
-    const m = (await s.engine.call({ type: "ink", request: { ...src.body(src.rows.slice()), z: num("draw-z"), pen: num("draw-pen") } })) as
+    const m = (await s.engine.call({ type: "ink", request: { ...src.body(src.rows.slice()), z: num("draw-z"), pen: num("draw-pen"),
+      lift: drawnLift } })) as
       unknown as { error?: string; strokes: number[][][]; points: number };
     src.asked = false;
     if (m.error) return say(`The ${which === "nano" ? "virtual Nano's" : "physics'"} ink: ${m.error}`, "bad");
@@ -195,6 +197,12 @@ export function initDraw(studio: Studio, program_: { setText: (text: string, nam
     });
   s.editor.paper = { get: paperSettings, set: setPaper };
   $("draw-go").onclick = () => void draw();
+  $("draw-text").addEventListener("keydown", (e) => { // Enter draws; Shift+Enter starts a new line
+    if (e.key === "Enter" && !e.shiftKey) {
+      e.preventDefault();
+      void draw();
+    }
+  });
   $("draw-use").onclick = () => {
     if (!program) return;
     setText(program, "drawing.arm");
@@ -238,7 +246,7 @@ export function initDraw(studio: Studio, program_: { setText: (text: string, nam
     }
   });
   s.editor.signals.physicsTool.add((xyz) => {
-    if (!drawing) return; // ink on a sheet with a drawing to draw
+    if (!inUse) return; // ink once there is a sheet and a pen (the panel used)
     ink.physics.rows.push(...xyz);
     askInk("physics");
   });
@@ -273,6 +281,8 @@ async function draw(): Promise<void> {
   const kind = ($("draw-kind") as HTMLSelectElement).value;
   const request: Record<string, unknown> = {
     width: num("draw-width"), at: [num("draw-x"), num("draw-y")], z: num("draw-z"), pen: num("draw-pen"),
+    speed: num("draw-speed"), travel_speed: num("draw-travel"), lift: num("draw-lift"),
+    paper: ($("draw-paper") as HTMLSelectElement).value, // a drawing bigger than the sheet is refused
   };
   // the engine's rotation is from the drawing's own axes; 90 stands it upright for a student at +x
   const turn = num("draw-turn");
@@ -283,7 +293,9 @@ async function draw(): Promise<void> {
     if ((typeof v === "number" && !Number.isFinite(v)) || (Array.isArray(v) && !v.every(Number.isFinite)))
       return say(`The ${k === "at" ? "place (x, y)" : k} holds no number: type one.`, "bad");
   if (kind === "text") {
-    request.text = input("draw-text").value;
+    request.text = ($("draw-text") as HTMLTextAreaElement).value;
+    request.line_spacing = num("draw-spacing");
+    if (!Number.isFinite(request.line_spacing as number)) return say("The line spacing holds no number: type one.", "bad");
     if (!request.text) return say("Type the text to write.", "bad");
   } else if (kind === "svg") {
     const f = input("draw-file").files?.[0];
@@ -309,6 +321,7 @@ async function draw(): Promise<void> {
     return say(d.error, "bad");
   }
   drawing = d;
+  drawnLift = request.lift as number; // the ink's rule: the pen on the paper below half of it
   if (kind === "hand") {
     hand = [];
     paper.setLayer("hand", []);
