@@ -52,7 +52,7 @@ test("hostile projects are refused with the part named, never half read", () => 
     [{ ...good(), view: { eye: [0, 0], target: [0, 0, 0] } }, "view.eye must be a list of 3 numbers"],
     [{ ...good(), goal: { title: "t", text: "x", parts: [] } }, "goal.parts must be a list of 1 to 50 parts"],
     [{ ...good(), goal: { title: "t", text: "x", parts: [{ kind: "reach", xyz: [1, 2, 3], tolerance_mm: 0 }] } }, "goal.parts[0].tolerance_mm must be above 0"],
-    [{ ...good(), goal: { title: "t", text: "x", parts: [{ kind: "teleport" }] } }, 'goal.parts[0].kind must be "reach" or "object"'],
+    [{ ...good(), goal: { title: "t", text: "x", parts: [{ kind: "teleport" }] } }, 'goal.parts[0].kind must be "reach", "object" or "drawing"'],
     [{ ...good(), experiment: { points: "all" } }, "experiment.points must be a list"],
   ];
   for (const [x, said] of cases) {
@@ -141,4 +141,44 @@ test("a block that cannot be unrolled is named, with a reason a student reads", 
   assert.match(m4, /is not a list of numbers/);
   const [, m5] = refused(ws({ type: "arm_wait", id: "w", inputs: { SECONDS: { block: { type: "math_arithmetic", id: "div", fields: { OP: "DIVIDE" }, inputs: { A: num(1), B: num(0) } } } } }));
   assert.match(m5, /1 divide 0 gives no number/);
+});
+
+test("a drawing exercise's goal and the project's paper read back; bad ones are refused by name", () => {
+  const p = good();
+  p.paper = { sheet: "A4", at: [240, 10], landscape: true, z: 5, pen: 95 };
+  p.goal = { title: "Square", text: "Draw it", scene: "", parts: [
+    { kind: "drawing", target: { shape: "square", width: 40, at: [250, 0] }, tolerance_mm: 3, z: 0, pen: 120, label: "the square" },
+    { kind: "drawing", target: { width: 40, at: [250, 0] }, ask: "your initials", tolerance_mm: 3, z: 0, pen: 120 }] };
+  const back = readProject(p);
+  assert.deepEqual(back.paper, p.paper);
+  assert.deepEqual(back.goal.parts[0].target, { shape: "square", width: 40, at: [250, 0] });
+  assert.equal(back.goal.parts[1].ask, "your initials");
+  const broken = (change) => {
+    const q = JSON.parse(JSON.stringify(p));
+    change(q);
+    return refusal(q);
+  };
+  assert.match(broken((q) => { q.paper.sheet = "A3"; }), /paper\.sheet/);
+  assert.match(broken((q) => { q.paper.pen = -1; }), /paper\.pen/);
+  assert.match(broken((q) => { q.paper.at = ["x", 0]; }), /paper\.at\[0\]/);
+  assert.match(broken((q) => { q.goal.parts[0].target.shape = "<img src=x onerror=1>"; }), /goal\.parts\[0\]\.target\.shape/);
+  assert.match(broken((q) => { q.goal.parts[0].tolerance_mm = 0; }), /goal\.parts\[0\]\.tolerance_mm/);
+  assert.match(broken((q) => { delete q.goal.parts[1].ask; }), /goal\.parts\[1\]\.target needs a shape or a text/);
+  assert.match(broken((q) => { q.goal.parts[0].target = "square"; }), /goal\.parts\[0\]\.target must be an object/);
+});
+
+test("the pen's blocks unroll to the pen's actions and back", () => {
+  const program = chain(
+    { type: "arm_pen", id: "p", inputs: { PEN: num(120), Z: num(0) } },
+    { type: "arm_shape", id: "s", fields: { SHAPE: "star" }, inputs: { WIDTH: num(40), X: num(250), Y: num(0) } },
+    { type: "arm_pen_down", id: "d" },
+    { type: "arm_pen_to", id: "l", inputs: { X: num(260), Y: num(5) } },
+    { type: "arm_pen_up", id: "u" },
+    { type: "arm_write", id: "w", fields: { TEXT: "Hi" }, inputs: { WIDTH: num(30), X: num(250), Y: num(0) } });
+  const ops = unroll(ws(program));
+  assert.deepEqual(ops.map(({ block, ...a }) => a), [
+    { op: "pen", pen: 120, z: 0 }, { op: "shape", shape: "star", width: 40, at: [250, 0] }, { op: "pen_down" },
+    { op: "pen_to", xy: [260, 5] }, { op: "pen_up" }, { op: "write", text: "Hi", width: 30, at: [250, 0] }]);
+  const again = unroll(opsToWorkspace(ops.map(({ block, ...a }) => a)));
+  assert.deepEqual(again.map(({ block, ...a }) => a), ops.map(({ block, ...a }) => a));
 });
