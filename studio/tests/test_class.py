@@ -167,6 +167,14 @@ def test_every_shipped_exercise_can_be_solved(open_page, tmp_path):
         "pick-and-place.articula": _chain([(k, v) for _, k, v in SOLUTION]),
         "stack-two-blocks.articula": _chain([(k, v) for _, k, v in SOLUTION]),
     }
+    # the drawing exercises, with the Pen blocks ("write your initials" wants them typed: test_draw.py)
+    def pen_shape(shape, width):
+        n = lambda v: {"shadow": {"type": "math_number", "fields": {"NUM": v}}}  # noqa: E731
+        return {"blocks": {"languageVersion": 0, "blocks": [{
+            "type": "arm_pen", "id": "pen", "x": 20, "y": 20, "inputs": {"PEN": n(120), "Z": n(0)}, "next": {"block": {
+                "type": "arm_shape", "id": "shape", "fields": {"SHAPE": shape}, "inputs": {"WIDTH": n(width), "X": n(250), "Y": n(0)}}}}]}}
+    solutions["draw-a-square.articula"] = pen_shape("square", 40)
+    solutions["trace-the-star.articula"] = pen_shape("star", 50)
     # reach: three tool blocks, with their points
     points = [(200, -150, 150), (250, 100, 150), (260, 0, 100)]
     reach = [{"type": "arm_tool_to", "id": f"t{i}", "inputs": {a: {"shadow": {"type": "math_number", "fields": {"NUM": v}}}
@@ -178,13 +186,15 @@ def test_every_shipped_exercise_can_be_solved(open_page, tmp_path):
     for name, blocks in solutions.items():
         doc = json.loads((REPO / "exercises" / name).read_text())
         doc["program"]["blocks"] = blocks
+        doc["program"]["mode"] = "blocks"
         f = tmp_path / name
         f.write_text(json.dumps(doc))
         pg.page.click("#projects-button")
         pg.page.set_input_files("#project-file", str(f))
         pg.wait(f"a.project.goal !== null && a.project.goal.title === {json.dumps(doc['goal']['title'])}")
         pg.wait("a.blocksCode !== null && !a.blocksPending && a.blocksCode.text.includes(" +
-                json.dumps("P 260 0 100" if name.startswith("reach") else "G 0") + ")", timeout=15000)
+                json.dumps("P 260 0 100" if name.startswith("reach") else " 120 20" if name.startswith(("draw", "trace")) else "G 0") +
+                ")", timeout=15000)
         prev = pg.hook("a.exercise ? JSON.stringify(a.exercise) : ''")
         pg.page.click("#exercise-check")
         pg.wait(f"a.exercise !== null && JSON.stringify(a.exercise) !== {json.dumps(prev)}", timeout=30000)
