@@ -54,7 +54,7 @@ function say(text: string, kind: "" | "ok" | "bad" = ""): void {
 }
 
 // The sheet as the engine takes it: its name, centre and whether it lies landscape.
-const sheet_ = () => ({ paper: ($("draw-paper") as HTMLSelectElement).value, at: [num("paper-x"), num("paper-y")],
+const sheetRequest = () => ({ paper: ($("draw-paper") as HTMLSelectElement).value, at: [num("paper-x"), num("paper-y")],
   landscape: ($("draw-orient") as HTMLSelectElement).value === "landscape" });
 
 // The sheet's reach map from the engine: the paper view frames and shades it, the 3D view lays it.
@@ -62,7 +62,7 @@ let reachTimer = 0;
 function askReach(): void {
   clearTimeout(reachTimer);
   reachTimer = window.setTimeout(async () => {
-    const { paper: name, at, landscape } = sheet_();
+    const { paper: name, at, landscape } = sheetRequest();
     const z = num("draw-z"), pen = num("draw-pen");
     if (![...at, z, pen].every(Number.isFinite)) return;
     const m = (await s.engine.call({ type: "reach_map", request: { paper: name, at, landscape, z, pen, cell: REACH_CELL_MM } })) as
@@ -142,7 +142,7 @@ function clearDrawing(): void {
 const DEFAULT_PAPER: Paper = { sheet: "A5", at: [225, 0], landscape: false, z: 0, pen: 120 };
 
 function paperSettings(): Paper {
-  const { paper: sheet, at, landscape } = sheet_();
+  const { paper: sheet, at, landscape } = sheetRequest();
   const v = (x: number, d: number) => (Number.isFinite(x) ? x : d);
   return { sheet: sheet as Paper["sheet"], at: [v(at[0], 225), v(at[1], 0)], landscape, z: v(num("draw-z"), 0), pen: v(num("draw-pen"), 120) };
 }
