@@ -31,6 +31,7 @@ export interface ArmEngine {
 const BAUD = 115200;
 const POLL_MS = 1000 / 15; // status polls (every 10 ms for a second after a stop)
 const SILENT_MS = 1500; // no report for this long: the arm stopped answering
+const GRACE_MS = 500; // ... and still none this much later by the page's clock
 const REPLY_MS = 5000;
 const BANNER_MS = 6000; // a Nano resets when its port opens: its bootloader waits first
 
@@ -61,6 +62,8 @@ export class ArmLink {
   private now: () => number = () => performance.now();
   private pollTimer: ReturnType<typeof setTimeout> | null = null;
   private lastReport = 0;
+  private reading = 0; // lines in the engine's hands
+  private silentSince: number | null = null; // the page's time silence was first seen
   private lastPoll = 0;
   private fastUntil = 0;
   private history: string[] = []; // the lines the arm accepted, for the prediction
@@ -130,6 +133,7 @@ export class ArmLink {
   private start(info: Parsed & { kind: "info" }, portLabel: string): void {
     this.configurable = false;
     this.connected = true;
+    this.silentSince = null;
     this.label = `${info.robot} (firmware ${info.version})`;
     this.history = [];
     this.lastReport = this.now();
@@ -260,9 +264,19 @@ export class ArmLink {
   }
 
   private async onLine(line: string): Promise<void> {
-    const { parsed: p, pose } = await this.engine.read(line);
+    // Heard when it arrived: the engine reads it in its worker, which a busy page can keep
+    // waiting longer than the silence that means a lost arm (the arm answered on time).
+    const heard = this.now();
+    this.reading++;
+    let read: Awaited<ReturnType<ArmEngine["read"]>>;
+    try {
+      read = await this.engine.read(line);
+    } finally {
+      this.reading--;
+    }
+    const { parsed: p, pose } = read;
     if (p.kind === "status" && pose) {
-      this.lastReport = this.now();
+      this.lastReport = Math.max(this.lastReport, heard);
       this.state = p.state;
       this.lastSteps = p.steps;
       if (p.warning === 14) return this.lost("the arm reset (its settings were reset to their defaults)");
@@ -299,7 +313,15 @@ export class ArmLink {
   private poll(): void {
     if (!this.connected) return;
     const now = performance.now();
-    if (this.now() - this.lastReport > SILENT_MS) return this.lost(`no status report for ${SILENT_MS / 1000} s`);
+    // Silence is judged twice, half a second of the page's time apart: a page stalled by a
+    // busy machine has the arm's answers still in its queue when it wakes (a report in the
+    // engine's hands is not silence either: the arm answered).
+    if (this.now() - this.lastReport > SILENT_MS && this.reading === 0) {
+      if (this.silentSince === null) this.silentSince = now;
+      else if (now - this.silentSince > GRACE_MS) return this.lost(`no status report for ${SILENT_MS / 1000} s`);
+    } else {
+      this.silentSince = null;
+    }
     this.lastPoll = now;
     this.write("?").catch((e) => this.lost(`cannot write: ${(e as Error).message}`));
     this.pollTimer = setTimeout(() => this.poll(), now < this.fastUntil ? 10 : POLL_MS);
