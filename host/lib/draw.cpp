@@ -32,6 +32,24 @@ double dist(Point2 a, Point2 b) { return std::hypot(a.x - b.x, a.y - b.y); }
 
 std::string mm(double v) { return protocol_number(v); }
 
+// A request's keys: any other is refused by name ("a drawing request has no 'colour'").
+void only_keys(const nlohmann::json& j, std::initializer_list<const char*> keys, const char* what) {
+  for (auto it = j.begin(); it != j.end(); ++it)
+    if (std::find_if(keys.begin(), keys.end(), [&](const char* k) { return it.key() == k; }) == keys.end())
+      throw std::invalid_argument(std::string(what) + " has no '" + it.key() + "'");
+}
+
+// Strokes as the bindings hand them out: [[[x, y], ...], ...].
+nlohmann::json strokes_json(const std::vector<Stroke>& strokes) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const Stroke& s : strokes) {
+    nlohmann::json st = nlohmann::json::array();
+    for (const Point2& p : s) st.push_back({p.x, p.y});
+    out.push_back(st);
+  }
+  return out;
+}
+
 // The code points of UTF-8 text (a malformed byte stands for itself).
 std::vector<uint32_t> code_points(const std::string& s) {
   std::vector<uint32_t> out;
@@ -416,10 +434,7 @@ ReachMap reach_map(const Robot& robot, const InverseKinematics& ik, const PenSet
 nlohmann::json reach_map_json(const Robot& robot, const InverseKinematics& ik, const nlohmann::json& j) {
   using nlohmann::json;
   if (!j.is_object()) throw std::invalid_argument("a reach map request is an object: {area | paper, at, landscape; cell, z, pen}");
-  static const char* const kKeys[] = {"area", "paper", "at", "landscape", "cell", "z", "pen"};
-  for (auto it = j.begin(); it != j.end(); ++it)
-    if (std::find_if(std::begin(kKeys), std::end(kKeys), [&](const char* k) { return it.key() == k; }) == std::end(kKeys))
-      throw std::invalid_argument("a reach map request has no '" + it.key() + "'");
+  only_keys(j, {"area", "paper", "at", "landscape", "cell", "z", "pen"}, "a reach map request");
   auto num = [&](const char* key, double fallback) {
     if (!j.contains(key)) return fallback;
     if (!j[key].is_number()) throw std::invalid_argument(std::string("'") + key + "' must be a number");
@@ -613,19 +628,13 @@ Drawing make_drawing(const Robot& robot, const InverseKinematics& ik, const Draw
 nlohmann::json drawing_json(const Drawing& d) {
   using nlohmann::json;
   auto pt = [](Point2 p) { return json::array({p.x, p.y}); };
-  json strokes = json::array();
-  for (const Stroke& s : d.strokes) {
-    json st = json::array();
-    for (const Point2& p : s) st.push_back(pt(p));
-    strokes.push_back(st);
-  }
   json unreachable = json::array();
   for (const Point2& p : d.reach.unreachable) unreachable.push_back(pt(p));
   return json{{"what", d.what},
               {"width_mm", d.width_mm},
               {"height_mm", d.height_mm},
               {"bounds", {{"min_x", d.bounds.min_x}, {"min_y", d.bounds.min_y}, {"max_x", d.bounds.max_x}, {"max_y", d.bounds.max_y}}},
-              {"strokes", strokes},
+              {"strokes", strokes_json(d.strokes)},
               {"reach", {{"fits", d.reach.fits}, {"points", d.reach.points}, {"unreachable", unreachable},
                          {"movable", d.reach.movable}, {"move", {d.reach.move_x, d.reach.move_y}}, {"advice", d.reach.advice}}},
               {"start", pt(d.start)},
@@ -643,13 +652,7 @@ nlohmann::json drawing_with_ink_json(const Robot& robot, const InverseKinematics
   const Robot stepped = request.microsteps ? with_microsteps(robot, request.microsteps) : robot;
   const Prediction p = predict_program(stepped, parse_program(d.program, "drawing.arm", stepped), {}, {}, true);
   const PredictedInk ink = predicted_ink(d, p, request.pen);
-  json strokes = json::array();
-  for (const Stroke& s : ink.strokes) {
-    json st = json::array();
-    for (const Point2& q : s) st.push_back({q.x, q.y});
-    strokes.push_back(st);
-  }
-  out["ink"] = {{"strokes", strokes}, {"worst_mm", ink.worst_mm}, {"worst_at", {ink.worst_at.x, ink.worst_at.y}},
+  out["ink"] = {{"strokes", strokes_json(ink.strokes)}, {"worst_mm", ink.worst_mm}, {"worst_at", {ink.worst_at.x, ink.worst_at.y}},
                 {"worst_line", ink.worst_line}, {"steps", ink.steps}};
   out["seconds"] = p.total_s();
   if (svg) out["svg"] = drawing_svg(d, ink, d.what + " on " + robot.name);
@@ -659,11 +662,8 @@ nlohmann::json drawing_with_ink_json(const Robot& robot, const InverseKinematics
 DrawRequest draw_request_from_json(const nlohmann::json& j) {
   using nlohmann::json;
   if (!j.is_object()) throw std::invalid_argument("a drawing request is an object");
-  static const char* const kKeys[] = {"text", "shape", "svg", "strokes", "svg_name", "tolerance", "paper", "microsteps", "font", "line_spacing", "width", "at", "z", "pen", "lift",
-                                      "speed", "travel_speed", "rotate"};
-  for (auto it = j.begin(); it != j.end(); ++it)
-    if (std::find_if(std::begin(kKeys), std::end(kKeys), [&](const char* k) { return it.key() == k; }) == std::end(kKeys))
-      throw std::invalid_argument("a drawing request has no '" + it.key() + "'");
+  only_keys(j, {"text", "shape", "svg", "strokes", "svg_name", "tolerance", "paper", "microsteps", "font", "line_spacing", "width", "at", "z", "pen", "lift",
+                                      "speed", "travel_speed", "rotate"}, "a drawing request");
   auto num = [&](const char* key, double fallback) {
     if (!j.contains(key)) return fallback;
     if (!j[key].is_number()) throw std::invalid_argument(std::string("'") + key + "' must be a number");
@@ -772,9 +772,7 @@ std::vector<Vec3<double>> tool_from_steps(const Robot& robot, const std::vector<
 nlohmann::json ink_json(const Robot& robot, const nlohmann::json& j) {
   using nlohmann::json;
   if (!j.is_object()) throw std::invalid_argument("an ink request is an object: {steps | tool, z, pen, lift}");
-  for (auto it = j.begin(); it != j.end(); ++it)
-    if (it.key() != "steps" && it.key() != "tool" && it.key() != "z" && it.key() != "pen" && it.key() != "lift")
-      throw std::invalid_argument("an ink request has no '" + it.key() + "'");
+  only_keys(j, {"steps", "tool", "z", "pen", "lift"}, "an ink request");
   if (j.contains("steps") == j.contains("tool")) throw std::invalid_argument("give the motors' 'steps' or the 'tool' positions");
   std::vector<Vec3<double>> tool;
   if (j.contains("steps")) {
@@ -805,15 +803,10 @@ nlohmann::json ink_json(const Robot& robot, const nlohmann::json& j) {
   num("z", pen.paper_z);
   num("pen", pen.pen_mm);
   num("lift", pen.lift_mm);
-  json strokes = json::array();
+  const std::vector<Stroke> ink = ink_of_tool_path(tool, pen);
   size_t points = 0;
-  for (const Stroke& s : ink_of_tool_path(tool, pen)) {
-    json st = json::array();
-    for (const Point2& p : s) st.push_back({p.x, p.y});
-    points += s.size();
-    strokes.push_back(st);
-  }
-  return json{{"strokes", strokes}, {"points", points}};
+  for (const Stroke& s : ink) points += s.size();
+  return json{{"strokes", strokes_json(ink)}, {"points", points}};
 }
 
 namespace {
@@ -958,10 +951,7 @@ DrawingCheck check_drawing(const std::vector<Stroke>& target, const std::vector<
 nlohmann::json drawing_check_json(const Robot& robot, const InverseKinematics& ik, const nlohmann::json& j) {
   using nlohmann::json;
   if (!j.is_object()) throw std::invalid_argument("a drawing check is an object: {program, target, z, pen, tolerance}");
-  static const char* const kKeys[] = {"program", "name", "target", "z", "pen", "lift", "tolerance"};
-  for (auto it = j.begin(); it != j.end(); ++it)
-    if (std::find_if(std::begin(kKeys), std::end(kKeys), [&](const char* k) { return it.key() == k; }) == std::end(kKeys))
-      throw std::invalid_argument("a drawing check has no '" + it.key() + "'");
+  only_keys(j, {"program", "name", "target", "z", "pen", "lift", "tolerance"}, "a drawing check");
   if (!j.contains("program") || !j["program"].is_string()) throw std::invalid_argument("'program' must be the program's text");
   if (!j.contains("target") || !j["target"].is_object()) throw std::invalid_argument("'target' must be a drawing request");
   const double tolerance = j.value("tolerance", json(0)).is_number() ? j.value("tolerance", 0.0) : -1;
@@ -973,15 +963,6 @@ nlohmann::json drawing_check_json(const Robot& robot, const InverseKinematics& i
   const Drawing d = make_drawing(robot, ik, req);
   const std::vector<Stroke> ink = program_ink(robot, j["program"].get<std::string>(), j.value("name", std::string("program.arm")), req.pen);
   const DrawingCheck c = check_drawing(d.strokes, ink, tolerance);
-  auto strokes_json = [](const std::vector<Stroke>& ss) {
-    json out = json::array();
-    for (const Stroke& s : ss) {
-      json st = json::array();
-      for (const Point2& p : s) st.push_back({p.x, p.y});
-      out.push_back(st);
-    }
-    return out;
-  };
   auto finite = [](double v) { return std::isfinite(v) ? json(v) : json(nullptr); };
   return json{{"met", c.met}, {"ink_off_mm", finite(c.ink_off_mm)}, {"uncovered_mm", finite(c.uncovered_mm)},
               {"ink_off_at", {c.ink_off_at.x, c.ink_off_at.y}}, {"uncovered_at", {c.uncovered_at.x, c.uncovered_at.y}},

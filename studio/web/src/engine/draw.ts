@@ -16,39 +16,31 @@ export async function ensureFont(): Promise<void> {
   if (!S.engine.exists(FONT)) S.engine.writeFile(FONT, await fetchBytes("data/fonts/futural.jhf"));
 }
 
+// The page's request as it is to the engine, which checks every key and value: its answer, or
+// its refusal in words, as a message of `type`.
+function answer(type: string, m: Msg, ask: (req: Record<string, unknown>) => object): Out[] {
+  const req = m.request;
+  if (typeof req !== "object" || req === null || Array.isArray(req)) throw new BadMessage("'request' must be an object");
+  try {
+    return [{ type, ...ask(req as Record<string, unknown>) }];
+  } catch (e) {
+    if (!(e instanceof EngineError)) throw e;
+    return [{ type, error: e.message }];
+  }
+}
+
 export const drawHandlers: Record<string, (m: Msg) => Promise<Out[]>> = {
   async draw(m) {
-    const req = m.request;
-    if (typeof req !== "object" || req === null || Array.isArray(req)) throw new BadMessage("'request' must be an object");
     await ensureFont();
-    try {
-      return [{ type: "drawing", ...S.robot.draw(req as Record<string, unknown>) }];
-    } catch (e) {
-      if (!(e instanceof EngineError)) throw e;
-      return [{ type: "drawing", error: e.message }];
-    }
+    return answer("drawing", m, (req) => S.robot.draw(req));
   },
   // Where on the sheet the pen reaches the paper: the paper view shades it.
   async reach_map(m) {
-    const req = m.request;
-    if (typeof req !== "object" || req === null || Array.isArray(req)) throw new BadMessage("'request' must be an object");
-    try {
-      return [{ type: "reach_map", ...S.robot.reachMap(req as { area: number[] }) }];
-    } catch (e) {
-      if (!(e instanceof EngineError)) throw e;
-      return [{ type: "reach_map", error: e.message }];
-    }
+    return answer("reach_map", m, (req) => S.robot.reachMap(req as { area: number[] }));
   },
   // The ink the virtual Nano's steps (its step counts, row after row) or the physics' tool
   // leave, by the engine's rule for where the pen touches the paper (the prediction's too).
   async ink(m) {
-    const req = m.request;
-    if (typeof req !== "object" || req === null || Array.isArray(req)) throw new BadMessage("'request' must be an object");
-    try {
-      return [{ type: "ink", ...S.robot.ink(req as { steps?: number[]; tool?: number[] }) }];
-    } catch (e) {
-      if (!(e instanceof EngineError)) throw e;
-      return [{ type: "ink", error: e.message }];
-    }
+    return answer("ink", m, (req) => S.robot.ink(req as { steps?: number[]; tool?: number[] }));
   },
 };
