@@ -66,6 +66,21 @@ def test_write_hello_see_the_line_the_arm_will_draw_and_run_it(open_page):
     pg.page.click("#run")
     pg.wait(f"a.timeline !== null && a.timeline.records.length === {py['program'].count(chr(10)) - 2}", timeout=60000)
     assert pg.hook("a.timeline.records.every(r => r.reply === 'ok')")
+    # the pen in the gripper: the page shows and aims its tip, 120 mm below the tool point; the
+    # line it writes for the arm is the tool point's
+    pg.page.click("#stop")
+    pg.wait("a.pose.tip !== undefined")
+    tool, tip = pg.hook("a.pose.tool.xyz"), pg.hook("a.pose.tip")
+    assert tip[:2] == tool[:2] and abs(tool[2] - tip[2] - 120) < 1e-6, (tool, tip)
+    assert pg.page.text_content("#tool-title") == "Pen tip"
+    for box, v in (("#tx", "240"), ("#ty", "10"), ("#tz", "2")):
+        pg.page.fill(box, v)
+    pg.page.click("#solve")
+    pg.wait("a.ik !== null && a.ik.status === 'reached' && Math.abs(a.pose.tip[2] - 2) < 0.05")
+    assert abs(pg.hook("a.pose.tool.xyz[2]") - 122) < 0.05 and abs(pg.hook("a.pose.tip[0]") - 240) < 0.05
+    pg.page.click("#ik-line")
+    pg.wait("a.ikLine !== ''")
+    assert pg.hook("a.ikLine").startswith("T 240 10 122 "), pg.hook("a.ikLine")
     assert pg.errors == []
 
 
@@ -123,7 +138,7 @@ def test_hello_on_a5_on_the_virtual_nano_leaves_the_predicted_ink(open_page):
     pg.page.check("#drive-arm")
     pg.page.click("#run")
     pg.wait("a.arm.programDone === true || a.arm.error !== ''", timeout=90000)
-    assert pg.hook("a.arm.error") == ""
+    assert pg.hook("a.arm.error") == "", (pg.hook("a.arm.error"), pg.hook("a.arm.lostTrace"))
     steps = sum(len(s) for s in d["ink"])
     pg.wait(f"a.arm.error !== '' || (a.arm.status !== null && a.arm.status.state === 'Idle' && a.paper.ink.points === {steps})", timeout=30000)
     assert pg.hook("a.arm.error") == ""

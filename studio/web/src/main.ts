@@ -158,7 +158,7 @@ function showPose(p: PoseMsg): void {
   if (!hook.robot) return;
   showJointValues(p, hook.robot);
   showTime(p);
-  followTool(p.tool.xyz, p.tool.rpy, !hook.ready);
+  followTool(p.tip ?? p.tool.xyz, p.tool.rpy, !hook.ready);
   hook.ready = true;
 }
 

@@ -5,14 +5,16 @@
 import { EngineError } from "../../../../wasm/js/engine.mjs";
 import { numbers, text } from "./checks";
 import type { Msg, Out } from "./checks";
-import { framesAt, info, S } from "./state";
+import { framesAt, info, S, toolForTip } from "./state";
 
 export const armHandlers: Record<string, (m: Msg) => Out[]> = {
   // One protocol line, formatted by the engine (host/lib/blocks.h, protocol_line): the page
   // writes no line itself.
   protocol_line(m) {
     const word = text(m, "word", 1);
-    const values = Array.isArray(m.values) ? numbers(m, "values", [m.values.length]) : [];
+    let values = Array.isArray(m.values) ? numbers(m, "values", [m.values.length]) : [];
+    // a point the page aims at with a pen held is its tip: the line takes the tool point above it
+    if (m.at_tip === true && (word === "P" || word === "T") && values.length >= 3) values = toolForTip(values);
     try {
       return [{ type: "protocol_line", line: S.robot.protocolLine(word, values) }];
     } catch (e) {

@@ -4,7 +4,7 @@ import { EngineError } from "../../../../wasm/js/engine.mjs";
 import type { Robot } from "../../../../wasm/js/engine.mjs";
 import { BadMessage, clamp, num, numbers, text } from "./checks";
 import type { Msg, Out } from "./checks";
-import { adopt, clampQ, info, moveLine, poseMessage, post, powerUpQ, robotMessage, S, stopTasks } from "./state";
+import { adopt, clampQ, info, moveLine, poseMessage, post, powerUpQ, robotMessage, S, stopTasks, toolForTip } from "./state";
 import { shippedRobot, userFiles } from "./site";
 import { restartPhysics } from "./physics";
 
@@ -18,8 +18,9 @@ interface IkResult {
   iterations: number; limited_by?: string[]; limited_by_motors?: string[]; beyond_reach: boolean;
 }
 
+// A target is the pen's tip when a pen is held (the engine solves for the tool point above it).
 function ikArgs(m: Msg): IkArgs {
-  const target = numbers(m, "target", [3, 6]);
+  const target = toolForTip(numbers(m, "target", [3, 6]));
   const solver = m.solver ?? "auto";
   if (typeof solver !== "string") throw new BadMessage("'solver' must be auto, closed, lm or jt");
   const args: IkArgs = { target, solver, start: S.q };
@@ -69,6 +70,11 @@ export const kinematicHandlers: Record<string, (m: Msg) => Out[] | Promise<Out[]
   // into the limits) for a robot without motors.
   zero: () => {
     S.q = info().num_motors ? powerUpQ() : clampQ(S.q.map(() => 0));
+    return [poseMessage()];
+  },
+  // The pen's length below the tool point (0: none): the page aims its tip.
+  pen(m) {
+    S.pen = num(m, "mm", 0, 1000);
     return [poseMessage()];
   },
   gripper(m) {

@@ -56,6 +56,7 @@ export interface PoseMsg {
   gripper: number;
   within_limits: boolean;
   fingers?: Flat4x4[];
+  tip?: number[]; // the pen's tip (x, y, z mm) when a pen is held: where the page aims
   motors?: number[]; // the motors' angles (deg), for a robot with motors
   ghost?: Flat4x4[];
   ghost_fingers?: Flat4x4[]; // the ghost's fingers, posed by the engine

@@ -22,6 +22,10 @@ export const S = {
   robot: null as unknown as Robot,
   q: [] as number[],
   gripper: 100, // percent open
+  // A pen in the gripper, its tip this far below the tool point (mm; 0: no pen): the tool point
+  // the page shows and aims is then the pen's tip (host/lib/draw.h: the pen hangs straight
+  // down). The robot and the lines sent to the arm stay the tool point's.
+  pen: 0,
   timeline: null as Timeline | null,
   t: 0, // the time line's clock, s
   speed: 1,
@@ -96,10 +100,15 @@ export function poseMessage(at: number[] = S.q, extra: Out = {}): Out {
     gripper: S.gripper, within_limits: p.within_limits,
   };
   if (p.fingers) msg.fingers = p.fingers.map((f) => f.map(round6));
+  if (S.pen > 0) msg.tip = penTip((p.tool as { xyz: number[] }).xyz);
   // the motors' angles, which `M` takes, beside the joint values the sliders show
   if (r.num_motors) msg.motors = (S.robot.motorsFromJoints(at) as number[]).map(round6);
   return Object.assign(msg, extra);
 }
+
+/** The pen's tip for a tool point, and the tool point for a tip (S.pen; draw.h's rule). */
+export const penTip = (tool: number[]) => [tool[0], tool[1], round6(tool[2] - S.pen)];
+export const toolForTip = (tip: number[]) => [tip[0], tip[1], tip[2] + S.pen, ...tip.slice(3)];
 
 /** The frames of a pose, for the arm in the loop. */
 export function framesAt(q: number[]): number[][] {

@@ -64,6 +64,13 @@ export class ArmLink {
   private lastReport = 0;
   private reading = 0; // lines in the engine's hands
   private silentSince: number | null = null; // the page's time silence was first seen
+  // The last events of the link (kind, the arm's clock, the page's clock, a word), told with a
+  // lost link: what the page heard and when, for whoever finds out why.
+  private trace: [string, number, number, string][] = [];
+  private note(kind: string, what = ""): void {
+    this.trace.push([kind, Math.round(this.now()), Math.round(performance.now()), what]);
+    if (this.trace.length > 48) this.trace.shift();
+  }
   private lastPoll = 0;
   private fastUntil = 0;
   private history: string[] = []; // the lines the arm accepted, for the prediction
@@ -267,6 +274,7 @@ export class ArmLink {
     // Heard when it arrived: the engine reads it in its worker, which a busy page can keep
     // waiting longer than the silence that means a lost arm (the arm answered on time).
     const heard = this.now();
+    this.note("line", line.slice(0, 24));
     this.reading++;
     let read: Awaited<ReturnType<ArmEngine["read"]>>;
     try {
@@ -323,6 +331,7 @@ export class ArmLink {
       this.silentSince = null;
     }
     this.lastPoll = now;
+    this.note("?", String(this.reading));
     this.write("?").catch((e) => this.lost(`cannot write: ${(e as Error).message}`));
     this.pollTimer = setTimeout(() => this.poll(), now < this.fastUntil ? 10 : POLL_MS);
   }
@@ -332,7 +341,8 @@ export class ArmLink {
     this.connected = false;
     this.configurable = false;
     this.programStop = true;
-    this.emit({ type: "arm", connected: false, error: why, lost: true });
+    this.note("lost", why);
+    this.emit({ type: "arm", connected: false, error: why, lost: true, trace: this.trace.splice(0) });
     this.close();
   }
 

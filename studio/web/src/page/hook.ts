@@ -47,7 +47,8 @@ export interface Hook {
   objectScreen: (name: string) => number[] | null;
   arm: { connected: boolean; error: string; label: string; status: ArmStatusMsg | null; reply: unknown; stopMs: number | null;
          programLines: unknown[]; programDone: boolean; roundTrips: number[]; nano: unknown;
-         configurable: boolean; configured: { name: string; checksum: number } | null; checksum: number | null };
+         configurable: boolean; configured: { name: string; checksum: number } | null; checksum: number | null;
+         lostTrace: unknown[] }; // the link's last events when it was lost (panels/arm.ts)
   stream: { messages: number }; // physics and pose messages while the physics runs
   // panels/experiment.ts: the pose waiting for its measurement, the engine's question, the
   // poses so far, the report's tables and CSV, lines where the arm differed from the model
@@ -97,7 +98,7 @@ export const hook: Hook = {
   camera: () => ({ distance: 0, azimuth: 0 }), viewpoint: () => ({ eye: [], target: [] }),
   scene: null, physics: null, events: [], simCommand: "", objectScreen: () => null,
   arm: { connected: false, error: "", label: "", status: null, reply: null, stopMs: null, programLines: [], programDone: false, roundTrips: [], nano: null,
-         configurable: false, configured: null, checksum: null },
+         configurable: false, configured: null, checksum: null, lostTrace: [] },
   stream: { messages: 0 }, experiment: { running: false, waiting: null, question: "", points: [], tables: null, csv: "", mismatches: [] }, errors: 0, errorLog: [], pageErrors: [], internalErrors: [], engineStartMs: 0, engineSend: () => undefined, engineWaiting: () => [],
   layout: { mode: "", plotsInTab: false, tab: "" }, webgl: true, language: "", storage: true,
   project: { id: "", name: "", robot: "", program: "", blocks: null, mode: "text", rev: 0, goal: null, persistent: true, dirty: false,

@@ -155,11 +155,13 @@ export function stopEverything(): void {
 interface ArmMsg {
   connected: boolean; connecting?: boolean; label?: string; error?: string; lost?: boolean; configurable?: boolean;
   configuring?: { done: number; total: number; name: string }; info?: { checksum: number | null };
+  trace?: unknown[];
 }
 
 function showArm(m: ArmMsg): void {
   hook.arm.connected = m.connected;
   hook.arm.error = m.error ?? "";
+  if (m.trace) hook.arm.lostTrace = m.trace;
   hook.arm.configurable = !!m.configurable || !!m.configuring;
   if (m.info) hook.arm.checksum = m.info.checksum;
   if (m.label) hook.arm.label = m.label;

@@ -39,7 +39,15 @@ function use(): void {
   if (inUse) return;
   inUse = true;
   if (sheetArea) s.view.showSheet(sheetArea, num("draw-z"));
-  s.view.setPen(num("draw-pen"));
+  holdPen(num("draw-pen"));
+}
+
+// A pen in the gripper (0: none), in 3D and in the engine: the page then shows and aims the
+// pen's tip (the IK target, the tool pose), the lines it writes stay the tool point's.
+function holdPen(mm: number): void {
+  const pen = Number.isFinite(mm) && mm > 0 && mm <= 1000 ? mm : 0;
+  s.view.setPen(pen);
+  s.engine.send({ type: "pen", mm: pen });
 }
 let setText: (text: string, name: string) => void = () => undefined;
 
@@ -214,14 +222,14 @@ export function initDraw(studio: Studio, program_: { setText: (text: string, nam
   };
   $("draw-save-svg").onclick = () => download("drawing.svg", paper.svgText(drawing?.what ?? "a sheet"), "image/svg+xml");
   $("draw-save-png").onclick = () => void savePng();
-  $("draw-pen").addEventListener("change", () => inUse && s.view.setPen(num("draw-pen")));
+  $("draw-pen").addEventListener("change", () => inUse && holdPen(num("draw-pen")));
   for (const id of ["draw-paper", "draw-orient", "paper-x", "paper-y", "draw-z", "draw-kind", "draw-go"])
     $(id).addEventListener(id === "draw-go" ? "click" : "change", use);
   $("paper-view").addEventListener("pointerdown", use);
   s.editor.signals.robotShown.add(() => {
     clearDrawing();
     inUse = false;
-    s.view.setPen(0);
+    holdPen(0);
     s.view.showSheet(null, 0);
     if (goalActive) use(); // a drawing exercise's robot: its paper and pen stay
     hook.drawing = null;
@@ -328,7 +336,7 @@ async function draw(): Promise<void> {
   }
   const z = request.z as number;
   use();
-  s.view.setPen(request.pen as number);
+  holdPen(request.pen as number);
   s.view.showDrawing(d.strokes, d.ink?.strokes ?? [], z);
   paper.setLayer("ideal", d.strokes);
   paper.setLayer("predicted", d.ink?.strokes ?? []);

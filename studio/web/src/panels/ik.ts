@@ -27,7 +27,7 @@ export function initIk(studio: Studio): void {
   });
   $("show-target").addEventListener("change", (e) => {
     const on = (e.target as HTMLInputElement).checked;
-    if (on && hook.pose) s.view.setTarget(hook.pose.tool.xyz, hook.pose.tool.rpy);
+    if (on && hook.pose) s.view.setTarget(hook.pose.tip ?? hook.pose.tool.xyz, hook.pose.tool.rpy);
     s.view.showTarget(on);
   });
   $("gizmo-mode").addEventListener("change", (e) => s.view.gizmoMode((e.target as HTMLSelectElement).value as "translate" | "rotate"));
@@ -61,7 +61,9 @@ export function initIk(studio: Studio): void {
       return;
     }
     // the target to a tenth of a mm (a dragged target holds many more digits), the line the engine's
-    const r = await s.engine.call({ type: "protocol_line", word: "T", values: [...xyz.map((v) => Math.round(v * 10) / 10), speed] });
+    // (a target with a pen held is its tip: the engine writes the tool point above it)
+    const r = await s.engine.call({ type: "protocol_line", word: "T", values: [...xyz.map((v) => Math.round(v * 10) / 10), speed],
+      at_tip: true });
     if (typeof r.line !== "string") {
       el.textContent = `No straight line: ${String(r.error)}`;
       el.className = "status bad";

@@ -103,7 +103,9 @@ export function showJointValues(p: PoseMsg, robot: RobotMsg): void {
   fill($("dh").querySelector("tbody")!, ...p.dh_table.map((r, i) =>
     h("tr", null, h("td", null, i + 1), ...["a", "alpha", "d", "theta"].map((k, c) =>
       h("td", { class: vars.has(`${i}.${k}`) ? "var" : linked.has(`${i}.${k}`) ? "linked" : null }, fmt(r[c], c % 2 ? 2 : 1))))));
-  const [x, y, z] = p.tool.xyz;
+  // with a pen held, where its tip is (the tool point is the pen's length above it)
+  const [x, y, z] = p.tip ?? p.tool.xyz;
+  $("tool-title").textContent = p.tip ? "Pen tip" : "Tool pose";
   const [ro, pi, ya] = p.tool.rpy;
   const unit = (u: string) => h("span", { class: "unit" }, u);
   fill($("tool"),
