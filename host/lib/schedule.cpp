@@ -11,6 +11,7 @@
 #include <optional>
 
 #include "predict.h"
+#include "replay.h"
 
 namespace articula::host {
 
@@ -157,7 +158,7 @@ class Controller {
     queue_.push_back(q);
     plan_entries([this](size_t i) -> const PlanBlock& { return queue_[i].plan; },
                  [this](size_t i, uint16_t e) { queue_[i].plan.entry = e; }, queue_.size());
-    if (mode_ == kMove && !homing_) profile_.raise_exit(planned_exit());  // stepper::raise_exit()
+    if (mode_ == kMove && !homing_) stepper_.raise_exit(planned_exit());  // stepper::raise_exit()
     if (mode_ == kIdle) {  // kick()
       last_ = now;
       next_action(now);
@@ -196,7 +197,7 @@ class Controller {
   void halt(uint64_t t) {
     end_running(t);
     mode_ = kIdle;
-    profile_ = StepProfile();  // halt(): at rest
+    stepper_.halt();
     homing_ = false;
   }
 
@@ -242,7 +243,7 @@ class Controller {
   // the queued moves, each to end at rest, until the arm is at rest.
   void continue_stop(uint64_t t) {
     end_running(t);
-    while (profile_.level() != 0 && !homing_ && !queue_.empty() &&
+    while (stepper_.level() != 0 && !homing_ && !queue_.empty() &&
            rec_[queue_.front().record].action == PredictRecord::Action::kMove) {
       const Queued q = take(t);
       const uint64_t dt = begin_move(rec_[q.record], 0, q.segment, q.plan.cruise4, true);
@@ -259,37 +260,30 @@ class Controller {
   uint64_t begin_move(const PredictRecord& r, uint32_t exit, int segment = -1, uint16_t cruise4 = 0,
                       bool stopping = false) {
     const MoveOf m = move_of(r, segment);
-    const uint32_t n = m.steps;
-    if (n == 0) return 0;
-    if (m.delta.size() <= kStepperMotors) line_.start(m.delta.data(), uint8_t(m.delta.size()));
+    if (m.steps == 0) return 0;
     move_delta_ = &m.delta;
-    move_steps_ = n;
+    move_steps_ = m.steps;
     if (constants_for_ != r.motion.max_rate * 1000003ULL + r.motion.accel) {
       profile_constants(constants_, r.motion);
       constants_for_ = r.motion.max_rate * 1000003ULL + r.motion.accel;
     }
-    const uint32_t cruise = std::max(uint32_t(cruise4) * 4, constants_.cruise);
-    if (profile_.level() > 0)
-      profile_.follow(n, exit, cruise);
-    else
-      profile_.start(n, constants_, exit, cruise);
-    if (stopping) profile_.stop();
-    mode_ = kMove;
-    return profile_.next_interval();
+    const uint32_t dt = stepper_.begin(m.delta.data(), m.delta.size(), constants_, exit, uint32_t(cruise4) * 4, stopping);
+    if (dt != 0) mode_ = kMove;
+    return dt;
   }
 
   // The step staged for this deadline (stepper.cpp book_staged()).
   void book() {
     if (first_step_ == kNever) first_step_ = deadline_;
     ++current_done_->steps;
-    if (move_delta_->size() > kStepperMotors) {  // (no Nano drives so many: spread in proportion)
+    if (move_delta_->size() > MoveStepper::kMaxMotors) {  // (no Nano drives so many: spread in proportion)
       for (size_t i = 0; i < current_done_->delta.size(); ++i)
         current_done_->delta[i] = int32_t(std::lround(double((*move_delta_)[i]) * current_done_->steps / move_steps_));
       return;
     }
-    const uint8_t mask = line_.next();
+    const uint8_t mask = stepper_.step();
     for (size_t i = 0; i < current_done_->delta.size(); ++i)
-      if (mask & (1u << i)) current_done_->delta[i] += (line_.negative & (1u << i)) ? -1 : 1;
+      if (mask & (1u << i)) current_done_->delta[i] += (stepper_.negative() & (1u << i)) ? -1 : 1;
   }
 
   // stepper.cpp on_timer() at the current deadline.
@@ -297,18 +291,17 @@ class Controller {
     const uint64_t t = deadline_;
     last_ = t;
     switch (mode_) {
-      case kMove:  // move_tick()
+      case kMove: {  // move_tick()
         book();
-        if (stop_) profile_.stop();
-        if (profile_.done()) {
-          if (stop_)
-            continue_stop(t);
-          else
-            next_action(t);
-        } else {
-          deadline_ = t + profile_.next_interval();
-        }
+        const uint32_t dt = stepper_.next(stop_);
+        if (dt != 0)
+          deadline_ = t + dt;
+        else if (stop_)
+          continue_stop(t);
+        else
+          next_action(t);
         break;
+      }
       case kSeek: {  // the switches found: Home's final move, from rest
         PredictRecord& r = rec_[running_];
         current_done_->delta.assign(r.delta_steps.size(), 0);  // (the search's steps are not the move's)
@@ -334,9 +327,7 @@ class Controller {
   Mode mode_ = kIdle;
   bool homing_ = false;
   size_t running_ = kNone;
-  StepProfile profile_;
-  static constexpr size_t kStepperMotors = 8;  // LineStepper's mask: a byte
-  LineStepper<kStepperMotors> line_{};
+  MoveStepper stepper_;
   const std::vector<int32_t>* move_delta_ = nullptr;
   uint32_t move_steps_ = 0;
   Item current_{kNone, -1};

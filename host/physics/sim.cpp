@@ -811,20 +811,16 @@ void Simulation::stall_check(const Action& a) {
 void Simulation::start_move(const int32_t* to, const ProfileConstants& k, uint64_t t0, uint32_t exit, uint32_t cruise) {
   int32_t delta[8];
   for (int i = 0; i < n_motors_; ++i) delta[i] = to[i] - counted_[i];
-  line_.start(delta, uint8_t(n_motors_));
   seek_motor_ = -1;
-  if (line_.dominant == 0) {
+  // (after a T segment that ended moving, the next goes on from its speed: stepper.cpp's follow)
+  const uint32_t dt = stepper_.begin(delta, size_t(n_motors_), k, exit, cruise);
+  if (dt == 0) {
     next_step_tick_ = UINT64_MAX;  // nothing to step: the action ends now
     return;
   }
-  // (after a T segment that ended moving, the next goes on from its speed: stepper.cpp's follow)
-  if (profile_.level() > 0)
-    profile_.follow(line_.dominant, exit, cruise != 0 ? cruise : k.cruise);
-  else
-    profile_.start(line_.dominant, k, exit, cruise);
-  next_step_tick_ = t0 + profile_.next_interval();
-  pending_mask_ = line_.next();
-  pending_negative_ = line_.negative;
+  next_step_tick_ = t0 + dt;
+  pending_mask_ = stepper_.step();
+  pending_negative_ = stepper_.negative();
 }
 
 // Homing: each switch motor in turn steps towards its switch (at the motor's minimum) one
@@ -957,12 +953,12 @@ void Simulation::motor_events(uint64_t until) {
       continue;
     }
     apply_steps(pending_mask_, pending_negative_);
-    if (profile_.done()) {
-      next_step_tick_ = UINT64_MAX;
+    if (const uint32_t dt = stepper_.next()) {
+      next_step_tick_ += dt;
+      pending_mask_ = stepper_.step();
+      pending_negative_ = stepper_.negative();
     } else {
-      next_step_tick_ += profile_.next_interval();
-      pending_mask_ = line_.next();
-      pending_negative_ = line_.negative;
+      next_step_tick_ = UINT64_MAX;
     }
   }
 }

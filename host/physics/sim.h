@@ -28,6 +28,7 @@
 #include <vector>
 
 #include "predict.h"
+#include "replay.h"
 #include "program.h"
 #include "robot.h"
 #include "run.h"
@@ -241,8 +242,7 @@ class Simulation {
 
   // Motor state: counted steps (what the firmware believes), physical = counted + offset.
   int32_t counted_[8]{}, offset_[8]{}, lost_in_action_[8]{};
-  StepProfile profile_;
-  LineStepper<8> line_;
+  MoveStepper stepper_;  // the running move, stepped as the firmware steps it (replay.h)
   uint64_t next_step_tick_ = 0;  // absolute tick of the next step event of the running move
   int seek_left_ = 0;            // homing: steps still to the switch of seek_motor_
   int seek_motor_ = -1;
