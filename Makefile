@@ -76,7 +76,7 @@ demo: build
 	@rm -rf $(DEMO_REPORT)
 	@.venv/bin/python -m hil.harness run hil/plans/thesis-single-joint.arm hil/plans/thesis-repeatability.arm \
 	  hil/plans/tool-points.arm --out $(DEMO_REPORT) \
-	  --vnano $(BUILD)/hil/articula-vnano --elf $(FIRMWARE_DIR)/articula-nano.elf
+	  --vnano $(BUILD)/virtual-nano/articula-vnano --elf $(FIRMWARE_DIR)/articula-nano.elf
 	@echo "open $(DEMO_REPORT)/report.html in a browser, or read $(DEMO_REPORT)/report.md"
 
 # ROBOT=panda, PORT=8080, STUDIO_ARGS=--no-browser: passed to articula-studio, which serves

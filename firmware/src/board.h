@@ -1,6 +1,6 @@
 // firmware/src/board.h - every pin of the Nano, in this one table (GRBL's cpu_map.h idea).
 // The firmware's registers come from it (pins.h); both emulated Nanos read the pins by it
-// (simavr's in hil/vnano, the page's avr8js through the nano decoder module, wasm/src/nano.cpp).
+// (simavr's in virtual-nano/simavr, the page's avr8js through the nano decoder module, virtual-nano/web/nano_parts.cpp).
 // Plain C++11 with no AVR header, so the host compiles it too.
 //
 //   Nano pin  AVR pin  use

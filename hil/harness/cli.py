@@ -46,7 +46,7 @@ examples:
   python -m hil.harness fuzz --lines 10000 --seed 1 --report fuzz.json
 
 binaries: --vnano and --elf, else $ARTICULA_VNANO and $ARTICULA_NANO_ELF, else the
-repository's build/ (build/hil/articula-vnano, build/avr/firmware/articula-nano.elf). The
+repository's build/ (build/virtual-nano/articula-vnano, build/avr/firmware/articula-nano.elf). The
 prediction is the `articula` Python package (make builds it into python/).
 
 exit status: 0 every command matched (prediction = firmware, = pins on the virtual Nano) and
@@ -200,8 +200,7 @@ def _fuzz(args, argv) -> int:
 
 
 def _vnano_and_elf(args) -> tuple[str, str | None]:
-    vnano = _find(args.vnano, "ARTICULA_VNANO", [REPO / "build" / "hil" / "articula-vnano",
-                                                  REPO / "build" / "hil" / "vnano" / "articula-vnano"],
+    vnano = _find(args.vnano, "ARTICULA_VNANO", [REPO / "build" / "virtual-nano" / "articula-vnano"],
                   "virtual Nano (articula-vnano)")
     elf_default = REPO / "build" / "avr" / "firmware" / "articula-nano.elf"
     elf = args.elf or os.environ.get("ARTICULA_NANO_ELF") or (str(elf_default) if elf_default.exists() else None)

@@ -12,7 +12,7 @@ import subprocess
 from pathlib import Path
 
 SOURCE = Path(os.environ.get("ARTICULA_SOURCE_DIR", Path(__file__).resolve().parents[2]))
-VNANO = Path(os.environ.get("ARTICULA_VNANO", SOURCE / "build/hil/articula-vnano"))
+VNANO = Path(os.environ.get("ARTICULA_VNANO", SOURCE / "build/virtual-nano/articula-vnano"))
 ELF = Path(os.environ.get("ARTICULA_NANO_ELF", SOURCE / "build/avr/firmware/articula-nano.elf"))
 CLI = Path(os.environ.get("ARTICULA_CLI", SOURCE / "build/host/cli/articula"))
 PLANS = SOURCE / "hil" / "streams"

@@ -43,7 +43,7 @@ def test_fuzz_with_bursts_that_fill_the_queue_before_a_held_line(tmp_path):
     """--bursts: besides the usual classes, moves streamed as GRBL's senders stream (the next
     line as soon as the last is answered) until the queue is full, then D, held until there is
     room: answered ok (it was error:255), the arm back where it began, pins = status."""
-    vnano = _binary("ARTICULA_VNANO", SOURCE / "build" / "hil" / "articula-vnano")
+    vnano = _binary("ARTICULA_VNANO", SOURCE / "build" / "virtual-nano" / "articula-vnano")
     elf = _binary("ARTICULA_NANO_ELF", SOURCE / "build" / "avr" / "firmware" / "articula-nano.elf")
     report = tmp_path / "fuzz.json"
     p = subprocess.run([sys.executable, "-m", "hil.harness", "fuzz", "--lines", "300", "--seed", "5", "--bursts",
@@ -58,7 +58,7 @@ def test_fuzz_with_bursts_that_fill_the_queue_before_a_held_line(tmp_path):
 
 
 def test_fuzz_on_the_virtual_nano(tmp_path):
-    vnano = _binary("ARTICULA_VNANO", SOURCE / "build" / "hil" / "articula-vnano")
+    vnano = _binary("ARTICULA_VNANO", SOURCE / "build" / "virtual-nano" / "articula-vnano")
     elf = _binary("ARTICULA_NANO_ELF", SOURCE / "build" / "avr" / "firmware" / "articula-nano.elf")
     report = tmp_path / "fuzz.json"
     t0 = time.monotonic()
@@ -90,7 +90,7 @@ def test_usage_errors_exit_2(tmp_path):
                        capture_output=True, text=True, timeout=30)
     assert p.returncode == 2 and "--lines" in p.stderr
     p = subprocess.run([sys.executable, "-m", "hil.harness", "fuzz", "--elf", str(tmp_path / "none.elf"),
-                        "--vnano", _binary("ARTICULA_VNANO", SOURCE / "build" / "hil" / "articula-vnano")],
+                        "--vnano", _binary("ARTICULA_VNANO", SOURCE / "build" / "virtual-nano" / "articula-vnano")],
                        cwd=SOURCE, capture_output=True, text=True, timeout=30)
     assert p.returncode == 2 and "none.elf" in p.stderr
 

@@ -40,7 +40,7 @@ def _binary(name: str, default: Path) -> str:
 @pytest.fixture(scope="module")
 def bins():
     return {
-        "vnano": _binary("ARTICULA_VNANO", SOURCE / "build" / "hil" / "articula-vnano"),
+        "vnano": _binary("ARTICULA_VNANO", SOURCE / "build" / "virtual-nano" / "articula-vnano"),
         "elf": _binary("ARTICULA_NANO_ELF", SOURCE / "build" / "avr" / "firmware" / "articula-nano.elf"),
     }
 

@@ -33,7 +33,7 @@ import pytest
 import serial
 
 SOURCE = Path(os.environ.get("ARTICULA_SOURCE_DIR", Path(__file__).resolve().parents[2]))
-VNANO = Path(os.environ.get("ARTICULA_VNANO", SOURCE / "build/hil/articula-vnano"))
+VNANO = Path(os.environ.get("ARTICULA_VNANO", SOURCE / "build/virtual-nano/articula-vnano"))
 ELF = Path(os.environ.get("ARTICULA_NANO_ELF", SOURCE / "build/avr/firmware/articula-nano.elf"))
 # The MK2 driven in half steps: the one firmware, configured for it at run time.
 HALFSTEP_ROBOT = SOURCE / "hil" / "robots" / "mk2-halfstep.json"

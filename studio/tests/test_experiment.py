@@ -66,7 +66,7 @@ def harness_report(tmp_path, plan, typed, arm=ARM, page_csv=None):
     env = dict(os.environ, PYTHONPATH=f"{REPO}:{REPO / 'python'}")
     p = subprocess.run([sys.executable, "-m", "hil.harness", "run", str(REPO / "hil" / "plans" / plan), "--robot", str(arm),
                         "--expect-predicted", "--measured", str(measured), "--out", str(out), "--no-progress",
-                        "--vnano", str(REPO / "build" / "hil" / "articula-vnano"),
+                        "--vnano", str(REPO / "build" / "virtual-nano" / "articula-vnano"),
                         "--elf", str(REPO / "build" / "avr" / "firmware" / "articula-nano.elf")],
                        cwd=REPO, env=env, capture_output=True, text=True, timeout=300)
     assert p.returncode == 0, p.stdout + p.stderr

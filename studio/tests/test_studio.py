@@ -561,7 +561,7 @@ def test_the_virtual_nano_in_the_page(open_page):
     assert pg.hook("a.arm.status.steps") == reply["predicted"]["steps"] == [32, 0, 0]
     pg.wait("a.arm.nano !== null && a.arm.nano.steps[0] === 32")  # its coils turned the base 32 steps
     assert pg.hook("a.arm.nano.faults") == 0
-    # its servo pulse read back as the harness reads it (hil/vnano/servo.h): the aperture asked for
+    # its servo pulse read back as the harness reads it (shared/articula/servo.h): the aperture asked for
     assert _send(pg, "G 40")["reply"] == "ok"
     pg.wait("a.arm.nano.gripper !== null && Math.abs(a.arm.nano.gripper - 40) < 1", timeout=10000)
     assert "gripper 40 %" in pg.page.text_content("#arm-speed")

@@ -5,7 +5,7 @@
 //   assets/worker.js        the engine's Web Worker (src/engine/worker.ts)
 //   assets/nano-worker.js   the virtual Nano's Web Worker (src/virtual-nano/worker.ts, avr8js)
 //   engine/engine.mjs, .wasm the web engine (wasm/, built by emscripten; ARTICULA_WASM_DIR)
-//   engine/nano.mjs, .wasm   the virtual Nano's parts for its worker (wasm/src/nano.cpp)
+//   engine/nano.mjs, .wasm   the virtual Nano's parts for its worker (virtual-nano/web/nano_parts.cpp)
 //   data/                   the shipped robots, scenes and programs, and data/index.json;
 //                           data/firmware/articula-nano.hex, the firmware `make flash` writes
 //                           (ARTICULA_NANO_HEX, --hex)

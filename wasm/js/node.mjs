@@ -7,7 +7,7 @@ import { existsSync, readFileSync, readdirSync } from "node:fs";
 import { dirname, join, resolve } from "node:path";
 import { fileURLToPath, pathToFileURL } from "node:url";
 import { loadEngine } from "./engine.mjs";
-import { loadNanoParts } from "./nano-parts.mjs";
+import { loadNanoParts } from "../../virtual-nano/web/nano-parts.mjs";
 
 export const REPO = resolve(dirname(fileURLToPath(import.meta.url)), "../..");
 

@@ -1,6 +1,6 @@
 // Types of avr-nano.mjs for TypeScript.
 import type { CPU } from "avr8js";
-import type { NanoParts } from "../../../../wasm/js/nano-parts.mjs";
+import type { NanoParts } from "../../../../virtual-nano/web/nano-parts.mjs";
 export const CLOCK_HZ: number;
 export const PAGE_BYTES: number;
 export const BOOT_START: number;

@@ -3,11 +3,11 @@
 // watchdog, and (emulated here, avr8js has none) SPM, the resets and the Nano's bootloader -
 // with what its pins drive read as the harness reads them: each motor's four L298N inputs
 // through the coil decoder of virtual-nano/coil_decoder.h, by the board's pins of
-// firmware/src/board.h (both in the nano parts module, wasm/src/nano.cpp, the code simavr's
+// firmware/src/board.h (both in the nano parts module, virtual-nano/web/nano_parts.cpp, the code simavr's
 // virtual Nano runs too). Plain JavaScript, so that node's tests run it as the
 // page does (nano.d.mts gives its types).
 //
-//   const nano = new VirtualNano({ hex, parts });  // parts: wasm/js/nano-parts.mjs
+//   const nano = new VirtualNano({ hex, parts });  // parts: virtual-nano/web/nano-parts.mjs
 //   nano.onLine = (line) => ...;      // what the firmware sends, a line at a time
 //   nano.send("L 0 10\n");            // bytes to its serial port, at 115,200 baud
 //   nano.runFor(0.5);                 // emulated seconds
@@ -90,7 +90,7 @@ export function parseHex(text, size = FLASH_BYTES) {
 
 export class VirtualNano {
   /**
-   * hex: the firmware's Intel HEX text; parts: the virtual Nano's parts (wasm/js/nano-parts.mjs:
+   * hex: the firmware's Intel HEX text; parts: the virtual Nano's parts (virtual-nano/web/nano-parts.mjs:
    * the coil decoders and the board's pins); eeprom: the EEPROM's bytes to start from (kept by the caller across sessions).
    */
   constructor({ hex, parts, eeprom, bootloader, image }) {

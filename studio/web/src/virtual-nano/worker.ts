@@ -15,8 +15,8 @@
 // trail (Int32Array: each motor's steps after every step interrupt since the last state, row
 // after row: where the pen went, step by step)}, {type: "eeprom", bytes}, {type: "flash", bytes} (after
 // pages were written), {type: "closed"}, {type: "fatal", message}.
-import { loadNanoParts } from "../../../../wasm/js/nano-parts.mjs";
-import type { NanoParts } from "../../../../wasm/js/nano-parts.mjs";
+import { loadNanoParts } from "../../../../virtual-nano/web/nano-parts.mjs";
+import type { NanoParts } from "../../../../virtual-nano/web/nano-parts.mjs";
 import { CLOCK_HZ, VirtualNano } from "./avr-nano.mjs";
 import { RealTimeMeter, every } from "../pacer";
 

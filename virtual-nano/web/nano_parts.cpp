@@ -1,7 +1,7 @@
-// wasm/src/nano.cpp - the virtual Nano's parts for the page's emulated Nano (avr8js, in the
+// virtual-nano/web/nano_parts.cpp - the virtual Nano's parts for the page's emulated Nano (avr8js, in the
 // studio's nano worker), through embind: a motor's coil decoder (virtual-nano/coil_decoder.h),
 // the board's pins (firmware/src/board.h) and the servo's scale (shared/articula/servo.h). The
-// same code as simavr's virtual Nano (hil/vnano), in a module of its own, so the Nano's worker
+// same code as simavr's virtual Nano (virtual-nano/simavr), in a module of its own, so the Nano's worker
 // loads a few kilobytes, not the engine with ODE. No logic of its own.
 #include <emscripten/bind.h>
 

@@ -1,5 +1,5 @@
 // hil/tests/test_coil_decoder.cpp - the virtual Nano's rules for what a stepper motor makes
-// of its four L298N inputs (hil/vnano/coil_decoder.h).
+// of its four L298N inputs (virtual-nano/coil_decoder.h).
 #include "coil_decoder.h"
 
 #include <gtest/gtest.h>

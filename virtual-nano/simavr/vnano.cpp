@@ -1,4 +1,4 @@
-// hil/vnano/vnano.cpp - see vnano.h and hil/README.md.
+// virtual-nano/simavr/vnano.cpp - see vnano.h and hil/README.md.
 #include "vnano.h"
 
 #include <articula/servo.h>

@@ -1,4 +1,4 @@
-// hil/vnano/elf_symbols.cpp - see elf_symbols.h.
+// virtual-nano/simavr/elf_symbols.cpp - see elf_symbols.h.
 #include "elf_symbols.h"
 
 #include <cxxabi.h>

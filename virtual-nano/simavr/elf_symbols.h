@@ -1,4 +1,4 @@
-// hil/vnano/elf_symbols.h - the few things the virtual Nano reads from the firmware's ELF
+// virtual-nano/simavr/elf_symbols.h - the few things the virtual Nano reads from the firmware's ELF
 // itself (libelf): where static RAM ends (for stack painting) and which function holds a
 // flash address (to name where a long interrupts-off stretch began).
 #ifndef ARTICULA_HIL_VNANO_ELF_SYMBOLS_H

@@ -1,5 +1,5 @@
-// wasm/js/nano-parts.mjs - the virtual Nano's parts for an emulated Nano in JavaScript
-// (wasm/src/nano.cpp: nano.mjs and nano.wasm, a few kilobytes, no engine): a motor's coil
+// virtual-nano/web/nano-parts.mjs - the virtual Nano's parts for an emulated Nano in JavaScript
+// (virtual-nano/web/nano_parts.cpp: nano.mjs and nano.wasm, a few kilobytes, no engine): a motor's coil
 // decoder (virtual-nano/coil_decoder.h), the board's pins (firmware/src/board.h) and the
 // servo's scale (shared/articula/servo.h). The studio's nano worker and node's tests use it.
 //

@@ -1,4 +1,4 @@
-// hil/vnano/stats.h - count, min, max and mean of a measured quantity.
+// virtual-nano/simavr/stats.h - count, min, max and mean of a measured quantity.
 #ifndef ARTICULA_HIL_VNANO_STATS_H
 #define ARTICULA_HIL_VNANO_STATS_H
 

@@ -1,4 +1,4 @@
-// hil/vnano/main.cpp - articula-vnano: the Nano firmware's ELF in simavr, on a pseudo-terminal
+// virtual-nano/simavr/main.cpp - articula-vnano: the Nano firmware's ELF in simavr, on a pseudo-terminal
 // (or stdin/stdout), measured. See hil/README.md and `articula-vnano --help`.
 #include <fcntl.h>
 #include <poll.h>

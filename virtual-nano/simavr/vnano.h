@@ -1,4 +1,4 @@
-// hil/vnano/vnano.h - the virtual Nano: the firmware's ELF running in simavr (libsimavr 1.6),
+// virtual-nano/simavr/vnano.h - the virtual Nano: the firmware's ELF running in simavr (libsimavr 1.6),
 // with the Nano's wiring measured from the outside.
 //
 // What it watches (pins from firmware/src/pins.h):
