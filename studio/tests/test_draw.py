@@ -166,6 +166,13 @@ def test_hello_on_a5_on_the_virtual_nano_leaves_the_predicted_ink(open_page):
     assert pg.errors == []
 
 
+def _ink_caught_up(pg):
+    """The physics' ink made of every tool point the program's motion gave (the page works it
+    out a quarter of a second behind; the physics goes on streaming at rest)."""
+    received = pg.hook("a.paper.physicsInk.received")
+    pg.wait(f"a.paper.physicsInk.rows >= {received}", timeout=20000)
+
+
 def test_a_square_and_hello_in_live_physics_leave_ink_where_the_pen_went(open_page):
     """The physics' arm (ODE, in real time) carries the pen: where its tip is on the paper it
     leaves ink, by the engine's rule (the prediction's); the ink follows the square's sides,
@@ -182,6 +189,7 @@ def test_a_square_and_hello_in_live_physics_leave_ink_where_the_pen_went(open_pa
     pg.page.click("#run")
     pg.wait("a.physics.busy === true", timeout=20000)
     pg.wait("a.physics.busy === false && a.paper.physicsInk.points > 20", timeout=90000)
+    _ink_caught_up(pg)
     ink = [p for s in pg.hook("a.paper.physicsInk.strokes") for p in s]
     # on the square's sides (x 235..265, y -15..15), within the physics' tracking error
     for x, y in ink:
@@ -198,6 +206,7 @@ def test_a_square_and_hello_in_live_physics_leave_ink_where_the_pen_went(open_pa
     pg.page.click("#run")
     pg.wait("a.physics.busy === true", timeout=20000)
     pg.wait("a.physics.busy === false && a.paper.physicsInk.points > 100", timeout=90000)
+    _ink_caught_up(pg)
     ink = [p for s in pg.hook("a.paper.physicsInk.strokes") for p in s]
     ideal = articula.Robot.load("mk2plus").draw(text="Hello", width=60, at=(250, 0), z=0, pen=120)["strokes"]
 

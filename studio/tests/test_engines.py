@@ -401,6 +401,8 @@ def test_write_hello_and_see_the_line_the_arm_will_draw(page):
     pg.click("#run")
     pg.wait("a.physics.busy === true", 20 * PATIENCE, "the program in the physics")
     pg.wait("a.physics.busy === false && a.paper.physicsInk.points > 50", 90 * PATIENCE, "the physics' ink")
+    received = pg.hook("a.paper.physicsInk.received")  # the ink of every tool point of the motion
+    pg.wait(f"a.paper.physicsInk.rows >= {received}", 20 * PATIENCE, "the physics' ink, caught up")
     pg.select("#scene-select", "")
     pg.wait("!a.physics || !a.physics.on", 30 * PATIENCE)
     # on the virtual Nano: its steps' ink is the prediction's, point for point

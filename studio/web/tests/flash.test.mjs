@@ -122,9 +122,9 @@ describe("flashing the Nano from the page", { skip: !existsSync(OPTIBOOT) && "ar
     const n = nanoWith(OPTIBOOT);
     // a worn cell: one bit at an address the firmware sets stays 0 after a write
     const at = image.flash.findIndex((b, i) => i >= 0x200 && b & 1);
-    const spm = n.spm.bind(n);
-    n.spm = () => {
-      spm();
+    const execute = n.spm.execute.bind(n.spm);
+    n.spm.execute = () => {
+      execute();
       n.flash[at] &= 0xfe;
     };
     await assert.rejects(flashNano(new NanoPort(n), firmware), (e) => {

@@ -2,7 +2,9 @@
 // who script the page read it instead of pixels. The panels keep it up to date.
 import type { ArmStatusMsg, IkMsg, PhysicsMsg, PoseMsg, RobotMsg, SceneMsg, SimEvent, TimelineMsg } from "../engine/messages";
 
-type Ink = { rows: number; points: number; strokes: number[][][] };
+// the ink on the sheet: the rows (steps or tool points) it is made of, its points and strokes,
+// and the rows received so far (more than it is made of: its next version is on its way)
+type Ink = { rows: number; points: number; strokes: number[][][]; received: number };
 
 export interface Hook {
   ready: boolean;
@@ -92,7 +94,7 @@ export interface Hook {
 export const hook: Hook = {
   ready: false, connected: false, robot: null, pose: null, ik: null, timeline: null, playing: false,
   paths: { points: 0, lines: 0, worstMm: 0 }, ikLine: "", drawing: null, drawings: 0,
-  paper: { area: [], reachShare: 0, maps: 0, hand: 0, ink: { rows: 0, points: 0, strokes: [] }, physicsInk: { rows: 0, points: 0, strokes: [] } },
+  paper: { area: [], reachShare: 0, maps: 0, hand: 0, ink: { rows: 0, points: 0, strokes: [], received: 0 }, physicsInk: { rows: 0, points: 0, strokes: [], received: 0 } },
   programError: "", robotError: "", lastError: "", teach: "", goal: { drawn: 0, facts: [] }, runOnArm: false, fps: 0, framesDrawn: 0, firstFrameAt: 0,
   latency: [], ikUpdates: [], messages: 0, targetScreen: [0, 0], armPixels: () => 0,
   camera: () => ({ distance: 0, azimuth: 0 }), viewpoint: () => ({ eye: [], target: [] }),

@@ -100,20 +100,29 @@ function showInk(): void {
 }
 
 // A source's ink, asked of the engine at most every 250 ms.
+let inkEpoch = 0; // a new sheet: the ink asked for before it is not this sheet's
+const inkHook = (which: "nano" | "physics") => (which === "nano" ? hook.paper.ink : hook.paper.physicsInk);
+const rowWidth = (which: "nano" | "physics") => Math.max(1, which === "nano" ? nanoMotors : 3);
+
 function askInk(which: "nano" | "physics"): void {
   const src = ink[which];
+  inkHook(which).received = src.rows.length / rowWidth(which);
   if (src.asked) return;
   src.asked = true;
+  const epoch = inkEpoch;
   window.setTimeout(async () => {
     const rows = src.rows.length;
     const m = (await s.engine.call({ type: "ink", request: { ...src.body(src.rows.slice()), z: num("draw-z"), pen: num("draw-pen"),
       lift: drawnLift } })) as
       unknown as { error?: string; strokes: number[][][]; points: number };
+    if (epoch !== inkEpoch) return; // the sheet was cleared meanwhile
     src.asked = false;
-    if (m.error) return say(`The ${which === "nano" ? "virtual Nano's" : "physics'"} ink: ${m.error}`, "bad");
+    if (m.error) {
+      return say(`The ${which === "nano" ? "virtual Nano's" : "physics'"} ink: ${m.error}`, "bad");
+    }
     src.strokes = m.strokes;
     showInk();
-    const seen = { rows: rows / Math.max(1, which === "nano" ? nanoMotors : 3), points: m.points, strokes: m.strokes };
+    const seen = { rows: rows / rowWidth(which), points: m.points, strokes: m.strokes, received: src.rows.length / rowWidth(which) };
     if (which === "nano") hook.paper.ink = seen;
     else hook.paper.physicsInk = seen;
     if (src.rows.length > rows) askInk(which);
@@ -121,12 +130,14 @@ function askInk(which: "nano" | "physics"): void {
 }
 
 function clearInk(): void {
+  inkEpoch++;
   for (const src of Object.values(ink)) {
     src.rows = [];
     src.strokes = [];
+    src.asked = false;
   }
-  hook.paper.ink = { rows: 0, points: 0, strokes: [] };
-  hook.paper.physicsInk = { rows: 0, points: 0, strokes: [] };
+  hook.paper.ink = { rows: 0, points: 0, strokes: [], received: 0 };
+  hook.paper.physicsInk = { rows: 0, points: 0, strokes: [], received: 0 };
   showInk();
 }
 

@@ -18,7 +18,7 @@ export class VirtualNano {
   hostBaud: number;
   reset(cause: number): void;
   setDtr(on: boolean): void;
-  servoPulseUs: number | null;
+  readonly servoPulseUs: number | null;
   onLine: ((line: string) => void) | null;
   onByte: ((byte: number) => void) | null;
   /** After any motor's step (its steps already counted), at the CPU's cycle. */

@@ -1,0 +1,63 @@
+// What the Nano's pins drive, read as the arm would see it (and as simavr's virtual Nano reads
+// it): each motor's four L298N inputs through its coil decoder (virtual-nano/coil_decoder.h, by
+// the board's pins of firmware/src/board.h, both in the parts module: virtual-nano/web), and the
+// servo's pulse width, the gripper's command.
+export class PinWatch {
+  /** ports: avr8js's AVRIOPorts by name (B, C, D); parts: the virtual Nano's (virtual-nano/web/nano-parts.mjs). */
+  constructor(cpu, ports, parts, clockHz) {
+    this.cpu = cpu;
+    const wiring = parts.wiring;
+    this.decoders = wiring.motors.map(() => parts.coilDecoder());
+    this.firstStepCycle = -1; // the first and last step of any motor since markSteps()
+    this.lastStepCycle = -1;
+    this.servoPulseUs = null; // the last pulse's width
+    this.onStep = null; // (cycle) after any motor's step, its steps already counted
+    let servoRise = -1;
+    const last = {};
+    this.listeners = {};
+    for (const name of Object.keys(ports)) {
+      last[name] = 0;
+      ports[name].addListener(this.listeners[name] = (value) => {
+        const changed = value ^ last[name];
+        last[name] = value;
+        wiring.motors.forEach((m, i) => {
+          if (m.port === name && (changed >> m.shift) & 0xf && this.decoders[i].feed((value >> m.shift) & 0xf) === 1) {
+            if (this.firstStepCycle < 0) this.firstStepCycle = cpu.cycles;
+            this.lastStepCycle = cpu.cycles;
+            this.onStep?.(cpu.cycles);
+          }
+        });
+        const s = wiring.servo;
+        if (s.port === name && (changed >> s.bit) & 1) {
+          if ((value >> s.bit) & 1) servoRise = cpu.cycles;
+          else if (servoRise >= 0) this.servoPulseUs = ((cpu.cycles - servoRise) * 1e6) / clockHz;
+        }
+      });
+    }
+    this.forgetPulse = () => (servoRise = -1);
+  }
+
+  /** A reset makes every pin an input: the coils and the servo go off. */
+  reset() {
+    for (const listener of Object.values(this.listeners)) listener(0);
+    this.forgetPulse();
+  }
+
+  /** Each motor's steps as its coils moved it. */
+  get steps() {
+    return this.decoders.map((d) => d.steps());
+  }
+
+  get coilFaults() {
+    return this.decoders.reduce((n, d) => n + d.faults(), 0);
+  }
+
+  /** Starts a new span of steps: firstStepCycle and lastStepCycle are -1 until the next step. */
+  markSteps() {
+    this.firstStepCycle = this.lastStepCycle = -1;
+  }
+
+  delete() {
+    for (const d of this.decoders) d.delete();
+  }
+}
