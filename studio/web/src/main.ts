@@ -24,9 +24,9 @@ import { initDraw } from "./panels/draw";
 import { followTool, initIk, setLineTargets, showIk } from "./panels/ik";
 import { initJoints, showJointValues } from "./panels/joints";
 import { showPhysics, showScene, initPhysics } from "./panels/physics";
-import { appendProgramLine, ghostShown, initProgram, programHandlers, setProgram, setProgramChanged, showTime } from "./panels/program";
+import { appendProgramLine, ghostShown, initProgram, programHandlers, showTime } from "./panels/program";
 import { initBlocks } from "./panels/blocks";
-import { chooseProject, initProjects, projectChanged, setProjectExperiment } from "./panels/projects";
+import { chooseProject, initProjects, setProjectExperiment } from "./panels/projects";
 import { fitNewRobot, initRobot, robotError, saveUrdf, showRobot } from "./panels/robot";
 import { Editor } from "./editor/editor";
 
@@ -74,12 +74,12 @@ initPhysics(studio);
 initArm(studio);
 initFlash(studio);
 initExperiment(studio, setProjectExperiment);
-initDraw(studio, { setText: (text, name) => setProgram(name, text) });
+initDraw(studio);
 setLineTargets((line) => editor.arm.send(line), appendProgramLine);
-initBlocks(studio, { setText: (text, name) => setProgram(name, text), changed: projectChanged });
-initProjects(studio, { setText: (text, name) => setProgram(name, text), reveal: (id) => layout.reveal(id) });
+initBlocks(studio);
+initProjects(studio, { reveal: (id) => layout.reveal(id) });
 wireHistory(editor);
-setProgramChanged(projectChanged);
+view.onViewChange = () => editor.signals.changed.dispatch("view");
 
 // Undo and redo: the buttons (a tablet has no keyboard) and Ctrl+Z, Ctrl+Shift+Z, Ctrl+Y
 // everywhere on the page, the program's text and the blocks included (their own undo would
@@ -121,7 +121,7 @@ function handle(m: EngineMsg): void {
   switch (m.type) {
     case "robot":
       showRobot(m); // the other panels follow it (the Editor's robotShown)
-      return projectChanged();
+      return editor.signals.changed.dispatch("robot");
     case "robot_error": return robotError(m.message);
     case "urdf": return saveUrdf(m);
     case "pose": return showPose(m);
@@ -134,7 +134,7 @@ function handle(m: EngineMsg): void {
     case "teach": return programHandlers.teach(m);
     case "scene":
       showScene(m);
-      return projectChanged();
+      return editor.signals.changed.dispatch("scene");
     case "physics": return showPhysics(m, hook.robot);
     case "sim_command":
       hook.simCommand = m.line;
@@ -153,7 +153,7 @@ function showPose(p: PoseMsg): void {
   view.pose(p);
   fitNewRobot();
   hook.pose = p;
-  if (p.t === undefined && !hook.physics?.on) projectChanged();
+  if (p.t === undefined && !hook.physics?.on) studio.editor.signals.changed.dispatch("pose");
   if (hook.physics?.on) studio.editor.signals.physicsTool.dispatch(p.tool.xyz);
   if (!hook.robot) return;
   showJointValues(p, hook.robot);

@@ -1,8 +1,10 @@
 // The Editor (after three.js's editor/js/Editor.js): the page's edits as one History with
 // undo and redo, the signals the panels talk through (no panel imports another), and the parts
-// of the project's state the panel that owns them answers for (the blocks, the arm's link, the
-// robot file opened). main.ts makes it and wires the buttons and the keys. (The project
-// document itself still lives in panels/projects.ts: moving it here is issue 28's next part.)
+// of the project's state the panel that owns them answers for (the program's text, the blocks,
+// the arm's link, the paper, the robot file opened). Every change to what a project keeps is
+// told by one signal, `changed`: the autosave (panels/projects.ts) listens to it. main.ts makes
+// the Editor and wires the buttons and the keys. (The project document itself still lives in
+// panels/projects.ts, which puts a project on screen and reads it back from these parts.)
 import type { ArmLink } from "../link/arm-link";
 import type { Experiment, Paper } from "../project/document";
 import type { RobotMsg } from "../engine/messages";
@@ -19,6 +21,13 @@ export interface BlocksPart {
   fromText(): void; // the program's text as blocks
   teach(q: number[]): void; // the pose shown, as a block at the end
   dragging(): boolean; // a block is being dragged: what the workspace holds is not an edit yet
+}
+
+/** The program's text (the program panel answers for it). */
+export interface ProgramPart {
+  text(): string;
+  name(): string; // its file name (program.arm, blocks.arm, drawing.arm, an example's)
+  set(text: string, name: string): void; // a new text, as opening a file would put it
 }
 
 /** The arm's link (the arm panel answers for it). */
@@ -42,6 +51,9 @@ export interface RobotFile {
   meshes: { name: string; data: string }[];
 }
 
+/** What changed on screen, as the Editor's `changed` signal names it. */
+export type ProjectPart = "robot" | "scene" | "program" | "blocks" | "pose" | "view" | "paper";
+
 const none = (): never => {
   throw new Error("the Editor's part is not wired yet (main.ts)");
 };
@@ -50,6 +62,7 @@ export class Editor {
   readonly history = new History();
   blocks: BlocksPart = { mode: () => "text", setMode: none, json: () => null, load: none, fromText: none, teach: none,
     dragging: () => false };
+  program: ProgramPart = { text: () => "", name: () => "program.arm", set: none };
   arm: ArmPart = { link: () => null, run: none, send: () => false, choosePort: none, disconnect: async () => undefined };
   paper: PaperPart = { get: none, set: none };
   robotFile: RobotFile | null = null;
@@ -67,9 +80,11 @@ export class Editor {
     nanoSteps: new Signal<{ rows: Int32Array; motors: number }>(),
     // the physics moved the arm: its tool point, mm
     physicsTool: new Signal<number[]>(),
+    // a part of the project on screen changed (the robot, the scene, the program's text or
+    // blocks, the pose, the camera, the paper and the pen): the project is saved, and an edit
+    // of a history part becomes a step of the History (panels/projects.ts listens)
+    changed: new Signal<ProjectPart>(),
     // a drawing exercise's target on the paper (and, after Check, the program's ink); null: none
-    // a setting the project keeps changed (the paper, the pen): saved with it
-    settingsChanged: new Signal<void>(),
     drawingGoal: new Signal<{ target: number[][][]; z: number; pen: number; ink?: number[][][] } | null>(),
     // a program's line is running (0: none), on the model, in the physics or on the arm;
     // `refused`: it was refused. The text shows the line, the blocks light its block.

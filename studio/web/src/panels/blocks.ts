@@ -24,12 +24,10 @@ let compiles = 0; // the compiles asked for: only the newest one's answer counts
 let pendingLoad: unknown = null; // a workspace to load once Blockly is up
 let lastHighlight = "";
 let code = { text: "", robosim: "", python: "" };
-/** Hooks the program panel gives: the program text changed (from blocks). */
-let setText: (text: string, name: string) => void = () => undefined;
-let changed: () => void = () => undefined;
+const changed = () => s.editor.signals.changed.dispatch("blocks");
 
 
-export function initBlocks(studio: Studio, hooks: { setText: (text: string, name: string) => void; changed: () => void }): void {
+export function initBlocks(studio: Studio): void {
   s = studio;
   editor = s.editor;
   editor.blocks = { mode: () => mode, setMode, json: workspaceJson, load: loadBlocks, fromText, teach: teachBlock,
@@ -38,8 +36,6 @@ export function initBlocks(studio: Studio, hooks: { setText: (text: string, name
   sig.robotShown.add(blocksRobot);
   sig.lineRunning.add(({ line }) => highlightBlockOfLine(line));
   sig.lineRefused.add(({ line, message }) => refusedLine(line, message));
-  setText = hooks.setText;
-  changed = hooks.changed;
   $("mode-blocks").onclick = () => setMode("blocks");
   $("mode-text").onclick = () => setMode("text");
   $("show-code").onclick = showCode;
@@ -249,7 +245,7 @@ function compile(): void {
     lineBlocks = r.lines ?? [];
     code = { text: r.text ?? "", robosim: r.robosim ?? "", python: r.python ?? "" };
     hook.blocksCode = code;
-    setText(code.text, "blocks.arm");
+    s.editor.program.set(code.text, "blocks.arm");
     for (const p of r.problems ?? []) blockProblem(p.block, p.message, false);
     changed();
   }, (err: Error) => {

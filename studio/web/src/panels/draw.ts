@@ -49,7 +49,6 @@ function holdPen(mm: number): void {
   s.view.setPen(pen);
   s.engine.send({ type: "pen", mm: pen });
 }
-let setText: (text: string, name: string) => void = () => undefined;
 
 const plural = (n: number, word: string) => `${n} ${word}${n === 1 ? "" : "s"}`;
 const input = (id: string) => $(id) as HTMLInputElement;
@@ -177,9 +176,8 @@ function setPaper(p: Paper | null): void {
   askReach();
 }
 
-export function initDraw(studio: Studio, program_: { setText: (text: string, name: string) => void }): void {
+export function initDraw(studio: Studio): void {
   s = studio;
-  setText = program_.setText;
   paper = new PaperView($("paper-view") as unknown as SVGSVGElement);
   const kind = $("draw-kind") as HTMLSelectElement;
   const showKind = () => {
@@ -206,13 +204,13 @@ export function initDraw(studio: Studio, program_: { setText: (text: string, nam
     hand = hand.map((st) => st.map(([x, y]) => [x + dx, y + dy]));
     paper.setLayer("hand", hand);
     askReach();
-    s.editor.signals.settingsChanged.dispatch();
+    s.editor.signals.changed.dispatch("paper");
     if (drawing) void draw();
   };
   for (const id of ["draw-paper", "draw-orient", "paper-x", "paper-y", "draw-z", "draw-pen"])
     $(id).addEventListener("change", () => {
       askReach();
-      s.editor.signals.settingsChanged.dispatch(); // the project keeps them
+      s.editor.signals.changed.dispatch("paper"); // the project keeps them
     });
   s.editor.paper = { get: paperSettings, set: setPaper };
   $("draw-go").onclick = () => void draw();
@@ -224,7 +222,7 @@ export function initDraw(studio: Studio, program_: { setText: (text: string, nam
   });
   $("draw-use").onclick = () => {
     if (!program) return;
-    setText(program, "drawing.arm");
+    s.editor.program.set(program, "drawing.arm");
     say("The drawing is the program now: Run plays it, on the arm too when it is connected.", "ok");
   };
   $("draw-new-sheet").onclick = () => {

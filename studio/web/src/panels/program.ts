@@ -11,9 +11,6 @@ let currentProgram = "program.arm";
 let autoplay = false;
 let showGhost = true;
 let lineShown = 0;
-// What the program panel tells the project (main.ts connects it): the program changed.
-let onChanged: () => void = () => undefined;
-export const setProgramChanged = (f: () => void) => (onChanged = f);
 const editor = () => $("editor") as HTMLTextAreaElement;
 // Run goes to the arm: one is connected and "on the arm" (beside Run) is ticked
 const onTheArm = () => hook.arm.connected && ($("drive-arm") as HTMLInputElement).checked;
@@ -73,6 +70,7 @@ function hoverHelp(e: MouseEvent): void {
 
 export function initProgram(studio: Studio): void {
   s = studio;
+  s.editor.program = { text: () => editor().value, name: () => currentProgram, set: (text, name) => setProgram(name, text) };
   const sig = s.editor.signals;
   sig.lineRunning.add(({ line, refused }) => highlightLine(line, refused));
   sig.programSaid.add(({ text, rejected, bad }) => programStatus(text, rejected, bad));
@@ -181,7 +179,7 @@ export function appendProgramLine(line: string): void {
   ed.dispatchEvent(new Event("input"));
 }
 
-export function setProgram(name: string, text: string): void {
+function setProgram(name: string, text: string): void {
   editor().value = text;
   currentProgram = name;
   hook.programName = name;
@@ -207,7 +205,7 @@ function editorChanged(): void {
     hook.paths = { points: 0, lines: 0, worstMm: 0 };
     programStatus("Changed: Play works it out and runs it.");
   }
-  onChanged();
+  s.editor.signals.changed.dispatch("program");
 }
 
 function highlightLine(line: number, error: boolean): void {

@@ -22,7 +22,6 @@ let current: { id: string; rev: number; doc: Project } = { id: newId(), rev: 0, 
 let applying = true; // a project is being put on screen: its own changes are not edits
 let timer = 0;
 let pendingApply: Project | null = null;
-let setProgramText: (text: string, name: string) => void = () => undefined;
 let reveal: (id: string) => void = () => undefined;
 let editor: Editor | null = null;
 let copyTimer = 0;
@@ -74,7 +73,7 @@ export async function chooseProject(params: URLSearchParams): Promise<{ robot?: 
   return { robot: "shipped" in d.robot ? d.robot.shipped : undefined, scene: d.scene || undefined };
 }
 
-export function initProjects(studio: Studio, program: { setText: (text: string, name: string) => void; reveal: (id: string) => void }): void {
+export function initProjects(studio: Studio, program: { reveal: (id: string) => void }): void {
   s = studio;
   const ed = s.editor;
   editor = ed;
@@ -84,8 +83,6 @@ export function initProjects(studio: Studio, program: { setText: (text: string, 
   ed.signals.settle.add(() => {
     if (!applying && hook.project.dirty) noteEdit(capture());
   });
-  s.view.onViewChange = projectChanged;
-  setProgramText = program.setText;
   reveal = program.reveal;
   $("projects-button").onclick = () => {
     listWanted = true;
@@ -139,7 +136,7 @@ export function initProjects(studio: Studio, program: { setText: (text: string, 
     }, 2500);
   };
   $("exercise-check").onclick = () => void check();
-  s.editor.signals.settingsChanged.add(projectChanged);
+  s.editor.signals.changed.add(projectChanged); // autosave: whatever changed, saved within a second
   let asked = 0;
   $("exercise-answer").addEventListener("input", () => { // the target follows what the student types
     clearTimeout(asked);
@@ -181,7 +178,7 @@ function projectRobotShown(): void {
     const files = d.robot.meshes.map((m) => ({ name: m.name, data: fromBase64(m.data).buffer }));
     s.engine.send({ type: "load_robot", text: f.text, filename: f.name, legacy: f.legacy, scale: f.scale, files }, files.map((x) => x.data as ArrayBuffer));
   }
-  setProgramText(d.program.text, d.program.name);
+  s.editor.program.set(d.program.text, d.program.name);
   s.editor.paper.set(d.paper ?? null);
   s.editor.blocks.setMode(d.program.mode, true);
   s.editor.blocks.load(d.program.blocks); // none: an empty workspace, not the last project's blocks
@@ -226,7 +223,7 @@ function showEdit(doc: Project): void {
     else projectRobotShown();
     return;
   }
-  setProgramText(doc.program.text, doc.program.name);
+  s.editor.program.set(doc.program.text, doc.program.name);
   s.editor.blocks.setMode(doc.program.mode, true);
   if (JSON.stringify(now.program.blocks) !== JSON.stringify(doc.program.blocks)) s.editor.blocks.load(doc.program.blocks);
   if (parts.includes("the exercise")) showGoal(doc.goal);
@@ -270,10 +267,10 @@ export function setProjectExperiment(e: Experiment): void {
   projectChanged();
 }
 
-/** Something on screen changed: saved within a second. */
-export function projectChanged(): void {
+// Something on screen changed (the Editor's `changed`): saved within a second.
+function projectChanged(): void {
   // an exercise's result is for the program that was checked: gone once it changes
-  if (checkedText !== null && ($("editor") as HTMLTextAreaElement).value !== checkedText) {
+  if (checkedText !== null && s.editor.program.text() !== checkedText) {
     checkedText = null;
     hook.exercise = null;
     fill($("exercise-result"));
@@ -293,10 +290,9 @@ function capture(): Project {
   // a shipped robot is read from /robots/; a file of the same name the user opened is not it
   if (r && r.robots.includes(stem) && r.source === `/robots/${stem}.json`) robot = { shipped: stem };
   else if (s.editor.robotFile) robot = s.editor.robotFile;
-  const ed = $("editor") as HTMLTextAreaElement;
   return {
     ...d, robot, scene: hook.scene?.name ?? "",
-    program: { mode: s.editor.blocks.mode(), name: hook.programName || "program.arm", text: ed.value,
+    program: { mode: s.editor.blocks.mode(), name: s.editor.program.name(), text: s.editor.program.text(),
       blocks: s.editor.blocks.mode() === "blocks" || d.program.blocks ? s.editor.blocks.json() : null },
     pose: hook.pose ? { q: hook.pose.q, gripper: hook.pose.gripper } : d.pose,
     view: s.view.viewpoint(),
@@ -355,7 +351,7 @@ function updateHook(): void {
   const d = current.doc;
   Object.assign(hook.project, {
     id: current.id, name: d.name, robot: "shipped" in d.robot ? d.robot.shipped : d.robot.file.name,
-    program: ($("editor") as HTMLTextAreaElement).value, blocks: s.editor.blocks.json(), mode: s.editor.blocks.mode(), rev: current.rev,
+    program: s.editor.program.text(), blocks: s.editor.blocks.json(), mode: s.editor.blocks.mode(), rev: current.rev,
     goal: d.goal,
   });
 }
@@ -637,11 +633,10 @@ const answer = () => ($("exercise-answer") as HTMLInputElement).value;
 async function check(): Promise<void> {
   const goal = current.doc.goal;
   if (!goal) return;
-  const ed = $("editor") as HTMLTextAreaElement;
   fill($("exercise-result"), h("li", null, "checking…"));
   try {
-    checkedText = ed.value;
-    const r = await s.engine.call({ type: "exercise_check", parts: goal.parts, text: ed.value, name: hook.programName || "program.arm",
+    checkedText = s.editor.program.text();
+    const r = await s.engine.call({ type: "exercise_check", parts: goal.parts, text: s.editor.program.text(), name: s.editor.program.name(),
       scene: goal.scene || current.doc.scene, answer: answer() }) as
       { parts: { label: string; met: boolean; detail: string; target?: number[][][]; ink?: number[][][] }[]; met?: boolean; error?: string };
     hook.exercise = r as unknown as typeof hook.exercise;
