@@ -48,6 +48,7 @@
 #include "articula/protocol.h"
 #include "firmware.h"
 #include "pins.h"
+#include "report.h"
 
 // From the Arduino core (wiring.c): Timer0's millisecond count, started by init().
 extern "C" unsigned long millis(void);
@@ -204,15 +205,12 @@ bool g_tx_line_start;        // the last byte sent from g_tx was an LF (or none 
 // The status report, sent as it is built: firmware::status_line() writes it into g_report
 // with interrupts enabled while tx_next() sends from the same buffer every byte already
 // written (non-zero) and zeroes it behind itself, so a report can start going out before it
-// is complete (its first byte, '<', is put in place before the build starts). All four flags
-// change with interrupts off only.
+// is complete (its first byte, '<', is put in place before the build starts). When it is
+// built and when it goes: report.h's rules (g_sched, changed with interrupts off only).
 const uint8_t kReportSize = articula::status_report_size(3);  // the most motors the Nano drives
 char g_report[kReportSize];   // all zero when no report is waiting or going out
 uint8_t g_report_pos;         // the next byte of it to send
-volatile bool g_report_requested;  // a '?' that no report being built or waiting answers
-volatile bool g_report_building;   // status_line() is running
-volatile bool g_report_sending;    // its first byte has gone out, its LF not yet
-bool g_report_again;               // a '?' came while it was going out: one more after it
+report::Schedule g_sched;
 volatile bool g_started;     // hal::start() has run: the firmware is set up
 volatile bool g_stop_early;  // a '!' received before start()
 
@@ -225,7 +223,7 @@ volatile bool g_stop_early;  // a '!' received before start()
 // a byte, and its time delays a step deadline that falls in it).
 __attribute__((always_inline)) inline void tx_next() {
   if (!(UCSR0A & _BV(UDRE0))) return;  // a nested call filled it meanwhile: UDRE comes again
-  if (g_report_sending || (g_tx_line_start && g_report[0] != 0)) {
+  if (g_sched.report_next(g_tx_line_start, g_report[0] != 0)) {
     const uint8_t pos = g_report_pos;
     const char c = g_report[pos];
     if (c == 0) {  // not written yet: build_report() sets UDRE again when it is done
@@ -234,23 +232,18 @@ __attribute__((always_inline)) inline void tx_next() {
     }
     UDR0 = c;
     g_report[pos] = 0;
-    if (c != '\n') {
+    const bool lf = c == '\n';
+    if (!lf) {
       g_report_pos = uint8_t(pos + 1);
-      g_report_sending = true;
-      return;
+    } else {
+      g_report[0] = 0;  // the builder may have written it again after it went out
+      g_report_pos = 0;
     }
-    g_report[0] = 0;  // the builder may have written it again after it went out
-    g_report_pos = 0;
-    g_report_sending = false;
-    if (g_report_again) {
-      g_report_again = false;
-      g_report_requested = true;
-      UCSR0B |= _BV(TXCIE0);  // the LF's frame completes: the next report is built then
-    }
+    if (g_sched.on_report_byte(lf)) UCSR0B |= _BV(TXCIE0);  // the LF's frame completes: the next report is built then
     return;
   }
   const uint8_t tail = g_tx_tail;
-  if (tail == g_tx_head || (g_tx_line_start && (g_report_requested || g_report_building))) {
+  if (tail == g_tx_head || !g_sched.queue_may_send(g_tx_line_start)) {
     UCSR0B &= uint8_t(~_BV(UDRIE0));
     return;
   }
@@ -268,22 +261,21 @@ __attribute__((always_inline)) inline void tx_next() {
 // Interrupts off on entry and on return.
 __attribute__((noinline)) void build_report() {
   do {
-    g_report_requested = false;
-    g_report_building = true;
+    g_sched.begin_build();
     g_report[0] = '<';  // how every status report starts: it may go out at once
     UCSR0B |= _BV(UDRIE0);
     sei();
     const uint8_t n = firmware::status_line(g_report, kReportSize);
     cli();
-    g_report_building = false;
+    g_sched.end_build();
     if (n == 0) g_report[1] = '\n';  // never (the buffer fits any report); ends the line begun
     UCSR0B |= _BV(UDRIE0);            // the transmitter may have caught up with the builder
-  } while (g_report_requested && !g_report_sending);
+  } while (g_sched.build_again());
 }
 
 // Builds a requested report now if it may be built here.
 inline void build_report_if_due() {
-  if (g_report_requested && !g_report_building && !g_report_sending && g_started && !g_in_step) build_report();
+  if (g_sched.due(g_started, g_in_step)) build_report();
 }
 
 }  // namespace
@@ -333,10 +325,7 @@ ISR(USART_RX_vect) {
   if (rt == articula::kRealtimeStatus) {
     // One report answers every '?' until it starts going out; one that comes while it is
     // going out gets one more after it.
-    if (g_report_sending)
-      g_report_again = true;
-    else if (!g_report_building && g_report[0] == 0)
-      g_report_requested = true;
+    g_sched.on_request(g_report[0] != 0);
     build_report_if_due();
     return;
   }
@@ -417,7 +406,7 @@ void init() {
   g_tx_head = g_tx_tail = 0;
   g_tx_line_start = true;
   g_report_pos = 0;
-  g_report_requested = g_report_building = g_report_sending = g_report_again = false;
+  g_sched.reset();
   g_started = false;
   g_stop_early = false;
   UCSR0A = _BV(U2X0);
@@ -435,7 +424,7 @@ void start() {
     g_stop_early = false;
     firmware::on_realtime('!');
   }
-  if (g_report_requested) build_report();  // a '?' received during set-up
+  if (g_sched.requested) build_report();  // a '?' received during set-up
   interrupts_restore(sreg);
 }
 

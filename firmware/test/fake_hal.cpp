@@ -28,33 +28,42 @@ namespace {
 // The Nano's report buffer: the most motors it drives.
 const uint16_t kReportSize = articula::status_report_size(3);
 
-// The report to the line when it may go: at a line boundary.
+void build_report_if_due();
+
+// The transmitter (an instant one): the report's bytes when report.h says they go, at a line
+// boundary; a '?' that came while it went out is built once its LF has gone.
 void flush_report() {
-  if (!hw.report.empty() && hw.tx_line_start) {
-    hw.tx += hw.report;
-    hw.report.clear();
+  report::Schedule& r = hw.report_schedule;
+  while (!hw.report.empty() && r.report_next(hw.tx_line_start, true)) {
+    const char c = hw.report.front();
+    hw.report.erase(0, 1);
+    hw.tx += c;
+    if (r.on_report_byte(c == '\n')) build_report_if_due();
   }
 }
 
+// The Nano's build_report_if_due() and build_report(), by report.h's rules.
 void build_report_if_due() {
-  if (!hw.report_requested || !hw.started || hw.in_step_timer || hw.report_building) return;
-  hw.report_requested = false;
-  hw.report_building = true;
-  char buf[kReportSize];
-  const uint8_t n = firmware::status_line(buf, uint8_t(sizeof buf));
-  hw.report_building = false;
-  ++hw.reports_built;
-  if (n == 0 || n > sizeof buf || buf[n - 1] != '\n') {
-    hw.errors.push_back("status_line wrote no report line");
-    return;
-  }
-  hw.report.assign(buf, n);
-  flush_report();
+  report::Schedule& r = hw.report_schedule;
+  if (!r.due(hw.started, hw.in_step_timer)) return;
+  do {
+    r.begin_build();
+    char buf[kReportSize];
+    const uint8_t n = firmware::status_line(buf, uint8_t(sizeof buf));
+    r.end_build();
+    ++hw.reports_built;
+    if (n == 0 || n > sizeof buf || buf[n - 1] != '\n') {
+      hw.errors.push_back("status_line wrote no report line");
+      return;
+    }
+    hw.report.assign(buf, n);
+    flush_report();
+  } while (r.build_again());
 }
 
 // An interrupt may come here: the firmware is in a HAL call with interrupts enabled.
 void interrupt_point() {
-  if (hw.interrupts_off_depth != 0 || hw.in_step_timer || hw.report_building || !hw.interrupt_point) return;
+  if (hw.interrupts_off_depth != 0 || hw.in_step_timer || hw.report_schedule.building || !hw.interrupt_point) return;
   const std::function<void()> f = hw.interrupt_point;  // it may replace itself
   f();
 }
@@ -64,7 +73,7 @@ void receive(char c) {
   const articula::RealtimeCommand r = articula::realtime_command(c);
   if (r == articula::kRealtimeStatus) {
     // A report waiting for a line boundary, or being built, answers this one too.
-    if (hw.report.empty() && !hw.report_building) hw.report_requested = true;
+    hw.report_schedule.on_request(!hw.report.empty());
     build_report_if_due();
   } else if (r == articula::kRealtimeStop) {
     if (hw.started)
@@ -203,7 +212,7 @@ void serial_write(char c) {
   fake::interrupt_point();
   // The Nano's HAL waits for its transmit interrupt when the buffer is full: the main loop's
   // only, with interrupts enabled.
-  if (hw.interrupts_off_depth != 0 || hw.in_step_timer || hw.report_building)
+  if (hw.interrupts_off_depth != 0 || hw.in_step_timer || hw.report_schedule.building)
     hw.errors.push_back("serial_write outside the main loop");
   ++hw.serial_writes;
   hw.tx.push_back(c);

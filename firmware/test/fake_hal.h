@@ -21,6 +21,8 @@
 #include <string>
 #include <vector>
 
+#include "report.h"
+
 namespace fake {
 
 static const int kMotors = 3;  // the most the firmware drives
@@ -54,12 +56,11 @@ struct Hardware {
   int last_read = -1;          // the last byte serial_read() returned
   bool tx_line_start = true;   // the last byte serial_write() sent was an LF (or none was)
 
-  // The status report (hal_avr.cpp's states: with an instant transmitter a report is never
-  // being sent while another '?' comes).
+  // The status report, scheduled by the Nano's own rules (report.h; with an instant
+  // transmitter a report is never going out when another '?' comes).
   bool started = false;     // hal::start() has run
   bool stop_early = false;  // '!' before it
-  bool report_requested = false;
-  bool report_building = false;
+  report::Schedule report_schedule;
   std::string report;       // built, waiting for a line boundary
   uint64_t reports_built = 0;
   std::function<void()> interrupt_point;
