@@ -423,6 +423,8 @@ export class View {
     this.pen.visible = this.penMm > 0;
     this.pen.scale.set(4, 4, Math.max(this.penMm, 1));
     this.pen.position.set(at.x, at.y, at.z - this.penMm / 2);
+    // the program's paths are then the pen tip's: the tool point's, the pen's length lower
+    this.paths.position.z = -this.penMm;
     this.dirty = true;
   }
 
@@ -473,7 +475,8 @@ export class View {
 
   /** The tool's predicted path, every step (x y z after x y z, mm; the stairs the steps make),
    * and the straight lines a program asks for (each [x0, y0, z0, x1, y1, z1]), drawn over
-   * each other; nothing: both cleared. */
+   * each other; nothing: both cleared. With a pen held (setPen) they are drawn where its tip
+   * goes. */
   showPaths(predicted: number[], lines: number[][]): void {
     for (const o of [...this.paths.children]) {
       o.removeFromParent();
