@@ -411,6 +411,10 @@ def test_write_hello_and_see_the_line_the_arm_will_draw(page):
     pg.wait("a.arm.connected && a.arm.status !== null && a.runOnArm === true", 60 * PATIENCE, "the virtual Nano connected")
     pg.click("#run")
     pg.wait("a.arm.programDone === true", 120 * PATIENCE, "the drawing on the virtual Nano")
+    error = pg.hook("a.arm.error")
+    if error:  # the link lost: its last events (the arm's clock and the page's, ms), whole
+        print(f"{pg.engine}: the link's last events:", json.dumps(pg.hook("a.arm.lostTrace")))
+    assert error == "", f"{pg.engine}: {error}"
     points = sum(len(st) for st in want["ink"]["strokes"])
     pg.wait(f"a.arm.status.state === 'Idle' && a.paper.ink.points === {points}", 60 * PATIENCE, "the virtual Nano's ink")
     ink = pg.hook("a.paper.ink.strokes")
