@@ -217,7 +217,8 @@ def test_a_square_and_hello_in_live_physics_leave_ink_where_the_pen_went(open_pa
     pg.wait("a.physics.busy === true", timeout=20000)
     pg.wait("a.physics.busy === false && a.paper.physicsInk.points > 100", timeout=90000)
     _ink_caught_up(pg)
-    ink = [p for s in pg.hook("a.paper.physicsInk.strokes") for p in s]
+    strokes = pg.hook("a.paper.physicsInk.strokes")
+    ink = [p for s in strokes for p in s]
     ideal = articula.Robot.load("mk2plus").draw(text="Hello", width=60, at=(250, 0), z=0, pen=120)["strokes"]
 
     def near(p, lines):
@@ -229,7 +230,10 @@ def test_a_square_and_hello_in_live_physics_leave_ink_where_the_pen_went(open_pa
                 best = min(best, ((p[0] - a[0] - t * dx) ** 2 + (p[1] - a[1] - t * dy) ** 2) ** 0.5)
         return best
     assert max(near(p, ideal) for p in ink) < 3
-    assert max(near(q, [[p] for p in ink]) for st in ideal for q in st) < 3  # every corner of every letter inked
+    # every corner of every letter inked: the ink's lines pass within 3 mm of it (the page takes
+    # the physics' tool point at the frames it draws, fewer on a busy machine: the line between
+    # two of them is the ink the sheet shows)
+    assert max(near(q, strokes) for st in ideal for q in st) < 3
     pg.page.locator("#paper-view").scroll_into_view_if_needed()
     pg.page.screenshot(path=str(SHOTS / "studio-draw-physics.png"))
     assert pg.errors == []
