@@ -61,9 +61,7 @@ export class ArmLink {
   // the arm's time: waits for its answers count in it (the virtual Nano's runs slow on a busy machine)
   private now: () => number = () => performance.now();
   private pollTimer: ReturnType<typeof setTimeout> | null = null;
-  // The arm's time of the oldest `?` no report has answered yet (null: none). Silence is a `?`
-  // unanswered: a page too busy to ask for reports (its poll late) does not make the arm silent.
-  private askedAt: number | null = null;
+  private lastReport = 0;
   private reading = 0; // lines in the engine's hands
   private silentSince: number | null = null; // the page's time silence was first seen
   // The last events of the link (kind, the arm's clock, the page's clock, a word), told with a
@@ -145,7 +143,7 @@ export class ArmLink {
     this.silentSince = null;
     this.label = `${info.robot} (firmware ${info.version})`;
     this.history = [];
-    this.askedAt = null;
+    this.lastReport = this.now();
     this.emit({ type: "arm", connected: true, port: portLabel, label: this.label,
       info: { version: info.version, protocol: String(info.protocol), robot: info.robot, checksum: info.checksum } });
     this.poll();
@@ -273,8 +271,9 @@ export class ArmLink {
   }
 
   private async onLine(line: string): Promise<void> {
-    // The engine reads it in its worker, which a busy page can keep waiting: while it does, the
-    // arm is not silent (it answered).
+    // Heard when it arrived: the engine reads it in its worker, which a busy page can keep
+    // waiting longer than the silence that means a lost arm (the arm answered on time).
+    const heard = this.now();
     this.note("line", line.slice(0, 24));
     this.reading++;
     let read: Awaited<ReturnType<ArmEngine["read"]>>;
@@ -285,7 +284,7 @@ export class ArmLink {
     }
     const { parsed: p, pose } = read;
     if (p.kind === "status" && pose) {
-      this.askedAt = null; // (every `?` before it is answered)
+      this.lastReport = Math.max(this.lastReport, heard);
       this.state = p.state;
       this.lastSteps = p.steps;
       if (p.warning === 14) return this.lost("the arm reset (its settings were reset to their defaults)");
@@ -318,14 +317,14 @@ export class ArmLink {
     }
   }
 
-  // `?` at 15 Hz (100 Hz for a second after a stop); a `?` unanswered for 1.5 s is a lost arm.
+  // `?` at 15 Hz (100 Hz for a second after a stop); silence for 1.5 s is a lost arm.
   private poll(): void {
     if (!this.connected) return;
     const now = performance.now();
     // Silence is judged twice, half a second of the page's time apart: a page stalled by a
     // busy machine has the arm's answers still in its queue when it wakes (a report in the
     // engine's hands is not silence either: the arm answered).
-    if (this.askedAt !== null && this.now() - this.askedAt > SILENT_MS && this.reading === 0) {
+    if (this.now() - this.lastReport > SILENT_MS && this.reading === 0) {
       if (this.silentSince === null) this.silentSince = now;
       else if (now - this.silentSince > GRACE_MS) return this.lost(`no status report for ${SILENT_MS / 1000} s`);
     } else {
@@ -333,7 +332,6 @@ export class ArmLink {
     }
     this.lastPoll = now;
     this.note("?", String(this.reading));
-    if (this.askedAt === null) this.askedAt = this.now();
     this.write("?").catch((e) => this.lost(`cannot write: ${(e as Error).message}`));
     this.pollTimer = setTimeout(() => this.poll(), now < this.fastUntil ? 10 : POLL_MS);
   }
