@@ -15,7 +15,7 @@ import { Layout } from "./layout";
 import type { PoseMsg, EngineMsg } from "./engine/messages";
 import { EngineClient } from "./page/engine-client";
 import { $, banner } from "./page/dom";
-import { exposeHook, hook, noteError } from "./page/hook";
+import { exposeHook, hook, noteError, viewOf } from "./page/hook";
 import type { Studio } from "./page/context";
 import { armFrameDrawn, initArm, stopEverything } from "./panels/arm";
 import { initExperiment } from "./panels/experiment";
@@ -26,7 +26,9 @@ import { initJoints, showJointValues } from "./panels/joints";
 import { showPhysics, showScene, initPhysics } from "./panels/physics";
 import { appendProgramLine, ghostShown, initProgram, programHandlers, showTime } from "./panels/program";
 import { initBlocks } from "./panels/blocks";
-import { chooseProject, initProjects, setProjectExperiment } from "./panels/projects";
+import { initProjects } from "./panels/projects";
+import { initExercise } from "./panels/exercise";
+import { chooseProject } from "./project/autosave";
 import { fitNewRobot, initRobot, robotError, saveUrdf, showRobot } from "./panels/robot";
 import { Editor } from "./editor/editor";
 
@@ -37,17 +39,18 @@ exposeHook();
 // builds its 3D view.
 setConn("starting the engine…", "ok");
 const engine = new EngineClient();
-// The project shown first (a link's, this tab's after a reload, the last one, or a new one)
-// names the robot the engine loads first.
-chooseProject(params).then((first) => engine.start(first), () =>
-  engine.start({ robot: params.get("robot") ?? undefined, scene: params.get("scene") ?? undefined }));
 const layout = new Layout(); // before the view: the view takes the box the layout gives it
 layout.onChange = () => (hook.layout = { mode: layout.mode ?? "", plotsInTab: layout.plotsInTab, tab: layout.active });
 layout.onChange();
 const view = new View($("view"));
 Object.assign(hook, { webgl: view.renderer !== null, language, storage: storage !== null });
 const plots = new Plots($("plots"));
-const editor = new Editor();
+const editor = new Editor(engine, view);
+viewOf(editor);
+// The project shown first (a link's, this tab's after a reload, the last one, or a new one)
+// names the robot the engine loads first.
+chooseProject(editor, params).then((first) => engine.start(first), () =>
+  engine.start({ robot: params.get("robot") ?? undefined, scene: params.get("scene") ?? undefined }));
 const studio: Studio = { engine, view, plots, editor };
 hook.armPixels = () => view.armPixels();
 hook.camera = () => view.cameraState();
@@ -73,11 +76,13 @@ initProgram(studio);
 initPhysics(studio);
 initArm(studio);
 initFlash(studio);
-initExperiment(studio, setProjectExperiment);
+initExperiment(studio);
 initDraw(studio);
 setLineTargets((line) => editor.arm.send(line), appendProgramLine);
 initBlocks(studio);
-initProjects(studio, { reveal: (id) => layout.reveal(id) });
+initProjects(studio);
+initExercise(studio, { reveal: (id) => layout.reveal(id) });
+editor.project.follow(); // last: a project's parts go to panels that already follow its robot
 wireHistory(editor);
 view.onViewChange = () => editor.signals.changed.dispatch("view");
 
@@ -92,7 +97,6 @@ function wireHistory(ed: Editor): void {
     redo.disabled = !h.canRedo;
     undo.title = h.canUndo ? `Undo: ${h.undoName} (Ctrl+Z)` : "Nothing to undo";
     redo.title = h.canRedo ? `Redo: ${h.redoName} (Ctrl+Shift+Z)` : "Nothing to redo";
-    hook.history = { ...h.steps, undoName: h.undoName, redoName: h.redoName, ready: hook.history.ready };
   };
   ed.signals.historyChanged.add(show);
   show();
@@ -135,7 +139,7 @@ function handle(m: EngineMsg): void {
     case "scene":
       showScene(m);
       return editor.signals.changed.dispatch("scene");
-    case "physics": return showPhysics(m, hook.robot);
+    case "physics": return showPhysics(m, editor.robot);
     case "sim_command":
       hook.simCommand = m.line;
       if (m.seq !== undefined && m.seq !== null) engine.replyArrived();
@@ -152,11 +156,11 @@ function showPose(p: PoseMsg): void {
   if (!ghostShown()) delete p.ghost;
   view.pose(p);
   fitNewRobot();
-  hook.pose = p;
-  if (p.t === undefined && !hook.physics?.on) studio.editor.signals.changed.dispatch("pose");
-  if (hook.physics?.on) studio.editor.signals.physicsTool.dispatch(p.tool.xyz);
-  if (!hook.robot) return;
-  showJointValues(p, hook.robot);
+  editor.pose = p;
+  if (p.t === undefined && !editor.physics?.on) editor.signals.changed.dispatch("pose");
+  if (editor.physics?.on) editor.signals.physicsTool.dispatch(p.tool.xyz);
+  if (!editor.robot) return;
+  showJointValues(p, editor.robot);
   showTime(p);
   followTool(p.tip ?? p.tool.xyz, p.tool.rpy, !hook.ready);
   hook.ready = true;
@@ -167,7 +171,7 @@ view.onFrame = (now) => {
   if (view.continuous) $("fps").textContent = `${view.fps} frames/s`;
   hook.framesDrawn = view.framesDrawn;
   hook.targetScreen = view.targetScreen();
-  if (!hook.firstFrameAt && hook.pose && hook.robot) hook.firstFrameAt = now;
+  if (!hook.firstFrameAt && editor.pose && editor.robot) hook.firstFrameAt = now;
   hook.latency.push(...engine.drawn(now));
   armFrameDrawn(now);
 };

@@ -1,13 +1,17 @@
-// The Editor (after three.js's editor/js/Editor.js): the page's edits as one History with
-// undo and redo, the signals the panels talk through (no panel imports another), and the parts
-// of the project's state the panel that owns them answers for (the program's text, the blocks,
-// the arm's link, the paper, the robot file opened). Every change to what a project keeps is
-// told by one signal, `changed`: the autosave (panels/projects.ts) listens to it. main.ts makes
-// the Editor and wires the buttons and the keys. (The project document itself still lives in
-// panels/projects.ts, which puts a project on screen and reads it back from these parts.)
+// The Editor (after three.js's editor/js/Editor.js): the one object that holds the page's
+// state. The project document on screen (`project`, editor/open-project.ts: put on screen,
+// read back, each edit a step of the History with undo and redo), the state the engine and
+// the arm report (the robot, the pose, the scene, the physics, the program's timeline, the
+// arm's link), the signals the panels talk through (no panel imports another), and the parts
+// of the state the panel that owns them answers for (the program's text, the blocks, the arm's
+// link, the paper). main.ts makes it and wires the panels to it; `window.articula`
+// (page/hook.ts) is a read-only view of it.
 import type { ArmLink } from "../link/arm-link";
-import type { Experiment, Paper } from "../project/document";
-import type { RobotMsg } from "../engine/messages";
+import type { Experiment, Goal, Paper, Project } from "../project/document";
+import type { EngineClient } from "../page/engine-client";
+import type { View } from "../view";
+import { OpenProject } from "./open-project";
+import type { PhysicsMsg, PoseMsg, RobotMsg, SceneMsg, TimelineMsg } from "../engine/messages";
 import type { SerialLike } from "../link/ports";
 import { History } from "./history";
 import { Signal } from "./signal";
@@ -21,6 +25,7 @@ export interface BlocksPart {
   fromText(): void; // the program's text as blocks
   teach(q: number[]): void; // the pose shown, as a block at the end
   dragging(): boolean; // a block is being dragged: what the workspace holds is not an edit yet
+  pending(): boolean; // the blocks changed and their program is not made yet
 }
 
 /** The program's text (the program panel answers for it). */
@@ -52,7 +57,9 @@ export interface RobotFile {
 }
 
 /** What changed on screen, as the Editor's `changed` signal names it. */
-export type ProjectPart = "robot" | "scene" | "program" | "blocks" | "pose" | "view" | "paper";
+// ("project": another project opened, or an undo or a redo put on screen; "experiment", "name":
+// the measurements and the name, which are not the parts' but the document's own)
+export type ProjectPart = "robot" | "scene" | "program" | "blocks" | "pose" | "view" | "paper" | "experiment" | "name" | "project";
 
 const none = (): never => {
   throw new Error("the Editor's part is not wired yet (main.ts)");
@@ -60,8 +67,17 @@ const none = (): never => {
 
 export class Editor {
   readonly history = new History();
+  // What the engine and the arm say the state is (main.ts and the panels set it as their
+  // messages come; everything else reads it here, and `window.articula` shows it):
+  robot: RobotMsg | null = null; // the robot shown
+  pose: PoseMsg | null = null; // its pose as last drawn
+  scene: SceneMsg | null = null; // the scene and its objects
+  physics: PhysicsMsg | null = null; // the physics' last step (null: never run)
+  timeline: TimelineMsg | null = null; // the program's timeline (null: no program loaded)
+  playing = false; // the program plays on the model
+  armConnected = false; // the arm's link is open (the Editor's armConnected signal says when it changes)
   blocks: BlocksPart = { mode: () => "text", setMode: none, json: () => null, load: none, fromText: none, teach: none,
-    dragging: () => false };
+    dragging: () => false, pending: () => false };
   program: ProgramPart = { text: () => "", name: () => "program.arm", set: none };
   arm: ArmPart = { link: () => null, run: none, send: () => false, choosePort: none, disconnect: async () => undefined };
   paper: PaperPart = { get: none, set: none };
@@ -82,7 +98,7 @@ export class Editor {
     physicsTool: new Signal<number[]>(),
     // a part of the project on screen changed (the robot, the scene, the program's text or
     // blocks, the pose, the camera, the paper and the pen): the project is saved, and an edit
-    // of a history part becomes a step of the History (panels/projects.ts listens)
+    // of a history part becomes a step of the History (project/autosave.ts listens)
     changed: new Signal<ProjectPart>(),
     // a drawing exercise's target on the paper (and, after Check, the program's ink); null: none
     drawingGoal: new Signal<{ target: number[][][]; z: number; pen: number; ink?: number[][][] } | null>(),
@@ -97,10 +113,19 @@ export class Editor {
     robotShown: new Signal<RobotMsg>(),
     // a project's saved experiment (null: none) to show
     experimentOpened: new Signal<Experiment | null>(),
+    // another project is being put on screen (its robot loads first)
+    projectOpened: new Signal<Project>(),
+    // the exercise's goal on screen (null: the project is no exercise)
+    goalShown: new Signal<Goal | null>(),
   };
+  readonly project: OpenProject;
+
+  constructor(engine: EngineClient, view: View) {
+    this.project = new OpenProject(this, engine, view);
+  }
   // true while an edit is being put on screen (a robot loading): undo and redo wait for it,
   // in the order they were asked for (a student tapping Undo three times gets three steps)
-  busy: () => boolean = () => false;
+  busy: () => boolean = () => false; // (the project's: editor/open-project.ts)
   private waiting: ("undo" | "redo")[] = [];
 
   undo(): void {

@@ -1,5 +1,9 @@
 // The test hook, `window.articula`: the page's state to read, never to write. Tests and people
-// who script the page read it instead of pixels. The panels keep it up to date.
+// who script the page read it instead of pixels. What the Editor holds (the robot, the pose,
+// the scene, the physics, the timeline, the arm's link, the project, the History) is a view of
+// the Editor (`viewOf`); the rest is what the panels measure and report, kept up to date by them.
+import type { Editor } from "../editor/editor";
+import { saving } from "../project/autosave";
 import type { ArmStatusMsg, IkMsg, PhysicsMsg, PoseMsg, RobotMsg, SceneMsg, SimEvent, TimelineMsg } from "../engine/messages";
 
 // the ink on the sheet: the rows (steps or tool points) it is made of, its points and strokes,
@@ -110,6 +114,27 @@ export const hook: Hook = {
   flash: { busy: false, phase: "", done: 0, total: 0, error: "", errorKind: "", result: null },
   history: { undo: 0, redo: 0, undoName: "", redoName: "", ready: false },
 };
+
+/** What the Editor holds, read from it whenever it is read. */
+export function viewOf(ed: Editor): void {
+  const get = (o: object, key: string, f: () => unknown) => Object.defineProperty(o, key, { get: f, enumerable: true, configurable: true });
+  get(hook, "robot", () => ed.robot);
+  get(hook, "pose", () => ed.pose);
+  get(hook, "scene", () => ed.scene);
+  get(hook, "physics", () => ed.physics);
+  get(hook, "timeline", () => ed.timeline);
+  get(hook, "playing", () => ed.playing);
+  get(hook.arm, "connected", () => ed.armConnected);
+  get(hook, "project", () => {
+    const p = ed.project, d = p.doc;
+    return { id: p.id, name: d.name, robot: "shipped" in d.robot ? d.robot.shipped : d.robot.file.name, program: ed.program.text(),
+      blocks: ed.blocks.json(), mode: ed.blocks.mode(), rev: p.rev, goal: d.goal, ...saving, saveMs: [...saving.saveMs] };
+  });
+  get(hook, "history", () => {
+    const h = ed.history;
+    return { ...h.steps, undoName: h.undoName, redoName: h.redoName, ready: ed.project.ready };
+  });
+}
 
 /** `window.articula`, read-only from outside. */
 export function exposeHook(): void {

@@ -55,7 +55,7 @@ async function choosePort(): Promise<{ port: SerialLike; label: string } | { why
   const which = ($("arm-port") as HTMLSelectElement).value;
   if (which === "page:virtual") {
     const port = virtualNano();
-    const g = hook.robot?.gripper;
+    const g = s.editor.robot?.gripper;
     port.servo = g ? { closed: g.servo_closed_deg, open: g.servo_open_deg } : null;
     return { port, label: "the virtual Nano" };
   }
@@ -85,13 +85,13 @@ async function connect(): Promise<void> {
     meaning: (reply) => s.engine.meaning(reply),
     config: async () => ((await s.engine.call({ type: "arm_config" })) as unknown as { config: NanoConfig | { error: string } }).config,
   }, (m) => armMessage(m as unknown as EngineMsg));
-  await link.connect(chosen.port, chosen.label, hook.robot?.name ?? "");
+  await link.connect(chosen.port, chosen.label, s.editor.robot?.name ?? "");
   if (!link.connected && !link.configurable) link = null;
 }
 
 /** Another robot is shown: the Nano is driven only if it is configured for that one. */
 function armRobotShown(): void {
-  if (link && (link.connected || link.configurable)) void link.recheck(hook.robot?.name ?? "");
+  if (link && (link.connected || link.configurable)) void link.recheck(s.editor.robot?.name ?? "");
 }
 
 
@@ -140,12 +140,12 @@ function runOnArm(text: string): void {
 
 /** STOP: the arm's realtime `!` at once, and the model's program or physics paused. */
 export function stopEverything(): void {
-  const arm = hook.arm.connected && link;
+  const arm = s.editor.armConnected && link;
   if (arm) {
     hook.arm.stopMs = null; // until the arm reports itself at rest
     void link!.stop();
   }
-  const moving = hook.playing || !!hook.physics?.running;
+  const moving = s.editor.playing || !!s.editor.physics?.running;
   if (moving) s.engine.send({ type: "pause" });
   hook.stops++;
   banner(arm ? "STOP: the arm slows to rest and forgets the lines it was given. Nothing more is sent."
@@ -159,7 +159,7 @@ interface ArmMsg {
 }
 
 function showArm(m: ArmMsg): void {
-  hook.arm.connected = m.connected;
+  s.editor.armConnected = m.connected;
   hook.arm.error = m.error ?? "";
   if (m.trace) hook.arm.lostTrace = m.trace;
   hook.arm.configurable = !!m.configurable || !!m.configuring;
@@ -203,7 +203,7 @@ function showArm(m: ArmMsg): void {
 
 // The arm's tool from the model's (both drawn from the engine's frames), mm.
 function armDiff(m: ArmStatusMsg): number {
-  const f = m.frames[m.frames.length - 1], tool = hook.pose?.tool.xyz;
+  const f = m.frames[m.frames.length - 1], tool = s.editor.pose?.tool.xyz;
   if (!f || !tool) return NaN;
   return Math.hypot(f[3] - tool[0], f[7] - tool[1], f[11] - tool[2]);
 }
@@ -232,7 +232,7 @@ function armMessage(m: EngineMsg): void {
         "it drives this robot from now on, after a power cycle too.", "info");
     }
     case "arm_status": {
-      if (!hook.arm.connected) return; // a report still in flight when the link was lost: not news of an arm
+      if (!s.editor.armConnected) return; // a report still in flight when the link was lost: not news of an arm
       hook.arm.status = m;
       if (m.stop_to_idle_ms !== undefined) hook.arm.stopMs = m.stop_to_idle_ms;
       s.view.liveFrames(m.frames);

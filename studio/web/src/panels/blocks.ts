@@ -31,7 +31,7 @@ export function initBlocks(studio: Studio): void {
   s = studio;
   editor = s.editor;
   editor.blocks = { mode: () => mode, setMode, json: workspaceJson, load: loadBlocks, fromText, teach: teachBlock,
-    dragging: () => !!ws?.isDragging() };
+    dragging: () => !!ws?.isDragging(), pending: () => hook.blocksPending };
   const sig = editor.signals;
   sig.robotShown.add(blocksRobot);
   sig.lineRunning.add(({ line }) => highlightBlockOfLine(line));
@@ -141,7 +141,7 @@ function ensureWorkspace(): void {
   touchDragsOneBlock();
   Blockly.blockRendering.unregister("zelos");
   Blockly.blockRendering.register("zelos", Renderer);
-  if (hook.robot) setJoints(hook.robot.joints);
+  if (s.editor.robot) setJoints(s.editor.robot.joints);
   ws = Blockly.inject($("blockly"), {
     toolbox: toolbox(), css: false, sounds: false, media: "assets/blockly-media/", trashcan: true, renderer: "zelos", theme: Blockly.Themes.Classic,
     zoom: { controls: true, startScale: 0.7, wheel: false }, move: { scrollbars: true, drag: true, wheel: true },
@@ -245,7 +245,7 @@ function compile(): void {
     lineBlocks = r.lines ?? [];
     code = { text: r.text ?? "", robosim: r.robosim ?? "", python: r.python ?? "" };
     hook.blocksCode = code;
-    s.editor.program.set(code.text, "blocks.arm");
+    if (mode === "blocks") s.editor.program.set(code.text, "blocks.arm"); // (in text mode the text is the student's)
     for (const p of r.problems ?? []) blockProblem(p.block, p.message, false);
     changed();
   }, (err: Error) => {

@@ -42,15 +42,13 @@ const AXES = ["x", "y", "z"];
 const COLORS = ["#d1495b", "#2e86ab", "#3a7d44", "#8d6a9f"];
 
 let s: Studio;
-let save: (e: Experiment) => void = () => {};
 let shown: Experiment | null = null;
 let charts: uPlot[] = [];
 let answer: ((xyz: number[] | null) => void) | null = null; // the pose waiting for its measurement
 let asked: number[] | null = null; // the values the question was about ("Use it anyway" takes them)
 
-export function initExperiment(studio: Studio, onSave: (e: Experiment) => void): void {
+export function initExperiment(studio: Studio): void {
   s = studio;
-  save = onSave;
   s.editor.signals.experimentOpened.add(showSavedExperiment);
   $("exp-run").onclick = () => void run();
   $("exp-record").onclick = () => void record();
@@ -101,7 +99,7 @@ async function run(): Promise<void> {
 
 async function runPlan(): Promise<void> {
   const link = s.editor.arm.link();
-  if (!link || !hook.arm.connected) return say("Connect the arm first (the virtual Nano or a Nano on USB), above.", "bad");
+  if (!link || !s.editor.armConnected) return say("Connect the arm first (the virtual Nano or a Nano on USB), above.", "bad");
   const name = ($("exp-plan") as HTMLSelectElement).value;
   if (!name) return say("Choose a plan first.", "bad");
   say(`reading ${name}…`);
@@ -184,8 +182,8 @@ async function runPlan(): Promise<void> {
         back_quant: back ? ch.back_quant : null, steps_back: back && start ? back.join() === start.join() : null });
     }
     if (points.length || done.length || targets.length) {
-      shown = { plan: name, title: doc.plan.title, robot: hook.robot?.name ?? "", when: new Date().toISOString(), points, chains: done, targets };
-      save(shown);
+      shown = { plan: name, title: doc.plan.title, robot: s.editor.robot?.name ?? "", when: new Date().toISOString(), points, chains: done, targets };
+      s.editor.project.setExperiment(shown); // kept with the project
       await report(shown, mismatches);
     }
   }

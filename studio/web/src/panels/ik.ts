@@ -27,7 +27,7 @@ export function initIk(studio: Studio): void {
   });
   $("show-target").addEventListener("change", (e) => {
     const on = (e.target as HTMLInputElement).checked;
-    if (on && hook.pose) s.view.setTarget(hook.pose.tip ?? hook.pose.tool.xyz, hook.pose.tool.rpy);
+    if (on && s.editor.pose) s.view.setTarget(s.editor.pose.tip ?? s.editor.pose.tool.xyz, s.editor.pose.tool.rpy);
     s.view.showTarget(on);
   });
   $("gizmo-mode").addEventListener("change", (e) => s.view.gizmoMode((e.target as HTMLSelectElement).value as "translate" | "rotate"));
@@ -149,7 +149,7 @@ export function showIk(m: IkMsg): void {
     }
     else if ((m.iteration ?? 0) >= 400) text += " Stopped after 400 iterations.";
   }
-  if (hook.physics?.on && m.status === "reached")
+  if (s.editor.physics?.on && m.status === "reached")
     text += " In the physics the arm goes there unless something blocks it (the events in the view say so).";
   el.textContent = text;
   el.className = `status ${m.status === "reached" ? "ok" : m.status === "budget" && m.type === "jt_frame" && !m.done ? "" : "bad"}`;

@@ -54,7 +54,7 @@ function buildJoints(r: RobotMsg): void {
     // typed: the box shows what the arm took (a value beyond the range, clamped) once done
     inp.addEventListener("change", () => {
       typing = null;
-      if (hook.pose) inp.value = inp.type === "number" ? fmt(hook.pose.q[Number(inp.dataset.joint)], 2) : inp.value;
+      if (s.editor.pose) inp.value = inp.type === "number" ? fmt(s.editor.pose.q[Number(inp.dataset.joint)], 2) : inp.value;
     });
     inp.addEventListener("input", () => {
       if (inp.type === "number") typing = inp;

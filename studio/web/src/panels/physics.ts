@@ -52,7 +52,7 @@ export function initPhysics(studio: Studio): void {
 }
 
 export function showScene(m: SceneMsg): void {
-  hook.scene = m;
+  s.editor.scene = m;
   const sel = $("scene-select") as HTMLSelectElement;
   setOptions(sel, [{ value: "", label: "off" }, ...m.scenes]);
   sel.value = m.name ?? "";
@@ -63,13 +63,13 @@ export function showScene(m: SceneMsg): void {
 }
 
 export function showPhysics(p: PhysicsMsg, robot: RobotMsg | null): void {
-  hook.physics = p;
+  s.editor.physics = p;
   if (!p.on) {
     $("phys-rtf").textContent = ""; // no physics, no counter
     return;
   }
   s.view.physics(p);
-  if (p.t !== undefined && hook.timeline) s.plots.playhead(p.t);
+  if (p.t !== undefined && s.editor.timeline) s.plots.playhead(p.t);
   if (p.line !== undefined) {
     s.editor.signals.lineRunning.dispatch({ line: p.line, refused: false });
   }

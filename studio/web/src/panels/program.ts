@@ -13,12 +13,12 @@ let showGhost = true;
 let lineShown = 0;
 const editor = () => $("editor") as HTMLTextAreaElement;
 // Run goes to the arm: one is connected and "on the arm" (beside Run) is ticked
-const onTheArm = () => hook.arm.connected && ($("drive-arm") as HTMLInputElement).checked;
+const onTheArm = () => s.editor.armConnected && ($("drive-arm") as HTMLInputElement).checked;
 /** Where Run runs: "▶ Run [✓] on the arm" reads as one sentence; the tooltip says it whole. */
 function runTarget(): void {
   const run = $("run");
   run.title = onTheArm() ? "Send the program to the arm, line by line (untick “on the arm” to play it on the model only)"
-    : hook.arm.connected ? "Play the program on the model only: the arm stays still (tick “on the arm” to drive it)"
+    : s.editor.armConnected ? "Play the program on the model only: the arm stays still (tick “on the arm” to drive it)"
     : "Run the program with the controller's real timing";
   hook.runOnArm = onTheArm();
 }
@@ -124,32 +124,32 @@ export function initProgram(studio: Studio): void {
     if (!ed.value.trim())
       return programStatus("The program is empty: type commands (“What the commands mean” below says how), choose an example, or build it from Blocks.", [], true);
     if (onTheArm()) return s.editor.arm.run(ed.value);
-    if (hook.timeline) s.engine.send({ type: "play", speed: playSpeed() });
+    if (s.editor.timeline) s.engine.send({ type: "play", speed: playSpeed() });
     else {
       autoplay = true;
       load();
     }
   };
   $("pause").onclick = () => s.engine.send({ type: "pause" });
-  $("step").onclick = () => (hook.timeline ? s.engine.send({ type: "step" }) : load());
-  $("reset").onclick = () => (hook.timeline ? s.engine.send({ type: "rewind" }) : load());
+  $("step").onclick = () => (s.editor.timeline ? s.engine.send({ type: "step" }) : load());
+  $("reset").onclick = () => (s.editor.timeline ? s.engine.send({ type: "rewind" }) : load());
   $("teach").onclick = () => {
-    if (s.editor.blocks.mode() === "blocks" && hook.pose) return s.editor.blocks.teach(hook.pose.q);
+    if (s.editor.blocks.mode() === "blocks" && s.editor.pose) return s.editor.blocks.teach(s.editor.pose.q);
     const first = ed.value.split("\n").find((l) => l.trim() && !l.trim().startsWith("#")) ?? "";
     const robosim = currentProgram.endsWith(".robosim") || /^\s*[a-z]\s*$/m.test(first);
     s.engine.send({ type: "teach", format: robosim ? "robosim" : "protocol" });
   };
   $("show-ghost").addEventListener("change", (e) => {
     showGhost = (e.target as HTMLInputElement).checked;
-    if (!showGhost && hook.pose) s.view.pose({ ...hook.pose, ghost: undefined });
+    if (!showGhost && s.editor.pose) s.view.pose({ ...s.editor.pose, ghost: undefined });
   });
   s.plots.onSeek = (t) => s.engine.send({ type: "seek", t });
   $("export-png").onclick = () => {
-    const caption = `${hook.robot?.name ?? ""}, ${currentProgram}, ${new Date().toLocaleString(hook.language || undefined)}`;
+    const caption = `${s.editor.robot?.name ?? ""}, ${currentProgram}, ${new Date().toLocaleString(hook.language || undefined)}`;
     hook.pngCaption = caption;
     s.plots.png(caption).then((blob) => blob && download(`articula-plots-${currentProgram.replace(/\W+/g, "_")}.png`, blob, "image/png"));
   };
-  $("export-csv").onclick = () => hook.timeline && download("articula-timeline.csv", s.plots.csv(hook.timeline), "text/csv");
+  $("export-csv").onclick = () => s.editor.timeline && download("articula-timeline.csv", s.plots.csv(s.editor.timeline), "text/csv");
   editorChanged();
 }
 
@@ -196,10 +196,10 @@ function editorChanged(): void {
   const n = ed.value.split("\n").length;
   fill($("gutter"), ...Array.from({ length: n }, (_, i) => h("div", null, i + 1)));
   $("gutter").scrollTop = ed.scrollTop;
-  if (hook.timeline && commandsOf(ed.value) !== timelineCommands) {
+  if (s.editor.timeline && commandsOf(ed.value) !== timelineCommands) {
     // what was worked out for the text before is not this text's: no old result on screen
     // (the same commands written again, as the blocks write them, keep it)
-    hook.timeline = null;
+    s.editor.timeline = null;
     s.plots.clear();
     s.view.showPaths([], []);
     hook.paths = { points: 0, lines: 0, worstMm: 0 };
@@ -250,7 +250,7 @@ export function showTime(p: PoseMsg): void {
 
 export const programHandlers = {
   timeline(m: TimelineMsg): void {
-    hook.timeline = m;
+    s.editor.timeline = m;
     timelineCommands = commandsOf(editor().value);
     hook.programError = "";
     s.plots.show(m);
@@ -281,14 +281,14 @@ export const programHandlers = {
       (m.summary.worst_error_mm !== undefined ? `, worst quantization error ${m.summary.worst_error_mm.toFixed(3)} mm` : "") +
       (lines.length ? `, ${lines.length} straight line${lines.length > 1 ? "s" : ""}: the tool within ${worst.toFixed(2)} mm of ${lines.length > 1 ? "them" : "it"} at every step` : "") +
       `, ${m.duration.toFixed(2)} s` +
-      (hook.arm.connected ? ". On the model only: the arm did not move (tick “on the arm” beside Run to drive it)" : ""), rejected);
+      (s.editor.armConnected ? ". On the model only: the arm did not move (tick “on the arm” beside Run to drive it)" : ""), rejected);
     if (autoplay) {
       autoplay = false;
       s.engine.send({ type: "play", speed: playSpeed() });
     }
   },
   playing(m: { playing: boolean }): void {
-    hook.playing = m.playing;
+    s.editor.playing = m.playing;
     $("run").classList.toggle("active", m.playing);
   },
   program_error(m: { message: string; line: number }): void {
@@ -303,7 +303,7 @@ export const programHandlers = {
     setProgram(m.name, m.text);
     // an example made for a scene (grasp-and-lift.arm, push.arm): its objects come with it
     const stem = m.name.replace(/\.(arm|robosim)$/, "");
-    if (hook.scene?.scenes.includes(stem) && hook.scene.name !== stem) {
+    if (s.editor.scene?.scenes.includes(stem) && s.editor.scene.name !== stem) {
       s.engine.send({ type: "scene", name: stem });
       programStatus(`The physics is on, with the scene "${stem}" this program is made for: its objects are in the view.`);
     }
@@ -320,6 +320,6 @@ export const programHandlers = {
 
 /** A new robot: its plots and time line start afresh. */
 function resetProgramView(): void {
-  hook.timeline = null;
+  s.editor.timeline = null;
   s.plots.clear();
 }

@@ -52,7 +52,7 @@ async function openFiles(input: HTMLInputElement): Promise<void> {
 
 /** A robot to show: its view and the robot menu; then the other panels follow it (robotShown). */
 export function showRobot(r: RobotMsg): void {
-  hook.robot = r;
+  s.editor.robot = r;
   hook.robotError = "";
   const built = s.view.build(r);
   s.view.showAxes(($("show-axes") as HTMLInputElement).checked);
@@ -86,7 +86,7 @@ export function fitNewRobot(): void {
 
 export function robotError(message: string): void {
   hook.robotError = message;
-  banner(`This robot file cannot be used, the robot stays ${hook.robot?.name ?? ""}: ${message}`);
+  banner(`This robot file cannot be used, the robot stays ${s.editor.robot?.name ?? ""}: ${message}`);
 }
 
 export function saveUrdf(m: { name: string; xml: string }): void {
