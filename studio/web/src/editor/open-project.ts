@@ -23,6 +23,9 @@ export class OpenProject {
   id = newId();
   rev = 0; // the store's revision this document is saved over
   doc: Project = newProject("My project"); // as last saved or opened (`document()`: as on screen now)
+  // the project as last put on screen, or saved (window.articula.project shows it: the project
+  // opening is not on screen until its robot is)
+  shown: { id: string; rev: number; doc: Project } = { id: this.id, rev: 0, doc: this.doc };
   // a project is being put on screen: what the page does meanwhile is not a student's edit
   applying = true;
   // the project is on screen and the History follows it: an edit now is a step (window.articula.history.ready)
@@ -81,6 +84,7 @@ export class OpenProject {
   /** The store kept `doc` as revision `rev` of project `id`. */
   saved(id: string, rev: number, doc: Project): void {
     Object.assign(this, { id, rev, doc });
+    this.shown = { id, rev, doc };
   }
 
   /** The experiment's measurements, kept with the project. */
@@ -92,6 +96,7 @@ export class OpenProject {
   /** A new name for the project on screen (not history). */
   rename(name: string): void {
     this.doc = { ...this.document(), name };
+    this.shown = { ...this.shown, doc: this.doc };
     this.ed.signals.changed.dispatch("name");
   }
 
@@ -168,6 +173,7 @@ export class OpenProject {
     }
     ed.signals.goalShown.dispatch(d.goal);
     ed.signals.experimentOpened.dispatch(d.experiment ?? null);
+    this.shown = { id: this.id, rev: this.rev, doc: this.doc };
     // what the engine answers to these is the project as it was, not an edit
     this.settle(() => {
       if (this.undoing) { // an undo or redo that changed the robot: the rest is on screen now
@@ -201,6 +207,7 @@ export class OpenProject {
     if (JSON.stringify(now.program.blocks) !== JSON.stringify(doc.program.blocks)) ed.blocks.load(doc.program.blocks);
     if (parts.includes("the exercise")) ed.signals.goalShown.dispatch(doc.goal);
     if (parts.includes("the measurements")) ed.signals.experimentOpened.dispatch(doc.experiment ?? null);
+    this.shown = { id: this.id, rev: this.rev, doc: this.doc };
     this.settle(() => {
       this.recorded = this.document(); // (the text the blocks make, as they make it)
       this.ready = true;

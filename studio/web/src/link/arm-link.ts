@@ -61,7 +61,9 @@ export class ArmLink {
   // the arm's time: waits for its answers count in it (the virtual Nano's runs slow on a busy machine)
   private now: () => number = () => performance.now();
   private pollTimer: ReturnType<typeof setTimeout> | null = null;
-  private lastReport = 0;
+  // The arm's time of the oldest `?` no report has answered yet (null: none). Silence is a `?`
+  // unanswered: a page too busy to ask for reports (its poll late) does not make the arm silent.
+  private askedAt: number | null = null;
   private reading = 0; // lines in the engine's hands
   private silentSince: number | null = null; // the page's time silence was first seen
   // The last events of the link (kind, the arm's clock, the page's clock, a word), told with a
@@ -143,7 +145,7 @@ export class ArmLink {
     this.silentSince = null;
     this.label = `${info.robot} (firmware ${info.version})`;
     this.history = [];
-    this.lastReport = this.now();
+    this.askedAt = null;
     this.emit({ type: "arm", connected: true, port: portLabel, label: this.label,
       info: { version: info.version, protocol: String(info.protocol), robot: info.robot, checksum: info.checksum } });
     this.poll();
@@ -271,9 +273,8 @@ export class ArmLink {
   }
 
   private async onLine(line: string): Promise<void> {
-    // Heard when it arrived: the engine reads it in its worker, which a busy page can keep
-    // waiting longer than the silence that means a lost arm (the arm answered on time).
-    const heard = this.now();
+    // The engine reads it in its worker, which a busy page can keep waiting: while it does, the
+    // arm is not silent (it answered).
     this.note("line", line.slice(0, 24));
     this.reading++;
     let read: Awaited<ReturnType<ArmEngine["read"]>>;
@@ -284,7 +285,7 @@ export class ArmLink {
     }
     const { parsed: p, pose } = read;
     if (p.kind === "status" && pose) {
-      this.lastReport = Math.max(this.lastReport, heard);
+      this.askedAt = null; // (every `?` before it is answered)
       this.state = p.state;
       this.lastSteps = p.steps;
       if (p.warning === 14) return this.lost("the arm reset (its settings were reset to their defaults)");
@@ -317,14 +318,14 @@ export class ArmLink {
     }
   }
 
-  // `?` at 15 Hz (100 Hz for a second after a stop); silence for 1.5 s is a lost arm.
+  // `?` at 15 Hz (100 Hz for a second after a stop); a `?` unanswered for 1.5 s is a lost arm.
   private poll(): void {
     if (!this.connected) return;
     const now = performance.now();
     // Silence is judged twice, half a second of the page's time apart: a page stalled by a
     // busy machine has the arm's answers still in its queue when it wakes (a report in the
     // engine's hands is not silence either: the arm answered).
-    if (this.now() - this.lastReport > SILENT_MS && this.reading === 0) {
+    if (this.askedAt !== null && this.now() - this.askedAt > SILENT_MS && this.reading === 0) {
       if (this.silentSince === null) this.silentSince = now;
       else if (now - this.silentSince > GRACE_MS) return this.lost(`no status report for ${SILENT_MS / 1000} s`);
     } else {
@@ -332,6 +333,7 @@ export class ArmLink {
     }
     this.lastPoll = now;
     this.note("?", String(this.reading));
+    if (this.askedAt === null) this.askedAt = this.now();
     this.write("?").catch((e) => this.lost(`cannot write: ${(e as Error).message}`));
     this.pollTimer = setTimeout(() => this.poll(), now < this.fastUntil ? 10 : POLL_MS);
   }
@@ -444,17 +446,35 @@ export class ArmLink {
     });
   }
 
+  // Until the arm reports Idle (the first report after the line may still say Idle: a report
+  // counts from 150 ms of the arm's time on), a STOP, the link lost, or `ms` of the arm's time.
+  // Looked at every 100 ms of the page's time as well as at each report: a link lost or an arm
+  // that stopped reporting ends the wait (and the program) instead of leaving it waiting.
   private idle(ms: number, line: number): Promise<void> {
     return new Promise((resolve, reject) => {
-      // the next Idle report after this moment (the move's first report may still say Idle)
       const start = this.now();
-      const check = () => {
-        if (!this.connected) return reject(new Error(`line ${line}: the arm is gone`));
-        if (this.programStop) return resolve();
-        if (this.now() - start > ms) return reject(new Error(`line ${line}: the arm did not come to rest within ${Math.round(ms / 1000)} s`));
-        this.idleWaiters.push(() => (this.now() - start > 150 ? resolve() : check()));
+      let over = false;
+      const end = (f: () => void) => {
+        if (over) return;
+        over = true;
+        clearInterval(tick);
+        f();
       };
-      setTimeout(check, 100);
+      const check = () => {
+        if (!this.connected) return end(() => reject(new Error(`line ${line}: the arm is gone`)));
+        if (this.programStop) return end(resolve);
+        if (this.now() - start > ms) end(() => reject(new Error(`line ${line}: the arm did not come to rest within ${Math.round(ms / 1000)} s`)));
+      };
+      const onIdle = () => {
+        if (over) return;
+        if (this.now() - start > 150) end(resolve);
+        else this.idleWaiters.push(onIdle);
+      };
+      const tick = setInterval(check, 100);
+      setTimeout(() => {
+        check();
+        if (!over) this.idleWaiters.push(onIdle);
+      }, 100);
     });
   }
 

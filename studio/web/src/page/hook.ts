@@ -125,11 +125,21 @@ export function viewOf(ed: Editor): void {
   get(hook, "timeline", () => ed.timeline);
   get(hook, "playing", () => ed.playing);
   get(hook.arm, "connected", () => ed.armConnected);
-  get(hook, "project", () => {
-    const p = ed.project, d = p.doc;
-    return { id: p.id, name: d.name, robot: "shipped" in d.robot ? d.robot.shipped : d.robot.file.name, program: ed.program.text(),
-      blocks: ed.blocks.json(), mode: ed.blocks.mode(), rev: p.rev, goal: d.goal, ...saving, saveMs: [...saving.saveMs] };
-  });
+  // the project on screen (one opening is not, until its robot is), each field read when it is
+  // read (the blocks' JSON is not cheap)
+  const project = {};
+  const p = () => ed.project.shown, d = () => ed.project.shown.doc;
+  const fields: Record<string, () => unknown> = {
+    id: () => p().id, name: () => d().name, robot: () => {
+      const r = d().robot;
+      return "shipped" in r ? r.shipped : r.file.name;
+    },
+    program: () => ed.program.text(), blocks: () => ed.blocks.json(), mode: () => ed.blocks.mode(), rev: () => p().rev,
+    goal: () => d().goal,
+  };
+  for (const k of Object.keys(saving)) fields[k] = () => saving[k as keyof typeof saving];
+  for (const [k, f] of Object.entries(fields)) get(project, k, f);
+  get(hook, "project", () => project);
   get(hook, "history", () => {
     const h = ed.history;
     return { ...h.steps, undoName: h.undoName, redoName: h.redoName, ready: ed.project.ready };
