@@ -76,6 +76,7 @@ export class Editor {
   timeline: TimelineMsg | null = null; // the program's timeline (null: no program loaded)
   playing = false; // the program plays on the model
   armConnected = false; // the arm's link is open (the Editor's armConnected signal says when it changes)
+  stops = 0; // STOP pressed (the button or Escape), so far: a wait that began before a STOP ends
   blocks: BlocksPart = { mode: () => "text", setMode: none, json: () => null, load: none, fromText: none, teach: none,
     dragging: () => false, pending: () => false };
   program: ProgramPart = { text: () => "", name: () => "program.arm", set: none };

@@ -124,6 +124,7 @@ export function viewOf(ed: Editor): void {
   get(hook, "physics", () => ed.physics);
   get(hook, "timeline", () => ed.timeline);
   get(hook, "playing", () => ed.playing);
+  get(hook, "stops", () => ed.stops);
   get(hook.arm, "connected", () => ed.armConnected);
   // the project on screen (one opening is not, until its robot is), each field read when it is
   // read (the blocks' JSON is not cheap)

@@ -147,7 +147,7 @@ export function stopEverything(): void {
   }
   const moving = s.editor.playing || !!s.editor.physics?.running;
   if (moving) s.engine.send({ type: "pause" });
-  hook.stops++;
+  s.editor.stops++;
   banner(arm ? "STOP: the arm slows to rest and forgets the lines it was given. Nothing more is sent."
     : moving ? "STOP: the program is paused where it was." : "STOP: nothing was moving.", "info");
 }

@@ -107,7 +107,7 @@ async function runPlan(): Promise<void> {
   const doc = (await s.engine.call({ type: "experiment_plan", text, name })) as unknown as PlanDoc;
   if (doc.error || !text) return say(`The plan cannot run: ${doc.error ?? "it is missing from this site"}`, "bad");
   const byLine = new Map(doc.records.map((r) => [r.line, r]));
-  const stops = hook.stops;
+  const stops = s.editor.stops;
   const points: ExperimentPoint[] = [];
   // Repeatability chains (thesis 5.3), as the engine groups them: the pose before each, its
   // last move out and its last move back are measured (a pose measured once serves every
@@ -137,7 +137,7 @@ async function runPlan(): Promise<void> {
     if (start.reply !== "ok") throw new Error(`the arm refused the start pose: ${start.reply}`);
     const n = doc.plan.commands.length;
     for (let i = 0; i < n; i++) {
-      if (hook.stops !== stops) return say(`Stopped after ${i} of ${n} lines: the measurements so far are kept below.`, "bad");
+      if (s.editor.stops !== stops) return say(`Stopped after ${i} of ${n} lines: the measurements so far are kept below.`, "bad");
       const c = doc.plan.commands[i];
       const pred = byLine.get(c.line);
       say(`line ${c.line} (${i + 1} of ${n}): ${c.text}`);
@@ -156,7 +156,7 @@ async function runPlan(): Promise<void> {
             : ch.line_back === c.line ? `chain ${ch.chain} back at its start` : `the start of chain ${ch.chain}`).join("; ");
         const measured = await ask(what, c.single_joint ? c.single_joint[0] : -1, c.single_joint ? c.single_joint[1] : NaN,
           c.line, c.text, pred.tool_quantized_mm);
-        if (hook.stops !== stops) return say(`Stopped after ${i + 1} of ${n} lines: the measurements so far are kept below.`, "bad");
+        if (s.editor.stops !== stops) return say(`Stopped after ${i + 1} of ${n} lines: the measurements so far are kept below.`, "bad");
         measuredAt.set(c.line, measured);
         if (target)
           targets.push({ line: c.line, command: c.text, target, quant: pred.tool_quantized_mm, ideal: pred.tool_ideal_mm, measured });
@@ -203,8 +203,8 @@ function ask(what: string, joint: number, angle: number, line: number, command: 
     "x forward, y to the left, z up.");
   for (const id of ["exp-x", "exp-y", "exp-z"]) ($(id) as HTMLInputElement).value = "";
   ($("exp-x") as HTMLInputElement).focus({ preventScroll: true });
-  const stops = hook.stops;
-  stopWatch = window.setInterval(() => hook.stops !== stops && give(null), 200); // STOP ends the wait too
+  const stops = s.editor.stops;
+  stopWatch = window.setInterval(() => s.editor.stops !== stops && give(null), 200); // STOP ends the wait too
   return new Promise((resolve) => (answer = resolve));
 }
 
