@@ -254,11 +254,10 @@ class WebKitPage(EnginePage):
     def type_into(self, selector, text, enter=False):
         from selenium.webdriver.common.keys import Keys
 
-        el = self._el(selector)
-        el.click()
-        el.send_keys(Keys.CONTROL, "a")
-        el.send_keys(text)
-        el.send_keys(Keys.ENTER if enter else Keys.TAB)
+        # (clicked as `click` does: again while the layout still settles on a busy machine)
+        self._interact(selector, lambda e: e.click())
+        self._interact(selector, lambda e: (e.send_keys(Keys.CONTROL, "a"), e.send_keys(text),
+                                            e.send_keys(Keys.ENTER if enter else Keys.TAB)))
 
     def set_text(self, selector, text):
         # a textarea's whole text at once, with the input event a person's typing gives
