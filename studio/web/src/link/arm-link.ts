@@ -68,11 +68,15 @@ export class ArmLink {
   private silentSince: number | null = null; // the page's time silence was first seen
   // The last events of the link (kind, the arm's clock, the page's clock, a word), told with a
   // lost link: what the page heard and when, for whoever finds out why.
+  // (the `?`s apart: a few hundred of them would hide the last lines heard)
   private trace: [string, number, number, string][] = [];
+  private polls: [string, number, number, string][] = [];
   private note(kind: string, what = ""): void {
-    this.trace.push([kind, Math.round(this.now()), Math.round(performance.now()), what]);
-    if (this.trace.length > 48) this.trace.shift();
+    const events = kind === "?" ? this.polls : this.trace;
+    events.push([kind, Math.round(this.now()), Math.round(performance.now()), what]);
+    if (events.length > 32) events.shift();
   }
+  private lastAsk = -Infinity; // the arm's time of the last `?`
   private lastPoll = 0;
   private fastUntil = 0;
   private history: string[] = []; // the lines the arm accepted, for the prediction
@@ -331,11 +335,18 @@ export class ArmLink {
     } else {
       this.silentSince = null;
     }
-    this.lastPoll = now;
-    this.note("?", String(this.reading));
-    if (this.askedAt === null) this.askedAt = this.now();
-    this.write("?").catch((e) => this.lost(`cannot write: ${(e as Error).message}`));
-    this.pollTimer = setTimeout(() => this.poll(), now < this.fastUntil ? 10 : POLL_MS);
+    // At 15 Hz of the arm's time: a virtual Nano starved by a busy machine runs slower than the
+    // page, and a `?` every 67 ms of the page's time would be hundreds a second of its own.
+    // (After a stop, every 10 ms of the page's: the stop's end is timed by the page.)
+    const fast = now < this.fastUntil;
+    if (fast || this.now() - this.lastAsk >= POLL_MS / 2) {
+      this.lastPoll = now;
+      this.lastAsk = this.now();
+      this.note("?", String(this.reading));
+      if (this.askedAt === null) this.askedAt = this.now();
+      this.write("?").catch((e) => this.lost(`cannot write: ${(e as Error).message}`));
+    }
+    this.pollTimer = setTimeout(() => this.poll(), fast ? 10 : POLL_MS);
   }
 
   private lost(why: string): void {
@@ -344,7 +355,8 @@ export class ArmLink {
     this.configurable = false;
     this.programStop = true;
     this.note("lost", why);
-    this.emit({ type: "arm", connected: false, error: why, lost: true, trace: this.trace.splice(0) });
+    const trace = [...this.trace.splice(0), ...this.polls.splice(0)].sort((a, b) => a[2] - b[2]);
+    this.emit({ type: "arm", connected: false, error: why, lost: true, trace });
     this.close();
   }
 
