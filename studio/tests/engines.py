@@ -273,10 +273,25 @@ class WebKitPage(EnginePage):
         while True:
             try:
                 return act(self._el(selector))
-            except (ElementNotInteractableException, StaleElementReferenceException):
-                if time.monotonic() > end:
-                    raise
+            except (ElementNotInteractableException, StaleElementReferenceException) as e:
+                if time.monotonic() > end:  # what WebDriver could not reach, and what is there instead
+                    raise AssertionError(f"{self.engine}: {selector} cannot be reached: {type(e).__name__}; "
+                                         f"the page: {self._where(selector)}") from e
                 time.sleep(0.2)
+
+    def _where(self, selector):
+        """The element's box, whether it or a parent is hidden, what is at its centre, the layout."""
+        try:
+            return self.driver.execute_script(
+                "const e = document.querySelector(arguments[0]); if (!e) return 'no such element';"
+                "const r = e.getBoundingClientRect(), x = r.left + r.width / 2, y = r.top + r.height / 2;"
+                "const top = document.elementFromPoint(x, y); const hid = e.closest('[hidden]');"
+                "return { box: [r.left, r.top, r.width, r.height].map(Math.round), view: [innerWidth, innerHeight],"
+                " hiddenBy: hid ? (hid.id || hid.tagName) : '', display: getComputedStyle(e).display,"
+                " atCentre: top ? (top.id || top.tagName) + (top.className ? '.' + String(top.className).split(' ')[0] : '') : null,"
+                " layout: window.articula && window.articula.layout };", selector)
+        except Exception as e2:  # the page is gone
+            return f"(no page: {e2})"
 
     def click(self, selector):
         self._interact(selector, lambda e: e.click())
