@@ -126,7 +126,9 @@ export class Editor {
   }
   // true while an edit is being put on screen (a robot loading): undo and redo wait for it,
   // in the order they were asked for (a student tapping Undo three times gets three steps)
-  busy: () => boolean = () => false; // (the project's: editor/open-project.ts)
+  busy(): boolean {
+    return this.project.busy;
+  }
   private waiting: ("undo" | "redo")[] = [];
 
   undo(): void {

@@ -40,7 +40,11 @@ export class OpenProject {
   constructor(private ed: Editor, private engine: EngineClient, private view: View) {
     // before an undo or a redo: an edit still waiting to be recorded (typing) is recorded now
     ed.signals.settle.add(() => !this.applying && this.note(this.document()));
-    ed.busy = () => this.applying || this.opening > 0;
+  }
+
+  /** A project (or an undo's or redo's) is still being put on screen. */
+  get busy(): boolean {
+    return this.applying || this.opening > 0;
   }
 
   /** Puts projects on screen from now on: called once every panel follows the robot shown
