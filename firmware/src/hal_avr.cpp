@@ -19,13 +19,17 @@
 // there). Intervals longer than the 16-bit counter wait whole laps of 65,536 ticks first.
 //
 // Rules for the firmware's callbacks:
-//   - firmware::on_step_timer() runs with interrupts enabled, but only the servo's compare
-//     and Timer0 (millis) can interrupt it: the serial interrupts and the step interrupt
-//     itself stay masked, so on_step_timer() never overlaps on_realtime() or
-//     status_line(), and the servo's pulse edges keep their time even while a step takes
-//     long to compute.
-//   - firmware::on_realtime() ('!') runs in the receive interrupt with interrupts off: it
-//     should only note the request.
+//   - firmware::on_step_timer() runs with interrupts enabled: the servo's compare, Timer0
+//     (millis) and the receiver can interrupt it; the transmitter and the step interrupt
+//     itself stay masked. The receiver stays open because the first step of a move takes
+//     about 170 us to compute (a 32-bit division or two): two bytes' time at 115,200 baud,
+//     after which a third byte of a streamed line would be lost. A '?' or '!' received
+//     there is acted on at the step interrupt's end, so on_step_timer() never overlaps
+//     on_realtime() or status_line(), and the servo's pulse edges keep their time even
+//     while a step takes long to compute.
+//   - firmware::on_realtime() ('!') runs in the receive interrupt with interrupts off (or at
+//     the step interrupt's end, for a '!' received during it): it should only note the
+//     request.
 //   - firmware::status_line() ('?') runs in the receive interrupt (or TX-complete, or at the
 //     end of the step interrupt) with interrupts enabled: the step timer, the servo, Timer0
 //     and the serial interrupts themselves may preempt it (the report flags below keep a
@@ -102,11 +106,12 @@ bool schedule(uint32_t ticks) {
   return arm_rest(g_step_rest);
 }
 
-// Calls the firmware with interrupts enabled except the serial ones and this one, so the
-// servo's compare can interrupt a long step computation. Interrupts are off again on return.
+// Calls the firmware with interrupts enabled except the transmitter's and this one, so the
+// servo's compare and the receiver can interrupt a long step computation. Interrupts are off
+// again on return.
 uint32_t call_firmware() {
   const uint8_t ucsr = UCSR0B;
-  UCSR0B = ucsr & uint8_t(~(_BV(RXCIE0) | _BV(UDRIE0) | _BV(TXCIE0)));
+  UCSR0B = ucsr & uint8_t(~(_BV(UDRIE0) | _BV(TXCIE0)));
   TIMSK1 &= uint8_t(~_BV(OCIE1A));
   sei();
   const uint32_t next = firmware::on_step_timer();
@@ -213,6 +218,7 @@ uint8_t g_report_pos;         // the next byte of it to send
 report::Schedule g_sched;
 volatile bool g_started;     // hal::start() has run: the firmware is set up
 volatile bool g_stop_early;  // a '!' received before start()
+volatile bool g_stop_in_step;  // a '!' received during the step interrupt: acted on at its end
 
 // The UDRE interrupt's work: puts the next byte into UDR0 when it is empty: the report's
 // while one is going out, or is waiting at a line boundary; else the next queued byte, except
@@ -295,8 +301,12 @@ ISR(TIMER1_COMPA_vect) {
   g_in_step = true;
   run_due_steps();
   g_in_step = false;
-  // A '?' taken between catch-up steps: its report is built now, the step work done (the
-  // step interrupt is enabled again and may preempt the build like any other).
+  // A '!' or '?' received during the step work: the stop noted now; the report built now
+  // (the step interrupt is enabled again and may preempt the build like any other).
+  if (g_stop_in_step) {
+    g_stop_in_step = false;
+    firmware::on_realtime('!');
+  }
   build_report_if_due();
 }
 
@@ -330,10 +340,12 @@ ISR(USART_RX_vect) {
     return;
   }
   if (rt != articula::kRealtimeNone) {
-    if (g_started)
-      firmware::on_realtime(c);
-    else
+    if (!g_started)
       g_stop_early = true;
+    else if (g_in_step)
+      g_stop_in_step = true;
+    else
+      firmware::on_realtime(c);
     return;
   }
   const uint8_t head = g_rx_head;
@@ -409,6 +421,7 @@ void init() {
   g_sched.reset();
   g_started = false;
   g_stop_early = false;
+  g_stop_in_step = false;
   UCSR0A = _BV(U2X0);
   UBRR0 = uint16_t((F_CPU / (8UL * ARTICULA_SERIAL_BAUD)) - 1);
   UCSR0C = _BV(UCSZ01) | _BV(UCSZ00);
