@@ -66,8 +66,9 @@ export class ArmLink {
   private askedAt: number | null = null;
   private reading = 0; // lines in the engine's hands
   private silentSince: number | null = null; // the page's time silence was first seen
-  // The last events of the link (kind, the arm's clock, the page's clock, a word), told with a
-  // lost link: what the page heard and when, for whoever finds out why.
+  // The last events of the link (kind: "sent", "line" (heard), "?", "lost"; the arm's clock, the
+  // page's clock, a word), told with a lost link: what the page sent and heard and when, for
+  // whoever finds out why.
   // (the `?`s apart: a few hundred of them would hide the last lines heard)
   private trace: [string, number, number, string][] = [];
   private polls: [string, number, number, string][] = [];
@@ -246,6 +247,7 @@ export class ArmLink {
   private async writeLine(line: string, waiter: Pick<Outstanding, "onBanner" | "onReply">): Promise<Outstanding> {
     const entry: Outstanding = { line, banner: /^I\s*(#.*)?$/.test(line), ...waiter };
     this.unanswered.push(entry);
+    this.note("sent", line.slice(0, 24));
     await this.write(line + "\n");
     return entry;
   }

@@ -31,6 +31,8 @@ const OP_RETI = 0x9518;
 const OP_SEI = 0x9478;
 const OP_SPM = 0x95e8;
 const OP_SLEEP = 0x9588;
+// OUT 0x3F, Rr: a write to SREG (the form 1011 1AAr rrrr AAAA with A = 0x3F)
+const isOutSreg = (op) => (op & 0xfe0f) === 0xbe0f;
 const FLASH_BYTES = 32 * 1024;
 const SRAM_BYTES = 2048;
 const EEPROM_BYTES = 1024;
@@ -205,8 +207,13 @@ export class VirtualNano {
         // The ATmega328P's datasheet (7.7, "Reset and Interrupt Handling"): after RETI, and
         // after SEI, the next instruction runs before any pending interrupt is served. avr8js
         // serves it at once: a level interrupt that stays pending (UDRE while the firmware
-        // has nothing to send) would then starve the main program for ever.
-        if (op === OP_RETI || op === OP_SEI) {
+        // has nothing to send) would then starve the main program for ever. The same holds for
+        // a write to SREG that sets I, and avr-gcc relies on it: a function's frame is made
+        // with `cli; out SPH; out SREG; out SPL`, and an interrupt served between the last
+        // two would push onto a stack pointer half old, half new (256 bytes off when the
+        // frame crosses a page), overwriting the main program's frames: the virtual Nano then
+        // hung now and then in a busy page, its line never answered.
+        if (op === OP_RETI || op === OP_SEI || isOutSreg(op)) {
           op = prog[cpu.pc];
           avrInstruction(cpu);
         }
