@@ -37,6 +37,22 @@ class WebSim {
   void step(int n) {
     for (int i = 0; i < n; ++i) sim_->step();
   }
+  // `n` world steps, and the tool point (x, y, z mm) after every `every`-th of them and after
+  // the last: the path the tool took, however rarely the page is sent the world (a pen's ink
+  // drawn from it follows the arm, not the straight lines between two frames). A view of this
+  // object's buffer, valid until the next call (copy it).
+  emscripten::val step_trail(int n, int every) {
+    trail_.clear();
+    every = std::max(1, every);
+    for (int i = 1; i <= n; ++i) {
+      sim_->step();
+      if (i % every == 0 || i == n) {
+        const auto& p = sim_->frames().T_base_tool.p;
+        trail_.insert(trail_.end(), {p.x, p.y, p.z});
+      }
+    }
+    return emscripten::val(emscripten::typed_memory_view(trail_.size(), trail_.data()));
+  }
   void run_until(double t) {
     if (std::isfinite(t)) sim_->run_until(t);
   }
@@ -87,6 +103,7 @@ class WebSim {
   host::Scene scene_;
   host::SimOptions options_;
   std::unique_ptr<host::Simulation> sim_;
+  std::vector<double> trail_;
 };
 
 }  // namespace articula::web
@@ -99,6 +116,7 @@ EMSCRIPTEN_BINDINGS(articula_sim) {
       .function("create", &WebSim::create)
       .function("reset", &WebSim::reset)
       .function("step", &WebSim::step)
+      .function("stepTrail", &WebSim::step_trail)
       .function("runUntil", &WebSim::run_until)
       .function("loadProgram", &WebSim::load_program)
       .function("command", &WebSim::command)

@@ -211,6 +211,26 @@ describe("physics: every shipped scene, the same events at the same steps, objec
   });
 });
 
+test("the physics' tool path: stepTrail's points are the tool point after those world steps", () => {
+  const r = engine.robot("mk2plus");
+  const a = engine.sim(r, "", "ground"), b = engine.sim(r, "", "ground");
+  a.loadProgram(offHome(r.info), "m.arm");
+  b.loadProgram(offHome(r.info), "m.arm");
+  const path = a.stepTrail(2500, 100); // 2.5 s of world: a point after the 100th step, the 200th, ... the 2500th
+  assert.equal(path.length, 25 * 3);
+  for (let k = 0; k < 25; k++) {
+    b.step(100);
+    const T = b.state().tool; // the same world stepped alike: its tool point (row-major 4x4)
+    const xyz = Array.isArray(T[0]) ? [T[0][3], T[1][3], T[2][3]] : [T[3], T[7], T[11]];
+    for (let i = 0; i < 3; i++) assert.ok(Math.abs(path[3 * k + i] - xyz[i]) < 1e-9, `point ${k}: ${path.slice(3 * k, 3 * k + 3)} vs ${xyz}`);
+  }
+  assert.ok(Math.hypot(path[72] - path[0], path[73] - path[1], path[74] - path[2]) > 1, "the tool moved along the path");
+  assert.equal(a.stepTrail(7, 10).length, 3, "the last step's point, always");
+  a.delete();
+  b.delete();
+  r.delete();
+});
+
 describe("bad input gets the CLI's words, and the robot that was there stays", () => {
   test("a malformed robot file names the file, the JSON path and the problem", () => {
     const r = engine.robot("mk2plus");

@@ -158,7 +158,7 @@ function showPose(p: PoseMsg): void {
   fitNewRobot();
   editor.pose = p;
   if (p.t === undefined && !editor.physics?.on) editor.signals.changed.dispatch("pose");
-  if (editor.physics?.on) editor.signals.physicsTool.dispatch(p.tool.xyz);
+  if (editor.physics?.on) editor.signals.physicsTool.dispatch(p.trail ?? p.tool.xyz);
   if (!editor.robot) return;
   showJointValues(p, editor.robot);
   showTime(p);

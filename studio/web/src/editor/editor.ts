@@ -95,7 +95,7 @@ export class Editor {
     armConnected: new Signal<boolean>(),
     // the virtual Nano's motors stepped: each motor's steps after every step, row after row
     nanoSteps: new Signal<{ rows: Int32Array; motors: number }>(),
-    // the physics moved the arm: its tool point, mm
+    // the physics moved the arm: its tool point's path since the last time, mm (x, y, z, flat)
     physicsTool: new Signal<number[]>(),
     // a part of the project on screen changed (the robot, the scene, the program's text or
     // blocks, the pose, the camera, the paper and the pen): the project is saved, and an edit

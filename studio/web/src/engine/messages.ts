@@ -57,6 +57,7 @@ export interface PoseMsg {
   within_limits: boolean;
   fingers?: Flat4x4[];
   tip?: number[]; // the pen's tip (x, y, z mm) when a pen is held: where the page aims
+  trail?: number[]; // in the live physics: the tool point's path since the last frame (x, y, z mm, flat), this pose's last
   motors?: number[]; // the motors' angles (deg), for a robot with motors
   ghost?: Flat4x4[];
   ghost_fingers?: Flat4x4[]; // the ghost's fingers, posed by the engine

@@ -84,6 +84,7 @@ function restart(): void {
   S.sim!.reset();
   eventsSent = 0;
   pendingMove = pendingGrip = null;
+  trail = [];
 }
 
 /** An intent while the physics runs; `kinematic` answers the pose intents as without physics. */
@@ -144,9 +145,14 @@ export function physicsIntent(kind: string, m: Msg, kinematic: (kind: string, m:
 // frame. `rtf` is simulated time over wall time (1.0 when keeping up), `capacity` how many
 // times real time the stepping alone could run; `behind` when it cannot keep up.
 const MAX_UNACKED = 3;
+// The tool's path since the last frame sent (x, y, z mm, flat): a page too busy to take every
+// frame still gets every point (a pen's ink is drawn from them). At most 100,000 points wait.
+const TRAIL_MAX = 300_000;
+let trail: number[] = [];
 export function ensurePhysics(): void {
   if (loop !== null || !S.sim || !S.greeted) return;
   S.unacked = 0;
+  trail = [];
   const meter = new RealTimeMeter(60);
   let last = performance.now();
   loop = every(FRAME_MS, () => {
@@ -170,7 +176,9 @@ export function ensurePhysics(): void {
         }
       }
       const n = Math.round(Math.min(wall, 0.1) / s.dt);
-      s.step(n);
+      // the tool's path every 10 ms of the world's time, kept until a frame takes it
+      const path = s.stepTrail(n, Math.max(1, Math.round(0.01 / s.dt)));
+      if (trail.length + path.length <= TRAIL_MAX) for (const v of path) trail.push(v);
       busy = (performance.now() - now) / 1000;
       stepped = n * s.dt;
     }
@@ -182,6 +190,8 @@ export function ensurePhysics(): void {
     msg.capacity = capacity;
     msg.running = running;
     S.unacked++;
-    post([poseMessage(), msg]);
+    const pose = poseMessage();
+    pose.trail = trail.splice(0); // (every point since the last frame the page was sent)
+    post([pose, msg]);
   });
 }
