@@ -58,6 +58,10 @@ export class History {
   get redoName(): string {
     return this.redos[this.redos.length - 1]?.name ?? "";
   }
+  /** The step undo would take back, if any. */
+  get undoCommand(): Command | undefined {
+    return this.undos[this.undos.length - 1]?.cmd;
+  }
   get steps(): { undo: number; redo: number } {
     return { undo: this.undos.length, redo: this.redos.length };
   }

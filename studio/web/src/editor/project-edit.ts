@@ -46,6 +46,22 @@ export function describeChange(a: Project, b: Project): { name: string; kind: st
   return { name: parts.join(" and "), kind: "" };
 }
 
+/** Where two JSON values first differ ("program.blocks.blocks.blocks[0].x: 24 -> 30"), "" where
+ * they do not: what a step changed, for whoever reads a test's failure. */
+export function firstDifference(a: unknown, b: unknown, path = ""): string {
+  if (same(a, b)) return "";
+  const show = (v: unknown) => (v === undefined ? "none" : JSON.stringify(v).slice(0, 60));
+  if (a && b && typeof a === "object" && typeof b === "object" && Array.isArray(a) === Array.isArray(b)) {
+    const keys = [...new Set([...Object.keys(a), ...Object.keys(b)])];
+    for (const k of keys) {
+      const d = firstDifference((a as Record<string, unknown>)[k], (b as Record<string, unknown>)[k],
+        Array.isArray(a) ? `${path}[${k}]` : path ? `${path}.${k}` : k);
+      if (d) return d;
+    }
+  }
+  return `${path || "the whole"}: ${show(a)} -> ${show(b)}`;
+}
+
 /** The edit from `before` to `after`; `show` puts a document's history parts on screen. */
 export class ProjectEdit implements Command {
   name: string;
@@ -54,6 +70,10 @@ export class ProjectEdit implements Command {
     const d = describeChange(before, after);
     this.name = d?.name ?? "nothing";
     this.kind = d?.kind ?? "";
+  }
+  /** Where the step first changed the project. */
+  detail(): string {
+    return firstDifference(this.before, this.after);
   }
   undo(): void {
     this.show(this.before);

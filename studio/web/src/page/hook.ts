@@ -92,7 +92,7 @@ export interface Hook {
   exercise: { parts: { label: string; met: boolean; detail: string; distance_mm: number }[]; met: boolean; error?: string } | null;
   flash: { busy: boolean; phase: string; done: number; total: number; error: string; errorKind: string;
            result: { bytes: number; pages: number; baud: number; seconds: number } | null };
-  history: { undo: number; redo: number; undoName: string; redoName: string; ready: boolean }; // editor/history.ts: the steps; ready: the project is on screen, an edit now is a step
+  history: { undo: number; redo: number; undoName: string; redoName: string; undoDetail: string; ready: boolean }; // editor/history.ts: the steps; undoDetail: where the step to undo first changed the project; ready: the project is on screen, an edit now is a step
 }
 
 export const hook: Hook = {
@@ -112,7 +112,7 @@ export const hook: Hook = {
   shareLink: "", shareCopied: "", programMode: "text", programName: "program.arm", blocksCode: null, blockProblems: [], runningBlock: "", blockStacks: 0, blocksPending: false, stops: 0, pngCaption: "",
   blocksFirstPaintMs: 0, exercise: null,
   flash: { busy: false, phase: "", done: 0, total: 0, error: "", errorKind: "", result: null },
-  history: { undo: 0, redo: 0, undoName: "", redoName: "", ready: false },
+  history: { undo: 0, redo: 0, undoName: "", redoName: "", undoDetail: "", ready: false },
 };
 
 /** What the Editor holds, read from it whenever it is read. */
@@ -143,7 +143,8 @@ export function viewOf(ed: Editor): void {
   get(hook, "project", () => project);
   get(hook, "history", () => {
     const h = ed.history;
-    return { ...h.steps, undoName: h.undoName, redoName: h.redoName, ready: ed.project.ready };
+    const step = h.undoCommand as { detail?: () => string } | undefined;
+    return { ...h.steps, undoName: h.undoName, redoName: h.redoName, undoDetail: step?.detail?.() ?? "", ready: ed.project.ready };
   });
 }
 
