@@ -1275,6 +1275,17 @@ void Simulation::after_step() {
   measure_squeeze();
 }
 
+void Simulation::step_path(int n, int every, std::vector<double>& path) {
+  every = std::max(1, every);
+  for (int i = 1; i <= n; ++i) {
+    step();
+    if (i % every == 0 || i == n) {
+      const Vec3<double>& p = frames_.T_base_tool.p;
+      path.insert(path.end(), {p.x, p.y, p.z});
+    }
+  }
+}
+
 void Simulation::step() {
   const double dt = opt_.dt;
   const uint64_t until = (steps_ + 1) * ticks_per_step_;

@@ -133,6 +133,10 @@ class Simulation {
   void step();
   // Steps until time() >= t.
   void run_until(double t);
+  // `n` world steps; after every `every`-th of them and after the last, the tool point (x, y,
+  // z mm) appended to `path`: the path the tool took, for a pen's ink drawn from the physics
+  // however rarely the world is looked at (the studio's live physics, Python's Sim.step_path).
+  void step_path(int n, int every, std::vector<double>& path);
   double time() const { return double(steps_) * opt_.dt; }
   uint64_t steps_taken() const { return steps_; }
   double program_end() const { return program_end_s_; }

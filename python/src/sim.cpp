@@ -121,6 +121,22 @@ void bind_sim(nb::module_& m) {
              for (int i = 0; i < n; ++i) s.sim->step();
            },
            "n"_a = 1, "Advances the world n steps of dt.")
+      .def("step_path",
+           [](PySim& s, int n, int every) {
+             if (n < 0) throw nb::value_error("n must be >= 0");
+             if (every < 1) throw nb::value_error("every must be >= 1");
+             std::vector<double> path;
+             {
+               nb::gil_scoped_release release;
+               s.sim->step_path(n, every, path);
+             }
+             Array out = new_array({path.size() / 3, 3});
+             std::copy(path.begin(), path.end(), out.ptr);
+             return out;
+           },
+           "n"_a, "every"_a = 1,
+           "Advances the world n steps of dt; the tool point (x, y, z mm) after every `every`-th step and after "
+           "the last, one row each: the path the tool took (a pen's ink is drawn from it).")
       .def("run_until",
            [](PySim& s, double t) {
              if (!std::isfinite(t)) throw nb::value_error("t must be finite");

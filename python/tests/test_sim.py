@@ -100,6 +100,22 @@ def test_contacts_name_what_touches():
     assert {(c["a"], c["b"]) for c in sim.state()["contacts"]} == {("box", "ground")}
 
 
+def test_the_tool_path_is_the_tool_point_after_those_steps():
+    """step_path: the tool point after every `every`-th world step and the last, as a world
+    stepped alike shows it (a pen's ink in the physics is drawn from this path)."""
+    robot = articula.Robot.load("mk2plus")
+    a, b = articula.Sim(robot), articula.Sim(robot)
+    assert a.command("L 0 10") == "ok" and b.command("L 0 10") == "ok"
+    path = a.step_path(1050, every=100)
+    assert path.shape == (11, 3)
+    for row in path[:10]:
+        b.step(100)
+        np.testing.assert_allclose(row, b.state()["tool"][:3, 3], atol=1e-9)
+    b.step(50)
+    np.testing.assert_allclose(path[10], b.state()["tool"][:3, 3], atol=1e-9)
+    assert np.linalg.norm(path[-1] - path[0]) > 5  # the base turned: the tool moved
+
+
 @pytest.mark.parametrize("call, exc, words", [
     (lambda s: s.drag("post", [0, 0, 0]), ValueError, "'post' is static"),
     (lambda s: s.drag("ghost", [0, 0, 0]), KeyError, "no object named 'ghost'"),
@@ -107,6 +123,7 @@ def test_contacts_name_what_touches():
     (lambda s: s.drag("box", [0, float("nan"), 0]), ValueError, "NaN"),
     (lambda s: s.drag("box", [0, 0]), ValueError, "target must be"),
     (lambda s: s.step(-1), ValueError, "n must be"),
+    (lambda s: s.step_path(10, every=0), ValueError, "every must be"),
     (lambda s: s.load_program("programs/none.arm"), articula.ProgramError, "none.arm"),
 ])
 def test_bad_sim_calls_raise(call, exc, words):

@@ -37,20 +37,11 @@ class WebSim {
   void step(int n) {
     for (int i = 0; i < n; ++i) sim_->step();
   }
-  // `n` world steps, and the tool point (x, y, z mm) after every `every`-th of them and after
-  // the last: the path the tool took, however rarely the page is sent the world (a pen's ink
-  // drawn from it follows the arm, not the straight lines between two frames). A view of this
-  // object's buffer, valid until the next call (copy it).
+  // `n` world steps and the tool point after every `every`-th and the last (Simulation::
+  // step_path): a view of this object's buffer, valid until the next call (copy it).
   emscripten::val step_trail(int n, int every) {
     trail_.clear();
-    every = std::max(1, every);
-    for (int i = 1; i <= n; ++i) {
-      sim_->step();
-      if (i % every == 0 || i == n) {
-        const auto& p = sim_->frames().T_base_tool.p;
-        trail_.insert(trail_.end(), {p.x, p.y, p.z});
-      }
-    }
+    sim_->step_path(n, every, trail_);
     return emscripten::val(emscripten::typed_memory_view(trail_.size(), trail_.data()));
   }
   void run_until(double t) {
