@@ -89,6 +89,11 @@ def test_an_exercise_and_its_blocks_undone_by_touch_on_a_tablet(open_page):
         seen.append(pg.hook(f"[{count}, a.project.goal !== null]"))
     assert [n0, True] in seen, seen  # the exercise as it opened, its blocks taken back
     pg.wait(f"a.project.goal === null && a.project.name === {first!r}")
+    # every step still to redo, once the project before has settled (a wait that fails prints
+    # a.history: the step a late change recorded, and where it changed the project)
+    pg.wait(f"a.history.ready && a.history.undo === 0 && a.history.redo === {steps}")
+    pg.page.wait_for_timeout(1500)
+    pg.wait(f"a.history.undo === 0 && a.history.redo === {steps}")
     for n in range(steps):
         pg.page.tap("#redo")
         pg.wait(f"a.history.undo === {n + 1}")
