@@ -144,7 +144,9 @@ export function viewOf(ed: Editor): void {
   get(hook, "history", () => {
     const h = ed.history;
     const step = h.undoCommand as { detail?: () => string } | undefined;
-    return { ...h.steps, undoName: h.undoName, redoName: h.redoName, undoDetail: step?.detail?.() ?? "", ready: ed.project.ready };
+    // (undoDetail compares two whole documents: worked out only when it is read, not at every poll)
+    return { ...h.steps, undoName: h.undoName, redoName: h.redoName, get undoDetail() { return step?.detail?.() ?? ""; },
+      ready: ed.project.ready };
   });
 }
 
