@@ -89,6 +89,9 @@ export class Editor {
     historyChanged: this.history.changed,
     // before an undo or a redo: an edit still waiting to be recorded (typing) is recorded now
     settle: new Signal<void>(),
+    // an undo or a redo was taken: the project on screen is changing (it is put on screen
+    // meanwhile, and `changed` says "project" once it is there)
+    stepTaken: new Signal<"undo" | "redo">(),
     // an exercise asked for by name (the examples menu, the projects list): the projects open it
     exerciseWanted: new Signal<string>(),
     // the arm's link opened (true) or closed or lost (false)
@@ -154,7 +157,6 @@ export class Editor {
 
   private act(what: "undo" | "redo"): void {
     this.signals.settle.dispatch();
-    if (what === "undo") this.history.undo();
-    else this.history.redo();
+    if (what === "undo" ? this.history.undo() : this.history.redo()) this.signals.stepTaken.dispatch(what);
   }
 }

@@ -41,6 +41,14 @@ export async function chooseProject(editor: Editor, params: URLSearchParams): Pr
   ed = editor;
   ed.project.keeper = { save: saveNow, read };
   ed.signals.changed.add(changed);
+  // an undo or a redo: not saved until it is on screen and saved (a save under way when it was
+  // taken does not make the project clean, and a reload meanwhile is not taken for saved)
+  ed.signals.stepTaken.add(() => {
+    edits++;
+    saving.dirty = true;
+    clearTimeout(timer);
+    timer = window.setTimeout(() => void saveNow(), SAVE_AFTER_MS);
+  });
   ed.signals.projectOpened.add(() => {
     sessionSet(ed.project.id);
     if (ed.project.rev === 0) saving.dirty = true; // not kept yet: kept once on screen
@@ -122,8 +130,10 @@ export function saveNow(): Promise<void> {
 async function saveOnce(): Promise<void> {
   clearTimeout(timer);
   const p = ed.project;
-  if (p.applying || !saving.dirty) return;
-  if (ed.blocks.dragging()) { // mid-drag: the edit is the drag's end (one step, not two)
+  if (!saving.dirty) return;
+  // a project, an undo or a redo being put on screen: saved once it is there; mid-drag: the
+  // edit is the drag's end (one step, not two)
+  if (p.applying || ed.blocks.dragging()) {
     timer = window.setTimeout(() => void saveNow(), SAVE_AFTER_MS);
     return;
   }
