@@ -63,7 +63,7 @@ SAME = [
     ("Sim.__init__", "Sim.create"),
     ("Sim.reset", "Sim.reset"),
     ("Sim.step", "Sim.step"),
-    ("Sim.step_path", "Sim.stepTrail"),
+    ("Sim.step_path", "Sim.stepPath"),
     ("Sim.run_until", "Sim.runUntil"),
     ("Sim.load_program", "Sim.loadProgram"),
     ("Sim.command", "Sim.command"),

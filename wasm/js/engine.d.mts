@@ -56,7 +56,7 @@ export class Sim {
   readonly sceneName: string;
   readonly dt: number;
   step(n?: number): void;
-  stepTrail(n: number, every?: number): Float64Array;
+  stepPath(n: number, every?: number): Float64Array;
   runUntil(t: number): void;
   loadProgram(text: string, name?: string): void;
   command(line: string): string;

@@ -141,7 +141,7 @@ export class Sim {
   }
   step(n = 1) { this.h.step(n); }
   /** `n` world steps; the tool point (x, y, z mm, flat) after every `every`-th and the last. */
-  stepTrail(n, every = 1) { return Float64Array.from(this.h.stepTrail(n, every)); }
+  stepPath(n, every = 1) { return Float64Array.from(this.h.stepPath(n, every)); }
   runUntil(t) { this.h.runUntil(t); }
   loadProgram(text, name = "program.arm") { loaded(this.h.loadProgram(text, name)); }
   /** One protocol line for the simulated controller: "ok" or "error:N". */

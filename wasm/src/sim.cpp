@@ -39,10 +39,10 @@ class WebSim {
   }
   // `n` world steps and the tool point after every `every`-th and the last (Simulation::
   // step_path): a view of this object's buffer, valid until the next call (copy it).
-  emscripten::val step_trail(int n, int every) {
-    trail_.clear();
-    sim_->step_path(n, every, trail_);
-    return emscripten::val(emscripten::typed_memory_view(trail_.size(), trail_.data()));
+  emscripten::val step_path(int n, int every) {
+    path_.clear();
+    sim_->step_path(n, every, path_);
+    return emscripten::val(emscripten::typed_memory_view(path_.size(), path_.data()));
   }
   void run_until(double t) {
     if (std::isfinite(t)) sim_->run_until(t);
@@ -94,7 +94,7 @@ class WebSim {
   host::Scene scene_;
   host::SimOptions options_;
   std::unique_ptr<host::Simulation> sim_;
-  std::vector<double> trail_;
+  std::vector<double> path_;
 };
 
 }  // namespace articula::web
@@ -107,7 +107,7 @@ EMSCRIPTEN_BINDINGS(articula_sim) {
       .function("create", &WebSim::create)
       .function("reset", &WebSim::reset)
       .function("step", &WebSim::step)
-      .function("stepTrail", &WebSim::step_trail)
+      .function("stepPath", &WebSim::step_path)
       .function("runUntil", &WebSim::run_until)
       .function("loadProgram", &WebSim::load_program)
       .function("command", &WebSim::command)

@@ -211,12 +211,12 @@ describe("physics: every shipped scene, the same events at the same steps, objec
   });
 });
 
-test("the physics' tool path: stepTrail's points are the tool point after those world steps", () => {
+test("the physics' tool path: stepPath's points are the tool point after those world steps", () => {
   const r = engine.robot("mk2plus");
   const a = engine.sim(r, "", "ground"), b = engine.sim(r, "", "ground");
   a.loadProgram(offHome(r.info), "m.arm");
   b.loadProgram(offHome(r.info), "m.arm");
-  const path = a.stepTrail(2500, 100); // 2.5 s of world: a point after the 100th step, the 200th, ... the 2500th
+  const path = a.stepPath(2500, 100); // 2.5 s of world: a point after the 100th step, the 200th, ... the 2500th
   assert.equal(path.length, 25 * 3);
   for (let k = 0; k < 25; k++) {
     b.step(100);
@@ -225,7 +225,7 @@ test("the physics' tool path: stepTrail's points are the tool point after those 
     for (let i = 0; i < 3; i++) assert.ok(Math.abs(path[3 * k + i] - xyz[i]) < 1e-9, `point ${k}: ${path.slice(3 * k, 3 * k + 3)} vs ${xyz}`);
   }
   assert.ok(Math.hypot(path[72] - path[0], path[73] - path[1], path[74] - path[2]) > 1, "the tool moved along the path");
-  assert.equal(a.stepTrail(7, 10).length, 3, "the last step's point, always");
+  assert.equal(a.stepPath(7, 10).length, 3, "the last step's point, always");
   a.delete();
   b.delete();
   r.delete();

@@ -15,16 +15,12 @@ import { join } from "node:path";
 import { test } from "node:test";
 import { REPO, nodeEngine, nodeNanoParts } from "../../../wasm/js/node.mjs";
 import { VirtualNano } from "../src/virtual-nano/avr-nano.mjs";
+import { rng } from "./seeded.mjs";
 
 const HEX = process.env.ARTICULA_NANO_HEX || join(REPO, "build/avr/firmware/articula-nano.hex");
 const SEEDS = [1, 2, 3, 4, 5, 6];
 const LINES = 16; // of the drawing's
 const MAX_SLICE_MS = 20;
-
-function rng(seed) {
-  let s = seed >>> 0;
-  return () => ((s = (Math.imul(s, 1664525) + 1013904223) >>> 0) / 2 ** 32);
-}
 
 // The arm link's loop on `n`, the host's bytes between slices of random length. Returns what
 // went wrong ("" when nothing did) and the last events, for the message.

@@ -12,14 +12,10 @@ import { join } from "node:path";
 import { test } from "node:test";
 import { REPO, nodeEngine, nodeNanoParts } from "../../../wasm/js/node.mjs";
 import { VirtualNano } from "../src/virtual-nano/avr-nano.mjs";
+import { rng } from "./seeded.mjs";
 
 const HEX = process.env.ARTICULA_NANO_HEX || join(REPO, "build/avr/firmware/articula-nano.hex");
 const LINES = Number(process.env.ARTICULA_FUZZ_LINES || 800);
-
-function rng(seed) {
-  let s = seed >>> 0;
-  return () => ((s = (Math.imul(s, 1664525) + 1013904223) >>> 0) / 2 ** 32);
-}
 
 test(`${LINES} random lines: one reply each, the model's, and no motion on a refused one`, async (t) => {
   const engine = await nodeEngine();

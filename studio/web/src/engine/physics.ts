@@ -177,7 +177,7 @@ export function ensurePhysics(): void {
       }
       const n = Math.round(Math.min(wall, 0.1) / s.dt);
       // the tool's path every 10 ms of the world's time, kept until a frame takes it
-      const path = s.stepTrail(n, Math.max(1, Math.round(0.01 / s.dt)));
+      const path = s.stepPath(n, Math.max(1, Math.round(0.01 / s.dt)));
       if (trail.length + path.length <= TRAIL_MAX) for (const v of path) trail.push(v);
       busy = (performance.now() - now) / 1000;
       stepped = n * s.dt;
