@@ -29,7 +29,9 @@ MEASURE = """() => {
     .filter((el) => el.offsetParent !== null || el === document.body)
     .filter((el) => el.scrollWidth > el.clientWidth + 1 && getComputedStyle(el).overflowX !== 'auto')
     .map((el) => el.id || el.className || el.tagName);
+  const conn = document.getElementById('conn');
   return { stop: [x, y, w, h], stopOnTop: top === stop || stop.contains(top), view,
+           conn: box(conn), connOk: conn.classList.contains('ok'),
            pageWidth: document.documentElement.scrollWidth, wide, layout: window.articula.layout };
 }"""
 
@@ -58,6 +60,10 @@ def test_every_screen_has_stop_the_view_and_every_panel(open_page, name):
     assert vw * vh / (width * height) >= share, f"the 3D view gets {vw * vh / (width * height):.0%} of the screen"
     assert m["pageWidth"] <= width and m["wide"] == [], f"sideways scrolling: {m}"
     pg.wait("a.armPixels() > 0.002")  # the arm is drawn in the view
+    # the engine's chip whole in the header (a phone shows its green dot alone)
+    pg.wait("document.getElementById('conn').classList.contains('ok')")
+    cx, cy, cw, ch = pg.page.evaluate(MEASURE)["conn"]
+    assert cx >= 0 and cx + cw <= width and cw >= 16, f"the engine's chip is cut: {[cx, cy, cw, ch]}"
     pg.page.screenshot(path=str(SHOTS / f"studio-{name}.png"))
 
     if m["layout"]["mode"] == "wide":
