@@ -36,6 +36,36 @@ def cli_json(*args: str) -> dict:
     p = subprocess.run([cli_path(), *args, "--json"], capture_output=True, text=True, cwd=REPO, timeout=60)
     assert p.returncode in (0, 1), p.stderr
     return json.loads(p.stdout)
+# A browser that died under a test (WebKitGTK's web process once segfaulted in Mesa's software
+# renderer, swrast_dri.so, in its compositor thread: the kernel's log said so, and WebDriver
+# then answered "invalid session id") is no verdict on the page: such a test runs once more in
+# a new browser, and the run says so. Only that error: a failed assertion never runs again.
+BROWSER_GONE = ("invalid session id", "invalidsessionidexception")
+
+
+def _browser_died(reports) -> bool:
+    return any(r.failed and any(s in str(r.longrepr).lower() for s in BROWSER_GONE) for r in reports)
+
+
+@pytest.hookimpl(tryfirst=True)
+def pytest_runtest_protocol(item, nextitem):
+    from _pytest.runner import runtestprotocol
+
+    item.ihook.pytest_runtest_logstart(nodeid=item.nodeid, location=item.location)
+    reports = runtestprotocol(item, nextitem=nextitem, log=False)
+    if _browser_died(reports):
+        tr = item.config.pluginmanager.get_plugin("terminalreporter")
+        if tr:
+            tr.write_line(f"\n{item.nodeid}: the browser died under the test (WebDriver: invalid session id); "
+                          "running it once more in a new browser", yellow=True)
+        item._initrequest()
+        reports = runtestprotocol(item, nextitem=nextitem, log=False)
+    for r in reports:
+        item.ihook.pytest_runtest_logreport(report=r)
+    item.ihook.pytest_runtest_logfinish(nodeid=item.nodeid, location=item.location)
+    return True
+
+
 DIST = REPO / "studio" / "web" / "dist"
 # A wait's timeout guards against a hang; it is not a speed check. Every wait gets this many
 # times what it names, so that a busy machine (two test jobs on two cores) still passes.
