@@ -420,7 +420,10 @@ def test_write_hello_and_see_the_line_the_arm_will_draw(page):
     pg.click("#arm-connect")
     pg.wait("a.arm.connected && a.arm.status !== null && a.runOnArm === true", 60 * PATIENCE, "the virtual Nano connected")
     pg.click("#run")
-    pg.wait("a.arm.programDone === true || a.arm.error !== ''", 120 * PATIENCE, "the drawing on the virtual Nano")
+    try:
+        pg.wait("a.arm.programDone === true || a.arm.error !== ''", 120 * PATIENCE, "the drawing on the virtual Nano")
+    except AssertionError as e:  # how far it got: the arm's state as the page holds it
+        raise AssertionError(f"{e}; the arm: {pg.hook('JSON.stringify(a.arm).slice(0, 3000)')}") from None
     _link_held(pg)
     points = sum(len(st) for st in want["ink"]["strokes"])
     pg.wait(f"a.arm.status.state === 'Idle' && a.paper.ink.points === {points}", 60 * PATIENCE, "the virtual Nano's ink")
