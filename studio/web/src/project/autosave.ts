@@ -43,12 +43,7 @@ export async function chooseProject(editor: Editor, params: URLSearchParams): Pr
   ed.signals.changed.add(changed);
   // an undo or a redo: not saved until it is on screen and saved (a save under way when it was
   // taken does not make the project clean, and a reload meanwhile is not taken for saved)
-  ed.signals.stepTaken.add(() => {
-    edits++;
-    saving.dirty = true;
-    clearTimeout(timer);
-    timer = window.setTimeout(() => void saveNow(), SAVE_AFTER_MS);
-  });
+  ed.signals.stepTaken.add(() => edited(false));
   ed.signals.projectOpened.add(() => {
     sessionSet(ed.project.id);
     if (ed.project.rev === 0) saving.dirty = true; // not kept yet: kept once on screen
@@ -101,11 +96,15 @@ export async function freshName(): Promise<string> {
 
 // Something on screen changed: saved within a second (another project opened: now).
 function changed(part: string): void {
-  if (ed.project.applying) return;
+  if (!ed.project.applying) edited(part === "project");
+}
+
+// The project on screen differs from the one saved: saved now, or SAVE_AFTER_MS after the last edit.
+function edited(now: boolean): void {
   clearTimeout(timer);
   edits++;
   saving.dirty = true;
-  if (part === "project") void saveNow();
+  if (now) void saveNow();
   else timer = window.setTimeout(() => void saveNow(), SAVE_AFTER_MS);
 }
 
