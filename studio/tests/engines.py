@@ -96,6 +96,39 @@ class EnginePage:
                                      f"pending]: {history}")
             time.sleep(0.1)
 
+    def wait_on_nano(self, expr: str, nano_seconds: float, what: str, still: float = 60.0, wall: float = 1200.0):
+        """Until `expr` holds while the virtual Nano runs a program, its budget counted in the
+        Nano's own clock (`a.arm.nano.seconds`, emulated time), not the test's: on a busy machine
+        the page's worker emulates slower than real time, and the program takes as long, for
+        the Nano, as it would on the real arm. Fails when the Nano has run `nano_seconds` without
+        `expr` (the program did not end: a fault), when its clock stands `still` seconds (the
+        worker stopped), or after `wall` seconds whatever happens. Returns (Nano s, wall s)."""
+        clock = "(a.arm.nano ? a.arm.nano.seconds : null)"
+        t0 = time.monotonic()
+        n0 = None
+        last_n, moved = None, t0
+        while True:
+            done, n = self.hook(f"[!!({expr}), {clock}]")
+            now = time.monotonic()
+            if n0 is None:
+                n0 = n
+            if done:
+                return ((n or 0) - (n0 or 0), now - t0)
+            if n != last_n:
+                last_n, moved = n, now
+            why = None
+            if n is not None and n0 is not None and n - n0 > nano_seconds:
+                why = f"the Nano ran {n - n0:.1f} s of its own time (budget {nano_seconds:.0f} s)"
+            elif now - moved > still:
+                why = f"the Nano's clock stood still for {now - moved:.0f} s (at {n} s)"
+            elif now - t0 > wall:
+                why = f"{now - t0:.0f} s went by (the Nano ran {(n or 0) - (n0 or 0):.1f} s)"
+            if why:
+                arm = self.hook("JSON.stringify(a.arm).slice(0, 3000)")
+                raise AssertionError(f"{self.engine}: {what} did not happen: {why}; the page's errors: "
+                                     f"{self.page_errors()}; the arm: {arm}")
+            time.sleep(0.2)
+
     def run(self, script: str):
         """Statements in the page (a function's body: `return` gives a value back)."""
         raise NotImplementedError
