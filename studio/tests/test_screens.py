@@ -177,3 +177,20 @@ def test_touch_a_finger_orbits_drags_the_ik_target_and_two_pinch_to_zoom(open_pa
     pg.wait(f"Math.hypot(...a.pose.tool.xyz.map((v, i) => v - {tool}[i])) > 15")
     assert pg.hook("a.ikUpdates.length") >= 3
     assert pg.errors == []
+
+
+@pytest.mark.parametrize("width", [1600, 1920])
+def test_the_robots_name_in_the_header_is_readable_or_not_there(open_page, width):
+    """Beside a long project name the robot's name has little room: cut to a letter ("M") it
+    says nothing, so it is not shown; else it shows at least a few words."""
+    pg = open_page("mk2plus", width=width, height=900)
+    shown = "(() => { const e = document.getElementById('robot-name'); return e.offsetParent !== null && " \
+            "getComputedStyle(e).visibility === 'visible' ? e.clientWidth : 0; })()"
+    assert pg.hook(shown) >= 90  # a short project's name: the robot's shows
+    pg.page.click("#projects-button")
+    pg.page.select_option("#exercise-select", "pick-and-place.articula")
+    pg.wait("a.project.name.startsWith('Exercise: pick and place')")
+    pg.page.keyboard.press("Escape")
+    pg.wait(f"(w => w === 0 || w >= 90)({shown})")
+    assert pg.page.evaluate(MEASURE)["wide"] == []
+    assert pg.errors == []

@@ -93,6 +93,11 @@ export class Layout {
     const saved = stored(KEY);
     this.active = TABS.some((t) => t.id === saved) ? saved! : "joints";
     new ResizeObserver(() => this.apply()).observe(document.documentElement);
+    // the robot's name in the header takes the room the project's name leaves: cut to a letter
+    // or two ("M") it says nothing, so it goes (its box stays: no loop with the observer)
+    const name = $("robot-name");
+    new ResizeObserver(() => name.classList.toggle("squeezed", name.clientWidth < 90 && name.scrollWidth > name.clientWidth))
+      .observe(name);
     window.addEventListener("resize", () => this.apply());
     this.apply();
   }
