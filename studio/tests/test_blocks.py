@@ -12,7 +12,7 @@ import pytest
 from conftest import cli_json, Page, PATIENCE, REPO, SHOTS
 from test_screens import Fingers
 from test_studio import _connect_page_nano
-from class_page import _blocks, _build_solution, _chain, _open_project, _project
+from class_page import _blocks, _build_solution, _chain, _open_project, _project, _type_field
 
 
 def test_a_pick_and_place_from_blocks_in_physics_on_the_nano_after_a_reload_and_by_link(open_page, browser, site, tmp_path):
@@ -206,6 +206,23 @@ def test_blocks_that_unroll_too_far_or_go_beyond_a_joint_are_refused_on_the_bloc
     msg = pg.hook("a.blockProblems.find(p => p.block === 'outer').message")
     assert "repeat" in msg and "10,000" in msg
     assert "10,000" in pg.page.text_content("#program-status")
+
+
+def test_a_value_typed_wrong_then_right_takes_its_problem_away(open_page, tmp_path):
+    """A value half typed ("0, 90, -") stops the blocks making a program, and the status says
+    why; typed whole, the program is made and the status no longer says it (it stayed on
+    screen beside the finished blocks)."""
+    pg = open_page("mk2plus")
+    _open_project(pg, tmp_path, _project("Typing", blocks=_chain([("arm_joints", "0, 90, -90")])), "typing.articula")
+    pg.wait("a.blocksCode !== null && a.blocksCode.text.includes('M 0 90 0')")
+    pg.page.keyboard.press("Escape")
+    _type_field(pg, "b0", "0, 90, -")
+    pg.wait("document.getElementById('program-status').textContent.includes('is not a list of numbers')")
+    _type_field(pg, "b0", "0, 90, -95")
+    pg.wait("!a.blocksPending && a.blocksCode.text.includes('M 0 90 -5')")
+    assert "is not a list" not in pg.page.text_content("#program-status")
+    assert pg.hook("a.blockProblems") == []
+    assert pg.errors == []
 
 
 @pytest.mark.parametrize("size", [(768, 1024), (390, 844)], ids=["tablet", "phone"])

@@ -7,7 +7,7 @@
 import * as Blockly from "blockly/core";
 import type { Editor } from "../editor/editor";
 import type { Studio } from "../page/context";
-import { $, fill, h } from "../page/dom";
+import { $ } from "../page/dom";
 import { hook } from "../page/hook";
 import { defineBlocks, setJoints, toolbox } from "../blocks/define";
 import { BlockError, opsToWorkspace, unroll } from "../blocks/unroll";
@@ -23,6 +23,7 @@ let compiling = 0;
 let compiles = 0; // the compiles asked for: only the newest one's answer counts
 let pendingLoad: unknown = null; // a workspace to load once Blockly is up
 let lastHighlight = "";
+let saidFatal = false; // the status says why the blocks make no program
 let code = { text: "", robosim: "", python: "" };
 const changed = () => s.editor.signals.changed.dispatch("blocks");
 
@@ -242,6 +243,7 @@ function compile(): void {
     const r = m as { text?: string; robosim?: string; python?: string; lines?: string[]; problems?: { block: string; message: string }[];
       error?: { block: string; message: string } };
     if (r.error) return blockProblem(r.error.block, r.error.message, true);
+    fatalMended();
     lineBlocks = r.lines ?? [];
     code = { text: r.text ?? "", robosim: r.robosim ?? "", python: r.python ?? "" };
     hook.blocksCode = code;
@@ -260,6 +262,14 @@ function clearWarnings(): void {
   hook.blockProblems = [];
 }
 
+/** The blocks make a program again: the status that said why they did not goes (typing "-95"
+ * passes through "-", whose problem must not outlive it). */
+function fatalMended(): void {
+  if (!saidFatal) return;
+  saidFatal = false;
+  s.editor.signals.programSaid.dispatch({ text: "" });
+}
+
 /** A problem on a block: its warning, the panel's status (`fatal`: no program made). */
 export function blockProblem(id: string, message: string, fatal: boolean): void {
   const b = id ? ws?.getBlockById(id) : null;
@@ -270,9 +280,8 @@ export function blockProblem(id: string, message: string, fatal: boolean): void 
   }
   hook.blockProblems = [...hook.blockProblems, { block: id, message }];
   if (fatal) {
-    const el = $("program-status");
-    fill(el, h("div", null, message));
-    el.className = "status bad";
+    saidFatal = true;
+    s.editor.signals.programSaid.dispatch({ text: message, bad: true });
   }
 }
 

@@ -235,7 +235,8 @@ function positionLine(): void {
 /** The panel's status: a sentence, and the refused lines under it. */
 function programStatus(text: string, rejected: string[] = [], bad = false): void {
   const el = $("program-status");
-  fill(el, h("div", null, text), ...rejected.map((r) => h("div", { class: "rejected" }, r)));
+  if (!text && !rejected.length) fill(el); // nothing to say: the status goes
+  else fill(el, h("div", null, text), ...rejected.map((r) => h("div", { class: "rejected" }, r)));
   el.className = `status ${bad ? "bad" : ""}`;
 }
 
