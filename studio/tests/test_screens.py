@@ -94,6 +94,7 @@ def test_every_screen_has_stop_the_view_and_every_panel(open_page, name):
 def test_stop_stays_on_top_of_the_tour_and_a_banner(open_page):
     pg = open_page("mk2plus", width=768, height=1024, touch=True, tour=True)
     assert pg.page.is_visible("#tour")
+    assert "finger" in pg.page.text_content("#tour-text")  # a tablet's words: no mouse to drag
     _check_stop(pg, 768, 1024, True)
     pg.page.tap("#tour-next")  # the joints: the tour shows the tab that holds them
     assert pg.hook("a.layout.tab") == "joints" and pg.page.is_visible("#joints-section")

@@ -24,6 +24,7 @@ def test_the_static_site_loads_without_errors_and_shows_the_arm(open_page, site)
     # the first-run tour: five steps, the last the exercises
     assert pg.page.is_visible("#tour")
     assert pg.page.text_content("#tour-step") == "1 of 5"
+    assert "right-drag" in pg.page.text_content("#tour-text")  # a mouse's words
     for _ in range(4):
         pg.page.click("#tour-next")
     assert pg.page.text_content("#tour-step") == "5 of 5"

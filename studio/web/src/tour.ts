@@ -4,11 +4,15 @@ interface Step {
   target: string;
   title: string;
   text: string;
+  touch?: string; // the text where a finger is the pointer (a tablet, a phone)
 }
+
+const touchFirst = () => window.matchMedia("(pointer: coarse)").matches;
 
 const STEPS: Step[] = [
   { target: "view-wrap", title: "The arm in 3D",
-    text: "Drag to orbit, right-drag to pan, scroll to zoom (or the arrow keys and + -). Fit view frames the arm; Frames shows each DH frame's axes and number." },
+    text: "Drag to orbit, right-drag to pan, scroll to zoom (or the arrow keys and + -). Fit view frames the arm; Frames shows each DH frame's axes and number.",
+    touch: "One finger orbits, two fingers pan, a pinch zooms. Fit view frames the arm; Frames shows each DH frame's axes and number." },
   { target: "joints-section", title: "Move it joint by joint",
     text: "Every joint variable of the DH table has a slider. The table and the tool pose update as you move: watch which axis each row turns about." },
   { target: "ik-section", title: "Tell it where to go",
@@ -34,7 +38,7 @@ export function startTour(force: boolean, reveal: (id: string) => void = () => {
     document.getElementById(s.target)?.classList.add("tour-highlight");
     document.getElementById("tour-step")!.textContent = `${i + 1} of ${STEPS.length}`;
     document.getElementById("tour-title")!.textContent = s.title;
-    document.getElementById("tour-text")!.textContent = s.text;
+    document.getElementById("tour-text")!.textContent = s.touch && touchFirst() ? s.touch : s.text;
     document.getElementById("tour-next")!.textContent = i === STEPS.length - 1 ? "Start" : "Next";
     tour.hidden = false;
   };
