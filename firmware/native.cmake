@@ -1,8 +1,9 @@
-# firmware/native.cmake - the firmware's logic on the host, tested against a fake HAL.
+# firmware/native.cmake - the firmware's logic on the host, on a virtual clock, and its tests.
 #
-# The firmware sources (all of src/ but the AVR HAL and main.cpp) as a library compiled
-# gnu++11 as on the Nano, the fake HAL and harness (test/*.cpp, which PlatformIO compiles
-# with every test folder too), and one GoogleTest program per test folder
+# The firmware sources (all of src/ but the AVR HAL and main.cpp) with the SITL HAL and
+# machine (sitl/) as one library compiled gnu++11 as on the Nano, the tests' harness
+# (test/harness.cpp, which PlatformIO compiles with every test folder too), and one
+# GoogleTest program per test folder
 # (test/test_<unit>/test_<unit>.cpp), for each of two arms on the one firmware: the MK2 a
 # blank EEPROM gets, under the prefix "firmware.", and a test robot with half steps, a
 # reversed motor, the identity coupling and a home pose away from step 0, under
@@ -10,6 +11,7 @@
 # the harness puts in the fake EEPROM of a fresh machine.
 set(fw_src_dir ${ARTICULA_FIRMWARE_DIR}/src)
 set(fw_test_dir ${ARTICULA_FIRMWARE_DIR}/test)
+set(fw_sitl_dir ${ARTICULA_FIRMWARE_DIR}/sitl)
 file(GLOB fw_sources CONFIGURE_DEPENDS ${fw_src_dir}/*.cpp)
 list(FILTER fw_sources EXCLUDE REGEX "/(hal_avr|main)\\.cpp$")
 file(GLOB fw_test_folders LIST_DIRECTORIES true CONFIGURE_DEPENDS ${fw_test_dir}/test_*)
@@ -32,27 +34,30 @@ function(articula_firmware_variant variant robot prefix)
     set(robot_file ${PROJECT_SOURCE_DIR}/robots/mk2plus.json)
   endif()
 
-  add_library(firmware_${variant} STATIC ${fw_sources})
-  target_include_directories(firmware_${variant} PUBLIC ${fw_src_dir})
-  target_link_libraries(firmware_${variant} PUBLIC articula::core)
-  target_compile_options(firmware_${variant} PRIVATE ${ARTICULA_WARNINGS})
-  set_target_properties(firmware_${variant} PROPERTIES CXX_STANDARD 11 CXX_EXTENSIONS ON)
+  # The firmware on its virtual clock (firmware/sitl/): src/'s controller compiled for the
+  # host, unchanged, with the SITL HAL and the machine that runs its main loop and interrupts.
+  # One library: the HAL and the firmware call each other.
+  add_library(firmware_sitl_${variant} STATIC ${fw_sources} ${fw_sitl_dir}/hal_sitl.cpp ${fw_sitl_dir}/machine.cpp)
+  target_include_directories(firmware_sitl_${variant} PUBLIC ${fw_src_dir} ${fw_sitl_dir})
+  target_link_libraries(firmware_sitl_${variant} PUBLIC articula::core)
+  target_compile_options(firmware_sitl_${variant} PRIVATE ${ARTICULA_WARNINGS})
+  set_target_properties(firmware_sitl_${variant} PROPERTIES CXX_STANDARD 11 CXX_EXTENSIONS ON)
 
-  # The fake HAL resolves the library's hal:: calls: linked as objects, ahead of it.
-  add_library(firmware_sim_${variant} OBJECT ${fw_test_dir}/fake_hal.cpp ${fw_test_dir}/harness.cpp)
-  target_include_directories(firmware_sim_${variant} PUBLIC ${fw_test_dir})
-  target_link_libraries(firmware_sim_${variant} PUBLIC firmware_${variant} GTest::gtest)
-  target_compile_options(firmware_sim_${variant} PRIVATE ${ARTICULA_WARNINGS})
-  target_compile_definitions(firmware_sim_${variant} PRIVATE ${config_defs})
+  # The tests' harness: the variant's arm at boot, the checks that need GoogleTest.
+  add_library(firmware_harness_${variant} OBJECT ${fw_test_dir}/harness.cpp)
+  target_include_directories(firmware_harness_${variant} PUBLIC ${fw_test_dir})
+  target_link_libraries(firmware_harness_${variant} PUBLIC firmware_sitl_${variant} GTest::gtest)
+  target_compile_options(firmware_harness_${variant} PRIVATE ${ARTICULA_WARNINGS})
+  target_compile_definitions(firmware_harness_${variant} PRIVATE ${config_defs})
   if(robot)
-    add_dependencies(firmware_sim_${variant} firmware_config_${variant})
+    add_dependencies(firmware_harness_${variant} firmware_config_${variant})
   endif()
 
   foreach(folder ${fw_test_folders})
     get_filename_component(name ${folder} NAME)
     set(exe firmware_${variant}_${name})
     add_executable(${exe} ${folder}/${name}.cpp)
-    target_link_libraries(${exe} PRIVATE firmware_sim_${variant} GTest::gtest_main)
+    target_link_libraries(${exe} PRIVATE firmware_harness_${variant} GTest::gtest_main)
     if(name STREQUAL "test_robot")  # reads the robot file with the host's loader
       target_link_libraries(${exe} PRIVATE articula_host)
     endif()

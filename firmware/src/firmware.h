@@ -1,5 +1,5 @@
 // firmware/src/firmware.h - the firmware's entry points, called by the HAL's main loop
-// and interrupts (hal_avr.cpp / main.cpp on the Nano, the fake HAL in native tests).
+// and interrupts (hal_avr.cpp / main.cpp on the Nano, firmware/sitl/ on the PC).
 #ifndef ARTICULA_FIRMWARE_FIRMWARE_H
 #define ARTICULA_FIRMWARE_FIRMWARE_H
 

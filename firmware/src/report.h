@@ -1,6 +1,6 @@
 // firmware/src/report.h - when the status report is built and when it goes out: the rules
-// the Nano's serial interrupts follow (hal_avr.cpp) and the native tests' fake HAL follows too
-// (firmware/test/fake_hal.cpp), so that the native tests run the Nano's own scheduling. No I/O
+// the Nano's serial interrupts follow (hal_avr.cpp) and the SITL HAL follows too
+// (firmware/sitl/hal_sitl.cpp), so that the firmware on the PC runs the Nano's own scheduling. No I/O
 // and no registers: the HAL says what happened (a '?' came, a byte of the report went out),
 // asks what may happen now (build, send the report's next byte, send a queued byte), and does
 // it. The HAL calls it with interrupts off (the flags are shared with the interrupts).

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "builtin_config.h"
-#include "fake_hal.h"
+#include "hal_sitl.h"
 #include "harness.h"
 #include "robot.h"
 
@@ -19,7 +19,7 @@ namespace {
 
 // The image in the fake EEPROM (staged or committed).
 std::vector<uint8_t> eeprom_image() {
-  const uint8_t* e = fake::hw.eeprom + robot::kEepromAddress + 1;
+  const uint8_t* e = sitl::hw.eeprom + robot::kEepromAddress + 1;
   return std::vector<uint8_t>(e, e + kConfigImageSize);
 }
 

@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "fake_hal.h"
+#include "hal_sitl.h"
 #include "harness.h"
 #include "queue.h"
 #include "robot.h"
@@ -67,14 +67,14 @@ std::vector<std::string> base_turn(double total, int parts) {
 
 TEST(Planner, CollinearMovesRunAsOneWithoutAStop) {
   sim::boot();
-  const uint64_t t_one = fake::hw.now;
+  const uint64_t t_one = sitl::hw.now;
   ASSERT_EQ(sim::command(base_turn(60, 1)[0]), "ok");
   ASSERT_TRUE(sim::run_until_at_rest());
   const std::vector<uint64_t> one = ticks_of(0, t_one);
   ASSERT_GT(one.size(), 100u);
 
   sim::boot();
-  const uint64_t t_split = fake::hw.now;
+  const uint64_t t_split = sitl::hw.now;
   const std::vector<std::string> replies = stream(base_turn(60, 20));
   ASSERT_EQ(replies, std::vector<std::string>(20, "ok"));
   const std::vector<uint64_t> split = ticks_of(0, t_split);
@@ -100,7 +100,7 @@ TEST(Planner, JunctionSettingZeroIsRestToRestTickForTick) {
   sim::boot();
   ASSERT_EQ(sim::command("$6=0"), "ok");
   const MotionSettings s = sim::motion_settings();
-  const uint64_t t0 = fake::hw.now;
+  const uint64_t t0 = sitl::hw.now;
   int32_t from = sim::status().steps[0];
   const std::vector<std::string> lines = base_turn(30, 5);
   ASSERT_EQ(stream(lines), std::vector<std::string>(5, "ok"));
@@ -129,7 +129,7 @@ TEST(Planner, ACornerSlowsToItsJunctionLevelNotToRest) {
                e0 = robot::config.home[2] / 1000.0;
   // 20 degrees of base, then the base and the shoulder together: a 45-degree turn in steps.
   const std::vector<std::string> lines = {m_line(b0 + 20, s0, e0), m_line(b0 + 40, s0 + 10, e0)};
-  const uint64_t t0 = fake::hw.now;
+  const uint64_t t0 = sitl::hw.now;
   ASSERT_EQ(stream(lines), std::vector<std::string>(2, "ok"));
   const std::vector<uint64_t> base = ticks_of(0, t0);
   ASSERT_GT(base.size(), 60u);
@@ -162,7 +162,7 @@ TEST(Planner, StopAtSpeedGoesOnAlongThePathIntoTheNextMove) {
                                        sim::status().steps[0]);
   std::string all;
   for (const std::string& l : lines) all += l + "\n";
-  const uint64_t t0 = fake::hw.now;
+  const uint64_t t0 = sitl::hw.now;
   sim::send(all);
   ASSERT_TRUE(sim::run_until([&] { return ticks_of(0, t0).size() >= 60; }, 60 * sim::kSecond));
   sim::send("!");

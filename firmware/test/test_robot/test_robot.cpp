@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "fake_hal.h"
+#include "hal_sitl.h"
 #include "harness.h"
 #include "robot.h"
 #include "robot_file.h"
@@ -224,10 +224,10 @@ TEST(Robot, HomeAndZero) {
   // Z: no move, the steps become the home steps, the pins stay where they are.
   ASSERT_EQ(sim::command("L 0 -15"), "ok");
   ASSERT_TRUE(sim::run_until_at_rest());
-  const std::vector<int64_t> pins(fake::hw.position, fake::hw.position + kJ);
-  const size_t writes = fake::hw.coil_log.size();
+  const std::vector<int64_t> pins(sitl::hw.position, sitl::hw.position + kJ);
+  const size_t writes = sitl::hw.coil_log.size();
   ASSERT_EQ(sim::command("Z"), "ok");
-  EXPECT_EQ(fake::hw.coil_log.size(), writes);
+  EXPECT_EQ(sitl::hw.coil_log.size(), writes);
   st = sim::status();
   for (int i = 0; i < kJ; ++i) {
     EXPECT_EQ(st.steps[i], robot::home_steps[i]);
@@ -236,7 +236,7 @@ TEST(Robot, HomeAndZero) {
   ASSERT_EQ(sim::command("L 0 3"), "ok");
   ASSERT_TRUE(sim::run_until_at_rest());
   const int32_t moved = quantize_within_limits(robot::motor(0), robot::config.home[0] + 3000) - robot::home_steps[0];
-  EXPECT_EQ(fake::hw.position[0] - pins[0], moved);
+  EXPECT_EQ(sitl::hw.position[0] - pins[0], moved);
   EXPECT_EQ(sim::hal_errors(), "");
 }
 

@@ -1,5 +1,5 @@
-// firmware/test/fake_hal.cpp - hal.h on the host, for the native tests.
-#include "fake_hal.h"
+// firmware/sitl/hal_sitl.cpp - hal.h on the host, on the virtual clock (hal_sitl.h).
+#include "hal_sitl.h"
 
 #include <cstring>
 
@@ -8,7 +8,7 @@
 #include "firmware.h"
 #include "hal.h"
 
-namespace fake {
+namespace sitl {
 
 Hardware hw;
 
@@ -109,9 +109,9 @@ void reset(bool blank_eeprom) {
     std::memcpy(hw.eeprom, keep, sizeof keep);
 }
 
-}  // namespace fake
+}  // namespace sitl
 
-using fake::hw;
+using sitl::hw;
 
 namespace hal {
 
@@ -123,20 +123,20 @@ void start() {
     hw.stop_early = false;
     firmware::on_realtime('!');
   }
-  fake::build_report_if_due();
+  sitl::build_report_if_due();
 }
 
 void write_coils(uint8_t motor, uint8_t pattern) {
-  fake::interrupt_point();
-  fake::CoilWrite w{hw.now, motor, pattern, 0, false, hw.interrupts_off_depth != 0};
-  if (motor >= fake::kMotors || pattern > 0xF) {
+  sitl::interrupt_point();
+  sitl::CoilWrite w{hw.now, motor, pattern, 0, false, hw.interrupts_off_depth != 0};
+  if (motor >= sitl::kMotors || pattern > 0xF) {
     hw.errors.push_back("write_coils(" + std::to_string(motor) + ", " + std::to_string(pattern) + ")");
     hw.coil_log.push_back(w);
     return;
   }
   hw.pattern[motor] = pattern;
   if (pattern != 0) {
-    const int index = fake::sequence_index(pattern);
+    const int index = sitl::sequence_index(pattern);
     const bool full = hw.microsteps[motor] == 1;
     if (index < 0 || (full && index % 2 == 0)) {
       hw.errors.push_back("motor " + std::to_string(motor) + ": pattern " + std::to_string(pattern) +
@@ -158,19 +158,19 @@ void write_coils(uint8_t motor, uint8_t pattern) {
 }
 
 void set_servo_pulse(uint16_t microseconds) {
-  fake::interrupt_point();
+  sitl::interrupt_point();
   hw.servo_us = microseconds;
-  hw.servo_log.push_back(fake::ServoChange{hw.now, microseconds});
+  hw.servo_log.push_back(sitl::ServoChange{hw.now, microseconds});
 }
 
 bool endstop(uint8_t motor) {
-  if (motor >= fake::kMotors || !hw.endstop_fitted[motor]) return false;
+  if (motor >= sitl::kMotors || !hw.endstop_fitted[motor]) return false;
   return hw.endstop_below[motor] ? hw.position[motor] <= hw.endstop_at[motor]
                                  : hw.position[motor] >= hw.endstop_at[motor];
 }
 
 void start_step_timer(uint32_t first_ticks) {
-  fake::interrupt_point();
+  sitl::interrupt_point();
   if (first_ticks == 0) hw.errors.push_back("start_step_timer(0)");
   hw.timer_running = true;
   hw.deadline = hw.now + first_ticks;
@@ -182,7 +182,7 @@ void stop_step_timer() {
 }
 
 void stage_coils(uint8_t motor, uint8_t pattern) {
-  if (motor >= fake::kMotors || pattern > 0xF) {
+  if (motor >= sitl::kMotors || pattern > 0xF) {
     hw.errors.push_back("stage_coils(" + std::to_string(motor) + ", " + std::to_string(pattern) + ")");
     return;
   }
@@ -195,12 +195,12 @@ void stage_coils(uint8_t motor, uint8_t pattern) {
 bool step_timer_running() { return hw.timer_running; }
 
 uint32_t millis() {
-  fake::interrupt_point();
+  sitl::interrupt_point();
   return uint32_t(hw.now / (kTickHz / 1000));
 }
 
 int16_t serial_read() {
-  fake::interrupt_point();
+  sitl::interrupt_point();
   if (hw.rx.empty()) return -1;
   const char c = hw.rx.front();
   hw.rx.pop_front();
@@ -209,7 +209,7 @@ int16_t serial_read() {
 }
 
 void serial_write(char c) {
-  fake::interrupt_point();
+  sitl::interrupt_point();
   // The Nano's HAL waits for its transmit interrupt when the buffer is full: the main loop's
   // only, with interrupts enabled.
   if (hw.interrupts_off_depth != 0 || hw.in_step_timer || hw.report_schedule.building)
@@ -217,13 +217,13 @@ void serial_write(char c) {
   ++hw.serial_writes;
   hw.tx.push_back(c);
   hw.tx_line_start = c == '\n';
-  fake::flush_report();
+  sitl::flush_report();
 }
 
 void flash_read(void* data, const void* flash, uint16_t size) { std::memcpy(data, flash, size); }
 
 void eeprom_read(uint16_t address, void* data, uint16_t size) {
-  fake::interrupt_point();
+  sitl::interrupt_point();
   if (address + size > sizeof hw.eeprom) {
     hw.errors.push_back("eeprom_read beyond the EEPROM");
     return;
@@ -232,7 +232,7 @@ void eeprom_read(uint16_t address, void* data, uint16_t size) {
 }
 
 void eeprom_write(uint16_t address, const void* data, uint16_t size) {
-  fake::interrupt_point();
+  sitl::interrupt_point();
   if (address + size > sizeof hw.eeprom) {
     hw.errors.push_back("eeprom_write beyond the EEPROM");
     return;
@@ -248,7 +248,7 @@ void eeprom_write(uint16_t address, const void* data, uint16_t size) {
 void idle() {}
 
 uint8_t interrupts_off() {
-  fake::interrupt_point();
+  sitl::interrupt_point();
   const uint8_t was_on = hw.interrupts_off_depth == 0;
   ++hw.interrupts_off_depth;
   return was_on;

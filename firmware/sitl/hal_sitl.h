@@ -1,6 +1,8 @@
-// firmware/test/fake_hal.h - the HAL of the native tests (hal.h implemented on the host).
+// firmware/sitl/hal_sitl.h - hal.h on the host, on a virtual clock: the hardware the firmware
+// runs on in software in the loop (machine.h runs its main loop and interrupts; the native
+// tests run the firmware's own controller on it).
 //
-// A simulated clock in step-timer ticks (2 MHz), advanced by the harness; every coil write
+// A virtual clock in step-timer ticks (2 MHz), advanced by the machine; every coil write
 // and servo pulse change recorded with its time; serial in and out buffers; a 1 KB EEPROM
 // image; endstops that press at a given step. The coil patterns are decoded back into step
 // counts here, independently of the firmware, so tests see what the motors would do.
@@ -12,8 +14,10 @@
 // never inside a line. Interrupts can come in the middle of the firmware's work: every HAL
 // call made with interrupts enabled, outside the step timer's call and the report's build,
 // first calls `interrupt_point` (a test sets it to deliver bytes mid-command).
-#ifndef ARTICULA_FIRMWARE_TEST_FAKE_HAL_H
-#define ARTICULA_FIRMWARE_TEST_FAKE_HAL_H
+//
+// The firmware's .cpp files compile unchanged against it (hal.h is their only window).
+#ifndef ARTICULA_FIRMWARE_SITL_HAL_SITL_H
+#define ARTICULA_FIRMWARE_SITL_HAL_SITL_H
 
 #include <cstdint>
 #include <deque>
@@ -23,7 +27,7 @@
 
 #include "report.h"
 
-namespace fake {
+namespace sitl {
 
 static const int kMotors = 3;  // the most the firmware drives
 
@@ -104,6 +108,6 @@ void receive(char c);
 // returns what it returned.
 uint32_t step_deadline();
 
-}  // namespace fake
+}  // namespace sitl
 
-#endif  // ARTICULA_FIRMWARE_TEST_FAKE_HAL_H
+#endif  // ARTICULA_FIRMWARE_SITL_HAL_SITL_H

@@ -1,0 +1,90 @@
+// firmware/sitl/machine.h - the Nano running the firmware on a virtual clock (software in the
+// loop, as ArduPilot's SITL runs its flight code): firmware/src's own controller, compiled for
+// the host against hal_sitl.cpp, driven by the main loop and interrupts the Nano has.
+//
+// The main loop is firmware::poll(), one pass every kPollTicks of virtual time; between two
+// passes every event is delivered in its time order and the clock jumps to it:
+//   - the step timer's deadlines: the staged coils are written, then firmware::on_step_timer();
+//   - bytes from the host on the serial line: each arrives at the receive interrupt (sitl::
+//     receive) once its frame is in, 10 bits at the Nano's real 117,647 baud (kByteTicks), one
+//     frame after another: '?' is answered by a status report at the next line boundary of the
+//     output, '!' goes to firmware::on_realtime, every other byte to serial_read().
+// Everything the firmware does is in sitl::hw: its output, every coil write and servo pulse
+// stamped with its tick, the EEPROM.
+//
+// The firmware's state is global, as on the Nano: one machine per process.
+#ifndef ARTICULA_FIRMWARE_SITL_MACHINE_H
+#define ARTICULA_FIRMWARE_SITL_MACHINE_H
+
+#include <articula/motion.h>
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "hal_sitl.h"
+
+namespace sitl {
+
+static const uint64_t kPollTicks = 1000;  // a main-loop pass every 0.5 ms
+static const uint64_t kSecond = 2000000;  // ticks
+
+// The serial line: USART0 with U2X and UBRR 16 (hal_avr.cpp) takes 8 x 17 CPU cycles a bit,
+// 17 ticks of the 2 MHz step timer: 117,647 baud for the 115,200 asked. A frame (8N1) is
+// 10 bits.
+static const uint64_t kBitTicks = 17;
+static const uint64_t kByteTicks = 10 * kBitTicks;
+
+// Power-up: the hardware reset (the EEPROM blank, or kept as it is), then as main.cpp:
+// hal::init(), firmware::setup(), hal::start(). `during_setup`: bytes that arrive after the
+// receiver is on and before the firmware is set up. `config`: a robot configuration image
+// (articula::kConfigImageSize bytes, as `articula configure --header` makes) put in the
+// EEPROM first when it holds none (or is blank): the arm as configured for that robot.
+void boot(bool blank_eeprom = true, const std::string& during_setup = "", const uint8_t* config = nullptr);
+
+// Bytes from the host at the receive interrupt, at the current time (all at once).
+void send(const std::string& bytes);
+// Bytes the host starts sending at `tick` (not before the current time): each reaches the
+// receive interrupt when its frame is in, after those sent before it. Returns the tick the
+// last one arrives.
+uint64_t send_at(uint64_t tick, const std::string& bytes);
+// Bytes sent and not yet arrived.
+size_t on_the_line();
+
+// One main-loop pass: poll(), then the clock advances kPollTicks, firing every step-timer
+// deadline and delivering every byte due on the way.
+void tick();
+// Ticks until done() (checked after each pass) or max_ticks have passed; false on timeout.
+bool run_until(const std::function<bool()>& done, uint64_t max_ticks);
+
+// Complete lines the firmware has written since the last call (without their LF).
+std::vector<std::string> take_lines();
+// The first of them that is a status report ("<...>"), taken out of them; "" if none.
+std::string take_report();
+
+// Sends `line` and an LF, runs until a reply (ok / error:N) comes; returns it ("" on
+// timeout). Report lines before it go to reports().
+std::string command(const std::string& line, uint64_t max_ticks = 120 * kSecond);
+const std::vector<std::string>& reports();
+
+// Nothing moving, nothing queued, no stop under way.
+bool at_rest();
+bool run_until_at_rest(uint64_t max_ticks = 600 * kSecond);
+
+// The motion settings the firmware's StepProfile uses now.
+articula::MotionSettings motion_settings();
+
+// Step events of one motor from the coil log (decoded by hal_sitl.cpp): times and signs.
+struct Step {
+  uint64_t tick;
+  int8_t dir;
+};
+std::vector<Step> steps_of(int motor, uint64_t from_tick = 0);
+
+// Every error the HAL saw (illegal coil patterns, jumps, unbalanced interrupts).
+std::string hal_errors();
+
+}  // namespace sitl
+
+#endif  // ARTICULA_FIRMWARE_SITL_MACHINE_H
