@@ -1,45 +1,14 @@
 # The Nano firmware, built with the AVR toolchain (cmake/avr-gcc.cmake); included by
 # firmware/CMakeLists.txt. Makes:
-#   arduino_core       Debian's Arduino AVR core 1.8 (cores/arduino + the Nano's variant),
-#                      with the flags of its platform.txt, as a static LTO library;
-#   articula-nano.elf  every firmware/src/*.cpp + the core; runs unchanged in simavr; one
-#                      firmware for every arm (the robot configuration is in EEPROM);
+#   articula-nano.elf  every firmware/src/*.cpp, and avr-libc: no Arduino core (the HAL sets
+#                      every register it uses, main.cpp is the entry point); runs unchanged
+#                      in simavr; one firmware for every arm (the robot configuration is in
+#                      EEPROM);
 #   articula-nano.hex  what goes to the board (without the simavr and EEPROM sections),
 #                      after a size check that prints flash and RAM use and fails the
 #                      build above the budgets below.
-enable_language(ASM)
-
-set(ARDUINO_AVR_DIR /usr/share/arduino/hardware/arduino/avr CACHE PATH
-    "Arduino AVR core 1.8.x (Debian package arduino-core-avr)")
 set(ARTICULA_FLASH_BUDGET 30720 CACHE STRING "firmware flash budget in bytes: all a Nano with the old bootloader takes")
 set(ARTICULA_RAM_BUDGET 1600 CACHE STRING "firmware static RAM (.data + .bss) budget in bytes (the Nano has 2,048)")
-
-set(core_dir ${ARDUINO_AVR_DIR}/cores/arduino)
-set(variant_dir ${ARDUINO_AVR_DIR}/variants/eightanaloginputs)
-if(NOT EXISTS ${core_dir}/Arduino.h OR NOT EXISTS ${variant_dir}/pins_arduino.h)
-  message(FATAL_ERROR "no Arduino AVR core in ${ARDUINO_AVR_DIR}: install the Debian package "
-                      "arduino-core-avr (scripts/bootstrap does), or set ARDUINO_AVR_DIR")
-endif()
-
-# What platform.txt and boards.txt (nano, atmega328) pass to every file of a sketch.
-set(arduino_defines ARDUINO=10807 ARDUINO_AVR_NANO ARDUINO_ARCH_AVR)
-
-# ---- the Arduino core ----
-file(GLOB arduino_core_sources ${core_dir}/*.c ${core_dir}/*.cpp ${core_dir}/*.S)
-add_library(arduino_core STATIC ${arduino_core_sources})
-# Plain -I: avr-gcc wraps -isystem headers in extern "C", which breaks the core's C++ headers.
-# PRIVATE: the firmware's own sources do not include Arduino headers.
-target_include_directories(arduino_core PRIVATE ${core_dir} ${variant_dir})
-target_compile_definitions(arduino_core PRIVATE ${arduino_defines}
-  # WString.cpp needs DECIMAL_DIG, which avr-libc 2.0's float.h leaves to GCC 5.4 under
-  # another name.
-  DECIMAL_DIG=__DECIMAL_DIG__)
-# platform.txt's compiler.{c,cpp,S}.flags, less -g and -MMD; -w is the IDE's default warning
-# level for the core. (-fpermissive is not needed by this core with GCC 5.4: left out.)
-target_compile_options(arduino_core PRIVATE -w
-  $<$<COMPILE_LANGUAGE:C>:-Os -std=gnu11 -ffunction-sections -fdata-sections -flto -fno-fat-lto-objects>
-  $<$<COMPILE_LANGUAGE:CXX>:-Os -fno-exceptions -ffunction-sections -fdata-sections -fno-threadsafe-statics -flto>
-  $<$<COMPILE_LANGUAGE:ASM>:-x assembler-with-cpp -flto>)
 
 # ---- the firmware ----
 # Every source in src/: the AVR HAL and main.cpp, and the portable logic.
@@ -47,19 +16,18 @@ file(GLOB firmware_sources CONFIGURE_DEPENDS ${ARTICULA_FIRMWARE_DIR}/src/*.cpp)
 add_executable(articula-nano ${firmware_sources})
 set_target_properties(articula-nano PROPERTIES SUFFIX ".elf")
 target_include_directories(articula-nano PRIVATE ${ARTICULA_FIRMWARE_DIR}/src ${ARTICULA_SHARED_DIR})
-target_compile_definitions(articula-nano PRIVATE ${arduino_defines})
 # -mcall-prologues: functions save and restore their registers through one shared routine
 # (1.3 KB less flash; a few cycles more per call, none in the interrupt handlers themselves).
 # -mstrict-X: the X register only as a pointer, as the AVR addresses it (240 B less).
 # -fno-gcse: no global common subexpression elimination, which -Os pays for in size here
 # (110 B less).
-set(firmware_flags -Os -mcall-prologues -mstrict-X -fno-gcse -ffunction-sections -fdata-sections -fno-exceptions
+set(firmware_flags -Os -mcall-prologues -mstrict-X -fno-gcse -fno-move-loop-invariants -fno-jump-tables -fno-tree-dominator-opts -ffunction-sections -fdata-sections -fno-exceptions
                    -fno-threadsafe-statics -flto)
 target_compile_options(articula-nano PRIVATE ${ARTICULA_WARNINGS} ${firmware_flags})
 # -mrelax: the linker turns calls and jumps within reach into rcall and rjmp (2 bytes less
 # each, a cycle faster).
 target_link_options(articula-nano PRIVATE ${firmware_flags} -fuse-linker-plugin -Wl,--gc-sections -mrelax)
-target_link_libraries(articula-nano PRIVATE arduino_core m)
+target_link_libraries(articula-nano PRIVATE m)
 
 # The simavr metadata (MCU name and clock) in a .mmcu section, so simavr and the virtual Nano
 # run this very ELF without being told what it is. simavr 1.6 needs the section at 0x910000

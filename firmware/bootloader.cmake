@@ -8,6 +8,8 @@
 # wraps to the application's vectors) and the version word at 0x7FFE overwrites one of its
 # instructions, so it drops into the application as it starts. The Makefile's options plus
 # -fno-move-loop-invariants (and the -mrelax this GCC has instead of -mshort-calls) make 500.
+set(ARDUINO_AVR_DIR /usr/share/arduino/hardware/arduino/avr CACHE PATH
+    "Arduino AVR core 1.8.x (Debian package arduino-core-avr): Optiboot's source")
 set(optiboot_dir ${ARDUINO_AVR_DIR}/bootloaders/optiboot)
 set(optiboot_elf ${CMAKE_CURRENT_BINARY_DIR}/optiboot_atmega328.elf)
 set(optiboot_hex ${CMAKE_CURRENT_BINARY_DIR}/optiboot_atmega328.hex)

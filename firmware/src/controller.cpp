@@ -66,9 +66,10 @@ bool g_cutting;               // the pending T passed its check; g_cut holds wha
 float g_cut_speed;            //   its tool speed, mm/s
 
 void reply(uint8_t status) {
-  char buf[10];
-  const uint8_t n = format_reply(buf, sizeof buf, Status(status));
-  for (uint8_t i = 0; i < n; ++i) hal::serial_write(buf[i]);
+  char buf[kReplySize];
+  LineSink out = {buf};
+  write_reply(out, Status(status));
+  write_line(buf, out);
 }
 
 bool busy() { return stepper::busy() || !queue::empty(); }

@@ -1,8 +1,8 @@
 // firmware/src/hal.h - the firmware's only window on the hardware.
 //
 // Two implementations: hal_avr.cpp (the Nano: direct port writes, Timer1, the USART,
-// EEPROM) and test/fake_hal.cpp (native tests: records every coil write and servo pulse
-// with its time). Nothing else in the firmware includes an AVR header, so all the logic
+// EEPROM) and sitl/hal_sitl.cpp (the firmware on the PC, on a virtual clock: records every
+// coil write and servo pulse with its tick). Nothing else in the firmware includes an AVR header, so all the logic
 // runs and is tested on the host (the GRBL layout, without GRBL's <avr/io.h> everywhere).
 #ifndef ARTICULA_FIRMWARE_HAL_H
 #define ARTICULA_FIRMWARE_HAL_H
@@ -16,8 +16,9 @@ namespace hal {
 // Timer ticks per second of the step timer (Timer1 at 16 MHz with prescaler 8).
 static const uint32_t kTickHz = 2000000UL;
 
-// Ports, timers, EEPROM and the USART, the receiver included: bytes that arrive from here
-// on are kept. The realtime bytes among them wait for start().
+// Ports, timers (the millisecond tick too), EEPROM and the USART, the receiver included:
+// bytes that arrive from here on are kept. The realtime bytes among them wait for start().
+// Interrupts are enabled on return.
 void init();
 // After firmware::setup(): the realtime bytes act from now on ('?' and '!' received since
 // init() are acted on now, once each), so none is lost at start-up.

@@ -9,8 +9,9 @@
 //   USART_UDRE    sends the next byte: the status report's at a line boundary, else the
 //                 next queued byte;
 //   USART_TX      (only after a report that a '?' asked for again) builds the next one.
-// Arduino's core provides init() and millis() (Timer0) and nothing else: its
-// HardwareSerial is never linked, so the USART vectors are ours.
+//   TIMER0_COMPA  the millisecond tick (hal::millis, and the idle sleep's latest wake-up).
+// No Arduino core is linked: every register this firmware uses is set here, the rest keep
+// their reset values (Timer2 and the ADC stay off).
 //
 // Timer1 runs free at 2 MHz (prescaler 8) in normal mode and is never reset or written:
 // both channels move their compare register forward from the previous deadline
@@ -53,9 +54,6 @@
 #include "firmware.h"
 #include "pins.h"
 #include "report.h"
-
-// From the Arduino core (wiring.c): Timer0's millisecond count, started by init().
-extern "C" unsigned long millis(void);
 
 namespace {
 
@@ -178,6 +176,13 @@ void run_due_steps() {
   }
   TIMSK1 |= _BV(OCIE1A);
 }
+
+// ---------------------------------------------------------------------------------------
+// The millisecond tick (Timer0, CTC): 16 MHz / 64 / 250 = exactly 1 kHz.
+
+const uint8_t kMillisTop = F_CPU / 64 / 1000 - 1;
+static_assert(F_CPU / 64 % 1000 == 0 && F_CPU / 64 / 1000 <= 256, "Timer0 counts one millisecond in 8 bits");
+volatile uint32_t g_millis;
 
 // ---------------------------------------------------------------------------------------
 // The servo (Timer1, channel B): the pin goes high at the start of each 20 ms period and low
@@ -357,6 +362,8 @@ ISR(USART_RX_vect) {
 
 ISR(USART_UDRE_vect) { tx_next(); }
 
+ISR(TIMER0_COMPA_vect) { g_millis = g_millis + 1; }
+
 // Enabled only when the LF of a report has gone into UDR0 and a '?' came while it went out.
 ISR(USART_TX_vect) {
   UCSR0B &= uint8_t(~_BV(TXCIE0));
@@ -369,7 +376,7 @@ ISR(USART_TX_vect) {
 namespace hal {
 
 void init() {
-  const uint8_t sreg = interrupts_off();
+  cli();
 
   // Coils off before the pins become outputs, so no motor twitches at start-up.
   ARTICULA_MOTOR0_PORT &= uint8_t(~ARTICULA_COIL_MASK(ARTICULA_MOTOR0_SHIFT));
@@ -392,15 +399,20 @@ void init() {
   ARTICULA_ENDSTOP2_DDR &= uint8_t(~_BV(ARTICULA_ENDSTOP2_BIT));
   ARTICULA_ENDSTOP2_PORT |= _BV(ARTICULA_ENDSTOP2_BIT);
 
-  // Timer2 and the ADC: off. init() starts them for analogWrite (D3, D11) and analogRead;
-  // nothing here uses either. Stopped, they draw nothing while the CPU sleeps (hal::idle), and
-  // an emulator need not count Timer2's ticks (simavr woke every two cycles for them).
-  TCCR2B = 0;
-  TCCR2A = 0;
-  TIMSK2 = 0;
-  ADCSRA = 0;
+  // Timer2 and the ADC stay off, as the reset left them: nothing here uses either, they draw
+  // nothing while the CPU sleeps (hal::idle), and an emulator need not count their ticks.
+  // (A bootloader may have used Timer0, Timer1 and the USART: those are all set below.)
 
-  // Timer1: normal mode, clk/8, no output pins (init() had set it up for analogWrite).
+  // Timer0: the millisecond tick, CTC at 1 kHz, no output pins.
+  g_millis = 0;
+  TCCR0A = _BV(WGM01);
+  TCCR0B = _BV(CS01) | _BV(CS00);  // clk/64
+  TCNT0 = 0;
+  OCR0A = kMillisTop;
+  TIFR0 = _BV(OCF0B) | _BV(OCF0A) | _BV(TOV0);
+  TIMSK0 = _BV(OCIE0A);
+
+  // Timer1: normal mode, clk/8, no output pins.
   TCCR1A = 0;
   TCCR1B = _BV(CS11);
   TCCR1C = 0;
@@ -422,12 +434,15 @@ void init() {
   g_started = false;
   g_stop_early = false;
   g_stop_in_step = false;
+  // Off first: a bootloader that jumps here (the old one does, without a reset) leaves it on
+  // at its own rate, and the rate is set with the receiver and transmitter disabled.
+  UCSR0B = 0;
   UCSR0A = _BV(U2X0);
   UBRR0 = uint16_t((F_CPU / (8UL * ARTICULA_SERIAL_BAUD)) - 1);
   UCSR0C = _BV(UCSZ01) | _BV(UCSZ00);
   UCSR0B = _BV(RXEN0) | _BV(TXEN0) | _BV(RXCIE0);
 
-  interrupts_restore(sreg);
+  sei();  // from here on, whatever the state before (the reset's: off)
 }
 
 void start() {
@@ -527,7 +542,12 @@ void stage_coils(uint8_t motor, uint8_t pattern) {
 
 bool step_timer_running() { return g_step_running; }
 
-uint32_t millis() { return ::millis(); }
+uint32_t millis() {
+  const uint8_t sreg = interrupts_off();
+  const uint32_t ms = g_millis;
+  interrupts_restore(sreg);
+  return ms;
+}
 
 int16_t serial_read() {
   const uint8_t tail = g_rx_tail;

@@ -308,29 +308,6 @@ inline Status parse_line(BasicCommand<MaxArgs>& out, const char* line, uint8_t l
   return detail::parse_words(out.type, out.argc, out.arg, MaxArgs, line, len, num_joints);
 }
 
-// `ok` or `error:<code>` with its LF; returns the length written (without a NUL when the
-// buffer is exactly full). cap >= 10 always suffices.
-inline uint8_t format_reply(char* buf, uint8_t cap, Status status) {
-  char tmp[12];
-  uint8_t n = 0;
-  if (status == kOk) {
-    tmp[n++] = 'o';
-    tmp[n++] = 'k';
-  } else {
-    const char* e = "error:";
-    while (*e) tmp[n++] = *e++;
-    const uint8_t code = uint8_t(status);
-    if (code >= 100) tmp[n++] = char('0' + code / 100);
-    if (code >= 10) tmp[n++] = char('0' + (code / 10) % 10);
-    tmp[n++] = char('0' + code % 10);
-  }
-  tmp[n++] = '\n';
-  uint8_t k = 0;
-  for (; k < n && k < cap; ++k) buf[k] = tmp[k];
-  if (k < cap) buf[k] = '\0';
-  return k;
-}
-
 // Reads a reply line (`ok`, `error:N`, with or without CR/LF). False for anything else,
 // such as a status report or noise.
 inline bool parse_reply(uint8_t& code, const char* line, uint8_t len) {
@@ -410,6 +387,8 @@ struct InfoReport {
 static const uint8_t kInfoReportSize = 79;
 // Bytes a buffer needs for any setting line ($999=-2147483.648), its LF and a NUL.
 static const uint8_t kSettingLineSize = 19;
+// Bytes a buffer needs for any reply (error:255), its LF and a NUL.
+static const uint8_t kReplySize = 11;
 
 namespace detail {
 template <typename Sink>
@@ -542,6 +521,35 @@ inline bool write_info(Sink& out, const InfoReport& r) {
   out.put(']');
   out.put('\n');
   return true;
+}
+
+// `ok` or `error:<code>` with its LF: the reply that ends every line (the firmware writes it
+// with the number writer of every other report).
+template <typename Sink>
+inline void write_reply(Sink& out, Status status) {
+  if (status == kOk) {
+    out.put('o');
+    out.put('k');
+  } else {
+    detail::write_text(out, "error:");
+    detail::write_fixed(out, uint8_t(status), 0);
+  }
+  out.put('\n');
+}
+
+// The same into a buffer; returns the length written (without a NUL when the buffer is
+// exactly full; cut short when it is too small). cap >= 10 always suffices.
+inline uint8_t format_reply(char* buf, uint8_t cap, Status status) {
+  struct Sink {
+    char* buf;
+    uint8_t cap, n;
+    void put(char c) {
+      if (n < cap) buf[n++] = c;
+    }
+  } out = {buf, cap, 0};
+  write_reply(out, status);
+  if (out.n < cap) buf[out.n] = '\0';
+  return out.n;
 }
 
 // `$<n>=<value>` with three decimals: the same text as the command that sets it, so a
