@@ -58,7 +58,7 @@ function(articula_firmware_variant variant robot prefix)
     set(exe firmware_${variant}_${name})
     add_executable(${exe} ${folder}/${name}.cpp)
     target_link_libraries(${exe} PRIVATE firmware_harness_${variant} GTest::gtest_main)
-    if(name STREQUAL "test_robot")  # reads the robot file with the host's loader
+    if(name STREQUAL "test_robot" OR name STREQUAL "test_prediction")  # the host's loader, its prediction
       target_link_libraries(${exe} PRIVATE articula_host)
     endif()
     target_compile_options(${exe} PRIVATE ${ARTICULA_WARNINGS})

@@ -28,6 +28,28 @@ struct Arrival {
 };
 std::deque<Arrival> g_line;
 uint64_t g_line_free = 0;  // when the last frame sent is in
+uint64_t g_stopped_at = 0;  // the step timer's last deadline before it stopped
+
+// The step deadline due now: the staged coils, the firmware's step, the next deadline.
+void fire_deadline() {
+  Hardware& hw = sitl::hw;
+  hw.now = hw.deadline;
+  const uint32_t next = sitl::step_deadline();
+  if (next == 0) {
+    hw.timer_running = false;
+    g_stopped_at = hw.now;
+  } else {
+    hw.deadline += next;
+  }
+}
+
+// The byte due now at the receive interrupt.
+void deliver_byte() {
+  sitl::hw.now = g_line.front().tick;
+  const char c = g_line.front().c;
+  g_line.pop_front();
+  sitl::receive(c);
+}
 
 void collect() {
   const std::string& tx = sitl::hw.tx;
@@ -64,6 +86,7 @@ void boot(bool blank_eeprom, const std::string& during_setup, const uint8_t* con
   g_tx_seen = 0;
   g_line.clear();
   g_line_free = 0;
+  g_stopped_at = 0;
   hal::init();  // as main.cpp
   for (char c : during_setup) sitl::receive(c);
   firmware::setup();
@@ -98,22 +121,116 @@ void tick() {
     const bool step = hw.timer_running && hw.deadline <= end;
     const bool byte = !g_line.empty() && g_line.front().tick <= end;
     if (!step && !byte) break;
-    if (step && (!byte || hw.deadline <= g_line.front().tick)) {
-      hw.now = hw.deadline;
-      const uint32_t next = sitl::step_deadline();
-      if (next == 0)
-        hw.timer_running = false;
-      else
-        hw.deadline += next;
-    } else {
-      hw.now = g_line.front().tick;
-      const char c = g_line.front().c;
-      g_line.pop_front();
-      sitl::receive(c);
-    }
+    if (step && (!byte || hw.deadline <= g_line.front().tick))
+      fire_deadline();
+    else
+      deliver_byte();
   }
   hw.now = end;
   collect();
+}
+
+namespace {
+const uint64_t kMilliTicks = kSecond / 1000;
+
+// poll() as the Nano's loop runs it after an interrupt: again while it makes progress (reads
+// a byte, writes one), as hal::idle() does not sleep while a received byte waits.
+void poll_until_idle() {
+  Hardware& hw = sitl::hw;
+  for (int pass = 0; pass < 64; ++pass) {
+    const size_t rx = hw.rx.size(), tx = hw.tx.size();
+    const bool running = hw.timer_running;
+    firmware::poll();
+    if (hw.rx.size() == rx && hw.tx.size() == tx && hw.timer_running == running) break;
+  }
+}
+}  // namespace
+
+uint64_t next_event() {
+  const Hardware& hw = sitl::hw;
+  uint64_t t = (hw.now / kMilliTicks + 1) * kMilliTicks;  // the millisecond tick
+  if (hw.timer_running && hw.deadline < t) t = hw.deadline;
+  if (!g_line.empty() && g_line.front().tick < t) t = g_line.front().tick;
+  return t < hw.now ? hw.now : t;
+}
+
+void run_to(uint64_t until) {
+  Hardware& hw = sitl::hw;
+  poll_until_idle();
+  for (;;) {
+    const uint64_t t = next_event();
+    if (t > until) break;
+    if (hw.timer_running && hw.deadline == t)
+      fire_deadline();  // (first at a tie: the step timer's interrupt has the higher priority)
+    else if (!g_line.empty() && g_line.front().tick == t)
+      deliver_byte();
+    else
+      hw.now = t;  // the millisecond tick
+    poll_until_idle();
+  }
+  hw.now = until;
+  collect();
+}
+
+uint64_t stopped_at() { return g_stopped_at; }
+
+std::vector<Exchange> run_lines(const std::vector<std::string>& lines, SenderKind kind, uint64_t max_ticks) {
+  Hardware& hw = sitl::hw;
+  std::vector<Exchange> out;
+  const uint64_t end = hw.now + max_ticks;
+  uint64_t wire = hw.now;  // when the sender may start the next line (the last reply is off the wire)
+  bool first = true;
+  poll_until_idle();
+  collect();
+  g_lines.clear();
+  for (const std::string& line : lines) {
+    Exchange x;
+    x.line = line;
+    const bool bang = line == "!";
+    // When it goes: the first at once; then as the sender waits.
+    if (first) {
+      x.in = hw.now;
+    } else if (kind == kAtRest) {
+      while (!at_rest() && hw.now < end) run_to(next_event());
+      x.in = hw.now;
+    } else {
+      x.in = 0;  // set below
+    }
+    if (bang || first || kind == kAtRest) {
+      run_to(x.in);
+      send(bang ? "!" : line + "\n");
+    } else {
+      x.in = send_at(wire, bang ? "!" : line + "\n");
+    }
+    first = false;
+    if (bang) {
+      x.answered = x.in;
+      wire = x.in;
+      out.push_back(x);
+      continue;
+    }
+    // Its reply: the first reply line the firmware writes from here (reports go by).
+    poll_until_idle();
+    while (x.reply.empty() && hw.now < end) {
+      collect();
+      for (size_t i = 0; i < g_lines.size(); ++i)
+        if (is_reply(g_lines[i])) {
+          x.reply = g_lines[i];
+          g_lines.erase(g_lines.begin(), g_lines.begin() + long(i) + 1);
+          break;
+        }
+      if (x.reply.empty()) run_to(next_event());
+    }
+    if (x.reply.empty()) {
+      out.push_back(x);
+      break;
+    }
+    x.answered = hw.now;
+    wire = x.answered + (x.reply.size() + 1) * kByteTicks;
+    out.push_back(x);
+  }
+  while (!at_rest() && hw.now < end) run_to(next_event());
+  return out;
 }
 
 bool run_until(const std::function<bool()>& done, uint64_t max_ticks) {

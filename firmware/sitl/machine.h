@@ -68,6 +68,33 @@ std::string take_report();
 std::string command(const std::string& line, uint64_t max_ticks = 120 * kSecond);
 const std::vector<std::string>& reports();
 
+// The Nano's own loop instead of tick()'s fixed passes, in no time of its own: poll() after
+// every interrupt (a step deadline, a byte's arrival, the millisecond tick), again while it
+// reads or writes, as hal::idle() lets it run on while a received byte waits. Events up to
+// and including `until`; the clock is then at `until`.
+void run_to(uint64_t until);
+// The next event after now: a step deadline, a byte's arrival or the millisecond tick.
+uint64_t next_event();
+// When the step timer last stopped (its last deadline): the arm came to rest there.
+uint64_t stopped_at();
+
+// How the host sends a program's lines (the prediction's SenderModel, articula predict
+// --sender): each line once the arm is at rest after the reply to the one before (kAtRest;
+// the whole line in at that tick), or as soon as that reply is off the wire (kStreamed: the
+// reply's bytes, then the line's, at the line's rate). The first line is in at once. A line
+// "!" is the realtime byte alone, sent as a line would be, and has no reply.
+enum SenderKind { kAtRest, kStreamed };
+struct Exchange {
+  std::string line;
+  uint64_t in = 0;        // its last byte at the receive interrupt
+  uint64_t answered = 0;  // its reply written (in for a '!')
+  std::string reply;      // "ok", "error:N"; "" for a '!' or none (the run ended first)
+};
+// Runs the lines from the current time (the machine booted), each as `kind` sends it, then
+// until the arm is at rest; every line gets its reply within `max_ticks` or the run ends.
+std::vector<Exchange> run_lines(const std::vector<std::string>& lines, SenderKind kind,
+                                uint64_t max_ticks = 3600 * kSecond);
+
 // Nothing moving, nothing queued, no stop under way.
 bool at_rest();
 bool run_until_at_rest(uint64_t max_ticks = 600 * kSecond);
