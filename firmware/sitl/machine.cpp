@@ -5,6 +5,7 @@
 #include <articula/protocol.h>
 
 #include <cstring>
+#include <algorithm>
 #include <deque>
 
 #include "firmware.h"
@@ -29,6 +30,23 @@ struct Arrival {
 std::deque<Arrival> g_line;
 uint64_t g_line_free = 0;  // when the last frame sent is in
 uint64_t g_stopped_at = 0;  // the step timer's last deadline before it stopped
+
+// Timed '!'s (run_lines): ticks after the first step, pending until it is known.
+std::deque<uint64_t> g_stops;
+size_t g_coil_from = 0;     // the coil log's first write of the run
+bool g_first_known = false;
+uint64_t g_first_step = 0;
+std::vector<uint64_t> g_stops_sent;
+
+// The first step of the run, once the coil log has one.
+void find_first_step() {
+  const std::vector<CoilWrite>& log = sitl::hw.coil_log;
+  for (; !g_first_known && g_coil_from < log.size(); ++g_coil_from)
+    if (log[g_coil_from].step != 0) {
+      g_first_known = true;
+      g_first_step = log[g_coil_from].tick;
+    }
+}
 
 // The step deadline due now: the staged coils, the firmware's step, the next deadline.
 void fire_deadline() {
@@ -151,21 +169,35 @@ uint64_t next_event() {
   uint64_t t = (hw.now / kMilliTicks + 1) * kMilliTicks;  // the millisecond tick
   if (hw.timer_running && hw.deadline < t) t = hw.deadline;
   if (!g_line.empty() && g_line.front().tick < t) t = g_line.front().tick;
+  if (g_first_known && !g_stops.empty() && g_first_step + g_stops.front() < t) t = g_first_step + g_stops.front();
   return t < hw.now ? hw.now : t;
 }
 
+uint64_t first_step() { return g_first_known ? g_first_step : 0; }
+const std::vector<uint64_t>& stops_sent() { return g_stops_sent; }
+
 void run_to(uint64_t until) {
   Hardware& hw = sitl::hw;
+  if (until < hw.now) until = hw.now;  // the clock never goes back
   poll_until_idle();
   for (;;) {
     const uint64_t t = next_event();
     if (t > until) break;
-    if (hw.timer_running && hw.deadline == t)
-      fire_deadline();  // (first at a tie: the step timer's interrupt has the higher priority)
-    else if (!g_line.empty() && g_line.front().tick == t)
+    // At a tie: the step timer's interrupt first (it has the higher priority), then a line's
+    // byte, then a timed '!'.
+    if (hw.timer_running && hw.deadline == t) {
+      fire_deadline();
+    } else if (!g_line.empty() && g_line.front().tick == t) {
       deliver_byte();
-    else
+    } else if (g_first_known && !g_stops.empty() && g_first_step + g_stops.front() == t) {
+      hw.now = t;
+      g_stops.pop_front();
+      g_stops_sent.push_back(t);
+      sitl::receive('!');
+    } else {
       hw.now = t;  // the millisecond tick
+    }
+    find_first_step();
     poll_until_idle();
   }
   hw.now = until;
@@ -174,9 +206,16 @@ void run_to(uint64_t until) {
 
 uint64_t stopped_at() { return g_stopped_at; }
 
-std::vector<Exchange> run_lines(const std::vector<std::string>& lines, SenderKind kind, uint64_t max_ticks) {
+std::vector<Exchange> run_lines(const std::vector<std::string>& lines, SenderKind kind,
+                                const std::vector<uint64_t>& stops, uint64_t max_ticks) {
   Hardware& hw = sitl::hw;
   std::vector<Exchange> out;
+  g_stops.assign(stops.begin(), stops.end());
+  std::sort(g_stops.begin(), g_stops.end());
+  g_stops_sent.clear();
+  g_coil_from = hw.coil_log.size();
+  g_first_known = false;
+  g_first_step = 0;
   const uint64_t end = hw.now + max_ticks;
   uint64_t wire = hw.now;  // when the sender may start the next line (the last reply is off the wire)
   bool first = true;
@@ -191,19 +230,21 @@ std::vector<Exchange> run_lines(const std::vector<std::string>& lines, SenderKin
     if (first) {
       x.in = hw.now;
     } else if (kind == kAtRest) {
+      poll_until_idle();  // (a '!' at rest is dealt with at once)
       while (!at_rest() && hw.now < end) run_to(next_event());
       x.in = hw.now;
     } else {
       x.in = 0;  // set below
     }
-    if (bang || first || kind == kAtRest) {
+    if (first || kind == kAtRest) {
       run_to(x.in);
       send(bang ? "!" : line + "\n");
-    } else {
+    } else {  // (a '!' too: its byte on the wire after the last reply)
       x.in = send_at(wire, bang ? "!" : line + "\n");
     }
     first = false;
     if (bang) {
+      run_to(x.in);
       x.answered = x.in;
       wire = x.in;
       out.push_back(x);
@@ -229,7 +270,9 @@ std::vector<Exchange> run_lines(const std::vector<std::string>& lines, SenderKin
     wire = x.answered + (x.reply.size() + 1) * kByteTicks;
     out.push_back(x);
   }
-  while (!at_rest() && hw.now < end) run_to(next_event());
+  // At rest, and every timed '!' sent (one after the arm stopped still stops nothing).
+  while ((!at_rest() || (g_first_known && !g_stops.empty())) && hw.now < end) run_to(next_event());
+  g_stops.clear();
   return out;
 }
 

@@ -92,8 +92,16 @@ struct Exchange {
 };
 // Runs the lines from the current time (the machine booted), each as `kind` sends it, then
 // until the arm is at rest; every line gets its reply within `max_ticks` or the run ends.
+// `stops`: a '!' at each of these ticks after the arm's first step, whatever the lines are
+// doing (a student pressing STOP; articula predict --stop-at), at the receive interrupt at once
+// (after a step deadline or a line's byte at the same tick).
 std::vector<Exchange> run_lines(const std::vector<std::string>& lines, SenderKind kind,
+                                const std::vector<uint64_t>& stops = std::vector<uint64_t>(),
                                 uint64_t max_ticks = 3600 * kSecond);
+// The first step the motors made in the last run_lines() (0 if none), and the ticks its
+// timed '!'s came at.
+uint64_t first_step();
+const std::vector<uint64_t>& stops_sent();
 
 // Nothing moving, nothing queued, no stop under way.
 bool at_rest();

@@ -3,7 +3,9 @@
 // sent as `--sender rest` and `--sender stream` send them, gets the predicted reply on every
 // line, makes the predicted steps, ends every move on the predicted tick exactly (the SITL
 // machine's main loop takes no time, as the prediction assumes), and comes to rest on the
-// predicted steps. The figures are printed. This is the oracle for the prediction to become
+// predicted steps. Random programs too, with refused lines, '!'s of their own and timed ones
+// (--stop-at): where the arm comes to rest after each. The figures are printed;
+// ARTICULA_DUMP=1 prints every line's ticks on both sides. This is the oracle for the prediction to become
 // the firmware itself (issue 39): it runs in milliseconds, where the emulated Nanos take
 // seconds.
 #include <gtest/gtest.h>
@@ -118,6 +120,171 @@ std::vector<Case> cases() {
 }
 
 INSTANTIATE_TEST_SUITE_P(Shipped, FirmwareMatchesThePrediction, ::testing::ValuesIn(cases()), name_of);
+
+// Random programs: every command the queue takes (L, M, P, T, S, G, D, H), settings that
+// wait for rest ($0, $1, $6), lines the firmware refuses (a target beyond a limit or out of
+// reach; the host refuses a program with a line the codec cannot read), a '!' of the program's
+// own, and timed '!'s at random ticks after the first step; each seed sent both ways.
+std::string random_program(uint32_t seed, int n) {
+  uint32_t x = seed * 2654435761u + 12345u;
+  auto next = [&x]() {
+    x ^= x << 13;
+    x ^= x >> 17;
+    x ^= x << 5;
+    return x;
+  };
+  auto uniform = [&](double lo, double hi) { return lo + (hi - lo) * double(next() % 100001) / 100000.0; };
+  auto num = [&](double lo, double hi) {
+    char b[32];
+    std::snprintf(b, sizeof b, "%.3f", uniform(lo, hi));
+    return std::string(b);
+  };
+  std::string text;
+  for (int i = 0; i < n; ++i) {
+    const uint32_t k = next() % 100;
+    std::string l;
+    if (k < 18)
+      l = "L " + std::to_string(next() % 3) + " " + num(-40, 40);
+    else if (k < 36)
+      l = "M " + num(-95, 95) + " " + num(30, 135) + " " + num(-48, 18);
+    else if (k < 54)
+      l = "P " + num(120, 320) + " " + num(-160, 160) + " " + num(10, 260);
+    else if (k < 62)
+      l = "T " + num(150, 300) + " " + num(-120, 120) + " " + num(40, 220) + " " + num(5, 90);
+    else if (k < 68)
+      l = "S " + std::to_string(next() % 2);
+    else if (k < 73)
+      l = "G " + num(0, 100);
+    else if (k < 77)
+      l = "D " + num(0, 0.4);
+    else if (k < 79)
+      l = "H";
+    else if (k < 83)
+      l = "$0=" + std::to_string(200 + next() % 3800);
+    else if (k < 86)
+      l = "$1=" + std::to_string(500 + next() % 20000);
+    else if (k < 89)
+      l = "$6=" + std::to_string(next() % 300);
+    else if (k < 91)
+      l = "!";
+    else
+      l = "L " + std::to_string(next() % 3) + " " + num(-5, 5);
+    text += l + "\n";
+  }
+  return text;
+}
+
+struct RandomCase {
+  uint32_t seed;
+  host::SenderModel::Kind sender;
+  int stops;  // timed '!'s
+};
+
+void PrintTo(const RandomCase& c, std::ostream* os) {
+  *os << "seed " << c.seed << " --sender " << host::sender_name(c.sender) << ", " << c.stops << " timed stops";
+}
+
+class RandomProgramsMatchThePrediction : public ::testing::TestWithParam<RandomCase> {};
+
+// Position of every motor at `tick` from the coil log (steps the motors made), from `from`.
+std::vector<int64_t> position_at(uint64_t tick, size_t from) {
+  std::vector<int64_t> pos(robot::kJoints, 0);
+  for (size_t i = 0; i < from; ++i) pos[sitl::hw.coil_log[i].motor] += sitl::hw.coil_log[i].step;
+  for (size_t i = from; i < sitl::hw.coil_log.size() && sitl::hw.coil_log[i].tick <= tick; ++i)
+    pos[sitl::hw.coil_log[i].motor] += sitl::hw.coil_log[i].step;
+  return pos;
+}
+
+TEST_P(RandomProgramsMatchThePrediction, RepliesStepsMoveEndsAndStops) {
+  const RandomCase c = GetParam();
+  const host::Robot& robot = robot_file();
+  const host::Program program =
+      host::parse_protocol_program(random_program(c.seed, 150), "seed " + std::to_string(c.seed), robot);
+  host::SenderModel sender;
+  sender.kind = c.sender;
+  std::vector<uint64_t> stops;
+  for (int i = 0; i < c.stops; ++i) stops.push_back(uint64_t(c.seed * 7919u + uint32_t(i) * 104729u) % (30 * 2000000u));
+  sender.stop_ticks = stops;
+  const host::Prediction p = host::predict_program(robot, program, {}, sender);
+
+  std::vector<std::string> lines;
+  std::vector<size_t> sent;  // the record of each line sent (timed '!'s are not lines)
+  for (size_t i = 0; i < p.records.size(); ++i) {
+    const host::PredictRecord& r = p.records[i];
+    if (r.stop && r.stop_at >= 0) continue;
+    lines.push_back(r.stop ? "!" : r.text);
+    sent.push_back(i);
+  }
+  sim::boot();
+  sim::status();
+  sim::take_lines();
+  const uint64_t t0 = sitl::hw.now;
+  const size_t from = sitl::hw.coil_log.size();
+  const std::vector<sitl::Exchange> got =
+      sitl::run_lines(lines, c.sender == host::SenderModel::kRest ? sitl::kAtRest : sitl::kStreamed, stops);
+  ASSERT_EQ(got.size(), lines.size());
+  if (getenv("ARTICULA_DUMP"))
+    for (size_t j = 0; j < lines.size(); ++j) {
+      const host::PredictRecord& r = p.records[sent[j]];
+      std::printf("%3d %-28s model arrive %9llu start %9llu end %9llu | sitl in %9llu answered %9llu %s\n", r.line,
+                  lines[j].c_str(), (unsigned long long)r.arrive_tick, (unsigned long long)r.start_tick,
+                  (unsigned long long)r.end_tick, (unsigned long long)(got[j].in - t0),
+                  (unsigned long long)(got[j].answered - t0), got[j].reply.c_str());
+    }
+  int errors = 0, stopped = 0;
+  for (size_t j = 0; j < lines.size(); ++j) {
+    const host::PredictRecord& r = p.records[sent[j]];
+    const std::string want = r.stop ? "" : r.reply == kOk ? "ok" : "error:" + std::to_string(int(r.reply));
+    errors += want.rfind("error:", 0) == 0;
+    stopped += want == "error:15";
+    EXPECT_EQ(got[j].reply, want) << "line " << r.line << ": " << lines[j];
+  }
+  std::vector<uint64_t> steps;
+  for (size_t i = from; i < sitl::hw.coil_log.size(); ++i) {
+    const sitl::CoilWrite& w = sitl::hw.coil_log[i];
+    if (w.step != 0 && (steps.empty() || steps.back() != w.tick - t0)) steps.push_back(w.tick - t0);
+  }
+  uint64_t predicted = 0;
+  size_t k = 0, checked_ends = 0, checked_stops = 0;
+  for (const host::PredictRecord& r : p.records) {
+    if (r.stop && r.stop_at >= 0) {  // where the arm came to rest after it
+      const std::vector<int64_t> at = position_at(t0 + r.end_tick, 0);
+      for (size_t m = 0; m < r.steps.size() && m < size_t(robot::kJoints); ++m)
+        EXPECT_EQ(at[m], r.steps[m]) << "the '!' at " << r.stop_at << ": motor " << m;
+      ++checked_stops;
+    }
+    if (r.dominant_steps == 0) continue;
+    predicted += r.dominant_steps;
+    k += r.dominant_steps;
+    if (r.cut || k > steps.size()) continue;
+    EXPECT_EQ(steps[k - 1], r.end_tick) << "line " << r.line << " (" << r.text << "): its last step";
+    ++checked_ends;
+  }
+  EXPECT_EQ(steps.size(), predicted) << "the firmware made other steps than predicted";
+  const std::vector<int64_t> end = position_at(UINT64_MAX, 0);
+  for (size_t m = 0; m < p.records.back().steps.size() && m < size_t(robot::kJoints); ++m)
+    EXPECT_EQ(end[m], p.records.back().steps[m]) << "motor " << m << " at rest";
+  EXPECT_EQ(sitl::stops_sent().size(), stops.size());
+  EXPECT_EQ(sim::hal_errors(), "");
+  std::printf("  seed %u, %s, %d timed stops: %zu lines (%d refused, %d of them error:15), %zu steps, %zu move ends and "
+              "%zu stops checked; %.3f s\n",
+              c.seed, host::sender_name(c.sender), c.stops, lines.size(), errors, stopped, steps.size(), checked_ends,
+              checked_stops, steps.empty() ? 0.0 : double(steps.back()) / 2e6);
+}
+
+std::vector<RandomCase> random_cases() {
+  std::vector<RandomCase> out;
+  for (uint32_t seed = 1; seed <= 20; ++seed)
+    for (host::SenderModel::Kind k : {host::SenderModel::kRest, host::SenderModel::kStream})
+      out.push_back(RandomCase{seed, k, seed % 3 == 0 ? 0 : int(seed % 3) * 2});
+  return out;
+}
+
+INSTANTIATE_TEST_SUITE_P(Seeded, RandomProgramsMatchThePrediction, ::testing::ValuesIn(random_cases()),
+                         [](const ::testing::TestParamInfo<RandomCase>& info) {
+                           return "seed" + std::to_string(info.param.seed) +
+                                  (info.param.sender == host::SenderModel::kRest ? "_rest" : "_stream");
+                         });
 
 }  // namespace
 
