@@ -62,10 +62,14 @@ void build_report_if_due() {
 }
 
 // An interrupt may come here: the firmware is in a HAL call with interrupts enabled.
-void interrupt_point() {
-  if (hw.interrupts_off_depth != 0 || hw.in_step_timer || hw.report_schedule.building || !hw.interrupt_point) return;
+__attribute__((noinline)) void call_interrupt_point() {
   const std::function<void()> f = hw.interrupt_point;  // it may replace itself
   f();
+}
+
+inline void interrupt_point() {
+  if (!hw.interrupt_point || hw.interrupts_off_depth != 0 || hw.in_step_timer || hw.report_schedule.building) return;
+  call_interrupt_point();
 }
 }  // namespace
 

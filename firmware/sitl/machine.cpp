@@ -176,30 +176,35 @@ uint64_t next_event() {
 uint64_t first_step() { return g_first_known ? g_first_step : 0; }
 const std::vector<uint64_t>& stops_sent() { return g_stops_sent; }
 
+namespace {
+// The next event delivered (the clock at it), then the main loop's passes.
+void step_event() {
+  Hardware& hw = sitl::hw;
+  const uint64_t t = next_event();
+  // At a tie: the step timer's interrupt first (it has the higher priority), then a line's
+  // byte, then a timed '!'.
+  if (hw.timer_running && hw.deadline == t) {
+    fire_deadline();
+  } else if (!g_line.empty() && g_line.front().tick == t) {
+    deliver_byte();
+  } else if (g_first_known && !g_stops.empty() && g_first_step + g_stops.front() == t) {
+    hw.now = t;
+    g_stops.pop_front();
+    g_stops_sent.push_back(t);
+    sitl::receive('!');
+  } else {
+    hw.now = t;  // the millisecond tick
+  }
+  if (!g_first_known) find_first_step();
+  poll_until_idle();
+}
+}  // namespace
+
 void run_to(uint64_t until) {
   Hardware& hw = sitl::hw;
   if (until < hw.now) until = hw.now;  // the clock never goes back
   poll_until_idle();
-  for (;;) {
-    const uint64_t t = next_event();
-    if (t > until) break;
-    // At a tie: the step timer's interrupt first (it has the higher priority), then a line's
-    // byte, then a timed '!'.
-    if (hw.timer_running && hw.deadline == t) {
-      fire_deadline();
-    } else if (!g_line.empty() && g_line.front().tick == t) {
-      deliver_byte();
-    } else if (g_first_known && !g_stops.empty() && g_first_step + g_stops.front() == t) {
-      hw.now = t;
-      g_stops.pop_front();
-      g_stops_sent.push_back(t);
-      sitl::receive('!');
-    } else {
-      hw.now = t;  // the millisecond tick
-    }
-    find_first_step();
-    poll_until_idle();
-  }
+  while (next_event() <= until) step_event();
   hw.now = until;
   collect();
 }
@@ -231,7 +236,7 @@ std::vector<Exchange> run_lines(const std::vector<std::string>& lines, SenderKin
       x.in = hw.now;
     } else if (kind == kAtRest) {
       poll_until_idle();  // (a '!' at rest is dealt with at once)
-      while (!at_rest() && hw.now < end) run_to(next_event());
+      while (!at_rest() && hw.now < end) step_event();
       x.in = hw.now;
     } else {
       x.in = 0;  // set below
@@ -253,14 +258,16 @@ std::vector<Exchange> run_lines(const std::vector<std::string>& lines, SenderKin
     // Its reply: the first reply line the firmware writes from here (reports go by).
     poll_until_idle();
     while (x.reply.empty() && hw.now < end) {
-      collect();
-      for (size_t i = 0; i < g_lines.size(); ++i)
-        if (is_reply(g_lines[i])) {
-          x.reply = g_lines[i];
-          g_lines.erase(g_lines.begin(), g_lines.begin() + long(i) + 1);
-          break;
-        }
-      if (x.reply.empty()) run_to(next_event());
+      if (g_tx_seen != hw.tx.size()) {  // (only new output can hold it)
+        collect();
+        for (size_t i = 0; i < g_lines.size(); ++i)
+          if (is_reply(g_lines[i])) {
+            x.reply = g_lines[i];
+            g_lines.erase(g_lines.begin(), g_lines.begin() + long(i) + 1);
+            break;
+          }
+      }
+      if (x.reply.empty()) step_event();
     }
     if (x.reply.empty()) {
       out.push_back(x);
@@ -271,7 +278,8 @@ std::vector<Exchange> run_lines(const std::vector<std::string>& lines, SenderKin
     out.push_back(x);
   }
   // At rest, and every timed '!' sent (one after the arm stopped still stops nothing).
-  while ((!at_rest() || (g_first_known && !g_stops.empty())) && hw.now < end) run_to(next_event());
+  while ((!at_rest() || (g_first_known && !g_stops.empty())) && hw.now < end) step_event();
+  collect();
   g_stops.clear();
   return out;
 }
