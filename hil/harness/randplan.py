@@ -21,21 +21,18 @@ import math
 import random
 from pathlib import Path
 
+import articula
+
 from .prediction import predict_plan
 from .robot import Robot
 
 P_MARGIN_DEG = 2.0
 
 
-def millis_text(millis: int, decimals: int = 3) -> str:
-    """A value in thousandths as text with at most `decimals` decimals (it has no more)."""
-    sign = "-" if millis < 0 else ""
-    m = abs(millis)
-    whole, frac = divmod(m, 1000)
-    if decimals == 0 or frac == 0:
-        return f"{sign}{whole}"
-    text = f"{frac:03d}"[:decimals].rstrip("0")
-    return f"{sign}{whole}.{text}" if text else f"{sign}{whole}"
+def millis_text(millis: int) -> str:
+    """A value in thousandths as a protocol line writes it (`articula.protocol_number`, the
+    firmware's own number writer): no trailing zeros, so a value with fewer decimals has fewer."""
+    return articula.protocol_number(millis / 1000)
 
 
 def _random_millis(rng: random.Random, lo: int, hi: int) -> tuple[int, int]:
@@ -79,13 +76,13 @@ def generate(robot: Robot, n: int, seed: int) -> str:
                 j = rng.randrange(len(motors))
                 over = rng.randint(1, 40) * 1000 + rng.choice((0, 500))
                 delta = (hi[j] - cmd[j] + over) if rng.random() < 0.5 else (lo[j] - cmd[j] - over)
-                body += ["#@ expect error:9", f"L {j} {millis_text(delta, 3)}"]
+                body += ["#@ expect error:9", f"L {j} {millis_text(delta)}"]
             elif kind == "M-limit":
                 angles = [_random_millis(rng, lo[i], hi[i]) for i in range(len(motors))]
                 j = rng.randrange(len(motors))
                 angles[j] = (hi[j] + rng.randint(1, 30) * 1000, 0) if rng.random() < 0.5 else \
                     (lo[j] - rng.randint(1, 30) * 1000, 0)
-                body += ["#@ expect error:9", "M " + " ".join(millis_text(a, d) for a, d in angles)]
+                body += ["#@ expect error:9", "M " + " ".join(millis_text(a) for a, _ in angles)]
             elif kind == "P-far":
                 ang = rng.uniform(0, 2 * math.pi)
                 radius = rng.uniform(500, 900)
@@ -106,13 +103,13 @@ def generate(robot: Robot, n: int, seed: int) -> str:
                 span_lo, span_hi = max(span_lo, -30000), min(span_hi, 30000)
             delta, dec = _random_millis(rng, span_lo, span_hi)
             cmd[j] += delta
-            body.append(f"L {j} {millis_text(delta, dec)}")
+            body.append(f"L {j} {millis_text(delta)}")
             state_lines.append(body[-1])
         elif r < 0.70:
             angles = [_random_millis(rng, lo[i], hi[i]) for i in range(len(motors))]
             for i, (a, _) in enumerate(angles):
                 cmd[i] = a
-            body.append("M " + " ".join(millis_text(a, d) for a, d in angles))
+            body.append("M " + " ".join(millis_text(a) for a, _ in angles))
             state_lines.append(body[-1])
         elif r < 0.88:
             act = [rng.uniform(m.min + P_MARGIN_DEG, m.max - P_MARGIN_DEG) for m in motors]
@@ -123,5 +120,5 @@ def generate(robot: Robot, n: int, seed: int) -> str:
             sync_after_p()
         else:
             v, dec = _random_millis(rng, 0, 100000)
-            body.append(f"G {millis_text(v, dec)}")
+            body.append(f"G {millis_text(v)}")
     return "\n".join(head + body) + "\n"

@@ -39,6 +39,8 @@ class Table {
   std::vector<std::vector<std::string>> rows_;
 };
 
+// A number in a table's column: a fixed count of decimals, so the column lines up (no "-0.000").
+// Not a protocol number (protocol_number, host/lib/blocks.h): a table shows, a line commands.
 std::string fmt(double v, int decimals = 3);
 // A number with `significant` significant digits (printf %g), for machine-readable output.
 std::string fmt_g(double v, int significant = 9);

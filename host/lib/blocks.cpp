@@ -346,17 +346,22 @@ class Compiler {
 
 }  // namespace
 
-std::string protocol_number(double v) {
-  if (std::fabs(v) < 0.0005) return "0";
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.3f", v);
-  std::string s = buf;
-  while (!s.empty() && s.back() == '0') s.pop_back();
-  if (!s.empty() && s.back() == '.') s.pop_back();
-  return s;
+std::string protocol_number(double v, bool every_decimal) {
+  const double t = std::round(v * 1000);
+  if (!std::isfinite(t) || std::fabs(t) > 2e9) return number_text(v);
+  struct Sink {
+    std::string s;
+    void put(char c) { s.push_back(c); }
+  } out;
+  detail::write_fixed(out, t == 0 ? 0 : int32_t(t), 3);  // (no "-0.000")
+  if (!every_decimal) {
+    while (out.s.back() == '0') out.s.pop_back();
+    if (out.s.back() == '.') out.s.pop_back();
+  }
+  return out.s;
 }
 
-std::string protocol_line(const Robot& robot, char word, const std::vector<double>& values) {
+std::string protocol_line(const Robot& robot, char word, const std::vector<double>& values, bool every_decimal) {
   const int actuators = robot.has_motors ? robot.actuation.num_motors : robot.model.num_joints;
   const bool any = !values.empty();
   for (const CommandSpec& spec : kCommandTable) {
@@ -383,8 +388,9 @@ std::string protocol_line(const Robot& robot, char word, const std::vector<doubl
                                     " must be a finite number within +-1,000,000");
       if (!in_thousandths(kinds[i]) && v != std::floor(v))
         throw std::invalid_argument(std::string(1, word) + ": value " + std::to_string(i + 1) + " must be whole");
-      if (word == '$') line += i == 0 ? protocol_number(v) : "=" + protocol_number(v);
-      else line += " " + protocol_number(v);
+      const std::string text = protocol_number(v, every_decimal && in_thousandths(kinds[i]));
+      if (word == '$') line += i == 0 ? text : "=" + text;
+      else line += " " + text;
     }
     return line;
   }

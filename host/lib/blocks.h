@@ -2,8 +2,10 @@
 // workspace unrolls into (the student's units: joint values as the sliders show them, mm,
 // percent; studio/web/src/blocks/unroll.ts) become protocol lines and RoboSim, with the blocks
 // whose values the arm would refuse and why; a program's text becomes actions again. And the
-// one formatter of protocol lines every tool here writes (the page's moves, its IK's straight
-// lines, the experiment's start, the blocks).
+// one writer of protocol lines and of their numbers every tool here uses (the page's moves,
+// its IK's straight lines, the experiment's start, the blocks, the drawings, the prediction's
+// lines for RoboSim, the harness's random plans and fuzz through the Python binding); the
+// numbers are the firmware's own writer's (shared/articula/protocol.h).
 //
 // One home for these rules, so the page, Python and the tests agree: the joint and motor
 // limits are the robot's (robot_view.h), the speed is the settings table's $0
@@ -21,16 +23,21 @@
 
 namespace articula::host {
 
-// A number as a protocol line writes it: at most three decimals, no trailing zeros, no "-0"
-// ("12.5", "0", "-0.001").
-std::string protocol_number(double v);
+// A number as a protocol line writes it: rounded to thousandths (the protocol's resolution) and
+// written by the firmware's own number writer (articula::detail::write_fixed, which writes its
+// reports), without trailing zeros ("12.5", "0", "-0.001"), or with all three decimals when
+// `every_decimal` ("12.500": exact commanded millidegrees, as the prediction writes them). A
+// value beyond what a line carries (not finite, or over 2,000,000) is written as
+// number_text() would, for a message.
+std::string protocol_number(double v, bool every_decimal = false);
 
 // One protocol line: the command `word` ('M', 'P', 'T', 'G', 'L', 'D', '$', ...) with its
 // values, as the command table (shared/articula/protocol.h) reads them: `M` one per actuator
 // (motors, or joint variables for a robot without), `$` the setting's number and its value
 // ("$0=600"). Throws std::invalid_argument for a word the protocol lacks, a wrong count, a
 // non-finite value, or a magnitude the parser refuses (above 1,000,000).
-std::string protocol_line(const Robot& robot, char word, const std::vector<double>& values);
+std::string protocol_line(const Robot& robot, char word, const std::vector<double>& values,
+                          bool every_decimal = false);
 
 // The line that moves the arm to joint values q (deg or mm, one per joint variable): `M` with
 // the motors' angles for a robot with motors, else with the joint values.

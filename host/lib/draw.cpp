@@ -30,8 +30,6 @@ constexpr double kTieMm = 1e-6;      // the order's nearest ends: closer than th
 
 double dist(Point2 a, Point2 b) { return std::hypot(a.x - b.x, a.y - b.y); }
 
-std::string mm(double v) { return protocol_number(v); }
-
 // A request's keys: any other is refused by name ("a drawing request has no 'colour'").
 void only_keys(const nlohmann::json& j, std::initializer_list<const char*> keys, const char* what) {
   for (auto it = j.begin(); it != j.end(); ++it)
@@ -133,7 +131,7 @@ class Reach {
 };
 
 std::string toward(double d, const char* axis) {
-  return mm(std::fabs(d)) + " mm toward " + (d > 0 ? "+" : "-") + axis;
+  return protocol_number(std::fabs(d)) + " mm toward " + (d > 0 ? "+" : "-") + axis;
 }
 
 }  // namespace
@@ -356,10 +354,10 @@ ReachCheck check_reach(const Robot& robot, const InverseKinematics& ik, const st
   if (!out.movable) {
     if (out.unreachable.size() == size_t(out.points))
       out.advice = "the pen reaches none of the drawing's " + std::to_string(out.points) + " points, nor after a move of up to " +
-                   mm(kMoveMaxMm) + " mm: the tool would go down to z " + mm(pen.paper_z + pen.pen_mm) +
+                   protocol_number(kMoveMaxMm) + " mm: the tool would go down to z " + protocol_number(pen.paper_z + pen.pen_mm) +
                    " mm; a longer pen or the paper higher up brings it within reach";
     else
-      out.advice = unreached + ", and no move of up to " + mm(kMoveMaxMm) +
+      out.advice = unreached + ", and no move of up to " + protocol_number(kMoveMaxMm) +
                    " mm brings all of it within reach: make it smaller";
     return out;
   }
@@ -368,8 +366,8 @@ ReachCheck check_reach(const Robot& robot, const InverseKinematics& ik, const st
   if (out.move_y != 0) where += (where.empty() ? "" : " and ") + toward(out.move_y, "y");
   const double radial = out.move_x * centre.x + out.move_y * centre.y;
   const char* side = radial > 0 ? " (away from the base)" : radial < 0 ? " (toward the base)" : "";
-  out.advice = unreached + ": move it " + where + side + ", to (" + mm(centre.x + out.move_x) + ", " +
-               mm(centre.y + out.move_y) + ") mm";
+  out.advice = unreached + ": move it " + where + side + ", to (" + protocol_number(centre.x + out.move_x) + ", " +
+               protocol_number(centre.y + out.move_y) + ") mm";
   return out;
 }
 
@@ -520,9 +518,9 @@ std::string drawing_program(const Robot& robot, const std::vector<Stroke>& strok
                             const std::string& title, std::vector<int>* ink_lines) {
   const double down = pen.paper_z + pen.pen_mm, up = down + pen.lift_mm;
   int line_no = 2;  // the two comment lines
-  std::string out = "# " + title + "\n# the pen " + mm(pen.pen_mm) + " mm below the tool point, the paper at z " +
-                    mm(pen.paper_z) + " mm; " + mm(pen.speed) + " mm/s drawing, " + mm(pen.travel_speed) +
-                    " mm/s between strokes, the pen " + mm(pen.lift_mm) + " mm up\n";
+  std::string out = "# " + title + "\n# the pen " + protocol_number(pen.pen_mm) + " mm below the tool point, the paper at z " +
+                    protocol_number(pen.paper_z) + " mm; " + protocol_number(pen.speed) + " mm/s drawing, " + protocol_number(pen.travel_speed) +
+                    " mm/s between strokes, the pen " + protocol_number(pen.lift_mm) + " mm up\n";
   auto line = [&](char word, Point2 p, double z, double speed, bool ink) {
     out += protocol_line(robot, word, word == 'P' ? std::vector<double>{p.x, p.y, z} : std::vector<double>{p.x, p.y, z, speed}) + "\n";
     ++line_no;
@@ -604,8 +602,8 @@ Drawing make_drawing(const Robot& robot, const InverseKinematics& ik, const Draw
     if (!paper_size(req.paper, pw, ph)) throw std::invalid_argument("no paper '" + req.paper + "': A4, A5 or Letter");
     const double w = d.width_mm, h = d.height_mm;
     if (!((w <= pw && h <= ph) || (w <= ph && h <= pw)))
-      throw std::invalid_argument("the drawing, " + mm(w) + " x " + mm(h) + " mm, is bigger than " + req.paper + " (" + mm(pw) +
-                                  " x " + mm(ph) + " mm): make it narrower");
+      throw std::invalid_argument("the drawing, " + protocol_number(w) + " x " + protocol_number(h) + " mm, is bigger than " + req.paper + " (" + protocol_number(pw) +
+                                  " x " + protocol_number(ph) + " mm): make it narrower");
   }
   d.bounds = bounds_of(d.strokes);
   d.reach = check_reach(robot, ik, d.strokes, pen);
@@ -904,7 +902,7 @@ std::vector<Stroke> program_ink(const Robot& robot, const std::string& program, 
 
 namespace {
 
-std::string at_text(Point2 p) { return "(" + mm(std::round(p.x)) + ", " + mm(std::round(p.y)) + ") mm"; }
+std::string at_text(Point2 p) { return "(" + protocol_number(std::round(p.x)) + ", " + protocol_number(std::round(p.y)) + ") mm"; }
 }  // namespace
 
 DrawingCheck check_drawing(const std::vector<Stroke>& target, const std::vector<Stroke>& ink, double tolerance_mm) {
@@ -932,19 +930,19 @@ DrawingCheck check_drawing(const std::vector<Stroke>& target, const std::vector<
       }
     }
   c.met = c.ink_off_mm <= tolerance_mm && c.uncovered_mm <= tolerance_mm;
-  const std::string tol = mm(tolerance_mm) + " mm";
+  const std::string tol = protocol_number(tolerance_mm) + " mm";
   if (c.met)
-    c.says = "the ink stays within " + mm(std::round(c.ink_off_mm * 10) / 10) + " mm of the target and covers all of it (within " +
+    c.says = "the ink stays within " + protocol_number(std::round(c.ink_off_mm * 10) / 10) + " mm of the target and covers all of it (within " +
              tol + ")";
   else if (c.ink_off_mm > tolerance_mm && c.uncovered_mm > tolerance_mm)
-    c.says = "ink " + mm(std::round(c.ink_off_mm * 10) / 10) + " mm off the target at " + at_text(c.ink_off_at) +
-             ", and the target not drawn at " + at_text(c.uncovered_at) + " (" + mm(std::round(c.uncovered_mm * 10) / 10) +
+    c.says = "ink " + protocol_number(std::round(c.ink_off_mm * 10) / 10) + " mm off the target at " + at_text(c.ink_off_at) +
+             ", and the target not drawn at " + at_text(c.uncovered_at) + " (" + protocol_number(std::round(c.uncovered_mm * 10) / 10) +
              " mm from any ink): both must be within " + tol;
   else if (c.ink_off_mm > tolerance_mm)
-    c.says = "ink " + mm(std::round(c.ink_off_mm * 10) / 10) + " mm off the target at " + at_text(c.ink_off_at) + ": it must stay within " + tol;
+    c.says = "ink " + protocol_number(std::round(c.ink_off_mm * 10) / 10) + " mm off the target at " + at_text(c.ink_off_at) + ": it must stay within " + tol;
   else
     c.says = "the target is not drawn at " + at_text(c.uncovered_at) + ": the nearest ink is " +
-             mm(std::round(c.uncovered_mm * 10) / 10) + " mm away (within " + tol + " counts)";
+             protocol_number(std::round(c.uncovered_mm * 10) / 10) + " mm away (within " + tol + " counts)";
   return c;
 }
 

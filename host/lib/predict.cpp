@@ -7,6 +7,7 @@
 #include <articula/protocol.h>
 #include <articula/servo.h>
 
+#include "blocks.h"
 #include "nano_config.h"
 
 #include <algorithm>
@@ -18,15 +19,6 @@
 namespace articula::host {
 
 namespace {
-
-// "12.345" from millidegrees (or any thousandths), exactly.
-std::string milli_text(int64_t v) {
-  char buf[32];
-  const int64_t a = v < 0 ? -v : v;
-  std::snprintf(buf, sizeof buf, "%s%lld.%03lld", v < 0 ? "-" : "", static_cast<long long>(a / 1000),
-                static_cast<long long>(a % 1000));
-  return buf;
-}
 
 void add_note(PredictRecord& r, const std::string& note) { append_note(r.note, note); }
 
@@ -615,7 +607,7 @@ void ControllerModel::robosim(PredictRecord& r, const Statement& st) {
       double u[kMaxJoints];
       actuators_from_joints(u, robot_.actuation, q);
       Millideg target[kMaxJoints];
-      std::string line = "M";
+      std::vector<double> sent;  // M's values, degrees: exact thousandths
       for (int i = 0; i < n_; ++i) {
         if (!to_millideg(target[i], rad_to_deg(u[i]))) {
           r.reply = kValueOutOfRange;
@@ -624,9 +616,9 @@ void ControllerModel::robosim(PredictRecord& r, const Statement& st) {
         // The IK keeps the motors' limits up to rounding; m's values are sent as they are.
         if (st.kind == Statement::Kind::kTarget)
           target[i] = clamp(target[i], robot_.actuation.motors[i].min, robot_.actuation.motors[i].max);
-        line += " " + milli_text(target[i]);
+        sent.push_back(target[i] / 1000.0);
       }
-      r.protocol = line;
+      r.protocol = protocol_line(robot_, 'M', sent, true);
       r.command = kCmdMoveAbsolute;
       MotorState<kMaxJoints> next = planned_;
       r.reply = move_absolute(next, robot_.actuation, target);
@@ -652,7 +644,7 @@ void ControllerModel::robosim(PredictRecord& r, const Statement& st) {
     case Statement::Kind::kSpeed: {
       const uint32_t rate = robosim_speed_to_rate(st.values[0], base_rate_);
       settings_.value[ControllerSettings::kMaxRate] = rate;
-      r.protocol = "$0=" + std::to_string(rate);
+      r.protocol = protocol_line(robot_, '$', {double(kSetMaxRate), double(rate)});
       r.command = kCmdSetSetting;
       add_note(r, "top step rate " + std::to_string(rate) + " steps/s (" + number_text(st.values[0]) + "/" + number_text(kRoboSimFastest) + " of " +
                       std::to_string(base_rate_) + ")");
@@ -662,7 +654,7 @@ void ControllerModel::robosim(PredictRecord& r, const Statement& st) {
     }
     case Statement::Kind::kHand: {
       const int32_t aperture = robosim_hand_to_aperture(st.values[0]);
-      r.protocol = "G " + milli_text(aperture);
+      r.protocol = protocol_line(robot_, 'G', {aperture / 1000.0}, true);
       r.command = kCmdAperture;
       queue_gripper(r, aperture);
       return;

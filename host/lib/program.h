@@ -123,7 +123,8 @@ Status parse_protocol_line(Command& cmd, const std::string& text, int num_joints
 // Whether a protocol program's line is the realtime stop alone ("!", blanks around it): a
 // stream may hold one where its sender sends '!' (docs/protocol.md, "Realtime bytes").
 bool is_stop_line(const std::string& text);
-// a number as messages and notes print it (ostream's default: "12.5", "0.001");
+// a number as messages and notes print it (ostream's default, 6 significant digits: "12.5",
+// "0.001"; protocol lines write theirs with protocol_number, blocks.h);
 std::string number_text(double v);
 // text without leading and trailing blanks;
 std::string trim_blanks(const std::string& s);

@@ -66,13 +66,7 @@ std::string escape(const std::string& key) {
 std::string child(const std::string& path, const std::string& key) { return path + "/" + escape(key); }
 std::string child(const std::string& path, std::size_t index) { return path + "/" + std::to_string(index); }
 
-// A number as a person would write it: 130, -0.7, 1e+20.
-std::string num(double v) {
-  std::ostringstream o;
-  o.precision(10);
-  o << v;
-  return o.str();
-}
+std::string num(double v) { return file_number(v); }
 
 std::string in_quotes(const std::string& s) { return "\"" + s + "\""; }
 
@@ -778,6 +772,13 @@ std::string resolve_robot_path(const std::string& name_or_path) {
   const char* env = std::getenv("ARTICULA_ROBOTS");
   const std::string dir = env && *env ? env : ARTICULA_ROBOTS_DIR;
   return dir + "/" + name_or_path + ext;
+}
+
+std::string file_number(double v) {
+  std::ostringstream o;
+  o.precision(10);
+  o << v;
+  return o.str();
 }
 
 }  // namespace articula::host

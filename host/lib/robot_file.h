@@ -41,6 +41,11 @@ std::string resolve_robot_path(const std::string& name_or_path);
 // schema test checks the schema against this list, so the two cannot drift apart.
 const std::map<std::string, std::vector<std::string>>& robot_file_fields();
 
+// A number from a robot or scene file, in a message about it, as a person would write it and
+// close to how the file wrote it (10 significant digits: 130, -0.7, 1e+20). Not a protocol
+// number (protocol_number, blocks.h: thousandths) nor a note's (number_text, 6 digits).
+std::string file_number(double v);
+
 }  // namespace articula::host
 
 #endif  // ARTICULA_HOST_ROBOT_FILE_H

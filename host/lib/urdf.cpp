@@ -10,6 +10,9 @@ namespace {
 
 constexpr double kMetresPerMm = 0.001;
 
+// A number in the URDF written out: metres and radians to 12 significant digits, so a robot
+// converted to URDF and back keeps its DH table to well under a micrometre (not a protocol
+// number: URDF has its own units).
 std::string num(double v) {
   if (std::fabs(v) < 1e-15) v = 0;
   std::ostringstream o;

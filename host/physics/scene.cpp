@@ -2,6 +2,8 @@
 // error naming the file and the JSON pointer of the value at fault, as robot files do.
 #include "scene.h"
 
+#include "robot_file.h"
+
 #include <cstdlib>
 
 #include <nlohmann/json.hpp>
@@ -42,12 +44,7 @@ namespace {
 
 using json = nlohmann::json;
 
-std::string num(double v) {
-  std::ostringstream o;
-  o.precision(10);
-  o << v;
-  return o.str();
-}
+std::string num(double v) { return file_number(v); }  // (robot_file.h: one writer for both files)
 
 class Loader {
  public:

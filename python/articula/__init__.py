@@ -39,6 +39,7 @@ from ._core import (  # noqa: E402
     joint_verdicts,
     measurement_question,
     parse_plan,
+    protocol_number,
     rpy_deg,
     table4,
     table5,
@@ -50,7 +51,7 @@ __all__ = [
     "Robot", "IkResult", "Program", "Sim", "Record", "Status", "STATUS", "status_text",
     "RobotFileError", "ProgramError", "SceneError", "LegacyError", "IK_STATUS", "rpy_deg",
     "axis_errors", "table4", "measurement_question", "parse_plan", "table5", "tool_points", "joint_verdicts",
-    "experiment_csv", "repeat_chains",
+    "experiment_csv", "repeat_chains", "protocol_number",
 ]
 __version__ = "0.1.0"
 

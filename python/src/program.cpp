@@ -70,6 +70,10 @@ struct PyTimeline {
 };
 
 void bind_program(nb::module_& m, nb::class_<PyRobot>& robot) {
+  m.def("protocol_number", [](double v, bool every_decimal) { return host::protocol_number(v, every_decimal); }, "v"_a,
+        "every_decimal"_a = false,
+        "A number as a protocol line writes it (the firmware's own writer): rounded to thousandths, no trailing "
+        "zeros: protocol_number(12.5) -> '12.5', protocol_number(-0.0004) -> '0'; every_decimal=True: '12.500'.");
   nb::class_<PyTimeline>(m, "Timeline",
                          "A program's time line, as the studio plays it (Robot.timeline): every action from the pose "
                          "before it to its own in its time, back to back; at(t) is the arm at any instant.")

@@ -106,6 +106,8 @@ PYTHON_ONLY = {
     "Sim.run": "runs a loaded program to its end in one call, for scripts; the page steps in real time",
     "Sim.steps": "the count of world steps, for scripts",
     "rpy_deg": "roll, pitch, yaw of a numpy rotation; the web's poses carry rpy already",
+    "protocol_number": "the harness's random plans and fuzz put numbers into lines of their own making; the page "
+                       "writes whole lines (Robot.protocolLine, the same writer)",
 }
 WEB_ONLY = {
     "Robot.loaded": "JavaScript holds an empty Robot before a load succeeds; Python only makes loaded ones",
@@ -257,6 +259,11 @@ console.log(JSON.stringify(out));
     assert mk2.program_actions("# hi\nM 10 80 -20\nG 40\n", "b.arm") == web["back"]
     assert mk2.protocol_line("T", [250.12345, -30, 150, 30]) == web["line"] == "T 250.123 -30 150 30"
     assert mk2.move_line([10, 80, -100]) == web["move"]
+    # the one number writer (the firmware's, shared/articula/protocol.h): thousandths, trimmed or every decimal
+    assert [articula.protocol_number(v) for v in (12.5, -0.0004, 0.0005, -0.25, 1e9 / 1000, 7)] == \
+        ["12.5", "0", "0.001", "-0.25", "1000000", "7"]
+    assert articula.protocol_number(12.5, every_decimal=True) == "12.500"
+    assert articula.protocol_number(-0.0004, every_decimal=True) == "0.000"  # no "-0.000"
     # a drawing: the same strokes, program and reach check (a moved star's advice too)
     hi = mk2.draw(text="Hi", width=30, at=(260, 0), z=0, pen=120)
     def same(a, b):  # equal, numbers to 1e-9 (two compilers' rounding)
