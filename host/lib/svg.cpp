@@ -5,6 +5,8 @@
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <functional>
+#include <sstream>
 
 #include <rapidxml_ns/rapidxml_ns.hpp>
 #include <svgpp/policy/xml/rapidxml_ns.hpp>
@@ -21,20 +23,62 @@ Matrix multiply(const Matrix& m, const Matrix& n) {  // m then n inside it: m * 
           m[1] * n[2] + m[3] * n[3], m[0] * n[4] + m[2] * n[5] + m[4], m[1] * n[4] + m[3] * n[5] + m[5]};
 }
 
-// What SVG++ hands over: the transforms of the elements entered, and their geometry in
-// absolute coordinates, curves as cubic Beziers (the "minimal" path policy).
+// What SVG++ hands over: the transforms of the elements entered, their geometry in absolute
+// coordinates, curves as cubic Beziers (the "minimal" path policy), and what decides whether
+// a shape shows (its paint, display, visibility and opacities: by attribute, or by its style
+// attribute, which SVG++ reads and lets win). A shape's geometry is kept at its end only when
+// it shows: a stroke or a fill that is not none, not hidden, nothing on the way transparent.
+// A filled shape without a stroke is drawn as its outline, as pen plotters do.
 class Context {
  public:
-  explicit Context(SvgDrawing& out) : out_(out) { stack_.push_back({1, 0, 0, 1, 0, 0}); }
+  explicit Context(SvgDrawing& out) : out_(out) {
+    Look root;
+    stack_.push_back({{1, 0, 0, 1, 0, 0}, root, false, 0});
+  }
 
-  void on_enter_element(svgpp::tag::element::any) { stack_.push_back(stack_.back()); }
-  void on_exit_element() { stack_.pop_back(); }
+  void on_enter_element(svgpp::tag::element::any) { enter(false); }
+  void on_enter_element(svgpp::tag::element::path) { enter(true); }
+  void on_enter_element(svgpp::tag::element::rect) { enter(true); }
+  void on_enter_element(svgpp::tag::element::circle) { enter(true); }
+  void on_enter_element(svgpp::tag::element::ellipse) { enter(true); }
+  void on_enter_element(svgpp::tag::element::line) { enter(true); }
+  void on_enter_element(svgpp::tag::element::polyline) { enter(true); }
+  void on_enter_element(svgpp::tag::element::polygon) { enter(true); }
+  void on_exit_element() {
+    const Level& l = stack_.back();
+    if (l.shape && !l.look.shows()) {
+      out_.paths.resize(l.first_path);
+      ++hidden_;
+    }
+    stack_.pop_back();
+  }
   void transform_matrix(const boost::array<double, 6>& m) {
-    stack_.back() = multiply(stack_.back(), {m[0], m[1], m[2], m[3], m[4], m[5]});
+    stack_.back().matrix = multiply(stack_.back().matrix, {m[0], m[1], m[2], m[3], m[4], m[5]});
   }
   void set_viewport(double, double, double, double) {}
   void set_viewbox_size(double, double) {}
   void disable_rendering() {}
+
+  // Paint: none, or anything else (a colour, currentColor, a gradient): it shows.
+  void set(svgpp::tag::attribute::stroke, svgpp::tag::value::none) { stack_.back().look.stroke = false; }
+  void set(svgpp::tag::attribute::fill, svgpp::tag::value::none) { stack_.back().look.fill = false; }
+  template <class... Value>
+  void set(svgpp::tag::attribute::stroke, Value&&...) { stack_.back().look.stroke = true; }
+  template <class... Value>
+  void set(svgpp::tag::attribute::fill, Value&&...) { stack_.back().look.fill = true; }
+  void set(svgpp::tag::attribute::display, svgpp::tag::value::none) { stack_.back().look.displayed = false; }
+  void set(svgpp::tag::attribute::visibility, svgpp::tag::value::hidden) { stack_.back().look.visible = false; }
+  void set(svgpp::tag::attribute::visibility, svgpp::tag::value::collapse) { stack_.back().look.visible = false; }
+  void set(svgpp::tag::attribute::visibility, svgpp::tag::value::visible) { stack_.back().look.visible = true; }
+  void set(svgpp::tag::attribute::visibility, svgpp::tag::value::inherit) {}
+  void set(svgpp::tag::attribute::opacity, double v) { stack_.back().look.opacity *= v; }
+  void set(svgpp::tag::attribute::stroke_opacity, double v) { stack_.back().look.stroke_opacity = v; }
+  void set(svgpp::tag::attribute::fill_opacity, double v) { stack_.back().look.fill_opacity = v; }
+  template <class Attribute, class... Value>
+  void set(Attribute, Value&&...) {}  // inherit, and what else the attributes take: no change
+
+  // Shapes left out because nothing of them shows.
+  int hidden() const { return hidden_; }
 
   void path_move_to(double x, double y, svgpp::tag::coordinate::absolute) {
     SvgPath p;
@@ -67,8 +111,32 @@ class Context {
   void path_exit() {}
 
  private:
+  // What decides whether a shape shows, as inherited: stroke, fill, visibility and the paint
+  // opacities pass down; display:none and an opacity hide the subtree (so they pass down too).
+  struct Look {
+    bool stroke = false, fill = true;  // SVG's initial values: no stroke, a black fill
+    bool visible = true, displayed = true;
+    double opacity = 1, stroke_opacity = 1, fill_opacity = 1;
+    bool shows() const {
+      return displayed && visible && opacity > 0 && ((stroke && stroke_opacity > 0) || (fill && fill_opacity > 0));
+    }
+  };
+  struct Level {
+    Matrix matrix;
+    Look look;
+    bool shape;
+    size_t first_path;  // out_.paths when it began: a shape that does not show drops what it added
+  };
+
+  void enter(bool shape) {
+    Level l = stack_.back();
+    l.shape = shape;
+    l.first_path = out_.paths.size();
+    stack_.push_back(l);
+  }
+
   Point2 at(double x, double y) const {
-    const Matrix& m = stack_.back();
+    const Matrix& m = stack_.back().matrix;
     return {m[0] * x + m[2] * y + m[4], -(m[1] * x + m[3] * y + m[5])};  // y up
   }
   void add(const std::array<Point2, 3>& c) {
@@ -81,7 +149,8 @@ class Context {
   }
 
   SvgDrawing& out_;
-  std::vector<Matrix> stack_;
+  std::vector<Level> stack_;
+  int hidden_ = 0;
   Point2 current_{0, 0}, subpath_start_{0, 0};
 };
 
@@ -92,7 +161,10 @@ typedef boost::mpl::set<svgpp::tag::element::svg, svgpp::tag::element::g, svgpp:
 
 typedef boost::mpl::fold<
     boost::mpl::protect<boost::mpl::joint_view<svgpp::traits::shapes_attributes_by_element, svgpp::traits::viewport_attributes>>,
-    boost::mpl::set<svgpp::tag::attribute::transform>::type, boost::mpl::insert<boost::mpl::_1, boost::mpl::_2>>::type
+    boost::mpl::set<svgpp::tag::attribute::transform, svgpp::tag::attribute::stroke, svgpp::tag::attribute::fill,
+                    svgpp::tag::attribute::display, svgpp::tag::attribute::visibility, svgpp::tag::attribute::opacity,
+                    svgpp::tag::attribute::stroke_opacity, svgpp::tag::attribute::fill_opacity>::type,
+    boost::mpl::insert<boost::mpl::_1, boost::mpl::_2>>::type
     processed_attributes_t;
 
 bool starts_with_ci(const char* s, size_t n, const char* prefix) {
@@ -124,6 +196,68 @@ void check_node(const rapidxml_ns::xml_node<>* n, const std::string& name) {
     }
     check_node(n->first_node(), name);
   }
+}
+
+// A <style> sheet's class rules (".frame { stroke: none; fill: none }", a selector list of
+// classes), put into each element of that class as the start of its style attribute: its own
+// style comes after them and wins, and both win over presentation attributes, as in CSS.
+// Other selectors are not read (icon sets use classes, when they use a sheet at all).
+void apply_class_rules(rapidxml_ns::xml_document<>& doc, rapidxml_ns::xml_node<>* root) {
+  std::vector<std::pair<std::string, std::string>> rules;  // class, declarations
+  std::function<void(rapidxml_ns::xml_node<>*)> sheets = [&](rapidxml_ns::xml_node<>* n) {
+    for (; n; n = n->next_sibling()) {
+      if (n->type() != rapidxml_ns::node_element) continue;
+      if (std::string(n->local_name(), n->local_name_size()) == "style") {
+        std::string css;
+        for (rapidxml_ns::xml_node<>* t = n->first_node(); t; t = t->next_sibling())
+          if (t->type() == rapidxml_ns::node_data || t->type() == rapidxml_ns::node_cdata)
+            css.append(t->value(), t->value_size());
+        size_t at = 0;
+        while (true) {
+          const size_t open = css.find('{', at), close = css.find('}', open == std::string::npos ? at : open);
+          if (open == std::string::npos || close == std::string::npos) break;
+          const std::string decls = css.substr(open + 1, close - open - 1);
+          std::stringstream selectors(css.substr(at, open - at));
+          std::string sel;
+          while (std::getline(selectors, sel, ',')) {
+            const size_t b = sel.find_first_not_of(" \t\r\n"), e = sel.find_last_not_of(" \t\r\n");
+            if (b == std::string::npos) continue;
+            sel = sel.substr(b, e - b + 1);
+            if (sel.size() > 1 && sel[0] == '.' && sel.find_first_of(" .#:[>+~", 1) == std::string::npos)
+              rules.emplace_back(sel.substr(1), decls);
+          }
+          at = close + 1;
+        }
+      }
+      sheets(n->first_node());
+    }
+  };
+  sheets(root);
+  if (rules.empty()) return;
+  std::function<void(rapidxml_ns::xml_node<>*)> apply = [&](rapidxml_ns::xml_node<>* n) {
+    for (; n; n = n->next_sibling()) {
+      if (n->type() != rapidxml_ns::node_element) continue;
+      rapidxml_ns::xml_attribute<>* cls = n->first_attribute("class");
+      if (cls) {
+        std::stringstream names(std::string(cls->value(), cls->value_size()));
+        std::string name, decls;
+        while (names >> name)
+          for (const auto& r : rules)
+            if (r.first == name) decls += r.second + ";";
+        if (!decls.empty()) {
+          rapidxml_ns::xml_attribute<>* style = n->first_attribute("style");
+          const std::string text = decls + (style ? std::string(style->value(), style->value_size()) : "");
+          const char* value = doc.allocate_string(text.c_str(), text.size() + 1);
+          if (style)
+            style->value(value, text.size());
+          else
+            n->append_attribute(doc.allocate_attribute("style", value, 5, text.size()));
+        }
+      }
+      apply(n->first_node());
+    }
+  };
+  apply(root);
 }
 
 void grow(Bounds& b, bool& any, Point2 p) {
@@ -174,6 +308,7 @@ SvgDrawing read_svg(const std::string& text, const std::string& name) {
     throw SvgError(name + ": not an SVG file: its first element is " +
                    (root ? "<" + std::string(root->name(), root->name_size()) + ">" : std::string("missing")));
   check_node(root, name);
+  apply_class_rules(doc, const_cast<rapidxml_ns::xml_node<>*>(root));
 
   SvgDrawing out;
   out.source = name;
@@ -189,6 +324,10 @@ SvgDrawing read_svg(const std::string& text, const std::string& name) {
   // drop subpaths with nothing drawn
   out.paths.erase(std::remove_if(out.paths.begin(), out.paths.end(), [](const SvgPath& p) { return p.cubics.empty(); }),
                   out.paths.end());
+  if (out.paths.empty() && context.hidden() > 0)
+    throw SvgError(name + ": nothing in it shows: its " + std::to_string(context.hidden()) +
+                   (context.hidden() == 1 ? " shape is" : " shapes are") +
+                   " invisible (stroke and fill none, hidden, or transparent)");
   if (out.paths.empty()) throw SvgError(name + ": no drawable path (paths, lines, polylines, polygons, rects, circles, ellipses)");
   bool any = false;
   for (const SvgPath& p : out.paths) {

@@ -6,7 +6,16 @@
 // A file is untrusted input: nothing in it runs or is fetched. Refused, with the reason: more
 // than 5 MB; not XML, or XML whose root is not <svg>; a DOCTYPE with declarations or an
 // entity (an XML bomb's way in); a <script>, an event handler attribute (onload=...), or a
-// reference to anything outside the file (href to another file or a URL); no drawable path.
+// reference to anything outside the file (href to another file or a URL); no drawable path;
+// nothing that shows.
+//
+// What the file shows is drawn, and nothing else: a shape whose stroke and fill are both none,
+// that is display:none, hidden, or transparent (opacity, stroke-opacity with no fill,
+// fill-opacity with no stroke), on itself or a group around it, set by attribute, by its style
+// attribute or by a <style> sheet's class rule, is left out (an icon set's invisible 24 x 24
+// frame among them); so is what sits in <defs>, <symbol>, <clipPath>, <mask> and <marker>
+// (<use> is not read: what only a <use> shows is not drawn). A filled shape without a stroke
+// is drawn as its outline, as pen plotters draw it.
 #ifndef ARTICULA_HOST_SVG_H
 #define ARTICULA_HOST_SVG_H
 

@@ -588,6 +588,25 @@ TEST(Cli, DrawSaysWhichWayToMoveADrawingThatDoesNotFit) {
   EXPECT_NE(r.out.find("give one of an SVG file, --text and --shape"), std::string::npos) << r.out;
 }
 
+// Issue 41: an icon set's invisible frame is not drawn (the plus fills the 60 mm, its two
+// strokes only), and a file in which nothing shows is refused by name.
+TEST(Cli, DrawWhatAnSvgShowsAndRefuseOneWithNothingVisible) {
+  const std::string icon = testing::TempDir() + "plus.svg";
+  std::ofstream(icon) << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"24\" height=\"24\" viewBox=\"0 0 24 24\" "
+                         "fill=\"none\" stroke=\"currentColor\"><path stroke=\"none\" d=\"M0 0h24v24H0z\" fill=\"none\"/>"
+                         "<path d=\"M4 12h16M12 4v16\"/></svg>";
+  Result r = run("draw mk2plus " + icon + " --width 60 --at 260,0 --z 0 --pen 120 -o " + testing::TempDir() + "plus.arm");
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("plus.svg: 60.0 mm wide, 60.0 mm high, centred at (260.0, 0.0) mm, 2 strokes"), std::string::npos)
+      << r.out;
+  const std::string hidden = testing::TempDir() + "hidden.svg";
+  std::ofstream(hidden) << "<svg xmlns=\"http://www.w3.org/2000/svg\"><style>.f{display:none}</style>"
+                           "<rect class=\"f\" width=\"9\" height=\"9\"/><path d=\"M0 0h24\" style=\"stroke:none;fill:none\"/></svg>";
+  r = run("draw mk2plus " + hidden + " --width 60 --at 260,0 --z 0 --pen 120");
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("hidden.svg: nothing in it shows: its 2 shapes are invisible"), std::string::npos) << r.out;
+}
+
 TEST(Cli, DrawAnSvgFileAndRefuseAHostileOne) {
   Result r = run(std::string("draw mk2plus ") + ARTICULA_SOURCE_DIR + "/examples/drawings/bicycle.svg --width 50 --at 260,0 --z 0 "
                  "--pen 120 -o " + testing::TempDir() + "bicycle.arm");

@@ -114,3 +114,77 @@ TEST(Svg, AHostileFileIsRefusedWithItsReason) {
   EXPECT_EQ(refusal(svg("<path d=\"M 0 0 L 10\"/>")),
             "t.svg: cannot be read: Invalid value of SVG attribute (or property) \"d\": \"M 0 0 L 10\"");
 }
+
+// Issue 41: what the file shows, and nothing else. An icon set's invisible 24 x 24 frame (the
+// first path of every Tabler icon) is not drawn, so the fit is the icon's own strokes.
+TEST(Svg, WhatDoesNotShowIsNotDrawn) {
+  const std::string stroke = "<path d=\"M4 12 h16 M12 4 v16\"/>";  // a plus, 4 .. 20
+  const SvgDrawing icon =
+      read_svg(svg("<path stroke=\"none\" d=\"M0 0h24v24H0z\" fill=\"none\"/>" + stroke,
+                   "width=\"24\" height=\"24\" viewBox=\"0 0 24 24\" fill=\"none\" stroke=\"currentColor\" stroke-width=\"2\""),
+               "t.svg");
+  ASSERT_EQ(icon.paths.size(), 2u);
+  EXPECT_NEAR(icon.bounds.min_x, 4, 1e-9);
+  EXPECT_NEAR(icon.bounds.max_x, 20, 1e-9);
+  // each way a shape does not show, by attribute and by its style attribute, on itself or on
+  // a group around it: only the plus is left
+  const char* hidden[] = {
+      "<rect width=\"24\" height=\"24\" stroke=\"none\" fill=\"none\"/>",
+      "<rect width=\"24\" height=\"24\" style=\"stroke:none;fill:none\"/>",
+      "<rect width=\"24\" height=\"24\" display=\"none\"/>",
+      "<rect width=\"24\" height=\"24\" style=\"display: none\"/>",
+      "<g display=\"none\"><rect width=\"24\" height=\"24\" stroke=\"black\"/></g>",
+      "<rect width=\"24\" height=\"24\" visibility=\"hidden\"/>",
+      "<g style=\"visibility:hidden\"><rect width=\"24\" height=\"24\"/></g>",
+      "<rect width=\"24\" height=\"24\" opacity=\"0\"/>",
+      "<g opacity=\"0\"><rect width=\"24\" height=\"24\" stroke=\"black\"/></g>",
+      "<rect width=\"24\" height=\"24\" fill=\"none\" stroke=\"black\" stroke-opacity=\"0\"/>",
+      "<rect width=\"24\" height=\"24\" style=\"fill-opacity:0\"/>",
+      "<defs><rect id=\"r\" width=\"24\" height=\"24\" stroke=\"black\"/></defs>",
+      "<symbol id=\"s\"><rect width=\"24\" height=\"24\" stroke=\"black\"/></symbol>",
+      "<clipPath id=\"c\"><rect width=\"24\" height=\"24\"/></clipPath>",
+      "<mask id=\"m\"><rect width=\"24\" height=\"24\" fill=\"white\"/></mask>",
+      "<marker id=\"k\"><rect width=\"24\" height=\"24\"/></marker>",
+  };
+  for (const char* h : hidden) {
+    const SvgDrawing d = read_svg(svg(std::string(h) + "<path stroke=\"black\" d=\"M4 12 h16 M12 4 v16\"/>"), "t.svg");
+    EXPECT_EQ(d.paths.size(), 2u) << h;
+    EXPECT_NEAR(d.bounds.min_x, 4, 1e-9) << h;
+    EXPECT_NEAR(d.bounds.max_x, 20, 1e-9) << h;
+  }
+  // what shows: a child made visible inside a hidden group; a fill without a stroke (drawn
+  // as its outline, as pen plotters do); a stroke by style over a fill of none
+  for (const char* shown : {"<g visibility=\"hidden\"><rect width=\"24\" height=\"24\" visibility=\"visible\"/></g>",
+                            "<rect width=\"24\" height=\"24\"/>",
+                            "<rect width=\"24\" height=\"24\" fill=\"none\" style=\"stroke:#000\"/>",
+                            "<rect width=\"24\" height=\"24\" stroke=\"none\" fill=\"currentColor\"/>"}) {
+    const SvgDrawing d = read_svg(svg(shown), "t.svg");
+    ASSERT_EQ(d.paths.size(), 1u) << shown;
+    EXPECT_NEAR(d.bounds.width(), 24, 1e-9) << shown;
+  }
+}
+
+TEST(Svg, AFileWithNothingThatShowsIsRefused) {
+  EXPECT_EQ(refusal(svg("<path stroke=\"none\" d=\"M0 0h24v24H0z\" fill=\"none\"/>")),
+            "t.svg: nothing in it shows: its 1 shape is invisible (stroke and fill none, hidden, or transparent)");
+  EXPECT_EQ(refusal(svg("<g opacity=\"0\"><line x1=\"0\" y1=\"0\" x2=\"5\" y2=\"5\" stroke=\"red\"/>"
+                        "<circle r=\"3\"/></g>")),
+            "t.svg: nothing in it shows: its 2 shapes are invisible (stroke and fill none, hidden, or transparent)");
+}
+
+// A <style> sheet's class rule hides as an attribute does; an element's own style still wins.
+TEST(Svg, AStyleSheetsClassRulesCount) {
+  const std::string sheet = "<style>.frame, .ghost { stroke: none; fill: none } .ink{stroke:#000}</style>";
+  const SvgDrawing d = read_svg(svg(sheet + "<rect class=\"frame\" width=\"24\" height=\"24\"/>"
+                                            "<rect class=\"big ghost\" x=\"-10\" width=\"50\" height=\"50\"/>"
+                                            "<path class=\"ink\" fill=\"none\" d=\"M4 12 h16\"/>"),
+                                "t.svg");
+  ASSERT_EQ(d.paths.size(), 1u);
+  EXPECT_NEAR(d.bounds.min_x, 4, 1e-9);
+  EXPECT_NEAR(d.bounds.max_x, 20, 1e-9);
+  const SvgDrawing own = read_svg(svg(sheet + "<rect class=\"frame\" style=\"stroke:red\" width=\"24\" height=\"24\"/>"),
+                                  "t.svg");
+  EXPECT_EQ(own.paths.size(), 1u);
+  EXPECT_EQ(refusal(svg(sheet + "<rect class=\"frame\" width=\"24\" height=\"24\"/>")),
+            "t.svg: nothing in it shows: its 1 shape is invisible (stroke and fill none, hidden, or transparent)");
+}

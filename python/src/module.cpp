@@ -16,6 +16,7 @@
 #include "predict.h"
 #include "program.h"
 #include "robot_file.h"
+#include "svg.h"
 #include "scene.h"
 
 namespace articula::python {
@@ -229,6 +230,8 @@ NB_MODULE(_core, m) {
     } catch (const host::LegacyError& e) {
       raise_with(g_legacy_error, e.what(), {});
     } catch (const host::PredictError& e) {
+      PyErr_SetString(PyExc_ValueError, e.what());
+    } catch (const host::SvgError& e) {  // a drawing refused, with its reason: bad input, as for a program
       PyErr_SetString(PyExc_ValueError, e.what());
     }
   });

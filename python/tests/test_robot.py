@@ -225,3 +225,19 @@ def test_finger_poses_sit_at_the_tool():
                                    atol=1e-9)
     with pytest.raises(ValueError, match="has no gripper"):
         articula.Robot.load("panda").finger_poses(np.zeros(7), 10)
+
+
+def test_an_svg_draws_what_it_shows_and_nothing_visible_is_refused():
+    """Issue 41: an icon set's invisible 24 x 24 frame is not drawn (the plus alone fills the
+    width); a file where nothing shows is refused by name."""
+    mk2 = articula.Robot.load("mk2plus")
+    icon = ('<svg xmlns="http://www.w3.org/2000/svg" width="24" height="24" viewBox="0 0 24 24" fill="none" '
+            'stroke="currentColor"><path stroke="none" d="M0 0h24v24H0z" fill="none"/><path d="M4 12h16M12 4v16"/></svg>')
+    d = mk2.draw(svg=icon, svg_name="plus.svg", width=60, at=(260, 0), z=0, pen=120)
+    assert len(d["strokes"]) == 2
+    xs = [p[0] for s in d["strokes"] for p in s]
+    assert abs(min(xs) - 230) < 1e-6 and abs(max(xs) - 290) < 1e-6  # the plus spans the 60 mm, not 40 of them
+    hidden = ('<svg xmlns="http://www.w3.org/2000/svg"><g opacity="0"><path d="M0 0h9" stroke="red"/></g>'
+              '<rect width="9" height="9" visibility="hidden"/></svg>')
+    with pytest.raises(ValueError, match="hidden.svg: nothing in it shows: its 2 shapes are invisible"):
+        mk2.draw(svg=hidden, svg_name="hidden.svg", width=60, at=(260, 0), z=0, pen=120)
