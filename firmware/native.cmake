@@ -16,8 +16,10 @@ file(GLOB fw_sources CONFIGURE_DEPENDS ${fw_src_dir}/*.cpp)
 list(FILTER fw_sources EXCLUDE REGEX "/(hal_avr|main)\\.cpp$")
 file(GLOB fw_test_folders LIST_DIRECTORIES true CONFIGURE_DEPENDS ${fw_test_dir}/test_*)
 
-# robot: its file ("" for the built-in MK2).
-function(articula_firmware_variant variant robot prefix)
+# robot: its file ("" for the built-in MK2); motors: the build's motor count (robot::kJoints:
+# 3 as on the Nano; more for the host, the same source); tests: the test folders to build ("":
+# all).
+function(articula_firmware_variant variant robot prefix motors tests)
   set(robot_file ${robot})
   set(config_defs "")
   if(robot)
@@ -40,6 +42,7 @@ function(articula_firmware_variant variant robot prefix)
   add_library(firmware_sitl_${variant} STATIC ${fw_sources} ${fw_sitl_dir}/hal_sitl.cpp ${fw_sitl_dir}/machine.cpp)
   target_include_directories(firmware_sitl_${variant} PUBLIC ${fw_src_dir} ${fw_sitl_dir})
   target_link_libraries(firmware_sitl_${variant} PUBLIC articula::core)
+  target_compile_definitions(firmware_sitl_${variant} PUBLIC ARTICULA_FIRMWARE_MOTORS=${motors})
   target_compile_options(firmware_sitl_${variant} PRIVATE ${ARTICULA_WARNINGS})
   set_target_properties(firmware_sitl_${variant} PROPERTIES CXX_STANDARD 11 CXX_EXTENSIONS ON)
 
@@ -55,6 +58,9 @@ function(articula_firmware_variant variant robot prefix)
 
   foreach(folder ${fw_test_folders})
     get_filename_component(name ${folder} NAME)
+    if(tests AND NOT name IN_LIST tests)
+      continue()
+    endif()
     set(exe firmware_${variant}_${name})
     add_executable(${exe} ${folder}/${name}.cpp)
     target_link_libraries(${exe} PRIVATE firmware_harness_${variant} GTest::gtest_main)
@@ -68,5 +74,8 @@ function(articula_firmware_variant variant robot prefix)
   endforeach()
 endfunction()
 
-articula_firmware_variant(main "" "firmware.")
-articula_firmware_variant(halfstep ${fw_test_dir}/robots/halfstep.json "firmware.halfstep.")
+articula_firmware_variant(main "" "firmware." 3 "")
+articula_firmware_variant(halfstep ${fw_test_dir}/robots/halfstep.json "firmware.halfstep." 3 "")
+# The same source built for eight motors, as the host's prediction will run it: the same
+# answers for the MK2 as the Nano's build gives, to the tick (test_prediction).
+articula_firmware_variant(wide "" "firmware.wide." 8 "test_prediction")

@@ -26,7 +26,7 @@ int sequence_index(uint8_t pattern) {
 
 namespace {
 // The Nano's report buffer: the most motors it drives.
-const uint16_t kReportSize = articula::status_report_size(3);
+const uint16_t kReportSize = articula::status_report_size(robot::kJoints);
 
 void build_report_if_due();
 

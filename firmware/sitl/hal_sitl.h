@@ -26,10 +26,11 @@
 #include <vector>
 
 #include "report.h"
+#include "../src/robot.h"  // (by its path: the host library has a robot.h of its own)
 
 namespace sitl {
 
-static const int kMotors = 3;  // the most the firmware drives
+static const int kMotors = robot::kJoints;  // the most this build of the firmware drives
 
 struct CoilWrite {
   uint64_t tick;
@@ -46,6 +47,13 @@ struct ServoChange {
 };
 
 struct Hardware {
+  Hardware() {
+    for (int m = 0; m < kMotors; ++m) {
+      microsteps[m] = 1;
+      last_index[m] = -1;
+      endstop_below[m] = true;
+    }
+  }
   uint64_t now = 0;  // ticks
   bool timer_running = false;
   uint64_t deadline = 0;
@@ -71,7 +79,7 @@ struct Hardware {
 
   // Coils staged for the next deadline (stage_coils), bit i for motor i.
   uint8_t staged_mask = 0;
-  uint8_t staged[kMotors] = {0, 0, 0};
+  uint8_t staged[kMotors] = {};
   bool in_step_timer = false;  // inside firmware::on_step_timer()
 
   uint8_t eeprom[1024];
@@ -79,16 +87,16 @@ struct Hardware {
 
   // The coil decoder: positions from the patterns, 1 for full steps (stride 2 in the
   // half-step table) or 2 for half steps, per motor (set by the harness from the robot).
-  uint8_t microsteps[kMotors] = {1, 1, 1};
-  int64_t position[kMotors] = {0, 0, 0};
-  int last_index[kMotors] = {-1, -1, -1};  // place in the half-step table of the last pattern
-  uint8_t pattern[kMotors] = {0, 0, 0};
+  uint8_t microsteps[kMotors];  // 1 each at first
+  int64_t position[kMotors] = {};
+  int last_index[kMotors];  // place in the half-step table of the last pattern (-1 at first)
+  uint8_t pattern[kMotors] = {};
   std::vector<std::string> errors;  // decoding errors: an illegal pattern or jump
 
   // Endstops: pressed while position <= at (below) or >= at (!below).
-  bool endstop_fitted[kMotors] = {false, false, false};
-  int64_t endstop_at[kMotors] = {0, 0, 0};
-  bool endstop_below[kMotors] = {true, true, true};
+  bool endstop_fitted[kMotors] = {};
+  int64_t endstop_at[kMotors] = {};
+  bool endstop_below[kMotors];  // true each at first
 
   int interrupts_off_depth = 0;
 };

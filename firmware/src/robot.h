@@ -14,8 +14,15 @@ namespace robot {
 static const uint16_t kEepromAddress = 32;
 static const uint8_t kEepromVersion = 1;
 
-// Room for the most motors a configuration has; count() of them are used.
-static const uint8_t kJoints = articula::kMaxConfigMotors;
+// Room for the most motors a configuration has; count() of them are used. The Nano's build has
+// the three its pins wire; a build for the host (firmware/sitl) may have more
+// (ARTICULA_FIRMWARE_MOTORS, up to 8: LineStepper's byte of bits), from the same source.
+#ifndef ARTICULA_FIRMWARE_MOTORS
+#define ARTICULA_FIRMWARE_MOTORS 3
+#endif
+static const uint8_t kJoints = ARTICULA_FIRMWARE_MOTORS;
+static_assert(ARTICULA_FIRMWARE_MOTORS >= articula::kMaxConfigMotors && ARTICULA_FIRMWARE_MOTORS <= 8,
+              "from the configuration's motors to LineStepper's eight");
 
 typedef articula::Actuation<float, kJoints> Actuation;
 typedef articula::MotorState<kJoints> State;
