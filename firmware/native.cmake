@@ -8,7 +8,7 @@
 # blank EEPROM gets, under the prefix "firmware.", and a test robot with half steps, a
 # reversed motor, the identity coupling and a home pose away from step 0, under
 # "firmware.halfstep.": its configuration (made by `articula configure --header`) is what
-# the harness puts in the fake EEPROM of a fresh machine.
+# the harness puts in the SITL EEPROM of a fresh machine.
 set(fw_src_dir ${ARTICULA_FIRMWARE_DIR}/src)
 set(fw_test_dir ${ARTICULA_FIRMWARE_DIR}/test)
 set(fw_sitl_dir ${ARTICULA_FIRMWARE_DIR}/sitl)

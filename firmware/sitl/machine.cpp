@@ -4,8 +4,8 @@
 #include <articula/config.h>
 #include <articula/protocol.h>
 
-#include <cstring>
 #include <algorithm>
+#include <cstring>
 #include <deque>
 
 #include "firmware.h"

@@ -1,5 +1,5 @@
 // Tests firmware/src/coils.cpp: the L298N input patterns of full and half steps, forwards,
-// backwards and across the wrap of the table, as the motors see them (decoded by the fake
+// backwards and across the wrap of the table, as the motors see them (decoded by the SITL
 // HAL from the pin writes, independently of the firmware's table), and through whole moves.
 #include <gtest/gtest.h>
 

@@ -17,7 +17,7 @@ using namespace articula;
 
 namespace {
 
-// The image in the fake EEPROM (staged or committed).
+// The image in the SITL EEPROM (staged or committed).
 std::vector<uint8_t> eeprom_image() {
   const uint8_t* e = sitl::hw.eeprom + robot::kEepromAddress + 1;
   return std::vector<uint8_t>(e, e + kConfigImageSize);

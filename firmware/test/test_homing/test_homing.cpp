@@ -101,7 +101,7 @@ TEST(Homing, EveryMotorInTurn) {
 TEST(Homing, SwitchNeverFoundLeavesAlarm) {
   boot_with_switches(1);
   ASSERT_EQ(sim::command("$4=4000"), "ok");
-  // No switch fitted in the fake: the search gives up after twice the motor's range.
+  // No switch fitted in the SITL HAL: the search gives up after twice the motor's range.
   ASSERT_EQ(sim::command("H"), "ok");
   ASSERT_EQ(sim::command("L 0 10"), "ok");
   ASSERT_EQ(sim::command("G 50"), "ok");

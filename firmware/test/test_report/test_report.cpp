@@ -1,6 +1,6 @@
 // firmware/test/test_report/test_report.cpp - when the status report is built and when it
 // goes out (src/report.h): the rules the Nano's serial interrupts follow, here one event at a
-// time, including those an instant transmitter (the fake HAL's) never meets: a '?' while a
+// time, including those an instant transmitter (the SITL HAL's) never meets: a '?' while a
 // report is going out, and a report's LF gone before the next build returns.
 #include <gtest/gtest.h>
 
