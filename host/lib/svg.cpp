@@ -154,6 +154,24 @@ class Context {
   Point2 current_{0, 0}, subpath_start_{0, 0};
 };
 
+// What SVG++ would throw for, a browser passes by: an attribute or a style property it does
+// not know (aria-hidden, data-*, mix-blend-mode, ...), an element it does not know. They do not
+// change what is drawn; everything else it refuses still is.
+template <class Ctx>
+struct PassUnknown : svgpp::policy::error::raise_exception<Ctx> {
+  template <class XMLElement, class ElementName>
+  static bool unknown_element(const Ctx&, const XMLElement&, const ElementName&) { return true; }  // skipped
+  template <class XMLAttribute, class AttributeName>
+  static bool unknown_attribute(const Ctx&, const XMLAttribute&, const AttributeName&,
+                                BOOST_SCOPED_ENUM(svgpp::detail::namespace_id), svgpp::tag::source::attribute) {
+    return true;
+  }
+  template <class XMLAttribute, class AttributeName>
+  static bool unknown_attribute(const Ctx&, const XMLAttribute&, const AttributeName&, svgpp::tag::source::css) {
+    return true;
+  }
+};
+
 typedef boost::mpl::set<svgpp::tag::element::svg, svgpp::tag::element::g, svgpp::tag::element::circle,
                         svgpp::tag::element::ellipse, svgpp::tag::element::line, svgpp::tag::element::path,
                         svgpp::tag::element::polygon, svgpp::tag::element::polyline, svgpp::tag::element::rect>::type
@@ -317,7 +335,8 @@ SvgDrawing read_svg(const std::string& text, const std::string& name) {
     svgpp::document_traversal<svgpp::processed_elements<processed_elements_t>,
                               svgpp::processed_attributes<processed_attributes_t>,
                               svgpp::viewport_policy<svgpp::policy::viewport::as_transform>,
-                              svgpp::path_policy<svgpp::policy::path::minimal>>::load_document(root, context);
+                              svgpp::path_policy<svgpp::policy::path::minimal>,
+                              svgpp::error_policy<PassUnknown<Context>>>::load_document(root, context);
   } catch (const std::exception& e) {
     throw SvgError(name + ": cannot be read: " + e.what());
   }

@@ -188,3 +188,12 @@ TEST(Svg, AStyleSheetsClassRulesCount) {
   EXPECT_EQ(refusal(svg(sheet + "<rect class=\"frame\" width=\"24\" height=\"24\"/>")),
             "t.svg: nothing in it shows: its 1 shape is invisible (stroke and fill none, hidden, or transparent)");
 }
+
+// Attributes and style properties the reader does not know pass, as in a browser (Heroicons
+// carry aria-hidden, other sets data-* and blend modes): they change nothing drawn.
+TEST(Svg, UnknownAttributesAndPropertiesPass) {
+  const SvgDrawing d = read_svg(svg("<path aria-hidden=\"true\" data-x=\"1\" style=\"mix-blend-mode:multiply\" "
+                                    "stroke=\"black\" d=\"M4 12 h16\"/>", "aria-hidden=\"true\""),
+                                "t.svg");
+  ASSERT_EQ(d.paths.size(), 1u);
+}
