@@ -133,6 +133,18 @@ class EnginePage:
         """Statements in the page (a function's body: `return` gives a value back)."""
         raise NotImplementedError
 
+    def open_file(self, selector: str, name: str, text: str):
+        """A file chosen in the file input `selector`, as the page gets one from its dialog:
+        its files set, then its change event (no engine's driver opens the dialog itself)."""
+        self.run(f"const f = new File([{json.dumps(text)}], {json.dumps(name)}); const d = new DataTransfer(); "
+                 f"d.items.add(f); const e = document.querySelector({json.dumps(selector)}); e.files = d.files; "
+                 "e.dispatchEvent(new Event('change', { bubbles: true }));")
+
+    def type_boxes(self, typed: list[tuple[str, str]]):
+        """Each text into its box, one box after the other with no pause at all: the box given
+        the keyboard, all selected, the text typed key by key, then Tab."""
+        raise NotImplementedError
+
     def rect(self, script: str) -> list[float] | None:
         """The viewport rectangle [x, y, width, height] of the element `script` returns (a
         function's body), once it has stopped moving (a dropped block slides as it snaps)."""
@@ -213,6 +225,13 @@ class PlaywrightPage(EnginePage):
         else:
             self.page.keyboard.press("Tab")
 
+    def type_boxes(self, typed):
+        for selector, text in typed:
+            self.page.focus(selector)
+            self.page.keyboard.press("Control+a")
+            self.page.keyboard.type(text)
+            self.page.keyboard.press("Tab")
+
     def set_text(self, selector, text):
         self.page.fill(selector, text)
 
@@ -291,6 +310,15 @@ class WebKitPage(EnginePage):
         self._interact(selector, lambda e: e.click())
         self._interact(selector, lambda e: (e.send_keys(Keys.CONTROL, "a"), e.send_keys(text),
                                             e.send_keys(Keys.ENTER if enter else Keys.TAB)))
+
+    def type_boxes(self, typed):
+        from selenium.webdriver.common.keys import Keys
+
+        for selector, text in typed:
+            self.driver.execute_script("document.querySelector(arguments[0]).focus()", selector)
+            chain, _ = self._pointer()
+            chain.key_down(Keys.CONTROL).send_keys("a").key_up(Keys.CONTROL).send_keys(text).send_keys(Keys.TAB)
+            chain.perform()
 
     def set_text(self, selector, text):
         # a textarea's whole text at once, with the input event a person's typing gives

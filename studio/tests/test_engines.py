@@ -1,6 +1,7 @@
 """The page in Firefox and WebKit (Safari's engine): it loads and draws, typed joints give the
 tool articula fk gives, IK reaches a typed target, a program plays, the live physics runs, and
-the virtual Nano is driven to the predicted steps and flashed. Chromium runs the deep suite
+the virtual Nano is driven to the predicted steps and flashed; and, in all three (Chromium too),
+values typed with no pause all hold. Chromium runs the deep suite
 (test_studio.py and the others), which covers the same session and more; `engines.py` can
 drive it here too (bench_engines.py does). The pictures are docs/studio.md's."""
 
@@ -106,6 +107,51 @@ def test_loads_draws_and_follows_typed_joints_and_ik(page):
     pg.wait("a.ik && a.ik.status === 'reached'", 30 * PATIENCE)
     np.testing.assert_allclose(pg.hook("a.pose.tool.xyz"), [250, 50, 150], atol=0.011)
     pg.screenshot(SHOTS / f"studio-{pg.engine}.png")
+
+
+@pytest.fixture(params=ENGINES)
+def any_engine(request, engines, site):
+    """The page in each of the three engines, Chromium too."""
+    why = missing(request.param)
+    if why:
+        pytest.fail(why)
+    p = engines.open(request.param, f"{site.url}?robot=mk2plus")
+    p.wait("a.ready && a.firstFrameAt > 0", 60 * PATIENCE, "the page's first frame with the arm")
+    yield p
+    errors = p.page_errors()
+    p.close()
+    assert errors == [], f"{request.param}: the page's errors: {errors}"
+
+
+def test_values_typed_with_no_pause_after_opening_a_robot_all_hold(any_engine):
+    """Issue 41 (a typed value dropped): an IK target solved on one robot, another robot's file
+    opened, and six joint values typed one after another with no pause, while the engine is
+    still busy with the new robot: every value holds, in the model and in its box, and an
+    answer about an older edit never shows over a newer one. Then Home right after a typed
+    value: applied after it, as the student made them."""
+    pg = any_engine
+    for c, v in zip("xyz", (250, 50, 150)):
+        pg.type_into(f"#t{c}", str(v))
+    pg.click("#solve")
+    pg.wait("a.ik && a.ik.status === 'reached'", 30 * PATIENCE)
+    pg.open_file("#robot-file", "puma560.json", (REPO / "robots" / "puma560.json").read_text())
+    pg.wait("document.querySelectorAll('#joints input[type=number][data-joint]').length === 6", 30 * PATIENCE,
+            "the PUMA's six joint boxes")
+    values = [11, -22, 33, 44, -55, 66]
+    pg.type_boxes([(f'#joints input[type=number][data-joint="{j}"]', str(v)) for j, v in enumerate(values)])
+    want = json.dumps(values, separators=(",", ":"))
+    pg.wait(f"JSON.stringify(a.pose.q) === '{want}'", 30 * PATIENCE, f"the model at {want}")
+    time.sleep(0.5)  # (any late answer would be on screen by now)
+    boxes = pg.run("return [...document.querySelectorAll('#joints input[type=number][data-joint]')].map(e => e.value)")
+    assert [float(b) for b in boxes] == values, f"{pg.engine}: the boxes show {boxes}"
+    assert pg.hook("a.pose.q") == values
+    # a value typed, then Home at once: the arm ends at home
+    pg.type_boxes([('#joints input[type=number][data-joint="1"]', "5")])
+    pg.click("#home")
+    pg.wait("a.pose.q[1] !== 5 && a.pose.q[1] !== -22", 30 * PATIENCE, "Home after the typed value")
+    home = pg.hook("a.pose.q")
+    time.sleep(0.5)
+    assert pg.hook("a.pose.q") == home, f"{pg.engine}: the typed value came after Home"
 
 
 def test_a_program_plays_and_the_physics_runs(page):

@@ -142,7 +142,7 @@ function handle(m: EngineMsg): void {
     case "physics": return showPhysics(m, editor.robot);
     case "sim_command":
       hook.simCommand = m.line;
-      if (m.seq !== undefined && m.seq !== null) engine.replyArrived();
+      if (m.seq !== undefined && m.seq !== null) engine.replyArrived(m.seq);
       return;
     case "error":
       noteError(m.message);

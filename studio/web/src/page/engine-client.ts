@@ -7,8 +7,16 @@ import { hook } from "./hook";
 type Msg = Record<string, unknown>;
 
 // Pose requests (sliders, drags): at most two in flight, so one is computed while the page
-// draws the other; the newest intent waits and replaces any older one waiting.
+// draws the other. What waits goes in the order the student made it: a new intent replaces
+// only the one waiting last, and only when it is of the same thing (the same joint's box or
+// slider, the IK target), so that a drag sends its newest position and no other edit is lost.
+// Every other message waits behind them, so nothing overtakes an edit made before it.
 const MAX_IN_FLIGHT = 2;
+
+/** What an intent edits: intents with the same key replace one another while they wait. */
+function keyOf(msg: Msg): string {
+  return msg.joint === undefined ? String(msg.type) : `${String(msg.type)}:${String(msg.joint)}`;
+}
 
 export class EngineClient {
   ready = false;
@@ -22,7 +30,11 @@ export class EngineClient {
   private sentAt = new Map<number, number>();
   private drawnSeqs: number[] = [];
   private inFlight = 0;
-  private queued: Msg | null = null;
+  /** Waiting to go, in order: `counted` ones are requests (their reply frees a place in flight). */
+  private waitingToGo: { msg: Msg; counted: boolean }[] = [];
+  /** Per key (keyOf), the seq of the newest request; and the newest seq the engine answered. */
+  private lastSeq = new Map<string, number>();
+  private answeredSeq = 0;
   private callId = 0;
   private calls = new Map<number, { resolve: (m: Msg) => void; reject: (e: Error) => void; type: string; at: number }>();
 
@@ -37,9 +49,11 @@ export class EngineClient {
     this.worker.postMessage({ type: "start", ...start });
   }
 
-  /** An intent for the engine (dropped until it is ready). */
+  /** An intent for the engine (dropped until it is ready), after every request still waiting. */
   send(msg: Msg, transfer: Transferable[] = []): void {
-    if (this.ready) this.worker.postMessage(msg, transfer);
+    if (!this.ready) return;
+    if (this.waitingToGo.length === 0) this.worker.postMessage(msg, transfer);
+    else this.waitingToGo.push({ msg, counted: false });
   }
 
   /** For tests (window.articula.engineSend): a message as the page would post it. */
@@ -47,33 +61,52 @@ export class EngineClient {
     this.worker.postMessage(msg);
   }
 
-  /** A slider or drag intent: tagged, timed to the frame that shows it, one waiting at most. */
+  /** A slider or drag intent: tagged, timed to the frame that shows it; while two are in
+   * flight it waits, replacing the one waiting last if that edits the same thing. */
   request(msg: Msg): void {
+    if (!this.ready) return; // (as send: nothing to act on yet)
     msg.seq = ++this.seq;
     this.sentAt.set(this.seq, performance.now());
-    if (this.inFlight >= MAX_IN_FLIGHT) {
-      this.queued = msg;
-      return;
+    const key = keyOf(msg);
+    this.lastSeq.set(key, this.seq);
+    const last = this.waitingToGo[this.waitingToGo.length - 1];
+    if (last && last.counted && keyOf(last.msg) === key) {
+      this.sentAt.delete(last.msg.seq as number);
+      last.msg = msg;
+    } else {
+      this.waitingToGo.push({ msg, counted: true });
     }
-    this.inFlight++;
-    this.send(msg);
+    this.pump();
+  }
+
+  /** Whether `key`'s box was edited after the state a pose with `seq` shows (a pose without
+   * one shows what the engine has answered so far): that pose is older than the box. */
+  editedSince(key: string, seq: number | null | undefined): boolean {
+    return (this.lastSeq.get(key) ?? 0) > (seq ?? this.answeredSeq);
   }
 
   /** A request's reply came (a pose, a simulated command, an error): the next may go. */
-  replyArrived(): void {
+  replyArrived(seq?: number | null): void {
+    if (seq !== undefined && seq !== null) this.answeredSeq = Math.max(this.answeredSeq, seq);
     this.inFlight = Math.max(0, this.inFlight - 1);
-    if (this.queued) {
-      const next = this.queued;
-      this.queued = null;
-      this.inFlight++;
-      this.send(next);
+    this.pump();
+  }
+
+  /** Posts what waits, in order, while requests have room in flight. */
+  private pump(): void {
+    while (this.waitingToGo.length > 0) {
+      const next = this.waitingToGo[0];
+      if (next.counted && this.inFlight >= MAX_IN_FLIGHT) return;
+      this.waitingToGo.shift();
+      if (next.counted) this.inFlight++;
+      this.worker.postMessage(next.msg);
     }
   }
 
   /** A pose tagged `seq` was applied: its latency counts at the next frame drawn. */
   applied(seq: number): void {
     this.drawnSeqs.push(seq);
-    this.replyArrived();
+    this.replyArrived(seq);
   }
 
   /** The frame at `now` shows what was applied: slider-to-pixels latencies, ms. */
@@ -95,7 +128,9 @@ export class EngineClient {
     const id = ++this.callId;
     return new Promise((resolve, reject) => {
       this.calls.set(id, { resolve, reject, type: String(msg.type), at: performance.now() });
-      this.worker.postMessage({ ...msg, id });
+      // (behind the edits still waiting, as send)
+      if (this.waitingToGo.length === 0) this.worker.postMessage({ ...msg, id });
+      else this.waitingToGo.push({ msg: { ...msg, id }, counted: false });
     });
   }
 

@@ -54,7 +54,10 @@ function buildJoints(r: RobotMsg): void {
     // typed: the box shows what the arm took (a value beyond the range, clamped) once done
     inp.addEventListener("change", () => {
       typing = null;
-      if (s.editor.pose) inp.value = inp.type === "number" ? fmt(s.editor.pose.q[Number(inp.dataset.joint)], 2) : inp.value;
+      // (a pose older than this edit leaves it: the answer to the edit puts the value there)
+      const p = s.editor.pose;
+      if (p && !s.engine.editedSince(`set_joint:${inp.dataset.joint}`, p.seq))
+        inp.value = inp.type === "number" ? fmt(p.q[Number(inp.dataset.joint)], 2) : inp.value;
     });
     inp.addEventListener("input", () => {
       if (inp.type === "number") typing = inp;
@@ -80,6 +83,7 @@ function buildJoints(r: RobotMsg): void {
 export function showJointValues(p: PoseMsg, robot: RobotMsg): void {
   $("joints").querySelectorAll<HTMLInputElement>("input[data-joint]").forEach((inp) => {
     const v = p.q[Number(inp.dataset.joint)];
+    if (s.engine.editedSince(`set_joint:${inp.dataset.joint}`, p.seq)) return; // an older state than the box's
     if (inp !== typing && (document.activeElement !== inp || inp.type === "number")) inp.value = inp.type === "number" ? fmt(v, 2) : String(v);
   });
   // the motor's angle, where it is not the joint's value (M takes motors' angles)
