@@ -5,6 +5,7 @@
 #include <cxxopts.hpp>
 #include <iostream>
 
+#include "blocks.h"
 #include "cli_util.h"
 #include "commands.h"
 #include "draw.h"
@@ -26,6 +27,14 @@ double positive(const cxxopts::ParseResult& args, const char* name) {
   return v;
 }
 
+// A pen setting's option: its key with '-' for '_' (--travel-speed).
+std::string pen_option(const host::PenField& f) {
+  std::string o = f.key;
+  for (char& c : o)
+    if (c == '_') c = '-';
+  return o;
+}
+
 int run(int argc, char** argv) {
   cxxopts::Options opts("articula draw",
                         "Writes the program that draws text or a shape with a pen held in the gripper: the strokes "
@@ -40,10 +49,6 @@ int run(int argc, char** argv) {
       "width", "the drawing's width on the paper, mm", cxxopts::value<double>())(
       "at", "the drawing's centre on the table, x,y mm", cxxopts::value<std::string>())(
       "z", "the paper's height in the robot's base frame, mm", cxxopts::value<double>())(
-      "pen", "the pen's tip below the tool point, mm", cxxopts::value<double>()->default_value("0"))(
-      "lift", "how far the pen lifts between strokes, mm", cxxopts::value<double>()->default_value("10"))(
-      "speed", "drawing speed, mm/s", cxxopts::value<double>()->default_value("20"))(
-      "travel-speed", "speed between strokes, pen up, mm/s", cxxopts::value<double>()->default_value("40"))(
       "rotate", "turn the drawing about its centre, degrees counterclockwise seen from above (90: upright for someone at +x facing the arm)",
       cxxopts::value<double>()->default_value("90"))(
       "line-spacing", "text: lines this many capital heights apart", cxxopts::value<double>()->default_value("1.6"))(
@@ -57,6 +62,11 @@ int run(int argc, char** argv) {
       cxxopts::value<std::string>())("h,help", "this help")(
       "robot", "robot file or shipped robot name", cxxopts::value<std::string>())(
       "svg", "an SVG file to draw", cxxopts::value<std::string>());
+  // The pen's settings: their names, defaults and ranges are draw.h's (kPenFields).
+  for (const host::PenField& f : host::kPenFields)
+    opts.add_options()(pen_option(f), std::string(f.what) + ", " + f.unit + " (" + (f.min_excluded ? "above " : "") +
+                                          host::protocol_number(f.min) + " to " + host::protocol_number(f.max) + ")",
+                       cxxopts::value<double>()->default_value(host::protocol_number(f.fallback)));
   opts.parse_positional({"robot", "svg"});
   const auto args = opts.parse(argc, argv);
   if (args.count("help")) {
@@ -105,10 +115,13 @@ int run(int argc, char** argv) {
   req.x = at[0], req.y = at[1];
   req.rotation_deg = args["rotate"].as<double>();
   req.pen.paper_z = args["z"].as<double>();
-  req.pen.pen_mm = args["pen"].as<double>();
-  req.pen.lift_mm = positive(args, "lift");
-  req.pen.speed = positive(args, "speed");
-  req.pen.travel_speed = positive(args, "travel-speed");
+  double* pen[] = {&req.pen.pen_mm, &req.pen.lift_mm, &req.pen.speed, &req.pen.travel_speed};  // kPenFields' order
+  for (size_t i = 0; i < std::size(host::kPenFields); ++i) {
+    const host::PenField& f = host::kPenFields[i];
+    *pen[i] = args[pen_option(f)].as<double>();
+    const std::string problem = host::pen_value_problem(f, *pen[i]);
+    if (!problem.empty()) throw UsageError("--" + problem);
+  }
 
   host::Robot robot = host::load_robot_file(host::resolve_robot_path(args["robot"].as<std::string>()));
   if (args.count("microsteps")) {

@@ -181,7 +181,8 @@ class Compiler {
     } else if (op == "pen") {
       pen_.pen_mm = number_of(o, "pen", b);
       pen_.paper_z = number_of(o, "z", b);
-      if (pen_.pen_mm < 0 || pen_.pen_mm > 1000) throw BlockError(b, "a pen is from 0 to 1000 mm long, not " + protocol_number(pen_.pen_mm) + " mm");
+      const std::string problem = pen_value_problem(kPenFields[kPenLength], pen_.pen_mm);
+      if (!problem.empty()) throw BlockError(b, "the pen's length: " + problem);
       pen_set_ = true;
       const std::vector<std::string> c = comment_lines("the pen " + protocol_number(pen_.pen_mm) + " mm below the tool point, the paper at z " +
                                                        protocol_number(pen_.paper_z) + " mm");
@@ -216,20 +217,16 @@ class Compiler {
         throw BlockError(b, e.what());
       }
       if (!d.reach.fits) return problem(b, d.what + ": " + d.reach.advice);
-      bool first = true;
-      for (const Stroke& st : d.strokes) {  // the drawing's own order; the pen up between strokes
-        const std::vector<double> above{st[0].x, st[0].y, pen_.paper_z + pen_.pen_mm + pen_.lift_mm};
-        if (first) {  // from wherever the arm is: a move, not a line
-          emit(b, {protocol_line(r_, 'P', above)});
+      for (const PenMove& m : pen_moves(d.strokes, pen_)) {  // the drawing's own order (draw.h)
+        const std::vector<double> at{m.x, m.y, m.z};
+        if (m.reach) {  // from wherever the arm is: a move, not a line
+          emit(b, {protocol_line(r_, 'P', at)});
           rs_.push_back("a");
-          for (double x : above) rs_.push_back(protocol_number(x));
-          reach(b, above);
+          for (double x : at) rs_.push_back(protocol_number(x));
+          reach(b, at);
         } else {
-          line(b, above, pen_.travel_speed);
+          line(b, at, m.speed);
         }
-        first = false;
-        for (const Point2& p : st) line(b, {p.x, p.y, pen_.paper_z + pen_.pen_mm}, pen_.speed);
-        line(b, {st.back().x, st.back().y, pen_.paper_z + pen_.pen_mm + pen_.lift_mm}, pen_.speed);
       }
       pen_down_ = false;
     } else if (op == "raw") {

@@ -74,13 +74,40 @@ Bounds bounds_of(const std::vector<Stroke>& strokes);
 std::vector<Stroke> place_strokes(const std::vector<Stroke>& strokes, double width_mm, double x, double y,
                                   double rotation_deg = 0);
 
-struct PenSettings {
-  double paper_z = 0;      // the paper's height above the base frame's origin, mm
-  double pen_mm = 0;       // the pen's tip below the tool point, mm
-  double lift_mm = 10;     // the pen lifts this high above the paper between strokes
-  double speed = 20;       // drawing, mm/s
-  double travel_speed = 40;  // between strokes, pen up, mm/s
+// The pen's settings: each one's key (in a request; the CLI's option is it with '-' for '_'),
+// its default and the values it takes, here and nowhere else. The CLI's options and help, the
+// requests of Python and the page, and the page's boxes (the engine hands the page this table)
+// all read them. The paper's height z takes any number.
+struct PenField {
+  const char* key;
+  double fallback;
+  double min, max;  // the values it takes; above min only when min_excluded
+  bool min_excluded;
+  const char* unit;
+  const char* what;
 };
+inline constexpr PenField kPenFields[] = {
+    {"pen", 0, 0, 1000, false, "mm", "the pen's tip below the tool point"},
+    {"lift", 10, 0, 1000, true, "mm", "how far the pen lifts above the paper between strokes"},
+    {"speed", 20, 0, 1000, true, "mm/s", "the speed along the strokes, the pen down"},
+    {"travel_speed", 40, 0, 1000, true, "mm/s", "the speed between strokes, the pen up"},
+};
+enum PenFieldId { kPenLength, kPenLift, kPenSpeed, kPenTravelSpeed };
+
+struct PenSettings {
+  double paper_z = 0;                                        // the paper's height above the base frame's origin, mm
+  double pen_mm = kPenFields[kPenLength].fallback;           // the pen's tip below the tool point, mm
+  double lift_mm = kPenFields[kPenLift].fallback;            // above the paper between strokes, mm
+  double speed = kPenFields[kPenSpeed].fallback;             // drawing, mm/s
+  double travel_speed = kPenFields[kPenTravelSpeed].fallback;  // between strokes, pen up, mm/s
+};
+
+// Whether `v` is a value field `f` takes; the message when not ("lift must be more than 0 and
+// at most 1000 mm, not 0"), "" when it is.
+std::string pen_value_problem(const PenField& f, double v);
+// Throws std::invalid_argument naming the first setting out of its range (and a z that is no
+// number).
+void check_pen(const PenSettings& pen);
 
 // Whether the pen reaches every point of the drawing (its strokes at the paper, sampled every
 // 2 mm, and the lifted ends above them); if not, the points it cannot reach, and the shortest
@@ -120,7 +147,19 @@ std::vector<Stroke> order_strokes(std::vector<Stroke> strokes, Point2 start);
 // The pen's travel with the pen up, mm, along strokes drawn in this order from `start`.
 double travel_mm(const std::vector<Stroke>& strokes, Point2 start);
 
-// The protocol program that draws the strokes in their order: to above the first stroke
+// The pen's path along strokes in their order, the one writer of it (drawing_program and the
+// Blocks' write and shape): to above the first stroke (a point to reach, `P`), then per stroke
+// the pen down, along it and up again (lines at `speed`), and to the next at the lifted height
+// (a line at `travel_speed`).
+struct PenMove {
+  bool reach;          // the first: to above the first stroke from wherever the arm is (P, not T)
+  double x, y, z;      // the tool point, mm
+  double speed;        // a line's, mm/s (0 for the reach)
+  bool ink;            // along a stroke with the pen down
+};
+std::vector<PenMove> pen_moves(const std::vector<Stroke>& strokes, const PenSettings& pen);
+
+// The protocol program that draws the strokes in their order (pen_moves): to above the first stroke
 // (`P`), then per stroke the pen down, along it and up again (`T` at `speed`), and to the next
 // at the lifted height (`T` at `travel_speed`). `title` becomes its first comment.
 std::string drawing_program(const Robot& robot, const std::vector<Stroke>& strokes, const PenSettings& pen,
@@ -240,6 +279,8 @@ DrawingCheck check_drawing(const std::vector<Stroke>& target, const std::vector<
 // tolerance} -> {met, ink_off_mm, uncovered_mm, ink_off_at, uncovered_at, ink_points, says,
 // target (its strokes), ink (the program's)}: as the bindings ask.
 nlohmann::json drawing_check_json(const Robot& robot, const InverseKinematics& ik, const nlohmann::json& request);
+// kPenFields: [{key, default, min, max, min_excluded, unit, what}, ...] (the page's boxes).
+nlohmann::json pen_fields_json();
 
 // The drawing seen from above as SVG, the ideal strokes and the predicted ink as two layers
 // (groups "ideal" and "predicted"), the worst distance marked: for someone at +x facing the

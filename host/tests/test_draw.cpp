@@ -8,6 +8,7 @@
 #include <functional>
 #include <sstream>
 
+#include "blocks.h"
 #include "draw.h"
 #include "predict.h"
 #include "program.h"
@@ -435,4 +436,59 @@ TEST(Check, TheNearestSegmentIsFoundAsByLookingAtEvery) {
     }
     EXPECT_NEAR(check_drawing(strokes, {{p}}, 1e9).ink_off_mm, brute, 1e-9) << p.x << ", " << p.y;
   }
+}
+
+// The pen's settings live in draw.h's table alone: what a request leaves out is its default,
+// and every way in (make_drawing, the JSON requests, the Blocks' pen) refuses a value beyond its
+// range by the setting's name and range.
+TEST(PenSettings, DefaultsAndRangesComeFromTheOneTable) {
+  const PenSettings none;
+  EXPECT_EQ(none.pen_mm, kPenFields[kPenLength].fallback);
+  EXPECT_EQ(none.lift_mm, kPenFields[kPenLift].fallback);
+  EXPECT_EQ(none.speed, kPenFields[kPenSpeed].fallback);
+  EXPECT_EQ(none.travel_speed, kPenFields[kPenTravelSpeed].fallback);
+  const DrawRequest r = draw_request_from_json({{"shape", "square"}, {"width", 40}, {"at", {250, 0}}});
+  EXPECT_EQ(r.pen.lift_mm, kPenFields[kPenLift].fallback);
+  EXPECT_EQ(r.pen.travel_speed, kPenFields[kPenTravelSpeed].fallback);
+
+  for (const PenField& f : kPenFields) {
+    EXPECT_EQ(pen_value_problem(f, f.max), "") << f.key;
+    EXPECT_EQ(pen_value_problem(f, f.min) == "", !f.min_excluded) << f.key;
+    const std::string beyond = pen_value_problem(f, f.max + 1);
+    EXPECT_NE(beyond.find(f.key), std::string::npos) << beyond;
+    EXPECT_NE(beyond.find(protocol_number(f.max)), std::string::npos) << beyond;
+    EXPECT_NE(pen_value_problem(f, std::nan("")), "") << f.key;
+    nlohmann::json req = {{"shape", "square"}, {"width", 40}, {"at", {250, 0}}, {"pen", 120}};
+    req[f.key] = f.max + 1;
+    try {
+      make_drawing(mk2(), mk2_ik(), draw_request_from_json(req));
+      ADD_FAILURE() << f.key << " beyond its range was drawn";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_EQ(std::string(e.what()), beyond);
+    }
+  }
+  EXPECT_THROW(reach_map_json(mk2(), mk2_ik(), {{"paper", "A5"}, {"at", {225, 0}}, {"pen", 1001}}), std::invalid_argument);
+  const nlohmann::json fields = pen_fields_json();
+  ASSERT_EQ(fields.size(), std::size(kPenFields));
+  EXPECT_EQ(fields[1]["key"], "lift");
+  EXPECT_EQ(fields[1]["default"], kPenFields[kPenLift].fallback);
+}
+
+// The Blocks' write and shape walk the strokes as drawing_program does (pen_moves, the one
+// writer): the same T lines, in the same order.
+TEST(PenSettings, TheBlocksAndTheDrawingWriteThePenOnce) {
+  PenSettings pen;
+  pen.pen_mm = 120;
+  const std::vector<Stroke> strokes = {{{240, -10}, {260, -10}, {260, 10}}, {{240, 10}}};
+  const std::vector<PenMove> moves = pen_moves(strokes, pen);
+  ASSERT_EQ(moves.size(), 1 + 2 + 2 + (1 + 1 + 0 + 1));
+  EXPECT_TRUE(moves[0].reach);
+  EXPECT_DOUBLE_EQ(moves[0].z, 130);
+  EXPECT_DOUBLE_EQ(moves[1].z, 120);
+  EXPECT_TRUE(moves[2].ink && moves[3].ink);
+  EXPECT_DOUBLE_EQ(moves[5].speed, pen.travel_speed);
+  const std::string program = drawing_program(mk2(), strokes, pen, "t");
+  size_t lines = 0;
+  for (char c : program) lines += c == '\n';
+  EXPECT_EQ(lines, 2 + moves.size());
 }

@@ -8,6 +8,7 @@
 #include <articula/status.h>
 
 #include "bindings.h"
+#include "draw.h"
 #include "protocol_view.h"
 
 namespace articula::python {
@@ -26,6 +27,8 @@ void bind_protocol(nb::module_& m) {
     settings[nb::int_(n)] = nb::make_tuple(r.min, r.max, r.fallback);
   }
   m.attr("_settings_table") = settings;
+  // The pen's settings (host/lib/draw.h kPenFields), for a drawing's defaults and ranges.
+  m.attr("_pen_fields") = json_to_python(host::pen_fields_json());
 
   m.def("parse_arm_line", [](const std::string& line) { return json_to_python(host::arm_line_json(line)); }, "line"_a,
         "A line from the arm, read by the firmware's own parsers (shared/articula/protocol.h): a dict with kind "

@@ -82,6 +82,7 @@ SAME = [
     ("_status_table", "statusTable"),
     ("_status_table", "statusText"),
     ("_settings_table", "settingsTable"),
+    ("_pen_fields", "penFields"),
     ("parse_arm_line", "parseArmLine"),
     ("first_interval_s", "firstIntervalS"),
     # the sim-vs-real experiment
@@ -150,7 +151,7 @@ const ops = [];
 for (const cls of ["Robot", "Sim", "Timeline"])
   for (const k of Object.getOwnPropertyNames(M[cls].prototype))
     if (!["constructor", "delete", "isDeleted", "clone", "isAliasOf", "deleteLater"].includes(k)) ops.push(`${{cls}}.${{k}}`);
-for (const k of ["predict", "run", "quantize", "programFormat", "parseProgram", "programFit", "blocksProgram", "programActions", "protocolLine", "moveLine", "drawing", "reachMap", "ink", "drawingCheck", "statusText", "statusTable", "settingsTable", "parseArmLine", "firstIntervalS",
+for (const k of ["predict", "run", "quantize", "programFormat", "parseProgram", "programFit", "blocksProgram", "programActions", "protocolLine", "moveLine", "drawing", "reachMap", "ink", "drawingCheck", "statusText", "statusTable", "settingsTable", "penFields", "parseArmLine", "firstIntervalS",
                  "axisErrors", "table4", "measurementQuestion", "parsePlan", "table5", "toolPoints", "jointVerdicts", "experimentCsv", "repeatChains"])
   if (typeof M[k] === "function") ops.push(k);
 console.log(JSON.stringify(ops));

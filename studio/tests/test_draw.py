@@ -39,6 +39,13 @@ def test_write_hello_see_the_line_the_arm_will_draw_and_run_it(open_page):
     if pg.page.is_visible("#tab-program"):
         pg.page.click("#tab-program")
     pg.page.locator("#draw-section").scroll_into_view_if_needed()
+    # the pen's boxes: the ranges and defaults of host/lib/draw.h's one table (issue 41)
+    boxes = {"pen": "draw-pen", "lift": "draw-lift", "speed": "draw-speed", "travel_speed": "draw-travel"}
+    for f in articula._core._pen_fields:
+        got = pg.page.eval_on_selector(f"#{boxes[f['key']]}", "e => [e.min, e.max, e.value]")
+        assert [float(got[0]), float(got[1])] == [f["min"], f["max"]], (f["key"], got)
+        if f["key"] != "pen":  # (the pen's length is the sheet's: the MK2's pen, 120 mm)
+            assert float(got[2]) == f["default"], (f["key"], got)
     d = _draw(pg, text="Hello")
     assert d["fits"] and d["error"] == "", d
     # the engine's own numbers: the same drawing from Python

@@ -95,6 +95,8 @@ export class Engine {
   readonly status: Record<string, [string, string]>;
   /** The controller's settings $0, $1, ... (shared/articula/settings.h): [min, max, default]. */
   readonly settings: [number, number, number][];
+  /** The pen's settings of a drawing (host/lib/draw.h kPenFields): key, default and range. */
+  readonly penFields: { key: string; default: number; min: number; max: number; min_excluded: boolean; unit: string; what: string }[];
   robot(nameOrPath?: string): Robot;
   sim(robot: Robot, sceneText?: string, sceneName?: string, dt?: number): Sim;
   timeline(robot: Robot, text: string, name: string, startQ: number[]): Timeline;

@@ -183,6 +183,8 @@ export class Engine {
     this.status = checked(M.statusTable());
     // The controller's settings (shared/articula/settings.h): [min, max, default] by number.
     this.settings = JSON.parse(M.settingsTable());
+    // The pen's settings (host/lib/draw.h kPenFields): [{key, default, min, max, min_excluded, unit, what}].
+    this.penFields = JSON.parse(M.penFields());
   }
   robot(nameOrPath) {
     const r = new Robot(this);

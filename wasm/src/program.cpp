@@ -153,6 +153,7 @@ EMSCRIPTEN_BINDINGS(articula_program) {
   function("ink", &articula::web::ink);
   function("reachMap", &articula::web::reach_map);
   function("drawingCheck", &articula::web::drawing_check);
+  function("penFields", +[] { return articula::host::pen_fields_json().dump(); });
   class_<WebTimeline>("Timeline")
       .constructor<>()
       .function("make", &WebTimeline::make)

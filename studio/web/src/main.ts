@@ -20,7 +20,7 @@ import type { Studio } from "./page/context";
 import { armFrameDrawn, initArm, stopEverything } from "./panels/arm";
 import { initExperiment } from "./panels/experiment";
 import { initFlash } from "./panels/flash";
-import { initDraw } from "./panels/draw";
+import { drawReady, initDraw } from "./panels/draw";
 import { followTool, initIk, setLineTargets, showIk } from "./panels/ik";
 import { initJoints, showJointValues } from "./panels/joints";
 import { showPhysics, showScene, initPhysics } from "./panels/physics";
@@ -61,6 +61,7 @@ hook.engineWaiting = () => engine.waiting();
 
 engine.onReady = () => {
   setConn("engine ready", "ok");
+  drawReady();
   engine.send({ type: "hello" });
 };
 engine.onFatal = (message) => {

@@ -74,7 +74,7 @@ export const kinematicHandlers: Record<string, (m: Msg) => Out[] | Promise<Out[]
   },
   // The pen's length below the tool point (0: none): the page aims its tip.
   pen(m) {
-    S.pen = num(m, "mm", 0, 1000);
+    S.pen = num(m, "mm", 0, S.engine.penFields[0].max); // (kPenFields: the pen first)
     return [poseMessage()];
   },
   gripper(m) {

@@ -103,7 +103,7 @@ async function start(first: Msg): Promise<void> {
     await sceneFile(scene);
     startPhysics(scene);
   }
-  post([{ type: "ready", ms: performance.now() - t0, status_table: S.engine.status }]);
+  post([{ type: "ready", ms: performance.now() - t0, status_table: S.engine.status, pen_fields: S.engine.penFields }]);
 }
 
 let started: Promise<void> | null = null;

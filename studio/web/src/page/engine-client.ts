@@ -6,6 +6,9 @@ import { hook } from "./hook";
 
 type Msg = Record<string, unknown>;
 
+/** A pen setting of a drawing (host/lib/draw.h kPenFields): its key, default and range. */
+export interface PenField { key: string; default: number; min: number; max: number; min_excluded: boolean; unit: string; what: string }
+
 // Pose requests (sliders, drags): at most two in flight, so one is computed while the page
 // draws the other. What waits goes in the order the student made it: a new intent replaces
 // only the one waiting last, and only when it is of the same thing (the same joint's box or
@@ -22,6 +25,8 @@ export class EngineClient {
   ready = false;
   /** The protocol's status table (shared/articula/status.h), from the engine: code -> text. */
   statusTable: Record<string, [string, string]> = {};
+  /** The pen's settings (host/lib/draw.h), from the engine. */
+  penFields: PenField[] = [];
   onMessage: (m: EngineMsg) => void = () => undefined;
   onReady: () => void = () => undefined;
   onFatal: (message: string) => void = () => undefined;
@@ -40,7 +45,7 @@ export class EngineClient {
 
   constructor() {
     this.worker = new Worker(new URL("assets/worker.js", document.baseURI), { type: "module" });
-    this.worker.onmessage = (e) => this.receive(e.data as EngineMsg | { type: "ready"; ms: number; status_table: Record<string, [string, string]> } | { type: "fatal"; message: string });
+    this.worker.onmessage = (e) => this.receive(e.data as EngineMsg | { type: "ready"; ms: number; status_table: Record<string, [string, string]>; pen_fields: PenField[] } | { type: "fatal"; message: string });
     this.worker.onerror = (e) => this.onFatal(`The engine stopped: ${e.message}`);
   }
 
@@ -146,11 +151,12 @@ export class EngineClient {
     return this.statusTable[String(Number.isFinite(code) ? code : 255)]?.[1] ?? `unknown reply ${reply}`;
   }
 
-  private receive(m: EngineMsg | { type: "ready"; ms: number; status_table: Record<string, [string, string]> } | { type: "fatal"; message: string }): void {
+  private receive(m: EngineMsg | { type: "ready"; ms: number; status_table: Record<string, [string, string]>; pen_fields: PenField[] } | { type: "fatal"; message: string }): void {
     hook.messages++;
     if (m.type === "ready") {
       this.ready = true;
       this.statusTable = m.status_table;
+      this.penFields = m.pen_fields;
       hook.engineStartMs = m.ms;
       hook.connected = true;
       this.onReady();

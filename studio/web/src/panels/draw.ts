@@ -29,7 +29,7 @@ let program = "";
 let drawing: Drawing | null = null;
 let hand: number[][][] = []; // strokes drawn by hand, on the table (mm)
 let nanoMotors = 0;
-let drawnLift = 10; // the last drawing's lift, mm
+let drawnLift = NaN; // the last drawing's lift, mm (the engine's default until a drawing)
 // The sheet and the pen appear in 3D once the student draws (the panel used, a drawing exercise):
 // not on the table of every other lesson.
 let inUse = false;
@@ -45,7 +45,8 @@ function use(): void {
 // A pen in the gripper (0: none), in 3D and in the engine: the page then shows and aims the
 // pen's tip (the IK target, the tool pose), the lines it writes stay the tool point's.
 function holdPen(mm: number): void {
-  const pen = Number.isFinite(mm) && mm > 0 && mm <= 1000 ? mm : 0;
+  const max = field("pen")?.max ?? 0;
+  const pen = Number.isFinite(mm) && mm > 0 && mm <= max ? mm : 0;
   s.view.setPen(pen);
   s.engine.send({ type: "pen", mm: pen });
 }
@@ -157,12 +158,32 @@ function clearDrawing(): void {
   s.view.showDrawing([], [], 0);
 }
 
+// A new sheet: A5 in front of the arm, and the pen the MK2 Plus holds (120 mm below its tool
+// point; a request without a pen has none: host/lib/draw.h).
 const DEFAULT_PAPER: Paper = { sheet: "A5", at: [225, 0], landscape: false, z: 0, pen: 120 };
 
 function paperSettings(): Paper {
   const { paper: sheet, at, landscape } = sheetRequest();
-  const v = (x: number, d: number) => (Number.isFinite(x) ? x : d);
-  return { sheet: sheet as Paper["sheet"], at: [v(at[0], 225), v(at[1], 0)], landscape, z: v(num("draw-z"), 0), pen: v(num("draw-pen"), 120) };
+  const d = DEFAULT_PAPER;
+  const v = (x: number, fallback: number) => (Number.isFinite(x) ? x : fallback);
+  return { sheet: sheet as Paper["sheet"], at: [v(at[0], d.at[0]), v(at[1], d.at[1])], landscape, z: v(num("draw-z"), d.z),
+    pen: v(num("draw-pen"), d.pen) };
+}
+
+// The pen's boxes, by the engine's key (host/lib/draw.h kPenFields: defaults and ranges live there).
+const PEN_BOXES: Record<string, string> = { pen: "draw-pen", lift: "draw-lift", speed: "draw-speed", travel_speed: "draw-travel" };
+const field = (key: string) => s.engine.penFields.find((f) => f.key === key);
+
+/** The engine is ready: the pen's boxes take its ranges, and its defaults (the pen's length is the sheet's). */
+export function drawReady(): void {
+  for (const f of s.engine.penFields) {
+    const box = PEN_BOXES[f.key];
+    if (!box) continue;
+    input(box).min = String(f.min);
+    input(box).max = String(f.max);
+    if (f.key !== "pen" && input(box).value === "") input(box).value = String(f.default);
+  }
+  if (!Number.isFinite(drawnLift)) drawnLift = field("lift")?.default ?? NaN;
 }
 
 function setPaper(p: Paper | null): void {
