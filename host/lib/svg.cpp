@@ -6,6 +6,8 @@
 #include <cmath>
 #include <cstring>
 #include <functional>
+#include <map>
+#include <set>
 #include <sstream>
 
 #include <rapidxml_ns/rapidxml_ns.hpp>
@@ -216,6 +218,117 @@ void check_node(const rapidxml_ns::xml_node<>* n, const std::string& name) {
   }
 }
 
+const int kMaxUseDepth = 8;           // <use> in a <use> in ...
+const size_t kMaxUseNodes = 20000;     // elements the <use>s of a file may copy in all
+
+std::string local_of(const rapidxml_ns::xml_base<>* n) { return std::string(n->local_name(), n->local_name_size()); }
+
+// A deep copy of a node, namespaces kept (rapidxml_ns's clone_node drops them, and SVG++ reads
+// only elements in SVG's namespace). `budget`: nodes left to copy in the whole file.
+rapidxml_ns::xml_node<>* copy_of(rapidxml_ns::xml_document<>& doc, const rapidxml_ns::xml_node<>* src, size_t& budget,
+                                 const std::string& name) {
+  if (budget == 0) throw SvgError(name + ": its <use> elements copy more than " + std::to_string(kMaxUseNodes) + " elements: refused");
+  --budget;
+  rapidxml_ns::xml_node<>* out = doc.allocate_node(src->type());
+  out->qname(src->name(), src->name_size(), src->local_name());
+  out->value(src->value(), src->value_size());
+  out->namespace_uri(src->namespace_uri(), src->namespace_uri_size());
+  for (const rapidxml_ns::xml_node<>* c = src->first_node(); c; c = c->next_sibling()) out->append_node(copy_of(doc, c, budget, name));
+  for (const rapidxml_ns::xml_attribute<>* a = src->first_attribute(); a; a = a->next_attribute()) {
+    rapidxml_ns::xml_attribute<>* b = doc.allocate_attribute();
+    b->qname(a->name(), a->name_size(), a->local_name());
+    b->value(a->value(), a->value_size());
+    b->namespace_uri(a->namespace_uri(), a->namespace_uri_size());
+    out->append_attribute(b);
+  }
+  return out;
+}
+
+// <use href="#id">: the element it names drawn in its place, as a <g> that carries the use's
+// own attributes (style, transform) and its x and y as a translation, holding a copy of that
+// element (a <symbol>'s children; its viewBox is not read). Uses inside the copy expand in turn,
+// up to kMaxUseDepth deep; one that names itself or an ancestor is refused. What sits in <defs>,
+// <symbol>, <clipPath>, <mask> or <marker> is drawn only this way: the traversal skips them.
+void expand_uses(rapidxml_ns::xml_document<>& doc, rapidxml_ns::xml_node<>* root, const std::string& name) {
+  std::map<std::string, const rapidxml_ns::xml_node<>*> ids;
+  std::function<void(const rapidxml_ns::xml_node<>*)> index = [&](const rapidxml_ns::xml_node<>* n) {
+    for (; n; n = n->next_sibling()) {
+      if (n->type() != rapidxml_ns::node_element) continue;
+      for (const rapidxml_ns::xml_attribute<>* a = n->first_attribute(); a; a = a->next_attribute())
+        if (local_of(a) == "id") ids.emplace(std::string(a->value(), a->value_size()), n);
+      index(n->first_node());
+    }
+  };
+  index(root);
+  size_t budget = kMaxUseNodes;
+  std::function<void(rapidxml_ns::xml_node<>*, int)> expand = [&](rapidxml_ns::xml_node<>* parent, int depth) {
+    for (rapidxml_ns::xml_node<>* n = parent->first_node(); n;) {
+      rapidxml_ns::xml_node<>* next = n->next_sibling();
+      if (n->type() != rapidxml_ns::node_element) {
+        n = next;
+        continue;
+      }
+      if (local_of(n) != "use") {
+        expand(n, depth);
+        n = next;
+        continue;
+      }
+      if (depth >= kMaxUseDepth)
+        throw SvgError(name + ": <use> inside <use> more than " + std::to_string(kMaxUseDepth) + " deep (one that names itself?): refused");
+      std::string ref, x = "0", y = "0", transform;
+      rapidxml_ns::xml_node<>* g = doc.allocate_node(rapidxml_ns::node_element);
+      g->qname("g", 1, "g" );
+      g->namespace_uri(n->namespace_uri(), n->namespace_uri_size());
+      for (const rapidxml_ns::xml_attribute<>* a = n->first_attribute(); a; a = a->next_attribute()) {
+        const std::string k = local_of(a), v(a->value(), a->value_size());
+        if (k == "href") ref = v;
+        else if (k == "x") x = v;
+        else if (k == "y") y = v;
+        else if (k == "transform") transform = v;
+        else if (k != "width" && k != "height" && k != "id") {
+          rapidxml_ns::xml_attribute<>* b = doc.allocate_attribute();
+          b->qname(a->name(), a->name_size(), a->local_name());
+          b->value(a->value(), a->value_size());
+          b->namespace_uri(a->namespace_uri(), a->namespace_uri_size());
+          g->append_attribute(b);
+        }
+      }
+      const auto it = ref.size() > 1 ? ids.find(ref.substr(1)) : ids.end();
+      if (it != ids.end()) {
+        for (const rapidxml_ns::xml_node<>* up = n; up; up = up->parent())
+          if (up == it->second) throw SvgError(name + ": <use href=\"" + ref.substr(0, 80) + "\"> sits inside what it names: refused");
+        const std::string t = transform + " translate(" + x + " " + y + ")";
+        g->append_attribute(doc.allocate_attribute("transform", doc.allocate_string(t.c_str(), t.size() + 1)));
+        if (local_of(it->second) == "symbol") {
+          for (const rapidxml_ns::xml_node<>* c = it->second->first_node(); c; c = c->next_sibling()) g->append_node(copy_of(doc, c, budget, name));
+        } else {
+          g->append_node(copy_of(doc, it->second, budget, name));
+        }
+        expand(g, depth + 1);
+      }  // (a use that names nothing draws nothing, as in a browser)
+      parent->insert_node(n, g);
+      parent->remove_node(n);
+      n = next;
+    }
+  };
+  expand(root, 0);
+}
+
+// The shapes kept out of sight in <defs>, <symbol>, <clipPath>, <mask> or <marker> (after the
+// uses are expanded): for the message of a file in which nothing shows.
+int kept_out_of_sight(const rapidxml_ns::xml_node<>* n, bool inside) {
+  static const std::set<std::string> kKeepers = {"defs", "symbol", "clipPath", "mask", "marker"};
+  static const std::set<std::string> kShapes = {"path", "rect", "circle", "ellipse", "line", "polyline", "polygon"};
+  int count = 0;
+  for (; n; n = n->next_sibling()) {
+    if (n->type() != rapidxml_ns::node_element) continue;
+    const std::string local = local_of(n);
+    if (inside && kShapes.count(local)) ++count;
+    count += kept_out_of_sight(n->first_node(), inside || kKeepers.count(local) > 0);
+  }
+  return count;
+}
+
 // A <style> sheet's class rules (".frame { stroke: none; fill: none }", a selector list of
 // classes), put into each element of that class as the start of its style attribute: its own
 // style comes after them and wins, and both win over presentation attributes, as in CSS.
@@ -327,6 +440,8 @@ SvgDrawing read_svg(const std::string& text, const std::string& name) {
                    (root ? "<" + std::string(root->name(), root->name_size()) + ">" : std::string("missing")));
   check_node(root, name);
   apply_class_rules(doc, const_cast<rapidxml_ns::xml_node<>*>(root));
+  expand_uses(doc, const_cast<rapidxml_ns::xml_node<>*>(root), name);
+  const int kept = kept_out_of_sight(root->first_node(), false);
 
   SvgDrawing out;
   out.source = name;
@@ -343,10 +458,11 @@ SvgDrawing read_svg(const std::string& text, const std::string& name) {
   // drop subpaths with nothing drawn
   out.paths.erase(std::remove_if(out.paths.begin(), out.paths.end(), [](const SvgPath& p) { return p.cubics.empty(); }),
                   out.paths.end());
-  if (out.paths.empty() && context.hidden() > 0)
-    throw SvgError(name + ": nothing in it shows: its " + std::to_string(context.hidden()) +
-                   (context.hidden() == 1 ? " shape is" : " shapes are") +
-                   " invisible (stroke and fill none, hidden, or transparent)");
+  if (out.paths.empty() && context.hidden() + kept > 0) {
+    const int n = context.hidden() + kept;
+    throw SvgError(name + ": nothing in it shows: its " + std::to_string(n) + (n == 1 ? " shape is" : " shapes are") +
+                   " invisible (stroke and fill none, hidden, transparent, or kept in <defs> and no <use> shows it)");
+  }
   if (out.paths.empty()) throw SvgError(name + ": no drawable path (paths, lines, polylines, polygons, rects, circles, ellipses)");
   bool any = false;
   for (const SvgPath& p : out.paths) {

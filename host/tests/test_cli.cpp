@@ -605,6 +605,13 @@ TEST(Cli, DrawWhatAnSvgShowsAndRefuseOneWithNothingVisible) {
   r = run("draw mk2plus " + hidden + " --width 60 --at 260,0 --z 0 --pen 120");
   EXPECT_EQ(r.code, 2) << r.out;
   EXPECT_NE(r.out.find("hidden.svg: nothing in it shows: its 2 shapes are invisible"), std::string::npos) << r.out;
+  // what <defs> keeps: drawn where a <use> shows it, and only there
+  const std::string used = testing::TempDir() + "used.svg";
+  std::ofstream(used) << "<svg xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"0 0 24 24\"><defs><path id=\"bar\" stroke=\"black\" "
+                         "d=\"M2 12 h20\"/><path id=\"far\" stroke=\"black\" d=\"M200 200 h20\"/></defs><use href=\"#bar\"/></svg>";
+  r = run("draw mk2plus " + used + " --width 60 --at 260,0 --z 0 --pen 120 -o " + testing::TempDir() + "used.arm");
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("used.svg: 60.0 mm wide, 0.0 mm high, centred at (260.0, 0.0) mm, 1 stroke"), std::string::npos) << r.out;
 }
 
 TEST(Cli, DrawAnSvgFileAndRefuseAHostileOne) {

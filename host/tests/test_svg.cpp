@@ -166,10 +166,10 @@ TEST(Svg, WhatDoesNotShowIsNotDrawn) {
 
 TEST(Svg, AFileWithNothingThatShowsIsRefused) {
   EXPECT_EQ(refusal(svg("<path stroke=\"none\" d=\"M0 0h24v24H0z\" fill=\"none\"/>")),
-            "t.svg: nothing in it shows: its 1 shape is invisible (stroke and fill none, hidden, or transparent)");
+            "t.svg: nothing in it shows: its 1 shape is invisible (stroke and fill none, hidden, transparent, or kept in <defs> and no <use> shows it)");
   EXPECT_EQ(refusal(svg("<g opacity=\"0\"><line x1=\"0\" y1=\"0\" x2=\"5\" y2=\"5\" stroke=\"red\"/>"
                         "<circle r=\"3\"/></g>")),
-            "t.svg: nothing in it shows: its 2 shapes are invisible (stroke and fill none, hidden, or transparent)");
+            "t.svg: nothing in it shows: its 2 shapes are invisible (stroke and fill none, hidden, transparent, or kept in <defs> and no <use> shows it)");
 }
 
 // A <style> sheet's class rule hides as an attribute does; an element's own style still wins.
@@ -186,7 +186,7 @@ TEST(Svg, AStyleSheetsClassRulesCount) {
                                   "t.svg");
   EXPECT_EQ(own.paths.size(), 1u);
   EXPECT_EQ(refusal(svg(sheet + "<rect class=\"frame\" width=\"24\" height=\"24\"/>")),
-            "t.svg: nothing in it shows: its 1 shape is invisible (stroke and fill none, hidden, or transparent)");
+            "t.svg: nothing in it shows: its 1 shape is invisible (stroke and fill none, hidden, transparent, or kept in <defs> and no <use> shows it)");
 }
 
 // Attributes and style properties the reader does not know pass, as in a browser (Heroicons
@@ -196,4 +196,38 @@ TEST(Svg, UnknownAttributesAndPropertiesPass) {
                                     "stroke=\"black\" d=\"M4 12 h16\"/>", "aria-hidden=\"true\""),
                                 "t.svg");
   ASSERT_EQ(d.paths.size(), 1u);
+}
+
+// What <defs>, <symbol>, <clipPath>, <mask> and <marker> keep is drawn only where a <use>
+// shows it: in its place, moved by the use's x and y, styled by the use; a use of a symbol
+// draws the symbol's children. A file with nothing but kept shapes is refused as invisible.
+TEST(Svg, UseShowsWhatDefsKeepAndNothingElse) {
+  const std::string defs = "<defs><path id=\"d\" stroke=\"red\" d=\"M0 0 h10\"/><clipPath id=\"c\"><rect width=\"99\" height=\"99\"/></clipPath></defs>"
+                           "<symbol id=\"s\"><path stroke=\"red\" d=\"M0 0 v10\"/></symbol>";
+  const SvgDrawing d = read_svg(svg(defs + "<use href=\"#d\" x=\"5\" y=\"2\"/><use xlink:href=\"#s\" x=\"30\"/>"), "t.svg");
+  ASSERT_EQ(d.paths.size(), 2u);
+  EXPECT_NEAR(d.bounds.min_x, 5, 1e-9);   // the path moved by x
+  EXPECT_NEAR(d.bounds.max_x, 30, 1e-9);  // the symbol's line at x 30; the clip path's 99 mm square not drawn
+  EXPECT_NEAR(d.bounds.min_y, -10, 1e-9);  // (y up on the paper: the SVG's y down)
+  EXPECT_EQ(read_svg(svg(defs + "<path stroke=\"red\" d=\"M1 1 h3\"/>"), "t.svg").paths.size(), 1u);
+  EXPECT_EQ(refusal(svg(defs)),
+            "t.svg: nothing in it shows: its 3 shapes are invisible (stroke and fill none, hidden, transparent, or kept in <defs> and no <use> shows it)");
+  // a use styled invisible shows nothing; a use of nothing draws nothing
+  EXPECT_EQ(read_svg(svg(defs + "<use href=\"#d\" opacity=\"0\"/><use href=\"#nowhere\"/><path stroke=\"red\" d=\"M1 1 h3\"/>"), "t.svg")
+                .paths.size(),
+            1u);
+}
+
+TEST(Svg, AUseOfItselfOrOneThatMultipliesWithoutEndIsRefused) {
+  EXPECT_EQ(refusal(svg("<g id=\"a\"><path stroke=\"red\" d=\"M0 0 h3\"/><use href=\"#a\"/></g>")),
+            "t.svg: <use href=\"#a\"> sits inside what it names: refused");
+  std::string bomb = "<defs><g id=\"l0\"><path stroke=\"red\" d=\"M0 0 h3\"/><path stroke=\"red\" d=\"M0 0 h3\"/></g>";
+  for (int level = 1; level <= 4; ++level) {
+    bomb += "<g id=\"l" + std::to_string(level) + "\">";
+    for (int k = 0; k < 10; ++k) bomb += "<use href=\"#l" + std::to_string(level - 1) + "\"/>";
+    bomb += "</g>";
+  }
+  bomb += "</defs>";
+  for (int k = 0; k < 10; ++k) bomb += "<use href=\"#l4\"/>";
+  EXPECT_EQ(refusal(svg(bomb)), "t.svg: its <use> elements copy more than 20000 elements: refused");
 }

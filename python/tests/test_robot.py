@@ -241,3 +241,18 @@ def test_an_svg_draws_what_it_shows_and_nothing_visible_is_refused():
               '<rect width="9" height="9" visibility="hidden"/></svg>')
     with pytest.raises(ValueError, match="hidden.svg: nothing in it shows: its 2 shapes are invisible"):
         mk2.draw(svg=hidden, svg_name="hidden.svg", width=60, at=(260, 0), z=0, pen=120)
+
+
+def test_an_svg_draws_what_defs_keep_only_where_a_use_shows_it():
+    """Issue 41: <defs> (and <symbol>, <clipPath>, <mask>, <marker>) draw nothing of their own;
+    a <use> draws what it names in its place; a file of nothing but kept shapes is refused."""
+    mk2 = articula.Robot.load("mk2plus")
+    ns = 'xmlns="http://www.w3.org/2000/svg" viewBox="0 0 24 24"'
+    kept = '<defs><path id="bar" stroke="black" d="M2 12 h20"/></defs><symbol id="s"><path stroke="black" d="M12 2 v20"/></symbol>'
+    d = mk2.draw(svg=f'<svg {ns}>{kept}<use href="#bar"/><use href="#s"/></svg>', svg_name="used.svg", width=60, at=(260, 0),
+                 z=0, pen=120)
+    assert len(d["strokes"]) == 2
+    one = mk2.draw(svg=f'<svg {ns}>{kept}<use href="#bar"/></svg>', svg_name="one.svg", width=60, at=(260, 0), z=0, pen=120)
+    assert len(one["strokes"]) == 1  # the symbol's line is not drawn without its use
+    with pytest.raises(ValueError, match="kept.svg: nothing in it shows: its 2 shapes are invisible"):
+        mk2.draw(svg=f"<svg {ns}>{kept}</svg>", svg_name="kept.svg", width=60, at=(260, 0), z=0, pen=120)
