@@ -122,6 +122,35 @@ def test_a_drawing_out_of_reach_and_a_hostile_svg_are_said_plainly(open_page, tm
     pg.page.set_input_files("#draw-file", str(REPO / "examples" / "drawings" / "bicycle.svg"))
     d = _draw(pg, kind="svg", width=50, x=260)
     assert d["fits"] and d["steps"] > 100, d
+    # issue 41: drawn as it looks. An icon's invisible frame, a hidden, a transparent and a
+    # class-hidden square, and what <defs> keeps are not drawn (the program is the same as the
+    # visible cross's alone); a <use> shows what <defs> keeps; a file where nothing shows is refused
+    ns = 'xmlns="http://www.w3.org/2000/svg" viewBox="0 0 24 24"'
+    cross = '<path stroke="black" fill="none" d="M4 4 L20 20 M20 4 L4 20"/>'
+    hidden = ('<style>.ghost { stroke: none; fill: none }</style><path stroke="none" d="M0 0h24v24H0z" fill="none"/>'
+              '<rect width="24" height="24" stroke="black" display="none"/><rect width="24" height="24" stroke="black" opacity="0"/>'
+              '<rect class="ghost" width="24" height="24"/><rect width="24" height="24" stroke="black" visibility="hidden"/>'
+              '<defs><path id="bar" stroke="black" d="M2 12 h20"/></defs>')
+    programs = []
+    for name, body in (("cross.svg", cross), ("hidden.svg", hidden + cross)):
+        f = tmp_path / name
+        f.write_text(f"<svg {ns}>{body}</svg>")
+        pg.page.set_input_files("#draw-file", str(f))
+        d = _draw(pg, kind="svg", width=40, x=240)
+        assert d["fits"] and d["error"] == "", d
+        programs.append(d["program"].split("\n", 2)[2])  # (the title comment names the file)
+    assert programs[0] == programs[1]
+    used = tmp_path / "used.svg"
+    used.write_text(f'<svg {ns}>{hidden}<use href="#bar"/>{cross}</svg>')
+    pg.page.set_input_files("#draw-file", str(used))
+    d = _draw(pg, kind="svg", width=40, x=240)
+    assert d["error"] == "" and d["lines"] > 0 and d["program"].split("\n", 2)[2] != programs[0], d
+    nothing = tmp_path / "nothing.svg"
+    nothing.write_text(f"<svg {ns}>{hidden}</svg>")
+    pg.page.set_input_files("#draw-file", str(nothing))
+    d = _draw(pg, kind="svg", width=40, x=240)
+    assert "nothing in it shows" in d["error"], d
+    assert "nothing in it shows" in pg.page.text_content("#draw-status")
     assert pg.errors == []
 
 
