@@ -15,22 +15,24 @@ import { Layout } from "./layout";
 import type { PoseMsg, EngineMsg } from "./engine/messages";
 import { EngineClient } from "./page/engine-client";
 import { $, banner } from "./page/dom";
-import { exposeHook, hook, noteError, viewOf } from "./page/hook";
+import { exposeHook, hook, showOwn, viewOf, viewOfEngine } from "./page/hook";
+import { noteError } from "./page/errors";
 import type { Studio } from "./page/context";
-import { armFrameDrawn, initArm, stopEverything } from "./panels/arm";
-import { initExperiment } from "./panels/experiment";
-import { initFlash } from "./panels/flash";
-import { drawReady, initDraw } from "./panels/draw";
-import { followTool, initIk, setLineTargets, showIk } from "./panels/ik";
+import { armFrameDrawn, armReport, initArm, stopEverything } from "./panels/arm";
+import { experimentReport, initExperiment } from "./panels/experiment";
+import { flashStatus, initFlash } from "./panels/flash";
+import { drawReady, drawReport, initDraw } from "./panels/draw";
+import { followTool, ikReport, initIk, setLineTargets, showIk } from "./panels/ik";
 import { initJoints, showJointValues } from "./panels/joints";
-import { showPhysics, showScene, initPhysics } from "./panels/physics";
-import { appendProgramLine, ghostShown, initProgram, programHandlers, showTime } from "./panels/program";
-import { initBlocks } from "./panels/blocks";
-import { initProjects } from "./panels/projects";
-import { initExercise } from "./panels/exercise";
+import { initPhysics, physicsReport, showPhysics, showScene } from "./panels/physics";
+import { appendProgramLine, ghostShown, initProgram, programHandlers, programReport, showTime } from "./panels/program";
+import { blocksReport, initBlocks } from "./panels/blocks";
+import { initProjects, projectsReport } from "./panels/projects";
+import { exerciseReport, initExercise } from "./panels/exercise";
 import { chooseProject } from "./project/autosave";
-import { fitNewRobot, initRobot, robotError, saveUrdf, showRobot } from "./panels/robot";
+import { fitNewRobot, initRobot, robotError, robotReport, saveUrdf, showRobot } from "./panels/robot";
 import { Editor } from "./editor/editor";
+import { OpenProject } from "./editor/open-project";
 
 const params = new URLSearchParams(location.search);
 exposeHook();
@@ -45,7 +47,8 @@ layout.onChange();
 const view = new View($("view"));
 Object.assign(hook, { webgl: view.renderer !== null, language, storage: storage !== null });
 const plots = new Plots($("plots"));
-const editor = new Editor(engine, view);
+const editor = new Editor();
+editor.project = new OpenProject(editor, engine, view);
 viewOf(editor);
 // The project shown first (a link's, this tab's after a reload, the last one, or a new one)
 // names the robot the engine loads first.
@@ -57,7 +60,39 @@ hook.camera = () => view.cameraState();
 hook.viewpoint = () => view.viewpoint();
 hook.objectScreen = (n) => view.objectScreen(n);
 hook.engineSend = (msg) => engine.post(msg);
-hook.engineWaiting = () => engine.waiting();
+viewOfEngine(engine);
+// (the first pose shown: the page is ready; the first frame drawn with the arm in it)
+let posed = false, firstFrameAt = 0;
+showOwn("ready", () => posed);
+showOwn("firstFrameAt", () => firstFrameAt);
+showOwn("flash", () => flashStatus);
+// The panels' own facts in window.articula (page/reports.ts): each read from its panel's report.
+showOwn("drawing", () => drawReport.drawing);
+showOwn("drawings", () => drawReport.drawings);
+showOwn("paper", () => drawReport.paper);
+showOwn("goal", () => exerciseReport.goal);
+showOwn("exercise", () => exerciseReport.exercise);
+showOwn("experiment", () => experimentReport.experiment);
+showOwn("ik", () => ikReport.ik);
+showOwn("ikLine", () => ikReport.ikLine);
+showOwn("ikUpdates", () => ikReport.ikUpdates);
+showOwn("events", () => physicsReport.events);
+showOwn("paths", () => programReport.paths);
+showOwn("pngCaption", () => programReport.pngCaption);
+showOwn("programError", () => programReport.programError);
+showOwn("programName", () => programReport.programName);
+showOwn("runOnArm", () => programReport.runOnArm);
+showOwn("shareLink", () => projectsReport.shareLink);
+showOwn("shareCopied", () => projectsReport.shareCopied);
+showOwn("robotError", () => robotReport.robotError);
+showOwn("blockProblems", () => blocksReport.blockProblems);
+showOwn("blockStacks", () => blocksReport.blockStacks);
+showOwn("blocksCode", () => blocksReport.blocksCode);
+showOwn("blocksFirstPaintMs", () => blocksReport.blocksFirstPaintMs);
+showOwn("programMode", () => blocksReport.programMode);
+showOwn("runningBlock", () => blocksReport.runningBlock);
+showOwn("arm", () => armReport);
+engine.streaming = () => !!editor.physics?.on;
 
 engine.onReady = () => {
   setConn("engine ready", "ok");
@@ -163,8 +198,8 @@ function showPose(p: PoseMsg): void {
   if (!editor.robot) return;
   showJointValues(p, editor.robot);
   showTime(p);
-  followTool(p.tip ?? p.tool.xyz, p.tool.rpy, !hook.ready);
-  hook.ready = true;
+  followTool(p.tip ?? p.tool.xyz, p.tool.rpy, !posed);
+  posed = true;
 }
 
 view.onFrame = (now) => {
@@ -172,7 +207,7 @@ view.onFrame = (now) => {
   if (view.continuous) $("fps").textContent = `${view.fps} frames/s`;
   hook.framesDrawn = view.framesDrawn;
   hook.targetScreen = view.targetScreen();
-  if (!hook.firstFrameAt && editor.pose && editor.robot) hook.firstFrameAt = now;
+  if (!firstFrameAt && editor.pose && editor.robot) firstFrameAt = now;
   hook.latency.push(...engine.drawn(now));
   armFrameDrawn(now);
 };

@@ -8,9 +8,6 @@
 // (page/hook.ts) is a read-only view of it.
 import type { ArmLink } from "../link/arm-link";
 import type { Experiment, Goal, Paper, Project } from "../project/document";
-import type { EngineClient } from "../page/engine-client";
-import type { View } from "../view";
-import { OpenProject } from "./open-project";
 import type { PhysicsMsg, PoseMsg, RobotMsg, SceneMsg, TimelineMsg } from "../engine/messages";
 import type { SerialLike } from "../link/ports";
 import { History } from "./history";
@@ -56,6 +53,32 @@ export interface RobotFile {
   meshes: { name: string; data: string }[];
 }
 
+/** Where the documents are kept: project/autosave.ts answers. */
+export interface Keeper {
+  save(): Promise<void>; // what is on screen, saved now (after any save under way)
+  read(id: string): Promise<{ doc: Project; rev: number } | undefined>; // a kept project's latest revision
+}
+
+/** The project on screen (editor/open-project.ts answers for it; main.ts wires it). */
+export interface ProjectOnScreen {
+  id: string;
+  rev: number;
+  doc: Project; // as last saved or opened
+  shown: { id: string; rev: number; doc: Project }; // as last put on screen, or saved
+  applying: boolean; // being put on screen: what the page does meanwhile is not an edit
+  ready: boolean; // on screen, and the History follows it
+  keeper: Keeper;
+  readonly busy: boolean; // a project (or an undo's or redo's) is still being put on screen
+  follow(): void;
+  start(doc: Project, id: string, rev: number): void;
+  document(): Project; // as on screen now
+  note(doc: Project): void;
+  saved(id: string, rev: number, doc: Project): void;
+  setExperiment(e: Experiment): void;
+  rename(name: string): void;
+  open(doc: Project, id?: string, rev?: number): Promise<void>;
+}
+
 /** What changed on screen, as the Editor's `changed` signal names it. */
 // ("project": another project opened, or an undo or a redo put on screen; "experiment", "name":
 // the measurements and the name, which are not the parts' but the document's own)
@@ -77,6 +100,7 @@ export class Editor {
   playing = false; // the program plays on the model
   armConnected = false; // the arm's link is open (the Editor's armConnected signal says when it changes)
   stops = 0; // STOP pressed (the button or Escape), so far: a wait that began before a STOP ends
+  taught = ""; // the last pose taught: a protocol line (text) or a block's values (blocks)
   blocks: BlocksPart = { mode: () => "text", setMode: none, json: () => null, load: none, fromText: none, teach: none,
     dragging: () => false, pending: () => false };
   program: ProgramPart = { text: () => "", name: () => "program.arm", set: none };
@@ -102,7 +126,7 @@ export class Editor {
     physicsTool: new Signal<number[]>(),
     // a part of the project on screen changed (the robot, the scene, the program's text or
     // blocks, the pose, the camera, the paper and the pen): the project is saved, and an edit
-    // of a history part becomes a step of the History (project/autosave.ts listens)
+    // of a history part becomes a step of the History (editor/open-project.ts records the step, project/autosave.ts saves)
     changed: new Signal<ProjectPart>(),
     // a drawing exercise's target on the paper (and, after Check, the program's ink); null: none
     drawingGoal: new Signal<{ target: number[][][]; z: number; pen: number; ink?: number[][][] } | null>(),
@@ -122,11 +146,12 @@ export class Editor {
     // the exercise's goal on screen (null: the project is no exercise)
     goalShown: new Signal<Goal | null>(),
   };
-  readonly project: OpenProject;
-
-  constructor(engine: EngineClient, view: View) {
-    this.project = new OpenProject(this, engine, view);
-  }
+  // the project on screen (editor/open-project.ts; main.ts makes it with the Editor)
+  project: ProjectOnScreen = {
+    id: "", rev: 0, doc: null as unknown as Project, shown: null as unknown as ProjectOnScreen["shown"], applying: true, ready: false,
+    keeper: { save: none, read: none }, busy: false, follow: none, start: none, document: none, note: none, saved: none,
+    setExperiment: none, rename: none, open: none,
+  };
   // true while an edit is being put on screen (a robot loading): undo and redo wait for it,
   // in the order they were asked for (a student tapping Undo three times gets three steps)
   busy(): boolean {

@@ -1,7 +1,8 @@
 // The project on screen: the Editor's document. It is put on screen part by part (the robot
 // first: the engine loads it, then the program, the blocks, the paper, the pose, the goal and
 // the experiment), read back from the parts as they are now (`document()`), and every change
-// of its history parts is a step of the Editor's History (editor/project-edit.ts). Opening
+// of its history parts is a step of the Editor's History (editor/project-edit.ts), recorded from the
+// Editor's change signal once the edits pause (autosave only keeps the document). Opening
 // another project (a file, a link, an exercise, the list) is one step too, whose undo opens
 // the project that was on screen again. Where the document is kept (the browser's store) is
 // project/autosave.ts's: it tells this module how to save and read (`keeper`).
@@ -10,16 +11,13 @@ import type { View } from "../view";
 import { newProject } from "../project/document";
 import type { Experiment, Project } from "../project/document";
 import { newId } from "../project/store";
-import type { Editor } from "./editor";
+import type { Editor, Keeper, ProjectOnScreen } from "./editor";
 import { ProjectEdit, changedParts, describeChange } from "./project-edit";
 
-/** Where the documents are kept: project/autosave.ts answers. */
-export interface Keeper {
-  save(): Promise<void>; // what is on screen, saved now (after any save under way)
-  read(id: string): Promise<{ doc: Project; rev: number } | undefined>; // a kept project's latest revision
-}
+// An edit becomes a step of the History this long after the last change (as autosave saves it).
+const NOTE_AFTER_MS = 500;
 
-export class OpenProject {
+export class OpenProject implements ProjectOnScreen {
   id = newId();
   rev = 0; // the store's revision this document is saved over
   doc: Project = newProject("My project"); // as last saved or opened (`document()`: as on screen now)
@@ -40,6 +38,18 @@ export class OpenProject {
   constructor(private ed: Editor, private engine: EngineClient, private view: View) {
     // before an undo or a redo: an edit still waiting to be recorded (typing) is recorded now
     ed.signals.settle.add(() => !this.applying && this.note(this.document()));
+    // an edit on screen: a step of the History once the edits pause (a burst of typing, a drag:
+    // one step); what the page does while a project is put on screen is no edit
+    ed.signals.changed.add(() => !this.applying && this.noteSoon());
+  }
+
+  private noteTimer = 0;
+  private noteSoon(): void {
+    clearTimeout(this.noteTimer);
+    this.noteTimer = window.setTimeout(() => {
+      if (this.applying || this.ed.blocks.dragging()) return this.noteSoon(); // (mid-drag: the edit is its end)
+      this.note(this.document());
+    }, NOTE_AFTER_MS);
   }
 
   /** A project (or an undo's or redo's) is still being put on screen. */
@@ -80,6 +90,7 @@ export class OpenProject {
 
   /** `doc` as on screen: a step of the History if its history parts changed. */
   note(doc: Project): void {
+    clearTimeout(this.noteTimer);
     if (!this.recorded || !describeChange(this.recorded, doc)) return;
     this.ed.history.record(new ProjectEdit(this.recorded, doc, (d) => this.showEdit(d)));
     this.recorded = doc;
@@ -109,6 +120,7 @@ export class OpenProject {
   async open(doc: Project, id = newId(), rev = 0): Promise<void> {
     await this.keeper.save();
     if (this.recorded && !this.applying) {
+      this.note(this.document()); // (an edit not recorded yet is a step before the opening)
       const before = { id: this.id, doc: this.document() }, after = { id, doc };
       this.ed.history.record({ name: `opening "${doc.name}"`, undo: () => void this.reopen(before), redo: () => void this.reopen(after) });
     }

@@ -2,7 +2,6 @@
 // ODE in WebAssembly) that computes every pose, solve, prediction and physics step. The page
 // posts intents and handles what comes back; a request with an `id` gets its own answer.
 import type { EngineMsg } from "../engine/messages";
-import { hook } from "./hook";
 
 type Msg = Record<string, unknown>;
 
@@ -25,6 +24,12 @@ export class EngineClient {
   ready = false;
   /** The protocol's status table (shared/articula/status.h), from the engine: code -> text. */
   statusTable: Record<string, [string, string]> = {};
+  /** What it has said: messages in all, and while `streaming()` (the physics runs); the
+   * worker's time from its first message to the robot loaded, ms. Read by the hook. */
+  messages = 0;
+  streamMessages = 0;
+  startMs = 0;
+  streaming: () => boolean = () => false;
   /** The pen's settings (host/lib/draw.h), from the engine. */
   penFields: PenField[] = [];
   onMessage: (m: EngineMsg) => void = () => undefined;
@@ -152,13 +157,12 @@ export class EngineClient {
   }
 
   private receive(m: EngineMsg | { type: "ready"; ms: number; status_table: Record<string, [string, string]>; pen_fields: PenField[] } | { type: "fatal"; message: string }): void {
-    hook.messages++;
+    this.messages++;
     if (m.type === "ready") {
       this.ready = true;
       this.statusTable = m.status_table;
       this.penFields = m.pen_fields;
-      hook.engineStartMs = m.ms;
-      hook.connected = true;
+      this.startMs = m.ms;
       this.onReady();
       return;
     }
@@ -174,7 +178,7 @@ export class EngineClient {
       else c.resolve(m as unknown as Msg);
       return;
     }
-    if (hook.physics?.on) hook.stream.messages++;
+    if (this.streaming()) this.streamMessages++;
     this.onMessage(m);
     if (m.type === "physics") this.worker.postMessage({ type: "physics_ack" }); // taken: the next frame may come
   }

@@ -8,7 +8,15 @@ import { VirtualNanoPort, webSerial } from "../link/ports";
 import type { SerialLike } from "../link/ports";
 import type { Studio } from "../page/context";
 import { $, banner, fill, h, setOptions } from "../page/dom";
-import { hook, noteError } from "../page/hook";
+import { noteError } from "../page/errors";
+import type { Reports } from "../page/reports";
+
+/** The arm's link as this panel sees it (window.articula.arm shows it; main.ts wires it). */
+export const armReport: Reports["arm"] = {
+  get connected() { return s?.editor.armConnected ?? false; },
+  error: "", label: "", status: null, reply: null, stopMs: null, programLines: [], programDone: false, roundTrips: [], nano: null,
+  configurable: false, configured: null, checksum: null, lostTrace: [],
+};
 
 let armRefusals: { line: number; command: string; reply: string; meaning: string }[] = []; // this run's refused lines
 let s: Studio;
@@ -108,7 +116,7 @@ function virtualNano(): VirtualNanoPort {
   const port = (nanoPort = new VirtualNanoPort());
   port.onState = (st) => {
     const { trail, ...rest } = st;
-    hook.arm.nano = rest;
+    armReport.nano = rest;
     if (trail?.length) s.editor.signals.nanoSteps.dispatch({ rows: trail, motors: st.steps.length });
     const servo = st.gripper === null ? "" : `; its servo pulse ${Math.round(st.servoUs ?? 0)} us: gripper ${st.gripper.toFixed(0)} %`;
     $("arm-speed").textContent = (st.behind ? `the virtual Nano is behind real time: ${st.rtf.toFixed(2)}x`
@@ -132,8 +140,8 @@ function sendToArm(line: string): boolean {
 
 /** A program on the arm, line by line (the program panel's Run with "on the arm"). */
 function runOnArm(text: string): void {
-  hook.arm.programLines = [];
-  hook.arm.programDone = false;
+  armReport.programLines = [];
+  armReport.programDone = false;
   armRefusals = [];
   link?.runProgram(text);
 }
@@ -142,7 +150,7 @@ function runOnArm(text: string): void {
 export function stopEverything(): void {
   const arm = s.editor.armConnected && link;
   if (arm) {
-    hook.arm.stopMs = null; // until the arm reports itself at rest
+    armReport.stopMs = null; // until the arm reports itself at rest
     void link!.stop();
   }
   const moving = s.editor.playing || !!s.editor.physics?.running;
@@ -160,12 +168,12 @@ interface ArmMsg {
 
 function showArm(m: ArmMsg): void {
   s.editor.armConnected = m.connected;
-  hook.arm.error = m.error ?? "";
-  if (m.trace) hook.arm.lostTrace = m.trace;
-  hook.arm.configurable = !!m.configurable || !!m.configuring;
-  if (m.info) hook.arm.checksum = m.info.checksum;
-  if (m.label) hook.arm.label = m.label;
-  const open = m.connected || hook.arm.configurable; // the port is ours
+  armReport.error = m.error ?? "";
+  if (m.trace) armReport.lostTrace = m.trace;
+  armReport.configurable = !!m.configurable || !!m.configuring;
+  if (m.info) armReport.checksum = m.info.checksum;
+  if (m.label) armReport.label = m.label;
+  const open = m.connected || armReport.configurable; // the port is ours
   $("arm-connect").hidden = open;
   $("arm-disconnect").hidden = !open;
   $("arm-configure-row").hidden = !m.configurable; // only when the Nano is another robot's
@@ -180,8 +188,8 @@ function showArm(m: ArmMsg): void {
     st.className = "status";
     st.textContent = `configuring the Nano for the ${m.configuring.name}: line ${m.configuring.done + 1} of ${m.configuring.total}`;
   } else if (m.connecting) {
-    hook.arm.status = null; // the last connection's report and reply are no news of this one
-    hook.arm.reply = null;
+    armReport.status = null; // the last connection's report and reply are no news of this one
+    armReport.reply = null;
     $("arm-reply").textContent = "";
     st.className = "status";
     st.textContent = "connecting...";
@@ -198,7 +206,7 @@ function showArm(m: ArmMsg): void {
   } else if (/^Lost the arm/.test($("banner-text").textContent ?? "")) {
     $("banner").hidden = true; // connected again: the old loss is no news
   }
-  if (!m.connected) hook.arm.status = null;
+  if (!m.connected) armReport.status = null;
 }
 
 // The arm's tool from the model's (both drawn from the engine's frames), mm.
@@ -217,7 +225,7 @@ let drawnReports: ArmStatusMsg[] = [];
 /** The frame at `now` shows them: `?` to pixels, ms, into the hook. */
 export function armFrameDrawn(now: number): void {
   for (const m of drawnReports)
-    if (m.rtt_ms !== null) hook.arm.roundTrips.push(m.rtt_ms + (performance.timeOrigin + now - m.sent_ms));
+    if (m.rtt_ms !== null) armReport.roundTrips.push(m.rtt_ms + (performance.timeOrigin + now - m.sent_ms));
   drawnReports = [];
 }
 
@@ -227,23 +235,23 @@ function armMessage(m: EngineMsg): void {
       return showArm(m as unknown as ArmMsg);
     case "arm_configured": {
       const c = m as unknown as { name: string; checksum: number };
-      hook.arm.configured = { name: c.name, checksum: c.checksum };
+      armReport.configured = { name: c.name, checksum: c.checksum };
       return banner(`The Nano is now configured for the ${c.name} (checksum ${c.checksum}), kept in its EEPROM: ` +
         "it drives this robot from now on, after a power cycle too.", "info");
     }
     case "arm_status": {
       if (!s.editor.armConnected) return; // a report still in flight when the link was lost: not news of an arm
-      hook.arm.status = m;
-      if (m.stop_to_idle_ms !== undefined) hook.arm.stopMs = m.stop_to_idle_ms;
+      armReport.status = m;
+      if (m.stop_to_idle_ms !== undefined) armReport.stopMs = m.stop_to_idle_ms;
       s.view.liveFrames(m.frames);
       drawnReports.push(m);
       $("arm-state").className = "status ok";
-      fill($("arm-state"), grid([hook.arm.label, `${m.state}, steps ${m.steps.join(" ")}`],
+      fill($("arm-state"), grid([armReport.label, `${m.state}, steps ${m.steps.join(" ")}`],
         ["angles", `${m.angles.map((a) => a.toFixed(2)).join(" ")} deg`], ["from the model", `${armDiff(m).toFixed(2)} mm (tool to tool)`]));
       return;
     }
     case "arm_reply": {
-      hook.arm.reply = m;
+      armReport.reply = m;
       const p = m.predicted;
       const arm = m.reply === null ? `no answer: ${m.error}` : m.reply === "ok" ? "ok" : `${m.reply} (${m.meaning})`;
       const model = p.reply === "ok" ? `ok${p.steps ? `, steps ${p.steps.join(" ")}` : ""}` : `${p.reply} (${p.meaning})`;
@@ -253,7 +261,7 @@ function armMessage(m: EngineMsg): void {
     }
     case "arm_program":
       if (m.done) {
-        hook.arm.programDone = true;
+        armReport.programDone = true;
         // every refusal stays in sight, under the summary
         const refused = armRefusals.map((r) => `line ${r.line}: ${r.command} → ${r.reply} (${r.meaning}): nothing moved`);
         say(m.error ? `The arm stopped: ${m.error}` : m.stopped ? "Stopped: no further line is sent."
@@ -266,7 +274,7 @@ function armMessage(m: EngineMsg): void {
           armRefusals.push({ line: m.line ?? 0, command: m.command ?? "", reply: m.reply ?? "", meaning: m.meaning ?? "" });
           s.editor.signals.lineRefused.dispatch({ line: m.line ?? 0, message: `the arm refused this: ${m.reply}, ${m.meaning}` });
         }
-        hook.arm.programLines.push([m.line, m.reply]);
+        armReport.programLines.push([m.line, m.reply]);
         say(`on the arm, line ${m.line}: ${m.command} -> ${m.reply}${m.reply !== "ok" ? ` (${m.meaning})` : ""}` +
           (m.predicted && m.predicted.reply !== m.reply ? `; the model said ${m.predicted.reply}` : ""));
       }

@@ -8,10 +8,15 @@ import * as Blockly from "blockly/core";
 import type { Editor } from "../editor/editor";
 import type { Studio } from "../page/context";
 import { $ } from "../page/dom";
-import { hook } from "../page/hook";
+import type { Reports } from "../page/reports";
 import { defineBlocks, setJoints, toolbox } from "../blocks/define";
 import { BlockError, opsToWorkspace, unroll } from "../blocks/unroll";
 import type { RobotMsg } from "../engine/messages";
+
+/** The blocks' reports (window.articula shows it; main.ts wires it). */
+export const blocksReport: { blockProblems: Reports["blockProblems"]; blockStacks: number; blocksCode: Reports["blocksCode"]; blocksFirstPaintMs: number; programMode: string; runningBlock: string } = {
+  blockProblems: [], blockStacks: 0, blocksCode: null, blocksFirstPaintMs: 0, programMode: "text", runningBlock: "",
+};
 
 let editor: Editor | null = null;
 let s: Studio;
@@ -22,6 +27,7 @@ const warned = new Map<string, string[]>(); // a block's problems, each in its b
 let compiling = 0;
 let compiles = 0; // the compiles asked for: only the newest one's answer counts
 let pendingLoad: unknown = null; // a workspace to load once Blockly is up
+let blocksPending = false; // the blocks changed and their program is not made yet (editor.blocks.pending)
 let lastHighlight = "";
 let saidFatal = false; // the status says why the blocks make no program
 let code = { text: "", robosim: "", python: "" };
@@ -32,7 +38,7 @@ export function initBlocks(studio: Studio): void {
   s = studio;
   editor = s.editor;
   editor.blocks = { mode: () => mode, setMode, json: workspaceJson, load: loadBlocks, fromText, teach: teachBlock,
-    dragging: () => !!ws?.isDragging(), pending: () => hook.blocksPending };
+    dragging: () => !!ws?.isDragging(), pending: () => blocksPending };
   const sig = editor.signals;
   sig.robotShown.add(blocksRobot);
   sig.lineRunning.add(({ line }) => highlightBlockOfLine(line));
@@ -52,7 +58,7 @@ function setMode(m: "text" | "blocks", fromProject = false): void {
   $("text-editor").hidden = m !== "text";
   $("mode-blocks").setAttribute("aria-pressed", String(m === "blocks"));
   $("mode-text").setAttribute("aria-pressed", String(m === "text"));
-  hook.programMode = m;
+  blocksReport.programMode = m;
   document.body.classList.toggle("blocks-mode", m === "blocks");
   if (m === "blocks") {
     ensureWorkspace();
@@ -159,7 +165,7 @@ function ensureWorkspace(): void {
     load(pendingLoad);
     pendingLoad = null;
   }
-  requestAnimationFrame(() => (hook.blocksFirstPaintMs = performance.now() - t0));
+  requestAnimationFrame(() => (blocksReport.blocksFirstPaintMs = performance.now() - t0));
 }
 
 // A block tapped (not dragged) in the toolbox joins the end of the program: on a tablet or a
@@ -183,7 +189,7 @@ function tapToAdd(e: Blockly.Events.Abstract): void {
 function onChange(e: Blockly.Events.Abstract): void {
   if (e.isUiEvent) return;
   clearTimeout(compiling);
-  hook.blocksPending = true;
+  blocksPending = true;
   compiling = window.setTimeout(compile, 150);
 }
 
@@ -223,13 +229,13 @@ function blocksRobot(r: RobotMsg): void {
 function compile(): void {
   if (!ws) return;
   const mine = ++compiles;
-  hook.blocksPending = true;
+  blocksPending = true;
   const settled = () => {
-    if (mine === compiles) hook.blocksPending = false;
+    if (mine === compiles) blocksPending = false;
   };
   clearWarnings();
   let ops;
-  hook.blockStacks = ws.getTopBlocks(false).filter((b) => b.type !== "procedures_defnoreturn" && !b.isShadow()).length;
+  blocksReport.blockStacks = ws.getTopBlocks(false).filter((b) => b.type !== "procedures_defnoreturn" && !b.isShadow()).length;
   try {
     ops = unroll(Blockly.serialization.workspaces.save(ws));
   } catch (e) {
@@ -246,7 +252,7 @@ function compile(): void {
     fatalMended();
     lineBlocks = r.lines ?? [];
     code = { text: r.text ?? "", robosim: r.robosim ?? "", python: r.python ?? "" };
-    hook.blocksCode = code;
+    blocksReport.blocksCode = code;
     if (mode === "blocks") s.editor.program.set(code.text, "blocks.arm"); // (in text mode the text is the student's)
     for (const p of r.problems ?? []) blockProblem(p.block, p.message, false);
     changed();
@@ -259,7 +265,7 @@ function compile(): void {
 function clearWarnings(): void {
   for (const id of warned.keys()) ws?.getBlockById(id)?.setWarningText(null);
   warned.clear();
-  hook.blockProblems = [];
+  blocksReport.blockProblems = [];
 }
 
 /** The blocks make a program again: the status that said why they did not goes (typing "-95"
@@ -278,7 +284,7 @@ export function blockProblem(id: string, message: string, fatal: boolean): void 
     warned.set(id, all);
     b.setWarningText(all.map((m) => wrapWords(m)).join("\n\n"));
   }
-  hook.blockProblems = [...hook.blockProblems, { block: id, message }];
+  blocksReport.blockProblems = [...blocksReport.blockProblems, { block: id, message }];
   if (fatal) {
     saidFatal = true;
     s.editor.signals.programSaid.dispatch({ text: message, bad: true });
@@ -292,7 +298,7 @@ function highlightBlockOfLine(line: number): void {
   if (id === lastHighlight) return;
   lastHighlight = id;
   ws.highlightBlock(id || null);
-  hook.runningBlock = id;
+  blocksReport.runningBlock = id;
 }
 
 /** The arm (or the model) refused line `line`: the refusal goes on its block. */
@@ -306,7 +312,7 @@ function refusedLine(line: number, message: string): void {
 function fromText(): void {
   const ed = $("editor") as HTMLTextAreaElement;
   if (!ed.value.trim()) return;
-  s.engine.call({ type: "program_ops", text: ed.value, name: hook.programName || "program.arm" }).then((m) => {
+  s.engine.call({ type: "program_ops", text: ed.value, name: s.editor.program.name() || "program.arm" }).then((m) => {
     const r = m as { ops?: []; error?: string };
     if (r.error) {
       blockProblem("", `The text cannot be read as blocks: ${r.error}`, true);
@@ -328,7 +334,7 @@ function teachBlock(q: number[]): void {
   while (last?.getNextBlock()) last = last.getNextBlock() as Blockly.BlockSvg | null;
   if (last?.nextConnection && b.previousConnection) last.nextConnection.connect(b.previousConnection);
   else b.moveBy(20, 20);
-  hook.teach = b.getFieldValue("VALUES");
+  s.editor.taught = b.getFieldValue("VALUES");
 }
 
 function showCode(): void {

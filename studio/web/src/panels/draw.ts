@@ -9,9 +9,14 @@
 // Everything from a file is shown as text, never as markup.
 import type { Studio } from "../page/context";
 import { $, download } from "../page/dom";
-import { hook } from "../page/hook";
+import type { Reports } from "../page/reports";
 import { PaperView } from "./paper-view";
 import type { Paper } from "../project/document";
+
+/** What the Draw panel has shown (window.articula shows it) (window.articula shows it; main.ts wires it). */
+export const drawReport: { drawing: Reports["drawing"]; drawings: number; paper: Reports["paper"] } = {
+  drawing: null, drawings: 0, paper: { area: [], reachShare: 0, maps: 0, hand: 0, ink: { rows: 0, points: 0, strokes: [], received: 0 }, physicsInk: { rows: 0, points: 0, strokes: [], received: 0 } },
+};
 
 const MAX_SVG_BYTES = 5 * 1024 * 1024; // the engine's limit too (host/lib/svg.h)
 const REACH_CELL_MM = 4;
@@ -80,9 +85,9 @@ function askReach(): void {
     paper.setReach(m);
     sheetArea = m.area;
     if (inUse) s.view.showSheet(m.area, z);
-    hook.paper.area = m.area;
-    hook.paper.reachShare = m.reached.length ? [...m.reached].filter((c) => c === "1").length / m.reached.length : 0;
-    hook.paper.maps++;
+    drawReport.paper.area = m.area;
+    drawReport.paper.reachShare = m.reached.length ? [...m.reached].filter((c) => c === "1").length / m.reached.length : 0;
+    drawReport.paper.maps++;
   }, 120);
 }
 
@@ -101,7 +106,7 @@ function showInk(): void {
 
 // A source's ink, asked of the engine at most every 250 ms.
 let inkEpoch = 0; // a new sheet: the ink asked for before it is not this sheet's
-const inkHook = (which: "nano" | "physics") => (which === "nano" ? hook.paper.ink : hook.paper.physicsInk);
+const inkHook = (which: "nano" | "physics") => (which === "nano" ? drawReport.paper.ink : drawReport.paper.physicsInk);
 const rowWidth = (which: "nano" | "physics") => Math.max(1, which === "nano" ? nanoMotors : 3);
 
 function askInk(which: "nano" | "physics"): void {
@@ -123,8 +128,8 @@ function askInk(which: "nano" | "physics"): void {
     src.strokes = m.strokes;
     showInk();
     const seen = { rows: rows / rowWidth(which), points: m.points, strokes: m.strokes, received: src.rows.length / rowWidth(which) };
-    if (which === "nano") hook.paper.ink = seen;
-    else hook.paper.physicsInk = seen;
+    if (which === "nano") drawReport.paper.ink = seen;
+    else drawReport.paper.physicsInk = seen;
     if (src.rows.length > rows) askInk(which);
   }, 250);
 }
@@ -136,15 +141,15 @@ function clearInk(): void {
     src.strokes = [];
     src.asked = false;
   }
-  hook.paper.ink = { rows: 0, points: 0, strokes: [], received: 0 };
-  hook.paper.physicsInk = { rows: 0, points: 0, strokes: [], received: 0 };
+  drawReport.paper.ink = { rows: 0, points: 0, strokes: [], received: 0 };
+  drawReport.paper.physicsInk = { rows: 0, points: 0, strokes: [], received: 0 };
   showInk();
 }
 
 // A new sheet: no ink, nothing drawn by hand.
 function newSheet(): void {
   hand = [];
-  hook.paper.hand = 0;
+  drawReport.paper.hand = 0;
   paper.setLayer("hand", []);
   clearInk();
 }
@@ -215,7 +220,7 @@ export function initDraw(studio: Studio): void {
   showKind();
   paper.onStroke = (points) => {
     hand.push(points);
-    hook.paper.hand = hand.length;
+    drawReport.paper.hand = hand.length;
   };
   paper.onMoveSheet = (dx, dy) => {
     input("paper-x").value = String(num("paper-x") + dx);
@@ -262,7 +267,7 @@ export function initDraw(studio: Studio): void {
     holdPen(0);
     s.view.showSheet(null, 0);
     if (goalActive) use(); // a drawing exercise's robot: its paper and pen stay
-    hook.drawing = null;
+    drawReport.drawing = null;
     askReach();
   });
   s.editor.signals.nanoSteps.add(({ rows, motors }) => {
@@ -354,8 +359,8 @@ async function draw(): Promise<void> {
   clearDrawing();
   clearInk(); // the ink from here on is this drawing's
   if (d.error) {
-    hook.drawing = { fits: false, error: d.error, advice: "", worstMm: 0, steps: 0, lines: 0, program: "", ink: [] };
-    hook.drawings++;
+    drawReport.drawing = { fits: false, error: d.error, advice: "", worstMm: 0, steps: 0, lines: 0, program: "", ink: [] };
+    drawReport.drawings++;
     return say(d.error, "bad");
   }
   drawing = d;
@@ -371,17 +376,17 @@ async function draw(): Promise<void> {
   paper.setLayer("ideal", d.strokes);
   paper.setLayer("predicted", d.ink?.strokes ?? []);
   paper.setMarks(d.reach.unreachable, d.ink ? d.ink.worst_at : null);
-  hook.drawing = { fits: d.reach.fits, error: "", advice: d.reach.advice, worstMm: d.ink?.worst_mm ?? 0, steps: d.ink?.steps ?? 0,
+  drawReport.drawing = { fits: d.reach.fits, error: "", advice: d.reach.advice, worstMm: d.ink?.worst_mm ?? 0, steps: d.ink?.steps ?? 0,
     lines: d.program ? d.program.split("\n").length - 1 : 0, program: d.program, ink: d.ink?.strokes ?? [] };
-  hook.drawings++;
+  drawReport.drawings++;
   if (!d.reach.fits) return say(`${d.what}: ${d.reach.advice}. The red dots are out of the pen's reach.`, "bad");
   program = d.program;
   ($("draw-use") as HTMLButtonElement).disabled = false;
   const size = `${d.width_mm.toFixed(0)} × ${d.height_mm.toFixed(0)} mm`;
   say(d.ink
-    ? `${d.what}, ${size}: ${plural(d.strokes.length, "stroke")}, ${hook.drawing.lines} lines, ${d.seconds?.toFixed(0)} s. ` +
+    ? `${d.what}, ${size}: ${plural(d.strokes.length, "stroke")}, ${drawReport.drawing.lines} lines, ${d.seconds?.toFixed(0)} s. ` +
       `The pen (orange) stays within ${d.ink.worst_mm.toFixed(2)} mm of the drawing (blue) at every one of its ${d.ink.steps} ` +
       `steps; the worst (ringed) on line ${d.ink.worst_line}.`
-    : `${d.what}, ${size}: ${plural(d.strokes.length, "stroke")}, ${hook.drawing.lines} lines.`, "ok");
+    : `${d.what}, ${size}: ${plural(d.strokes.length, "stroke")}, ${drawReport.drawing.lines} lines.`, "ok");
   $("draw-status").scrollIntoView({ block: "nearest" });
 }

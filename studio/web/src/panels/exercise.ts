@@ -4,8 +4,13 @@
 // result is for the program that was checked: gone once the program changes.
 import type { Studio } from "../page/context";
 import { $, fill, h } from "../page/dom";
-import { hook } from "../page/hook";
+import type { Reports } from "../page/reports";
 import type { DrawingPart, Goal, GoalPart } from "../project/document";
+
+/** The exercise's goal on screen and its last check (window.articula shows it; main.ts wires it). */
+export const exerciseReport: { goal: Reports["goal"]; exercise: Reports["exercise"] } = {
+  goal: { drawn: 0, facts: [] }, exercise: null,
+};
 
 let s: Studio;
 let reveal: (id: string) => void = () => undefined;
@@ -21,7 +26,7 @@ export function initExercise(studio: Studio, layout: { reveal: (id: string) => v
   s.editor.signals.changed.add(() => {
     if (checkedText === null || s.editor.program.text() === checkedText) return;
     checkedText = null;
-    hook.exercise = null;
+    exerciseReport.exercise = null;
     fill($("exercise-result"));
   });
   $("exercise-check").onclick = () => void check();
@@ -41,7 +46,7 @@ function showGoal(g: Goal | null): void {
   fill($("exercise-facts"));
   // the goal drawn: where the tool must go, where an object must end (a drawing's target: on the paper)
   s.view.showGoal((g?.parts ?? []).filter((p) => p.kind !== "drawing") as Exclude<GoalPart, DrawingPart>[]);
-  hook.goal = { drawn: s.view.goalShown(), facts: [] };
+  exerciseReport.goal = { drawn: s.view.goalShown(), facts: [] };
   const ask = g?.parts.find((p) => p.kind === "drawing" && p.ask) as DrawingPart | undefined;
   $("exercise-ask-row").hidden = !ask;
   $("exercise-ask-label").textContent = ask ? ask.ask : "";
@@ -58,7 +63,7 @@ function showGoal(g: Goal | null): void {
 async function goalFacts(g: Goal): Promise<void> {
   const facts: string[] = [];
   const show = () => {
-    hook.goal = { drawn: s.view.goalShown(), facts };
+    exerciseReport.goal = { drawn: s.view.goalShown(), facts };
     fill($("exercise-facts"), ...facts.map((t) => h("li", null, t)));
   };
   const reach = g.parts.filter((p) => p.kind === "reach").length;
@@ -94,7 +99,7 @@ async function showDrawingTarget(g: Goal): Promise<void> {
   if (goal() !== g) return;
   const t = r.drawings[0];
   s.editor.signals.drawingGoal.dispatch({ target: t?.strokes ?? [], z: part.z, pen: part.pen });
-  hook.goal = { ...hook.goal, target: t?.strokes.length ?? 0 };
+  exerciseReport.goal = { ...exerciseReport.goal, target: t?.strokes.length ?? 0 };
 }
 
 async function check(): Promise<void> {
@@ -106,7 +111,7 @@ async function check(): Promise<void> {
     const r = await s.engine.call({ type: "exercise_check", parts: g.parts, text: s.editor.program.text(), name: s.editor.program.name(),
       scene: g.scene || s.editor.project.doc.scene, answer: answer() }) as
       { parts: { label: string; met: boolean; detail: string; target?: number[][][]; ink?: number[][][] }[]; met?: boolean; error?: string };
-    hook.exercise = r as unknown as typeof hook.exercise;
+    exerciseReport.exercise = r as unknown as typeof exerciseReport.exercise;
     if (r.error) return fill($("exercise-result"), h("li", { class: "bad" }, r.error));
     const drawn = g.parts.findIndex((p) => p.kind === "drawing");
     if (drawn >= 0 && r.parts[drawn]?.target) { // the target and the program's ink, on the paper
@@ -116,7 +121,7 @@ async function check(): Promise<void> {
     fill($("exercise-result"), h("li", { class: r.met ? "ok" : "bad" }, r.met ? "Every part is met: well done!" : "Not yet:"),
       ...r.parts.map((p) => h("li", { class: p.met ? "ok" : "bad" }, p.met ? "✓ " : "✗ ", h("b", null, p.label), `: ${p.detail}`)));
   } catch (e) {
-    hook.exercise = { parts: [], met: false, error: (e as Error).message };
+    exerciseReport.exercise = { parts: [], met: false, error: (e as Error).message };
     fill($("exercise-result"), h("li", { class: "bad" }, (e as Error).message));
   }
 }

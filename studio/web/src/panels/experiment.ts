@@ -11,8 +11,13 @@
 import uPlot from "uplot";
 import type { Studio } from "../page/context";
 import { $, download, fill, h, setOptions, status } from "../page/dom";
-import { hook } from "../page/hook";
+import type { Reports } from "../page/reports";
 import type { Experiment, ExperimentChain, ExperimentPoint, ExperimentTarget } from "../project/document";
+
+/** The experiment under way (window.articula shows it; main.ts wires it). */
+export const experimentReport: { experiment: Reports["experiment"] } = {
+  experiment: { running: false, waiting: null, question: "", points: [], tables: null, csv: "", mismatches: [] },
+};
 
 type Xyz = [number, number, number];
 interface Axis { max_pct: number | null; max_mm: number; avg_mm: number }
@@ -57,7 +62,7 @@ export function initExperiment(studio: Studio): void {
   for (const id of ["exp-x", "exp-y", "exp-z"])
     $(id).addEventListener("keydown", (e) => (e as KeyboardEvent).key === "Enter" && void record());
   $("exp-html").onclick = () => void exportHtml();
-  $("exp-csv").onclick = () => shown && hook.experiment.csv && download(fileStem() + ".csv", hook.experiment.csv, "text/csv");
+  $("exp-csv").onclick = () => shown && experimentReport.experiment.csv && download(fileStem() + ".csv", experimentReport.experiment.csv, "text/csv");
   fetch(new URL("data/index.json", document.baseURI)).then((r) => r.json()).then((idx: { plans?: string[] }) => {
     const sel = $("exp-plan") as HTMLSelectElement;
     setOptions(sel, (idx.plans ?? []).map((p) => ({ value: p, label: planLabel(p) })));
@@ -74,24 +79,24 @@ const say = (text: string, kind: "" | "ok" | "bad" = "") => status($("exp-state"
 /** The project's experiment, shown again (its tables made from its measurements). */
 function showSavedExperiment(e: Experiment | null): void {
   shown = e;
-  hook.experiment.points = e?.points ?? [];
+  experimentReport.experiment.points = e?.points ?? [];
   if (!e) {
     fill($("exp-report"));
-    hook.experiment.tables = null;
+    experimentReport.experiment.tables = null;
     return;
   }
   void report(e);
 }
 
 async function run(): Promise<void> {
-  if (hook.experiment.running) return;
-  hook.experiment.running = true; // at once: a test (or a second click) sees the run from its click on
+  if (experimentReport.experiment.running) return;
+  experimentReport.experiment.running = true; // at once: a test (or a second click) sees the run from its click on
   ($("exp-run") as HTMLButtonElement).disabled = true;
   try {
     await runPlan();
   } finally {
-    hook.experiment.running = false;
-    hook.experiment.waiting = null;
+    experimentReport.experiment.running = false;
+    experimentReport.experiment.waiting = null;
     $("exp-measure").hidden = true;
     ($("exp-run") as HTMLButtonElement).disabled = false;
   }
@@ -128,8 +133,8 @@ async function runPlan(): Promise<void> {
   const stepsAt = new Map<number, number[]>(); // line: the arm's steps after it
   const targets: ExperimentTarget[] = [];
   const mismatches: string[] = [];
-  hook.experiment.points = points;
-  hook.experiment.mismatches = mismatches;
+  experimentReport.experiment.points = points;
+  experimentReport.experiment.mismatches = mismatches;
   try {
     // From the power-up pose (every motor at step 0), as the prediction assumes.
     say("to the start pose (every motor at step 0)…");
@@ -192,8 +197,8 @@ async function runPlan(): Promise<void> {
 // The measurement of one pose: the student's x, y, z, or null (skipped). joint -1: a
 // repeatability pose.
 function ask(what: string, joint: number, angle: number, line: number, command: string, model: Xyz): Promise<number[] | null> {
-  hook.experiment.waiting = { joint, angle, line, command, model };
-  hook.experiment.question = "";
+  experimentReport.experiment.waiting = { joint, angle, line, command, model };
+  experimentReport.experiment.question = "";
   asked = null;
   $("exp-measure").hidden = false;
   $("exp-question").textContent = "";
@@ -214,7 +219,7 @@ function give(xyz: number[] | null): void {
   clearInterval(stopWatch);
   const a = answer;
   answer = null;
-  hook.experiment.waiting = null;
+  experimentReport.experiment.waiting = null;
   $("exp-measure").hidden = true;
   a?.(xyz);
 }
@@ -222,14 +227,14 @@ function give(xyz: number[] | null): void {
 // Record: the values typed, questioned by the engine (not a number, typed in cm, beyond the
 // reach, far from the model) before they are used.
 async function record(): Promise<void> {
-  const w = hook.experiment.waiting;
+  const w = experimentReport.experiment.waiting;
   if (!w) return;
   const xyz = ["exp-x", "exp-y", "exp-z"].map((id) => {
     const t = ($(id) as HTMLInputElement).value.trim().replace(",", ".");
     return t === "" ? NaN : Number(t);
   });
   const r = (await s.engine.call({ type: "experiment_question", measured: xyz, predicted: w.model })) as unknown as { question: string };
-  hook.experiment.question = r.question;
+  experimentReport.experiment.question = r.question;
   if (!r.question) return give(xyz);
   $("exp-question").textContent = r.question;
   asked = xyz.every(Number.isFinite) ? xyz : null;
@@ -242,8 +247,8 @@ async function report(e: Experiment, mismatches: string[] = []): Promise<void> {
   const t = (await s.engine.call({ type: "experiment_tables",
     points: e.points.map((p) => ({ joint: p.joint, angle: p.angle, ideal: p.ideal, quant: p.quant, measured: p.measured })),
     chains: e.chains ?? [], targets: e.targets ?? [], experiment: e })) as unknown as Tables;
-  hook.experiment.tables = t;
-  hook.experiment.csv = t.csv;
+  experimentReport.experiment.tables = t;
+  experimentReport.experiment.csv = t.csv;
   charts.forEach((c) => c.destroy());
   charts = [];
   const joints = [...new Set(e.points.map((p) => p.joint))].sort((a, b) => a - b);
@@ -386,7 +391,7 @@ function htmlTable4(title: string, rows: Table4Row[]): string {
 }
 
 async function exportHtml(): Promise<void> {
-  const e = shown, t = hook.experiment.tables as Tables | null;
+  const e = shown, t = experimentReport.experiment.tables as Tables | null;
   if (!e || !t) return;
   const measured = e.points.some((p) => p.measured);
   const verdictItems = [...$("exp-report").querySelectorAll(".verdicts li")].map((li) =>

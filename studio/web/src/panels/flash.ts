@@ -3,7 +3,6 @@
 // data/firmware/firmware.json, a progress bar, and a sentence for every way it can fail.
 import { FlashError, flashNano } from "../link/stk500.mjs";
 import { $, status } from "../page/dom";
-import { hook } from "../page/hook";
 import type { Studio } from "../page/context";
 
 interface FirmwareInfo { file: string; bytes: number; version: string; sha256: string }
@@ -30,10 +29,14 @@ async function loadFirmwareInfo(): Promise<void> {
   ($("arm-flash") as HTMLButtonElement).disabled = !firmware;
 }
 
+/** The flasher's state (window.articula.flash shows it): busy guards against a second flash. */
+export const flashStatus = { busy: false, phase: "", done: 0, total: 0, error: "", errorKind: "",
+  result: null as { bytes: number; pages: number; baud: number; seconds: number } | null };
+
 const flashState = (text: string, kind: "" | "ok" | "bad" = "") => status($("flash-state"), text, kind);
 
 async function flashFirmware(): Promise<void> {
-  const f = hook.flash;
+  const f = flashStatus;
   if (f.busy || !firmware) return;
   const chosen = await s.editor.arm.choosePort();
   if ("why" in chosen) return chosen.why ? flashState(chosen.why, "bad") : undefined;

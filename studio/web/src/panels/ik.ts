@@ -4,7 +4,12 @@
 import type { IkMsg, RobotMsg } from "../engine/messages";
 import type { Studio } from "../page/context";
 import { $, fill, fmt, h } from "../page/dom";
-import { hook } from "../page/hook";
+import type { Reports } from "../page/reports";
+
+/** The IK panel's last solve, line and drag updates (window.articula shows it; main.ts wires it). */
+export const ikReport: { ik: Reports["ik"]; ikLine: string; ikUpdates: number[] } = {
+  ik: null, ikLine: "", ikUpdates: [],
+};
 
 let s: Studio;
 let dragging = false;
@@ -70,7 +75,7 @@ export function initIk(studio: Studio): void {
       return;
     }
     const line = r.line;
-    hook.ikLine = line;
+    ikReport.ikLine = line;
     if (lineToArm(line)) {
       el.textContent = `Sent to the arm: ${line}. It answers with its reply in the arm panel.`;
       el.className = "status ok";
@@ -122,14 +127,14 @@ export function followTool(xyz: number[], rpy: number[], first: boolean): void {
 
 /** A new robot: the last robot's IK verdict goes. */
 function clearIk(): void {
-  hook.ik = null;
+  ikReport.ik = null;
   $("ik-status").textContent = "";
   $("ik-status").className = "status";
 }
 
 export function showIk(m: IkMsg): void {
-  hook.ik = m;
-  if (dragging) hook.ikUpdates.push(performance.now());
+  ikReport.ik = m;
+  if (dragging) ikReport.ikUpdates.push(performance.now());
   const el = $("ik-status");
   // an error the engine could not give as a number (a target at 1e308 mm) is "very far"
   const mm = (v: number | null) => (typeof v === "number" && Number.isFinite(v) ? v.toFixed(3) : "too far to measure:");

@@ -4,7 +4,6 @@
 import type { PoseMsg, RobotMsg } from "../engine/messages";
 import type { Studio } from "../page/context";
 import { $, fill, fmt, h } from "../page/dom";
-import { hook } from "../page/hook";
 
 let s: Studio;
 let typing: HTMLInputElement | null = null; // the number box being typed in (left alone until done)

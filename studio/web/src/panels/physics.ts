@@ -3,7 +3,12 @@
 import type { PhysicsMsg, RobotMsg, SceneMsg, SimEvent } from "../engine/messages";
 import type { Studio } from "../page/context";
 import { $, fill, h, setOptions } from "../page/dom";
-import { hook } from "../page/hook";
+import type { Reports } from "../page/reports";
+
+/** The physics' events since it started or was reset (window.articula shows it; main.ts wires it). */
+export const physicsReport: { events: Reports["events"] } = {
+  events: [],
+};
 
 let s: Studio;
 let dragSent = 0;
@@ -74,7 +79,7 @@ export function showPhysics(p: PhysicsMsg, robot: RobotMsg | null): void {
     s.editor.signals.lineRunning.dispatch({ line: p.line, refused: false });
   }
   if (p.fresh) {
-    hook.events = [];
+    physicsReport.events = [];
     fill($("events"));
   }
   const rtf = $("phys-rtf");
@@ -88,7 +93,7 @@ export function showPhysics(p: PhysicsMsg, robot: RobotMsg | null): void {
   }
   const log = $("events");
   for (const e of p.events ?? []) {
-    hook.events.push(e);
+    physicsReport.events.push(e);
     const detail = `${e.t.toFixed(2)} s ${e.kind}: ${e.a}${e.b ? ` / ${e.b}` : ""}${e.detail ? ` - ${e.detail}` : ""}`;
     const cls = TROUBLE.has(e.kind) ? "trouble" : e.kind === "grasp" || e.kind === "release" ? "grasp" : null;
     log.appendChild(h("div", { class: cls, title: detail }, `${e.t.toFixed(1)} s: ${eventWords(e)}`));

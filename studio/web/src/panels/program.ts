@@ -4,7 +4,13 @@
 import type { PoseMsg, TimelineMsg } from "../engine/messages";
 import type { Studio } from "../page/context";
 import { $, download, fill, h } from "../page/dom";
-import { hook } from "../page/hook";
+import type { Reports } from "../page/reports";
+import { language } from "../page/environment";
+
+/** The program panel's reports (window.articula shows it; main.ts wires it). */
+export const programReport: { paths: Reports["paths"]; pngCaption: string; programError: string; programName: string; runOnArm: boolean } = {
+  paths: { points: 0, lines: 0, worstMm: 0 }, pngCaption: "", programError: "", programName: "program.arm", runOnArm: false,
+};
 
 let s: Studio;
 let currentProgram = "program.arm";
@@ -20,7 +26,7 @@ function runTarget(): void {
   run.title = onTheArm() ? "Send the program to the arm, line by line (untick “on the arm” to play it on the model only)"
     : s.editor.armConnected ? "Play the program on the model only: the arm stays still (tick “on the arm” to drive it)"
     : "Run the program with the controller's real timing";
-  hook.runOnArm = onTheArm();
+  programReport.runOnArm = onTheArm();
 }
 
 export const ghostShown = () => showGhost;
@@ -145,8 +151,8 @@ export function initProgram(studio: Studio): void {
   });
   s.plots.onSeek = (t) => s.engine.send({ type: "seek", t });
   $("export-png").onclick = () => {
-    const caption = `${s.editor.robot?.name ?? ""}, ${currentProgram}, ${new Date().toLocaleString(hook.language || undefined)}`;
-    hook.pngCaption = caption;
+    const caption = `${s.editor.robot?.name ?? ""}, ${currentProgram}, ${new Date().toLocaleString(language)}`;
+    programReport.pngCaption = caption;
     s.plots.png(caption).then((blob) => blob && download(`articula-plots-${currentProgram.replace(/\W+/g, "_")}.png`, blob, "image/png"));
   };
   $("export-csv").onclick = () => s.editor.timeline && download("articula-timeline.csv", s.plots.csv(s.editor.timeline), "text/csv");
@@ -182,7 +188,7 @@ export function appendProgramLine(line: string): void {
 function setProgram(name: string, text: string): void {
   editor().value = text;
   currentProgram = name;
-  hook.programName = name;
+  programReport.programName = name;
   editorChanged();
 }
 
@@ -202,7 +208,7 @@ function editorChanged(): void {
     s.editor.timeline = null;
     s.plots.clear();
     s.view.showPaths([], []);
-    hook.paths = { points: 0, lines: 0, worstMm: 0 };
+    programReport.paths = { points: 0, lines: 0, worstMm: 0 };
     programStatus("Changed: Play works it out and runs it.");
   }
   s.editor.signals.changed.dispatch("program");
@@ -253,7 +259,7 @@ export const programHandlers = {
   timeline(m: TimelineMsg): void {
     s.editor.timeline = m;
     timelineCommands = commandsOf(editor().value);
-    hook.programError = "";
+    programReport.programError = "";
     s.plots.show(m);
     // The path the tool will take, every step, over the straight lines the program asks for.
     const path: number[] = [];
@@ -273,7 +279,7 @@ export const programHandlers = {
       }
     }
     s.view.showPaths(path, lines);
-    hook.paths = { points: path.length / 3, lines: lines.length, worstMm: worst };
+    programReport.paths = { points: path.length / 3, lines: lines.length, worstMm: worst };
     for (const r of m.records) if (r.reply !== "ok") s.editor.signals.lineRefused.dispatch({ line: r.line, message: `the arm refuses this: ${r.reply}, ${r.error}` });
     const rejected = m.records.filter((r) => r.reply !== "ok")
       .map((r) => `line ${r.line}: ${r.command} → error:${r.code}, ${r.error}: nothing moves` +
@@ -293,7 +299,7 @@ export const programHandlers = {
     $("run").classList.toggle("active", m.playing);
   },
   program_error(m: { message: string; line: number }): void {
-    hook.programError = m.message;
+    programReport.programError = m.message;
     // the program on screen: its line, not a file's name
     const said = m.line > 0 ? m.message.replace(/^.*?:\d+: /, `line ${m.line}: `) : m.message;
     programStatus(said, [], true);
@@ -311,7 +317,7 @@ export const programHandlers = {
     if (s.editor.blocks.mode() === "blocks") s.editor.blocks.fromText();
   },
   teach(m: { line: string }): void {
-    hook.teach = m.line;
+    s.editor.taught = m.line;
     const ed = editor();
     ed.value = ed.value.replace(/\s*$/, "") + (ed.value.trim() ? "\n" : "") + m.line + "\n";
     editorChanged();

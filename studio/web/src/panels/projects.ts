@@ -5,12 +5,18 @@
 // project/autosave.ts's. Every file is untrusted: project/document.ts reads it.
 import type { Studio } from "../page/context";
 import { $, banner, download, fill, h, setOptions } from "../page/dom";
-import { hook } from "../page/hook";
+import type { Reports } from "../page/reports";
 import { MAX_FILE_BYTES, MAX_LINK, ProjectError, newProject, parseProject, projectFragment, readProject } from "../project/document";
 import type { Project } from "../project/document";
 import { freshName, saveNow, saving, setOnSaved, store } from "../project/autosave";
 import { newId } from "../project/store";
 import type { Stored } from "../project/store";
+import { language } from "../page/environment";
+
+/** The Projects panel's share link (window.articula shows it; main.ts wires it). */
+export const projectsReport: { shareLink: string; shareCopied: string } = {
+  shareLink: "", shareCopied: "",
+};
 
 let s: Studio;
 let copyTimer = 0;
@@ -73,7 +79,7 @@ export function initProjects(studio: Studio): void {
         copied = false;
       }
     }
-    hook.shareCopied = copied ? "copied" : "selected";
+    projectsReport.shareCopied = copied ? "copied" : "selected";
     b.textContent = copied ? "✓ Copied" : "Selected: press Ctrl+C";
     b.classList.toggle("done", copied);
     clearTimeout(copyTimer);
@@ -131,7 +137,7 @@ async function openList(): Promise<void> {
     } catch {
       robot = "cannot be read";
     }
-    const when = new Date(rec.updated).toLocaleString(hook.language || undefined);
+    const when = new Date(rec.updated).toLocaleString(language);
     const openB = h("button", { class: "primary", title: "Open this project" }, "Open");
     const renameB = h("button", { title: "Give it another name" }, "Rename");
     const dupB = h("button", { title: "A copy of it" }, "Duplicate");
@@ -236,12 +242,12 @@ async function share(): Promise<void> {
     const b = h("button", { class: "primary" }, "Save as file");
     b.onclick = saveFile;
     $("share-note").append(" ", b);
-    hook.shareLink = "";
+    projectsReport.shareLink = "";
   } else {
     $("share-note").textContent = `Anyone who opens this link gets a copy of "${doc.name}" in their own browser. Nothing is uploaded: the project is in the link (${link.length.toLocaleString("en")} characters).`;
     ($("share-link") as HTMLTextAreaElement).value = link;
     $("share-copy").hidden = false;
-    hook.shareLink = link;
+    projectsReport.shareLink = link;
   }
   d.show();
 }

@@ -4,7 +4,12 @@
 import type { RobotMsg } from "../engine/messages";
 import type { Studio } from "../page/context";
 import { $, banner, download, h, setOptions } from "../page/dom";
-import { hook } from "../page/hook";
+import type { Reports } from "../page/reports";
+
+/** Why the last robot could not be used (window.articula shows it; main.ts wires it). */
+export const robotReport: { robotError: string } = {
+  robotError: "",
+};
 
 const MAX_FILE = 20_000_000; // bytes of a robot file or mesh the page opens
 let s: Studio;
@@ -53,7 +58,7 @@ async function openFiles(input: HTMLInputElement): Promise<void> {
 /** A robot to show: its view and the robot menu; then the other panels follow it (robotShown). */
 export function showRobot(r: RobotMsg): void {
   s.editor.robot = r;
-  hook.robotError = "";
+  robotReport.robotError = "";
   const built = s.view.build(r);
   s.view.showAxes(($("show-axes") as HTMLInputElement).checked);
   $("robot-name").textContent = r.description ? `${r.name}: ${r.description}` : r.name;
@@ -85,7 +90,7 @@ export function fitNewRobot(): void {
 }
 
 export function robotError(message: string): void {
-  hook.robotError = message;
+  robotReport.robotError = message;
   banner(`This robot file cannot be used, the robot stays ${s.editor.robot?.name ?? ""}: ${message}`);
 }
 

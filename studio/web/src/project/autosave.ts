@@ -139,7 +139,6 @@ async function saveOnce(): Promise<void> {
   const t0 = performance.now();
   const editsSaved = edits;
   const doc = p.document();
-  p.note(doc);
   const tRead = performance.now();
   try {
     const res = await store.save(p.id, p.rev, doc);
