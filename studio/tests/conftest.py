@@ -67,6 +67,11 @@ def pytest_runtest_protocol(item, nextitem):
 
 
 DIST = REPO / "studio" / "web" / "dist"
+# The page's simulated world (the live physics and the virtual Nano) at four times real time, as
+# the Speed beside Run (or ?speed=4 in a link) gives a student: for the tests whose long runs check
+# where the arm and the ink end, not how long that takes. The others run it in real time (and
+# test_studio.py checks that the virtual Nano keeps it).
+FAST = "&speed=4"
 # A wait's timeout guards against a hang; it is not a speed check. Every wait gets this many
 # times what it names, so that a busy machine (two test jobs on two cores) still passes.
 PATIENCE = float(os.environ.get("ARTICULA_TEST_PATIENCE", "4"))

@@ -9,7 +9,7 @@ import subprocess
 
 import pytest
 
-from conftest import cli_json, Page, PATIENCE, REPO, SHOTS
+from conftest import FAST, cli_json, Page, PATIENCE, REPO, SHOTS
 from test_screens import Fingers
 from test_studio import _connect_page_nano
 from class_page import _blocks, _build_solution, _chain, _open_project, _project, _type_field
@@ -17,7 +17,7 @@ from class_page import _blocks, _build_solution, _chain, _open_project, _project
 
 def test_a_pick_and_place_from_blocks_in_physics_on_the_nano_after_a_reload_and_by_link(open_page, browser, site, tmp_path):
     """The issue's 'done when', steps 1 to 5, in Chromium."""
-    pg = open_page("mk2plus", width=1366, height=768)
+    pg = open_page("mk2plus", query=FAST, width=1366, height=768)
     # 5 (first): the shipped exercise, opened from the projects
     pg.page.click("#projects-button")
     pg.page.select_option("#exercise-select", "pick-and-place.articula")

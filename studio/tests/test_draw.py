@@ -6,7 +6,7 @@ from __future__ import annotations
 import json
 import sys
 
-from conftest import REPO, SHOTS
+from conftest import FAST, REPO, SHOTS
 
 sys.path.insert(0, str(REPO / "python"))
 import articula  # noqa: E402
@@ -159,7 +159,7 @@ def test_hello_on_a5_on_the_virtual_nano_leaves_the_predicted_ink(open_page):
     drawing and the line the arm will draw on the paper view, then run on the virtual Nano: the
     ink its own steps leave (the emulator's pins, through the engine's forward kinematics) is the
     predicted ink, point for point, and within the stated bound of the letters."""
-    pg = open_page("mk2plus", width=1366, height=768)
+    pg = open_page("mk2plus", query=FAST, width=1366, height=768)
     if pg.page.is_visible("#tab-program"):
         pg.page.click("#tab-program")
     pg.page.locator("#draw-section").scroll_into_view_if_needed()
@@ -223,7 +223,7 @@ def test_a_square_and_hello_in_live_physics_leave_ink_where_the_pen_went(open_pa
     """The physics' arm (ODE, in real time) carries the pen: where its tip is on the paper it
     leaves ink, by the engine's rule (the prediction's); the ink follows the square's sides,
     then the letters of "Hello" (within the physics' tracking error, all of each letter)."""
-    pg = open_page("mk2plus", width=1366, height=768)
+    pg = open_page("mk2plus", query=FAST, width=1366, height=768)
     pg.page.select_option("#scene-select", "push")
     pg.wait("a.physics !== null && a.physics.on", timeout=30000)
     if pg.page.is_visible("#tab-program"):
@@ -385,7 +385,7 @@ def test_on_a_tablet_a_finger_draws_on_the_paper_and_hello_runs_on_the_virtual_n
     them where they were drawn and predicts them; then "Hello" on the virtual Nano leaves the
     predicted ink."""
     from test_screens import Fingers
-    pg = open_page("mk2plus", width=768, height=1024, touch=True)
+    pg = open_page("mk2plus", query=FAST, width=768, height=1024, touch=True)
     fingers = Fingers(pg)
     pg.page.tap("#tab-program")
     pg.page.select_option("#draw-kind", "hand")

@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from conftest import PATIENCE, REPO, SHOTS
+from conftest import FAST, PATIENCE, REPO, SHOTS
 from engines import ENGINES, Engines, missing
 
 ARTICULA = REPO / "build" / "host" / "cli" / "articula"
@@ -383,7 +383,7 @@ def test_a_class_session_blocks_physics_nano_reload_and_link(page, engines, site
     # CI (WebKitGTK dropped blocks where they were not aimed, Firefox once left one beside the
     # stack on a busy machine). ARTICULA_ENGINE_DRAGS=1 drags in every engine.
     drag = page.engine == "chromium" or os.environ.get("ARTICULA_ENGINE_DRAGS") == "1"
-    pg = page()
+    pg = page(query=FAST)
     # the shipped exercise, from the projects
     pg.click("#projects-button")
     pg.wait("document.querySelector('#projects-dialog').open && document.querySelector('#exercise-select').options.length > 1",
@@ -458,7 +458,7 @@ def test_write_hello_and_see_the_line_the_arm_will_draw(page):
     import sys
     sys.path.insert(0, str(REPO / "python"))
     import articula
-    pg = page()
+    pg = page(query=FAST)
     if pg.hook("(() => { const t = document.querySelector('#tab-program'); return !!t && t.offsetParent !== null; })()"):
         pg.click("#tab-program")
     pg.run("document.querySelector('#draw-section').scrollIntoView({ block: 'center' });")  # the panel scrolls

@@ -16,7 +16,7 @@ import re
 import subprocess
 import sys
 
-from conftest import REPO, SHOTS
+from conftest import FAST, REPO, SHOTS
 
 ARM = REPO / "hil" / "robots" / "thesis-example-arm.json"
 PLAN = "thesis-single-joint.arm"
@@ -45,7 +45,7 @@ def type_xyz(pg, xyz):
 
 def configured_page(open_page):
     """The static site with the thesis example arm, the virtual Nano configured for it."""
-    pg = open_page("mk2plus")
+    pg = open_page("mk2plus", query=FAST)
     pg.page.set_input_files("#robot-file", str(ARM))
     pg.wait("a.robot.name === 'Thesis example arm'")
     pg.page.select_option("#arm-port", "page:virtual")
@@ -203,7 +203,7 @@ def test_repeatability_in_the_page_equals_the_harness(open_page, tmp_path):
 def test_tool_points_in_the_page_equal_the_harness(open_page, tmp_path):
     """The tool sent to points (P) on the MK2 (a fresh virtual Nano is one): measured 2 mm above
     each target; the model's distance to each target is the harness's, the measured one 2 mm."""
-    pg = open_page("mk2plus")
+    pg = open_page("mk2plus", query=FAST)
     pg.page.select_option("#arm-port", "page:virtual")
     pg.page.click("#arm-connect")
     pg.wait("a.arm.connected && a.arm.status !== null", timeout=60000)

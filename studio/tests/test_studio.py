@@ -13,7 +13,7 @@ import subprocess
 import numpy as np
 import pytest
 
-from conftest import PATIENCE, REPO, SHOTS, cli_json, cli_path
+from conftest import FAST, PATIENCE, REPO, SHOTS, cli_json, cli_path
 
 
 
@@ -646,7 +646,7 @@ def test_a_straight_line_on_the_page_nano_with_its_predicted_path_drawn(open_pag
     """A student types straight lines (T): the view draws the tool's predicted path at every
     step over the lines asked for, the status line says how close the path keeps to them, and
     the page's virtual Nano runs the lines to the predicted steps."""
-    pg = open_page("mk2plus")
+    pg = open_page("mk2plus", query=FAST)
     text = "T 240 0 140 50\nT 280 -40 140 50\nT 280 40 140 50\n"
     pg.page.fill("#editor", text)
     pg.page.click("#run")  # the model plays it
@@ -670,6 +670,10 @@ def test_a_straight_line_on_the_page_nano_with_its_predicted_path_drawn(open_pag
     assert "Added to the program" in pg.page.text_content("#ik-status")
     pg.page.fill("#editor", text)
     _connect_page_nano(pg)
+    # the page's speed (?speed=4 in its address: the Speed beside Run) is the virtual Nano's
+    assert pg.page.input_value("#play-speed") == "4"
+    pg.wait("a.arm.nano !== null && a.arm.nano.speed === 4", timeout=10000)
+    pg.wait("document.querySelector('#arm-speed').textContent.includes('4x real time')", timeout=10000)
     pg.page.check("#drive-arm")
     pg.page.click("#run")
     pg.wait("a.arm.programDone === true", timeout=90000)
@@ -677,6 +681,10 @@ def test_a_straight_line_on_the_page_nano_with_its_predicted_path_drawn(open_pag
     want = pred[-1]["steps"]
     pg.wait(f"a.arm.status.state === 'Idle' && JSON.stringify(a.arm.status.steps) === '{json.dumps(want, separators=(',', ':'))}'",
             timeout=30000)
+    # the Speed back at 1x: the Nano keeps real time again
+    pg.page.select_option("#play-speed", "1")
+    pg.wait("a.arm.nano.speed === 1 && document.querySelector('#arm-speed').textContent.includes('keeps real time')",
+            timeout=10000)
     # with the arm connected, the IK panel's straight line goes to the arm
     pg.page.fill("#tx", "250")
     pg.page.click("#ik-line")
@@ -684,6 +692,16 @@ def test_a_straight_line_on_the_page_nano_with_its_predicted_path_drawn(open_pag
     assert pg.hook("a.arm.reply.error || ''") == ""
     assert pg.hook("a.arm.reply.reply") == "ok" and pg.hook("a.arm.reply.predicted.reply") == "ok"
     assert "Sent to the arm" in pg.page.text_content("#ik-status")
+    assert pg.errors == []
+
+
+def test_a_speed_in_a_link_that_is_none_is_said_as_text_and_the_world_keeps_real_time(open_page):
+    pg = open_page("mk2plus", query="&speed=%3Cimg%20src%3Dx%20onerror%3Dalert(1)%3E")
+    pg.page.wait_for_function("() => !document.querySelector('#banner').hidden")
+    said = pg.page.text_content("#banner-text")
+    assert "speed=<img src=x onerror=al" in said and "the speeds are 0.25, 0.5, 1, 2, 4 times real time" in said, said
+    assert pg.page.query_selector("#banner img") is None
+    assert pg.page.input_value("#play-speed") == "1"
     assert pg.errors == []
 
 

@@ -25,7 +25,7 @@ import { drawReady, drawReport, initDraw } from "./panels/draw";
 import { followTool, ikReport, initIk, setLineTargets, showIk } from "./panels/ik";
 import { initJoints, showJointValues } from "./panels/joints";
 import { initPhysics, physicsReport, showPhysics, showScene } from "./panels/physics";
-import { appendProgramLine, ghostShown, initProgram, programHandlers, programReport, showTime } from "./panels/program";
+import { appendProgramLine, ghostShown, initProgram, programHandlers, programReady, programReport, showTime } from "./panels/program";
 import { blocksReport, initBlocks } from "./panels/blocks";
 import { initProjects, projectsReport } from "./panels/projects";
 import { exerciseReport, initExercise } from "./panels/exercise";
@@ -97,6 +97,7 @@ engine.streaming = () => !!editor.physics?.on;
 engine.onReady = () => {
   setConn("engine ready", "ok");
   drawReady();
+  programReady();
   engine.send({ type: "hello" });
 };
 engine.onFatal = (message) => {

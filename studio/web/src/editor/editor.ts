@@ -99,6 +99,9 @@ export class Editor {
   timeline: TimelineMsg | null = null; // the program's timeline (null: no program loaded)
   playing = false; // the program plays on the model
   armConnected = false; // the arm's link is open (the Editor's armConnected signal says when it changes)
+  // how fast the simulated world runs against real time (the Program panel's speed, ?speed= in
+  // the address): the model's playing, the live physics and the virtual Nano; the real arm keeps its own
+  speed = 1;
   stops = 0; // STOP pressed (the button or Escape), so far: a wait that began before a STOP ends
   taught = ""; // the last pose taught: a protocol line (text) or a block's values (blocks)
   blocks: BlocksPart = { mode: () => "text", setMode: none, json: () => null, load: none, fromText: none, teach: none,
@@ -120,6 +123,8 @@ export class Editor {
     exerciseWanted: new Signal<string>(),
     // the arm's link opened (true) or closed or lost (false)
     armConnected: new Signal<boolean>(),
+    // the simulated world's speed changed (editor.speed)
+    speedChanged: new Signal<number>(),
     // the virtual Nano's motors stepped: each motor's steps after every step, row after row
     nanoSteps: new Signal<{ rows: Int32Array; motors: number }>(),
     // the physics moved the arm: its tool point's path since the last time, mm (x, y, z, flat)

@@ -141,9 +141,10 @@ export function physicsIntent(kind: string, m: Msg, kinematic: (kind: string, m:
   throw new BadMessage(`'${kind}' does not apply while the physics runs`);
 }
 
-// Steps the simulation in real time and streams the world to the page, one message a display
-// frame. `rtf` is simulated time over wall time (1.0 when keeping up), `capacity` how many
-// times real time the stepping alone could run; `behind` when it cannot keep up.
+// Steps the simulation in real time (times S.speed, the page's speed) and streams the world to
+// the page, one message a display frame. `rtf` is simulated time over wall time (1.0 when keeping
+// up at speed 1), `capacity` how many times real time the stepping alone could run; `behind`
+// when it cannot keep up with the speed.
 const MAX_UNACKED = 3;
 // The tool's path since the last frame sent (x, y, z mm, flat): a page too busy to take every
 // frame still gets every point (a pen's ink is drawn from them). At most 100,000 points wait.
@@ -155,6 +156,7 @@ export function ensurePhysics(): void {
   trail = [];
   const meter = new RealTimeMeter(60);
   let last = performance.now();
+  let owed = 0; // the world's seconds due and not yet stepped (less than a step)
   loop = every(FRAME_MS, () => {
     const s = S.sim;
     if (!s) {
@@ -175,7 +177,9 @@ export function ensurePhysics(): void {
           pendingGrip = null;
         }
       }
-      const n = Math.round(Math.min(wall, 0.1) / s.dt);
+      owed += Math.min(wall, 0.1) * S.speed; // (at the page's speed: 1 keeps real time)
+      const n = Math.floor(owed / s.dt + 1e-9);
+      owed = Math.max(0, owed - n * s.dt);
       // the tool's path every 10 ms of the world's time, kept until a frame takes it
       const path = s.stepPath(n, Math.max(1, Math.round(0.01 / s.dt)));
       if (trail.length + path.length <= TRAIL_MAX) for (const v of path) trail.push(v);
@@ -184,7 +188,7 @@ export function ensurePhysics(): void {
     }
     meter.slice(stepped, busy);
     const capacity = meter.capacity;
-    const behind = running && (wall > 0.1 || (capacity !== null && capacity < 1));
+    const behind = running && (wall > 0.1 || (capacity !== null && capacity < S.speed));
     if (S.unacked >= MAX_UNACKED) return; // (the page is behind: this frame is skipped, the physics runs on)
     const msg = physicsMessage(meter.rtf, behind);
     msg.capacity = capacity;

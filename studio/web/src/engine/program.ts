@@ -49,6 +49,12 @@ export const programHandlers: Record<string, (m: Msg) => Out[] | Promise<Out[]>>
     return [{ type: "timeline", name, format: d.format, records: d.records, duration: d.duration, start_tool: d.start_tool,
       joints: info().joint_names, summary: d.summary, samples: d.samples }, poseMessage(S.q, { t: 0, line: 0 })];
   },
+  // How fast the simulated world runs against real time: the time line's playing and the live
+  // physics (the page's speed select, ?speed= in its address).
+  speed(m) {
+    S.speed = num(m, "speed", 0.05, 20);
+    return [];
+  },
   play(m) {
     const tl = needTimeline();
     if ("speed" in m) S.speed = num(m, "speed", 0.05, 20);

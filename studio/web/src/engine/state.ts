@@ -28,7 +28,7 @@ export const S = {
   pen: 0,
   timeline: null as Timeline | null,
   t: 0, // the time line's clock, s
-  speed: 1,
+  speed: 1, // the simulated world against real time: the time line's playing and the live physics
   task: null as ReturnType<typeof setTimeout> | null, // playback or the JT animation
   sceneName: null as string | null, // live physics: the scene (null: none)
   sim: null as Sim | null,

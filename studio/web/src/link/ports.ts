@@ -50,10 +50,12 @@ export class VirtualNanoPort implements SerialLike {
   writable: WritableStream<Uint8Array> | null = null;
   /** The emulator's speed against real time, its steps as the coils moved them. */
   state: { seconds: number; steps: number[]; faults: number; servoUs: number | null; gripper: number | null; flashWrites: number;
-    rtf: number; capacity: number | null; behind: boolean; trail: Int32Array } | null = null;
+    rtf: number; capacity: number | null; behind: boolean; speed: number; trail: Int32Array } | null = null;
   /** The robot's servo angles (deg), for the aperture its pulses ask for. */
   servo: { closed: number; open: number } | null = null;
   flashBytes = 0;
+  /** The Nano's seconds a second of real time (the page's speed, editor.speed). */
+  speed = 1;
   /** The flash's bytes after a flash (the bootloader wrote pages), for the next power-up. */
   image: Uint8Array | null = null;
   onState: ((s: NonNullable<VirtualNanoPort["state"]>) => void) | null = null;
@@ -134,9 +136,15 @@ export class VirtualNanoPort implements SerialLike {
         eeprom = undefined;
       }
       worker.postMessage({ type: "start", eeprom, image: this.image ?? undefined, baud: options.baudRate,
-        servo: this.servo ?? undefined });
+        servo: this.servo ?? undefined, speed: this.speed });
     });
     this.closeStream = () => end?.();
+  }
+
+  /** The page's speed changed: the Nano runs at it from now on. */
+  setSpeed(speed: number): void {
+    this.speed = speed;
+    this.worker?.postMessage({ type: "speed", speed });
   }
 
   private closeStream: () => void = () => undefined;

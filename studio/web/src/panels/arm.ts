@@ -114,13 +114,16 @@ async function disconnectArm(): Promise<void> {
 function virtualNano(): VirtualNanoPort {
   if (nanoPort) return nanoPort;
   const port = (nanoPort = new VirtualNanoPort());
+  port.speed = s.editor.speed;
+  s.editor.signals.speedChanged.add((speed) => port.setSpeed(speed));
   port.onState = (st) => {
     const { trail, ...rest } = st;
     armReport.nano = rest;
     if (trail?.length) s.editor.signals.nanoSteps.dispatch({ rows: trail, motors: st.steps.length });
     const servo = st.gripper === null ? "" : `; its servo pulse ${Math.round(st.servoUs ?? 0)} us: gripper ${st.gripper.toFixed(0)} %`;
-    $("arm-speed").textContent = (st.behind ? `the virtual Nano is behind real time: ${st.rtf.toFixed(2)}x`
-      : `the virtual Nano keeps real time (it could run ${(st.capacity ?? 0).toFixed(1)}x; ${port.flashBytes.toLocaleString("en")} B of firmware)`) + servo;
+    const pace = st.speed === 1 ? "real time" : `${st.speed}x real time`;
+    $("arm-speed").textContent = (st.behind ? `the virtual Nano is behind ${st.speed === 1 ? pace : `its speed (${pace})`}: ${st.rtf.toFixed(2)}x`
+      : `the virtual Nano ${st.speed === 1 ? "keeps" : "runs at"} ${pace} (it could run ${(st.capacity ?? 0).toFixed(1)}x; ${port.flashBytes.toLocaleString("en")} B of firmware)`) + servo;
     $("arm-speed").className = `rtf ${st.behind ? "behind" : ""}`;
   };
   return port;

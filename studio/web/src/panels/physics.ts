@@ -88,7 +88,9 @@ export function showPhysics(p: PhysicsMsg, robot: RobotMsg | null): void {
     rtf.className = "rtf";
   } else if (p.rtf !== undefined && p.rtf !== null) {
     const cap = p.capacity ? `, could run ${Math.round(p.capacity)}x` : "";
-    rtf.textContent = p.behind ? `behind real time: ${p.rtf.toFixed(2)}x` : `${p.rtf.toFixed(2)}x real time${cap}`;
+    const speed = s.editor.speed;
+    rtf.textContent = p.behind ? `behind ${speed === 1 ? "real time" : `its speed (${speed}x)`}: ${p.rtf.toFixed(2)}x`
+      : `${p.rtf.toFixed(2)}x real time${cap}`;
     rtf.className = `rtf ${p.behind ? "behind" : ""}`;
   }
   const log = $("events");

@@ -3,7 +3,7 @@
 // ghost, the plots of the time line. The engine predicts and plays; this panel shows.
 import type { PoseMsg, TimelineMsg } from "../engine/messages";
 import type { Studio } from "../page/context";
-import { $, download, fill, h } from "../page/dom";
+import { $, banner, download, fill, h } from "../page/dom";
 import type { Reports } from "../page/reports";
 import { language } from "../page/environment";
 
@@ -91,6 +91,7 @@ export function initProgram(studio: Studio): void {
     runTarget();
   });
   $("drive-arm").addEventListener("change", runTarget);
+  initSpeed();
   // the exercises, first in the examples menu: each has a goal the page checks
   fetch(new URL("data/index.json", document.baseURI)).then((r) => r.json()).then((idx: { exercises?: string[] }) => {
     exercises = idx.exercises ?? [];
@@ -179,6 +180,32 @@ const exerciseLabel = (file: string) => file.replace(/\.articula$/, "").replace(
 
 /** The program's text and file name (from a file, an example, the blocks, a project). */
 /** A line added at the end of the program (the IK panel's straight line without an arm). */
+/** The simulated world's speed: the select beside Run, first from ?speed= in the address (one of
+ * its values: 0.25, 0.5, 1, 2 or 4); the engine (the model's playing, the live physics) and the
+ * virtual Nano (panels/arm.ts) follow it through the Editor. */
+function initSpeed(): void {
+  const select = $("play-speed") as HTMLSelectElement;
+  const values = [...select.options].map((o) => o.value);
+  const wanted = new URLSearchParams(location.search).get("speed");
+  if (wanted !== null) {
+    if (values.includes(wanted)) select.value = wanted;
+    else banner(`The address asks for speed=${wanted.slice(0, 24)}${wanted.length > 24 ? "…" : ""}: the speeds are ${values.join(", ")} ` +
+      "times real time. The world runs in real time.");
+  }
+  const apply = () => {
+    s.editor.speed = playSpeed();
+    s.engine.send({ type: "speed", speed: s.editor.speed });
+    s.editor.signals.speedChanged.dispatch(s.editor.speed);
+  };
+  s.editor.speed = playSpeed();
+  select.addEventListener("change", apply);
+}
+
+/** The engine is ready: it runs at the page's speed. */
+export function programReady(): void {
+  if (s.editor.speed !== 1) s.engine.send({ type: "speed", speed: s.editor.speed });
+}
+
 export function appendProgramLine(line: string): void {
   const ed = editor();
   ed.value = (ed.value && !ed.value.endsWith("\n") ? ed.value + "\n" : ed.value) + line + "\n";

@@ -8,10 +8,12 @@
 // Debian's source) in its boot section, so the page's flasher (link/stk500.mjs) can write it; the
 // host's DTR resets it, and bytes at another baud rate than the USART's arrive garbled.
 //
-// In: {type: "start", eeprom?, image?, baud, servo?} (a power-up: the page keeps the EEPROM's
-// bytes, and the flash's after a flash; servo: the robot's servo angles {closed, open}), {type: "rx", bytes}, {type: "signals", dtr}, {type: "close"}.
+// In: {type: "start", eeprom?, image?, baud, servo?, speed?} (a power-up: the page keeps the EEPROM's
+// bytes, and the flash's after a flash; servo: the robot's servo angles {closed, open}; speed:
+// the Nano's seconds a second of real time, 1 unless the page runs its world faster or slower),
+// {type: "rx", bytes}, {type: "signals", dtr}, {type: "speed", speed}, {type: "close"}.
 // Out: {type: "ready", flashBytes, ms}, {type: "tx", bytes}, {type: "state", seconds, steps,
-// faults, servoUs, gripper (the aperture its pulse asks for, %), flashWrites, rtf, capacity, behind,
+// faults, servoUs, gripper (the aperture its pulse asks for, %), flashWrites, rtf, capacity, behind, speed,
 // trail (Int32Array: each motor's steps after every step interrupt since the last state, row
 // after row: where the pen went, step by step)}, {type: "eeprom", bytes}, {type: "flash", bytes} (after
 // pages were written), {type: "closed"}, {type: "fatal", message}.
@@ -31,6 +33,11 @@ let nano: VirtualNano | null = null;
 let loop: { stop(): void } | null = null;
 let tx: number[] = [];
 let servo: { closed: number; open: number } | null = null; // the robot's servo angles, deg
+// the Nano's seconds a second of real time (the page's speed); `rebase`: it changed, the pace
+// starts again from now
+let speed = 1;
+let rebase = false;
+const SPEED_RANGE = [0.05, 20];
 // The motors' steps after each step interrupt: the firmware steps every motor of a tick in one
 // interrupt, microseconds apart; ticks are at least 250 us apart ($0 at most 4000 steps/s).
 // Steps closer than 100 us are one row. At most a million counts wait for the page.
@@ -79,9 +86,10 @@ function stop(): void {
   nano = null;
 }
 
-// Runs the Nano in step with the wall clock, every 5 ms: up to where real time says it should
-// be, at most 50 ms a slice, so a short hiccup of the host is caught up on. A backlog of more
-// than 200 ms is let go (the host cannot keep up): the state then says it is behind.
+// Runs the Nano in step with the wall clock (times the speed), every 5 ms: up to where real time
+// says it should be, at most 50 ms of real time a slice, so a short hiccup of the host is caught
+// up on. A backlog of more than 200 ms is let go (the host cannot keep up): the state then says
+// it is behind.
 function run(): void {
   const n = nano!;
   let clock0 = performance.now();
@@ -93,14 +101,19 @@ function run(): void {
   loop = every(5, () => {
     if (nano !== n) return false;
     const now = performance.now();
-    let due = emu0 + (now - clock0) / 1000;
-    if (due - n.seconds > 0.2) {
+    if (rebase) {
+      rebase = false;
       clock0 = now;
       emu0 = n.seconds;
-      due = n.seconds + 0.05;
+    }
+    let due = emu0 + (speed * (now - clock0)) / 1000;
+    if (due - n.seconds > 0.2 * speed) {
+      clock0 = now;
+      emu0 = n.seconds;
+      due = n.seconds + 0.05 * speed;
     }
     const before = n.seconds;
-    n.runUntil(Math.round(Math.min(due, before + 0.05) * CLOCK_HZ));
+    n.runUntil(Math.round(Math.min(due, before + 0.05 * speed) * CLOCK_HZ));
     meter.slice(n.seconds - before, (performance.now() - now) / 1000);
     if (tx.length) {
       const bytes = new Uint8Array(tx);
@@ -117,7 +130,7 @@ function run(): void {
       const rows = new Int32Array(trail);
       trail = [];
       post({ type: "state", seconds: n.seconds, steps: n.steps, faults: n.coilFaults, servoUs: us, gripper, flashWrites: n.flashWrites,
-        rtf, capacity: meter.capacity, behind: meter.slices >= 50 && rtf < 0.97, trail: rows }, [rows.buffer]); // judged over 50+ slices
+        rtf, capacity: meter.capacity, behind: meter.slices >= 50 && rtf < 0.97 * speed, speed, trail: rows }, [rows.buffer]); // judged over 50+ slices
       if (n.flashWrites !== flashWrites) {
         flashWrites = n.flashWrites;
         post({ type: "flash", bytes: n.flash.slice() });
@@ -131,11 +144,19 @@ function run(): void {
   });
 }
 
+/** The page's speed, when it is one (a number in SPEED_RANGE); 1 otherwise. */
+function setSpeed(x: unknown): void {
+  const v = typeof x === "number" && x >= SPEED_RANGE[0] && x <= SPEED_RANGE[1] ? x : 1;
+  if (v !== speed) rebase = true;
+  speed = v;
+}
+
 self.onmessage = (e: MessageEvent) => {
   const m = e.data as { type?: string; bytes?: Uint8Array; eeprom?: Uint8Array; image?: Uint8Array; baud?: number; dtr?: boolean;
-    servo?: { closed: number; open: number } };
+    servo?: { closed: number; open: number }; speed?: number };
   if (m?.type === "start") {
     servo = m.servo && Number.isFinite(m.servo.closed) && Number.isFinite(m.servo.open) ? m.servo : null;
+    setSpeed(m.speed);
     const bytes = (x: unknown) => (x instanceof Uint8Array ? x : undefined);
     start(bytes(m.eeprom), bytes(m.image), Number(m.baud) || 115200).catch((err) =>
       post({ type: "fatal", message: (err as Error)?.message ?? String(err) }));
@@ -143,6 +164,8 @@ self.onmessage = (e: MessageEvent) => {
     nano?.send(m.bytes);
   } else if (m?.type === "signals" && typeof m.dtr === "boolean") {
     nano?.setDtr(m.dtr);
+  } else if (m?.type === "speed") {
+    setSpeed(m.speed);
   } else if (m?.type === "close") {
     // the flash as it is now (pages written since the last state), then nothing more
     if (nano && nano.flashWrites > 0) post({ type: "flash", bytes: nano.flash.slice() });
