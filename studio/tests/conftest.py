@@ -15,7 +15,7 @@ from pathlib import Path
 
 import pytest
 
-from engines import driver_made
+from engines import driver_made, drawn_low
 
 REPO = Path(__file__).resolve().parents[2]
 CHROMIUM = os.environ.get("ARTICULA_CHROMIUM", "/usr/bin/chromium")
@@ -194,7 +194,7 @@ class Page:
         self.errors: list[str] = []
         self.page.on("console", lambda m: m.type == "error" and self.errors.append(m.text))
         self.page.on("pageerror", lambda e: self.errors.append(str(e)))
-        self.page.goto(url + query)
+        self.page.goto(drawn_low(url + query))
         self.page.wait_for_function(f"() => window.articula && window.articula.ready && {ready}", timeout=20000 * PATIENCE)
 
     # Predicates go to the page as functions: the site's Content-Security-Policy forbids

@@ -13,6 +13,21 @@ import subprocess
 import time
 from pathlib import Path
 
+# The view drawn at low resolution (?quality=low) when the screenshots go to the build tree (make
+# test): Chromium draws WebGL in software here (SwiftShader), and a frame at the page's own
+# quality costs four times the CPU time. The screenshots for the docs (docs/img, when
+# ARTICULA_SCREENSHOTS is not set) are taken at the page's own quality. An address that names
+# its quality keeps it (the first `quality` wins).
+LOW = "&quality=low" if os.environ.get("ARTICULA_SCREENSHOTS") else ""
+
+
+def drawn_low(url: str) -> str:
+    """`url` with LOW among its query's parameters (before a #project=... link's fragment)."""
+    if not LOW:
+        return url
+    base, hash_, fragment = url.partition("#")
+    return base + (LOW if "?" in base else "?" + LOW[1:]) + hash_ + fragment
+
 CHROMIUM = os.environ.get("ARTICULA_CHROMIUM", "/usr/bin/chromium")
 FIREFOX = os.environ.get("ARTICULA_FIREFOX", "/usr/bin/firefox-esr")
 MINIBROWSER = os.environ.get("ARTICULA_MINIBROWSER", "/usr/lib/x86_64-linux-gnu/webkit2gtk-4.1/MiniBrowser")
@@ -126,7 +141,8 @@ class EnginePage:
             if why:
                 arm = self.hook("JSON.stringify(a.arm).slice(0, 3000)")
                 raise AssertionError(f"{self.engine}: {what} did not happen: {why}; the page's errors: "
-                                     f"{self.page_errors()}; the arm: {arm}")
+                                     f"{self.page_errors()}; the engine's unanswered requests: "
+                                     f"{self.hook('a.engineWaiting()')}; the arm: {arm}")
             time.sleep(0.2)
 
     def run(self, script: str):
@@ -435,6 +451,7 @@ class Engines:
         return self.display.display
 
     def open(self, engine: str, url: str, width=1600, height=900) -> EnginePage:
+        url = drawn_low(url)
         if engine == "webkit":
             return WebKitPage(self._x(), url, width, height)
         if engine not in self.browsers:

@@ -8,7 +8,7 @@
 // This file only wires the parts together: the hook (page/hook.ts), the engine's client
 // (page/engine-client.ts), the 3D view, the plots and one module per panel (panels/).
 import { language, storage } from "./page/environment"; // first: a page must not die on its locale (uPlot reads it as it loads)
-import { View } from "./view";
+import { View } from "./view/view";
 import { Plots } from "./plots";
 import { startTour } from "./tour";
 import { Layout } from "./layout";

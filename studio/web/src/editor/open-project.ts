@@ -7,7 +7,7 @@
 // the project that was on screen again. Where the document is kept (the browser's store) is
 // project/autosave.ts's: it tells this module how to save and read (`keeper`).
 import type { EngineClient } from "../page/engine-client";
-import type { View } from "../view";
+import type { View } from "../view/view";
 import { newProject } from "../project/document";
 import type { Experiment, Project } from "../project/document";
 import { newId } from "../project/store";

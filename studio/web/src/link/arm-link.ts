@@ -8,41 +8,26 @@
 //
 // It speaks to the page in messages (engine/messages.ts: arm, arm_status, arm_reply, arm_program,
 // arm_stopped), as the engine's worker does.
+//
+// Below it, link/arm-lines.ts: the serial line, its lines read and each reply matched to its line.
 import type { NanoConfig } from "../engine/messages";
-import { type SerialLike, deviceClock, sleepOn } from "./ports";
-
-type Parsed =
-  | { kind: "reply"; code: number }
-  | { kind: "status"; state: string; steps: number[]; angles: number[]; gripper: number; free: number; coils: boolean; warning: number }
-  | { kind: "info"; version: string; protocol: number; joints: number; robot: string; checksum: number | null; warning: number }
-  | { kind: "other" };
+import { ArmLines, type Parsed, REPLY_MS, type ReadLine } from "./arm-lines";
+import type { SerialLike } from "./ports";
 
 /** What the arm needs of the engine (the worker): a line from the arm read by the core's
  * parsers, with the arm's pose when it is a status report (one round trip); the model's
  * prediction of a line; what a reply means (the core's status table, held by the page). */
 export interface ArmEngine {
-  read(line: string): Promise<{ parsed: Parsed; pose: { q: number[]; frames: number[][]; line: string } | null }>;
+  read(line: string): Promise<ReadLine>;
   predict(history: string[], line: string): Promise<{ reply: string; steps: number[] | null; meaning: string; seconds?: number }>;
   meaning(reply: string): string;
   /** The robot shown as a Nano's configuration, or why a Nano cannot drive it. */
   config(): Promise<NanoConfig | { error: string }>;
 }
 
-const BAUD = 115200;
 const POLL_MS = 1000 / 15; // status polls (every 10 ms for a second after a stop)
 const SILENT_MS = 1500; // no report for this long: the arm stopped answering
 const GRACE_MS = 500; // ... and still none this much later by the page's clock
-const REPLY_MS = 5000;
-const BANNER_MS = 6000; // a Nano resets when its port opens: its bootloader waits first
-
-/** A line written to the arm, waiting for its reply (and an `I` for its banner first). */
-interface Outstanding {
-  line: string;
-  banner: boolean; // an `I` whose banner has not come yet
-  onBanner?: (p: Parsed & { line: string }) => void;
-  onReply?: (p: Parsed & { line: string }) => void;
-}
-
 export class ArmLink {
   label = "";
   connected = false;
@@ -50,33 +35,15 @@ export class ArmLink {
    * configure() makes it this one. */
   configurable = false;
   private portLabel = "";
-  private port: SerialLike | null = null;
-  private writer: WritableStreamDefaultWriter<Uint8Array> | null = null;
-  private reader: ReadableStreamDefaultReader<Uint8Array> | null = null;
-  // The lines written and not yet answered, oldest first. The arm answers every line once, in
-  // order, so each reply belongs to the oldest; an `I`'s banner comes right before its reply.
-  // A waiter gone (timed out) leaves its line here, so a late reply is still its own.
-  private unanswered: Outstanding[] = [];
+  private lines: ArmLines;
   private queue: Promise<unknown> = Promise.resolve();
   // the arm's time: waits for its answers count in it (the virtual Nano's runs slow on a busy machine)
-  private now: () => number = () => performance.now();
+  private now = () => this.lines.now();
   private pollTimer: ReturnType<typeof setTimeout> | null = null;
   // The arm's time of the oldest `?` no report has answered yet (null: none). Silence is a `?`
   // unanswered: a page too busy to ask for reports (its poll late) does not make the arm silent.
   private askedAt: number | null = null;
-  private reading = 0; // lines in the engine's hands
   private silentSince: number | null = null; // the page's time silence was first seen
-  // The last events of the link (kind: "sent", "line" (heard), "?", "lost"; the arm's clock, the
-  // page's clock, a word), told with a lost link: what the page sent and heard and when, for
-  // whoever finds out why.
-  // (the `?`s apart: a few hundred of them would hide the last lines heard)
-  private trace: [string, number, number, string][] = [];
-  private polls: [string, number, number, string][] = [];
-  private note(kind: string, what = ""): void {
-    const events = kind === "?" ? this.polls : this.trace;
-    events.push([kind, Math.round(this.now()), Math.round(performance.now()), what]);
-    if (events.length > 32) events.shift();
-  }
   private lastAsk = -Infinity; // the arm's time of the last `?`
   private lastPoll = 0;
   private fastUntil = 0;
@@ -88,25 +55,22 @@ export class ArmLink {
   private programRunning = false;
   private programStop = false;
 
-  constructor(private engine: ArmEngine, private emit: (m: Record<string, unknown>) => void) {}
+  constructor(private engine: ArmEngine, private emit: (m: Record<string, unknown>) => void) {
+    this.lines = new ArmLines((line) => engine.read(line), (p, pose, line) => this.onStatus(p, pose, line), (why) => this.lost(why));
+  }
 
   /** Opens the port, checks the banner names `robot`, starts the reports. */
   async connect(port: SerialLike, portLabel: string, robot: string): Promise<void> {
     this.emit({ type: "arm", connected: false, connecting: true, port: portLabel });
     try {
-      await port.open({ baudRate: BAUD });
+      await this.lines.openPort(port);
     } catch (e) {
       this.emit({ type: "arm", connected: false, port: portLabel, error: `cannot open ${portLabel}: ${(e as Error).message}` });
       return;
     }
-    this.port = port;
-    this.now = deviceClock(port);
-    this.writer = port.writable!.getWriter();
-    this.reader = port.readable!.getReader();
-    this.readLoop();
     let info: Parsed & { line: string };
     try {
-      info = await this.banner();
+      info = await this.lines.banner();
     } catch (e) {
       await this.close();
       this.emit({ type: "arm", connected: false, port: portLabel, error: (e as Error).message });
@@ -160,7 +124,7 @@ export class ArmLink {
    * it is this robot's (or the panel says why not, and offers to configure it). */
   recheck(robot: string): Promise<void> {
     return this.serial(async () => {
-      if (!this.port || (!this.connected && !this.configurable)) return;
+      if (!this.lines.open || (!this.connected && !this.configurable)) return;
       if (this.connected) {
         this.connected = false; // no polls and no lines meanwhile: its banner is not this robot's yet
         this.configurable = true;
@@ -169,7 +133,7 @@ export class ArmLink {
       }
       let info: Parsed & { line: string };
       try {
-        info = await this.banner();
+        info = await this.lines.banner();
       } catch (e) {
         this.emit({ type: "arm", connected: false, port: this.portLabel, configurable: true, error: (e as Error).message });
         return;
@@ -182,7 +146,7 @@ export class ArmLink {
    * checks the banner: on the same checksum the arm is driven as this robot. */
   configure(): Promise<void> {
     return this.serial(async () => {
-      if (!this.port) throw new Error("no arm: Connect first");
+      if (!this.lines.open) throw new Error("no arm: Connect first");
       const label = this.portLabel || "the arm";
       const config = await this.engine.config();
       if ("error" in config) {
@@ -190,7 +154,7 @@ export class ArmLink {
         return;
       }
       if (this.connected) {
-        await this.write("!"); // whatever it was doing: it becomes another arm
+        await this.lines.write("!"); // whatever it was doing: it becomes another arm
         this.connected = false;
         if (this.pollTimer !== null) clearTimeout(this.pollTimer);
         this.pollTimer = null;
@@ -201,7 +165,7 @@ export class ArmLink {
         this.emit({ type: "arm", connected: false, port: label, configuring: { done: k, total: config.lines.length, name: config.name } });
         let reply: string;
         try {
-          reply = await this.request(line);
+          reply = await this.lines.request(line);
         } catch (e) {
           this.emit({ type: "arm", connected: false, port: label, configurable: true, error: `configuring stopped: ${(e as Error).message}` });
           return;
@@ -214,7 +178,7 @@ export class ArmLink {
       }
       let info: Parsed & { line: string };
       try {
-        info = await this.banner();
+        info = await this.lines.banner();
       } catch (e) {
         this.emit({ type: "arm", connected: false, port: label, configurable: true, error: (e as Error).message });
         return;
@@ -229,99 +193,23 @@ export class ArmLink {
     });
   }
 
-  // `I` until the banner comes (the firmware may still be starting). An `I` asked again
-  // while the first is unanswered is answered too: its banner and reply are its own.
-  private async banner(): Promise<Parsed & { line: string }> {
-    const end = this.now() + BANNER_MS;
-    let resolve: (p: Parsed & { line: string }) => void = () => undefined;
-    const got = new Promise<Parsed & { line: string }>((r) => (resolve = r));
-    while (this.now() < end) {
-      await this.writeLine("I", { onBanner: resolve });
-      const r = await Promise.race([got, sleepOn(this.now, 600).then(() => null)]);
-      if (r) return r;
+  // A status report: the arm's state and pose, to the page; an arm at rest ends the waits for it.
+  private onStatus(p: Parsed & { kind: "status" }, pose: NonNullable<ReadLine["pose"]>, line: string): void {
+    this.askedAt = null; // (every `?` before it is answered)
+    this.state = p.state;
+    this.lastSteps = p.steps;
+    if (p.warning === 14) return this.lost("the arm reset (its settings were reset to their defaults)");
+    const msg: Record<string, unknown> = { type: "arm_status", state: p.state, steps: p.steps, angles: p.angles,
+      q: pose.q, frames: pose.frames, text: line, rtt_ms: performance.now() - this.lastPoll,
+      sent_ms: performance.timeOrigin + performance.now() };
+    if (this.stopSentAt && p.state === "Idle") {
+      msg.stop_to_idle_ms = performance.now() - this.stopSentAt;
+      this.stopSentAt = 0;
+      // After a stop the commanded angles are those of the steps reached.
+      this.history = [pose.line];
     }
-    throw new Error(`no answer to I within ${BANNER_MS / 1000} s: is it a Nano with Articula's firmware, at ${BAUD} baud?`);
-  }
-
-  // A line to the arm, remembered until its reply comes.
-  private async writeLine(line: string, waiter: Pick<Outstanding, "onBanner" | "onReply">): Promise<Outstanding> {
-    const entry: Outstanding = { line, banner: /^I\s*(#.*)?$/.test(line), ...waiter };
-    this.unanswered.push(entry);
-    this.note("sent", line.slice(0, 24));
-    await this.write(line + "\n");
-    return entry;
-  }
-
-  private async write(text: string): Promise<void> {
-    if (!this.writer) throw new Error("not connected");
-    await this.writer.write(new TextEncoder().encode(text));
-  }
-
-  private async readLoop(): Promise<void> {
-    let buf = "";
-    const reader = this.reader!;
-    try {
-      for (;;) {
-        const { value, done } = await reader.read();
-        if (done) break;
-        buf += new TextDecoder().decode(value);
-        let nl: number;
-        while ((nl = buf.indexOf("\n")) >= 0) {
-          const line = buf.slice(0, nl).replace(/\r$/, "");
-          buf = buf.slice(nl + 1);
-          if (line) await this.onLine(line);
-        }
-      }
-      if (this.connected || this.configurable) this.lost("the port closed");
-    } catch (e) {
-      if (this.connected || this.configurable) this.lost(`the port failed: ${(e as Error).message}`);
-    }
-  }
-
-  private async onLine(line: string): Promise<void> {
-    // The engine reads it in its worker, which a busy page can keep waiting: while it does, the
-    // arm is not silent (it answered).
-    this.note("line", line.slice(0, 24));
-    this.reading++;
-    let read: Awaited<ReturnType<ArmEngine["read"]>>;
-    try {
-      read = await this.engine.read(line);
-    } finally {
-      this.reading--;
-    }
-    const { parsed: p, pose } = read;
-    if (p.kind === "status" && pose) {
-      this.askedAt = null; // (every `?` before it is answered)
-      this.state = p.state;
-      this.lastSteps = p.steps;
-      if (p.warning === 14) return this.lost("the arm reset (its settings were reset to their defaults)");
-      const msg: Record<string, unknown> = { type: "arm_status", state: p.state, steps: p.steps, angles: p.angles,
-        q: pose.q, frames: pose.frames, text: line, rtt_ms: performance.now() - this.lastPoll,
-        sent_ms: performance.timeOrigin + performance.now() };
-      if (this.stopSentAt && p.state === "Idle") {
-        msg.stop_to_idle_ms = performance.now() - this.stopSentAt;
-        this.stopSentAt = 0;
-        // After a stop the commanded angles are those of the steps reached.
-        if (pose) this.history = [pose.line];
-      }
-      if (p.state === "Idle") for (const w of this.idleWaiters.splice(0)) w();
-      this.emit(msg);
-    } else if (p.kind === "info") {
-      // The answer to the oldest `I` still waiting for its banner (the firmware sends a
-      // banner only when asked: a banner is never a reset).
-      const asked = this.unanswered.find((o) => o.banner);
-      if (!asked) return;
-      asked.banner = false;
-      const w = asked.onBanner;
-      asked.onBanner = undefined;
-      w?.({ ...p, line });
-    } else if (p.kind === "reply") {
-      // An `I` is answered by its banner first: one still waiting for its banner was lost
-      // (sent while the Nano was starting), and this reply is a later line's.
-      while (this.unanswered.length && this.unanswered[0].banner) this.unanswered.shift();
-      const answered = this.unanswered.shift();
-      answered?.onReply?.({ ...p, line });
-    }
+    if (p.state === "Idle") for (const w of this.idleWaiters.splice(0)) w();
+    this.emit(msg);
   }
 
   // `?` at 15 Hz (100 Hz for a second after a stop); a `?` unanswered for 1.5 s is a lost arm.
@@ -331,7 +219,7 @@ export class ArmLink {
     // Silence is judged twice, half a second of the page's time apart: a page stalled by a
     // busy machine has the arm's answers still in its queue when it wakes (a report in the
     // engine's hands is not silence either: the arm answered).
-    if (this.askedAt !== null && this.now() - this.askedAt > SILENT_MS && this.reading === 0) {
+    if (this.askedAt !== null && this.now() - this.askedAt > SILENT_MS && this.lines.reading === 0) {
       if (this.silentSince === null) this.silentSince = now;
       else if (now - this.silentSince > GRACE_MS) return this.lost(`no status report for ${SILENT_MS / 1000} s`);
     } else {
@@ -344,9 +232,9 @@ export class ArmLink {
     if (fast || this.now() - this.lastAsk >= POLL_MS / 2) {
       this.lastPoll = now;
       this.lastAsk = this.now();
-      this.note("?", String(this.reading));
+      this.lines.note("?", String(this.lines.reading));
       if (this.askedAt === null) this.askedAt = this.now();
-      this.write("?").catch((e) => this.lost(`cannot write: ${(e as Error).message}`));
+      this.lines.write("?").catch((e) => this.lost(`cannot write: ${(e as Error).message}`));
     }
     this.pollTimer = setTimeout(() => this.poll(), fast ? 10 : POLL_MS);
   }
@@ -356,8 +244,8 @@ export class ArmLink {
     this.connected = false;
     this.configurable = false;
     this.programStop = true;
-    this.note("lost", why);
-    const trace = [...this.trace.splice(0), ...this.polls.splice(0)].sort((a, b) => a[2] - b[2]);
+    this.lines.note("lost", why);
+    const trace = this.lines.takeTrace();
     this.emit({ type: "arm", connected: false, error: why, lost: true, trace });
     this.close();
   }
@@ -389,25 +277,12 @@ export class ArmLink {
     if (line.trim() === "!") {
       // A program's stop: the byte alone, no LF, and no reply to wait for (docs/protocol.md);
       // the next line is held by the arm until it is at rest.
-      await this.write("!");
+      await this.lines.write("!");
       return "ok";
     }
-    const reply = await this.request(line, REPLY_MS + seconds * 1000);
+    const reply = await this.lines.request(line, REPLY_MS + seconds * 1000);
     if (reply === "ok") this.history.push(line);
     return reply;
-  }
-
-  // A line and its reply (ok or error:N), on an open port.
-  private async request(line: string, ms = REPLY_MS): Promise<string> {
-    let resolve: (p: Parsed & { line: string }) => void = () => undefined;
-    const got = new Promise<Parsed & { line: string }>((r) => (resolve = r));
-    const entry = await this.writeLine(line, { onReply: resolve });
-    const r = await Promise.race([got, sleepOn(this.now, ms).then(() => null)]);
-    if (!r) {
-      entry.onReply = undefined; // a late reply is still this line's
-      throw new Error(`no reply to '${line}' within ${(ms / 1000).toFixed(ms % 1000 ? 1 : 0)} s`);
-    }
-    return r.line;
   }
 
   /** One line for the Experiment panel: its reply beside the model's, then (accepted) the arm
@@ -501,7 +376,7 @@ export class ArmLink {
     }
     this.stopSentAt = performance.now();
     this.fastUntil = this.stopSentAt + 1000;
-    await this.write("!").catch((e) => this.lost(`cannot write: ${(e as Error).message}`));
+    await this.lines.write("!").catch((e) => this.lost(`cannot write: ${(e as Error).message}`));
     this.emit({ type: "arm_stopped" });
   }
 
@@ -514,29 +389,9 @@ export class ArmLink {
   }
 
   private async close(): Promise<void> {
-    this.unanswered = [];
     if (this.pollTimer !== null) clearTimeout(this.pollTimer);
     this.pollTimer = null;
-    const port = this.port;
-    this.port = null;
-    try {
-      await this.reader?.cancel();
-    } catch {
-      /* already gone */
-    }
-    try {
-      this.reader?.releaseLock();
-      this.writer?.releaseLock();
-    } catch {
-      /* already gone */
-    }
-    this.reader = null;
-    this.writer = null;
-    try {
-      await port?.close();
-    } catch {
-      /* a vanished port cannot be closed */
-    }
+    await this.lines.close();
   }
 }
 

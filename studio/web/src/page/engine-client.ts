@@ -41,7 +41,7 @@ export class EngineClient {
   private drawnSeqs: number[] = [];
   private inFlight = 0;
   /** Waiting to go, in order: `counted` ones are requests (their reply frees a place in flight). */
-  private waitingToGo: { msg: Msg; counted: boolean }[] = [];
+  private waitingToGo: { msg: Msg; counted: boolean; at: number }[] = [];
   /** Per key (keyOf), the seq of the newest request; and the newest seq the engine answered. */
   private lastSeq = new Map<string, number>();
   private answeredSeq = 0;
@@ -63,7 +63,7 @@ export class EngineClient {
   send(msg: Msg, transfer: Transferable[] = []): void {
     if (!this.ready) return;
     if (this.waitingToGo.length === 0) this.worker.postMessage(msg, transfer);
-    else this.waitingToGo.push({ msg, counted: false });
+    else this.waitingToGo.push({ msg, counted: false, at: performance.now() });
   }
 
   /** For tests (window.articula.engineSend): a message as the page would post it. */
@@ -84,7 +84,7 @@ export class EngineClient {
       this.sentAt.delete(last.msg.seq as number);
       last.msg = msg;
     } else {
-      this.waitingToGo.push({ msg, counted: true });
+      this.waitingToGo.push({ msg, counted: true, at: performance.now() });
     }
     this.pump();
   }
@@ -140,14 +140,18 @@ export class EngineClient {
       this.calls.set(id, { resolve, reject, type: String(msg.type), at: performance.now() });
       // (behind the edits still waiting, as send)
       if (this.waitingToGo.length === 0) this.worker.postMessage({ ...msg, id });
-      else this.waitingToGo.push({ msg: { ...msg, id }, counted: false });
+      else this.waitingToGo.push({ msg: { ...msg, id }, counted: false, at: performance.now() });
     });
   }
 
-  /** The requests not answered yet: their type and how long they have waited, ms (for the hook). */
+  /** The requests not answered yet, and the messages not sent yet (behind `inFlight` pose
+   * requests): their type and how long they have waited, ms (for the hook: what a stuck page
+   * waits for). */
   waiting(): { type: string; ms: number }[] {
     const now = performance.now();
-    return [...this.calls.values()].map((c) => ({ type: c.type, ms: Math.round(now - c.at) }));
+    const unsent = this.waitingToGo.filter((w) => w.msg.id === undefined)
+      .map((w) => ({ type: `${String(w.msg.type)} (not sent: ${this.inFlight} in flight)`, ms: Math.round(now - w.at) }));
+    return [...[...this.calls.values()].map((c) => ({ type: c.type, ms: Math.round(now - c.at) })), ...unsent];
   }
 
   /** What a reply ("ok", "error:9") means, from the core's status table. */

@@ -1,40 +1,17 @@
 // The 3D view: one three.js scene graph where each DH frame is a Group whose children are
 // that frame's shapes and axes, so a pose from the engine is one matrix per frame (the page
-// computes no kinematics). Z is up, lengths are millimetres, as in the robot files.
+// computes no kinematics). Z is up, lengths are millimetres, as in the robot files. Beside it
+// in view/: the shapes (shapes.ts), the physics scene's objects (objects.ts), what is laid over
+// the world (overlays.ts: paper, ink, paths, a goal) and the camera (camera.ts).
 import * as THREE from "three";
 import { OrbitControls } from "three/examples/jsm/controls/OrbitControls.js";
 import { TransformControls } from "three/examples/jsm/controls/TransformControls.js";
-import { STLLoader } from "three/examples/jsm/loaders/STLLoader.js";
-import { OBJLoader } from "three/examples/jsm/loaders/OBJLoader.js";
-import type { Flat4x4, PhysicsMsg, PoseMsg, RobotMsg, SceneObjectInfo, Shape } from "./engine/messages";
+import type { Flat4x4, PhysicsMsg, PoseMsg, RobotMsg, SceneObjectInfo } from "../engine/messages";
+import { cameraStateOf, frameArm, lookFrom, onScreen, orbitKey, viewpointOf } from "./camera";
+import { SceneObjects } from "./objects";
+import { Overlays } from "./overlays";
+import { LINK_COLORS, label, setMatrix, shapeObject } from "./shapes";
 
-const LINK_COLORS = [0x3d5a80, 0xee6c4d, 0x98c1d9, 0xe0a458, 0x6d9f71, 0xb56576, 0x8d99ae];
-
-export function setMatrix(obj: THREE.Object3D, m: Flat4x4): void {
-  obj.matrix.set(m[0], m[1], m[2], m[3], m[4], m[5], m[6], m[7], m[8], m[9], m[10], m[11], m[12], m[13], m[14], m[15]);
-  obj.matrixWorldNeedsUpdate = true;
-}
-
-function label(text: string, color = "#1d3557"): THREE.Sprite {
-  const c = document.createElement("canvas");
-  c.width = c.height = 64;
-  const g = c.getContext("2d")!;
-  g.fillStyle = "rgba(255,255,255,0.92)";
-  g.beginPath();
-  g.arc(32, 32, 26, 0, Math.PI * 2);
-  g.fill();
-  g.strokeStyle = color;
-  g.lineWidth = 4;
-  g.stroke();
-  g.fillStyle = color;
-  g.font = "bold 30px system-ui, sans-serif";
-  g.textAlign = "center";
-  g.textBaseline = "middle";
-  g.fillText(text, 32, 34);
-  const s = new THREE.Sprite(new THREE.SpriteMaterial({ map: new THREE.CanvasTexture(c), depthTest: false }));
-  s.renderOrder = 10;
-  return s;
-}
 
 export interface TargetChange {
   xyz: number[];
@@ -62,21 +39,14 @@ export class View {
   onTarget: (t: TargetChange, final: boolean) => void = () => {};
   onFrame: (now: number) => void = () => {};
   private arm = new THREE.Group();
-  // The physics scene's objects by name, and what flashes (an event names it) until when.
-  private objects = new Map<string, THREE.Mesh>();
-  private objectGroup = new THREE.Group();
-  private goalGroup = new THREE.Group();
-  private flashes = new Map<THREE.Mesh, number>();
-  private raycaster = new THREE.Raycaster();
-  private dragPlane = new THREE.Plane();
-  private dragging: { name: string; offset: THREE.Vector3 } | null = null;
+  // The physics scene's objects (view/objects.ts) and what is laid over the world: the paper,
+  // the ink, the paths, a goal (view/overlays.ts).
+  private objects: SceneObjects;
+  private overlays = new Overlays(() => (this.dirty = true), () => this.reach);
   onDrag: (object: string, target: number[] | null) => void = () => {};
   /** The user moved the camera (an orbit, a zoom, a pan ended). */
   onViewChange: () => void = () => {};
   private ghostArm = new THREE.Group();
-  // A program's predicted tool path (every step) and the straight lines it asks for.
-  private paths = new THREE.Group();
-  private drawing = new THREE.Group();
   private grid: THREE.GridHelper | null = null;
   // From the last frame's origin to the tool point: the tool offset, drawn for every robot.
   private toolLine = new THREE.Line(new THREE.BufferGeometry(), new THREE.LineBasicMaterial({ color: 0x9a3412 }));
@@ -112,6 +82,9 @@ export class View {
   constructor(readonly host: HTMLElement) {
     // A software renderer (SwiftShader, llvmpipe: no GPU) draws with MSAA several times
     // slower: it gets no antialiasing, and a smaller drawing buffer when it still lags.
+    // ?quality=high: full resolution and antialiasing whatever draws; ?quality=low: a third of
+    // the screen's resolution, no antialiasing (a slow computer; a software renderer's frame then
+    // costs a quarter of its CPU time).
     this.software = View.softwareRenderer();
     const q = new URLSearchParams(location.search).get("quality");
     this.canvas = document.createElement("canvas");
@@ -120,7 +93,7 @@ export class View {
     let renderer: THREE.WebGLRenderer | null = null;
     try {
       renderer = new THREE.WebGLRenderer({ canvas: this.canvas, antialias: q ? q === "high" : !this.software, preserveDrawingBuffer: true });
-      renderer.setPixelRatio(Math.min(window.devicePixelRatio, 2) * (this.software && q !== "high" ? 0.6 : 1));
+      renderer.setPixelRatio(Math.min(window.devicePixelRatio, 2) * (q === "low" ? 0.35 : this.software && q !== "high" ? 0.6 : 1));
       renderer.outputColorSpace = THREE.SRGBColorSpace;
     } catch {
       const note = document.createElement("div");
@@ -157,7 +130,10 @@ export class View {
     );
     this.ground.position.z = -0.5;
     this.scene.add(this.ground);
-    this.scene.add(this.arm, this.ghostArm, this.objectGroup, this.goalGroup, this.liveArm, this.paths, this.drawing);
+    this.objects = new SceneObjects(this.camera, this.canvas, this.controls, () => (this.dirty = true),
+      (object, target) => this.onDrag(object, target));
+    const o = this.overlays;
+    this.scene.add(this.arm, this.ghostArm, this.objects.group, o.goal, this.liveArm, o.paths, o.drawing);
 
     // The IK target: a ball with its own axes, moved by the gizmo.
     const ball = new THREE.Mesh(
@@ -184,12 +160,6 @@ export class View {
 
     // the view follows its box: a window resized, a tablet turned, the layout changed (layout.ts)
     new ResizeObserver(() => this.resize()).observe(host);
-    // Dragging an object of the physics scene: a press on a movable one grabs it, the pointer
-    // pulls it in the plane facing the camera through where it was grabbed.
-    const el = this.canvas;
-    el.addEventListener("pointerdown", (e) => this.grab(e), { capture: true });
-    el.addEventListener("pointermove", (e) => this.pull(e));
-    window.addEventListener("pointerup", () => this.letGo());
     this.controls.addEventListener("change", () => (this.dirty = true));
     this.controls.addEventListener("end", () => this.onViewChange());
     this.gizmo.addEventListener("change", () => (this.dirty = true));
@@ -210,16 +180,7 @@ export class View {
 
   private draw(now: number): void {
     const moved = this.controls.update();
-    for (const [m, until] of this.flashes) {
-      const mat = m.material as THREE.MeshStandardMaterial;
-      if (now > until) {
-        mat.emissive.setHex(0x000000);
-        this.flashes.delete(m);
-      } else {
-        mat.emissive.setHex(Math.floor(now / 120) % 2 ? 0xff3b30 : 0x551100);
-      }
-      this.dirty = true;
-    }
+    if (this.objects.tick(now)) this.dirty = true;
     if (!(this.dirty || moved || this.continuous)) return;
     this.dirty = false;
     this.renderer!.render(this.scene, this.camera);
@@ -287,7 +248,7 @@ export class View {
       const color = LINK_COLORS[li % LINK_COLORS.length];
       const mat = new THREE.MeshStandardMaterial({ color, roughness: 0.45, metalness: 0.15 });
       for (const s of link.shapes) {
-        loading.push(this.shape(s, mat).then((m) => {
+        loading.push(shapeObject(s, mat).then((m) => {
           if (!m) return;
           m.name = `link ${link.frame}`;
           this.frames[link.frame].add(m);
@@ -341,79 +302,31 @@ export class View {
     return Promise.all(loading).then(() => undefined);
   }
 
-  private async shape(s: Shape, mat: THREE.Material): Promise<THREE.Object3D | null> {
-    let geo: THREE.BufferGeometry | null = null;
-    const [a, b, c] = s.size;
-    switch (s.type) {
-      case "box":
-        geo = new THREE.BoxGeometry(a, b, c);
-        break;
-      case "cylinder":
-        geo = new THREE.CylinderGeometry(a, a, b, 40).rotateX(Math.PI / 2);
-        break;
-      case "capsule":
-        geo = new THREE.CapsuleGeometry(a, b, 8, 24).rotateX(Math.PI / 2);
-        break;
-      case "sphere":
-        geo = new THREE.SphereGeometry(a, 32, 20);
-        break;
-      case "mesh":
-        geo = await this.mesh(s);
-        break;
-    }
-    if (!geo) return null;
-    const m = new THREE.Mesh(geo, mat);
-    m.matrixAutoUpdate = false;
-    setMatrix(m, s.pose);
-    return m;
-  }
+  // ---- what is laid over the world (view/overlays.ts)
 
-  private async mesh(s: Shape): Promise<THREE.BufferGeometry | null> {  // s.url carries the token
-    try {
-      const res = await fetch(s.url!);
-      if (!res.ok) return null;
-      if (s.format === "stl") {
-        const g = new STLLoader().parse(await res.arrayBuffer());
-        g.computeVertexNormals();
-        return g;
-      }
-      const obj = new OBJLoader().parse(await res.text());
-      let g: THREE.BufferGeometry | null = null;
-      obj.traverse((o) => {
-        if (!g && (o as THREE.Mesh).isMesh) g = (o as THREE.Mesh).geometry as THREE.BufferGeometry;
-      });
-      (g as THREE.BufferGeometry | null)?.computeVertexNormals();
-      return g;
-    } catch {
-      return null;
-    }
-  }
-
-  /** A drawing on the paper at height z (mm): its strokes (blue) and the line the arm will
-   * draw, the pen's tip at every step (orange), each a list of [x, y] polylines; nothing:
-   * cleared. */
   showDrawing(ideal: number[][][], ink: number[][][], z: number): void {
-    for (const o of [...this.drawing.children]) {
-      if (o.name === "sheet" || o.name === "ink") continue;
-      o.removeFromParent();
-      ((o as THREE.LineSegments).geometry as THREE.BufferGeometry).dispose();
-    }
-    const segments = (strokes: number[][][], dz: number) => {
-      const v: number[] = [];
-      for (const s of strokes) for (let i = 1; i < s.length; i++) v.push(s[i - 1][0], s[i - 1][1], z + dz, s[i][0], s[i][1], z + dz);
-      return v;
-    };
-    for (const [strokes, color, name, dz] of [[ideal, 0x1d4ed8, "drawing", 1.2], [ink, 0xc2410c, "drawing as the arm draws it", 1.6]] as
-      [number[][][], number, string, number][]) {
-      const v = segments(strokes, dz);
-      if (!v.length) continue;
-      const g = new THREE.BufferGeometry();
-      g.setAttribute("position", new THREE.Float32BufferAttribute(v, 3));
-      const lines = new THREE.LineSegments(g, new THREE.LineBasicMaterial({ color }));
-      lines.name = name;
-      this.drawing.add(lines);
-    }
-    this.dirty = true;
+    this.overlays.showDrawing(ideal, ink, z);
+  }
+
+  showSheet(area: number[] | null, z: number): void {
+    this.overlays.showSheet(area, z);
+  }
+
+  showInk(strokes: number[][][], z: number): void {
+    this.overlays.showInk(strokes, z);
+  }
+
+  showPaths(predicted: number[], lines: number[][]): void {
+    this.overlays.showPaths(predicted, lines);
+  }
+
+  showGoal(parts: Parameters<Overlays["showGoal"]>[0]): void {
+    this.overlays.showGoal(parts);
+  }
+
+  /** The goal's parts drawn (for the hook): reach balls and places. */
+  goalShown(): number {
+    return this.overlays.goalParts();
   }
 
   /** A pen in the gripper, its tip `mm` below the tool point; 0: none. */
@@ -424,79 +337,7 @@ export class View {
     this.pen.scale.set(4, 4, Math.max(this.penMm, 1));
     this.pen.position.set(at.x, at.y, at.z - this.penMm / 2);
     // the program's paths are then the pen tip's: the tool point's, the pen's length lower
-    this.paths.position.z = -this.penMm;
-    this.dirty = true;
-  }
-
-  /** A sheet of paper on the table, its corners [min_x, min_y, max_x, max_y] mm, at height z;
-   * null: none. */
-  showSheet(area: number[] | null, z: number): void {
-    const old = this.drawing.getObjectByName("sheet") as THREE.Mesh | undefined;
-    if (old) {
-      old.removeFromParent();
-      old.geometry.dispose();
-      (old.material as THREE.Material).dispose();
-    }
-    if (area) {
-      const [x0, y0, x1, y1] = area;
-      const sheet = new THREE.Mesh(new THREE.PlaneGeometry(x1 - x0, y1 - y0),
-        new THREE.MeshStandardMaterial({ color: 0xfdfdf8, roughness: 1, metalness: 0, polygonOffset: true, polygonOffsetFactor: -1,
-          polygonOffsetUnits: -1 }));
-      sheet.position.set((x0 + x1) / 2, (y0 + y1) / 2, z + 0.2); // above the table, below the lines
-      sheet.name = "sheet";
-      sheet.receiveShadow = true;
-      this.drawing.add(sheet);
-    }
-    this.dirty = true;
-  }
-
-  /** Ink on the paper at height z: what the pen left as the arm moved (the virtual Nano's steps,
-   * the physics), a list of [x, y] polylines; nothing: cleared. */
-  showInk(strokes: number[][][], z: number): void {
-    const old = this.drawing.getObjectByName("ink") as THREE.LineSegments | undefined;
-    if (old) {
-      old.removeFromParent();
-      old.geometry.dispose();
-    }
-    const v: number[] = [];
-    for (const st of strokes) {
-      if (st.length === 1) v.push(st[0][0], st[0][1], z + 2, st[0][0] + 0.3, st[0][1], z + 2);
-      for (let i = 1; i < st.length; i++) v.push(st[i - 1][0], st[i - 1][1], z + 2, st[i][0], st[i][1], z + 2);
-    }
-    if (v.length) {
-      const g = new THREE.BufferGeometry();
-      g.setAttribute("position", new THREE.Float32BufferAttribute(v, 3));
-      const ink = new THREE.LineSegments(g, new THREE.LineBasicMaterial({ color: 0x111827 }));
-      ink.name = "ink";
-      this.drawing.add(ink);
-    }
-    this.dirty = true;
-  }
-
-  /** The tool's predicted path, every step (x y z after x y z, mm; the stairs the steps make),
-   * and the straight lines a program asks for (each [x0, y0, z0, x1, y1, z1]), drawn over
-   * each other; nothing: both cleared. With a pen held (setPen) they are drawn where its tip
-   * goes. */
-  showPaths(predicted: number[], lines: number[][]): void {
-    for (const o of [...this.paths.children]) {
-      o.removeFromParent();
-      ((o as THREE.Line).geometry as THREE.BufferGeometry).dispose();
-    }
-    if (predicted.length >= 6) {
-      const g = new THREE.BufferGeometry();
-      g.setAttribute("position", new THREE.Float32BufferAttribute(predicted, 3));
-      const path = new THREE.Line(g, new THREE.LineBasicMaterial({ color: 0xc2410c }));
-      path.name = "predicted path";
-      this.paths.add(path);
-    }
-    if (lines.length) {
-      const g = new THREE.BufferGeometry();
-      g.setAttribute("position", new THREE.Float32BufferAttribute(lines.flat(), 3));
-      const ideal = new THREE.LineSegments(g, new THREE.LineDashedMaterial({ color: 0x1d4ed8, dashSize: this.reach * 0.012, gapSize: this.reach * 0.008 }));
-      ideal.computeLineDistances();
-      ideal.name = "ideal lines";
-      this.paths.add(ideal);
-    }
+    this.overlays.paths.position.z = -this.penMm;
     this.dirty = true;
   }
 
@@ -533,138 +374,30 @@ export class View {
     this.axes.forEach((a) => (a.visible = on));
   }
 
-  // ---- an exercise's goal: where the tool must go (a ball of the tolerance, numbered) and where
-  // an object must end (a see-through box), drawn faintly in every view
-
-  showGoal(parts: ({ kind: "reach"; xyz: number[]; tolerance_mm: number } | { kind: "object"; min: number[]; max: number[] })[]): void {
-    for (const o of [...this.goalGroup.children]) o.removeFromParent();
-    const color = 0x16a34a;
-    let n = 0;
-    for (const p of parts) {
-      const g = new THREE.Group();
-      g.name = "goal";
-      if (p.kind === "reach") {
-        const ball = new THREE.Mesh(new THREE.SphereGeometry(Math.max(p.tolerance_mm, 4), 24, 16),
-          new THREE.MeshBasicMaterial({ color, transparent: true, opacity: 0.35, depthWrite: false }));
-        g.position.set(p.xyz[0], p.xyz[1], p.xyz[2]);
-        g.add(ball);
-        const tag = label(String(++n), "#15803d");
-        tag.scale.setScalar(22);
-        tag.position.set(0, 0, Math.max(p.tolerance_mm, 4) + 14);
-        g.add(tag);
-      } else {
-        const size = [0, 1, 2].map((i) => Math.max(p.max[i] - p.min[i], 1));
-        const geo = new THREE.BoxGeometry(size[0], size[1], size[2]);
-        g.position.set((p.min[0] + p.max[0]) / 2, (p.min[1] + p.max[1]) / 2, (p.min[2] + p.max[2]) / 2);
-        g.add(new THREE.Mesh(geo, new THREE.MeshBasicMaterial({ color, transparent: true, opacity: 0.18, depthWrite: false })));
-        g.add(new THREE.LineSegments(new THREE.EdgesGeometry(geo), new THREE.LineBasicMaterial({ color })));
-        const tag = label("✓", "#15803d");
-        tag.scale.setScalar(22);
-        tag.position.set(0, 0, size[2] / 2 + 16);
-        g.add(tag);
-      }
-      this.goalGroup.add(g);
-    }
-    this.dirty = true;
-  }
-
-  /** The goal's parts drawn (for the hook): reach balls and places. */
-  goalShown(): number {
-    return this.goalGroup.children.length;
-  }
-
-  // ---- the physics scene
+  // ---- the physics scene (view/objects.ts)
 
   setObjects(objects: SceneObjectInfo[]): void {
-    this.objectGroup.clear();
-    this.objects.clear();
-    const colors = [0xe63946, 0x2a9d8f, 0xf4a261, 0x457b9d, 0x8ab17d, 0xe9c46a, 0x9d4edd];
-    objects.forEach((o, i) => {
-      const [a, b, c] = o.size;
-      const geo = o.type === "box" ? new THREE.BoxGeometry(a, b, c)
-        : o.type === "sphere" ? new THREE.SphereGeometry(a, 32, 20)
-        : new THREE.CylinderGeometry(a, a, b, 40).rotateX(Math.PI / 2);
-      const mat = new THREE.MeshStandardMaterial({
-        color: o.movable ? colors[i % colors.length] : 0x8d99ae, roughness: o.movable ? 0.5 : 0.8,
-      });
-      const m = new THREE.Mesh(geo, mat);
-      m.matrixAutoUpdate = false;
-      m.name = o.name;
-      m.userData.movable = o.movable;
-      this.objects.set(o.name, m);
-      this.objectGroup.add(m);
-    });
-    this.dirty = true;
+    this.objects.setObjects(objects);
   }
 
   physics(p: PhysicsMsg): void {
-    for (const o of p.objects ?? []) {
-      const m = this.objects.get(o.name);
-      if (!m) continue;
-      setMatrix(m, o.pose);
-      m.visible = !o.removed;
-    }
-    this.dirty = true;
+    this.objects.physics(p);
   }
 
   // An event names parts ("link 2", "finger left", an object, "ground"): they flash.
   flash(name: string): void {
-    let m: THREE.Object3D | undefined = this.objects.get(name);
+    let m: THREE.Object3D | undefined = this.objects.named(name);
     if (!m) {
       const frame = /^link (\d+)$/.exec(name);
       if (frame) m = this.frames[Number(frame[1])]?.children.find((c) => (c as THREE.Mesh).isMesh);
       else if (name.startsWith("finger")) m = this.fingers[name.endsWith("right") ? 1 : 0];
     }
-    if (m && (m as THREE.Mesh).isMesh) {
-      const mesh = m as THREE.Mesh;
-      if (!this.flashes.has(mesh)) mesh.material = (mesh.material as THREE.Material).clone();
-      this.flashes.set(mesh, performance.now() + 700);
-    }
-  }
-
-  private pointer(e: PointerEvent): THREE.Vector2 {
-    const r = this.canvas.getBoundingClientRect();
-    return new THREE.Vector2(((e.clientX - r.left) / r.width) * 2 - 1, -((e.clientY - r.top) / r.height) * 2 + 1);
-  }
-
-  private grab(e: PointerEvent): void {
-    if (e.button !== 0 || !this.objects.size) return;
-    this.raycaster.setFromCamera(this.pointer(e), this.camera);
-    const hit = this.raycaster.intersectObjects([...this.objects.values()].filter((m) => m.userData.movable && m.visible))[0];
-    if (!hit) return;
-    e.stopImmediatePropagation();
-    this.controls.enabled = false;
-    const normal = this.camera.getWorldDirection(new THREE.Vector3()).negate();
-    this.dragPlane.setFromNormalAndCoplanarPoint(normal, hit.point);
-    const centre = new THREE.Vector3().setFromMatrixPosition(hit.object.matrixWorld);
-    this.dragging = { name: hit.object.name, offset: centre.sub(hit.point) };
-    this.onDrag(hit.object.name, [...hit.point.clone().add(this.dragging.offset).toArray()]);
-  }
-
-  private pull(e: PointerEvent): void {
-    if (!this.dragging) return;
-    this.raycaster.setFromCamera(this.pointer(e), this.camera);
-    const p = new THREE.Vector3();
-    if (this.raycaster.ray.intersectPlane(this.dragPlane, p)) {
-      p.add(this.dragging.offset);
-      this.onDrag(this.dragging.name, [p.x, p.y, p.z]);
-    }
-  }
-
-  private letGo(): void {
-    if (!this.dragging) return;
-    this.onDrag(this.dragging.name, null);
-    this.dragging = null;
-    this.controls.enabled = true;
+    if (m && (m as THREE.Mesh).isMesh) this.objects.flash(m as THREE.Mesh);
   }
 
   // Where an object's centre is on the page (tests drag it).
   objectScreen(name: string): number[] | null {
-    const m = this.objects.get(name);
-    if (!m) return null;
-    const p = new THREE.Vector3().setFromMatrixPosition(m.matrixWorld).project(this.camera);
-    const r = this.canvas.getBoundingClientRect();
-    return [r.left + ((p.x + 1) / 2) * r.width, r.top + ((1 - p.y) / 2) * r.height];
+    return this.objects.objectScreen(name);
   }
 
   // ---- the IK target
@@ -694,47 +427,16 @@ export class View {
     this.gizmo.setMode(mode);
   }
 
-  // ---- the camera
+  // ---- the camera (view/camera.ts)
 
   // Frames the arm: from the front-right, a little above, the whole arm and its reach in view.
   fit(keepDirection = true): void {
-    this.arm.updateMatrixWorld(true);
-    const box = new THREE.Box3().setFromObject(this.arm);
-    if (box.isEmpty()) return;
-    box.expandByPoint(new THREE.Vector3(0, 0, 0));
-    const centre = box.getCenter(new THREE.Vector3());
-    const size = Math.max(box.getSize(new THREE.Vector3()).length(), this.reach * 0.8, 200);
-    const dir = keepDirection ? this.camera.position.clone().sub(this.controls.target).normalize()
-                              : new THREE.Vector3(0.75, -0.95, 0.55).normalize();
-    this.controls.target.copy(centre);
-    const fov = (this.camera.fov * Math.PI) / 180;
-    const dist = (size / 2 / Math.tan(fov / 2)) * (this.camera.aspect < 1 ? 1.2 / this.camera.aspect : 1.05);
-    this.camera.position.copy(centre.clone().add(dir.multiplyScalar(dist)));
-    this.camera.near = size / 100;
-    this.camera.far = size * 40;
-    this.camera.updateProjectionMatrix();
-    this.dirty = true;
+    if (frameArm(this.camera, this.controls, this.arm, this.reach, keepDirection)) this.dirty = true;
   }
 
-  // Arrow keys orbit (left/right about z, up/down in elevation), + and - zoom: the thesis's
-  // keyboard camera.
+  // Arrow keys orbit, + and - zoom (the thesis's keyboard camera).
   key(code: string): boolean {
-    const offset = this.camera.position.clone().sub(this.controls.target);
-    const sph = new THREE.Spherical();
-    // Spherical works about y: turn z-up into y-up and back.
-    const toY = new THREE.Quaternion().setFromUnitVectors(new THREE.Vector3(0, 0, 1), new THREE.Vector3(0, 1, 0));
-    offset.applyQuaternion(toY);
-    sph.setFromVector3(offset);
-    const step = Math.PI / 36;
-    if (code === "ArrowLeft") sph.theta -= step;
-    else if (code === "ArrowRight") sph.theta += step;
-    else if (code === "ArrowUp") sph.phi = Math.max(0.05, sph.phi - step);
-    else if (code === "ArrowDown") sph.phi = Math.min(Math.PI - 0.05, sph.phi + step);
-    else if (code === "Equal" || code === "NumpadAdd") sph.radius *= 0.9;
-    else if (code === "Minus" || code === "NumpadSubtract") sph.radius *= 1.1;
-    else return false;
-    offset.setFromSpherical(sph).applyQuaternion(toY.invert());
-    this.camera.position.copy(this.controls.target).add(offset);
+    if (!orbitKey(this.camera, this.controls, code)) return false;
     this.dirty = true;
     this.onViewChange();
     return true;
@@ -742,27 +444,21 @@ export class View {
 
   /** Where the camera is and what it looks at (mm), for a project to keep. */
   viewpoint(): { eye: number[]; target: number[] } {
-    const r = (v: THREE.Vector3) => [v.x, v.y, v.z].map((x) => Math.round(x * 10) / 10);
-    return { eye: r(this.camera.position), target: r(this.controls.target) };
+    return viewpointOf(this.camera, this.controls);
   }
 
   setViewpoint(v: { eye: number[]; target: number[] }): void {
-    this.camera.position.set(v.eye[0], v.eye[1], v.eye[2]);
-    this.controls.target.set(v.target[0], v.target[1], v.target[2]);
-    this.controls.update();
+    lookFrom(this.camera, this.controls, v);
     this.dirty = true;
   }
 
   cameraState(): { distance: number; azimuth: number } {
-    const d = this.camera.position.clone().sub(this.controls.target);
-    return { distance: d.length(), azimuth: (Math.atan2(d.y, d.x) * 180) / Math.PI };
+    return cameraStateOf(this.camera, this.controls);
   }
 
   // Where the IK target is on the page, CSS pixels (for tests that drag it).
   targetScreen(): number[] {
-    const p = this.target.position.clone().project(this.camera);
-    const r = this.canvas.getBoundingClientRect();
-    return [r.left + ((p.x + 1) / 2) * r.width, r.top + ((1 - p.y) / 2) * r.height];
+    return onScreen(this.camera, this.canvas, this.target.position);
   }
 
   // The share of the drawn pixels that are coloured like the arm (saturated): the scene

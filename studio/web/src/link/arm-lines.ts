@@ -1,0 +1,196 @@
+// The arm's serial line, below the session (link/arm-link.ts): bytes to lines, each line read by
+// the core's parsers through the engine, and each reply matched to the line it answers. The arm
+// answers every line once, in order, so a reply belongs to the oldest line unanswered; an `I`'s
+// banner comes right before its reply. Waits count in the arm's own time (the virtual Nano's
+// runs slow on a busy machine, or fast at the page's speed).
+import { type SerialLike, deviceClock, sleepOn } from "./ports";
+
+export type Parsed =
+  | { kind: "reply"; code: number }
+  | { kind: "status"; state: string; steps: number[]; angles: number[]; gripper: number; free: number; coils: boolean; warning: number }
+  | { kind: "info"; version: string; protocol: number; joints: number; robot: string; checksum: number | null; warning: number }
+  | { kind: "other" };
+
+/** A line the arm sent, as the core read it, with the arm's pose when it is a status report. */
+export type ReadLine = { parsed: Parsed; pose: { q: number[]; frames: number[][]; line: string } | null };
+
+export const BAUD = 115200;
+const BANNER_MS = 6000; // a Nano resets when its port opens: its bootloader waits first
+export const REPLY_MS = 5000;
+
+/** A line written to the arm, waiting for its reply (and an `I` for its banner first). */
+interface Outstanding {
+  line: string;
+  banner: boolean; // an `I` whose banner has not come yet
+  onBanner?: (p: Parsed & { line: string }) => void;
+  onReply?: (p: Parsed & { line: string }) => void;
+}
+
+export class ArmLines {
+  /** Lines in the engine's hands: while it reads one, the arm is not silent (it answered). */
+  reading = 0;
+  private port: SerialLike | null = null;
+  private writer: WritableStreamDefaultWriter<Uint8Array> | null = null;
+  private reader: ReadableStreamDefaultReader<Uint8Array> | null = null;
+  // The lines written and not yet answered, oldest first. A waiter gone (timed out) leaves its
+  // line here, so a late reply is still its own.
+  private unanswered: Outstanding[] = [];
+  // The last events of the line (kind: "sent", "line" (heard), "?", "lost"; the arm's clock, the
+  // page's clock, a word), told with a lost link: what the page sent and heard and when, for
+  // whoever finds out why. (The `?`s apart: a few hundred of them would hide the last lines heard.)
+  private trace: [string, number, number, string][] = [];
+  private polls: [string, number, number, string][] = [];
+
+  /** read(line): the engine's reading; onStatus: a status report came; onGone: the port closed
+   * or failed under the reader. */
+  constructor(private readonly read: (line: string) => Promise<ReadLine>,
+              private readonly onStatus: (p: Parsed & { kind: "status" }, pose: NonNullable<ReadLine["pose"]>, line: string) => void,
+              private readonly onGone: (why: string) => void) {}
+
+  /** The arm's time, ms: the virtual Nano's own clock, or the page's for a real port. */
+  now: () => number = () => performance.now();
+
+  get open(): boolean {
+    return this.port !== null;
+  }
+
+  /** Opens the port (throws what the port says when it cannot) and starts reading it. */
+  async openPort(port: SerialLike): Promise<void> {
+    await port.open({ baudRate: BAUD });
+    this.port = port;
+    this.now = deviceClock(port);
+    this.writer = port.writable!.getWriter();
+    this.reader = port.readable!.getReader();
+    void this.readLoop();
+  }
+
+  note(kind: string, what = ""): void {
+    const events = kind === "?" ? this.polls : this.trace;
+    events.push([kind, Math.round(this.now()), Math.round(performance.now()), what]);
+    if (events.length > 32) events.shift();
+  }
+
+  /** The last events, in the page's order, taken (for a lost link's message). */
+  takeTrace(): [string, number, number, string][] {
+    return [...this.trace.splice(0), ...this.polls.splice(0)].sort((a, b) => a[2] - b[2]);
+  }
+
+  async write(text: string): Promise<void> {
+    if (!this.writer) throw new Error("not connected");
+    await this.writer.write(new TextEncoder().encode(text));
+  }
+
+  // `I` until the banner comes (the firmware may still be starting). An `I` asked again
+  // while the first is unanswered is answered too: its banner and reply are its own.
+  async banner(): Promise<Parsed & { line: string }> {
+    const end = this.now() + BANNER_MS;
+    let resolve: (p: Parsed & { line: string }) => void = () => undefined;
+    const got = new Promise<Parsed & { line: string }>((r) => (resolve = r));
+    while (this.now() < end) {
+      await this.writeLine("I", { onBanner: resolve });
+      const r = await Promise.race([got, sleepOn(this.now, 600).then(() => null)]);
+      if (r) return r;
+    }
+    throw new Error(`no answer to I within ${BANNER_MS / 1000} s: is it a Nano with Articula's firmware, at ${BAUD} baud?`);
+  }
+
+  /** A line and its reply (ok or error:N), within `ms` of the arm's time. */
+  async request(line: string, ms = REPLY_MS): Promise<string> {
+    let resolve: (p: Parsed & { line: string }) => void = () => undefined;
+    const got = new Promise<Parsed & { line: string }>((r) => (resolve = r));
+    const entry = await this.writeLine(line, { onReply: resolve });
+    const r = await Promise.race([got, sleepOn(this.now, ms).then(() => null)]);
+    if (!r) {
+      entry.onReply = undefined; // a late reply is still this line's
+      throw new Error(`no reply to '${line}' within ${(ms / 1000).toFixed(ms % 1000 ? 1 : 0)} s`);
+    }
+    return r.line;
+  }
+
+  // A line to the arm, remembered until its reply comes.
+  private async writeLine(line: string, waiter: Pick<Outstanding, "onBanner" | "onReply">): Promise<Outstanding> {
+    const entry: Outstanding = { line, banner: /^I\s*(#.*)?$/.test(line), ...waiter };
+    this.unanswered.push(entry);
+    this.note("sent", line.slice(0, 24));
+    await this.write(line + "\n");
+    return entry;
+  }
+
+  private async readLoop(): Promise<void> {
+    let buf = "";
+    const reader = this.reader!;
+    try {
+      for (;;) {
+        const { value, done } = await reader.read();
+        if (done) break;
+        buf += new TextDecoder().decode(value);
+        let nl: number;
+        while ((nl = buf.indexOf("\n")) >= 0) {
+          const line = buf.slice(0, nl).replace(/\r$/, "");
+          buf = buf.slice(nl + 1);
+          if (line) await this.onLine(line);
+        }
+      }
+      this.onGone("the port closed");
+    } catch (e) {
+      this.onGone(`the port failed: ${(e as Error).message}`);
+    }
+  }
+
+  private async onLine(line: string): Promise<void> {
+    // The engine reads it in its worker, which a busy page can keep waiting: while it does, the
+    // arm is not silent (it answered).
+    this.note("line", line.slice(0, 24));
+    this.reading++;
+    let got: ReadLine;
+    try {
+      got = await this.read(line);
+    } finally {
+      this.reading--;
+    }
+    const { parsed: p, pose } = got;
+    if (p.kind === "status" && pose) {
+      this.onStatus(p, pose, line);
+    } else if (p.kind === "info") {
+      // The answer to the oldest `I` still waiting for its banner (the firmware sends a
+      // banner only when asked: a banner is never a reset).
+      const asked = this.unanswered.find((o) => o.banner);
+      if (!asked) return;
+      asked.banner = false;
+      const w = asked.onBanner;
+      asked.onBanner = undefined;
+      w?.({ ...p, line });
+    } else if (p.kind === "reply") {
+      // An `I` is answered by its banner first: one still waiting for its banner was lost
+      // (sent while the Nano was starting), and this reply is a later line's.
+      while (this.unanswered.length && this.unanswered[0].banner) this.unanswered.shift();
+      const answered = this.unanswered.shift();
+      answered?.onReply?.({ ...p, line });
+    }
+  }
+
+  /** Closes the port (a vanished one too); nothing is waited for any more. */
+  async close(): Promise<void> {
+    this.unanswered = [];
+    const port = this.port;
+    this.port = null;
+    try {
+      await this.reader?.cancel();
+    } catch {
+      /* already gone */
+    }
+    try {
+      this.reader?.releaseLock();
+      this.writer?.releaseLock();
+    } catch {
+      /* already gone */
+    }
+    this.reader = null;
+    this.writer = null;
+    try {
+      await port?.close();
+    } catch {
+      /* a vanished port cannot be closed */
+    }
+  }
+}
