@@ -15,7 +15,7 @@ from pathlib import Path
 
 import pytest
 
-from engines import driver_made, drawn_low
+from engines import as_tested, driver_made
 
 REPO = Path(__file__).resolve().parents[2]
 CHROMIUM = os.environ.get("ARTICULA_CHROMIUM", "/usr/bin/chromium")
@@ -178,7 +178,7 @@ class Page:
     given) with what its console said."""
 
     def __init__(self, browser, server_or_url, width=1600, height=900, tour=False, query="", init_script="",
-                 touch=False, ready="window.articula.firstFrameAt > 0", bypass_csp=False):
+                 touch=False, ready="window.articula.firstFrameAt > 0", bypass_csp=False, service_worker=False):
         self.server = server_or_url if isinstance(server_or_url, Server) else None
         url = server_or_url.url if self.server else server_or_url
         # touch: a tablet or a phone (touch events, a coarse pointer, the page at the device's width)
@@ -194,7 +194,7 @@ class Page:
         self.errors: list[str] = []
         self.page.on("console", lambda m: m.type == "error" and self.errors.append(m.text))
         self.page.on("pageerror", lambda e: self.errors.append(str(e)))
-        self.page.goto(drawn_low(url + query))
+        self.page.goto(as_tested(url + query, service_worker))
         self.page.wait_for_function(f"() => window.articula && window.articula.ready && {ready}", timeout=20000 * PATIENCE)
 
     # Predicates go to the page as functions: the site's Content-Security-Policy forbids

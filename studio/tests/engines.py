@@ -21,12 +21,16 @@ from pathlib import Path
 LOW = "&quality=low" if os.environ.get("ARTICULA_SCREENSHOTS") else ""
 
 
-def drawn_low(url: str) -> str:
-    """`url` with LOW among its query's parameters (before a #project=... link's fragment)."""
-    if not LOW:
+def as_tested(url: str, service_worker: bool = False) -> str:
+    """`url` with LOW among its query's parameters (before a #project=... link's fragment), and,
+    unless the test is of the service worker, without it (?nosw): in a new browser profile it
+    would fetch and keep every file of the site for offline use, about a CPU second of each
+    page a test opens (test_studio.py tests the site offline)."""
+    extra = LOW + ("" if service_worker else "&nosw")
+    if not extra:
         return url
     base, hash_, fragment = url.partition("#")
-    return base + (LOW if "?" in base else "?" + LOW[1:]) + hash_ + fragment
+    return base + (extra if "?" in base else "?" + extra[1:]) + hash_ + fragment
 
 CHROMIUM = os.environ.get("ARTICULA_CHROMIUM", "/usr/bin/chromium")
 FIREFOX = os.environ.get("ARTICULA_FIREFOX", "/usr/bin/firefox-esr")
@@ -451,7 +455,7 @@ class Engines:
         return self.display.display
 
     def open(self, engine: str, url: str, width=1600, height=900) -> EnginePage:
-        url = drawn_low(url)
+        url = as_tested(url)
         if engine == "webkit":
             return WebKitPage(self._x(), url, width, height)
         if engine not in self.browsers:

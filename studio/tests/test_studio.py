@@ -58,7 +58,7 @@ def test_without_web_serial_the_arm_panel_says_so_and_offers_the_virtual_nano(br
 
 
 def test_the_site_works_offline_once_loaded_and_is_installable(open_page, site):
-    pg = open_page("panda")
+    pg = open_page("panda", service_worker=True)
     assert pg.page.evaluate("navigator.serviceWorker.ready.then(() => true)")
     pg.page.wait_for_function("() => caches.keys().then(ks => ks.some(k => k.startsWith('articula-studio-')))")
     manifest = pg.page.evaluate("fetch('manifest.webmanifest').then(r => r.json())")
