@@ -13,12 +13,13 @@ import subprocess
 import time
 from pathlib import Path
 
-# The view drawn at low resolution (?quality=low) when the screenshots go to the build tree (make
-# test): Chromium draws WebGL in software here (SwiftShader), and a frame at the page's own
-# quality costs four times the CPU time. The screenshots for the docs (docs/img, when
-# ARTICULA_SCREENSHOTS is not set) are taken at the page's own quality. An address that names
+# The view drawn at low resolution (?quality=low) when the screenshots go elsewhere than docs/img
+# (make test: the build tree): Chromium draws WebGL in software here (SwiftShader), and a frame
+# at the page's own quality costs four times the CPU time. The screenshots for the docs
+# (docs/img: ARTICULA_SCREENSHOTS unset or naming it) are taken at the page's own quality. An address that names
 # its quality keeps it (the first `quality` wins).
-LOW = "&quality=low" if os.environ.get("ARTICULA_SCREENSHOTS") else ""
+_SHOTS = os.environ.get("ARTICULA_SCREENSHOTS")
+LOW = "&quality=low" if _SHOTS and Path(_SHOTS).resolve() != Path(__file__).resolve().parents[2] / "docs" / "img" else ""
 
 
 def as_tested(url: str, service_worker: bool = False) -> str:
