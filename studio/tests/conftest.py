@@ -12,10 +12,11 @@ import subprocess
 import sys
 import time
 from pathlib import Path
+from urllib.parse import urljoin
 
 import pytest
 
-from engines import as_tested, driver_made
+from engines import EMPTY_STORAGE, TOUR_DONE, as_tested, driver_made
 
 REPO = Path(__file__).resolve().parents[2]
 CHROMIUM = os.environ.get("ARTICULA_CHROMIUM", "/usr/bin/chromium")
@@ -173,27 +174,84 @@ def browser(playwright):
     b.close()
 
 
+class PagePool:
+    """Pages kept between tests. Opening a page in a new browser context costs about 2.4 CPU
+    seconds (a new renderer process, the engine's WebAssembly compiled again); loading the studio
+    again in a page that had it costs about 1.2. So a test's page, once the test passed, is
+    parked: it leaves the studio for the site's icon, empties its origin's storage there (local,
+    session, IndexedDB) and waits for the next test that asks for a page of the same shape. A page
+    with its own init script, the tour, the service worker or no CSP always starts new, and so
+    does every page after a failed test."""
+
+    def __init__(self):
+        self.idle: dict[tuple, list] = {}
+        self.opened = 0
+        self.reused = 0
+
+    def take(self, key):
+        kept = self.idle.get(key)
+        if key is None or not kept:
+            self.opened += 1
+            return None
+        self.reused += 1
+        return kept.pop()
+
+    def park(self, key, context, page) -> bool:
+        try:
+            for other in context.pages:  # what a test opened beside its page
+                if other != page:
+                    other.close()
+            context.set_offline(False)
+            context.clear_permissions()
+            page.unroute_all(behavior="ignoreErrors")
+            if not page.url.startswith("http"):
+                raise RuntimeError(f"the page is at {page.url}")
+            page.goto(urljoin(page.url, "icon.svg"))
+            left = page.evaluate(EMPTY_STORAGE)  # (engines.py)
+            if left:
+                raise RuntimeError(f"{left} stores left")
+        except Exception:  # a page that cannot be cleaned is not kept
+            context.close()
+            return False
+        self.idle.setdefault(key, []).append((context, page))
+        return True
+
+
+POOL = PagePool()
+
+
 class Page:
     """A page of the studio (from the static site, or from articula-studio when `server` is
-    given) with what its console said."""
+    given) with what its console said. `fresh`: never a parked page (PagePool)."""
 
     def __init__(self, browser, server_or_url, width=1600, height=900, tour=False, query="", init_script="",
-                 touch=False, ready="window.articula.firstFrameAt > 0", bypass_csp=False, service_worker=False):
+                 touch=False, ready="window.articula.firstFrameAt > 0", bypass_csp=False, service_worker=False,
+                 fresh=False):
         self.server = server_or_url if isinstance(server_or_url, Server) else None
         url = server_or_url.url if self.server else server_or_url
-        # touch: a tablet or a phone (touch events, a coarse pointer, the page at the device's width)
-        self.context = browser.new_context(viewport={"width": width, "height": height}, accept_downloads=True,
-                                           bypass_csp=bypass_csp,
-                                           **({"has_touch": True, "is_mobile": True} if touch else {}))
-        if not tour:
-            self.context.add_init_script("try { localStorage.setItem('articula.studio.tour.done', '1') } catch (e) {}")
-        if init_script:
-            self.context.add_init_script(init_script)
-        self.context.set_default_timeout(30000 * PATIENCE)
-        self.page = self.context.new_page()
+        plain = not (fresh or tour or init_script or bypass_csp or service_worker)
+        self.key = (id(browser), width, height, touch) if plain else None
+        self.kept = True  # parked when closed, unless a test failed with it
+        parked = POOL.take(self.key)
+        if parked:
+            self.context, self.page = parked
+            self.page.set_viewport_size({"width": width, "height": height})
+        else:
+            # touch: a tablet or a phone (touch events, a coarse pointer, the page at the device's width)
+            self.context = browser.new_context(viewport={"width": width, "height": height}, accept_downloads=True,
+                                               bypass_csp=bypass_csp,
+                                               **({"has_touch": True, "is_mobile": True} if touch else {}))
+            if not tour:
+                self.context.add_init_script(TOUR_DONE)
+            if init_script:
+                self.context.add_init_script(init_script)
+            self.context.set_default_timeout(30000 * PATIENCE)
+            self.page = self.context.new_page()
         self.errors: list[str] = []
-        self.page.on("console", lambda m: m.type == "error" and self.errors.append(m.text))
-        self.page.on("pageerror", lambda e: self.errors.append(str(e)))
+        self.listening = {"console": lambda m: m.type == "error" and self.errors.append(m.text),
+                          "pageerror": lambda e: self.errors.append(str(e))}
+        for event, f in self.listening.items():
+            self.page.on(event, f)
         self.page.goto(as_tested(url + query, service_worker))
         self.page.wait_for_function(f"() => window.articula && window.articula.ready && {ready}", timeout=20000 * PATIENCE)
 
@@ -231,12 +289,40 @@ class Page:
         """Closes the page; fails if the Content-Security-Policy refused anything (the page
         writes no inline style or script: a refusal is a broken feature in some engine)."""
         refused = [] if csp_refusals_expected or self.context is None else self.csp_refusals()
-        self.context.close()
+        for event, f in self.listening.items():
+            self.page.remove_listener(event, f)
+        if not (self.key is not None and self.kept and not refused and POOL.park(self.key, self.context, self.page)):
+            self.context.close()
         assert not refused, f"the page's Content-Security-Policy refused: {refused}"
 
 
+@pytest.hookimpl(wrapper=True)
+def pytest_runtest_makereport(item, call):
+    report = yield
+    if report.when == "call":
+        item.test_failed = report.failed
+    return report
+
+
+def pytest_terminal_summary(terminalreporter, config):
+    opened, reused = POOL.opened, POOL.reused
+    if hasattr(config, "engine_pages"):  # test_engines.py's Engines
+        opened, reused = opened + config.engine_pages[0], reused + config.engine_pages[1]
+    if opened or reused:
+        terminalreporter.write_line(f"pages: {opened} opened new, {reused} were a passed test's page, "
+                                    "parked (conftest.PagePool, engines.Engines)")
+
+
+def _close_all(request, pages):
+    """The pages a test opened: closed, or parked for the next test if it passed."""
+    failed = getattr(request.node, "test_failed", True)
+    for p in pages:
+        p.kept = p.kept and not failed
+        p.close()
+
+
 @pytest.fixture
-def open_page(browser, site):
+def open_page(request, browser, site):
     """The static site with a robot (and a scene: query="&scene=push")."""
     pages = []
 
@@ -246,12 +332,11 @@ def open_page(browser, site):
         return p
 
     yield open_
-    for p in pages:
-        p.close()
+    _close_all(request, pages)
 
 
 @pytest.fixture
-def open_served_page(browser, server_factory):
+def open_served_page(request, browser, server_factory):
     """The site from articula-studio, which connects the arm (the virtual Nano, a serial port)."""
     pages = []
 
@@ -261,5 +346,4 @@ def open_served_page(browser, server_factory):
         return p
 
     yield open_
-    for p in pages:
-        p.close()
+    _close_all(request, pages)

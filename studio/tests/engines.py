@@ -12,6 +12,7 @@ import shutil
 import subprocess
 import time
 from pathlib import Path
+from urllib.parse import urljoin
 
 # The view drawn at low resolution (?quality=low) when the screenshots go elsewhere than docs/img
 # (make test: the build tree): Chromium draws WebGL in software here (SwiftShader), and a frame
@@ -32,6 +33,21 @@ def as_tested(url: str, service_worker: bool = False) -> str:
         return url
     base, hash_, fragment = url.partition("#")
     return base + (extra if "?" in base else "?" + extra[1:]) + hash_ + fragment
+
+# What a parked page runs on the site's icon (its own origin, with no studio running): the
+# origin's storage emptied, so that the next test's page starts as a new tab's would. Gives what
+# is left (0). A promise: Playwright awaits it; WebDriver's async script passes its callback last.
+EMPTY_STORAGE = """async () => {
+    localStorage.clear();
+    sessionStorage.clear();
+    const dbs = indexedDB.databases ? await indexedDB.databases() : [];
+    await Promise.all(dbs.map((d) => new Promise((done) => {
+        const q = indexedDB.deleteDatabase(d.name);
+        q.onsuccess = q.onerror = q.onblocked = () => done();
+    })));
+    return localStorage.length + sessionStorage.length + (indexedDB.databases ? (await indexedDB.databases()).length : 0);
+}"""
+TOUR_DONE = "try { localStorage.setItem('articula.studio.tour.done', '1') } catch (e) {}"
 
 CHROMIUM = os.environ.get("ARTICULA_CHROMIUM", "/usr/bin/chromium")
 FIREFOX = os.environ.get("ARTICULA_FIREFOX", "/usr/bin/firefox-esr")
@@ -212,23 +228,53 @@ class EnginePage:
         except Exception:
             return []
 
-    def close(self):
-        """Closes the page; fails if the Content-Security-Policy refused anything."""
+    def close(self, keep: Engines | None = None):
+        """Closes the page; fails if the Content-Security-Policy refused anything. `keep`: the
+        Engines that park it for the next test instead (its test passed), as conftest.PagePool
+        does in Chromium; a page that cannot be emptied is closed."""
         refused = self.csp_refusals()
-        self._close()
+        if not (keep is not None and not refused and self._park()):
+            self._close()
+        elif keep is not None:
+            keep.idle.setdefault(self.engine, []).append(self)
         assert not refused, f"{self.engine}: the page's Content-Security-Policy refused: {refused}"
+
+    def _park(self) -> bool:
+        try:
+            url = self._url()
+            if not url.startswith("http"):
+                return False
+            return self._empty(urljoin(url, "icon.svg")) == 0
+        except Exception:
+            return False
 
 
 class PlaywrightPage(EnginePage):
     def __init__(self, browser, engine: str, url: str, width: int, height: int):
         self.engine = engine
         self.context = browser.new_context(viewport={"width": width, "height": height})
-        self.context.add_init_script("try { localStorage.setItem('articula.studio.tour.done', '1') } catch (e) {}")
+        self.context.add_init_script(TOUR_DONE)
         self.page = self.context.new_page()
         self.console: list[str] = []
         self.page.on("console", lambda m: m.type == "error" and self.console.append(m.text))
         self.page.on("pageerror", lambda e: self.console.append(str(e)))
         self.page.goto(url)
+
+    def reopen(self, url: str, width: int, height: int):
+        """A parked page with the studio at `url` (Engines.open)."""
+        self.console.clear()
+        self.page.set_viewport_size({"width": width, "height": height})
+        self.page.goto(url)
+
+    def _url(self) -> str:
+        return self.page.url
+
+    def _empty(self, icon: str) -> int:
+        for other in self.context.pages:
+            if other != self.page:
+                other.close()
+        self.page.goto(icon)
+        return self.page.evaluate(EMPTY_STORAGE)
 
     def hook(self, expr):
         return self.page.evaluate(_fn(expr))
@@ -312,8 +358,23 @@ class WebKitPage(EnginePage):
         self.driver.set_page_load_timeout(60)
         self.driver.set_window_size(width, height)
         self.driver.get(url.split("#")[0].split("?")[0] + "icon.svg")  # the site's origin, to set the tour aside
-        self.driver.execute_script("try { localStorage.setItem('articula.studio.tour.done', '1') } catch (e) {}")
+        self.driver.execute_script(TOUR_DONE)
         self.driver.get(url)
+
+    def reopen(self, url: str, width: int, height: int):
+        """A parked page with the studio at `url` (Engines.open): its origin emptied on the icon
+        by _park, the tour set aside there again."""
+        self.driver.set_window_size(width, height)
+        self.driver.get(url)
+
+    def _url(self) -> str:
+        return self.driver.current_url
+
+    def _empty(self, icon: str) -> int:
+        self.driver.get(icon)
+        left = self.driver.execute_async_script(f"const done = arguments[arguments.length - 1]; ({EMPTY_STORAGE})().then(done);")
+        self.driver.execute_script(TOUR_DONE)  # as __init__ does: WebDriver has no init script
+        return left
 
     def hook(self, expr):
         return self.driver.execute_script(f"const a = window.articula; return {expr};")
@@ -360,6 +421,9 @@ class WebKitPage(EnginePage):
                     raise AssertionError(f"{self.engine}: {selector} cannot be reached: {type(e).__name__}; "
                                          f"the page: {self._where(selector)}") from e
                 time.sleep(0.2)
+                # a panel that grew or a bar that drew over it since: the element to its scroller's centre
+                self.driver.execute_script("const e = document.querySelector(arguments[0]);"
+                                           "if (e) e.scrollIntoView({ block: 'center' });", selector)
 
     def _where(self, selector):
         """The element's box, whether it or a parent is hidden, what is at its centre, the layout."""
@@ -449,6 +513,8 @@ class Engines:
         self.pw = playwright
         self.own_pw = playwright is None
         self.browsers = {}
+        self.idle: dict[str, list[EnginePage]] = {}  # pages of passed tests, by engine (EnginePage.close)
+        self.opened = self.reused = 0
 
     def _x(self) -> str:
         if self.display is None:
@@ -457,6 +523,15 @@ class Engines:
 
     def open(self, engine: str, url: str, width=1600, height=900) -> EnginePage:
         url = as_tested(url)
+        if self.idle.get(engine):
+            page = self.idle[engine].pop()
+            try:
+                page.reopen(url, width, height)
+                self.reused += 1
+                return page
+            except Exception:  # the browser went away while parked: a new page
+                page._close()
+        self.opened += 1
         if engine == "webkit":
             return WebKitPage(self._x(), url, width, height)
         if engine not in self.browsers:
@@ -477,6 +552,12 @@ class Engines:
         return PlaywrightPage(self.browsers[engine], engine, url, width, height)
 
     def stop(self):
+        for pages in self.idle.values():
+            for page in pages:
+                try:
+                    page._close()
+                except Exception:
+                    pass
         for b in self.browsers.values():
             b.close()
         if self.pw is not None and self.own_pw:

@@ -33,9 +33,10 @@ def _fk(q):
 
 
 @pytest.fixture(scope="module")
-def engines(playwright):
+def engines(playwright, request):
     e = Engines(playwright)
     yield e
+    request.config.engine_pages = (e.opened, e.reused)
     e.stop()
 
 
@@ -56,9 +57,10 @@ def page(request, engines, site):
 
     open_.engine = request.param
     yield open_
+    passed = not getattr(request.node, "test_failed", True)
     for p in opened:
         errors = p.page_errors()
-        p.close()
+        p.close(keep=engines if passed and not errors else None)
         assert errors == [], f"{request.param}: the page's errors: {errors}"
 
 
@@ -119,7 +121,7 @@ def any_engine(request, engines, site):
     p.wait("a.ready && a.firstFrameAt > 0", 60 * PATIENCE, "the page's first frame with the arm")
     yield p
     errors = p.page_errors()
-    p.close()
+    p.close(keep=engines if not getattr(request.node, "test_failed", True) and not errors else None)
     assert errors == [], f"{request.param}: the page's errors: {errors}"
 
 
@@ -461,7 +463,7 @@ def test_write_hello_and_see_the_line_the_arm_will_draw(page):
     pg = page(query=FAST)
     if pg.hook("(() => { const t = document.querySelector('#tab-program'); return !!t && t.offsetParent !== null; })()"):
         pg.click("#tab-program")
-    pg.run("document.querySelector('#draw-section').scrollIntoView({ block: 'center' });")  # the panel scrolls
+    pg.run("document.querySelector('#draw-text').scrollIntoView({ block: 'center' });")  # the panel scrolls
     pg.type_into("#draw-text", "Hello")
     pg.click("#draw-go")
     pg.wait("a.drawing !== null && a.drawing.fits", 60 * PATIENCE, "the drawing")
