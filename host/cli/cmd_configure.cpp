@@ -101,7 +101,7 @@ uint8_t send(Port& port, const std::string& line, double timeout, std::vector<st
                    "on the port?");
 }
 
-int run(int argc, char** argv) {
+int run_configure(int argc, char** argv) {
   cxxopts::Options opts("articula configure",
                         "Configures a Nano running the Articula firmware for a robot: its motors, limits, home, "
                         "P's geometry and name, kept in the Nano's EEPROM (docs/protocol.md, \"Robot "
@@ -172,6 +172,6 @@ int run(int argc, char** argv) {
 
 }  // namespace
 
-int cmd_configure(int argc, char** argv) { return run(argc, argv); }
+int cmd_configure(int argc, char** argv) { return run_configure(argc, argv); }
 
 }  // namespace articula::cli

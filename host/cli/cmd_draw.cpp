@@ -35,7 +35,7 @@ std::string pen_option(const host::PenField& f) {
   return o;
 }
 
-int run(int argc, char** argv) {
+int run_draw(int argc, char** argv) {
   cxxopts::Options opts("articula draw",
                         "Writes the program that draws text or a shape with a pen held in the gripper: the strokes "
                         "placed on the paper, checked against the arm's reach, ordered to cut the travel, the pen "
@@ -179,6 +179,6 @@ int run(int argc, char** argv) {
 
 }  // namespace
 
-int cmd_draw(int argc, char** argv) { return run(argc, argv); }
+int cmd_draw(int argc, char** argv) { return run_draw(argc, argv); }
 
 }  // namespace articula::cli

@@ -11,7 +11,7 @@
 namespace articula::cli {
 namespace {
 
-int run(int argc, char** argv) {
+int run_export_urdf(int argc, char** argv) {
   cxxopts::Options opts("articula export-urdf", "Writes a robot as URDF, for ROS tools (RViz, robot_state_publisher, MoveIt).");
   opts.custom_help("ROBOT [-o OUT.urdf]");
   opts.add_options()("o,output", "write here (default: standard output)", cxxopts::value<std::string>())(
@@ -42,6 +42,6 @@ int run(int argc, char** argv) {
 
 }  // namespace
 
-int cmd_export_urdf(int argc, char** argv) { return run(argc, argv); }
+int cmd_export_urdf(int argc, char** argv) { return run_export_urdf(argc, argv); }
 
 }  // namespace articula::cli

@@ -19,7 +19,7 @@ nlohmann::json pose_json(const Transform<double>& T) {
           {"rpy", {rad_to_deg(rpy.x), rad_to_deg(rpy.y), rad_to_deg(rpy.z)}}};
 }
 
-int run(int argc, char** argv) {
+int run_fk(int argc, char** argv) {
   cxxopts::Options opts("articula fk", "Forward kinematics: every DH frame and the tool pose for given joint values.");
   opts.custom_help("ROBOT [--q v1,v2,...] [--json]");
   opts.add_options()("q", "(--q) joint values in model order, deg (mm for d variables); default: the home pose",
@@ -82,6 +82,6 @@ int run(int argc, char** argv) {
 
 }  // namespace
 
-int cmd_fk(int argc, char** argv) { return run(argc, argv); }
+int cmd_fk(int argc, char** argv) { return run_fk(argc, argv); }
 
 }  // namespace articula::cli

@@ -31,14 +31,14 @@ host::IkTarget make_target(const std::vector<double>& v, const std::string& what
 }
 
 // A progress bar on stderr for long batches (only when stderr is a terminal or asked).
-void progress(size_t done, size_t total) {
+void ik_progress(size_t done, size_t total) {
   const int width = 40;
   const int filled = int(width * done / std::max<size_t>(total, 1));
   std::cerr << "\r[" << std::string(filled, '#') << std::string(width - filled, ' ') << "] " << done << "/" << total
             << (done == total ? "\n" : "") << std::flush;
 }
 
-int run(int argc, char** argv) {
+int run_ik(int argc, char** argv) {
   cxxopts::Options opts("articula ik", "Inverse kinematics: joint values that put the tool at a target.");
   opts.custom_help("ROBOT (--target x,y,z[,roll,pitch,yaw] | --targets FILE) [--from q] [--solver NAME] [--json]");
   opts.add_options()("target", "tool position in mm, optionally roll,pitch,yaw in deg (fixed X-Y-Z)",
@@ -129,7 +129,7 @@ int run(int argc, char** argv) {
     j["solve_us"] = us;
     std::cout << j.dump() << '\n';
     reached += res.reached();
-    if (show && (i % 50 == 49 || i + 1 == targets.size())) progress(i + 1, targets.size());
+    if (show && (i % 50 == 49 || i + 1 == targets.size())) ik_progress(i + 1, targets.size());
   }
   std::cerr << reached << " of " << targets.size() << " targets reached\n";
   return reached == int(targets.size()) ? 0 : 1;
@@ -137,6 +137,6 @@ int run(int argc, char** argv) {
 
 }  // namespace
 
-int cmd_ik(int argc, char** argv) { return run(argc, argv); }
+int cmd_ik(int argc, char** argv) { return run_ik(argc, argv); }
 
 }  // namespace articula::cli

@@ -13,7 +13,7 @@
 namespace articula::cli {
 namespace {
 
-int run(int argc, char** argv) {
+int run_import_legacy(int argc, char** argv) {
   cxxopts::Options opts("articula import-legacy",
                         "Converts a robot file of the original system (thesis appendix C) into a robot file "
                         "(robots/README.md), keeping what maps and listing what does not.");
@@ -59,6 +59,6 @@ int run(int argc, char** argv) {
 
 }  // namespace
 
-int cmd_import_legacy(int argc, char** argv) { return run(argc, argv); }
+int cmd_import_legacy(int argc, char** argv) { return run_import_legacy(argc, argv); }
 
 }  // namespace articula::cli

@@ -85,7 +85,7 @@ Reach sample_reach(const host::Robot& r) {
   return out;
 }
 
-int run(int argc, char** argv) {
+int run_info(int argc, char** argv) {
   cxxopts::Options opts("articula info", "Shows a robot: its DH table, joint variables, limits, motors and reach.");
   opts.custom_help("ROBOT [--json]");
   opts.add_options()("json", "print one JSON document")("h,help", "this help")(
@@ -208,6 +208,6 @@ int run(int argc, char** argv) {
 
 }  // namespace
 
-int cmd_info(int argc, char** argv) { return run(argc, argv); }
+int cmd_info(int argc, char** argv) { return run_info(argc, argv); }
 
 }  // namespace articula::cli

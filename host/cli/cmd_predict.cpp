@@ -35,7 +35,7 @@ std::string joined(const Vec3<double>& p, int decimals = 3) {
   return joined(std::vector<double>{p.x, p.y, p.z}, decimals);
 }
 
-int run(int argc, char** argv) {
+int run_predict(int argc, char** argv) {
   cxxopts::Options opts("articula predict",
                         "What the real arm will do with a program, step-exact: for each command the motor steps, "
                         "the joint values they give, the ideal and the quantized tool position and their "
@@ -195,7 +195,7 @@ int run(int argc, char** argv) {
 }  // namespace
 
 int cmd_predict(int argc, char** argv) {
-  return run(argc, argv);
+  return run_predict(argc, argv);
 }
 
 }  // namespace articula::cli

@@ -23,7 +23,7 @@ struct Line {
   std::string where;  // "file:line" or "argument N"
 };
 
-int run(int argc, char** argv) {
+int run_quantize(int argc, char** argv) {
   cxxopts::Options opts("articula quantize",
                         "Shows what whole motor steps make of protocol moves: for each line, the steps, the angle "
                         "reached and the tool position error it leaves.");
@@ -113,6 +113,6 @@ int run(int argc, char** argv) {
 
 }  // namespace
 
-int cmd_quantize(int argc, char** argv) { return run(argc, argv); }
+int cmd_quantize(int argc, char** argv) { return run_quantize(argc, argv); }
 
 }  // namespace articula::cli

@@ -18,7 +18,7 @@
 namespace articula::cli {
 namespace {
 
-int run(int argc, char** argv) {
+int run_on_the_arm(int argc, char** argv) {
   cxxopts::Options opts("articula run",
                         "Executes a program on the kinematic model and prints or saves the pose after each "
                         "command: joint values, tool position and roll/pitch/yaw, and the IK's status for targets.");
@@ -112,7 +112,7 @@ int run(int argc, char** argv) {
 }  // namespace
 
 int cmd_run(int argc, char** argv) {
-  return run(argc, argv);
+  return run_on_the_arm(argc, argv);
 }
 
 }  // namespace articula::cli

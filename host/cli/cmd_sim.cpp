@@ -52,14 +52,14 @@ bool is_trouble(host::SimEvent::Kind k) {
          k == K::kRejected || k == K::kObjectRemoved || k == K::kGripperBlocked;
 }
 
-void progress(double t, double end) {
+void sim_progress(double t, double end) {
   const int width = 40;
   const int filled = int(width * std::min(1.0, t / std::max(end, 1e-9)));
   std::cerr << "\r[" << std::string(size_t(filled), '#') << std::string(size_t(width - filled), ' ') << "] " << fmt(t, 1)
             << " / " << fmt(end, 1) << " s" << std::flush;
 }
 
-int run(int argc, char** argv) {
+int run_sim(int argc, char** argv) {
   cxxopts::Options opts("articula sim",
                         "The program on the arm as rigid bodies (Open Dynamics Engine): links follow the motors' "
                         "step counts as the firmware times them, objects fall, slide and are pushed or grasped, and "
@@ -219,7 +219,7 @@ int run(int argc, char** argv) {
     }
     if (bar && sim->time() - last_bar >= 0.25) {
       last_bar = sim->time();
-      progress(sim->time(), sim->end_time());
+      sim_progress(sim->time(), sim->end_time());
     }
   }
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -255,7 +255,7 @@ int run(int argc, char** argv) {
 }  // namespace
 
 int cmd_sim(int argc, char** argv) {
-  return run(argc, argv);
+  return run_sim(argc, argv);
 }
 
 }  // namespace articula::cli

@@ -16,14 +16,13 @@ namespace {
 
 using V = Vec3<double>;
 
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kMm = 1e-3;  // m per mm
+constexpr double kMetresPerMm = 1e-3;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 // Longest move evaluated at every step; longer ones are sampled every few steps.
 constexpr uint32_t kMaxSamples = 20000;
 
 // SI units per model unit of a DH parameter: m per mm for d, 1 for the angles.
-double param_si(uint8_t param) { return param == kParamD ? kMm : 1.0; }
+double param_si(uint8_t param) { return param == kParamD ? kMetresPerMm : 1.0; }
 
 V zero3() { return make_vec3(0.0, 0.0, 0.0); }
 
@@ -80,7 +79,7 @@ std::vector<double> StallModel::joint_forces(const std::vector<double>& q, const
   const int rows = m.num_rows;
   HostFrames fr;
   forward_kinematics(fr, m, q.data());
-  auto origin = [&](int i) { return kMm * fr.T_base_frame[i].p; };  // m
+  auto origin = [&](int i) { return kMetresPerMm * fr.T_base_frame[i].p; };  // m
 
   // Rates of every DH parameter, SI, indexed [DhParam][row]: the variables' own, plus the
   // linked ones' (a linked value is offset + sum gain * q, so its rates are sum gain * q').
@@ -112,7 +111,7 @@ std::vector<double> StallModel::joint_forces(const std::vector<double>& q, const
     const V w1 = w[r] + ad * x;
     const V dw1 = dw[r] + add * x + cross(w[r], ad * x);
     // Trans_x(a): to the point p1 where the row's z axis starts.
-    const V o = origin(r), p1 = o + kMm * m.rows[r].a * x;
+    const V o = origin(r), p1 = o + kMetresPerMm * m.rows[r].a * x;
     const V r1 = p1 - o;
     const V a1 = acc[r] + cross(dw1, r1) + cross(w1, cross(w1, r1));
     // Rot_z(theta): z(i) is fixed in the frame after Rot_x(alpha).
@@ -143,7 +142,7 @@ std::vector<double> StallModel::joint_forces(const std::vector<double>& q, const
     add_body(bodies_[std::size_t(i)].mass, bodies_[std::size_t(i)].com, bodies_[std::size_t(i)].inertia);
     if (i == rows && payload_kg > 0) {
       const Mat3<double> none = {{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}};
-      add_body(payload_kg, kMm * m.T_last_tool.p, none);
+      add_body(payload_kg, kMetresPerMm * m.T_last_tool.p, none);
     }
     const int r = i - 1;  // the row that makes frame i
     const V z = R.col(2), x = fr.T_base_frame[r].R.col(0);
@@ -188,7 +187,7 @@ std::vector<MotorLoad> StallModel::loads(const std::vector<double>& q, const std
     MotorLoad& l = out[std::size_t(k)];
     l.shaft_nm = tu[std::size_t(k)] / ratio + t.rotor_inertia * ratio * udd[k];
     l.required_nm = std::fabs(l.shaft_nm);
-    l.full_steps_per_s = std::fabs(ud[k]) * ratio * s.full_steps_per_rev / (2 * kPi);
+    l.full_steps_per_s = std::fabs(ud[k]) * ratio * s.full_steps_per_rev / (2 * pi<double>());
     l.rated = t.given();
     l.available_nm = l.rated ? pull_out_torque(t, l.full_steps_per_s) : kInf;
   }

@@ -13,14 +13,14 @@ constexpr double kMetresPerMm = 0.001;
 // A number in the URDF written out: metres and radians to 12 significant digits, so a robot
 // converted to URDF and back keeps its DH table to well under a micrometre (not a protocol
 // number: URDF has its own units).
-std::string num(double v) {
+std::string xml_number(double v) {
   if (std::fabs(v) < 1e-15) v = 0;
   std::ostringstream o;
   o << std::setprecision(12) << v;
   return o.str();
 }
 
-std::string escape(const std::string& s) {
+std::string xml_text(const std::string& s) {
   std::string out;
   for (char c : s) {
     switch (c) {
@@ -36,7 +36,7 @@ std::string escape(const std::string& s) {
 
 // Free text inside an XML comment: escaped, and no "--" (which XML forbids there).
 std::string comment(const std::string& s) {
-  std::string out = escape(s);
+  std::string out = xml_text(s);
   for (size_t at = out.find("--"); at != std::string::npos; at = out.find("--", at)) out.replace(at, 2, "- -");
   return out;
 }
@@ -50,8 +50,8 @@ std::string ident(const std::string& s) {
 
 std::string origin(const Transform<double>& T) {
   const Vec3<double> rpy = matrix_to_rpy(T.R);
-  return "<origin xyz=\"" + num(T.p.x * kMetresPerMm) + " " + num(T.p.y * kMetresPerMm) + " " +
-         num(T.p.z * kMetresPerMm) + "\" rpy=\"" + num(rpy.x) + " " + num(rpy.y) + " " + num(rpy.z) + "\"/>";
+  return "<origin xyz=\"" + xml_number(T.p.x * kMetresPerMm) + " " + xml_number(T.p.y * kMetresPerMm) + " " +
+         xml_number(T.p.z * kMetresPerMm) + "\" rpy=\"" + xml_number(rpy.x) + " " + xml_number(rpy.y) + " " + xml_number(rpy.z) + "\"/>";
 }
 
 struct Writer {
@@ -90,7 +90,7 @@ struct Writer {
       if (m.joints[j].row != row || m.joints[j].param != param) continue;
       const double scale = angle ? 1.0 : kMetresPerMm;
       std::ostringstream limit;
-      limit << "    <limit lower=\"" << num(m.joints[j].lo * scale) << "\" upper=\"" << num(m.joints[j].hi * scale)
+      limit << "    <limit lower=\"" << xml_number(m.joints[j].lo * scale) << "\" upper=\"" << xml_number(m.joints[j].hi * scale)
             << "\" effort=\"10\" velocity=\"1\"/>\n";
       const std::string name = ident(robot.joint_names[j]);
       link(name + "_link");
@@ -114,7 +114,7 @@ struct Writer {
                                  ident(robot.joint_names[j]);
         // A mimic joint still needs limits; they are wide enough never to bind.
         const std::string extra = "    <limit lower=\"-100\" upper=\"100\" effort=\"10\" velocity=\"1\"/>\n"
-                                  "    <mimic joint=\"" + ident(robot.joint_names[j]) + "\" multiplier=\"" + num(mult) +
+                                  "    <mimic joint=\"" + ident(robot.joint_names[j]) + "\" multiplier=\"" + xml_number(mult) +
                                   "\" offset=\"0\"/>\n";
         link(name + "_link");
         joint(name, angle ? "revolute" : "prismatic", name + "_link", axis, extra);
@@ -135,15 +135,15 @@ struct Writer {
         const double k = kMetresPerMm;
         switch (s.type) {
           case Shape::Type::kBox:
-            g << "<box size=\"" << num(s.size[0] * k) << " " << num(s.size[1] * k) << " " << num(s.size[2] * k) << "\"/>";
+            g << "<box size=\"" << xml_number(s.size[0] * k) << " " << xml_number(s.size[1] * k) << " " << xml_number(s.size[2] * k) << "\"/>";
             break;
           case Shape::Type::kCylinder:
           case Shape::Type::kCapsule:
-            g << "<cylinder radius=\"" << num(s.size[0] * k) << "\" length=\"" << num(s.size[1] * k) << "\"/>";
+            g << "<cylinder radius=\"" << xml_number(s.size[0] * k) << "\" length=\"" << xml_number(s.size[1] * k) << "\"/>";
             break;
-          case Shape::Type::kSphere: g << "<sphere radius=\"" << num(s.size[0] * k) << "\"/>"; break;
+          case Shape::Type::kSphere: g << "<sphere radius=\"" << xml_number(s.size[0] * k) << "\"/>"; break;
           case Shape::Type::kMesh:
-            g << "<mesh filename=\"" << escape(s.mesh) << "\" scale=\"0.001 0.001 0.001\"/>";
+            g << "<mesh filename=\"" << xml_text(s.mesh) << "\" scale=\"0.001 0.001 0.001\"/>";
             break;
         }
         xml << "    <visual>\n      " << origin(s.T_frame_shape) << "\n      <geometry>" << g.str()

@@ -64,6 +64,10 @@ export class View {
   // measure the frame rate).
   dirty = true;
   readonly continuous = new URLSearchParams(location.search).get("fps") === "continuous";
+  // ?quality=low (a slow computer) also draws at most 20 frames a second while the arm moves:
+  // a software renderer's frame is the page's largest cost then, and 20 still reads as motion.
+  private minFrameMs = 0;
+  private lastDrawn = -Infinity;
 
   readonly software: boolean;
 
@@ -87,6 +91,7 @@ export class View {
     // costs a quarter of its CPU time).
     this.software = View.softwareRenderer();
     const q = new URLSearchParams(location.search).get("quality");
+    if (q === "low") this.minFrameMs = 50;
     this.canvas = document.createElement("canvas");
     this.canvas.setAttribute("aria-label", "The arm in 3D: drag to orbit, arrow keys orbit, + and - zoom");
     this.canvas.tabIndex = 0;
@@ -182,6 +187,11 @@ export class View {
     const moved = this.controls.update();
     if (this.objects.tick(now)) this.dirty = true;
     if (!(this.dirty || moved || this.continuous)) return;
+    if (now - this.lastDrawn < this.minFrameMs) {
+      this.dirty = true;  // drawn at the next frame the limit allows
+      return;
+    }
+    this.lastDrawn = now;
     this.dirty = false;
     this.renderer!.render(this.scene, this.camera);
     this.framesDrawn++;
