@@ -61,8 +61,18 @@ export class View {
   framesDrawn = 0;
   // Draw only when something changed (a pose, the camera, a toggle): a software renderer then
   // leaves the CPU to the rest. ?fps=continuous in the URL draws every display frame (to
-  // measure the frame rate).
-  dirty = true;
+  // measure the frame rate). Half a second with nothing to draw, and the loop stops asking for
+  // display frames (each costs the browser work even when nothing is drawn: an idle page took
+  // 1 CPU s in 10, and takes 0.2 asleep): it looks at the camera's controls and the flashing
+  // objects ten times a second, and wakes at once when anything marks the view dirty.
+  private needsDraw = true;
+  get dirty(): boolean { return this.needsDraw; }
+  set dirty(v: boolean) {
+    this.needsDraw = v;
+    if (v && this.sleeping) this.wake(); // (a timer id is never 0)
+  }
+  private sleeping: number | null = null; // the timer of the sleeping loop
+  private idleFrames = 0;
   readonly continuous = new URLSearchParams(location.search).get("fps") === "continuous";
   // ?quality=low (a slow computer) also draws at most 20 frames a second while the arm moves:
   // a software renderer's frame is the page's largest cost then, and 20 still reads as motion.
@@ -169,7 +179,7 @@ export class View {
     this.controls.addEventListener("end", () => this.onViewChange());
     this.gizmo.addEventListener("change", () => (this.dirty = true));
     this.resize();
-    if (this.renderer) this.renderer.setAnimationLoop((now) => this.draw(now));
+    if (this.renderer) requestAnimationFrame(this.frame);
   }
 
   resize(): void {
@@ -183,13 +193,37 @@ export class View {
     this.dirty = true;
   }
 
-  private draw(now: number): void {
+  private frame = (now: number): void => {
+    if (this.draw(now) || this.continuous) this.idleFrames = 0;
+    else this.idleFrames++;
+    if (this.idleFrames < 30) requestAnimationFrame(this.frame);
+    else this.sleep();
+  };
+
+  private sleep(): void {
+    this.sleeping = window.setTimeout(() => {
+      this.sleeping = null;
+      if (this.controls.update() || this.objects.tick(performance.now()) || this.needsDraw) this.dirty = true;
+      if (this.needsDraw) this.wake();
+      else this.sleep();
+    }, 100);
+  }
+
+  private wake(): void {
+    if (this.sleeping) window.clearTimeout(this.sleeping);
+    this.sleeping = null;
+    this.idleFrames = 0;
+    requestAnimationFrame(this.frame);
+  }
+
+  // True when it drew, or has a frame to draw that the frame-rate limit put off.
+  private draw(now: number): boolean {
     const moved = this.controls.update();
     if (this.objects.tick(now)) this.dirty = true;
-    if (!(this.dirty || moved || this.continuous)) return;
+    if (!(this.dirty || moved || this.continuous)) return false;
     if (now - this.lastDrawn < this.minFrameMs) {
       this.dirty = true;  // drawn at the next frame the limit allows
-      return;
+      return true;
     }
     this.lastDrawn = now;
     this.dirty = false;
@@ -199,6 +233,7 @@ export class View {
     while (this.frameTimes.length && now - this.frameTimes[0] > 1000) this.frameTimes.shift();
     this.fps = this.frameTimes.length;
     this.onFrame(now);
+    return true;
   }
 
   // ---- the robot
