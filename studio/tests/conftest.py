@@ -12,11 +12,10 @@ import subprocess
 import sys
 import time
 from pathlib import Path
-from urllib.parse import urljoin
 
 import pytest
 
-from engines import EMPTY_STORAGE, TOUR_DONE, as_tested, driver_made
+from engines import TOUR_DONE, as_tested, driver_made, leave_for_the_icon
 
 REPO = Path(__file__).resolve().parents[2]
 CHROMIUM = os.environ.get("ARTICULA_CHROMIUM", "/usr/bin/chromium")
@@ -198,16 +197,10 @@ class PagePool:
 
     def park(self, key, context, page) -> bool:
         try:
-            for other in context.pages:  # what a test opened beside its page
-                if other != page:
-                    other.close()
             context.set_offline(False)
             context.clear_permissions()
             page.unroute_all(behavior="ignoreErrors")
-            if not page.url.startswith("http"):
-                raise RuntimeError(f"the page is at {page.url}")
-            page.goto(urljoin(page.url, "icon.svg"))
-            left = page.evaluate(EMPTY_STORAGE)  # (engines.py)
+            left = leave_for_the_icon(context, page)  # (engines.py, as its parked pages)
             if left:
                 raise RuntimeError(f"{left} stores left")
         except Exception:  # a page that cannot be cleaned is not kept
@@ -222,14 +215,13 @@ POOL = PagePool()
 
 class Page:
     """A page of the studio (from the static site, or from articula-studio when `server` is
-    given) with what its console said. `fresh`: never a parked page (PagePool)."""
+    given) with what its console said."""
 
     def __init__(self, browser, server_or_url, width=1600, height=900, tour=False, query="", init_script="",
-                 touch=False, ready="window.articula.firstFrameAt > 0", bypass_csp=False, service_worker=False,
-                 fresh=False):
+                 touch=False, ready="window.articula.firstFrameAt > 0", bypass_csp=False, service_worker=False):
         self.server = server_or_url if isinstance(server_or_url, Server) else None
         url = server_or_url.url if self.server else server_or_url
-        plain = not (fresh or tour or init_script or bypass_csp or service_worker)
+        plain = not (tour or init_script or bypass_csp or service_worker)
         self.key = (id(browser), width, height, touch) if plain else None
         self.kept = True  # parked when closed, unless a test failed with it
         parked = POOL.take(self.key)
@@ -287,7 +279,11 @@ class Page:
 
     def close(self, csp_refusals_expected=False):
         """Closes the page; fails if the Content-Security-Policy refused anything (the page
-        writes no inline style or script: a refusal is a broken feature in some engine)."""
+        writes no inline style or script: a refusal is a broken feature in some engine). A page
+        closed while an exception is on its way (a test's `finally` after a failure) is not
+        parked."""
+        if sys.exc_info()[0] is not None:
+            self.kept = False
         refused = [] if csp_refusals_expected or self.context is None else self.csp_refusals()
         for event, f in self.listening.items():
             self.page.remove_listener(event, f)

@@ -47,6 +47,21 @@ EMPTY_STORAGE = """async () => {
     })));
     return localStorage.length + sessionStorage.length + (indexedDB.databases ? (await indexedDB.databases()).length : 0);
 }"""
+
+
+def leave_for_the_icon(context, page) -> int:
+    """A Playwright page parked: the tabs a test opened beside it closed, the page at the
+    site's icon (same origin, no studio running), the origin's storage emptied there. Returns
+    how many stores are left (0 when it is clean)."""
+    for other in context.pages:
+        if other != page:
+            other.close()
+    if not page.url.startswith("http"):
+        raise RuntimeError(f"the page is at {page.url}")
+    page.goto(urljoin(page.url, "icon.svg"))
+    return page.evaluate(EMPTY_STORAGE)
+
+
 TOUR_DONE = "try { localStorage.setItem('articula.studio.tour.done', '1') } catch (e) {}"
 
 CHROMIUM = os.environ.get("ARTICULA_CHROMIUM", "/usr/bin/chromium")
@@ -132,29 +147,35 @@ class EnginePage:
                                      f"pending]: {history}")
             time.sleep(0.1)
 
-    def wait_on_nano(self, expr: str, nano_seconds: float, what: str, still: float = 60.0, wall: float = 1200.0):
+    def wait_on_nano(self, expr: str, nano_seconds: float, what: str, progress: str = "null", still: float = 60.0,
+                     wall: float = 1200.0):
         """Until `expr` holds while the virtual Nano runs a program, its budget counted in the
         Nano's own clock (`a.arm.nano.seconds`, emulated time), not the test's: on a busy machine
-        the page's worker emulates slower than real time, and the program takes as long, for
-        the Nano, as it would on the real arm. Fails when the Nano has run `nano_seconds` without
-        `expr` (the program did not end: a fault), when its clock stands `still` seconds (the
-        worker stopped), or after `wall` seconds whatever happens. Returns (Nano s, wall s)."""
+        the page's worker emulates slower than real time. The budget is for a stall: it starts
+        again whenever `progress` (an expression) changes, since the page's sender, on the busy
+        machine's main thread, can also fall behind the Nano, and a Nano running faster than real
+        time then waits many of its own seconds for each line. Fails when the Nano has run
+        `nano_seconds` without `expr` or progress (a fault), when its clock stands `still` seconds
+        (the worker stopped), or after `wall` seconds whatever happens. Returns (Nano s, wall s)."""
         clock = "(a.arm.nano ? a.arm.nano.seconds : null)"
         t0 = time.monotonic()
-        n0 = None
-        last_n, moved = None, t0
+        n0 = since = None
+        last_n, moved, last_p = None, t0, None
         while True:
-            done, n = self.hook(f"[!!({expr}), {clock}]")
+            done, n, p = self.hook(f"[!!({expr}), {clock}, JSON.stringify({progress})]")
             now = time.monotonic()
             if n0 is None:
-                n0 = n
+                n0 = since = n
             if done:
                 return ((n or 0) - (n0 or 0), now - t0)
             if n != last_n:
                 last_n, moved = n, now
+            if p != last_p:
+                last_p, since = p, n
             why = None
-            if n is not None and n0 is not None and n - n0 > nano_seconds:
-                why = f"the Nano ran {n - n0:.1f} s of its own time (budget {nano_seconds:.0f} s)"
+            if n is not None and since is not None and n - since > nano_seconds:
+                why = (f"the Nano ran {n - since:.1f} s of its own time with no progress ({progress} stayed {p}; "
+                       f"budget {nano_seconds:.0f} s, {n - n0:.1f} s in all)")
             elif now - moved > still:
                 why = f"the Nano's clock stood still for {now - moved:.0f} s (at {n} s)"
             elif now - t0 > wall:
@@ -241,10 +262,7 @@ class EnginePage:
 
     def _park(self) -> bool:
         try:
-            url = self._url()
-            if not url.startswith("http"):
-                return False
-            return self._empty(urljoin(url, "icon.svg")) == 0
+            return self._empty() == 0
         except Exception:
             return False
 
@@ -269,12 +287,8 @@ class PlaywrightPage(EnginePage):
     def _url(self) -> str:
         return self.page.url
 
-    def _empty(self, icon: str) -> int:
-        for other in self.context.pages:
-            if other != self.page:
-                other.close()
-        self.page.goto(icon)
-        return self.page.evaluate(EMPTY_STORAGE)
+    def _empty(self) -> int:
+        return leave_for_the_icon(self.context, self.page)
 
     def hook(self, expr):
         return self.page.evaluate(_fn(expr))
@@ -370,8 +384,11 @@ class WebKitPage(EnginePage):
     def _url(self) -> str:
         return self.driver.current_url
 
-    def _empty(self, icon: str) -> int:
-        self.driver.get(icon)
+    def _empty(self) -> int:
+        url = self._url()
+        if not url.startswith("http"):
+            raise RuntimeError(f"the page is at {url}")
+        self.driver.get(urljoin(url, "icon.svg"))
         left = self.driver.execute_async_script(f"const done = arguments[arguments.length - 1]; ({EMPTY_STORAGE})().then(done);")
         self.driver.execute_script(TOUR_DONE)  # as __init__ does: WebDriver has no init script
         return left

@@ -84,10 +84,12 @@ def _predicted_seconds(program: str) -> float:
 
 
 def _on_the_nano(pg, what: str, seconds: float):
-    """The program Run sent to the virtual Nano ends (or the link is lost), within twice its
-    predicted time plus 30 s of the Nano's own clock (the link's waits and the start), however
-    slowly a busy machine lets the page's worker emulate it; says how slowly it went."""
-    nano, wall = pg.wait_on_nano("a.arm.programDone === true || a.arm.error !== ''", 2 * seconds + 30, what)
+    """The program Run sent to the virtual Nano ends (or the link is lost), with no stall longer
+    than its predicted time plus 30 s of the Nano's own clock (a stall: no line answered, no step
+    made), however slowly a busy machine lets the page's worker emulate it or its main thread
+    send; says how slowly it went."""
+    nano, wall = pg.wait_on_nano("a.arm.programDone === true || a.arm.error !== ''", seconds + 30, what,
+                                 progress="[(a.arm.programLines || []).length, a.arm.status && a.arm.status.steps]")
     print(f"{pg.engine}: {what}: {nano:.1f} s on the Nano's clock (predicted {seconds:.1f} s) in {wall:.1f} s"
           f" ({nano / wall if wall else 0:.2f}x real time)")
 
