@@ -3,7 +3,7 @@
 // (ctest: wasm.parity); ARTICULA_CLI names the CLI, ARTICULA_WASM_DIR the engine's build.
 import assert from "node:assert/strict";
 import { execFileSync } from "node:child_process";
-import { mkdtempSync, readFileSync, readdirSync, writeFileSync } from "node:fs";
+import { mkdtempSync, readFileSync, readdirSync, rmSync, writeFileSync } from "node:fs";
 import { tmpdir } from "node:os";
 import { join } from "node:path";
 import { after, before, describe, test } from "node:test";
@@ -258,4 +258,4 @@ describe("bad input gets the CLI's words, and the robot that was there stays", (
   });
 });
 
-after(() => {});
+after(() => rmSync(tmp, { recursive: true, force: true })); // the CLI's files, the trajectories
