@@ -167,6 +167,8 @@ void set_servo_pulse(uint16_t microseconds) {
   hw.servo_log.push_back(sitl::ServoChange{hw.now, microseconds});
 }
 
+void action_began(uint8_t kind) { hw.actions.push_back(sitl::ActionEvent{hw.now, kind}); }
+
 bool endstop(uint8_t motor) {
   if (motor >= sitl::kMotors || !hw.endstop_fitted[motor]) return false;
   return hw.endstop_below[motor] ? hw.position[motor] <= hw.endstop_at[motor]
@@ -181,6 +183,7 @@ void start_step_timer(uint32_t first_ticks) {
 }
 
 void stop_step_timer() {
+  if (hw.timer_running) hw.actions.push_back(sitl::ActionEvent{hw.now, sitl::kTimerStopped});
   hw.timer_running = false;
   hw.staged_mask = 0;
 }

@@ -46,6 +46,14 @@ struct ServoChange {
   uint16_t us;
 };
 
+// The queue's actions as the firmware ran them: each one it took off its queue and began
+// (hal::action_began), and each time the step timer stopped. An action ends at the next entry.
+static const uint8_t kTimerStopped = 0xFF;
+struct ActionEvent {
+  uint64_t tick;
+  uint8_t kind;  // queue::Kind, or kTimerStopped
+};
+
 struct Hardware {
   Hardware() {
     for (int m = 0; m < kMotors; ++m) {
@@ -60,6 +68,7 @@ struct Hardware {
 
   std::vector<CoilWrite> coil_log;
   std::vector<ServoChange> servo_log;
+  std::vector<ActionEvent> actions;  // actions begun and timer stops (its call returned 0, or stop_step_timer())
   uint16_t servo_us = 0;
 
   std::deque<char> rx;  // received, not yet read by serial_read()

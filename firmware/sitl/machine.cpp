@@ -48,6 +48,16 @@ void find_first_step() {
     }
 }
 
+// firmware::poll(). An action it began that takes no time (a Home with nothing to do, a
+// gripper action without a settle pause), with nothing queued after it, leaves the step timer
+// unstarted: the action log gets its end here, as a timer stop.
+void poll() {
+  Hardware& hw = sitl::hw;
+  firmware::poll();
+  if (!hw.timer_running && !hw.actions.empty() && hw.actions.back().kind != kTimerStopped)
+    hw.actions.push_back(ActionEvent{hw.now, kTimerStopped});
+}
+
 // The step deadline due now: the staged coils, the firmware's step, the next deadline.
 void fire_deadline() {
   Hardware& hw = sitl::hw;
@@ -55,6 +65,7 @@ void fire_deadline() {
   const uint32_t next = sitl::step_deadline();
   if (next == 0) {
     hw.timer_running = false;
+    hw.actions.push_back(ActionEvent{hw.now, kTimerStopped});
     g_stopped_at = hw.now;
   } else {
     hw.deadline += next;
@@ -131,7 +142,7 @@ size_t on_the_line() { return g_line.size(); }
 
 void tick() {
   Hardware& hw = sitl::hw;
-  firmware::poll();
+  poll();
   const uint64_t end = hw.now + kPollTicks;
   for (;;) {
     // The next event: a step deadline or a byte's arrival (a deadline first at the same tick:
@@ -158,7 +169,7 @@ void poll_until_idle() {
   for (int pass = 0; pass < 64; ++pass) {
     const size_t rx = hw.rx.size(), tx = hw.tx.size();
     const bool running = hw.timer_running;
-    firmware::poll();
+    poll();
     if (hw.rx.size() == rx && hw.tx.size() == tx && hw.timer_running == running) break;
   }
 }

@@ -48,6 +48,15 @@ bool step_timer_running();
 // long the step computation takes). From on_step_timer(), or before start_step_timer().
 void stage_coils(uint8_t motor, uint8_t pattern);
 
+// The step interrupt (or the main loop starting it) took an action of `kind` (queue::Kind)
+// off the queue and began it. Nothing on the Nano (no code at all); the SITL machine stamps
+// it with its tick, so the host reads when each queued action began from the firmware itself.
+#if defined(__AVR__)
+inline void action_began(uint8_t) {}
+#else
+void action_began(uint8_t kind);
+#endif
+
 // Milliseconds since init (wraps after 49 days).
 uint32_t millis();
 

@@ -158,6 +158,7 @@ uint32_t next_action() {
     // this interrupt runs (only the main loop pushes), so no copy on the stack.
     const queue::Action& a = queue::front();
     queue::pop();
+    hal::action_began(a.kind);
     const uint32_t t = begin(a);
     if (t != 0) return t;
   }
@@ -170,6 +171,7 @@ uint32_t continue_stop() {
   while (g_profile.level() != 0 && !g_homing && !queue::empty() && queue::front().kind == queue::kMove) {
     const queue::Action& a = queue::front();  // (as in next_action)
     queue::pop();
+    hal::action_began(a.kind);
     const uint32_t t = begin_move(a.target, 0, a.plan.cruise4, true);
     if (t != 0) return t;
   }

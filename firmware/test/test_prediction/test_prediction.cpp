@@ -19,6 +19,7 @@
 #include "hal_sitl.h"
 #include "harness.h"
 #include "predict.h"
+#include "queue.h"
 #include "program.h"
 #include "robot_file.h"
 
@@ -102,6 +103,70 @@ TEST_P(FirmwareMatchesThePrediction, RepliesStepsAndMoveEnds) {
               c.file, host::sender_name(c.sender), lines.size(), moves, steps.size(),
               steps.empty() ? 0.0 : double(steps.back()) / 2e6, double(p.total_ticks) / 2e6,
               static_cast<unsigned long long>(worst));
+}
+
+// When each queued action begins and ends, read from the firmware itself: the actions it took
+// off its queue (hal::action_began) and when its step timer stopped (sitl::hw.actions, from
+// `from`), against the prediction. Every record that queued something and was not cut by a
+// '!': its first action began at its predicted start, of its kind, and its last one (a T's
+// last segment) ended at its predicted end, the log's next entry. The times the host's
+// prediction is to read from the running firmware (issue 39). Returns the records checked and
+// the actions they account for.
+std::pair<size_t, size_t> check_action_times(const host::Prediction& p, size_t from, uint64_t t0, const std::string& what) {
+  const std::vector<sitl::ActionEvent> log(sitl::hw.actions.begin() + long(from), sitl::hw.actions.end());
+  size_t j = 0, records = 0, actions = 0;
+  for (const host::PredictRecord& r : p.records) {
+    if (!r.queued || r.cut) continue;
+    const uint8_t kind = r.action == host::PredictRecord::Action::kMove   ? uint8_t(queue::kMove)
+                         : r.action == host::PredictRecord::Action::kHome ? uint8_t(queue::kHome)
+                                                                          : uint8_t(queue::kDwell);  // or kGripper
+    auto is = [&](const sitl::ActionEvent& e) {
+      return e.kind == kind || (kind == queue::kDwell && e.kind == queue::kGripper);
+    };
+    while (j < log.size() && (log[j].kind == sitl::kTimerStopped || log[j].tick - t0 < r.start_tick)) ++j;
+    if (j == log.size() || log[j].tick - t0 != r.start_tick || !is(log[j])) {
+      ADD_FAILURE() << what << " line " << r.line << " (" << r.text << "): no action of its kind began at its start, "
+                    << r.start_tick << (j < log.size() ? ", the next at " + std::to_string(log[j].tick - t0) : "");
+      continue;
+    }
+    for (size_t n = r.segments.empty() ? 1 : r.segments.size(); n > 1; --n) {  // a T's further segments
+      ++j;
+      while (j < log.size() && log[j].kind == sitl::kTimerStopped) ++j;
+    }
+    if (j + 1 >= log.size()) {
+      ADD_FAILURE() << what << " line " << r.line << ": the log ends inside its action";
+      break;
+    }
+    EXPECT_EQ(log[j + 1].tick - t0, r.end_tick) << what << " line " << r.line << " (" << r.text << "): its end";
+    ++j;
+    ++records;
+    actions += r.segments.empty() ? 1 : r.segments.size();
+  }
+  return {records, actions};
+}
+
+TEST_P(FirmwareMatchesThePrediction, ActionsBeginAndEndWhenPredicted) {
+  const Case c = GetParam();
+  const host::Robot& robot = robot_file();
+  const host::Program program = host::load_program(std::string(ARTICULA_SOURCE_DIR) + "/" + c.file, robot);
+  host::SenderModel sender;
+  sender.kind = c.sender;
+  const host::Prediction p = host::predict_program(robot, program, {}, sender);
+  std::vector<std::string> lines;
+  for (const host::PredictRecord& r : p.records) lines.push_back(r.stop ? "!" : r.protocol.empty() ? r.text : r.protocol);
+
+  sim::boot();
+  sim::status();
+  sim::take_lines();
+  const uint64_t t0 = sitl::hw.now;
+  const size_t from = sitl::hw.actions.size();
+  sitl::run_lines(lines, c.sender == host::SenderModel::kRest ? sitl::kAtRest : sitl::kStreamed);
+  const std::pair<size_t, size_t> checked = check_action_times(p, from, t0, c.file);
+  size_t begun = 0;
+  for (size_t i = from; i < sitl::hw.actions.size(); ++i) begun += sitl::hw.actions[i].kind != sitl::kTimerStopped;
+  EXPECT_EQ(checked.second, begun) << c.file << ": the firmware began other actions than predicted";
+  std::printf("  %s, %s: %zu records' starts and ends, %zu actions\n", c.file, host::sender_name(c.sender),
+              checked.first, begun);
 }
 
 const char* const kFiles[] = {
@@ -219,7 +284,7 @@ TEST_P(RandomProgramsMatchThePrediction, RepliesStepsMoveEndsAndStops) {
   sim::status();
   sim::take_lines();
   const uint64_t t0 = sitl::hw.now;
-  const size_t from = sitl::hw.coil_log.size();
+  const size_t from = sitl::hw.coil_log.size(), actions_from = sitl::hw.actions.size();
   const std::vector<sitl::Exchange> got =
       sitl::run_lines(lines, c.sender == host::SenderModel::kRest ? sitl::kAtRest : sitl::kStreamed, stops);
   ASSERT_EQ(got.size(), lines.size());
@@ -266,10 +331,11 @@ TEST_P(RandomProgramsMatchThePrediction, RepliesStepsMoveEndsAndStops) {
     EXPECT_EQ(end[m], p.records.back().steps[m]) << "motor " << m << " at rest";
   EXPECT_EQ(sitl::stops_sent().size(), stops.size());
   EXPECT_EQ(sim::hal_errors(), "");
-  std::printf("  seed %u, %s, %d timed stops: %zu lines (%d refused, %d of them error:15), %zu steps, %zu move ends and "
-              "%zu stops checked; %.3f s\n",
+  const std::pair<size_t, size_t> timed = check_action_times(p, actions_from, t0, "seed " + std::to_string(c.seed));
+  std::printf("  seed %u, %s, %d timed stops: %zu lines (%d refused, %d of them error:15), %zu steps, %zu move ends, "
+              "%zu actions' starts and ends and %zu stops checked; %.3f s\n",
               c.seed, host::sender_name(c.sender), c.stops, lines.size(), errors, stopped, steps.size(), checked_ends,
-              checked_stops, steps.empty() ? 0.0 : double(steps.back()) / 2e6);
+              timed.first, checked_stops, steps.empty() ? 0.0 : double(steps.back()) / 2e6);
 }
 
 std::vector<RandomCase> random_cases() {
