@@ -145,7 +145,10 @@ std::pair<size_t, size_t> check_action_times(const host::Prediction& p, size_t f
   return {records, actions};
 }
 
-TEST_P(FirmwareMatchesThePrediction, ActionsBeginAndEndWhenPredicted) {
+// Every time host::schedule() gives, read from the firmware: the records' starts and ends
+// (check_action_times), when each line is in, the lines that queue nothing, the end of the
+// program and the first step. What the host's schedule() is to become (issue 39).
+TEST_P(FirmwareMatchesThePrediction, EveryTimeOfTheScheduleReadFromTheFirmware) {
   const Case c = GetParam();
   const host::Robot& robot = robot_file();
   const host::Program program = host::load_program(std::string(ARTICULA_SOURCE_DIR) + "/" + c.file, robot);
@@ -160,13 +163,35 @@ TEST_P(FirmwareMatchesThePrediction, ActionsBeginAndEndWhenPredicted) {
   sim::take_lines();
   const uint64_t t0 = sitl::hw.now;
   const size_t from = sitl::hw.actions.size();
-  sitl::run_lines(lines, c.sender == host::SenderModel::kRest ? sitl::kAtRest : sitl::kStreamed);
+  const std::vector<sitl::Exchange> got =
+      sitl::run_lines(lines, c.sender == host::SenderModel::kRest ? sitl::kAtRest : sitl::kStreamed);
+  ASSERT_EQ(got.size(), p.records.size());
   const std::pair<size_t, size_t> checked = check_action_times(p, from, t0, c.file);
   size_t begun = 0;
-  for (size_t i = from; i < sitl::hw.actions.size(); ++i) begun += sitl::hw.actions[i].kind != sitl::kTimerStopped;
+  uint64_t rest = 0;  // the last time the step timer stopped
+  for (size_t i = from; i < sitl::hw.actions.size(); ++i) {
+    begun += sitl::hw.actions[i].kind != sitl::kTimerStopped;
+    if (sitl::hw.actions[i].kind == sitl::kTimerStopped) rest = sitl::hw.actions[i].tick - t0;
+  }
   EXPECT_EQ(checked.second, begun) << c.file << ": the firmware began other actions than predicted";
-  std::printf("  %s, %s: %zu records' starts and ends, %zu actions\n", c.file, host::sender_name(c.sender),
-              checked.first, begun);
+  // The rest of what schedule() says: when each line is in; a line that queues nothing takes
+  // no time there, or (a setting, Z) until its reply at rest; the end of the whole program;
+  // the first step.
+  host::Prediction q = p;  // (a program sent at rest, without T or '!', is timed without it: rest to rest)
+  host::schedule(q, sender);
+  for (size_t i = 0; i < q.records.size(); ++i) {
+    const host::PredictRecord& r = q.records[i];
+    EXPECT_EQ(got[i].in - t0, r.arrive_tick) << c.file << " line " << r.line << " (" << r.text << "): when it is in";
+    if (r.queued) continue;
+    const uint64_t at = (r.waits_for_rest ? got[i].answered : got[i].in) - t0;
+    EXPECT_EQ(at, r.start_tick) << c.file << " line " << r.line << " (" << r.text << ")";
+    EXPECT_EQ(at, r.end_tick) << c.file << " line " << r.line << " (" << r.text << ")";
+  }
+  EXPECT_EQ(std::max(rest, got.back().answered - t0), p.total_ticks) << c.file << ": the end";
+  EXPECT_EQ(q.total_ticks, p.total_ticks) << c.file << ": the end, scheduled";
+  EXPECT_EQ(sitl::first_step() == 0 ? 0 : sitl::first_step() - t0, q.first_step_tick) << c.file << ": the first step";
+  std::printf("  %s, %s: %zu lines in, %zu records' starts and ends, %zu actions; the end at %.6f s\n", c.file,
+              host::sender_name(c.sender), got.size(), checked.first, begun, double(p.total_ticks) / 2e6);
 }
 
 const char* const kFiles[] = {
