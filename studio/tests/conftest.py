@@ -261,7 +261,8 @@ class Page:
             try:
                 state = self.page.evaluate("() => { const a = window.articula; return { history: a.history, "
                                            "engine: a.engineWaiting(), errors: a.pageErrors, robot: a.robot && a.robot.name, "
-                                           "project: a.project && a.project.name }; }")
+                                           "project: a.project && a.project.name, said: [...document.querySelectorAll("
+                                           "'.status')].map((e) => e.id + ': ' + e.textContent).filter((t) => !t.endsWith(': ')) }; }")
             except Exception as e2:  # the page is gone
                 state = f"(no page: {e2})"
             raise AssertionError(f"{expr} did not happen: {e}\nthe page: {state}") from None
