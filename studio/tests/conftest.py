@@ -15,7 +15,7 @@ from pathlib import Path
 
 import pytest
 
-from engines import TOUR_DONE, as_tested, driver_made, leave_for_the_icon
+from engines import TOUR_DONE, as_tested, console_error, driver_made, leave_for_the_icon
 
 REPO = Path(__file__).resolve().parents[2]
 CHROMIUM = os.environ.get("ARTICULA_CHROMIUM", "/usr/bin/chromium")
@@ -240,7 +240,7 @@ class Page:
             self.context.set_default_timeout(30000 * PATIENCE)
             self.page = self.context.new_page()
         self.errors: list[str] = []
-        self.listening = {"console": lambda m: m.type == "error" and self.errors.append(m.text),
+        self.listening = {"console": lambda m: (e := console_error(m)) and self.errors.append(e),
                           "pageerror": lambda e: self.errors.append(str(e))}
         for event, f in self.listening.items():
             self.page.on(event, f)

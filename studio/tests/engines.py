@@ -12,7 +12,7 @@ import shutil
 import subprocess
 import time
 from pathlib import Path
-from urllib.parse import urljoin
+from urllib.parse import urljoin, urlparse
 
 # The view drawn at low resolution (?quality=low) when the screenshots go elsewhere than docs/img
 # (make test: the build tree): Chromium draws WebGL in software here (SwiftShader), and a frame
@@ -47,6 +47,21 @@ EMPTY_STORAGE = """async () => {
     })));
     return localStorage.length + sessionStorage.length + (indexedDB.databases ? (await indexedDB.databases()).length : 0);
 }"""
+
+
+def console_error(m) -> str | None:
+    """A Playwright console message as a test keeps it: an error, with the resource a failed
+    load names; None for anything else, and for the 404 of /favicon.ico, which the browser asks
+    for on its own when a parked page shows the site's icon (the studio names its icon): it can
+    arrive after the next test took the page."""
+    if m.type != "error":
+        return None
+    url = (m.location or {}).get("url", "")
+    if m.text.startswith("Failed to load resource"):
+        if urlparse(url).path == "/favicon.ico":
+            return None
+        return f"{m.text}: {url}"
+    return m.text
 
 
 def leave_for_the_icon(context, page) -> int:
@@ -274,7 +289,7 @@ class PlaywrightPage(EnginePage):
         self.context.add_init_script(TOUR_DONE)
         self.page = self.context.new_page()
         self.console: list[str] = []
-        self.page.on("console", lambda m: m.type == "error" and self.console.append(m.text))
+        self.page.on("console", lambda m: (e := console_error(m)) and self.console.append(e))
         self.page.on("pageerror", lambda e: self.console.append(str(e)))
         self.page.goto(url)
 
