@@ -51,25 +51,43 @@ std::string name_of(const ::testing::TestParamInfo<Case>& info) {
 
 class FirmwareMatchesThePrediction : public ::testing::TestWithParam<Case> {};
 
-TEST_P(FirmwareMatchesThePrediction, RepliesStepsAndMoveEnds) {
-  const Case c = GetParam();
-  const host::Robot& robot = robot_file();
-  const std::string path = std::string(ARTICULA_SOURCE_DIR) + "/" + c.file;
-  const host::Program program = host::load_program(path, robot);
+// A shipped program predicted and sent to a fresh machine as the case's sender sends it.
+struct ShippedRun {
   host::SenderModel sender;
-  sender.kind = c.sender;
-  const host::Prediction p = host::predict_program(robot, program, {}, sender);
-
+  host::Prediction p;
   std::vector<std::string> lines;
-  for (const host::PredictRecord& r : p.records) lines.push_back(r.stop ? "!" : r.protocol.empty() ? r.text : r.protocol);
+  uint64_t t0 = 0;            // the machine's tick when the first line went
+  size_t coil_writes0 = 0;    // where the run starts in the coil log
+  size_t actions0 = 0;        //   and in the action log
+  std::vector<sitl::Exchange> got;
+};
 
+ShippedRun run_shipped(const Case& c) {
+  const host::Robot& robot = robot_file();
+  ShippedRun run;
+  run.sender.kind = c.sender;
+  run.p = host::predict_program(robot, host::load_program(std::string(ARTICULA_SOURCE_DIR) + "/" + c.file, robot), {},
+                                run.sender);
+  for (const host::PredictRecord& r : run.p.records)
+    run.lines.push_back(r.stop ? "!" : r.protocol.empty() ? r.text : r.protocol);
   sim::boot();
   sim::status();  // the W:14 of a blank EEPROM, taken
   sim::take_lines();
-  const uint64_t t0 = sitl::hw.now;
-  const size_t coil_writes0 = sitl::hw.coil_log.size();
-  const std::vector<sitl::Exchange> got =
-      sitl::run_lines(lines, c.sender == host::SenderModel::kRest ? sitl::kAtRest : sitl::kStreamed);
+  run.t0 = sitl::hw.now;
+  run.coil_writes0 = sitl::hw.coil_log.size();
+  run.actions0 = sitl::hw.actions.size();
+  run.got = sitl::run_lines(run.lines, c.sender == host::SenderModel::kRest ? sitl::kAtRest : sitl::kStreamed);
+  return run;
+}
+
+TEST_P(FirmwareMatchesThePrediction, RepliesStepsAndMoveEnds) {
+  const Case c = GetParam();
+  const ShippedRun run = run_shipped(c);
+  const host::Prediction& p = run.p;
+  const std::vector<std::string>& lines = run.lines;
+  const uint64_t t0 = run.t0;
+  const size_t coil_writes0 = run.coil_writes0;
+  const std::vector<sitl::Exchange>& got = run.got;
   ASSERT_EQ(got.size(), p.records.size());
 
   // Every deadline at which a motor stepped, from the coil writes (decoded by the SITL HAL).
@@ -150,21 +168,12 @@ std::pair<size_t, size_t> check_action_times(const host::Prediction& p, size_t f
 // program and the first step. What the host's schedule() is to become (issue 39).
 TEST_P(FirmwareMatchesThePrediction, EveryTimeOfTheScheduleReadFromTheFirmware) {
   const Case c = GetParam();
-  const host::Robot& robot = robot_file();
-  const host::Program program = host::load_program(std::string(ARTICULA_SOURCE_DIR) + "/" + c.file, robot);
-  host::SenderModel sender;
-  sender.kind = c.sender;
-  const host::Prediction p = host::predict_program(robot, program, {}, sender);
-  std::vector<std::string> lines;
-  for (const host::PredictRecord& r : p.records) lines.push_back(r.stop ? "!" : r.protocol.empty() ? r.text : r.protocol);
-
-  sim::boot();
-  sim::status();
-  sim::take_lines();
-  const uint64_t t0 = sitl::hw.now;
-  const size_t from = sitl::hw.actions.size();
-  const std::vector<sitl::Exchange> got =
-      sitl::run_lines(lines, c.sender == host::SenderModel::kRest ? sitl::kAtRest : sitl::kStreamed);
+  const ShippedRun run = run_shipped(c);
+  const host::Prediction& p = run.p;
+  const host::SenderModel& sender = run.sender;
+  const uint64_t t0 = run.t0;
+  const size_t from = run.actions0;
+  const std::vector<sitl::Exchange>& got = run.got;
   ASSERT_EQ(got.size(), p.records.size());
   const std::pair<size_t, size_t> checked = check_action_times(p, from, t0, c.file);
   size_t begun = 0;
