@@ -1,7 +1,7 @@
 # firmware/native.cmake - the firmware's logic on the host, on a virtual clock, and its tests.
 #
-# The firmware sources (all of src/ but the AVR HAL and main.cpp) with the SITL HAL and
-# machine (sitl/) as one library compiled gnu++11 as on the Nano, the tests' harness
+# The firmware on its virtual clock (sitl/sitl.cmake: src/ but the AVR HAL, with the SITL HAL
+# and machine), the tests' harness
 # (test/harness.cpp, which PlatformIO compiles with every test folder too), and one
 # GoogleTest program per test folder
 # (test/test_<unit>/test_<unit>.cpp), for each of two arms on the one firmware: the MK2 a
@@ -9,17 +9,16 @@
 # reversed motor, the identity coupling and a home pose away from step 0, under
 # "firmware.halfstep.": its configuration (made by `articula configure --header`) is what
 # the harness puts in the SITL EEPROM of a fresh machine.
-set(fw_src_dir ${ARTICULA_FIRMWARE_DIR}/src)
 set(fw_test_dir ${ARTICULA_FIRMWARE_DIR}/test)
-set(fw_sitl_dir ${ARTICULA_FIRMWARE_DIR}/sitl)
-file(GLOB fw_sources CONFIGURE_DEPENDS ${fw_src_dir}/*.cpp)
-list(FILTER fw_sources EXCLUDE REGEX "/(hal_avr|main)\\.cpp$")
 file(GLOB fw_test_folders LIST_DIRECTORIES true CONFIGURE_DEPENDS ${fw_test_dir}/test_*)
 
-# robot: its file ("" for the built-in MK2); motors: the build's motor count (robot::kJoints:
-# 3 as on the Nano; more for the host, the same source); tests: the test folders to build ("":
-# all).
-function(articula_firmware_variant variant robot prefix motors tests)
+# robot: its file ("" for the built-in MK2); sitl: the firmware library the variant runs on
+# ("" builds one of its own for three motors, as on the Nano; articula_firmware_sitl is the
+# host's, eight motors, which the host library runs: a test that needs the host library, its
+# loader or its prediction, runs on that one, since a program links one firmware); tests: the
+# test folders to build ("": all but those that need the host library).
+set(fw_host_tests test_robot test_prediction)
+function(articula_firmware_variant variant robot prefix sitl tests)
   set(robot_file ${robot})
   set(config_defs "")
   if(robot)
@@ -36,20 +35,15 @@ function(articula_firmware_variant variant robot prefix motors tests)
     set(robot_file ${PROJECT_SOURCE_DIR}/robots/mk2plus.json)
   endif()
 
-  # The firmware on its virtual clock (firmware/sitl/): src/'s controller compiled for the
-  # host, unchanged, with the SITL HAL and the machine that runs its main loop and interrupts.
-  # One library: the HAL and the firmware call each other.
-  add_library(firmware_sitl_${variant} STATIC ${fw_sources} ${fw_sitl_dir}/hal_sitl.cpp ${fw_sitl_dir}/machine.cpp)
-  target_include_directories(firmware_sitl_${variant} PUBLIC ${fw_src_dir} ${fw_sitl_dir})
-  target_link_libraries(firmware_sitl_${variant} PUBLIC articula::core)
-  target_compile_definitions(firmware_sitl_${variant} PUBLIC ARTICULA_FIRMWARE_MOTORS=${motors})
-  target_compile_options(firmware_sitl_${variant} PRIVATE ${ARTICULA_WARNINGS})
-  set_target_properties(firmware_sitl_${variant} PROPERTIES CXX_STANDARD 11 CXX_EXTENSIONS ON)
+  if(NOT sitl)
+    set(sitl firmware_sitl_${variant})
+    articula_firmware_sitl(${sitl} 3)
+  endif()
 
   # The tests' harness: the variant's arm at boot, the checks that need GoogleTest.
   add_library(firmware_harness_${variant} OBJECT ${fw_test_dir}/harness.cpp)
   target_include_directories(firmware_harness_${variant} PUBLIC ${fw_test_dir})
-  target_link_libraries(firmware_harness_${variant} PUBLIC firmware_sitl_${variant} GTest::gtest)
+  target_link_libraries(firmware_harness_${variant} PUBLIC ${sitl} GTest::gtest)
   target_compile_options(firmware_harness_${variant} PRIVATE ${ARTICULA_WARNINGS} ${ARTICULA_TEST_FLAGS})
   target_compile_definitions(firmware_harness_${variant} PRIVATE ${config_defs})
   if(robot)
@@ -61,10 +55,13 @@ function(articula_firmware_variant variant robot prefix motors tests)
     if(tests AND NOT name IN_LIST tests)
       continue()
     endif()
+    if(NOT tests AND name IN_LIST fw_host_tests)
+      continue()
+    endif()
     set(exe firmware_${variant}_${name})
     add_executable(${exe} ${folder}/${name}.cpp)
     target_link_libraries(${exe} PRIVATE firmware_harness_${variant} GTest::gtest_main)
-    if(name STREQUAL "test_robot" OR name STREQUAL "test_prediction")  # the host's loader, its prediction
+    if(name IN_LIST fw_host_tests)  # the host's loader, its prediction
       target_link_libraries(${exe} PRIVATE articula_host)
     endif()
     target_compile_options(${exe} PRIVATE ${ARTICULA_WARNINGS} ${ARTICULA_TEST_FLAGS})
@@ -74,8 +71,11 @@ function(articula_firmware_variant variant robot prefix motors tests)
   endforeach()
 endfunction()
 
-articula_firmware_variant(main "" "firmware." 3 "")
-articula_firmware_variant(halfstep ${fw_test_dir}/robots/halfstep.json "firmware.halfstep." 3 "")
-# The same source built for eight motors, as the host's prediction will run it: the same
-# answers for the MK2 as the Nano's build gives, to the tick (test_prediction).
-articula_firmware_variant(wide "" "firmware.wide." 8 "test_prediction")
+articula_firmware_variant(main "" "firmware." "" "")
+articula_firmware_variant(halfstep ${fw_test_dir}/robots/halfstep.json "firmware.halfstep." "" "")
+# The same arms on the host's build of the firmware (eight motors, host/CMakeLists.txt), which
+# the prediction runs: the tests that need the host library. It gives the same answers as the
+# Nano's build: hil/ holds the prediction against the Nano's own hex in simavr.
+articula_firmware_variant(wide "" "firmware.wide." articula_firmware_sitl "${fw_host_tests}")
+articula_firmware_variant(wide_halfstep ${fw_test_dir}/robots/halfstep.json "firmware.wide.halfstep." articula_firmware_sitl
+                          "${fw_host_tests}")

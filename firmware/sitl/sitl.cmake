@@ -1,0 +1,23 @@
+# firmware/sitl/sitl.cmake - the firmware on a virtual clock as a library, for the firmware's
+# native tests (firmware/native.cmake) and for the host's prediction (host/CMakeLists.txt: the
+# host library, the CLI, Python and the web engine all run it).
+#
+# articula_firmware_sitl(TARGET MOTORS): src/'s controller (every .cpp but the AVR HAL and
+# main.cpp), compiled for the host unchanged, gnu++11 as on the Nano, with the SITL HAL and the
+# machine that runs its main loop and interrupts (sitl/). One library: the HAL and the firmware
+# call each other. MOTORS is the build's motor count (robot::kJoints): 3 as on the Nano, 8 for
+# the host (the same source).
+#
+# The firmware's state is global, as on the Nano: a program links one such library, never two.
+function(articula_firmware_sitl target motors)
+  set(sitl ${CMAKE_CURRENT_FUNCTION_LIST_DIR})
+  set(src ${sitl}/../src)
+  file(GLOB sources CONFIGURE_DEPENDS ${src}/*.cpp)
+  list(FILTER sources EXCLUDE REGEX "/(hal_avr|main)\\.cpp$")
+  add_library(${target} STATIC ${sources} ${sitl}/hal_sitl.cpp ${sitl}/machine.cpp)
+  target_include_directories(${target} PUBLIC ${src} ${sitl})
+  target_link_libraries(${target} PUBLIC articula::core)
+  target_compile_definitions(${target} PUBLIC ARTICULA_FIRMWARE_MOTORS=${motors})
+  target_compile_options(${target} PRIVATE ${ARTICULA_WARNINGS})
+  set_target_properties(${target} PROPERTIES CXX_STANDARD 11 CXX_EXTENSIONS ON UNITY_BUILD OFF)
+endfunction()
