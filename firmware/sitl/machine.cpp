@@ -37,6 +37,20 @@ size_t g_coil_from = 0;     // the coil log's first write of the run
 bool g_first_known = false;
 uint64_t g_first_step = 0;
 std::vector<uint64_t> g_stops_sent;
+// run_lines()' '!'s; kPending: not at rest yet.
+const uint64_t kPending = ~uint64_t(0);
+std::vector<StopEvent> g_stop_events;
+bool g_track_stops = false;  // inside run_lines()
+
+bool is_reply(const std::string& s) { return s == "ok" || s.rfind("error:", 0) == 0; }
+size_t g_replies = 0;  // reply lines collect() has seen
+void collect();
+
+void bang_arrives() {
+  if (!g_track_stops) return;
+  collect();
+  g_stop_events.push_back(StopEvent{sitl::hw.now, kPending, g_replies, 0});
+}
 
 // The first step of the run, once the coil log has one.
 void find_first_step() {
@@ -53,9 +67,18 @@ void find_first_step() {
 // unstarted: the action log gets its end here, as a timer stop.
 void poll() {
   Hardware& hw = sitl::hw;
+  const bool stopping = stepper::stop_requested();
+  const size_t actions = hw.actions.size();
   firmware::poll();
   if (!hw.timer_running && !hw.actions.empty() && hw.actions.back().kind != kTimerStopped)
     hw.actions.push_back(ActionEvent{hw.now, kTimerStopped});
+  // A stop is done when the main loop has emptied the queue at rest (controller.cpp
+  // service_stop), in the pass that may go on to read the next line.
+  if (stopping && !stepper::stop_requested())
+    for (size_t i = g_stop_events.size(); i > 0 && g_stop_events[i - 1].rest == kPending; --i) {
+      g_stop_events[i - 1].rest = hw.now;
+      g_stop_events[i - 1].actions = actions;
+    }
 }
 
 // The step deadline due now: the staged coils, the firmware's step, the next deadline.
@@ -77,6 +100,7 @@ void deliver_byte() {
   sitl::hw.now = g_line.front().tick;
   const char c = g_line.front().c;
   g_line.pop_front();
+  if (c == '!') bang_arrives();
   sitl::receive(c);
 }
 
@@ -85,6 +109,7 @@ void collect() {
   for (; g_tx_seen < tx.size(); ++g_tx_seen) {
     const char c = tx[g_tx_seen];
     if (c == '\n') {
+      g_replies += is_reply(g_partial);
       g_lines.push_back(g_partial);
       g_partial.clear();
     } else {
@@ -93,10 +118,10 @@ void collect() {
   }
 }
 
-bool is_reply(const std::string& s) { return s == "ok" || s.rfind("error:", 0) == 0; }
 }  // namespace
 
-void boot(bool blank_eeprom, const std::string& during_setup, const uint8_t* config) {
+void boot(bool blank_eeprom, const std::string& during_setup, const uint8_t* config,
+          const articula::ConfiguredArm<kMotors>* arm) {
   sitl::reset(blank_eeprom);
   if (config != nullptr) {
     // The arm as `articula configure ROBOT` would have left it in EEPROM.
@@ -119,6 +144,10 @@ void boot(bool blank_eeprom, const std::string& during_setup, const uint8_t* con
   hal::init();  // as main.cpp
   for (char c : during_setup) sitl::receive(c);
   firmware::setup();
+  if (arm != nullptr) {
+    robot::use(*arm, 0);
+    firmware::configured();
+  }
   for (int i = 0; i < robot::kJoints; ++i) sitl::hw.microsteps[i] = robot::actuation().motors[i].microsteps;
   hal::start();
 }
@@ -186,6 +215,7 @@ uint64_t next_event() {
 
 uint64_t first_step() { return g_first_known ? g_first_step : 0; }
 const std::vector<uint64_t>& stops_sent() { return g_stops_sent; }
+const std::vector<StopEvent>& stop_events() { return g_stop_events; }
 
 namespace {
 // The next event delivered (the clock at it), then the main loop's passes.
@@ -202,6 +232,7 @@ void step_event() {
     hw.now = t;
     g_stops.pop_front();
     g_stops_sent.push_back(t);
+    bang_arrives();
     sitl::receive('!');
   } else {
     hw.now = t;  // the millisecond tick
@@ -229,6 +260,8 @@ std::vector<Exchange> run_lines(const std::vector<std::string>& lines, SenderKin
   g_stops.assign(stops.begin(), stops.end());
   std::sort(g_stops.begin(), g_stops.end());
   g_stops_sent.clear();
+  g_stop_events.clear();
+  g_track_stops = true;
   g_coil_from = hw.coil_log.size();
   g_first_known = false;
   g_first_step = 0;
@@ -238,6 +271,7 @@ std::vector<Exchange> run_lines(const std::vector<std::string>& lines, SenderKin
   poll_until_idle();
   collect();
   g_lines.clear();
+  g_replies = 0;
   for (const std::string& line : lines) {
     Exchange x;
     x.line = line;
@@ -254,6 +288,7 @@ std::vector<Exchange> run_lines(const std::vector<std::string>& lines, SenderKin
     }
     if (first || kind == kAtRest) {
       run_to(x.in);
+      if (bang) bang_arrives();
       send(bang ? "!" : line + "\n");
     } else {  // (a '!' too: its byte on the wire after the last reply)
       x.in = send_at(wire, bang ? "!" : line + "\n");
@@ -292,6 +327,7 @@ std::vector<Exchange> run_lines(const std::vector<std::string>& lines, SenderKin
   while ((!at_rest() || (g_first_known && !g_stops.empty())) && hw.now < end) step_event();
   collect();
   g_stops.clear();
+  g_track_stops = false;
   return out;
 }
 

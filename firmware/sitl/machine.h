@@ -16,6 +16,7 @@
 #ifndef ARTICULA_FIRMWARE_SITL_MACHINE_H
 #define ARTICULA_FIRMWARE_SITL_MACHINE_H
 
+#include <articula/config.h>
 #include <articula/motion.h>
 
 #include <cstdint>
@@ -41,7 +42,11 @@ static const uint64_t kByteTicks = 10 * kBitTicks;
 // receiver is on and before the firmware is set up. `config`: a robot configuration image
 // (articula::kConfigImageSize bytes, as `articula configure --header` makes) put in the
 // EEPROM first when it holds none (or is blank): the arm as configured for that robot.
-void boot(bool blank_eeprom = true, const std::string& during_setup = "", const uint8_t* config = nullptr);
+// `arm`: instead, an arm put in use after setup as `$199=` puts one (robot::use,
+// firmware::configured()): for an arm with more motors than the image carries, which this
+// build (kMotors) drives.
+void boot(bool blank_eeprom = true, const std::string& during_setup = "", const uint8_t* config = nullptr,
+          const articula::ConfiguredArm<kMotors>* arm = nullptr);
 
 // Bytes from the host at the receive interrupt, at the current time (all at once).
 void send(const std::string& bytes);
@@ -98,6 +103,19 @@ struct Exchange {
 std::vector<Exchange> run_lines(const std::vector<std::string>& lines, SenderKind kind,
                                 const std::vector<uint64_t>& stops = std::vector<uint64_t>(),
                                 uint64_t max_ticks = 3600 * kSecond);
+// Every '!' of the last run_lines() (its own and the timed ones), when it reached the receive
+// interrupt and when the arm was at rest after it (nothing moving, nothing queued, the stop
+// done: the tick of its last step, or of the '!' itself when nothing moved).
+// `replies`: the replies (ok, error:N) the run had written when it came; `actions`: the
+// action log's size when it was done (hw.actions from there on began after it, even at the
+// same tick, in the main loop's pass that went on to the next line).
+struct StopEvent {
+  uint64_t bang;
+  uint64_t rest;
+  size_t replies;
+  size_t actions;
+};
+const std::vector<StopEvent>& stop_events();
 // The first step the motors made in the last run_lines() (0 if none), and the ticks its
 // timed '!'s came at.
 uint64_t first_step();

@@ -157,6 +157,13 @@ bool must_wait(const Command& c) {
   return (c.type == kCmdSetZero || settles) && busy();
 }
 
+// A configuration put in use: the coils, the step constants, the position as at power-up.
+void adopt_configuration() {
+  coils::setup();
+  stepper::update_constants();
+  reset_position();
+}
+
 // `$1xx=v`, `$199=crc`: the robot configuration. Not inlined: a commit reads the staged
 // configuration into a copy (about 250 B), which would otherwise sit in execute()'s frame under
 // every command (a T's inverse kinematics is the deepest path).
@@ -166,9 +173,7 @@ __attribute__((noinline)) uint8_t configure(int32_t n, int32_t v) {
   if (busy()) return kWait;
   const Status s = robot::commit(v / 1000);
   if (s != kOk) return s;
-  coils::setup();
-  stepper::update_constants();
-  reset_position();
+  adopt_configuration();
   return kOk;
 }
 
@@ -503,5 +508,8 @@ uint32_t on_step_timer() { return stepper::on_timer(); }
 void on_realtime(char c) {
   if (realtime_command(c) == kRealtimeStop) stepper::request_stop();
 }
+
+// (Only the SITL calls it: on the Nano the linker drops it.)
+void configured() { adopt_configuration(); }
 
 }  // namespace firmware

@@ -11,6 +11,10 @@ namespace firmware {
 // the arm's state.
 void setup();
 
+// After a robot configuration is put in use (robot::use; `$199=` commits one): the coils,
+// the step constants and the arm's position as at power-up.
+void configured();
+
 // One pass of the main loop: reads serial bytes, runs and answers commands, feeds the
 // motion queue, sends requested status reports, releases idle coils. Never blocks for
 // longer than a command's own computation.

@@ -80,8 +80,9 @@ void ensure_in_eeprom() {
   g_in_eeprom = true;
 }
 
+
 // Puts a configuration read by config_read in use.
-void use(const ConfiguredArm<kJoints>& next, uint16_t sum) {
+void put_in_use(const ConfiguredArm<kJoints>& next, uint16_t sum) {
   if (&next != &config) config = next;
   checksum = sum;
   for (uint8_t i = 0; i < kJoints; ++i) {
@@ -90,6 +91,10 @@ void use(const ConfiguredArm<kJoints>& next, uint16_t sum) {
   }
 }
 }  // namespace
+
+// (Only the SITL calls it: on the Nano the linker drops it, and setup() and commit() keep their
+// own inlined call.)
+void use(const ConfiguredArm<kJoints>& next, uint16_t sum) { put_in_use(next, sum); }
 
 Millideg step_angle(uint8_t i, int32_t steps) { return steps_to_millideg(config.actuation.motors[i], steps); }
 
@@ -101,7 +106,7 @@ void setup() {
     c = image_crc(kBuiltInImage, false);
     config_read(config, kBuiltInImage);
   }
-  use(config, c);
+  put_in_use(config, c);
 }
 
 Status stage(uint16_t n, int32_t thousandths) {
@@ -133,7 +138,7 @@ Status commit(int32_t crc) {
   ConfiguredArm<kJoints> next;
   if (config_read(next, kStaged) != kConfigOk) return kConfigInvalid;
   seal(c);
-  use(next, c);
+  put_in_use(next, c);
   return kOk;
 }
 

@@ -47,6 +47,11 @@ articula::Millideg step_angle(uint8_t i, int32_t steps);
 // EEPROM, or the built-in one.
 void setup();
 
+// Puts a configuration (read by config_read, or, in the host's eight-motor build, one with more
+// motors than the image carries: firmware/sitl) in use, with its checksum; then
+// firmware::configured().
+void use(const articula::ConfiguredArm<kJoints>& next, uint16_t sum);
+
 // `$1xx=v` and `N text`: checked (config_check, config_check_name) and written to the
 // staged image in EEPROM; nothing else changes.
 articula::Status stage(uint16_t n, int32_t thousandths);

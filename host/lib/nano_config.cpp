@@ -2,6 +2,7 @@
 #include "nano_config.h"
 
 #include <cmath>
+#include <cstring>
 
 #include "program.h"
 
@@ -139,6 +140,46 @@ NanoConfig nano_config(const Robot& robot) {
   }
   out.lines.push_back(std::string("N ") + out.arm.name);
   out.lines.push_back(setting_line(kCommitSetting, int32_t(out.checksum) * 1000));
+  return out;
+}
+
+ConfiguredArm<kFirmwareMotors> firmware_arm(const Robot& robot) {
+  ConfiguredArm<kFirmwareMotors> out{};
+  const int n = robot.actuation.num_motors;
+  try {
+    const NanoConfig c = nano_config(robot);
+    if (config_read(out, c.image.data()) != kConfigOk) throw NanoConfigError("the configuration does not read back (a bug)");
+    return out;
+  } catch (const NanoConfigError&) {
+    if (!robot.has_motors) throw;
+  }
+  if (n > kFirmwareMotors)
+    throw NanoConfigError(robot.name + " (" + robot.source + "): " + std::to_string(n) +
+                          " motors: the firmware drives at most " + std::to_string(kFirmwareMotors));
+  const FloatArm f = float_arm(robot);
+  out.actuation.num_motors = uint8_t(n);
+  double u[kMaxJoints];
+  HostActuation a = robot.actuation;
+  if (!invert_coupling(a))
+    for (int i = 0; i < n; ++i) a.coupling_inv[i][i] = 1;
+  actuators_from_joints(u, a, robot.home.data());
+  for (int i = 0; i < n; ++i) {
+    const MotorSpec& m = robot.actuation.motors[i];
+    out.actuation.motors[i] = m;
+    for (int j = 0; j < n; ++j) out.actuation.coupling[i][j] = f.actuation.coupling[i][j];
+    Millideg h = m.zero;
+    to_millideg(h, rad_to_deg(u[i]));
+    out.home[i] = clamp(h, m.min, m.max);
+  }
+  for (int i = n; i < kFirmwareMotors; ++i) out.actuation.motors[i] = MotorSpec{200, 1, 1, 1, 1, 0, 0, 0};
+  out.has_point = float_ypp_arm(robot, out.arm);
+  out.servo_open_deg = out.servo_closed_deg = 90.0f;
+  if (robot.gripper.present) {
+    out.servo_open_deg = float(robot.gripper.servo_open_deg);
+    out.servo_closed_deg = float(robot.gripper.servo_closed_deg);
+  }
+  const std::string name = line_name(robot.name);
+  std::memcpy(out.name, name.data(), name.size());
   return out;
 }
 

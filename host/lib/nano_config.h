@@ -34,6 +34,17 @@ struct NanoConfig {
 // what the protocol carries.
 NanoConfig nano_config(const Robot& robot);
 
+// The motors the host's build of the firmware drives (host/CMakeLists.txt: the prediction runs
+// it, firmware/sitl): the same source as the Nano's three.
+inline constexpr int kFirmwareMotors = 8;
+
+// The arm as the firmware holds it (robot::config): for a robot the Nano takes, the image of
+// nano_config() read back as the firmware reads it; for one it does not (more motors, finer
+// microsteps, a coupling beyond three decimals), the same rules in float: the home pose u =
+// C^-1 q within the limits, P's closed form when the model is of its family, the servo.
+// Throws NanoConfigError for a robot without motors or with more than kFirmwareMotors.
+ConfiguredArm<kFirmwareMotors> firmware_arm(const Robot& robot);
+
 // P's arm for a robot, from its model and motors in float as the Nano holds them: false when
 // the closed form does not apply (not a yaw-pitch-pitch arm with the identity or the MK2's
 // parallelogram coupling). For robots the Nano cannot take, which the prediction still runs.

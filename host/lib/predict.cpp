@@ -151,34 +151,18 @@ ControllerModel::ControllerModel(const Robot& robot, const ControllerSettings& s
   // robot::setup() (firmware/src/robot.cpp): the arm as the Nano configured for this robot
   // holds it (nano_config.h: P's arm, the home pose, the servo), read by the core's
   // config_read as the firmware reads it.
-  home_.assign(size_t(n_), 0);
-  home_steps_.assign(size_t(n_), 0);
+  ConfiguredArm<kFirmwareMotors> c;
   try {
-    const ConfiguredArm<kMaxConfigMotors> c = nano_config(robot_).arm;
-    has_ik_ = c.has_point;
-    arm_ = c.arm;
-    for (int i = 0; i < n_; ++i) home_[size_t(i)] = c.home[i];
-    servo_open_ = c.servo_open_deg;
-    servo_closed_ = c.servo_closed_deg;
-  } catch (const NanoConfigError&) {  // not an arm the Nano takes: the same rules, P from the model
-    has_ik_ = float_ypp_arm(robot_, arm_);
-    double u[kMaxJoints];
-    HostActuation a = robot_.actuation;
-    if (!invert_coupling(a))
-      for (int i = 0; i < n_; ++i) a.coupling_inv[i][i] = 1;
-    actuators_from_joints(u, a, robot_.home.data());
-    for (int i = 0; i < n_; ++i) {
-      const MotorSpec& m = robot_.actuation.motors[i];
-      Millideg h = m.zero;
-      to_millideg(h, rad_to_deg(u[i]));
-      home_[size_t(i)] = clamp(h, m.min, m.max);
-    }
-    servo_open_ = servo_closed_ = 90.0f;
-    if (robot_.gripper.present) {
-      servo_open_ = float(robot_.gripper.servo_open_deg);
-      servo_closed_ = float(robot_.gripper.servo_closed_deg);
-    }
+    c = firmware_arm(robot_);
+  } catch (const NanoConfigError& e) {
+    throw PredictError(e.what());
   }
+  has_ik_ = c.has_point;
+  arm_ = c.arm;
+  home_.assign(c.home, c.home + n_);
+  home_steps_.assign(size_t(n_), 0);
+  servo_open_ = c.servo_open_deg;
+  servo_closed_ = c.servo_closed_deg;
   for (int i = 0; i < n_; ++i)
     home_steps_[size_t(i)] = quantize_within_limits(robot_.actuation.motors[i], home_[size_t(i)]);
 }
@@ -699,11 +683,10 @@ Prediction predict_program(const Robot& robot, const Program& program, const Con
   if (!sender.stop_ticks.empty()) {  // after the first step: the program without them says when that is
     SenderModel plain = sender;
     plain.stop_ticks.clear();
-    Prediction q = predict_program(robot, program, settings, plain, false);
-    schedule(q, plain);
-    first_step = q.first_step_tick;
+    first_step = predict_program(robot, program, settings, plain, false).first_step_tick;
     for (uint64_t t : sender.stop_ticks) stop_ticks.push_back(first_step + t);
   }
+  p.first_step_tick = first_step;  // (schedule() counts the timed '!'s from it)
   bool stops = false;
   std::optional<ControllerModel> before_last;  // the model before the last line
   // Where the arm comes to rest after a '!' depends on when it arrives: the lines so far are
@@ -711,7 +694,7 @@ Prediction predict_program(const Robot& robot, const Program& program, const Con
   auto stop_here = [&](PredictRecord r) {
     Prediction upto = p;
     upto.records.push_back(r);
-    schedule(upto, sender);
+    schedule(upto, sender, robot);
     const PredictRecord& s = upto.records.back();
     // The line still waiting when a timed '!' came (the last: the sender waits for each
     // reply) was answered error:15: it changed nothing.
@@ -742,7 +725,7 @@ Prediction predict_program(const Robot& robot, const Program& program, const Con
       ControllerModel before = model;
       Prediction upto = p;
       upto.records.push_back(model.execute(st));
-      schedule(upto, sender);
+      schedule(upto, sender, robot);
       model = before;
       if (stop_ticks[timed] >= upto.records.back().arrive_tick) break;
       timed_stop(st.line);
@@ -755,12 +738,8 @@ Prediction predict_program(const Robot& robot, const Program& program, const Con
       p.records.push_back(r);
   }
   while (timed < stop_ticks.size()) timed_stop(p.records.empty() ? 0 : p.records.back().line);
-  p.total_ticks = model.clock_ticks();
-  // Rest to rest, each action's own ticks are its time, back to back; a T's segments blend,
-  // and their time is the planner's, as it is for every action of a stream.
-  bool segments = false;
-  for (const PredictRecord& r : p.records) segments = segments || !r.segments.empty();
-  if (sender.kind != SenderModel::kRest || segments || stops) schedule(p, sender);
+  // Every time is the firmware's, running the lines as the sender sends them.
+  schedule(p, sender, robot);
   for (PredictRecord& r : p.records) {
     if (r.cut) model.restate(r);  // (the state a '!' left them in)
     if (r.reply != kOk) ++p.rejected;

@@ -256,10 +256,14 @@ Prediction predict_program(const Robot& robot, const Program& program, const Con
                            const SenderModel& sender = {}, bool path = false);
 
 // When each action starts and ends, in the controller's ticks from the first line's arrival:
-// the firmware's queue of articula::kQueueSize actions, its planner (articula/planner.h) and its step
-// interrupt (firmware/src/stepper.cpp) run on the lines as `sender` delivers them. Exact
-// given when each line arrives; the sender model says when that is.
-void schedule(Prediction& p, const SenderModel& sender);
+// the firmware itself (firmware/src on its virtual clock, built for eight motors), powered up
+// with the robot's arm and p.settings, runs the records' lines as `sender` delivers them
+// (the timed '!'s at their stop_at, counted from p.first_step_tick). Each record gets its
+// arrival, start and end; an error:15 the firmware gave a line a timed '!' caught waiting;
+// the records a '!' cut, the steps they really made; p the end and the first step. Throws
+// PredictError for a robot the firmware cannot drive (more than eight motors), and
+// std::logic_error when the firmware answers a line otherwise than the records say.
+void schedule(Prediction& p, const SenderModel& sender, const Robot& robot);
 
 // A T line's segments as the firmware plans them from rest to rest, all queued at once
 // (controller.cpp push_planned: each junction's level kept below both cruise caps, then the

@@ -1,17 +1,24 @@
-// host/lib/schedule.cpp - when each action runs (predict.h, schedule()): the firmware's
-// motion queue, planner and step interrupt, replayed on the lines as a sender delivers them.
-// Each rule names the firmware code it follows; the step timing and the plan are the shared
-// core's own (articula/motion.h, articula/planner.h), so the ticks are the firmware's.
+// host/lib/schedule.cpp - when each action runs (predict.h, schedule()): the firmware itself
+// (firmware/src, on its virtual clock: firmware/sitl) runs the lines as the sender delivers
+// them, and every time is read from what it did: when each line was in and answered, the
+// actions it took off its queue and when its step timer stopped (the action log), the steps
+// its coils made, where each '!' left the arm.
 #include <articula/planner.h>
 
 #include <algorithm>
 #include <cmath>
-#include <deque>
 #include <map>
+#include <mutex>
+#include <stdexcept>
 #include <optional>
 
+#include "nano_config.h"
 #include "predict.h"
-#include "replay.h"
+
+// The firmware (firmware/src, built for the host's eight motors: firmware/sitl/sitl.cmake).
+#include "hal_sitl.h"
+#include "machine.h"
+#include "queue.h"
 
 namespace articula::host {
 
@@ -25,25 +32,12 @@ const char* sender_name(SenderModel::Kind k) {
 
 namespace {
 
-// An action in the queue (queue::Action): its record (and which of a T's segments) and its
-// plan.
-struct Queued {
-  size_t record;
-  int segment;  // -1: the record's own action
-  PlanBlock plan;
-};
-
 // The move a queued action makes: the record's, or one of its segments.
 struct MoveOf {
   const std::vector<int32_t>& delta;
   uint32_t steps;
   uint16_t cruise4;
 };
-MoveOf move_of(const PredictRecord& r, int segment) {
-  if (segment < 0) return {r.delta_steps, r.dominant_steps, 0};
-  const PredictRecord::Segment& s = r.segments[size_t(segment)];
-  return {s.delta_steps, s.dominant_steps, s.cruise4};
-}
 
 // controller.cpp push_planned(): a move's block, with its junction level to the move queued
 // before it (`before`: none when the arm is at rest with nothing queued, or after another
@@ -60,289 +54,6 @@ PlanBlock plan_block(const MoveOf& m, const MoveOf* before, uint16_t before_cap,
                                                        uint8_t(m.delta.size()), junction)});
   return b;
 }
-
-// A queue action: its record and which of a T's segments (-1: the record's own).
-using Item = std::pair<size_t, int>;
-
-// The steps an action has made.
-struct Done {
-  std::vector<int32_t> delta;
-  uint32_t steps = 0;  // dominant steps
-};
-
-// The firmware's step interrupt and queue, stepped deadline by deadline.
-class Controller {
- public:
-  Controller(std::vector<PredictRecord>& records, uint32_t queue_size) : rec_(records), size_(queue_size) {}
-
-  // '!' at tick t (the receive interrupt's stepper::request_stop()): the step interrupt
-  // decelerates along the path (move_tick, and continue_stop on into the queued moves while
-  // still moving), a pause is cut by the main loop at once (cut_pause), a switch search
-  // fails; at rest the main loop empties the queue (service_stop). The tick of rest; `hit`
-  // gets the actions that were running or queued, in order.
-  uint64_t stop(uint64_t t, std::vector<Item>& hit) {
-    advance_to(t);
-    hit.clear();
-    if (mode_ == kIdle) return t;
-    hit.push_back(current_);
-    for (const Queued& q : queue_) hit.push_back({q.record, q.segment});
-    if (mode_ == kMove) {
-      stop_ = true;
-      while (mode_ != kIdle) on_timer();
-      stop_ = false;
-      t = std::max(t, last_);
-    } else {  // a pause cut now; a search ends at its next deadline with a fault
-      if (mode_ == kSeek) t = deadline_;
-      halt(t);
-    }
-    queue_.clear();
-    last_steps_ = 0;  // rederive_planned(): no move to blend with
-    return t;
-  }
-  // The steps an action made (none if it never ran).
-  Done done(const Item& k) const {
-    const auto it = done_.find(k);
-    return it == done_.end() ? Done{} : it->second;
-  }
-
-  bool full() const { return queue_.size() >= size_; }
-  bool busy() const { return mode_ != kIdle || !queue_.empty(); }
-
-  // Every deadline up to and including `t` (the interrupt comes before a line that arrives
-  // at the same tick).
-  void advance_to(uint64_t t) {
-    while (mode_ != kIdle && deadline_ <= t) on_timer();
-  }
-
-  // Until the queue has room: the tick a slot freed (a pop), or `t` when it has room;
-  // kNever if that is not before `limit` (the controller then stands at `limit`).
-  uint64_t room_after(uint64_t t, uint64_t limit = kNever) {
-    advance_to(t);
-    while (full()) {
-      const size_t before = queue_.size();
-      while (queue_.size() == before) {
-        if (deadline_ >= limit) return advance_to(limit), kNever;
-        on_timer();
-      }
-      t = std::max(t, last_);
-    }
-    return t;
-  }
-  // Until nothing runs and nothing is queued; kNever as room_after().
-  uint64_t rest_after(uint64_t t, uint64_t limit = kNever) {
-    advance_to(t);
-    while (mode_ != kIdle) {
-      if (deadline_ >= limit) return advance_to(limit), kNever;
-      on_timer();
-    }
-    return std::max(t, last_);
-  }
-  static constexpr uint64_t kNever = UINT64_MAX;
-  uint64_t first_step() const { return first_step_; }
-
-  // controller.cpp push_planned(), then stepper::kick() when nothing runs.
-  void push(size_t k, uint64_t now, int segment = -1) {
-    const PredictRecord& r = rec_[k];
-    Queued q{k, segment, {0, 0, 0, 0}};
-    if (r.action == PredictRecord::Action::kMove) {
-      const MoveOf m = move_of(r, segment);  // the controller model's (predict.cpp, queue_move, line)
-      const MoveOf last{last_delta_, last_steps_, 0};
-      uint16_t cap = 0;
-      q.plan = plan_block(m, last_steps_ != 0 && busy() ? &last : nullptr, last_cap_, r.motion, r.junction, cap);
-      last_delta_ = m.delta;
-      last_steps_ = m.steps;
-      last_cap_ = cap;
-    } else {
-      last_steps_ = 0;
-    }
-    queue_.push_back(q);
-    plan_entries([this](size_t i) -> const PlanBlock& { return queue_[i].plan; },
-                 [this](size_t i, uint16_t e) { queue_[i].plan.entry = e; }, queue_.size());
-    if (mode_ == kMove && !homing_) stepper_.raise_exit(planned_exit());  // stepper::raise_exit()
-    if (mode_ == kIdle) {  // kick()
-      last_ = now;
-      next_action(now);
-    }
-  }
-
-  // After Z (stepper::set_positions, no move to blend with).
-  void forget_last_move() { last_steps_ = 0; }
-
- private:
-  enum Mode { kIdle, kMove, kPause, kSeek };
-
-  uint32_t planned_exit() const {
-    if (queue_.empty()) return 0;
-    const Queued& q = queue_.front();
-    return rec_[q.record].action == PredictRecord::Action::kMove ? q.plan.entry : 0;
-  }
-
-  void end_running(uint64_t t) {
-    if (running_ != kNone) rec_[running_].end_tick = t;
-    running_ = kNone;
-  }
-
-  // Takes the front action off the queue as the one running.
-  Queued take(uint64_t t) {
-    const Queued q = queue_.front();
-    queue_.pop_front();
-    if (q.segment <= 0) rec_[q.record].start_tick = t;
-    running_ = q.record;
-    current_ = {q.record, q.segment};
-    current_done_ = &done_[current_];
-    current_done_->delta.assign(rec_[q.record].delta_steps.size(), 0);
-    return q;
-  }
-
-  void halt(uint64_t t) {
-    end_running(t);
-    mode_ = kIdle;
-    stepper_.halt();
-    homing_ = false;
-  }
-
-  // stepper.cpp next_action(): the next queued action that takes time, from tick t.
-  void next_action(uint64_t t) {
-    end_running(t);
-    mode_ = kIdle;
-    homing_ = false;
-    while (!queue_.empty()) {
-      const Queued q = take(t);
-      PredictRecord& r = rec_[q.record];
-      uint64_t dt = 0;
-      switch (r.action) {
-        case PredictRecord::Action::kMove:
-          dt = begin_move(r, planned_exit(), q.segment, q.plan.cruise4);
-          break;
-        case PredictRecord::Action::kPause:
-          dt = r.ticks;
-          if (dt != 0) mode_ = kPause;
-          break;
-        case PredictRecord::Action::kHome:
-          homing_ = true;
-          if (r.seek_ticks != 0) {
-            mode_ = kSeek;
-            dt = r.seek_ticks;
-          } else {
-            dt = begin_move(r, 0);
-          }
-          break;
-        case PredictRecord::Action::kNone:
-          break;
-      }
-      if (dt != 0) {
-        deadline_ = t + dt;
-        return;
-      }
-      end_running(t);
-    }
-    halt(t);
-  }
-
-  // stepper.cpp continue_stop(): a move ended still moving after '!': the stop goes on into
-  // the queued moves, each to end at rest, until the arm is at rest.
-  void continue_stop(uint64_t t) {
-    end_running(t);
-    while (stepper_.level() != 0 && !homing_ && !queue_.empty() &&
-           rec_[queue_.front().record].action == PredictRecord::Action::kMove) {
-      const Queued q = take(t);
-      const uint64_t dt = begin_move(rec_[q.record], 0, q.segment, q.plan.cruise4, true);
-      if (dt != 0) {
-        deadline_ = t + dt;
-        return;
-      }
-      end_running(t);
-    }
-    halt(t);
-  }
-
-  // stepper.cpp begin_move(): blended on from a move that ended moving.
-  uint64_t begin_move(const PredictRecord& r, uint32_t exit, int segment = -1, uint16_t cruise4 = 0,
-                      bool stopping = false) {
-    const MoveOf m = move_of(r, segment);
-    if (m.steps == 0) return 0;
-    move_delta_ = &m.delta;
-    move_steps_ = m.steps;
-    if (constants_for_ != r.motion.max_rate * 1000003ULL + r.motion.accel) {
-      profile_constants(constants_, r.motion);
-      constants_for_ = r.motion.max_rate * 1000003ULL + r.motion.accel;
-    }
-    const uint32_t dt = stepper_.begin(m.delta.data(), m.delta.size(), constants_, exit, uint32_t(cruise4) * 4, stopping);
-    if (dt != 0) mode_ = kMove;
-    return dt;
-  }
-
-  // The step staged for this deadline (stepper.cpp book_staged()).
-  void book() {
-    if (first_step_ == kNever) first_step_ = deadline_;
-    ++current_done_->steps;
-    if (move_delta_->size() > MoveStepper::kMaxMotors) {  // (no Nano drives so many: spread in proportion)
-      for (size_t i = 0; i < current_done_->delta.size(); ++i)
-        current_done_->delta[i] = int32_t(std::lround(double((*move_delta_)[i]) * current_done_->steps / move_steps_));
-      return;
-    }
-    const uint8_t mask = stepper_.step();
-    for (size_t i = 0; i < current_done_->delta.size(); ++i)
-      if (mask & (1u << i)) current_done_->delta[i] += (stepper_.negative() & (1u << i)) ? -1 : 1;
-  }
-
-  // stepper.cpp on_timer() at the current deadline.
-  void on_timer() {
-    const uint64_t t = deadline_;
-    last_ = t;
-    switch (mode_) {
-      case kMove: {  // move_tick()
-        book();
-        const uint32_t dt = stepper_.next(stop_);
-        if (dt != 0)
-          deadline_ = t + dt;
-        else if (stop_)
-          continue_stop(t);
-        else
-          next_action(t);
-        break;
-      }
-      case kSeek: {  // the switches found: Home's final move, from rest
-        PredictRecord& r = rec_[running_];
-        current_done_->delta.assign(r.delta_steps.size(), 0);  // (the search's steps are not the move's)
-        const uint64_t dt = begin_move(r, 0);
-        if (dt != 0)
-          deadline_ = t + dt;
-        else
-          next_action(t);
-        break;
-      }
-      case kPause:
-        next_action(t);
-        break;
-      case kIdle:
-        break;
-    }
-  }
-
-  static constexpr size_t kNone = size_t(-1);
-  std::vector<PredictRecord>& rec_;
-  size_t size_;
-  std::deque<Queued> queue_;
-  Mode mode_ = kIdle;
-  bool homing_ = false;
-  size_t running_ = kNone;
-  MoveStepper stepper_;
-  const std::vector<int32_t>* move_delta_ = nullptr;
-  uint32_t move_steps_ = 0;
-  Item current_{kNone, -1};
-  Done* current_done_ = nullptr;
-  std::map<Item, Done> done_;
-  bool stop_ = false;
-  uint64_t first_step_ = kNever;
-  ProfileConstants constants_{};
-  uint64_t constants_for_ = 0;
-  uint64_t deadline_ = 0;
-  uint64_t last_ = 0;  // the last deadline handled
-  std::vector<int32_t> last_delta_;
-  uint32_t last_steps_ = 0;
-  uint16_t last_cap_ = 0xFFFF;
-};
 
 }  // namespace
 
@@ -386,21 +97,23 @@ uint64_t segments_ticks(const std::vector<PredictRecord::Segment>& segments, con
 
 namespace {
 
-// Ticks for `bytes` bytes on the line. The Nano asks for 115,200 baud and gets 117,647
-// (16 MHz / 8 / 17, UBRR0 16 with U2X0): a bit is 136 CPU cycles, 17 ticks of the 2 MHz
-// step timer.
-uint64_t byte_ticks(const SenderModel& s, uint64_t bytes) { return bytes * s.bits_per_byte * 17; }
+// A queued action: its record and which of a T's segments (-1: the record's own action).
+using Item = std::pair<size_t, int>;
 
-size_t reply_bytes(Status st) {
-  char buf[16];
-  return format_reply(buf, sizeof buf, st);
-}
+// The steps an action made, read from the coil log.
+struct Done {
+  std::vector<int32_t> delta;
+  uint32_t steps = 0;  // step deadlines: the dominant motor's steps
+};
 
-
-// What a '!' did to the actions it hit (Controller::stop): each one's steps, delta and
-// segments become what it made; `stop` (the '!''s record) gets where the arm came to rest
-// and the gripper of the last gripper action that ran.
-void cut(Prediction& p, size_t stop, const std::vector<Item>& hit, const Controller& c, uint64_t rest) {
+// What a '!' did to the actions it hit (running or queued when it came): each one's steps,
+// delta and segments become what it made; `stop` (the '!''s record) gets where the arm came
+// to rest and the gripper of the last gripper action that ran.
+void cut(Prediction& p, size_t stop, const std::vector<Item>& hit, const std::map<Item, Done>& made, uint64_t rest) {
+  const auto done = [&](const Item& k) {
+    const auto it = made.find(k);
+    return it == made.end() ? Done{} : it->second;
+  };
   if (hit.empty()) return;
   const size_t first = hit.front().first;
   std::vector<int32_t> at = p.records[first].steps;  // before the first: its end less its move
@@ -425,12 +138,12 @@ void cut(Prediction& p, size_t stop, const std::vector<Item>& hit, const Control
       if (!dropped_gripper) gripper = r.gripper_percent;
       continue;
     }
-    const bool ran = k == first || c.done(mine.front()).steps > 0;  // (the first one hit was running)
+    const bool ran = k == first || done(mine.front()).steps > 0;  // (the first one hit was running)
     std::vector<int32_t> delta(at.size(), 0);
     uint32_t dominant = 0;
     std::vector<PredictRecord::Segment> segments;
     for (const Item& it : mine) {
-      const Done d = c.done(it);
+      const Done d = done(it);
       for (size_t i = 0; i < d.delta.size() && i < delta.size(); ++i) delta[i] += d.delta[i];
       dominant += d.steps;
       if (it.second >= 0 && d.steps > 0) {
@@ -474,87 +187,289 @@ void cut(Prediction& p, size_t stop, const std::vector<Item>& hit, const Control
 
 }  // namespace
 
-void schedule(Prediction& p, const SenderModel& sender) {
-  Controller c(p.records, std::max<uint32_t>(1, sender.queue_size));
-  uint64_t wire = 0;       // when the sender may start on the next line (the reply to the one before is in)
-  uint64_t resume = 0;     // after a '!': lines are read again once the arm is at rest
-  uint64_t reply = 0;      // when the previous line was answered
-  bool first = true;
-  std::vector<Item> hit;
-  for (size_t k = 0; k < p.records.size(); ++k) {
-    PredictRecord& r = p.records[k];
-    const std::string line = r.protocol.empty() ? r.text : r.protocol;
-    if (r.stop) {
-      // '!' alone, without an LF (docs/protocol.md): it acts when its byte is in; no reply,
-      // the next line follows it on the wire. A timed one goes when it goes.
-      const bool timed = r.stop_at >= 0;
-      const uint64_t bang = timed                                ? uint64_t(r.stop_at)
-                            : first                              ? 0
-                            : sender.kind == SenderModel::kRest ? c.rest_after(reply)
-                                                                : wire + byte_ticks(sender, 1);
-      const uint64_t rest = c.stop(bang, hit);
-      cut(p, k, hit, c, rest);
-      r.start_tick = r.arrive_tick = bang;
-      r.end_tick = resume = std::max(resume, rest);
-      if (!timed) {
-        wire = bang;
-        reply = bang;
-        first = false;
-      }
-      continue;
-    }
-    const uint64_t line_bytes = line.size() + 1;
-    uint64_t arrive = 0;
-    switch (sender.kind) {
-      case SenderModel::kRest:
-        arrive = first ? 0 : c.rest_after(reply);
-        break;
-      case SenderModel::kStream:
-        arrive = first ? 0 : wire + byte_ticks(sender, line_bytes);
-        break;
-    }
-    arrive = std::max(arrive, resume);
-    first = false;
-    uint64_t answered = arrive;
-    r.start_tick = r.end_tick = r.arrive_tick = arrive;
-    // A timed '!' next: a line still unanswered when it comes is answered error:15.
-    const bool timed_next = k + 1 < p.records.size() && p.records[k + 1].stop && p.records[k + 1].stop_at >= 0;
-    const uint64_t stop_at = timed_next ? uint64_t(p.records[k + 1].stop_at) : UINT64_MAX;
-    bool stopped = false;
-    // (the '!' at the same tick as a deadline comes after it: advance_to)
-    const uint64_t limit = stop_at == UINT64_MAX ? Controller::kNever : stop_at + 1;
-    if (r.waits_for_rest) {
-      answered = c.rest_after(arrive, limit);
-      stopped = answered == Controller::kNever;
-      if (!stopped && r.text.rfind('Z', 0) == 0) c.forget_last_move();
-    } else if (r.queued && !r.segments.empty()) {  // T: each segment as the queue has room
-      answered = arrive;
-      for (size_t s = 0; s < r.segments.size() && !stopped; ++s) {
-        answered = c.room_after(answered, limit);
-        stopped = answered == Controller::kNever;
-        if (!stopped) c.push(k, answered, int(s));
-      }
-    } else if (r.queued) {
-      answered = c.room_after(arrive, limit);
-      stopped = answered == Controller::kNever;
-      if (!stopped) c.push(k, answered);
-    } else {
-      c.advance_to(arrive);
-    }
-    if (stopped) {  // (the segments it did queue are cut by the '!' with the rest of the queue)
-      answered = stop_at;
-      r.reply = kStopped;
-      r.cut = true;
-      append_note(r.note, "answered error:15: the '!' came while it waited");
-    }
-    if (r.waits_for_rest) r.start_tick = r.end_tick = answered;
-    reply = answered;
-    wire = reply + byte_ticks(sender, reply_bytes(r.reply));
+namespace {
+
+// The firmware's state is global, as on the Nano: one machine per process, one run at a time.
+std::mutex g_firmware;
+
+static_assert(kFirmwareMotors == robot::kJoints, "the host's build of the firmware (host/CMakeLists.txt)");
+
+// The queue's kind of a record's action.
+bool kind_is(uint8_t kind, PredictRecord::Action a) {
+  switch (a) {
+    case PredictRecord::Action::kMove: return kind == queue::kMove;
+    case PredictRecord::Action::kHome: return kind == queue::kHome;
+    case PredictRecord::Action::kPause: return kind == queue::kDwell || kind == queue::kGripper;
+    case PredictRecord::Action::kNone: break;
   }
-  p.total_ticks = std::max(c.rest_after(reply), resume);
-  p.first_step_tick = c.first_step() == Controller::kNever ? 0 : c.first_step();
-  for (PredictRecord& r : p.records)
-    r.ticks = r.end_tick - r.start_tick;
+  return false;
 }
 
+// An action the firmware began (hal::action_began): its ticks and what it made.
+struct Begun {
+  uint64_t begin, end;  // end: the action log's next entry (the next action, or the timer's stop)
+  uint8_t kind;
+  size_t at;  // its place in the action log
+  Done done;
+};
+
+std::string reply_text(Status s) {
+  char buf[16];
+  const uint16_t n = format_reply(buf, sizeof buf, s);
+  return std::string(buf, n > 0 ? n - 1 : 0);
+}
+
+// Power-up with the robot's arm and the settings: the settings written as `$n=v` lines, then
+// a power cycle (as a Nano set up so and switched on).
+void power_up(const ConfiguredArm<kFirmwareMotors>& arm, const ControllerSettings& settings) {
+  sitl::boot(true, "", nullptr, &arm);
+  const ControllerSettings defaults;
+  bool changed = false;
+  for (int n = 0; n < ControllerSettings::kCount; ++n) {
+    if (settings.value[size_t(n)] == defaults.value[size_t(n)]) continue;
+    char buf[kSettingLineSize];
+    const uint16_t len = format_setting(buf, sizeof buf, uint16_t(n), int32_t(settings.value[size_t(n)]) * 1000);
+    const std::string reply = sitl::command(std::string(buf, len > 0 ? len - 1 : 0));
+    if (reply != "ok") throw PredictError("the firmware refused setting $" + std::to_string(n) + " = " +
+                                          std::to_string(settings.value[size_t(n)]) + ": " + reply);
+    changed = true;
+  }
+  if (changed) sitl::boot(false, "", nullptr, &arm);
+  sitl::take_lines();
+}
+
+}  // namespace
+
+void schedule(Prediction& p, const SenderModel& sender, const Robot& robot) {
+  std::lock_guard<std::mutex> lock(g_firmware);
+  ConfiguredArm<kFirmwareMotors> arm;
+  try {
+    arm = firmware_arm(robot);
+  } catch (const NanoConfigError& e) {
+    throw PredictError(e.what());
+  }
+  power_up(arm, p.settings);
+  const sitl::Hardware& hw = sitl::hw;
+  const uint64_t t0 = hw.now;
+  const size_t coils0 = hw.coil_log.size(), actions0 = hw.actions.size();
+
+  // The lines as the host sends them: every record that is a command or a '!' (not RoboSim's
+  // host-only l, w, z, nor an a the host could not solve); the timed '!'s at their ticks.
+  std::vector<std::string> lines;
+  std::vector<size_t> sent_of;  // each line's record
+  std::vector<uint64_t> timed;  // after the first step
+  std::vector<size_t> timed_of;
+  for (size_t k = 0; k < p.records.size(); ++k) {
+    const PredictRecord& r = p.records[k];
+    if (r.stop && r.stop_at >= 0) {
+      timed.push_back(uint64_t(r.stop_at) - std::min(uint64_t(r.stop_at), p.first_step_tick));
+      timed_of.push_back(k);
+    } else if (r.stop || r.command != kCmdNone) {
+      lines.push_back(r.stop ? "!" : r.protocol.empty() ? r.text : r.protocol);
+      sent_of.push_back(k);
+    }
+  }
+  const std::vector<sitl::Exchange> got =
+      sitl::run_lines(lines, sender.kind == SenderModel::kRest ? sitl::kAtRest : sitl::kStreamed, timed);
+  if (!sitl::hw.errors.empty()) throw std::logic_error("the firmware's run: " + sitl::hal_errors());
+
+  // The '!'s: when each came and when the arm was at rest after it.
+  std::vector<sitl::StopEvent> stops = sitl::stop_events();
+  for (sitl::StopEvent& e : stops) {
+    e.bang -= t0;
+    if (e.rest == ~uint64_t(0)) e.rest = hw.now, e.actions = hw.actions.size();
+    e.rest -= t0;
+  }
+  // Each record's arrival and reply: a line when it was in (read); a host-only line, a line the run
+  // never reached, at the last answer before it.
+  const size_t n = p.records.size();
+  std::vector<uint64_t> in(n, 0), answered(n, 0);
+  std::vector<bool> reached(n, false);
+  uint64_t last = 0;
+  size_t next_line = 0;
+  const std::vector<uint64_t>& stops_sent = sitl::stops_sent();
+  size_t next_timed = 0;
+  for (size_t k = 0; k < n; ++k) {
+    PredictRecord& r = p.records[k];
+    if (next_line < sent_of.size() && sent_of[next_line] == k) {
+      const size_t i = next_line++;
+      if (i < got.size()) {
+        in[k] = got[i].in - t0;
+        // A line whose bytes came in while a '!' was stopping the arm is read once it is at
+        // rest (the main loop reads no line while a stop goes on): then it is in.
+        if (!r.stop)
+          for (const sitl::StopEvent& e : stops)
+            if (e.bang < in[k] && in[k] < e.rest) in[k] = e.rest;
+        answered[k] = got[i].answered - t0;
+        reached[k] = true;
+        last = answered[k];
+        if (!r.stop && got[i].reply != reply_text(r.reply)) {
+          if (got[i].reply == "error:" + std::to_string(int(kStopped)) && r.reply == kOk) {
+            r.reply = kStopped;  // a timed '!' came while it waited: it changed nothing
+            r.cut = true;
+            append_note(r.note, "answered error:15: the '!' came while it waited");
+          } else {
+            throw std::logic_error("line " + std::to_string(r.line) + " (" + lines[i] + "): the firmware answered " +
+                                   (got[i].reply.empty() ? "nothing" : got[i].reply) + ", the host's model " +
+                                   reply_text(r.reply));
+          }
+        }
+        continue;
+      }
+    } else if (next_timed < timed_of.size() && timed_of[next_timed] == k) {
+      const size_t i = next_timed++;
+      if (i < stops_sent.size()) {
+        in[k] = answered[k] = stops_sent[i] - t0;
+        reached[k] = true;
+        continue;
+      }
+    }
+    in[k] = answered[k] = last;
+  }
+
+  // The actions the firmware began, and the steps each made (the coil log's steps after its
+  // start, up to and with its end's).
+  std::vector<Begun> begun;
+  const std::vector<sitl::ActionEvent>& log = hw.actions;
+  const int motors = robot.actuation.num_motors;
+  for (size_t i = actions0; i < log.size(); ++i) {
+    if (log[i].kind == sitl::kTimerStopped) continue;
+    Begun b{log[i].tick - t0, (i + 1 < log.size() ? log[i + 1].tick : log[i].tick) - t0, log[i].kind, i, {}};
+    b.done.delta.assign(size_t(motors), 0);
+    begun.push_back(b);
+  }
+  {
+    size_t a = 0;
+    uint64_t last_step = ~uint64_t(0);
+    for (size_t i = coils0; i < hw.coil_log.size(); ++i) {
+      const sitl::CoilWrite& w = hw.coil_log[i];
+      if (w.step == 0) continue;
+      const uint64_t t = w.tick - t0;
+      while (a < begun.size() && begun[a].end < t) ++a;
+      if (a == begun.size() || begun[a].begin >= t || w.motor >= motors) continue;  // (a step outside any action)
+      begun[a].done.delta[w.motor] += w.step;
+      if (t != last_step) ++begun[a].done.steps;
+      last_step = t;
+    }
+  }
+
+  // Each '!' record's event (its bang is when the record was in), and for each record the
+  // first '!' that could empty the queue of its actions: the first to come after its reply
+  // (a line answered ok was queued by then; one held while a stop went on is read after it),
+  // or, for a line a '!' caught waiting (error:15), that one.
+  std::vector<const sitl::StopEvent*> event_of(n, nullptr), next_stop(n, nullptr);
+  std::vector<size_t> record_of(stops.size(), n);
+  {
+    size_t e = 0;
+    for (size_t k = 0; k < n; ++k) {
+      if (!p.records[k].stop || !reached[k]) continue;
+      while (e < stops.size() && stops[e].bang != in[k]) ++e;
+      if (e == stops.size()) throw std::logic_error("a '!' the firmware never received");
+      record_of[e] = k;
+      event_of[k] = &stops[e++];
+    }
+    size_t ordinal = 0;  // the replies before this record's
+    for (size_t k = 0; k < n; ++k) {
+      const PredictRecord& r = p.records[k];
+      if (r.stop || !reached[k]) continue;
+      for (const sitl::StopEvent& ev : stops) {
+        const size_t e = size_t(&ev - stops.data());
+        const bool after = ev.bang > in[k] || (ev.bang == in[k] && record_of[e] > k);  // (read before it)
+        if (after && (r.reply == kOk ? ev.replies > ordinal : ev.replies >= ordinal)) {
+          next_stop[k] = &ev;
+          break;
+        }
+      }
+      ++ordinal;
+    }
+  }
+
+  // The model's actions, in queue order, matched to those the firmware began. An action the
+  // firmware did not begin before the arm came to rest after the first '!' since its line
+  // came, that '!' emptied from the queue (or its line, waiting, was answered error:15).
+  std::map<Item, Done> made;
+  std::map<Item, const Begun*> when;
+  std::vector<std::vector<Item>> cleared_by(stops.size());
+  size_t j = 0;
+  for (size_t k = 0; k < n; ++k) {
+    const PredictRecord& r = p.records[k];
+    if (!r.queued || !reached[k] || r.stop) continue;
+    const int parts = r.segments.empty() ? 1 : int(r.segments.size());
+    const sitl::StopEvent* stop = next_stop[k];
+    for (int s = 0; s < parts; ++s) {
+      const Item item{k, r.segments.empty() ? -1 : s};
+      const bool next = j < begun.size() && kind_is(begun[j].kind, r.action) && begun[j].begin >= in[k];
+      if (next && (stop == nullptr || begun[j].at < stop->actions)) {
+        made[item] = begun[j].done;
+        when[item] = &begun[j];
+        ++j;
+      } else if (stop != nullptr && r.reply != kOk) {
+        made[item] = Done{std::vector<int32_t>(size_t(motors), 0), 0};  // never queued
+      } else if (stop != nullptr) {
+        made[item] = Done{std::vector<int32_t>(size_t(motors), 0), 0};
+        cleared_by[size_t(stop - stops.data())].push_back(item);
+      } else {
+        throw std::logic_error("line " + std::to_string(r.line) + " (" + r.text +
+                               "): the firmware began no action of its kind where the host's model queued one");
+      }
+    }
+  }
+  if (j != begun.size())
+    throw std::logic_error("the firmware began " + std::to_string(begun.size()) + " actions, the host's model queued " +
+                           std::to_string(j));
+
+  // Times: a record that queued is from its first action's start to its last one's end; one
+  // that waits for rest (a setting, Z) is at its reply; any other at its arrival.
+  for (size_t k = 0; k < n; ++k) {
+    PredictRecord& r = p.records[k];
+    r.arrive_tick = in[k];
+    r.start_tick = r.end_tick = r.waits_for_rest && r.reply == kOk ? answered[k] : in[k];
+    if (r.stop || !r.queued) continue;
+    const int parts = r.segments.empty() ? 1 : int(r.segments.size());
+    const auto first = when.find(Item{k, r.segments.empty() ? -1 : 0});
+    if (first != when.end()) r.start_tick = first->second->begin;
+    for (int s = parts - 1; s >= 0; --s) {
+      const auto it = when.find(Item{k, r.segments.empty() ? -1 : s});
+      if (it != when.end()) {
+        r.end_tick = it->second->end;
+        break;
+      }
+    }
+  }
+
+  // What each '!' did: the actions running or queued when it came.
+  for (size_t k = 0; k < n; ++k) {
+    PredictRecord& r = p.records[k];
+    if (!r.stop) continue;
+    if (!reached[k]) {  // (a timed '!' the run never sent: the arm never stepped)
+      r.start_tick = r.end_tick = r.arrive_tick = in[k];
+      continue;
+    }
+    const sitl::StopEvent& e = *event_of[k];
+    std::vector<Item> hit;
+    for (const auto& w : when) {  // running when it came (begun, not ended before it), or begun during the stop
+      const Begun& b = *w.second;
+      if (b.at < e.actions && b.end >= e.bang) hit.push_back(w.first);
+    }
+    for (const Item& c : cleared_by[size_t(&e - stops.data())]) hit.push_back(c);
+    for (size_t q = 0; q < k; ++q)  // the lines it answered error:15
+      if (p.records[q].reply == kStopped && answered[q] >= e.bang && answered[q] <= e.rest && p.records[q].queued)
+        for (int s = 0; s < (p.records[q].segments.empty() ? 1 : int(p.records[q].segments.size())); ++s) {
+          const Item it{q, p.records[q].segments.empty() ? -1 : s};
+          if (std::find(hit.begin(), hit.end(), it) == hit.end()) hit.push_back(it);
+        }
+    std::sort(hit.begin(), hit.end());
+    r.start_tick = r.arrive_tick = e.bang;
+    r.end_tick = e.rest;
+    cut(p, k, hit, made, e.rest);
+
+  }
+
+  uint64_t end = last;
+  for (size_t i = actions0; i < log.size(); ++i) end = std::max(end, log[i].tick - t0);
+  for (const sitl::StopEvent& e : stops) end = std::max(end, e.rest);
+  p.total_ticks = end;
+  p.first_step_tick = sitl::first_step() == 0 ? 0 : sitl::first_step() - t0;
+  for (PredictRecord& r : p.records) r.ticks = r.end_tick - r.start_tick;
+}
 }  // namespace articula::host

@@ -23,7 +23,7 @@ using namespace articula;
 
 namespace {
 
-const int kJ = robot::kJoints;
+const int kJ = articula::kMaxConfigMotors;  // the arms tested here have the three motors a Nano drives
 typedef Model<double, 3, 4> ModelD;
 
 // The robot file, read by the host's loader (not through the firmware's configuration).
