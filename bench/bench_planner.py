@@ -6,8 +6,7 @@ for each reply sends it (`articula-vnano --paced`, the prediction's `stream` sen
 
 - the time from the first step to the last with the planner (the default $6) and with $6=0
   (every move from rest to rest, the firmware before the planner), and their ratio;
-- the prediction's time for the same stream with the firmware's queue, and with a queue of
-  100,000 places (what the queue's size costs);
+- the prediction's time for the same stream (the firmware itself, on its virtual clock);
 - the worst difference between a move's end on the firmware and in the prediction.
 
 Also the 60 degree base turn as one move against the same turn as 20 collinear moves (the
@@ -41,8 +40,8 @@ def span(steps: list[int]) -> float:
     return (steps[-1] - steps[0]) / 2000.0  # ms
 
 
-def predicted_ms(robot: Path, plan: Path, queue: int = 0) -> float:
-    p = predicted(robot, plan, queue=queue)
+def predicted_ms(robot: Path, plan: Path) -> float:
+    p = predicted(robot, plan)
     moves = [r for r in p["records"] if r.get("dominant_steps", 0) > 0]
     return (moves[-1]["end_tick"] - moves[0]["start_tick"] - first_interval_ticks()) / 2000.0
 
@@ -58,9 +57,8 @@ def main() -> int:
             print(f"  {arm} step: one move {span(one):.3f} ms, 20 moves {span(split):.3f} ms, "
                   f"ratio {span(split) / span(one):.4f}")
         print()
-        print("| plan | arm | planner ms | $6=0 ms | planner / $6=0 | predicted ms (queue 12) | "
-              "predicted ms (queue 100,000) | queue's cost | worst move end vs prediction |")
-        print("|---|---|---|---|---|---|---|---|---|")
+        print("| plan | arm | planner ms | $6=0 ms | planner / $6=0 | predicted ms | worst move end vs prediction |")
+        print("|---|---|---|---|---|---|---|")
         for name in ("collinear-split", "circle", "zigzag", "square"):
             plan = PLANS / f"{name}.arm"
             for arm in ("full", "half"):
@@ -69,9 +67,8 @@ def main() -> int:
                 _, rest = run_streamed(robot, ["$6=0"] + lines_of(plan), tmp_path)
                 blended = span(r["steps"])
                 p12 = predicted_ms(robot, plan)
-                big = predicted_ms(robot, plan, queue=100000)
                 print(f"| {name} | {arm} | {blended:.1f} | {span(rest):.1f} | {blended / span(rest):.3f} | {p12:.1f} | "
-                      f"{big:.1f} | {p12 / big:.3f}x | {r['worst_end_ticks'] / 2:.1f} us |")
+                      f"{r['worst_end_ticks'] / 2:.1f} us |")
         print()
         lines_figures(tmp_path)
     return 0

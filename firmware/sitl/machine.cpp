@@ -206,7 +206,12 @@ void poll_until_idle() {
 
 uint64_t next_event() {
   const Hardware& hw = sitl::hw;
-  uint64_t t = (hw.now / kMilliTicks + 1) * kMilliTicks;  // the millisecond tick
+  // The millisecond tick wakes the Nano's loop for what it times by millis(): the coils'
+  // release $2 ms after the arm came to rest. While the arm moves, a pass at it finds nothing
+  // new (a byte, a step, the stop's end wake the loop themselves, and the loop reads the clock
+  // only at rest): it is left out then, a third of the machine's time.
+  uint64_t t = ~uint64_t(0);
+  if (!hw.timer_running || at_rest()) t = (hw.now / kMilliTicks + 1) * kMilliTicks;
   if (hw.timer_running && hw.deadline < t) t = hw.deadline;
   if (!g_line.empty() && g_line.front().tick < t) t = g_line.front().tick;
   if (g_first_known && !g_stops.empty() && g_first_step + g_stops.front() < t) t = g_first_step + g_stops.front();

@@ -75,14 +75,12 @@ def run_streamed(robot: Path, lines: list[str], tmp: Path, positions: list | Non
     return replies[len(setup):], [c // TICKS_PER_CYCLE for c in cycles]
 
 
-def predicted(robot: Path, plan: Path, settings: str = "", queue: int = 0, stop_at: list[float] | None = None) -> dict:
+def predicted(robot: Path, plan: Path, settings: str = "", stop_at: list[float] | None = None) -> dict:
     cmd = [str(CLI), "predict", str(robot), str(plan), "--sender", "stream", "--json"]
     if stop_at:
         cmd += ["--stop-at", ",".join(repr(t) for t in stop_at)]
     if settings:
         cmd += ["--settings", settings]
-    if queue:
-        cmd += ["--queue", str(queue)]
     p = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
     assert p.returncode in (0, 1), p.stderr
     return json.loads(p.stdout)

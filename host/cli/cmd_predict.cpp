@@ -50,10 +50,6 @@ int run_predict(int argc, char** argv) {
       "is at rest: the harness, the studio's program runner; the default), stream (the next line when the "
       "previous one is answered, at the Nano's baud rate, taking no time itself)",
       cxxopts::value<std::string>()->default_value("rest"))(
-      "bits-per-byte", "bits a byte takes on the line (8N1: 10), at the Nano's 117,647 baud",
-      cxxopts::value<int>()->default_value("10"))(
-      "queue", "the motion queue's places (the firmware's 12): a larger one shows what a longer look-ahead gives",
-      cxxopts::value<int>()->default_value(std::to_string(kQueueSize)))(
       "stop-at",
       "send '!' at these times, seconds after the arm's first step, e.g. 0.5 or 0.5,2 (a student pressing "
       "STOP): where the arm comes to rest and what it never does",
@@ -98,12 +94,6 @@ int run_predict(int argc, char** argv) {
   for (host::SenderModel::Kind k : {host::SenderModel::kRest, host::SenderModel::kStream})
     if (sender_text == host::sender_name(k)) sender.kind = k, known = true;
   if (!known) throw UsageError("--sender " + sender_text + ": expected rest or stream");
-  const int bits = args["bits-per-byte"].as<int>();
-  if (bits < 8 || bits > 12) throw UsageError("--bits-per-byte " + std::to_string(bits) + ": expected 8 to 12");
-  sender.bits_per_byte = uint32_t(bits);
-  const int places = args["queue"].as<int>();
-  if (places < 1 || places > 100000) throw UsageError("--queue " + std::to_string(places) + ": expected 1 to 100000");
-  sender.queue_size = uint32_t(places);
   if (args.count("stop-at")) {
     const std::string text = args["stop-at"].as<std::string>();
     std::stringstream in(text);

@@ -217,8 +217,8 @@ class ControllerModel {
 };
 
 // How the lines reach the controller, which decides when each is queued and so how far the
-// planner sees ahead (docs/protocol.md, "Timing of moves"). A byte takes `bits_per_byte`
-// bits (8N1: 10) at the Nano's real 117,647 baud (it asks for 115,200).
+// planner sees ahead (docs/protocol.md, "Timing of moves"). A byte takes 10 bits (8N1) at the
+// Nano's real 117,647 baud (it asks for 115,200): firmware/sitl's serial line.
 struct SenderModel {
   enum Kind {
     kRest,    // each line once the arm is at rest after the one before (the harness, the
@@ -227,8 +227,6 @@ struct SenderModel {
               // a host must wait for each reply: the Nano's receive buffer holds one line)
   };
   Kind kind = kRest;
-  uint32_t bits_per_byte = 10;
-  uint32_t queue_size = kQueueSize;  // the firmware's; larger: what a longer look-ahead would give
   // A '!' at each of these ticks after the arm's first step, whatever the lines are doing:
   // a student pressing STOP. A line still waiting to be answered then is answered error:15
   // (Stopped) and does nothing. (From the first step, not the first line: the Nano's own time
