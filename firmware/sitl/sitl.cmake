@@ -9,9 +9,15 @@
 # the host (the same source).
 #
 # The firmware's state is global, as on the Nano: a program links one such library, never two.
+#
+# articula_firmware_sitl(TARGET MOTORS SRC_DIR): the same from another copy of src/ (a test
+# that changes a firmware source and sees the prediction follow: host/tests/CMakeLists.txt).
 function(articula_firmware_sitl target motors)
   set(sitl ${CMAKE_CURRENT_FUNCTION_LIST_DIR})
   set(src ${sitl}/../src)
+  if(ARGC GREATER 2)
+    set(src ${ARGV2})
+  endif()
   file(GLOB sources CONFIGURE_DEPENDS ${src}/*.cpp)
   list(FILTER sources EXCLUDE REGEX "/(hal_avr|main)\\.cpp$")
   add_library(${target} STATIC ${sources} ${sitl}/hal_sitl.cpp ${sitl}/machine.cpp)

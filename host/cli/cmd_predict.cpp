@@ -70,14 +70,14 @@ int run_predict(int argc, char** argv) {
            "coupling), a -> inverse kinematics, then M (not reached: error:10, nothing moves), h -> G\n"
            "(0.0 open = 100 %, 0.5 closed = 0 %), s -> $0 = round($0 at start * s / 82), w -> IK weights,\n"
            "l -> link lengths of the host model only (the real arm cannot), z -> nothing.\n"
-           "Durations are motion.h's (2 MHz ticks), each action's start and end counted from the first line's\n"
-           "arrival. With --sender rest every move runs from rest to rest (profile_duration_ticks of its dominant\n"
-           "motor's steps), G and S take the settle time, actions back to back. With stream, queued\n"
-           "moves blend as the firmware's planner blends them ($6, docs/protocol.md \"Timing of moves\").\n"
-           "A line holding only '!' is the stop, sent alone when the line before it is answered; --stop-at\n"
-           "sends it at a time instead. The arm decelerates along its path; the lines after it start from the\n"
-           "steps it reached. Where that is depends on when the '!' arrives, to the step: the Nano's own time\n"
-           "to answer a line is not modelled (docs/protocol.md \"Timing of moves\").\n"
+           "Every time is the firmware's own (2 MHz ticks, from the first line's arrival): firmware/src, built\n"
+           "for the PC (firmware/sitl), runs the lines on a virtual clock as the sender sends them, at the\n"
+           "Nano's 117,647 baud. With --sender rest every move runs from rest to rest, G and S take the settle\n"
+           "time; with stream, queued moves blend as the firmware's planner blends them ($6, docs/protocol.md\n"
+           "\"Timing of moves\"). A line holding only '!' is the stop, sent alone when the line before it is\n"
+           "answered; --stop-at sends it at a time instead. The arm decelerates along its path; the lines after\n"
+           "it start from the steps it reached. Where that is depends on when the '!' arrives, to the step: the\n"
+           "Nano's own time to read and answer a line is not modelled (its main loop takes no time there).\n"
            "Exit code: 0 every command accepted, 1 some rejected, 2 a usage error (bad robot or program).\n";
     return 0;
   }

@@ -1,6 +1,8 @@
-// host/lib/predict.h - what the real arm will do with a program, step for step: a host-side
-// model of the firmware's controller (firmware/src/controller.cpp) built from the shared
-// core only, so hardware-in-the-loop tests can compare the prediction with the firmware.
+// host/lib/predict.h - what the real arm will do with a program, step for step. Its times are
+// the firmware's own: schedule() runs firmware/src on a virtual clock (firmware/sitl). Each
+// line's steps and state come from a host-side model of the firmware's controller
+// (firmware/src/controller.cpp) built from the shared core, whose replies the firmware's are
+// held to (issue 39: it is to give way to the firmware's own state).
 //
 // The controller model executes a Program (program.h) statement by statement with the
 // firmware's rules:
@@ -14,7 +16,8 @@
 //     lines change them with the firmware's range checks;
 //   - every action's duration is motion.h's: profile_duration_ticks of the dominant motor's
 //     step count for a move, the settle time for a gripper action; actions run back to back
-//     from rest to rest (docs/protocol.md, "Timing of moves").
+//     from rest to rest (docs/protocol.md, "Timing of moves"): what the physics' live
+//     commands use; predict_program() replaces the times with the firmware's (schedule()).
 // RoboSim statements (thesis appendix B) map onto the same commands: see predict.cpp and
 // programs/README.md for the mapping (m -> M, a -> IK then M, h -> G, s -> $0, ...).
 #ifndef ARTICULA_HOST_PREDICT_H
@@ -141,7 +144,7 @@ struct PredictRecord {
   uint32_t dominant_steps = 0;  // a move: the most steps any motor makes
   uint64_t ticks = 0;           // duration in 2 MHz ticks
   uint64_t start_tick = 0;      // when the action starts and ends, counted from the first
-  uint64_t end_tick = 0;        //   action's start, actions back to back
+  uint64_t end_tick = 0;        //   line's arrival (predict_program: the firmware's times)
   double seconds() const { return double(ticks) / kControllerTickHz; }
   double start_s() const { return double(start_tick) / kControllerTickHz; }
   double end_s() const { return double(end_tick) / kControllerTickHz; }

@@ -255,6 +255,19 @@ TEST(Predict, DwellWaitsInTheQueue) {
   EXPECT_EQ(m.clock_ticks(), next.end_tick);  // a refused wait adds nothing
 }
 
+// The program's times are the firmware's (schedule()): D 0.5 pauses 1,000,000 ticks. The
+// same program with one line of the firmware changed: host.ChangedFirmware.
+TEST(Predict, ProgramDwellIsTheFirmwares) {
+  for (SenderModel::Kind kind : {SenderModel::kRest, SenderModel::kStream}) {
+    SenderModel sender;
+    sender.kind = kind;
+    const Prediction p = predict_program(mk2(), parse_protocol_program("D 0.5\nL 0 10\n", "test", mk2()), {}, sender);
+    ASSERT_EQ(p.records.size(), 2u);
+    EXPECT_EQ(p.records[0].end_tick - p.records[0].start_tick, 1000000u) << sender_name(kind);
+    EXPECT_EQ(p.records[1].start_tick, p.records[0].end_tick) << sender_name(kind);
+  }
+}
+
 TEST(Predict, SettingsLinesChangeLaterMoves) {
   ControllerModel m(mk2());
   EXPECT_EQ(m.execute_line("$0=800").reply, kOk);
