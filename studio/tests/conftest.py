@@ -15,7 +15,7 @@ from pathlib import Path
 
 import pytest
 
-from engines import TOUR_DONE, as_tested, console_error, driver_made, leave_for_the_icon
+from engines import STATUS_LINES_JS, TOUR_DONE, as_tested, console_error, driver_made, leave_for_the_icon
 
 REPO = Path(__file__).resolve().parents[2]
 CHROMIUM = os.environ.get("ARTICULA_CHROMIUM", "/usr/bin/chromium")
@@ -261,8 +261,7 @@ class Page:
             try:
                 state = self.page.evaluate("() => { const a = window.articula; return { history: a.history, "
                                            "engine: a.engineWaiting(), errors: a.pageErrors, robot: a.robot && a.robot.name, "
-                                           "project: a.project && a.project.name, said: [...document.querySelectorAll("
-                                           "'.status')].map((e) => e.id + ': ' + e.textContent).filter((t) => !t.endsWith(': ')) }; }")
+                                           "project: a.project && a.project.name, said: " + STATUS_LINES_JS + " }; }")
             except Exception as e2:  # the page is gone
                 state = f"(no page: {e2})"
             raise AssertionError(f"{expr} did not happen: {e}\nthe page: {state}") from None

@@ -22,6 +22,10 @@ from urllib.parse import urljoin, urlparse
 _SHOTS = os.environ.get("ARTICULA_SCREENSHOTS")
 LOW = "&quality=low" if _SHOTS and Path(_SHOTS).resolve() != Path(__file__).resolve().parents[2] / "docs" / "img" else ""
 
+# Every status line the page shows ("id: text"): what a panel said last (a refusal included).
+STATUS_LINES_JS = ("[...document.querySelectorAll('.status')].map((e) => e.id + ': ' + e.textContent)"
+                   ".filter((t) => !t.endsWith(': '))")
+
 
 def as_tested(url: str, service_worker: bool = False) -> str:
     """`url` with LOW among its query's parameters (before a #project=... link's fragment), and,
@@ -139,7 +143,9 @@ class EnginePage:
         raise NotImplementedError
 
     def wait(self, expr: str, timeout: float = 60.0, what: str = ""):
-        """Polls the hook until `expr` is true; `timeout` guards against a hang."""
+        """Polls the hook until `expr` is true; `timeout` guards against a hang. A failure says
+        what the page was doing: its errors, the engine's unanswered requests, its history, and
+        every status line (a refusal in a panel is said there)."""
         end = time.monotonic() + timeout
         while True:
             try:
@@ -154,12 +160,13 @@ class EnginePage:
                 try:  # what the page still waits for from its engine, if anything, and its history
                     waiting = self.hook("a.engineWaiting()")
                     history = self.hook("[a.history, a.project && a.project.dirty, a.blocksPending]")
+                    said = self.hook(STATUS_LINES_JS)
                 except Exception:
-                    waiting = history = "?"
+                    waiting = history = said = "?"
                 raise AssertionError(f"{self.engine}: {what or expr} did not happen within {timeout:.0f} s"
                                      f"{f' ({last})' if last else ''}; the page's errors: {errors}; "
                                      f"the engine's unanswered requests: {waiting}; [history, dirty, blocks "
-                                     f"pending]: {history}")
+                                     f"pending]: {history}; said: {said}")
             time.sleep(0.1)
 
     def wait_on_nano(self, expr: str, nano_seconds: float, what: str, progress: str = "null", still: float = 60.0,
