@@ -1,9 +1,9 @@
-// bench/bench_predict.cpp - what the real arm will do with a program, worked out two ways on
-// the same programs: the host's model of the controller (host::predict_program, what
-// `articula predict` runs today) and the firmware's own controller on its virtual clock
-// (firmware/sitl: sitl::run_lines, the same lines sent as the same sender sends them). The
-// two agree to the tick (firmware/test/test_prediction); this is what each costs, the figure
-// issue 39 holds the prediction to when it becomes the firmware (at most 1.5x slower).
+// bench/bench_predict.cpp - what the real arm will do with a program: the prediction as
+// `articula predict` makes it (host::predict_program: the firmware on its virtual clock times
+// every line, the host's model of the controller gives each line's state) against the
+// firmware's run alone (firmware/sitl: sitl::run_lines, the same lines sent as the same sender
+// sends them). Issue 39 holds the prediction to at most 1.5x the time it took before it ran the
+// firmware (bench/README.md, "The prediction").
 //
 // Programs (MK2 Plus, the firmware's built-in arm):
 //   streams10k  10,000 lines: hil/streams/*.arm and programs/*.arm one after the other, again
@@ -82,7 +82,7 @@ std::string draw_text() {
   return text;
 }
 
-void model(benchmark::State& state, std::string (*program)(), host::SenderModel::Kind kind) {
+void predict(benchmark::State& state, std::string (*program)(), host::SenderModel::Kind kind) {
   const host::Program p = host::parse_protocol_program(program(), "bench", mk2());
   host::SenderModel sender;
   sender.kind = kind;
@@ -113,13 +113,13 @@ void firmware(benchmark::State& state, std::string (*program)(), host::SenderMod
   state.counters["arm_s"] = double(ticks) / 2e6;
 }
 
-BENCHMARK_CAPTURE(model, streams10k_rest, streams10k, host::SenderModel::kRest)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(predict, streams10k_rest, streams10k, host::SenderModel::kRest)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(firmware, streams10k_rest, streams10k, host::SenderModel::kRest)->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(model, streams10k_stream, streams10k, host::SenderModel::kStream)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(predict, streams10k_stream, streams10k, host::SenderModel::kStream)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(firmware, streams10k_stream, streams10k, host::SenderModel::kStream)->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(model, draw_text_rest, draw_text, host::SenderModel::kRest)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(predict, draw_text_rest, draw_text, host::SenderModel::kRest)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(firmware, draw_text_rest, draw_text, host::SenderModel::kRest)->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(model, draw_text_stream, draw_text, host::SenderModel::kStream)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(predict, draw_text_stream, draw_text, host::SenderModel::kStream)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(firmware, draw_text_stream, draw_text, host::SenderModel::kStream)->Unit(benchmark::kMillisecond);
 
 }  // namespace

@@ -527,11 +527,23 @@ PredictRecord ControllerModel::execute_line(const std::string& line, int line_nu
     finish(r);
     return r;
   }
-  // A rejected line changes nothing: run it on a copy of the whole model.
-  ControllerModel saved = *this;
+  // A rejected line changes nothing: what a command can change is put back (no command changes
+  // anything before it fails; this makes sure). Not the whole model: its robot is large.
+  const MotorState<kMaxJoints> planned = planned_;
+  int32_t offset[kMaxJoints];
+  std::copy(offset_, offset_ + kMaxJoints, offset);
+  const bool homed = homed_;
+  const ControllerSettings settings = settings_;
+  const int gripper = gripper_percent_;
+  const uint64_t clock = clock_;
   r.reply = run_command(r, line);
-  if (r.reply != kOk) {  // (no command changes anything before it fails; the copy makes sure)
-    *this = saved;
+  if (r.reply != kOk) {
+    planned_ = planned;
+    std::copy(offset, offset + kMaxJoints, offset_);
+    homed_ = homed;
+    settings_ = settings;
+    gripper_percent_ = gripper;
+    clock_ = clock;
     r.queued = false;
     r.action = PredictRecord::Action::kNone;
     r.waits_for_rest = false;
@@ -730,7 +742,7 @@ Prediction predict_program(const Robot& robot, const Program& program, const Con
       if (stop_ticks[timed] >= upto.records.back().arrive_tick) break;
       timed_stop(st.line);
     }
-    before_last = model;
+    if (timed < stop_ticks.size()) before_last = model;  // (only a timed '!' catches a line waiting)
     PredictRecord r = model.execute(st);
     if (r.stop)
       stop_here(r);
