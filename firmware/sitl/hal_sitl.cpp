@@ -141,7 +141,9 @@ void write_coils(uint8_t motor, uint8_t pattern) {
   hw.pattern[motor] = pattern;
   if (pattern != 0) {
     const int index = sitl::sequence_index(pattern);
-    const bool full = hw.microsteps[motor] == 1;
+    // Half steps when the motor has two microsteps; any other count (an arm the Nano cannot
+    // take, in the host's build) is driven one full-step pattern a step, as 1 is.
+    const bool full = hw.microsteps[motor] != 2;
     if (index < 0 || (full && index % 2 == 0)) {
       hw.errors.push_back("motor " + std::to_string(motor) + ": pattern " + std::to_string(pattern) +
                           " is not in its sequence");

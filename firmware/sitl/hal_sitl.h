@@ -94,8 +94,8 @@ struct Hardware {
   uint8_t eeprom[1024];
   uint32_t eeprom_bytes_written = 0;
 
-  // The coil decoder: positions from the patterns, 1 for full steps (stride 2 in the
-  // half-step table) or 2 for half steps, per motor (set by the harness from the robot).
+  // The coil decoder: positions from the patterns, 2 for half steps, any other count full
+  // steps (stride 2 in the half-step table), per motor (set at boot from the robot).
   uint8_t microsteps[kMotors];  // 1 each at first
   int64_t position[kMotors] = {};
   int last_index[kMotors];  // place in the half-step table of the last pattern (-1 at first)

@@ -33,7 +33,8 @@ const uint8_t kVersion[3] = {0, 1, 0};
 // execute()'s answer for "not yet": not a status code.
 const uint8_t kWait = 0xFF;
 
-typedef BasicCommand<4> Command;  // T's four numbers, P's three; M's one per motor (at most three)
+// T's four numbers, P's three; M's one per motor (three on the Nano; eight in the host's build).
+typedef BasicCommand<(kJ > 4 ? kJ : 4)> Command;
 
 // Every report is written by the protocol's write_* into a buffer of the size the protocol
 // gives for it (status_report_size, kInfoReportSize, kSettingLineSize: the longest line

@@ -518,3 +518,52 @@ TEST(Predict, EachRecordNamesItsCommand) {
   const Prediction bad = predict_program(mk2(), parse_program("L 0 500\n", "b.arm", mk2()));
   EXPECT_NE(bad.records[0].reply, kOk);
 }
+
+namespace {
+// An arm of `n` yaw joints, one stepper each: the Nano drives three, the host's build of the
+// firmware eight.
+std::string chain_arm(int n) {
+  std::string dh, motors, home;
+  for (int i = 0; i < n; ++i) {
+    const std::string name = "j" + std::to_string(i);
+    dh += std::string(i ? ", " : "") + R"({"a": 50, "alpha": 0, "d": 0, "theta": {"joint": ")" + name +
+          R"(", "min": -90, "max": 90}})";
+    motors += std::string(i ? ", " : "") + R"({"name": ")" + name + R"(", "steps_per_rev": 200, "microsteps": )" +
+              (i % 2 ? "16" : "1") + R"(, "gear": [1, 1], "direction": 1, "zero": 0, "min": -90, "max": 90})";
+    home += std::string(i ? ", " : "") + "\"" + name + "\": 0";
+  }
+  return R"({"name": "chain", "dh": [)" + dh + R"(], "motors": [)" + motors + R"(], "home": {)" + home + "}}";
+}
+}  // namespace
+
+// A robot the Nano cannot take (five motors, some at 1/16 steps) runs on the host's eight-motor
+// build of the firmware, which times it: from rest, each move lasts motion.h's profile of its
+// dominant motor's steps (the firmware made those steps for those motors). Nine motors are more
+// than that build drives: refused, saying so.
+TEST(Predict, ArmsTheNanoCannotTakeRunOnTheHostsFirmware) {
+  const Robot five = parse_robot(chain_arm(5), "chain5.json");
+  const std::string program = "M 10 -20 30 -40 50\nL 4 -25.5\nD 0.2\nM 0 0 0 0 0\n";
+  for (SenderModel::Kind kind : {SenderModel::kRest, SenderModel::kStream}) {
+    SenderModel sender;
+    sender.kind = kind;
+    const Prediction p = predict_program(five, parse_protocol_program(program, "chain.arm", five), {}, sender);
+    ASSERT_EQ(p.records.size(), 4u);
+    for (const PredictRecord& r : p.records) EXPECT_EQ(r.reply, kOk) << r.text;
+    EXPECT_EQ(p.records[0].dominant_steps, 356u);  // j3's 40 degrees in 1/16 steps of 1.8 degrees: 355.6
+    for (const PredictRecord& r : p.records) {
+      if (kind != SenderModel::kRest || r.action != PredictRecord::Action::kMove) continue;
+      EXPECT_EQ(r.end_tick - r.start_tick, profile_duration_ticks(r.dominant_steps, ControllerSettings().motion()))
+          << r.text;
+    }
+    EXPECT_EQ(p.records[2].end_tick - p.records[2].start_tick, 400000u);  // D 0.2
+    EXPECT_EQ(p.total_ticks, p.records.back().end_tick);
+    EXPECT_EQ(p.records.back().steps, std::vector<int32_t>(5, 0));
+  }
+  const Robot nine = parse_robot(chain_arm(9), "chain9.json");
+  try {
+    predict_program(nine, parse_protocol_program("L 0 10\n", "chain.arm", nine));
+    FAIL() << "nine motors predicted";
+  } catch (const PredictError& e) {
+    EXPECT_NE(std::string(e.what()).find("9 motors: the firmware drives at most 8"), std::string::npos) << e.what();
+  }
+}
