@@ -135,6 +135,7 @@ struct PredictRecord {
     std::vector<int32_t> delta_steps;
     uint32_t dominant_steps = 0;
     uint16_t cruise4 = 0;  // PlanBlock::cruise4: its own cruise at the tool speed
+    uint64_t end_tick = 0;  // when the firmware ended it (schedule(); as the record's end_tick)
   };
   std::vector<Segment> segments;
   double line_error_mm = -1;  // -1: not a straight line

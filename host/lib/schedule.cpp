@@ -418,6 +418,13 @@ void schedule(Prediction& p, const SenderModel& sender, const Robot& robot) {
     throw std::logic_error("the firmware began " + std::to_string(begun.size()) + " actions, the host's model queued " +
                            std::to_string(j));
 
+  // A T's segments: each one's end (one the firmware never began: its record's start).
+  for (size_t k = 0; k < n; ++k)
+    for (size_t sg = 0; sg < p.records[k].segments.size(); ++sg) {
+      const auto it = when.find(Item{k, int(sg)});
+      p.records[k].segments[sg].end_tick = it != when.end() ? it->second->end : in[k];
+    }
+
   // Times: a record that queued is from its first action's start to its last one's end; one
   // that waits for rest (a setting, Z) is at its reply; any other at its arrival.
   for (size_t k = 0; k < n; ++k) {

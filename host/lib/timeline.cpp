@@ -47,13 +47,13 @@ Vec3<double> last_tool(const std::vector<TimelineAction>& actions, const Robot& 
 
 // A T record's segment ends as time line points: their steps (from the record's end back
 // by its segments), in joint values (the record's own shift by Z added: the joints are linear
-// in the steps), at the times the planner gives them (segments_ticks, scaled to the record's
-// span).
+// in the steps), at the ticks the firmware ended them (schedule()), on the record's span.
 void add_segments(const Robot& robot, const PredictRecord& r, TimelineAction& a) {
   const int n = robot.actuation.num_motors, nj = robot.model.num_joints;
+  if (r.segments.empty() || r.end_tick <= r.start_tick) return;
   std::vector<uint64_t> ends;
-  segments_ticks(r.segments, plan_segments(r.segments, r.motion, r.junction), r.motion, &ends);
-  if (ends.empty() || ends.back() == 0) return;
+  for (const auto& sg : r.segments) ends.push_back(std::max(sg.end_tick, r.start_tick) - r.start_tick);
+  ends.back() = r.end_tick - r.start_tick;
   std::vector<int32_t> steps = r.steps;
   for (const auto& s : r.segments)
     for (int i = 0; i < n; ++i) steps[size_t(i)] -= s.delta_steps[size_t(i)];
