@@ -169,6 +169,32 @@ class EnginePage:
                                      f"pending]: {history}; said: {said}")
             time.sleep(0.1)
 
+    def click_answered(self, selector: str, answered: str, within: float = 30.0, tries: int = 3) -> list:
+        """Clicks `selector` until the page answers (`answered`, a hook expression, turns true)
+        within `within` s of a click. On a busy machine WebKit's WebDriver has lost a click on the
+        Draw button (nothing ran; the panel said nothing: the CIs of stop 47): each click that got
+        no answer is told on stderr with what was at the button's centre. Returns those."""
+        import sys
+
+        where_js = ("(() => { const e = document.querySelector(" + json.dumps(selector) + "); if (!e) return 'no such element';"
+                    "const r = e.getBoundingClientRect(), t = document.elementFromPoint(r.left + r.width / 2, r.top + r.height / 2);"
+                    "return { box: [r.left, r.top, r.width, r.height].map(Math.round), view: [innerWidth, innerHeight],"
+                    " disabled: !!e.disabled, atCentre: t ? (t.id || t.tagName) + (t.className ? '.' + String(t.className).split(' ')[0] : '') : null,"
+                    " focus: document.activeElement && (document.activeElement.id || document.activeElement.tagName) }; })()")
+        lost = []
+        for attempt in range(tries):
+            self.click(selector)
+            end = time.monotonic() + within
+            while time.monotonic() < end:
+                if self.hook(f"!!({answered})"):
+                    return lost
+                time.sleep(0.1)
+            lost.append(self.hook(where_js))
+            print(f"{self.engine}: a click on {selector} got no answer within {within:.0f} s "
+                  f"(click {attempt + 1} of {tries}): {lost[-1]}", file=sys.stderr)
+        raise AssertionError(f"{self.engine}: {tries} clicks on {selector} got no answer ({answered}); "
+                             f"at each: {lost}; said: {self.hook(STATUS_LINES_JS)}")
+
     def wait_on_nano(self, expr: str, nano_seconds: float, what: str, progress: str = "null", still: float = 60.0,
                      wall: float = 1200.0):
         """Until `expr` holds while the virtual Nano runs a program, its budget counted in the

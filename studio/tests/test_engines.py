@@ -467,7 +467,8 @@ def test_write_hello_and_see_the_line_the_arm_will_draw(page):
         pg.click("#tab-program")
     pg.run("document.querySelector('#draw-text').scrollIntoView({ block: 'center' });")  # the panel scrolls
     pg.type_into("#draw-text", "Hello")
-    pg.click("#draw-go")
+    said = pg.hook("document.querySelector('#draw-status').textContent")
+    pg.click_answered("#draw-go", f"document.querySelector('#draw-status').textContent !== {json.dumps(said)}")
     pg.wait("a.drawing !== null && a.drawing.fits", 60 * PATIENCE, "the drawing")
     want = articula.Robot.load("mk2plus").draw(text="Hello", width=60, at=(250, 0), z=0, pen=120)
     assert pg.hook("a.drawing.program") == want["program"]
