@@ -12,6 +12,7 @@
 #include <stdexcept>
 #include <optional>
 
+#include "blocks.h"
 #include "nano_config.h"
 #include "predict.h"
 
@@ -221,15 +222,13 @@ std::string reply_text(Status s) {
 
 // Power-up with the robot's arm and the settings: the settings written as `$n=v` lines, then
 // a power cycle (as a Nano set up so and switched on).
-void power_up(const ConfiguredArm<kFirmwareMotors>& arm, const ControllerSettings& settings) {
+void power_up(const Robot& robot, const ConfiguredArm<kFirmwareMotors>& arm, const ControllerSettings& settings) {
   sitl::boot(true, "", nullptr, &arm);
   const ControllerSettings defaults;
   bool changed = false;
   for (int n = 0; n < ControllerSettings::kCount; ++n) {
     if (settings.value[size_t(n)] == defaults.value[size_t(n)]) continue;
-    char buf[kSettingLineSize];
-    const uint16_t len = format_setting(buf, sizeof buf, uint16_t(n), int32_t(settings.value[size_t(n)]) * 1000);
-    const std::string reply = sitl::command(std::string(buf, len > 0 ? len - 1 : 0));
+    const std::string reply = sitl::command(protocol_line(robot, '$', {double(n), double(settings.value[size_t(n)])}));
     if (reply != "ok") throw PredictError("the firmware refused setting $" + std::to_string(n) + " = " +
                                           std::to_string(settings.value[size_t(n)]) + ": " + reply);
     changed = true;
@@ -248,7 +247,7 @@ void schedule(Prediction& p, const SenderModel& sender, const Robot& robot) {
   } catch (const NanoConfigError& e) {
     throw PredictError(e.what());
   }
-  power_up(arm, p.settings);
+  power_up(robot, arm, p.settings);
   const sitl::Hardware& hw = sitl::hw;
   const uint64_t t0 = hw.now;
   const size_t coils0 = hw.coil_log.size(), actions0 = hw.actions.size();
@@ -304,7 +303,7 @@ void schedule(Prediction& p, const SenderModel& sender, const Robot& robot) {
         reached[k] = true;
         last = answered[k];
         if (!r.stop && got[i].reply != reply_text(r.reply)) {
-          if (got[i].reply == "error:" + std::to_string(int(kStopped)) && r.reply == kOk) {
+          if (got[i].reply == reply_text(kStopped) && r.reply == kOk) {
             r.reply = kStopped;  // a timed '!' came while it waited: it changed nothing
             r.cut = true;
             append_note(r.note, "answered error:15: the '!' came while it waited");

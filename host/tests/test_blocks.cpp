@@ -8,16 +8,13 @@
 #include "draw.h"
 #include "program.h"
 #include "robot_file.h"
+#include "test_robots.h"
 #include "robot_view.h"
 
 using namespace articula::host;
 using nlohmann::json;
 
 namespace {
-const Robot& mk2() {
-  static const Robot r = load_robot_file(std::string(ARTICULA_SOURCE_DIR) + "/robots/mk2plus.json");
-  return r;
-}
 const InverseKinematics& mk2_ik() {
   static const InverseKinematics ik(mk2());
   return ik;

@@ -6,16 +6,12 @@
 
 #include "program.h"
 #include "robot_file.h"
+#include "test_robots.h"
 
 using namespace articula::host;
 using Kind = Statement::Kind;
 
 namespace {
-const Robot& mk2() {
-  static const Robot r = load_robot_file(std::string(ARTICULA_SOURCE_DIR) + "/robots/mk2plus.json");
-  return r;
-}
-
 // A two-row arm whose first link length RoboSim's `l` may change (100 .. 200 mm).
 Robot adjustable() {
   return parse_robot(R"({"name": "adj", "dh": [

@@ -6,17 +6,13 @@
 
 #include "program.h"
 #include "robot_file.h"
+#include "test_robots.h"
 #include "run.h"
 
 using namespace articula;
 using namespace articula::host;
 
 namespace {
-
-const Robot& mk2() {
-  static const Robot r = load_robot_file(std::string(ARTICULA_SOURCE_DIR) + "/robots/mk2plus.json");
-  return r;
-}
 
 // A planar two-link arm without motors whose first link RoboSim's `l` may change.
 Robot planar() {

@@ -12,16 +12,12 @@
 #include "predict.h"
 #include "program.h"
 #include "robot_file.h"
+#include "test_robots.h"
 
 using namespace articula;
 using namespace articula::host;
 
 namespace {
-
-const Robot& mk2() {
-  static const Robot r = load_robot_file(std::string(ARTICULA_SOURCE_DIR) + "/robots/mk2plus.json");
-  return r;
-}
 
 Prediction run(const std::string& text, SenderModel::Kind kind, const std::string& settings = "") {
   ControllerSettings s;
