@@ -7,6 +7,8 @@
 
 #include "firmware.h"
 #include "hal.h"
+#include "queue.h"
+#include "settings.h"
 
 namespace sitl {
 
@@ -169,7 +171,56 @@ void set_servo_pulse(uint16_t microseconds) {
   hw.servo_log.push_back(sitl::ServoChange{hw.now, microseconds});
 }
 
-void action_began(uint8_t kind) { hw.actions.push_back(sitl::ActionEvent{hw.now, kind}); }
+namespace {
+// The firmware's queue holds the last `live` actions queued: the ones before them a '!'
+// emptied from it (queue::clear) without beginning them.
+void forget_cleared(size_t live) {
+  while (hw.in_queue.size() > live) hw.in_queue.pop_front();
+}
+}  // namespace
+
+// (After queue::pop: the queue held it and the ones behind it.)
+void action_began(uint8_t kind) {
+  hw.actions.push_back(sitl::ActionEvent{hw.now, kind});
+  forget_cleared(size_t(queue::count()) + 1);
+  if (hw.in_queue.empty() || hw.queued[hw.in_queue.front()].kind != kind) {
+    hw.errors.push_back("an action began that was never queued");
+    return;
+  }
+  hw.queued[hw.in_queue.front()].began = hw.actions.size() - 1;
+  hw.in_queue.pop_front();
+}
+
+// (Before queue::push, and before the plan moves on to it.)
+void action_queued(const queue::Action& a) {
+  forget_cleared(queue::count());
+  sitl::QueuedAction q = {};
+  q.tick = hw.now;
+  q.kind = a.kind;
+  q.began = sitl::kNever;
+  const robot::State& plan = firmware::planned();
+  if (a.kind == queue::kMove || a.kind == queue::kHome)
+    for (int i = 0; i < sitl::kMotors; ++i) q.delta[i] = a.target[i] - plan.steps[i];
+  if (a.kind == queue::kGripper) {
+    q.percent = a.grip.percent;
+    q.pulse_us = a.grip.pulse_us;
+  }
+  q.steps = a.plan.steps;
+  q.cruise4 = a.plan.cruise4;
+  hw.in_queue.push_back(hw.queued.size());
+  hw.queued.push_back(q);
+}
+
+void replied(uint8_t status) {
+  sitl::Reply r = {};
+  r.tick = hw.now;
+  r.status = status;
+  r.queued = hw.queued.size();
+  r.planned = firmware::planned();
+  r.homed = firmware::homed();
+  for (int n = 0; n < articula::kSettingCount; ++n) r.settings[n] = settings::value[n];
+  hw.replies.push_back(r);
+}
 
 bool endstop(uint8_t motor) {
   if (motor >= sitl::kMotors || !hw.endstop_fitted[motor]) return false;

@@ -25,6 +25,8 @@
 #include <string>
 #include <vector>
 
+#include <articula/settings.h>
+
 #include "report.h"
 #include "../src/robot.h"  // (by its path: the host library has a robot.h of its own)
 
@@ -54,6 +56,28 @@ struct ActionEvent {
   uint8_t kind;  // queue::Kind, or kTimerStopped
 };
 
+// What the controller did with each line, as it did it (hal::action_queued, hal::replied):
+// every action it queued, with the action log's entry where it began (kNever: a '!' emptied
+// it from the queue first), and every reply with the plan it left.
+static const size_t kNever = ~size_t(0);
+struct QueuedAction {
+  uint64_t tick;
+  uint8_t kind;             // queue::Kind
+  int32_t delta[kMotors];   // kMove, kHome: its steps, from the plan before it
+  uint8_t percent;          // kGripper: the aperture, whole percent, and its servo pulse
+  uint16_t pulse_us;
+  uint16_t steps, cruise4;  // kMove: its plan block (articula/planner.h)
+  size_t began;             // its entry in Hardware::actions, or kNever
+};
+struct Reply {
+  uint64_t tick;
+  uint8_t status;
+  size_t queued;          // Hardware::queued's size then: the actions its line queued are before it
+  robot::State planned;   // the plan then (firmware::planned())
+  bool homed;
+  uint32_t settings[articula::kSettingCount];
+};
+
 struct Hardware {
   Hardware() {
     for (int m = 0; m < kMotors; ++m) {
@@ -69,6 +93,9 @@ struct Hardware {
   std::vector<CoilWrite> coil_log;
   std::vector<ServoChange> servo_log;
   std::vector<ActionEvent> actions;  // actions begun and timer stops (its call returned 0, or stop_step_timer())
+  std::vector<QueuedAction> queued;
+  std::deque<size_t> in_queue;  // those of `queued` the firmware's queue may still hold, oldest first
+  std::vector<Reply> replies;
   uint16_t servo_us = 0;
 
   std::deque<char> rx;  // received, not yet read by serial_read()

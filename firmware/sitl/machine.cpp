@@ -49,7 +49,7 @@ void collect();
 void bang_arrives() {
   if (!g_track_stops) return;
   collect();
-  g_stop_events.push_back(StopEvent{sitl::hw.now, kPending, g_replies, 0});
+  g_stop_events.push_back(StopEvent{sitl::hw.now, kPending, g_replies, 0, 0, robot::State()});
 }
 
 // The first step of the run, once the coil log has one.
@@ -68,7 +68,7 @@ void find_first_step() {
 void poll() {
   Hardware& hw = sitl::hw;
   const bool stopping = stepper::stop_requested();
-  const size_t actions = hw.actions.size();
+  const size_t actions = hw.actions.size(), queued = hw.queued.size();
   firmware::poll();
   if (!hw.timer_running && !hw.actions.empty() && hw.actions.back().kind != kTimerStopped)
     hw.actions.push_back(ActionEvent{hw.now, kTimerStopped});
@@ -78,6 +78,13 @@ void poll() {
     for (size_t i = g_stop_events.size(); i > 0 && g_stop_events[i - 1].rest == kPending; --i) {
       g_stop_events[i - 1].rest = hw.now;
       g_stop_events[i - 1].actions = actions;
+      g_stop_events[i - 1].queued = queued;
+      // (Where the arm rests, as the firmware counts it: the pass may have gone on to plan
+      // the next line's move already.)
+      robot::State& at = g_stop_events[i - 1].planned;
+      stepper::read_positions(at.steps);
+      for (uint8_t m = 0; m < robot::kJoints; ++m)
+        at.commanded[m] = m < robot::count() ? articula::steps_to_millideg(robot::motor(m), at.steps[m]) : 0;
     }
 }
 
@@ -260,6 +267,18 @@ uint64_t stopped_at() { return g_stopped_at; }
 
 std::vector<Exchange> run_lines(const std::vector<std::string>& lines, SenderKind kind,
                                 const std::vector<uint64_t>& stops, uint64_t max_ticks) {
+  size_t i = 0;
+  return run_lines(
+      [&](std::string& line) {
+        if (i == lines.size()) return false;
+        line = lines[i++];
+        return true;
+      },
+      kind, stops, max_ticks);
+}
+
+std::vector<Exchange> run_lines(const std::function<bool(std::string& line)>& next, SenderKind kind,
+                                const std::vector<uint64_t>& stops, uint64_t max_ticks) {
   Hardware& hw = sitl::hw;
   std::vector<Exchange> out;
   g_stops.assign(stops.begin(), stops.end());
@@ -277,16 +296,18 @@ std::vector<Exchange> run_lines(const std::vector<std::string>& lines, SenderKin
   collect();
   g_lines.clear();
   g_replies = 0;
-  for (const std::string& line : lines) {
+  std::string line;
+  while (true) {
+    // When it goes: the first at once; then as the sender waits.
+    if (!first && kind == kAtRest) {
+      poll_until_idle();  // (a '!' at rest is dealt with at once)
+      while (!at_rest() && hw.now < end) step_event();
+    }
+    if (!next(line)) break;
     Exchange x;
     x.line = line;
     const bool bang = line == "!";
-    // When it goes: the first at once; then as the sender waits.
-    if (first) {
-      x.in = hw.now;
-    } else if (kind == kAtRest) {
-      poll_until_idle();  // (a '!' at rest is dealt with at once)
-      while (!at_rest() && hw.now < end) step_event();
+    if (first || kind == kAtRest) {
       x.in = hw.now;
     } else {
       x.in = 0;  // set below

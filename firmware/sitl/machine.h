@@ -103,17 +103,27 @@ struct Exchange {
 std::vector<Exchange> run_lines(const std::vector<std::string>& lines, SenderKind kind,
                                 const std::vector<uint64_t>& stops = std::vector<uint64_t>(),
                                 uint64_t max_ticks = 3600 * kSecond);
+// The same, each line asked of `next` when it is to be sent (the one before answered, or the
+// arm at rest after it), so it may depend on what the firmware did so far; false: no more.
+std::vector<Exchange> run_lines(const std::function<bool(std::string& line)>& next, SenderKind kind,
+                                const std::vector<uint64_t>& stops = std::vector<uint64_t>(),
+                                uint64_t max_ticks = 3600 * kSecond);
 // Every '!' of the last run_lines() (its own and the timed ones), when it reached the receive
 // interrupt and when the arm was at rest after it (nothing moving, nothing queued, the stop
 // done: the tick of its last step, or of the '!' itself when nothing moved).
 // `replies`: the replies (ok, error:N) the run had written when it came; `actions`: the
 // action log's size when it was done (hw.actions from there on began after it, even at the
 // same tick, in the main loop's pass that went on to the next line).
+// `queued`: hw.queued's size then (the actions queued before it that never began, it
+// emptied from the queue); `planned`: the steps the arm rests at, as the firmware counts them,
+// and their angles (the plan the firmware takes up again: controller.cpp rederive_planned).
 struct StopEvent {
   uint64_t bang;
   uint64_t rest;
   size_t replies;
   size_t actions;
+  size_t queued;
+  robot::State planned;
 };
 const std::vector<StopEvent>& stop_events();
 // The first step the motors made in the last run_lines() (0 if none), and the ticks its

@@ -71,6 +71,7 @@ void reply(uint8_t status) {
   LineSink out = {buf};
   write_reply(out, Status(status));
   write_line(buf, out);
+  hal::replied(status);
 }
 
 bool busy() { return stepper::busy() || !queue::empty(); }
@@ -208,6 +209,7 @@ __attribute__((noinline)) void push_planned(queue::Action& a, uint32_t ticks4 = 
   } else {
     g_last_steps = 0;
   }
+  hal::action_queued(a);
   queue::push(a);
   queue::replan();
   stepper::raise_exit();
@@ -510,7 +512,9 @@ void on_realtime(char c) {
   if (realtime_command(c) == kRealtimeStop) stepper::request_stop();
 }
 
-// (Only the SITL calls it: on the Nano the linker drops it.)
+// (Only the SITL calls these: on the Nano the linker drops them.)
 void configured() { adopt_configuration(); }
+const robot::State& planned() { return g_planned; }
+bool homed() { return g_homed; }
 
 }  // namespace firmware

@@ -5,6 +5,8 @@
 
 #include <stdint.h>
 
+#include "robot.h"
+
 namespace firmware {
 
 // Once, after hal::init() and before hal::start(): loads the settings from EEPROM, sets up
@@ -32,6 +34,12 @@ void on_realtime(char c);
 // articula::status_report_size(joints)); returns its length. Called by the HAL in interrupt
 // context with interrupts enabled: the state is read in one short critical section.
 uint8_t status_line(char* buf, uint8_t cap);
+
+// The controller's plan, as the SITL machine reads it with each reply and queued action
+// (hal::replied, hal::action_queued): the commanded angles and steps once the queue has run,
+// and whether moves are allowed. (Only the SITL calls them: on the Nano the linker drops them.)
+const robot::State& planned();
+bool homed();
 
 }  // namespace firmware
 

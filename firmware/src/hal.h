@@ -11,6 +11,10 @@
 
 #include <articula/platform.h>
 
+namespace queue {
+struct Action;
+}
+
 namespace hal {
 
 // Timer ticks per second of the step timer (Timer1 at 16 MHz with prescaler 8).
@@ -55,6 +59,18 @@ void stage_coils(uint8_t motor, uint8_t pattern);
 inline void action_began(uint8_t) {}
 #else
 void action_began(uint8_t kind);
+#endif
+
+// The main loop put `a` into the motion queue (controller.cpp push_planned, before the
+// controller's plan moves on to it), and answered a line with `status` (reply(), after the
+// command ran). Nothing on the Nano; the SITL machine records each with the controller's
+// plan (firmware::planned()), so the host reads what every line did from the firmware itself.
+#if defined(__AVR__)
+inline void action_queued(const queue::Action&) {}
+inline void replied(uint8_t) {}
+#else
+void action_queued(const queue::Action& a);
+void replied(uint8_t status);
 #endif
 
 // Milliseconds since init (wraps after 49 days).

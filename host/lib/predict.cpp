@@ -1,5 +1,7 @@
-// host/lib/predict.cpp - the controller model (predict.h). Each rule below names the
-// firmware code it follows; the firmware itself is never linked or called.
+// host/lib/predict.cpp - the controller model (predict.h: what the physics' live commands
+// still use; predict_program() runs the firmware itself, predict_run.cpp). Each rule below
+// names the firmware code it follows. Also what both share to describe a record
+// (predict_detail.h).
 #include "predict.h"
 
 #include <articula/line.h>
@@ -9,6 +11,7 @@
 
 #include "blocks.h"
 #include "nano_config.h"
+#include "predict_detail.h"
 
 #include <algorithm>
 #include <cctype>
@@ -19,8 +22,10 @@
 namespace articula::host {
 
 namespace {
-
 void add_note(PredictRecord& r, const std::string& note) { append_note(r.note, note); }
+}  // namespace
+
+// ---- what the model and the firmware's run share: describing a state (predict_detail.h) ----
 
 // error:9's note: which motor the move would take beyond its range, and the range, in degrees.
 std::string limit_note(const Robot& robot, const int32_t* target_millideg) {
@@ -72,7 +77,35 @@ double distance_from_segment(const std::vector<Vec3<double>>& points, const Vec3
   return worst;
 }
 
-}  // namespace
+void describe_state(const Robot& robot, PredictRecord& r, const int32_t* steps, const Millideg* commanded,
+                    const int32_t* offset) {
+  const auto& a = robot.actuation;
+  const int n = a.num_motors, nj = robot.model.num_joints;
+  int32_t physical[kMaxJoints];
+  double u_ideal[kMaxJoints], q_ideal[kMaxJoints], q_real[kMaxJoints];
+  r.steps.assign(steps, steps + n);
+  r.commanded.assign(commanded, commanded + n);
+  r.actuator_deg.clear();
+  for (int i = 0; i < n; ++i) {
+    physical[i] = steps[i] + offset[i];
+    r.actuator_deg.push_back(steps_to_degrees<double>(a.motors[i], physical[i]));
+    // The commanded angle where the arm really is: shifted by what Z declared.
+    u_ideal[i] =
+        deg_to_rad(commanded[i] / 1000.0 + a.motors[i].direction * offset[i] * degrees_per_step<double>(a.motors[i]));
+  }
+  joints_from_actuators(q_ideal, a, u_ideal);
+  joints_from_steps(q_real, a, physical);
+  r.joints.clear();
+  r.joints_ideal.clear();
+  for (int j = 0; j < nj; ++j) {
+    r.joints.push_back(joint_from_model(robot, j, q_real[j]));
+    r.joints_ideal.push_back(joint_from_model(robot, j, q_ideal[j]));
+  }
+  r.tool_ideal = tool_position(robot.model, q_ideal);
+  r.tool_quantized = tool_position(robot.model, q_real);
+  r.error_mm = norm(r.tool_quantized - r.tool_ideal);
+  if (r.has_target) r.target_error_mm = norm(r.tool_quantized - r.target);
+}
 
 // Z and $n=v are answered only once the queue is empty and the arm at rest: the arm then
 // idles until the host's next line arrives, a gap the prediction cannot know (serial round
@@ -121,6 +154,74 @@ void apply_settings_text(ControllerSettings& s, const std::string& text, int num
   }
   if (!any) throw std::invalid_argument("no settings given (expected n=value,..., e.g. 0=800,1=3000)");
 }
+
+// ---- the model's planner (what the physics' live commands time their moves with) ----
+
+namespace {
+
+// The move a queued action makes: the record's, or one of its segments.
+struct MoveOf {
+  const std::vector<int32_t>& delta;
+  uint32_t steps;
+  uint16_t cruise4;
+};
+
+// controller.cpp push_planned(): a move's block, with its junction level to the move queued
+// before it (`before`: none when the arm is at rest with nothing queued, or after another
+// action) kept below the cruise caps of both; `cap` is set to this move's cap.
+PlanBlock plan_block(const MoveOf& m, const MoveOf* before, uint16_t before_cap, const MotionSettings& motion,
+                     uint32_t junction, uint16_t& cap) {
+  PlanBlock b{uint16_t(std::min(m.steps, uint32_t(0xFFFF))), 0, 0, m.cruise4};
+  ProfileConstants k;
+  profile_constants(k, motion);
+  cap = cruise_level_cap(motion, k.cruise, block_cruise(b, k.cruise));
+  if (before)
+    b.max_entry = std::min({cap, before_cap,
+                            junction_level<kMaxJoints>(before->delta.data(), before->steps, m.delta.data(), m.steps,
+                                                       uint8_t(m.delta.size()), junction)});
+  return b;
+}
+
+}  // namespace
+
+std::vector<PlanBlock> plan_segments(const std::vector<PredictRecord::Segment>& segments, const MotionSettings& motion,
+                                     uint32_t junction) {
+  std::vector<PlanBlock> plan;
+  uint16_t last_cap = 0xFFFF;
+  for (size_t i = 0; i < segments.size(); ++i) {
+    const PredictRecord::Segment& s = segments[i];
+    const MoveOf m{s.delta_steps, s.dominant_steps, s.cruise4};
+    std::optional<MoveOf> before;
+    if (i > 0) before.emplace(MoveOf{segments[i - 1].delta_steps, segments[i - 1].dominant_steps, 0});
+    uint16_t cap = 0;
+    plan.push_back(plan_block(m, before ? &*before : nullptr, last_cap, motion, junction, cap));
+    last_cap = cap;
+  }
+  plan_entries([&](size_t k) -> const PlanBlock& { return plan[k]; }, [&](size_t k, uint16_t e) { plan[k].entry = e; },
+               plan.size());
+  return plan;
+}
+
+uint64_t segments_ticks(const std::vector<PredictRecord::Segment>& segments, const std::vector<PlanBlock>& plan,
+                        const MotionSettings& motion, std::vector<uint64_t>* ends) {
+  if (ends) ends->clear();
+  ProfileConstants k;
+  profile_constants(k, motion);
+  StepProfile p;
+  uint64_t t = 0;
+  for (size_t i = 0; i < segments.size(); ++i) {
+    const uint32_t exit = i + 1 < plan.size() ? plan[i + 1].entry : 0;
+    const uint32_t cruise = block_cruise(plan[i], k.cruise);
+    if (p.level() > 0)
+      p.follow(segments[i].dominant_steps, exit, cruise);
+    else
+      p.start(segments[i].dominant_steps, k, exit, cruise);
+    while (!p.done()) t += p.next_interval();
+    if (ends) ends->push_back(t);
+  }
+  return t;
+}
+
 
 // ---- RoboSim mappings ----
 
@@ -184,32 +285,7 @@ void ControllerModel::finish(PredictRecord& r) {
 }
 
 void ControllerModel::describe(PredictRecord& r, const MotorState<kMaxJoints>& state) const {
-  const auto& a = robot_.actuation;
-  const int nj = robot_.model.num_joints;
-  int32_t physical[kMaxJoints];
-  double u_ideal[kMaxJoints], q_ideal[kMaxJoints], q_real[kMaxJoints];
-  r.steps.assign(state.steps, state.steps + n_);
-  r.commanded.assign(state.commanded, state.commanded + n_);
-  r.actuator_deg.clear();
-  for (int i = 0; i < n_; ++i) {
-    physical[i] = state.steps[i] + offset_[i];
-    r.actuator_deg.push_back(steps_to_degrees<double>(a.motors[i], physical[i]));
-    // The commanded angle where the arm really is: shifted by what Z declared.
-    u_ideal[i] = deg_to_rad(state.commanded[i] / 1000.0 +
-                            a.motors[i].direction * offset_[i] * degrees_per_step<double>(a.motors[i]));
-  }
-  joints_from_actuators(q_ideal, a, u_ideal);
-  joints_from_steps(q_real, a, physical);
-  r.joints.clear();
-  r.joints_ideal.clear();
-  for (int j = 0; j < nj; ++j) {
-    r.joints.push_back(joint_from_model(robot_, j, q_real[j]));
-    r.joints_ideal.push_back(joint_from_model(robot_, j, q_ideal[j]));
-  }
-  r.tool_ideal = tool_position(robot_.model, q_ideal);
-  r.tool_quantized = tool_position(robot_.model, q_real);
-  r.error_mm = norm(r.tool_quantized - r.tool_ideal);
-  if (r.has_target) r.target_error_mm = norm(r.tool_quantized - r.target);
+  describe_state(robot_, r, state.steps, state.commanded, offset_);
 }
 
 void ControllerModel::stopped_at(const std::vector<int32_t>& steps, int gripper_percent) {
@@ -334,7 +410,7 @@ Status ControllerModel::line(PredictRecord& r, const int32_t* arg) {
                                   segment_ticks4(cut.segment_length(), to[3], kControllerTickHz));
     r.segments.push_back(seg);
   }
-  // From rest to rest, all its segments planned at once (schedule() replays the queue).
+  // From rest to rest, all its segments planned at once.
   const uint64_t ticks = segments_ticks(
       r.segments, plan_segments(r.segments, settings_.motion(), settings_.value[ControllerSettings::kJunction]),
       settings_.motion());
@@ -520,7 +596,7 @@ Status ControllerModel::run_command(PredictRecord& r, const std::string& text) {
 
 PredictRecord ControllerModel::execute_line(const std::string& line, int line_number) {
   PredictRecord r = begin(line_number, line);
-  if (is_stop_line(line)) {  // the realtime stop: schedule() replays it, predict_program() goes on from where it stops
+  if (is_stop_line(line)) {  // the realtime stop
     r.stop = true;
     add_note(r, "stops the arm: it decelerates along its path to rest and empties its queue; the lines after it "
                 "wait for rest and start from the steps reached (never answered)");
@@ -680,84 +756,6 @@ PredictRecord ControllerModel::execute(const Statement& st) {
   }
   finish(r);
   return r;
-}
-
-Prediction predict_program(const Robot& robot, const Program& program, const ControllerSettings& settings,
-                           const SenderModel& sender, bool path) {
-  ControllerModel model(robot, settings);
-  model.keep_path(path);
-  Prediction p;
-  p.robot = robot.name;
-  p.program = program.source;
-  p.settings = settings;
-  uint64_t first_step = 0;
-  std::vector<uint64_t> stop_ticks;
-  if (!sender.stop_ticks.empty()) {  // after the first step: the program without them says when that is
-    SenderModel plain = sender;
-    plain.stop_ticks.clear();
-    first_step = predict_program(robot, program, settings, plain, false).first_step_tick;
-    for (uint64_t t : sender.stop_ticks) stop_ticks.push_back(first_step + t);
-  }
-  p.first_step_tick = first_step;  // (schedule() counts the timed '!'s from it)
-  bool stops = false;
-  std::optional<ControllerModel> before_last;  // the model before the last line
-  // Where the arm comes to rest after a '!' depends on when it arrives: the lines so far are
-  // scheduled to find out, and the model goes on from there.
-  auto stop_here = [&](PredictRecord r) {
-    Prediction upto = p;
-    upto.records.push_back(r);
-    schedule(upto, sender, robot);
-    const PredictRecord& s = upto.records.back();
-    // The line still waiting when a timed '!' came (the last: the sender waits for each
-    // reply) was answered error:15: it changed nothing.
-    if (before_last && !p.records.empty() && p.records.back().reply == kOk &&
-        upto.records[p.records.size() - 1].reply == kStopped)
-      model = *before_last;
-    before_last.reset();
-    model.stopped_at(s.steps, s.gripper_percent);
-    const int64_t at = r.stop_at;
-    r = model.execute_line("!", r.line);
-    r.stop_at = at;
-    if (at >= 0)
-      append_note(r.note, "sent " + number_text(double(uint64_t(at) - first_step) / kControllerTickHz) +
-                              " s after the first step, whatever the lines are doing");
-    p.records.push_back(r);
-    stops = true;
-  };
-  size_t timed = 0;  // the sender's timed stops placed so far
-  auto timed_stop = [&](int line) {
-    PredictRecord r = model.execute_line("!", line);
-    r.stop_at = int64_t(stop_ticks[timed++]);
-    stop_here(r);
-  };
-  for (const Statement& st : program.statements) {
-    // A timed '!' goes before the first line that arrives after it (when that is, the stops
-    // before it decide: one at a time).
-    while (timed < stop_ticks.size()) {
-      ControllerModel before = model;
-      Prediction upto = p;
-      upto.records.push_back(model.execute(st));
-      schedule(upto, sender, robot);
-      model = before;
-      if (stop_ticks[timed] >= upto.records.back().arrive_tick) break;
-      timed_stop(st.line);
-    }
-    if (timed < stop_ticks.size()) before_last = model;  // (only a timed '!' catches a line waiting)
-    PredictRecord r = model.execute(st);
-    if (r.stop)
-      stop_here(r);
-    else
-      p.records.push_back(r);
-  }
-  while (timed < stop_ticks.size()) timed_stop(p.records.empty() ? 0 : p.records.back().line);
-  // Every time is the firmware's, running the lines as the sender sends them.
-  schedule(p, sender, robot);
-  for (PredictRecord& r : p.records) {
-    if (r.cut) model.restate(r);  // (the state a '!' left them in)
-    if (r.reply != kOk) ++p.rejected;
-    p.worst_error_mm = std::max(p.worst_error_mm, r.error_mm);
-  }
-  return p;
 }
 
 }  // namespace articula::host

@@ -1,25 +1,22 @@
-// host/lib/predict.h - what the real arm will do with a program, step for step. Its times are
-// the firmware's own: schedule() runs firmware/src on a virtual clock (firmware/sitl). Each
-// line's steps and state come from a host-side model of the firmware's controller
-// (firmware/src/controller.cpp) built from the shared core, whose replies the firmware's are
-// held to (issue 39: it is to give way to the firmware's own state).
+// host/lib/predict.h - what the real arm will do with a program, step for step.
 //
-// The controller model executes a Program (program.h) statement by statement with the
-// firmware's rules:
+// predict_program() runs the firmware itself: firmware/src's controller, built for eight motors,
+// on a virtual clock (firmware/sitl; predict_run.cpp), fed the program's lines as the sender
+// delivers them. Every record is read from what the firmware did: its reply, the plan it left
+// (steps and commanded angles), the actions it queued and when each began and ended, the steps
+// its coils made, where each '!' left the arm. The host adds RoboSim's statements as protocol
+// lines (thesis appendix B: m -> M, a -> IK then M, h -> G, s -> $0; see programs/README.md),
+// the tool positions the steps give (the shared core's kinematics) and notes.
+//
+// ControllerModel is the physics' account of the controller for its live commands (sim.cpp):
+// a host-side model of controller.cpp built from the shared core, with motion.h's durations
+// from rest to rest. Issue 39: it is to give way to the firmware on the virtual clock too.
 //   - the state is a MotorState: exact commanded millidegrees and the steps they quantize to;
 //     L and M go through move_relative / move_absolute (actuation.h), P through the closed
-//     form the firmware uses (ypp_closed_form in float, the in-limits solution nearest the
-//     planned pose in actuator space, rounded to 0.001 degree), H and Z as docs/protocol.md
-//     says, G and S as gripper actions followed by the settle pause ($5);
-//   - a rejected command changes nothing;
-//   - the settings $0..$5 start from the firmware's defaults (or given ones) and `$n=v`
-//     lines change them with the firmware's range checks;
+//     form the firmware uses, H and Z as docs/protocol.md says, G and S as gripper actions
+//     followed by the settle pause ($5); a rejected command changes nothing;
 //   - every action's duration is motion.h's: profile_duration_ticks of the dominant motor's
-//     step count for a move, the settle time for a gripper action; actions run back to back
-//     from rest to rest (docs/protocol.md, "Timing of moves"): what the physics' live
-//     commands use; predict_program() replaces the times with the firmware's (schedule()).
-// RoboSim statements (thesis appendix B) map onto the same commands: see predict.cpp and
-// programs/README.md for the mapping (m -> M, a -> IK then M, h -> G, s -> $0, ...).
+//     step count for a move, the settle time for a gripper action.
 #ifndef ARTICULA_HOST_PREDICT_H
 #define ARTICULA_HOST_PREDICT_H
 
@@ -115,19 +112,19 @@ struct PredictRecord {
   enum class Action { kNone, kMove, kPause, kHome };
   Action action = Action::kNone;
   std::vector<int32_t> delta_steps;  // a move (and Home's final move): per motor
-  uint64_t seek_ticks = 0;           // Home: the switch search before its move
+  uint64_t seek_ticks = 0;           // Home: the switch search before its move (ControllerModel)
   MotionSettings motion{};           // the settings the action runs with ($0, $1)
   uint32_t junction = 0;             // $6 when it was queued
-  bool waits_for_rest = false;       // Z, $n=v: answered only at rest
+  bool waits_for_rest = false;       // answered only once the arm was at rest (Z, $n=v while it moves)
   bool queued = false;
   // '!' alone on a line: the realtime stop (never answered). The arm decelerates along its
-  // path to rest and empties its queue (schedule() replays it at the tick it arrives); the
+  // path to rest and empties its queue (the firmware runs it at the tick it arrives); the
   // lines after it wait for rest and start from the steps reached.
   bool stop = false;
-  int64_t stop_at = -1;  // a '!' the sender sends at this tick (from SenderModel::stop_ticks), not after a reply
-  uint64_t arrive_tick = 0;  // when the line was in (schedule())
+  int64_t stop_at = -1;  // a '!' the sender sent at this tick (SenderModel::stop_ticks, after the first step), not after a reply
+  uint64_t arrive_tick = 0;  // when the firmware read the line
   // A '!' cut this action short or emptied it from the queue: its steps, delta_steps,
-  // dominant_steps and segments are what it really made (schedule()).
+  // dominant_steps and segments are what it really made.
   bool cut = false;
   // T: its segments, each a move of the queue (the record's delta_steps are their sum), and
   // the worst distance of the tool, at every step the motors make, from the straight line.
@@ -135,11 +132,11 @@ struct PredictRecord {
     std::vector<int32_t> delta_steps;
     uint32_t dominant_steps = 0;
     uint16_t cruise4 = 0;  // PlanBlock::cruise4: its own cruise at the tool speed
-    uint64_t end_tick = 0;  // when the firmware ended it (schedule(); as the record's end_tick)
+    uint64_t end_tick = 0;  // when the firmware ended it (as the record's end_tick)
   };
   std::vector<Segment> segments;
   double line_error_mm = -1;  // -1: not a straight line
-  // On request (ControllerModel::keep_path): the tool (mm) after every step of the dominant
+  // On request (predict_program's path): the tool (mm) after every step of the dominant
   // motor of its moves, the steps spread as the arm spreads them.
   std::vector<Vec3<double>> path;
   uint32_t dominant_steps = 0;  // a move: the most steps any motor makes
@@ -247,25 +244,17 @@ struct Prediction {
   int rejected = 0;
   double worst_error_mm = 0;  // largest error_mm of the accepted commands
   uint64_t total_ticks = 0;   // end of the last action
-  uint64_t first_step_tick = 0;  // the first step any motor makes (schedule(); 0 if none)
+  uint64_t first_step_tick = 0;  // the first step any motor makes (0 if none)
   double total_s() const { return double(total_ticks) / kControllerTickHz; }
 };
 
-// Runs a whole program. Throws PredictError for a robot without motors. The times are
-// those of `sender` (schedule()).
+// Runs a whole program on the firmware (predict_run.cpp), each line as `sender` delivers it,
+// the timed '!'s at their ticks after the first step, the arm powered up with `settings`.
+// Throws PredictError for a robot without motors or one the firmware cannot drive (more than
+// eight motors), std::logic_error if the firmware's own accounts disagree (a bug).
 // With `path`, each record that moves keeps the tool at every step (PredictRecord::path).
 Prediction predict_program(const Robot& robot, const Program& program, const ControllerSettings& settings = {},
                            const SenderModel& sender = {}, bool path = false);
-
-// When each action starts and ends, in the controller's ticks from the first line's arrival:
-// the firmware itself (firmware/src on its virtual clock, built for eight motors), powered up
-// with the robot's arm and p.settings, runs the records' lines as `sender` delivers them
-// (the timed '!'s at their stop_at, counted from p.first_step_tick). Each record gets its
-// arrival, start and end; an error:15 the firmware gave a line a timed '!' caught waiting;
-// the records a '!' cut, the steps they really made; p the end and the first step. Throws
-// PredictError for a robot the firmware cannot drive (more than eight motors), and
-// std::logic_error when the firmware answers a line otherwise than the records say.
-void schedule(Prediction& p, const SenderModel& sender, const Robot& robot);
 
 // A T line's segments as the firmware plans them from rest to rest, all queued at once
 // (controller.cpp push_planned: each junction's level kept below both cruise caps, then the

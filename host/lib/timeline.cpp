@@ -47,7 +47,7 @@ Vec3<double> last_tool(const std::vector<TimelineAction>& actions, const Robot& 
 
 // A T record's segment ends as time line points: their steps (from the record's end back
 // by its segments), in joint values (the record's own shift by Z added: the joints are linear
-// in the steps), at the ticks the firmware ended them (schedule()), on the record's span.
+// in the steps), at the ticks the firmware ended them (predict_program), on the record's span.
 void add_segments(const Robot& robot, const PredictRecord& r, TimelineAction& a) {
   const int n = robot.actuation.num_motors, nj = robot.model.num_joints;
   if (r.segments.empty() || r.end_tick <= r.start_tick) return;

@@ -251,7 +251,7 @@ TEST(Predict, DwellWaitsInTheQueue) {
   EXPECT_EQ(m.clock_ticks(), next.end_tick);  // a refused wait adds nothing
 }
 
-// The program's times are the firmware's (schedule()): D 0.5 pauses 1,000,000 ticks. The
+// The program's times are the firmware's (predict_run.cpp): D 0.5 pauses 1,000,000 ticks. The
 // same program with one line of the firmware changed: host.ChangedFirmware.
 TEST(Predict, ProgramDwellIsTheFirmwares) {
   for (SenderModel::Kind kind : {SenderModel::kRest, SenderModel::kStream}) {

@@ -163,9 +163,9 @@ std::pair<size_t, size_t> check_action_times(const host::Prediction& p, size_t f
   return {records, actions};
 }
 
-// Every time host::schedule() gives, read from the firmware: the records' starts and ends
-// (check_action_times), when each line is in, the lines that queue nothing, the end of the
-// program and the first step. What the host's schedule() is to become (issue 39).
+// Every time host::predict_program() gives, read here from a run of the firmware of its own:
+// the records' starts and ends (check_action_times), when each line is in, the lines that
+// queue nothing, the end of the program and the first step.
 TEST_P(FirmwareMatchesThePrediction, EveryTimeOfTheScheduleReadFromTheFirmware) {
   const Case c = GetParam();
   const ShippedRun run = run_shipped(c);
@@ -182,7 +182,7 @@ TEST_P(FirmwareMatchesThePrediction, EveryTimeOfTheScheduleReadFromTheFirmware) 
     if (sitl::hw.actions[i].kind == sitl::kTimerStopped) rest = sitl::hw.actions[i].tick - t0;
   }
   EXPECT_EQ(checked.second, begun) << c.file << ": the firmware began other actions than predicted";
-  // The rest of what schedule() says: when each line is in; a line that queues nothing takes
+  // The rest of what the prediction says: when each line is in; a line that queues nothing takes
   // no time there, or (a setting, Z) until its reply at rest; the end of the whole program;
   // the first step.
   for (size_t i = 0; i < p.records.size(); ++i) {

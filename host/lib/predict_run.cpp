@@ -1,0 +1,800 @@
+// host/lib/predict_run.cpp - predict_program() (predict.h): the firmware itself (firmware/src,
+// on its virtual clock: firmware/sitl) runs the program's lines as the sender delivers them,
+// and every record is read from what it did: its reply and the plan it left (hal::replied),
+// the actions it queued (hal::action_queued) and when each began (the action log), the steps
+// its coils made, where each '!' left the arm. The host adds what the firmware does not
+// know: RoboSim's statements as protocol lines, the tool positions the steps give (the
+// shared core's kinematics), and notes.
+#include <articula/line.h>
+#include <articula/planner.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <mutex>
+#include <stdexcept>
+#include <optional>
+
+#include "blocks.h"
+#include "ik.h"
+#include "nano_config.h"
+#include "predict.h"
+#include "predict_detail.h"
+
+// The firmware (firmware/src, built for the host's eight motors: firmware/sitl/sitl.cmake).
+#include "hal_sitl.h"
+#include "firmware.h"
+#include "machine.h"
+#include "queue.h"
+
+namespace articula::host {
+
+const char* sender_name(SenderModel::Kind k) {
+  switch (k) {
+    case SenderModel::kRest: return "rest";
+    case SenderModel::kStream: return "stream";
+  }
+  return "?";
+}
+
+namespace {
+
+// A queued action: its record and which of a T's segments (-1: the record's own action).
+using Item = std::pair<size_t, int>;
+
+// The steps an action made, read from the coil log.
+struct Done {
+  std::vector<int32_t> delta;
+  uint32_t steps = 0;  // step deadlines: the dominant motor's steps
+};
+
+// What a '!' did to the actions it hit (running or queued when it came): each one's steps,
+// delta and segments become what it made; `stop` (the '!''s record) gets where the arm came
+// to rest and the gripper of the last gripper action that ran.
+void cut(Prediction& p, size_t stop, const std::vector<Item>& hit, const std::map<Item, Done>& made, uint64_t rest) {
+  const auto done = [&](const Item& k) {
+    const auto it = made.find(k);
+    return it == made.end() ? Done{} : it->second;
+  };
+  if (hit.empty()) return;
+  const size_t first = hit.front().first;
+  std::vector<int32_t> at = p.records[first].steps;  // before the first: its end less its move
+  for (size_t i = 0; i < at.size() && i < p.records[first].delta_steps.size(); ++i)
+    at[i] -= p.records[first].delta_steps[i];
+  int gripper = first > 0 ? p.records[first - 1].gripper_percent : p.records[first].gripper_percent;
+  bool dropped_gripper = false;
+  for (size_t k = first; k < stop; ++k) {
+    PredictRecord& r = p.records[k];
+    std::vector<Item> mine;
+    for (const Item& it : hit)
+      if (it.first == k) mine.push_back(it);
+    if (mine.empty()) {  // not an action (or one the '!' answered error:15): where the arm was
+      if (r.reply == kStopped) {
+        r.delta_steps.assign(at.size(), 0);
+        r.dominant_steps = 0;
+        r.segments.clear();
+        r.queued = false;
+        r.action = PredictRecord::Action::kNone;
+      }
+      r.steps = at;
+      if (!dropped_gripper) gripper = r.gripper_percent;
+      continue;
+    }
+    const bool ran = k == first || done(mine.front()).steps > 0;  // (the first one hit was running)
+    std::vector<int32_t> delta(at.size(), 0);
+    uint32_t dominant = 0;
+    std::vector<PredictRecord::Segment> segments;
+    for (const Item& it : mine) {
+      const Done d = done(it);
+      for (size_t i = 0; i < d.delta.size() && i < delta.size(); ++i) delta[i] += d.delta[i];
+      dominant += d.steps;
+      if (it.second >= 0 && d.steps > 0) {
+        PredictRecord::Segment sg = r.segments[size_t(it.second)];
+        sg.delta_steps = d.delta;
+        sg.dominant_steps = d.steps;
+        segments.push_back(sg);
+      }
+    }
+    if (!r.segments.empty()) {  // the segments before the first one hit ran in full
+      std::vector<PredictRecord::Segment> all(r.segments.begin(), r.segments.begin() + mine.front().second);
+      for (const auto& sg : all)
+        for (size_t i = 0; i < delta.size(); ++i) delta[i] += sg.delta_steps[i];
+      for (const auto& sg : all) dominant += sg.dominant_steps;
+      all.insert(all.end(), segments.begin(), segments.end());
+      r.segments = all;
+    }
+    for (size_t i = 0; i < at.size(); ++i) at[i] += delta[i];
+    if (ran && delta == r.delta_steps) {  // run in full, the stop running on past it
+      r.steps = at;
+      if (!dropped_gripper) gripper = r.gripper_percent;
+      continue;
+    }
+    r.cut = true;
+    r.delta_steps = delta;
+    r.dominant_steps = dominant;
+    r.steps = at;
+    if (r.action == PredictRecord::Action::kPause && r.gripper_percent != gripper && !ran) dropped_gripper = true;
+    if (!dropped_gripper) gripper = r.gripper_percent;
+    if (!ran && !(k == first)) {
+      r.start_tick = r.end_tick = rest;
+      append_note(r.note, "never ran: the '!' on line " + std::to_string(p.records[stop].line) + " emptied the queue");
+    } else {
+      append_note(r.note, "cut short by the '!' on line " + std::to_string(p.records[stop].line) + " (" +
+                              std::to_string(dominant) + " steps made)");
+    }
+  }
+  p.records[stop].steps = at;
+  p.records[stop].gripper_percent = gripper;
+}
+
+}  // namespace
+
+namespace {
+
+// The firmware's state is global, as on the Nano: one machine per process, one run at a time.
+std::mutex g_firmware;
+
+static_assert(kFirmwareMotors == robot::kJoints, "the host's build of the firmware (host/CMakeLists.txt)");
+
+// An action the firmware began (hal::action_began): its ticks and what it made.
+struct Begun {
+  uint64_t begin, end;  // end: the action log's next entry (the next action, or the timer's stop)
+  size_t at;            // its place in the action log
+  Done done;
+};
+
+std::string reply_text(Status s) {
+  char buf[16];
+  const uint16_t n = format_reply(buf, sizeof buf, s);
+  return std::string(buf, n > 0 ? n - 1 : 0);
+}
+
+void note_on(PredictRecord& r, const std::string& note) { append_note(r.note, note); }
+
+// Power-up with the robot's arm and the settings: the settings written as `$n=v` lines, then
+// a power cycle (as a Nano set up so and switched on). A switch on every motor, pressed from
+// its minimum angle on (H seeks the switches $3 names).
+void power_up(const Robot& robot, const ConfiguredArm<kFirmwareMotors>& arm, const ControllerSettings& settings) {
+  sitl::boot(true, "", nullptr, &arm);
+  const ControllerSettings defaults;
+  bool changed = false;
+  for (int n = 0; n < ControllerSettings::kCount; ++n) {
+    if (settings.value[size_t(n)] == defaults.value[size_t(n)]) continue;
+    const std::string reply = sitl::command(protocol_line(robot, '$', {double(n), double(settings.value[size_t(n)])}));
+    if (reply != "ok") throw PredictError("the firmware refused setting $" + std::to_string(n) + " = " +
+                                          std::to_string(settings.value[size_t(n)]) + ": " + reply);
+    changed = true;
+  }
+  if (changed) sitl::boot(false, "", nullptr, &arm);
+  sitl::take_lines();
+  for (int i = 0; i < robot.actuation.num_motors; ++i) {
+    const MotorSpec& m = robot.actuation.motors[i];
+    const int32_t at = quantize_within_limits(m, m.min);
+    sitl::hw.endstop_fitted[i] = true;
+    sitl::hw.endstop_at[i] = at;
+    sitl::hw.endstop_below[i] = at <= quantize_within_limits(m, m.max);
+  }
+}
+
+// The statements as the host sends them: RoboSim's as protocol lines (a: the IK from the
+// pose the firmware plans when the line goes), the host-only ones (l, w, z; a line the
+// protocol cannot parse; an a without a solution) kept as records and never sent.
+class Statements {
+ public:
+  Statements(Robot& robot, uint32_t base_rate) : robot_(robot), base_rate_(base_rate) {}
+
+  // The record of `st`; true when it is to be sent as `line`.
+  bool begin(const Statement& st, PredictRecord& r, std::string& line) {
+    r.line = st.line;
+    if (st.kind == Statement::Kind::kProtocol) {
+      r.text = st.text;
+      if (is_stop_line(st.text)) {
+        r.stop = true;
+        note_on(r, "stops the arm: it decelerates along its path to rest and empties its queue; the lines after "
+                    "it wait for rest and start from the steps reached (never answered)");
+        line = "!";
+        return true;
+      }
+      Command cmd;
+      r.reply = parse_protocol_line(cmd, st.text, robot_.actuation.num_motors);
+      if (r.reply != kOk || cmd.type == kCmdNone) return false;
+      r.command = cmd.type;
+      line = st.text;
+      // (The realtime bytes inside a line: not sent with it.)
+      if (line.find('!') != std::string::npos)
+        note_on(r, "the line holds '!': sent to the arm it stops the arm and empties the queue (not simulated)");
+      if (line.find('?') != std::string::npos)
+        note_on(r, "the line holds '?': the arm answers it with a status report");
+      line.erase(std::remove_if(line.begin(), line.end(), [](char c) { return c == '!' || c == '?'; }), line.end());
+      return true;
+    }
+    r.text = std::string(1, robosim_letter(st.kind));
+    for (double v : st.values) r.text += " " + number_text(v);
+    robosim(st, r);
+    if (r.reply != kOk || r.protocol.empty()) return false;
+    line = r.protocol;
+    return true;
+  }
+
+ private:
+  void robosim(const Statement& st, PredictRecord& r) {
+    const int nj = robot_.model.num_joints, n = robot_.actuation.num_motors;
+    switch (st.kind) {
+      case Statement::Kind::kJoints:
+      case Statement::Kind::kTarget: {
+        double q[kMaxJoints];
+        if (st.kind == Statement::Kind::kJoints) {
+          for (int j = 0; j < nj; ++j) q[j] = joint_to_model(robot_, j, st.values[size_t(j)]);
+        } else {
+          r.has_target = true;
+          r.target = make_vec3(st.values[0], st.values[1], st.values[2]);
+          if (!ik_) ik_.emplace(robot_);
+          std::vector<double> start(static_cast<size_t>(nj));
+          double u[kMaxJoints];
+          const robot::State& plan = firmware::planned();
+          for (int i = 0; i < n; ++i) u[i] = deg_to_rad(plan.commanded[i] / 1000.0);
+          joints_from_actuators(start.data(), robot_.actuation, u);
+          IkOptions opt;
+          opt.weights = weights_;
+          IkResult res;
+          try {
+            res = ik_->solve(IkTarget::at(r.target), start, opt);
+          } catch (const std::invalid_argument& e) {
+            r.reply = kUnreachable;
+            note_on(r, e.what());
+            return;
+          }
+          r.ik_status = ik_status_name(res.status);
+          if (!res.reached()) {
+            r.reply = kUnreachable;
+            note_on(r, std::string("ik: ") + ik_status_name(res.status) + ", the best pose is " +
+                            number_text(std::round(res.position_error_mm * 1000) / 1000) +
+                            " mm from the target (P would be refused likewise)");
+            return;
+          }
+          for (int j = 0; j < nj; ++j) q[j] = res.q[size_t(j)];
+        }
+        // u = C^-1 q, to exact millidegrees: what M sends.
+        double u[kMaxJoints];
+        actuators_from_joints(u, robot_.actuation, q);
+        std::vector<double> sent;  // M's values, degrees: exact thousandths
+        for (int i = 0; i < n; ++i) {
+          Millideg t;
+          if (!to_millideg(t, rad_to_deg(u[i]))) {
+            r.reply = kValueOutOfRange;
+            return;
+          }
+          // The IK keeps the motors' limits up to rounding; m's values are sent as they are.
+          if (st.kind == Statement::Kind::kTarget)
+            t = clamp(t, robot_.actuation.motors[i].min, robot_.actuation.motors[i].max);
+          sent.push_back(t / 1000.0);
+        }
+        r.protocol = protocol_line(robot_, 'M', sent, true);
+        r.command = kCmdMoveAbsolute;
+        return;
+      }
+      case Statement::Kind::kLinkLengths:
+        set_link_lengths(robot_, st.values);
+        ik_.reset();
+        note_on(r, "host model only: the real arm's links cannot change length (tool positions from here use the "
+                    "new lengths)");
+        return;
+      case Statement::Kind::kWeights:
+        weights_ = st.values;
+        if (!ik_) ik_.emplace(robot_);
+        if (ik_->has_closed_form() && std::find(weights_.begin(), weights_.end(), 0.0) == weights_.end())
+          note_on(r, "IK weights for a; the closed form this arm uses ignores them unless one is 0 (frozen)");
+        else
+          note_on(r, "IK weights for a");
+        return;
+      case Statement::Kind::kSpeed: {
+        const uint32_t rate = robosim_speed_to_rate(st.values[0], base_rate_);
+        r.protocol = protocol_line(robot_, '$', {double(kSetMaxRate), double(rate)});
+        r.command = kCmdSetSetting;
+        note_on(r, "top step rate " + std::to_string(rate) + " steps/s (" + number_text(st.values[0]) + "/" +
+                        number_text(kRoboSimFastest) + " of " + std::to_string(base_rate_) + ")");
+        return;
+      }
+      case Statement::Kind::kHand:
+        r.protocol = protocol_line(robot_, 'G', {robosim_hand_to_aperture(st.values[0]) / 1000.0}, true);
+        r.command = kCmdAperture;
+        return;
+      case Statement::Kind::kZoom:
+        note_on(r, "zoom is for a viewer: no effect on the arm");
+        return;
+      case Statement::Kind::kProtocol:
+        break;
+    }
+  }
+
+  Robot& robot_;  // its model changes with RoboSim's l
+  uint32_t base_rate_;
+  std::vector<double> weights_;
+  std::optional<InverseKinematics> ik_;
+};
+
+// Notes on what a line did, for a reader: from its command, its reply and what it queued.
+void command_notes(PredictRecord& r, const Command& cmd, const Robot& robot, const int32_t* commanded_before,
+                   const uint32_t* settings, bool shifted) {
+  const int n = robot.actuation.num_motors;
+  if (r.reply != kOk) {
+    if (r.reply == kJointLimit && (cmd.type == kCmdRotate || cmd.type == kCmdMoveAbsolute)) {
+      int32_t target[kMaxJoints];
+      for (int i = 0; i < n; ++i)
+        target[i] = cmd.type == kCmdMoveAbsolute ? cmd.arg[i] : commanded_before[i] + (i == cmd.arg[0] ? cmd.arg[1] : 0);
+      note_on(r, limit_note(robot, target));
+    }
+    if (r.reply == kNoClosedForm)
+      note_on(r, std::string("the firmware ") + (cmd.type == kCmdLine ? "runs T" : "solves P") +
+                      " only for a yaw-pitch-pitch arm with 3 motors (identity or parallelogram coupling)" +
+                      (cmd.type == kCmdLine ? "; articula run follows the line on any robot" : ""));
+    return;
+  }
+  switch (cmd.type) {
+    case kCmdInfo: note_on(r, "answered with an info line; nothing moves"); break;
+    case kCmdListSettings: note_on(r, "answered with the settings; nothing moves"); break;
+    case kCmdName: note_on(r, "stages the robot's name in the configuration (robot configuration: not simulated)"); break;
+    case kCmdSetSetting:
+      if (cmd.arg[0] == kCommitSetting)
+        note_on(r, "commits the staged robot configuration when its checksum is this one (not simulated: the "
+                    "prediction keeps this robot file's arm)");
+      else if (cmd.arg[0] >= 100)
+        note_on(r, "stages a value of the robot configuration (not simulated)");
+      else
+        note_on(r, cmd.arg[0] == ControllerSettings::kEndstops
+                        ? "saved; decides Alarm at the next power-up, H uses it from now"
+                        : "takes effect for the actions after it");
+      break;
+    case kCmdSetZero:
+      note_on(r, shifted ? "nothing moves: the controller now counts the arm's pose as home, so its steps and "
+                            "limits are off the arm's (joint values and tools below are where the arm really is)"
+                          : "nothing moves");
+      break;
+    case kCmdRotate:
+    case kCmdMoveAbsolute:
+    case kCmdMoveTool:
+    case kCmdLine:
+      if (!r.queued) note_on(r, "within the same steps: only the commanded angles change, nothing is queued");
+      break;
+    case kCmdHome:
+      if (settings[ControllerSettings::kEndstops] != 0)
+        note_on(r, "seek time assumes each switch trips at its motor's minimum angle");
+      break;
+    case kCmdDwell: note_on(r, "waits; nothing moves"); break;
+    default: break;
+  }
+}
+
+// T's notes: where a refused line fails, or how close to the line the tool stays.
+void line_notes(PredictRecord& r, const Robot& robot, const ConfiguredArm<kFirmwareMotors>& arm, const Command& cmd,
+                const int32_t* before_steps, const Millideg* before_commanded, const int32_t* offset,
+                uint32_t chord, bool keep_path) {
+  if (!arm.has_point || robot.actuation.num_motors != 3) return;
+  const YppLineSolver solver = {&arm.arm, robot.actuation.motors};
+  float from[3], to[4];
+  for (int k = 0; k < 4; ++k) to[k] = float(cmd.arg[k]) * 0.001f;
+  solver.tool(from, before_commanded);
+  if (r.reply == kUnreachable || r.reply == kLineNotFollowed) {
+    LineCutter<float, kMaxJoints> cut;
+    Millideg end[kMaxJoints] = {};
+    cut.start(from, to, before_commanded, 3, float(int32_t(chord)) * 0.001f);
+    while (!cut.done()) {
+      const Status s = cut.next(solver, end);
+      if (s == kOk) continue;
+      const float f = cut.refused_fraction();
+      const auto at = [&](int k) { return number_text(std::round((from[k] + f * (to[k] - from[k])) * 10) / 10); };
+      note_on(r, std::string(s == kLineNotFollowed ? "the pose would jump" : "cannot be reached") + " at " +
+                      number_text(std::round(double(f) * cut.length() * 10) / 10) + " mm along the line of " +
+                      number_text(std::round(double(cut.length()) * 10) / 10) + " mm, at (" + at(0) + ", " + at(1) +
+                      ", " + at(2) + ") mm; nothing moves");
+      return;
+    }
+    return;
+  }
+  if (r.reply != kOk || r.segments.empty()) return;
+  std::vector<const std::vector<int32_t>*> moves;
+  for (const auto& sg : r.segments) moves.push_back(&sg.delta_steps);
+  const std::vector<Vec3<double>> path = tool_path(robot, before_steps, offset, moves);
+  r.line_error_mm = distance_from_segment(path, make_vec3(double(from[0]), double(from[1]), double(from[2])),
+                                          make_vec3(double(to[0]), double(to[1]), double(to[2])));
+  if (keep_path) r.path = path;
+  note_on(r, std::to_string(r.segments.size()) + " segments; the tool at every step stays within " +
+                  number_text(std::round(r.line_error_mm * 1000) / 1000) + " mm of the line");
+}
+
+}  // namespace
+
+Prediction predict_program(const Robot& robot_in, const Program& program, const ControllerSettings& settings,
+                           const SenderModel& sender, bool keep_path) {
+  if (!robot_in.has_motors)
+    throw PredictError(robot_in.name + " has no motors (" + robot_in.source +
+                       "): a prediction needs motor steps; only the kinematic model can run its programs");
+  ConfiguredArm<kFirmwareMotors> arm;
+  try {
+    arm = firmware_arm(robot_in);
+  } catch (const NanoConfigError& e) {
+    throw PredictError(e.what());
+  }
+  const int motors = robot_in.actuation.num_motors;
+  Prediction p;
+  p.robot = robot_in.name;
+  p.program = program.source;
+  p.settings = settings;
+
+  std::lock_guard<std::mutex> lock(g_firmware);
+  power_up(robot_in, arm, settings);
+  const sitl::Hardware& hw = sitl::hw;
+  const uint64_t t0 = hw.now;
+  const size_t coils0 = hw.coil_log.size(), actions0 = hw.actions.size(), queued0 = hw.queued.size(),
+               replies0 = hw.replies.size();
+  const robot::State start = firmware::planned();
+
+  // The program's lines as the sender sends them, each asked for when it goes. The robot
+  // each record is described on (RoboSim's l changes the host's model, not the arm).
+  std::vector<Robot> models{robot_in};
+  Robot robot = robot_in;
+  Statements statements(robot, settings.value[ControllerSettings::kMaxRate]);
+  std::vector<size_t> model_of;  // each record's model
+  std::vector<size_t> sent_of;   // each line sent: its record
+  size_t next_statement = 0;
+  const auto next_line = [&](std::string& line) {
+    while (next_statement < program.statements.size()) {
+      PredictRecord r;
+      const Statement& st = program.statements[next_statement++];
+      const bool send = statements.begin(st, r, line);
+      if (st.kind == Statement::Kind::kLinkLengths) models.push_back(robot);
+      model_of.push_back(models.size() - 1);
+      p.records.push_back(r);
+      if (send) {
+        sent_of.push_back(p.records.size() - 1);
+        return true;
+      }
+    }
+    return false;
+  };
+  const std::vector<sitl::Exchange> got = sitl::run_lines(
+      next_line, sender.kind == SenderModel::kRest ? sitl::kAtRest : sitl::kStreamed, sender.stop_ticks);
+  if (!hw.errors.empty()) throw std::logic_error("the firmware's run: " + sitl::hal_errors());
+
+  // The '!'s: when each came and when the arm was at rest after it.
+  std::vector<sitl::StopEvent> stops = sitl::stop_events();
+  for (sitl::StopEvent& e : stops) {
+    e.bang -= t0;
+    if (e.rest == ~uint64_t(0)) {
+      e.rest = hw.now, e.actions = hw.actions.size(), e.queued = hw.queued.size();
+      e.planned = firmware::planned();
+    }
+    e.rest -= t0;
+  }
+
+  // A line whose bytes came in while a '!' was stopping the arm is read once it is at rest
+  // (the main loop reads no line while a stop goes on): then it is in.
+  const auto read_at = [&](uint64_t in) {
+    for (const sitl::StopEvent& e : stops)
+      if (e.bang < in && in < e.rest) in = e.rest;
+    return in;
+  };
+
+  // Each record's source: a line sent (its exchange), a timed '!' (its place among the stops
+  // sent), or none (host-only). The timed '!'s go in before the first record that came after
+  // them: a line read after it, a host-only record after a line answered after it.
+  const std::vector<uint64_t>& stops_sent = sitl::stops_sent();
+  struct Source {
+    int line = -1;   // exchange
+    int timed = -1;  // stops_sent
+  };
+  std::vector<PredictRecord> records;
+  std::vector<Source> source;
+  std::vector<size_t> models_of;
+  {
+    size_t line = 0, timed = 0;
+    uint64_t last_answered = 0;
+    for (size_t k = 0; k <= p.records.size(); ++k) {
+      const bool sent = line < sent_of.size() && sent_of[line] == k && line < got.size();
+      uint64_t arrives = k == p.records.size() ? ~uint64_t(0) : sent ? read_at(got[line].in - t0) : last_answered;
+      if (sent && p.records[k].stop) arrives = got[line].in - t0;
+      while (timed < stops_sent.size() && stops_sent[timed] - t0 < arrives) {
+        PredictRecord r;
+        r.line = k < p.records.size() ? p.records[k].line : p.records.empty() ? 0 : p.records.back().line;
+        r.text = "!";
+        r.stop = true;
+        r.stop_at = int64_t(stops_sent[timed] - t0);
+        note_on(r, "stops the arm: it decelerates along its path to rest and empties its queue; the lines after "
+                    "it wait for rest and start from the steps reached (never answered)");
+        records.push_back(r);
+        source.push_back(Source{-1, int(timed++)});
+        models_of.push_back(k < p.records.size() ? model_of[k] : models.size() - 1);
+      }
+      if (k == p.records.size()) break;
+      records.push_back(p.records[k]);
+      models_of.push_back(model_of[k]);
+      Source s;
+      if (line < sent_of.size() && sent_of[line] == k) {
+        if (sent) {
+          s.line = int(line);
+          if (!p.records[k].stop) last_answered = got[line].answered - t0;
+        }
+        ++line;
+      }
+      source.push_back(s);
+    }
+  }
+  p.records.swap(records);
+  const size_t n = p.records.size();
+  const uint64_t first_step = sitl::first_step() == 0 ? 0 : sitl::first_step() - t0;
+  for (PredictRecord& r : p.records)
+    if (r.stop_at >= 0)
+      note_on(r, "sent " + number_text(double(uint64_t(r.stop_at) - first_step) / kControllerTickHz) +
+                      " s after the first step, whatever the lines are doing");
+
+  // Each record's arrival and reply: a line when it was in (read); a host-only line, a line the
+  // run never reached, at the last answer before it.
+  std::vector<uint64_t> in(n, 0), answered(n, 0);
+  std::vector<bool> reached(n, false);
+  {
+    uint64_t last = 0;
+    for (size_t k = 0; k < n; ++k) {
+      PredictRecord& r = p.records[k];
+      if (source[k].line >= 0) {
+        const sitl::Exchange& x = got[size_t(source[k].line)];
+        in[k] = r.stop ? x.in - t0 : read_at(x.in - t0);
+        answered[k] = x.answered - t0;
+        reached[k] = r.stop || !x.reply.empty();
+        if (reached[k]) last = answered[k];
+        continue;
+      }
+      if (source[k].timed >= 0) {
+        in[k] = answered[k] = stops_sent[size_t(source[k].timed)] - t0;
+        reached[k] = true;
+        continue;
+      }
+      in[k] = answered[k] = last;
+    }
+  }
+
+  // What each line did, from the firmware's replies and the actions it queued; the state
+  // after each record, the steps the firmware counts, and the steps the arm really is at
+  // (offset: they differ after Z).
+  std::vector<std::vector<Item>> items(n);  // each record's actions: (record, segment)
+  std::map<Item, size_t> queued_of;         // each action's place in hw.queued
+  std::vector<std::vector<int32_t>> offset_of(n);
+  {
+    robot::State state = start;
+    int32_t offset[kMaxJoints] = {};
+    uint32_t now_settings[kSettingCount];
+    for (int s = 0; s < kSettingCount; ++s) now_settings[s] = settings.value[size_t(s)];
+    int gripper = -1;
+    size_t reply = replies0, queued = queued0;
+    for (size_t k = 0; k < n; ++k) {
+      PredictRecord& r = p.records[k];
+      const Robot& model = models[models_of[k]];
+      const robot::State before = state;
+      int32_t before_offset[kMaxJoints];
+      std::copy(offset, offset + kMaxJoints, before_offset);
+      Command cmd;
+      const bool answered_line = source[k].line >= 0 && !r.stop && reached[k];
+      if (r.stop) {
+        if (reached[k]) {  // (its event: matched below; the state is the firmware's after it)
+          for (const sitl::StopEvent& e : stops)
+            if (e.bang == in[k]) {
+              state = e.planned;
+              // The gripper: the last gripper action that began (a '!' emptied the others).
+              gripper = -1;
+              for (size_t q = queued0; q < e.queued; ++q)
+                if (hw.queued[q].kind == queue::kGripper && hw.queued[q].began != sitl::kNever)
+                  gripper = hw.queued[q].percent;
+              break;
+            }
+        }
+      } else if (answered_line) {
+        if (reply >= hw.replies.size()) throw std::logic_error("a reply the firmware never wrote");
+        const sitl::Reply& got_reply = hw.replies[reply++];
+        r.reply = Status(got_reply.status);
+        if (reply_text(r.reply) != got[size_t(source[k].line)].reply)
+          throw std::logic_error("line " + std::to_string(r.line) + ": the firmware's reply " +
+                                 got[size_t(source[k].line)].reply + " and its record differ");
+        parse_protocol_line(cmd, r.protocol.empty() ? r.text : r.protocol, motors);
+        // Its actions: those queued since the reply before.
+        std::vector<int32_t> total(size_t(motors), 0);
+        for (size_t q = queued; q < got_reply.queued; ++q) {
+          const sitl::QueuedAction& a = hw.queued[q];
+          const bool move = a.kind == queue::kMove || a.kind == queue::kHome;
+          std::vector<int32_t> delta(size_t(motors), 0);
+          uint32_t dominant = 0;
+          if (move)
+            for (int i = 0; i < motors; ++i) {
+              delta[size_t(i)] = a.delta[i];
+              total[size_t(i)] += a.delta[i];
+              dominant = std::max(dominant, uint32_t(a.delta[i] < 0 ? -int64_t(a.delta[i]) : a.delta[i]));
+            }
+          r.queued = true;
+          r.action = a.kind == queue::kMove   ? PredictRecord::Action::kMove
+                     : a.kind == queue::kHome ? PredictRecord::Action::kHome
+                                              : PredictRecord::Action::kPause;
+          if (cmd.type == kCmdLine) {
+            PredictRecord::Segment sg;
+            sg.delta_steps = delta;
+            sg.dominant_steps = dominant;
+            sg.cruise4 = a.cruise4;
+            r.segments.push_back(sg);
+            items[k].push_back(Item{k, int(r.segments.size()) - 1});
+            r.dominant_steps += dominant;
+          } else {
+            items[k].push_back(Item{k, -1});
+            r.dominant_steps = dominant;
+          }
+          queued_of[items[k].back()] = q;
+          if (a.kind == queue::kGripper) {
+            gripper = a.percent;
+            note_on(r, "servo pulse " + std::to_string(a.pulse_us) + " us");
+          }
+        }
+        queued = got_reply.queued;
+        if (r.queued) r.delta_steps = total;
+        r.motion = MotionSettings{kControllerTickHz, got_reply.settings[kSetMaxRate], got_reply.settings[kSetAccel]};
+        r.junction = got_reply.settings[kSetJunction];
+        bool shifted = false;
+        if (r.reply == kOk) {
+          if (cmd.type == kCmdSetZero)  // the arm stays where it is: the firmware counts it as home
+            for (int i = 0; i < motors; ++i) {
+              offset[i] = before.steps[i] + before_offset[i] - got_reply.planned.steps[i];
+              shifted = shifted || offset[i] != 0;
+            }
+          state = got_reply.planned;
+          std::copy(got_reply.settings, got_reply.settings + kSettingCount, now_settings);
+        } else if (r.queued) {  // a line a '!' caught while it queued (a T's segments): what it queued
+          for (int i = 0; i < motors; ++i) state.steps[i] += r.delta_steps[size_t(i)];
+        }
+        r.waits_for_rest = r.reply == kOk && !r.queued && answered[k] > in[k];
+        if (r.waits_for_rest)
+          note_on(r, "answered once the arm was at rest, " +
+                          number_text(std::round(double(answered[k] - in[k]) / kControllerTickHz * 1000) / 1000) +
+                          " s after it came");
+        command_notes(r, cmd, model, before.commanded, now_settings, shifted);
+        if (cmd.type == kCmdMoveTool || cmd.type == kCmdLine) {
+          r.has_target = true;
+          r.target = make_vec3(cmd.arg[0] / 1000.0, cmd.arg[1] / 1000.0, cmd.arg[2] / 1000.0);
+        }
+        if (cmd.type == kCmdLine)
+          line_notes(r, model, arm, cmd, before.steps, before.commanded, before_offset,
+                     now_settings[kSetChord], keep_path);
+        else if (keep_path && r.queued && r.action != PredictRecord::Action::kPause)
+          r.path = tool_path(model, before.steps, before_offset, {&r.delta_steps});
+        if (r.reply == kStopped) append_note(r.note, "answered error:15: the '!' came while it waited");
+      }
+      describe_state(model, r, state.steps, state.commanded, offset);
+      offset_of[k].assign(offset, offset + motors);
+      r.gripper_percent = gripper;
+    }
+  }
+
+  std::vector<std::vector<int32_t>> described(n);
+  for (size_t k = 0; k < n; ++k) described[k] = p.records[k].steps;
+
+  // The actions the firmware began, and the steps each made (the coil log's steps after its
+  // start, up to and with its end's).
+  std::map<size_t, Begun> begun;  // by its place in the action log
+  const std::vector<sitl::ActionEvent>& log = hw.actions;
+  for (size_t i = actions0; i < log.size(); ++i) {
+    if (log[i].kind == sitl::kTimerStopped) continue;
+    Begun b{log[i].tick - t0, (i + 1 < log.size() ? log[i + 1].tick : log[i].tick) - t0, i, {}};
+    b.done.delta.assign(size_t(motors), 0);
+    begun[i] = b;
+  }
+  {
+    auto a = begun.begin();
+    uint64_t last_step = ~uint64_t(0);
+    for (size_t i = coils0; i < hw.coil_log.size(); ++i) {
+      const sitl::CoilWrite& w = hw.coil_log[i];
+      if (w.step == 0) continue;
+      const uint64_t t = w.tick - t0;
+      while (a != begun.end() && a->second.end < t) ++a;
+      if (a == begun.end() || a->second.begin >= t || w.motor >= motors) continue;  // (a step outside any action)
+      a->second.done.delta[w.motor] += w.step;
+      if (t != last_step) ++a->second.done.steps;
+      last_step = t;
+    }
+  }
+
+  // Each action: what it made and when it ran; one that never began, the first '!' after it
+  // was queued emptied from the queue.
+  std::map<Item, Done> made;
+  std::map<Item, const Begun*> when;
+  std::vector<std::vector<Item>> cleared_by(stops.size());
+  for (const auto& [item, q] : queued_of) {
+    const size_t at = hw.queued[q].began;
+    if (at != sitl::kNever) {
+      const Begun& b = begun.at(at);
+      made[item] = b.done;
+      when[item] = &b;
+      continue;
+    }
+    made[item] = Done{std::vector<int32_t>(size_t(motors), 0), 0};
+    size_t e = 0;
+    while (e < stops.size() && stops[e].queued <= q) ++e;
+    if (e == stops.size())
+      throw std::logic_error("line " + std::to_string(p.records[item.first].line) +
+                             ": an action the firmware queued never began, and no '!' emptied it");
+    cleared_by[e].push_back(item);
+  }
+
+  // A T's segments: each one's end (one the firmware never began: its record's arrival).
+  for (size_t k = 0; k < n; ++k)
+    for (size_t sg = 0; sg < p.records[k].segments.size(); ++sg) {
+      const auto it = when.find(Item{k, int(sg)});
+      p.records[k].segments[sg].end_tick = it != when.end() ? it->second->end : in[k];
+    }
+
+  // Times: a record that queued is from its first action's start to its last one's end; any
+  // other at its reply (a setting or Z waits for the arm to be at rest).
+  for (size_t k = 0; k < n; ++k) {
+    PredictRecord& r = p.records[k];
+    r.arrive_tick = in[k];
+    r.start_tick = r.end_tick = r.reply == kOk ? answered[k] : in[k];
+    if (r.stop || items[k].empty()) continue;
+    const auto first = when.find(items[k].front());
+    if (first != when.end()) r.start_tick = first->second->begin;
+    for (auto it = items[k].rbegin(); it != items[k].rend(); ++it) {
+      const auto w = when.find(*it);
+      if (w != when.end()) {
+        r.end_tick = w->second->end;
+        break;
+      }
+    }
+  }
+
+  // What each '!' did: the actions running or queued when it came.
+  for (size_t k = 0; k < n; ++k) {
+    PredictRecord& r = p.records[k];
+    if (!r.stop) continue;
+    if (!reached[k]) {  // (a '!' the run never sent)
+      r.start_tick = r.end_tick = r.arrive_tick = in[k];
+      continue;
+    }
+    size_t e = 0;
+    while (e < stops.size() && stops[e].bang != in[k]) ++e;
+    if (e == stops.size()) throw std::logic_error("a '!' the firmware never received");
+    const sitl::StopEvent& ev = stops[e];
+    std::vector<Item> hit;
+    for (const auto& w : when) {  // running when it came (begun, not ended before it), or begun during the stop
+      const Begun& b = *w.second;
+      if (b.at < ev.actions && b.end >= ev.bang) hit.push_back(w.first);
+    }
+    for (const Item& c : cleared_by[e]) hit.push_back(c);
+    std::sort(hit.begin(), hit.end());
+    r.start_tick = r.arrive_tick = ev.bang;
+    r.end_tick = ev.rest;
+    cut(p, k, hit, made, ev.rest);
+    for (int i = 0; i < motors; ++i)
+      if (r.steps[size_t(i)] != ev.planned.steps[i])
+        throw std::logic_error("line " + std::to_string(r.line) + ": the '!' left motor " + std::to_string(i) +
+                               " at step " + std::to_string(ev.planned.steps[i]) + ", the records at " +
+                               std::to_string(r.steps[size_t(i)]));
+  }
+
+  // The records a '!' changed: their state is the steps they made, the commanded angles
+  // theirs (the firmware's after a stop: controller.cpp rederive_planned).
+  for (size_t k = 0; k < n; ++k) {
+    PredictRecord& r = p.records[k];
+    if (!r.cut && !r.stop && r.steps == described[k]) continue;
+    Millideg commanded[kMaxJoints];
+    for (int i = 0; i < motors; ++i)
+      commanded[i] = steps_to_millideg(models[models_of[k]].actuation.motors[i], r.steps[size_t(i)]);
+    describe_state(models[models_of[k]], r, r.steps.data(), commanded, offset_of[k].data());
+  }
+
+  uint64_t end = 0;
+  for (size_t k = 0; k < n; ++k) end = std::max(end, answered[k]);
+  for (size_t i = actions0; i < log.size(); ++i) end = std::max(end, log[i].tick - t0);
+  for (const sitl::StopEvent& e : stops) end = std::max(end, e.rest);
+  p.total_ticks = end;
+  p.first_step_tick = first_step;
+  for (PredictRecord& r : p.records) {
+    r.ticks = r.end_tick - r.start_tick;
+    if (r.reply != kOk) ++p.rejected;
+    p.worst_error_mm = std::max(p.worst_error_mm, r.error_mm);
+  }
+  return p;
+}
+
+}  // namespace articula::host
