@@ -9,6 +9,7 @@
 #include "hal.h"
 #include "queue.h"
 #include "settings.h"
+#include "stepper.h"
 
 namespace sitl {
 
@@ -105,6 +106,14 @@ uint32_t step_deadline() {
   return next;
 }
 
+void log_action(uint8_t kind) {
+  ActionEvent e = {};
+  e.tick = hw.now;
+  e.kind = kind;
+  stepper::read_positions(e.counted);
+  hw.actions.push_back(e);
+}
+
 void reset(bool blank_eeprom) {
   uint8_t keep[sizeof hw.eeprom];
   std::memcpy(keep, hw.eeprom, sizeof keep);
@@ -181,7 +190,7 @@ void forget_cleared(size_t live) {
 
 // (After queue::pop: the queue held it and the ones behind it.)
 void action_began(uint8_t kind) {
-  hw.actions.push_back(sitl::ActionEvent{hw.now, kind});
+  sitl::log_action(kind);
   forget_cleared(size_t(queue::count()) + 1);
   if (hw.in_queue.empty() || hw.queued[hw.in_queue.front()].kind != kind) {
     hw.errors.push_back("an action began that was never queued");
@@ -205,6 +214,9 @@ void action_queued(const queue::Action& a) {
     q.percent = a.grip.percent;
     q.pulse_us = a.grip.pulse_us;
   }
+  if (a.kind == queue::kGripper || a.kind == queue::kDwell) q.settle_ticks = a.grip.settle_ticks;
+  q.max_rate = settings::value[settings::kMaxRate];
+  q.accel = settings::value[settings::kAccel];
   q.steps = a.plan.steps;
   q.cruise4 = a.plan.cruise4;
   hw.in_queue.push_back(hw.queued.size());
@@ -236,7 +248,7 @@ void start_step_timer(uint32_t first_ticks) {
 }
 
 void stop_step_timer() {
-  if (hw.timer_running) hw.actions.push_back(sitl::ActionEvent{hw.now, sitl::kTimerStopped});
+  if (hw.timer_running) sitl::log_action(sitl::kTimerStopped);
   hw.timer_running = false;
   hw.staged_mask = 0;
 }

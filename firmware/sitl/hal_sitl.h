@@ -54,6 +54,7 @@ static const uint8_t kTimerStopped = 0xFF;
 struct ActionEvent {
   uint64_t tick;
   uint8_t kind;  // queue::Kind, or kTimerStopped
+  int32_t counted[kMotors];  // the firmware's step counts then (stepper::read_positions)
 };
 
 // What the controller did with each line, as it did it (hal::action_queued, hal::replied):
@@ -67,6 +68,8 @@ struct QueuedAction {
   uint8_t percent;          // kGripper: the aperture, whole percent, and its servo pulse
   uint16_t pulse_us;
   uint16_t steps, cruise4;  // kMove: its plan block (articula/planner.h)
+  uint32_t settle_ticks;    // kGripper, kDwell: its pause
+  uint32_t max_rate, accel;  // $0 and $1 when it was queued (they change only at rest)
   size_t began;             // its entry in Hardware::actions, or kNever
 };
 struct Reply {
@@ -138,6 +141,9 @@ struct Hardware {
 };
 
 extern Hardware hw;
+
+// An entry of the action log at the current tick, with the firmware's step counts.
+void log_action(uint8_t kind);
 
 // A fresh machine: everything reset; the EEPROM kept unless blank_eeprom (then all 0xFF).
 void reset(bool blank_eeprom);

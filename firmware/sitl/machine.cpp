@@ -71,7 +71,7 @@ void poll() {
   const size_t actions = hw.actions.size(), queued = hw.queued.size();
   firmware::poll();
   if (!hw.timer_running && !hw.actions.empty() && hw.actions.back().kind != kTimerStopped)
-    hw.actions.push_back(ActionEvent{hw.now, kTimerStopped});
+    log_action(kTimerStopped);
   // A stop is done when the main loop has emptied the queue at rest (controller.cpp
   // service_stop), in the pass that may go on to read the next line.
   if (stopping && !stepper::stop_requested())
@@ -95,7 +95,7 @@ void fire_deadline() {
   const uint32_t next = sitl::step_deadline();
   if (next == 0) {
     hw.timer_running = false;
-    hw.actions.push_back(ActionEvent{hw.now, kTimerStopped});
+    log_action(kTimerStopped);
     g_stopped_at = hw.now;
   } else {
     hw.deadline += next;

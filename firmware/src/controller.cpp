@@ -478,6 +478,7 @@ __attribute__((noinline)) void setup() {
   g_has_pending = false;
   g_held = kLineNone;
   g_stop_flushed = false;
+  g_cutting = false;
   reset_position();
   g_was_busy = false;
   g_idle_since = hal::millis();

@@ -217,8 +217,8 @@ uint32_t move_tick() {
 void setup() {
   hal::stop_step_timer();
   g_next_mask = g_next_negative = 0;
-  g_running = g_stop = g_fault = g_homing = 0;
-  g_mode = kIdle;
+  g_stop = g_fault = 0;
+  halt();  // (a setup again, as the SITL's power cycle, may come in the middle of a move)
   g_gripper = 0;
   for (uint8_t i = 0; i < kJ; ++i) {
     g_pos[i] = 0;

@@ -288,23 +288,6 @@ void ControllerModel::describe(PredictRecord& r, const MotorState<kMaxJoints>& s
   describe_state(robot_, r, state.steps, state.commanded, offset_);
 }
 
-void ControllerModel::stopped_at(const std::vector<int32_t>& steps, int gripper_percent) {
-  for (int i = 0; i < n_; ++i) {
-    planned_.steps[i] = steps[size_t(i)];
-    planned_.commanded[i] = steps_to_millideg(robot_.actuation.motors[i], steps[size_t(i)]);
-  }
-  gripper_percent_ = gripper_percent;
-}
-
-void ControllerModel::restate(PredictRecord& r) const {
-  MotorState<kMaxJoints> s = planned_;
-  for (int i = 0; i < n_; ++i) {
-    s.steps[i] = r.steps[size_t(i)];
-    s.commanded[i] = steps_to_millideg(robot_.actuation.motors[i], s.steps[i]);
-  }
-  describe(r, s);
-}
-
 // queue_command()'s tail: an action that moves goes into the queue and runs after the ones
 // before it; a move within the same steps only changes the commanded angles.
 Status ControllerModel::queue_move(PredictRecord& r, const MotorState<kMaxJoints>& next, bool home,
@@ -326,7 +309,6 @@ Status ControllerModel::queue_move(PredictRecord& r, const MotorState<kMaxJoints
   r.action = home ? PredictRecord::Action::kHome : PredictRecord::Action::kMove;
   r.delta_steps.clear();
   for (int i = 0; i < n_; ++i) r.delta_steps.push_back(next.steps[i] - before.steps[i]);
-  if (keep_path_) r.path = tool_path(robot_, before.steps, offset_, {&r.delta_steps});
   r.seek_ticks = extra_ticks;
   r.motion = settings_.motion();
   r.junction = settings_.value[ControllerSettings::kJunction];
@@ -421,7 +403,6 @@ Status ControllerModel::line(PredictRecord& r, const int32_t* arg) {
   const Vec3<double> a = make_vec3(double(from[0]), double(from[1]), double(from[2]));
   const Vec3<double> b = make_vec3(double(to[0]), double(to[1]), double(to[2]));
   r.line_error_mm = distance_from_segment(path, a, b);
-  if (keep_path_) r.path = path;
   add_note(r, std::to_string(r.segments.size()) + " segments; the tool at every step stays within " +
                   number_text(std::round(r.line_error_mm * 1000) / 1000) + " mm of the line");
   r.delta_steps.clear();

@@ -155,8 +155,6 @@ class ControllerModel {
   // from EEPROM), Alarm when $3 says the arm has endstops. Throws PredictError for a robot
   // without motors.
   ControllerModel(const Robot& robot, const ControllerSettings& settings = {});
-  // Keep the tool at every step of each move in its record (PredictRecord::path).
-  void keep_path(bool on) { keep_path_ = on; }
 
   PredictRecord execute(const Statement& st);
   // One protocol line, as the controller reads it.
@@ -170,12 +168,6 @@ class ControllerModel {
   // Whether the firmware could solve P for this robot (a yaw-pitch-pitch arm with identity
   // or parallelogram coupling): the firmware's robot::has_ik.
   bool has_point_ik() const { return has_ik_; }
-  // After a '!' (controller.cpp rederive_planned): the arm at rest at `steps`, the commanded
-  // angles theirs, the gripper at `gripper_percent` (the last gripper action that ran).
-  void stopped_at(const std::vector<int32_t>& steps, int gripper_percent);
-  // A record's state fields (angles, joints, tools) for the steps it holds, the commanded
-  // angles those of the steps: a record a '!' cut short.
-  void restate(PredictRecord& r) const;
   // The home pose as the firmware computes it (float), millidegrees, and its steps.
   const std::vector<Millideg>& home_commanded() const { return home_; }
   const std::vector<int32_t>& home_steps() const { return home_steps_; }
@@ -203,7 +195,6 @@ class ControllerModel {
   uint32_t base_rate_ = 600;  // $0 at power-up: RoboSim's s 82
   int gripper_percent_ = -1;
   uint64_t clock_ = 0;
-  bool keep_path_ = false;
 
   // The firmware's P: the arm in float, from the robot as loaded.
   bool has_ik_ = false;

@@ -157,17 +157,14 @@ struct Simulation::MeshData {
   }
 };
 
+// An action of the kinematic model (a robot without motors; the firmware's own actions come
+// from its session, FirmwareSession::Event).
 struct Simulation::Action {
-  enum Kind { kMove, kHome, kGripper, kJoints, kSetCounts, kDwell } kind = kMove;
+  enum Kind { kGripper, kJoints, kDwell } kind = kJoints;
   int line = 0;
   uint64_t start_tick = 0, end_tick = 0;
-  int32_t to[8]{};  // counted steps at the end (moves, Z)
-  ProfileConstants k{};
-  uint32_t seek_mask = 0, homing_ticks = 0;  // kHome
-  double opening_to = 0;                     // kGripper, mm
-  std::vector<double> q_from, q_to;          // kJoints, model units
-  ControllerSettings settings;               // kMove: the controller's settings for it (stall check)
-  uint32_t exit = 0, cruise = 0;             // kMove: a T segment's planned exit level and cruise
+  double opening_to = 0;             // kGripper, mm
+  std::vector<double> q_from, q_to;  // kJoints, model units
 };
 
 Simulation::Simulation(const Robot& robot, const Scene& scene, const SimOptions& options)
@@ -583,11 +580,17 @@ bool Simulation::try_joints(const double* q, double opening_mm) {
 // ---- the program ----
 
 void Simulation::reset_controller() {
-  if (motors_)
-    controller_ = std::make_unique<ControllerModel>(robot_, opt_.settings);
-  else
+  if (motors_) {
+    if (!firmware_) {  // one firmware for the simulation's life: it goes on from where it is
+      firmware_ = std::make_unique<FirmwareSession>(robot_, opt_.settings);
+      lines_robot_ = robot_;
+      FirmwareSession* fw = firmware_.get();
+      lines_ = std::make_unique<StatementLines>(lines_robot_, opt_.settings.value[ControllerSettings::kMaxRate],
+                                                [fw] { return fw->commanded(); });
+    }
+  } else {
     kinematic_ = std::make_unique<KinematicModel>(robot_);
-  queued_steps_.assign(size_t(n_motors_), 0);
+  }
   queued_q_ = q_;
   queued_percent_ = -1;
 }
@@ -601,16 +604,59 @@ void Simulation::load_program(const Program& program) {
   reset_controller();
   const uint64_t now = steps_ * ticks_per_step_;
   queue_end_tick_ = now;
+  grip_from_ = grip_to_ = opening_mm_;
+  if (motors_) {  // each line once the arm is at rest after the one before, as the harness sends
+    for (const Statement& st : program.statements) send(st, now, FirmwareSession::kAtRest);
+    program_end_s_ = double(firmware_->run_to_rest()) / kControllerTickHz;
+    return;
+  }
   for (const Statement& st : program.statements) enqueue(st, now);
   program_end_s_ = double(queue_end_tick_) / kControllerTickHz;
-  grip_from_ = grip_to_ = opening_mm_;
 }
 
 Status Simulation::command(const std::string& line) {
   Statement st{Statement::Kind::kProtocol, {}, line, 0};
+  if (motors_) {  // as soon as the reply before is off the wire: a streamed program
+    const Status s = send(st, steps_ * ticks_per_step_, FirmwareSession::kStreamed);
+    program_end_s_ = std::max(program_end_s_, double(firmware_->now()) / kControllerTickHz);
+    return s;
+  }
   const size_t rejected_before = pending_.size();
   enqueue(st, steps_ * ticks_per_step_);
   return pending_.size() > rejected_before ? pending_.back().reply : kOk;
+}
+
+// A rejected line: an event at `tick`.
+SimEvent Simulation::rejection(uint64_t tick, int line, const std::string& text, Status s, const std::string& note) {
+  SimEvent e;
+  e.kind = SimEvent::Kind::kRejected;
+  e.t = double(tick) / kControllerTickHz;
+  e.line = line;
+  e.a = text;
+  e.reply = s;
+  e.detail = std::string("error:") + std::to_string(int(s)) + " " + status_text(s) + ", nothing moves" +
+             (note.empty() ? "" : "; " + note);
+  return e;
+}
+
+// ... shown when the clock reaches it.
+void Simulation::rejected(uint64_t tick, int line, const std::string& text, Status s, const std::string& note) {
+  pending_.push_back(rejection(tick, line, text, s, note));
+}
+
+// One statement to the firmware, as `sender` sends it. Its reply; a refusal, the firmware's or
+// the host's own (a line that does not parse, an a without a solution), is an event at the
+// reply's tick.
+Status Simulation::send(const Statement& st, uint64_t now_tick, FirmwareSession::Sender sender) {
+  PredictRecord r;
+  std::string line;
+  if (!lines_->begin(st, r, line)) {
+    if (r.reply != kOk) rejected(std::max(now_tick, firmware_->now()), r.line, r.text, r.reply, r.note);
+    return r.reply;
+  }
+  const Status s = firmware_->send(line, st.line, now_tick, sender);
+  if (s != kOk) rejected(firmware_->now(), st.line, r.text, s, "");  // (at its reply, in the order sent)
+  return s;
 }
 
 // One statement through the controller model; an accepted one becomes an action that starts
@@ -618,87 +664,10 @@ Status Simulation::command(const std::string& line) {
 // says. A whole program at t = 0 is so queued back to back from rest to rest.
 void Simulation::enqueue(const Statement& st, uint64_t now_tick) {
   const uint64_t start = std::max(now_tick, queue_end_tick_);
-  auto rejected = [&](int line, const std::string& text, Status s, const std::string& note) {
-    SimEvent e;
-    e.kind = SimEvent::Kind::kRejected;
-    e.t = double(start) / kControllerTickHz;
-    e.line = line;
-    e.a = text;
-    e.reply = s;
-    e.detail = std::string("error:") + std::to_string(int(s)) + " " + status_text(s) + ", nothing moves" +
-               (note.empty() ? "" : "; " + note);
-    pending_.push_back(e);
-  };
-  if (motors_) {
-    ControllerModel& cm = *controller_;
-    const ControllerSettings before = cm.settings();
-    const PredictRecord r = cm.execute(st);
-    if (r.reply != kOk) {
-      rejected(r.line, r.text, r.reply, r.note);
-      return;
-    }
-    Action a;
-    a.line = r.line;
-    for (int i = 0; i < n_motors_; ++i) a.to[i] = r.steps[size_t(i)];
-    if (!r.queued) {
-      if (r.steps != queued_steps_) {  // Z: the counts change, the arm does not move
-        a.kind = Action::kSetCounts;
-        a.start_tick = a.end_tick = start;
-        actions_.push_back(a);
-        queued_steps_ = r.steps;
-      }
-      return;
-    }
-    a.start_tick = start;
-    a.end_tick = start + (r.end_tick - r.start_tick);
-    if (!r.segments.empty()) {  // T: a move per segment, blended as the firmware plans them
-      const MotionSettings motion = cm.settings().motion();
-      const std::vector<PlanBlock> plan = plan_segments(r.segments, motion, r.junction);
-      std::vector<uint64_t> ends;
-      segments_ticks(r.segments, plan, motion, &ends);
-      ProfileConstants k;
-      profile_constants(k, motion);
-      std::vector<int32_t> at = queued_steps_;
-      for (size_t s = 0; s < r.segments.size(); ++s) {
-        Action seg = a;
-        seg.kind = Action::kMove;
-        seg.settings = cm.settings();
-        seg.k = k;
-        for (int i = 0; i < n_motors_; ++i) seg.to[i] = at[size_t(i)] += r.segments[s].delta_steps[size_t(i)];
-        seg.start_tick = start + (s == 0 ? 0 : ends[s - 1]);
-        seg.end_tick = start + ends[s];
-        seg.exit = s + 1 < plan.size() ? plan[s + 1].entry : 0;
-        seg.cruise = block_cruise(plan[s], k.cruise);
-        actions_.push_back(seg);
-      }
-      queue_end_tick_ = actions_.back().end_tick;
-      queued_steps_ = r.steps;
-      program_end_s_ = double(queue_end_tick_) / kControllerTickHz;
-      return;
-    }
-    if (r.command == kCmdAperture || r.command == kCmdGripper) {
-      a.kind = Action::kGripper;
-      const int pct = r.gripper_percent < 0 ? 100 : r.gripper_percent;
-      a.opening_to = robot_.gripper.max_opening_mm * pct / 100.0;
-    } else if (r.command == kCmdDwell) {
-      a.kind = Action::kDwell;
-    } else {
-      a.kind = r.command == kCmdHome ? Action::kHome : Action::kMove;
-      a.settings = cm.settings();
-      profile_constants(a.k, cm.settings().motion());
-      if (a.kind == Action::kHome) {
-        a.seek_mask = before.value[ControllerSettings::kEndstops];
-        const uint32_t rate = before.value[ControllerSettings::kHomingRate];
-        a.homing_ticks = (kControllerTickHz + rate / 2) / rate;
-      }
-    }
-    actions_.push_back(a);
-    queue_end_tick_ = a.end_tick;
-    queued_steps_ = r.steps;
-  } else {
+  {
     const RunRecord r = kinematic_->execute(st);
     if (r.reply != kOk) {
-      rejected(r.line, r.text, r.reply, r.note);
+      rejected(start, r.line, r.text, r.reply, r.note);
       return;
     }
     Action a;
@@ -755,13 +724,6 @@ void Simulation::begin_action(size_t index) {
   event_tick_ = a.start_tick;
   std::fill(std::begin(lost_in_action_), std::end(lost_in_action_), 0);
   switch (a.kind) {
-    case Action::kSetCounts:
-      for (int i = 0; i < n_motors_; ++i) {
-        offset_[i] += counted_[i] - a.to[i];
-        counted_[i] = a.to[i];
-      }
-      end_action();
-      return;
     case Action::kGripper:
       grip_from_ = target_opening(double(a.start_tick) / kControllerTickHz);
       grip_to_ = a.opening_to;
@@ -770,11 +732,6 @@ void Simulation::begin_action(size_t index) {
       return;
     case Action::kJoints:
     case Action::kDwell: return;
-    case Action::kMove:
-      stall_check(a);
-      start_move(a.to, a.k, a.start_tick, a.exit, a.cruise);
-      return;
-    case Action::kHome: start_seek(0); return;
   }
 }
 
@@ -782,18 +739,18 @@ void Simulation::begin_action(size_t index) {
 // firmware's step times from the counted steps, with whatever the gripper carries as the
 // payload; a motor that needs more than its pull-out torque gives a `stall` event at the
 // start of the move, saying when in the move it happens.
-void Simulation::stall_check(const Action& a) {
+void Simulation::stall_check(const std::vector<int32_t>& delta, const MotionSettings& motion) {
   if (!stall_) return;
   std::vector<double> start_deg(static_cast<size_t>(n_motors_));
-  std::vector<int32_t> delta(static_cast<size_t>(n_motors_));
-  for (int i = 0; i < n_motors_; ++i) {
+  for (int i = 0; i < n_motors_; ++i)
     start_deg[size_t(i)] = steps_to_degrees<double>(robot_.actuation.motors[i], counted_[i]);
-    delta[size_t(i)] = a.to[i] - counted_[i];
-  }
+  ControllerSettings settings = opt_.settings;
+  settings.value[ControllerSettings::kMaxRate] = motion.max_rate;
+  settings.value[ControllerSettings::kAccel] = motion.accel;
   double payload_kg = 0;
   for (size_t i = 0; i < objects_.size(); ++i)
     if (objects_[i].carried) payload_kg += scene_.objects[i].mass_kg();
-  const MoveCheck check = stall_->check_steps(start_deg, delta, a.settings, payload_kg);
+  const MoveCheck check = stall_->check_steps(start_deg, delta, settings, payload_kg);
   if (!check.skips) return;
   for (int i = 0; i < n_motors_; ++i) {
     const MotorCheck& m = check.motors[size_t(i)];
@@ -808,62 +765,44 @@ void Simulation::stall_check(const Action& a) {
   }
 }
 
-// A move as stepper.cpp's begin_move: LineStepper over the deltas, StepProfile of the
-// dominant count; the first step is due one interval after the start.
-void Simulation::start_move(const int32_t* to, const ProfileConstants& k, uint64_t t0, uint32_t exit, uint32_t cruise) {
-  int32_t delta[8];
-  for (int i = 0; i < n_motors_; ++i) delta[i] = to[i] - counted_[i];
-  seek_motor_ = -1;
-  // (after a T segment that ended moving, the next goes on from its speed: stepper.cpp's follow)
-  const uint32_t dt = stepper_.begin(delta, size_t(n_motors_), k, exit, cruise);
-  if (dt == 0) {
-    next_step_tick_ = UINT64_MAX;  // nothing to step: the action ends now
-    return;
+// The firmware's action running ended at `tick` (the next one began, or its step timer
+// stopped): the steps the arm could not make, if any, as an event.
+void Simulation::firmware_action_ends(uint64_t tick) {
+  if (!firmware_action_) return;
+  firmware_action_ = false;
+  std::string lost;
+  for (int i = 0; i < n_motors_; ++i) {
+    if (lost_in_action_[i] == 0) continue;
+    const double deg = steps_to_degrees<double>(robot_.actuation.motors[i], lost_in_action_[i]) -
+                       steps_to_degrees<double>(robot_.actuation.motors[i], 0);
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "%s%s %d steps (%.2f deg)", lost.empty() ? "" : ", ",
+                  robot_.motor_names[size_t(i)].c_str(), int(std::abs(lost_in_action_[i])), std::fabs(deg));
+    lost += buf;
   }
-  next_step_tick_ = t0 + dt;
-  pending_mask_ = stepper_.step();
-  pending_negative_ = stepper_.negative();
+  if (lost.empty()) return;
+  SimEvent e;
+  e.kind = SimEvent::Kind::kStepsLost;
+  e.t = double(tick) / kControllerTickHz;
+  e.line = current_line_;
+  e.detail = "skipped " + lost +
+             ": the controller does not know (open loop), so the arm stays that far off its counted "
+             "position until it is homed against endstops (H) or re-zeroed (Z)";
+  events_.push_back(e);
 }
 
-// Homing: each switch motor in turn steps towards its switch (at the motor's minimum) one
-// homing interval apart, one more interval to see it; then the move to the home pose.
-void Simulation::start_seek(size_t from_motor) {
-  const Action& a = actions_[action_];
-  for (size_t m = from_motor; m < size_t(n_motors_); ++m) {
-    if (!(a.seek_mask & (1u << m))) continue;
-    seek_motor_ = int(m);
-    const int32_t d = a.to[m] - (counted_[m] + offset_[m]);
-    seek_left_ = std::abs(d);
-    next_step_tick_ = event_tick_ + a.homing_ticks;
-    return;
+// The firmware's step counts now `counted` (Z, homing, each action's start): the arm stays
+// where it is, so what it is off its counts changes by as much.
+void Simulation::recount(const std::vector<int32_t>& counted) {
+  for (int i = 0; i < n_motors_ && i < int(counted.size()); ++i) {
+    offset_[i] += counted_[i] - counted[size_t(i)];
+    counted_[i] = counted[size_t(i)];
   }
-  start_move(a.to, a.k, event_tick_);
 }
 
 void Simulation::end_action() {
   const Action& a = actions_[action_];
-  if (motors_) {
-    std::string lost;
-    for (int i = 0; i < n_motors_; ++i) {
-      if (lost_in_action_[i] == 0) continue;
-      const double deg = steps_to_degrees<double>(robot_.actuation.motors[i], lost_in_action_[i]) -
-                         steps_to_degrees<double>(robot_.actuation.motors[i], 0);
-      char buf[160];
-      std::snprintf(buf, sizeof buf, "%s%s %d steps (%.2f deg)", lost.empty() ? "" : ", ",
-                    robot_.motor_names[size_t(i)].c_str(), int(std::abs(lost_in_action_[i])), std::fabs(deg));
-      lost += buf;
-    }
-    if (!lost.empty()) {
-      SimEvent e;
-      e.kind = SimEvent::Kind::kStepsLost;
-      e.t = double(a.end_tick) / kControllerTickHz;
-      e.line = a.line;
-      e.detail = "skipped " + lost +
-                 ": the controller does not know (open loop), so the arm stays that far off its counted "
-                 "position until it is homed against endstops (H) or re-zeroed (Z)";
-      events_.push_back(e);
-    }
-  } else if (a.kind == Action::kJoints) {
+  if (a.kind == Action::kJoints) {
     double worst = 0;
     for (int j = 0; j < n_joints_; ++j) worst = std::max(worst, std::fabs(q_[size_t(j)] - a.q_to[size_t(j)]));
     if (worst > 1e-9) {
@@ -919,48 +858,39 @@ void Simulation::apply_steps(uint8_t mask, uint8_t negative) {
   }
 }
 
+// The firmware's events up to `until`, each at its tick: its coils' steps move the arm (unless
+// something blocks it), its actions say which line runs and what the gripper does.
 void Simulation::motor_events(uint64_t until) {
-  for (;;) {
-    if (!action_running_) {
-      if (action_ >= actions_.size() || actions_[action_].start_tick > until) return;
-      begin_action(action_);
-      continue;
-    }
-    Action& a = actions_[action_];
-    if (a.kind == Action::kGripper || a.kind == Action::kJoints || a.kind == Action::kSetCounts ||
-        a.kind == Action::kDwell) {
-      if (a.end_tick > until) return;
-      event_tick_ = a.end_tick;
-      end_action();
-      continue;
-    }
-    if (next_step_tick_ == UINT64_MAX) {
-      end_action();
-      continue;
-    }
-    if (next_step_tick_ > until) return;
-    event_tick_ = next_step_tick_;
-    if (seek_motor_ >= 0) {
-      const int m = seek_motor_;
-      if (seek_left_ > 0) {
-        --seek_left_;
-        const int32_t d = a.to[m] - (counted_[m] + offset_[m]) < 0 ? -1 : 1;
-        apply_steps(uint8_t(1u << m), uint8_t(d < 0 ? 1u << m : 0));
-        next_step_tick_ += a.homing_ticks;
-      } else {  // the switch: the controller now knows where the motor is
-        offset_[m] = counted_[m] + offset_[m] - a.to[m];
-        counted_[m] = a.to[m];
-        start_seek(size_t(m) + 1);
-      }
-      continue;
-    }
-    apply_steps(pending_mask_, pending_negative_);
-    if (const uint32_t dt = stepper_.next()) {
-      next_step_tick_ += dt;
-      pending_mask_ = stepper_.step();
-      pending_negative_ = stepper_.negative();
-    } else {
-      next_step_tick_ = UINT64_MAX;
+  firmware_->run_to(until);
+  for (const FirmwareSession::Event& e : firmware_->take(until)) {
+    event_tick_ = e.tick;
+    switch (e.kind) {
+      case FirmwareSession::Event::kStep:
+        apply_steps(e.mask, e.negative);
+        break;
+      case FirmwareSession::Event::kBegin:
+        firmware_action_ends(e.tick);
+        recount(e.counted);
+        firmware_action_ = true;
+        blocked_reported_ = false;
+        current_line_ = e.line;
+        std::fill(std::begin(lost_in_action_), std::end(lost_in_action_), 0);
+        if (e.action == FirmwareSession::Event::kMove || e.action == FirmwareSession::Event::kHome)
+          stall_check(e.delta, e.motion);
+        if (e.action == FirmwareSession::Event::kGripper) {
+          grip_from_ = target_opening(double(e.tick) / kControllerTickHz);
+          grip_to_ = robot_.gripper.max_opening_mm * e.percent / 100.0;
+          grip_t0_ = double(e.tick) / kControllerTickHz;
+          grip_t1_ = double(e.tick + e.settle_ticks) / kControllerTickHz;
+        }
+        break;
+      case FirmwareSession::Event::kIdle:
+        firmware_action_ends(e.tick);
+        recount(e.counted);
+        break;
+      case FirmwareSession::Event::kReply:
+        if (!e.counted.empty()) recount(e.counted);  // (a refused line: an event since it was sent)
+        break;
     }
   }
 }
@@ -1387,7 +1317,10 @@ void Simulation::apply_drag() {
   dBodyAddForce(o.body, m.mass * (a[0] * scale - g[0]), m.mass * (a[1] * scale - g[1]), m.mass * (a[2] * scale - g[2]));
 }
 
-bool Simulation::busy() const { return action_ < actions_.size(); }
+bool Simulation::busy() const {
+  if (motors_) return firmware_->pending() || !firmware_->at_rest();
+  return action_ < actions_.size();
+}
 
 std::vector<SimContact> Simulation::contacts() const {
   std::vector<SimContact> out;

@@ -27,8 +27,8 @@
 #include <string>
 #include <vector>
 
+#include "firmware_session.h"
 #include "predict.h"
-#include "replay.h"
 #include "program.h"
 #include "robot.h"
 #include "run.h"
@@ -143,7 +143,7 @@ class Simulation {
   // The program's line being carried out (1-based; 0 before the first action).
   int current_line() const { return current_line_; }
   double end_time() const { return program_end_s_ + opt_.extra_time; }
-  bool done() const { return time() >= end_time() - 1e-12; }
+  bool done() const { return time() >= end_time() - 1e-12 && !busy(); }
 
   const std::vector<SimEvent>& events() const { return events_; }
 
@@ -184,8 +184,8 @@ class Simulation {
   void accept_pose();
   bool try_joints(const double* q_candidate, double opening_mm);
   void motor_events(uint64_t until_tick);
-  void start_move(const int32_t* to, const ProfileConstants& k, uint64_t t0, uint32_t exit = 0, uint32_t cruise = 0);
-  void start_seek(size_t from_motor);
+  void firmware_action_ends(uint64_t tick);
+  void recount(const std::vector<int32_t>& counted);
   void apply_steps(uint8_t mask, uint8_t negative);
   bool try_steps(const int32_t* steps);
   void follow_joints(const std::vector<double>& q_cmd, double dt);
@@ -202,9 +202,12 @@ class Simulation {
              const dContactGeom* c = nullptr);
   double target_opening(double t) const;
   void grasp_check();
-  void stall_check(const Action& a);
+  void stall_check(const std::vector<int32_t>& delta, const MotionSettings& motion);
   void reset_controller();
   void enqueue(const Statement& st, uint64_t now_tick);
+  Status send(const Statement& st, uint64_t now_tick, FirmwareSession::Sender sender);
+  SimEvent rejection(uint64_t tick, int line, const std::string& text, Status s, const std::string& note);
+  void rejected(uint64_t tick, int line, const std::string& text, Status s, const std::string& note);
   void apply_drag();
 
   Robot robot_;
@@ -224,12 +227,15 @@ class Simulation {
   std::vector<Pair> block_pairs_;  // arm part vs ground/static/self/movable (squeeze), for step checks
   std::vector<double> block_depth_;  // scratch: the candidate's depth per block pair
 
-  // The controller model that turns commands into actions (one of the two), and what it
-  // has queued so far: where the queue ends, the steps (or joints) and gripper it leaves.
-  std::unique_ptr<ControllerModel> controller_;
+  // What turns commands into motion (one of the two): the firmware itself on its virtual
+  // clock (a robot with motors; its lines from a program's statements: lines_, on a copy of
+  // the robot that RoboSim's l may change), or the kinematic model and what it has queued so
+  // far: where the queue ends, the joints and gripper it leaves.
+  std::unique_ptr<FirmwareSession> firmware_;
+  Robot lines_robot_;
+  std::unique_ptr<StatementLines> lines_;
   std::unique_ptr<KinematicModel> kinematic_;
   uint64_t queue_end_tick_ = 0;
-  std::vector<int32_t> queued_steps_;
   std::vector<double> queued_q_;
   int queued_percent_ = -1;
 
@@ -246,11 +252,7 @@ class Simulation {
 
   // Motor state: counted steps (what the firmware believes), physical = counted + offset.
   int32_t counted_[8]{}, offset_[8]{}, lost_in_action_[8]{};
-  MoveStepper stepper_;  // the running move, stepped as the firmware steps it (replay.h)
-  uint64_t next_step_tick_ = 0;  // absolute tick of the next step event of the running move
-  int seek_left_ = 0;            // homing: steps still to the switch of seek_motor_
-  int seek_motor_ = -1;
-  uint8_t pending_mask_ = 0, pending_negative_ = 0;
+  bool firmware_action_ = false;  // an action of the firmware's runs (its line: current_line_)
   uint64_t event_tick_ = 0;
   // The gripper's commanded opening: from, to, over [t0, t1] (s).
   double grip_from_ = 0, grip_to_ = 0, grip_t0_ = 0, grip_t1_ = 0;

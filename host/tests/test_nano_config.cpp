@@ -87,9 +87,8 @@ TEST(NanoConfig, TheArmReadBackIsTheRobotFiles) {
   EXPECT_TRUE(a.arm.parallelogram);
   EXPECT_EQ(a.arm.upper, 135.0f);
   EXPECT_EQ(a.servo_closed_deg, 150.0f);
-  // The prediction uses the same home: the firmware's steps.
-  const ControllerModel model(r, ControllerSettings{});
-  EXPECT_EQ(model.home_commanded()[1], 90000);
+  // The prediction's firmware is put in use with the same arm.
+  EXPECT_EQ(firmware_arm(r).home[1], 90000);
   EXPECT_FALSE(nano_config(load("hil/robots/thesis-example-arm.json")).arm.has_point);
   EXPECT_TRUE(nano_config(load("hil/robots/three-link-arm.json")).arm.has_point);
 }

@@ -10,6 +10,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "nano_config.h"
 #include "predict.h"
 #include "program.h"
 #include "robot_file.h"
@@ -79,19 +80,35 @@ double half_step_reach_mm() {
 
 }  // namespace
 
+// The records of `lines`, each sent once the arm is at rest after the one before: the
+// firmware's (predict_run.cpp).
+std::vector<PredictRecord> run(const Robot& r, const std::string& lines, const ControllerSettings& s = {}) {
+  return predict_program(r, parse_protocol_program(lines, "test", r), s).records;
+}
+// The same for statements (RoboSim's among them).
+std::vector<PredictRecord> run(const Robot& r, const std::vector<Statement>& statements) {
+  Program p;
+  p.source = "test";
+  p.statements = statements;
+  return predict_program(r, p).records;
+}
+Statement line(const std::string& text) { return Statement{Statement::Kind::kProtocol, {}, text, 1}; }
+
 TEST(Predict, PowersUpAtStepZeroWithTheFirmwareHome) {
-  ControllerModel m(mk2());
-  EXPECT_TRUE(m.homed());
-  EXPECT_TRUE(m.has_point_ik());
-  EXPECT_EQ(m.home_commanded(), (std::vector<Millideg>{0, 90000, 0}));
-  EXPECT_EQ(m.home_steps(), (std::vector<int32_t>{0, 0, 0}));
-  for (int i = 0; i < 3; ++i) EXPECT_EQ(m.state().steps[i], 0);
-  EXPECT_EQ(m.clock_ticks(), 0u);
+  const ConfiguredArm<kFirmwareMotors> arm = firmware_arm(mk2());
+  EXPECT_TRUE(arm.has_point);
+  EXPECT_EQ(std::vector<Millideg>(arm.home, arm.home + 3), (std::vector<Millideg>{0, 90000, 0}));
+  const std::vector<PredictRecord> r = run(mk2(), "I\nZ\n");
+  ASSERT_EQ(r.size(), 2u);
+  EXPECT_EQ(r[0].reply, kOk);
+  EXPECT_EQ(r[0].steps, (std::vector<int32_t>{0, 0, 0}));
+  EXPECT_EQ(r[0].commanded, (std::vector<Millideg>{0, 90000, 0}));
+  EXPECT_EQ(r[0].end_tick, 0u);
+  EXPECT_EQ(r[1].steps, (std::vector<int32_t>{0, 0, 0}));  // Z at the home pose: its steps
 }
 
 TEST(Predict, RelativeMoveQuantizesByHand) {
-  ControllerModel m(mk2());
-  const PredictRecord r = m.execute_line("L 0 10", 3);
+  const PredictRecord r = predict_program(mk2(), parse_protocol_program("\n\nL 0 10\n", "test", mk2())).records.back();
   ASSERT_EQ(r.reply, kOk);
   EXPECT_EQ(r.line, 3);
   // 10 deg / 0.31667 deg = 31.58 -> step 32, at 32 * 0.31667 = 10.1333 deg.
@@ -110,8 +127,8 @@ TEST(Predict, RelativeMoveQuantizesByHand) {
 }
 
 TEST(Predict, DurationsAreTheProfileOfTheDominantMotor) {
-  ControllerModel m(mk2());
-  const PredictRecord a = m.execute_line("L 0 10");
+  const std::vector<PredictRecord> r = run(mk2(), "L 0 10\nM -0.1 60 -20\n");
+  const PredictRecord& a = r[0];
   EXPECT_TRUE(a.queued);
   EXPECT_EQ(a.dominant_steps, 32u);
   EXPECT_EQ(a.ticks, profile_duration_ticks(32, kDefaultMotion));
@@ -120,7 +137,7 @@ TEST(Predict, DurationsAreTheProfileOfTheDominantMotor) {
   EXPECT_DOUBLE_EQ(a.seconds(), double(a.ticks) / 2e6);
   // All three at once: the base has 10 deg -> -32 steps, the shoulder 30 deg -> round(41.2)
   // = 41 steps, the forearm -20 deg -> round(-27.48) = -27 steps; the shoulder dominates.
-  const PredictRecord b = m.execute_line("M -0.1 60 -20");
+  const PredictRecord& b = r[1];
   ASSERT_EQ(b.reply, kOk);
   EXPECT_EQ(b.steps, (std::vector<int32_t>{0, -41, -27}));
   EXPECT_EQ(b.dominant_steps, 41u);
@@ -129,54 +146,60 @@ TEST(Predict, DurationsAreTheProfileOfTheDominantMotor) {
   EXPECT_EQ(b.end_tick, a.end_tick + b.ticks);
   expect_near(b.tool_quantized, mk2_tool(0, 90 - 41 * kArmDeg, -27 * kArmDeg), 1e-9);
   expect_near(b.tool_ideal, mk2_tool(-0.1, 60, -20), 1e-9);
-  EXPECT_EQ(m.clock_ticks(), b.end_tick);
 }
 
 TEST(Predict, RejectedLinesChangeNothing) {
-  ControllerModel m(mk2());
-  m.execute_line("L 0 10");
-  const uint64_t clock = m.clock_ticks();
-  for (const char* line :
-       {"L 1 50", "M 0 131 0", "M 91 90 0", "P 1000 0 0", "$0=5000", "$0=600.5", "$9=1", "L 0 1000000"}) {
-    const PredictRecord r = m.execute_line(line);
-    EXPECT_NE(r.reply, kOk) << line;
-    EXPECT_FALSE(r.queued) << line;
-    EXPECT_EQ(r.ticks, 0u) << line;
-    EXPECT_EQ(r.steps, (std::vector<int32_t>{32, 0, 0})) << line;
-    EXPECT_EQ(r.commanded, (std::vector<Millideg>{10000, 90000, 0})) << line;
-    EXPECT_EQ(m.clock_ticks(), clock) << line;
-    EXPECT_EQ(m.settings().value[0], 600u) << line;
+  const char* const bad[] = {"L 1 50", "M 0 131 0", "M 91 90 0", "P 1000 0 0", "$0=5000", "$0=600.5", "$9=1",
+                             "L 0 1000000"};
+  std::string program = "L 0 10\n";
+  for (const char* line : bad) program += std::string(line) + "\n";
+  program += "L 0 0.1\nL 0 10\n";
+  const std::vector<PredictRecord> r = run(mk2(), program);
+  ASSERT_EQ(r.size(), 11u);
+  for (size_t k = 1; k <= 8; ++k) {
+    EXPECT_NE(r[k].reply, kOk) << r[k].text;
+    EXPECT_FALSE(r[k].queued) << r[k].text;
+    EXPECT_EQ(r[k].ticks, 0u) << r[k].text;
+    EXPECT_EQ(r[k].steps, (std::vector<int32_t>{32, 0, 0})) << r[k].text;
+    EXPECT_EQ(r[k].commanded, (std::vector<Millideg>{10000, 90000, 0})) << r[k].text;
+    EXPECT_EQ(r[k].end_tick, r[0].end_tick) << r[k].text;
   }
-  const PredictRecord beyond = m.execute_line("L 1 50");
-  EXPECT_EQ(beyond.reply, kJointLimit);
+  EXPECT_EQ(r[1].reply, kJointLimit);
   // its note names the motor, where it would go and its range (what a student needs to fix it)
-  EXPECT_NE(beyond.note.find("the shoulder motor to 140 deg is beyond its range,"), std::string::npos) << beyond.note;
-  EXPECT_EQ(m.execute_line("P 1000 0 0").reply, kUnreachable);
-  EXPECT_EQ(m.execute_line("$0=5000").reply, kValueOutOfRange);
-  EXPECT_EQ(m.execute_line("$9=1").reply, kSettingUnknown);
-  EXPECT_EQ(m.execute_line("L 0 1000000").reply, kValueOutOfRange);  // beyond 1,000,000 deg
+  EXPECT_NE(r[1].note.find("the shoulder motor to 140 deg is beyond its range,"), std::string::npos) << r[1].note;
+  EXPECT_EQ(r[4].reply, kUnreachable);
+  EXPECT_EQ(r[5].reply, kValueOutOfRange);
+  EXPECT_EQ(r[7].reply, kSettingUnknown);
+  EXPECT_EQ(r[8].reply, kValueOutOfRange);  // beyond 1,000,000 deg
   // And the next good line continues from where the arm was.
-  const PredictRecord r = m.execute_line("L 0 0.1");
-  EXPECT_EQ(r.commanded[0], 10100);
-  EXPECT_EQ(r.steps[0], 32);
-  EXPECT_FALSE(r.queued);  // the same step: only the commanded angle changes
-  EXPECT_NE(r.note.find("same steps"), std::string::npos);
+  EXPECT_EQ(r[9].commanded[0], 10100);
+  EXPECT_EQ(r[9].steps[0], 32);
+  EXPECT_FALSE(r[9].queued);  // the same step: only the commanded angle changes
+  EXPECT_NE(r[9].note.find("same steps"), std::string::npos);
+  // $0 is still 600: the last move takes the default profile.
+  EXPECT_EQ(r[10].ticks, profile_duration_ticks(r[10].dominant_steps, kDefaultMotion));
 }
 
 TEST(Predict, PointEndsWithinAStepsWorth) {
-  ControllerModel m(mk2());
-  for (const Vec3<double> p : {make_vec3(200.0, -150.0, 150.0), make_vec3(250.0, 100.0, 120.0),
-                               make_vec3(180.0, 0.0, 200.0), make_vec3(20.0, 230.0, 140.0)}) {
+  const Vec3<double> points[] = {make_vec3(200.0, -150.0, 150.0), make_vec3(250.0, 100.0, 120.0),
+                                 make_vec3(180.0, 0.0, 200.0), make_vec3(20.0, 230.0, 140.0)};
+  std::string program;
+  for (const Vec3<double>& p : points) {
     char line[64];
-    std::snprintf(line, sizeof line, "P %.3f %.3f %.3f", p.x, p.y, p.z);
-    const PredictRecord r = m.execute_line(line);
-    ASSERT_EQ(r.reply, kOk) << line;
+    std::snprintf(line, sizeof line, "P %.3f %.3f %.3f\n", p.x, p.y, p.z);
+    program += line;
+  }
+  const std::vector<PredictRecord> recs = run(mk2(), program);
+  for (size_t k = 0; k < 4; ++k) {
+    const PredictRecord& r = recs[k];
+    const Vec3<double>& p = points[k];
+    ASSERT_EQ(r.reply, kOk) << r.text;
     EXPECT_TRUE(r.has_target);
     expect_near(r.target, p, 1e-12);
     // The commanded angles reach the point (to their 0.001 deg) ...
     expect_near(r.tool_ideal, p, 0.01);
     // ... and the steps within half a step on every motor.
-    EXPECT_LT(r.target_error_mm, half_step_reach_mm()) << line;
+    EXPECT_LT(r.target_error_mm, half_step_reach_mm()) << r.text;
     EXPECT_NEAR(r.target_error_mm, norm(r.tool_quantized - p), 1e-12);
     expect_near(r.tool_quantized, mk2_tool(r.actuator_deg[0], r.actuator_deg[1], r.actuator_deg[2]), 1e-9);
   }
@@ -201,12 +224,13 @@ TEST(Predict, PointTakesTheSolutionNearestThePlannedPose) {
        "direction": -1, "zero": -90, "min": -160, "max": 160}],
     "home": {"base": 0, "shoulder": 90, "elbow": -90}})",
                                 "two-elbows.json");
-  ControllerModel up(arm), down(arm);
-  ASSERT_TRUE(up.has_point_ik());
-  EXPECT_EQ(up.execute_line("M 0 120 -120").reply, kOk);
-  EXPECT_EQ(down.execute_line("M 0 -10 100").reply, kOk);
-  const PredictRecord a = up.execute_line("P 200 0 200");
-  const PredictRecord b = down.execute_line("P 200 0 200");
+  ASSERT_TRUE(firmware_arm(arm).has_point);
+  const std::vector<PredictRecord> up = run(arm, "M 0 120 -120\nP 200 0 200\n");
+  const std::vector<PredictRecord> down = run(arm, "M 0 -10 100\nP 200 0 200\n");
+  EXPECT_EQ(up[0].reply, kOk);
+  EXPECT_EQ(down[0].reply, kOk);
+  const PredictRecord& a = up[1];
+  const PredictRecord& b = down[1];
   ASSERT_EQ(a.reply, kOk);
   ASSERT_EQ(b.reply, kOk);
   EXPECT_LT(a.commanded[2], 0);  // elbow up: the elbow bent down relative to the upper arm
@@ -219,36 +243,30 @@ TEST(Predict, PointTakesTheSolutionNearestThePlannedPose) {
 }
 
 TEST(Predict, GripperActionsTakeTheSettleTime) {
-  ControllerModel m(mk2());
-  PredictRecord r = m.execute_line("S 1");
-  EXPECT_EQ(r.reply, kOk);
-  EXPECT_TRUE(r.queued);
-  EXPECT_EQ(r.ticks, kSettleTicks);
-  EXPECT_EQ(r.gripper_percent, 0);
-  EXPECT_NE(r.note.find("2091 us"), std::string::npos) << r.note;  // docs/protocol.md
-  r = m.execute_line("G 100");
-  EXPECT_EQ(r.gripper_percent, 100);
-  EXPECT_EQ(r.start_tick, kSettleTicks);
-  EXPECT_NE(r.note.find("1472 us"), std::string::npos) << r.note;
-  r = m.execute_line("G 49.5");
-  EXPECT_EQ(r.gripper_percent, 50);  // whole percent, a half up
-  EXPECT_EQ(m.clock_ticks(), 3 * kSettleTicks);
+  const std::vector<PredictRecord> r = run(mk2(), "S 1\nG 100\nG 49.5\n");
+  EXPECT_EQ(r[0].reply, kOk);
+  EXPECT_TRUE(r[0].queued);
+  EXPECT_EQ(r[0].ticks, kSettleTicks);
+  EXPECT_EQ(r[0].gripper_percent, 0);
+  EXPECT_NE(r[0].note.find("2091 us"), std::string::npos) << r[0].note;  // docs/protocol.md
+  EXPECT_EQ(r[1].gripper_percent, 100);
+  EXPECT_EQ(r[1].start_tick, kSettleTicks);
+  EXPECT_NE(r[1].note.find("1472 us"), std::string::npos) << r[1].note;
+  EXPECT_EQ(r[2].gripper_percent, 50);  // whole percent, a half up
+  EXPECT_EQ(r[2].end_tick, 3 * kSettleTicks);
 }
 
 TEST(Predict, DwellWaitsInTheQueue) {
-  ControllerModel m(mk2());
-  PredictRecord move = m.execute_line("L 0 10");
-  PredictRecord r = m.execute_line("D 1.5");
-  EXPECT_EQ(r.reply, kOk);
-  EXPECT_TRUE(r.queued);
-  EXPECT_EQ(r.start_tick, move.end_tick);
-  EXPECT_EQ(r.ticks, 3u * kControllerTickHz / 2);
-  EXPECT_EQ(r.steps, move.steps);  // nothing moves
-  const PredictRecord next = m.execute_line("L 0 -10");
-  EXPECT_EQ(next.start_tick, r.end_tick);
-  r = m.execute_line("D 600.5");
-  EXPECT_EQ(r.reply, kValueOutOfRange);
-  EXPECT_EQ(m.clock_ticks(), next.end_tick);  // a refused wait adds nothing
+  const std::vector<PredictRecord> r = run(mk2(), {line("L 0 10"), line("D 1.5"), line("L 0 -10"), line("D 600.5")});
+  const PredictRecord& move = r[0];
+  EXPECT_EQ(r[1].reply, kOk);
+  EXPECT_TRUE(r[1].queued);
+  EXPECT_EQ(r[1].start_tick, move.end_tick);
+  EXPECT_EQ(r[1].ticks, 3u * kControllerTickHz / 2);
+  EXPECT_EQ(r[1].steps, move.steps);  // nothing moves
+  EXPECT_EQ(r[2].start_tick, r[1].end_tick);
+  EXPECT_EQ(r[3].reply, kValueOutOfRange);
+  EXPECT_FALSE(r[3].queued);  // a refused wait adds nothing
 }
 
 // The program's times are the firmware's (predict_run.cpp): D 0.5 pauses 1,000,000 ticks. The
@@ -265,15 +283,15 @@ TEST(Predict, ProgramDwellIsTheFirmwares) {
 }
 
 TEST(Predict, SettingsLinesChangeLaterMoves) {
-  ControllerModel m(mk2());
-  EXPECT_EQ(m.execute_line("$0=800").reply, kOk);
-  EXPECT_EQ(m.execute_line("$1 = 3000").reply, kMissingArgument);  // the codec: no blanks around '='
-  EXPECT_EQ(m.execute_line("$1=3000").reply, kOk);
-  EXPECT_EQ(m.execute_line("$5=0").reply, kOk);
-  const PredictRecord r = m.execute_line("L 1 30");
-  EXPECT_EQ(r.ticks, profile_duration_ticks(r.dominant_steps, MotionSettings{2000000, 800, 3000}));
-  EXPECT_NE(r.ticks, profile_duration_ticks(r.dominant_steps, kDefaultMotion));
-  EXPECT_EQ(m.execute_line("S 1").ticks, 0u);  // no settle time
+  const std::vector<PredictRecord> r =
+      run(mk2(), {line("$0=800"), line("$1 = 3000"), line("$1=3000"), line("$5=0"), line("L 1 30"), line("S 1")});
+  EXPECT_EQ(r[0].reply, kOk);
+  EXPECT_EQ(r[1].reply, kMissingArgument);  // the codec: no blanks around '='
+  EXPECT_EQ(r[2].reply, kOk);
+  EXPECT_EQ(r[3].reply, kOk);
+  EXPECT_EQ(r[4].ticks, profile_duration_ticks(r[4].dominant_steps, MotionSettings{2000000, 800, 3000}));
+  EXPECT_NE(r[4].ticks, profile_duration_ticks(r[4].dominant_steps, kDefaultMotion));
+  EXPECT_EQ(r[5].ticks, 0u);  // no settle time
 }
 
 TEST(Predict, SettingsTextIsCheckedAsTheFirmwareDoes) {
@@ -295,28 +313,23 @@ TEST(Predict, SettingsTextIsCheckedAsTheFirmwareDoes) {
   // Given settings hold from power-up.
   ControllerSettings fast;
   apply_settings_text(fast, "0=800,1=3000", 3);
-  ControllerModel m(mk2(), fast);
-  const PredictRecord r = m.execute_line("L 0 30");
+  const PredictRecord r = run(mk2(), "L 0 30\n", fast)[0];
   EXPECT_EQ(r.ticks, profile_duration_ticks(95, MotionSettings{2000000, 800, 3000}));
 }
 
 TEST(Predict, HomeMovesBackAndZeroDeclaresHome) {
-  ControllerModel m(mk2());
-  m.execute_line("L 0 10");
-  m.execute_line("L 2 -5.5");
-  PredictRecord h = m.execute_line("H");
+  const std::vector<PredictRecord> r = run(mk2(), "L 0 10\nL 2 -5.5\nH\nH\nL 0 10\nZ\nL 0 -10\n");
+  const PredictRecord& h = r[2];
   EXPECT_EQ(h.reply, kOk);
   EXPECT_EQ(h.steps, (std::vector<int32_t>{0, 0, 0}));
   EXPECT_EQ(h.commanded, (std::vector<Millideg>{0, 90000, 0}));
   EXPECT_EQ(h.ticks, profile_duration_ticks(32, kDefaultMotion));
   // H at home still takes its (empty) place in the queue.
-  h = m.execute_line("H");
-  EXPECT_TRUE(h.queued);
-  EXPECT_EQ(h.ticks, 0u);
+  EXPECT_TRUE(r[3].queued);
+  EXPECT_EQ(r[3].ticks, 0u);
 
   // Z where the arm is: the controller counts from here, the arm has not moved.
-  m.execute_line("L 0 10");
-  const PredictRecord z = m.execute_line("Z");
+  const PredictRecord& z = r[5];
   EXPECT_EQ(z.reply, kOk);
   EXPECT_FALSE(z.queued);
   EXPECT_EQ(z.steps, (std::vector<int32_t>{0, 0, 0}));
@@ -324,7 +337,7 @@ TEST(Predict, HomeMovesBackAndZeroDeclaresHome) {
   EXPECT_NEAR(z.joints[0], 32 * kBaseDeg, 1e-12);  // where the base really is
   expect_near(z.tool_quantized, mk2_tool(32 * kBaseDeg, 90, 0), 1e-9);
   // A move after it counts from the new zero: L 0 -10 is step -32, the base back at 0.
-  const PredictRecord back = m.execute_line("L 0 -10");
+  const PredictRecord& back = r[6];
   EXPECT_EQ(back.steps[0], -32);
   EXPECT_NEAR(back.joints[0], 0, 1e-12);
   EXPECT_NEAR(back.joints_ideal[0], 32 * kBaseDeg - 10, 1e-12);
@@ -333,30 +346,29 @@ TEST(Predict, HomeMovesBackAndZeroDeclaresHome) {
 TEST(Predict, EndstopsMeanAlarmUntilHomed) {
   ControllerSettings s;
   apply_settings_text(s, "3=2", 3);  // a switch on the shoulder (motor 1), at its 36 deg minimum
-  ControllerModel m(mk2(), s);
-  EXPECT_FALSE(m.homed());
-  EXPECT_EQ(m.execute_line("L 0 10").reply, kNotHomed);
-  EXPECT_EQ(m.execute_line("P 235 0 213").reply, kNotHomed);
-  EXPECT_EQ(m.execute_line("G 50").reply, kOk);  // the gripper works in Alarm
-  const uint64_t before = m.clock_ticks();
-  const PredictRecord h = m.execute_line("H");
+  const std::vector<PredictRecord> r = run(mk2(), "L 0 10\nP 235 0 213\nG 50\nH\nL 0 10\n", s);
+  EXPECT_EQ(r[0].reply, kNotHomed);
+  EXPECT_EQ(r[1].reply, kNotHomed);
+  EXPECT_EQ(r[2].reply, kOk);  // the gripper works in Alarm
+  const PredictRecord& h = r[3];
   ASSERT_EQ(h.reply, kOk);
-  EXPECT_TRUE(m.homed());
   // The shoulder seeks down from step 0 to the step of 36 deg, ceil(-54 / 0.7277) = -74,
   // one homing interval (1 / 200 s) per step and one more to see the switch; then the
   // shoulder stays at its minimum (36 deg) and nothing else moves.
   EXPECT_EQ(h.steps, (std::vector<int32_t>{0, -74, 0}));
   EXPECT_EQ(h.commanded, (std::vector<Millideg>{0, 36000, 0}));
   EXPECT_EQ(h.ticks, 75u * 10000);
-  EXPECT_EQ(h.start_tick, before);
+  EXPECT_EQ(h.start_tick, r[2].end_tick);
   EXPECT_NE(h.note.find("switch"), std::string::npos);
-  EXPECT_EQ(m.execute_line("L 0 10").reply, kOk);
+  EXPECT_EQ(r[4].reply, kOk);
 }
 
 TEST(Predict, RoboSimJointsGoThroughTheCoupling) {
-  ControllerModel m(mk2());
   // m: DH joint values; the forearm's elevation is shoulder + elbow = 60 - 80 = -20.
-  const PredictRecord r = m.execute(robosim(Statement::Kind::kJoints, {10, 60, -80}, 7));
+  // The elbow's DH box allows -150 but the forearm motor does not (-60 < -43): M refuses it.
+  const std::vector<PredictRecord> rs = run(
+      mk2(), {robosim(Statement::Kind::kJoints, {10, 60, -80}, 7), robosim(Statement::Kind::kJoints, {0, 90, -150})});
+  const PredictRecord& r = rs[0];
   ASSERT_EQ(r.reply, kOk);
   EXPECT_EQ(r.line, 7);
   EXPECT_EQ(r.text, "m 10 60 -80");
@@ -365,29 +377,28 @@ TEST(Predict, RoboSimJointsGoThroughTheCoupling) {
   EXPECT_EQ(r.steps, (std::vector<int32_t>{32, -41, -27}));
   EXPECT_NEAR(r.joints_ideal[2], -80, 1e-9);
   EXPECT_EQ(r.ticks, profile_duration_ticks(41, kDefaultMotion));
-  // The elbow's DH box allows -150 but the forearm motor does not (-60 < -43): M refuses it.
-  const PredictRecord bad = m.execute(robosim(Statement::Kind::kJoints, {0, 90, -150}));
+  const PredictRecord& bad = rs[1];
   EXPECT_EQ(bad.reply, kJointLimit);
   EXPECT_EQ(bad.steps, r.steps);
-  EXPECT_TRUE(bad.protocol.empty());
+  EXPECT_FALSE(bad.queued);
 }
 
 TEST(Predict, RoboSimTargetSolvesAndMovesLikeM) {
-  ControllerModel m(mk2());
   const Vec3<double> p = make_vec3(200.0, 200.0, 160.0);
-  const PredictRecord r = m.execute(robosim(Statement::Kind::kTarget, {p.x, p.y, p.z}));
+  const std::vector<PredictRecord> rs =
+      run(mk2(), {robosim(Statement::Kind::kTarget, {p.x, p.y, p.z}), robosim(Statement::Kind::kTarget, {900, 0, 0})});
+  const PredictRecord& r = rs[0];
   ASSERT_EQ(r.reply, kOk);
   EXPECT_EQ(r.ik_status, "reached");
   EXPECT_EQ(r.protocol.substr(0, 2), "M ");
   expect_near(r.tool_ideal, p, 0.01);
   EXPECT_LT(r.target_error_mm, half_step_reach_mm());
   // The protocol line it stands for gives exactly the same steps.
-  ControllerModel again(mk2());
-  const PredictRecord same = again.execute_line(r.protocol);
+  const PredictRecord same = run(mk2(), r.protocol + "\n")[0];
   EXPECT_EQ(same.steps, r.steps);
   EXPECT_EQ(same.ticks, r.ticks);
   // Out of reach: refused as P would be, nothing moves.
-  const PredictRecord far = m.execute(robosim(Statement::Kind::kTarget, {900, 0, 0}));
+  const PredictRecord& far = rs[1];
   EXPECT_EQ(far.reply, kUnreachable);
   EXPECT_EQ(far.steps, r.steps);
   EXPECT_FALSE(far.queued);
@@ -395,14 +406,13 @@ TEST(Predict, RoboSimTargetSolvesAndMovesLikeM) {
 }
 
 TEST(Predict, RoboSimWeightsFreezeAJoint) {
-  ControllerModel m(mk2());
-  m.execute(robosim(Statement::Kind::kJoints, {30, 70, -90}));
-  m.execute(robosim(Statement::Kind::kWeights, {0, 1, 1}));
   // Straight down in the plane of the base: reachable with the base kept at 30 deg.
   const Vec3<double> now = mk2_tool(30, 70, -20);
-  const PredictRecord r = m.execute(robosim(Statement::Kind::kTarget, {now.x, now.y, now.z - 30}));
-  ASSERT_EQ(r.reply, kOk) << r.note;
-  EXPECT_EQ(r.commanded[0], 30000);
+  const std::vector<PredictRecord> rs =
+      run(mk2(), {robosim(Statement::Kind::kJoints, {30, 70, -90}), robosim(Statement::Kind::kWeights, {0, 1, 1}),
+                  robosim(Statement::Kind::kTarget, {now.x, now.y, now.z - 30})});
+  ASSERT_EQ(rs[2].reply, kOk) << rs[2].note;
+  EXPECT_EQ(rs[2].commanded[0], 30000);
 }
 
 TEST(Predict, RoboSimHandAndSpeedAsDocumented) {
@@ -415,25 +425,23 @@ TEST(Predict, RoboSimHandAndSpeedAsDocumented) {
   EXPECT_EQ(robosim_speed_to_rate(1, 600), 7u);  // round(600 / 82) = 7
   EXPECT_EQ(robosim_speed_to_rate(1, 40), 1u);   // never below 1
 
-  ControllerModel m(mk2());
-  PredictRecord h = m.execute(robosim(Statement::Kind::kHand, {0.5}));
-  EXPECT_EQ(h.protocol, "G 0.000");
-  EXPECT_EQ(h.gripper_percent, 0);
-  EXPECT_EQ(h.ticks, kSettleTicks);
-  h = m.execute(robosim(Statement::Kind::kHand, {0.0}));
-  EXPECT_EQ(h.protocol, "G 100.000");
-  EXPECT_EQ(h.gripper_percent, 100);
+  const std::vector<PredictRecord> rs =
+      run(mk2(), {robosim(Statement::Kind::kHand, {0.5}), robosim(Statement::Kind::kHand, {0.0}),
+                  robosim(Statement::Kind::kSpeed, {41}), robosim(Statement::Kind::kJoints, {10, 90, -90}),
+                  robosim(Statement::Kind::kSpeed, {82}), line("$$"), robosim(Statement::Kind::kZoom, {2})});
+  EXPECT_EQ(rs[0].protocol, "G 0.000");
+  EXPECT_EQ(rs[0].gripper_percent, 0);
+  EXPECT_EQ(rs[0].ticks, kSettleTicks);
+  EXPECT_EQ(rs[1].protocol, "G 100.000");
+  EXPECT_EQ(rs[1].gripper_percent, 100);
 
-  const PredictRecord s = m.execute(robosim(Statement::Kind::kSpeed, {41}));
-  EXPECT_EQ(s.protocol, "$0=300");
-  EXPECT_EQ(m.settings().value[0], 300u);
-  const PredictRecord mv = m.execute(robosim(Statement::Kind::kJoints, {10, 90, -90}));
-  EXPECT_EQ(mv.ticks, profile_duration_ticks(32, MotionSettings{2000000, 300, 2000}));
+  EXPECT_EQ(rs[2].protocol, "$0=300");
+  EXPECT_EQ(rs[3].ticks, profile_duration_ticks(32, MotionSettings{2000000, 300, 2000}));
+  EXPECT_EQ(rs[3].motion.max_rate, 300u);
   // Always scaled from the rate the program started with, not the last one.
-  m.execute(robosim(Statement::Kind::kSpeed, {82}));
-  EXPECT_EQ(m.settings().value[0], 600u);
+  EXPECT_EQ(rs[4].protocol, "$0=600");
 
-  const PredictRecord z = m.execute(robosim(Statement::Kind::kZoom, {2}));
+  const PredictRecord& z = rs[6];
   EXPECT_EQ(z.reply, kOk);
   EXPECT_FALSE(z.queued);
   EXPECT_NE(z.note.find("no effect"), std::string::npos);
@@ -441,9 +449,10 @@ TEST(Predict, RoboSimHandAndSpeedAsDocumented) {
 
 TEST(Predict, RoboSimLengthsChangeOnlyTheHostModel) {
   const Robot r = mk2_adjustable();
-  ControllerModel m(r);
-  const PredictRecord before = m.execute_line("L 0 10");
-  const PredictRecord l = m.execute(robosim(Statement::Kind::kLinkLengths, {150}));
+  const std::vector<PredictRecord> rs =
+      run(r, {line("L 0 10"), robosim(Statement::Kind::kLinkLengths, {150}), line("P 235 0 213")});
+  const PredictRecord& before = rs[0];
+  const PredictRecord& l = rs[1];
   ASSERT_EQ(l.reply, kOk);
   EXPECT_NE(l.note.find("real arm"), std::string::npos);
   EXPECT_EQ(l.steps, before.steps);
@@ -451,7 +460,7 @@ TEST(Predict, RoboSimLengthsChangeOnlyTheHostModel) {
   // The upper arm is vertical at 90 deg: 15 mm longer raises the tool by 15 mm.
   EXPECT_NEAR(l.tool_quantized.z - before.tool_quantized.z, 15, 1e-9);
   // The firmware's P keeps the arm as built: (235, 0, 213) is still its home point.
-  const PredictRecord p = m.execute_line("P 235 0 213");
+  const PredictRecord& p = rs[2];
   ASSERT_EQ(p.reply, kOk);
   EXPECT_EQ(p.steps, (std::vector<int32_t>{0, 0, 0}));
 }
@@ -489,7 +498,7 @@ TEST(Predict, ShippedProgramsRun) {
 TEST(Predict, RobotWithoutMotorsIsRefused) {
   const Robot r = load_robot_file(std::string(ARTICULA_SOURCE_DIR) + "/robots/thesis-example.json");
   try {
-    ControllerModel m(r);
+    predict_program(r, parse_protocol_program("L 0 10\n", "t.arm", r));
     FAIL() << "no error";
   } catch (const PredictError& e) {
     EXPECT_NE(std::string(e.what()).find("has no motors"), std::string::npos) << e.what();

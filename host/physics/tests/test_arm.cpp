@@ -46,17 +46,17 @@ double depth_into(const Simulation& sim, dGeomID other, const std::string& only 
 }
 
 // At every pose where the arm has come to rest, each link body is at its DH frame of the
-// motors' steps (computed here from the controller model's counts), to 1e-6 m.
+// motors' steps (computed here from the prediction's counts, the program sent as the physics
+// sends it: each line at rest), to 1e-6 m.
 TEST(Arm, LinkFramesEqualDhFramesAtRest) {
   const Robot r = robot("mk2plus");
   const Program p = parse_protocol_program(
       "M 30 60 -20\nL 0 -75\nM -10 120 10\nP 200 -150 150\nG 50\nM 0 90 0\nL 2 -40\n", "frames.arm", r);
+  const Prediction pr = predict_program(r, p);
   Simulation sim(r, Scene{}, SimOptions{});
   sim.load_program(p);
-  ControllerModel cm(r);
   int rests = 0;
-  for (const Statement& st : p.statements) {
-    const PredictRecord rec = cm.execute(st);
+  for (const PredictRecord& rec : pr.records) {
     ASSERT_EQ(rec.reply, kOk);
     sim.run_until(rec.end_s() + 0.002);
     EXPECT_EQ(sim.counted_steps(), rec.steps) << "line " << rec.line;

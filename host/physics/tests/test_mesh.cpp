@@ -216,12 +216,11 @@ TEST(MeshSim, MeshLinkFramesEqualDhFrames) {
   const Program p = parse_protocol_program("M 30 60 -20\nM -10 120 10\nM 0 90 0\n", "frames.arm", r);
   Simulation sim(r, Scene{});
   sim.load_program(p);
-  ControllerModel cm(r);
+  const Prediction pr = predict_program(r, p);
   const dGeomID g = geom_of(sim, 4);
   ASSERT_NE(g, nullptr);
   ASSERT_EQ(dGeomGetClass(g), dTriMeshClass);
-  for (const Statement& st : p.statements) {
-    const PredictRecord rec = cm.execute(st);
+  for (const PredictRecord& rec : pr.records) {
     ASSERT_EQ(rec.reply, kOk);
     sim.run_until(rec.end_s() + 0.002);
     std::vector<double> q(size_t(r.model.num_joints));

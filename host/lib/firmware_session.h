@@ -1,0 +1,142 @@
+// host/lib/firmware_session.h - the firmware on its virtual clock as a live session drives it
+// (the physics: a program sent line by line, commands as they come): lines in; the coil steps,
+// the actions it began and its replies out, each at its tick.
+//
+// The firmware is firmware/src itself, the host's eight-motor build (firmware/sitl), powered up
+// with the robot's arm and the settings as predict_program() powers it up. It runs ahead of
+// the caller only as far as a reply needs (a line waits for it), so a line sent while the arm
+// moves is planned into the moves ahead as on the Nano; run_to() brings it to the caller's time.
+// Its state is global, one machine per process: a session that finds the machine used by
+// another (a prediction, another session) powers it up again and sends its own lines again at
+// their ticks, which gives the same run (the machine is deterministic), before it goes on.
+//
+//   FirmwareSession fw(robot, settings);
+//   fw.send("M 0 90 0", 1, now, FirmwareSession::kAtRest);  // its reply (Status)
+//   fw.run_to(until);
+//   for (const FirmwareSession::Event& e : fw.take(until)) ...   // in tick order
+#ifndef ARTICULA_HOST_FIRMWARE_SESSION_H
+#define ARTICULA_HOST_FIRMWARE_SESSION_H
+
+#include <articula/motion.h>
+#include <articula/status.h>
+
+#include <cstdint>
+#include <deque>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "predict.h"
+#include "program.h"
+#include "robot.h"
+
+namespace articula::host {
+
+class InverseKinematics;
+
+// A program's statements as the lines the host sends for them: a protocol line as it is
+// ('!' alone: the realtime stop; a '!' or '?' inside a line is not sent with it), RoboSim's
+// as the protocol commands that do the same (thesis appendix B; programs/README.md): m -> M,
+// a -> IK from `commanded()` (the firmware's plan when the line goes) then M, h -> G,
+// s -> $0 scaled from `base_rate`. The host-only ones (l: `robot`'s link lengths, w, z; a line
+// the protocol cannot parse; an a without a solution) give no line.
+class StatementLines {
+ public:
+  StatementLines(Robot& robot, uint32_t base_rate, std::function<std::vector<Millideg>()> commanded);
+  ~StatementLines();
+  // The record of `st` (its line, text, protocol, command, a reply of the host's own, notes);
+  // true when it is to be sent as `line`.
+  bool begin(const Statement& st, PredictRecord& r, std::string& line);
+
+ private:
+  void robosim(const Statement& st, PredictRecord& r);
+  Robot& robot_;  // its model changes with RoboSim's l
+  uint32_t base_rate_;
+  std::function<std::vector<Millideg>()> commanded_;
+  std::vector<double> weights_;
+  std::unique_ptr<InverseKinematics> ik_;
+};
+
+class FirmwareSession {
+ public:
+  // What the firmware did.
+  struct Event {
+    enum Kind {
+      kStep,   // the coils made a step: `mask` a bit per motor, `negative` those towards fewer steps
+      kBegin,  // it took an action off its queue and began it
+      kIdle,   // its step timer stopped: the action running (if any) ended
+      kReply,  // it answered a line
+    };
+    Kind kind = kStep;
+    uint64_t tick = 0;
+    uint8_t mask = 0, negative = 0;  // kStep
+    int line = 0;                    // kBegin: the line that queued it; kReply: the line answered
+    enum Action { kMove, kGripper, kHome, kDwell } action = kMove;  // kBegin (queue::Kind)
+    std::vector<int32_t> delta;      // kBegin, kMove and kHome: its steps from the plan before it
+    MotionSettings motion{};         // kBegin: $0 and $1 when it began
+    int percent = -1;                // kBegin, kGripper: the aperture, whole percent
+    uint64_t settle_ticks = 0;       // kBegin, kGripper and kDwell: its pause
+    std::vector<int32_t> counted;    // kBegin, kIdle; kReply to Z: the firmware's step counts then
+    Status status = kOk;             // kReply
+    std::string text;                // kReply: the line
+  };
+
+  enum Sender {
+    kAtRest,    // once the arm is at rest after the reply before (a program, as the harness sends)
+    kStreamed,  // as soon as the reply before is off the wire (GRBL's simple sender)
+  };
+
+  // Throws PredictError for a robot without motors, or one the firmware cannot drive.
+  FirmwareSession(const Robot& robot, const ControllerSettings& settings = {});
+  ~FirmwareSession();
+  FirmwareSession(const FirmwareSession&) = delete;
+  FirmwareSession& operator=(const FirmwareSession&) = delete;
+
+  // Sends `text` (a protocol line, or '!' alone: the realtime stop, never answered) no earlier
+  // than `tick`, as `sender` sends; runs the firmware until it answers. Returns the reply
+  // (kOk for a '!').
+  Status send(const std::string& text, int line, uint64_t tick, Sender sender);
+  // Runs the firmware up to `tick` (nothing if it is there already).
+  void run_to(uint64_t tick);
+  // Runs it until the arm is at rest; the tick it got there.
+  uint64_t run_to_rest();
+  // The events up to `tick` not taken yet, in order.
+  std::vector<Event> take(uint64_t tick);
+  // The firmware's clock, and whether its arm is at rest then with nothing queued.
+  uint64_t now() const { return now_; }
+  bool at_rest();
+  // Events not taken yet.
+  bool pending() const { return !events_.empty(); }
+  // The controller's plan now: its commanded angles, millidegrees (for RoboSim's a).
+  std::vector<Millideg> commanded();
+
+ private:
+  struct Sent {
+    std::string text;
+    int line;
+    uint64_t at;   // when its first byte went on the wire
+    bool at_once;  // all its bytes in at `at` (the first line, a line at rest), or byte after byte
+  };
+  void put(const Sent& x);  // its bytes to the machine (its clock at x.at)
+  void own();          // the machine is this session's (powered up and replayed if it was not)
+  void wait_reply(size_t replies);
+  void harvest();      // the machine's new log entries into events_
+
+  Robot robot_;
+  ControllerSettings settings_;
+  std::vector<Sent> sent_;       // every line so far: what a replay sends again
+  std::deque<size_t> unanswered_;  // sent_ indexes still waiting for their reply
+  uint64_t now_ = 0;             // the machine's clock (counted from power-up)
+  uint64_t wire_ = 0;            // when the last reply is off the wire
+  std::deque<Event> events_;
+  // Where the harvest is in the machine's logs.
+  size_t coils_ = 0, actions_ = 0, replies_ = 0, queued_ = 0, next_begin_ = 0;
+  std::vector<int> line_of_;     // each queued action's line (by its place in the machine's log)
+  uint64_t t0_ = 0;              // the machine's clock at power-up
+};
+
+}  // namespace articula::host
+
+#endif  // ARTICULA_HOST_FIRMWARE_SESSION_H
