@@ -1,4 +1,4 @@
-"""The host's prediction of a plan: `articula.Robot.predict` (the controller model of
+"""The host's prediction of a plan: `articula.Robot.predict` (the firmware on its virtual clock, as
 host/lib/predict.h, the same as `articula predict --json`), in process.
 
 The prediction checks a whole program before it runs it and refuses one with a line the

@@ -8,15 +8,7 @@
 // lines (thesis appendix B: m -> M, a -> IK then M, h -> G, s -> $0; see programs/README.md),
 // the tool positions the steps give (the shared core's kinematics) and notes.
 //
-// ControllerModel is the physics' account of the controller for its live commands (sim.cpp):
-// a host-side model of controller.cpp built from the shared core, with motion.h's durations
-// from rest to rest. Issue 39: it is to give way to the firmware on the virtual clock too.
-//   - the state is a MotorState: exact commanded millidegrees and the steps they quantize to;
-//     L and M go through move_relative / move_absolute (actuation.h), P through the closed
-//     form the firmware uses, H and Z as docs/protocol.md says, G and S as gripper actions
-//     followed by the settle pause ($5); a rejected command changes nothing;
-//   - every action's duration is motion.h's: profile_duration_ticks of the dominant motor's
-//     step count for a move, the settle time for a gripper action.
+// The physics runs the same firmware, line by line as it comes (firmware_session.h).
 #ifndef ARTICULA_HOST_PREDICT_H
 #define ARTICULA_HOST_PREDICT_H
 
@@ -112,7 +104,6 @@ struct PredictRecord {
   enum class Action { kNone, kMove, kPause, kHome };
   Action action = Action::kNone;
   std::vector<int32_t> delta_steps;  // a move (and Home's final move): per motor
-  uint64_t seek_ticks = 0;           // Home: the switch search before its move (ControllerModel)
   MotionSettings motion{};           // the settings the action runs with ($0, $1)
   uint32_t junction = 0;             // $6 when it was queued
   bool waits_for_rest = false;       // answered only once the arm was at rest (Z, $n=v while it moves)
@@ -146,66 +137,6 @@ struct PredictRecord {
   double seconds() const { return double(ticks) / kControllerTickHz; }
   double start_s() const { return double(start_tick) / kControllerTickHz; }
   double end_s() const { return double(end_tick) / kControllerTickHz; }
-};
-
-// The controller, for one robot with motors. Execute statements one after the other.
-class ControllerModel {
- public:
-  // Power-up: every motor at step 0 (its zero angle), the settings `settings` (as if read
-  // from EEPROM), Alarm when $3 says the arm has endstops. Throws PredictError for a robot
-  // without motors.
-  ControllerModel(const Robot& robot, const ControllerSettings& settings = {});
-
-  PredictRecord execute(const Statement& st);
-  // One protocol line, as the controller reads it.
-  PredictRecord execute_line(const std::string& line, int line_number = 0);
-
-  const Robot& robot() const { return robot_; }
-  const MotorState<kMaxJoints>& state() const { return planned_; }
-  const ControllerSettings& settings() const { return settings_; }
-  bool homed() const { return homed_; }
-  uint64_t clock_ticks() const { return clock_; }
-  // Whether the firmware could solve P for this robot (a yaw-pitch-pitch arm with identity
-  // or parallelogram coupling): the firmware's robot::has_ik.
-  bool has_point_ik() const { return has_ik_; }
-  // The home pose as the firmware computes it (float), millidegrees, and its steps.
-  const std::vector<Millideg>& home_commanded() const { return home_; }
-  const std::vector<int32_t>& home_steps() const { return home_steps_; }
-
- private:
-  PredictRecord begin(int line, const std::string& text) const;
-  void finish(PredictRecord& r);
-  void describe(PredictRecord& r, const MotorState<kMaxJoints>& state) const;
-  Status run_command(PredictRecord& r, const std::string& line);
-  Status queue_move(PredictRecord& r, const MotorState<kMaxJoints>& next, bool home, uint64_t extra_ticks = 0);
-  void queue_pause(PredictRecord& r, uint64_t ms);
-  void queue_gripper(PredictRecord& r, int32_t aperture);
-  Status solve_point(MotorState<kMaxJoints>& next, const int32_t* um) const;
-  Status line(PredictRecord& r, const int32_t* arg);
-  Status home(PredictRecord& r);
-  void robosim(PredictRecord& r, const Statement& st);
-  void ensure_ik();
-
-  Robot robot_;  // its model changes with RoboSim's l
-  int n_ = 0;
-  MotorState<kMaxJoints> planned_{};
-  int32_t offset_[kMaxJoints]{};  // physical step - counted step (only Z makes them differ)
-  bool homed_ = true;
-  ControllerSettings settings_;
-  uint32_t base_rate_ = 600;  // $0 at power-up: RoboSim's s 82
-  int gripper_percent_ = -1;
-  uint64_t clock_ = 0;
-
-  // The firmware's P: the arm in float, from the robot as loaded.
-  bool has_ik_ = false;
-  YppArm<float> arm_{};
-  float servo_open_ = 90.0f, servo_closed_ = 90.0f;
-  std::vector<Millideg> home_;
-  std::vector<int32_t> home_steps_;
-
-  // RoboSim's a: ik.h on the current (possibly l-changed) model, with w's weights.
-  std::vector<double> weights_;
-  std::optional<InverseKinematics> ik_;
 };
 
 // How the lines reach the controller, which decides when each is queued and so how far the
@@ -246,17 +177,6 @@ struct Prediction {
 // With `path`, each record that moves keeps the tool at every step (PredictRecord::path).
 Prediction predict_program(const Robot& robot, const Program& program, const ControllerSettings& settings = {},
                            const SenderModel& sender = {}, bool path = false);
-
-// A T line's segments as the firmware plans them from rest to rest, all queued at once
-// (controller.cpp push_planned: each junction's level kept below both cruise caps, then the
-// reverse pass): one PlanBlock each, in order. `motion` and `junction` are $0, $1 and $6.
-std::vector<PlanBlock> plan_segments(const std::vector<PredictRecord::Segment>& segments, const MotionSettings& motion,
-                                     uint32_t junction);
-// Their duration in ticks, run through the step profile as stepper.cpp runs them (each
-// segment at its own cruise, ending at the next one's entry).
-// `ends`, when given, gets each segment's end in ticks from the first one's start.
-uint64_t segments_ticks(const std::vector<PredictRecord::Segment>& segments, const std::vector<PlanBlock>& plan,
-                        const MotionSettings& motion, std::vector<uint64_t>* ends = nullptr);
 
 // RoboSim's h (0.0 open .. 0.5 closed) as G's aperture in thousandths of a percent:
 // 100 % - 200 % * h, rounded to a thousandth (h 0 -> 100000, 0.25 -> 50000, 0.5 -> 0).

@@ -1,7 +1,6 @@
-// host/lib/predict_detail.h - what the controller model (predict.cpp) and the firmware's run
-// of a program (predict_run.cpp) share to describe a record: its state's angles, joints and
-// tool positions, the tool along its moves, the notes on a refusal. Descriptions only: no
-// firmware rule lives here.
+// host/lib/predict_detail.h - what the firmware's run of a program (predict_run.cpp) describes
+// a record with (predict.cpp): its state's angles, joints and tool positions, the tool along
+// its moves, the notes on a refusal. Descriptions only: no firmware rule lives here.
 #ifndef ARTICULA_HOST_PREDICT_DETAIL_H
 #define ARTICULA_HOST_PREDICT_DETAIL_H
 

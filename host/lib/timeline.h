@@ -1,6 +1,6 @@
 // host/lib/timeline.h - a program's time line, as the studio plays it: every action from the
 // pose before it to its own in its own time, back to back, and the arm at any instant. The
-// controller model (predict.h) times a robot with motors; a robot without motors moves at
+// prediction (predict.h: the firmware) times a robot with motors; a robot without motors moves at
 // JointTiming's speeds, the same rule the physics (host/physics/sim.h) moves it by.
 #ifndef ARTICULA_HOST_TIMELINE_H
 #define ARTICULA_HOST_TIMELINE_H

@@ -659,7 +659,7 @@ Status Simulation::send(const Statement& st, uint64_t now_tick, FirmwareSession:
   return s;
 }
 
-// One statement through the controller model; an accepted one becomes an action that starts
+// One statement through the kinematic model; an accepted one becomes an action that starts
 // when the queue before it ends (or now, when the arm is idle) and lasts as long as the model
 // says. A whole program at t = 0 is so queued back to back from rest to rest.
 void Simulation::enqueue(const Statement& st, uint64_t now_tick) {

@@ -4,10 +4,10 @@
 //   - links are kinematic bodies: steppers hold position, so each link's pose *is* the DH
 //     frame of the motors' step counts at that instant, set every world step, with the
 //     velocity of that motion so contacts push objects as the link would;
-//   - the step counts come from the firmware's own timing: the program runs through the
-//     controller model (predict.h) and every move is replayed step by step with motion.h's
-//     StepProfile and LineStepper, as firmware/src/stepper.cpp does; a robot without motors
-//     follows its joint targets as ideal position servos at a fixed joint speed;
+//   - the step counts are the firmware's own: firmware/src runs on its virtual clock
+//     (firmware_session.h) and every step its coils make moves the links at its tick; a
+//     robot without motors follows its joint targets as ideal position servos at a fixed
+//     joint speed;
 //   - a step that would push a link into the ground, a static object or a non-adjacent link,
 //     or squeeze a movable object, is refused: the motor skips it (an open-loop stepper
 //     loses it, the controller does not know) and an event says which parts, where, when;
@@ -105,16 +105,18 @@ class Simulation {
   Simulation(const Simulation&) = delete;
   Simulation& operator=(const Simulation&) = delete;
 
-  // The program the arm runs, from now (replaces any earlier one and whatever was queued).
-  // The controller model starts from power-up (every motor at step 0, the settings of the
-  // options), so a program belongs to a fresh simulation, as `articula sim` runs it.
-  // Commands the controller refuses become kRejected events.
+  // The program the arm runs, from now: each line sent to the firmware once the arm is at
+  // rest after the one before (as the harness and the studio's runner send). The firmware
+  // powered up with the options' settings at construction and goes on from where it is; a
+  // robot without motors: the kinematic model from where it is (replacing what it queued).
+  // Commands refused become kRejected events.
   void load_program(const Program& program);
 
-  // One protocol line (docs/protocol.md) into the simulated controller, now, as a host would
-  // send it to the arm: the controller model (predict.h; run.h's kinematic model for a robot
-  // without motors) answers as the arm would, and an accepted command is queued after
-  // whatever the arm is still doing. A rejected line changes nothing (a kRejected event).
+  // One protocol line (docs/protocol.md) to the firmware now, or as soon as the reply before
+  // is off the wire (commands one after the other stream as GRBL's simple sender streams:
+  // the firmware plans them into the moves ahead); its reply, the firmware's (run.h's
+  // kinematic model for a robot without motors, which queues it after what it is doing). A
+  // rejected line changes nothing (a kRejected event).
   Status command(const std::string& line);
   // Whether the arm is still busy with queued actions.
   bool busy() const;

@@ -1,6 +1,6 @@
-// Tests host/lib/schedule.cpp and articula/planner.h on the host: a streamed program's moves
-// blend as the firmware's planner blends them; the rest sender and $6=0 give the rest-to-rest
-// timing of the controller model; a corner passes at its junction level; the queue's depth
+// Tests the prediction's times (host/lib/predict_run.cpp: the firmware's) and articula/planner.h
+// on the host: a streamed program's moves blend as the firmware's planner blends them; the rest
+// sender and $6=0 give motion.h's rest-to-rest timing; a corner passes at its junction level; the queue's depth
 // limits the look-ahead.
 #include <gtest/gtest.h>
 

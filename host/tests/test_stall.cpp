@@ -328,13 +328,13 @@ TEST(StallModel, Mk2ElbowThresholdAtASteadyRate) {
 }
 
 MoveCheck elbow_sweep(const Mk2& mk2, uint32_t max_rate, uint32_t accel, double payload) {
-  ControllerModel cm(mk2.robot);
-  EXPECT_EQ(cm.execute_line("$0=" + std::to_string(max_rate)).reply, kOk);
-  EXPECT_EQ(cm.execute_line("$1=" + std::to_string(accel)).reply, kOk);
-  const PredictRecord before = cm.execute_line("M 0 90 -43");
-  const PredictRecord move = cm.execute_line("M 0 90 15");
+  ControllerSettings s;
+  apply_settings_text(s, "0=" + std::to_string(max_rate) + ",1=" + std::to_string(accel), 3);
+  const Prediction p = predict_program(mk2.robot, parse_protocol_program("M 0 90 -43\nM 0 90 15\n", "t.arm", mk2.robot), s);
+  const PredictRecord& before = p.records[0];
+  const PredictRecord& move = p.records[1];
   EXPECT_TRUE(move.queued);
-  const MoveCheck c = mk2.sm.check_move(before, move, cm.settings(), payload);
+  const MoveCheck c = mk2.sm.check_move(before, move, s, payload);
   EXPECT_NEAR(c.duration_s, move.seconds(), 1e-12);
   EXPECT_EQ(c.samples, int(move.dominant_steps) + 1);
   return c;
@@ -368,11 +368,11 @@ TEST(StallModel, Mk2CheckMoveFlagsAHeavyFastMoveOnly) {
 
 TEST(StallModel, ActionsThatMoveNothingAreCheckedAtRest) {
   const Mk2 mk2;
-  ControllerModel cm(mk2.robot);
-  const PredictRecord before = cm.execute_line("M 0 90 0");
-  const PredictRecord grip = cm.execute_line("G 50");
+  const Prediction p = predict_program(mk2.robot, parse_protocol_program("M 0 90 0\nG 50\n", "t.arm", mk2.robot));
+  const PredictRecord& before = p.records[0];
+  const PredictRecord& grip = p.records[1];
   ASSERT_TRUE(grip.queued);
-  const MoveCheck c = mk2.sm.check_move(before, grip, cm.settings(), 0.05);
+  const MoveCheck c = mk2.sm.check_move(before, grip, ControllerSettings{}, 0.05);
   EXPECT_EQ(c.samples, 1);
   EXPECT_NEAR(c.motors[2].at_worst.required_nm, mk2.sm.holding_loads(mk2.q_at(0), 0.05)[2].required_nm, 1e-12);
   EXPECT_EQ(c.motors[2].at_worst.full_steps_per_s, 0);

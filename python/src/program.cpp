@@ -1,4 +1,4 @@
-// python/src/program.cpp - programs on a robot: Robot.predict (the controller model, step for
+// python/src/program.cpp - programs on a robot: Robot.predict (the firmware itself on its virtual clock, step for
 // step, host/lib/predict.h), Robot.run (the kinematic model, run.h) and Robot.quantize
 // (quantize.h). The records are the CLI's JSON records (records_json.h) with attribute access.
 #include <nanobind/stl/string.h>

@@ -152,11 +152,13 @@ void bind_sim(nb::module_& m) {
            "Steps until the program has ended and extra_time has passed (what `articula sim` runs).")
       .def("load_program", [](PySim& s, nb::handle program) { s.sim->load_program(program_from(program, *s.robot)); },
            "program"_a,
-           "The program the arm runs from now on (an articula.Program or a path), replacing what was queued. The "
-           "controller starts from power-up: use it on a new or reset simulation.")
+           "The program the arm runs from now on (an articula.Program or a path): each line sent to the firmware "
+           "once the arm is at rest after the one before. The firmware goes on from where it is: use it on a new "
+           "or reset simulation to start from power-up.")
       .def("command", [](PySim& s, const std::string& line) { return host::reply_text(s.sim->command(line)); }, "line"_a,
-           "One protocol line into the simulated controller now; returns 'ok' or 'error:N' as the arm would "
-           "answer. An accepted move is queued after what the arm is doing; a rejected one changes nothing.")
+           "One protocol line to the firmware now (or once the reply before is off the wire); returns its "
+           "'ok' or 'error:N'. Commands sent one after another stream: the firmware plans an accepted move into "
+           "the moves ahead, as on the arm; a rejected one changes nothing.")
       .def("events",
            [](const PySim& s, size_t since) {
              nb::list out;

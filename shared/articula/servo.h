@@ -1,7 +1,7 @@
 // articula/servo.h - the gripper's hobby servo: the aperture the protocol asks for (G, S) as
 // the pulse width the firmware sends, and a pulse width read back as an angle and an
 // aperture (what an emulated Nano sees on the servo's pin). One home for the Nano
-// (firmware/src/gripper.cpp), the controller model (host/lib/predict.cpp) and both emulated
+// (firmware/src/gripper.cpp), the host (firmware/sitl runs the firmware's own) and both emulated
 // Nanos (simavr's in virtual-nano/simavr, the page's through the web engine).
 //
 // The Arduino Servo library's scale: 544 us at 0 degrees, 2400 us at 180, linear between.

@@ -1,5 +1,5 @@
 // wasm/src/program.cpp - programs for JavaScript (the twin of python/src/program.cpp): the
-// controller model (`articula predict --json`), the kinematic model (`run --json`), protocol
+// firmware on its virtual clock (`articula predict --json`), the kinematic model (`run --json`), protocol
 // lines through the firmware's arithmetic (`quantize --json`), and a program's time line.
 #include <emscripten/bind.h>
 
