@@ -1,6 +1,6 @@
 // bench/bench_predict.cpp - what the real arm will do with a program: the prediction as
-// `articula predict` makes it (host::predict_program: the firmware on its virtual clock times
-// every line, the host's model of the controller gives each line's state) against the
+// `articula predict` makes it (host::predict_program: the firmware on its virtual clock runs
+// the lines, every record is read from what it did, the host adds the tools) against the
 // firmware's run alone (firmware/sitl: sitl::run_lines, the same lines sent as the same sender
 // sends them). Issue 39 holds the prediction to at most 1.5x the time it took before it ran the
 // firmware (bench/README.md, "The prediction").

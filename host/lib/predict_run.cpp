@@ -438,6 +438,8 @@ Prediction predict_program(const Robot& robot_in, const Program& program, const 
   std::vector<size_t> model_of;  // each record's model
   std::vector<size_t> sent_of;   // each line sent: its record
   size_t next_statement = 0;
+  p.records.reserve(program.statements.size());
+  model_of.reserve(program.statements.size());
   const auto next_line = [&](std::string& line) {
     while (next_statement < program.statements.size()) {
       PredictRecord r;
@@ -445,7 +447,7 @@ Prediction predict_program(const Robot& robot_in, const Program& program, const 
       const bool send = statements.begin(st, r, line);
       if (st.kind == Statement::Kind::kLinkLengths) models.push_back(robot);
       model_of.push_back(models.size() - 1);
-      p.records.push_back(r);
+      p.records.push_back(std::move(r));
       if (send) {
         sent_of.push_back(p.records.size() - 1);
         return true;
@@ -487,6 +489,9 @@ Prediction predict_program(const Robot& robot_in, const Program& program, const 
   std::vector<PredictRecord> records;
   std::vector<Source> source;
   std::vector<size_t> models_of;
+  records.reserve(p.records.size() + stops_sent.size());
+  source.reserve(records.capacity());
+  models_of.reserve(records.capacity());
   {
     size_t line = 0, timed = 0;
     uint64_t last_answered = 0;
@@ -507,7 +512,7 @@ Prediction predict_program(const Robot& robot_in, const Program& program, const 
         models_of.push_back(k < p.records.size() ? model_of[k] : models.size() - 1);
       }
       if (k == p.records.size()) break;
-      records.push_back(p.records[k]);
+      records.push_back(std::move(p.records[k]));
       models_of.push_back(model_of[k]);
       Source s;
       if (line < sent_of.size() && sent_of[line] == k) {
@@ -557,7 +562,7 @@ Prediction predict_program(const Robot& robot_in, const Program& program, const 
   // after each record, the steps the firmware counts, and the steps the arm really is at
   // (offset: they differ after Z).
   std::vector<std::vector<Item>> items(n);  // each record's actions: (record, segment)
-  std::map<Item, size_t> queued_of;         // each action's place in hw.queued
+  std::vector<std::vector<size_t>> queued_of(n);  // each one's place in hw.queued
   std::vector<std::vector<int32_t>> offset_of(n);
   {
     robot::State state = start;
@@ -594,7 +599,11 @@ Prediction predict_program(const Robot& robot_in, const Program& program, const 
         if (reply_text(r.reply) != got[size_t(source[k].line)].reply)
           throw std::logic_error("line " + std::to_string(r.line) + ": the firmware's reply " +
                                  got[size_t(source[k].line)].reply + " and its record differ");
-        parse_protocol_line(cmd, r.protocol.empty() ? r.text : r.protocol, motors);
+        // (Its arguments, for the notes and a target: parsed again only when they are needed.)
+        const bool args = r.command == kCmdSetSetting || r.command == kCmdMoveTool || r.command == kCmdLine ||
+                          r.reply == kJointLimit || r.reply == kNoClosedForm;
+        if (args) parse_protocol_line(cmd, r.protocol.empty() ? r.text : r.protocol, motors);
+        cmd.type = r.command;
         // Its actions: those queued since the reply before.
         std::vector<int32_t> total(size_t(motors), 0);
         for (size_t q = queued; q < got_reply.queued; ++q) {
@@ -624,7 +633,7 @@ Prediction predict_program(const Robot& robot_in, const Program& program, const 
             items[k].push_back(Item{k, -1});
             r.dominant_steps = dominant;
           }
-          queued_of[items[k].back()] = q;
+          queued_of[k].push_back(q);
           if (a.kind == queue::kGripper) {
             gripper = a.percent;
             note_on(r, "servo pulse " + std::to_string(a.pulse_us) + " us");
@@ -669,18 +678,20 @@ Prediction predict_program(const Robot& robot_in, const Program& program, const 
     }
   }
 
-  std::vector<std::vector<int32_t>> described(n);
-  for (size_t k = 0; k < n; ++k) described[k] = p.records[k].steps;
+  std::vector<std::vector<int32_t>> described(stops.empty() ? 0 : n);  // (only a '!' changes them)
+  for (size_t k = 0; k < described.size(); ++k) described[k] = p.records[k].steps;
 
   // The actions the firmware began, and the steps each made (the coil log's steps after its
   // start, up to and with its end's).
-  std::map<size_t, Begun> begun;  // by its place in the action log
+  std::vector<Begun> begun;                      // in the action log's order
+  std::vector<size_t> begun_at(hw.actions.size());  // each log entry's in begun
   const std::vector<sitl::ActionEvent>& log = hw.actions;
   for (size_t i = actions0; i < log.size(); ++i) {
     if (log[i].kind == sitl::kTimerStopped) continue;
     Begun b{log[i].tick - t0, (i + 1 < log.size() ? log[i + 1].tick : log[i].tick) - t0, i, {}};
     b.done.delta.assign(size_t(motors), 0);
-    begun[i] = b;
+    begun_at[i] = begun.size();
+    begun.push_back(std::move(b));
   }
   {
     auto a = begun.begin();
@@ -689,42 +700,44 @@ Prediction predict_program(const Robot& robot_in, const Program& program, const 
       const sitl::CoilWrite& w = hw.coil_log[i];
       if (w.step == 0) continue;
       const uint64_t t = w.tick - t0;
-      while (a != begun.end() && a->second.end < t) ++a;
-      if (a == begun.end() || a->second.begin >= t || w.motor >= motors) continue;  // (a step outside any action)
-      a->second.done.delta[w.motor] += w.step;
-      if (t != last_step) ++a->second.done.steps;
+      while (a != begun.end() && a->end < t) ++a;
+      if (a == begun.end() || a->begin >= t || w.motor >= motors) continue;  // (a step outside any action)
+      a->done.delta[w.motor] += w.step;
+      if (t != last_step) ++a->done.steps;
       last_step = t;
     }
   }
 
   // Each action: what it made and when it ran; one that never began, the first '!' after it
   // was queued emptied from the queue.
-  std::map<Item, Done> made;
-  std::map<Item, const Begun*> when;
+  std::map<Item, Done> made;  // (for the '!'s)
+  std::vector<std::vector<const Begun*>> when(n);  // each record's actions' (null: never began)
   std::vector<std::vector<Item>> cleared_by(stops.size());
-  for (const auto& [item, q] : queued_of) {
-    const size_t at = hw.queued[q].began;
-    if (at != sitl::kNever) {
-      const Begun& b = begun.at(at);
-      made[item] = b.done;
-      when[item] = &b;
-      continue;
+  for (size_t k = 0; k < n; ++k)
+    for (size_t j = 0; j < items[k].size(); ++j) {
+      const Item& item = items[k][j];
+      const size_t q = queued_of[k][j];
+      const size_t at = hw.queued[q].began;
+      if (at != sitl::kNever) {
+        const Begun& b = begun[begun_at[at]];
+        if (!stops.empty()) made[item] = b.done;
+        when[k].push_back(&b);
+        continue;
+      }
+      when[k].push_back(nullptr);
+      made[item] = Done{std::vector<int32_t>(size_t(motors), 0), 0};
+      size_t e = 0;
+      while (e < stops.size() && stops[e].queued <= q) ++e;
+      if (e == stops.size())
+        throw std::logic_error("line " + std::to_string(p.records[item.first].line) +
+                               ": an action the firmware queued never began, and no '!' emptied it");
+      cleared_by[e].push_back(item);
     }
-    made[item] = Done{std::vector<int32_t>(size_t(motors), 0), 0};
-    size_t e = 0;
-    while (e < stops.size() && stops[e].queued <= q) ++e;
-    if (e == stops.size())
-      throw std::logic_error("line " + std::to_string(p.records[item.first].line) +
-                             ": an action the firmware queued never began, and no '!' emptied it");
-    cleared_by[e].push_back(item);
-  }
 
   // A T's segments: each one's end (one the firmware never began: its record's arrival).
   for (size_t k = 0; k < n; ++k)
-    for (size_t sg = 0; sg < p.records[k].segments.size(); ++sg) {
-      const auto it = when.find(Item{k, int(sg)});
-      p.records[k].segments[sg].end_tick = it != when.end() ? it->second->end : in[k];
-    }
+    for (size_t sg = 0; sg < p.records[k].segments.size() && sg < when[k].size(); ++sg)
+      p.records[k].segments[sg].end_tick = when[k][sg] ? when[k][sg]->end : in[k];
 
   // Times: a record that queued is from its first action's start to its last one's end; any
   // other at its reply (a setting or Z waits for the arm to be at rest).
@@ -733,15 +746,12 @@ Prediction predict_program(const Robot& robot_in, const Program& program, const 
     r.arrive_tick = in[k];
     r.start_tick = r.end_tick = r.reply == kOk ? answered[k] : in[k];
     if (r.stop || items[k].empty()) continue;
-    const auto first = when.find(items[k].front());
-    if (first != when.end()) r.start_tick = first->second->begin;
-    for (auto it = items[k].rbegin(); it != items[k].rend(); ++it) {
-      const auto w = when.find(*it);
-      if (w != when.end()) {
-        r.end_tick = w->second->end;
+    if (when[k].front()) r.start_tick = when[k].front()->begin;
+    for (auto it = when[k].rbegin(); it != when[k].rend(); ++it)
+      if (*it) {
+        r.end_tick = (*it)->end;
         break;
       }
-    }
   }
 
   // What each '!' did: the actions running or queued when it came.
@@ -757,10 +767,9 @@ Prediction predict_program(const Robot& robot_in, const Program& program, const 
     if (e == stops.size()) throw std::logic_error("a '!' the firmware never received");
     const sitl::StopEvent& ev = stops[e];
     std::vector<Item> hit;
-    for (const auto& w : when) {  // running when it came (begun, not ended before it), or begun during the stop
-      const Begun& b = *w.second;
-      if (b.at < ev.actions && b.end >= ev.bang) hit.push_back(w.first);
-    }
+    for (size_t q = 0; q < n; ++q)  // running when it came (begun, not ended before it), or begun during the stop
+      for (size_t j = 0; j < when[q].size(); ++j)
+        if (when[q][j] && when[q][j]->at < ev.actions && when[q][j]->end >= ev.bang) hit.push_back(items[q][j]);
     for (const Item& c : cleared_by[e]) hit.push_back(c);
     std::sort(hit.begin(), hit.end());
     r.start_tick = r.arrive_tick = ev.bang;
@@ -777,7 +786,7 @@ Prediction predict_program(const Robot& robot_in, const Program& program, const 
   // theirs (the firmware's after a stop: controller.cpp rederive_planned).
   for (size_t k = 0; k < n; ++k) {
     PredictRecord& r = p.records[k];
-    if (!r.cut && !r.stop && r.steps == described[k]) continue;
+    if (!r.cut && !r.stop && (described.empty() || r.steps == described[k])) continue;
     Millideg commanded[kMaxJoints];
     for (int i = 0; i < motors; ++i)
       commanded[i] = steps_to_millideg(models[models_of[k]].actuation.motors[i], r.steps[size_t(i)]);
