@@ -153,8 +153,6 @@ void StatementLines::robosim(const Statement& st, PredictRecord& r) {
     }
 }
 
-
-
 // ---- a live session (firmware_session.h) ----
 
 namespace {

@@ -231,7 +231,6 @@ void line_notes(PredictRecord& r, const Robot& robot, const ConfiguredArm<kFirmw
                   number_text(std::round(r.line_error_mm * 1000) / 1000) + " mm of the line");
 }
 
-
 }  // namespace
 
 Prediction predict_program(const Robot& robot_in, const Program& program, const ControllerSettings& settings,
@@ -631,6 +630,5 @@ Prediction predict_program(const Robot& robot_in, const Program& program, const 
   }
   return p;
 }
-
 
 }  // namespace articula::host
