@@ -15,7 +15,7 @@ from pathlib import Path
 
 import pytest
 
-from engines import STATUS_LINES_JS, TOUR_DONE, as_tested, console_error, driver_made, leave_for_the_icon
+from engines import STATUS_LINES_JS, TOUR_DONE, answered_act, as_tested, console_error, driver_made, leave_for_the_icon
 
 REPO = Path(__file__).resolve().parents[2]
 CHROMIUM = os.environ.get("ARTICULA_CHROMIUM", "/usr/bin/chromium")
@@ -265,6 +265,11 @@ class Page:
             except Exception as e2:  # the page is gone
                 state = f"(no page: {e2})"
             raise AssertionError(f"{expr} did not happen: {e}\nthe page: {state}") from None
+
+    def tap_answered(self, selector: str, answered: str, within: float = 30.0, tries: int = 3) -> list:
+        """A finger's tap on `selector` until the page answers (engines.answered_act): a tap the
+        browser lost (on a busy machine) is told and made again, as a student taps again."""
+        return answered_act(lambda: self.page.tap(selector), self.hook, selector, answered, "a tap", within, tries)
 
     def csp_refusals(self) -> list[str]:
         """What the site's Content-Security-Policy refused in this page: the page's own record

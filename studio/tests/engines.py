@@ -27,6 +27,35 @@ STATUS_LINES_JS = ("[...document.querySelectorAll('.status')].map((e) => e.id + 
                    ".filter((t) => !t.endsWith(': '))")
 
 
+def answered_act(act, hook, selector: str, answered: str, what: str, within: float = 30.0, tries: int = 3) -> list:
+    """`act()` (a click or a tap on `selector`) until the page answers: `answered`, a hook
+    expression, turns true within `within` s of it. Each act that got no answer is told on
+    stderr with what was at the element's centre, whether it was disabled and what had the
+    focus; after `tries` of them, a failure with all of that. Returns those told. (On a busy
+    machine a click on the Draw button was lost in WebKit, and a tap in Chromium's tablet
+    emulation: CIs of stops 46 and 47, and stop 48's; the page said nothing, nothing ran.)"""
+    import sys
+
+    where_js = ("(() => { const e = document.querySelector(" + json.dumps(selector) + "); if (!e) return 'no such element';"
+                "const r = e.getBoundingClientRect(), t = document.elementFromPoint(r.left + r.width / 2, r.top + r.height / 2);"
+                "return { box: [r.left, r.top, r.width, r.height].map(Math.round), view: [innerWidth, innerHeight],"
+                " disabled: !!e.disabled, atCentre: t ? (t.id || t.tagName) + (t.className ? '.' + String(t.className).split(' ')[0] : '') : null,"
+                " focus: document.activeElement && (document.activeElement.id || document.activeElement.tagName) }; })()")
+    lost = []
+    for attempt in range(tries):
+        act()
+        end = time.monotonic() + within
+        while time.monotonic() < end:
+            if hook(f"!!({answered})"):
+                return lost
+            time.sleep(0.1)
+        lost.append(hook(where_js))
+        print(f"{what} on {selector} got no answer within {within:.0f} s ({attempt + 1} of {tries}): {lost[-1]}",
+              file=sys.stderr)
+    raise AssertionError(f"{what}: {tries} on {selector} got no answer ({answered}); at each: {lost}; "
+                         f"said: {hook(STATUS_LINES_JS)}")
+
+
 def as_tested(url: str, service_worker: bool = False) -> str:
     """`url` with LOW among its query's parameters (before a #project=... link's fragment), and,
     unless the test is of the service worker, without it (?nosw): in a new browser profile it
@@ -170,30 +199,11 @@ class EnginePage:
             time.sleep(0.1)
 
     def click_answered(self, selector: str, answered: str, within: float = 30.0, tries: int = 3) -> list:
-        """Clicks `selector` until the page answers (`answered`, a hook expression, turns true)
-        within `within` s of a click. On a busy machine WebKit's WebDriver has lost a click on the
-        Draw button (nothing ran; the panel said nothing: the CIs of stop 47): each click that got
-        no answer is told on stderr with what was at the button's centre. Returns those."""
-        import sys
-
-        where_js = ("(() => { const e = document.querySelector(" + json.dumps(selector) + "); if (!e) return 'no such element';"
-                    "const r = e.getBoundingClientRect(), t = document.elementFromPoint(r.left + r.width / 2, r.top + r.height / 2);"
-                    "return { box: [r.left, r.top, r.width, r.height].map(Math.round), view: [innerWidth, innerHeight],"
-                    " disabled: !!e.disabled, atCentre: t ? (t.id || t.tagName) + (t.className ? '.' + String(t.className).split(' ')[0] : '') : null,"
-                    " focus: document.activeElement && (document.activeElement.id || document.activeElement.tagName) }; })()")
-        lost = []
-        for attempt in range(tries):
-            self.click(selector)
-            end = time.monotonic() + within
-            while time.monotonic() < end:
-                if self.hook(f"!!({answered})"):
-                    return lost
-                time.sleep(0.1)
-            lost.append(self.hook(where_js))
-            print(f"{self.engine}: a click on {selector} got no answer within {within:.0f} s "
-                  f"(click {attempt + 1} of {tries}): {lost[-1]}", file=sys.stderr)
-        raise AssertionError(f"{self.engine}: {tries} clicks on {selector} got no answer ({answered}); "
-                             f"at each: {lost}; said: {self.hook(STATUS_LINES_JS)}")
+        """Clicks `selector` until the page answers (answered_act). On a busy machine WebKit's
+        WebDriver has lost a click on the Draw button (nothing ran; the panel said nothing: the CIs
+        of stop 47)."""
+        return answered_act(lambda: self.click(selector), self.hook, selector, answered, f"{self.engine}: a click",
+                            within, tries)
 
     def wait_on_nano(self, expr: str, nano_seconds: float, what: str, progress: str = "null", still: float = 60.0,
                      wall: float = 1200.0):

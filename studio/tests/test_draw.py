@@ -8,6 +8,9 @@ import sys
 
 from conftest import FAST, REPO, SHOTS
 
+# Draw was pressed: the panel says it is drawing (draw.ts, at once), or the drawing is in.
+DRAW_ANSWERED = "a.drawings > {n} || document.getElementById('draw-status').textContent === 'drawing\u2026'"
+
 sys.path.insert(0, str(REPO / "python"))
 import articula  # noqa: E402
 
@@ -399,7 +402,7 @@ def test_on_a_tablet_a_finger_draws_on_the_paper_and_hello_runs_on_the_virtual_n
     pg.wait("a.paper.hand === 2", timeout=5000)
     assert pg.page.evaluate("() => [scrollY, ...[...document.querySelectorAll('.panel, .dock, aside')].map(e => e.scrollTop)]") == scrolled
     n = pg.hook("a.drawings")
-    pg.page.tap("#draw-go")
+    pg.tap_answered("#draw-go", DRAW_ANSWERED.format(n=n))
     pg.wait(f"a.drawings > {n}", timeout=30000)
     d = pg.hook("a.drawing")
     assert d["fits"], d
@@ -416,7 +419,7 @@ def test_on_a_tablet_a_finger_draws_on_the_paper_and_hello_runs_on_the_virtual_n
     # "Hello" on the virtual Nano, from the tablet
     pg.page.select_option("#draw-kind", "text")
     n = pg.hook("a.drawings")
-    pg.page.tap("#draw-go")
+    pg.tap_answered("#draw-go", DRAW_ANSWERED.format(n=n))
     pg.wait(f"a.drawings > {n} && a.drawing.fits", timeout=30000)
     hello = pg.hook("a.drawing")
     pg.page.tap("#draw-use")
