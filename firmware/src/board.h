@@ -57,6 +57,64 @@ constexpr Pin kLedPin = {kPortB, 5, "PB5 (D13)"};
 
 constexpr unsigned long kSerialBaud = 115200UL;  // USART0 on D0/D1 (the USB bridge)
 
+// ---- every board a robot file may name ("board"), and what each wires ----
+//
+// The Nano and the Uno carry the same ATmega328P with the same header names (D0..D13 on ports
+// D and B, A0..A5 on port C); the Nano adds A6 and A7, inputs of the ADC only. On these bare
+// boards the map above holds: three 4-wire stepper slots (an L298N or a ULN2003 each), the
+// endstops, the gripper servo and the LED.
+//
+// The CNC shields (Protoneer's CNC Shield V3 on an Uno, the CNC Shield V4 on a Nano) route the
+// pins GRBL's cpu_map uses for the ATmega328P, from their published pinouts:
+//
+//   Nano/Uno pin  AVR pin  shield label       use
+//   D2, D3, D4    PD2..4   X/Y/Z STEP         the STEP input of the driver in socket X, Y, Z
+//   D5, D6, D7    PD5..7   X/Y/Z DIR          its DIR input
+//   D8            PB0      EN                 every driver's ENABLE (low: enabled)
+//   D9, D10, D11  PB1..3   X-, Y-, Z- limit   endstops (V3.0 and V4 silkscreen; V3.1+ moved Z to D12)
+//   A3            PC3      CoolEn             the gripper servo (present on every version)
+//   D13           PB5      SpnDir             the on-board LED
+//
+// The socket order is the motor order: the first motor of the file in X, then Y, then Z. The
+// fourth socket (A) clones an axis or takes D12/D13 by jumpers; the firmware does not use it.
+enum BoardId { kBoardNano = 0, kBoardUno = 1, kBoardNanoCncV4 = 2, kBoardUnoCncV3 = 3 };
+constexpr int kBoards = 4;
+struct BoardInfo {
+  const char* id;      // as a robot file names it
+  const char* title;   // as a person reads it
+  bool cnc_shield;     // STEP/DIR sockets (and no 4-wire slots)
+  bool has_a6_a7;      // the Nano's two analog-only inputs
+  long flash_bytes;    // the application's room: below the bootloader it ships with
+};
+constexpr BoardInfo kBoardInfo[kBoards] = {
+    {"nano", "Arduino Nano", false, true, 30720L},  // the old 2 KB bootloader (new Nanos: Optiboot, 32,256)
+    {"uno", "Arduino Uno", false, false, 32256L},   // Optiboot, 512 B
+    {"nano-cnc-v4", "Arduino Nano on a CNC Shield V4", true, true, 30720L},
+    {"uno-cnc-v3", "Arduino Uno on a CNC Shield V3", true, false, 32256L},
+};
+
+// The header's digital pins by name, D0..D13 then A0..A5 (index 14 + n for An).
+constexpr int kHeaderPins = 20;
+constexpr Pin kHeaderPin[kHeaderPins] = {
+    {kPortD, 0, "D0"}, {kPortD, 1, "D1"}, {kPortD, 2, "D2"}, {kPortD, 3, "D3"},  {kPortD, 4, "D4"},
+    {kPortD, 5, "D5"}, {kPortD, 6, "D6"}, {kPortD, 7, "D7"}, {kPortB, 0, "D8"},  {kPortB, 1, "D9"},
+    {kPortB, 2, "D10"}, {kPortB, 3, "D11"}, {kPortB, 4, "D12"}, {kPortB, 5, "D13"}, {kPortC, 0, "A0"},
+    {kPortC, 1, "A1"}, {kPortC, 2, "A2"}, {kPortC, 3, "A3"},  {kPortC, 4, "A4"},  {kPortC, 5, "A5"}};
+
+// A CNC shield's sockets: a STEP/DIR driver module each.
+struct Socket {
+  const char* axis;
+  Pin step, dir;
+};
+constexpr int kShieldSockets = 3;
+constexpr Socket kShieldSocket[kShieldSockets] = {{"X", {kPortD, 2, "PD2 (D2)"}, {kPortD, 5, "PD5 (D5)"}},
+                                                  {"Y", {kPortD, 3, "PD3 (D3)"}, {kPortD, 6, "PD6 (D6)"}},
+                                                  {"Z", {kPortD, 4, "PD4 (D4)"}, {kPortD, 7, "PD7 (D7)"}}};
+constexpr Pin kShieldEnable = {kPortB, 0, "PB0 (D8)"};
+constexpr Pin kShieldEndstopPins[kShieldSockets] = {
+    {kPortB, 1, "PB1 (D9)"}, {kPortB, 2, "PB2 (D10)"}, {kPortB, 3, "PB3 (D11)"}};
+constexpr Pin kShieldServoPin = {kPortC, 3, "PC3 (A3)"};
+
 }  // namespace board
 
 #endif  // ARTICULA_FIRMWARE_BOARD_H

@@ -5,6 +5,7 @@
 
 #include <articula/actuation.h>
 #include <articula/dh.h>
+#include <articula/drive.h>
 
 #include <array>
 #include <string>
@@ -65,6 +66,28 @@ struct MotorTorque {
   bool given() const { return !pull_out.empty(); }
 };
 
+// How one motor is driven (robot file: a motor's "driver"; robots/README.md "Drive").
+struct MotorDriver {
+  DriveKind kind = kDriveL298n;
+  int chip = 0;  // kDriveStepDir: index into articula::kStepDirChip
+  // kDriveServo: the signal pin (index into board::kHeaderPin), the pulse widths it may be
+  // given, the two calibration points [pulse us, deg] and the speed and acceleration a move
+  // ramps the pulse at.
+  int pin = -1;
+  double pulse_min_us = 0, pulse_max_us = 0;
+  std::array<std::array<double, 2>, 2> at{};
+  double speed_deg_s = 0, accel_deg_s2 = 0;
+};
+
+// The board and every motor's driver: what the firmware build and the wiring follow. A file
+// that names neither (given false) describes an arm the host's firmware runs with as many
+// motors as it has, wired to nothing; its wiring, when asked for, is the thesis's.
+struct Drive {
+  bool given = false;               // the file names a board or a driver
+  int board = 0;                    // index into board::kBoardInfo (0: the Nano)
+  std::vector<MotorDriver> motors;  // one per motor (L298N when the file says nothing)
+};
+
 struct Robot {
   std::string name;
   std::string description;
@@ -77,6 +100,7 @@ struct Robot {
   HostActuation actuation{};
   std::vector<std::string> motor_names;
   std::vector<MotorTorque> motor_torque;  // one per motor (empty curves when not given)
+  Drive drive;                            // the board and the motors' drivers
 
   std::vector<double> home;  // joint variables, rad or mm, in model order
 

@@ -7,6 +7,9 @@
 // Actuation; the core's own validate() functions have the last word.
 #include "robot_file.h"
 
+#include "board.h"
+#include "wiring.h"
+
 #include <nlohmann/json.hpp>
 
 #include <cmath>
@@ -26,13 +29,14 @@ RobotFileError::RobotFileError(const std::string& file, const std::string& json_
 
 const std::map<std::string, std::vector<std::string>>& robot_file_fields() {
   static const std::map<std::string, std::vector<std::string>> fields = {
-      {"robot", {"$schema", "name", "description", "dh", "tool", "motors", "coupling", "home", "links", "gripper"}},
+      {"robot", {"$schema", "name", "description", "dh", "tool", "board", "motors", "coupling", "home", "links", "gripper"}},
       {"dh_row", {"a", "alpha", "d", "theta"}},
       {"length", {"value", "min", "max"}},
       {"joint", {"joint", "min", "max"}},
       {"linked", {"linked", "offset"}},
       {"tool", {"xyz", "rpy"}},
-      {"motor", {"name", "steps_per_rev", "microsteps", "gear", "direction", "zero", "min", "max", "torque"}},
+      {"motor", {"name", "steps_per_rev", "microsteps", "gear", "direction", "zero", "min", "max", "torque", "driver"}},
+      {"driver", {"kind", "chip", "enable", "pin", "pulse", "at", "speed", "accel"}},
       {"torque", {"pull_out", "rotor_inertia"}},
       {"link", {"frame", "shapes"}},
       {"shape", {"type", "size", "mesh", "xyz", "rpy", "mass", "density"}},
@@ -228,10 +232,17 @@ class Loader {
     if (me != kModelOk) fail("/dh", std::string("the DH model is not usable: ") + model_error_text(me));
 
     load_home(member(root, "home"));
+    if (const json* b = member(root, "board")) load_board(*b, member(root, "motors") != nullptr);
     load_motors(member(root, "motors"), member(root, "coupling"));
     if (robot_.has_motors) check_home_actuators(member(root, "home") != nullptr);
     if (const json* l = member(root, "links")) load_links(*l);
     if (const json* g = member(root, "gripper")) load_gripper(*g);
+    if (robot_.drive.given) {
+      for (int i = 0; i < robot_.actuation.num_motors; ++i)
+        if (robot_.drive.motors[std::size_t(i)].kind != kDriveServo)
+          check_microsteps(robot_.actuation.motors[i], robot_.drive.motors[std::size_t(i)], child("/motors", std::size_t(i)));
+      check_wiring();
+    }
     return std::move(robot_);
   }
 
@@ -543,6 +554,13 @@ class Loader {
       s.microsteps = 1;
       s.direction = 1;
       s.gear_num = s.gear_den = 1;
+      robot_.drive.motors.push_back(MotorDriver{});
+      if (const json* d = member(mj, "driver")) {
+        robot_.drive.motors.back() = load_driver(*d, child(path, "driver"));
+        robot_.drive.given = true;
+      }
+      const MotorDriver& driver = robot_.drive.motors.back();
+      if (driver.kind == kDriveServo) servo_steps(s, driver, mj, path);
       if (const json* v = member(mj, "steps_per_rev"))
         s.full_steps_per_rev = uint16_t(integer(*v, child(path, "steps_per_rev"), 0, 65535));
       if (const json* v = member(mj, "microsteps")) s.microsteps = uint8_t(integer(*v, child(path, "microsteps"), 0, 255));
@@ -569,9 +587,12 @@ class Loader {
         hi = rad_to_deg(robot_.model.joints[i].hi);
       else
         required(mj, path, "max", why);
+      if (driver.kind == kDriveServo)
+        zero = driver.at[0][1];
       millideg(s.zero, zero, child(path, "zero"));
       millideg(s.min, lo, child(path, "min"));
       millideg(s.max, hi, child(path, "max"));
+      if (driver.kind == kDriveServo) check_servo_range(driver, lo, hi, path);
 
       const MotorError e = validate(s);
       if (e != kMotorOk) {
@@ -587,6 +608,178 @@ class Loader {
       }
       robot_.motor_torque.push_back(MotorTorque{});
       if (const json* t = member(mj, "torque")) robot_.motor_torque.back() = load_torque(*t, child(path, "torque"));
+    }
+  }
+
+  // ---- the drive: the board and each motor's driver (wiring.h has the pins) ----
+
+  void load_board(const json& b, bool has_motors) {
+    const std::string id = string(b, "/board");
+    if (!has_motors) fail("/board", "a board needs \"motors\" to drive");
+    const int index = board_by_id(id);
+    if (index < 0) fail("/board", "unknown board " + in_quotes(id) + " (expected one of: " + board_ids() + ")");
+    robot_.drive.board = index;
+    robot_.drive.given = true;
+  }
+
+  // "driver": {"kind": "l298n" | "uln2003" | "step-dir" | "servo", and the kind's own fields}.
+  MotorDriver load_driver(const json& d, const std::string& path) const {
+    fields(d, path, "driver");
+    MotorDriver out;
+    const std::string kind = string(required(d, path, "kind"), child(path, "kind"));
+    std::vector<std::string> kinds;
+    bool found = false;
+    for (uint8_t k = 0; k < kDriveKinds; ++k) {
+      kinds.push_back(kDriveKindInfo[k].id);
+      if (kind == kDriveKindInfo[k].id) {
+        out.kind = DriveKind(k);
+        found = true;
+      }
+    }
+    if (!found) fail(child(path, "kind"), "unknown driver " + in_quotes(kind) + " (expected one of: " + join(kinds) + ")");
+    // The fields each kind takes besides "kind".
+    const std::vector<std::string> own = out.kind == kDriveStepDir ? std::vector<std::string>{"chip", "enable"}
+                                         : out.kind == kDriveServo ? std::vector<std::string>{"pin", "pulse", "at", "speed", "accel"}
+                                                                   : std::vector<std::string>{};
+    for (const auto& item : d.items()) {
+      bool ok = item.key() == "kind";
+      for (const std::string& f : own) ok = ok || f == item.key();
+      if (!ok)
+        fail(child(path, item.key()), "a " + kind + " driver takes no " + in_quotes(item.key()) +
+                                          (own.empty() ? std::string(" (it takes only \"kind\")")
+                                                       : " (it takes: kind, " + join(own) + ")"));
+    }
+    if (out.kind == kDriveStepDir) {
+      const std::string cp = child(path, "chip");
+      const std::string chip = string(required(d, path, "chip", " (the driver module's chip: its timing and microsteps)"), cp);
+      std::vector<std::string> chips;
+      out.chip = -1;
+      for (uint8_t c = 0; c < kStepDirChips; ++c) {
+        chips.push_back(kStepDirChip[c].id);
+        if (chip == kStepDirChip[c].id) out.chip = c;
+      }
+      if (out.chip < 0) fail(cp, "unknown STEP/DIR chip " + in_quotes(chip) + " (expected one of: " + join(chips) + ")");
+      if (const json* e = member(d, "enable")) {
+        const std::string ep = child(path, "enable");
+        const std::string pin = string(*e, ep);
+        const board::BoardInfo& b = board::kBoardInfo[robot_.drive.board];
+        if (b.cnc_shield && pin != "D8")
+          fail(ep, std::string("the ") + b.title + " wires every driver's EN to D8, not " + pin);
+      }
+    }
+    if (out.kind == kDriveServo) {
+      const std::string pp = child(path, "pin");
+      std::string why;
+      out.pin = header_pin(robot_.drive.board, string(required(d, path, "pin", " (the servo's signal pin, \"D9\")"), pp), why);
+      if (out.pin < 0) fail(pp, why);
+      out.pulse_min_us = 500;
+      out.pulse_max_us = 2500;
+      if (const json* p = member(d, "pulse")) {
+        const std::string rp = child(path, "pulse");
+        array(*p, rp);
+        if (p->size() != 2) fail(rp, "expected [shortest, longest] pulse in us (2 numbers), got " + std::to_string(p->size()) + " entries");
+        out.pulse_min_us = servo_us((*p)[0], child(rp, 0));
+        out.pulse_max_us = servo_us((*p)[1], child(rp, 1));
+        if (!(out.pulse_min_us < out.pulse_max_us))
+          fail(rp, "the shortest pulse must be below the longest (" + num(out.pulse_min_us) + " >= " + num(out.pulse_max_us) + " us)");
+      }
+      const std::string ap = child(path, "at");
+      const json& at = array(required(d, path, "at", " (two calibration points [pulse us, deg])"), ap);
+      if (at.size() != 2) fail(ap, "expected two calibration points [pulse us, deg], got " + std::to_string(at.size()));
+      for (std::size_t k = 0; k < 2; ++k) {
+        const std::string kp = child(ap, k);
+        array(at[k], kp);
+        if (at[k].size() != 2) fail(kp, "expected a point [pulse us, deg] (2 numbers), got " + std::to_string(at[k].size()) + " entries");
+        out.at[k][0] = servo_us(at[k][0], child(kp, 0));
+        out.at[k][1] = number(at[k][1], child(kp, 1));
+        if (out.at[k][0] < out.pulse_min_us || out.at[k][0] > out.pulse_max_us)
+          fail(child(kp, 0), "a calibration pulse must lie within the pulse range " + num(out.pulse_min_us) + ".." +
+                                 num(out.pulse_max_us) + " us (got " + num(out.at[k][0]) + ")");
+      }
+      if (out.at[0][0] == out.at[1][0] || out.at[0][1] == out.at[1][1])
+        fail(ap, "the two calibration points need different pulses and different angles");
+      out.speed_deg_s = positive(required(d, path, "speed", " (deg/s: how fast a move ramps the pulse)"), child(path, "speed"), "speed");
+      if (const json* v = member(d, "accel")) out.accel_deg_s2 = positive(*v, child(path, "accel"), "accel");
+    }
+    return out;
+  }
+
+  // A servo pulse width: whole microseconds within what hobby servos take.
+  double servo_us(const json& j, const std::string& path) const {
+    const double us = number(j, path);
+    if (us != std::floor(us)) fail(path, "a servo pulse is whole microseconds (got " + num(us) + ")");
+    if (us < kServoPulseMinUs || us > kServoPulseMaxUs)
+      fail(path, "a servo pulse must be within " + std::to_string(kServoPulseMinUs) + ".." + std::to_string(kServoPulseMaxUs) +
+                     " us (got " + num(us) + ")");
+    return us;
+  }
+
+  // A servo joint's steps are Timer1's 0.5 us ticks: its MotorSpec comes from the calibration
+  // (step 0 at the first point, the ticks per degree from both), never from stepper fields.
+  void servo_steps(MotorSpec& s, const MotorDriver& d, const json& mj, const std::string& path) const {
+    for (const char* f : {"steps_per_rev", "microsteps", "gear", "direction", "zero", "torque"})
+      if (member(mj, f))
+        fail(child(path, f), std::string("a servo motor takes no \"") + f +
+                                 "\": its steps are the pulse's 0.5 us ticks, set by the driver's calibration \"at\"");
+    const long long ticks = std::llround(double(kServoTicksPerUs) * (d.at[1][0] - d.at[0][0])) * 1000;
+    const long long mdeg = std::llround((d.at[1][1] - d.at[0][1]) * 1000.0);
+    long long num_t = std::llabs(ticks), den = std::llabs(mdeg);
+    long long a = num_t, b = den;
+    while (b) {
+      const long long t = a % b;
+      a = b;
+      b = t;
+    }
+    if (mdeg == 0 || a == 0) fail(child(child(path, "driver"), "at"), "the two calibration points need different angles");
+    s.full_steps_per_rev = 360;
+    s.microsteps = 1;
+    s.gear_num = int32_t(num_t / a);
+    s.gear_den = int32_t(den / a);
+    s.direction = int8_t((ticks > 0) == (mdeg > 0) ? 1 : -1);
+  }
+
+  // Every angle from min to max must be a pulse the servo takes.
+  void check_servo_range(const MotorDriver& d, double lo, double hi, const std::string& path) const {
+    const auto pulse = [&](double deg) {
+      return d.at[0][0] + (deg - d.at[0][1]) * (d.at[1][0] - d.at[0][0]) / (d.at[1][1] - d.at[0][1]);
+    };
+    for (const auto& [deg, field] : {std::pair<double, const char*>{lo, "min"}, {hi, "max"}}) {
+      const double us = pulse(deg);
+      if (us < d.pulse_min_us - 1e-9 || us > d.pulse_max_us + 1e-9)
+        fail(child(path, field), num(deg) + " deg needs a " + num(std::round(us * 10) / 10) +
+                                     " us pulse, beyond the servo's range " + num(d.pulse_min_us) + ".." +
+                                     num(d.pulse_max_us) + " us");
+    }
+    if (d.at[0][1] < lo || d.at[0][1] > hi)
+      fail(child(child(path, "driver"), "at") + "/0",
+           "the first calibration point (" + num(d.at[0][1]) + " deg) is the servo's step 0 and must lie within the motor's limits " +
+               num(lo) + ".." + num(hi));
+  }
+
+  // A stepper's microsteps must be a mode its driver has.
+  void check_microsteps(const MotorSpec& s, const MotorDriver& d, const std::string& path) const {
+    const bool step_dir = d.kind == kDriveStepDir;
+    const uint16_t mask = step_dir ? kStepDirChip[d.chip].microsteps_mask : kDriveKindInfo[d.kind].microsteps_mask;
+    if (microsteps_allowed(mask, s.microsteps)) return;
+    std::vector<std::string> modes;
+    for (uint8_t k = 0; k < 16; ++k)
+      if (mask & (1u << k)) modes.push_back(std::to_string(1u << k));
+    const std::string title = step_dir ? kStepDirChip[d.chip].title : kDriveKindInfo[d.kind].title;
+    fail(child(path, "microsteps"), "the " + title + " has no " + std::to_string(s.microsteps) +
+                                        " microsteps per full step (it takes " + join(modes) + ")");
+  }
+
+  // The board can give what every driver asks for, each pin once (wiring.cpp).
+  void check_wiring() const {
+    try {
+      wire(robot_);
+    } catch (const WiringError& e) {
+      std::string where = "/board";
+      if (e.motor >= 0) {
+        where = child("/motors", std::size_t(e.motor));
+        if (!e.field.empty()) where = child(child(where, "driver"), e.field);
+      }
+      fail(where, e.what());
     }
   }
 

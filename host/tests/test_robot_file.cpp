@@ -2,6 +2,9 @@
 // JSON schema (robots/robot.schema.json).
 #include "robot_file.h"
 
+#include "board.h"
+#include "wiring.h"
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -10,6 +13,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <map>
 #include <set>
 #include <sstream>
 #include <stdexcept>
@@ -492,6 +496,13 @@ TEST(Schema, RejectsWhatTheLoaderRejects) {
       {"negative pull_out torque", [](json& j) { j["motors"][0]["torque"]["pull_out"][1][1] = -0.1; }},
       {"negative rotor inertia", [](json& j) { j["motors"][0]["torque"]["rotor_inertia"] = -1; }},
       {"torque field typo", [](json& j) { j["motors"][0]["torque"]["pullout"] = 1; }},
+      {"unknown board", [](json& j) { j["board"] = "mega"; }},
+      {"driver without kind", [](json& j) { j["motors"][0]["driver"] = json::object(); }},
+      {"unknown driver kind", [](json& j) { j["motors"][0]["driver"]["kind"] = "tb6600"; }},
+      {"driver field typo", [](json& j) { j["motors"][0]["driver"]["chp"] = "a4988"; }},
+      {"servo pulse 2700", [](json& j) { j["motors"][0]["driver"] = {{"kind", "servo"}, {"pin", "D9"}, {"pulse", {500, 2700}},
+                                                                      {"at", {{1000, 0}, {2000, 90}}}, {"speed", 60}}; }},
+      {"unknown chip", [](json& j) { j["motors"][0]["driver"] = {{"kind", "step-dir"}, {"chip", "l6470"}}; }},
       {"17 rows", [](json& j) { for (int i = 0; i < 13; ++i) j["dh"].push_back({{"a", 1}, {"alpha", 0}, {"d", 0}, {"theta", 0}}); }},
   };
   for (auto& [what, breakage] : breakages) {
@@ -510,9 +521,14 @@ TEST(Schema, RejectsWhatTheLoaderRejects) {
        }},
       {"motor defaults", [](json& j) { j["motors"][0] = {{"name", "base"}, {"min", -90}, {"max", 90}}; }},
       {"direction -1", [](json& j) { j["motors"][0]["direction"] = -1; }},
+      {"a CNC shield", [](json& j) {
+         j["board"] = "nano-cnc-v4";
+         for (auto& m : j["motors"]) m["driver"] = {{"kind", "step-dir"}, {"chip", "drv8825"}, {"enable", "D8"}}, m["microsteps"] = 16;
+       }},
+      {"no drive named", [](json& j) { j.erase("board"); for (auto& m : j["motors"]) m.erase("driver"); }},
       {"a d joint", [](json& j) { j["dh"][0]["d"] = {{"joint", "lift"}, {"min", 0}, {"max", 100}}; j["home"]["lift"] = 0;
-                                   j.erase("motors"); j.erase("coupling"); }},
-      {"no optional parts", [](json& j) { for (const char* k : {"description", "tool", "motors", "coupling", "home", "links", "gripper"}) {
+                                   j.erase("motors"); j.erase("coupling"); j.erase("board"); }},
+      {"no optional parts", [](json& j) { for (const char* k : {"description", "tool", "board", "motors", "coupling", "home", "links", "gripper"}) {
                                           j.erase(k);
                                         }
                                       }},
@@ -1167,6 +1183,197 @@ TEST(RobotFileErrors, EmptyName) {
   json doc = base_robot();
   doc["name"] = "";
   EXPECT_TRUE(fails_with(doc, "/name", {"must not be empty"}));
+}
+
+// ---------------------------------------------------------------- the drive: board and drivers
+
+// base_robot() on hobby servos: each motor's limits map into its pulse range.
+json servo_robot() {
+  json doc = base_robot();
+  doc["motors"][1].erase("zero");
+  doc["motors"][0]["driver"] = json::parse(R"({"kind": "servo", "pin": "D9", "at": [[1000, -45], [2000, 45]], "speed": 120})");
+  doc["motors"][1]["driver"] = json::parse(R"({"kind": "servo", "pin": "D10", "at": [[1500, 90], [2500, 180]], "speed": 120})");
+  doc["motors"][2]["driver"] =
+      json::parse(R"({"kind": "servo", "pin": "D11", "pulse": [600, 2400], "at": [[1500, 0], [2400, 90]], "speed": 90, "accel": 300})");
+  return doc;
+}
+
+// base_robot() on a CNC shield with STEP/DIR drivers.
+json shield_robot(const std::string& chip, int microsteps) {
+  json doc = base_robot();
+  doc["board"] = "uno-cnc-v3";
+  for (auto& m : doc["motors"]) {
+    m["driver"] = {{"kind", "step-dir"}, {"chip", chip}};
+    m["microsteps"] = microsteps;
+  }
+  return doc;
+}
+
+// The pin (by name) each wire of a motor uses, keyed by signal.
+std::map<std::string, std::string> pins_of(const Wiring& w, int motor) {
+  std::map<std::string, std::string> out;
+  for (const Wire& x : w.wires)
+    if (x.motor == motor) out[x.signal] = board::kHeaderPin[x.pin].pin;
+  return out;
+}
+std::string pin_of(const Wiring& w, const std::string& part) {
+  for (const Wire& x : w.wires)
+    if (x.part == part) return board::kHeaderPin[x.pin].pin;
+  return "";
+}
+
+TEST(Drive, WithoutADriverAMotorIsAnL298nOnTheNano) {
+  const Robot r = parse_robot(base_robot().dump(), "t.json");
+  EXPECT_FALSE(r.drive.given);
+  EXPECT_EQ(r.drive.board, board::kBoardNano);
+  ASSERT_EQ(r.drive.motors.size(), 3u);
+  for (const MotorDriver& d : r.drive.motors) EXPECT_EQ(d.kind, kDriveL298n);
+  const Wiring w = wire(r);
+  EXPECT_EQ(pins_of(w, 0), (std::map<std::string, std::string>{{"IN1", "D4"}, {"IN2", "D5"}, {"IN3", "D6"}, {"IN4", "D7"}, {"switch", "D2"}}));
+  EXPECT_EQ(pins_of(w, 1), (std::map<std::string, std::string>{{"IN1", "D8"}, {"IN2", "D9"}, {"IN3", "D10"}, {"IN4", "D11"}, {"switch", "D12"}}));
+  EXPECT_EQ(pins_of(w, 2), (std::map<std::string, std::string>{{"IN1", "A0"}, {"IN2", "A1"}, {"IN3", "A2"}, {"IN4", "A3"}, {"switch", "A4"}}));
+  EXPECT_EQ(pin_of(w, "USB serial"), "D0");
+  // The shipped MK2 Plus names the same wiring, and its gripper is on D3.
+  const Robot mk2 = load_robot_file(kRobots + "/mk2plus.json");
+  EXPECT_TRUE(mk2.drive.given);
+  EXPECT_EQ(mk2.drive.board, board::kBoardNano);
+  EXPECT_EQ(pin_of(wire(mk2), "gripper servo"), "D3");
+}
+
+TEST(Drive, AFileThatNamesNoDriveIsNotWired) {
+  // More motors than a Nano wires, at 16 microsteps: the host's firmware runs it all the same.
+  json doc = base_robot();
+  doc["motors"][0]["microsteps"] = 16;
+  EXPECT_NO_THROW(parse_robot(doc.dump(), "t.json"));
+  doc["board"] = "nano";
+  EXPECT_TRUE(fails_with(doc, "/motors/0/microsteps", {"the L298N has no 16"}));
+}
+
+TEST(Drive, StepDirDriversInTheSocketsOfACncShield) {
+  json doc = shield_robot("a4988", 8);
+  doc["motors"][0]["driver"]["enable"] = "D8";
+  doc["gripper"] = json::parse(R"({"max_opening": 40, "finger_length": 40, "servo_open": 90, "servo_closed": 150})");
+  const Robot r = parse_robot(doc.dump(), "t.json");
+  EXPECT_EQ(r.drive.board, board::kBoardUnoCncV3);
+  EXPECT_EQ(r.actuation.motors[0].microsteps, 8);
+  EXPECT_EQ(kStepDirChip[r.drive.motors[0].chip].step_high_ns, 1000);
+  const Wiring w = wire(r);
+  EXPECT_EQ(pins_of(w, 0), (std::map<std::string, std::string>{{"STEP", "D2"}, {"DIR", "D5"}, {"switch", "D9"}}));
+  EXPECT_EQ(pins_of(w, 1), (std::map<std::string, std::string>{{"STEP", "D3"}, {"DIR", "D6"}, {"switch", "D10"}}));
+  EXPECT_EQ(pins_of(w, 2), (std::map<std::string, std::string>{{"STEP", "D4"}, {"DIR", "D7"}, {"switch", "D11"}}));
+  EXPECT_EQ(pin_of(w, "drivers'"), "D8");
+  EXPECT_EQ(pin_of(w, "gripper servo"), "A3");
+  // Each chip's own modes: the DRV8825 has 1/32, the TMC2209 1/64.
+  EXPECT_NO_THROW(parse_robot(shield_robot("drv8825", 32).dump(), "t.json"));
+  EXPECT_NO_THROW(parse_robot(shield_robot("tmc2209", 64).dump(), "t.json"));
+}
+
+TEST(Drive, AServoJointsStepsAreThePulsesTicks) {
+  const Robot r = parse_robot(servo_robot().dump(), "t.json");
+  const MotorSpec& m = r.actuation.motors[0];
+  // 1000 us for 90 deg: 2000 ticks, 8000 a turn; step 0 at the first point.
+  EXPECT_EQ(detail::steps_num(m) / m.gear_den, 8000);
+  EXPECT_EQ(m.direction, 1);
+  EXPECT_EQ(m.zero, -45000);
+  EXPECT_EQ(quantize(m, Millideg(45000)), 2000);  // 1000 us + 2000 ticks = 2000 us
+  EXPECT_EQ(r.drive.motors[2].accel_deg_s2, 300);
+  // A servo whose pulse falls as the angle rises steps the other way.
+  json doc = servo_robot();
+  doc["motors"][0]["driver"]["at"] = {{2000, -45}, {1000, 45}};
+  EXPECT_EQ(parse_robot(doc.dump(), "t.json").actuation.motors[0].direction, -1);
+  EXPECT_EQ(pins_of(wire(r), 1), (std::map<std::string, std::string>{{"signal", "D10"}}));
+}
+
+TEST(DriveErrors, TwoMotorsOnOnePin) {
+  json doc = servo_robot();
+  doc["motors"][1]["driver"]["pin"] = "D9";
+  EXPECT_TRUE(fails_with(doc, "/motors/1/driver/pin", {"pin D9 of the Arduino Nano", "motor \"m0\"'s servo signal", "motor \"m1\"'s servo signal"}));
+  doc = servo_robot();
+  doc["gripper"] = json::parse(R"({"max_opening": 40, "finger_length": 40, "servo_open": 90, "servo_closed": 150})");
+  doc["motors"][2]["driver"]["pin"] = "D3";
+  EXPECT_TRUE(fails_with(doc, "/motors/2/driver/pin", {"pin D3", "the gripper servo signal", "motor \"m2\""}));
+  doc["motors"][2]["driver"]["pin"] = "D1";
+  EXPECT_TRUE(fails_with(doc, "/motors/2/driver/pin", {"pin D1", "USB serial TX"}));
+  doc["motors"][2]["driver"]["pin"] = "A6";
+  EXPECT_TRUE(fails_with(doc, "/motors/2/driver/pin", {"A6 is an analog input only"}));
+  doc["board"] = "uno";
+  EXPECT_TRUE(fails_with(doc, "/motors/2/driver/pin", {"the Arduino Uno has no A6"}));
+  doc["motors"][2]["driver"]["pin"] = "D14";
+  EXPECT_TRUE(fails_with(doc, "/motors/2/driver/pin", {"no pin \"D14\" on the Arduino Uno"}));
+}
+
+TEST(DriveErrors, StepDirOnABoardWithoutTheShield) {
+  json doc = shield_robot("a4988", 8);
+  doc["board"] = "nano";
+  EXPECT_TRUE(fails_with(doc, "/motors/0/driver/kind", {"motor \"m0\"", "step-dir needs a CNC shield", "board \"nano\" has none"}));
+  // and the other way: 4-wire drivers or servos on a shield.
+  doc = base_robot();
+  doc["board"] = "nano-cnc-v4";
+  EXPECT_TRUE(fails_with(doc, "/motors/0/driver/kind", {"sockets of the Arduino Nano on a CNC Shield V4", "not an L298N"}));
+  doc = servo_robot();
+  doc["board"] = "uno-cnc-v3";
+  EXPECT_TRUE(fails_with(doc, "/motors/0/driver/kind", {"a servo joint on the Arduino Uno on a CNC Shield V3"}));
+  doc = shield_robot("a4988", 8);
+  doc["motors"][1]["driver"]["enable"] = "D7";
+  EXPECT_TRUE(fails_with(doc, "/motors/1/driver/enable", {"wires every driver's EN to D8, not D7"}));
+}
+
+TEST(DriveErrors, ServoPulsesOutside400To2600Us) {
+  json doc = servo_robot();
+  doc["motors"][0]["driver"]["pulse"] = {300, 2500};
+  EXPECT_TRUE(fails_with(doc, "/motors/0/driver/pulse/0", {"within 400..2600 us", "got 300"}));
+  doc["motors"][0]["driver"]["pulse"] = {500, 2700};
+  EXPECT_TRUE(fails_with(doc, "/motors/0/driver/pulse/1", {"within 400..2600 us", "got 2700"}));
+  doc["motors"][0]["driver"]["pulse"] = {500, 2500};
+  doc["motors"][0]["driver"]["at"] = {{1000, -45}, {2800, 45}};
+  EXPECT_TRUE(fails_with(doc, "/motors/0/driver/at/1/0", {"within 400..2600 us", "got 2800"}));
+  // A limit whose angle needs a pulse beyond the range.
+  doc = servo_robot();
+  doc["motors"][0]["max"] = 95;
+  EXPECT_TRUE(fails_with(doc, "/motors/0/max", {"95 deg needs a 2555.6 us pulse", "range 500..2500 us"}));
+  doc = servo_robot();
+  doc["motors"][0]["driver"]["pulse"] = {500, 2400};
+  EXPECT_TRUE(fails_with(doc, "/motors/0/max", {"90 deg needs a 2500 us pulse", "range 500..2400 us"}));
+  doc["motors"][0]["driver"]["at"] = {{1000, -45}, {2450, 45}};
+  EXPECT_TRUE(fails_with(doc, "/motors/0/driver/at/1/0", {"within the pulse range 500..2400 us"}));
+  doc = servo_robot();
+  doc["motors"][0]["gear"] = {2, 1};
+  EXPECT_TRUE(fails_with(doc, "/motors/0/gear", {"a servo motor takes no \"gear\"", "0.5 us ticks"}));
+  doc = servo_robot();
+  doc["motors"][0]["driver"].erase("speed");
+  EXPECT_TRUE(fails_with(doc, "/motors/0/driver/speed", {"missing required field \"speed\""}));
+}
+
+TEST(DriveErrors, AMicrosteppingTheDriverDoesNotHave) {
+  EXPECT_TRUE(fails_with(shield_robot("a4988", 32), "/motors/0/microsteps",
+                         {"the A4988 has no 32 microsteps per full step", "it takes 1, 2, 4, 8, 16"}));
+  EXPECT_TRUE(fails_with(shield_robot("tmc2209", 4), "/motors/0/microsteps", {"the TMC2209 has no 4", "8, 16, 32, 64"}));
+  EXPECT_TRUE(fails_with(shield_robot("tmc2208", 1), "/motors/0/microsteps", {"the TMC2208 has no 1", "2, 4, 8, 16"}));
+  json doc = base_robot();
+  doc["board"] = "nano";
+  doc["motors"][1]["microsteps"] = 4;
+  EXPECT_TRUE(fails_with(doc, "/motors/1/microsteps", {"the L298N has no 4", "it takes 1, 2"}));
+}
+
+TEST(DriveErrors, BoardsKindsAndChips) {
+  json doc = base_robot();
+  doc["board"] = "mega";
+  EXPECT_TRUE(fails_with(doc, "/board", {"unknown board \"mega\"", "nano, uno, nano-cnc-v4, uno-cnc-v3"}));
+  doc = base_robot();
+  doc["motors"][2]["driver"] = {{"kind", "uln2003"}};
+  EXPECT_TRUE(fails_with(doc, "/motors/2/driver/kind", {"motor \"m2\" is driven by uln2003 but motor \"m0\" by l298n"}));
+  doc["motors"][2]["driver"] = {{"kind", "tb6600"}};
+  EXPECT_TRUE(fails_with(doc, "/motors/2/driver/kind", {"unknown driver \"tb6600\"", "l298n, uln2003, step-dir, servo"}));
+  doc["motors"][2]["driver"] = {{"kind", "l298n"}, {"pin", "D9"}};
+  EXPECT_TRUE(fails_with(doc, "/motors/2/driver/pin", {"a l298n driver takes no \"pin\""}));
+  doc = shield_robot("a4988", 8);
+  doc["motors"][0]["driver"]["chip"] = "l6470";
+  EXPECT_TRUE(fails_with(doc, "/motors/0/driver/chip", {"unknown STEP/DIR chip \"l6470\"", "a4988, drv8825, tmc2208, tmc2209"}));
+  doc = base_robot();
+  doc.erase("motors");
+  doc.erase("coupling");
+  doc["board"] = "nano";
+  EXPECT_TRUE(fails_with(doc, "/board", {"a board needs \"motors\""}));
 }
 
 }  // namespace

@@ -11,5 +11,6 @@
 #include "protocol.h"
 #include "motion.h"
 #include "servo.h"
+#include "drive.h"
 
 #endif  // ARTICULA_ARTICULA_H

@@ -15,6 +15,7 @@ void check_status();
 void check_protocol();
 void check_motion();
 void check_servo();
+void check_drive();
 void check_articula();
 void check_config();
 void check_planner();

@@ -1,0 +1,56 @@
+// host/lib/wiring.h - every wire of an arm: which board pin goes to which driver input, switch
+// or servo, from the robot's drive (robot.h's Drive) and the board's one pin table
+// (firmware/src/board.h). The robot file's loader asks it whether the board can give the
+// wiring the file asks for; the studio's Wiring view and the docs draw from it.
+#ifndef ARTICULA_HOST_WIRING_H
+#define ARTICULA_HOST_WIRING_H
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "robot.h"
+
+namespace articula::host {
+
+// One board pin and what it is wired to.
+struct Wire {
+  int pin = 0;         // index into board::kHeaderPin (D0..D13, A0..A5)
+  std::string signal;  // the input or output at the other end: "IN1", "STEP", "DIR", "EN", "signal", "switch", "RX", ...
+  std::string part;    // what that end belongs to: "L298N #1", "socket X (A4988)", "servo", "endstop", "USB serial"
+  int motor = -1;      // the motor it serves (file order), or -1 (the board's own: serial, LED, gripper, EN)
+};
+
+struct Wiring {
+  int board = 0;  // index into board::kBoardInfo
+  std::vector<Wire> wires;  // the board's own (serial, LED, gripper), then each motor's
+};
+
+// A drive the board cannot give. `motor` is the motor at fault (-1: the board or the gripper),
+// `field` the part of its driver ("kind", "pin", "enable"; empty: the motor as a whole).
+class WiringError : public std::runtime_error {
+ public:
+  WiringError(int motor, std::string field, const std::string& problem)
+      : std::runtime_error(problem), motor(motor), field(std::move(field)) {}
+  int motor;
+  std::string field;
+};
+
+// The arm's wiring. Throws WiringError when a motor's driver does not fit the board (STEP/DIR
+// without a CNC shield, an L298N on one, more steppers than slots, drivers of different kinds in
+// one arm) or when two things would share a pin.
+Wiring wire(const Robot& robot);
+
+// The index of a header pin's name ("D9", "A3") on `board`, or -1 with the reason in `why`
+// (no such pin, an analog-only input).
+int header_pin(int board, const std::string& name, std::string& why);
+
+// The board's id, or -1.
+int board_by_id(const std::string& id);
+
+// "nano, uno, nano-cnc-v4, uno-cnc-v3": for messages.
+std::string board_ids();
+
+}  // namespace articula::host
+
+#endif  // ARTICULA_HOST_WIRING_H
