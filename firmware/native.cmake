@@ -4,11 +4,12 @@
 # and machine), the tests' harness
 # (test/harness.cpp, which PlatformIO compiles with every test folder too), and one
 # GoogleTest program per test folder
-# (test/test_<unit>/test_<unit>.cpp), for each of two arms on the one firmware: the MK2 a
-# blank EEPROM gets, under the prefix "firmware.", and a test robot with half steps, a
-# reversed motor, the identity coupling and a home pose away from step 0, under
-# "firmware.halfstep.": its configuration (made by `articula configure --header`) is what
-# the harness puts in the SITL EEPROM of a fresh machine.
+# (test/test_<unit>/test_<unit>.cpp), for each of three arms on the one firmware: the MK2 a
+# blank EEPROM gets, under the prefix "firmware.", a test robot with half steps, a reversed
+# motor, the identity coupling and a home pose away from step 0, under "firmware.halfstep.",
+# and that robot on 28BYJ-48s and ULN2003 boards under "firmware.uln2003.": a variant's
+# configuration (made by `articula configure --header`) is what the harness puts in the SITL
+# EEPROM of a fresh machine.
 set(fw_test_dir ${ARTICULA_FIRMWARE_DIR}/test)
 file(GLOB fw_test_folders LIST_DIRECTORIES true CONFIGURE_DEPENDS ${fw_test_dir}/test_*)
 
@@ -73,9 +74,13 @@ endfunction()
 
 articula_firmware_variant(main "" "firmware." "" "")
 articula_firmware_variant(halfstep ${fw_test_dir}/robots/halfstep.json "firmware.halfstep." "" "")
+# 28BYJ-48s on ULN2003 boards: the unipolar coil table, a gear train that is not whole.
+articula_firmware_variant(uln2003 ${fw_test_dir}/robots/uln2003.json "firmware.uln2003." "" "")
 # The same arms on the host's build of the firmware (eight motors, host/CMakeLists.txt), which
 # the prediction runs: the tests that need the host library. It gives the same answers as the
 # Nano's build: hil/ holds the prediction against the Nano's own hex in simavr.
 articula_firmware_variant(wide "" "firmware.wide." articula_firmware_sitl "${fw_host_tests}")
 articula_firmware_variant(wide_halfstep ${fw_test_dir}/robots/halfstep.json "firmware.wide.halfstep." articula_firmware_sitl
+                          "${fw_host_tests}")
+articula_firmware_variant(wide_uln2003 ${fw_test_dir}/robots/uln2003.json "firmware.wide.uln2003." articula_firmware_sitl
                           "${fw_host_tests}")

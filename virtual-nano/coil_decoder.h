@@ -1,12 +1,15 @@
-// virtual-nano/coil_decoder.h - what a stepper motor makes of its four L298N inputs.
+// virtual-nano/coil_decoder.h - what a stepper motor makes of its driver's four inputs: a
+// bipolar motor on an L298N, or a unipolar one (a 28BYJ-48) on a ULN2003.
 //
 // Pure logic, no simavr: the virtual Nano feeds it every new IN1..IN4 pattern of one motor
 // (bit 0 = IN1 .. bit 3 = IN4, as firmware/src/hal.h) and it answers whether the motor
 // stepped, by how much, or could not have followed.
 //
 // The eight half-step states, in the order a motor turns forwards (IN1..IN4):
-//   1000, 1010, 0010, 0110, 0100, 0101, 0001, 1001
-// The full-step sequence (two phases on) is every other one: 1010, 0110, 0101, 1001.
+//   L298N:   1000, 1010, 0010, 0110, 0100, 0101, 0001, 1001
+//   ULN2003: 1000, 1100, 0100, 0110, 0010, 0011, 0001, 1001
+// The full-step sequence (two phases on) is every other one: 1010, 0110, 0101, 1001 (or
+// 1100, 0110, 0011, 1001).
 // Positions are counted in half steps; a motor that has never shown a one-coil state is
 // taken to be driven in full steps and its step count is half of that.
 //
@@ -28,18 +31,21 @@
 
 namespace vnano {
 
-// IN1..IN4 as bits 0..3, in forward order.
+// IN1..IN4 as bits 0..3, in forward order: an L298N's, and a ULN2003's.
 constexpr uint8_t kHalfStepSequence[8] = {0x1, 0x5, 0x4, 0x6, 0x2, 0xA, 0x8, 0x9};
+constexpr uint8_t kUnipolarSequence[8] = {0x1, 0x3, 0x2, 0x6, 0x4, 0xC, 0x8, 0x9};
 
 constexpr int kReleased = -1;  // phase_of(0)
 constexpr int kIllegal = -2;   // phase_of(a pattern not in the table)
 
-// The pattern's place in kHalfStepSequence (0..7), kReleased for 0000, kIllegal otherwise.
-inline int phase_of(uint8_t pattern) {
+// The pattern's place in kHalfStepSequence (kUnipolarSequence with `unipolar`) (0..7),
+// kReleased for 0000, kIllegal otherwise.
+inline int phase_of(uint8_t pattern, bool unipolar = false) {
   pattern &= 0xF;
   if (pattern == 0) return kReleased;
+  const uint8_t* table = unipolar ? kUnipolarSequence : kHalfStepSequence;
   for (int i = 0; i < 8; ++i)
-    if (kHalfStepSequence[i] == pattern) return i;
+    if (table[i] == pattern) return i;
   return kIllegal;
 }
 
@@ -82,6 +88,12 @@ struct CoilChange {
 
 class CoilDecoder {
  public:
+  // A motor on a ULN2003 (the unipolar table) rather than an L298N.
+  explicit CoilDecoder(bool unipolar = false) : unipolar_(unipolar) {}
+  bool unipolar() const { return unipolar_; }
+  // The same, said once the decoder exists (before the motor's first energised pattern).
+  void set_unipolar(bool unipolar) { unipolar_ = unipolar; }
+
   // Forces half-step counting (steps() == half_steps()) from the start.
   void force_half_step() { half_mode_ = forced_ = true; }
 
@@ -89,10 +101,10 @@ class CoilDecoder {
     CoilChange c;
     pattern &= 0xF;
     c.from = pattern_;
-    c.reference = last_phase_ >= 0 ? kHalfStepSequence[last_phase_] : 0;
+    c.reference = last_phase_ >= 0 ? (unipolar_ ? kUnipolarSequence : kHalfStepSequence)[last_phase_] : 0;
     if (pattern == pattern_) return c;
     pattern_ = pattern;
-    const int ph = phase_of(pattern);
+    const int ph = phase_of(pattern, unipolar_);
     if (ph == kReleased) {
       c.event = CoilEvent::kReleased;
       return c;
@@ -136,6 +148,7 @@ class CoilDecoder {
   bool energised() const { return pattern_ != 0; }
 
  private:
+  bool unipolar_;
   uint8_t pattern_ = 0;
   int last_phase_ = -1;  // the last legal energised state, -1 before the first
   int64_t half_ = 0;

@@ -17,13 +17,14 @@ Hardware hw;
 
 namespace {
 // The eight half-step states, IN1..IN4 written as bits 0..3. Written out here from the
-// specification, not taken from the firmware: 1000 1010 0010 0110 0100 0101 0001 1001.
-const uint8_t kHalfStep[8] = {0x1, 0x5, 0x4, 0x6, 0x2, 0xA, 0x8, 0x9};
+// specification, not taken from the firmware. A bipolar motor on an L298N: 1000 1010 0010
+// 0110 0100 0101 0001 1001; a unipolar one on a ULN2003: 1000 1100 0100 0110 0010 0011 0001 1001.
+const uint8_t kHalfStep[2][8] = {{0x1, 0x5, 0x4, 0x6, 0x2, 0xA, 0x8, 0x9}, {0x1, 0x3, 0x2, 0x6, 0x4, 0xC, 0x8, 0x9}};
 }  // namespace
 
-int sequence_index(uint8_t pattern) {
+int sequence_index(uint8_t pattern, bool unipolar) {
   for (int i = 0; i < 8; ++i)
-    if (kHalfStep[i] == pattern) return i;
+    if (kHalfStep[unipolar ? 1 : 0][i] == pattern) return i;
   return -1;
 }
 
@@ -151,7 +152,7 @@ void write_coils(uint8_t motor, uint8_t pattern) {
   }
   hw.pattern[motor] = pattern;
   if (pattern != 0) {
-    const int index = sitl::sequence_index(pattern);
+    const int index = sitl::sequence_index(pattern, hw.unipolar);
     // Half steps when the motor has two microsteps; any other count (an arm the Nano cannot
     // take, in the host's build) is driven one full-step pattern a step, as 1 is.
     const bool full = hw.microsteps[motor] != 2;

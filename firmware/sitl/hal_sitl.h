@@ -127,6 +127,7 @@ struct Hardware {
   // The coil decoder: positions from the patterns, 2 for half steps, any other count full
   // steps (stride 2 in the half-step table), per motor (set at boot from the robot).
   uint8_t microsteps[kMotors];  // 1 each at first
+  bool unipolar = false;        // the motors are on ULN2003s: the unipolar half-step table
   int64_t position[kMotors] = {};
   int last_index[kMotors];  // place in the half-step table of the last pattern (-1 at first)
   uint8_t pattern[kMotors] = {};
@@ -148,8 +149,9 @@ void log_action(uint8_t kind);
 // A fresh machine: everything reset; the EEPROM kept unless blank_eeprom (then all 0xFF).
 void reset(bool blank_eeprom);
 
-// The half-step table's index of a pattern, -1 if it is none of the eight.
-int sequence_index(uint8_t pattern);
+// The half-step table's index of a pattern, -1 if it is none of the eight: an L298N's bipolar
+// table, or with `unipolar` a ULN2003's.
+int sequence_index(uint8_t pattern, bool unipolar = false);
 
 // A byte arrives at the receiver (the receive interrupt).
 void receive(char c);

@@ -156,6 +156,7 @@ void boot(bool blank_eeprom, const std::string& during_setup, const uint8_t* con
     firmware::configured();
   }
   for (int i = 0; i < robot::kJoints; ++i) sitl::hw.microsteps[i] = robot::actuation().motors[i].microsteps;
+  sitl::hw.unipolar = robot::config.drive == articula::kDriveUln2003;  // the rig's motors, as the arm's
   hal::start();
 }
 

@@ -6,15 +6,18 @@
 
 namespace coils {
 
-const uint8_t kSequence[8] = {0x1, 0x5, 0x4, 0x6, 0x2, 0xA, 0x8, 0x9};
+const uint8_t kSequence[2][8] = {{0x1, 0x5, 0x4, 0x6, 0x2, 0xA, 0x8, 0x9},
+                                 {0x1, 0x3, 0x2, 0x6, 0x4, 0xC, 0x8, 0x9}};
 
 namespace {
+const uint8_t* g_table = kSequence[0];  // the configuration's drive's
 uint8_t g_phase[robot::kJoints];
 uint8_t g_stride[robot::kJoints];  // 2 in full steps, 1 in half steps
 bool g_on;
 }  // namespace
 
 void setup() {
+  g_table = kSequence[robot::config.drive == articula::kDriveUln2003 ? 1 : 0];
   for (uint8_t i = 0; i < robot::kJoints; ++i) {
     g_phase[i] = 1;
     g_stride[i] = robot::motor(i).microsteps == 2 ? 1 : 2;
@@ -31,12 +34,12 @@ inline uint8_t advance(uint8_t motor, bool negative) {
 }
 }  // namespace
 
-void step(uint8_t motor, bool negative) { hal::write_coils(motor, kSequence[advance(motor, negative)]); }
+void step(uint8_t motor, bool negative) { hal::write_coils(motor, g_table[advance(motor, negative)]); }
 
-void stage_step(uint8_t motor, bool negative) { hal::stage_coils(motor, kSequence[advance(motor, negative)]); }
+void stage_step(uint8_t motor, bool negative) { hal::stage_coils(motor, g_table[advance(motor, negative)]); }
 
 void energise() {
-  for (uint8_t i = 0; i < robot::kJoints; ++i) hal::write_coils(i, kSequence[g_phase[i]]);
+  for (uint8_t i = 0; i < robot::kJoints; ++i) hal::write_coils(i, g_table[g_phase[i]]);
   g_on = true;
 }
 

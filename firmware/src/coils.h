@@ -1,8 +1,13 @@
-// firmware/src/coils.h - the four L298N inputs of each motor: which pattern comes next.
+// firmware/src/coils.h - the four inputs of each motor's driver: which pattern comes next.
 //
-// One table of the eight half-step states (IN1..IN4): 1000, 1010, 0010, 0110, 0100, 0101,
-// 0001, 1001. The full-step sequence (two phases on: 1010, 0110, 0101, 1001) is its odd
-// states, so a motor in full steps moves two places a step and one in half steps one.
+// A table of the eight half-step states (IN1..IN4) for each 4-wire drive:
+//   L298N, a bipolar motor (IN1/IN2 drive coil A's ends, IN3/IN4 coil B's):
+//     1000, 1010, 0010, 0110, 0100, 0101, 0001, 1001
+//   ULN2003, a unipolar motor (IN1..IN4 sink its four half-coils in turn, a 28BYJ-48's
+//   blue, pink, yellow, orange):
+//     1000, 1100, 0100, 0110, 0010, 0011, 0001, 1001
+// The configuration's drive ($131) picks one. In both the full-step sequence (two phases on)
+// is the odd states, so a motor in full steps moves two places a step and one in half steps one.
 // Each motor keeps its own place in the table, apart from its step count: Z and homing
 // change the count, never the coils.
 #ifndef ARTICULA_FIRMWARE_COILS_H
@@ -12,10 +17,11 @@
 
 namespace coils {
 
-// Bit 0 is IN1 .. bit 3 IN4.
-extern const uint8_t kSequence[8];
+// Bit 0 is IN1 .. bit 3 IN4. [0] the L298N's, [1] the ULN2003's.
+extern const uint8_t kSequence[2][8];
 
-// Places every motor on the first full-step state (1010) with its coils off.
+// Takes the configuration's table, and places every motor on the first full-step state (1010
+// or 1100) with its coils off.
 void setup();
 
 // One step of `motor` towards more (negative false) or fewer steps: the next pattern,

@@ -53,7 +53,7 @@ uint8_t Image::operator[](uint16_t i) const {
   return b;
 }
 
-// The CRC of an image, read a piece at a time (the whole would take 178 bytes of the stack);
+// The CRC of an image, read a piece at a time (the whole would take kConfigImageSize bytes of the stack);
 // with `copy`, each piece written to the EEPROM's image too, then sealed (the built-in one).
 uint16_t image_crc(const Image& image, bool copy) {
   uint8_t bytes[16];
@@ -101,10 +101,10 @@ Millideg step_angle(uint8_t i, int32_t steps) { return steps_to_millideg(config.
 void setup() {
   // Read in place: nothing runs yet, and a copy would take ~250 bytes of the stack.
   uint16_t c = image_crc(kStaged, false);
-  g_in_eeprom = sealed(c) && config_read(config, kStaged) == kConfigOk;
+  g_in_eeprom = sealed(c) && config_read(config, kStaged, kDrives) == kConfigOk;
   if (!g_in_eeprom) {
     c = image_crc(kBuiltInImage, false);
-    config_read(config, kBuiltInImage);
+    config_read(config, kBuiltInImage, kDrives);
   }
   put_in_use(config, c);
 }
@@ -136,7 +136,7 @@ Status commit(int32_t crc) {
   const uint16_t c = image_crc(kStaged, false);
   if (crc != int32_t(c)) return kConfigChecksum;
   ConfiguredArm<kJoints> next;
-  if (config_read(next, kStaged) != kConfigOk) return kConfigInvalid;
+  if (config_read(next, kStaged, kDrives) != kConfigOk) return kConfigInvalid;
   seal(c);
   put_in_use(next, c);
   return kOk;

@@ -12,7 +12,7 @@ namespace robot {
 // EEPROM: [kEepromAddress] kEepromVersion, the image, its CRC-16 (low byte first). The
 // settings (settings.h) sit below it.
 static const uint16_t kEepromAddress = 32;
-static const uint8_t kEepromVersion = 1;
+static const uint8_t kEepromVersion = 2;  // 2: the image carries $131 (the drive)
 
 // Room for the most motors a configuration has; count() of them are used. The Nano's build has
 // the three its pins wire; a build for the host (firmware/sitl) may have more
@@ -23,6 +23,13 @@ static const uint8_t kEepromVersion = 1;
 static const uint8_t kJoints = ARTICULA_FIRMWARE_MOTORS;
 static_assert(ARTICULA_FIRMWARE_MOTORS >= articula::kMaxConfigMotors && ARTICULA_FIRMWARE_MOTORS <= 8,
               "from the configuration's motors to LineStepper's eight");
+
+// The drive kinds this build drives (bit k: articula::DriveKind k); a configuration asking for
+// another is refused (kConfigInvalid). The 4-wire ones share the Nano's pins and coil code.
+#ifndef ARTICULA_FIRMWARE_DRIVES
+#define ARTICULA_FIRMWARE_DRIVES ((1u << articula::kDriveL298n) | (1u << articula::kDriveUln2003))
+#endif
+static const uint8_t kDrives = ARTICULA_FIRMWARE_DRIVES;
 
 typedef articula::Actuation<float, kJoints> Actuation;
 typedef articula::MotorState<kJoints> State;

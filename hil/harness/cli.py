@@ -243,7 +243,7 @@ def _run(args, argv) -> int:
         grip = (robot.servo_closed, robot.servo_open) if robot.servo_closed is not None and \
             robot.servo_open is not None else None
         target = VirtualNanoTarget(vnano, elf, len(robot.motors), gripper=grip, keep_traces=args.keep_traces,
-                                   half_step=robot.half_step_motors)
+                                   half_step=robot.half_step_motors, unipolar=robot.unipolar)
 
     progress = Progress(sum(len(p.commands) for p in plans), enabled=not args.no_progress)
     runner = Runner(target, robot, out, settings=args.settings, timeout=args.timeout, poll=args.poll,

@@ -51,6 +51,11 @@ class Robot:
         self.servo_open = gripper.get("servo_open_deg")
 
     @property
+    def unipolar(self) -> bool:
+        """The motors are 28BYJ-48s on ULN2003 boards (the virtual Nano decodes that table)."""
+        return bool(self.model.motors) and all(m["driver"]["kind"] == "uln2003" for m in self.model.motors)
+
+    @property
     def half_step_motors(self) -> list[int]:
         """The motors driven in half steps (the virtual Nano decodes their coils so)."""
         return [i for i, m in enumerate(self.motors) if m.microsteps == 2]

@@ -88,8 +88,10 @@ class VirtualNanoTarget:
     has_pins = True
 
     def __init__(self, vnano: str, elf: str | None, motors: int, gripper: tuple[float, float] | None = None,
-                 log=None, keep_traces: bool = False, start_timeout: float = 15.0, half_step: list[int] = ()):
+                 log=None, keep_traces: bool = False, start_timeout: float = 15.0, half_step: list[int] = (),
+                 unipolar: bool = False):
         self.half_step = list(half_step)
+        self.unipolar = unipolar
         self.vnano = vnano
         self.elf = elf
         self.motors = motors
@@ -129,6 +131,8 @@ class VirtualNanoTarget:
             cmd += ["--gripper", f"{self.gripper[0]:g}:{self.gripper[1]:g}"]
         for m in self.half_step:
             cmd += ["--half-step", str(m)]
+        if self.unipolar:
+            cmd += ["--uln2003"]
         self.exit_status = None
         try:
             with open(self.stderr_path, "w") as err:

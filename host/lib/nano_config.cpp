@@ -71,6 +71,12 @@ NanoConfig nano_config(const Robot& robot) {
     config_put(image, s, thousandths);
   };
   put(130, n * 1000);
+  // How the motors are driven: the robot file's drivers (an L298N each when it names none).
+  const DriveKind drive = robot.drive.motors.empty() ? kDriveL298n : robot.drive.motors[0].kind;
+  if (drive != kDriveL298n && drive != kDriveUln2003)
+    throw fail(std::string("is driven by ") + kDriveKindInfo[drive].id +
+               ": the firmware drives L298N and ULN2003 boards (STEP/DIR and servo builds are still to come)");
+  put(131, int32_t(drive) * 1000);
   // The home pose as motor angles, u = C^-1 q, in float with the core's 3 x 3 solve (C padded
   // with the identity), as the firmware's arithmetic would have it.
   const FloatArm f = float_arm(robot);
@@ -172,6 +178,7 @@ ConfiguredArm<kFirmwareMotors> firmware_arm(const Robot& robot) {
     out.home[i] = clamp(h, m.min, m.max);
   }
   for (int i = n; i < kFirmwareMotors; ++i) out.actuation.motors[i] = MotorSpec{200, 1, 1, 1, 1, 0, 0, 0};
+  out.drive = uint8_t(!robot.drive.motors.empty() && robot.drive.motors[0].kind == kDriveUln2003 ? kDriveUln2003 : kDriveL298n);
   out.has_point = float_ypp_arm(robot, out.arm);
   out.servo_open_deg = out.servo_closed_deg = 90.0f;
   if (robot.gripper.present) {

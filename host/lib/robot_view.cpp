@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <stdexcept>
 
+#include "board.h"
 #include "geometry.h"
 
 namespace articula::host {
@@ -74,6 +75,23 @@ nlohmann::json joints_json(const Robot& r) {
   return out;
 }
 
+namespace {
+// A motor's "driver" as the robot file gives it (robots/README.md, "Drive"), defaults filled in.
+nlohmann::json driver_json(const Robot& r, int motor) {
+  const MotorDriver d = size_t(motor) < r.drive.motors.size() ? r.drive.motors[size_t(motor)] : MotorDriver{};
+  nlohmann::json j = {{"kind", kDriveKindInfo[d.kind].id}};
+  if (d.kind == kDriveStepDir) j["chip"] = kStepDirChip[d.chip].id;
+  if (d.kind == kDriveServo) {
+    j["pin"] = board::kHeaderPin[d.pin].pin;
+    j["pulse"] = {d.pulse_min_us, d.pulse_max_us};
+    j["at"] = {{d.at[0][0], d.at[0][1]}, {d.at[1][0], d.at[1][1]}};
+    j["speed"] = d.speed_deg_s;
+    if (d.accel_deg_s2 > 0) j["accel"] = d.accel_deg_s2;
+  }
+  return j;
+}
+}  // namespace
+
 nlohmann::json motors_json(const Robot& r) {
   nlohmann::json out = nlohmann::json::array();
   if (!r.has_motors) return out;
@@ -92,7 +110,8 @@ nlohmann::json motors_json(const Robot& r) {
                    {"max", s.max / 1000.0},
                    {"deg_per_step", degrees_per_step<double>(s)},
                    {"step_range", {min_steps(s), max_steps(s)}},
-                   {"pull_out", curve}});
+                   {"pull_out", curve},
+                   {"driver", driver_json(r, i)}});
   }
   return out;
 }

@@ -32,7 +32,8 @@ nlohmann::json dh_rows_json(const Robot& r);
 // The joint variables: name, row (1-based), param ("theta", "d", "alpha"), unit, min, max.
 nlohmann::json joints_json(const Robot& r);
 // The motors (empty for a kinematic robot): name, steps_per_rev, microsteps, gear [num, den],
-// direction, zero, min, max (deg), deg_per_step, step_range [min, max], pull_out [[rpm, Nm]...].
+// direction, zero, min, max (deg), deg_per_step, step_range [min, max], pull_out [[rpm, Nm]...],
+// driver (the robot file's, robots/README.md "Drive": kind, and chip or pin, pulse, at, speed, accel).
 nlohmann::json motors_json(const Robot& r);
 // The gripper, or null: max_opening_mm, finger_length/thickness/height_mm, servo_open/closed_deg.
 nlohmann::json gripper_json(const Robot& r);

@@ -12,6 +12,8 @@
 //           5 zero, deg                 6 minimum, deg          7 maximum, deg
 //           8 home, deg (the motor's angle at the home pose)
 //   $130    motors, 1 to 3
+//   $131    how they are driven (articula::DriveKind, drive.h): 0 L298N, 1 ULN2003, 2 STEP/DIR,
+//           3 servo. A firmware build drives some of them (config_read's `drives`).
 //   $14k    coupling C row-major (q = C u), k = 3 row + column: 3 decimals
 //   $150    1: P's closed form applies (a yaw-pitch-pitch arm), 0: it does not
 //   $151-6  P's geometry, mm: base height, shoulder offset, upper arm, forearm,
@@ -28,6 +30,7 @@
 #define ARTICULA_CONFIG_H
 
 #include "actuation.h"
+#include "drive.h"
 #include "ik_ypp.h"
 #include "protocol.h"
 
@@ -35,7 +38,7 @@ namespace articula {
 
 static const uint8_t kMaxConfigMotors = 3;  // the Nano's pin map wires three
 static const uint16_t kCommitSetting = 199;
-static const uint16_t kConfigImageSize = 178;
+static const uint16_t kConfigImageSize = 179;
 
 // The bytes of a field of the image, and the values its setting takes (in the units it is
 // stored in: whole numbers, or thousandths).
@@ -65,11 +68,11 @@ inline bool config_field(uint16_t n, ConfigField& f) {
     }
     return true;
   }
-  if (n == 130) {
-    f.offset = 0;
+  if (n == 130 || n == 131) {
+    f.offset = n == 130 ? 0 : 178;
     f.size = 1;
-    f.lo = 1;
-    f.hi = kMaxConfigMotors;
+    f.lo = n == 130 ? 1 : 0;
+    f.hi = n == 130 ? kMaxConfigMotors : kDriveKinds - 1;
     return true;
   }
   f.whole = false;
@@ -176,6 +179,7 @@ struct ConfiguredArm {
   bool has_point;
   float servo_open_deg, servo_closed_deg;
   char name[kMaxRobotName + 1];
+  uint8_t drive;  // articula::DriveKind
 };
 
 // Why an image is not a configuration the firmware can run (kConfigOk when it is).
@@ -185,14 +189,16 @@ enum ConfigError : uint8_t {
   kConfigBadMotor,    // a motor's steps, gear or limits (articula::validate)
   kConfigBadHome,     // a home angle outside its motor's limits
   kConfigBadName,     // no name, or a character the banner cannot carry
+  kConfigBadDrive,    // a drive kind this firmware build does not drive
 };
 
 // Reads an image into `out` (J >= the image's motor count), checking every field as
 // config_check does and every motor as validate() does. P applies when $150 says so, the
 // arm has three motors, and the coupling is one the closed form knows (the identity or the
-// MK2's parallelogram, ypp_limits_from_actuation).
+// MK2's parallelogram, ypp_limits_from_actuation). `drives` has bit k set for each
+// DriveKind k the reader drives.
 template <int J, typename Bytes>
-inline ConfigError config_read(ConfiguredArm<J>& out, const Bytes& image) {
+inline ConfigError config_read(ConfiguredArm<J>& out, const Bytes& image, uint8_t drives = 0xFF) {
   for (uint16_t n = 100; n <= 161; ++n) {
     ConfigField f;
     if (!config_field(n, f)) continue;
@@ -201,6 +207,8 @@ inline ConfigError config_read(ConfiguredArm<J>& out, const Bytes& image) {
   }
   const uint8_t count = uint8_t(config_get(image, 130));
   if (count > J) return kConfigBadValue;
+  out.drive = uint8_t(config_get(image, 131));
+  if (!(drives & (1u << out.drive))) return kConfigBadDrive;
   Actuation<float, J>& a = out.actuation;
   a.num_motors = count;
   for (uint8_t i = 0; i < J; ++i) {

@@ -53,6 +53,8 @@ const char kHelp[] =
     "                       at step 0); repeat for several motors\n"
     "  --half-step M        count motor M in half steps from the start (default: a motor is\n"
     "                       counted in half steps once it shows a one-coil pattern)\n"
+    "  --uln2003            the motors are unipolar (28BYJ-48s) on ULN2003 boards: their inputs\n"
+    "                       follow that half-step table (default: bipolar motors on L298Ns)\n"
     "  --gripper CLOSED:OPEN  servo angles in degrees of the closed and open gripper (the\n"
     "                       robot file's servo_closed, servo_open), to report the aperture\n"
     "  --trace-steps FILE   CSV of every coil event: cycle,motor,steps,pattern,event,time_us\n"
@@ -152,6 +154,8 @@ Args parse_args(int argc, char** argv) {
       if (!parse_int(need("--half-step"), m) || m < 0 || m >= vnano::VirtualNano::kMotors)
         usage_error("--half-step M, M a motor 0 to 2");
       a.config.half_step_motors.push_back(int(m));
+    } else if (arg == "--uln2003") {
+      a.config.unipolar = true;
     } else if (arg == "--gripper") {
       const std::string v = need("--gripper");
       const size_t c = v.find(':');

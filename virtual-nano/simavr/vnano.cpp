@@ -153,6 +153,7 @@ bool VirtualNano::load(const Config& config, std::string& error) {
     for (int b = 0; b < 8; ++b) pin_irq_[p][b] = avr_io_getirq(avr_, AVR_IOCTL_IOPORT_GETIRQ(kPortNames[p]), b);
   }
   for (int i = 0; i < kMotors; ++i) {
+    motors_[i].decoder = CoilDecoder(config.unipolar);
     motors_[i].index = i;
     motors_[i].port = kMotorPins[i].port;
     motors_[i].shift = kMotorPins[i].shift;
@@ -718,6 +719,7 @@ nlohmann::json VirtualNano::report() const {
     j["motor"] = m.index;
     j["pins"] = kMotorPins[m.index].pins;
     j["mode"] = m.decoder.half_step_mode() ? "half" : "full";
+    j["driver"] = m.decoder.unipolar() ? "uln2003" : "l298n";
     j["steps"] = m.decoder.steps();
     j["half_steps"] = m.decoder.half_steps();
     j["pattern"] = pattern_string(m.decoder.pattern());

@@ -44,6 +44,7 @@ struct Config {
   std::string elf;
   std::vector<EndstopSpec> endstops;
   std::vector<int> half_step_motors;
+  bool unipolar = false;       // the motors are 28BYJ-48s on ULN2003 boards (the unipolar table)
   bool gripper_range = false;  // servo_closed_deg/servo_open_deg given: report the aperture
   double servo_closed_deg = 0, servo_open_deg = 0;
   FILE* trace = nullptr;       // CSV of coil events, or null

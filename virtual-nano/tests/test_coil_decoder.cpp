@@ -135,3 +135,25 @@ TEST(CoilDecoder, RepeatedPatternIsNothing) {
   EXPECT_EQ(d.feed(0).event, CoilEvent::kReleased);
   EXPECT_EQ(d.feed(0).event, CoilEvent::kNone);
 }
+
+// A 28BYJ-48 on a ULN2003: the unipolar table, half steps and full steps both ways; an
+// L298N's one-coil-skipping pattern (1010) is illegal there, and a ULN2003's (1100) on an L298N.
+TEST(CoilDecoder, UnipolarMotorOnAUln2003) {
+  const char* const half[8] = {"1000", "1100", "0100", "0110", "0010", "0011", "0001", "1001"};
+  for (int i = 0; i < 8; ++i) EXPECT_EQ(vnano::kUnipolarSequence[i], p(half[i])) << i;
+  CoilDecoder d(true);
+  EXPECT_TRUE(d.unipolar());
+  EXPECT_EQ(d.feed(p("1100")).event, CoilEvent::kEnergised);
+  for (int k = 2; k < 2 + 16; ++k) ASSERT_EQ(d.feed(p(half[k % 8])).delta_half, 1) << k;
+  EXPECT_EQ(d.steps(), 16);
+  for (int k = 16; k >= 1; --k) ASSERT_EQ(d.feed(p(half[k % 8])).delta_half, -1) << k;
+  EXPECT_EQ(d.steps(), 0);
+  EXPECT_EQ(d.feed(p("1010")).fault, FaultKind::kIllegalPattern);
+  CoilDecoder full(true);
+  full.feed(p("1100"));
+  for (const char* f : {"0110", "0011", "1001", "1100"}) ASSERT_EQ(full.feed(p(f)).delta_half, 2) << f;
+  EXPECT_EQ(full.steps(), 4);
+  EXPECT_FALSE(full.half_step_mode());
+  CoilDecoder bipolar;
+  EXPECT_EQ(bipolar.feed(p("1100")).fault, FaultKind::kIllegalPattern);
+}

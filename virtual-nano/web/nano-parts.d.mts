@@ -1,6 +1,7 @@
 export interface CoilDecoder {
   feed(pattern: number): number; // 0 no change, 1 step, 2 released, 3 energised, 4 fault
   forceHalfStep(): void;
+  setUnipolar(unipolar: boolean): void;
   steps(): number;
   halfSteps(): number;
   faults(): number;

@@ -15,7 +15,7 @@
 
 namespace articula::web {
 
-// One stepper motor's four L298N inputs as the emulated Nano sees them.
+// One stepper motor's four driver inputs (an L298N's, or a ULN2003's) as the emulated Nano sees them.
 class WebCoilDecoder {
  public:
   // A new IN1..IN4 pattern (bit 0 = IN1): 0 no change, 1 a step, 2 released, 3 energised,
@@ -26,6 +26,8 @@ class WebCoilDecoder {
     return int(c.event);
   }
   void force_half_step() { d_.force_half_step(); }
+  // A 28BYJ-48 on a ULN2003 (the unipolar table), before its first energised pattern.
+  void set_unipolar(bool u) { d_.set_unipolar(u); }
   double steps() const { return double(d_.steps()); }
   double half_steps() const { return double(d_.half_steps()); }
   int faults() const { return faults_; }
@@ -62,6 +64,7 @@ EMSCRIPTEN_BINDINGS(articula_nano) {
       .constructor<>()
       .function("feed", &WebCoilDecoder::feed)
       .function("forceHalfStep", &WebCoilDecoder::force_half_step)
+      .function("setUnipolar", &WebCoilDecoder::set_unipolar)
       .function("steps", &WebCoilDecoder::steps)
       .function("halfSteps", &WebCoilDecoder::half_steps)
       .function("faults", &WebCoilDecoder::faults)

@@ -1,4 +1,4 @@
-// Tests firmware/src/coils.cpp: the L298N input patterns of full and half steps, forwards,
+// Tests firmware/src/coils.cpp: the L298N's (or the ULN2003's) input patterns of full and half steps, forwards,
 // backwards and across the wrap of the table, as the motors see them (decoded by the SITL
 // HAL from the pin writes, independently of the firmware's table), and through whole moves.
 #include <gtest/gtest.h>
@@ -13,9 +13,13 @@
 
 namespace {
 
-// The sequences as the specification writes them, IN1..IN4 left to right.
-const char* const kFullStep[4] = {"1010", "0110", "0101", "1001"};
-const char* const kHalfStep[8] = {"1000", "1010", "0010", "0110", "0100", "0101", "0001", "1001"};
+// The sequences as the specification writes them, IN1..IN4 left to right: [0] an L298N's
+// bipolar motor, [1] a ULN2003's unipolar one (a 28BYJ-48).
+const char* const kFullSteps[2][4] = {{"1010", "0110", "0101", "1001"}, {"1100", "0110", "0011", "1001"}};
+const char* const kHalfSteps[2][8] = {{"1000", "1010", "0010", "0110", "0100", "0101", "0001", "1001"},
+                                      {"1000", "1100", "0100", "0110", "0010", "0011", "0001", "1001"}};
+// The variant's: its configuration's drive.
+int drive_table() { return robot::config.drive == articula::kDriveUln2003 ? 1 : 0; }
 
 std::string pins(uint8_t pattern) {
   std::string s;
@@ -36,9 +40,11 @@ bool half_steps(int motor) { return robot::motor(uint8_t(motor)).microsteps == 2
 }  // namespace
 
 TEST(Coils, TableIsTheSpecifiedHalfStepSequence) {
-  for (int i = 0; i < 8; ++i) EXPECT_EQ(pins(coils::kSequence[i]), kHalfStep[i]) << i;
-  // The full-step states (two phases on) are the odd places.
-  for (int i = 0; i < 4; ++i) EXPECT_EQ(pins(coils::kSequence[2 * i + 1]), kFullStep[i]) << i;
+  for (int t = 0; t < 2; ++t) {
+    for (int i = 0; i < 8; ++i) EXPECT_EQ(pins(coils::kSequence[t][i]), kHalfSteps[t][i]) << t << " " << i;
+    // The full-step states (two phases on) are the odd places.
+    for (int i = 0; i < 4; ++i) EXPECT_EQ(pins(coils::kSequence[t][2 * i + 1]), kFullSteps[t][i]) << t << " " << i;
+  }
 }
 
 TEST(Coils, StartReleasedThenEnergiseOnTheFirstFullStepState) {
@@ -51,7 +57,7 @@ TEST(Coils, StartReleasedThenEnergiseOnTheFirstFullStepState) {
   const size_t from = sitl::hw.coil_log.size();
   coils::energise();
   EXPECT_TRUE(coils::on());
-  for (int m = 0; m < robot::kJoints; ++m) EXPECT_EQ(written(m, from), std::vector<std::string>{"1010"}) << m;
+  for (int m = 0; m < robot::kJoints; ++m) EXPECT_EQ(written(m, from), std::vector<std::string>{kFullSteps[drive_table()][0]}) << m;
   coils::release();
   EXPECT_FALSE(coils::on());
   for (int m = 0; m < robot::kJoints; ++m) EXPECT_EQ(written(m, from).back(), "0000") << m;
@@ -65,8 +71,8 @@ TEST(Coils, SequencesForwardBackwardAndWrap) {
     coils::energise();
     const bool half = half_steps(m);
     const int period = half ? 8 : 4;
-    const char* const* seq = half ? kHalfStep : kFullStep;
-    const int start = half ? 1 : 0;  // both start on 1010
+    const char* const* seq = half ? kHalfSteps[drive_table()] : kFullSteps[drive_table()];
+    const int start = half ? 1 : 0;  // both start on the first full step (1010, or 1100)
     size_t from = sitl::hw.coil_log.size();
     for (int k = 0; k < 2 * period + 3; ++k) coils::step(uint8_t(m), false);
     std::vector<std::string> w = written(m, from);

@@ -48,12 +48,12 @@ TEST(Config, AFreshMachineRunsItsArmAndSaysWhich) {
   if (std::string(info.name) == "MK2 Plus") {  // the arm a blank EEPROM gets (the halfstep variant's is preloaded)
     const uint8_t builtin[] = ARTICULA_BUILTIN_CONFIG;
     EXPECT_EQ(info.checksum, config_checksum(builtin));
-    EXPECT_EQ(info.checksum, 15925);  // docs/protocol.md's
+    EXPECT_EQ(info.checksum, 58013);  // docs/protocol.md's
     // written to EEPROM before the first value is staged, not at power-up (0.6 s of writing)
     EXPECT_NE(eeprom_image(), std::vector<uint8_t>(builtin, builtin + sizeof builtin));
     EXPECT_EQ(sim::command("$161=150"), "ok");  // the value it has
     EXPECT_EQ(eeprom_image(), std::vector<uint8_t>(builtin, builtin + sizeof builtin));
-    EXPECT_EQ(sim::command("$199=15925"), "ok");
+    EXPECT_EQ(sim::command("$199=58013"), "ok");
   }
 }
 
@@ -105,6 +105,7 @@ TEST(Config, EveryBadValueGetsItsOwnError) {
   EXPECT_EQ(sim::command("$102=0"), "error:8");       // a direction is 1 or -1
   EXPECT_EQ(sim::command("$100=200.5"), "error:8");   // whole steps
   EXPECT_EQ(sim::command("$130=4"), "error:8");       // three motors at most
+  EXPECT_EQ(sim::command("$131=4"), "error:8");       // the drive kinds are 0..3
   EXPECT_EQ(sim::command("$161=181"), "error:8");     // a servo angle
   EXPECT_EQ(sim::command("$109=1"), "error:13");      // no such setting
   EXPECT_EQ(sim::command("$190=1"), "error:13");
@@ -127,6 +128,36 @@ TEST(Config, AnArmTheFirmwareCannotDriveIsRefusedAtTheCommit) {
   // last committed one, never this.
   sim::boot(false);
   EXPECT_NE(robot::motor(0).zero, base.max + 5000);
+}
+
+// A drive this build does not drive (STEP/DIR, a servo) is a valid image, refused at the
+// commit; the other 4-wire one (L298N <-> ULN2003) is taken, with its own coil table.
+TEST(Config, ADriveThisBuildDoesNotDriveIsRefusedAtTheCommit) {
+  sim::boot();
+  const uint16_t before = robot::checksum;
+  const uint8_t drive = robot::config.drive;
+  for (int kind : {articula::kDriveStepDir, articula::kDriveServo}) {
+    EXPECT_EQ(sim::command("$131=" + std::to_string(kind)), "ok");
+    EXPECT_EQ(sim::command(commit_line(eeprom_image())), "error:18") << kind;
+    EXPECT_EQ(banner().checksum, before);
+    EXPECT_EQ(robot::config.drive, drive);
+  }
+  const int other = drive == articula::kDriveL298n ? articula::kDriveUln2003 : articula::kDriveL298n;
+  EXPECT_EQ(sim::command("$131=" + std::to_string(other)), "ok");
+  EXPECT_EQ(sim::command(commit_line(eeprom_image())), "ok");
+  EXPECT_EQ(robot::config.drive, other);
+  EXPECT_NE(banner().checksum, before);
+  // Its coils follow the other table: the first full step energised is 1100 on a ULN2003,
+  // 1010 on an L298N (bit 0 is IN1).
+  EXPECT_EQ(sim::command("L 0 5"), "ok");
+  ASSERT_TRUE(sim::run_until_at_rest());
+  bool seen = false;
+  for (const sitl::CoilWrite& w : sitl::hw.coil_log)
+    if (w.motor == 0 && w.pattern != 0 && !seen) {
+      EXPECT_EQ(w.pattern, other == articula::kDriveUln2003 ? 0x3 : 0x5);
+      seen = true;
+    }
+  EXPECT_TRUE(seen);
 }
 
 TEST(Config, TwoMotorsAndNoClosedForm) {

@@ -1,6 +1,6 @@
 // Co-design: one firmware, configured at run time for each arm of hil/robots (the thesis's
 // example, the 3-link arm with made-up motors, a half-step MK2, an MK2 with other gears and a
-// reversed motor), on the page's virtual Nano (avr8js): its configuration's lines (the web
+// reversed motor, an MK2 on 28BYJ-48s and ULN2003 boards), on the page's virtual Nano (avr8js): its configuration's lines (the web
 // engine's nanoConfig, as the studio sends them) then the plans of hil/plans and random
 // lines, each against `articula predict` for that arm: the same reply, the same steps (the
 // status report's and the coils'), and every move's duration. hil/tests/test_harness.py runs
@@ -56,7 +56,7 @@ function randomLines(info, hasPoint, seed, count) {
   return out.join("\n") + "\n";
 }
 
-test("one firmware, four arms configured at run time, on avr8js: replies, steps and durations as predicted", async (t) => {
+test("one firmware, every arm of hil/robots configured at run time, on avr8js: replies, steps and durations as predicted", async (t) => {
   const engine = await nodeEngine();
   const parts = await nodeNanoParts();
   const hex = readFileSync(HEX, "utf8");
@@ -70,14 +70,17 @@ test("one firmware, four arms configured at run time, on avr8js: replies, steps 
     n.runFor(0.3);
     // A fresh Nano runs the MK2; the lines make it this arm, at once.
     let [reply, before] = command(n, lines, "I");
-    assert.equal(engine.parseArmLine(before[0]).checksum, 15925, `${file}: a fresh Nano's banner`);
+    assert.equal(engine.parseArmLine(before[0]).checksum, 58013, `${file}: a fresh Nano's banner`);
     for (const l of cfg.lines) assert.equal(command(n, lines, l)[0], "ok", `${file}: ${l}`);
     [reply, before] = command(n, lines, "I");
     const banner = engine.parseArmLine(before[0]);
     assert.equal(banner.checksum, cfg.checksum, `${file}: the banner after configuring`);
     assert.equal(banner.robot, cfg.name);
     assert.equal(banner.joints, robot.info.motors.length);
-    robot.info.motors.forEach((m, i) => { if (m.microsteps === 2) n.decoders[i].forceHalfStep(); });
+    robot.info.motors.forEach((m, i) => {
+      if (m.microsteps === 2) n.decoders[i].forceHalfStep();
+      if (m.driver.kind === "uln2003") n.decoders[i].setUnipolar(true); // the motors the arm is wired with
+    });
     let commands = 0, refused = 0, timed = 0, worst = 0, worstUs = 0;
     const texts = PLANS.map((p) => [p, readFileSync(join(REPO, "hil/plans", p), "utf8")]);
     texts.push(["random.arm", randomLines(robot.info, cfg.has_point, 7, RANDOM_LINES)]);
