@@ -1,21 +1,23 @@
 # The Nano firmware, built with the AVR toolchain (cmake/avr-gcc.cmake); included by
-# firmware/CMakeLists.txt. Makes:
-#   articula-nano.elf  every firmware/src/*.cpp, and avr-libc: no Arduino core (the HAL sets
-#                      every register it uses, main.cpp is the entry point); runs unchanged
-#                      in simavr; one firmware for every arm (the robot configuration is in
-#                      EEPROM);
-#   articula-nano.hex  what goes to the board (without the simavr and EEPROM sections),
-#                      after a size check that prints flash and RAM use and fails the
-#                      build above the budgets below.
+# firmware/CMakeLists.txt. Makes, for each build (below):
+#   <build>.elf  every firmware/src/*.cpp, and avr-libc: no Arduino core (the HAL sets every
+#                register it uses, main.cpp is the entry point); runs unchanged in simavr;
+#                one firmware for every arm its drivers can move (the robot configuration is
+#                in EEPROM);
+#   <build>.hex  what goes to the board (without the simavr and EEPROM sections), after a
+#                size check that prints flash and RAM use and fails the build above the
+#                budgets below.
 set(ARTICULA_FLASH_BUDGET 30720 CACHE STRING "firmware flash budget in bytes: all a Nano with the old bootloader takes")
 set(ARTICULA_RAM_BUDGET 1600 CACHE STRING "firmware static RAM (.data + .bss) budget in bytes (the Nano has 2,048)")
 
-# ---- the firmware ----
-# Every source in src/: the AVR HAL and main.cpp, and the portable logic.
+# ---- the firmware: one source, a build for each family of drivers ----
+# articula_avr_firmware(NAME DEFINITIONS...): every source in src/ (the AVR HAL and main.cpp,
+# and the portable logic) as NAME.elf, and NAME.hex after the size check.
+#   articula-nano  the Nano's (or Uno's) own pins: L298N or ULN2003 boards (board.h's slots)
+#   articula-cnc   a Nano on a CNC Shield V4 or an Uno on a CNC Shield V3: STEP/DIR drivers in
+#                  its sockets (ARTICULA_CNC_SHIELD: board.h's shield pins); the same pins on
+#                  both, so one hex, within the Nano's old-bootloader budget
 file(GLOB firmware_sources CONFIGURE_DEPENDS ${ARTICULA_FIRMWARE_DIR}/src/*.cpp)
-add_executable(articula-nano ${firmware_sources})
-set_target_properties(articula-nano PROPERTIES SUFFIX ".elf")
-target_include_directories(articula-nano PRIVATE ${ARTICULA_FIRMWARE_DIR}/src ${ARTICULA_SHARED_DIR})
 # -mcall-prologues: functions save and restore their registers through one shared routine
 # (1.3 KB less flash; a few cycles more per call, none in the interrupt handlers themselves).
 # -mstrict-X: the X register only as a pointer, as the AVR addresses it (240 B less).
@@ -23,11 +25,6 @@ target_include_directories(articula-nano PRIVATE ${ARTICULA_FIRMWARE_DIR}/src ${
 # (110 B less).
 set(firmware_flags -Os -mcall-prologues -mstrict-X -fno-gcse -fno-move-loop-invariants -fno-jump-tables -fno-tree-dominator-opts -ffunction-sections -fdata-sections -fno-exceptions
                    -fno-threadsafe-statics -flto)
-target_compile_options(articula-nano PRIVATE ${ARTICULA_WARNINGS} ${firmware_flags})
-# -mrelax: the linker turns calls and jumps within reach into rcall and rjmp (2 bytes less
-# each, a cycle faster).
-target_link_options(articula-nano PRIVATE ${firmware_flags} -fuse-linker-plugin -Wl,--gc-sections -mrelax)
-target_link_libraries(articula-nano PRIVATE m)
 
 # The simavr metadata (MCU name and clock) in a .mmcu section, so simavr and the virtual Nano
 # run this very ELF without being told what it is. simavr 1.6 needs the section at 0x910000
@@ -42,21 +39,37 @@ if(EXISTS ${simavr_header})
   add_library(simavr_mcu_section OBJECT ${ARTICULA_FIRMWARE_DIR}/sim/simavr_mcu_section.c)
   target_include_directories(simavr_mcu_section PRIVATE ${CMAKE_CURRENT_BINARY_DIR}/simavr_include)
   target_compile_options(simavr_mcu_section PRIVATE ${ARTICULA_WARNINGS} -fno-lto)
-  target_sources(articula-nano PRIVATE $<TARGET_OBJECTS:simavr_mcu_section>)
-  target_link_options(articula-nano PRIVATE -Wl,--undefined=_mmcu,--section-start=.mmcu=0x910000)
 else()
   message(STATUS "no ${simavr_header} (libsimavr-dev): the ELF has no simavr metadata; "
                  "run it with simavr -m atmega328p -f 16000000")
 endif()
 
-# The HEX, after the size check (runs at every build, so every build shows the figures).
-set(elf ${CMAKE_CURRENT_BINARY_DIR}/articula-nano.elf)
-set(hex ${CMAKE_CURRENT_BINARY_DIR}/articula-nano.hex)
-add_custom_target(articula-nano-hex ALL
-  COMMAND ${CMAKE_COMMAND} -DELF=${elf} -DAVR_SIZE=${AVR_SIZE} -DFLASH_BUDGET=${ARTICULA_FLASH_BUDGET}
-          -DRAM_BUDGET=${ARTICULA_RAM_BUDGET} -P ${ARTICULA_FIRMWARE_DIR}/tools/avr_size_check.cmake
-  COMMAND ${AVR_OBJCOPY} -O ihex -R .eeprom -R .mmcu ${elf} ${hex}
-  BYPRODUCTS ${hex}
-  DEPENDS articula-nano
-  COMMENT "articula-nano.hex"
-  VERBATIM)
+function(articula_avr_firmware name)
+  add_executable(${name} ${firmware_sources})
+  set_target_properties(${name} PROPERTIES SUFFIX ".elf")
+  target_include_directories(${name} PRIVATE ${ARTICULA_FIRMWARE_DIR}/src ${ARTICULA_SHARED_DIR})
+  target_compile_definitions(${name} PRIVATE ${ARGN})
+  target_compile_options(${name} PRIVATE ${ARTICULA_WARNINGS} ${firmware_flags})
+  # -mrelax: the linker turns calls and jumps within reach into rcall and rjmp (2 bytes less
+  # each, a cycle faster).
+  target_link_options(${name} PRIVATE ${firmware_flags} -fuse-linker-plugin -Wl,--gc-sections -mrelax)
+  target_link_libraries(${name} PRIVATE m)
+  if(TARGET simavr_mcu_section)
+    target_sources(${name} PRIVATE $<TARGET_OBJECTS:simavr_mcu_section>)
+    target_link_options(${name} PRIVATE -Wl,--undefined=_mmcu,--section-start=.mmcu=0x910000)
+  endif()
+  # The HEX, after the size check (runs at every build, so every build shows the figures).
+  set(elf ${CMAKE_CURRENT_BINARY_DIR}/${name}.elf)
+  set(hex ${CMAKE_CURRENT_BINARY_DIR}/${name}.hex)
+  add_custom_target(${name}-hex ALL
+    COMMAND ${CMAKE_COMMAND} -DELF=${elf} -DAVR_SIZE=${AVR_SIZE} -DFLASH_BUDGET=${ARTICULA_FLASH_BUDGET}
+            -DRAM_BUDGET=${ARTICULA_RAM_BUDGET} -P ${ARTICULA_FIRMWARE_DIR}/tools/avr_size_check.cmake
+    COMMAND ${AVR_OBJCOPY} -O ihex -R .eeprom -R .mmcu ${elf} ${hex}
+    BYPRODUCTS ${hex}
+    DEPENDS ${name}
+    COMMENT "${name}.hex"
+    VERBATIM)
+endfunction()
+
+articula_avr_firmware(articula-nano)
+articula_avr_firmware(articula-cnc ARTICULA_CNC_SHIELD)

@@ -4,10 +4,11 @@
 # and machine), the tests' harness
 # (test/harness.cpp, which PlatformIO compiles with every test folder too), and one
 # GoogleTest program per test folder
-# (test/test_<unit>/test_<unit>.cpp), for each of three arms on the one firmware: the MK2 a
+# (test/test_<unit>/test_<unit>.cpp), for each of four arms on the one firmware: the MK2 a
 # blank EEPROM gets, under the prefix "firmware.", a test robot with half steps, a reversed
 # motor, the identity coupling and a home pose away from step 0, under "firmware.halfstep.",
-# and that robot on 28BYJ-48s and ULN2003 boards under "firmware.uln2003.": a variant's
+# that robot on 28BYJ-48s and ULN2003 boards under "firmware.uln2003.", and on STEP/DIR
+# drivers in a CNC shield's sockets under "firmware.cnc.": a variant's
 # configuration (made by `articula configure --header`) is what the harness puts in the SITL
 # EEPROM of a fresh machine.
 set(fw_test_dir ${ARTICULA_FIRMWARE_DIR}/test)
@@ -19,7 +20,18 @@ file(GLOB fw_test_folders LIST_DIRECTORIES true CONFIGURE_DEPENDS ${fw_test_dir}
 # loader or its prediction, runs on that one, since a program links one firmware); tests: the
 # test folders to build ("": all but those that need the host library).
 set(fw_host_tests test_robot test_prediction)
+# Folders for one family of drivers only: the coils' on the 4-wire arms, the pulses' on the
+# arms on STEP/DIR drivers (the robot file names "step-dir").
+set(fw_coil_tests test_coils)
+set(fw_step_dir_tests test_step_dir)
 function(articula_firmware_variant variant robot prefix sitl tests)
+  set(not_for_this_arm ${fw_step_dir_tests})
+  if(robot)
+    file(READ ${robot} robot_text)
+    if(robot_text MATCHES "\"step-dir\"")
+      set(not_for_this_arm ${fw_coil_tests})
+    endif()
+  endif()
   set(robot_file ${robot})
   set(config_defs "")
   if(robot)
@@ -59,6 +71,9 @@ function(articula_firmware_variant variant robot prefix sitl tests)
     if(NOT tests AND name IN_LIST fw_host_tests)
       continue()
     endif()
+    if(name IN_LIST not_for_this_arm)
+      continue()
+    endif()
     set(exe firmware_${variant}_${name})
     add_executable(${exe} ${folder}/${name}.cpp)
     target_link_libraries(${exe} PRIVATE firmware_harness_${variant} GTest::gtest_main)
@@ -76,6 +91,8 @@ articula_firmware_variant(main "" "firmware." "" "")
 articula_firmware_variant(halfstep ${fw_test_dir}/robots/halfstep.json "firmware.halfstep." "" "")
 # 28BYJ-48s on ULN2003 boards: the unipolar coil table, a gear train that is not whole.
 articula_firmware_variant(uln2003 ${fw_test_dir}/robots/uln2003.json "firmware.uln2003." "" "")
+# STEP/DIR drivers in a CNC shield's sockets: pulses and DIR, and ENABLE for the coils' idle rule.
+articula_firmware_variant(cnc ${fw_test_dir}/robots/cnc.json "firmware.cnc." "" "")
 # The same arms on the host's build of the firmware (eight motors, host/CMakeLists.txt), which
 # the prediction runs: the tests that need the host library. It gives the same answers as the
 # Nano's build: hil/ holds the prediction against the Nano's own hex in simavr.
@@ -84,3 +101,4 @@ articula_firmware_variant(wide_halfstep ${fw_test_dir}/robots/halfstep.json "fir
                           "${fw_host_tests}")
 articula_firmware_variant(wide_uln2003 ${fw_test_dir}/robots/uln2003.json "firmware.wide.uln2003." articula_firmware_sitl
                           "${fw_host_tests}")
+articula_firmware_variant(wide_cnc ${fw_test_dir}/robots/cnc.json "firmware.wide.cnc." articula_firmware_sitl "${fw_host_tests}")

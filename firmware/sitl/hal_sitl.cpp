@@ -93,6 +93,24 @@ void receive(char c) {
   }
 }
 
+namespace {
+// A STEP/DIR driver's inputs but STEP, as the coil log writes them.
+uint8_t driver_inputs(uint8_t motor) {
+  return uint8_t((hw.drivers_enabled ? kEnabled : 0) | (hw.dir[motor] ? kDirHigh : 0));
+}
+
+// A STEP pulse of `motor` now, as its driver takes it.
+void step_pulse(uint8_t motor, bool staged) {
+  CoilWrite w{hw.now, motor, uint8_t(kStepPulse | driver_inputs(motor)), 0, staged, hw.interrupts_off_depth != 0};
+  if (!hw.drivers_enabled)
+    hw.errors.push_back("motor " + std::to_string(motor) + ": a STEP pulse while the drivers are disabled");
+  else
+    w.step = hw.dir[motor] ? 1 : -1;
+  hw.position[motor] += w.step;
+  hw.coil_log.push_back(w);
+}
+}  // namespace
+
 uint32_t step_deadline() {
   hw.in_step_timer = true;
   for (int m = 0; m < kMotors; ++m)
@@ -101,9 +119,13 @@ uint32_t step_deadline() {
       hw.coil_log.back().staged = true;
     }
   hw.staged_mask = 0;
+  for (int m = 0; m < kMotors; ++m)
+    if (hw.staged_pulses & (1u << m)) step_pulse(uint8_t(m), true);
+  hw.staged_pulses = 0;
   const uint32_t next = firmware::on_step_timer();
   hw.in_step_timer = false;
-  if (next == 0 && hw.staged_mask != 0) hw.errors.push_back("coils staged for a deadline that never comes");
+  if (next == 0 && (hw.staged_mask != 0 || hw.staged_pulses != 0))
+    hw.errors.push_back("coils staged for a deadline that never comes");
   return next;
 }
 
@@ -252,6 +274,7 @@ void stop_step_timer() {
   if (hw.timer_running) sitl::log_action(sitl::kTimerStopped);
   hw.timer_running = false;
   hw.staged_mask = 0;
+  hw.staged_pulses = 0;
 }
 
 void stage_coils(uint8_t motor, uint8_t pattern) {
@@ -263,6 +286,37 @@ void stage_coils(uint8_t motor, uint8_t pattern) {
   if (hw.timer_running && !hw.in_step_timer) hw.errors.push_back("stage_coils outside the step timer's call");
   hw.staged[motor] = pattern;
   hw.staged_mask = uint8_t(hw.staged_mask | (1u << motor));
+}
+
+void stage_pulse(uint8_t motor, bool negative) {
+  if (motor >= sitl::kMotors) {
+    hw.errors.push_back("stage_pulse(" + std::to_string(motor) + ")");
+    return;
+  }
+  if (hw.timer_running && !hw.in_step_timer) hw.errors.push_back("stage_pulse outside the step timer's call");
+  hw.dir[motor] = !negative;
+  if (hw.drivers_enabled) hw.pattern[motor] = sitl::driver_inputs(motor);
+  hw.staged_pulses = uint8_t(hw.staged_pulses | (1u << motor));
+}
+
+void pulse_step(uint8_t motor, bool negative) {
+  sitl::interrupt_point();
+  if (motor >= sitl::kMotors) {
+    hw.errors.push_back("pulse_step(" + std::to_string(motor) + ")");
+    return;
+  }
+  hw.dir[motor] = !negative;
+  if (hw.drivers_enabled) hw.pattern[motor] = sitl::driver_inputs(motor);
+  sitl::step_pulse(motor, false);
+}
+
+void enable_drivers(bool on) {
+  sitl::interrupt_point();
+  hw.drivers_enabled = on;
+  for (int m = 0; m < sitl::kMotors; ++m) {
+    hw.pattern[m] = sitl::driver_inputs(uint8_t(m)) & (on ? 0xFF : 0);
+    hw.coil_log.push_back(sitl::CoilWrite{hw.now, uint8_t(m), hw.pattern[m], 0, false, hw.interrupts_off_depth != 0});
+  }
 }
 
 bool step_timer_running() { return hw.timer_running; }

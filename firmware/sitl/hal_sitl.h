@@ -34,10 +34,15 @@ namespace sitl {
 
 static const int kMotors = robot::kJoints;  // the most this build of the firmware drives
 
+// A STEP/DIR driver's inputs in the coil log, as a motor's "pattern": kEnabled while ENABLE is
+// active (0 when the drivers are off, as released coils), kDirHigh while DIR is high, and
+// kStepPulse on a STEP pulse (the entry with the decoded step).
+static const uint8_t kStepPulse = 0x10, kDirHigh = 0x20, kEnabled = 0x40;
+
 struct CoilWrite {
   uint64_t tick;
   uint8_t motor;
-  uint8_t pattern;  // bit 0 IN1 .. bit 3 IN4
+  uint8_t pattern;  // bit 0 IN1 .. bit 3 IN4; or a STEP/DIR driver's (kEnabled, kDirHigh, kStepPulse)
   int8_t step;      // decoded: +1, -1, or 0 (energised, released, or the same pattern)
   bool staged;      // written at a deadline from stage_coils(), before on_step_timer()
   bool interrupts_off;  // the firmware had interrupts off around the write (write_coils)
@@ -128,6 +133,12 @@ struct Hardware {
   // steps (stride 2 in the half-step table), per motor (set at boot from the robot).
   uint8_t microsteps[kMotors];  // 1 each at first
   bool unipolar = false;        // the motors are on ULN2003s: the unipolar half-step table
+
+  // STEP/DIR drivers: each STEP pulse moves its motor one step, towards more steps while its
+  // DIR pin is high, when the drivers are enabled (a disabled driver ignores STEP: an error).
+  bool dir[kMotors] = {};
+  bool drivers_enabled = false;
+  uint8_t staged_pulses = 0;  // bit i: a pulse of motor i at the next deadline
   int64_t position[kMotors] = {};
   int last_index[kMotors];  // place in the half-step table of the last pattern (-1 at first)
   uint8_t pattern[kMotors] = {};

@@ -6,7 +6,9 @@
 # main.cpp), compiled for the host unchanged, gnu++11 as on the Nano, with the SITL HAL and the
 # machine that runs its main loop and interrupts (sitl/). One library: the HAL and the firmware
 # call each other. MOTORS is the build's motor count (robot::kJoints): 3 as on the Nano, 8 for
-# the host (the same source).
+# the host (the same source). It drives every stepper kind (ARTICULA_FIRMWARE_DRIVES: the
+# L298N's and ULN2003's coils and STEP/DIR drivers), the configuration's $131 choosing, where
+# each AVR build drives one family (robot.h).
 #
 # The firmware's state is global, as on the Nano: a program links one such library, never two.
 #
@@ -23,7 +25,7 @@ function(articula_firmware_sitl target motors)
   add_library(${target} STATIC ${sources} ${sitl}/hal_sitl.cpp ${sitl}/machine.cpp)
   target_include_directories(${target} PUBLIC ${src} ${sitl})
   target_link_libraries(${target} PUBLIC articula::core)
-  target_compile_definitions(${target} PUBLIC ARTICULA_FIRMWARE_MOTORS=${motors})
+  target_compile_definitions(${target} PUBLIC ARTICULA_FIRMWARE_MOTORS=${motors} ARTICULA_FIRMWARE_DRIVES=0x07)
   target_compile_options(${target} PRIVATE ${ARTICULA_WARNINGS})
   set_target_properties(${target} PROPERTIES CXX_STANDARD 11 CXX_EXTENSIONS ON UNITY_BUILD OFF)
 endfunction()

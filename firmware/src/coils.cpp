@@ -1,4 +1,4 @@
-// firmware/src/coils.cpp - the coil sequences.
+// firmware/src/coils.cpp - the coil sequences, or the STEP/DIR drivers' pulses and ENABLE.
 #include "coils.h"
 
 #include "hal.h"
@@ -34,17 +34,34 @@ inline uint8_t advance(uint8_t motor, bool negative) {
 }
 }  // namespace
 
-void step(uint8_t motor, bool negative) { hal::write_coils(motor, g_table[advance(motor, negative)]); }
+// On STEP/DIR drivers a step is a pulse, and energising is the drivers' ENABLE.
+void step(uint8_t motor, bool negative) {
+  if (robot::step_dir())
+    hal::pulse_step(motor, negative);
+  else
+    hal::write_coils(motor, g_table[advance(motor, negative)]);
+}
 
-void stage_step(uint8_t motor, bool negative) { hal::stage_coils(motor, g_table[advance(motor, negative)]); }
+void stage_step(uint8_t motor, bool negative) {
+  if (robot::step_dir())
+    hal::stage_pulse(motor, negative);
+  else
+    hal::stage_coils(motor, g_table[advance(motor, negative)]);
+}
 
 void energise() {
-  for (uint8_t i = 0; i < robot::kJoints; ++i) hal::write_coils(i, g_table[g_phase[i]]);
+  if (robot::step_dir())
+    hal::enable_drivers(true);
+  else
+    for (uint8_t i = 0; i < robot::kJoints; ++i) hal::write_coils(i, g_table[g_phase[i]]);
   g_on = true;
 }
 
 void release() {
-  for (uint8_t i = 0; i < robot::kJoints; ++i) hal::write_coils(i, 0);
+  if (robot::step_dir())
+    hal::enable_drivers(false);
+  else
+    for (uint8_t i = 0; i < robot::kJoints; ++i) hal::write_coils(i, 0);
   g_on = false;
 }
 

@@ -6,7 +6,9 @@
 //   ULN2003, a unipolar motor (IN1..IN4 sink its four half-coils in turn, a 28BYJ-48's
 //   blue, pink, yellow, orange):
 //     1000, 1100, 0100, 0110, 0010, 0011, 0001, 1001
-// The configuration's drive ($131) picks one. In both the full-step sequence (two phases on)
+// The configuration's drive ($131) picks one. On STEP/DIR drivers (a CNC shield) the same
+// calls make a STEP pulse with its DIR (hal::stage_pulse, pulse_step) and switch the drivers'
+// ENABLE; the phase stays. In both the full-step sequence (two phases on)
 // is the odd states, so a motor in full steps moves two places a step and one in half steps one.
 // Each motor keeps its own place in the table, apart from its step count: Z and homing
 // change the count, never the coils.

@@ -52,6 +52,20 @@ bool step_timer_running();
 // long the step computation takes). From on_step_timer(), or before start_step_timer().
 void stage_coils(uint8_t motor, uint8_t pattern);
 
+// STEP/DIR drivers (a CNC shield's sockets; the build for one, and the SITL). DIR high turns a
+// motor towards more steps. stage_pulse() sets the motor's DIR at once (so it holds for the
+// whole interval before the deadline, far beyond any driver's setup time) and a STEP pulse
+// for the next step-timer deadline, raised with every other motor staged for it (one port
+// write), held kStepPulseNs, and lowered. pulse_step() does the same at once (DIR, its setup
+// time, the pulse). From the same places as stage_coils() and write_coils().
+static const uint16_t kStepPulseNs = 2000;  // >= every chip's step_high_ns (drive.h): DRV8825 1.9 us
+static const uint16_t kDirSetupNs = 1000;   // pulse_step(): >= every chip's dir_setup_ns (DRV8825 650 ns)
+void stage_pulse(uint8_t motor, bool negative);
+void pulse_step(uint8_t motor, bool negative);
+// Every driver's ENABLE (the shields' EN, D8, low active): on before a move, off after the
+// idle time, as the 4-wire drives' coils are energised and released.
+void enable_drivers(bool on);
+
 // The step interrupt (or the main loop starting it) took an action of `kind` (queue::Kind)
 // off the queue and began it. Nothing on the Nano (no code at all); the SITL machine stamps
 // it with its tick, so the host reads when each queued action began from the firmware itself.

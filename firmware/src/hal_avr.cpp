@@ -118,10 +118,41 @@ uint32_t call_firmware() {
   return next;
 }
 
-// Coil patterns for the next deadline (stage_coils), bits 0..3.
+// Coil patterns for the next deadline (stage_coils), bits 0..3; or, on a CNC shield, the
+// motors with a STEP pulse at it (stage_pulse).
 uint8_t g_stage_mask;  // bit i: motor i has one
 uint8_t g_stage[3];
 
+#if defined(ARTICULA_CNC_SHIELD)
+// hal.h's STEP pulse width and DIR setup time, in CPU cycles (the instructions around each
+// wait add a few more).
+const uint8_t kStepPulseCycles = uint8_t(F_CPU / 1000000UL * hal::kStepPulseNs / 1000);
+const uint8_t kDirSetupCycles = uint8_t(F_CPU / 1000000UL * hal::kDirSetupNs / 1000);
+
+// The staged STEP pulses, first thing at a deadline: every one raised by one port write, held
+// kStepPulseCycles, lowered by one write. Interrupts off (the port's other bits are DIR's and
+// the serial line's).
+inline void write_staged() {
+  const uint8_t m = g_stage_mask;
+  if (m == 0) return;
+  const uint8_t bits = uint8_t(m << ARTICULA_STEP_SHIFT);
+  ARTICULA_STEP_PORT |= bits;
+  __builtin_avr_delay_cycles(kStepPulseCycles);
+  ARTICULA_STEP_PORT &= uint8_t(~bits);
+  g_stage_mask = 0;
+}
+
+// A motor's DIR pin: high towards more steps.
+inline void set_dir(uint8_t motor, bool negative) {
+  const uint8_t bit = uint8_t(1u << (ARTICULA_DIR_SHIFT + motor));
+  const uint8_t sreg = hal::interrupts_off();
+  if (negative)
+    ARTICULA_STEP_PORT &= uint8_t(~bit);
+  else
+    ARTICULA_STEP_PORT |= bit;
+  hal::interrupts_restore(sreg);
+}
+#else
 // The staged patterns to the ports, first thing at a deadline: the three writes are a few
 // cycles apart and a fixed number of cycles after the interrupt's entry, whatever the
 // firmware computes afterwards. Interrupts off (a port's other bits belong to the servo, an
@@ -141,6 +172,7 @@ inline void write_staged() {
                                    uint8_t(g_stage[2] << ARTICULA_MOTOR2_SHIFT));
   g_stage_mask = 0;
 }
+#endif
 
 void stop_in_isr() {
   TIMSK1 &= uint8_t(~_BV(OCIE1A));
@@ -378,6 +410,14 @@ namespace hal {
 void init() {
   cli();
 
+#if defined(ARTICULA_CNC_SHIELD)
+  // The drivers disabled (EN high) before it becomes an output, STEP and DIR low.
+  ARTICULA_ENABLE_PORT |= _BV(ARTICULA_ENABLE_BIT);
+  ARTICULA_ENABLE_DDR |= _BV(ARTICULA_ENABLE_BIT);
+  const uint8_t step_dir = uint8_t((0x07 << ARTICULA_STEP_SHIFT) | (0x07 << ARTICULA_DIR_SHIFT));
+  ARTICULA_STEP_PORT &= uint8_t(~step_dir);
+  ARTICULA_STEP_DDR |= step_dir;
+#else
   // Coils off before the pins become outputs, so no motor twitches at start-up.
   ARTICULA_MOTOR0_PORT &= uint8_t(~ARTICULA_COIL_MASK(ARTICULA_MOTOR0_SHIFT));
   ARTICULA_MOTOR0_DDR |= ARTICULA_COIL_MASK(ARTICULA_MOTOR0_SHIFT);
@@ -385,6 +425,7 @@ void init() {
   ARTICULA_MOTOR1_DDR |= ARTICULA_COIL_MASK(ARTICULA_MOTOR1_SHIFT);
   ARTICULA_MOTOR2_PORT &= uint8_t(~ARTICULA_COIL_MASK(ARTICULA_MOTOR2_SHIFT));
   ARTICULA_MOTOR2_DDR |= ARTICULA_COIL_MASK(ARTICULA_MOTOR2_SHIFT);
+#endif
 
   ARTICULA_SERVO_PORT &= uint8_t(~_BV(ARTICULA_SERVO_BIT));
   ARTICULA_SERVO_DDR |= _BV(ARTICULA_SERVO_BIT);
@@ -457,6 +498,10 @@ void start() {
 }
 
 void write_coils(uint8_t motor, uint8_t pattern) {
+#if defined(ARTICULA_CNC_SHIELD)
+  (void)motor;
+  (void)pattern;
+#else
   const uint8_t sreg = interrupts_off();  // a port's other bits belong to others (servo, endstop pull-ups, LED)
   switch (motor) {
     case 0: {
@@ -478,6 +523,7 @@ void write_coils(uint8_t motor, uint8_t pattern) {
       break;
   }
   interrupts_restore(sreg);
+#endif
 }
 
 void set_servo_pulse(uint16_t microseconds) {
@@ -538,6 +584,49 @@ void stage_coils(uint8_t motor, uint8_t pattern) {
   if (motor > 2) return;
   g_stage[motor] = uint8_t(pattern & 0x0F);
   g_stage_mask = uint8_t(g_stage_mask | (1u << motor));
+}
+
+// STEP/DIR: only the build for a CNC shield has the pins (the 4-wire build never calls these:
+// robot::step_dir() is a constant there).
+void stage_pulse(uint8_t motor, bool negative) {
+#if defined(ARTICULA_CNC_SHIELD)
+  if (motor > 2) return;
+  set_dir(motor, negative);
+  g_stage_mask = uint8_t(g_stage_mask | (1u << motor));
+#else
+  (void)motor;
+  (void)negative;
+#endif
+}
+
+void pulse_step(uint8_t motor, bool negative) {
+#if defined(ARTICULA_CNC_SHIELD)
+  if (motor > 2) return;
+  set_dir(motor, negative);
+  __builtin_avr_delay_cycles(kDirSetupCycles);
+  const uint8_t bit = uint8_t(1u << (ARTICULA_STEP_SHIFT + motor));
+  const uint8_t sreg = interrupts_off();
+  ARTICULA_STEP_PORT |= bit;
+  __builtin_avr_delay_cycles(kStepPulseCycles);
+  ARTICULA_STEP_PORT &= uint8_t(~bit);
+  interrupts_restore(sreg);
+#else
+  (void)motor;
+  (void)negative;
+#endif
+}
+
+void enable_drivers(bool on) {
+#if defined(ARTICULA_CNC_SHIELD)
+  const uint8_t sreg = interrupts_off();
+  if (on)
+    ARTICULA_ENABLE_PORT &= uint8_t(~_BV(ARTICULA_ENABLE_BIT));
+  else
+    ARTICULA_ENABLE_PORT |= _BV(ARTICULA_ENABLE_BIT);
+  interrupts_restore(sreg);
+#else
+  (void)on;
+#endif
 }
 
 bool step_timer_running() { return g_step_running; }

@@ -1,4 +1,4 @@
-// firmware/src/pins.h - the registers of every pin of board.h (the one table of the Nano's
+// firmware/src/pins.h - the registers of every pin of board.h (the one table of the boards'
 // wiring), as the macros hal_avr.cpp writes. Only hal_avr.cpp includes it. The addresses are
 // constants, so each write is the same single instruction as with avr-libc's own names.
 #ifndef ARTICULA_FIRMWARE_PINS_H
@@ -9,22 +9,40 @@
 #include "board.h"
 
 // board.h's table as constants: enumerators are compile-time values, so the table itself is
-// never placed in the Nano's RAM, and each register access is one instruction.
+// never placed in the Nano's RAM, and each register access is one instruction. The build for a
+// CNC shield (ARTICULA_CNC_SHIELD) takes the shield's endstops and servo pin, and its STEP,
+// DIR and EN pins; the 4-wire build the coil slots.
 namespace pins {
 using namespace board;
+#if defined(ARTICULA_CNC_SHIELD)
+constexpr const Pin* kEnds = kShieldEndstopPins;
+constexpr Pin kServo = kShieldServoPin;
+#else
+constexpr const Pin* kEnds = kEndstopPins;
+constexpr Pin kServo = kServoPin;
+#endif
 enum : uint8_t {
   kMotor0Port = port_io(kMotorPins[0].port), kMotor0Ddr = ddr_io(kMotorPins[0].port), kMotor0Shift = kMotorPins[0].shift,
   kMotor1Port = port_io(kMotorPins[1].port), kMotor1Ddr = ddr_io(kMotorPins[1].port), kMotor1Shift = kMotorPins[1].shift,
   kMotor2Port = port_io(kMotorPins[2].port), kMotor2Ddr = ddr_io(kMotorPins[2].port), kMotor2Shift = kMotorPins[2].shift,
-  kServoPort = port_io(kServoPin.port), kServoDdr = ddr_io(kServoPin.port), kServoBit = kServoPin.bit,
+  kServoPort = port_io(kServo.port), kServoDdr = ddr_io(kServo.port), kServoBit = kServo.bit,
   kLedPort = port_io(kLedPin.port), kLedDdr = ddr_io(kLedPin.port), kLedBit = kLedPin.bit,
-  kEnd0Pin = pin_io(kEndstopPins[0].port), kEnd0Port = port_io(kEndstopPins[0].port), kEnd0Ddr = ddr_io(kEndstopPins[0].port),
-  kEnd0Bit = kEndstopPins[0].bit,
-  kEnd1Pin = pin_io(kEndstopPins[1].port), kEnd1Port = port_io(kEndstopPins[1].port), kEnd1Ddr = ddr_io(kEndstopPins[1].port),
-  kEnd1Bit = kEndstopPins[1].bit,
-  kEnd2Pin = pin_io(kEndstopPins[2].port), kEnd2Port = port_io(kEndstopPins[2].port), kEnd2Ddr = ddr_io(kEndstopPins[2].port),
-  kEnd2Bit = kEndstopPins[2].bit,
+  kEnd0Pin = pin_io(kEnds[0].port), kEnd0Port = port_io(kEnds[0].port), kEnd0Ddr = ddr_io(kEnds[0].port),
+  kEnd0Bit = kEnds[0].bit,
+  kEnd1Pin = pin_io(kEnds[1].port), kEnd1Port = port_io(kEnds[1].port), kEnd1Ddr = ddr_io(kEnds[1].port),
+  kEnd1Bit = kEnds[1].bit,
+  kEnd2Pin = pin_io(kEnds[2].port), kEnd2Port = port_io(kEnds[2].port), kEnd2Ddr = ddr_io(kEnds[2].port),
+  kEnd2Bit = kEnds[2].bit,
+  // The shield's sockets: the three STEP pins on consecutive bits of one port (motor i at
+  // kStepShift + i), the three DIR pins likewise, EN on its own.
+  kStepPort = port_io(kShieldSocket[0].step.port), kStepDdr = ddr_io(kShieldSocket[0].step.port),
+  kStepShift = kShieldSocket[0].step.bit, kDirShift = kShieldSocket[0].dir.bit,
+  kEnablePort = port_io(kShieldEnable.port), kEnableDdr = ddr_io(kShieldEnable.port), kEnableBit = kShieldEnable.bit,
 };
+static_assert(kShieldSocket[1].step.bit == kStepShift + 1 && kShieldSocket[2].step.bit == kStepShift + 2 &&
+                  kShieldSocket[1].dir.bit == kDirShift + 1 && kShieldSocket[2].dir.bit == kDirShift + 2 &&
+                  kShieldSocket[0].dir.port == kShieldSocket[0].step.port && kShieldSocket[2].step.port == kShieldSocket[0].step.port,
+              "the STEP pins and the DIR pins: consecutive bits of one port, in socket order");
 }  // namespace pins
 
 // ---- stepper motors: four L298N inputs each, on four consecutive bits of one port ----
@@ -39,6 +57,15 @@ enum : uint8_t {
 #define ARTICULA_MOTOR2_DDR _SFR_IO8(pins::kMotor2Ddr)
 #define ARTICULA_MOTOR2_SHIFT (pins::kMotor2Shift)
 #define ARTICULA_COIL_MASK(shift) (uint8_t(0x0F) << (shift))
+
+// ---- STEP/DIR drivers (the build for a CNC shield) ----
+#define ARTICULA_STEP_PORT _SFR_IO8(pins::kStepPort)
+#define ARTICULA_STEP_DDR _SFR_IO8(pins::kStepDdr)
+#define ARTICULA_STEP_SHIFT (pins::kStepShift)
+#define ARTICULA_DIR_SHIFT (pins::kDirShift)
+#define ARTICULA_ENABLE_PORT _SFR_IO8(pins::kEnablePort)
+#define ARTICULA_ENABLE_DDR _SFR_IO8(pins::kEnableDdr)
+#define ARTICULA_ENABLE_BIT (pins::kEnableBit)
 
 // ---- gripper servo ----
 #define ARTICULA_SERVO_PORT _SFR_IO8(pins::kServoPort)

@@ -26,8 +26,13 @@ static_assert(ARTICULA_FIRMWARE_MOTORS >= articula::kMaxConfigMotors && ARTICULA
 
 // The drive kinds this build drives (bit k: articula::DriveKind k); a configuration asking for
 // another is refused (kConfigInvalid). The 4-wire ones share the Nano's pins and coil code.
+// The build for a CNC shield (ARTICULA_CNC_SHIELD, board.h's shield pins) drives STEP/DIR only.
 #ifndef ARTICULA_FIRMWARE_DRIVES
+#if defined(ARTICULA_CNC_SHIELD)
+#define ARTICULA_FIRMWARE_DRIVES (1u << articula::kDriveStepDir)
+#else
 #define ARTICULA_FIRMWARE_DRIVES ((1u << articula::kDriveL298n) | (1u << articula::kDriveUln2003))
+#endif
 #endif
 static const uint8_t kDrives = ARTICULA_FIRMWARE_DRIVES;
 
@@ -44,6 +49,12 @@ extern int32_t home_steps[kJoints];
 inline const Actuation& actuation() { return config.actuation; }
 inline uint8_t count() { return config.actuation.num_motors; }
 inline const articula::MotorSpec& motor(uint8_t i) { return config.actuation.motors[i]; }
+// Whether the motors are on STEP/DIR drivers: a constant in a build that drives one family (the
+// other family's code is then never compiled in), the configuration's word in one with both.
+inline bool step_dir() {
+  const uint8_t sd = uint8_t(1u << articula::kDriveStepDir);
+  return kDrives == sd || ((kDrives & sd) != 0 && config.drive == articula::kDriveStepDir);
+}
 
 // steps_to_millideg(motor(i), steps), the status report's A field: the same value, from a
 // fraction reduced at setup, in 32-bit arithmetic for every step count it fits (all within

@@ -73,9 +73,9 @@ NanoConfig nano_config(const Robot& robot) {
   put(130, n * 1000);
   // How the motors are driven: the robot file's drivers (an L298N each when it names none).
   const DriveKind drive = robot.drive.motors.empty() ? kDriveL298n : robot.drive.motors[0].kind;
-  if (drive != kDriveL298n && drive != kDriveUln2003)
+  if (drive == kDriveServo)
     throw fail(std::string("is driven by ") + kDriveKindInfo[drive].id +
-               ": the firmware drives L298N and ULN2003 boards (STEP/DIR and servo builds are still to come)");
+               ": the firmware drives steppers (L298N, ULN2003, STEP/DIR); its servo build is still to come");
   put(131, int32_t(drive) * 1000);
   // The home pose as motor angles, u = C^-1 q, in float with the core's 3 x 3 solve (C padded
   // with the identity), as the firmware's arithmetic would have it.
@@ -91,9 +91,9 @@ NanoConfig nano_config(const Robot& robot) {
     const bool used = i < n;
     const MotorSpec m = used ? robot.actuation.motors[i] : MotorSpec{200, 1, 1, 1, 1, 0, 0, 0};
     const std::string motor = used ? "the " + robot.motor_names[size_t(i)] + " motor" : "";
-    if (m.microsteps > 2)
-      throw fail(motor + " has " + std::to_string(int(m.microsteps)) +
-                 " microsteps: the Nano's L298N drivers make full steps (1) or half steps (2)");
+    if (m.microsteps > 2 && drive != kDriveStepDir)
+      throw fail(motor + " has " + std::to_string(int(m.microsteps)) + " microsteps: the Nano's " +
+                 kDriveKindInfo[drive].title + " drivers make full steps (1) or half steps (2)");
     if (validate(m) != kMotorOk) throw fail(motor + ": " + motor_error_text(validate(m)));
     const uint16_t b = uint16_t(100 + 10 * i);
     const int32_t whole[5] = {m.full_steps_per_rev, m.microsteps, m.direction, m.gear_num, m.gear_den};
@@ -178,7 +178,8 @@ ConfiguredArm<kFirmwareMotors> firmware_arm(const Robot& robot) {
     out.home[i] = clamp(h, m.min, m.max);
   }
   for (int i = n; i < kFirmwareMotors; ++i) out.actuation.motors[i] = MotorSpec{200, 1, 1, 1, 1, 0, 0, 0};
-  out.drive = uint8_t(!robot.drive.motors.empty() && robot.drive.motors[0].kind == kDriveUln2003 ? kDriveUln2003 : kDriveL298n);
+  const DriveKind kind = robot.drive.motors.empty() ? kDriveL298n : robot.drive.motors[0].kind;
+  out.drive = uint8_t(kind == kDriveServo ? kDriveL298n : kind);
   out.has_point = float_ypp_arm(robot, out.arm);
   out.servo_open_deg = out.servo_closed_deg = 90.0f;
   if (robot.gripper.present) {

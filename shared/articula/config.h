@@ -7,7 +7,8 @@
 // The configuration is an image of kConfigImageSize bytes. Every number in it is a setting
 // in GRBL's manner, `$<n>=<value>`, numbered here and nowhere else:
 //
-//   $1mk    motor m (0 to 2), field k:  0 full steps per turn   1 microsteps (1 or 2)
+//   $1mk    motor m (0 to 2), field k:  0 full steps per turn   1 microsteps (1, 2, 4 .. 64;
+//                                                               beyond 2 on STEP/DIR only)
 //           2 direction (1 or -1)       3 gear numerator        4 gear denominator
 //           5 zero, deg                 6 minimum, deg          7 maximum, deg
 //           8 home, deg (the motor's angle at the home pose)
@@ -60,7 +61,7 @@ inline bool config_field(uint16_t n, ConfigField& f) {
     f.offset = uint8_t(1 + 28 * m + kMotorOffset[k]);
     f.size = k == 0 ? 2 : k <= 2 ? 1 : 4;
     f.lo = k == 2 ? -1 : 1;
-    f.hi = k == 0 ? 10000 : k == 1 ? 2 : k == 2 ? 1 : 1000000L;
+    f.hi = k == 0 ? 10000 : k == 1 ? 64 : k == 2 ? 1 : 1000000L;
     if (k >= 5) {
       f.whole = false;
       f.lo = -big;
@@ -111,6 +112,7 @@ inline Status config_check(uint16_t n, int32_t thousandths) {
     v /= 1000;
   }
   if (v < f.lo || v > f.hi || (n % 10 == 2 && n <= 128 && v == 0)) return kValueOutOfRange;
+  if (n % 10 == 1 && n <= 128 && (v & (v - 1)) != 0) return kValueOutOfRange;  // microsteps: a power of two
   return kOk;
 }
 
@@ -225,6 +227,7 @@ inline ConfigError config_read(ConfiguredArm<J>& out, const Bytes& image, uint8_
     m.max = used ? config_get(image, b + 7) : 0;
     out.home[i] = used ? config_get(image, b + 8) : 0;
     if (validate(m) != kMotorOk) return kConfigBadMotor;
+    if (out.drive != kDriveStepDir && m.microsteps > 2) return kConfigBadDrive;  // coils: full or half steps
     if (out.home[i] < m.min || out.home[i] > m.max) return kConfigBadHome;
     for (uint8_t j = 0; j < J; ++j) {
       a.coupling[i][j] = i < 3 && j < 3 ? float(config_get(image, uint16_t(140 + 3 * i + j))) / 1000.0f : 0.0f;

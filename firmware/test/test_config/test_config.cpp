@@ -101,7 +101,8 @@ TEST(Config, StagedValuesChangeNothingUntilCommitted) {
 TEST(Config, EveryBadValueGetsItsOwnError) {
   sim::boot();
   const std::vector<uint8_t> before = eeprom_image();
-  EXPECT_EQ(sim::command("$101=3"), "error:8");       // the L298N: full or half steps
+  EXPECT_EQ(sim::command("$101=3"), "error:8");       // microsteps: a power of two
+  EXPECT_EQ(sim::command("$101=128"), "error:8");     //   up to 64
   EXPECT_EQ(sim::command("$102=0"), "error:8");       // a direction is 1 or -1
   EXPECT_EQ(sim::command("$100=200.5"), "error:8");   // whole steps
   EXPECT_EQ(sim::command("$130=4"), "error:8");       // three motors at most
@@ -130,17 +131,26 @@ TEST(Config, AnArmTheFirmwareCannotDriveIsRefusedAtTheCommit) {
   EXPECT_NE(robot::motor(0).zero, base.max + 5000);
 }
 
-// A drive this build does not drive (STEP/DIR, a servo) is a valid image, refused at the
-// commit; the other 4-wire one (L298N <-> ULN2003) is taken, with its own coil table.
+// A drive this build does not drive (a servo; STEP/DIR on the Nano's 4-wire build) is a valid
+// image, refused at the commit; the other 4-wire one (L298N <-> ULN2003) is taken, with its
+// own coil table.
 TEST(Config, ADriveThisBuildDoesNotDriveIsRefusedAtTheCommit) {
   sim::boot();
   const uint16_t before = robot::checksum;
   const uint8_t drive = robot::config.drive;
-  for (int kind : {articula::kDriveStepDir, articula::kDriveServo}) {
+  for (int kind = 0; kind < articula::kDriveKinds; ++kind) {
+    if (robot::kDrives & (1u << kind)) continue;
     EXPECT_EQ(sim::command("$131=" + std::to_string(kind)), "ok");
     EXPECT_EQ(sim::command(commit_line(eeprom_image())), "error:18") << kind;
     EXPECT_EQ(banner().checksum, before);
     EXPECT_EQ(robot::config.drive, drive);
+  }
+  if (drive == articula::kDriveStepDir) {
+    // A 4-wire drive for motors in 1/4 and 1/8 steps: refused (coils take full or half steps).
+    EXPECT_EQ(sim::command("$131=0"), "ok");
+    EXPECT_EQ(sim::command(commit_line(eeprom_image())), "error:18");
+    EXPECT_EQ(robot::config.drive, drive);
+    return;
   }
   const int other = drive == articula::kDriveL298n ? articula::kDriveUln2003 : articula::kDriveL298n;
   EXPECT_EQ(sim::command("$131=" + std::to_string(other)), "ok");
