@@ -2,7 +2,11 @@
 #include "robot.h"
 
 #include "hal.h"
+#if defined(ARTICULA_CNC_SHIELD)
+#include "builtin_config_cnc.h"  // the MK2 Plus on A4988s in a CNC shield's sockets
+#else
 #include "builtin_config.h"
+#endif
 
 using namespace articula;
 
@@ -18,7 +22,8 @@ const uint8_t kVersion = kEepromVersion;
 const uint16_t kImageAt = kAddress + 1;
 const uint16_t kCrcAt = kImageAt + kConfigImageSize;
 
-// What a blank EEPROM gets: the MK2 (builtin_config.h, made by the host's nano_config).
+// What a blank EEPROM gets: the MK2 (builtin_config.h, made by the host's nano_config; on a
+// CNC shield builtin_config_cnc.h, the MK2 on STEP/DIR drivers).
 const uint8_t kBuiltIn[kConfigImageSize] ARTICULA_IN_FLASH = ARTICULA_BUILTIN_CONFIG;
 
 // An image's bytes one at a time (config_read takes them so, and one reader type keeps one

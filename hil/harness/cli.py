@@ -46,7 +46,8 @@ examples:
   python -m hil.harness fuzz --lines 10000 --seed 1 --report fuzz.json
 
 binaries: --vnano and --elf, else $ARTICULA_VNANO and $ARTICULA_NANO_ELF, else the
-repository's build/ (build/virtual-nano/articula-vnano, build/avr/firmware/articula-nano.elf). The
+repository's build/ (build/virtual-nano/articula-vnano, build/avr/firmware/articula-nano.elf); a
+robot on STEP/DIR drivers runs the CNC shield's build beside it (articula-cnc.elf). The
 prediction is the `articula` Python package (make builds it into python/).
 
 exit status: 0 every command matched (prediction = firmware, = pins on the virtual Nano) and
@@ -112,7 +113,7 @@ def parser() -> argparse.ArgumentParser:
     run.add_argument("--settings", metavar="n=v,...", type=_settings,
                      help="settings sent before each plan, e.g. 0=4000,1=100000,5=20 (faster moves for tests); on "
                           "a real arm the ones it had are put back after each plan")
-    run.add_argument("--elf", metavar="PATH", help="the firmware ELF for the virtual Nano")
+    run.add_argument("--elf", metavar="PATH", help="the firmware ELF for the virtual Nano (a robot on STEP/DIR drivers: articula-cnc.elf beside it)")
     run.add_argument("--vnano", metavar="PATH", help="the articula-vnano program")
     run.add_argument("--timeout", metavar="S", type=float, default=5.0,
                      help="seconds to wait for a reply; a command may take this plus 3x its predicted duration to "
@@ -142,7 +143,7 @@ def parser() -> argparse.ArgumentParser:
     fz.add_argument("--report", metavar="FILE", help="write the summary and every finding as JSON")
     fz.add_argument("--robot", metavar="FILE", default=str(REPO / "robots" / "mk2plus.json"),
                     help="the robot file the firmware was built for (default robots/mk2plus.json)")
-    fz.add_argument("--elf", metavar="PATH", help="the firmware ELF for the virtual Nano")
+    fz.add_argument("--elf", metavar="PATH", help="the firmware ELF for the virtual Nano (a robot on STEP/DIR drivers: articula-cnc.elf beside it)")
     fz.add_argument("--vnano", metavar="PATH", help="the articula-vnano program")
     fz.add_argument("--timeout", metavar="S", type=float, default=5.0, help="seconds to wait for a reply (default 5)")
     fz.add_argument("--boot-wait", metavar="S", type=float, default=2.0,
@@ -194,16 +195,20 @@ def _fuzz(args, argv) -> int:
         raise PlanError(f"{args.robot}: not a robot file the harness can read ({e})") from None
     vnano = elf = None
     if not args.port:
-        vnano, elf = _vnano_and_elf(args)
+        vnano, elf = _vnano_and_elf(args, robot)
     cmdline = "python -m hil.harness " + " ".join(shlex.quote(a) for a in (argv if argv is not None else sys.argv[1:]))
     return fuzz.run_fuzz(args, robot, vnano, elf, cmdline)
 
 
-def _vnano_and_elf(args) -> tuple[str, str | None]:
+def _vnano_and_elf(args, robot: Robot) -> tuple[str, str | None]:
+    """The virtual Nano and the firmware ELF for the robot's drive: the Nano build's, or for
+    STEP/DIR drivers the CNC shield build's (articula-cnc.elf beside the Nano's)."""
     vnano = _find(args.vnano, "ARTICULA_VNANO", [REPO / "build" / "virtual-nano" / "articula-vnano"],
                   "virtual Nano (articula-vnano)")
     elf_default = REPO / "build" / "avr" / "firmware" / "articula-nano.elf"
     elf = args.elf or os.environ.get("ARTICULA_NANO_ELF") or (str(elf_default) if elf_default.exists() else None)
+    if elf and robot.step_dir:
+        elf = str(Path(elf).with_name(robot.firmware + ".elf"))
     if elf and not Path(elf).exists():
         raise TargetError(f"no firmware ELF at {elf}")
     return vnano, elf
@@ -239,11 +244,12 @@ def _run(args, argv) -> int:
     if args.port:
         target = SerialTarget(args.port, boot_wait=args.boot_wait)
     else:
-        vnano, elf = _vnano_and_elf(args)
+        vnano, elf = _vnano_and_elf(args, robot)
         grip = (robot.servo_closed, robot.servo_open) if robot.servo_closed is not None and \
             robot.servo_open is not None else None
         target = VirtualNanoTarget(vnano, elf, len(robot.motors), gripper=grip, keep_traces=args.keep_traces,
-                                   half_step=robot.half_step_motors, unipolar=robot.unipolar)
+                                   half_step=robot.half_step_motors, unipolar=robot.unipolar,
+                                   cnc=robot.step_dir)
 
     progress = Progress(sum(len(p.commands) for p in plans), enabled=not args.no_progress)
     runner = Runner(target, robot, out, settings=args.settings, timeout=args.timeout, poll=args.poll,

@@ -56,6 +56,16 @@ class Robot:
         return bool(self.model.motors) and all(m["driver"]["kind"] == "uln2003" for m in self.model.motors)
 
     @property
+    def step_dir(self) -> bool:
+        """The motors are on STEP/DIR drivers in a CNC shield's sockets (the shield's firmware build)."""
+        return bool(self.model.motors) and all(m["driver"]["kind"] == "step-dir" for m in self.model.motors)
+
+    @property
+    def firmware(self) -> str:
+        """The firmware build that drives this robot: `articula-cnc` on STEP/DIR drivers, else `articula-nano`."""
+        return "articula-cnc" if self.step_dir else "articula-nano"
+
+    @property
     def half_step_motors(self) -> list[int]:
         """The motors driven in half steps (the virtual Nano decodes their coils so)."""
         return [i for i, m in enumerate(self.motors) if m.microsteps == 2]

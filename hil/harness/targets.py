@@ -89,9 +89,10 @@ class VirtualNanoTarget:
 
     def __init__(self, vnano: str, elf: str | None, motors: int, gripper: tuple[float, float] | None = None,
                  log=None, keep_traces: bool = False, start_timeout: float = 15.0, half_step: list[int] = (),
-                 unipolar: bool = False):
+                 unipolar: bool = False, cnc: bool = False):
         self.half_step = list(half_step)
         self.unipolar = unipolar
+        self.cnc = cnc
         self.vnano = vnano
         self.elf = elf
         self.motors = motors
@@ -133,6 +134,8 @@ class VirtualNanoTarget:
             cmd += ["--half-step", str(m)]
         if self.unipolar:
             cmd += ["--uln2003"]
+        if self.cnc:
+            cmd += ["--cnc"]
         self.exit_status = None
         try:
             with open(self.stderr_path, "w") as err:

@@ -502,6 +502,11 @@ TEST(Cli, ConfigurePrintsTheLinesForANano) {
   std::stringstream held;
   held << f.rdbuf();
   EXPECT_EQ(run_stdout("configure mk2plus --header").out, held.str());
+  // and the build for a CNC shield's: the MK2 on A4988s
+  std::ifstream fc(std::string(ARTICULA_SOURCE_DIR) + "/firmware/src/builtin_config_cnc.h");
+  std::stringstream held_cnc;
+  held_cnc << fc.rdbuf();
+  EXPECT_EQ(run_stdout("configure mk2plus-cnc --header").out, held_cnc.str());
 }
 
 TEST(Cli, ConfigureRefusesWithTheReason) {

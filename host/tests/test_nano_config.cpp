@@ -49,8 +49,20 @@ TEST(NanoConfig, TheBuiltInConfigurationIsTheMk2s) {
   EXPECT_TRUE(c.arm.has_point);
 }
 
+TEST(NanoConfig, TheDriveIsInTheImage) {
+  EXPECT_EQ(nano_config(load("robots/mk2plus.json")).arm.drive, kDriveL298n);
+  EXPECT_EQ(nano_config(load("hil/robots/mk2-28byj48.json")).arm.drive, kDriveUln2003);
+  const NanoConfig cnc = nano_config(load("robots/mk2plus-cnc.json"));
+  EXPECT_EQ(cnc.arm.drive, kDriveStepDir);
+  EXPECT_EQ(cnc.arm.actuation.motors[0].microsteps, 8);
+  // The 4-wire build refuses it (microsteps beyond half steps, and the drive); the shield's takes it.
+  ConfiguredArm<3> arm;
+  EXPECT_EQ(config_read(arm, cnc.image.data(), uint8_t((1u << kDriveL298n) | (1u << kDriveUln2003))), kConfigBadDrive);
+  EXPECT_EQ(config_read(arm, cnc.image.data(), uint8_t(1u << kDriveStepDir)), kConfigOk);
+}
+
 TEST(NanoConfig, TheLinesWriteTheImageAndTheCommitNamesItsChecksum) {
-  for (const char* f : {"robots/mk2plus.json", "hil/robots/mk2-halfstep.json", "hil/robots/mk2-regeared.json",
+  for (const char* f : {"robots/mk2plus.json", "robots/mk2plus-cnc.json", "hil/robots/mk2-28byj48.json", "hil/robots/mk2-halfstep.json", "hil/robots/mk2-regeared.json",
                         "hil/robots/thesis-example-arm.json", "hil/robots/three-link-arm.json"}) {
     const NanoConfig c = nano_config(load(f));
     std::vector<uint8_t> image(kConfigImageSize, 0xA5);  // whatever the EEPROM held

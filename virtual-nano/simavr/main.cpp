@@ -55,6 +55,10 @@ const char kHelp[] =
     "                       counted in half steps once it shows a one-coil pattern)\n"
     "  --uln2003            the motors are unipolar (28BYJ-48s) on ULN2003 boards: their inputs\n"
     "                       follow that half-step table (default: bipolar motors on L298Ns)\n"
+    "  --cnc                the ELF is the build for a CNC shield (articula-cnc.elf): the motors\n"
+    "                       are on STEP/DIR drivers in sockets X, Y, Z (STEP D2..D4, DIR D5..D7,\n"
+    "                       EN D8), the endstops on D9..D11, the servo on A3; the report gives\n"
+    "                       each driver's shortest STEP pulse and DIR setup time\n"
     "  --gripper CLOSED:OPEN  servo angles in degrees of the closed and open gripper (the\n"
     "                       robot file's servo_closed, servo_open), to report the aperture\n"
     "  --trace-steps FILE   CSV of every coil event: cycle,motor,steps,pattern,event,time_us\n"
@@ -156,6 +160,8 @@ Args parse_args(int argc, char** argv) {
       a.config.half_step_motors.push_back(int(m));
     } else if (arg == "--uln2003") {
       a.config.unipolar = true;
+    } else if (arg == "--cnc") {
+      a.config.cnc_shield = true;
     } else if (arg == "--gripper") {
       const std::string v = need("--gripper");
       const size_t c = v.find(':');

@@ -44,6 +44,12 @@ std::string vector_name(int v) {
 // The Nano's pins are the firmware's own table, firmware/src/board.h.
 using board::kEndstopPins;
 using board::kMotorPins;
+
+namespace {
+// The gripper's and the endstops' pins: the Nano's own, or a CNC shield's.
+const board::Pin& servo_pin_of(bool cnc) { return cnc ? board::kShieldServoPin : board::kServoPin; }
+const board::Pin& endstop_pin_of(bool cnc, int motor) { return cnc ? board::kShieldEndstopPins[motor] : kEndstopPins[motor]; }
+}  // namespace
 using board::kPortNames;
 
 const uint8_t kPaint = 0xA5;  // stack painting pattern
@@ -157,6 +163,12 @@ bool VirtualNano::load(const Config& config, std::string& error) {
     motors_[i].index = i;
     motors_[i].port = kMotorPins[i].port;
     motors_[i].shift = kMotorPins[i].shift;
+    if (config.cnc_shield) {
+      motors_[i].step_dir = true;
+      motors_[i].port = board::kShieldSocket[i].step.port;  // (DIR on the same port: pins.h asserts it)
+      motors_[i].step_bit = board::kShieldSocket[i].step.bit;
+      motors_[i].dir_bit = board::kShieldSocket[i].dir.bit;
+    }
   }
   for (int m : config.half_step_motors)
     if (m >= 0 && m < kMotors) motors_[m].decoder.force_half_step();
@@ -167,8 +179,8 @@ bool VirtualNano::load(const Config& config, std::string& error) {
     }
     Endstop e;
     e.motor = s.motor;
-    e.port = kEndstopPins[s.motor].port;
-    e.bit = kEndstopPins[s.motor].bit;
+    e.port = endstop_pin_of(config.cnc_shield, s.motor).port;
+    e.bit = endstop_pin_of(config.cnc_shield, s.motor).bit;
     e.closes_at = s.closes_at;
     endstops_.push_back(e);
   }
@@ -410,11 +422,35 @@ void VirtualNano::on_uart_output(uint8_t c) {
 
 // ---- pins ----
 
+
+// A motor's driver inputs for the trace: its coils' IN1..IN4, or STEP, DIR and EN as "S1D0E1".
+std::string VirtualNano::inputs_string(const Motor& m) const {
+  if (!m.step_dir) return pattern_string(m.decoder.pattern());
+  const bool en = !(port_value_[board::kShieldEnable.port] & (1u << board::kShieldEnable.bit));
+  return std::string("S") + (m.driver.step_high() ? "1" : "0") + "D" + (m.driver.dir_high() ? "1" : "0") + "E" +
+         (en ? "1" : "0");
+}
+
 void VirtualNano::on_port_write(int port, uint8_t value) {
   const uint64_t now = avr_->cycle;
   const uint8_t old = port_value_[port];
   port_value_[port] = value;
+  const bool enabled = !(port_value_[board::kShieldEnable.port] & (1u << board::kShieldEnable.bit));  // EN low
   for (Motor& m : motors_) {
+    if (m.step_dir) {
+      if (m.port != port && !(port == board::kShieldEnable.port)) continue;
+      const uint8_t v = port_value_[m.port];
+      const StepDirChange c = m.driver.feed((v >> m.step_bit) & 1, (v >> m.dir_bit) & 1, enabled, now);
+      if (c.delta != 0 || c.ignored) {
+        last_activity_ = now;
+        CoilChange cc;
+        cc.event = c.ignored ? CoilEvent::kFault : CoilEvent::kStep;
+        cc.fault = c.ignored ? FaultKind::kIllegalPattern : FaultKind::kNone;
+        cc.delta_half = 2 * c.delta;
+        step_event(m, cc, uint8_t(v));
+      }
+      continue;
+    }
     if (m.port != port) continue;
     const uint8_t pattern = uint8_t((value >> m.shift) & 0xF);
     if (pattern == ((old >> m.shift) & 0xF) && pattern == m.decoder.pattern()) continue;
@@ -423,8 +459,9 @@ void VirtualNano::on_port_write(int port, uint8_t value) {
     last_activity_ = now;
     step_event(m, c, pattern);
   }
-  if (port == board::kServoPin.port && ((old ^ value) & (1u << board::kServoPin.bit))) {
-    if (value & (1u << board::kServoPin.bit)) {
+  const board::Pin& servo = servo_pin_of(config_.cnc_shield);
+  if (port == servo.port && ((old ^ value) & (1u << servo.bit))) {
+    if (value & (1u << servo.bit)) {
       if (have_rise_) servo_period_us_.add(us(double(now - last_rise_)));
       last_rise_ = servo_rise_ = now;
       have_rise_ = servo_high_ = true;
@@ -510,7 +547,7 @@ void VirtualNano::step_event(Motor& m, const CoilChange& c, uint8_t pattern) {
 void VirtualNano::trace_row(const Motor& m, const char* event) {
   if (!config_.trace) return;
   std::fprintf(config_.trace, "%" PRIu64 ",%d,%" PRId64 ",%s,%s,%.4f\n", uint64_t(avr_->cycle), m.index,
-               m.decoder.steps(), pattern_string(m.decoder.pattern()).c_str(), event, us(double(avr_->cycle)));
+               m.steps(), inputs_string(m).c_str(), event, us(double(avr_->cycle)));
 }
 
 // The switches of one port, as external levels: simavr applies them whenever it updates the
@@ -536,7 +573,7 @@ void VirtualNano::apply_endstops(int port) {
 void VirtualNano::check_endstops(int motor) {
   for (Endstop& e : endstops_) {
     if (e.motor != motor) continue;
-    const int64_t pos = motors_[motor].decoder.steps();
+    const int64_t pos = motors_[motor].steps();
     const bool pressed = pos <= e.closes_at;
     if (pressed == e.pressed) continue;
     e.pressed = pressed;
@@ -717,13 +754,30 @@ nlohmann::json VirtualNano::report() const {
   for (const Motor& m : motors_) {
     json j;
     j["motor"] = m.index;
-    j["pins"] = kMotorPins[m.index].pins;
-    j["mode"] = m.decoder.half_step_mode() ? "half" : "full";
-    j["driver"] = m.decoder.unipolar() ? "uln2003" : "l298n";
-    j["steps"] = m.decoder.steps();
-    j["half_steps"] = m.decoder.half_steps();
-    j["pattern"] = pattern_string(m.decoder.pattern());
-    j["energised"] = m.decoder.energised();
+    if (m.step_dir) {
+      const board::Socket& s = board::kShieldSocket[m.index];
+      j["pins"] = std::string("socket ") + s.axis + ": STEP " + s.step.pin + ", DIR " + s.dir.pin;
+      j["mode"] = "step-dir";
+      j["driver"] = "step-dir";
+      j["steps"] = m.driver.steps();
+      j["pattern"] = inputs_string(m);
+      j["energised"] = !(port_value_[board::kShieldEnable.port] & (1u << board::kShieldEnable.bit));
+      // The driver's timing as the pins kept it (drive.h: the datasheets' minimums).
+      const auto cycles_us = [&](uint64_t c) { return c == StepDirDecoder::kNone ? json(nullptr) : json(Stat::round3(us(double(c)))); };
+      j["pulses"] = m.driver.pulses();
+      j["ignored_pulses"] = m.driver.ignored();
+      j["step_high_min_us"] = cycles_us(m.driver.min_pulse_cycles());
+      j["step_high_max_us"] = cycles_us(m.driver.max_pulse_cycles());
+      j["dir_setup_min_us"] = cycles_us(m.driver.min_dir_setup_cycles());
+    } else {
+      j["pins"] = kMotorPins[m.index].pins;
+      j["mode"] = m.decoder.half_step_mode() ? "half" : "full";
+      j["driver"] = m.decoder.unipolar() ? "uln2003" : "l298n";
+      j["steps"] = m.decoder.steps();
+      j["half_steps"] = m.decoder.half_steps();
+      j["pattern"] = pattern_string(m.decoder.pattern());
+      j["energised"] = m.decoder.energised();
+    }
     j["step_events"] = m.step_events;
     j["forward"] = m.forward;
     j["backward"] = m.backward;
@@ -762,7 +816,7 @@ nlohmann::json VirtualNano::report() const {
   r["timer1_calibration"] = {{"valid", cal_valid_}, {"accepted", cal_accepted_}, {"outliers", cal_outliers_}};
 
   json servo;
-  servo["pin"] = "PD3 (D3)";
+  servo["pin"] = servo_pin_of(config_.cnc_shield).pin;
   servo["pulses"] = servo_width_us_.count;
   servo["width_us"] = servo_width_us_.json();
   servo["period_us"] = servo_period_us_.json();
@@ -787,7 +841,7 @@ nlohmann::json VirtualNano::report() const {
   for (const Endstop& e : endstops_) {
     json j;
     j["motor"] = e.motor;
-    j["pin"] = kEndstopPins[e.motor].pin;
+    j["pin"] = endstop_pin_of(config_.cnc_shield, e.motor).pin;
     j["closes_at_or_below"] = e.closes_at;
     j["pressed"] = e.pressed;
     j["presses"] = e.presses;

@@ -26,6 +26,7 @@
 #include <nlohmann/json.hpp>
 
 #include "coil_decoder.h"
+#include "step_dir_decoder.h"
 #include "elf_symbols.h"
 #include "stats.h"
 
@@ -45,6 +46,9 @@ struct Config {
   std::vector<EndstopSpec> endstops;
   std::vector<int> half_step_motors;
   bool unipolar = false;       // the motors are 28BYJ-48s on ULN2003 boards (the unipolar table)
+  // The ELF is the build for a CNC shield (articula-cnc.elf): the motors are on STEP/DIR
+  // drivers in its sockets, the endstops and the servo on the shield's pins (board.h).
+  bool cnc_shield = false;
   bool gripper_range = false;  // servo_closed_deg/servo_open_deg given: report the aperture
   double servo_closed_deg = 0, servo_open_deg = 0;
   FILE* trace = nullptr;       // CSV of coil events, or null
@@ -111,6 +115,8 @@ class VirtualNano {
 
  private:
   void schedule_stop();
+  struct Motor;
+  std::string inputs_string(const Motor& m) const;
   uint64_t next_stop_cycle() const;
   // An interrupts-off stretch ends now: keep it if it is the longest so far.
   void end_irq_off();
@@ -119,6 +125,11 @@ class VirtualNano {
     int port = 0;  // 0 B, 1 C, 2 D
     int shift = 0;
     CoilDecoder decoder;
+    // On a CNC shield: the driver in the motor's socket, its STEP and DIR bits (on `port`).
+    bool step_dir = false;
+    int step_bit = 0, dir_bit = 0;
+    StepDirDecoder driver;
+    int64_t steps() const { return step_dir ? driver.steps() : decoder.steps(); }
     uint64_t step_events = 0, forward = 0, backward = 0, full_steps = 0, half_steps = 0;
     uint64_t releases = 0, energisations = 0, faults = 0;
     struct Fault {

@@ -8,6 +8,15 @@ export interface CoilDecoder {
   pattern(): number;
   delete(): void;
 }
+export interface StepDirDecoder {
+  feed(step: boolean, dir: boolean, enabled: boolean, cycle: number): number; // 0 nothing, 1 step, 4 fault
+  steps(): number;
+  faults(): number;
+  minPulseCycles(): number; // -1: none yet
+  minDirSetupCycles(): number;
+  delete(): void;
+}
+type Pin = { port: "B" | "C" | "D"; bit: number };
 export class NanoParts {
   readonly wiring: {
     motors: { port: "B" | "C" | "D"; shift: number }[];
@@ -15,7 +24,15 @@ export class NanoParts {
     servo: { port: "B" | "C" | "D"; bit: number };
     led: { port: "B" | "C" | "D"; bit: number };
   };
+  readonly cncWiring: {
+    motors: { port: "B" | "C" | "D"; step: number; dir: number }[];
+    enable: Pin;
+    endstops: Pin[];
+    servo: Pin;
+    led: Pin;
+  };
   coilDecoder(): CoilDecoder;
+  stepDirDecoder(): StepDirDecoder;
   servoAngleDeg(widthUs: number): number;
   servoAperturePercent(angleDeg: number, closedDeg: number, openDeg: number): number;
 }

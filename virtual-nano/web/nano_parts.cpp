@@ -12,6 +12,7 @@
 
 #include "board.h"
 #include "coil_decoder.h"
+#include "step_dir_decoder.h"
 
 namespace articula::web {
 
@@ -38,21 +39,49 @@ class WebCoilDecoder {
   int faults_ = 0;
 };
 
-// The board's pins: ports "B", "C", "D"; motors [{port, shift}], endstops [{port, bit}],
-// servo and led {port, bit}.
-std::string board_wiring() {
+// One STEP/DIR driver module (a CNC shield's socket) as the emulated Nano sees its pins.
+class WebStepDirDecoder {
+ public:
+  // The STEP and DIR levels and whether the drivers are enabled, at a CPU cycle: 0 nothing,
+  // 1 a step, 4 a fault (a STEP pulse while disabled). As WebCoilDecoder's feed.
+  int feed(bool step, bool dir, bool enabled, double cycle) {
+    const vnano::StepDirChange c = d_.feed(step, dir, enabled, uint64_t(cycle));
+    return c.ignored ? 4 : c.delta != 0 ? 1 : 0;
+  }
+  double steps() const { return double(d_.steps()); }
+  int faults() const { return int(d_.ignored()); }
+  // The shortest STEP high time and DIR setup seen, in cycles (-1: none yet).
+  double min_pulse_cycles() const { return cycles(d_.min_pulse_cycles()); }
+  double min_dir_setup_cycles() const { return cycles(d_.min_dir_setup_cycles()); }
+
+ private:
+  static double cycles(uint64_t c) { return c == vnano::StepDirDecoder::kNone ? -1.0 : double(c); }
+  vnano::StepDirDecoder d_;
+};
+
+// The board's pins: ports "B", "C", "D"; motors [{port, shift}] (on a CNC shield [{port, step,
+// dir}] and enable {port, bit}), endstops [{port, bit}], servo and led {port, bit}.
+std::string board_wiring(bool cnc) {
   using nlohmann::json;
   auto port = [](int p) { return std::string(1, board::kPortNames[p]); };
+  auto pin = [&](const board::Pin& p) { return json{{"port", port(p.port)}, {"bit", p.bit}}; };
   json motors = json::array(), endstops = json::array();
   for (int m = 0; m < board::kWiredMotors; ++m) {
-    motors.push_back({{"port", port(board::kMotorPins[m].port)}, {"shift", board::kMotorPins[m].shift}});
-    endstops.push_back({{"port", port(board::kEndstopPins[m].port)}, {"bit", board::kEndstopPins[m].bit}});
+    if (cnc) {
+      const board::Socket& s = board::kShieldSocket[m];
+      motors.push_back({{"port", port(s.step.port)}, {"step", s.step.bit}, {"dir", s.dir.bit}});
+      endstops.push_back(pin(board::kShieldEndstopPins[m]));
+    } else {
+      motors.push_back({{"port", port(board::kMotorPins[m].port)}, {"shift", board::kMotorPins[m].shift}});
+      endstops.push_back(pin(board::kEndstopPins[m]));
+    }
   }
-  return json{{"motors", motors},
+  json out = {{"motors", motors},
               {"endstops", endstops},
-              {"servo", {{"port", port(board::kServoPin.port)}, {"bit", board::kServoPin.bit}}},
-              {"led", {{"port", port(board::kLedPin.port)}, {"bit", board::kLedPin.bit}}}}
-      .dump();
+              {"servo", pin(cnc ? board::kShieldServoPin : board::kServoPin)},
+              {"led", pin(board::kLedPin)}};
+  if (cnc) out["enable"] = pin(board::kShieldEnable);
+  return out.dump();
 }
 
 }  // namespace articula::web
@@ -69,6 +98,14 @@ EMSCRIPTEN_BINDINGS(articula_nano) {
       .function("halfSteps", &WebCoilDecoder::half_steps)
       .function("faults", &WebCoilDecoder::faults)
       .function("pattern", &WebCoilDecoder::pattern);
+  using articula::web::WebStepDirDecoder;
+  class_<WebStepDirDecoder>("StepDirDecoder")
+      .constructor<>()
+      .function("feed", &WebStepDirDecoder::feed)
+      .function("steps", &WebStepDirDecoder::steps)
+      .function("faults", &WebStepDirDecoder::faults)
+      .function("minPulseCycles", &WebStepDirDecoder::min_pulse_cycles)
+      .function("minDirSetupCycles", &WebStepDirDecoder::min_dir_setup_cycles);
   function("boardWiring", &articula::web::board_wiring);
   function("servoAngleDeg", +[](double us) { return articula::servo_angle_deg(us); });
   function("servoAperturePercent",

@@ -79,9 +79,10 @@ export function parseHex(text, size = FLASH_BYTES) {
 export class VirtualNano {
   /**
    * hex: the firmware's Intel HEX text; parts: the virtual Nano's parts (virtual-nano/web/nano-parts.mjs:
-   * the coil decoders and the board's pins); eeprom: the EEPROM's bytes to start from (kept by the caller across sessions).
+   * the coil decoders and the board's pins); eeprom: the EEPROM's bytes to start from (kept by the caller across sessions);
+   * cnc: the hex is the build for a CNC shield (articula-cnc.hex): its motors on STEP/DIR drivers, the shield's pins.
    */
-  constructor({ hex, parts, eeprom, bootloader, image }) {
+  constructor({ hex, parts, eeprom, bootloader, image, cnc = false }) {
     const { flash, used } = parseHex(hex);
     if (image) {
       flash.set(image.subarray(0, FLASH_BYTES)); // a flash image kept from before (bootloader and all)
@@ -109,7 +110,7 @@ export class VirtualNano {
     this.ports = { B: new AVRIOPort(cpu, portBConfig), C: new AVRIOPort(cpu, portCConfig), D: new AVRIOPort(cpu, portDConfig) };
     this.serial = new HostSerial(cpu, this.usart, CLOCK_HZ);
     this.spm = new SelfProgramming(cpu, flash, { pageBytes: PAGE_BYTES, bootStart: BOOT_START, busyCycles: SPM_BUSY_CYCLES });
-    this.pins = new PinWatch(cpu, this.ports, parts, CLOCK_HZ);
+    this.pins = new PinWatch(cpu, this.ports, parts, CLOCK_HZ, cnc);
     this.reset(RESET_POWER);
   }
 

@@ -1,13 +1,17 @@
 // What the Nano's pins drive, read as the arm would see it (and as simavr's virtual Nano reads
-// it): each motor's four L298N inputs through its coil decoder (virtual-nano/coil_decoder.h, by
+// it): each motor's four L298N inputs through its coil decoder (or, on a CNC shield, its STEP/DIR
+// driver's pins through a STEP/DIR decoder, virtual-nano/step_dir_decoder.h) (virtual-nano/coil_decoder.h, by
 // the board's pins of firmware/src/board.h, both in the parts module: virtual-nano/web), and the
 // servo's pulse width, the gripper's command.
 export class PinWatch {
-  /** ports: avr8js's AVRIOPorts by name (B, C, D); parts: the virtual Nano's (virtual-nano/web/nano-parts.mjs). */
-  constructor(cpu, ports, parts, clockHz) {
+  /**
+   * ports: avr8js's AVRIOPorts by name (B, C, D); parts: the virtual Nano's (virtual-nano/web/nano-parts.mjs);
+   * cnc: the firmware is the build for a CNC shield, its motors on STEP/DIR drivers (the shield's pins).
+   */
+  constructor(cpu, ports, parts, clockHz, cnc = false) {
     this.cpu = cpu;
-    const wiring = parts.wiring;
-    this.decoders = wiring.motors.map(() => parts.coilDecoder());
+    const wiring = cnc ? parts.cncWiring : parts.wiring;
+    this.decoders = wiring.motors.map(() => (cnc ? parts.stepDirDecoder() : parts.coilDecoder()));
     this.firstStepCycle = -1; // the first and last step of any motor since markSteps()
     this.lastStepCycle = -1;
     this.servoPulseUs = null; // the last pulse's width
@@ -20,13 +24,25 @@ export class PinWatch {
       ports[name].addListener(this.listeners[name] = (value) => {
         const changed = value ^ last[name];
         last[name] = value;
-        wiring.motors.forEach((m, i) => {
-          if (m.port === name && (changed >> m.shift) & 0xf && this.decoders[i].feed((value >> m.shift) & 0xf) === 1) {
-            if (this.firstStepCycle < 0) this.firstStepCycle = cpu.cycles;
-            this.lastStepCycle = cpu.cycles;
-            this.onStep?.(cpu.cycles);
-          }
-        });
+        const stepped = () => {
+          if (this.firstStepCycle < 0) this.firstStepCycle = cpu.cycles;
+          this.lastStepCycle = cpu.cycles;
+          this.onStep?.(cpu.cycles);
+        };
+        if (cnc) {
+          // STEP, DIR and the drivers' EN (low: enabled), as the driver module reads them.
+          const en = wiring.enable;
+          const enabled = !((name === en.port ? value : last[en.port]) >> en.bit & 1);
+          wiring.motors.forEach((m, i) => {
+            if (m.port !== name && en.port !== name) return;
+            const v = m.port === name ? value : last[m.port];
+            if (this.decoders[i].feed(!!((v >> m.step) & 1), !!((v >> m.dir) & 1), enabled, cpu.cycles) === 1) stepped();
+          });
+        } else {
+          wiring.motors.forEach((m, i) => {
+            if (m.port === name && (changed >> m.shift) & 0xf && this.decoders[i].feed((value >> m.shift) & 0xf) === 1) stepped();
+          });
+        }
         const s = wiring.servo;
         if (s.port === name && (changed >> s.bit) & 1) {
           if ((value >> s.bit) & 1) servoRise = cpu.cycles;
