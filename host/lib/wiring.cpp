@@ -1,6 +1,8 @@
 // host/lib/wiring.cpp - an arm's wires from board.h's pin table (wiring.h).
 #include "wiring.h"
 
+#include <nlohmann/json.hpp>
+
 #include "board.h"
 
 namespace articula::host {
@@ -129,6 +131,26 @@ Wiring wire(const Robot& robot) {
     }
   }
   return w;
+}
+
+nlohmann::json wiring_json(const Robot& robot) {
+  const board::BoardInfo& info = board::kBoardInfo[robot.drive.board];
+  nlohmann::json out = {{"board", info.id}, {"board_title", info.title}, {"given", robot.drive.given},
+                        {"wires", nlohmann::json::array()}};
+  if (!robot.has_motors) {
+    out["error"] = "the robot has no motors: nothing to wire";
+    return out;
+  }
+  try {
+    for (const Wire& w : wire(robot).wires)
+      out["wires"].push_back({{"pin", board::kHeaderPin[w.pin].pin},
+                              {"signal", w.signal},
+                              {"part", w.part},
+                              {"motor", w.motor >= 0 ? nlohmann::json(robot.motor_names[std::size_t(w.motor)]) : nullptr}});
+  } catch (const WiringError& e) {
+    out["error"] = e.what();
+  }
+  return out;
 }
 
 }  // namespace articula::host

@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json_fwd.hpp>
+
 #include "robot.h"
 
 namespace articula::host {
@@ -40,6 +42,13 @@ class WiringError : public std::runtime_error {
 // without a CNC shield, an L298N on one, more steppers than slots, drivers of different kinds in
 // one arm) or when two things would share a pin.
 Wiring wire(const Robot& robot);
+
+// The wiring as data, for the CLI (`articula wiring`), Python (`Robot.wiring()`) and the page:
+// {"board": id, "board_title", "given" (the file names its drive), "wires": [{"pin": "D4",
+// "signal": "IN1", "part": "L298N #0", "motor": "base" or null}]}; for an arm the board cannot
+// wire (a file that names no drive and has more motors than slots), "wires" is empty and
+// "error" says why.
+nlohmann::json wiring_json(const Robot& robot);
 
 // The index of a header pin's name ("D9", "A3") on `board`, or -1 with the reason in `why`
 // (no such pin, an analog-only input).

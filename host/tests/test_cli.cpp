@@ -509,6 +509,27 @@ TEST(Cli, ConfigurePrintsTheLinesForANano) {
   EXPECT_EQ(run_stdout("configure mk2plus-cnc --header").out, held_cnc.str());
 }
 
+TEST(Cli, WiringListsEveryPinOfTheBoardTheFileNames) {
+  Result r = run_stdout("wiring mk2plus-cnc");
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("on an Arduino Uno on a CNC Shield V3"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("firmware: articula-cnc.hex"), std::string::npos) << r.out;
+  for (const char* row : {"D2   socket X (A4988)  STEP    base", "D7   socket Z (A4988)  DIR     elbow",
+                          "D8   drivers'          EN", "A3   gripper servo     signal"})
+    EXPECT_NE(r.out.find(row), std::string::npos) << row << "\n" << r.out;
+  r = run_stdout("wiring mk2plus --json");
+  ASSERT_EQ(r.code, 0);
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["board"], "nano");
+  EXPECT_TRUE(j["given"].get<bool>());
+  int inputs = 0;
+  for (const auto& w : j["wires"]) inputs += w["signal"].get<std::string>().rfind("IN", 0) == 0;
+  EXPECT_EQ(inputs, 12);  // three L298Ns, four inputs each
+  r = run("wiring panda");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.out.find("cannot wire Franka Emika Panda: the robot has no motors"), std::string::npos) << r.out;
+}
+
 TEST(Cli, ConfigureRefusesWithTheReason) {
   Result r = run("configure thesis-example --dry-run");
   EXPECT_EQ(r.code, 2);

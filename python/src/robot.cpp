@@ -17,6 +17,7 @@
 #include "robot_file.h"
 #include "robot_view.h"
 #include "urdf.h"
+#include "wiring.h"
 
 namespace articula::python {
 namespace {
@@ -347,6 +348,11 @@ nb::class_<PyRobot> bind_robot(nb::module_& m) {
           "The Nano's robot configuration for this robot (docs/protocol.md, 'Robot configuration'): {'name', "
           "'checksum' (the I banner's K), 'lines' (the protocol lines that write it, $199 last), 'has_point'}. "
           "ValueError, with the reason, for a robot the Nano cannot drive.")
+      .def(
+          "wiring", [](const PyRobot& s) { return json_to_python(host::wiring_json(s.r())); },
+          "Every wire of the arm (robots/README.md, 'Drive'; docs/drives.md): {'board', 'board_title', 'given' (the "
+          "file names its drive), 'wires': [{'pin', 'signal', 'part', 'motor'}]}, and 'error' for an arm its board "
+          "cannot wire.")
       .def_prop_ro("num_joints", [](const PyRobot& s) { return int(s.r().model.num_joints); })
       .def_prop_ro("num_rows", [](const PyRobot& s) { return int(s.r().model.num_rows); })
       .def_prop_ro("num_motors", [](const PyRobot& s) { return s.r().has_motors ? int(s.r().actuation.num_motors) : 0; })

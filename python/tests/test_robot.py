@@ -256,3 +256,16 @@ def test_an_svg_draws_what_defs_keep_only_where_a_use_shows_it():
     assert len(one["strokes"]) == 1  # the symbol's line is not drawn without its use
     with pytest.raises(ValueError, match="kept.svg: nothing in it shows: its 2 shapes are invisible"):
         mk2.draw(svg=f"<svg {ns}>{kept}</svg>", svg_name="kept.svg", width=60, at=(260, 0), z=0, pen=120)
+
+
+def test_wiring_follows_the_robot_files_board_and_drivers():
+    """Robot.wiring(): the pins of the board the file names (robots/README.md, 'Drive')."""
+    cnc = articula.Robot.load("mk2plus-cnc").wiring()
+    assert cnc["board"] == "uno-cnc-v3" and cnc["given"]
+    step = {w["motor"]: w["pin"] for w in cnc["wires"] if w["signal"] == "STEP"}
+    assert step == {"base": "D2", "shoulder": "D3", "elbow": "D4"}
+    assert [w["pin"] for w in cnc["wires"] if w["signal"] == "EN"] == ["D8"]
+    nano = articula.Robot.load("mk2plus").wiring()
+    assert [w["pin"] for w in nano["wires"] if w["motor"] == "base"] == ["D4", "D5", "D6", "D7", "D2"]
+    assert articula.Robot.load("mk2plus").motors[0]["driver"] == {"kind": "l298n"}
+    assert "no motors" in articula.Robot.load("panda").wiring()["error"]

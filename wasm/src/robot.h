@@ -16,6 +16,7 @@
 #include "records_json.h"
 #include "robot.h"
 #include "urdf.h"
+#include "wiring.h"
 
 namespace articula::web {
 
@@ -73,6 +74,7 @@ class WebRobot {
                   {"motors", host::motors_json(r)},
                   {"links", host::links_json(r)},
                   {"gripper", host::gripper_json(r)},
+                  {"wiring", host::wiring_json(r)},
                   {"tool_offset", host::transform_json(r.model.T_last_tool)},
                   {"reach_mm", ik().reach_bound()},
                   {"import_notes", notes_}}
