@@ -58,12 +58,12 @@ class Robot:
     @property
     def step_dir(self) -> bool:
         """The motors are on STEP/DIR drivers in a CNC shield's sockets (the shield's firmware build)."""
-        return bool(self.model.motors) and all(m["driver"]["kind"] == "step-dir" for m in self.model.motors)
+        return self.firmware == "articula-cnc"
 
     @property
     def firmware(self) -> str:
-        """The firmware build that drives this robot: `articula-cnc` on STEP/DIR drivers, else `articula-nano`."""
-        return "articula-cnc" if self.step_dir else "articula-nano"
+        """The firmware build that drives this robot (`articula-nano`, `articula-cnc`: Robot.wiring())."""
+        return self.model.wiring()["firmware"]
 
     @property
     def half_step_motors(self) -> list[int]:

@@ -36,9 +36,8 @@ int run_wiring(int argc, char** argv) {
   if (w.contains("error")) throw UsageError("cannot wire " + r.name + ": " + w["error"].get<std::string>());
   std::cout << r.name << " on an " << w["board_title"].get<std::string>()
             << (w["given"].get<bool>() ? "" : " (the file names no drive: the thesis's wiring, L298Ns on a Nano)") << "\n";
-  std::cout << "firmware: " << (r.drive.motors.empty() || r.drive.motors[0].kind != kDriveStepDir ? "articula-nano.hex"
-                                                                                                   : "articula-cnc.hex")
-            << "\n\n";
+  const std::string build = w["firmware"].get<std::string>();
+  std::cout << "firmware: " << (build.empty() ? "none yet for servos" : build + ".hex") << "\n\n";
   Table t({"pin", "goes to", "input", "motor"});
   for (const auto& x : w["wires"])
     t.add({x["pin"].get<std::string>(), x["part"].get<std::string>(), x["signal"].get<std::string>(),

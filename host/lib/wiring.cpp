@@ -133,10 +133,15 @@ Wiring wire(const Robot& robot) {
   return w;
 }
 
+const char* firmware_build(const Robot& robot) {
+  const DriveKind kind = robot.drive.motors.empty() ? kDriveL298n : robot.drive.motors[0].kind;
+  return kind == kDriveStepDir ? "articula-cnc" : kind == kDriveServo ? "" : "articula-nano";
+}
+
 nlohmann::json wiring_json(const Robot& robot) {
   const board::BoardInfo& info = board::kBoardInfo[robot.drive.board];
   nlohmann::json out = {{"board", info.id}, {"board_title", info.title}, {"given", robot.drive.given},
-                        {"wires", nlohmann::json::array()}};
+                        {"firmware", firmware_build(robot)}, {"wires", nlohmann::json::array()}};
   if (!robot.has_motors) {
     out["error"] = "the robot has no motors: nothing to wire";
     return out;

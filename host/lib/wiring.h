@@ -43,8 +43,14 @@ class WiringError : public std::runtime_error {
 // one arm) or when two things would share a pin.
 Wiring wire(const Robot& robot);
 
+// The firmware build that drives the robot's motors: "articula-nano" (L298N, ULN2003; a robot
+// whose file names no drive), "articula-cnc" (STEP/DIR drivers in a CNC shield), "" (servos:
+// no build yet). firmware/avr.cmake makes each.
+const char* firmware_build(const Robot& robot);
+
 // The wiring as data, for the CLI (`articula wiring`), Python (`Robot.wiring()`) and the page:
-// {"board": id, "board_title", "given" (the file names its drive), "wires": [{"pin": "D4",
+// {"board": id, "board_title", "given" (the file names its drive), "firmware" (firmware_build),
+// "wires": [{"pin": "D4",
 // "signal": "IN1", "part": "L298N #0", "motor": "base" or null}]}; for an arm the board cannot
 // wire (a file that names no drive and has more motors than slots), "wires" is empty and
 // "error" says why.

@@ -572,6 +572,33 @@ def test_the_virtual_nano_in_the_page(open_page):
     assert pg.errors == []
 
 
+def test_a_robot_on_step_dir_drivers_gets_the_cnc_shield_build(open_page):
+    """robots/mk2plus-cnc.json (A4988s at 1/8 step in a CNC shield): the flash panel offers the
+    build for a CNC shield, and the virtual Nano sits on one and runs it (the shield's STEP/DIR
+    pins decoded): a fresh one is the MK2 Plus CNC, and L 0 10 pulses the X socket's driver the
+    253 steps the model predicts. Back on the MK2 Plus, the Nano's own build again."""
+    pg = open_page("mk2plus-cnc")
+    fw = pg.page.evaluate("fetch('data/firmware/firmware.json').then(r => r.json())")
+    cnc = fw["builds"]["articula-cnc"]
+    pg.wait("document.querySelector('#flash-info').textContent.includes('CNC shield')", timeout=15000)
+    assert f"{cnc['bytes']:,} bytes: the build for a CNC shield" in pg.page.text_content("#flash-info")
+    _connect_page_nano(pg)
+    assert pg.hook("a.arm.label").startswith("MK2 Plus CNC (firmware ")
+    reply = _send(pg, "L 0 10")
+    assert reply["reply"] == "ok" and reply["predicted"]["steps"] == [253, 0, 0]
+    pg.wait("a.arm.status.state === 'Idle' && a.arm.status.steps[0] === 253", timeout=20000)
+    pg.wait("a.arm.nano !== null && a.arm.nano.steps[0] === 253")  # 253 STEP pulses, DIR high
+    assert pg.hook("a.arm.nano.faults") == 0
+    pg.page.click("#arm-disconnect")
+    pg.wait("!a.arm.connected")
+    pg.page.select_option("#robot-select", "mk2plus")
+    pg.wait("a.robot.name === 'MK2 Plus'")
+    pg.wait("!document.querySelector('#flash-info').textContent.includes('CNC')", timeout=15000)
+    _connect_page_nano(pg)
+    assert pg.hook("a.arm.label").startswith("MK2 Plus (firmware ")
+    assert pg.errors == []
+
+
 def test_stop_ends_a_long_move_on_the_page_nano(open_page):
     """STOP in the middle of a move. The virtual Nano keeps real time whatever the page does, so
     the move is slow enough ($0 = 25 steps/s: about ten seconds) that the stop comes mid-way

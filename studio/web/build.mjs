@@ -8,14 +8,15 @@
 //   engine/nano.mjs, .wasm   the virtual Nano's parts for its worker (virtual-nano/web/nano_parts.cpp)
 //   data/                   the shipped robots, scenes and programs, and data/index.json;
 //                           data/firmware/articula-nano.hex, the firmware `make flash` writes
-//                           (ARTICULA_NANO_HEX, --hex)
+//                           (ARTICULA_NANO_HEX, --hex), and articula-cnc.hex beside it (the
+//                           build for a CNC shield's STEP/DIR drivers); firmware.json says each
 // Every path is relative: nothing is loaded from another site.
 //
 //   node build.mjs [--wasm DIR] [--hex FILE]  (defaults: ../../build/wasm/wasm, ../../build/avr/firmware/articula-nano.hex)
 import * as esbuild from "esbuild";
 import { createHash } from "node:crypto";
 import { copyFileSync, existsSync, mkdirSync, readdirSync, readFileSync, rmSync, statSync, writeFileSync } from "node:fs";
-import { dirname, join, relative } from "node:path";
+import { basename, dirname, join, relative } from "node:path";
 import { fileURLToPath } from "node:url";
 import { gzipSync } from "node:zlib";
 
@@ -123,32 +124,44 @@ index.exercises = readdirSync(join(out, "data/exercises"));
 }
 mkdirSync(join(out, "data/firmware"), { recursive: true });
 copyFileSync(hexFile, join(out, "data/firmware/articula-nano.hex"));
+// The build for a CNC shield (STEP/DIR drivers), beside the Nano's: the page flashes and runs
+// the one the robot's drivers need.
+const cncHexFile = join(dirname(hexFile), "articula-cnc.hex");
+copyFileSync(cncHexFile, join(out, "data/firmware/articula-cnc.hex"));
 copyFileSync(bootFile, join(out, "data/firmware/optiboot_atmega328.hex"));
 // What the firmware says it is (its banner, asked of it on the virtual Nano), for the page's
 // flash panel: the robot it is built for, its version, its size.
 {
   const { nodeEngine, nodeNanoParts } = await import("../../wasm/js/node.mjs");
   const { VirtualNano } = await import("./src/virtual-nano/avr-nano.mjs");
-  const hex = readFileSync(hexFile, "utf8");
   const engine = await nodeEngine(wasmDir);
-  const nano = new VirtualNano({ hex, parts: await nodeNanoParts(wasmDir) });
-  let info = null; // the banner, read by the core's parser (shared/articula/protocol.h)
-  nano.onLine = (l) => {
-    const p = engine.parseArmLine(l);
-    if (p.kind === "info") info = p;
+  const parts = await nodeNanoParts(wasmDir);
+  const describe = (file, cnc) => {
+    const hex = readFileSync(file, "utf8");
+    const nano = new VirtualNano({ hex, parts, cnc });
+    let info = null; // the banner, read by the core's parser (shared/articula/protocol.h)
+    nano.onLine = (l) => {
+      const p = engine.parseArmLine(l);
+      if (p.kind === "info") info = p;
+    };
+    nano.runFor(0.3);
+    nano.send("I\n");
+    for (let i = 0; i < 100 && !info; i++) nano.runFor(0.01);
+    if (!info) {
+      console.error(`studio: the firmware ${file} gives no banner on the virtual Nano`);
+      process.exit(2);
+    }
+    const d = { file: basename(file), bytes: nano.flashUsed, version: info.version, protocol: info.protocol, robot: info.robot,
+      sha256: createHash("sha256").update(hex).digest("hex") };
+    nano.delete();
+    return d;
   };
-  nano.runFor(0.3);
-  nano.send("I\n");
-  for (let i = 0; i < 100 && !info; i++) nano.runFor(0.01);
-  if (!info) {
-    console.error(`studio: the firmware ${hexFile} gives no banner on the virtual Nano`);
-    process.exit(2);
-  }
+  // The Nano's build at the top (what a page before the CNC build read), every build by name.
+  const nano = describe(hexFile, false);
   writeFileSync(join(out, "data/firmware/firmware.json"), JSON.stringify({
-    file: "articula-nano.hex", bytes: nano.flashUsed, version: info.version, protocol: info.protocol, robot: info.robot,
-    sha256: createHash("sha256").update(hex).digest("hex"), bootloader: "optiboot_atmega328.hex",
+    ...nano, bootloader: "optiboot_atmega328.hex",
+    builds: { "articula-nano": nano, "articula-cnc": describe(cncHexFile, true) },
   }, null, 1));
-  nano.delete();
 }
 writeFileSync(join(out, "data/index.json"), JSON.stringify(index, null, 1));
 

@@ -41,6 +41,9 @@ export interface RobotMsg {
     servo_closed_deg: number;
   };
   reach_mm: number;
+  // the firmware build that drives its motors: "articula-nano" (L298N, ULN2003), "articula-cnc"
+  // (STEP/DIR drivers in a CNC shield), "" (servos: none yet)
+  firmware: string;
   robots: string[];
   programs: string[];
   import_notes: string[];

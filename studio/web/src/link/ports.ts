@@ -53,6 +53,13 @@ export class VirtualNanoPort implements SerialLike {
     rtf: number; capacity: number | null; behind: boolean; speed: number; trail: Int32Array } | null = null;
   /** The robot's servo angles (deg), for the aperture its pulses ask for. */
   servo: { closed: number; open: number } | null = null;
+  /** The board the robot's motors are wired to: a CNC shield (STEP/DIR drivers) or the Nano's own pins. */
+  get cnc(): boolean { return this.onShield; }
+  set cnc(on: boolean) {
+    if (on !== this.onShield) this.image = null; // another board: it starts with the site's build for it
+    this.onShield = on;
+  }
+  private onShield = false;
   flashBytes = 0;
   /** The Nano's seconds a second of real time (the page's speed, editor.speed). */
   speed = 1;
@@ -136,7 +143,7 @@ export class VirtualNanoPort implements SerialLike {
         eeprom = undefined;
       }
       worker.postMessage({ type: "start", eeprom, image: this.image ?? undefined, baud: options.baudRate,
-        servo: this.servo ?? undefined, speed: this.speed });
+        servo: this.servo ?? undefined, speed: this.speed, cnc: this.onShield });
     });
     this.closeStream = () => end?.();
   }

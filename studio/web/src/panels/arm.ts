@@ -65,6 +65,7 @@ async function choosePort(): Promise<{ port: SerialLike; label: string } | { why
     const port = virtualNano();
     const g = s.editor.robot?.gripper;
     port.servo = g ? { closed: g.servo_closed_deg, open: g.servo_open_deg } : null;
+    port.cnc = s.editor.robot?.firmware === "articula-cnc"; // the robot's motors on a CNC shield's STEP/DIR drivers
     return { port, label: "the virtual Nano" };
   }
   if (which !== "page:serial") return { why: "Choose the virtual Nano or a Nano on USB first." };

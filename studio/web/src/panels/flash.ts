@@ -1,31 +1,45 @@
-// Flashing the Nano on the chosen port (link/stk500.mjs) with this site's firmware (one for every
-// arm: the robot is configured after, in the arm panel): its version and size from
+// Flashing the Nano on the chosen port (link/stk500.mjs) with this site's firmware for the robot's
+// drivers (one build for every arm on L298N or ULN2003 boards, one for STEP/DIR drivers in a CNC
+// shield: the robot is configured after, in the arm panel): its version and size from
 // data/firmware/firmware.json, a progress bar, and a sentence for every way it can fail.
 import { FlashError, flashNano } from "../link/stk500.mjs";
 import { $, status } from "../page/dom";
 import type { Studio } from "../page/context";
 
 interface FirmwareInfo { file: string; bytes: number; version: string; sha256: string }
-let firmware: FirmwareInfo | null = null;
+let builds: Record<string, FirmwareInfo> = {};
+let firmware: FirmwareInfo | null = null; // the build the robot shown needs
 
 let s: Studio;
 
 export function initFlash(studio: Studio): void {
   s = studio;
   $("arm-flash").onclick = () => void flashFirmware();
+  s.editor.signals.robotShown.add(() => showFirmware());
   void loadFirmwareInfo();
 }
 
 async function loadFirmwareInfo(): Promise<void> {
   try {
     const r = await fetch(new URL("data/firmware/firmware.json", document.baseURI));
-    firmware = r.ok ? ((await r.json()) as FirmwareInfo) : null;
+    const j = r.ok ? ((await r.json()) as FirmwareInfo & { builds?: Record<string, FirmwareInfo> }) : null;
+    builds = j ? j.builds ?? { "articula-nano": j } : {};
   } catch {
-    firmware = null;
+    builds = {};
   }
+  showFirmware();
+}
+
+// The build for the robot shown, and what it is for.
+function showFirmware(): void {
+  const needs = s.editor.robot?.firmware ?? "articula-nano";
+  firmware = builds[needs] ?? null;
+  const what = needs === "articula-cnc"
+    ? "the build for a CNC shield, for every arm it can drive on STEP/DIR drivers (A4988, DRV8825, TMC2208/2209)"
+    : "for every arm it can drive on L298N or ULN2003 boards (up to three steppers and a gripper)";
   $("flash-info").textContent = firmware
-    ? `Articula ${firmware.version}, ${firmware.bytes.toLocaleString("en")} bytes: for every arm it can drive (up to three steppers and a gripper)`
-    : "this site carries no firmware";
+    ? `Articula ${firmware.version}, ${firmware.bytes.toLocaleString("en")} bytes: ${what}`
+    : needs === "" ? "this robot's servos have no firmware yet" : "this site carries no firmware";
   ($("arm-flash") as HTMLButtonElement).disabled = !firmware;
 }
 

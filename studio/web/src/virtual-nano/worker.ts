@@ -8,9 +8,11 @@
 // Debian's source) in its boot section, so the page's flasher (link/stk500.mjs) can write it; the
 // host's DTR resets it, and bytes at another baud rate than the USART's arrive garbled.
 //
-// In: {type: "start", eeprom?, image?, baud, servo?, speed?} (a power-up: the page keeps the EEPROM's
+// In: {type: "start", eeprom?, image?, baud, servo?, speed?, cnc?} (a power-up: the page keeps the EEPROM's
 // bytes, and the flash's after a flash; servo: the robot's servo angles {closed, open}; speed:
-// the Nano's seconds a second of real time, 1 unless the page runs its world faster or slower),
+// the Nano's seconds a second of real time, 1 unless the page runs its world faster or slower; cnc:
+// the Nano sits on a CNC shield, its motors on STEP/DIR drivers, and runs the shield's build,
+// data/firmware/articula-cnc.hex, until it is flashed),
 // {type: "rx", bytes}, {type: "signals", dtr}, {type: "speed", speed}, {type: "close"}.
 // Out: {type: "ready", flashBytes, ms}, {type: "tx", bytes}, {type: "state", seconds, steps,
 // faults, servoUs, gripper (the aperture its pulse asks for, %), flashWrites, rtf, capacity, behind, speed,
@@ -27,8 +29,9 @@ const post = (m: Record<string, unknown>, transfer: Transferable[] = []) =>
   (self as unknown as Worker).postMessage(m, transfer);
 
 let parts: NanoParts | null = null;
-let hex = "";
+let hexes: Record<string, string> = {};
 let bootloader = "";
+let cnc = false;
 let nano: VirtualNano | null = null;
 let loop: { stop(): void } | null = null;
 let tx: number[] = [];
@@ -58,10 +61,11 @@ async function start(eeprom: Uint8Array | undefined, image: Uint8Array | undefin
     const { default: createNanoParts } = await import(/* @vite-ignore */ new URL("engine/nano.mjs", site).href);
     parts = await loadNanoParts(createNanoParts, { locateFile: (f: string) => new URL(`engine/${f}`, site).href });
   }
-  if (!hex) [hex, bootloader] = await Promise.all([fetchText("data/firmware/articula-nano.hex"),
-    fetchText("data/firmware/optiboot_atmega328.hex")]);
+  const build = cnc ? "articula-cnc" : "articula-nano";
+  if (!hexes[build]) hexes[build] = await fetchText(`data/firmware/${build}.hex`);
+  if (!bootloader) bootloader = await fetchText("data/firmware/optiboot_atmega328.hex");
   stop();
-  nano = new VirtualNano({ hex, parts, eeprom, bootloader, image });
+  nano = new VirtualNano({ hex: hexes[build], parts, eeprom, bootloader, image, cnc });
   nano.hostBaud = baud;
   nano.onByte = (b) => tx.push(b);
   trail = [];
@@ -153,8 +157,9 @@ function setSpeed(x: unknown): void {
 
 self.onmessage = (e: MessageEvent) => {
   const m = e.data as { type?: string; bytes?: Uint8Array; eeprom?: Uint8Array; image?: Uint8Array; baud?: number; dtr?: boolean;
-    servo?: { closed: number; open: number }; speed?: number };
+    servo?: { closed: number; open: number }; speed?: number; cnc?: boolean };
   if (m?.type === "start") {
+    cnc = m.cnc === true;
     servo = m.servo && Number.isFinite(m.servo.closed) && Number.isFinite(m.servo.open) ? m.servo : null;
     setSpeed(m.speed);
     const bytes = (x: unknown) => (x instanceof Uint8Array ? x : undefined);
