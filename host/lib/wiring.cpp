@@ -124,7 +124,7 @@ Wiring wire(const Robot& robot) {
       }
       if (info.cnc_shield && !enable_wired) {
         enable_wired = true;
-        add(header_of(board::kShieldEnable), "EN", "drivers'", -1, "");
+        add(header_of(board::kShieldEnable), "EN", "drivers", -1, "");
       }
     } else {
       add(d.pin, "signal", "servo", int(m), "pin");

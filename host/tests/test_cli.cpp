@@ -515,7 +515,7 @@ TEST(Cli, WiringListsEveryPinOfTheBoardTheFileNames) {
   EXPECT_NE(r.out.find("on an Arduino Uno on a CNC Shield V3"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("firmware: articula-cnc.hex"), std::string::npos) << r.out;
   for (const char* row : {"D2   socket X (A4988)  STEP    base", "D7   socket Z (A4988)  DIR     elbow",
-                          "D8   drivers'          EN", "A3   gripper servo     signal"})
+                          "D8   drivers           EN", "A3   gripper servo     signal"})
     EXPECT_NE(r.out.find(row), std::string::npos) << row << "\n" << r.out;
   r = run_stdout("wiring mk2plus --json");
   ASSERT_EQ(r.code, 0);

@@ -1261,7 +1261,7 @@ TEST(Drive, StepDirDriversInTheSocketsOfACncShield) {
   EXPECT_EQ(pins_of(w, 0), (std::map<std::string, std::string>{{"STEP", "D2"}, {"DIR", "D5"}, {"switch", "D9"}}));
   EXPECT_EQ(pins_of(w, 1), (std::map<std::string, std::string>{{"STEP", "D3"}, {"DIR", "D6"}, {"switch", "D10"}}));
   EXPECT_EQ(pins_of(w, 2), (std::map<std::string, std::string>{{"STEP", "D4"}, {"DIR", "D7"}, {"switch", "D11"}}));
-  EXPECT_EQ(pin_of(w, "drivers'"), "D8");
+  EXPECT_EQ(pin_of(w, "drivers"), "D8");
   EXPECT_EQ(pin_of(w, "gripper servo"), "A3");
   // Each chip's own modes: the DRV8825 has 1/32, the TMC2209 1/64.
   EXPECT_NO_THROW(parse_robot(shield_robot("drv8825", 32).dump(), "t.json"));

@@ -599,6 +599,34 @@ def test_a_robot_on_step_dir_drivers_gets_the_cnc_shield_build(open_page):
     assert pg.errors == []
 
 
+def test_the_wiring_view_draws_every_wire_from_the_robot_file(open_page, tmp_path):
+    """The arm panel's Wiring: every wire of the robot shown (the engine's wiring, from board.h),
+    one line each, labelled with its pin and input; a file's names are text, never markup."""
+    pg = open_page("mk2plus-cnc")
+    pg.wait("a.wiring.wires > 0", timeout=15000)
+    assert pg.hook("a.wiring") == {"board": "uno-cnc-v3", "firmware": "articula-cnc", "wires": 14, "error": ""}
+    assert pg.page.eval_on_selector_all("#wiring line.wire", "ls => ls.length") == 14
+    texts = pg.page.eval_on_selector_all("#wiring text", "ts => ts.map(t => t.textContent)")
+    for t in ("Arduino Uno on a CNC Shield V3", "D2", "STEP", "socket X (A4988), base", "D8", "EN", "A3"):
+        assert t in texts, (t, texts)
+    pg.page.click("#wiring-box summary")
+    pg.page.locator("#wiring-box").screenshot(path=str(SHOTS / "studio-wiring.png"))
+    # a file whose motor is named like markup: drawn as the text it is
+    arm = json.loads((REPO / "robots" / "mk2plus.json").read_text())
+    arm["name"] = "Markup arm"
+    arm["motors"][0]["name"] = '<img src=x onerror="window.pwned=1">'
+    path = tmp_path / "markup-arm.json"
+    path.write_text(json.dumps(arm))
+    pg.page.set_input_files("#robot-file", str(path))
+    pg.wait("a.robot.name === 'Markup arm'")
+    pg.wait("a.wiring.board === 'nano' && a.wiring.wires === 19")  # serial, LED, gripper; 3 x (IN1..IN4, switch)
+    texts = pg.page.eval_on_selector_all("#wiring text", "ts => ts.map(t => t.textContent)")
+    assert 'L298N #0, <img src=x onerror="window.pwned=1">' in texts
+    assert pg.page.eval_on_selector_all("#wiring img", "is => is.length") == 0
+    assert pg.page.evaluate("window.pwned === undefined")
+    assert pg.errors == []
+
+
 def test_stop_ends_a_long_move_on_the_page_nano(open_page):
     """STOP in the middle of a move. The virtual Nano keeps real time whatever the page does, so
     the move is slow enough ($0 = 25 steps/s: about ten seconds) that the stop comes mid-way

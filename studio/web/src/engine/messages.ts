@@ -44,6 +44,9 @@ export interface RobotMsg {
   // the firmware build that drives its motors: "articula-nano" (L298N, ULN2003), "articula-cnc"
   // (STEP/DIR drivers in a CNC shield), "" (servos: none yet)
   firmware: string;
+  // every wire (host/lib/wiring.h): its board, and each pin and what it feeds; error: none
+  wiring?: { board: string; board_title: string; given: boolean; firmware: string; error?: string;
+    wires: { pin: string; signal: string; part: string; motor: string | null }[] };
   robots: string[];
   programs: string[];
   import_notes: string[];

@@ -4,6 +4,7 @@
 import type { Engine, Robot, Sim, Timeline } from "../../../../wasm/js/engine.mjs";
 import { clamp, round6 } from "./checks";
 import type { Out } from "./checks";
+import type { RobotMsg } from "./messages";
 
 export interface RobotInfo {
   name: string; description: string; source: string; joints: { name: string }[]; dh: unknown[];
@@ -11,7 +12,7 @@ export interface RobotInfo {
   motors: { name: string; zero: number }[]; links: { frame: number; shapes: { type: string; size: number[];
   pose: number[]; mesh?: string }[] }[]; gripper: null | { max_opening_mm: number }; reach_mm: number;
   import_notes: string[]; joint_names: string[];
-  wiring: { firmware: string }; // host/lib/wiring.h: the firmware build for its drivers, and every wire
+  wiring: NonNullable<RobotMsg["wiring"]>; // host/lib/wiring.h: the firmware build for its drivers, and every wire
 }
 
 /** The site's shipped files (data/index.json, which make web writes). */
@@ -87,7 +88,7 @@ export function robotMessage(): Out {
     type: "robot", name: r.name, description: r.description, source: r.source, joints: r.joints, dh: r.dh,
     num_rows: r.num_rows, home: r.home, motors: r.motors.map((m) => m.name), links, gripper: r.gripper,
     reach_mm: r.reach_mm, robots: S.index.robots, programs: examplesFor(S.robot), scenes: S.index.scenes,
-    import_notes: r.import_notes, firmware: r.wiring.firmware,
+    import_notes: r.import_notes, firmware: r.wiring.firmware, wiring: r.wiring,
   };
 }
 

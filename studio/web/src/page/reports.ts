@@ -51,4 +51,5 @@ export interface Reports {
   exercise: { parts: { label: string; met: boolean; detail: string; distance_mm: number }[]; met: boolean; error?: string } | null;
   flash: { busy: boolean; phase: string; done: number; total: number; error: string; errorKind: string;
            result: { bytes: number; pages: number; baud: number; seconds: number } | null };
+  wiring: { board: string; firmware: string; wires: number; error: string }; // the Wiring view's (panels/wiring.ts)
 }
