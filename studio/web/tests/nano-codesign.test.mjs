@@ -19,7 +19,7 @@ const HEX = process.env.ARTICULA_NANO_HEX || join(REPO, "build/avr/firmware/arti
 const CNC_HEX = join(HEX, "..", "articula-cnc.hex");
 const ARMS = readdirSync(join(REPO, "hil/robots")).filter((f) => f.endsWith(".json")).sort();
 const PLANS = readdirSync(join(REPO, "hil/plans")).filter((f) => f.endsWith(".arm")).sort();
-const RANDOM_LINES = 60;
+const RANDOM_LINES = 130; // with the plans' 73 lines, at least 200 an arm
 
 // A small seeded generator (mulberry32): the same lines every run.
 function rng(seed) {
