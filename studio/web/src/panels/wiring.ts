@@ -71,6 +71,8 @@ function draw(w: Wiring | undefined, robotName: string): void {
     groups.filter((g) => g.wires.length > 1).length * HEAD;
   const width = PAD * 2 + BOARD_W + GAP + PART_W;
   svg.setAttribute("viewBox", `0 0 ${width} ${height}`);
+  // its own size at most (a wide panel does not blow it up), less in a narrow one (CSS max-width)
+  svg.setAttribute("width", String(width));
   svg.setAttribute("height", String(height));
   svg.append(el("rect", { x: 0, y: 0, width, height, fill: "#ffffff" }));
   const top = PAD + 26 + ROW / 2;
