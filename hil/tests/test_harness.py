@@ -8,6 +8,7 @@ and the `articula` package built (make). It fails, never skips, when one is miss
 """
 
 import csv
+import json
 import os
 import re
 import signal
@@ -332,6 +333,11 @@ def test_one_firmware_configured_for_each_arm(bins, tmp_path, arm):
     # Every step lands on the tick the prediction gives; a pin shows it a few microseconds
     # late (the step interrupt's entry), never more than the firmware's jitter target.
     assert worst_us <= 10.0
+    # Each build keeps its stack margin (issue 40: at least 128 bytes never used), whatever the
+    # arm's drive: the virtual Nano paints the stack and reports the least left free.
+    free = [json.loads(f.read_text())["stack"]["min_free_bytes"] for f in sorted((out / "vnano").glob("*.json"))]
+    assert len(free) == len(PLANS) + 1 and min(free) >= 128, free
+    print(f"  {arm.stem}: stack never used, least of {len(free)} runs: {min(free)} bytes")
 
 
 def test_a_drawing_runs_on_the_firmware_step_for_step(bins, tmp_path):
