@@ -17,6 +17,8 @@ set(ARTICULA_RAM_BUDGET 1600 CACHE STRING "firmware static RAM (.data + .bss) bu
 #   articula-cnc   a Nano on a CNC Shield V4 or an Uno on a CNC Shield V3: STEP/DIR drivers in
 #                  its sockets (ARTICULA_CNC_SHIELD: board.h's shield pins); the same pins on
 #                  both, so one hex, within the Nano's old-bootloader budget
+#   articula-servo hobby-servo arms (meArm, EEZYbotARM MK2): a servo on any header pin the
+#                  configuration names, Timer1's pulses (ARTICULA_SERVO_ARM)
 file(GLOB firmware_sources CONFIGURE_DEPENDS ${ARTICULA_FIRMWARE_DIR}/src/*.cpp)
 # -mcall-prologues: functions save and restore their registers through one shared routine
 # (1.3 KB less flash; a few cycles more per call, none in the interrupt handlers themselves).
@@ -73,3 +75,4 @@ endfunction()
 
 articula_avr_firmware(articula-nano)
 articula_avr_firmware(articula-cnc ARTICULA_CNC_SHIELD)
+articula_avr_firmware(articula-servo ARTICULA_SERVO_ARM)

@@ -8,7 +8,8 @@
 # blank EEPROM gets, under the prefix "firmware.", a test robot with half steps, a reversed
 # motor, the identity coupling and a home pose away from step 0, under "firmware.halfstep.",
 # that robot on 28BYJ-48s and ULN2003 boards under "firmware.uln2003.", and on STEP/DIR
-# drivers in a CNC shield's sockets under "firmware.cnc.": a variant's
+# drivers in a CNC shield's sockets under "firmware.cnc.", and on hobby servos under
+# "firmware.servo." (the shipped meArm's prediction: "firmware.wide.mearm."): a variant's
 # configuration (made by `articula configure --header`) is what the harness puts in the SITL
 # EEPROM of a fresh machine.
 set(fw_test_dir ${ARTICULA_FIRMWARE_DIR}/test)
@@ -30,6 +31,8 @@ function(articula_firmware_variant variant robot prefix sitl tests)
     file(READ ${robot} robot_text)
     if(robot_text MATCHES "\"step-dir\"")
       set(not_for_this_arm ${fw_coil_tests})
+    elseif(robot_text MATCHES "\"servo\"")  # a servo's steps are pulses' ticks, as STEP/DIR's
+      set(not_for_this_arm ${fw_coil_tests} ${fw_step_dir_tests})
     endif()
   endif()
   set(robot_file ${robot})
@@ -93,6 +96,8 @@ articula_firmware_variant(halfstep ${fw_test_dir}/robots/halfstep.json "firmware
 articula_firmware_variant(uln2003 ${fw_test_dir}/robots/uln2003.json "firmware.uln2003." "" "")
 # STEP/DIR drivers in a CNC shield's sockets: pulses and DIR, and ENABLE for the coils' idle rule.
 articula_firmware_variant(cnc ${fw_test_dir}/robots/cnc.json "firmware.cnc." "" "")
+# Hobby servos: a step is a tick of a servo's pulse.
+articula_firmware_variant(servo ${fw_test_dir}/robots/servo.json "firmware.servo." "" "")
 # The same arms on the host's build of the firmware (eight motors, host/CMakeLists.txt), which
 # the prediction runs: the tests that need the host library. It gives the same answers as the
 # Nano's build: hil/ holds the prediction against the Nano's own hex in simavr.
@@ -102,3 +107,7 @@ articula_firmware_variant(wide_halfstep ${fw_test_dir}/robots/halfstep.json "fir
 articula_firmware_variant(wide_uln2003 ${fw_test_dir}/robots/uln2003.json "firmware.wide.uln2003." articula_firmware_sitl
                           "${fw_host_tests}")
 articula_firmware_variant(wide_cnc ${fw_test_dir}/robots/cnc.json "firmware.wide.cnc." articula_firmware_sitl "${fw_host_tests}")
+articula_firmware_variant(wide_servo ${fw_test_dir}/robots/servo.json "firmware.wide.servo." articula_firmware_sitl
+                          "${fw_host_tests}")
+articula_firmware_variant(wide_mearm ${PROJECT_SOURCE_DIR}/robots/mearm.json "firmware.wide.mearm." articula_firmware_sitl
+                          "${fw_host_tests}")

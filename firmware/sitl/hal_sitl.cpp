@@ -310,6 +310,15 @@ void pulse_step(uint8_t motor, bool negative) {
   sitl::step_pulse(motor, false);
 }
 
+// Servo arms: the SITL takes a servo's steps as STEP pulses (one tick each), as the Nano's servo
+// build does; where its pulse starts is the configuration's, so the machine only checks the motor.
+void attach_servo(uint8_t motor, uint8_t pin, uint16_t ticks) {
+  sitl::interrupt_point();
+  if (motor >= sitl::kMotors || pin >= 20 || ticks == 0)
+    hw.errors.push_back("attach_servo(" + std::to_string(motor) + ", " + std::to_string(pin) + ", " +
+                        std::to_string(ticks) + ")");
+}
+
 void enable_drivers(bool on) {
   sitl::interrupt_point();
   hw.drivers_enabled = on;

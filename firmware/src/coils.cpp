@@ -1,4 +1,5 @@
-// firmware/src/coils.cpp - the coil sequences, or the STEP/DIR drivers' pulses and ENABLE.
+// firmware/src/coils.cpp - the coil sequences, or the STEP/DIR drivers' pulses and ENABLE, or the
+// servos' pulse widths.
 #include "coils.h"
 
 #include "hal.h"
@@ -16,7 +17,15 @@ uint8_t g_stride[robot::kJoints];  // 2 in full steps, 1 in half steps
 bool g_on;
 }  // namespace
 
+void attach_servos() {
+  if (!robot::servos()) return;
+  for (uint8_t i = 0; i < robot::count() && i < articula::kMaxConfigMotors; ++i)
+    hal::attach_servo(i, robot::config.servo_pin[i],
+                      uint16_t(robot::config.servo_zero_us[i] * articula::kServoTicksPerUs + robot::home_steps[i]));
+}
+
 void setup() {
+  attach_servos();
   g_table = kSequence[robot::config.drive == articula::kDriveUln2003 ? 1 : 0];
   for (uint8_t i = 0; i < robot::kJoints; ++i) {
     g_phase[i] = 1;
@@ -34,23 +43,25 @@ inline uint8_t advance(uint8_t motor, bool negative) {
 }
 }  // namespace
 
-// On STEP/DIR drivers a step is a pulse, and energising is the drivers' ENABLE.
+// On STEP/DIR drivers a step is a pulse, and energising is the drivers' ENABLE; on servos a step
+// is a tick of the pulse (the HAL's stage_pulse and pulse_step), and the servos hold whatever
+// ENABLE says.
 void step(uint8_t motor, bool negative) {
-  if (robot::step_dir())
+  if (robot::pulsed())
     hal::pulse_step(motor, negative);
   else
     hal::write_coils(motor, g_table[advance(motor, negative)]);
 }
 
 void stage_step(uint8_t motor, bool negative) {
-  if (robot::step_dir())
+  if (robot::pulsed())
     hal::stage_pulse(motor, negative);
   else
     hal::stage_coils(motor, g_table[advance(motor, negative)]);
 }
 
 void energise() {
-  if (robot::step_dir())
+  if (robot::pulsed())
     hal::enable_drivers(true);
   else
     for (uint8_t i = 0; i < robot::kJoints; ++i) hal::write_coils(i, g_table[g_phase[i]]);
@@ -58,7 +69,7 @@ void energise() {
 }
 
 void release() {
-  if (robot::step_dir())
+  if (robot::pulsed())
     hal::enable_drivers(false);
   else
     for (uint8_t i = 0; i < robot::kJoints; ++i) hal::write_coils(i, 0);

@@ -8,7 +8,9 @@
 //     1000, 1100, 0100, 0110, 0010, 0011, 0001, 1001
 // The configuration's drive ($131) picks one. On STEP/DIR drivers (a CNC shield) the same
 // calls make a STEP pulse with its DIR (hal::stage_pulse, pulse_step) and switch the drivers'
-// ENABLE; the phase stays. In both the full-step sequence (two phases on)
+// ENABLE; the phase stays. On hobby servos (the servo build) they make the motor's pulse one
+// tick longer or shorter (hal::attach_servo); the servos hold whatever ENABLE says.
+// In every 4-wire table the full-step sequence (two phases on)
 // is the odd states, so a motor in full steps moves two places a step and one in half steps one.
 // Each motor keeps its own place in the table, apart from its step count: Z and homing
 // change the count, never the coils.
@@ -23,8 +25,12 @@ namespace coils {
 extern const uint8_t kSequence[2][8];
 
 // Takes the configuration's table, and places every motor on the first full-step state (1010
-// or 1100) with its coils off.
+// or 1100) with its coils off; a servo arm's servos get their home pulses (attach_servos).
 void setup();
+
+// A servo arm: each servo's pulse from its step-0 pulse and the home pose's steps (at power-up,
+// a new configuration, and Z, which declares the arm at home: a servo then goes there at once).
+void attach_servos();
 
 // One step of `motor` towards more (negative false) or fewer steps: the next pattern,
 // written at once. From the step interrupt.

@@ -66,6 +66,15 @@ void pulse_step(uint8_t motor, bool negative);
 // idle time, as the 4-wire drives' coils are energised and released.
 void enable_drivers(bool on);
 
+// Servo arms (the build for them, and the SITL): a motor is a hobby servo on header pin `pin`
+// (board.h's kHeaderPin index), given a pulse of `ticks` (Timer1's 0.5 us) every 20 ms from now
+// on, one servo after another within the period (the gripper's last). There a step is one tick:
+// stage_pulse() makes the motor's pulse one tick longer (or shorter, `negative`) at the next
+// step-timer deadline, pulse_step() at once; the width is taken at the start of each pulse, so
+// a change never cuts one short. enable_drivers() changes nothing: a servo holds its angle only
+// while it gets pulses, so they never stop.
+void attach_servo(uint8_t motor, uint8_t pin, uint16_t ticks);
+
 // The step interrupt (or the main loop starting it) took an action of `kind` (queue::Kind)
 // off the queue and began it. Nothing on the Nano (no code at all); the SITL machine stamps
 // it with its tick, so the host reads when each queued action began from the firmware itself.

@@ -152,6 +152,8 @@ inline void set_dir(uint8_t motor, bool negative) {
     ARTICULA_STEP_PORT |= bit;
   hal::interrupts_restore(sreg);
 }
+#elif defined(ARTICULA_SERVO_ARM)
+inline void write_staged();  // with the servos, below
 #else
 // The staged patterns to the ports, first thing at a deadline: the three writes are a few
 // cycles apart and a fixed number of cycles after the interrupt's entry, whatever the
@@ -224,9 +226,88 @@ volatile uint32_t g_millis;
 const uint16_t kServoPeriodTicks = 20000U * 2;      // 20 ms
 const uint16_t kServoMinUs = 200, kServoMaxUs = 3000;  // keeps the pulse inside the period
 
+#if defined(ARTICULA_SERVO_ARM)
+// The servo arm's build: a channel for each motor's servo and the gripper's last. In each
+// period every channel with a width gives its pulse in turn, kServoGapTicks apart; the period's
+// rest follows. Each edge is armed kServoLeadTicks early and its interrupt waits for the
+// edge's tick with interrupts off, so another interrupt running when the compare comes (the
+// serial ones, millis, the step interrupt's few cycles with interrupts off) moves no edge; both
+// edges of a pulse then lie the same few cycles after their ticks, and the width is the
+// channel's ticks to the cycle. Four channels of at most 2,600 us and their gaps fit a period.
+const uint8_t kServoChannels = 4;  // motors 0..2, the gripper
+const uint8_t kGripperChannel = 3;
+const uint16_t kServoLeadTicks = 16;  // 8 us: longer than any interrupt that may delay the compare's
+const uint16_t kServoGapTicks = 48;   // 24 us: the lead, and the interrupt's own time after an edge
+enum : uint8_t { kServoRest, kServoRise, kServoFall };
+
+volatile uint16_t g_servo_ticks[kServoChannels];  // each channel's width; 0: no pulse
+volatile uint8_t* g_servo_ports[kServoChannels];  // its pin's PORT register
+uint8_t g_servo_bits[kServoChannels];             // and bit
+uint8_t g_servo_phase;                 // what the next compare is: the rest's end, a rise, a fall
+uint8_t g_servo_at;                    // the channel rising or falling next
+uint16_t g_servo_edge;                 // Timer1's count at the next edge (or the rest's end)
+uint16_t g_servo_used;                 // ticks of the period used by its pulses and gaps so far
+uint16_t g_servo_width;                // the width of the pulse rising or falling next
+
+// The PORT register (as an I/O address) of each of board.h's header pins, in flash.
+#define ARTICULA_HEADER_PORT(i) uint8_t(board::port_io(board::kHeaderPin[i].port))
+const uint8_t kHeaderPortIo[board::kHeaderPins] PROGMEM = {
+    ARTICULA_HEADER_PORT(0),  ARTICULA_HEADER_PORT(1),  ARTICULA_HEADER_PORT(2),  ARTICULA_HEADER_PORT(3),
+    ARTICULA_HEADER_PORT(4),  ARTICULA_HEADER_PORT(5),  ARTICULA_HEADER_PORT(6),  ARTICULA_HEADER_PORT(7),
+    ARTICULA_HEADER_PORT(8),  ARTICULA_HEADER_PORT(9),  ARTICULA_HEADER_PORT(10), ARTICULA_HEADER_PORT(11),
+    ARTICULA_HEADER_PORT(12), ARTICULA_HEADER_PORT(13), ARTICULA_HEADER_PORT(14), ARTICULA_HEADER_PORT(15),
+    ARTICULA_HEADER_PORT(16), ARTICULA_HEADER_PORT(17), ARTICULA_HEADER_PORT(18), ARTICULA_HEADER_PORT(19)};
+#define ARTICULA_HEADER_BIT(i) uint8_t(1u << board::kHeaderPin[i].bit)
+const uint8_t kHeaderBit[board::kHeaderPins] PROGMEM = {
+    ARTICULA_HEADER_BIT(0),  ARTICULA_HEADER_BIT(1),  ARTICULA_HEADER_BIT(2),  ARTICULA_HEADER_BIT(3),
+    ARTICULA_HEADER_BIT(4),  ARTICULA_HEADER_BIT(5),  ARTICULA_HEADER_BIT(6),  ARTICULA_HEADER_BIT(7),
+    ARTICULA_HEADER_BIT(8),  ARTICULA_HEADER_BIT(9),  ARTICULA_HEADER_BIT(10), ARTICULA_HEADER_BIT(11),
+    ARTICULA_HEADER_BIT(12), ARTICULA_HEADER_BIT(13), ARTICULA_HEADER_BIT(14), ARTICULA_HEADER_BIT(15),
+    ARTICULA_HEADER_BIT(16), ARTICULA_HEADER_BIT(17), ARTICULA_HEADER_BIT(18), ARTICULA_HEADER_BIT(19)};
+
+// After an edge (or the rest's end, `first`): arms the next channel's rise, or the period's rest.
+inline void servo_next(bool first) {
+  uint8_t at = first ? 0 : uint8_t(g_servo_at + 1);
+  while (at < kServoChannels && g_servo_ticks[at] == 0) ++at;
+  const uint16_t from = g_servo_edge;
+  if (at < kServoChannels) {
+    g_servo_at = at;
+    g_servo_width = g_servo_ticks[at];  // taken here, a gap before its pulse
+    g_servo_phase = kServoRise;
+    g_servo_edge = uint16_t(from + kServoGapTicks);
+    g_servo_used = uint16_t(g_servo_used + kServoGapTicks + g_servo_width);
+  } else {
+    g_servo_phase = kServoRest;
+    g_servo_edge = uint16_t(from + kServoPeriodTicks - g_servo_used);
+    g_servo_used = 0;
+  }
+  OCR1B = uint16_t(g_servo_edge - kServoLeadTicks);
+}
+
+// Starts the pulses if they are not running: the first period begins shortly. Interrupts off.
+void servo_start() {
+  if (TIMSK1 & _BV(OCIE1B)) return;
+  g_servo_phase = kServoRest;
+  g_servo_used = 0;
+  g_servo_edge = uint16_t(TCNT1 + kStartLead + kServoLeadTicks);
+  OCR1B = uint16_t(g_servo_edge - kServoLeadTicks);
+  TIFR1 = _BV(OCF1B);
+  TIMSK1 |= _BV(OCIE1B);
+}
+// The staged ticks, first thing at a deadline: each staged motor's width one tick longer, or
+// shorter (g_stage[i] = 1). Interrupts off, so the servo's interrupt never reads half a width.
+inline void write_staged() {
+  const uint8_t m = g_stage_mask;
+  if (m == 0) return;
+  for (uint8_t i = 0; i < 3; ++i)
+    if (m & (1u << i)) g_servo_ticks[i] = uint16_t(g_servo_ticks[i] + (g_stage[i] ? -1 : 1));
+  g_stage_mask = 0;
+}
+#else
 volatile uint16_t g_servo_width;  // ticks; 0: no more pulses
 uint16_t g_servo_pulse;           // the width of the pulse being output
 bool g_servo_high;
+#endif
 
 // ---------------------------------------------------------------------------------------
 // Serial (USART0): two ring buffers, sizes powers of two below 256, and the status report's
@@ -347,6 +428,31 @@ ISR(TIMER1_COMPA_vect) {
   build_report_if_due();
 }
 
+#if defined(ARTICULA_SERVO_ARM)
+ISR(TIMER1_COMPB_vect) {
+  const uint8_t phase = g_servo_phase;
+  if (phase != kServoRest) {
+    // An edge: armed kServoLeadTicks early; its tick is waited for here, interrupts off.
+    const uint16_t edge = g_servo_edge;
+    const uint8_t at = g_servo_at;
+    volatile uint8_t* const port = g_servo_ports[at];
+    const uint8_t bit = g_servo_bits[at];
+    if (phase == kServoRise) {
+      while (int16_t(TCNT1 - edge) < 0) {
+      }
+      *port |= bit;
+      g_servo_phase = kServoFall;
+      g_servo_edge = uint16_t(edge + g_servo_width);
+      OCR1B = uint16_t(g_servo_edge - kServoLeadTicks);
+      return;
+    }
+    while (int16_t(TCNT1 - edge) < 0) {
+    }
+    *port &= uint8_t(~bit);
+  }
+  servo_next(phase == kServoRest);
+}
+#else
 ISR(TIMER1_COMPB_vect) {
   if (g_servo_high) {
     ARTICULA_SERVO_PORT &= uint8_t(~_BV(ARTICULA_SERVO_BIT));
@@ -363,6 +469,7 @@ ISR(TIMER1_COMPB_vect) {
   g_servo_high = true;
   OCR1B += g_servo_pulse;
 }
+#endif
 
 ISR(USART_RX_vect) {
   const uint8_t status = UCSR0A;
@@ -417,6 +524,11 @@ void init() {
   const uint8_t step_dir = uint8_t((0x07 << ARTICULA_STEP_SHIFT) | (0x07 << ARTICULA_DIR_SHIFT));
   ARTICULA_STEP_PORT &= uint8_t(~step_dir);
   ARTICULA_STEP_DDR |= step_dir;
+#elif defined(ARTICULA_SERVO_ARM)
+  // The motors' servo pins become outputs when attached (attach_servo), the gripper's here.
+  for (uint8_t i = 0; i < kServoChannels; ++i) g_servo_ticks[i] = 0;
+  g_servo_ports[kGripperChannel] = &ARTICULA_SERVO_PORT;
+  g_servo_bits[kGripperChannel] = _BV(ARTICULA_SERVO_BIT);
 #else
   // Coils off before the pins become outputs, so no motor twitches at start-up.
   ARTICULA_MOTOR0_PORT &= uint8_t(~ARTICULA_COIL_MASK(ARTICULA_MOTOR0_SHIFT));
@@ -462,8 +574,10 @@ void init() {
   g_step_running = false;
   g_in_step = false;
   g_stage_mask = 0;
+#if !defined(ARTICULA_SERVO_ARM)
   g_servo_width = 0;
   g_servo_high = false;
+#endif
 
   // USART0: 115200 8N1. With U2X0 the divisor 16 gives 117,647 baud (+2.1 %), closer than
   // the 111,111 (-3.5 %) without it; the Arduino core makes the same choice.
@@ -531,6 +645,10 @@ void set_servo_pulse(uint16_t microseconds) {
   if (us != 0 && us < kServoMinUs) us = kServoMinUs;
   if (us > kServoMaxUs) us = kServoMaxUs;
   const uint8_t sreg = interrupts_off();
+#if defined(ARTICULA_SERVO_ARM)
+  g_servo_ticks[kGripperChannel] = uint16_t(us * 2);
+  if (us != 0) servo_start();
+#else
   g_servo_width = uint16_t(us * 2);
   if (us != 0 && !(TIMSK1 & _BV(OCIE1B))) {
     // Not pulsing: the first period starts shortly; the chain runs from there.
@@ -539,7 +657,28 @@ void set_servo_pulse(uint16_t microseconds) {
     TIFR1 = _BV(OCF1B);
     TIMSK1 |= _BV(OCIE1B);
   }
+#endif
   interrupts_restore(sreg);
+}
+
+void attach_servo(uint8_t motor, uint8_t pin, uint16_t ticks) {
+#if defined(ARTICULA_SERVO_ARM)
+  if (motor >= kGripperChannel || pin >= board::kHeaderPins) return;
+  volatile uint8_t* const port = &_SFR_IO8(pgm_read_byte(&kHeaderPortIo[pin]));
+  const uint8_t bit = pgm_read_byte(&kHeaderBit[pin]);
+  const uint8_t sreg = interrupts_off();
+  *port &= uint8_t(~bit);
+  *(port - 1) |= bit;  // DDRx sits just below PORTx
+  g_servo_ports[motor] = port;
+  g_servo_bits[motor] = bit;
+  g_servo_ticks[motor] = ticks;
+  servo_start();
+  interrupts_restore(sreg);
+#else
+  (void)motor;
+  (void)pin;
+  (void)ticks;
+#endif
 }
 
 bool endstop(uint8_t motor) {
@@ -593,6 +732,10 @@ void stage_pulse(uint8_t motor, bool negative) {
   if (motor > 2) return;
   set_dir(motor, negative);
   g_stage_mask = uint8_t(g_stage_mask | (1u << motor));
+#elif defined(ARTICULA_SERVO_ARM)
+  if (motor > 2) return;
+  g_stage[motor] = negative ? 1 : 0;
+  g_stage_mask = uint8_t(g_stage_mask | (1u << motor));
 #else
   (void)motor;
   (void)negative;
@@ -609,6 +752,11 @@ void pulse_step(uint8_t motor, bool negative) {
   ARTICULA_STEP_PORT |= bit;
   __builtin_avr_delay_cycles(kStepPulseCycles);
   ARTICULA_STEP_PORT &= uint8_t(~bit);
+  interrupts_restore(sreg);
+#elif defined(ARTICULA_SERVO_ARM)
+  if (motor > 2) return;
+  const uint8_t sreg = interrupts_off();
+  g_servo_ticks[motor] = uint16_t(g_servo_ticks[motor] + (negative ? -1 : 1));
   interrupts_restore(sreg);
 #else
   (void)motor;

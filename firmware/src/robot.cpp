@@ -4,6 +4,8 @@
 #include "hal.h"
 #if defined(ARTICULA_CNC_SHIELD)
 #include "builtin_config_cnc.h"  // the MK2 Plus on A4988s in a CNC shield's sockets
+#elif defined(ARTICULA_SERVO_ARM)
+#include "builtin_config_servo.h"  // the meArm: four SG90 servos
 #else
 #include "builtin_config.h"
 #endif
@@ -23,7 +25,8 @@ const uint16_t kImageAt = kAddress + 1;
 const uint16_t kCrcAt = kImageAt + kConfigImageSize;
 
 // What a blank EEPROM gets: the MK2 (builtin_config.h, made by the host's nano_config; on a
-// CNC shield builtin_config_cnc.h, the MK2 on STEP/DIR drivers).
+// CNC shield builtin_config_cnc.h, the MK2 on STEP/DIR drivers; the servo build's
+// builtin_config_servo.h, the meArm).
 const uint8_t kBuiltIn[kConfigImageSize] ARTICULA_IN_FLASH = ARTICULA_BUILTIN_CONFIG;
 
 // An image's bytes one at a time (config_read takes them so, and one reader type keeps one

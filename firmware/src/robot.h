@@ -12,7 +12,7 @@ namespace robot {
 // EEPROM: [kEepromAddress] kEepromVersion, the image, its CRC-16 (low byte first). The
 // settings (settings.h) sit below it.
 static const uint16_t kEepromAddress = 32;
-static const uint8_t kEepromVersion = 2;  // 2: the image carries $131 (the drive)
+static const uint8_t kEepromVersion = 3;  // 2: the image carries $131 (the drive); 3: $132..$139 (servos)
 
 // Room for the most motors a configuration has; count() of them are used. The Nano's build has
 // the three its pins wire; a build for the host (firmware/sitl) may have more
@@ -26,10 +26,14 @@ static_assert(ARTICULA_FIRMWARE_MOTORS >= articula::kMaxConfigMotors && ARTICULA
 
 // The drive kinds this build drives (bit k: articula::DriveKind k); a configuration asking for
 // another is refused (kConfigInvalid). The 4-wire ones share the Nano's pins and coil code.
-// The build for a CNC shield (ARTICULA_CNC_SHIELD, board.h's shield pins) drives STEP/DIR only.
+// The build for a CNC shield (ARTICULA_CNC_SHIELD, board.h's shield pins) drives STEP/DIR only,
+// the build for servo arms (ARTICULA_SERVO_ARM: a pulse train on the pins the configuration
+// names) servos only.
 #ifndef ARTICULA_FIRMWARE_DRIVES
 #if defined(ARTICULA_CNC_SHIELD)
 #define ARTICULA_FIRMWARE_DRIVES (1u << articula::kDriveStepDir)
+#elif defined(ARTICULA_SERVO_ARM)
+#define ARTICULA_FIRMWARE_DRIVES (1u << articula::kDriveServo)
 #else
 #define ARTICULA_FIRMWARE_DRIVES ((1u << articula::kDriveL298n) | (1u << articula::kDriveUln2003))
 #endif
@@ -55,6 +59,15 @@ inline bool step_dir() {
   const uint8_t sd = uint8_t(1u << articula::kDriveStepDir);
   return kDrives == sd || ((kDrives & sd) != 0 && config.drive == articula::kDriveStepDir);
 }
+// Whether the motors are hobby servos: a step is one Timer1 tick (0.5 us) more or less on the
+// motor's pulse, which the HAL takes as it takes a STEP pulse (hal::stage_pulse). Constant in
+// a build that drives only servos or none.
+inline bool servos() {
+  const uint8_t sv = uint8_t(1u << articula::kDriveServo);
+  return kDrives == sv || ((kDrives & sv) != 0 && config.drive == articula::kDriveServo);
+}
+// Whether a step is a pulse to the HAL (STEP/DIR drivers and servos) rather than a coil pattern.
+inline bool pulsed() { return step_dir() || servos(); }
 
 // steps_to_millideg(motor(i), steps), the status report's A field: the same value, from a
 // fraction reduced at setup, in 32-bit arithmetic for every step count it fits (all within

@@ -234,6 +234,10 @@ void update_constants() {
   g_motion.tick_hz = hal::kTickHz;
   g_motion.max_rate = settings::value[settings::kMaxRate];
   g_motion.accel = settings::value[settings::kAccel];
+  // A servo arm's servos cap both ($138, $139: the robot file's speed and accel in ticks).
+  const articula::ConfiguredArm<robot::kJoints>& c = robot::config;
+  if (c.rate_cap != 0 && c.rate_cap < g_motion.max_rate) g_motion.max_rate = c.rate_cap;
+  if (c.accel_cap != 0 && c.accel_cap < g_motion.accel) g_motion.accel = c.accel_cap;
   profile_constants(g_constants, g_motion);  // valid for every value the settings allow
   const uint32_t rate = settings::value[settings::kHomingRate];
   g_homing_ticks = (hal::kTickHz + rate / 2) / rate;

@@ -1,6 +1,7 @@
 // host/lib/nano_config.cpp - robot file to Nano configuration (nano_config.h).
 #include "nano_config.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
@@ -72,11 +73,28 @@ NanoConfig nano_config(const Robot& robot) {
   };
   put(130, n * 1000);
   // How the motors are driven: the robot file's drivers (an L298N each when it names none).
-  const DriveKind drive = robot.drive.motors.empty() ? kDriveL298n : robot.drive.motors[0].kind;
-  if (drive == kDriveServo)
-    throw fail(std::string("is driven by ") + kDriveKindInfo[drive].id +
-               ": the firmware drives steppers (L298N, ULN2003, STEP/DIR); its servo build is still to come");
+  const DriveKind drive = arm_drive(robot);
   put(131, int32_t(drive) * 1000);
+  // A servo arm: each servo's step-0 pulse and pin, and the rate and acceleration its servos
+  // take, in ticks (the slowest servo's: the controller's rate is the dominant motor's).
+  if (drive == kDriveServo) {
+    double rate = 4000, accel = 100000;
+    bool accel_given = false;
+    for (int i = 0; i < n; ++i) {
+      const MotorDriver& d = robot.drive.motors[size_t(i)];
+      const MotorSpec& m = robot.actuation.motors[i];
+      const double ticks_per_deg = double(m.gear_num) / double(m.gear_den);
+      put(uint16_t(132 + i), int32_t(d.at[0][0]) * 1000);
+      put(uint16_t(135 + i), d.pin * 1000);
+      rate = std::min(rate, d.speed_deg_s * ticks_per_deg);
+      if (d.accel_deg_s2 > 0) {
+        accel = std::min(accel, d.accel_deg_s2 * ticks_per_deg);
+        accel_given = true;
+      }
+    }
+    put(138, int32_t(std::max(1.0, std::floor(rate))) * 1000);
+    put(139, accel_given ? int32_t(std::max(1.0, std::floor(accel))) * 1000 : 0);
+  }
   // The home pose as motor angles, u = C^-1 q, in float with the core's 3 x 3 solve (C padded
   // with the identity), as the firmware's arithmetic would have it.
   const FloatArm f = float_arm(robot);
@@ -178,7 +196,9 @@ ConfiguredArm<kFirmwareMotors> firmware_arm(const Robot& robot) {
     out.home[i] = clamp(h, m.min, m.max);
   }
   for (int i = n; i < kFirmwareMotors; ++i) out.actuation.motors[i] = MotorSpec{200, 1, 1, 1, 1, 0, 0, 0};
-  const DriveKind kind = robot.drive.motors.empty() ? kDriveL298n : robot.drive.motors[0].kind;
+  // (Not a configuration the Nano takes: its steps drive no servo build, so its servos are
+  // taken as steppers.)
+  const DriveKind kind = arm_drive(robot);
   out.drive = uint8_t(kind == kDriveServo ? kDriveL298n : kind);
   out.has_point = float_ypp_arm(robot, out.arm);
   out.servo_open_deg = out.servo_closed_deg = 90.0f;

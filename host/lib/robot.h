@@ -110,6 +110,12 @@ struct Robot {
   Gripper gripper;
 };
 
+// How the arm's motors are driven: the first motor's driver (the loader has every motor of one
+// family: L298N, ULN2003, STEP/DIR or servo), an L298N's when the file names none.
+inline DriveKind arm_drive(const Robot& robot) {
+  return robot.drive.motors.empty() ? kDriveL298n : robot.drive.motors[0].kind;
+}
+
 // A joint variable is an angle (theta or alpha: degrees in files and at the interfaces,
 // radians in the model) or a length (d: mm everywhere).
 inline bool joint_is_angle(const Robot& robot, int joint) { return robot.model.joints[joint].param != kParamD; }

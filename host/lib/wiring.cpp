@@ -134,8 +134,8 @@ Wiring wire(const Robot& robot) {
 }
 
 const char* firmware_build(const Robot& robot) {
-  const DriveKind kind = robot.drive.motors.empty() ? kDriveL298n : robot.drive.motors[0].kind;
-  return kind == kDriveStepDir ? "articula-cnc" : kind == kDriveServo ? "" : "articula-nano";
+  const DriveKind kind = arm_drive(robot);
+  return kind == kDriveStepDir ? "articula-cnc" : kind == kDriveServo ? "articula-servo" : "articula-nano";
 }
 
 nlohmann::json wiring_json(const Robot& robot) {

@@ -44,8 +44,8 @@ class WiringError : public std::runtime_error {
 Wiring wire(const Robot& robot);
 
 // The firmware build that drives the robot's motors: "articula-nano" (L298N, ULN2003; a robot
-// whose file names no drive), "articula-cnc" (STEP/DIR drivers in a CNC shield), "" (servos:
-// no build yet). firmware/avr.cmake makes each.
+// whose file names no drive), "articula-cnc" (STEP/DIR drivers in a CNC shield),
+// "articula-servo" (hobby servos on the board's pins). firmware/avr.cmake makes each.
 const char* firmware_build(const Robot& robot);
 
 // The wiring as data, for the CLI (`articula wiring`), Python (`Robot.wiring()`) and the page:

@@ -493,10 +493,10 @@ TEST(Cli, ConfigurePrintsTheLinesForANano) {
   std::istringstream in(r.out);
   std::vector<std::string> lines;
   for (std::string l; std::getline(in, l);) lines.push_back(l);
-  ASSERT_EQ(lines.size(), 49u) << r.out;  // 46 settings, the name, the commit
+  ASSERT_EQ(lines.size(), 57u) << r.out;  // 54 settings, the name, the commit
   EXPECT_EQ(lines[0], "$100=200.000");
   EXPECT_EQ(lines[lines.size() - 2], "N MK2 Plus");
-  EXPECT_EQ(lines.back(), "$199=58013.000");
+  EXPECT_EQ(lines.back(), "$199=21232.000");
   // --header: the firmware's built-in configuration, as the repository holds it
   std::ifstream f(std::string(ARTICULA_SOURCE_DIR) + "/firmware/src/builtin_config.h");
   std::stringstream held;

@@ -299,7 +299,7 @@ console.log(JSON.stringify(out));
     assert articula.table5(CHAINS) == web["t5"] and web["t5"][1]["measured_return_mm"] is None
     assert articula.tool_points(TARGETS) == web["tp"] and web["tp"][0]["measured_from_target_mm"] == 2.0
     # the Nano's configuration and the plan reader: the same, and the same refusals
-    assert mk2.nano_config() == web["cfg"] and web["cfg"]["checksum"] == 58013
+    assert mk2.nano_config() == web["cfg"] and web["cfg"]["checksum"] == 21232
     plan = articula.parse_plan("#@ title T\n#@ single-joint 1 15\nL 1 0\n#@ repeat 2 out\nP 1 2 3\n", "p.arm")
     assert plan == web["plan"] and [c["kind"] for c in plan["commands"]] == ["single-joint", "repeat-out"]
     # (the robot's file is where each side keeps it: /robots/ in the engine's files)

@@ -15,6 +15,12 @@
 //   $130    motors, 1 to 3
 //   $131    how they are driven (articula::DriveKind, drive.h): 0 L298N, 1 ULN2003, 2 STEP/DIR,
 //           3 servo. A firmware build drives some of them (config_read's `drives`).
+//   $13m    (m = 2 to 4) servo arms: motor m-2's pulse at step 0, us (its first calibration
+//           point; a step is one of Timer1's 0.5 us ticks more, drive.h); 0 on steppers
+//   $13m    (m = 5 to 7) servo arms: motor m-5's signal pin, the header's index (board.h:
+//           D0..D13 are 0..13, A0..A5 14..19); 0 on steppers
+//   $138    servo arms: the servos' top rate, ticks/s (the robot file's speed; it caps $0); 0: none
+//   $139    servo arms: their acceleration, ticks/s^2 (the file's accel; it caps $1); 0: none
 //   $14k    coupling C row-major (q = C u), k = 3 row + column: 3 decimals
 //   $150    1: P's closed form applies (a yaw-pitch-pitch arm), 0: it does not
 //   $151-6  P's geometry, mm: base height, shoulder offset, upper arm, forearm,
@@ -39,7 +45,7 @@ namespace articula {
 
 static const uint8_t kMaxConfigMotors = 3;  // the Nano's pin map wires three
 static const uint16_t kCommitSetting = 199;
-static const uint16_t kConfigImageSize = 179;
+static const uint16_t kConfigImageSize = 194;
 
 // The bytes of a field of the image, and the values its setting takes (in the units it is
 // stored in: whole numbers, or thousandths).
@@ -74,6 +80,15 @@ inline bool config_field(uint16_t n, ConfigField& f) {
     f.size = 1;
     f.lo = n == 130 ? 1 : 0;
     f.hi = n == 130 ? kMaxConfigMotors : kDriveKinds - 1;
+    return true;
+  }
+  if (n >= 132 && n <= 139) {  // a servo arm's calibration, pins and rates
+    static const uint8_t kOffset[8] = {179, 181, 183, 185, 186, 187, 188, 190};
+    static const uint8_t kSize[8] = {2, 2, 2, 1, 1, 1, 2, 4};
+    f.offset = kOffset[n - 132];
+    f.size = kSize[n - 132];
+    f.lo = 0;
+    f.hi = n <= 134 ? int32_t(kServoPulseMaxUs) : n <= 137 ? 19 : n == 138 ? 4000 : 100000L;
     return true;
   }
   f.whole = false;
@@ -182,6 +197,12 @@ struct ConfiguredArm {
   float servo_open_deg, servo_closed_deg;
   char name[kMaxRobotName + 1];
   uint8_t drive;  // articula::DriveKind
+  // A servo arm's ($132..$139): each motor's pulse at step 0 (us) and signal pin (board.h's
+  // header index), the top rate and acceleration its servos take (0: no cap).
+  uint16_t servo_zero_us[kMaxConfigMotors];
+  uint8_t servo_pin[kMaxConfigMotors];
+  uint16_t rate_cap;
+  uint32_t accel_cap;
 };
 
 // Why an image is not a configuration the firmware can run (kConfigOk when it is).
@@ -191,7 +212,8 @@ enum ConfigError : uint8_t {
   kConfigBadMotor,    // a motor's steps, gear or limits (articula::validate)
   kConfigBadHome,     // a home angle outside its motor's limits
   kConfigBadName,     // no name, or a character the banner cannot carry
-  kConfigBadDrive,    // a drive kind this firmware build does not drive
+  kConfigBadDrive,    // a drive kind this firmware build does not drive, or a servo arm's
+                      // pulse (below kServoPulseMinUs) or pins (D0, D1, or one pin twice)
 };
 
 // Reads an image into `out` (J >= the image's motor count), checking every field as
@@ -240,6 +262,16 @@ inline ConfigError config_read(ConfiguredArm<J>& out, const Bytes& image, uint8_
   arm.parallelogram = false;
   out.has_point = config_get(image, 150) == 1 && arm.upper > 0.0f && arm.fore > 0.0f &&
                   ypp_limits_from_actuation(arm, a);
+  for (uint8_t i = 0; i < kMaxConfigMotors; ++i) {
+    out.servo_zero_us[i] = uint16_t(config_get(image, uint16_t(132 + i)));
+    out.servo_pin[i] = uint8_t(config_get(image, uint16_t(135 + i)));
+    if (out.drive != kDriveServo || i >= count) continue;
+    if (out.servo_zero_us[i] < kServoPulseMinUs || out.servo_pin[i] < 2) return kConfigBadDrive;
+    for (uint8_t j = 0; j < i; ++j)
+      if (out.servo_pin[j] == out.servo_pin[i]) return kConfigBadDrive;
+  }
+  out.rate_cap = uint16_t(config_get(image, 138));
+  out.accel_cap = uint32_t(config_get(image, 139));
   out.servo_open_deg = float(config_get(image, 160)) / 1000.0f;
   out.servo_closed_deg = float(config_get(image, 161)) / 1000.0f;
   uint8_t len = 0;

@@ -81,7 +81,7 @@ describe("flashing the Nano from the page", { skip: !existsSync(OPTIBOOT) && "ar
     assert.ok(written(n), "the flash holds the firmware");
     assert.equal(n.flashWrites, r.pages, "one page write per page");
     const b = await banner(port);
-    assert.match(b ?? "", /^\[Articula\|V:[^|]+\|P:\d+\|J:3\|R:MK2 Plus\|K:58013(\|W:\d+)?\]$/);
+    assert.match(b ?? "", /^\[Articula\|V:[^|]+\|P:\d+\|J:3\|R:MK2 Plus\|K:21232(\|W:\d+)?\]$/);
     t.diagnostic(`${r.bytes} bytes, ${r.pages} pages through Optiboot at ${r.baud} baud, verified; banner ${b}; ` +
       `${n.seconds.toFixed(2)} s emulated`);
     n.delete();

@@ -53,7 +53,7 @@ describe("the virtual Nano in the page (avr8js)", () => {
     n.runFor(0.3); // boot
     const banner = n.ask("I");
     // (W:14 on a first boot: the blank EEPROM's settings reset to their defaults)
-    assert.match(banner[0], /^\[Articula\|V:[\d.]+\|P:\d+\|J:3\|R:MK2 Plus\|K:58013(\|W:14)?\]$/);
+    assert.match(banner[0], /^\[Articula\|V:[\d.]+\|P:\d+\|J:3\|R:MK2 Plus\|K:21232(\|W:14)?\]$/);
     assert.deepEqual(n.ask("L 0 10"), ["ok"]);
     const st = n.idle();
     assert.match(st, /\|S:32,0,0\|/);
