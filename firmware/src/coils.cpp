@@ -17,15 +17,15 @@ uint8_t g_stride[robot::kJoints];  // 2 in full steps, 1 in half steps
 bool g_on;
 }  // namespace
 
-void attach_servos() {
+void attach_servos(const int32_t* steps) {
   if (!robot::servos()) return;
   for (uint8_t i = 0; i < robot::count() && i < articula::kMaxConfigMotors; ++i)
     hal::attach_servo(i, robot::config.servo_pin[i],
-                      uint16_t(robot::config.servo_zero_us[i] * articula::kServoTicksPerUs + robot::home_steps[i]));
+                      uint16_t(robot::config.servo_zero_us[i] * articula::kServoTicksPerUs + (steps ? steps[i] : 0)));
 }
 
 void setup() {
-  attach_servos();
+  attach_servos(0);
   g_table = kSequence[robot::config.drive == articula::kDriveUln2003 ? 1 : 0];
   for (uint8_t i = 0; i < robot::kJoints; ++i) {
     g_phase[i] = 1;

@@ -25,12 +25,13 @@ namespace coils {
 extern const uint8_t kSequence[2][8];
 
 // Takes the configuration's table, and places every motor on the first full-step state (1010
-// or 1100) with its coils off; a servo arm's servos get their home pulses (attach_servos).
+// or 1100) with its coils off; a servo arm's servos get their step-0 pulses (attach_servos), as
+// every motor is at step 0 then.
 void setup();
 
-// A servo arm: each servo's pulse from its step-0 pulse and the home pose's steps (at power-up,
-// a new configuration, and Z, which declares the arm at home: a servo then goes there at once).
-void attach_servos();
+// A servo arm: each servo's pulse from its step-0 pulse and `steps` (null: step 0; power-up and a
+// new configuration), or Z's home steps (Z declares the arm at home: a servo goes there at once).
+void attach_servos(const int32_t* steps);
 
 // One step of `motor` towards more (negative false) or fewer steps: the next pattern,
 // written at once. From the step interrupt.

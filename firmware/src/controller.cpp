@@ -351,7 +351,7 @@ uint8_t execute(const Command& c) {
         g_planned.steps[i] = robot::home_steps[i];
       }
       stepper::set_positions(g_planned.steps);
-      coils::attach_servos();  // a servo's pulse is its position: they go home at once
+      coils::attach_servos(g_planned.steps);  // a servo's pulse is its position: they go home at once
       g_homed = true;
       g_last_steps = 0;
       return kOk;

@@ -236,8 +236,8 @@ const uint16_t kServoMinUs = 200, kServoMaxUs = 3000;  // keeps the pulse inside
 // channel's ticks to the cycle. Four channels of at most 2,600 us and their gaps fit a period.
 const uint8_t kServoChannels = 4;  // motors 0..2, the gripper
 const uint8_t kGripperChannel = 3;
-const uint16_t kServoLeadTicks = 16;  // 8 us: longer than any interrupt that may delay the compare's
-const uint16_t kServoGapTicks = 48;   // 24 us: the lead, and the interrupt's own time after an edge
+const uint16_t kServoLeadTicks = 40;  // 20 us: longer than any stretch with interrupts off (15 us at most)
+const uint16_t kServoGapTicks = 64;   // 32 us: the lead, and the interrupt's own time after an edge
 enum : uint8_t { kServoRest, kServoRise, kServoFall };
 
 volatile uint16_t g_servo_ticks[kServoChannels];  // each channel's width; 0: no pulse
@@ -432,23 +432,23 @@ ISR(TIMER1_COMPA_vect) {
 ISR(TIMER1_COMPB_vect) {
   const uint8_t phase = g_servo_phase;
   if (phase != kServoRest) {
-    // An edge: armed kServoLeadTicks early; its tick is waited for here, interrupts off.
-    const uint16_t edge = g_servo_edge;
-    const uint8_t at = g_servo_at;
-    volatile uint8_t* const port = g_servo_ports[at];
-    const uint8_t bit = g_servo_bits[at];
+    // An edge: armed kServoLeadTicks early; its tick is waited for here, interrupts off, and
+    // the port's new value (worked out first) written at once: both edges of a pulse the same
+    // instructions after their ticks. (Only the counter's low byte is polled: a shorter loop,
+    // and the lead is far below 128 ticks.)
+    const uint8_t edge = uint8_t(g_servo_edge);
+    volatile uint8_t* const port = g_servo_ports[g_servo_at];
+    const uint8_t bit = g_servo_bits[g_servo_at];
+    const uint8_t value = phase == kServoRise ? uint8_t(*port | bit) : uint8_t(*port & ~bit);
+    while (int8_t(TCNT1L - edge) < 0) {
+    }
+    *port = value;
     if (phase == kServoRise) {
-      while (int16_t(TCNT1 - edge) < 0) {
-      }
-      *port |= bit;
       g_servo_phase = kServoFall;
-      g_servo_edge = uint16_t(edge + g_servo_width);
+      g_servo_edge = uint16_t(g_servo_edge + g_servo_width);
       OCR1B = uint16_t(g_servo_edge - kServoLeadTicks);
       return;
     }
-    while (int16_t(TCNT1 - edge) < 0) {
-    }
-    *port &= uint8_t(~bit);
   }
   servo_next(phase == kServoRest);
 }

@@ -202,12 +202,13 @@ def _fuzz(args, argv) -> int:
 
 def _vnano_and_elf(args, robot: Robot) -> tuple[str, str | None]:
     """The virtual Nano and the firmware ELF for the robot's drive: the Nano build's, or for
-    STEP/DIR drivers the CNC shield build's (articula-cnc.elf beside the Nano's)."""
+    STEP/DIR drivers the CNC shield build's (articula-cnc.elf beside the Nano's), for servos the
+    servo build's (articula-servo.elf)."""
     vnano = _find(args.vnano, "ARTICULA_VNANO", [REPO / "build" / "virtual-nano" / "articula-vnano"],
                   "virtual Nano (articula-vnano)")
     elf_default = REPO / "build" / "avr" / "firmware" / "articula-nano.elf"
     elf = args.elf or os.environ.get("ARTICULA_NANO_ELF") or (str(elf_default) if elf_default.exists() else None)
-    if elf and robot.step_dir:
+    if elf and robot.firmware != "articula-nano":
         elf = str(Path(elf).with_name(robot.firmware + ".elf"))
     if elf and not Path(elf).exists():
         raise TargetError(f"no firmware ELF at {elf}")
@@ -249,7 +250,7 @@ def _run(args, argv) -> int:
             robot.servo_open is not None else None
         target = VirtualNanoTarget(vnano, elf, len(robot.motors), gripper=grip, keep_traces=args.keep_traces,
                                    half_step=robot.half_step_motors, unipolar=robot.unipolar,
-                                   cnc=robot.step_dir)
+                                   cnc=robot.step_dir, servos=robot.servos)
 
     progress = Progress(sum(len(p.commands) for p in plans), enabled=not args.no_progress)
     runner = Runner(target, robot, out, settings=args.settings, timeout=args.timeout, poll=args.poll,

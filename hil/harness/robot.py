@@ -61,8 +61,15 @@ class Robot:
         return self.firmware == "articula-cnc"
 
     @property
+    def servos(self) -> list[tuple[int, str, float]]:
+        """A servo arm's servos: (motor, signal pin, pulse at step 0 in us) each (the servo build)."""
+        return [(i, m["driver"]["pin"], float(m["driver"]["at"][0][0])) for i, m in enumerate(self.model.motors)
+                if m["driver"]["kind"] == "servo"]
+
+    @property
     def firmware(self) -> str:
-        """The firmware build that drives this robot (`articula-nano`, `articula-cnc`: Robot.wiring())."""
+        """The firmware build that drives this robot (`articula-nano`, `articula-cnc`,
+        `articula-servo`: Robot.wiring())."""
         return self.model.wiring()["firmware"]
 
     @property

@@ -62,6 +62,7 @@ class Record:
     faults: list[Fault] = field(default_factory=list)
     measured_xyz: list[float] | None = None
     measured_count: int = 0
+    pin_slack: list[int] | None = None  # how far each motor's pins may lie off its steps (servos: 1 tick)
 
     @property
     def line(self) -> int:
@@ -99,7 +100,12 @@ class Record:
             return None
         if self.pred is None or self.status is None or self.status.steps is None:
             return False
-        return self.pins == self.pred.steps == self.status.steps
+        if self.pred.steps != self.status.steps or len(self.pins) != len(self.pred.steps):
+            return False
+        # A servo's pins hold the width within one tick (the decoder's deadband: its edges'
+        # jitter); a stepper's, every step.
+        slack = self.pin_slack or [0] * len(self.pins)
+        return all(abs(p - q) <= s for p, q, s in zip(self.pins, self.pred.steps, slack))
 
     @property
     def matched(self) -> bool:
@@ -481,6 +487,7 @@ class Runner:
                 rows_before = n_rows
                 n_rows, pins = trace.sync()
                 rec.pins_before, rec.pins = pins_before, pins
+                rec.pin_slack = [1 if m["driver"]["kind"] == "servo" else 0 for m in self.robot.model.motors]
                 pins_before = pins
                 rows = trace.rows[rows_before:n_rows]
                 steps = [r for r in rows if r.is_step]

@@ -89,7 +89,8 @@ class VirtualNanoTarget:
 
     def __init__(self, vnano: str, elf: str | None, motors: int, gripper: tuple[float, float] | None = None,
                  log=None, keep_traces: bool = False, start_timeout: float = 15.0, half_step: list[int] = (),
-                 unipolar: bool = False, cnc: bool = False):
+                 unipolar: bool = False, cnc: bool = False, servos: list[tuple[int, str, float]] = ()):
+        self.servos = list(servos)
         self.half_step = list(half_step)
         self.unipolar = unipolar
         self.cnc = cnc
@@ -136,6 +137,8 @@ class VirtualNanoTarget:
             cmd += ["--uln2003"]
         if self.cnc:
             cmd += ["--cnc"]
+        for m, pin, us in self.servos:
+            cmd += ["--servo", f"{m}:{pin}:{us:g}"]
         self.exit_status = None
         try:
             with open(self.stderr_path, "w") as err:

@@ -59,6 +59,10 @@ const char kHelp[] =
     "                       are on STEP/DIR drivers in sockets X, Y, Z (STEP D2..D4, DIR D5..D7,\n"
     "                       EN D8), the endstops on D9..D11, the servo on A3; the report gives\n"
     "                       each driver's shortest STEP pulse and DIR setup time\n"
+    "  --servo M:PIN:US     the ELF is the servo build (articula-servo.elf): motor M is a hobby\n"
+    "                       servo on header pin PIN (D9), US its pulse at step 0 (the robot\n"
+    "                       file's first calibration point); its steps are its pulse's 0.5 us\n"
+    "                       ticks. Repeat for each servo; the gripper's servo stays on D3\n"
     "  --gripper CLOSED:OPEN  servo angles in degrees of the closed and open gripper (the\n"
     "                       robot file's servo_closed, servo_open), to report the aperture\n"
     "  --trace-steps FILE   CSV of every coil event: cycle,motor,steps,pattern,event,time_us\n"
@@ -162,6 +166,21 @@ Args parse_args(int argc, char** argv) {
       a.config.unipolar = true;
     } else if (arg == "--cnc") {
       a.config.cnc_shield = true;
+    } else if (arg == "--servo") {
+      // M:PIN:ZERO_US, e.g. 0:D9:1500
+      const std::string v = need("--servo");
+      const size_t c1 = v.find(':'), c2 = c1 == std::string::npos ? c1 : v.find(':', c1 + 1);
+      long long m = -1;
+      double zero_us = 0;
+      int pin = -1;
+      if (c2 != std::string::npos) {
+        const std::string name = v.substr(c1 + 1, c2 - c1 - 1);
+        pin = vnano::header_pin(name);
+      }
+      if (c2 == std::string::npos || !parse_int(v.substr(0, c1), m) || m < 0 || m >= vnano::VirtualNano::kMotors ||
+          pin < 0 || !parse_double(v.substr(c2 + 1), zero_us) || zero_us <= 0)
+        usage_error("--servo M:PIN:US, M a motor 0 to 2, PIN a header pin (D2..D13, A0..A5), US its pulse at step 0: not " + v);
+      a.config.servos.push_back({int(m), pin, (long long)(zero_us * 2 + 0.5)});
     } else if (arg == "--gripper") {
       const std::string v = need("--gripper");
       const size_t c = v.find(':');

@@ -170,6 +170,18 @@ bool VirtualNano::load(const Config& config, std::string& error) {
       motors_[i].dir_bit = board::kShieldSocket[i].dir.bit;
     }
   }
+  for (const ServoSpec& sv : config.servos) {
+    if (sv.motor < 0 || sv.motor >= kMotors || sv.pin < 0 || sv.pin >= board::kHeaderPins) {
+      error = "--servo: no motor " + std::to_string(sv.motor) + " (0 to 2) or no such pin";
+      return false;
+    }
+    Motor& m = motors_[sv.motor];
+    m.servo = true;
+    m.servo_pin = sv.pin;
+    m.port = board::kHeaderPin[sv.pin].port;
+    m.servo_bit = board::kHeaderPin[sv.pin].bit;
+    m.pulses = ServoDecoder(freq_ / 2000000, sv.zero_ticks);
+  }
   for (int m : config.half_step_motors)
     if (m >= 0 && m < kMotors) motors_[m].decoder.force_half_step();
   for (const EndstopSpec& s : config.endstops) {
@@ -425,6 +437,11 @@ void VirtualNano::on_uart_output(uint8_t c) {
 
 // A motor's driver inputs for the trace: its coils' IN1..IN4, or STEP, DIR and EN as "S1D0E1".
 std::string VirtualNano::inputs_string(const Motor& m) const {
+  if (m.servo) {  // the pulse's width, us
+    char b[32];
+    std::snprintf(b, sizeof b, "%.1fus", double(m.pulses.position() + m.pulses.zero_ticks()) / 2.0);
+    return b;
+  }
   if (!m.step_dir) return pattern_string(m.decoder.pattern());
   const bool en = !(port_value_[board::kShieldEnable.port] & (1u << board::kShieldEnable.bit));
   return std::string("S") + (m.driver.step_high() ? "1" : "0") + "D" + (m.driver.dir_high() ? "1" : "0") + "E" +
@@ -437,6 +454,19 @@ void VirtualNano::on_port_write(int port, uint8_t value) {
   port_value_[port] = value;
   const bool enabled = !(port_value_[board::kShieldEnable.port] & (1u << board::kShieldEnable.bit));  // EN low
   for (Motor& m : motors_) {
+    if (m.servo) {
+      if (m.port != port || !((old ^ value) & (1u << m.servo_bit))) continue;
+      const ServoChange c = m.pulses.feed((value >> m.servo_bit) & 1, now);
+      if (c.pulse) m.width_us.add(us(double(c.cycles)));
+      if (c.delta != 0) {
+        last_activity_ = now;
+        CoilChange cc;
+        cc.event = CoilEvent::kStep;
+        cc.delta_half = int(2 * c.delta);
+        step_event(m, cc, 0);
+      }
+      continue;
+    }
     if (m.step_dir) {
       if (m.port != port && !(port == board::kShieldEnable.port)) continue;
       const uint8_t v = port_value_[m.port];
@@ -754,7 +784,20 @@ nlohmann::json VirtualNano::report() const {
   for (const Motor& m : motors_) {
     json j;
     j["motor"] = m.index;
-    if (m.step_dir) {
+    if (m.servo) {
+      j["pins"] = std::string("signal ") + board::kHeaderPin[m.servo_pin].pin;
+      j["mode"] = "servo";
+      j["driver"] = "servo";
+      j["steps"] = m.pulses.position();
+      j["pattern"] = inputs_string(m);
+      j["energised"] = true;
+      j["pulses"] = m.pulses.pulses();
+      j["width_us"] = m.width_us.json();
+      j["period_min_us"] = Stat::round3(us(double(m.pulses.min_period_cycles())));
+      j["period_max_us"] = Stat::round3(us(double(m.pulses.max_period_cycles())));
+      // The most a width lay off its whole tick: the edges' jitter, us.
+      j["width_off_tick_max_us"] = Stat::round3(us(double(m.pulses.max_off_cycles())));
+    } else if (m.step_dir) {
       const board::Socket& s = board::kShieldSocket[m.index];
       j["pins"] = std::string("socket ") + s.axis + ": STEP " + s.step.pin + ", DIR " + s.dir.pin;
       j["mode"] = "step-dir";
@@ -989,6 +1032,12 @@ std::string VirtualNano::summary() const {
                 sk["min_free_bytes_by_sp"].get<int>());
   s << buf;
   return s.str();
+}
+
+int header_pin(const std::string& name) {
+  for (int k = 0; k < board::kHeaderPins; ++k)
+    if (name == board::kHeaderPin[k].pin) return k;
+  return -1;
 }
 
 }  // namespace vnano

@@ -26,6 +26,7 @@
 #include <nlohmann/json.hpp>
 
 #include "coil_decoder.h"
+#include "servo_decoder.h"
 #include "step_dir_decoder.h"
 #include "elf_symbols.h"
 #include "stats.h"
@@ -41,8 +42,21 @@ struct EndstopSpec {
   int64_t closes_at;  // the switch is closed while the motor's step position <= this
 };
 
+// A motor that is a hobby servo: its signal pin (board.h's header index) and its pulse at
+// step 0, in Timer1's 0.5 us ticks (the robot file's first calibration point).
+struct ServoSpec {
+  int motor;
+  int pin;
+  int64_t zero_ticks;
+};
+
+// A header pin by its name ("D9", "A3": board.h's), or -1.
+int header_pin(const std::string& name);
+
 struct Config {
   std::string elf;
+  // The ELF is the servo build (articula-servo.elf): these motors are servos.
+  std::vector<ServoSpec> servos;
   std::vector<EndstopSpec> endstops;
   std::vector<int> half_step_motors;
   bool unipolar = false;       // the motors are 28BYJ-48s on ULN2003 boards (the unipolar table)
@@ -129,7 +143,12 @@ class VirtualNano {
     bool step_dir = false;
     int step_bit = 0, dir_bit = 0;
     StepDirDecoder driver;
-    int64_t steps() const { return step_dir ? driver.steps() : decoder.steps(); }
+    // A hobby servo: its signal pin (port `port`, bit servo_bit) and what its pulses ask for.
+    bool servo = false;
+    int servo_pin = 0, servo_bit = 0;  // board.h's header index, its bit
+    ServoDecoder pulses;
+    Stat width_us;
+    int64_t steps() const { return servo ? pulses.position() : step_dir ? driver.steps() : decoder.steps(); }
     uint64_t step_events = 0, forward = 0, backward = 0, full_steps = 0, half_steps = 0;
     uint64_t releases = 0, energisations = 0, faults = 0;
     struct Fault {

@@ -34,7 +34,7 @@ def run_fuzz(args, robot: Robot, vnano: str | None, elf: str | None, command_lin
         grip = (robot.servo_closed, robot.servo_open) if robot.servo_closed is not None and \
             robot.servo_open is not None else None
         target = VirtualNanoTarget(vnano, elf, len(robot.motors), gripper=grip, half_step=robot.half_step_motors,
-                                   unipolar=robot.unipolar, cnc=robot.step_dir)
+                                   unipolar=robot.unipolar, cnc=robot.step_dir, servos=robot.servos)
         tmp = tempfile.TemporaryDirectory(prefix="articula-fuzz-")
         out_dir = Path(tmp.name)
     summary = Summary()
