@@ -8,9 +8,9 @@
 #   make studio   install, build, serve Articula Studio on 127.0.0.1 and open it in the browser
 #   make web      build only the studio's static site (studio/web/dist), for any web server
 #   make firmware build only the Nano firmware (HEX and ELF)
-#   make flash PORT=/dev/ttyUSB0 [BOOTLOADER=new] [DRIVE=cnc]
+#   make flash PORT=/dev/ttyUSB0 [BOOTLOADER=new] [DRIVE=cnc|servo]
 #                 flash the HEX into a Nano through its USB bootloader (DRIVE=cnc: the build
-#                 for a CNC shield's STEP/DIR drivers)
+#                 for a CNC shield's STEP/DIR drivers; DRIVE=servo: for hobby-servo arms)
 #   make clean    remove the build tree
 
 BUILD ?= build
@@ -19,7 +19,7 @@ ARTICULA = $(BUILD)/host/cli/articula
 
 # The Nano firmware, built by the AVR external project of the CMake build.
 FIRMWARE_DIR = $(BUILD)/avr/firmware
-# The build for the arm's drivers: nano (L298N, ULN2003) or cnc (STEP/DIR in a CNC shield).
+# The build for the arm's drivers: nano (L298N, ULN2003), cnc (STEP/DIR in a CNC shield) or servo.
 DRIVE ?= nano
 HEX = $(FIRMWARE_DIR)/articula-$(DRIVE).hex
 # Where `make demo` writes its hardware-in-the-loop report (replaced on each run).
@@ -55,12 +55,12 @@ web: bootstrap $(BUILD)/build.ninja
 
 firmware: bootstrap $(BUILD)/build.ninja
 	cmake --build $(BUILD) --target avr-configure
-	cmake --build $(BUILD)/avr --target articula-nano-hex articula-cnc-hex -j $(JOBS)
+	cmake --build $(BUILD)/avr --target articula-nano-hex articula-cnc-hex articula-servo-hex -j $(JOBS)
 	@echo "firmware: $(HEX) (flash it with: make flash PORT=/dev/ttyUSB0, see firmware/README.md)"
 
 flash: firmware
 	@[ -n "$(PORT)" ] || { echo "make flash: name the Nano's serial port, e.g. make flash PORT=/dev/ttyUSB0"; exit 2; }
-	@[ -f "$(HEX)" ] || { echo "make flash: no $(HEX) (DRIVE is nano or cnc)"; exit 2; }
+	@[ -f "$(HEX)" ] || { echo "make flash: no $(HEX) (DRIVE is nano, cnc or servo)"; exit 2; }
 	@[ -n "$(BAUD)" ] || { echo "make flash: BOOTLOADER is old or new (or give BAUD=...)"; exit 2; }
 	avrdude -p atmega328p -c arduino -P $(PORT) -b $(BAUD) -D -U flash:w:$(HEX):i
 

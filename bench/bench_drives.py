@@ -10,7 +10,10 @@ $1=100000 steps/s^2), then from the virtual Nano's report:
 - the highest step rate the pins showed (the busiest 10 ms of all motors together);
 - on STEP/DIR drivers: the shortest and longest STEP high time and the shortest DIR setup
   time the pins kept, against each chip's datasheet minimum (shared/articula/drive.h, read
-  from there).
+  from there);
+- for each shipped servo arm (robots/mearm.json, the servo build): each servo's resolution, one
+  tick of its pulse (0.5 us) in degrees from its calibration, and how far the pulses' widths on
+  the pins lay from their whole tick (the edges' jitter), against the tick.
 
     .venv/bin/python bench/bench_drives.py            # after `make`
 """
@@ -35,6 +38,8 @@ ARMS = [  # (what, robot file, firmware build, virtual Nano options)
     ("STEP/DIR (CNC shield)", SOURCE / "robots" / "mk2plus-cnc.json", "articula-cnc", ["--cnc"]),
 ]
 MOVES = ["$0=4000", "$1=100000", "M 60 100 -5", "M -60 50 10", "M 0 90 0", "L 0 30", "L 0 -30"]
+SERVO_ARMS = [("meArm (4 x SG90)", SOURCE / "robots" / "mearm.json")]
+SERVO_MOVES = ["M 40 110 -30", "M -40 60 20", "M 0 90 0", "L 0 30", "L 0 -30"]
 
 
 def chips() -> list[tuple[str, float, float]]:
@@ -74,6 +79,26 @@ def main() -> int:
     high_max = max(m["step_high_max_us"] for m in timing if m["step_high_max_us"] is not None)
     setups = [m["dir_setup_min_us"] for m in timing if m["dir_setup_min_us"] is not None]
     setup = min(setups) if setups else float("nan")
+    servo_rows = []
+    with tempfile.TemporaryDirectory() as tmp:
+        for what, robot in SERVO_ARMS:
+            motors = json.loads(robot.read_text())["motors"]
+            options = []
+            for i, m in enumerate(motors):
+                options += ["--servo", f"{i}:{m['driver']['pin']}:{m['driver']['at'][0][0]}"]
+            config = subprocess.run([str(CLI), "configure", str(robot), "--dry-run"], capture_output=True, text=True, check=True)
+            report = Path(tmp) / "servo.json"
+            subprocess.run([str(VNANO), "--elf", str(BUILD / "avr" / "firmware" / "articula-servo.elf"), "--stdio", "--paced",
+                            "--quiet", "--report", str(report), *options],
+                           input="".join(l + "\n" for l in config.stdout.splitlines() + SERVO_MOVES),
+                           capture_output=True, text=True, check=True, timeout=600)
+            r = json.loads(report.read_text())
+            for i, m in enumerate(motors):
+                (p0, a0), (p1, a1) = m["driver"]["at"]
+                us_per_deg = abs((p1 - p0) / (a1 - a0))
+                off = r["motors"][i]["width_off_tick_max_us"]
+                servo_rows.append((what, m["name"], us_per_deg, 0.5 / us_per_deg, off, off / us_per_deg,
+                                   r["motors"][i]["pulses"], r["motors"][i]["period_max_us"]))
     print(f"STEP/DIR on the pins: STEP high {high_min:.3f} .. {high_max:.3f} us, shortest DIR setup {setup:.3f} us "
           f"({sum(m['pulses'] for m in timing)} pulses)")
     print()
@@ -82,6 +107,12 @@ def main() -> int:
     for chip, high_ns, setup_ns in chips():
         print(f"| {chip} | {high_ns / 1000:.3f} us | {high_min:.3f} us | {high_min * 1000 / high_ns:.2f}x | "
               f"{setup_ns / 1000:.3f} us | {setup:.3f} us | {setup * 1000 / setup_ns:,.0f}x |")
+    print()
+    print("| servo arm | servo | us per degree | one tick (0.5 us) | widths off their tick at most | pulses | longest period |")
+    print("|---|---|---|---|---|---|---|")
+    for what, name, usd, tick_deg, off_us, off_deg, pulses, period in servo_rows:
+        print(f"| {what} | {name} | {usd:.2f} | {tick_deg:.4f} deg | {off_us:.3f} us ({off_deg:.4f} deg, "
+              f"{off_us / 0.5:.2f} tick) | {pulses} | {period / 1000:.3f} ms |")
     return 0
 
 

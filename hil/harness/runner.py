@@ -486,8 +486,17 @@ class Runner:
             if trace:
                 rows_before = n_rows
                 n_rows, pins = trace.sync()
-                rec.pins_before, rec.pins = pins_before, pins
                 rec.pin_slack = [1 if m["driver"]["kind"] == "servo" else 0 for m in self.robot.model.motors]
+                # A servo's pin shows a width once a period (20 ms), a change of one tick when
+                # two pulses agree: the firmware is at rest a period or two before its pins are.
+                # Wait for them to show its steps (a few periods; within the slack after 2 s), so
+                # that every change of this move is counted with it.
+                if pred is not None and any(rec.pin_slack):
+                    deadline = time.monotonic() + 2.0
+                    while time.monotonic() < deadline and pins[:len(pred.steps)] != pred.steps:
+                        time.sleep(0.005)
+                        n_rows, pins = trace.sync()
+                rec.pins_before, rec.pins = pins_before, pins
                 pins_before = pins
                 rows = trace.rows[rows_before:n_rows]
                 steps = [r for r in rows if r.is_step]

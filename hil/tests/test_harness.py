@@ -333,9 +333,9 @@ def test_one_firmware_configured_for_each_arm(bins, tmp_path, arm):
     # Every step lands on the tick the prediction gives; a pin shows it a few microseconds
     # late (the step interrupt's entry), never more than the firmware's jitter target. A servo's
     # pin shows its width once a period (20 ms), each servo at its place in it, and a change of
-    # one tick is within its decoder's deadband: a move's first and last changes show a period
-    # or a few late (at $1's 2000 steps/s^2 a ramp's first 20 ms move 0.4 ticks). The steps
-    # themselves are checked where they end (above).
+    # one tick shows when two pulses agree on it: a move's first and last changes show up to
+    # two periods late each, so its span on the pins is within about five periods of the
+    # prediction's (100 ms). The steps themselves are checked where they end (above).
     servos = any(m.get("driver", {}).get("kind") == "servo" for m in json.loads(arm.read_text())["motors"])
     assert worst_us <= (100000.0 if servos else 10.0)
     # Each build keeps its stack margin (issue 40: at least 128 bytes never used), whatever the

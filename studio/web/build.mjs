@@ -8,7 +8,7 @@
 //   engine/nano.mjs, .wasm   the virtual Nano's parts for its worker (virtual-nano/web/nano_parts.cpp)
 //   data/                   the shipped robots, scenes and programs, and data/index.json;
 //                           data/firmware/articula-nano.hex, the firmware `make flash` writes
-//                           (ARTICULA_NANO_HEX, --hex), and articula-cnc.hex beside it (the
+//                           (ARTICULA_NANO_HEX, --hex), and articula-cnc.hex and articula-servo.hex beside it (the
 //                           build for a CNC shield's STEP/DIR drivers); firmware.json says each
 // Every path is relative: nothing is loaded from another site.
 //
@@ -128,6 +128,9 @@ copyFileSync(hexFile, join(out, "data/firmware/articula-nano.hex"));
 // the one the robot's drivers need.
 const cncHexFile = join(dirname(hexFile), "articula-cnc.hex");
 copyFileSync(cncHexFile, join(out, "data/firmware/articula-cnc.hex"));
+// And the build for servo arms (meArm, EEZYbotARM on servos): a pulse per servo from Timer1.
+const servoHexFile = join(dirname(hexFile), "articula-servo.hex");
+copyFileSync(servoHexFile, join(out, "data/firmware/articula-servo.hex"));
 copyFileSync(bootFile, join(out, "data/firmware/optiboot_atmega328.hex"));
 // What the firmware says it is (its banner, asked of it on the virtual Nano), for the page's
 // flash panel: the robot it is built for, its version, its size.
@@ -160,7 +163,7 @@ copyFileSync(bootFile, join(out, "data/firmware/optiboot_atmega328.hex"));
   const nano = describe(hexFile, false);
   writeFileSync(join(out, "data/firmware/firmware.json"), JSON.stringify({
     ...nano, bootloader: "optiboot_atmega328.hex",
-    builds: { "articula-nano": nano, "articula-cnc": describe(cncHexFile, true) },
+    builds: { "articula-nano": nano, "articula-cnc": describe(cncHexFile, true), "articula-servo": describe(servoHexFile, false) },
   }, null, 1));
 }
 writeFileSync(join(out, "data/index.json"), JSON.stringify(index, null, 1));

@@ -797,6 +797,10 @@ nlohmann::json VirtualNano::report() const {
       j["period_max_us"] = Stat::round3(us(double(m.pulses.max_period_cycles())));
       // The most a width lay off its whole tick: the edges' jitter, us.
       j["width_off_tick_max_us"] = Stat::round3(us(double(m.pulses.max_off_cycles())));
+      json offs = json::object();
+      for (int off = -8; off < 8; ++off)
+        if (m.pulses.off_count(off)) offs[std::to_string(off)] = m.pulses.off_count(off);
+      j["width_off_tick_cycles"] = offs;  // how many widths lay that many cycles off their tick
     } else if (m.step_dir) {
       const board::Socket& s = board::kShieldSocket[m.index];
       j["pins"] = std::string("socket ") + s.axis + ": STEP " + s.step.pin + ", DIR " + s.dir.pin;

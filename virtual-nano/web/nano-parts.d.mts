@@ -16,6 +16,15 @@ export interface StepDirDecoder {
   minDirSetupCycles(): number;
   delete(): void;
 }
+export interface ServoDecoder {
+  feed(level: boolean, cycle: number): number; // 0 nothing, 1 the position moved, 2 a pulse within the deadband
+  steps(): number;
+  pulses(): number;
+  lastWidthCycles(): number;
+  maxOffCycles(): number;
+  faults(): number;
+  delete(): void;
+}
 type Pin = { port: "B" | "C" | "D"; bit: number };
 export class NanoParts {
   readonly wiring: {
@@ -33,6 +42,8 @@ export class NanoParts {
   };
   coilDecoder(): CoilDecoder;
   stepDirDecoder(): StepDirDecoder;
+  servoDecoder(cyclesPerTick: number, zeroTicks: number): ServoDecoder;
+  headerPin(name: string): Pin | null;
   servoAngleDeg(widthUs: number): number;
   servoAperturePercent(angleDeg: number, closedDeg: number, openDeg: number): number;
 }

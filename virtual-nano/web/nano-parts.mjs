@@ -1,6 +1,6 @@
 // virtual-nano/web/nano-parts.mjs - the virtual Nano's parts for an emulated Nano in JavaScript
 // (virtual-nano/web/nano_parts.cpp: nano.mjs and nano.wasm, a few kilobytes, no engine): a motor's coil
-// decoder (virtual-nano/coil_decoder.h) or STEP/DIR decoder (step_dir_decoder.h), the board's pins (firmware/src/board.h) and the
+// decoder (virtual-nano/coil_decoder.h), STEP/DIR decoder (step_dir_decoder.h) or servo decoder (servo_decoder.h), the board's pins (firmware/src/board.h) and the
 // servo's scale (shared/articula/servo.h). The studio's nano worker and node's tests use it.
 //
 //   const parts = await loadNanoParts(createNanoParts);   // nano.wasm beside nano.mjs
@@ -18,6 +18,11 @@ export class NanoParts {
   coilDecoder() { return new this.M.CoilDecoder(); }
   /** A STEP/DIR driver's decoder: feed(step, dir, enabled, cycle) -> 0 nothing, 1 step, 4 fault. */
   stepDirDecoder() { return new this.M.StepDirDecoder(); }
+  /** A hobby servo's pulse decoder (ticks of cyclesPerTick, position less zeroTicks): feed(level, cycle)
+   * -> 0 nothing, 1 the position moved, 2 a pulse within the deadband. */
+  servoDecoder(cyclesPerTick, zeroTicks) { return new this.M.ServoDecoder(cyclesPerTick, zeroTicks); }
+  /** A header pin by name ("D9"): {port, bit}, or null. */
+  headerPin(name) { return JSON.parse(this.M.headerPin(name)); }
   /** The servo angle a pulse width asks for, deg. */
   servoAngleDeg(widthUs) { return this.M.servoAngleDeg(widthUs); }
   /** The gripper's aperture an angle gives, %, between the robot's closed and open angles. */

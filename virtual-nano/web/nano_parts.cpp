@@ -1,5 +1,6 @@
 // virtual-nano/web/nano_parts.cpp - the virtual Nano's parts for the page's emulated Nano (avr8js, in the
-// studio's nano worker), through embind: a motor's coil decoder (virtual-nano/coil_decoder.h),
+// studio's nano worker), through embind: a motor's coil decoder (virtual-nano/coil_decoder.h), STEP/DIR
+// decoder (step_dir_decoder.h) or servo pulse decoder (servo_decoder.h),
 // the board's pins (firmware/src/board.h) and the servo's scale (shared/articula/servo.h). The
 // same code as simavr's virtual Nano (virtual-nano/simavr), in a module of its own, so the Nano's worker
 // loads a few kilobytes, not the engine with ODE. No logic of its own.
@@ -12,6 +13,7 @@
 
 #include "board.h"
 #include "coil_decoder.h"
+#include "servo_decoder.h"
 #include "step_dir_decoder.h"
 
 namespace articula::web {
@@ -58,6 +60,39 @@ class WebStepDirDecoder {
   static double cycles(uint64_t c) { return c == vnano::StepDirDecoder::kNone ? -1.0 : double(c); }
   vnano::StepDirDecoder d_;
 };
+
+// One hobby servo's signal pin as the emulated Nano sees it: its position in 0.5 us ticks less
+// the width at step 0 (within one tick of the firmware's: servo_decoder.h).
+class WebServoDecoder {
+ public:
+  WebServoDecoder(double cycles_per_tick, double zero_ticks) : d_(uint64_t(cycles_per_tick), int64_t(zero_ticks)) {}
+  // The pin's level at a CPU cycle: 0 nothing, 1 a pulse that moved the position, 2 a pulse
+  // within the deadband.
+  int feed(bool level, double cycle) {
+    const vnano::ServoChange c = d_.feed(level, uint64_t(cycle));
+    if (c.pulse) last_width_cycles_ = double(c.cycles);
+    return c.delta != 0 ? 1 : c.pulse ? 2 : 0;
+  }
+  double steps() const { return double(d_.position()); }
+  double pulses() const { return double(d_.pulses()); }
+  double last_width_cycles() const { return last_width_cycles_; }
+  double max_off_cycles() const { return double(d_.max_off_cycles()); }
+  int faults() const { return 0; }
+
+ private:
+  vnano::ServoDecoder d_;
+  double last_width_cycles_ = 0;
+};
+
+// A header pin by name ("D9", "A3"): {port, bit}, or null.
+std::string header_pin(const std::string& name) {
+  for (int k = 0; k < board::kHeaderPins; ++k)
+    if (name == board::kHeaderPin[k].pin)
+      return nlohmann::json{{"port", std::string(1, board::kPortNames[board::kHeaderPin[k].port])},
+                            {"bit", board::kHeaderPin[k].bit}}
+          .dump();
+  return "null";
+}
 
 // The board's pins: ports "B", "C", "D"; motors [{port, shift}] (on a CNC shield [{port, step,
 // dir}] and enable {port, bit}), endstops [{port, bit}], servo and led {port, bit}.
@@ -106,6 +141,16 @@ EMSCRIPTEN_BINDINGS(articula_nano) {
       .function("faults", &WebStepDirDecoder::faults)
       .function("minPulseCycles", &WebStepDirDecoder::min_pulse_cycles)
       .function("minDirSetupCycles", &WebStepDirDecoder::min_dir_setup_cycles);
+  using articula::web::WebServoDecoder;
+  class_<WebServoDecoder>("ServoDecoder")
+      .constructor<double, double>()
+      .function("feed", &WebServoDecoder::feed)
+      .function("steps", &WebServoDecoder::steps)
+      .function("pulses", &WebServoDecoder::pulses)
+      .function("lastWidthCycles", &WebServoDecoder::last_width_cycles)
+      .function("maxOffCycles", &WebServoDecoder::max_off_cycles)
+      .function("faults", &WebServoDecoder::faults);
+  function("headerPin", &articula::web::header_pin);
   function("boardWiring", &articula::web::board_wiring);
   function("servoAngleDeg", +[](double us) { return articula::servo_angle_deg(us); });
   function("servoAperturePercent",

@@ -1,7 +1,7 @@
 // Co-design: one firmware, configured at run time for each arm of hil/robots (the thesis's
 // example, the 3-link arm with made-up motors, a half-step MK2, an MK2 with other gears and a
 // reversed motor, an MK2 on 28BYJ-48s and ULN2003 boards, an MK2 on STEP/DIR drivers in a CNC
-// shield's sockets, which runs the shield's build), on the page's virtual Nano (avr8js): its configuration's lines (the web
+// shield's sockets, which runs the shield's build, an MK2 on servos, which runs the servo build), on the page's virtual Nano (avr8js): its configuration's lines (the web
 // engine's nanoConfig, as the studio sends them) then the plans of hil/plans and random
 // lines, each against `articula predict` for that arm: the same reply, the same steps (the
 // status report's and the coils'), and every move's duration. hil/tests/test_harness.py runs
@@ -17,6 +17,8 @@ import { command, runRecords } from "./run-records.mjs";
 const HEX = process.env.ARTICULA_NANO_HEX || join(REPO, "build/avr/firmware/articula-nano.hex");
 // An arm on STEP/DIR drivers runs the build for a CNC shield, beside it.
 const CNC_HEX = join(HEX, "..", "articula-cnc.hex");
+// An arm on servos runs the servo build.
+const SERVO_HEX = join(HEX, "..", "articula-servo.hex");
 const ARMS = readdirSync(join(REPO, "hil/robots")).filter((f) => f.endsWith(".json")).sort();
 const PLANS = readdirSync(join(REPO, "hil/plans")).filter((f) => f.endsWith(".arm")).sort();
 const RANDOM_LINES = 130; // with the plans' 73 lines, at least 200 an arm
@@ -62,19 +64,21 @@ function randomLines(info, hasPoint, seed, count) {
 test("one firmware, every arm of hil/robots configured at run time, on avr8js: replies, steps and durations as predicted", async (t) => {
   const engine = await nodeEngine();
   const parts = await nodeNanoParts();
-  const hex = readFileSync(HEX, "utf8"), cncHex = readFileSync(CNC_HEX, "utf8");
+  const hex = readFileSync(HEX, "utf8"), cncHex = readFileSync(CNC_HEX, "utf8"), servoHex = readFileSync(SERVO_HEX, "utf8");
   for (const file of ARMS) {
     engine.writeFile(`/hil-robots/${file}`, readFileSync(join(REPO, "hil/robots", file)));
     const robot = engine.robot(`/hil-robots/${file}`);
     const cfg = robot.nanoConfig();
     const cnc = robot.info.motors.every((m) => m.driver.kind === "step-dir");
-    const n = new VirtualNano({ hex: cnc ? cncHex : hex, parts, cnc });
+    const servo = robot.info.motors.every((m) => m.driver.kind === "servo");
+    const servos = servo ? robot.info.motors.map((m) => ({ pin: m.driver.pin, zeroUs: m.driver.at[0][0] })) : null;
+    const n = new VirtualNano({ hex: cnc ? cncHex : servo ? servoHex : hex, parts, cnc, servos });
     const lines = [];
     n.onLine = (l) => lines.push(l);
     n.runFor(0.3);
     // A fresh Nano runs the MK2 (on a CNC shield, the MK2 on A4988s); the lines make it this arm, at once.
     let [reply, before] = command(n, lines, "I");
-    assert.equal(engine.parseArmLine(before[0]).checksum, cnc ? 65000 : 21232, `${file}: a fresh Nano's banner`);
+    assert.equal(engine.parseArmLine(before[0]).checksum, cnc ? 65000 : servo ? 45618 : 21232, `${file}: a fresh Nano's banner`);
     for (const l of cfg.lines) assert.equal(command(n, lines, l)[0], "ok", `${file}: ${l}`);
     [reply, before] = command(n, lines, "I");
     const banner = engine.parseArmLine(before[0]);
@@ -82,7 +86,7 @@ test("one firmware, every arm of hil/robots configured at run time, on avr8js: r
     assert.equal(banner.robot, cfg.name);
     assert.equal(banner.joints, robot.info.motors.length);
     robot.info.motors.forEach((m, i) => {
-      if (cnc) return; // STEP/DIR drivers: a pulse is a step, whatever the microsteps
+      if (cnc || servo) return; // STEP/DIR drivers and servos: a pulse is a step (or ticks), whatever the microsteps
       if (m.microsteps === 2) n.decoders[i].forceHalfStep();
       if (m.driver.kind === "uln2003") n.decoders[i].setUnipolar(true); // the motors the arm is wired with
     });
@@ -94,9 +98,9 @@ test("one firmware, every arm of hil/robots configured at run time, on avr8js: r
       // Each plan from step 0, as predict assumes: the power-up pose, by M to the zero angles.
       const zero = "M " + robot.info.motors.map((m) => m.zero).join(" ");
       assert.equal(command(n, lines, zero)[0], "ok", `${file}: ${zero}`);
-      while (!n.steps.every((s) => s === 0)) n.runFor(0.05);
+      while (!n.steps.every((s) => Math.abs(s) <= (servo ? 1 : 0))) n.runFor(0.05);
       n.runFor(0.1);
-      const r = runRecords(n, lines, engine, records, `${file} ${name}`);
+      const r = runRecords(n, lines, engine, records, `${file} ${name}`, undefined, servo);
       commands += r.commands;
       refused += r.refused;
       timed += r.timed;

@@ -26,7 +26,7 @@ export function command(n, lines, text, s = 0) {
 
 /** The records on `n` (whose onLine pushes into `lines`). `settings`: $0 and $1 at the start.
  * Returns {commands, refused, timed, worst (duration error %, signed), worstUs}. */
-export function runRecords(n, lines, engine, records, where, settings = { 0: 600, 1: 2000 }) {
+export function runRecords(n, lines, engine, records, where, settings = { 0: 600, 1: 2000 }, servo = false) {
   let refused = 0, timed = 0, worst = 0, worstUs = 0;
   for (const rec of records) {
     const at = `${where}:${rec.line} ${rec.command}`;
@@ -46,15 +46,23 @@ export function runRecords(n, lines, engine, records, where, settings = { 0: 600
       n.runFor(0.01);
     }
     assert.equal(st.state, "Idle", `${at}: never at rest`);
+    // A servo's pin shows its width once a period (20 ms): its pins are at rest a period after
+    // the firmware is, and until then a change of this move may still come.
+    if (servo) until(n, () => n.steps.every((p, i) => p === rec.steps[i]), 0.1);
     assert.deepEqual(st.steps, rec.steps, `${at}: status steps`);
-    assert.deepEqual(n.steps, rec.steps, `${at}: the coils' steps`);
+    if (servo) // a servo's pin holds its width within one tick (servo_decoder.h's deadband)
+      n.steps.forEach((p, i) => assert.ok(Math.abs(p - rec.steps[i]) <= 1, `${at}: servo ${i} on ${p}, predicted ${rec.steps[i]}`));
+    else assert.deepEqual(n.steps, rec.steps, `${at}: the coils' steps`);
     if (rec.code === 0 && rec.seconds > 0 && n.firstStepCycle >= 0 && !/^[GSD]\b/i.test(rec.command)) {
       // (a T whose first segment cruises slower than the first step from rest: its cruise)
       const c0 = engine.firstIntervalS(settings[0], settings[1]);
       const first = rec.segments ? Math.max(c0, (4 * rec.segments[0].cruise4) / 2e6) : c0;
       const measured = first + (n.lastStepCycle - n.firstStepCycle) / CLOCK_HZ;
       const err = ((measured - rec.seconds) / rec.seconds) * 100;
-      assert.ok(Math.abs(err) <= 0.1, `${at}: ${measured} s measured, ${rec.seconds} s predicted (${err.toFixed(4)} %)`);
+      // A servo's pin shows its width once a period (20 ms), and a one-tick change when two
+      // pulses agree: its moves are timed to about five periods (hil/tests/test_harness.py's bound).
+      if (servo) assert.ok(Math.abs(measured - rec.seconds) <= 0.1, `${at}: ${measured} s measured, ${rec.seconds} s predicted`);
+      else assert.ok(Math.abs(err) <= 0.1, `${at}: ${measured} s measured, ${rec.seconds} s predicted (${err.toFixed(4)} %)`);
       if (Math.abs(err) > Math.abs(worst)) worst = err;
       worstUs = Math.max(worstUs, Math.abs(measured - rec.seconds) * 1e6);
       timed++;

@@ -42,8 +42,10 @@ export interface RobotMsg {
   };
   reach_mm: number;
   // the firmware build that drives its motors: "articula-nano" (L298N, ULN2003), "articula-cnc"
-  // (STEP/DIR drivers in a CNC shield), "" (servos: none yet)
+  // (STEP/DIR drivers in a CNC shield), "articula-servo" (hobby servos)
   firmware: string;
+  // a servo arm's servos in motor order: each one's signal pin and its pulse at step 0 (us)
+  servos?: { pin: string; zeroUs: number }[] | null;
   // every wire (host/lib/wiring.h): its board, and each pin and what it feeds; error: none
   wiring?: { board: string; board_title: string; given: boolean; firmware: string; error?: string;
     wires: { pin: string; signal: string; part: string; motor: string | null }[] };

@@ -9,7 +9,7 @@ import type { RobotMsg } from "./messages";
 export interface RobotInfo {
   name: string; description: string; source: string; joints: { name: string }[]; dh: unknown[];
   num_rows: number; num_joints: number; num_motors: number; home: number[]; limits: [number, number][];
-  motors: { name: string; zero: number }[]; links: { frame: number; shapes: { type: string; size: number[];
+  motors: { name: string; zero: number; driver?: { kind: string; pin?: string; at?: number[][] } }[]; links: { frame: number; shapes: { type: string; size: number[];
   pose: number[]; mesh?: string }[] }[]; gripper: null | { max_opening_mm: number }; reach_mm: number;
   import_notes: string[]; joint_names: string[];
   wiring: NonNullable<RobotMsg["wiring"]>; // host/lib/wiring.h: the firmware build for its drivers, and every wire
@@ -89,6 +89,9 @@ export function robotMessage(): Out {
     num_rows: r.num_rows, home: r.home, motors: r.motors.map((m) => m.name), links, gripper: r.gripper,
     reach_mm: r.reach_mm, robots: S.index.robots, programs: examplesFor(S.robot), scenes: S.index.scenes,
     import_notes: r.import_notes, firmware: r.wiring.firmware, wiring: r.wiring,
+    // a servo arm's servos, in motor order: the virtual Nano decodes their pins
+    servos: r.motors.length > 0 && r.motors.every((m) => m.driver?.kind === "servo")
+      ? r.motors.map((m) => ({ pin: String(m.driver?.pin), zeroUs: Number(m.driver?.at?.[0]?.[0]) })) : null,
   };
 }
 

@@ -60,6 +60,13 @@ export class VirtualNanoPort implements SerialLike {
     this.onShield = on;
   }
   private onShield = false;
+  /** A servo arm's servos in motor order (their pins and pulses at step 0): the Nano runs the servo build. */
+  get servos(): { pin: string; zeroUs: number }[] | null { return this.servoArm; }
+  set servos(v: { pin: string; zeroUs: number }[] | null) {
+    if (JSON.stringify(v) !== JSON.stringify(this.servoArm)) this.image = null; // other servos: the site's build for them
+    this.servoArm = v;
+  }
+  private servoArm: { pin: string; zeroUs: number }[] | null = null;
   flashBytes = 0;
   /** The Nano's seconds a second of real time (the page's speed, editor.speed). */
   speed = 1;
@@ -143,7 +150,7 @@ export class VirtualNanoPort implements SerialLike {
         eeprom = undefined;
       }
       worker.postMessage({ type: "start", eeprom, image: this.image ?? undefined, baud: options.baudRate,
-        servo: this.servo ?? undefined, speed: this.speed, cnc: this.onShield });
+        servo: this.servo ?? undefined, speed: this.speed, cnc: this.onShield, servos: this.servoArm ?? undefined });
     });
     this.closeStream = () => end?.();
   }

@@ -66,6 +66,8 @@ async function choosePort(): Promise<{ port: SerialLike; label: string } | { why
     const g = s.editor.robot?.gripper;
     port.servo = g ? { closed: g.servo_closed_deg, open: g.servo_open_deg } : null;
     port.cnc = s.editor.robot?.firmware === "articula-cnc"; // the robot's motors on a CNC shield's STEP/DIR drivers
+    // a servo arm: the servo build, each servo's pin and its pulse at step 0
+    port.servos = s.editor.robot?.servos ?? null;
     return { port, label: "the virtual Nano" };
   }
   if (which !== "page:serial") return { why: "Choose the virtual Nano or a Nano on USB first." };

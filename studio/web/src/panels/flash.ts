@@ -36,10 +36,12 @@ function showFirmware(): void {
   firmware = builds[needs] ?? null;
   const what = needs === "articula-cnc"
     ? "the build for a CNC shield, for every arm it can drive on STEP/DIR drivers (A4988, DRV8825, TMC2208/2209)"
+    : needs === "articula-servo"
+    ? "the build for servo arms, for every arm of up to three hobby servos and a gripper"
     : "for every arm it can drive on L298N or ULN2003 boards (up to three steppers and a gripper)";
   $("flash-info").textContent = firmware
     ? `Articula ${firmware.version}, ${firmware.bytes.toLocaleString("en")} bytes: ${what}`
-    : needs === "" ? "this robot's servos have no firmware yet" : "this site carries no firmware";
+    : "this site carries no firmware for this robot";
   ($("arm-flash") as HTMLButtonElement).disabled = !firmware;
 }
 

@@ -7,7 +7,8 @@ export const BOOT_START: number;
 export const RESET_POWER: number, RESET_EXTERNAL: number, RESET_WATCHDOG: number;
 export function parseHex(text: string, size?: number): { flash: Uint8Array; used: number };
 export class VirtualNano {
-  constructor(options: { hex: string; parts: NanoParts; eeprom?: Uint8Array; bootloader?: string; image?: Uint8Array; cnc?: boolean });
+  constructor(options: { hex: string; parts: NanoParts; eeprom?: Uint8Array; bootloader?: string; image?: Uint8Array; cnc?: boolean;
+    servos?: { pin: string; zeroUs: number }[] | null });
   readonly cpu: CPU;
   readonly flash: Uint8Array;
   readonly flashUsed: number;

@@ -80,9 +80,10 @@ export class VirtualNano {
   /**
    * hex: the firmware's Intel HEX text; parts: the virtual Nano's parts (virtual-nano/web/nano-parts.mjs:
    * the coil decoders and the board's pins); eeprom: the EEPROM's bytes to start from (kept by the caller across sessions);
-   * cnc: the hex is the build for a CNC shield (articula-cnc.hex): its motors on STEP/DIR drivers, the shield's pins.
+   * cnc: the hex is the build for a CNC shield (articula-cnc.hex): its motors on STEP/DIR drivers, the shield's pins;
+   * servos: the hex is the servo build (articula-servo.hex): [{pin, zeroUs}] per motor (PinWatch).
    */
-  constructor({ hex, parts, eeprom, bootloader, image, cnc = false }) {
+  constructor({ hex, parts, eeprom, bootloader, image, cnc = false, servos = null }) {
     const { flash, used } = parseHex(hex);
     if (image) {
       flash.set(image.subarray(0, FLASH_BYTES)); // a flash image kept from before (bootloader and all)
@@ -110,7 +111,7 @@ export class VirtualNano {
     this.ports = { B: new AVRIOPort(cpu, portBConfig), C: new AVRIOPort(cpu, portCConfig), D: new AVRIOPort(cpu, portDConfig) };
     this.serial = new HostSerial(cpu, this.usart, CLOCK_HZ);
     this.spm = new SelfProgramming(cpu, flash, { pageBytes: PAGE_BYTES, bootStart: BOOT_START, busyCycles: SPM_BUSY_CYCLES });
-    this.pins = new PinWatch(cpu, this.ports, parts, CLOCK_HZ, cnc);
+    this.pins = new PinWatch(cpu, this.ports, parts, CLOCK_HZ, cnc, servos);
     this.reset(RESET_POWER);
   }
 

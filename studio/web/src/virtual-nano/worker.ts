@@ -12,7 +12,8 @@
 // bytes, and the flash's after a flash; servo: the robot's servo angles {closed, open}; speed:
 // the Nano's seconds a second of real time, 1 unless the page runs its world faster or slower; cnc:
 // the Nano sits on a CNC shield, its motors on STEP/DIR drivers, and runs the shield's build,
-// data/firmware/articula-cnc.hex, until it is flashed),
+// data/firmware/articula-cnc.hex, until it is flashed; servos: the robot's servos [{pin, zeroUs}], the
+// Nano runs the servo build, data/firmware/articula-servo.hex, its pins read by servo decoders),
 // {type: "rx", bytes}, {type: "signals", dtr}, {type: "speed", speed}, {type: "close"}.
 // Out: {type: "ready", flashBytes, ms}, {type: "tx", bytes}, {type: "state", seconds, steps,
 // faults, servoUs, gripper (the aperture its pulse asks for, %), flashWrites, rtf, capacity, behind, speed,
@@ -32,6 +33,7 @@ let parts: NanoParts | null = null;
 let hexes: Record<string, string> = {};
 let bootloader = "";
 let cnc = false;
+let servos: { pin: string; zeroUs: number }[] | null = null; // a servo arm's servos, in motor order
 let nano: VirtualNano | null = null;
 let loop: { stop(): void } | null = null;
 let tx: number[] = [];
@@ -61,11 +63,11 @@ async function start(eeprom: Uint8Array | undefined, image: Uint8Array | undefin
     const { default: createNanoParts } = await import(/* @vite-ignore */ new URL("engine/nano.mjs", site).href);
     parts = await loadNanoParts(createNanoParts, { locateFile: (f: string) => new URL(`engine/${f}`, site).href });
   }
-  const build = cnc ? "articula-cnc" : "articula-nano";
+  const build = cnc ? "articula-cnc" : servos ? "articula-servo" : "articula-nano";
   if (!hexes[build]) hexes[build] = await fetchText(`data/firmware/${build}.hex`);
   if (!bootloader) bootloader = await fetchText("data/firmware/optiboot_atmega328.hex");
   stop();
-  nano = new VirtualNano({ hex: hexes[build], parts, eeprom, bootloader, image, cnc });
+  nano = new VirtualNano({ hex: hexes[build], parts, eeprom, bootloader, image, cnc, servos });
   nano.hostBaud = baud;
   nano.onByte = (b) => tx.push(b);
   trail = [];
@@ -157,9 +159,11 @@ function setSpeed(x: unknown): void {
 
 self.onmessage = (e: MessageEvent) => {
   const m = e.data as { type?: string; bytes?: Uint8Array; eeprom?: Uint8Array; image?: Uint8Array; baud?: number; dtr?: boolean;
-    servo?: { closed: number; open: number }; speed?: number; cnc?: boolean };
+    servo?: { closed: number; open: number }; speed?: number; cnc?: boolean; servos?: { pin: string; zeroUs: number }[] };
   if (m?.type === "start") {
     cnc = m.cnc === true;
+    servos = Array.isArray(m.servos) && m.servos.length > 0
+      ? m.servos.map((sv) => ({ pin: String(sv.pin), zeroUs: Number(sv.zeroUs) })) : null;
     servo = m.servo && Number.isFinite(m.servo.closed) && Number.isFinite(m.servo.open) ? m.servo : null;
     setSpeed(m.speed);
     const bytes = (x: unknown) => (x instanceof Uint8Array ? x : undefined);

@@ -1,17 +1,24 @@
 // What the Nano's pins drive, read as the arm would see it (and as simavr's virtual Nano reads
 // it): each motor's four L298N inputs through its coil decoder (or, on a CNC shield, its STEP/DIR
-// driver's pins through a STEP/DIR decoder, virtual-nano/step_dir_decoder.h) (virtual-nano/coil_decoder.h, by
+// driver's pins through a STEP/DIR decoder, virtual-nano/step_dir_decoder.h; or a servo's signal
+// through a servo decoder, servo_decoder.h) (virtual-nano/coil_decoder.h, by
 // the board's pins of firmware/src/board.h, both in the parts module: virtual-nano/web), and the
 // servo's pulse width, the gripper's command.
 export class PinWatch {
   /**
    * ports: avr8js's AVRIOPorts by name (B, C, D); parts: the virtual Nano's (virtual-nano/web/nano-parts.mjs);
-   * cnc: the firmware is the build for a CNC shield, its motors on STEP/DIR drivers (the shield's pins).
+   * cnc: the firmware is the build for a CNC shield, its motors on STEP/DIR drivers (the shield's pins);
+   * servos: the firmware is the servo build, its motors hobby servos: [{pin: "D9", zeroUs}] in motor
+   * order (each one's signal pin and its pulse at step 0), read by servo decoders (servo_decoder.h).
    */
-  constructor(cpu, ports, parts, clockHz, cnc = false) {
+  constructor(cpu, ports, parts, clockHz, cnc = false, servos = null) {
     this.cpu = cpu;
     const wiring = cnc ? parts.cncWiring : parts.wiring;
-    this.decoders = wiring.motors.map(() => (cnc ? parts.stepDirDecoder() : parts.coilDecoder()));
+    const servoPins = servos ? servos.map((sv) => parts.headerPin(sv.pin)) : null;
+    if (servoPins && servoPins.some((p) => !p)) throw new Error(`no such pin among ${servos.map((sv) => sv.pin).join(", ")}`);
+    this.decoders = servos
+      ? servos.map((sv) => parts.servoDecoder(clockHz / 2e6, Math.round(sv.zeroUs * 2)))
+      : wiring.motors.map(() => (cnc ? parts.stepDirDecoder() : parts.coilDecoder()));
     this.firstStepCycle = -1; // the first and last step of any motor since markSteps()
     this.lastStepCycle = -1;
     this.servoPulseUs = null; // the last pulse's width
@@ -29,7 +36,12 @@ export class PinWatch {
           this.lastStepCycle = cpu.cycles;
           this.onStep?.(cpu.cycles);
         };
-        if (cnc) {
+        if (servoPins) {
+          // Each servo's signal: a pulse that moves its position is a step (of many ticks).
+          servoPins.forEach((p, i) => {
+            if (p.port === name && (changed >> p.bit) & 1 && this.decoders[i].feed(!!((value >> p.bit) & 1), cpu.cycles) === 1) stepped();
+          });
+        } else if (cnc) {
           // STEP, DIR and the drivers' EN (low: enabled), as the driver module reads them.
           const en = wiring.enable;
           const enabled = !((name === en.port ? value : last[en.port]) >> en.bit & 1);
