@@ -22,15 +22,16 @@ file(GLOB fw_test_folders LIST_DIRECTORIES true CONFIGURE_DEPENDS ${fw_test_dir}
 # test folders to build ("": all but those that need the host library).
 set(fw_host_tests test_robot test_prediction)
 # Folders for one family of drivers only: the coils' on the 4-wire arms, the pulses' on the
-# arms on STEP/DIR drivers (the robot file names "step-dir").
+# arms on STEP/DIR drivers (the robot file names "step-dir"), the servos' on servo arms.
 set(fw_coil_tests test_coils)
 set(fw_step_dir_tests test_step_dir)
+set(fw_servo_tests test_servo)
 function(articula_firmware_variant variant robot prefix sitl tests)
-  set(not_for_this_arm ${fw_step_dir_tests})
+  set(not_for_this_arm ${fw_step_dir_tests} ${fw_servo_tests})
   if(robot)
     file(READ ${robot} robot_text)
     if(robot_text MATCHES "\"step-dir\"")
-      set(not_for_this_arm ${fw_coil_tests})
+      set(not_for_this_arm ${fw_coil_tests} ${fw_servo_tests})
     elseif(robot_text MATCHES "\"servo\"")  # a servo's steps are pulses' ticks, as STEP/DIR's
       set(not_for_this_arm ${fw_coil_tests} ${fw_step_dir_tests})
     endif()

@@ -507,6 +507,11 @@ TEST(Cli, ConfigurePrintsTheLinesForANano) {
   std::stringstream held_cnc;
   held_cnc << fc.rdbuf();
   EXPECT_EQ(run_stdout("configure mk2plus-cnc --header").out, held_cnc.str());
+  // and the servo build's: the meArm
+  std::ifstream fs(std::string(ARTICULA_SOURCE_DIR) + "/firmware/src/builtin_config_servo.h");
+  std::stringstream held_servo;
+  held_servo << fs.rdbuf();
+  EXPECT_EQ(run_stdout("configure mearm --header").out, held_servo.str());
 }
 
 TEST(Cli, WiringListsEveryPinOfTheBoardTheFileNames) {

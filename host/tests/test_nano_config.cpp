@@ -61,6 +61,37 @@ TEST(NanoConfig, TheDriveIsInTheImage) {
   EXPECT_EQ(config_read(arm, cnc.image.data(), uint8_t(1u << kDriveStepDir)), kConfigOk);
 }
 
+// A servo arm (the shipped meArm): each servo's step-0 pulse and pin, and its servos' rate and
+// acceleration in ticks (the file's speed 90 deg/s and accel 360 deg/s^2, 22 ticks a degree on
+// the slowest-geared servos). Only the servo build takes it.
+TEST(NanoConfig, AServoArmCarriesItsPinsPulsesAndRates) {
+  const NanoConfig c = nano_config(load("robots/mearm.json"));
+  EXPECT_EQ(c.arm.drive, kDriveServo);
+  const uint16_t zero[3] = {1544, 1265, 1472};
+  const uint8_t pin[3] = {9, 10, 11};  // D9, D10, D11
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_EQ(c.arm.servo_zero_us[i], zero[i]) << i;
+    EXPECT_EQ(c.arm.servo_pin[i], pin[i]) << i;
+  }
+  EXPECT_EQ(c.arm.rate_cap, 1980);   // floor(90 * 22)
+  EXPECT_EQ(c.arm.accel_cap, 7920u);  // 360 * 22
+  ConfiguredArm<3> arm;
+  EXPECT_EQ(config_read(arm, c.image.data(), uint8_t((1u << kDriveL298n) | (1u << kDriveUln2003))), kConfigBadDrive);
+  EXPECT_EQ(config_read(arm, c.image.data(), uint8_t(1u << kDriveServo)), kConfigOk);
+  // The servo build's built-in arm is this file's image.
+  const std::string lines = c.lines.back();
+  EXPECT_EQ(lines, "$199=" + std::to_string(c.checksum) + ".000");
+  // Two servos on one pin, a pin on the serial line, no step-0 pulse: refused by the reader.
+  for (const auto& [setting, value] : {std::pair<uint16_t, int32_t>{136, 9000}, {135, 1000}, {133, 0}}) {
+    std::vector<uint8_t> bad = c.image;
+    config_put(bad.data(), setting, value);
+    EXPECT_EQ(config_read(arm, bad.data(), uint8_t(1u << kDriveServo)), kConfigBadDrive) << setting;
+  }
+  // A stepper arm's image has none of them.
+  const NanoConfig mk2 = nano_config(load("robots/mk2plus.json"));
+  for (uint16_t n = 132; n <= 139; ++n) EXPECT_EQ(config_get(mk2.image, n), 0) << n;
+}
+
 TEST(NanoConfig, TheLinesWriteTheImageAndTheCommitNamesItsChecksum) {
   for (const char* f : {"robots/mk2plus.json", "robots/mk2plus-cnc.json", "hil/robots/mk2-28byj48.json", "hil/robots/mk2-halfstep.json", "hil/robots/mk2-regeared.json",
                         "hil/robots/thesis-example-arm.json", "hil/robots/three-link-arm.json"}) {
