@@ -77,6 +77,9 @@ struct MotorDriver {
   double pulse_min_us = 0, pulse_max_us = 0;
   std::array<std::array<double, 2>, 2> at{};
   double speed_deg_s = 0, accel_deg_s2 = 0;
+  // kDriveServo: what the physics models (the servo's own position loop): its dead band (us)
+  // and its top speed (deg/s).
+  double deadband_us = 5, top_speed_deg_s = 300;
 };
 
 // The board and every motor's driver: what the firmware build and the wiring follow. A file

@@ -36,7 +36,7 @@ const std::map<std::string, std::vector<std::string>>& robot_file_fields() {
       {"linked", {"linked", "offset"}},
       {"tool", {"xyz", "rpy"}},
       {"motor", {"name", "steps_per_rev", "microsteps", "gear", "direction", "zero", "min", "max", "torque", "driver"}},
-      {"driver", {"kind", "chip", "enable", "pin", "pulse", "at", "speed", "accel"}},
+      {"driver", {"kind", "chip", "enable", "pin", "pulse", "at", "speed", "accel", "deadband", "top_speed"}},
       {"torque", {"pull_out", "rotor_inertia"}},
       {"link", {"frame", "shapes"}},
       {"shape", {"type", "size", "mesh", "xyz", "rpy", "mass", "density"}},
@@ -639,7 +639,7 @@ class Loader {
     if (!found) fail(child(path, "kind"), "unknown driver " + in_quotes(kind) + " (expected one of: " + join(kinds) + ")");
     // The fields each kind takes besides "kind".
     const std::vector<std::string> own = out.kind == kDriveStepDir ? std::vector<std::string>{"chip", "enable"}
-                                         : out.kind == kDriveServo ? std::vector<std::string>{"pin", "pulse", "at", "speed", "accel"}
+                                         : out.kind == kDriveServo ? std::vector<std::string>{"pin", "pulse", "at", "speed", "accel", "deadband", "top_speed"}
                                                                    : std::vector<std::string>{};
     for (const auto& item : d.items()) {
       bool ok = item.key() == "kind";
@@ -700,6 +700,12 @@ class Loader {
         fail(ap, "the two calibration points need different pulses and different angles");
       out.speed_deg_s = positive(required(d, path, "speed", " (deg/s: how fast a move ramps the pulse)"), child(path, "speed"), "speed");
       if (const json* v = member(d, "accel")) out.accel_deg_s2 = positive(*v, child(path, "accel"), "accel");
+      if (const json* v = member(d, "deadband")) {
+        out.deadband_us = number(*v, child(path, "deadband"));
+        if (out.deadband_us < 0 || out.deadband_us > 50)
+          fail(child(path, "deadband"), "a servo's dead band is 0..50 us (got " + num(out.deadband_us) + ")");
+      }
+      if (const json* v = member(d, "top_speed")) out.top_speed_deg_s = positive(*v, child(path, "top_speed"), "top_speed");
     }
     return out;
   }

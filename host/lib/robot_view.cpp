@@ -87,6 +87,8 @@ nlohmann::json driver_json(const Robot& r, int motor) {
     j["at"] = {{d.at[0][0], d.at[0][1]}, {d.at[1][0], d.at[1][1]}};
     j["speed"] = d.speed_deg_s;
     if (d.accel_deg_s2 > 0) j["accel"] = d.accel_deg_s2;
+    j["deadband"] = d.deadband_us;
+    j["top_speed"] = d.top_speed_deg_s;
   }
   return j;
 }

@@ -175,6 +175,15 @@ Simulation::Simulation(const Robot& robot, const Scene& scene, const SimOptions&
   n_motors_ = motors_ ? robot_.actuation.num_motors : 0;
   n_joints_ = robot_.model.num_joints;
   if (n_motors_ > 8) throw std::invalid_argument("more than 8 motors: the step replay handles 8 (as the firmware)");
+  for (int i = 0; i < n_motors_ && size_t(i) < robot_.drive.motors.size(); ++i) {
+    const MotorDriver& d = robot_.drive.motors[size_t(i)];
+    if (d.kind != kDriveServo) continue;
+    const MotorSpec& m = robot_.actuation.motors[i];
+    const double ticks_per_deg = double(m.gear_num) / double(m.gear_den);  // (its steps are ticks: robot_file.cpp)
+    servo_[i] = true;
+    servo_rate_[i] = d.top_speed_deg_s * ticks_per_deg;
+    servo_band_[i] = int32_t(std::floor(d.deadband_us * kServoTicksPerUs / 2));
+  }
   // Mesh shapes: read every file once, before anything of ODE's exists to leak on an error.
   for (size_t li = 0; li < robot_.links.size(); ++li) {
     for (size_t si = 0; si < robot_.links[li].shapes.size(); ++si) {
@@ -831,6 +840,15 @@ bool Simulation::try_steps(const int32_t* steps) {
 // One step event of the firmware: the counts always change; the arm follows unless blocked,
 // motor by motor.
 void Simulation::apply_steps(uint8_t mask, uint8_t negative) {
+  // A servo's step changes its command only: servo_follow() turns it.
+  for (int i = 0; i < n_motors_; ++i) {
+    if (!servo_[i] || !(mask & (1u << i))) continue;
+    const int32_t d = (negative & (1u << i)) ? -1 : 1;
+    counted_[i] += d;
+    offset_[i] -= d;
+    mask = uint8_t(mask & ~(1u << i));
+  }
+  if (mask == 0) return;
   int32_t phys[8], delta[8] = {0};
   for (int i = 0; i < n_motors_; ++i) {
     phys[i] = counted_[i] + offset_[i];
@@ -855,6 +873,42 @@ void Simulation::apply_steps(uint8_t mask, uint8_t negative) {
     if (!(mask & (1u << i)) || (accepted & (1u << i))) continue;
     offset_[i] -= delta[i];
     lost_in_action_[i] += delta[i];
+  }
+}
+
+// A servo arm's servos over one world step: each one whose command (its pulse's ticks) lies
+// beyond half its dead band of where it stands turns towards it at its top speed, and stops as
+// soon as it is within the band; a blocked one stays.
+void Simulation::servo_follow(double dt) {
+  int32_t cand[8], move[8] = {0};
+  bool any = false;
+  for (int i = 0; i < n_motors_; ++i) {
+    cand[i] = counted_[i] + offset_[i];
+    if (!servo_[i]) continue;
+    const int32_t err = -offset_[i];  // command less position
+    if (std::abs(err) <= servo_band_[i]) {
+      servo_carry_[i] = 0;
+      continue;
+    }
+    servo_carry_[i] += servo_rate_[i] * dt;
+    const int32_t n = std::min<int32_t>(int32_t(servo_carry_[i]), std::abs(err) - servo_band_[i]);
+    servo_carry_[i] -= n;
+    if (n == 0) continue;
+    move[i] = err > 0 ? n : -n;
+    cand[i] += move[i];
+    any = true;
+  }
+  if (!any) return;
+  if (try_steps(cand)) {
+    for (int i = 0; i < n_motors_; ++i) offset_[i] += move[i];
+    return;
+  }
+  // Blocked: each servo on its own, the others where they stand.
+  for (int i = 0; i < n_motors_; ++i) {
+    if (move[i] == 0) continue;
+    for (int k = 0; k < n_motors_; ++k) cand[k] = counted_[k] + offset_[k];
+    cand[i] += move[i];
+    if (try_steps(cand)) offset_[i] += move[i];
   }
 }
 
@@ -1230,10 +1284,12 @@ void Simulation::step() {
   for (auto& o : objects_) o.T_carry_prev = o.T_carry;
   arm_moved_ = false;
   const double t_start = time();
-  if (motors_)
+  if (motors_) {
     motor_events(until);
-  else
+    if (std::any_of(std::begin(servo_), std::end(servo_), [](bool b) { return b; })) servo_follow(dt);
+  } else {
     joint_follow(t_end);
+  }
   gripper_follow(t_end);
   if (arm_moved_) {
     for (auto& pp : parts_) {

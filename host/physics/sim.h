@@ -189,6 +189,7 @@ class Simulation {
   void firmware_action_ends(uint64_t tick);
   void recount(const std::vector<int32_t>& counted);
   void apply_steps(uint8_t mask, uint8_t negative);
+  void servo_follow(double dt);
   bool try_steps(const int32_t* steps);
   void follow_joints(const std::vector<double>& q_cmd, double dt);
   void joint_follow(double t_end);
@@ -254,6 +255,12 @@ class Simulation {
 
   // Motor state: counted steps (what the firmware believes), physical = counted + offset.
   int32_t counted_[8]{}, offset_[8]{}, lost_in_action_[8]{};
+  // Hobby servos (a servo arm's motors): a step is a tick of the pulse the servo is given (its
+  // command); the servo's own position loop turns it towards the command at its top speed
+  // (ticks/s) and stops within half its dead band (ticks). servo_carry_: a tick's fraction.
+  bool servo_[8]{};
+  double servo_rate_[8]{}, servo_carry_[8]{};
+  int32_t servo_band_[8]{};
   bool firmware_action_ = false;  // an action of the firmware's runs (its line: current_line_)
   uint64_t event_tick_ = 0;
   // The gripper's commanded opening: from, to, over [t0, t1] (s).

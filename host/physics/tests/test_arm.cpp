@@ -342,3 +342,36 @@ TEST(Arm, FingerBoxesFromTheRobotFile) {
   }
   EXPECT_EQ(fingers, 2);
 }
+
+// A servo arm (the meArm): the firmware's steps are its servos' commands; each servo turns
+// towards its command at its top speed and stops within half its dead band. With the SG90's
+// 600 deg/s it keeps up with the ramp ($0's 600 ticks/s: 27 deg/s) and ends 5 us (0.45 deg)
+// short; a servo slower than the ramp (10 deg/s) lags, and gets there after the firmware is done.
+TEST(Arm, AServoFollowsItsPulseAtItsTopSpeedWithinItsDeadBand) {
+  const double deg = M_PI / 180;
+  for (const double top : {600.0, 10.0}) {
+    Robot r = robot("mearm");
+    ASSERT_EQ(r.drive.motors[0].kind, kDriveServo);
+    r.drive.motors[0].top_speed_deg_s = top;
+    const Program p = parse_protocol_program("L 0 30\n", "s.arm", r);
+    const Prediction pr = predict_program(r, p);
+    Simulation sim(r, Scene{});
+    sim.load_program(p);
+    const double end = pr.total_s();
+    ASSERT_GT(end, 0.3);
+    sim.run_until(end / 2);
+    const double commanded = steps_to_degrees<double>(r.actuation.motors[0], sim.counted_steps()[0]);
+    const double at = sim.joints()[0] / deg;
+    if (top > 100)
+      EXPECT_NEAR(at, commanded, 0.5) << "keeps up";
+    else
+      EXPECT_LT(at, commanded - 5) << "lags: " << at << " vs " << commanded;
+    // At 10 deg/s, 30 deg take 3 s: well after the firmware's move.
+    sim.run_until(top > 100 ? end + 0.05 : 3.2);
+    EXPECT_EQ(sim.counted_steps()[0], pr.records[0].steps[0]);
+    // Half the SG90's 10 us dead band short of 30 deg: 5 us at 11 us a degree.
+    const double short_by = 30 - sim.joints()[0] / deg;
+    EXPECT_GT(short_by, 0.3) << top;
+    EXPECT_LT(short_by, 0.5) << top;
+  }
+}
