@@ -11,7 +11,7 @@ $1=100000 steps/s^2), then from the virtual Nano's report:
 - on STEP/DIR drivers: the shortest and longest STEP high time and the shortest DIR setup
   time the pins kept, against each chip's datasheet minimum (shared/articula/drive.h, read
   from there);
-- for each shipped servo arm (robots/mearm.json, the servo build): each servo's resolution, one
+- for each shipped servo arm (robots/mearm.json, eezybotarm-mk2.json: the servo build): each servo's resolution, one
   tick of its pulse (0.5 us) in degrees from its calibration, and how far the pulses' widths on
   the pins lay from their whole tick (the edges' jitter), against the tick.
 
@@ -38,8 +38,9 @@ ARMS = [  # (what, robot file, firmware build, virtual Nano options)
     ("STEP/DIR (CNC shield)", SOURCE / "robots" / "mk2plus-cnc.json", "articula-cnc", ["--cnc"]),
 ]
 MOVES = ["$0=4000", "$1=100000", "M 60 100 -5", "M -60 50 10", "M 0 90 0", "L 0 30", "L 0 -30"]
-SERVO_ARMS = [("meArm (4 x SG90)", SOURCE / "robots" / "mearm.json")]
-SERVO_MOVES = ["M 40 110 -30", "M -40 60 20", "M 0 90 0", "L 0 30", "L 0 -30"]
+SERVO_ARMS = [("meArm (4 x SG90)", SOURCE / "robots" / "mearm.json"),
+              ("EEZYbotARM MK2 (3 x MG996R)", SOURCE / "robots" / "eezybotarm-mk2.json")]
+SERVO_MOVES = ["M 25 100 -30", "M -25 60 15", "M 0 90 0", "L 0 20", "L 0 -20"]  # within both arms' limits
 
 
 def chips() -> list[tuple[str, float, float]]:
@@ -97,8 +98,9 @@ def main() -> int:
                 (p0, a0), (p1, a1) = m["driver"]["at"]
                 us_per_deg = abs((p1 - p0) / (a1 - a0))
                 off = r["motors"][i]["width_off_tick_max_us"]
+                band = float(m["driver"].get("deadband", 5))
                 servo_rows.append((what, m["name"], us_per_deg, 0.5 / us_per_deg, off, off / us_per_deg,
-                                   r["motors"][i]["pulses"], r["motors"][i]["period_max_us"]))
+                                   r["motors"][i]["pulses"], r["motors"][i]["period_max_us"], band, band / us_per_deg))
     print(f"STEP/DIR on the pins: STEP high {high_min:.3f} .. {high_max:.3f} us, shortest DIR setup {setup:.3f} us "
           f"({sum(m['pulses'] for m in timing)} pulses)")
     print()
@@ -108,11 +110,13 @@ def main() -> int:
         print(f"| {chip} | {high_ns / 1000:.3f} us | {high_min:.3f} us | {high_min * 1000 / high_ns:.2f}x | "
               f"{setup_ns / 1000:.3f} us | {setup:.3f} us | {setup * 1000 / setup_ns:,.0f}x |")
     print()
-    print("| servo arm | servo | us per degree | one tick (0.5 us) | widths off their tick at most | pulses | longest period |")
-    print("|---|---|---|---|---|---|---|")
-    for what, name, usd, tick_deg, off_us, off_deg, pulses, period in servo_rows:
+    print("| servo arm | servo | us per degree | one tick (0.5 us) | widths off their tick at most | the servo's dead band "
+          "(file) | pulses | longest period |")
+    print("|---|---|---|---|---|---|---|---|")
+    for what, name, usd, tick_deg, off_us, off_deg, pulses, period, band, band_deg in servo_rows:
         print(f"| {what} | {name} | {usd:.2f} | {tick_deg:.4f} deg | {off_us:.3f} us ({off_deg:.4f} deg, "
-              f"{off_us / 0.5:.2f} tick) | {pulses} | {period / 1000:.3f} ms |")
+              f"{off_us / 0.5:.2f} tick) | {band:g} us = {band_deg:.3f} deg ({band / 0.5:.0f} ticks) | {pulses} | "
+              f"{period / 1000:.3f} ms |")
     return 0
 
 
