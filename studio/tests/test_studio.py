@@ -599,6 +599,29 @@ def test_a_robot_on_step_dir_drivers_gets_the_cnc_shield_build(open_page):
     assert pg.errors == []
 
 
+def test_a_servo_arm_gets_the_servo_build_and_its_pins_move_the_arm(open_page):
+    """robots/mearm.json (four SG90s): the flash panel offers the servo build, and the virtual
+    Nano runs it with its servos' pins read by the servo decoder: a fresh one is the meArm, and
+    L 0 10 ends with the base servo's pulse 220 ticks (110 us) shorter, the steps the model
+    predicts. The wiring view draws a signal wire to each servo."""
+    pg = open_page("mearm")
+    fw = pg.page.evaluate("fetch('data/firmware/firmware.json').then(r => r.json())")
+    servo = fw["builds"]["articula-servo"]
+    pg.wait("document.querySelector('#flash-info').textContent.includes('servo arms')", timeout=15000)
+    assert f"{servo['bytes']:,} bytes: the build for servo arms" in pg.page.text_content("#flash-info")
+    pg.wait("a.wiring.wires > 0", timeout=15000)
+    assert pg.hook("a.wiring") == {"board": "nano", "firmware": "articula-servo", "wires": 7, "error": ""}
+    _connect_page_nano(pg)
+    assert pg.hook("a.arm.label").startswith("meArm (firmware ")
+    reply = _send(pg, "L 0 10")
+    assert reply["reply"] == "ok" and reply["predicted"]["steps"] == [-220, 0, 0]
+    pg.wait("a.arm.status.state === 'Idle' && a.arm.status.steps[0] === -220", timeout=20000)
+    # the base servo's pin: its pulse's ticks less its step-0 pulse, once a period shows it
+    pg.wait("a.arm.nano !== null && a.arm.nano.steps[0] === -220", timeout=5000)
+    assert pg.hook("a.arm.nano.faults") == 0
+    assert pg.errors == []
+
+
 def test_the_wiring_view_draws_every_wire_from_the_robot_file(open_page, tmp_path):
     """The arm panel's Wiring: every wire of the robot shown (the engine's wiring, from board.h),
     one line each, labelled with its pin and input; a file's names are text, never markup."""
