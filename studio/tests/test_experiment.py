@@ -16,7 +16,9 @@ import re
 import subprocess
 import sys
 
-from conftest import FAST, REPO, SHOTS
+import pytest
+
+from conftest import FAST, REPO, SHOTS, cli_json
 
 ARM = REPO / "hil" / "robots" / "thesis-example-arm.json"
 PLAN = "thesis-single-joint.arm"
@@ -43,11 +45,12 @@ def type_xyz(pg, xyz):
     pg.page.click("#exp-record")
 
 
-def configured_page(open_page):
-    """The static site with the thesis example arm, the virtual Nano configured for it."""
+def configured_page(open_page, arm=ARM):
+    """The static site with the thesis example arm (or `arm`), the virtual Nano configured for it."""
     pg = open_page("mk2plus", query=FAST)
-    pg.page.set_input_files("#robot-file", str(ARM))
-    pg.wait("a.robot.name === 'Thesis example arm'")
+    pg.page.set_input_files("#robot-file", str(arm))
+    name = json.loads(arm.read_text())["name"]
+    pg.wait(f"a.robot.name === {json.dumps(name)}")
     pg.page.select_option("#arm-port", "page:virtual")
     pg.page.click("#arm-connect")
     pg.wait("a.arm.configurable", timeout=30000)
@@ -227,4 +230,41 @@ def test_tool_points_in_the_page_equal_the_harness(open_page, tmp_path):
         assert abs(float(r["measured_from_target_mm"]) - 2.0) < 1e-9, r
         h = harness[r["target_line"]]
         assert h[5] == f"{float(r['model_from_target_mm']):.3f}" and h[6] == f"{float(r['ideal_from_target_mm']):.4f}", (h, r)
+    assert pg.errors == []
+
+
+@pytest.mark.parametrize("arm", ["mk2-cnc", "mk2-servos"])
+def test_the_experiment_runs_on_every_drive(open_page, arm, tmp_path):
+    """Issue 40: the Experiment panel and Run on the arm on an arm of each new drive kind
+    (STEP/DIR drivers on a CNC shield, hobby servos), on the page's virtual Nano running the
+    build for it, configured for the arm: the tool-points plan, every reply and every step as
+    the model predicts, its table made from what was typed (2 mm above each target); then a
+    program run on the arm ends on the predicted steps."""
+    pg = configured_page(open_page, REPO / "hil" / "robots" / f"{arm}.json")
+    assert pg.hook("a.arm.label").startswith(json.loads((REPO / "hil" / "robots" / f"{arm}.json").read_text())["name"])
+
+    def two_mm_above_the_target(w):
+        target = [float(v) for v in w["command"].split("#")[0].split()[1:4]]
+        return [target[0], target[1], target[2] + 2]
+
+    typed = run_plan(pg, "tool-points.arm", two_mm_above_the_target)
+    assert len(typed) >= 8
+    body = pg.hook("a.experiment.csv").split("\ntarget_line,", 1)[1]
+    rows = list(csv.DictReader(io.StringIO("target_line," + body)))
+    assert len(rows) == len(typed)
+    for r in rows:
+        assert abs(float(r["measured_from_target_mm"]) - 2.0) < 1e-9, r
+    assert "every reply and every step as the model predicts" in pg.page.text_content("#exp-state")
+    # And Run on the arm: a program line by line, the arm on the steps the model predicts.
+    text = "M 10 80 -10\nL 0 -5\nP 200 30 150\n"
+    pg.page.fill("#editor", text)
+    pg.page.check("#drive-arm")
+    pg.page.click("#run")
+    pg.wait("a.arm.programDone === true", timeout=60000)
+    program = tmp_path / "drive.arm"
+    program.write_text(text)
+    records = cli_json("predict", str(REPO / "hil" / "robots" / f"{arm}.json"), str(program))["records"]
+    assert pg.hook("a.arm.programLines") == [[r["line"], "ok" if r["code"] == 0 else f"error:{r['code']}"] for r in records]
+    want = json.dumps(records[-1]["steps"], separators=(",", ":"))
+    pg.wait(f"a.arm.status.state === 'Idle' && JSON.stringify(a.arm.status.steps) === '{want}'", timeout=20000)
     assert pg.errors == []
