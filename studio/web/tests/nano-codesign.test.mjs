@@ -19,7 +19,9 @@ const HEX = process.env.ARTICULA_NANO_HEX || join(REPO, "build/avr/firmware/arti
 const CNC_HEX = join(HEX, "..", "articula-cnc.hex");
 // An arm on servos runs the servo build.
 const SERVO_HEX = join(HEX, "..", "articula-servo.hex");
-const ARMS = readdirSync(join(REPO, "hil/robots")).filter((f) => f.endsWith(".json")).sort();
+// The co-design arms, and the shipped robots of each new drive (as hil/tests/test_harness.py).
+const ARMS = readdirSync(join(REPO, "hil/robots")).filter((f) => f.endsWith(".json")).sort().map((f) => `hil/robots/${f}`)
+  .concat(["robots/mk2plus-cnc.json", "robots/mearm.json", "robots/eezybotarm-mk2.json"]);
 const PLANS = readdirSync(join(REPO, "hil/plans")).filter((f) => f.endsWith(".arm")).sort();
 const RANDOM_LINES = 130; // with the plans' 73 lines, at least 200 an arm
 
@@ -66,8 +68,8 @@ test("one firmware, every arm of hil/robots configured at run time, on avr8js: r
   const parts = await nodeNanoParts();
   const hex = readFileSync(HEX, "utf8"), cncHex = readFileSync(CNC_HEX, "utf8"), servoHex = readFileSync(SERVO_HEX, "utf8");
   for (const file of ARMS) {
-    engine.writeFile(`/hil-robots/${file}`, readFileSync(join(REPO, "hil/robots", file)));
-    const robot = engine.robot(`/hil-robots/${file}`);
+    engine.writeFile(`/hil-robots/${file.split("/").pop()}`, readFileSync(join(REPO, file)));
+    const robot = engine.robot(`/hil-robots/${file.split("/").pop()}`);
     const cfg = robot.nanoConfig();
     const cnc = robot.info.motors.every((m) => m.driver.kind === "step-dir");
     const servo = robot.info.motors.every((m) => m.driver.kind === "servo");
