@@ -11,7 +11,7 @@ $1=100000 steps/s^2), then from the virtual Nano's report:
 - on STEP/DIR drivers: the shortest and longest STEP high time and the shortest DIR setup
   time the pins kept, against each chip's datasheet minimum (shared/articula/drive.h, read
   from there);
-- for each shipped servo arm (robots/mearm.json, eezybotarm-mk2.json: the servo build): each servo's resolution, one
+- for each shipped servo arm (robots/mearm.json, eezybot-mk2.json: the servo build): each servo's resolution, one
   tick of its pulse (0.5 us) in degrees from its calibration, and how far the pulses' widths on
   the pins lay from their whole tick (the edges' jitter), against the tick.
 
@@ -39,7 +39,7 @@ ARMS = [  # (what, robot file, firmware build, virtual Nano options)
 ]
 MOVES = ["$0=4000", "$1=100000", "M 60 100 -5", "M -60 50 10", "M 0 90 0", "L 0 30", "L 0 -30"]
 SERVO_ARMS = [("meArm (4 x SG90)", SOURCE / "robots" / "mearm.json"),
-              ("EEZYbotARM MK2 (3 x MG996R)", SOURCE / "robots" / "eezybotarm-mk2.json")]
+              ("EEZYbotARM MK2 (3 x MG996R)", SOURCE / "robots" / "eezybot-mk2.json")]
 SERVO_MOVES = ["M 25 100 -30", "M -25 60 15", "M 0 90 0", "L 0 20", "L 0 -20"]  # within both arms' limits
 
 

@@ -301,7 +301,7 @@ def test_a_serial_port_takes_the_same_path(bins, tmp_path):
 
 # The co-design arms, and the shipped robots of each drive but the thesis's L298N (whose MK2 every
 # plan already runs): the MK2 Plus on a CNC shield, the meArm, the EEZYbotARM MK2 on servos.
-SHIPPED = [SOURCE / "robots" / f for f in ("mk2plus-cnc.json", "mearm.json", "eezybotarm-mk2.json")]
+SHIPPED = [SOURCE / "robots" / f for f in ("mk2plus-cnc.json", "mearm.json", "eezybot-mk2.json")]
 ARMS = sorted((SOURCE / "hil" / "robots").glob("*.json")) + SHIPPED
 
 
@@ -336,12 +336,13 @@ def test_one_firmware_configured_for_each_arm(bins, tmp_path, arm):
           f"({worst_us:.1f} us)")
     # Every step lands on the tick the prediction gives; a pin shows it a few microseconds
     # late (the step interrupt's entry), never more than the firmware's jitter target. A servo's
-    # pin shows its width once a period (20 ms), each servo at its place in it, and a change of
-    # one tick shows when two pulses agree on it: a move's first and last changes show up to
-    # two periods late each, so its span on the pins is within about five periods of the
-    # prediction's (100 ms). The steps themselves are checked where they end (above).
+    # pin shows its width once a period (20 ms), and a change shows once it is two ticks, or one
+    # that two pulses agree on: at $1's 2000 steps/s^2 a ramp's first two ticks take
+    # sqrt(2 * 2 / 2000) = 45 ms, so a move's first change shows up to 45 ms + two periods after
+    # its first step, and its last as much before or after its last: its span on the pins is
+    # the prediction's within 2 x 85 = 170 ms. The steps themselves are checked where they end.
     servos = any(m.get("driver", {}).get("kind") == "servo" for m in json.loads(arm.read_text())["motors"])
-    assert worst_us <= (100000.0 if servos else 10.0)
+    assert worst_us <= (170000.0 if servos else 10.0)
     # Each build keeps its stack margin (issue 40: at least 128 bytes never used), whatever the
     # arm's drive: the virtual Nano paints the stack and reports the least left free.
     free = [json.loads(f.read_text())["stack"]["min_free_bytes"] for f in sorted((out / "vnano").glob("*.json"))]
