@@ -87,6 +87,24 @@ describe("flashing the Nano from the page", { skip: !existsSync(OPTIBOOT) && "ar
     n.delete();
   });
 
+  test("each drive's build through Optiboot: the CNC shield's and the servo arms', each with its built-in arm", async (t) => {
+    for (const [file, options, robot] of [
+      ["articula-cnc.hex", { cnc: true }, "MK2 Plus CNC\\|K:65000"],
+      ["articula-servo.hex", { servos: [{ pin: "D9", zeroUs: 1544 }, { pin: "D10", zeroUs: 1265 }, { pin: "D11", zeroUs: 1472 }] },
+        "meArm\\|K:45618"],
+    ]) {
+      const hex = readFileSync(join(HEX, "..", file), "utf8");
+      const n = new VirtualNano({ hex: EMPTY, parts, bootloader: readFileSync(OPTIBOOT, "utf8"), ...options });
+      const port = new NanoPort(n);
+      const r = await flashNano(port, hex);
+      assert.equal(r.bytes, parseHex(hex).used, file);
+      const b = await banner(port);
+      assert.match(b ?? "", new RegExp(`^\\[Articula\\|V:[^|]+\\|P:\\d+\\|J:3\\|R:${robot}(\\|W:\\d+)?\\]$`), file);
+      t.diagnostic(`${file}: ${r.bytes} bytes, ${r.pages} pages through Optiboot, verified; banner ${b}`);
+      n.delete();
+    }
+  });
+
   test("through the old bootloader (ATmegaBOOT, 57,600 baud) after Optiboot's rate finds nothing", { skip: !existsSync(OLD_BOOT) }, async (t) => {
     const n = nanoWith(OLD_BOOT);
     const port = new NanoPort(n);
