@@ -489,10 +489,12 @@ class Runner:
                 rec.pin_slack = [1 if m["driver"]["kind"] == "servo" else 0 for m in self.robot.model.motors]
                 # A servo's pin shows a width once a period (20 ms), a change of one tick when
                 # two pulses agree: the firmware is at rest a period or two before its pins are.
-                # Wait for them to show its steps (a few periods; within the slack after 2 s), so
-                # that every change of this move is counted with it.
+                # Wait for them to show its steps, so that every change of this move is counted
+                # with it and none with the next. A few periods of the virtual Nano's time, which
+                # a loaded machine may stretch to seconds of the wall's; after 10 s the pins are
+                # taken as they are (within the slack: a width on a tick's edge can alternate).
                 if pred is not None and any(rec.pin_slack):
-                    deadline = time.monotonic() + 2.0
+                    deadline = time.monotonic() + 10.0
                     while time.monotonic() < deadline and pins[:len(pred.steps)] != pred.steps:
                         time.sleep(0.005)
                         n_rows, pins = trace.sync()
