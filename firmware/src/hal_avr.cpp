@@ -433,9 +433,11 @@ ISR(TIMER1_COMPB_vect) {
   const uint8_t phase = g_servo_phase;
   if (phase != kServoRest) {
     // An edge: armed kServoLeadTicks early; its tick is waited for here, interrupts off, and
-    // the port's new value (worked out first) written at once: both edges of a pulse the same
-    // instructions after their ticks. (Only the counter's low byte is polled: a shorter loop,
-    // and the lead is far below 128 ticks.)
+    // the port's new value (worked out first) written at once: both edges of a pulse a few
+    // instructions after their ticks, never another interrupt's time. (Only the counter's low
+    // byte is polled: a shorter loop, and the lead is far below 128 ticks.) The loop's turn (6
+    // cycles) is not a tick's 8, so where in its tick an edge falls depends on when the
+    // interrupt came: a width lies up to a few cycles off its whole ticks (bench_drives.py).
     const uint8_t edge = uint8_t(g_servo_edge);
     volatile uint8_t* const port = g_servo_ports[g_servo_at];
     const uint8_t bit = g_servo_bits[g_servo_at];

@@ -415,6 +415,7 @@ class Runner:
         trace = self.target.trace if self.target.has_pins else None
         pins_before = None
         fw_before: list[int] | None = None
+        pred_before: list[int] | None = [0] * len(self.robot.motors)  # the prediction's steps before this command (power-up: 0)
         n_rows = 0
         if trace:
             n_rows, pins_before = trace.sync()
@@ -491,10 +492,10 @@ class Runner:
                 # two pulses agree: the firmware is at rest a period or two before its pins are.
                 # Wait for them to show its steps, so that every change of this move is counted
                 # with it and none with the next. A few periods of the virtual Nano's time, which
-                # a loaded machine may stretch to seconds of the wall's; after 10 s the pins are
+                # a loaded machine may stretch to a second of the wall's; after 3 s the pins are
                 # taken as they are (within the slack: a width on a tick's edge can alternate).
                 if pred is not None and any(rec.pin_slack):
-                    deadline = time.monotonic() + 10.0
+                    deadline = time.monotonic() + 3.0
                     while time.monotonic() < deadline and pins[:len(pred.steps)] != pred.steps:
                         time.sleep(0.005)
                         n_rows, pins = trace.sync()
@@ -502,6 +503,11 @@ class Runner:
                 pins_before = pins
                 rows = trace.rows[rows_before:n_rows]
                 steps = [r for r in rows if r.is_step]
+                # A servo that the command does not move may still show a one-tick change when two
+                # pulses on a tick's edge decode alike (servo_decoder.h): not this move's.
+                if pred is not None and pred_before is not None and any(rec.pin_slack):
+                    moving = {i for i, (a, b) in enumerate(zip(pred.steps, pred_before)) if a != b}
+                    steps = [r for r in steps if not rec.pin_slack[r.motor] or r.motor in moving]
                 rec.step_events = len(steps)
                 if steps:
                     rec.first_step_us, rec.last_step_us = steps[0].time_us, steps[-1].time_us
@@ -530,6 +536,7 @@ class Runner:
                                             f"by its pins' cycle stamps)"),
                             faults, i + 1, stop=True)
                 return
+            pred_before = pred.steps if pred is not None else None
             faults.extend(rec.faults)
             resets = [f for f in rec.faults if f.kind == "reset"]
             if resets:

@@ -136,6 +136,8 @@ export class VirtualNano {
   get servoPulseUs() { return this.pins.servoPulseUs; }
   get firstStepCycle() { return this.pins.firstStepCycle; }
   get lastStepCycle() { return this.pins.lastStepCycle; }
+  /** The first and last step cycles since markSteps() of some motors (indices): [-1, -1] if none. */
+  stepSpan(motors) { return this.pins.stepSpan(motors); }
   /** Each motor's steps as its coils moved it. */
   get steps() { return this.pins.steps; }
   get coilFaults() { return this.pins.coilFaults; }

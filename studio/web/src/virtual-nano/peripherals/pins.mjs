@@ -21,6 +21,8 @@ export class PinWatch {
       : wiring.motors.map(() => (cnc ? parts.stepDirDecoder() : parts.coilDecoder()));
     this.firstStepCycle = -1; // the first and last step of any motor since markSteps()
     this.lastStepCycle = -1;
+    this.firstStepCycles = this.decoders.map(() => -1); // and of each motor
+    this.lastStepCycles = this.decoders.map(() => -1);
     this.servoPulseUs = null; // the last pulse's width
     this.onStep = null; // (cycle) after any motor's step, its steps already counted
     let servoRise = -1;
@@ -31,15 +33,17 @@ export class PinWatch {
       ports[name].addListener(this.listeners[name] = (value) => {
         const changed = value ^ last[name];
         last[name] = value;
-        const stepped = () => {
+        const stepped = (i) => {
           if (this.firstStepCycle < 0) this.firstStepCycle = cpu.cycles;
           this.lastStepCycle = cpu.cycles;
+          if (this.firstStepCycles[i] < 0) this.firstStepCycles[i] = cpu.cycles;
+          this.lastStepCycles[i] = cpu.cycles;
           this.onStep?.(cpu.cycles);
         };
         if (servoPins) {
           // Each servo's signal: a pulse that moves its position is a step (of many ticks).
           servoPins.forEach((p, i) => {
-            if (p.port === name && (changed >> p.bit) & 1 && this.decoders[i].feed(!!((value >> p.bit) & 1), cpu.cycles) === 1) stepped();
+            if (p.port === name && (changed >> p.bit) & 1 && this.decoders[i].feed(!!((value >> p.bit) & 1), cpu.cycles) === 1) stepped(i);
           });
         } else if (cnc) {
           // STEP, DIR and the drivers' EN (low: enabled), as the driver module reads them.
@@ -48,11 +52,11 @@ export class PinWatch {
           wiring.motors.forEach((m, i) => {
             if (m.port !== name && en.port !== name) return;
             const v = m.port === name ? value : last[m.port];
-            if (this.decoders[i].feed(!!((v >> m.step) & 1), !!((v >> m.dir) & 1), enabled, cpu.cycles) === 1) stepped();
+            if (this.decoders[i].feed(!!((v >> m.step) & 1), !!((v >> m.dir) & 1), enabled, cpu.cycles) === 1) stepped(i);
           });
         } else {
           wiring.motors.forEach((m, i) => {
-            if (m.port === name && (changed >> m.shift) & 0xf && this.decoders[i].feed((value >> m.shift) & 0xf) === 1) stepped();
+            if (m.port === name && (changed >> m.shift) & 0xf && this.decoders[i].feed((value >> m.shift) & 0xf) === 1) stepped(i);
           });
         }
         const s = wiring.servo;
@@ -83,6 +87,14 @@ export class PinWatch {
   /** Starts a new span of steps: firstStepCycle and lastStepCycle are -1 until the next step. */
   markSteps() {
     this.firstStepCycle = this.lastStepCycle = -1;
+    this.firstStepCycles.fill(-1);
+    this.lastStepCycles.fill(-1);
+  }
+
+  /** The first and last step since markSteps() of the motors given (indices): [-1, -1] if none. */
+  stepSpan(motors) {
+    const firsts = motors.map((i) => this.firstStepCycles[i]).filter((c) => c >= 0);
+    return firsts.length ? [Math.min(...firsts), Math.max(...motors.map((i) => this.lastStepCycles[i]))] : [-1, -1];
   }
 
   delete() {
