@@ -300,8 +300,10 @@ def test_a_serial_port_takes_the_same_path(bins, tmp_path):
 
 
 # The co-design arms, and the shipped robots of each drive but the thesis's L298N (whose MK2 every
-# plan already runs): the MK2 Plus on a CNC shield, the meArm, the EEZYbotARM MK2 on servos.
-SHIPPED = [SOURCE / "robots" / f for f in ("mk2plus-cnc.json", "mearm.json", "eezybot-mk2.json")]
+# plan already runs): the MK2 Plus on a CNC shield, the meArm, the EEZYbotARM MK2 on servos, the micro arm on
+# 28BYJ-48s.
+SHIPPED = [SOURCE / "robots" / f for f in (
+    "mk2plus-cnc.json", "mearm.json", "eezybot-mk2.json", "micro-arm-28byj48.json")]
 ARMS = sorted((SOURCE / "hil" / "robots").glob("*.json")) + SHIPPED
 
 

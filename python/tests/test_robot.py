@@ -2,6 +2,7 @@
 against each other (batch against one pose, Jacobian against finite differences)."""
 
 import json
+import math
 
 import numpy as np
 import pytest
@@ -49,6 +50,53 @@ def test_mk2_home_and_a_documented_pose():
     # a list, a tuple and arrays of other dtypes give the same
     for q in ([30, 60, -80], (30.0, 60.0, -80.0), np.array([30, 60, -80]), np.array([30, 60, -80], np.float32)):
         np.testing.assert_allclose(mk2.fk(q), mk2.fk(np.array([30.0, 60.0, -80.0])), atol=1e-12)
+
+
+def _micro_arm_published_ik(x, y, ohm, elbow_up=True):
+    """The inverse kinematics T-Kuhn's ESP32 Micro Robot Arm publishes (MicroRobotArm/RobotArmIK.cpp, public
+    domain), written out here as the reference for robots/micro-arm-28byj48.json: a point (x, y) in the arm's plane,
+    mm, the tool's direction ohm (rad, 0 = pointing down, pi/2 = forward), to its three joint tilts (rad, from
+    straight up, clockwise seen from the front), with its links 43, 60, 70 and 54 mm."""
+    l1, l2, l3, l4 = 43.0, 60.0, 70.0, 54.0
+    ex = x if elbow_up else -x
+    bx, by = ex - math.sin(ohm) * l4, y + math.cos(ohm) * l4
+    d, e = bx, by - l1
+    phi, c = math.atan2(e, d), math.hypot(d, e)
+    gamma = math.acos((l2 * l2 + l3 * l3 - c * c) / (2 * l2 * l3))
+    alpha = math.acos((l2 * l2 + c * c - l3 * l3) / (2 * l2 * c))
+    beta = math.pi - gamma - alpha
+    lam = [math.pi / 2 - (phi + alpha), math.pi - gamma, math.pi - ((math.pi / 2 - phi) + beta) - ohm]
+    return lam if elbow_up else [-v for v in lam]
+
+
+# Every pose of the original's demo programs (MicroRobotArm.ino: repeatabilityTest, drillingUpElbowUpAndDown,
+# lookingUpAndDown, drillingLeft, slidingAlongFloor): x, y (mm), ohm (rad), elbow up.
+MICRO_ARM_DEMO_POSES = [
+    (120, 90, math.pi / 2, True), (140, 60, math.pi / 2, True), (140, 90, math.pi / 2, True),
+    (140, 120, math.pi / 2, True), (85, 40, 0, True), (75, 20, 0, True), (95, 20, 0, True), (115, 20, 0, True),
+    (50, 190, math.pi, True), (50, 170, math.pi, True), (50, 190, math.pi, False), (50, 170, math.pi, False),
+    (134, 60, math.pi / 2 + 0.4, True), (144, 94, math.pi / 2, True), (144, 94, math.pi / 2 - 0.4, True),
+    (124, 74, math.pi / 2, True), (144, 74, math.pi / 2, True), (94, 10, 0, True), (74, 10, 0, True)]
+
+
+def test_the_micro_arm_is_the_published_arm_at_every_pose_of_its_demo_programs():
+    robot = articula.Robot.load("micro-arm-28byj48")
+    spec = json.loads((REPO / "robots" / "micro-arm-28byj48.json").read_text())
+    np.testing.assert_allclose(robot.fk(robot.home)[:3, 3], [0, 0, 43 + 60 + 70 + 54], atol=1e-9)
+    for x, y, ohm, up in MICRO_ARM_DEMO_POSES:
+        tilts = np.degrees(_micro_arm_published_ik(x, y, ohm, up))
+        q = np.array([90 - tilts[0], -tilts[1], -tilts[2]])
+        assert robot.within_limits(q), (x, y, q)
+        T = robot.fk(q)
+        # the tool's point where the original puts it, in the x-z plane, and its approach direction ohm
+        np.testing.assert_allclose(T[:3, 3], [x, 0, y], atol=1e-9)
+        np.testing.assert_allclose(T[:3, 2], [math.sin(ohm), 0, -math.cos(ohm)], atol=1e-12)
+        # a motor's step count has the original's sign: a positive step tilts its link clockwise
+        u = robot.motors_from_joints(q)
+        for m, motor in enumerate(spec["motors"]):
+            per_deg = motor["steps_per_rev"] * motor["microsteps"] * motor["gear"][0] / motor["gear"][1] / 360
+            steps = motor["direction"] * (u[m] - motor["zero"]) * per_deg
+            assert steps == pytest.approx(tilts[m] * per_deg, abs=1e-6)
 
 
 @pytest.mark.parametrize("name", ROBOTS)

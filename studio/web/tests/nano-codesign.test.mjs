@@ -21,7 +21,7 @@ const CNC_HEX = join(HEX, "..", "articula-cnc.hex");
 const SERVO_HEX = join(HEX, "..", "articula-servo.hex");
 // The co-design arms, and the shipped robots of each new drive (as hil/tests/test_harness.py).
 const ARMS = readdirSync(join(REPO, "hil/robots")).filter((f) => f.endsWith(".json")).sort().map((f) => `hil/robots/${f}`)
-  .concat(["robots/mk2plus-cnc.json", "robots/mearm.json", "robots/eezybot-mk2.json"]);
+  .concat(["robots/mk2plus-cnc.json", "robots/mearm.json", "robots/eezybot-mk2.json", "robots/micro-arm-28byj48.json"]);
 const PLANS = readdirSync(join(REPO, "hil/plans")).filter((f) => f.endsWith(".arm")).sort();
 const RANDOM_LINES = 130; // with the plans' 73 lines, at least 200 an arm
 
