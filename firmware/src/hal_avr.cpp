@@ -249,21 +249,20 @@ uint16_t g_servo_edge;                 // Timer1's count at the next edge (or th
 uint16_t g_servo_used;                 // ticks of the period used by its pulses and gaps so far
 uint16_t g_servo_width;                // the width of the pulse rising or falling next
 
-// The PORT register (as an I/O address) of each of board.h's header pins, in flash.
-#define ARTICULA_HEADER_PORT(i) uint8_t(board::port_io(board::kHeaderPin[i].port))
-const uint8_t kHeaderPortIo[board::kHeaderPins] PROGMEM = {
-    ARTICULA_HEADER_PORT(0),  ARTICULA_HEADER_PORT(1),  ARTICULA_HEADER_PORT(2),  ARTICULA_HEADER_PORT(3),
-    ARTICULA_HEADER_PORT(4),  ARTICULA_HEADER_PORT(5),  ARTICULA_HEADER_PORT(6),  ARTICULA_HEADER_PORT(7),
-    ARTICULA_HEADER_PORT(8),  ARTICULA_HEADER_PORT(9),  ARTICULA_HEADER_PORT(10), ARTICULA_HEADER_PORT(11),
-    ARTICULA_HEADER_PORT(12), ARTICULA_HEADER_PORT(13), ARTICULA_HEADER_PORT(14), ARTICULA_HEADER_PORT(15),
-    ARTICULA_HEADER_PORT(16), ARTICULA_HEADER_PORT(17), ARTICULA_HEADER_PORT(18), ARTICULA_HEADER_PORT(19)};
-#define ARTICULA_HEADER_BIT(i) uint8_t(1u << board::kHeaderPin[i].bit)
-const uint8_t kHeaderBit[board::kHeaderPins] PROGMEM = {
-    ARTICULA_HEADER_BIT(0),  ARTICULA_HEADER_BIT(1),  ARTICULA_HEADER_BIT(2),  ARTICULA_HEADER_BIT(3),
-    ARTICULA_HEADER_BIT(4),  ARTICULA_HEADER_BIT(5),  ARTICULA_HEADER_BIT(6),  ARTICULA_HEADER_BIT(7),
-    ARTICULA_HEADER_BIT(8),  ARTICULA_HEADER_BIT(9),  ARTICULA_HEADER_BIT(10), ARTICULA_HEADER_BIT(11),
-    ARTICULA_HEADER_BIT(12), ARTICULA_HEADER_BIT(13), ARTICULA_HEADER_BIT(14), ARTICULA_HEADER_BIT(15),
-    ARTICULA_HEADER_BIT(16), ARTICULA_HEADER_BIT(17), ARTICULA_HEADER_BIT(18), ARTICULA_HEADER_BIT(19)};
+// Each of board.h's header pins as its PORT register (an I/O address) and its bit, in flash.
+struct HeaderIo {
+  uint8_t port_io;
+  uint8_t bit;
+};
+#define ARTICULA_HEADER_IO(i) \
+  { uint8_t(board::port_io(board::kHeaderPin[i].port)), uint8_t(1u << board::kHeaderPin[i].bit) }
+const HeaderIo kHeaderIo[board::kHeaderPins] PROGMEM = {
+    ARTICULA_HEADER_IO(0),  ARTICULA_HEADER_IO(1),  ARTICULA_HEADER_IO(2),  ARTICULA_HEADER_IO(3),
+    ARTICULA_HEADER_IO(4),  ARTICULA_HEADER_IO(5),  ARTICULA_HEADER_IO(6),  ARTICULA_HEADER_IO(7),
+    ARTICULA_HEADER_IO(8),  ARTICULA_HEADER_IO(9),  ARTICULA_HEADER_IO(10), ARTICULA_HEADER_IO(11),
+    ARTICULA_HEADER_IO(12), ARTICULA_HEADER_IO(13), ARTICULA_HEADER_IO(14), ARTICULA_HEADER_IO(15),
+    ARTICULA_HEADER_IO(16), ARTICULA_HEADER_IO(17), ARTICULA_HEADER_IO(18), ARTICULA_HEADER_IO(19)};
+static_assert(board::kHeaderPins == 20, "kHeaderIo lists every header pin");
 
 // After an edge (or the rest's end, `first`): arms the next channel's rise, or the period's rest.
 inline void servo_next(bool first) {
@@ -666,8 +665,8 @@ void set_servo_pulse(uint16_t microseconds) {
 void attach_servo(uint8_t motor, uint8_t pin, uint16_t ticks) {
 #if defined(ARTICULA_SERVO_ARM)
   if (motor >= kGripperChannel || pin >= board::kHeaderPins) return;
-  volatile uint8_t* const port = &_SFR_IO8(pgm_read_byte(&kHeaderPortIo[pin]));
-  const uint8_t bit = pgm_read_byte(&kHeaderBit[pin]);
+  volatile uint8_t* const port = &_SFR_IO8(pgm_read_byte(&kHeaderIo[pin].port_io));
+  const uint8_t bit = pgm_read_byte(&kHeaderIo[pin].bit);
   const uint8_t sreg = interrupts_off();
   *port &= uint8_t(~bit);
   *(port - 1) |= bit;  // DDRx sits just below PORTx

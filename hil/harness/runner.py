@@ -172,6 +172,8 @@ class Runner:
         self._reports_seen = 0
         self._expect_info = False
         self.current_settings: dict[int, float] = {}
+        # How far each motor's pins may lie off its steps: a servo's one tick (servo_decoder.h).
+        self.pin_slack = [1 if m["driver"]["kind"] == "servo" else 0 for m in robot.model.motors]
 
     # ---- the serial conversation ----
 
@@ -487,7 +489,7 @@ class Runner:
             if trace:
                 rows_before = n_rows
                 n_rows, pins = trace.sync()
-                rec.pin_slack = [1 if m["driver"]["kind"] == "servo" else 0 for m in self.robot.model.motors]
+                rec.pin_slack = self.pin_slack
                 # A servo's pin shows a width once a period (20 ms), a change of one tick when
                 # two pulses agree: the firmware is at rest a period or two before its pins are.
                 # Wait for them to show its steps, so that every change of this move is counted

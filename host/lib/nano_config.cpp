@@ -83,7 +83,7 @@ NanoConfig nano_config(const Robot& robot) {
     for (int i = 0; i < n; ++i) {
       const MotorDriver& d = robot.drive.motors[size_t(i)];
       const MotorSpec& m = robot.actuation.motors[i];
-      const double ticks_per_deg = double(m.gear_num) / double(m.gear_den);
+      const double ticks_per_deg = servo_ticks_per_deg(m);
       put(uint16_t(132 + i), int32_t(d.at[0][0]) * 1000);
       put(uint16_t(135 + i), d.pin * 1000);
       rate = std::min(rate, d.speed_deg_s * ticks_per_deg);

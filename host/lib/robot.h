@@ -119,6 +119,10 @@ inline DriveKind arm_drive(const Robot& robot) {
   return robot.drive.motors.empty() ? kDriveL298n : robot.drive.motors[0].kind;
 }
 
+// A servo motor's 0.5 us ticks per degree of its output: its steps are those ticks, and the
+// loader puts its calibration in its MotorSpec as 360 steps a turn through the gear num/den.
+inline double servo_ticks_per_deg(const MotorSpec& m) { return double(m.gear_num) / double(m.gear_den); }
+
 // A joint variable is an angle (theta or alpha: degrees in files and at the interfaces,
 // radians in the model) or a length (d: mm everywhere).
 inline bool joint_is_angle(const Robot& robot, int joint) { return robot.model.joints[joint].param != kParamD; }

@@ -179,8 +179,8 @@ Simulation::Simulation(const Robot& robot, const Scene& scene, const SimOptions&
     const MotorDriver& d = robot_.drive.motors[size_t(i)];
     if (d.kind != kDriveServo) continue;
     const MotorSpec& m = robot_.actuation.motors[i];
-    const double ticks_per_deg = double(m.gear_num) / double(m.gear_den);  // (its steps are ticks: robot_file.cpp)
-    servo_[i] = true;
+    const double ticks_per_deg = servo_ticks_per_deg(m);
+    servo_[i] = has_servos_ = true;
     servo_rate_[i] = d.top_speed_deg_s * ticks_per_deg;
     servo_band_[i] = int32_t(std::floor(d.deadband_us * kServoTicksPerUs / 2));
   }
@@ -1286,7 +1286,7 @@ void Simulation::step() {
   const double t_start = time();
   if (motors_) {
     motor_events(until);
-    if (std::any_of(std::begin(servo_), std::end(servo_), [](bool b) { return b; })) servo_follow(dt);
+    if (has_servos_) servo_follow(dt);
   } else {
     joint_follow(t_end);
   }

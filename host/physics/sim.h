@@ -259,6 +259,7 @@ class Simulation {
   // command); the servo's own position loop turns it towards the command at its top speed
   // (ticks/s) and stops within half its dead band (ticks). servo_carry_: a tick's fraction.
   bool servo_[8]{};
+  bool has_servos_ = false;  // any servo_[i]: servo_follow() runs each world step
   double servo_rate_[8]{}, servo_carry_[8]{};
   int32_t servo_band_[8]{};
   bool firmware_action_ = false;  // an action of the firmware's runs (its line: current_line_)
