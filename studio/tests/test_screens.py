@@ -12,6 +12,7 @@ from conftest import SHOTS
 SCREENS = {
     "desktop": (1920, 1080, False, 0.40),
     "chromebook": (1366, 768, False, 0.40),
+    "laptop": (1280, 800, False, 0.40),
     "tablet-landscape": (1024, 768, True, 0.40),
     "tablet-portrait": (768, 1024, True, 0.40),
     "phone": (390, 844, True, 0.30),

@@ -5,8 +5,8 @@
 //   with tabs (Joints, IK, Program, Arm, Robot);
 // - stacked (a tablet held upright, a phone): the view on top, the tabs below it, the plots in
 //   a tab of their own.
-// A low window (under 600 px) also puts the plots in a tab, and one under 1200 px wide the
-// robot's menus (in the Robot tab). The panels' sections move between
+// A low window (under 800 px) also puts the plots in a tab, and one under 1360 px wide the
+// robot's menus (in the Robot tab: with them the header needs about 1,350 px). The panels' sections move between
 // their home in the page and the tabs; their controls and listeners go with them.
 import { $ } from "./page/dom";
 import { store, stored } from "./page/environment";
@@ -108,7 +108,7 @@ export class Layout {
     const mode = modeFor(w, h);
     // (below 800 px the plots strip would leave the blocks a sliver: a 1366x768 lab PC)
     const plotsInTab = mode === "stacked" || h < 800;
-    const menusInHeader = w >= 1200; // else they crowd STOP: the Robot tab holds them
+    const menusInHeader = w >= 1360; // else they push the header's chips off: the Robot tab holds them
     if (mode === this.mode && plotsInTab === this.plotsInTab && menusInHeader === this.menusInHeader) return;
     this.menusInHeader = menusInHeader;
     this.mode = mode;
