@@ -860,15 +860,8 @@ void Simulation::apply_steps(uint8_t mask, uint8_t negative) {
   int32_t cand[8];
   for (int i = 0; i < n_motors_; ++i) cand[i] = phys[i] + delta[i];
   if (try_steps(cand)) return;
-  uint8_t accepted = 0;
-  if (mask & (mask - 1)) {  // more than one motor: perhaps some can go on
-    for (int i = 0; i < n_motors_; ++i) {
-      if (!(mask & (1u << i))) continue;
-      for (int k = 0; k < n_motors_; ++k) cand[k] = phys[k] + ((accepted & (1u << k)) ? delta[k] : 0);
-      cand[i] += delta[i];
-      if (try_steps(cand)) accepted = uint8_t(accepted | (1u << i));
-    }
-  }
+  // more than one motor: perhaps some can go on
+  const uint8_t accepted = (mask & (mask - 1)) ? try_motor_by_motor(phys, delta, mask) : 0;
   for (int i = 0; i < n_motors_; ++i) {
     if (!(mask & (1u << i)) || (accepted & (1u << i))) continue;
     offset_[i] -= delta[i];
@@ -899,17 +892,30 @@ void Simulation::servo_follow(double dt) {
     any = true;
   }
   if (!any) return;
-  if (try_steps(cand)) {
-    for (int i = 0; i < n_motors_; ++i) offset_[i] += move[i];
-    return;
+  uint8_t moving = 0;
+  for (int i = 0; i < n_motors_; ++i)
+    if (move[i] != 0) moving = uint8_t(moving | (1u << i));
+  if (!try_steps(cand)) {  // blocked: the servos that can go on alone
+    int32_t from[8];
+    for (int i = 0; i < n_motors_; ++i) from[i] = counted_[i] + offset_[i];
+    moving = try_motor_by_motor(from, move, moving);
   }
-  // Blocked: each servo on its own, the others where they stand.
+  for (int i = 0; i < n_motors_; ++i)
+    if (moving & (1u << i)) offset_[i] += move[i];
+}
+
+// After a blocked move of the motors in `mask` from `from` by `move` (steps): which of them can
+// go on, tried one by one in motor order, each beside those already let go.
+uint8_t Simulation::try_motor_by_motor(const int32_t* from, const int32_t* move, uint8_t mask) {
+  int32_t cand[8];
+  uint8_t accepted = 0;
   for (int i = 0; i < n_motors_; ++i) {
-    if (move[i] == 0) continue;
-    for (int k = 0; k < n_motors_; ++k) cand[k] = counted_[k] + offset_[k];
+    if (!(mask & (1u << i))) continue;
+    for (int k = 0; k < n_motors_; ++k) cand[k] = from[k] + ((accepted & (1u << k)) ? move[k] : 0);
     cand[i] += move[i];
-    if (try_steps(cand)) offset_[i] += move[i];
+    if (try_steps(cand)) accepted = uint8_t(accepted | (1u << i));
   }
+  return accepted;
 }
 
 // The firmware's events up to `until`, each at its tick: its coils' steps move the arm (unless

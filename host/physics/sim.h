@@ -190,6 +190,7 @@ class Simulation {
   void recount(const std::vector<int32_t>& counted);
   void apply_steps(uint8_t mask, uint8_t negative);
   void servo_follow(double dt);
+  uint8_t try_motor_by_motor(const int32_t* from, const int32_t* move, uint8_t mask);
   bool try_steps(const int32_t* steps);
   void follow_joints(const std::vector<double>& q_cmd, double dt);
   void joint_follow(double t_end);

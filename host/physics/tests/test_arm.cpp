@@ -217,6 +217,32 @@ TEST(Arm, MoveIntoAStaticObjectHolds) {
   EXPECT_EQ(sim.counted_steps()[0], 0) << "L is relative: +60 then -60 counted";
 }
 
+// A servo turned into a wall: it holds at contact while its pulse goes on to the command, and
+// the servo beside it that nothing blocks goes on to its own.
+TEST(Arm, AServoIntoAStaticObjectHoldsAndTheOthersGoOn) {
+  const double deg = M_PI / 180;
+  const Robot r = robot("mearm");
+  Scene s;
+  SceneObject wall;
+  wall.name = "wall";
+  wall.size = {200, 20, 300};
+  wall.xyz = make_vec3(150.0, 100.0, 150.0);
+  s.objects.push_back(wall);
+  const Program p = parse_protocol_program("M 45 100 0\n", "w.arm", r);
+  const Prediction pr = predict_program(r, p);
+  Simulation sim(r, s);
+  sim.load_program(p);
+  sim.run_until(pr.total_s() + 0.5);
+  const SimEvent* e = first(sim, SimEvent::Kind::kCollision);
+  ASSERT_NE(e, nullptr);
+  EXPECT_EQ(e->b, "wall");
+  EXPECT_LE(depth_into(sim, sim.object_geom(0)), sim.options().touch_tolerance_mm + 1e-9);
+  EXPECT_EQ(sim.counted_steps(), pr.records[0].steps) << "the pulses are the firmware's";
+  EXPECT_LT(sim.joints()[0] / deg, 40) << "the base held at the wall";
+  EXPECT_GT(sim.joints()[0] / deg, 10) << "after turning towards it";
+  EXPECT_NEAR(sim.joints()[1] / deg, 100, 0.5) << "the shoulder went on";
+}
+
 TEST(Arm, MoveIntoItselfHolds) {
   const Robot r = robot("mk2plus");
   Simulation sim(r, Scene{});
