@@ -149,6 +149,22 @@ host::Robot robot_argument(const cxxopts::ParseResult& args) {
   return host::load_robot_file(host::resolve_robot_path(args["robot"].as<std::string>()));
 }
 
+std::optional<OneRobot> one_robot_command(cxxopts::Options& opts, int argc, char** argv, const char* example) {
+  opts.custom_help("ROBOT [--json]");
+  opts.add_options()("json", "print one JSON document")("h,help", "this help")(
+      "robot", "robot file or shipped robot name", cxxopts::value<std::string>());
+  opts.parse_positional({"robot"});
+  const auto args = opts.parse(argc, argv);
+  if (args.count("help")) {
+    std::cout << opts.help() << "ROBOT is a robot file (robots/README.md) or a shipped robot's name, e.g. " << example
+              << ".\n";
+    return std::nullopt;
+  }
+  if (!args.count("robot")) throw UsageError("no robot given");
+  return OneRobot{host::load_robot_file(host::resolve_robot_path(args["robot"].as<std::string>())),
+                  args.count("json") > 0};
+}
+
 host::Program program_argument(const cxxopts::ParseResult& args, const host::Robot& robot) {
   const std::string path = args["program"].as<std::string>();
   if (!std::ifstream(path)) throw UsageError("cannot read the program file '" + path + "'");

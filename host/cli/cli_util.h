@@ -2,6 +2,7 @@
 #ifndef ARTICULA_CLI_UTIL_H
 #define ARTICULA_CLI_UTIL_H
 
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -12,6 +13,7 @@
 #include "robot.h"
 
 namespace cxxopts {
+class Options;
 class ParseResult;
 }
 
@@ -66,6 +68,15 @@ std::string csv_field(const std::string& s);
 host::Robot robot_argument(const cxxopts::ParseResult& args);
 host::Program program_argument(const cxxopts::ParseResult& args, const host::Robot& robot);
 host::ControllerSettings settings_argument(const cxxopts::ParseResult& args, const host::Robot& robot);
+
+// A command that takes one robot and --json (info, wiring): adds ROBOT, --json and --help to
+// `opts`, parses argv and loads the robot; on --help prints the help (naming `example`, a shipped
+// robot) and gives nothing. Throws UsageError or RobotFileError.
+struct OneRobot {
+  host::Robot robot;
+  bool json = false;
+};
+std::optional<OneRobot> one_robot_command(cxxopts::Options& opts, int argc, char** argv, const char* example);
 
 // Runs a command body: catches UsageError, RobotFileError, ProgramError and cxxopts errors and turns
 // them into one line on stderr and a non-zero exit code.

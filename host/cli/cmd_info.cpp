@@ -87,21 +87,13 @@ Reach sample_reach(const host::Robot& r) {
 
 int run_info(int argc, char** argv) {
   cxxopts::Options opts("articula info", "Shows a robot: its DH table, joint variables, limits, motors and reach.");
-  opts.custom_help("ROBOT [--json]");
-  opts.add_options()("json", "print one JSON document")("h,help", "this help")(
-      "robot", "robot file or shipped robot name", cxxopts::value<std::string>());
-  opts.parse_positional({"robot"});
-  const auto args = opts.parse(argc, argv);
-  if (args.count("help")) {
-    std::cout << opts.help() << "ROBOT is a robot file (robots/README.md) or a shipped robot's name, e.g. mk2plus.\n";
-    return 0;
-  }
-  if (!args.count("robot")) throw UsageError("no robot given");
-  const host::Robot r = host::load_robot_file(host::resolve_robot_path(args["robot"].as<std::string>()));
+  const std::optional<OneRobot> one = one_robot_command(opts, argc, argv, "mk2plus");
+  if (!one) return 0;
+  const host::Robot& r = one->robot;
   const auto& m = r.model;
   const Reach reach = sample_reach(r);
 
-  if (args.count("json")) {
+  if (one->json) {
     nlohmann::json j;
     j["name"] = r.name;
     j["file"] = r.source;

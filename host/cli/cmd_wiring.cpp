@@ -17,27 +17,18 @@ int run_wiring(int argc, char** argv) {
   cxxopts::Options opts("articula wiring",
                         "Every wire of a robot's arm: which pin of its board goes to which driver input, switch or servo,\n"
                         "from the robot file's board and drivers (robots/README.md, \"Drive\"; docs/drives.md).");
-  opts.custom_help("ROBOT [--json]");
-  opts.add_options()("json", "print one JSON document")("h,help", "this help")(
-      "robot", "robot file or shipped robot name", cxxopts::value<std::string>());
-  opts.parse_positional({"robot"});
-  const auto args = opts.parse(argc, argv);
-  if (args.count("help")) {
-    std::cout << opts.help() << "ROBOT is a robot file (robots/README.md) or a shipped robot's name, e.g. mk2plus-cnc.\n";
-    return 0;
-  }
-  if (!args.count("robot")) throw UsageError("no robot given");
-  const host::Robot r = host::load_robot_file(host::resolve_robot_path(args["robot"].as<std::string>()));
+  const std::optional<OneRobot> one = one_robot_command(opts, argc, argv, "mk2plus-cnc");
+  if (!one) return 0;
+  const host::Robot& r = one->robot;
   const nlohmann::json w = host::wiring_json(r);
-  if (args.count("json")) {
+  if (one->json) {
     std::cout << w.dump(2) << '\n';
     return 0;
   }
   if (w.contains("error")) throw UsageError("cannot wire " + r.name + ": " + w["error"].get<std::string>());
   std::cout << r.name << " on an " << w["board_title"].get<std::string>()
             << (w["given"].get<bool>() ? "" : " (the file names no drive: the thesis's wiring, L298Ns on a Nano)") << "\n";
-  const std::string build = w["firmware"].get<std::string>();
-  std::cout << "firmware: " << (build.empty() ? "none yet for servos" : build + ".hex") << "\n\n";
+  std::cout << "firmware: " << w["firmware"].get<std::string>() << ".hex\n\n";
   Table t({"pin", "goes to", "input", "motor"});
   for (const auto& x : w["wires"])
     t.add({x["pin"].get<std::string>(), x["part"].get<std::string>(), x["signal"].get<std::string>(),

@@ -18,6 +18,17 @@ const std::string kSrc = ARTICULA_SOURCE_DIR;
 
 Robot robot(const std::string& name) { return load_robot_file(kSrc + "/robots/" + name + ".json"); }
 
+// A scene of one static wall, 200 x 20 x 300 mm (its long side along x), centred at (x, y, 150).
+Scene wall_at(double x, double y) {
+  Scene s;
+  SceneObject wall;
+  wall.name = "wall";
+  wall.size = {200, 20, 300};
+  wall.xyz = make_vec3(x, y, 150.0);
+  s.objects.push_back(wall);
+  return s;
+}
+
 int count(const Simulation& sim, SimEvent::Kind k) {
   int n = 0;
   for (const auto& e : sim.events()) n += e.kind == k;
@@ -190,13 +201,7 @@ TEST(Arm, PushingMovesABox) {
 // A static wall in the base's way: the arm holds at contact, the motor skips the rest.
 TEST(Arm, MoveIntoAStaticObjectHolds) {
   const Robot r = robot("mk2plus");
-  Scene s;
-  SceneObject wall;
-  wall.name = "wall";
-  wall.size = {200, 20, 300};
-  wall.xyz = make_vec3(250.0, 120.0, 150.0);
-  s.objects.push_back(wall);
-  Simulation sim(r, s);
+  Simulation sim(r, wall_at(250, 120));
   sim.load_program(parse_protocol_program("L 0 60\nL 0 -60\n", "w.arm", r));
   sim.run_until(1.2);  // the first move is over
   const SimEvent* e = first(sim, SimEvent::Kind::kCollision);
@@ -222,15 +227,9 @@ TEST(Arm, MoveIntoAStaticObjectHolds) {
 TEST(Arm, AServoIntoAStaticObjectHoldsAndTheOthersGoOn) {
   const double deg = M_PI / 180;
   const Robot r = robot("mearm");
-  Scene s;
-  SceneObject wall;
-  wall.name = "wall";
-  wall.size = {200, 20, 300};
-  wall.xyz = make_vec3(150.0, 100.0, 150.0);
-  s.objects.push_back(wall);
   const Program p = parse_protocol_program("M 45 100 0\n", "w.arm", r);
   const Prediction pr = predict_program(r, p);
-  Simulation sim(r, s);
+  Simulation sim(r, wall_at(150, 100));
   sim.load_program(p);
   sim.run_until(pr.total_s() + 0.5);
   const SimEvent* e = first(sim, SimEvent::Kind::kCollision);
