@@ -99,6 +99,29 @@ def test_the_micro_arm_is_the_published_arm_at_every_pose_of_its_demo_programs()
             assert steps == pytest.approx(tilts[m] * per_deg, abs=1e-6)
 
 
+def test_the_micro_arms_repeatability_program_is_the_originals_repeatability_test():
+    """programs/micro-arm-repeatability.arm: the original's repeatabilityTest as joint angles. Each M line's ideal
+    tool point is the published point (its angles are rounded to 0.01 deg), and the whole steps stay within
+    0.2 mm of it."""
+    ready, second = (120, 90, math.pi / 2), (85, 40, 0)
+    points = [ready, (140, 60, math.pi / 2), (140, 90, math.pi / 2), (140, 120, math.pi / 2), None,
+              (140, 90, math.pi / 2), (140, 60, math.pi / 2), second, (75, 20, 0), (95, 20, 0), (115, 20, 0),
+              (95, 20, 0), (75, 20, 0), None, second]
+    robot = articula.Robot.load("micro-arm-28byj48")
+    records = robot.predict("programs/micro-arm-repeatability.arm").to_dict()["records"]
+    assert [r["reply"] for r in records] == ["ok"] * len(points) + ["ok"]
+    for point, rec in zip(points, records):
+        if point is None:
+            assert rec["command"].startswith("D ")
+            continue
+        x, z, ohm = point
+        tilts = np.degrees(_micro_arm_published_ik(x, z, ohm))
+        np.testing.assert_allclose(rec["commanded_deg"], [90 - tilts[0], -tilts[1], -tilts[2]], atol=0.005)
+        np.testing.assert_allclose(rec["tool_ideal_mm"], [x, 0, z], atol=0.01)
+        assert np.linalg.norm(np.subtract(rec["tool_quantized_mm"], [x, 0, z])) < 0.2
+    np.testing.assert_allclose(records[-1]["tool_quantized_mm"], [0, 0, 227], atol=1e-9)  # home
+
+
 @pytest.mark.parametrize("name", ROBOTS)
 def test_batch_forms_equal_the_one_pose_forms(name):
     robot = articula.Robot.load(name)
