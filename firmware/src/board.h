@@ -101,6 +101,18 @@ constexpr Pin kHeaderPin[kHeaderPins] = {
     {kPortB, 2, "D10"}, {kPortB, 3, "D11"}, {kPortB, 4, "D12"}, {kPortB, 5, "D13"}, {kPortC, 0, "A0"},
     {kPortC, 1, "A1"}, {kPortC, 2, "A2"}, {kPortC, 3, "A3"},  {kPortC, 4, "A4"},  {kPortC, 5, "A5"}};
 
+// A header pin's index in kHeaderPin by its name ("D9", "A3"), or -1: for the host's tools (the
+// robot file's loader, the virtual Nanos); the firmware takes indexes.
+inline int header_index(const char* name) {
+  for (int i = 0; i < kHeaderPins; ++i) {
+    const char* a = name;
+    const char* b = kHeaderPin[i].pin;
+    while (*a && *a == *b) ++a, ++b;
+    if (*a == *b) return i;
+  }
+  return -1;
+}
+
 // A CNC shield's sockets: a STEP/DIR driver module each.
 struct Socket {
   const char* axis;

@@ -36,8 +36,8 @@ std::string board_ids() {
 
 int header_pin(int board_index, const std::string& name, std::string& why) {
   const board::BoardInfo& b = board::kBoardInfo[board_index];
-  for (int i = 0; i < board::kHeaderPins; ++i)
-    if (name == board::kHeaderPin[i].pin) return i;
+  const int i = board::header_index(name.c_str());
+  if (i >= 0) return i;
   if (name == "A6" || name == "A7")
     why = b.has_a6_a7 ? name + " is an analog input only: it cannot send a pulse"
                       : std::string("the ") + b.title + " has no " + name;

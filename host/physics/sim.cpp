@@ -874,7 +874,7 @@ void Simulation::apply_steps(uint8_t mask, uint8_t negative) {
 // soon as it is within the band; a blocked one stays.
 void Simulation::servo_follow(double dt) {
   int32_t cand[8], move[8] = {0};
-  bool any = false;
+  uint8_t moving = 0;  // the servos that turn this step
   for (int i = 0; i < n_motors_; ++i) {
     cand[i] = counted_[i] + offset_[i];
     if (!servo_[i]) continue;
@@ -889,12 +889,9 @@ void Simulation::servo_follow(double dt) {
     if (n == 0) continue;
     move[i] = err > 0 ? n : -n;
     cand[i] += move[i];
-    any = true;
+    moving = uint8_t(moving | (1u << i));
   }
-  if (!any) return;
-  uint8_t moving = 0;
-  for (int i = 0; i < n_motors_; ++i)
-    if (move[i] != 0) moving = uint8_t(moving | (1u << i));
+  if (!moving) return;
   if (!try_steps(cand)) {  // blocked: the servos that can go on alone
     int32_t from[8];
     for (int i = 0; i < n_motors_; ++i) from[i] = counted_[i] + offset_[i];

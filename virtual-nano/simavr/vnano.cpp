@@ -1038,10 +1038,6 @@ std::string VirtualNano::summary() const {
   return s.str();
 }
 
-int header_pin(const std::string& name) {
-  for (int k = 0; k < board::kHeaderPins; ++k)
-    if (name == board::kHeaderPin[k].pin) return k;
-  return -1;
-}
+int header_pin(const std::string& name) { return board::header_index(name.c_str()); }
 
 }  // namespace vnano

@@ -50,7 +50,7 @@ struct ServoSpec {
   int64_t zero_ticks;
 };
 
-// A header pin by its name ("D9", "A3": board.h's), or -1.
+// A header pin by its name ("D9", "A3": board.h's header_index), or -1.
 int header_pin(const std::string& name);
 
 struct Config {

@@ -77,7 +77,7 @@ class WebServoDecoder {
   double pulses() const { return double(d_.pulses()); }
   double last_width_cycles() const { return last_width_cycles_; }
   double max_off_cycles() const { return double(d_.max_off_cycles()); }
-  int faults() const { return 0; }
+  int faults() const { return 0; }  // (a pulse of any width is a position: no illegal pattern)
 
  private:
   vnano::ServoDecoder d_;
@@ -86,12 +86,11 @@ class WebServoDecoder {
 
 // A header pin by name ("D9", "A3"): {port, bit}, or null.
 std::string header_pin(const std::string& name) {
-  for (int k = 0; k < board::kHeaderPins; ++k)
-    if (name == board::kHeaderPin[k].pin)
-      return nlohmann::json{{"port", std::string(1, board::kPortNames[board::kHeaderPin[k].port])},
-                            {"bit", board::kHeaderPin[k].bit}}
-          .dump();
-  return "null";
+  const int k = board::header_index(name.c_str());
+  if (k < 0) return "null";
+  return nlohmann::json{{"port", std::string(1, board::kPortNames[board::kHeaderPin[k].port])},
+                        {"bit", board::kHeaderPin[k].bit}}
+      .dump();
 }
 
 // The board's pins: ports "B", "C", "D"; motors [{port, shift}] (on a CNC shield [{port, step,
