@@ -77,6 +77,24 @@ FAST = "&speed=4"
 PATIENCE = float(os.environ.get("ARTICULA_TEST_PATIENCE", "4"))
 
 
+def wait_with_progress(page, done: str, progress: str, still: float, what: str) -> None:
+    """Until `done` (an expression in the Playwright page) holds, for as long as `progress` (an
+    expression) keeps changing: the budget, `still` seconds times PATIENCE, starts again at each
+    change, so a long job on a slow or busy machine passes while a stalled one fails soon,
+    saying where it stood."""
+    budget = still * PATIENCE
+    last, since = None, time.monotonic()
+    while True:
+        is_done, now_at = page.evaluate(f"() => [!!({done}), JSON.stringify({progress})]")
+        if is_done:
+            return
+        if now_at != last:
+            last, since = now_at, time.monotonic()
+        elif time.monotonic() - since > budget:
+            raise AssertionError(f"{what} did not happen: no progress for {budget:.0f} s (it stood at {last})")
+        time.sleep(0.25)
+
+
 class StaticSite:
     """The built site behind a plain static file server, at /<subpath>/ (not /dist/)."""
 

@@ -136,6 +136,35 @@ describe("flashing the Nano from the page", { skip: !existsSync(OPTIBOOT) && "ar
     n.delete();
   });
 
+  test("a Nano that stops answering mid-flash: the flash starts again from the reset and ends verified", async (t) => {
+    const n = nanoWith(OPTIBOOT, firmware);
+    const port = new NanoPort(n);
+    port.muteAfter = Math.floor(image.used / 3); // a third of the way, its answers lost, this once
+    port.muteOpens = 1;
+    const attempts = [];
+    const r = await flashNano(port, firmware, { onProgress: (p) => attempts.includes(p.attempt) || attempts.push(p.attempt) });
+    assert.deepEqual(attempts, [1, 2]);
+    assert.equal(r.attempts, 2);
+    assert.ok(written(n));
+    assert.match((await banner(port)) ?? "", /R:MK2 Plus/);
+    t.diagnostic(`stalled once, flashed on the second try: ${r.pages} pages in ${r.seconds.toFixed(1)} s of the wall's time`);
+    n.delete();
+  });
+
+  test("a Nano that never answers again: the stall is told in words, with what to do", async (t) => {
+    const n = nanoWith(OPTIBOOT, firmware);
+    const port = new NanoPort(n);
+    port.muteAfter = Math.floor(image.used / 3);
+    port.muteOpens = Infinity;
+    await assert.rejects(flashNano(port, firmware), (e) => {
+      assert.equal(e.kind, "stalled");
+      assert.match(e.message, /^the bootloader stopped answering \(writing page \d+ of \d+\): nothing for 5 s, 2 times\. .*Flash again/);
+      t.diagnostic(e.message);
+      return true;
+    });
+    n.delete();
+  });
+
   test("a verify that reads back another byte names the address", async () => {
     const n = nanoWith(OPTIBOOT);
     // a worn cell: one bit at an address the firmware sets stays 0 after a write

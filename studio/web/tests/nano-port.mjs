@@ -2,7 +2,8 @@
 // open, close, readable, writable, setSignals - as a Nano on a USB cable is: the host's baud
 // rate, DTR's auto-reset, and a cable that can be pulled (the port fails, the Nano loses
 // power) and plugged in again (it powers up). The emulator runs as fast as node can while
-// the port is open.
+// the port is open, or with `pace` at that many times real time at most (as the page's worker
+// runs it: the arm link's polls and waits are timed by the page's clock).
 import { RESET_POWER } from "../src/virtual-nano/avr-nano.mjs";
 
 export class NanoPort {
@@ -13,6 +14,11 @@ export class NanoPort {
     this.out = [];
     this.written = 0; // bytes the host wrote
     this.pullAfter = Infinity; // pull the cable once the host has written this many bytes
+    // A Nano gone deaf: its answers are lost once the host has written `muteAfter` bytes since
+    // the port opened, until it closes, for the next `muteOpens` openings.
+    this.muteAfter = Infinity;
+    this.muteOpens = 0;
+    this.pace = 0; // 0: as fast as it goes
     nano.onByte = (b) => this.out.push(b);
   }
 
@@ -20,6 +26,8 @@ export class NanoPort {
     if (!this.plugged) throw new Error("the device has been lost");
     if (this.readable) throw new Error("the port is already open");
     this.nano.hostBaud = baudRate;
+    const opened = this.written;
+    const mute = this.muteOpens > 0 ? (this.muteOpens--, this.muteAfter) : Infinity;
     this.nano.setDtr(true); // opening asserts DTR: the Nano resets, as on a USB cable
     let controller;
     this.readable = new ReadableStream({ start: (c) => (controller = c) });
@@ -33,9 +41,11 @@ export class NanoPort {
       },
     });
     const run = (this.running = {});
+    const wall0 = performance.now(), nano0 = this.nano.seconds;
     const loop = () => {
       if (this.running !== run) return;
-      this.nano.runFor(0.002);
+      if (!this.pace || this.nano.seconds - nano0 < ((performance.now() - wall0) / 1000) * this.pace) this.nano.runFor(0.002);
+      if (this.written - opened >= mute) this.out = [];
       if (this.out.length) {
         controller.enqueue(Uint8Array.from(this.out));
         this.out = [];

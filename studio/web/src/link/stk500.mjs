@@ -24,10 +24,11 @@ export const BAUD_RATES = [115200, 57600];
 export class FlashError extends Error {
   constructor(kind, message) {
     super(message);
-    this.kind = kind; // "hex" | "no-bootloader" | "signature" | "verify" | "vanished"
+    this.kind = kind; // "hex" | "no-bootloader" | "signature" | "verify" | "vanished" | "stalled"
   }
 }
 
+const WALL_STALLS = 12;
 const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
 const hex2 = (b) => "0x" + b.toString(16).padStart(2, "0");
 
@@ -85,12 +86,20 @@ class Link {
     }
   }
 
-  /** `n` bytes, or null after `ms` without them. */
+  /** `n` bytes, or null after `ms` in which no byte came (the wait starts again with every
+   * byte: a Nano answering slowly, as an emulated one on a busy machine does, is not a stall). */
   async read(n, ms) {
-    const end = this.now() + ms;
+    // (and a device whose own clock stands still, a virtual Nano's stopped worker, stalls after
+    // WALL_STALLS times that on the page's clock)
+    let end = this.now() + ms, wallEnd = performance.now() + WALL_STALLS * ms, had = this.buffer.length;
     while (this.buffer.length < n) {
       if (this.ended) throw new FlashError("vanished", this.ended);
-      const left = end - this.now();
+      if (this.buffer.length > had) {
+        had = this.buffer.length;
+        end = this.now() + ms;
+        wallEnd = performance.now() + WALL_STALLS * ms;
+      }
+      const left = Math.min(end - this.now(), wallEnd - performance.now());
       if (left <= 0) return null;
       await new Promise((r) => {
         this.wake = r;
@@ -121,11 +130,17 @@ class Link {
   }
 }
 
+// How long a command's answer may keep the page waiting with no byte at all (avrdude's
+// serial timeout): a stall, after which the flash starts again from the reset.
+export const STALL_MS = 5000;
+// Flashes that stall are tried this many times in all before the flasher gives up.
+export const TRIES = 2;
+
 // One command: `INSYNC <n bytes> OK` back, or an error naming it.
-async function command(link, bytes, n, what, ms = 1000) {
+async function command(link, bytes, n, what, ms = STALL_MS) {
   await link.write([...bytes, CRC_EOP]);
   const r = await link.read(n + 2, ms);
-  if (!r) throw new FlashError("no-bootloader", `the bootloader stopped answering (${what})`);
+  if (!r) throw new FlashError("stalled", `the bootloader stopped answering (${what}): nothing for ${ms / 1000} s`);
   if (r[0] !== STK_INSYNC || r[n + 1] !== STK_OK)
     throw new FlashError("no-bootloader", `the bootloader answered ${r.map(hex2).join(" ")} to ${what}`);
   return r.slice(1, n + 1);
@@ -163,12 +178,29 @@ async function loadAddress(link, at) {
 
 /**
  * Writes `hexText` to the Nano on `port` (closed on entry and on return) and reads it back.
- * onProgress({ phase: "connect" | "write" | "verify" | "done", done, total, baud }).
- * Resolves to { bytes, pages, baud, seconds }; throws a FlashError.
+ * onProgress({ phase: "connect" | "write" | "verify" | "done", done, total, baud, attempt }).
+ * A flash that stalls (no byte for STALL_MS) starts again from the reset, up to `tries` times
+ * in all (attempt counts them); the bootloader takes every try, whatever the last one wrote.
+ * Resolves to { bytes, pages, baud, seconds, attempts }; throws a FlashError.
  */
-export async function flashNano(port, hexText, { onProgress = () => {}, baudRates = BAUD_RATES } = {}) {
-  const { pages, bytes } = firmwarePages(hexText);
+export async function flashNano(port, hexText, { onProgress = () => {}, baudRates = BAUD_RATES, tries = TRIES } = {}) {
+  const image = firmwarePages(hexText);
   const t0 = performance.now();
+  for (let attempt = 1; ; attempt++) {
+    try {
+      const r = await flashOnce(port, image, baudRates, (p) => onProgress({ ...p, attempt }));
+      return { ...r, seconds: (performance.now() - t0) / 1000, attempts: attempt };
+    } catch (e) {
+      if (!(e instanceof FlashError && e.kind === "stalled")) throw e;
+      if (attempt >= tries)
+        throw new FlashError("stalled", `${e.message}, ${attempt === 1 ? "once" : `${attempt} times`}. ` +
+          "Is the machine very busy, or the cable loose? Flash again: the Nano keeps its bootloader");
+    }
+  }
+}
+
+// One try: reset, sync, signature, write, read back, leave.
+async function flashOnce(port, { pages, bytes }, baudRates, onProgress) {
   const total = pages.length;
   let link = null, baud = 0, phase = "connect", done = 0;
   const progress = () => onProgress({ phase, done, total, baud });
@@ -196,7 +228,7 @@ export async function flashNano(port, hexText, { onProgress = () => {}, baudRate
     phase = "write";
     for (const [at, data] of pages) {
       await loadAddress(link, at);
-      await command(link, [PROG_PAGE, 0, PAGE_BYTES, 0x46, ...data], 0, `the page at ${hex2(at)}`);
+      await command(link, [PROG_PAGE, 0, PAGE_BYTES, 0x46, ...data], 0, `writing page ${done + 1} of ${total}`);
       done++;
       progress();
     }
@@ -204,7 +236,7 @@ export async function flashNano(port, hexText, { onProgress = () => {}, baudRate
     done = 0;
     for (const [at, data] of pages) {
       await loadAddress(link, at);
-      const back = await command(link, [READ_PAGE, 0, PAGE_BYTES, 0x46], PAGE_BYTES, `reading the page at ${hex2(at)}`);
+      const back = await command(link, [READ_PAGE, 0, PAGE_BYTES, 0x46], PAGE_BYTES, `reading back page ${done + 1} of ${total}`);
       const i = back.findIndex((b, k) => b !== data[k]);
       if (i >= 0)
         throw new FlashError("verify", `verify failed at ${hex2(at + i)}: wrote ${hex2(data[i])}, read ${hex2(back[i])}. ` +
@@ -215,7 +247,7 @@ export async function flashNano(port, hexText, { onProgress = () => {}, baudRate
     await command(link, [LEAVE_PROGMODE], 0, "leaving programming mode");
     phase = "done";
     progress();
-    return { bytes, pages: total, baud, seconds: (performance.now() - t0) / 1000 };
+    return { bytes, pages: total, baud };
   } catch (e) {
     if (e instanceof FlashError && e.kind === "vanished") {
       const where = phase === "write" ? `after ${done} of ${total} pages` : phase === "verify" ? "while verifying" : "";

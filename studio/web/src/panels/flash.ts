@@ -2,7 +2,7 @@
 // drivers (one build for every arm on L298N or ULN2003 boards, one for STEP/DIR drivers in a CNC
 // shield: the robot is configured after, in the arm panel): its version and size from
 // data/firmware/firmware.json, a progress bar, and a sentence for every way it can fail.
-import { FlashError, flashNano } from "../link/stk500.mjs";
+import { FlashError, TRIES, flashNano } from "../link/stk500.mjs";
 import { $, status } from "../page/dom";
 import type { Studio } from "../page/context";
 
@@ -46,8 +46,8 @@ function showFirmware(): void {
 }
 
 /** The flasher's state (window.articula.flash shows it): busy guards against a second flash. */
-export const flashStatus = { busy: false, phase: "", done: 0, total: 0, error: "", errorKind: "",
-  result: null as { bytes: number; pages: number; baud: number; seconds: number } | null };
+export const flashStatus = { busy: false, phase: "", done: 0, total: 0, attempt: 0, error: "", errorKind: "",
+  result: null as { bytes: number; pages: number; baud: number; seconds: number; attempts: number } | null };
 
 const flashState = (text: string, kind: "" | "ok" | "bad" = "") => status($("flash-state"), text, kind);
 
@@ -69,12 +69,15 @@ async function flashFirmware(): Promise<void> {
     if (!r.ok) throw new Error(`the firmware's file is missing from this site (${r.status})`);
     const result = await flashNano(chosen.port, await r.text(), {
       onProgress: (p) => {
-        Object.assign(f, { phase: p.phase, done: p.done, total: p.total });
+        Object.assign(f, { phase: p.phase, done: p.done, total: p.total, attempt: p.attempt });
         // writing is two thirds of the bar, reading back the last third
         const part = p.total ? p.done / p.total : 0;
         bar.value = { connect: 0, write: (2 * part) / 3, verify: (2 + part) / 3, done: 1 }[p.phase];
-        if (p.phase === "write") flashState(`writing page ${p.done} of ${p.total} (${p.baud.toLocaleString("en")} baud)`);
-        else if (p.phase === "verify") flashState(`reading back page ${p.done} of ${p.total}`);
+        // a flash that stalled starts again from the reset: said, so that the bar going back is no surprise
+        const again = p.attempt > 1 ? `the Nano stopped answering, so the flash started again (try ${p.attempt} of ${TRIES}): ` : "";
+        if (p.phase === "connect" && again) flashState(`${again}resetting the Nano into its bootloader…`);
+        else if (p.phase === "write") flashState(`${again}writing page ${p.done} of ${p.total} (${p.baud.toLocaleString("en")} baud)`);
+        else if (p.phase === "verify") flashState(`${again}reading back page ${p.done} of ${p.total}`);
       },
     });
     f.result = result;
@@ -89,5 +92,7 @@ async function flashFirmware(): Promise<void> {
   } finally {
     f.busy = false;
     button.disabled = false;
+    // after a failure the same button is the retry, and says so
+    button.textContent = f.error ? "Flash again" : "Flash firmware";
   }
 }
