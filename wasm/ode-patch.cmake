@@ -5,6 +5,10 @@
 #    platform!" for anything it does not know: emscripten's libc is POSIX, take the Linux branch.
 #  - CMakeLists.txt sets PENTIUM when CMAKE_SYSTEM_PROCESSOR looks like x86 (emscripten's
 #    toolchain file says "x86"), which pulls x86 inline assembly into timer.cpp.
+#  - and, for the unity build wasm/CMakeLists.txt asks (every em++ call costs a second before
+#    it compiles anything: ODE's hundred files took 210 CPU s), the sources that reuse each
+#    other's names compile alone: OPCODE and its Ice, the trimesh colliders, and the
+#    threading helpers beside them.
 function(patch file from to)
   file(READ ${file} text)
   string(FIND "${text}" "${to}" done)
@@ -23,3 +27,5 @@ patch(${ODE_SOURCE}/config.h.cmake.in "#elif defined(__linux__)"
       "#elif defined(__linux__) || defined(__EMSCRIPTEN__)")
 patch(${ODE_SOURCE}/CMakeLists.txt "if(CMAKE_SYSTEM_PROCESSOR MATCHES \"i686.*|x86.*|x86_64.*|amd64.*|AMD64.*\")"
       "if(NOT EMSCRIPTEN AND CMAKE_SYSTEM_PROCESSOR MATCHES \"i686.*|x86.*|x86_64.*|amd64.*|AMD64.*\")")
+patch(${ODE_SOURCE}/CMakeLists.txt "add_library(ODE \${SRCS})\n"
+      "add_library(ODE \${SRCS})\n# (Articula's patch) alone in a unity build: these reuse each other's names\nforeach(s \${SRCS})\n  if(s MATCHES \"OPCODE|trimesh|/ou/|odeou|odetls\")\n    set_source_files_properties(\${s} PROPERTIES SKIP_UNITY_BUILD_INCLUSION ON)\n  endif()\nendforeach()\n")
