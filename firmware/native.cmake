@@ -53,8 +53,7 @@ function(articula_firmware_variant variant robot prefix sitl tests)
   endif()
 
   if(NOT sitl)
-    set(sitl firmware_sitl_${variant})
-    articula_firmware_sitl(${sitl} 3)
+    set(sitl firmware_sitl_nano)
   endif()
 
   # The tests' harness: the variant's arm at boot, the checks that need GoogleTest.
@@ -62,7 +61,7 @@ function(articula_firmware_variant variant robot prefix sitl tests)
   target_include_directories(firmware_harness_${variant} PUBLIC ${fw_test_dir})
   target_link_libraries(firmware_harness_${variant} PUBLIC ${sitl} GTest::gtest)
   target_compile_options(firmware_harness_${variant} PRIVATE ${ARTICULA_WARNINGS} ${ARTICULA_TEST_FLAGS})
-  target_compile_definitions(firmware_harness_${variant} PRIVATE ${config_defs})
+  target_compile_definitions(firmware_harness_${variant} PRIVATE ${config_defs} ARTICULA_ROBOT_FILE="${robot_file}")
   if(robot)
     add_dependencies(firmware_harness_${variant} firmware_config_${variant})
   endif()
@@ -78,18 +77,32 @@ function(articula_firmware_variant variant robot prefix sitl tests)
     if(name IN_LIST not_for_this_arm)
       continue()
     endif()
+    # The folder's tests, compiled once for each build of the firmware (the variant's arm is its
+    # harness's): every variant on that build links the same objects.
+    set(objects firmware_tests_${sitl}_${name})
+    if(NOT TARGET ${objects})
+      add_library(${objects} OBJECT ${folder}/${name}.cpp)
+      target_include_directories(${objects} PRIVATE ${fw_test_dir})
+      target_link_libraries(${objects} PRIVATE ${sitl} GTest::gtest)
+      if(name IN_LIST fw_host_tests)  # the host's loader, its prediction
+        target_link_libraries(${objects} PRIVATE articula_host)
+      endif()
+      target_compile_options(${objects} PRIVATE ${ARTICULA_WARNINGS} ${ARTICULA_TEST_FLAGS})
+      target_compile_definitions(${objects} PRIVATE ARTICULA_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
+    endif()
     set(exe firmware_${variant}_${name})
-    add_executable(${exe} ${folder}/${name}.cpp)
+    add_executable(${exe} $<TARGET_OBJECTS:${objects}>)
     target_link_libraries(${exe} PRIVATE firmware_harness_${variant} GTest::gtest_main)
-    if(name IN_LIST fw_host_tests)  # the host's loader, its prediction
+    if(name IN_LIST fw_host_tests)
       target_link_libraries(${exe} PRIVATE articula_host)
     endif()
-    target_compile_options(${exe} PRIVATE ${ARTICULA_WARNINGS} ${ARTICULA_TEST_FLAGS})
-    target_compile_definitions(${exe} PRIVATE ARTICULA_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
-                                              ARTICULA_ROBOT_FILE="${robot_file}")
     gtest_discover_tests(${exe} TEST_PREFIX "${prefix}" DISCOVERY_TIMEOUT 60)
   endforeach()
 endfunction()
+
+# The firmware for the Nano's three motors on its virtual clock: one library for every variant
+# on it (a variant's arm is in its harness, not in the firmware's build).
+articula_firmware_sitl(firmware_sitl_nano 3)
 
 articula_firmware_variant(main "" "firmware." "" "")
 articula_firmware_variant(halfstep ${fw_test_dir}/robots/halfstep.json "firmware.halfstep." "" "")

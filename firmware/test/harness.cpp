@@ -18,6 +18,14 @@ void boot(bool blank_eeprom, const std::string& during_setup) {
 #endif
 }
 
+const char* robot_file() {
+#ifdef ARTICULA_ROBOT_FILE
+  return ARTICULA_ROBOT_FILE;
+#else
+  return "";  // (PlatformIO's native tests: none of them reads the robot file)
+#endif
+}
+
 Status status() {
   send("?");
   tick();

@@ -45,6 +45,10 @@ void boot(bool blank_eeprom = true, const std::string& during_setup = "");
 // Sends '?' and runs one pass; the report it answers with, parsed (a test failure if none).
 Status status();
 
+// The variant's robot file (the built-in MK2's for the main one): what the tests that need the
+// host library load with its loader.
+const char* robot_file();
+
 // The same, as a host would work them out: the protocol's 2 MHz tick and the $0 and $1 of
 // a `$` listing (sends `$`).
 articula::MotionSettings motion_settings_from_listing();

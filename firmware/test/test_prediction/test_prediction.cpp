@@ -28,7 +28,7 @@ using namespace articula;
 namespace {
 
 const host::Robot& robot_file() {
-  static const host::Robot r = host::load_robot_file(ARTICULA_ROBOT_FILE);
+  static const host::Robot r = host::load_robot_file(sim::robot_file());
   return r;
 }
 

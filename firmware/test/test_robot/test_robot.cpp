@@ -28,7 +28,7 @@ typedef Model<double, 3, 4> ModelD;
 
 // The robot file, read by the host's loader (not through the firmware's configuration).
 const host::Robot& robot_file() {
-  static const host::Robot r = host::load_robot_file(ARTICULA_ROBOT_FILE);
+  static const host::Robot r = host::load_robot_file(sim::robot_file());
   return r;
 }
 
