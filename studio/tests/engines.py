@@ -18,9 +18,11 @@ from urllib.parse import urljoin, urlparse
 # (make test: the build tree): Chromium draws WebGL in software here (SwiftShader), and a frame
 # at the page's own quality costs four times the CPU time. The screenshots for the docs
 # (docs/img: ARTICULA_SCREENSHOTS unset or naming it) are taken at the page's own quality. An address that names
-# its quality keeps it (the first `quality` wins).
+# its quality keeps it (the first `quality` wins). And at most 5 frames a second (?fps=5): the
+# tests look at where the arm and the ink end, not at the motion, and the last pose is always
+# drawn (bench/ measures the frame rates).
 _SHOTS = os.environ.get("ARTICULA_SCREENSHOTS")
-LOW = "&quality=low" if _SHOTS and Path(_SHOTS).resolve() != Path(__file__).resolve().parents[2] / "docs" / "img" else ""
+LOW = "&quality=low&fps=5" if _SHOTS and Path(_SHOTS).resolve() != Path(__file__).resolve().parents[2] / "docs" / "img" else ""
 
 # Every status line the page shows ("id: text"): what a panel said last (a refusal included).
 STATUS_LINES_JS = ("[...document.querySelectorAll('.status')].map((e) => e.id + ': ' + e.textContent)"

@@ -76,6 +76,8 @@ export class View {
   readonly continuous = new URLSearchParams(location.search).get("fps") === "continuous";
   // ?quality=low (a slow computer) also draws at most 20 frames a second while the arm moves:
   // a software renderer's frame is the page's largest cost then, and 20 still reads as motion.
+  // ?fps=N draws at most N a second (the last pose is always drawn): a very slow computer, or
+  // a test that looks at where the arm ends, not at the motion (studio/tests: 5).
   private minFrameMs = 0;
   private lastDrawn = -Infinity;
 
@@ -102,6 +104,8 @@ export class View {
     this.software = View.softwareRenderer();
     const q = new URLSearchParams(location.search).get("quality");
     if (q === "low") this.minFrameMs = 50;
+    const cap = Number(new URLSearchParams(location.search).get("fps"));
+    if (cap > 0 && Number.isFinite(cap)) this.minFrameMs = Math.max(this.minFrameMs, 1000 / cap);
     this.canvas = document.createElement("canvas");
     this.canvas.setAttribute("aria-label", "The arm in 3D: drag to orbit, arrow keys orbit, + and - zoom");
     this.canvas.tabIndex = 0;
