@@ -4,6 +4,8 @@
 #   make          build everything (host tools, AVR targets, the Nano firmware and its sizes)
 #   make test     install, build, run every test, print a summary
 #   make test-loaded  the same tests with two busy processes beside them (none may need a quiet machine)
+#   make test-cpu [CORES=0.5]  the same tests, with the CPU seconds each suite took (scripts/cpu-by-suite);
+#                 CORES holds them to that many cores (a cgroup, as root): a slow machine
 #   make demo     install, build, run the thesis experiments on the virtual Nano, report
 #   make studio   install, build, serve Articula Studio on 127.0.0.1 and open it in the browser
 #   make web      build only the studio's static site (studio/web/dist), for any web server
@@ -31,7 +33,7 @@ BAUD_old = 57600
 BAUD_new = 115200
 BAUD ?= $(BAUD_$(BOOTLOADER))
 
-.PHONY: all build bootstrap test test-loaded demo studio web firmware flash clean format
+.PHONY: all build bootstrap test test-loaded test-cpu demo studio web firmware flash clean format
 
 all: build
 
@@ -71,6 +73,12 @@ test: build
 
 test-loaded: build
 	@bash scripts/test-loaded $(BUILD) $(JOBS)
+
+test-cpu: build
+	@echo "== tests (ctest), their CPU seconds by suite$(if $(CORES), held to $(CORES) cores) =="
+	python3 scripts/cpu-by-suite $(if $(CORES),--cgroup-cpu $(CORES)) --json $(BUILD)/test-cpu.json -- \
+	  ctest --test-dir $(BUILD) -j $(JOBS) --output-on-failure --output-junit ctest-cpu-junit.xml
+	@bash scripts/test-summary $(BUILD)/ctest-cpu-junit.xml
 
 demo: build
 	@echo "== the MK2 Plus arm: its DH table =="
