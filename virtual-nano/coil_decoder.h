@@ -26,14 +26,17 @@
 #ifndef ARTICULA_VIRTUAL_NANO_COIL_DECODER_H
 #define ARTICULA_VIRTUAL_NANO_COIL_DECODER_H
 
+#include <articula/drive.h>
+
 #include <cstdint>
 #include <string>
 
 namespace vnano {
 
-// IN1..IN4 as bits 0..3, in forward order: an L298N's, and a ULN2003's.
-constexpr uint8_t kHalfStepSequence[8] = {0x1, 0x5, 0x4, 0x6, 0x2, 0xA, 0x8, 0x9};
-constexpr uint8_t kUnipolarSequence[8] = {0x1, 0x3, 0x2, 0x6, 0x4, 0xC, 0x8, 0x9};
+// IN1..IN4 as bits 0..3, in forward order: an L298N's, and a ULN2003's (the core's table,
+// articula/drive.h, which the firmware writes).
+constexpr const uint8_t* kHalfStepSequence = articula::kCoilSequence[0];
+constexpr const uint8_t* kUnipolarSequence = articula::kCoilSequence[1];
 
 constexpr int kReleased = -1;  // phase_of(0)
 constexpr int kIllegal = -2;   // phase_of(a pattern not in the table)

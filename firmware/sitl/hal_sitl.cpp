@@ -16,19 +16,6 @@ namespace sitl {
 Hardware hw;
 
 namespace {
-// The eight half-step states, IN1..IN4 written as bits 0..3. Written out here from the
-// specification, not taken from the firmware. A bipolar motor on an L298N: 1000 1010 0010
-// 0110 0100 0101 0001 1001; a unipolar one on a ULN2003: 1000 1100 0100 0110 0010 0011 0001 1001.
-const uint8_t kHalfStep[2][8] = {{0x1, 0x5, 0x4, 0x6, 0x2, 0xA, 0x8, 0x9}, {0x1, 0x3, 0x2, 0x6, 0x4, 0xC, 0x8, 0x9}};
-}  // namespace
-
-int sequence_index(uint8_t pattern, bool unipolar) {
-  for (int i = 0; i < 8; ++i)
-    if (kHalfStep[unipolar ? 1 : 0][i] == pattern) return i;
-  return -1;
-}
-
-namespace {
 // The Nano's report buffer: the most motors it drives.
 const uint16_t kReportSize = articula::status_report_size(robot::kJoints);
 
@@ -173,26 +160,24 @@ void write_coils(uint8_t motor, uint8_t pattern) {
     return;
   }
   hw.pattern[motor] = pattern;
-  if (pattern != 0) {
-    const int index = sitl::sequence_index(pattern, hw.unipolar);
-    // Half steps when the motor has two microsteps; any other count (an arm the Nano cannot
-    // take, in the host's build) is driven one full-step pattern a step, as 1 is.
-    const bool full = hw.microsteps[motor] != 2;
-    if (index < 0 || (full && index % 2 == 0)) {
-      hw.errors.push_back("motor " + std::to_string(motor) + ": pattern " + std::to_string(pattern) +
-                          " is not in its sequence");
-    } else if (hw.last_index[motor] >= 0) {
-      const int stride = full ? 2 : 1;
-      const int diff = (index - hw.last_index[motor] + 8) % 8;
-      if (diff == stride)
-        w.step = 1;
-      else if (diff == 8 - stride)
-        w.step = -1;
-      else if (diff != 0)
-        hw.errors.push_back("motor " + std::to_string(motor) + ": jump of " + std::to_string(diff) + " places");
-      hw.position[motor] += w.step;
-    }
-    if (index >= 0) hw.last_index[motor] = index;
+  // The virtual Nanos' decoder reads it (virtual-nano/coil_decoder.h), held to the motor's own
+  // mode: half steps when it has two microsteps; any other count (an arm the Nano cannot take,
+  // in the host's build) is driven one full-step pattern a step, as 1 is.
+  vnano::CoilDecoder& d = hw.coils[motor];
+  d.set_unipolar(hw.unipolar);
+  const vnano::CoilChange c = d.feed(pattern);
+  const int phase = vnano::phase_of(pattern, hw.unipolar);
+  const bool full = hw.microsteps[motor] != 2;
+  const std::string who = "motor " + std::to_string(motor) + ": ";
+  if (phase == vnano::kIllegal || (full && phase >= 0 && phase % 2 == 0)) {
+    hw.errors.push_back(who + "pattern " + std::to_string(pattern) + " is not in its sequence");
+  } else if (c.event == vnano::CoilEvent::kFault ||
+             (c.event == vnano::CoilEvent::kStep && c.delta_half != (full ? 2 : 1) && c.delta_half != -(full ? 2 : 1))) {
+    const int diff = (phase - vnano::phase_of(c.reference, hw.unipolar) + 8) % 8;
+    hw.errors.push_back(who + "jump of " + std::to_string(diff) + " places");
+  } else if (c.event == vnano::CoilEvent::kStep) {
+    w.step = c.delta_half > 0 ? 1 : -1;
+    hw.position[motor] += w.step;
   }
   hw.coil_log.push_back(w);
 }

@@ -27,6 +27,7 @@
 
 #include <articula/settings.h>
 
+#include "coil_decoder.h"  // (virtual-nano/: the SITL reads the coils as the virtual Nanos do)
 #include "report.h"
 #include "../src/robot.h"  // (by its path: the host library has a robot.h of its own)
 
@@ -90,7 +91,6 @@ struct Hardware {
   Hardware() {
     for (int m = 0; m < kMotors; ++m) {
       microsteps[m] = 1;
-      last_index[m] = -1;
       endstop_below[m] = true;
     }
   }
@@ -140,7 +140,7 @@ struct Hardware {
   bool drivers_enabled = false;
   uint8_t staged_pulses = 0;  // bit i: a pulse of motor i at the next deadline
   int64_t position[kMotors] = {};
-  int last_index[kMotors];  // place in the half-step table of the last pattern (-1 at first)
+  vnano::CoilDecoder coils[kMotors];  // the virtual Nanos' decoder (virtual-nano/coil_decoder.h)
   uint8_t pattern[kMotors] = {};
   std::vector<std::string> errors;  // decoding errors: an illegal pattern or jump
 
@@ -159,10 +159,6 @@ void log_action(uint8_t kind);
 
 // A fresh machine: everything reset; the EEPROM kept unless blank_eeprom (then all 0xFF).
 void reset(bool blank_eeprom);
-
-// The half-step table's index of a pattern, -1 if it is none of the eight: an L298N's bipolar
-// table, or with `unipolar` a ULN2003's.
-int sequence_index(uint8_t pattern, bool unipolar = false);
 
 // A byte arrives at the receiver (the receive interrupt).
 void receive(char c);

@@ -132,13 +132,14 @@ void boot(bool blank_eeprom, const std::string& during_setup, const uint8_t* con
   sitl::reset(blank_eeprom);
   if (config != nullptr) {
     // The arm as `articula configure ROBOT` would have left it in EEPROM.
-    uint8_t* e = sitl::hw.eeprom + robot::kEepromAddress;
-    if (blank_eeprom || e[0] != robot::kEepromVersion) {
+    // (robot.h's layout: the version, the image, its CRC-16 low byte first)
+    uint8_t* e = sitl::hw.eeprom;
+    if (blank_eeprom || e[robot::kEepromAddress] != robot::kEepromVersion) {
       const uint16_t crc = articula::config_checksum(config);
-      e[0] = robot::kEepromVersion;
-      std::memcpy(e + 1, config, articula::kConfigImageSize);
-      e[1 + articula::kConfigImageSize] = uint8_t(crc);
-      e[2 + articula::kConfigImageSize] = uint8_t(crc >> 8);
+      e[robot::kEepromAddress] = robot::kEepromVersion;
+      std::memcpy(e + robot::kEepromImageAt, config, articula::kConfigImageSize);
+      e[robot::kEepromCrcAt] = uint8_t(crc);
+      e[robot::kEepromCrcAt + 1] = uint8_t(crc >> 8);
     }
   }
   g_partial.clear();

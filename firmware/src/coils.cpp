@@ -2,16 +2,17 @@
 // servos' pulse widths.
 #include "coils.h"
 
+#include <articula/drive.h>
+
 #include "hal.h"
 #include "robot.h"
 
 namespace coils {
 
-const uint8_t kSequence[2][8] = {{0x1, 0x5, 0x4, 0x6, 0x2, 0xA, 0x8, 0x9},
-                                 {0x1, 0x3, 0x2, 0x6, 0x4, 0xC, 0x8, 0x9}};
+using articula::kCoilSequence;
 
 namespace {
-const uint8_t* g_table = kSequence[0];  // the configuration's drive's
+const uint8_t* g_table = kCoilSequence[0];  // the configuration's drive's
 uint8_t g_phase[robot::kJoints];
 uint8_t g_stride[robot::kJoints];  // 2 in full steps, 1 in half steps
 bool g_on;
@@ -26,7 +27,7 @@ void attach_servos(const int32_t* steps) {
 
 void setup() {
   attach_servos(0);
-  g_table = kSequence[robot::config.drive == articula::kDriveUln2003 ? 1 : 0];
+  g_table = kCoilSequence[robot::config.drive == articula::kDriveUln2003 ? 1 : 0];
   for (uint8_t i = 0; i < robot::kJoints; ++i) {
     g_phase[i] = 1;
     g_stride[i] = robot::motor(i).microsteps == 2 ? 1 : 2;
@@ -35,7 +36,7 @@ void setup() {
 }
 
 namespace {
-// The motor's next place in kSequence, taken.
+// The motor's next place in kCoilSequence, taken.
 inline uint8_t advance(uint8_t motor, bool negative) {
   const uint8_t p = uint8_t((g_phase[motor] + (negative ? 8 - g_stride[motor] : g_stride[motor])) & 7);
   g_phase[motor] = p;

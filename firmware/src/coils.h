@@ -21,8 +21,8 @@
 
 namespace coils {
 
-// Bit 0 is IN1 .. bit 3 IN4. [0] the L298N's, [1] the ULN2003's.
-extern const uint8_t kSequence[2][8];
+// The table is the core's articula::kCoilSequence (articula/drive.h): bit 0 is IN1 .. bit 3
+// IN4, [0] the L298N's, [1] the ULN2003's.
 
 // Takes the configuration's table, and places every motor on the first full-step state (1010
 // or 1100) with its coils off; a servo arm's servos get their step-0 pulses (attach_servos), as
@@ -45,7 +45,7 @@ void energise();
 void release();
 bool on();
 
-// The motor's place in kSequence, 0..7 (for tests).
+// The motor's place in kCoilSequence, 0..7 (for tests).
 uint8_t phase(uint8_t motor);
 
 }  // namespace coils

@@ -21,8 +21,8 @@ int32_t home_steps[kJoints];
 namespace {
 const uint16_t kAddress = kEepromAddress;
 const uint8_t kVersion = kEepromVersion;
-const uint16_t kImageAt = kAddress + 1;
-const uint16_t kCrcAt = kImageAt + kConfigImageSize;
+const uint16_t kImageAt = kEepromImageAt;
+const uint16_t kCrcAt = kEepromCrcAt;
 
 // What a blank EEPROM gets: the MK2 (builtin_config.h, made by the host's nano_config; on a
 // CNC shield builtin_config_cnc.h, the MK2 on STEP/DIR drivers; the servo build's

@@ -13,6 +13,8 @@ namespace robot {
 // settings (settings.h) sit below it.
 static const uint16_t kEepromAddress = 32;
 static const uint8_t kEepromVersion = 3;  // 2: the image carries $131 (the drive); 3: $132..$139 (servos)
+static const uint16_t kEepromImageAt = kEepromAddress + 1;                           // the image
+static const uint16_t kEepromCrcAt = kEepromImageAt + articula::kConfigImageSize;  // its CRC-16
 
 // Room for the most motors a configuration has; count() of them are used. The Nano's build has
 // the three its pins wire; a build for the host (firmware/sitl) may have more

@@ -19,6 +19,15 @@ enum DriveKind : uint8_t {
 };
 static const uint8_t kDriveKinds = 4;
 
+// The eight half-step states of a four-input driver, IN1..IN4 as bits 0..3, in the order a
+// motor turns forwards: an L298N's bipolar motor ([0]: 1000 1010 0010 0110 0100 0101 0001 1001)
+// and a ULN2003's unipolar one ([1]: 1000 1100 0100 0110 0010 0011 0001 1001). The full-step
+// sequence (two phases on) is every other state, the odd places. The firmware writes them
+// (firmware/src/coils.cpp); the virtual Nanos' coil decoder (virtual-nano/coil_decoder.h), and
+// through it the SITL, reads them back.
+static const uint8_t kCoilSequence[2][8] = {{0x1, 0x5, 0x4, 0x6, 0x2, 0xA, 0x8, 0x9},
+                                            {0x1, 0x3, 0x2, 0x6, 0x4, 0xC, 0x8, 0x9}};
+
 struct DriveKindInfo {
   const char* id;     // the robot file's "kind"
   const char* title;  // as a person reads it

@@ -41,9 +41,9 @@ bool half_steps(int motor) { return robot::motor(uint8_t(motor)).microsteps == 2
 
 TEST(Coils, TableIsTheSpecifiedHalfStepSequence) {
   for (int t = 0; t < 2; ++t) {
-    for (int i = 0; i < 8; ++i) EXPECT_EQ(pins(coils::kSequence[t][i]), kHalfSteps[t][i]) << t << " " << i;
+    for (int i = 0; i < 8; ++i) EXPECT_EQ(pins(articula::kCoilSequence[t][i]), kHalfSteps[t][i]) << t << " " << i;
     // The full-step states (two phases on) are the odd places.
-    for (int i = 0; i < 4; ++i) EXPECT_EQ(pins(coils::kSequence[t][2 * i + 1]), kFullSteps[t][i]) << t << " " << i;
+    for (int i = 0; i < 4; ++i) EXPECT_EQ(pins(articula::kCoilSequence[t][2 * i + 1]), kFullSteps[t][i]) << t << " " << i;
   }
 }
 
