@@ -29,7 +29,7 @@
 namespace sitl {
 
 static const uint64_t kPollTicks = 1000;  // a main-loop pass every 0.5 ms
-static const uint64_t kSecond = 2000000;  // ticks
+static const uint64_t kSecond = articula::kStepTickHz;  // ticks
 
 // The serial line: USART0 with U2X and UBRR 16 (hal_avr.cpp) takes 8 x 17 CPU cycles a bit,
 // 17 ticks of the 2 MHz step timer: 117,647 baud for the 115,200 asked. A frame (8N1) is

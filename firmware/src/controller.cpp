@@ -248,10 +248,10 @@ uint8_t queue_command(const Command& c) {
     case kCmdGripper:
     case kCmdAperture: {
       if (queue::full()) return kWait;
-      const int32_t aperture = c.type == kCmdAperture ? c.arg[0] : (c.arg[0] ? 0 : 100000L);
+      const int32_t aperture = command_aperture(c);
       a.kind = queue::kGripper;
       a.grip.pulse_us = gripper::pulse_us(aperture);
-      a.grip.percent = uint8_t((aperture + 500) / 1000);
+      a.grip.percent = aperture_percent(aperture);
       a.grip.settle_ticks = settings::value[settings::kSettleMs] * (hal::kTickHz / 1000);
       push_planned(a);
       return kOk;

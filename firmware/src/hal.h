@@ -9,6 +9,7 @@
 
 #include <stdint.h>
 
+#include <articula/motion.h>
 #include <articula/platform.h>
 
 namespace queue {
@@ -17,8 +18,8 @@ struct Action;
 
 namespace hal {
 
-// Timer ticks per second of the step timer (Timer1 at 16 MHz with prescaler 8).
-static const uint32_t kTickHz = 2000000UL;
+// Timer ticks per second of the step timer (Timer1 at 16 MHz with prescaler 8): the core's.
+static const uint32_t kTickHz = articula::kStepTickHz;
 
 // Ports, timers (the millisecond tick too), EEPROM and the USART, the receiver included:
 // bytes that arrive from here on are kept. The realtime bytes among them wait for start().

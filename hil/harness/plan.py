@@ -40,7 +40,7 @@ class Command:
     @property
     def word(self) -> str:
         """The command word: one upper-case letter, or "$"."""
-        t = self.text.split("#", 1)[0].strip()
+        t = articula.line_command(self.text)
         return t[:1].upper() if t else ""
 
     @property

@@ -131,6 +131,7 @@ def first_interval_s(settings: dict[int, float], pred: Prediction | None = None)
     when a move starts, so the virtual Nano's measured duration is this interval plus the span
     of the move's steps. A straight line (T) whose first segment cruises slower than that
     first step takes its cruise interval (the prediction's `cruise4`, in 4-tick units)."""
-    c0 = articula._core.first_interval_s(int(settings.get(0, 600)), int(settings.get(1, 2000)))
+    d = articula.DEFAULT_SETTINGS
+    c0 = articula._core.first_interval_s(int(settings.get(0, d[0])), int(settings.get(1, d[1])))
     segments = pred.raw.get("segments") if pred is not None else None
-    return max(c0, 4 * segments[0]["cruise4"] / 2_000_000) if segments else c0
+    return max(c0, 4 * segments[0]["cruise4"] / articula.STEP_TICK_HZ) if segments else c0

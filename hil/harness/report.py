@@ -107,7 +107,7 @@ def summary_text(run: Run, report_path: Path) -> str:
     if s["worst_q"] is not None:
         w = s["worst_q"]
         lines.append(f"  worst predicted quantization error: {w.pred.error_mm:.3f} mm "
-                     f"({w.plan}:{w.line} {w.command.text.split('#')[0].strip()})")
+                     f"({w.plan}:{w.line} {articula.line_command(w.command.text)})")
     if s["timed"]:
         w = s["worst_d"]
         src = "the pins' cycle stamps" if run.has_pins else "the host clock"
@@ -463,7 +463,7 @@ class Doc:
 # ---------------------------------------------------------------- the report
 
 def _cmd(r: Record) -> str:
-    return "`" + r.command.text.split("#")[0].strip() + "`"
+    return "`" + articula.line_command(r.command.text) + "`"
 
 
 def write_csv(run: Run, path: Path, motors: int, joints: int) -> None:
@@ -493,7 +493,7 @@ def write_csv(run: Run, path: Path, motors: int, joints: int) -> None:
             p = r.pred
             sj = r.command.single_joint
             rp = r.command.repeat
-            row = [r.plan, r.line, r.command.text.split("#")[0].strip(), r.command.kind, r.command.expect,
+            row = [r.plan, r.line, articula.line_command(r.command.text), r.command.kind, r.command.expect,
                    sj[0] if sj else "", f"{sj[1]:g}" if sj else "", rp[0] if rp else "", rp[1] if rp else "",
                    p.reply if p else "", r.reply or ""]
             row += cols(p.steps if p else None, motors) + cols(r.fw_steps, motors)

@@ -17,6 +17,7 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
+import articula
 from articula.link import (Link, LinkError, LinkTimeout, LinkVanished, Status, parse_info, parse_setting, parse_status,
                    status_text)
 from .plan import Command, Plan
@@ -253,7 +254,7 @@ class Runner:
         while True:
             asked = time.monotonic()
             st = self.status(asked + self.timeout, rec, plan, faults)
-            if st.state in ("Idle", "Alarm"):
+            if st.at_rest:
                 # at rest, but first seen after the deadline while it still moved at the look
                 # before: it did not come to rest in time (a busy host can oversleep its poll
                 # while the arm, or the emulator, runs on; the deadline still holds)
@@ -380,7 +381,7 @@ class Runner:
                 faults.append(Fault(name, None, f"M {zero}", "setup", res.aborted))
                 return
             st, _ = self.wait_idle(time.monotonic() + self.timeout + 30, None, name, faults)
-        if st.state not in ("Idle", "Alarm"):
+        if not st.at_rest:
             res.aborted = f"the arm is not at rest at the start ({st.text})"
             faults.append(Fault(name, None, "?", "setup", res.aborted))
             return
@@ -424,7 +425,7 @@ class Runner:
         for i, rec in enumerate(res.records):
             cmd = rec.command
             if self.progress:
-                self.progress.step(f"{name}:{cmd.line} {cmd.text.split('#')[0].strip()}")
+                self.progress.step(f"{name}:{cmd.line} {articula.line_command(cmd.text)}")
             pred = rec.pred
             reply_deadline = cmd.timeout or self.timeout
             run_deadline = cmd.timeout or (self.timeout + 3.0 * (pred.seconds if pred else 0.0))
@@ -471,7 +472,7 @@ class Runner:
             if rec.status is not None and rec.status.angles and len(rec.status.angles) == len(self.robot.motors):
                 rec.tool_firmware = list(self.robot.tool_from_actuators(rec.status.angles))
             if rec.reply == "ok" and cmd.word == "$" and "=" in cmd.text:
-                s = parse_setting(cmd.text.split("#")[0].strip().replace(" ", ""))
+                s = parse_setting(articula.line_command(cmd.text).replace(" ", ""))
                 if s:
                     self.current_settings[s[0]] = s[1]
             # Every motor suddenly back on step 0 after agreeing with the prediction so far,

@@ -11,6 +11,8 @@ import os
 import subprocess
 from pathlib import Path
 
+import articula
+
 SOURCE = Path(os.environ.get("ARTICULA_SOURCE_DIR", Path(__file__).resolve().parents[2]))
 VNANO = Path(os.environ.get("ARTICULA_VNANO", SOURCE / "build/virtual-nano/articula-vnano"))
 ELF = Path(os.environ.get("ARTICULA_NANO_ELF", SOURCE / "build/avr/firmware/articula-nano.elf"))
@@ -18,7 +20,7 @@ CLI = Path(os.environ.get("ARTICULA_CLI", SOURCE / "build/host/cli/articula"))
 PLANS = SOURCE / "hil" / "streams"
 STREAMED = ["collinear-split", "circle", "zigzag", "square", "stream-mixed", "lines"]
 ARMS = {"full": SOURCE / "robots" / "mk2plus.json", "half": SOURCE / "hil" / "robots" / "mk2-halfstep.json"}
-TICKS_PER_CYCLE = 8          # the 2 MHz step timer on the 16 MHz Nano
+TICKS_PER_CYCLE = 16_000_000 // articula.STEP_TICK_HZ  # cycles of the 16 MHz Nano a step-timer tick
 MAX_END_TICKS = 20           # 10 us: the HAL's jitter bound (firmware/README.md)
 MAX_DURATION_PCT = 0.01
 
@@ -27,7 +29,7 @@ def lines_of(path: Path) -> list[str]:
     """The plan's lines as the harness sends them: comments and blanks out."""
     out = []
     for line in path.read_text().splitlines():
-        text = line.split("#")[0].strip()
+        text = articula.line_command(line)
         if text:
             out.append(text)
     return out
@@ -86,9 +88,9 @@ def predicted(robot: Path, plan: Path, settings: str = "", stop_at: list[float] 
     return json.loads(p.stdout)
 
 
-def first_interval_ticks(max_rate: int = 600, accel: int = 2000) -> int:
-    import articula  # the profile's own first step (motion.h)
-    return round(articula._core.first_interval_s(max_rate, accel) * 2_000_000)
+def first_interval_ticks(max_rate: int = articula.DEFAULT_SETTINGS[0], accel: int = articula.DEFAULT_SETTINGS[1]) -> int:
+    """The profile's own first step (motion.h), in step-timer ticks: the firmware's defaults unless given."""
+    return round(articula._core.first_interval_s(max_rate, accel) * articula.STEP_TICK_HZ)
 
 
 def compare(robot: Path, plan: Path, tmp: Path) -> dict:

@@ -106,7 +106,7 @@ int run_predict(int argc, char** argv) {
         throw UsageError("--stop-at " + text + ": '" + item +
                          "' is not a time in seconds (0 or more, in increasing order, comma-separated)");
       last = v;
-      sender.stop_ticks.push_back(uint64_t(std::llround(v * host::kControllerTickHz)));
+      sender.stop_ticks.push_back(uint64_t(std::llround(v * articula::kStepTickHz)));
     }
   }
   if (args.count("path") && output_format(args) != "json") throw UsageError("--path needs --json");

@@ -139,8 +139,9 @@ std::vector<JointVerdict> joint_verdicts(const std::vector<VerdictPoint>& points
 // robot reaches from its base (InverseKinematics::reach_bound). Checked in order: not a number;
 // far beyond the arm's reach; typed in cm (ten times it lies much nearer the prediction);
 // far from the prediction (more than `far_mm`).
+inline constexpr double kMeasurementFarMm = 50;
 std::string measurement_question(const Vec3<double>& measured, const Vec3<double>& predicted, double reach_mm,
-                                 double far_mm = 50);
+                                 double far_mm = kMeasurementFarMm);
 
 }  // namespace articula::host
 

@@ -332,7 +332,7 @@ void FirmwareSession::harvest() {
     e.line = q < line_of_.size() ? line_of_[q] : 0;
     e.action = Event::Action(qa.kind);
     if (qa.kind == queue::kMove || qa.kind == queue::kHome) e.delta.assign(qa.delta, qa.delta + n);
-    e.motion = MotionSettings{kControllerTickHz, qa.max_rate, qa.accel};
+    e.motion = MotionSettings{kStepTickHz, qa.max_rate, qa.accel};
     if (qa.kind == queue::kGripper) e.percent = qa.percent;
     e.settle_ticks = qa.settle_ticks;
     got.push_back({2, e});

@@ -32,8 +32,6 @@
 
 namespace articula::host {
 
-// The firmware's step timer: 2 MHz (Timer1 at 16 MHz / 8).
-inline constexpr uint32_t kControllerTickHz = 2000000;
 
 // The controller's settings, $0 .. $7 (articula/settings.h numbers them and gives their
 // ranges and defaults): whole numbers.
@@ -45,7 +43,7 @@ struct ControllerSettings {
   };
   std::array<uint32_t, kCount> value = defaults();  // the firmware's defaults
 
-  MotionSettings motion() const { return {kControllerTickHz, value[kMaxRate], value[kAccel]}; }
+  MotionSettings motion() const { return {kStepTickHz, value[kMaxRate], value[kAccel]}; }
   static std::array<uint32_t, kCount> defaults() {
     std::array<uint32_t, kCount> v{};
     for (int n = 0; n < kCount; ++n) v[size_t(n)] = setting_range(uint8_t(n), 3).fallback;
@@ -134,9 +132,9 @@ struct PredictRecord {
   uint64_t ticks = 0;           // duration in 2 MHz ticks
   uint64_t start_tick = 0;      // when the action starts and ends, counted from the first
   uint64_t end_tick = 0;        //   line's arrival (predict_program: the firmware's times)
-  double seconds() const { return double(ticks) / kControllerTickHz; }
-  double start_s() const { return double(start_tick) / kControllerTickHz; }
-  double end_s() const { return double(end_tick) / kControllerTickHz; }
+  double seconds() const { return double(ticks) / kStepTickHz; }
+  double start_s() const { return double(start_tick) / kStepTickHz; }
+  double end_s() const { return double(end_tick) / kStepTickHz; }
 };
 
 // How the lines reach the controller, which decides when each is queued and so how far the
@@ -167,7 +165,7 @@ struct Prediction {
   double worst_error_mm = 0;  // largest error_mm of the accepted commands
   uint64_t total_ticks = 0;   // end of the last action
   uint64_t first_step_tick = 0;  // the first step any motor makes (0 if none)
-  double total_s() const { return double(total_ticks) / kControllerTickHz; }
+  double total_s() const { return double(total_ticks) / kStepTickHz; }
 };
 
 // Runs a whole program on the firmware (predict_run.cpp), each line as `sender` delivers it,

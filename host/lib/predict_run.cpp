@@ -354,7 +354,7 @@ Prediction predict_program(const Robot& robot_in, const Program& program, const 
   const uint64_t first_step = sitl::first_step() == 0 ? 0 : sitl::first_step() - t0;
   for (PredictRecord& r : p.records)
     if (r.stop_at >= 0)
-      note_on(r, "sent " + number_text(double(uint64_t(r.stop_at) - first_step) / kControllerTickHz) +
+      note_on(r, "sent " + number_text(double(uint64_t(r.stop_at) - first_step) / kStepTickHz) +
                       " s after the first step, whatever the lines are doing");
 
   // Each record's arrival and reply: a line when it was in (read); a host-only line, a line the
@@ -465,7 +465,7 @@ Prediction predict_program(const Robot& robot_in, const Program& program, const 
         }
         queued = got_reply.queued;
         if (r.queued) r.delta_steps = total;
-        r.motion = MotionSettings{kControllerTickHz, got_reply.settings[kSetMaxRate], got_reply.settings[kSetAccel]};
+        r.motion = MotionSettings{kStepTickHz, got_reply.settings[kSetMaxRate], got_reply.settings[kSetAccel]};
         r.junction = got_reply.settings[kSetJunction];
         bool shifted = false;
         if (r.reply == kOk) {
@@ -482,7 +482,7 @@ Prediction predict_program(const Robot& robot_in, const Program& program, const 
         r.waits_for_rest = r.reply == kOk && !r.queued && answered[k] > in[k];
         if (r.waits_for_rest)
           note_on(r, "answered once the arm was at rest, " +
-                          number_text(std::round(double(answered[k] - in[k]) / kControllerTickHz * 1000) / 1000) +
+                          number_text(std::round(double(answered[k] - in[k]) / kStepTickHz * 1000) / 1000) +
                           " s after it came");
         command_notes(r, cmd, model, before.commanded, now_settings, shifted);
         if (cmd.type == kCmdMoveTool || cmd.type == kCmdLine) {

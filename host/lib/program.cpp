@@ -26,9 +26,7 @@ std::vector<Line> content_lines(const std::string& text) {
   std::istringstream in(text);
   std::string s;
   for (int n = 1; std::getline(in, s); ++n) {
-    const size_t hash = s.find('#');
-    if (hash != std::string::npos) s.erase(hash);
-    s = trim_blanks(s);
+    s = line_command(s);
     if (!s.empty()) out.push_back({n, s});
   }
   return out;
@@ -254,7 +252,7 @@ namespace {
 
 // The words of a protocol line without its comment.
 std::vector<std::string> line_words(const std::string& line) {
-  std::istringstream in(line.substr(0, line.find('#')));
+  std::istringstream in(line_command(line));
   std::vector<std::string> words;
   for (std::string w; in >> w;) words.push_back(w);
   return words;
@@ -332,9 +330,12 @@ std::vector<Comment> program_comments(const std::string& text) {
   return out;
 }
 
+std::string line_command(const std::string& line) {
+  return trim_blanks(line.substr(0, comment_start(line.data(), line.size())));
+}
+
 std::string command_text(const std::string& line) {
-  std::string s = line.substr(0, line.find('#'));
-  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.pop_back();
+  const std::string s = line_command(line);
   return s.empty() ? line : s;
 }
 

@@ -128,7 +128,11 @@ bool is_stop_line(const std::string& text);
 std::string number_text(double v);
 // text without leading and trailing blanks;
 std::string trim_blanks(const std::string& s);
-// a protocol line without its comment, for display ("L 0 10 # left" -> "L 0 10");
+// a protocol line as the arm acts on it: what comes before its comment (the core's
+// comment_start), without blanks around it; "" for a blank line or a comment alone
+// ("  L 0 10 # left" -> "L 0 10"). Python's articula.line_command and the page's engine call it;
+std::string line_command(const std::string& line);
+// the same for display: the whole line when it is a comment alone;
 std::string command_text(const std::string& line);
 // a note added to a record's notes, "; " between them (nothing for an empty one).
 void append_note(std::string& notes, const std::string& note);

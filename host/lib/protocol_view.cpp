@@ -23,7 +23,7 @@ nlohmann::json arm_line_json(const std::string& text) {
       millideg.push_back(st.millideg[i]);
       angles.push_back(st.millideg[i] / 1000.0);
     }
-    return {{"kind", "status"}, {"state", kStateWords[st.state]}, {"steps", steps}, {"angles", angles},
+    return {{"kind", "status"}, {"state", kStateWords[st.state]}, {"at_rest", state_at_rest(st.state)}, {"steps", steps}, {"angles", angles},
             {"millideg", millideg}, {"gripper", st.gripper}, {"free", st.free_slots}, {"coils", st.coils},
             {"warning", st.warning}};
   }
@@ -54,9 +54,9 @@ nlohmann::json status_table_json() {
 double first_interval_s(double max_rate, double accel) {
   if (!(max_rate >= 1 && accel >= 1 && max_rate < 4.3e9 && accel < 4.3e9)) return -1;
   ProfileConstants k;
-  const MotionSettings s{2000000UL, uint32_t(max_rate), uint32_t(accel)};
+  const MotionSettings s{kStepTickHz, uint32_t(max_rate), uint32_t(accel)};
   if (profile_constants(k, s) != kMotionOk) return -1;
-  return k.first / 2e6;
+  return double(k.first) / kStepTickHz;
 }
 
 }  // namespace articula::host

@@ -80,7 +80,7 @@ nlohmann::json prediction_json(const Robot& robot, const Program& program, const
   j["robot_file"] = robot.source;
   j["program"] = program.source;
   j["format"] = program.format == Program::Format::kRoboSim ? "robosim" : "protocol";
-  j["tick_hz"] = kControllerTickHz;
+  j["tick_hz"] = kStepTickHz;
   nlohmann::json s;
   for (int i = 0; i < ControllerSettings::kCount; ++i) s["$" + std::to_string(i)] = p.settings.value[size_t(i)];
   j["settings"] = s;

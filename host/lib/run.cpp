@@ -264,8 +264,7 @@ Status KinematicModel::run_command(RunRecord& r, const std::string& text) {
     }
     case kCmdGripper:
     case kCmdAperture: {
-      const int32_t aperture = cmd.type == kCmdAperture ? cmd.arg[0] : (cmd.arg[0] ? 0 : 100000);
-      gripper_percent_ = (aperture + 500) / 1000;
+      gripper_percent_ = aperture_percent(command_aperture(cmd));
       return kOk;
     }
   }
@@ -322,7 +321,7 @@ void KinematicModel::robosim(RunRecord& r, const Statement& st) {
       add_note(r, "speed " + number_text(st.values[0]) + " of " + number_text(kRoboSimFastest) + ": no timing in the kinematic model");
       return;
     case Statement::Kind::kHand:
-      gripper_percent_ = (robosim_hand_to_aperture(st.values[0]) + 500) / 1000;
+      gripper_percent_ = aperture_percent(robosim_hand_to_aperture(st.values[0]));
       return;
     case Statement::Kind::kZoom:
       add_note(r, "zoom is for a viewer");

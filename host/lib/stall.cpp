@@ -295,7 +295,7 @@ MoveCheck StallModel::check_move(const PredictRecord& before, const PredictRecor
   }
   // What the action spends before its move (H's seek of the switches) comes first.
   const uint64_t profile = profile_duration_ticks(dominant, settings.motion());
-  const double offset = move.ticks > profile ? double(move.ticks - profile) / kControllerTickHz : 0.0;
+  const double offset = move.ticks > profile ? double(move.ticks - profile) / kStepTickHz : 0.0;
   MoveCheck c = check_steps(before.actuator_deg, delta, settings, payload_kg, offset);
   c.duration_s = move.seconds();
   return c;

@@ -212,7 +212,7 @@ Simulation::Simulation(const Robot& robot, const Scene& scene, const SimOptions&
   if (motors_ && opt_.stall_check &&
       std::any_of(robot_.motor_torque.begin(), robot_.motor_torque.end(), [](const MotorTorque& t) { return t.given(); }))
     stall_ = std::make_unique<StallModel>(robot_);
-  ticks_per_step_ = uint64_t(std::llround(opt_.dt * kControllerTickHz));
+  ticks_per_step_ = uint64_t(std::llround(opt_.dt * kStepTickHz));
   if (ticks_per_step_ == 0) ticks_per_step_ = 1;
 
   world_ = dWorldCreate();
@@ -616,18 +616,18 @@ void Simulation::load_program(const Program& program) {
   grip_from_ = grip_to_ = opening_mm_;
   if (motors_) {  // each line once the arm is at rest after the one before, as the harness sends
     for (const Statement& st : program.statements) send(st, now, FirmwareSession::kAtRest);
-    program_end_s_ = double(firmware_->run_to_rest()) / kControllerTickHz;
+    program_end_s_ = double(firmware_->run_to_rest()) / kStepTickHz;
     return;
   }
   for (const Statement& st : program.statements) enqueue(st, now);
-  program_end_s_ = double(queue_end_tick_) / kControllerTickHz;
+  program_end_s_ = double(queue_end_tick_) / kStepTickHz;
 }
 
 Status Simulation::command(const std::string& line) {
   Statement st{Statement::Kind::kProtocol, {}, line, 0};
   if (motors_) {  // as soon as the reply before is off the wire: a streamed program
     const Status s = send(st, steps_ * ticks_per_step_, FirmwareSession::kStreamed);
-    program_end_s_ = std::max(program_end_s_, double(firmware_->now()) / kControllerTickHz);
+    program_end_s_ = std::max(program_end_s_, double(firmware_->now()) / kStepTickHz);
     return s;
   }
   const size_t rejected_before = pending_.size();
@@ -639,7 +639,7 @@ Status Simulation::command(const std::string& line) {
 SimEvent Simulation::rejection(uint64_t tick, int line, const std::string& text, Status s, const std::string& note) {
   SimEvent e;
   e.kind = SimEvent::Kind::kRejected;
-  e.t = double(tick) / kControllerTickHz;
+  e.t = double(tick) / kStepTickHz;
   e.line = line;
   e.a = text;
   e.reply = s;
@@ -690,12 +690,12 @@ void Simulation::enqueue(const Statement& st, uint64_t now_tick) {
         seg.q_to.resize(size_t(n_joints_));
         for (int j = 0; j < n_joints_; ++j) seg.q_to[size_t(j)] = joint_to_model(robot_, j, r.via_joints[k][size_t(j)]);
         seg.start_tick = t;
-        seg.end_tick = t = start + uint64_t(std::ceil((r.via_mm[k] / r.line_speed) * kControllerTickHz));
+        seg.end_tick = t = start + uint64_t(std::ceil((r.via_mm[k] / r.line_speed) * kStepTickHz));
         queued_q_ = seg.q_to;
         actions_.push_back(seg);
       }
       queue_end_tick_ = t;
-      program_end_s_ = double(queue_end_tick_) / kControllerTickHz;
+      program_end_s_ = double(queue_end_tick_) / kStepTickHz;
       return;
     }
     std::vector<double> q_to(static_cast<size_t>(n_joints_));
@@ -718,11 +718,11 @@ void Simulation::enqueue(const Statement& st, uint64_t now_tick) {
       return;
     }
     a.start_tick = start;
-    a.end_tick = start + uint64_t(std::ceil(duration * kControllerTickHz));
+    a.end_tick = start + uint64_t(std::ceil(duration * kStepTickHz));
     actions_.push_back(a);
     queue_end_tick_ = a.end_tick;
   }
-  program_end_s_ = double(queue_end_tick_) / kControllerTickHz;
+  program_end_s_ = double(queue_end_tick_) / kStepTickHz;
 }
 
 void Simulation::begin_action(size_t index) {
@@ -734,10 +734,10 @@ void Simulation::begin_action(size_t index) {
   std::fill(std::begin(lost_in_action_), std::end(lost_in_action_), 0);
   switch (a.kind) {
     case Action::kGripper:
-      grip_from_ = target_opening(double(a.start_tick) / kControllerTickHz);
+      grip_from_ = target_opening(double(a.start_tick) / kStepTickHz);
       grip_to_ = a.opening_to;
-      grip_t0_ = double(a.start_tick) / kControllerTickHz;
-      grip_t1_ = double(a.end_tick) / kControllerTickHz;
+      grip_t0_ = double(a.start_tick) / kStepTickHz;
+      grip_t1_ = double(a.end_tick) / kStepTickHz;
       return;
     case Action::kJoints:
     case Action::kDwell: return;
@@ -792,7 +792,7 @@ void Simulation::firmware_action_ends(uint64_t tick) {
   if (lost.empty()) return;
   SimEvent e;
   e.kind = SimEvent::Kind::kStepsLost;
-  e.t = double(tick) / kControllerTickHz;
+  e.t = double(tick) / kStepTickHz;
   e.line = current_line_;
   e.detail = "skipped " + lost +
              ": the controller does not know (open loop), so the arm stays that far off its counted "
@@ -817,7 +817,7 @@ void Simulation::end_action() {
     if (worst > 1e-9) {
       SimEvent e;
       e.kind = SimEvent::Kind::kBlocked;
-      e.t = double(a.end_tick) / kControllerTickHz;
+      e.t = double(a.end_tick) / kStepTickHz;
       e.line = a.line;
       char buf[120];
       std::snprintf(buf, sizeof buf, "the move ended %.3f (deg or mm) short of its target; the joints follow later", 
@@ -935,10 +935,10 @@ void Simulation::motor_events(uint64_t until) {
         if (e.action == FirmwareSession::Event::kMove || e.action == FirmwareSession::Event::kHome)
           stall_check(e.delta, e.motion);
         if (e.action == FirmwareSession::Event::kGripper) {
-          grip_from_ = target_opening(double(e.tick) / kControllerTickHz);
+          grip_from_ = target_opening(double(e.tick) / kStepTickHz);
           grip_to_ = robot_.gripper.max_opening_mm * e.percent / 100.0;
-          grip_t0_ = double(e.tick) / kControllerTickHz;
-          grip_t1_ = double(e.tick + e.settle_ticks) / kControllerTickHz;
+          grip_t0_ = double(e.tick) / kStepTickHz;
+          grip_t1_ = double(e.tick + e.settle_ticks) / kStepTickHz;
         }
         break;
       case FirmwareSession::Event::kIdle:
@@ -979,7 +979,7 @@ void Simulation::follow_joints(const std::vector<double>& q_cmd, double dt) {
 }
 
 void Simulation::joint_follow(double t_end) {
-  const uint64_t until = uint64_t(std::llround(t_end * kControllerTickHz));
+  const uint64_t until = uint64_t(std::llround(t_end * kStepTickHz));
   for (;;) {
     if (!action_running_) {
       if (action_ >= actions_.size() || actions_[action_].start_tick > until) break;
@@ -1091,7 +1091,7 @@ void Simulation::event(SimEvent::Kind k, const std::string& a, const std::string
   SimEvent e;
   e.kind = k;
   e.t = motors_ && k != SimEvent::Kind::kContactStarted && k != SimEvent::Kind::kContactEnded
-            ? double(event_tick_) / kControllerTickHz
+            ? double(event_tick_) / kStepTickHz
             : time() + opt_.dt;
   e.line = current_line_;
   e.a = a, e.b = b, e.detail = detail;

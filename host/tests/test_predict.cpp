@@ -262,7 +262,7 @@ TEST(Predict, DwellWaitsInTheQueue) {
   EXPECT_EQ(r[1].reply, kOk);
   EXPECT_TRUE(r[1].queued);
   EXPECT_EQ(r[1].start_tick, move.end_tick);
-  EXPECT_EQ(r[1].ticks, 3u * kControllerTickHz / 2);
+  EXPECT_EQ(r[1].ticks, 3u * kStepTickHz / 2);
   EXPECT_EQ(r[1].steps, move.steps);  // nothing moves
   EXPECT_EQ(r[2].start_tick, r[1].end_tick);
   EXPECT_EQ(r[3].reply, kValueOutOfRange);

@@ -37,6 +37,7 @@ from ._core import (  # noqa: E402
     experiment_csv,
     repeat_chains,
     joint_verdicts,
+    line_command,
     measurement_question,
     parse_plan,
     protocol_number,
@@ -51,7 +52,7 @@ __all__ = [
     "Robot", "IkResult", "Program", "Sim", "Record", "Status", "STATUS", "status_text",
     "RobotFileError", "ProgramError", "SceneError", "LegacyError", "IK_STATUS", "rpy_deg",
     "axis_errors", "table4", "measurement_question", "parse_plan", "table5", "tool_points", "joint_verdicts",
-    "experiment_csv", "repeat_chains", "protocol_number",
+    "experiment_csv", "repeat_chains", "protocol_number", "line_command", "REPLY", "DEFAULT_SETTINGS", "STEP_TICK_HZ",
 ]
 __version__ = "0.1.0"
 
@@ -66,6 +67,17 @@ class Status(NamedTuple):
 #: The protocol's status codes, from shared/articula/status.h (the firmware's own table):
 #: ``STATUS[9].text == "target beyond a joint limit"``.
 STATUS: dict[int, Status] = {code: Status(code, name, text) for code, (name, text) in _core._status_table.items()}
+
+#: Each status's reply by its name in the table: ``REPLY["JointLimit"] == "error:9"``,
+#: ``REPLY["Ok"] == "ok"``: code that expects a reply names it, never its number.
+REPLY: dict[str, str] = {s.name: "ok" if s.code == 0 else f"error:{s.code}" for s in STATUS.values()}
+
+#: The controller's settings' defaults, ``{0: 600, 1: 2000, ...}`` ($0 .. $7), from
+#: shared/articula/settings.h (the firmware's own table), in the units ``$n=v`` sets.
+DEFAULT_SETTINGS: dict[int, int] = {n: fallback for n, (_, _, fallback) in _core._settings_table.items()}
+
+#: The firmware's step timer, ticks a second (shared/articula/motion.h): record times count in them.
+STEP_TICK_HZ: int = _core.STEP_TICK_HZ
 
 #: The codes of Robot.ik_batch's status array.
 IK_STATUS = ("reached", "unreachable", "limited", "budget")

@@ -62,6 +62,9 @@ class Status:
     coils: int
     warning: int | None  # a status code said once (14: settings reset), None when absent
     text: str = ""
+    # nothing runs and nothing will until another line (Idle, or Alarm): the core's
+    # state_at_rest (shared/articula/protocol.h), the rule every sender waits by
+    at_rest: bool = False
 
 
 @dataclass
@@ -81,7 +84,8 @@ def parse_status(line: str) -> Status | None:
     if p["kind"] != "status":
         return None
     return Status(state=p["state"], steps=p["steps"], angles=p["angles"], millideg=p["millideg"], gripper=p["gripper"],
-                  queue=p["free"], coils=int(p["coils"]), warning=p["warning"] or None, text=line)
+                  queue=p["free"], coils=int(p["coils"]), warning=p["warning"] or None, text=line,
+                  at_rest=p["at_rest"])
 
 
 def parse_info(line: str) -> Info | None:

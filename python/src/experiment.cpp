@@ -119,7 +119,7 @@ void bind_experiment(nb::module_& m) {
       [](const Xyz& measured, const Xyz& predicted, double reach_mm, double far_mm) {
         return host::measurement_question(v3(measured), v3(predicted), reach_mm, far_mm);
       },
-      "measured"_a, "predicted"_a, "reach_mm"_a, "far_mm"_a = 50.0,
+      "measured"_a, "predicted"_a, "reach_mm"_a, "far_mm"_a = host::kMeasurementFarMm,
       "The question a typed tool position raises before it is used ('' when it looks right): not a number, "
       "typed in centimetres, beyond the arm's reach, or far from the prediction.");
 }

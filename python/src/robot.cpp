@@ -192,6 +192,9 @@ host::IkTarget read_target(nb::handle t_in) {
   return host::ik_target(t.data(), t.ndim() == 1 ? t.size() : 0);
 }
 
+// The solver's defaults, from the C++ option struct (the binding restates none of them).
+const host::IkOptions kIkDefaults;
+
 host::IkOptions ik_options(const std::string& solver, nb::handle weights, double tolerance_mm, int max_iterations,
                            uint64_t seed) {
   std::vector<double> w;
@@ -468,13 +471,15 @@ nb::class_<PyRobot> bind_robot(nb::module_& m) {
            },
            "q"_a, "The motor angles (deg) that give joint values q: u = C^-1 q.")
       .def("ik", &ik, "target"_a, "solver"_a = "auto", "start"_a = nb::none(), "weights"_a = nb::none(),
-           "tolerance_mm"_a = 0.01, "max_iterations"_a = 0, "seed"_a = 1,
+           "tolerance_mm"_a = kIkDefaults.position_tolerance_mm, "max_iterations"_a = kIkDefaults.max_iterations,
+           "seed"_a = kIkDefaults.seed,
            "Inverse kinematics (docs/ik.md). target: (x, y, z) mm, (x, y, z, roll, pitch, yaw) mm and deg, or a "
            "4x4 pose. solver: 'auto', 'closed', 'lm' or 'jt' (the thesis's Jacobian transpose). start: joint "
            "values to start from (default: home). weights: per joint variable (per motor with a coupling), 0 "
            "freezes one.\n\n>>> Robot.load('mk2plus').ik([200, 0, 150]).status\n'reached'")
       .def("ik_batch", &ik_batch, "targets"_a, "solver"_a = "auto", "start"_a = nb::none(), "weights"_a = nb::none(),
-           "tolerance_mm"_a = 0.01, "max_iterations"_a = 0, "seed"_a = 1, "chain"_a = false,
+           "tolerance_mm"_a = kIkDefaults.position_tolerance_mm, "max_iterations"_a = kIkDefaults.max_iterations,
+           "seed"_a = kIkDefaults.seed, "chain"_a = false,
            "IK for (N, 3), (N, 6) or (N, 4, 4) targets without a Python loop. Returns a dict of arrays: q (N, n), "
            "status (N,) codes (0 reached, 1 unreachable, 2 limited, 3 budget), position_error_mm, "
            "orientation_error_deg, iterations. chain=True starts each solve from the previous answer.")

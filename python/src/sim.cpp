@@ -109,7 +109,7 @@ void bind_sim(nb::module_& m) {
              self->options.settings = settings_from(settings, robot.r());
              self->build();
            },
-           "robot"_a, "scene"_a = nb::none(), nb::kw_only(), "dt"_a = 0.001, "settings"_a = nb::none(),
+           "robot"_a, "scene"_a = nb::none(), nb::kw_only(), "dt"_a = host::SimOptions().dt, "settings"_a = nb::none(),
            "quick_step"_a = false, "extra_time"_a = 1.0, "stall_check"_a = true,
            "scene: a shipped scene's name ('grasp-and-lift'), a scene file, or None (the ground only). dt: the "
            "world step, s. settings: the controller's $n at power-up. extra_time: how long done() waits after "

@@ -86,6 +86,8 @@ SAME = [
     ("_pen_fields", "penFields"),
     ("parse_arm_line", "parseArmLine"),
     ("first_interval_s", "firstIntervalS"),
+    ("line_command", "lineCommand"),
+    ("STEP_TICK_HZ", "stepTickHz"),
     # the sim-vs-real experiment
     ("axis_errors", "axisErrors"),
     ("table4", "table4"),
@@ -152,9 +154,11 @@ const ops = [];
 for (const cls of ["Robot", "Sim", "Timeline"])
   for (const k of Object.getOwnPropertyNames(M[cls].prototype))
     if (!["constructor", "delete", "isDeleted", "clone", "isAliasOf", "deleteLater"].includes(k)) ops.push(`${{cls}}.${{k}}`);
-for (const k of ["predict", "run", "quantize", "programFormat", "parseProgram", "programFit", "blocksProgram", "programActions", "protocolLine", "moveLine", "drawing", "reachMap", "ink", "drawingCheck", "statusText", "statusTable", "settingsTable", "penFields", "parseArmLine", "firstIntervalS",
+for (const k of ["predict", "run", "quantize", "programFormat", "parseProgram", "programFit", "blocksProgram", "programActions", "protocolLine", "moveLine", "drawing", "reachMap", "ink", "drawingCheck", "statusText", "statusTable", "settingsTable", "penFields", "parseArmLine", "firstIntervalS", "lineCommand",
                  "axisErrors", "table4", "measurementQuestion", "parsePlan", "table5", "toolPoints", "jointVerdicts", "experimentCsv", "repeatChains"])
   if (typeof M[k] === "function") ops.push(k);
+for (const k of ["stepTickHz"])  // the core's constants
+  if (typeof M[k] === "number") ops.push(k);
 console.log(JSON.stringify(ops));
 """
     p = subprocess.run(["node", "--no-experimental-fetch", "--input-type=module", "-e", script], capture_output=True, text=True,

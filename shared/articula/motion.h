@@ -59,8 +59,14 @@
 
 namespace articula {
 
+// The firmware's step timer: Timer1 at 16 MHz with prescaler 8, 2,000,000 ticks a second. Every
+// time the firmware keeps, and every time the host predicts, is in its ticks: this is the one
+// place the figure is written (the host library, Python's articula._core.STEP_TICK_HZ and the
+// web engine's stepTickHz take it from here).
+static const uint32_t kStepTickHz = 2000000UL;
+
 struct MotionSettings {
-  uint32_t tick_hz;   // timer ticks per second (the firmware: 2,000,000, Timer1 at 16 MHz / 8)
+  uint32_t tick_hz;   // timer ticks per second (the firmware: kStepTickHz)
   uint32_t max_rate;  // top step rate of the dominant motor, steps/s
   uint32_t accel;     // acceleration of the dominant motor, steps/s^2
 };

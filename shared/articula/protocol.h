@@ -116,6 +116,15 @@ struct BasicCommand {
 };
 typedef BasicCommand<kMaxArgs> Command;
 
+// The aperture a gripper line asks for, in thousandths of a percent: G's number; S 1 closed (0),
+// S 0 open (100,000). The firmware queues it, and the host's kinematic model keeps it, by this.
+template <uint8_t MaxArgs>
+inline int32_t command_aperture(const BasicCommand<MaxArgs>& c) {
+  return c.type == kCmdAperture ? c.arg[0] : (c.arg[0] ? 0 : 100000L);
+}
+// An aperture in whole percent, as a status report's G gives it (rounded half up).
+inline uint8_t aperture_percent(int32_t aperture) { return uint8_t((aperture + 500) / 1000); }
+
 // Bytes that act at once, even in the middle of a line, and are never queued.
 enum RealtimeCommand : uint8_t {
   kRealtimeNone = 0,  // an ordinary byte: feed it to the LineAssembler
@@ -188,6 +197,18 @@ inline Status parse_thousandths(int32_t& out, const char* s, uint8_t len) {
   return kOk;
 }
 
+// Where a line's comment starts: its first '#' (a comment runs to the line's end), or `len`.
+// The arm acts on what comes before it; every tool that reads a protocol line strips comments
+// by this (the host's line_command, and through it Python's and the page's).
+// (Counted in the length's own type: the firmware's lines are under 256 bytes.)
+inline bool starts_comment(char c) { return c == '#'; }
+template <typename Size>
+inline Size comment_start(const char* text, Size len) {
+  Size i = 0;
+  while (i < len && !starts_comment(text[i])) ++i;
+  return i;
+}
+
 namespace detail {
 // parse_line on a line without realtime bytes, for any size of command.
 inline Status parse_words(CommandType& type, uint8_t& argc, int32_t* arg, uint8_t max_args, const char* text,
@@ -196,9 +217,9 @@ inline Status parse_words(CommandType& type, uint8_t& argc, int32_t* arg, uint8_
   if (end > 0 && text[end - 1] == '\r') --end;
   if (end > kMaxLineLength) return kLineTooLong;
   bool comment = false;
-  for (uint8_t i = 0; i < end; ++i) {
+  for (uint8_t i = 0; i < end; ++i) {  // (comment_start's walk, with the characters checked on the way)
     const uint8_t c = uint8_t(text[i]);
-    if (c == '#') {
+    if (starts_comment(char(c))) {
       comment = true;
       end = i;
       break;
@@ -354,6 +375,10 @@ enum MachineState : uint8_t {
 };
 static const uint8_t kStateCount = 5;
 static const char* const kStateWords[kStateCount] = {"Idle", "Run", "Stop", "Home", "Alarm"};
+// At rest: nothing runs, and nothing will until another line comes (Idle; Alarm after a failed
+// homing, or unhomed at power-up). A sender that waits for a line's end waits for this: the
+// harness, the studio and the Python link read it from the core (host/lib/protocol_view.cpp).
+constexpr bool state_at_rest(MachineState s) { return s == kStateIdle || s == kStateAlarm; }
 
 template <uint8_t MaxJoints>
 struct StatusReport {

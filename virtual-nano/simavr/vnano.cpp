@@ -1,6 +1,7 @@
 // virtual-nano/simavr/vnano.cpp - see vnano.h and hil/README.md.
 #include "vnano.h"
 
+#include <articula/motion.h>
 #include <articula/servo.h>
 
 #include "board.h"
@@ -180,7 +181,7 @@ bool VirtualNano::load(const Config& config, std::string& error) {
     m.servo_pin = sv.pin;
     m.port = board::kHeaderPin[sv.pin].port;
     m.servo_bit = board::kHeaderPin[sv.pin].bit;
-    m.pulses = ServoDecoder(freq_ / 2000000, sv.zero_ticks);
+    m.pulses = ServoDecoder(freq_ / articula::kStepTickHz, sv.zero_ticks);
   }
   for (int m : config.half_step_motors)
     if (m >= 0 && m < kMotors) motors_[m].decoder.force_half_step();

@@ -13,6 +13,8 @@ export class NanoParts {
     this.wiring = JSON.parse(M.boardWiring(false));
     /** A CNC shield's: motors [{port, step, dir}] (STEP/DIR drivers), enable {port, bit}, the rest as above. */
     this.cncWiring = JSON.parse(M.boardWiring(true));
+    /** The firmware's step timer, ticks a second (shared/articula/motion.h). */
+    this.stepTickHz = M.stepTickHz;
   }
   /** A motor's coil decoder: feed(pattern) -> 0 nothing, 1 step, 2 released, 3 energised, 4 fault. */
   coilDecoder() { return new this.M.CoilDecoder(); }

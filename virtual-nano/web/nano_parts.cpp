@@ -6,6 +6,7 @@
 // loads a few kilobytes, not the engine with ODE. No logic of its own.
 #include <emscripten/bind.h>
 
+#include <articula/motion.h>
 #include <articula/servo.h>
 
 #include <nlohmann/json.hpp>
@@ -150,6 +151,7 @@ EMSCRIPTEN_BINDINGS(articula_nano) {
       .function("maxOffCycles", &WebServoDecoder::max_off_cycles)
       .function("faults", &WebServoDecoder::faults);
   function("headerPin", &articula::web::header_pin);
+  constant("stepTickHz", articula::kStepTickHz);
   function("boardWiring", &articula::web::board_wiring);
   function("servoAngleDeg", +[](double us) { return articula::servo_angle_deg(us); });
   function("servoAperturePercent",

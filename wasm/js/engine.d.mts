@@ -102,6 +102,10 @@ export class Engine {
   timeline(robot: Robot, text: string, name: string, startQ: number[]): Timeline;
   statusText(code: number): string;
   firstIntervalS(maxRate: number, accel: number): number;
+  /** A protocol line as the arm acts on it: before its comment, no blanks around it ("" for none). */
+  lineCommand(line: string): string;
+  /** The firmware's step timer, ticks a second. */
+  readonly stepTickHz: number;
   axisErrors(value: number[], reference: number[]): { mm: number[]; pct: (number | null)[] };
   experimentCsv(experiment: Record<string, unknown>): string;
   repeatChains(commands: { line: number; repeat: [number, string] | null }[]):
@@ -118,7 +122,7 @@ export class Engine {
   parsePlan(text: string, name?: string): { name: string; title: string; notes: string[]; commands: PlanCommand[] };
   parseArmLine(line: string):
     | { kind: "reply"; code: number }
-    | { kind: "status"; state: string; steps: number[]; angles: number[]; millideg: number[]; gripper: number; free: number; coils: boolean; warning: number }
+    | { kind: "status"; state: string; at_rest: boolean; steps: number[]; angles: number[]; millideg: number[]; gripper: number; free: number; coils: boolean; warning: number }
     | { kind: "info"; version: string; protocol: number; joints: number; robot: string; checksum: number | null; warning: number }
     | { kind: "setting"; number: number; value: number }
     | { kind: "other" };

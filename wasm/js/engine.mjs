@@ -127,7 +127,7 @@ export class Robot {
 
 export class Sim {
   /** robot: a Robot; scene: its file's text ("" or null: the ground only). */
-  constructor(engine, robot, sceneText = "", sceneName = "scene.json", dt = 0.001) {
+  constructor(engine, robot, sceneText = "", sceneName = "scene.json", dt = engine.M.defaultDt) {
     this.h = new engine.M.Sim();
     try {
       loaded(this.h.create(robot.h, sceneText ?? "", sceneName, dt));
@@ -204,6 +204,11 @@ export class Engine {
   /** A line from the arm read by the core's parsers (host/lib/protocol_view.h): {kind: "reply" |
    * "status" | "info" | "setting" | "other", ...}. */
   parseArmLine(line) { return JSON.parse(this.M.parseArmLine(line)); }
+  /** A protocol line as the arm acts on it: before its comment, no blanks around it; "" for a
+   * blank line or a comment alone (host/lib/program.h line_command). */
+  lineCommand(line) { return this.M.lineCommand(line); }
+  /** The firmware's step timer, ticks a second (shared/articula/motion.h). */
+  get stepTickHz() { return this.M.stepTickHz; }
   /** The first step interval of a move from rest at $0 = maxRate, $1 = accel (motion.h), s. */
   firstIntervalS(maxRate, accel) { return this.M.firstIntervalS(maxRate, accel); }
   /** The sim-vs-real experiment's numbers (host/lib/experiment.h), as Python's articula has them:
@@ -228,7 +233,7 @@ export class Engine {
    * timeout_s, single_joint, repeat, kind}]}; EngineError naming name:line. */
   parsePlan(text, name = "plan.arm") { return checked(this.M.parsePlan(text, name)); }
   /** The question a typed tool position raises ("" when it looks right). */
-  measurementQuestion(measured, predicted, reachMm, farMm = 50) {
+  measurementQuestion(measured, predicted, reachMm, farMm = this.M.measurementFarMm) {
     return checked(this.M.measurementQuestion(JSON.stringify(measured), JSON.stringify(predicted), reachMm, farMm));
   }
   /** Files of the engine's in-memory file system (folders are made on the way). */

@@ -51,6 +51,7 @@ EMSCRIPTEN_BINDINGS(articula_experiment) {
   function("table4", +[](const std::string& points) {
     return guarded([&] { return host::table4_json(host::table4(host::joint_points_of_json(json::parse(points)))).dump(); });
   });
+  constant("measurementFarMm", host::kMeasurementFarMm);
   function("measurementQuestion", +[](const std::string& measured, const std::string& predicted, double reach_mm,
                                       double far_mm) {
     return guarded([&] {

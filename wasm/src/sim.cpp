@@ -122,4 +122,6 @@ EMSCRIPTEN_BINDINGS(articula_sim) {
       .function("done", &WebSim::done)
       .function("endTime", &WebSim::end_time)
       .function("sceneName", &WebSim::scene_name);
+  // the world step's default, from the C++ option struct
+  constant("defaultDt", articula::host::SimOptions().dt);
 }

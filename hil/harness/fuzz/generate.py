@@ -80,7 +80,7 @@ def millideg(text: str) -> int:
 class FuzzLine:
     cls: str                      # the class (summary key)
     data: bytes                   # every byte sent for this line, its LF last
-    expect: frozenset | None      # replies the protocol allows ("ok", "error:9"); None: either kind
+    expect: frozenset | None      # replies the protocol allows ("ok", articula.REPLY["JointLimit"]); None: either kind
     kind: str = ""                # what the line is (sub-class, for findings)
     moves: bool = False           # a valid move: the arm may move (and must end on `target`)
     target: list[int] | None = None   # the steps a valid L/M must end on (None: not predicted)
@@ -290,8 +290,8 @@ class Generator:
             kind = "printable"
         else:
             pool = [b for b in range(256) if b != 0x0A and b not in REALTIME]
-            return self._line(cls, bytes(rng.choice(pool) for _ in range(n)), "error:7", "random bytes")
-        return self._line(cls, text, "error:7", kind)
+            return self._line(cls, bytes(rng.choice(pool) for _ in range(n)), articula.REPLY["LineTooLong"], "random bytes")
+        return self._line(cls, text, articula.REPLY["LineTooLong"], kind)
 
     BAD_NUMBERS = ["1e3", "1E3", "2e0", "e5", "1e", "1.2.3", "12a", "a12", ".", "-", "+", "+-1", "-+1", "--1", "++1",
                    "0x1F", "1,5", "1_000", "1/2", "(1)", "1..", "..1", "-.", "+.", "1-", "1+", "1000000.001",
@@ -305,11 +305,11 @@ class Generator:
     def _number(self, cls: str) -> FuzzLine:
         rng = self.rng
         bad = self._bad_number()
-        expect = "error:3"
+        expect = articula.REPLY["BadNumber"]
         r = rng.random()
         j = self._rj()
         if bad == "1 000":  # two words: L's third argument is one too many
-            return self._line(cls, f"L {j} 1 000", "error:5", "L with a split number")
+            return self._line(cls, f"L {j} 1 000", articula.REPLY["ExtraArgument"], "L with a split number")
         if r < 0.35:
             return self._line(cls, self._words(self._letter("L"), str(j), bad), expect, "L bad number")
         if r < 0.6:
@@ -333,26 +333,26 @@ class Generator:
         r = rng.random()
         j = self._rj()
         if r < 0.3:
-            return self._line(cls, self._words(self._letter("L"), str(j), bad), "error:3", "L " + bad)
+            return self._line(cls, self._words(self._letter("L"), str(j), bad), articula.REPLY["BadNumber"], "L " + bad)
         if r < 0.55:
             args = [fmt(a) for a in self.arm.commanded]
             args[rng.randrange(self.n)] = bad
-            return self._line(cls, self._words(self._letter("M"), *args), "error:3", "M " + bad)
+            return self._line(cls, self._words(self._letter("M"), *args), articula.REPLY["BadNumber"], "M " + bad)
         if r < 0.75:
             args = ["235", "0", "213"]
             args[rng.randrange(3)] = bad
-            return self._line(cls, self._words(self._letter("P"), *args), "error:3", "P " + bad)
+            return self._line(cls, self._words(self._letter("P"), *args), articula.REPLY["BadNumber"], "P " + bad)
         if r < 0.85:
-            return self._line(cls, self._words(self._letter("G"), bad), "error:3", "G " + bad)
+            return self._line(cls, self._words(self._letter("G"), bad), articula.REPLY["BadNumber"], "G " + bad)
         if r < 0.92:
-            return self._line(cls, self._words(self._letter("S"), bad), "error:3", "S " + bad)
-        return self._line(cls, f"${rng.choice((0, 1, 2, 4, 5))}={bad}", "error:3", "$ " + bad)
+            return self._line(cls, self._words(self._letter("S"), bad), articula.REPLY["BadNumber"], "S " + bad)
+        return self._line(cls, f"${rng.choice((0, 1, 2, 4, 5))}={bad}", articula.REPLY["BadNumber"], "$ " + bad)
 
     def _joint(self, cls: str) -> FuzzLine:
         rng = self.rng
         bad = rng.choice([str(self.n), str(self.n + rng.randint(1, 5)), "99", "999", "255", "256", "1000", "0000",
                           "-1", "+1", "1.0", "1.", ".0", "x", "J1", "1e0", "-0", "0x0", "00000001"])
-        return self._line(cls, self._words(self._letter("L"), bad, str(rng.randint(-20, 20))), "error:6",
+        return self._line(cls, self._words(self._letter("L"), bad, str(rng.randint(-20, 20))), articula.REPLY["BadJoint"],
                           "L bad joint " + bad)
 
     def _target(self, cls: str) -> FuzzLine:
@@ -365,16 +365,16 @@ class Generator:
             over = rng.choice((1, 1, 10, 500, 1000)) if arm.exact else 0
             over += rng.randint(1000 if not arm.exact else 0, 200000)
             delta = (a.max - c + over) if rng.random() < 0.5 else (a.min - c - over)
-            return self._line(cls, self._words(self._letter("L"), str(j), fmt(delta)), "error:9", "L beyond a limit")
+            return self._line(cls, self._words(self._letter("L"), str(j), fmt(delta)), articula.REPLY["JointLimit"], "L beyond a limit")
         if r < 0.42:  # the largest numbers: a commanded angle beyond 1,000,000 is error:8
             delta = rng.choice((1000000000, -1000000000, 999999999, -999999999))
-            return self._line(cls, self._words("L", str(j), fmt(delta)), ("error:8", "error:9"), "L by a million")
+            return self._line(cls, self._words("L", str(j), fmt(delta)), (articula.REPLY["ValueOutOfRange"], articula.REPLY["JointLimit"]), "L by a million")
         if r < 0.65:
             angles = [rng.randint(*self._inside(i)) for i in range(self.n)]
             over = rng.choice((1, 1000, rng.randint(1, 1000000), 1000000000 - max(abs(a.max), abs(a.min))))
             angles[j] = a.max + over if rng.random() < 0.5 else a.min - over
             angles[j] = max(-1000000000, min(1000000000, angles[j]))
-            return self._line(cls, self._words(self._letter("M"), *(fmt(v) for v in angles)), "error:9",
+            return self._line(cls, self._words(self._letter("M"), *(fmt(v) for v in angles)), articula.REPLY["JointLimit"],
                               "M beyond a limit")
         if r < 0.8:
             ang = rng.uniform(0, 2 * math.pi)
@@ -383,21 +383,21 @@ class Generator:
             pts = [f"{radius * math.cos(ang):.3f}", f"{radius * math.sin(ang):.3f}", f"{z:.3f}"]
             if rng.random() < 0.2:  # behind the base, within reach of the links but not of the base's range
                 pts = ["-235", "0", "213"]
-            return self._line(cls, self._words(self._letter("P"), *pts), "error:10", "P out of reach")
+            return self._line(cls, self._words(self._letter("P"), *pts), articula.REPLY["Unreachable"], "P out of reach")
         if r < 0.92:
             v = rng.choice((100001, 100500, 101000, rng.randint(100001, 1000000000), -1, -500, -rng.randint(1, 1000000)))
-            return self._line(cls, self._words(self._letter("G"), fmt(v)), "error:8", "G out of range")
-        return self._line(cls, self._words(self._letter("S"), str(rng.randint(2, 9))), "error:8", "S out of range")
+            return self._line(cls, self._words(self._letter("G"), fmt(v)), articula.REPLY["ValueOutOfRange"], "G out of range")
+        return self._line(cls, self._words(self._letter("S"), str(rng.randint(2, 9))), articula.REPLY["ValueOutOfRange"], "S out of range")
 
     def _args(self, cls: str) -> FuzzLine:
         rng = self.rng
         n = self.n
         choices = [
-            (["L"], "error:4"), (["L", "0"], "error:4"), (["M"] + ["0"] * (n - 1), "error:4"), (["M"], "error:4"),
-            (["P", "1", "2"], "error:4"), (["G"], "error:4"), (["S"], "error:4"),
-            (["L", "0", "1", "2"], "error:5"), (["M"] + ["0"] * (n + 1), "error:5"), (["P", "1", "2", "3", "4"], "error:5"),
-            (["G", "1", "2"], "error:5"), (["S", "1", "1"], "error:5"), (["H", "1"], "error:5"), (["Z", "0"], "error:5"),
-            (["I", "x"], "error:5"), (["$", "1=5", "6"], "error:5"),
+            (["L"], articula.REPLY["MissingArgument"]), (["L", "0"], articula.REPLY["MissingArgument"]), (["M"] + ["0"] * (n - 1), articula.REPLY["MissingArgument"]), (["M"], articula.REPLY["MissingArgument"]),
+            (["P", "1", "2"], articula.REPLY["MissingArgument"]), (["G"], articula.REPLY["MissingArgument"]), (["S"], articula.REPLY["MissingArgument"]),
+            (["L", "0", "1", "2"], articula.REPLY["ExtraArgument"]), (["M"] + ["0"] * (n + 1), articula.REPLY["ExtraArgument"]), (["P", "1", "2", "3", "4"], articula.REPLY["ExtraArgument"]),
+            (["G", "1", "2"], articula.REPLY["ExtraArgument"]), (["S", "1", "1"], articula.REPLY["ExtraArgument"]), (["H", "1"], articula.REPLY["ExtraArgument"]), (["Z", "0"], articula.REPLY["ExtraArgument"]),
+            (["I", "x"], articula.REPLY["ExtraArgument"]), (["$", "1=5", "6"], articula.REPLY["ExtraArgument"]),
         ]
         words, expect = rng.choice(choices)
         words = [self._letter(words[0])] + words[1:]
@@ -409,11 +409,11 @@ class Generator:
         if r < 0.6:
             w = self._letter(rng.choice(UNKNOWN_LETTERS))
         elif r < 0.8:
-            w = rng.choice(("G1", "LL", "L0", "M0", "HOME", "Hi", "IZ", "SS", "P1", "Z0", "ok", "error:1"))
+            w = rng.choice(("G1", "LL", "L0", "M0", "HOME", "Hi", "IZ", "SS", "P1", "Z0", "ok", articula.REPLY["EmptyLine"]))
         else:
             w = rng.choice(("5", "%", "-L", "+", "*", "@", "[", "<Idle>", "0", "=", ".", "~", "\\", "/"))
         args = [str(rng.randint(-99, 99)) for _ in range(rng.randint(0, 3))]
-        return self._line(cls, self._words(w, *args), "error:2", "unknown command " + w)
+        return self._line(cls, self._words(w, *args), articula.REPLY["UnknownCommand"], "unknown command " + w)
 
     def _control(self, cls: str) -> FuzzLine:
         rng = self.rng
@@ -430,10 +430,10 @@ class Generator:
         data = body[:pos] + bytes([bad]) + body[pos:]
         if bad == 0x0D and pos == len(body):
             data += b"\r"  # a second CR before the LF: still error:11
-        return self._line(cls, data[:MAX_LINE], "error:11", f"byte 0x{bad:02X}")
+        return self._line(cls, data[:MAX_LINE], articula.REPLY["BadCharacter"], f"byte 0x{bad:02X}")
 
     def _empty(self, cls: str) -> FuzzLine:
-        return self._line(cls, self.rng.choice(("", " ", "\t", "   ", " \t ", "\r", "  \r")), "error:1", "empty")
+        return self._line(cls, self.rng.choice(("", " ", "\t", "   ", " \t ", "\r", "  \r")), articula.REPLY["EmptyLine"], "empty")
 
     BAD_SETTINGS = [("$x=1", 13), ("$=5", 13), ("$1000=1", 13), ("$-1=1", 13), ("$$", 13), ("$8=1", 13),
                     ("$9=1", 13), ("$99=0", 13), ("$1=", 4), ("$1", 4), ("$1 =5", 4), ("$ 1", 4), ("$1=abc", 3),

@@ -110,7 +110,7 @@ def check(index: int, line: FuzzLine, ex: Exchange) -> tuple[str | None, list[Fi
             for i, (s0, s, t) in enumerate(zip(line.start, a.steps, line.target)):
                 if not min(s0, t) <= s <= max(s0, t):
                     bad("steps", f"after ! motor {i} is on step {s}, off the move from {s0} to {t}")
-        if a.state not in ("Idle", "Alarm") and not ex.timeout:
+        if not a.at_rest and not ex.timeout:
             bad("hang", f"not at rest after the line: {a.text}")
     if ex.pins_before is not None and ex.pins_after is not None:
         rows0, _ = ex.pins_before

@@ -207,7 +207,7 @@ class Fuzzer:
                     ex.timeout = ex.timeout or f"no answer to ? within {self.timeout:.1f} s{e.got}"
                     break
                 ex.after = st
-                if st.state in ("Idle", "Alarm") or time.monotonic() > run_deadline:
+                if st.at_rest or time.monotonic() > run_deadline:
                     break
                 time.sleep(self.poll)
         except LinkVanished as e:

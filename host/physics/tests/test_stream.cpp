@@ -68,12 +68,12 @@ TEST(Stream, LivePhysicsStepsAsTheVirtualNano) {
 
   // The streamed program blends: faster than each line from rest to rest.
   SenderModel rest;
-  EXPECT_LT(double(end) / kControllerTickHz, predict_program(r, p, {}, rest).total_s() - 0.05);
+  EXPECT_LT(double(end) / kStepTickHz, predict_program(r, p, {}, rest).total_s() - 0.05);
 
   // World step by world step (1 ms): the physics' counts are the Nano's.
   std::vector<size_t> next(size_t(n), 0);
   std::vector<int32_t> nano(size_t(n), 0);
-  const uint64_t tick_per_step = uint64_t(sim.options().dt * kControllerTickHz + 0.5);
+  const uint64_t tick_per_step = uint64_t(sim.options().dt * kStepTickHz + 0.5);
   size_t compared = 0;
   for (uint64_t k = 1; (k - 1) * tick_per_step <= end + 2 * tick_per_step; ++k) {
     sim.step();
@@ -81,11 +81,11 @@ TEST(Stream, LivePhysicsStepsAsTheVirtualNano) {
       for (size_t& i = next[size_t(m)]; i < steps[size_t(m)].size() && steps[size_t(m)][i].tick - t0 <= k * tick_per_step;
            ++i)
         nano[size_t(m)] += steps[size_t(m)][i].dir;
-    ASSERT_EQ(sim.counted_steps(), nano) << "at " << double(k * tick_per_step) / kControllerTickHz << " s";
+    ASSERT_EQ(sim.counted_steps(), nano) << "at " << double(k * tick_per_step) / kStepTickHz << " s";
     ++compared;
   }
   EXPECT_EQ(sim.lost_steps(), std::vector<int32_t>(size_t(n), 0));
   EXPECT_FALSE(sim.busy());
   std::printf("  %zu lines streamed, %zu steps, %zu world steps compared, the end at %.3f s\n", lines.size(), total,
-              compared, double(end) / kControllerTickHz);
+              compared, double(end) / kStepTickHz);
 }

@@ -42,18 +42,21 @@ export const armHandlers: Record<string, (m: Msg) => Out[]> = {
     }
   },
   arm_predict(m) {
-    const line = text(m, "line", 200);
+    const raw = text(m, "line", 200);
+    // the line as the arm acts on it (the core's comment rule): a comment alone is no command
+    const line = S.engine.lineCommand(raw);
+    if (line === "") return [{ type: "arm_predicted", command: "", reply: "ok", steps: null, meaning: "" }];
     const history = Array.isArray(m.history) ? (m.history as unknown[]).filter((x): x is string => typeof x === "string") : [];
     let out: Out;
     try {
       const doc = S.robot.predict([...history, line].join("\n") + "\n", "arm.arm") as { records: Record<string, unknown>[] };
       const rec = doc.records[doc.records.length - 1];
       const code = rec.code as number;
-      out = { reply: code === 0 ? "ok" : `error:${code}`, steps: rec.steps, meaning: S.engine.statusText(code), seconds: rec.seconds };
+      out = { command: line, reply: code === 0 ? "ok" : `error:${code}`, steps: rec.steps, meaning: S.engine.statusText(code), seconds: rec.seconds };
     } catch (e) {
       if (!(e instanceof EngineError)) throw e;
       const code = (S.robot.quantize([line])[0] as { code: number }).code;
-      out = { reply: `error:${code}`, steps: null, meaning: S.engine.statusText(code) };
+      out = { command: line, reply: `error:${code}`, steps: null, meaning: S.engine.statusText(code) };
     }
     return [{ type: "arm_predicted", ...out }];
   },

@@ -206,7 +206,7 @@ export type EngineMsg =
   | { type: "urdf"; name: string; xml: string }
   | { type: "error"; message: string; request?: string | null; id?: number }
   | { type: "arm_read"; id: number; parsed: unknown; pose: { q: number[]; frames: Flat4x4[] } | null }
-  | { type: "arm_predicted"; id: number; reply: string; steps: number[] | null; meaning: string; seconds?: number }
+  | { type: "arm_predicted"; id: number; command: string; reply: string; steps: number[] | null; meaning: string; seconds?: number }
   | { type: "arm_config"; id: number; config: NanoConfig | { error: string } };
 
 /** The robot shown as a Nano's configuration (the engine's nanoConfig, host/lib/nano_config.h). */

@@ -7,7 +7,9 @@ import { type SerialLike, deviceClock, sleepOn } from "./ports";
 
 export type Parsed =
   | { kind: "reply"; code: number }
-  | { kind: "status"; state: string; steps: number[]; angles: number[]; gripper: number; free: number; coils: boolean; warning: number }
+  // at_rest: nothing runs and nothing will until another line (Idle, or Alarm after a failed
+  // homing): the core's state_at_rest, the rule the harness waits by too
+  | { kind: "status"; state: string; at_rest: boolean; steps: number[]; angles: number[]; gripper: number; free: number; coils: boolean; warning: number }
   | { kind: "info"; version: string; protocol: number; joints: number; robot: string; checksum: number | null; warning: number }
   | { kind: "other" };
 

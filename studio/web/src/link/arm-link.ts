@@ -19,8 +19,11 @@ import type { SerialLike } from "./ports";
  * prediction of a line; what a reply means (the core's status table, held by the page). */
 export interface ArmEngine {
   read(line: string): Promise<ReadLine>;
-  predict(history: string[], line: string): Promise<{ reply: string; steps: number[] | null; meaning: string; seconds?: number }>;
+  /** command: the line as the arm acts on it (the core's comment rule), "" for a comment alone. */
+  predict(history: string[], line: string): Promise<{ command: string; reply: string; steps: number[] | null; meaning: string; seconds?: number }>;
   meaning(reply: string): string;
+  /** The reply a status gives by its name in the core's table ("UnknownCommand" -> "error:2"). */
+  reply(name: string): string;
   /** The robot shown as a Nano's configuration, or why a Nano cannot drive it. */
   config(): Promise<NanoConfig | { error: string }>;
 }
@@ -172,7 +175,7 @@ export class ArmLink {
         }
         if (reply !== "ok") {
           this.emit({ type: "arm", connected: false, port: label, configurable: true, error: `the Nano refused ${line}: ` +
-            `${reply} (${this.engine.meaning(reply)})${reply === "error:2" ? ": flash this site's firmware first" : ""}` });
+            `${reply} (${this.engine.meaning(reply)})${reply === this.engine.reply("UnknownCommand") ? ": flash this site's firmware first" : ""}` });
           return;
         }
       }
@@ -198,17 +201,17 @@ export class ArmLink {
     this.askedAt = null; // (every `?` before it is answered)
     this.state = p.state;
     this.lastSteps = p.steps;
-    if (p.warning === 14) return this.lost("the arm reset (its settings were reset to their defaults)");
+    if (p.warning !== 0 && `error:${p.warning}` === this.engine.reply("SettingsReset")) return this.lost("the arm reset (its settings were reset to their defaults)");
     const msg: Record<string, unknown> = { type: "arm_status", state: p.state, steps: p.steps, angles: p.angles,
       q: pose.q, frames: pose.frames, text: line, rtt_ms: performance.now() - this.lastPoll,
       sent_ms: performance.timeOrigin + performance.now() };
-    if (this.stopSentAt && p.state === "Idle") {
+    if (this.stopSentAt && p.at_rest) {
       msg.stop_to_idle_ms = performance.now() - this.stopSentAt;
       this.stopSentAt = 0;
       // After a stop the commanded angles are those of the steps reached.
       this.history = [pose.line];
     }
-    if (p.state === "Idle") for (const w of this.idleWaiters.splice(0)) w();
+    if (p.at_rest) for (const w of this.idleWaiters.splice(0)) w();
     this.emit(msg);
   }
 
@@ -298,7 +301,7 @@ export class ArmLink {
     });
   }
 
-  /** A protocol program, line by line: a line, its reply, then `?` until Idle. */
+  /** A protocol program, line by line: a line, its reply, then `?` until at rest (Idle or Alarm). */
   runProgram(text: string): void {
     if (this.programRunning) {
       this.emit({ type: "error", message: "the arm is already running a program: stop it first" });
@@ -311,13 +314,14 @@ export class ArmLink {
       try {
         const lines = text.split("\n");
         for (let n = 1; n <= lines.length; n++) {
-          const line = lines[n - 1].split("#")[0].trim();
-          if (!line) continue;
+          if (!lines[n - 1].trim()) continue;
           if (this.programStop) {
             this.emit({ type: "arm_program", done: true, stopped: true, sent });
             return;
           }
-          const predicted = await this.engine.predict(this.history, line);
+          const predicted = await this.engine.predict(this.history, lines[n - 1]);
+          const line = predicted.command; // (a comment alone is none)
+          if (!line) continue;
           const reply = await this.command(line, predicted.seconds ?? 0);
           sent++;
           this.emit({ type: "arm_program", line: n, command: line, reply, meaning: this.engine.meaning(reply), predicted });
@@ -335,7 +339,7 @@ export class ArmLink {
     });
   }
 
-  // Until the arm reports Idle (the first report after the line may still say Idle: a report
+  // Until the arm reports it is at rest (the first report after the line may still say Idle: a report
   // counts from 150 ms of the arm's time on), a STOP, the link lost, or `ms` of the arm's time.
   // Looked at every 100 ms of the page's time as well as at each report: a link lost or an arm
   // that stopped reporting ends the wait (and the program) instead of leaving it waiting.

@@ -154,6 +154,18 @@ export class EngineClient {
     return [...[...this.calls.values()].map((c) => ({ type: c.type, ms: Math.round(now - c.at) })), ...unsent];
   }
 
+  /** A status's code by its name in the core's table ("SettingsReset" -> 14); -1 for none. */
+  code(name: string): number {
+    const hit = Object.entries(this.statusTable).find(([, [n]]) => n === name);
+    return hit ? Number(hit[0]) : -1;
+  }
+
+  /** The reply a status gives by its name in the core's table ("Ok" -> "ok", "JointLimit" -> "error:9"). */
+  reply(name: string): string {
+    const c = this.code(name);
+    return c === 0 ? "ok" : `error:${c}`;
+  }
+
   /** What a reply ("ok", "error:9") means, from the core's status table. */
   meaning(reply: string): string {
     const code = reply === "ok" ? 0 : parseInt(reply.replace(/^error:/, ""), 10);

@@ -94,6 +94,7 @@ async function connect(): Promise<void> {
     read: (line) => s.engine.call({ type: "arm_read", line }) as never,
     predict: (history, line) => s.engine.call({ type: "arm_predict", history, line }) as never,
     meaning: (reply) => s.engine.meaning(reply),
+    reply: (name) => s.engine.reply(name),
     config: async () => ((await s.engine.call({ type: "arm_config" })) as unknown as { config: NanoConfig | { error: string } }).config,
   }, (m) => armMessage(m as unknown as EngineMsg));
   await link.connect(chosen.port, chosen.label, s.editor.robot?.name ?? "");

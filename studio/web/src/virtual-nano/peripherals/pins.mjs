@@ -17,7 +17,7 @@ export class PinWatch {
     const servoPins = servos ? servos.map((sv) => parts.headerPin(sv.pin)) : null;
     if (servoPins && servoPins.some((p) => !p)) throw new Error(`no such pin among ${servos.map((sv) => sv.pin).join(", ")}`);
     this.decoders = servos
-      ? servos.map((sv) => parts.servoDecoder(clockHz / 2e6, Math.round(sv.zeroUs * 2)))
+      ? servos.map((sv) => parts.servoDecoder(clockHz / parts.stepTickHz, Math.round(sv.zeroUs * 2)))
       : wiring.motors.map(() => (cnc ? parts.stepDirDecoder() : parts.coilDecoder()));
     this.firstStepCycle = -1; // the first and last step of any motor since markSteps()
     this.lastStepCycle = -1;

@@ -1,0 +1,74 @@
+// The page's arm link (src/link/arm-link.ts, bundled as the page has it) driving the page's
+// virtual Nano (avr8js, the firmware's own hex) in node, with the web engine reading the arm's
+// lines: what the Run on the arm does at the protocol's edges, without a browser.
+import assert from "node:assert/strict";
+import { readFileSync } from "node:fs";
+import { join } from "node:path";
+import { test } from "node:test";
+import { REPO, nodeEngine, nodeNanoParts } from "../../../wasm/js/node.mjs";
+import { VirtualNano } from "../src/virtual-nano/avr-nano.mjs";
+import { NanoPort } from "./nano-port.mjs";
+import { load } from "./page-module.mjs";
+
+const HEX = process.env.ARTICULA_NANO_HEX || join(REPO, "build/avr/firmware/articula-nano.hex");
+
+// (node before 21 has no navigator: the page's environment module reads its language)
+globalThis.navigator ??= { language: "en" };
+
+// The page's link on a virtual Nano running the MK2's firmware; `messages` is what it told the page.
+async function linked() {
+  const engine = await nodeEngine();
+  const robot = engine.robot("mk2plus");
+  const { ArmLink } = await load("link/arm-link.ts");
+  const parts = await nodeNanoParts();
+  const nano = new VirtualNano({ hex: readFileSync(HEX, "utf8"), parts });
+  const messages = [];
+  const armEngine = {
+    // the worker's arm_read (engine/arm.ts): the core's reading, the pose from the reported angles
+    read: async (line) => {
+      const parsed = engine.parseArmLine(line);
+      return { parsed, pose: parsed.kind === "status" ? { q: parsed.angles, frames: [], line: "" } : null };
+    },
+    // the Run's waits are what is under test: a line predicted to take no time at all gets
+    // the link's least time to come to rest (5 s of the arm's)
+    predict: async (history, line) => ({ command: engine.lineCommand(line), reply: "ok", steps: null, meaning: "", seconds: 0 }),
+    meaning: (reply) => reply,
+    reply: (name) => { const c = Object.entries(engine.status).find(([, [n]]) => n === name)[0]; return c === "0" ? "ok" : `error:${c}`; },
+    config: async () => robot.nanoConfig(),
+  };
+  const link = new ArmLink(armEngine, (m) => messages.push(m));
+  const port = new NanoPort(nano);
+  port.pace = 1; // in real time, as the page's worker runs it (the link polls by the page's clock)
+  await link.connect(port, "the virtual Nano", "MK2 Plus");
+  assert.equal(link.connected, true, JSON.stringify(messages.at(-1)));
+  return { link, messages, nano, parts };
+}
+
+// Until a message that `f` picks, for at most `seconds` of the wall's time (a hang's guard).
+async function until(messages, f, seconds = 120) {
+  const end = performance.now() + seconds * 1000;
+  for (;;) {
+    const m = messages.find(f);
+    if (m) return m;
+    assert.ok(performance.now() < end, `no such message in ${seconds} s; the last: ${JSON.stringify(messages.slice(-3))}`);
+    await new Promise((r) => setTimeout(r, 20));
+  }
+}
+
+test("after a failed homing the Run goes on at Alarm, as the harness does", async (t) => {
+  const { link, messages, nano, parts } = await linked();
+  // an endstop switch on the base (the board's pin, open: its input high) that is never pressed:
+  // the search runs out of steps and the arm is in Alarm, at rest; G still works there
+  const { port, bit } = parts.wiring.endstops[0];
+  nano.ports[port].setPin(bit, true);
+  link.runProgram("$4=4000\n$3=1\nH\nG 50\n");
+  const end = await until(messages, (m) => m.type === "arm_program" && m.done);
+  const lines = messages.filter((m) => m.type === "arm_program" && !m.done);
+  assert.equal(end.error, undefined, `the Run ended with: ${end.error}`);
+  assert.deepEqual(lines.map((m) => [m.command, m.reply]), [["$4=4000", "ok"], ["$3=1", "ok"], ["H", "ok"], ["G 50", "ok"]]);
+  const states = messages.filter((m) => m.type === "arm_status").map((m) => m.state);
+  assert.ok(states.includes("Alarm"), `no Alarm reported: ${[...new Set(states)]}`);
+  t.diagnostic(`states seen: ${[...new Set(states)].join(", ")}; ${nano.seconds.toFixed(2)} s of the Nano's time`);
+  await link.disconnect();
+  nano.delete();
+});
