@@ -1,6 +1,7 @@
 // firmware/sitl/hal_sitl.cpp - hal.h on the host, on the virtual clock (hal_sitl.h).
 #include "hal_sitl.h"
 
+#include <cstdlib>
 #include <cstring>
 
 #include <articula/protocol.h>
@@ -168,11 +169,11 @@ void write_coils(uint8_t motor, uint8_t pattern) {
   const vnano::CoilChange c = d.feed(pattern);
   const int phase = vnano::phase_of(pattern, hw.unipolar);
   const bool full = hw.microsteps[motor] != 2;
+  const int stride = full ? 2 : 1;  // half steps a step
   const std::string who = "motor " + std::to_string(motor) + ": ";
   if (phase == vnano::kIllegal || (full && phase >= 0 && phase % 2 == 0)) {
     hw.errors.push_back(who + "pattern " + std::to_string(pattern) + " is not in its sequence");
-  } else if (c.event == vnano::CoilEvent::kFault ||
-             (c.event == vnano::CoilEvent::kStep && c.delta_half != (full ? 2 : 1) && c.delta_half != -(full ? 2 : 1))) {
+  } else if (c.event == vnano::CoilEvent::kFault || (c.event == vnano::CoilEvent::kStep && std::abs(c.delta_half) != stride)) {
     const int diff = (phase - vnano::phase_of(c.reference, hw.unipolar) + 8) % 8;
     hw.errors.push_back(who + "jump of " + std::to_string(diff) + " places");
   } else if (c.event == vnano::CoilEvent::kStep) {
