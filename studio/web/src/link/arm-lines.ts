@@ -90,7 +90,8 @@ export class ArmLines {
     const got = new Promise<Parsed & { line: string }>((r) => (resolve = r));
     while (this.now() < end) {
       await this.writeLine("I", { onBanner: resolve });
-      const r = await Promise.race([got, sleepOn(this.now, 600).then(() => null)]);
+      let answered = false;
+      const r = await Promise.race([got.then((p) => ((answered = true), p)), sleepOn(this.now, 600, () => answered || !this.open).then(() => null)]);
       if (r) return r;
     }
     throw new Error(`no answer to I within ${BANNER_MS / 1000} s: is it a Nano with Articula's firmware, at ${BAUD} baud?`);
@@ -101,9 +102,11 @@ export class ArmLines {
     let resolve: (p: Parsed & { line: string }) => void = () => undefined;
     const got = new Promise<Parsed & { line: string }>((r) => (resolve = r));
     const entry = await this.writeLine(line, { onReply: resolve });
-    const r = await Promise.race([got, sleepOn(this.now, ms).then(() => null)]);
+    let answered = false;
+    const r = await Promise.race([got.then((p) => ((answered = true), p)), sleepOn(this.now, ms, () => answered || !this.open).then(() => null)]);
     if (!r) {
       entry.onReply = undefined; // a late reply is still this line's
+      if (!this.open) throw new Error(`the port closed before '${line}' was answered`);
       throw new Error(`no reply to '${line}' within ${(ms / 1000).toFixed(ms % 1000 ? 1 : 0)} s`);
     }
     return r.line;

@@ -23,10 +23,12 @@ export function deviceClock(port: SerialLike): () => number {
   return port.clock ? () => port.clock!() : () => performance.now();
 }
 
-/** Waits `ms` of `clock`'s time (looking at it every 20 ms of the page's). */
-export async function sleepOn(clock: () => number, ms: number): Promise<void> {
+/** Waits `ms` of `clock`'s time (looking at it every 20 ms of the page's), or until `over()`:
+ * a wait that lost its race to an answer, on a device whose clock stopped with its port, must
+ * not look at that clock for ever. */
+export async function sleepOn(clock: () => number, ms: number, over: () => boolean = () => false): Promise<void> {
   const end = clock() + ms;
-  for (let left = ms; left > 0; left = end - clock()) await new Promise((r) => setTimeout(r, Math.min(left, 20)));
+  for (let left = ms; left > 0 && !over(); left = end - clock()) await new Promise((r) => setTimeout(r, Math.min(left, 20)));
 }
 
 interface SerialApi {
