@@ -33,17 +33,18 @@ SOURCE = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(SOURCE))
 sys.path.insert(0, str(SOURCE / "python"))
 
+import articula  # noqa: E402
 from hil.harness.streams import ARMS, PLANS, compare, first_interval_ticks, lines_of, predicted, run_streamed  # noqa: E402
 
 
 def span(steps: list[int]) -> float:
-    return (steps[-1] - steps[0]) / 2000.0  # ms
+    return (steps[-1] - steps[0]) / TICKS_PER_MS  # ms
 
 
 def predicted_ms(robot: Path, plan: Path) -> float:
     p = predicted(robot, plan)
     moves = [r for r in p["records"] if r.get("dominant_steps", 0) > 0]
-    return (moves[-1]["end_tick"] - moves[0]["start_tick"] - first_interval_ticks()) / 2000.0
+    return (moves[-1]["end_tick"] - moves[0]["start_tick"] - first_interval_ticks()) / TICKS_PER_MS
 
 
 def main() -> int:
@@ -77,13 +78,16 @@ def main() -> int:
 def first_step_ms(robot: Path, line: str, tmp: Path) -> float:
     """The Nano's time (ms from the start of the run) of the first step of `line`, sent alone."""
     _, steps = run_streamed(robot, [line], tmp)
-    return steps[0] / 2000.0
+    return steps[0] / TICKS_PER_MS
+
+
+TICKS_PER_MS = articula.STEP_TICK_HZ / 1000  # the step timer's ticks a millisecond (motion.h)
 
 
 def lines_figures(tmp: Path) -> None:
     plan = PLANS / "lines.arm"
-    byte_ms = 10 * 17 / 2000.0  # a byte at the Nano's 117,647 baud, in 2 MHz ticks
-    c0 = first_interval_ticks() / 2000.0
+    byte_ms = 10 * 17 / TICKS_PER_MS  # a byte at the Nano's 117,647 baud (17 ticks a bit), in ms
+    c0 = first_interval_ticks() / TICKS_PER_MS
     print("| arm | lines | segments | firmware ms | predicted ms | $6=0 ms | line's worst distance mm | "
           "check + first segment ms (a line of n segments) | per segment ms | segments/s the Nano cuts | "
           "segments/s at 50 mm/s |")
@@ -100,7 +104,7 @@ def lines_figures(tmp: Path) -> None:
         first = ts[0]
         t_line = first["command"]
         m_line = "M " + " ".join(f"{v:.3f}" for v in first_segment_angles(robot, first, pred))
-        cruise_ms = max(c0, 4 * first["segments"][0]["cruise4"] / 2000.0)
+        cruise_ms = max(c0, 4 * first["segments"][0]["cruise4"] / TICKS_PER_MS)
         cost = (first_step_ms(robot, t_line, tmp) - cruise_ms) - (first_step_ms(robot, m_line, tmp) - c0) \
             - (len(t_line) - len(m_line)) * byte_ms
         n = len(first["segments"])

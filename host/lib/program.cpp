@@ -321,8 +321,8 @@ std::vector<Comment> program_comments(const std::string& text) {
   std::istringstream in(text);
   std::string s;
   for (int n = 1; std::getline(in, s); ++n) {
-    const size_t hash = s.find('#');
-    if (hash == std::string::npos) continue;
+    const size_t hash = comment_start(s.data(), s.size());
+    if (hash == s.size()) continue;
     std::string body = s.substr(hash + 1);
     if (!body.empty() && body.back() == '\r') body.pop_back();
     out.push_back({n, trim_blanks(body), trim_blanks(s.substr(0, hash)).empty()});
