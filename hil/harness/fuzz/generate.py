@@ -80,7 +80,7 @@ def millideg(text: str) -> int:
 class FuzzLine:
     cls: str                      # the class (summary key)
     data: bytes                   # every byte sent for this line, its LF last
-    expect: frozenset | None      # replies the protocol allows ("ok", articula.REPLY["JointLimit"]); None: either kind
+    expect: frozenset | None      # replies the protocol allows ("ok", "error:9"); None: either kind
     kind: str = ""                # what the line is (sub-class, for findings)
     moves: bool = False           # a valid move: the arm may move (and must end on `target`)
     target: list[int] | None = None   # the steps a valid L/M must end on (None: not predicted)
