@@ -151,6 +151,21 @@ describe("flashing the Nano from the page", { skip: !existsSync(OPTIBOOT) && "ar
     n.delete();
   });
 
+  test("answers to the sync that come late (a busy machine) are passed over: the flash ends verified", async (t) => {
+    // The first two GET_SYNCs reach the bootloader 300 ms late: the first one's answer comes in
+    // the second's wait, and the second's after the sync has ended, before the signature's.
+    const n = nanoWith(OPTIBOOT, firmware);
+    const port = new NanoPort(n);
+    port.lagWrites = 2;
+    port.lagMs = 300;
+    const r = await flashNano(port, firmware);
+    assert.equal(r.attempts, 1);
+    assert.ok(written(n));
+    assert.match((await banner(port)) ?? "", /R:MK2 Plus/);
+    t.diagnostic(`a late sync answer passed over: ${r.pages} pages, verified`);
+    n.delete();
+  });
+
   test("a Nano that never answers again: the stall is told in words, with what to do", async (t) => {
     const n = nanoWith(OPTIBOOT, firmware);
     const port = new NanoPort(n);

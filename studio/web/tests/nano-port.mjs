@@ -19,6 +19,12 @@ export class NanoPort {
     this.muteAfter = Infinity;
     this.muteOpens = 0;
     this.pace = 0; // 0: as fast as it goes
+    // A slow way in (a busy machine's page, worker and emulator): the host's next `lagWrites`
+    // writes reach the Nano `lagMs` of its time late, and every byte after them waits its turn
+    // (a serial line keeps the order).
+    this.lagWrites = 0;
+    this.lagMs = 0;
+    this.inFlight = []; // [due, bytes]: on their way to the Nano, in order
     nano.onByte = (b) => this.out.push(b);
   }
 
@@ -35,7 +41,10 @@ export class NanoPort {
     this.writable = new WritableStream({
       write: (chunk) => {
         if (!this.plugged) throw new Error("the device has been lost");
-        this.nano.send(chunk);
+        const lag = this.lagWrites > 0 ? (this.lagWrites--, this.lagMs) : 0;
+        const due = Math.max(this.clock() + lag, this.inFlight.at(-1)?.[0] ?? -Infinity);
+        if (due > this.clock()) this.inFlight.push([due, Uint8Array.from(chunk)]);
+        else this.nano.send(chunk);
         this.written += chunk.length;
         if (this.written >= this.pullAfter) this.pull();
       },
@@ -45,6 +54,7 @@ export class NanoPort {
     const loop = () => {
       if (this.running !== run) return;
       if (!this.pace || this.nano.seconds - nano0 < ((performance.now() - wall0) / 1000) * this.pace) this.nano.runFor(0.002);
+      while (this.inFlight.length && this.inFlight[0][0] <= this.clock()) this.nano.send(this.inFlight.shift()[1]);
       if (this.written - opened >= mute) this.out = [];
       if (this.out.length) {
         controller.enqueue(Uint8Array.from(this.out));
@@ -62,6 +72,7 @@ export class NanoPort {
 
   async close() {
     this.running = null;
+    this.inFlight = [];
     try {
       this.controller?.close();
     } catch {

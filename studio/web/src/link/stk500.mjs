@@ -171,6 +171,38 @@ async function sync(link, port) {
   return false;
 }
 
+// The signature request, the first command after the sync. Answers to the sync's earlier
+// attempts can still be on their way: a busy machine delays the page's bytes to a virtual Nano
+// (and a USB adapter's buffer a real one's) by more than the sync's waits. They all come before
+// this one's answer (a serial line keeps the order), so they are passed over here: INSYNC OK
+// pairs, or an OK whose INSYNC the sync drained. A signature begins 0x1e (Atmel's), never OK.
+async function signature(link) {
+  const what = "the signature request";
+  await link.write([READ_SIGN, CRC_EOP]);
+  const next = async (n) => {
+    const r = await link.read(n, STALL_MS);
+    if (!r) throw new FlashError("stalled", `the bootloader stopped answering (${what}): nothing for ${STALL_MS / 1000} s`);
+    return r;
+  };
+  const skipped = [];
+  for (;;) {
+    const [b] = await next(1);
+    if (b === STK_INSYNC) {
+      const [first] = await next(1);
+      if (first !== STK_OK) {
+        const rest = await next(3);
+        if (rest[2] !== STK_OK)
+          throw new FlashError("no-bootloader", `the bootloader answered ${[b, first, ...rest].map(hex2).join(" ")} to ${what}`);
+        return [first, rest[0], rest[1]];
+      }
+      skipped.push(b, first);
+    } else if (b === STK_OK) skipped.push(b);
+    else throw new FlashError("no-bootloader", `the bootloader answered ${[...skipped, b].map(hex2).join(" ")} to ${what}`);
+    if (skipped.length > 40) // more than ten syncs' answers: something else talks on this port
+      throw new FlashError("no-bootloader", `the bootloader answered ${skipped.map(hex2).join(" ")}… to ${what}`);
+  }
+}
+
 async function loadAddress(link, at) {
   const word = at >> 1;
   await command(link, [LOAD_ADDRESS, word & 0xff, word >> 8], 0, `the address ${hex2(at)}`);
@@ -220,7 +252,7 @@ async function flashOnce(port, { pages, bytes }, baudRates, onProgress) {
     if (!link)
       throw new FlashError("no-bootloader", `no answer from a bootloader at ${baudRates.join(" or ")} baud: is it a Nano ` +
         "(new or old bootloader), and is no other program (a serial monitor, the arm panel) using the port?");
-    const sig = await command(link, [READ_SIGN], 3, "the signature request");
+    const sig = await signature(link);
     if (sig.some((b, i) => b !== SIGNATURE[i]))
       throw new FlashError("signature", `the chip's signature is ${sig.map(hex2).join(" ")}, not an ATmega328P's ` +
         `(${SIGNATURE.map(hex2).join(" ")}): this is not a Nano`);
