@@ -95,7 +95,9 @@ def run_plan(pg, plan, xyz_for, first_pose=None):
         pg.wait(f"a.experiment.waiting === null || a.experiment.waiting.line !== {w['line']}", timeout=30000)
         typed.append((w["line"], *xyz))
     assert pg.hook("a.experiment.mismatches") == []  # every reply and every step as the model predicts
-    pg.wait("a.experiment.tables !== null")
+    # (the tables come when the plan's last move has ended and its analysis ran: on half a core
+    # that took more than a minute, the 15 s default's four times)
+    pg.wait("a.experiment.tables !== null", timeout=60000)
     return typed
 
 
