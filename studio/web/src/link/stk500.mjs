@@ -136,11 +136,17 @@ export const STALL_MS = 5000;
 // Flashes that stall are tried this many times in all before the flasher gives up.
 export const TRIES = 2;
 
+// `n` bytes of the answer to `what`, or a stall naming it.
+async function answer(link, n, what, ms = STALL_MS) {
+  const r = await link.read(n, ms);
+  if (!r) throw new FlashError("stalled", `the bootloader stopped answering (${what}): nothing for ${ms / 1000} s`);
+  return r;
+}
+
 // One command: `INSYNC <n bytes> OK` back, or an error naming it.
 async function command(link, bytes, n, what, ms = STALL_MS) {
   await link.write([...bytes, CRC_EOP]);
-  const r = await link.read(n + 2, ms);
-  if (!r) throw new FlashError("stalled", `the bootloader stopped answering (${what}): nothing for ${ms / 1000} s`);
+  const r = await answer(link, n + 2, what, ms);
   if (r[0] !== STK_INSYNC || r[n + 1] !== STK_OK)
     throw new FlashError("no-bootloader", `the bootloader answered ${r.map(hex2).join(" ")} to ${what}`);
   return r.slice(1, n + 1);
@@ -179,11 +185,7 @@ async function sync(link, port) {
 async function signature(link) {
   const what = "the signature request";
   await link.write([READ_SIGN, CRC_EOP]);
-  const next = async (n) => {
-    const r = await link.read(n, STALL_MS);
-    if (!r) throw new FlashError("stalled", `the bootloader stopped answering (${what}): nothing for ${STALL_MS / 1000} s`);
-    return r;
-  };
+  const next = (n) => answer(link, n, what);
   const skipped = [];
   for (;;) {
     const [b] = await next(1);
