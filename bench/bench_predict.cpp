@@ -101,12 +101,12 @@ void firmware(benchmark::State& state, std::string (*program)(), host::SenderMod
   uint64_t ticks = 0;
   for (auto _ : state) {
     sitl::boot();
-    const uint64_t t0 = sitl::hw.now;
+    const uint64_t t0 = sitl::hw().now;
     sitl::run_lines(lines, kind == host::SenderModel::kRest ? sitl::kAtRest : sitl::kStreamed);
     ticks = sitl::stopped_at() - t0;
     state.PauseTiming();  // the logs are the machine's memory, not its work: emptied between runs
-    sitl::hw.coil_log.clear();
-    sitl::hw.coil_log.shrink_to_fit();
+    sitl::hw().coil_log.clear();
+    sitl::hw().coil_log.shrink_to_fit();
     state.ResumeTiming();
   }
   state.counters["lines"] = double(lines.size());

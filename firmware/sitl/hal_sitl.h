@@ -30,6 +30,7 @@
 #include "coil_decoder.h"  // (virtual-nano/: the SITL reads the coils as the virtual Nanos do)
 #include "report.h"
 #include "../src/robot.h"  // (by its path: the host library has a robot.h of its own)
+#include "../src/state.h"
 
 namespace sitl {
 
@@ -152,7 +153,14 @@ struct Hardware {
   int interrupts_off_depth = 0;
 };
 
-extern Hardware hw;
+// The hardware of the machine this thread runs now (machine.h: Machine::Use): what every hal::
+// call here reads and writes.
+#if defined(__EMSCRIPTEN__)
+extern __thread Hardware* g_hw;
+#else
+extern __thread Hardware* g_hw __attribute__((tls_model("initial-exec")));
+#endif
+inline Hardware& hw() { return *g_hw; }
 
 // An entry of the action log at the current tick, with the firmware's step counts.
 void log_action(uint8_t kind);

@@ -16,49 +16,64 @@
 
 namespace sitl {
 
+// The machine this thread runs: the first one until a Use says otherwise (threads that never
+// say share it: a program that needs one firmware needs no machine object).
 namespace {
-std::string g_partial;  // output not yet ended by an LF
-std::vector<std::string> g_lines;
-std::vector<std::string> g_reports;
-size_t g_tx_seen = 0;
+Machine g_first;
+__thread Machine* g_machine = &g_first;
+}  // namespace
+#if defined(__EMSCRIPTEN__)
+__thread Hardware* g_hw = &g_first.hw;
+#else
+__thread Hardware* g_hw __attribute__((tls_model("initial-exec"))) = &g_first.hw;
+#endif
 
-// The serial line from the host: bytes with the tick each arrives, in order.
-struct Arrival {
-  uint64_t tick;
-  char c;
-};
-std::deque<Arrival> g_line;
-uint64_t g_line_free = 0;  // when the last frame sent is in
-uint64_t g_stopped_at = 0;  // the step timer's last deadline before it stopped
+}  // namespace sitl
 
-// Timed '!'s (run_lines): ticks after the first step, pending until it is known.
-std::deque<uint64_t> g_stops;
-size_t g_coil_from = 0;     // the coil log's first write of the run
-bool g_first_known = false;
-uint64_t g_first_step = 0;
-std::vector<uint64_t> g_stops_sent;
+namespace firmware {
+#if defined(__EMSCRIPTEN__)
+__thread State* g_state = &sitl::g_first.firmware;
+#else
+__thread State* g_state __attribute__((tls_model("initial-exec"))) = &sitl::g_first.firmware;
+#endif
+}  // namespace firmware
+
+namespace sitl {
+
+Machine::Machine() : firmware(), hw(), loop() {}
+
+Machine::Use::Use(Machine& m) : was_(g_machine) { take(&m); }
+Machine::Use::~Use() { take(was_); }
+void Machine::Use::take(Machine* m) {
+  g_machine = m;
+  g_hw = &m->hw;
+  firmware::g_state = &m->firmware;
+}
+
+Machine& current() { return *g_machine; }
+
+namespace {
+inline Machine::Loop& lp() { return g_machine->loop; }
+
 // run_lines()' '!'s; kPending: not at rest yet.
 const uint64_t kPending = ~uint64_t(0);
-std::vector<StopEvent> g_stop_events;
-bool g_track_stops = false;  // inside run_lines()
 
 bool is_reply(const std::string& s) { return s == "ok" || s.rfind("error:", 0) == 0; }
-size_t g_replies = 0;  // reply lines collect() has seen
 void collect();
 
 void bang_arrives() {
-  if (!g_track_stops) return;
+  if (!lp().track_stops) return;
   collect();
-  g_stop_events.push_back(StopEvent{sitl::hw.now, kPending, g_replies, 0, 0, robot::State()});
+  lp().stop_events.push_back(StopEvent{sitl::hw().now, kPending, lp().replies, 0, 0, robot::State()});
 }
 
 // The first step of the run, once the coil log has one.
 void find_first_step() {
-  const std::vector<CoilWrite>& log = sitl::hw.coil_log;
-  for (; !g_first_known && g_coil_from < log.size(); ++g_coil_from)
-    if (log[g_coil_from].step != 0) {
-      g_first_known = true;
-      g_first_step = log[g_coil_from].tick;
+  const std::vector<CoilWrite>& log = sitl::hw().coil_log;
+  for (; !lp().first_known && lp().coil_from < log.size(); ++lp().coil_from)
+    if (log[lp().coil_from].step != 0) {
+      lp().first_known = true;
+      lp().first_step = log[lp().coil_from].tick;
     }
 }
 
@@ -66,7 +81,7 @@ void find_first_step() {
 // gripper action without a settle pause), with nothing queued after it, leaves the step timer
 // unstarted: the action log gets its end here, as a timer stop.
 void poll() {
-  Hardware& hw = sitl::hw;
+  Hardware& hw = sitl::hw();
   const bool stopping = stepper::stop_requested();
   const size_t actions = hw.actions.size(), queued = hw.queued.size();
   firmware::poll();
@@ -75,13 +90,13 @@ void poll() {
   // A stop is done when the main loop has emptied the queue at rest (controller.cpp
   // service_stop), in the pass that may go on to read the next line.
   if (stopping && !stepper::stop_requested())
-    for (size_t i = g_stop_events.size(); i > 0 && g_stop_events[i - 1].rest == kPending; --i) {
-      g_stop_events[i - 1].rest = hw.now;
-      g_stop_events[i - 1].actions = actions;
-      g_stop_events[i - 1].queued = queued;
+    for (size_t i = lp().stop_events.size(); i > 0 && lp().stop_events[i - 1].rest == kPending; --i) {
+      lp().stop_events[i - 1].rest = hw.now;
+      lp().stop_events[i - 1].actions = actions;
+      lp().stop_events[i - 1].queued = queued;
       // (Where the arm rests, as the firmware counts it: the pass may have gone on to plan
       // the next line's move already.)
-      robot::State& at = g_stop_events[i - 1].planned;
+      robot::State& at = lp().stop_events[i - 1].planned;
       stepper::read_positions(at.steps);
       for (uint8_t m = 0; m < robot::kJoints; ++m)
         at.commanded[m] = m < robot::count() ? articula::steps_to_millideg(robot::motor(m), at.steps[m]) : 0;
@@ -90,13 +105,13 @@ void poll() {
 
 // The step deadline due now: the staged coils, the firmware's step, the next deadline.
 void fire_deadline() {
-  Hardware& hw = sitl::hw;
+  Hardware& hw = sitl::hw();
   hw.now = hw.deadline;
   const uint32_t next = sitl::step_deadline();
   if (next == 0) {
     hw.timer_running = false;
     log_action(kTimerStopped);
-    g_stopped_at = hw.now;
+    lp().stopped_at = hw.now;
   } else {
     hw.deadline += next;
   }
@@ -104,23 +119,23 @@ void fire_deadline() {
 
 // The byte due now at the receive interrupt.
 void deliver_byte() {
-  sitl::hw.now = g_line.front().tick;
-  const char c = g_line.front().c;
-  g_line.pop_front();
+  sitl::hw().now = lp().line.front().tick;
+  const char c = lp().line.front().c;
+  lp().line.pop_front();
   if (c == '!') bang_arrives();
   sitl::receive(c);
 }
 
 void collect() {
-  const std::string& tx = sitl::hw.tx;
-  for (; g_tx_seen < tx.size(); ++g_tx_seen) {
-    const char c = tx[g_tx_seen];
+  const std::string& tx = sitl::hw().tx;
+  for (; lp().tx_seen < tx.size(); ++lp().tx_seen) {
+    const char c = tx[lp().tx_seen];
     if (c == '\n') {
-      g_replies += is_reply(g_partial);
-      g_lines.push_back(g_partial);
-      g_partial.clear();
+      lp().replies += is_reply(lp().partial);
+      lp().lines.push_back(lp().partial);
+      lp().partial.clear();
     } else {
-      g_partial.push_back(c);
+      lp().partial.push_back(c);
     }
   }
 }
@@ -133,7 +148,7 @@ void boot(bool blank_eeprom, const std::string& during_setup, const uint8_t* con
   if (config != nullptr) {
     // The arm as `articula configure ROBOT` would have left it in EEPROM.
     // (robot.h's layout: the version, the image, its CRC-16 low byte first)
-    uint8_t* e = sitl::hw.eeprom;
+    uint8_t* e = sitl::hw().eeprom;
     if (blank_eeprom || e[robot::kEepromAddress] != robot::kEepromVersion) {
       const uint16_t crc = articula::config_checksum(config);
       e[robot::kEepromAddress] = robot::kEepromVersion;
@@ -142,13 +157,8 @@ void boot(bool blank_eeprom, const std::string& during_setup, const uint8_t* con
       e[robot::kEepromCrcAt + 1] = uint8_t(crc >> 8);
     }
   }
-  g_partial.clear();
-  g_lines.clear();
-  g_reports.clear();
-  g_tx_seen = 0;
-  g_line.clear();
-  g_line_free = 0;
-  g_stopped_at = 0;
+  lp() = Machine::Loop();
+  current().firmware = firmware::State();  // the RAM as at a reset: all zero, as the Nano's C start-up leaves it
   hal::init();  // as main.cpp
   for (char c : during_setup) sitl::receive(c);
   firmware::setup();
@@ -156,8 +166,8 @@ void boot(bool blank_eeprom, const std::string& during_setup, const uint8_t* con
     robot::use(*arm, 0);
     firmware::configured();
   }
-  for (int i = 0; i < robot::kJoints; ++i) sitl::hw.microsteps[i] = robot::actuation().motors[i].microsteps;
-  sitl::hw.unipolar = robot::config.drive == articula::kDriveUln2003;  // the rig's motors, as the arm's
+  for (int i = 0; i < robot::kJoints; ++i) sitl::hw().microsteps[i] = robot::actuation().motors[i].microsteps;
+  sitl::hw().unipolar = robot::config().drive == articula::kDriveUln2003;  // the rig's motors, as the arm's
   hal::start();
 }
 
@@ -166,29 +176,29 @@ void send(const std::string& bytes) {
 }
 
 uint64_t send_at(uint64_t tick, const std::string& bytes) {
-  uint64_t t = tick < sitl::hw.now ? sitl::hw.now : tick;
-  if (t < g_line_free) t = g_line_free;
+  uint64_t t = tick < sitl::hw().now ? sitl::hw().now : tick;
+  if (t < lp().line_free) t = lp().line_free;
   for (char c : bytes) {
     t += kByteTicks;
-    g_line.push_back(Arrival{t, c});
+    lp().line.push_back(Machine::Arrival{t, c});
   }
-  g_line_free = t;
+  lp().line_free = t;
   return t;
 }
 
-size_t on_the_line() { return g_line.size(); }
+size_t on_the_line() { return lp().line.size(); }
 
 void tick() {
-  Hardware& hw = sitl::hw;
+  Hardware& hw = sitl::hw();
   poll();
   const uint64_t end = hw.now + kPollTicks;
   for (;;) {
     // The next event: a step deadline or a byte's arrival (a deadline first at the same tick:
     // the step timer's interrupt has the higher priority on the ATmega328P).
     const bool step = hw.timer_running && hw.deadline <= end;
-    const bool byte = !g_line.empty() && g_line.front().tick <= end;
+    const bool byte = !lp().line.empty() && lp().line.front().tick <= end;
     if (!step && !byte) break;
-    if (step && (!byte || hw.deadline <= g_line.front().tick))
+    if (step && (!byte || hw.deadline <= lp().line.front().tick))
       fire_deadline();
     else
       deliver_byte();
@@ -203,7 +213,7 @@ const uint64_t kMilliTicks = kSecond / 1000;
 // poll() as the Nano's loop runs it after an interrupt: again while it makes progress (reads
 // a byte, writes one), as hal::idle() does not sleep while a received byte waits.
 void poll_until_idle() {
-  Hardware& hw = sitl::hw;
+  Hardware& hw = sitl::hw();
   for (int pass = 0; pass < 64; ++pass) {
     const size_t rx = hw.rx.size(), tx = hw.tx.size();
     const bool running = hw.timer_running;
@@ -214,7 +224,7 @@ void poll_until_idle() {
 }  // namespace
 
 uint64_t next_event() {
-  const Hardware& hw = sitl::hw;
+  const Hardware& hw = sitl::hw();
   // The millisecond tick wakes the Nano's loop for what it times by millis(): the coils'
   // release $2 ms after the arm came to rest. While the arm moves, a pass at it finds nothing
   // new (a byte, a step, the stop's end wake the loop themselves, and the loop reads the clock
@@ -222,42 +232,42 @@ uint64_t next_event() {
   uint64_t t = ~uint64_t(0);
   if (!hw.timer_running || at_rest()) t = (hw.now / kMilliTicks + 1) * kMilliTicks;
   if (hw.timer_running && hw.deadline < t) t = hw.deadline;
-  if (!g_line.empty() && g_line.front().tick < t) t = g_line.front().tick;
-  if (g_first_known && !g_stops.empty() && g_first_step + g_stops.front() < t) t = g_first_step + g_stops.front();
+  if (!lp().line.empty() && lp().line.front().tick < t) t = lp().line.front().tick;
+  if (lp().first_known && !lp().stops.empty() && lp().first_step + lp().stops.front() < t) t = lp().first_step + lp().stops.front();
   return t < hw.now ? hw.now : t;
 }
 
-uint64_t first_step() { return g_first_known ? g_first_step : 0; }
-const std::vector<uint64_t>& stops_sent() { return g_stops_sent; }
-const std::vector<StopEvent>& stop_events() { return g_stop_events; }
+uint64_t first_step() { return lp().first_known ? lp().first_step : 0; }
+const std::vector<uint64_t>& stops_sent() { return lp().stops_sent; }
+const std::vector<StopEvent>& stop_events() { return lp().stop_events; }
 
 namespace {
 // The next event delivered (the clock at it), then the main loop's passes.
 void step_event() {
-  Hardware& hw = sitl::hw;
+  Hardware& hw = sitl::hw();
   const uint64_t t = next_event();
   // At a tie: the step timer's interrupt first (it has the higher priority), then a line's
   // byte, then a timed '!'.
   if (hw.timer_running && hw.deadline == t) {
     fire_deadline();
-  } else if (!g_line.empty() && g_line.front().tick == t) {
+  } else if (!lp().line.empty() && lp().line.front().tick == t) {
     deliver_byte();
-  } else if (g_first_known && !g_stops.empty() && g_first_step + g_stops.front() == t) {
+  } else if (lp().first_known && !lp().stops.empty() && lp().first_step + lp().stops.front() == t) {
     hw.now = t;
-    g_stops.pop_front();
-    g_stops_sent.push_back(t);
+    lp().stops.pop_front();
+    lp().stops_sent.push_back(t);
     bang_arrives();
     sitl::receive('!');
   } else {
     hw.now = t;  // the millisecond tick
   }
-  if (!g_first_known) find_first_step();
+  if (!lp().first_known) find_first_step();
   poll_until_idle();
 }
 }  // namespace
 
 void run_to(uint64_t until) {
-  Hardware& hw = sitl::hw;
+  Hardware& hw = sitl::hw();
   if (until < hw.now) until = hw.now;  // the clock never goes back
   poll_until_idle();
   while (next_event() <= until) step_event();
@@ -265,7 +275,7 @@ void run_to(uint64_t until) {
   collect();
 }
 
-uint64_t stopped_at() { return g_stopped_at; }
+uint64_t stopped_at() { return lp().stopped_at; }
 
 std::vector<Exchange> run_lines(const std::vector<std::string>& lines, SenderKind kind,
                                 const std::vector<uint64_t>& stops, uint64_t max_ticks) {
@@ -281,23 +291,23 @@ std::vector<Exchange> run_lines(const std::vector<std::string>& lines, SenderKin
 
 std::vector<Exchange> run_lines(const std::function<bool(std::string& line)>& next, SenderKind kind,
                                 const std::vector<uint64_t>& stops, uint64_t max_ticks) {
-  Hardware& hw = sitl::hw;
+  Hardware& hw = sitl::hw();
   std::vector<Exchange> out;
-  g_stops.assign(stops.begin(), stops.end());
-  std::sort(g_stops.begin(), g_stops.end());
-  g_stops_sent.clear();
-  g_stop_events.clear();
-  g_track_stops = true;
-  g_coil_from = hw.coil_log.size();
-  g_first_known = false;
-  g_first_step = 0;
+  lp().stops.assign(stops.begin(), stops.end());
+  std::sort(lp().stops.begin(), lp().stops.end());
+  lp().stops_sent.clear();
+  lp().stop_events.clear();
+  lp().track_stops = true;
+  lp().coil_from = hw.coil_log.size();
+  lp().first_known = false;
+  lp().first_step = 0;
   const uint64_t end = hw.now + max_ticks;
   uint64_t wire = hw.now;  // when the sender may start the next line (the last reply is off the wire)
   bool first = true;
   poll_until_idle();
   collect();
-  g_lines.clear();
-  g_replies = 0;
+  lp().lines.clear();
+  lp().replies = 0;
   std::string line;
   while (true) {
     // When it goes: the first at once; then as the sender waits.
@@ -332,12 +342,12 @@ std::vector<Exchange> run_lines(const std::function<bool(std::string& line)>& ne
     // Its reply: the first reply line the firmware writes from here (reports go by).
     poll_until_idle();
     while (x.reply.empty() && hw.now < end) {
-      if (g_tx_seen != hw.tx.size()) {  // (only new output can hold it)
+      if (lp().tx_seen != hw.tx.size()) {  // (only new output can hold it)
         collect();
-        for (size_t i = 0; i < g_lines.size(); ++i)
-          if (is_reply(g_lines[i])) {
-            x.reply = g_lines[i];
-            g_lines.erase(g_lines.begin(), g_lines.begin() + long(i) + 1);
+        for (size_t i = 0; i < lp().lines.size(); ++i)
+          if (is_reply(lp().lines[i])) {
+            x.reply = lp().lines[i];
+            lp().lines.erase(lp().lines.begin(), lp().lines.begin() + long(i) + 1);
             break;
           }
       }
@@ -352,16 +362,16 @@ std::vector<Exchange> run_lines(const std::function<bool(std::string& line)>& ne
     out.push_back(x);
   }
   // At rest, and every timed '!' sent (one after the arm stopped still stops nothing).
-  while ((!at_rest() || (g_first_known && !g_stops.empty())) && hw.now < end) step_event();
+  while ((!at_rest() || (lp().first_known && !lp().stops.empty())) && hw.now < end) step_event();
   collect();
-  g_stops.clear();
-  g_track_stops = false;
+  lp().stops.clear();
+  lp().track_stops = false;
   return out;
 }
 
 bool run_until(const std::function<bool()>& done, uint64_t max_ticks) {
-  const uint64_t end = sitl::hw.now + max_ticks;
-  while (sitl::hw.now < end) {
+  const uint64_t end = sitl::hw().now + max_ticks;
+  while (sitl::hw().now < end) {
     tick();
     if (done()) return true;
   }
@@ -371,16 +381,16 @@ bool run_until(const std::function<bool()>& done, uint64_t max_ticks) {
 std::vector<std::string> take_lines() {
   collect();
   std::vector<std::string> out;
-  out.swap(g_lines);
+  out.swap(lp().lines);
   return out;
 }
 
 std::string take_report() {
   collect();
-  for (size_t i = 0; i < g_lines.size(); ++i) {
-    if (!g_lines[i].empty() && g_lines[i][0] == '<') {
-      const std::string l = g_lines[i];
-      g_lines.erase(g_lines.begin() + long(i));
+  for (size_t i = 0; i < lp().lines.size(); ++i) {
+    if (!lp().lines[i].empty() && lp().lines[i][0] == '<') {
+      const std::string l = lp().lines[i];
+      lp().lines.erase(lp().lines.begin() + long(i));
       return l;
     }
   }
@@ -388,19 +398,19 @@ std::string take_report() {
 }
 
 std::string command(const std::string& line, uint64_t max_ticks) {
-  g_reports.clear();
+  lp().reports.clear();
   send(line + "\n");
   std::string reply;
   run_until(
       [&] {
         collect();
-        while (!g_lines.empty() && reply.empty()) {
-          const std::string l = g_lines.front();
-          g_lines.erase(g_lines.begin());
+        while (!lp().lines.empty() && reply.empty()) {
+          const std::string l = lp().lines.front();
+          lp().lines.erase(lp().lines.begin());
           if (is_reply(l))
             reply = l;
           else
-            g_reports.push_back(l);
+            lp().reports.push_back(l);
         }
         return !reply.empty();
       },
@@ -408,10 +418,10 @@ std::string command(const std::string& line, uint64_t max_ticks) {
   return reply;
 }
 
-const std::vector<std::string>& reports() { return g_reports; }
+const std::vector<std::string>& reports() { return lp().reports; }
 
 bool at_rest() {
-  return !stepper::busy() && queue::empty() && !stepper::stop_requested() && !sitl::hw.timer_running;
+  return !stepper::busy() && queue::empty() && !stepper::stop_requested() && !sitl::hw().timer_running;
 }
 
 bool run_until_at_rest(uint64_t max_ticks) {
@@ -429,14 +439,14 @@ articula::MotionSettings motion_settings() { return stepper::motion_settings(); 
 
 std::vector<Step> steps_of(int motor, uint64_t from_tick) {
   std::vector<Step> out;
-  for (const sitl::CoilWrite& w : sitl::hw.coil_log)
+  for (const sitl::CoilWrite& w : sitl::hw().coil_log)
     if (w.motor == motor && w.step != 0 && w.tick >= from_tick) out.push_back(Step{w.tick, w.step});
   return out;
 }
 
 std::string hal_errors() {
   std::string s;
-  for (const std::string& e : sitl::hw.errors) s += e + "\n";
+  for (const std::string& e : sitl::hw().errors) s += e + "\n";
   return s;
 }
 

@@ -9,10 +9,17 @@
 //     receive) once its frame is in, 10 bits at the Nano's real 117,647 baud (kByteTicks), one
 //     frame after another: '?' is answered by a status report at the next line boundary of the
 //     output, '!' goes to firmware::on_realtime, every other byte to serial_read().
-// Everything the firmware does is in sitl::hw: its output, every coil write and servo pulse
+// Everything the firmware does is in sitl::hw(): its output, every coil write and servo pulse
 // stamped with its tick, the EEPROM.
 //
-// The firmware's state is global, as on the Nano: one machine per process.
+// A Machine is one Nano: the firmware's state (firmware/src/state.h), its hardware and this
+// loop's. The calls below run the machine this thread uses now: a Machine::Use makes one the
+// thread's for its scope, and a thread that never says uses a first one of the program's. So
+// several machines run in one thread by turns, or each in a thread of its own.
+//
+//   sitl::Machine a, b;
+//   { sitl::Machine::Use use(a); sitl::boot(); sitl::command("M 10 0 0"); }
+//   { sitl::Machine::Use use(b); sitl::boot(); ... }
 #ifndef ARTICULA_FIRMWARE_SITL_MACHINE_H
 #define ARTICULA_FIRMWARE_SITL_MACHINE_H
 
@@ -20,6 +27,7 @@
 #include <articula/motion.h>
 
 #include <cstdint>
+#include <deque>
 #include <functional>
 #include <string>
 #include <vector>
@@ -147,6 +155,58 @@ std::vector<Step> steps_of(int motor, uint64_t from_tick = 0);
 
 // Every error the HAL saw (illegal coil patterns, jumps, unbalanced interrupts).
 std::string hal_errors();
+
+// One Nano on the virtual clock: the firmware's state, its hardware, and what this loop keeps
+// (the host's line, the output read so far, run_lines()' bookkeeping).
+class Machine {
+ public:
+  Machine();
+  Machine(const Machine&) = delete;
+  Machine& operator=(const Machine&) = delete;
+
+  // The machine this thread's calls run for the Use's scope (the one before it again after).
+  class Use {
+   public:
+    explicit Use(Machine& m);
+    ~Use();
+    Use(const Use&) = delete;
+    Use& operator=(const Use&) = delete;
+
+   private:
+    static void take(Machine* m);
+    Machine* was_;
+  };
+
+  struct Arrival {  // a byte on the serial line from the host, and the tick it arrives
+    uint64_t tick;
+    char c;
+  };
+  struct Loop {
+    std::string partial;  // output not yet ended by an LF
+    std::vector<std::string> lines;
+    std::vector<std::string> reports;
+    size_t tx_seen = 0;
+    size_t replies = 0;  // reply lines collect() has seen
+    std::deque<Arrival> line;  // the serial line from the host, in order
+    uint64_t line_free = 0;    // when the last frame sent is in
+    uint64_t stopped_at = 0;   // the step timer's last deadline before it stopped
+    // Timed '!'s (run_lines): ticks after the first step, pending until it is known.
+    std::deque<uint64_t> stops;
+    size_t coil_from = 0;  // the coil log's first write of the run
+    bool first_known = false;
+    uint64_t first_step = 0;
+    std::vector<uint64_t> stops_sent;
+    std::vector<StopEvent> stop_events;
+    bool track_stops = false;  // inside run_lines()
+  };
+
+  firmware::State firmware;
+  Hardware hw;
+  Loop loop;
+};
+
+// The machine this thread runs now.
+Machine& current();
 
 }  // namespace sitl
 

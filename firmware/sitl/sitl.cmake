@@ -10,7 +10,8 @@
 # L298N's and ULN2003's coils and STEP/DIR drivers), the configuration's $131 choosing, where
 # each AVR build drives one family (robot.h).
 #
-# The firmware's state is global, as on the Nano: a program links one such library, never two.
+# A program links one such library, never two (they define the same symbols); it holds any
+# number of machines of it (machine.h: sitl::Machine, each with the firmware's state).
 #
 # articula_firmware_sitl(TARGET MOTORS SRC_DIR): the same from another copy of src/ (a test
 # that changes a firmware source and sees the prediction follow: host/tests/CMakeLists.txt).

@@ -6,31 +6,37 @@
 
 #include "hal.h"
 #include "robot.h"
+#include "state.h"
 
 namespace coils {
 
 using articula::kCoilSequence;
 
 namespace {
-const uint8_t* g_table = kCoilSequence[0];  // the configuration's drive's
-uint8_t g_phase[robot::kJoints];
-uint8_t g_stride[robot::kJoints];  // 2 in full steps, 1 in half steps
-bool g_on;
+// The coils' state (coils.h), in the firmware's (state.h).
+inline Ram& cs() { return firmware::coils_ram(); }
+inline Sequence& seq() { return firmware::coil_sequence(); }
 }  // namespace
 
 void attach_servos(const int32_t* steps) {
   if (!robot::servos()) return;
   for (uint8_t i = 0; i < robot::count() && i < articula::kMaxConfigMotors; ++i)
-    hal::attach_servo(i, robot::config.servo_pin[i],
-                      uint16_t(robot::config.servo_zero_us[i] * articula::kServoTicksPerUs + (steps ? steps[i] : 0)));
+    hal::attach_servo(i, robot::config().servo_pin[i],
+                      uint16_t(robot::config().servo_zero_us[i] * articula::kServoTicksPerUs + (steps ? steps[i] : 0)));
 }
 
 void setup() {
   attach_servos(0);
-  g_table = kCoilSequence[robot::config.drive == articula::kDriveUln2003 ? 1 : 0];
+  // (A build for pulsed drives only has no coil patterns: nothing reads the table's state.)
+  const uint8_t four_wire = uint8_t((1u << articula::kDriveL298n) | (1u << articula::kDriveUln2003));
+  if ((robot::kDrives & four_wire) == 0) {
+    release();
+    return;
+  }
+  seq().table = kCoilSequence[robot::config().drive == articula::kDriveUln2003 ? 1 : 0];
   for (uint8_t i = 0; i < robot::kJoints; ++i) {
-    g_phase[i] = 1;
-    g_stride[i] = robot::motor(i).microsteps == 2 ? 1 : 2;
+    seq().phase[i] = 1;
+    seq().stride[i] = robot::motor(i).microsteps == 2 ? 1 : 2;
   }
   release();
 }
@@ -38,8 +44,8 @@ void setup() {
 namespace {
 // The motor's next place in kCoilSequence, taken.
 inline uint8_t advance(uint8_t motor, bool negative) {
-  const uint8_t p = uint8_t((g_phase[motor] + (negative ? 8 - g_stride[motor] : g_stride[motor])) & 7);
-  g_phase[motor] = p;
+  const uint8_t p = uint8_t((seq().phase[motor] + (negative ? 8 - seq().stride[motor] : seq().stride[motor])) & 7);
+  seq().phase[motor] = p;
   return p;
 }
 }  // namespace
@@ -51,22 +57,22 @@ void step(uint8_t motor, bool negative) {
   if (robot::pulsed())
     hal::pulse_step(motor, negative);
   else
-    hal::write_coils(motor, g_table[advance(motor, negative)]);
+    hal::write_coils(motor, seq().table[advance(motor, negative)]);
 }
 
 void stage_step(uint8_t motor, bool negative) {
   if (robot::pulsed())
     hal::stage_pulse(motor, negative);
   else
-    hal::stage_coils(motor, g_table[advance(motor, negative)]);
+    hal::stage_coils(motor, seq().table[advance(motor, negative)]);
 }
 
 void energise() {
   if (robot::pulsed())
     hal::enable_drivers(true);
   else
-    for (uint8_t i = 0; i < robot::kJoints; ++i) hal::write_coils(i, g_table[g_phase[i]]);
-  g_on = true;
+    for (uint8_t i = 0; i < robot::kJoints; ++i) hal::write_coils(i, seq().table[seq().phase[i]]);
+  cs().on = true;
 }
 
 void release() {
@@ -74,11 +80,11 @@ void release() {
     hal::enable_drivers(false);
   else
     for (uint8_t i = 0; i < robot::kJoints; ++i) hal::write_coils(i, 0);
-  g_on = false;
+  cs().on = false;
 }
 
-bool on() { return g_on; }
+bool on() { return cs().on; }
 
-uint8_t phase(uint8_t motor) { return g_phase[motor]; }
+uint8_t phase(uint8_t motor) { return seq().phase[motor]; }
 
 }  // namespace coils

@@ -19,7 +19,21 @@
 
 #include <stdint.h>
 
+#include "robot.h"
+
 namespace coils {
+
+// The coils' state (state.h holds it; only coils.cpp touches it): whether they are energised,
+// and each motor's place in its 4-wire drive's sequence (a part of its own, which a build for
+// pulsed drives only never touches: the Nano's linker then leaves it out).
+struct Ram {
+  bool on;
+};
+struct Sequence {
+  const uint8_t* table;  // the configuration's drive's (setup())
+  uint8_t phase[robot::kJoints];
+  uint8_t stride[robot::kJoints];  // 2 in full steps, 1 in half steps
+};
 
 // The table is the core's articula::kCoilSequence (articula/drive.h): bit 0 is IN1 .. bit 3
 // IN4, [0] the L298N's, [1] the ULN2003's.

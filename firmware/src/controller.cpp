@@ -22,6 +22,7 @@
 #include "queue.h"
 #include "robot.h"
 #include "settings.h"
+#include "state.h"
 #include "stepper.h"
 
 using namespace articula;
@@ -33,8 +34,7 @@ const uint8_t kVersion[3] = {0, 1, 0};
 // execute()'s answer for "not yet": not a status code.
 const uint8_t kWait = 0xFF;
 
-// T's four numbers, P's three; M's one per motor (three on the Nano; eight in the host's build).
-typedef BasicCommand<(kJ > 4 ? kJ : 4)> Command;
+using controller::Command;
 
 // Every report is written by the protocol's write_* into a buffer of the size the protocol
 // gives for it (status_report_size, kInfoReportSize, kSettingLineSize: the longest line
@@ -50,21 +50,8 @@ void write_line(const char* buf, const LineSink& end) {
   for (const char* c = buf; c != end.p; ++c) hal::serial_write(*c);
 }
 
-LineAssembler g_line;
-Command g_pending;
-bool g_has_pending;
-LineEvent g_held;            // a complete line behind the pending one, still in g_line
-robot::State g_planned;      // commanded angles and steps once the queue has run
-volatile bool g_homed;       // position known: moves allowed (read by status_line)
-bool g_stop_flushed;         // the queue and waiting lines of the current stop are dealt with
-bool g_was_busy;             // busy at the last pass
-uint32_t g_idle_since;       // millis() at the first pass at rest
-int32_t g_last_delta[kJ];    // the last move queued, in steps, for the planner's junction
-uint32_t g_last_steps;       //   with the next: its dominant steps, 0 after any other action,
-uint16_t g_last_cap;         //   and the highest level its cruise may be entered at
-LineCutter<float, kJ> g_cut;  // T (articula/line.h): the segments of the line being queued
-bool g_cutting;               // the pending T passed its check; g_cut holds what is left of it
-float g_cut_speed;            //   its tool speed, mm/s
+// The controller's state (controller.h), in the firmware's (state.h).
+inline controller::Ram& ctl() { return firmware::controller_ram(); }
 
 void reply(uint8_t status) {
   char buf[kReplySize];
@@ -83,8 +70,8 @@ __attribute__((noinline)) void send_info() {
   for (uint8_t i = 0; i < 3; ++i) r.version[i] = kVersion[i];
   r.protocol = kProtocolVersion;
   r.num_joints = robot::count();
-  for (uint8_t n = 0; n <= kMaxRobotName; ++n) r.name[n] = robot::config.name[n];
-  r.checksum = robot::checksum;
+  for (uint8_t n = 0; n <= kMaxRobotName; ++n) r.name[n] = robot::config().name[n];
+  r.checksum = robot::checksum();
   r.warning = settings::take_warning();
   char buf[kInfoReportSize];
   LineSink out = {buf};
@@ -96,7 +83,7 @@ __attribute__((noinline)) void list_settings() {
   for (uint8_t n = 0; n < settings::kCount; ++n) {
     char buf[kSettingLineSize];
     LineSink out = {buf};
-    write_setting(out, n, int32_t(settings::value[n]) * 1000);
+    write_setting(out, n, int32_t(settings::value()[n]) * 1000);
     write_line(buf, out);
   }
 }
@@ -104,18 +91,18 @@ __attribute__((noinline)) void list_settings() {
 // After a stop or a failed homing: the commanded angles become those of the steps the
 // motors really reached (the A field of a status report).
 void rederive_planned() {
-  g_last_steps = 0;
-  stepper::read_positions(g_planned.steps);
-  for (uint8_t i = 0; i < kJ; ++i) g_planned.commanded[i] = steps_to_millideg(robot::motor(i), g_planned.steps[i]);
+  ctl().last_steps = 0;
+  stepper::read_positions(ctl().planned.steps);
+  for (uint8_t i = 0; i < kJ; ++i) ctl().planned.commanded[i] = steps_to_millideg(robot::motor(i), ctl().planned.steps[i]);
 }
 
 // As at power-up: the motors at step 0, homed unless endstops are fitted.
 void reset_position() {
-  g_last_steps = 0;
-  for (uint8_t i = 0; i < kJ; ++i) g_planned.steps[i] = 0;  // the motors a configuration leaves unused too
-  reset(g_planned, robot::actuation());
-  stepper::set_positions(g_planned.steps);
-  g_homed = settings::value[settings::kEndstops] == 0;
+  ctl().last_steps = 0;
+  for (uint8_t i = 0; i < kJ; ++i) ctl().planned.steps[i] = 0;  // the motors a configuration leaves unused too
+  reset(ctl().planned, robot::actuation());
+  stepper::set_positions(ctl().planned.steps);
+  ctl().homed = settings::value()[settings::kEndstops] == 0;
 }
 
 // P's and T's closed form (articula/line.h, ypp_point_angles: a tool point in mm to the
@@ -126,9 +113,9 @@ void reset_position() {
 // may come.
 struct Solver {
   __attribute__((noinline)) Status solve(Millideg* out, const float* p, const Millideg* near) const {
-    return ypp_point_angles(out, robot::config.arm, robot::config.actuation.motors, make_vec3(p[0], p[1], p[2]), near);
+    return ypp_point_angles(out, robot::config().arm, robot::config().actuation.motors, make_vec3(p[0], p[1], p[2]), near);
   }
-  void tool(float* p, const Millideg* act) const { ypp_tool_at(p, robot::config.arm, act); }
+  void tool(float* p, const Millideg* act) const { ypp_tool_at(p, robot::config().arm, act); }
 };
 
 // Micrometres (or thousandths of mm/s) to mm (mm/s).
@@ -137,11 +124,11 @@ void to_mm(float* out, const int32_t* um, uint8_t n) {
 }
 
 Status solve_point(robot::State& next, const int32_t* um) {
-  if (!robot::config.has_point) return kNoClosedForm;
+  if (!robot::config().has_point) return kNoClosedForm;
   Millideg best[kJ];
   float p[3];
   to_mm(p, um, 3);
-  const Status s = Solver().solve(best, p, g_planned.commanded);
+  const Status s = Solver().solve(best, p, ctl().planned.commanded);
   return s != kOk ? s : move_absolute(next, robot::actuation(), best);
 }
 
@@ -193,21 +180,21 @@ __attribute__((noinline)) void push_planned(queue::Action& a, uint32_t ticks4 = 
     int32_t delta[kJ];
     uint32_t n = 0;
     for (uint8_t i = 0; i < kJ; ++i) {
-      delta[i] = a.target[i] - g_planned.steps[i];
+      delta[i] = a.target[i] - ctl().planned.steps[i];
       n = max_of(n, uint32_t(delta[i] < 0 ? -delta[i] : delta[i]));
     }
     a.plan.steps = uint16_t(min_of(n, uint32_t(0xFFFF)));
     a.plan.cruise4 = segment_cruise4(n, ticks4);
     const uint32_t cruise = stepper::constants().cruise;
     const uint16_t cap = cruise_level_cap(stepper::motion_settings(), cruise, block_cruise(a.plan, cruise));
-    if (g_last_steps != 0 && busy())
-      a.plan.max_entry = min_of(min_of(cap, g_last_cap),
-                                junction_level<kJ>(g_last_delta, g_last_steps, delta, n, kJ, settings::value[settings::kJunction]));
-    for (uint8_t i = 0; i < kJ; ++i) g_last_delta[i] = delta[i];
-    g_last_steps = n;
-    g_last_cap = cap;
+    if (ctl().last_steps != 0 && busy())
+      a.plan.max_entry = min_of(min_of(cap, ctl().last_cap),
+                                junction_level<kJ>(ctl().last_delta, ctl().last_steps, delta, n, kJ, settings::value()[settings::kJunction]));
+    for (uint8_t i = 0; i < kJ; ++i) ctl().last_delta[i] = delta[i];
+    ctl().last_steps = n;
+    ctl().last_cap = cap;
   } else {
-    g_last_steps = 0;
+    ctl().last_steps = 0;
   }
   hal::action_queued(a);
   queue::push(a);
@@ -221,16 +208,16 @@ void queue_action(queue::Action& a, const robot::State& next, uint32_t ticks4 = 
   bool moves = a.kind == queue::kHome;
   for (uint8_t i = 0; i < kJ; ++i) {
     a.target[i] = next.steps[i];
-    moves = moves || next.steps[i] != g_planned.steps[i];
+    moves = moves || next.steps[i] != ctl().planned.steps[i];
   }
   if (moves) push_planned(a, ticks4);
-  g_planned = next;
+  ctl().planned = next;
 }
 
 // Commands that go through the queue: validated against the planned state (which nothing
 // but this line changes while it waits), then queued when there is room.
 uint8_t queue_command(const Command& c) {
-  robot::State next = g_planned;
+  robot::State next = ctl().planned;
   queue::Action a;
   a.kind = queue::kMove;
   a.mask = 0;
@@ -239,7 +226,7 @@ uint8_t queue_command(const Command& c) {
     case kCmdRotate:
     case kCmdMoveAbsolute:
     case kCmdMoveTool:
-      if (!g_homed) return kNotHomed;
+      if (!ctl().homed) return kNotHomed;
       s = c.type == kCmdRotate         ? move_relative(next, robot::actuation(), uint8_t(c.arg[0]), c.arg[1])
           : c.type == kCmdMoveAbsolute ? move_absolute(next, robot::actuation(), c.arg)
                                        : solve_point(next, c.arg);
@@ -252,7 +239,7 @@ uint8_t queue_command(const Command& c) {
       a.kind = queue::kGripper;
       a.grip.pulse_us = gripper::pulse_us(aperture);
       a.grip.percent = aperture_percent(aperture);
-      a.grip.settle_ticks = settings::value[settings::kSettleMs] * (hal::kTickHz / 1000);
+      a.grip.settle_ticks = settings::value()[settings::kSettleMs] * (hal::kTickHz / 1000);
       push_planned(a);
       return kOk;
     }
@@ -264,10 +251,10 @@ uint8_t queue_command(const Command& c) {
       return kOk;
     case kCmdHome: {
       // Switch motors end at their minimum angle, the others at the home pose.
-      const uint8_t mask = uint8_t(settings::value[settings::kEndstops]);
+      const uint8_t mask = uint8_t(settings::value()[settings::kEndstops]);
       for (uint8_t i = 0; i < kJ; ++i) {
         const MotorSpec& m = robot::motor(i);
-        next.commanded[i] = (mask & (1u << i)) ? m.min : robot::config.home[i];
+        next.commanded[i] = (mask & (1u << i)) ? m.min : robot::config().home[i];
         next.steps[i] = quantize_within_limits(m, next.commanded[i]);
       }
       a.kind = queue::kHome;
@@ -278,7 +265,7 @@ uint8_t queue_command(const Command& c) {
       return kUnknownCommand;  // not reached: execute() routes the others
   }
   if (queue::full()) return kWait;
-  if (a.kind == queue::kHome) g_homed = true;  // until the search fails
+  if (a.kind == queue::kHome) ctl().homed = true;  // until the search fails
   queue_action(a, next);
   return kOk;
 }
@@ -290,36 +277,36 @@ uint8_t queue_command(const Command& c) {
 void start_line(const Command& c) {
   float from[3], to[4];  // x, y, z in mm, and the speed in mm/s
   to_mm(to, c.arg, 4);
-  Solver().tool(from, g_planned.commanded);
-  g_cut.start(from, to, g_planned.commanded, kJ,
-              float(int32_t(settings::value[settings::kChord])) * 0.001f);
-  g_cut_speed = to[3];
+  Solver().tool(from, ctl().planned.commanded);
+  ctl().cut.start(from, to, ctl().planned.commanded, kJ,
+              float(int32_t(settings::value()[settings::kChord])) * 0.001f);
+  ctl().cut_speed = to[3];
 }
 
 uint8_t line_command(const Command& c) {
-  if (!g_homed) return kNotHomed;
-  if (!robot::config.has_point) return kNoClosedForm;
+  if (!ctl().homed) return kNotHomed;
+  if (!robot::config().has_point) return kNoClosedForm;
   Millideg end[kJ];
-  if (!g_cutting) {
+  if (!ctl().cutting) {
     start_line(c);
-    while (!g_cut.done()) {
-      const Status s = g_cut.next(Solver(), end);
+    while (!ctl().cut.done()) {
+      const Status s = ctl().cut.next(Solver(), end);
       if (s != kOk) return s;
     }
     start_line(c);
-    g_cutting = true;
+    ctl().cutting = true;
   }
-  while (!g_cut.done()) {
+  while (!ctl().cut.done()) {
     if (queue::full()) return kWait;
-    g_cut.next(Solver(), end);  // as it was when checked
-    robot::State next = g_planned;
+    ctl().cut.next(Solver(), end);  // as it was when checked
+    robot::State next = ctl().planned;
     move_absolute(next, robot::actuation(), end);  // within the limits: checked
     queue::Action a;
     a.kind = queue::kMove;
     a.mask = 0;
-    queue_action(a, next, segment_ticks4(g_cut.segment_length(), g_cut_speed, hal::kTickHz));
+    queue_action(a, next, segment_ticks4(ctl().cut.segment_length(), ctl().cut_speed, hal::kTickHz));
   }
-  g_cutting = false;
+  ctl().cutting = false;
   return kOk;
 }
 
@@ -334,7 +321,7 @@ uint8_t execute(const Command& c) {
       list_settings();
       return kOk;
     case kCmdName:  // the text is in the line just read: a name never waits
-      return robot::stage_name(g_line.line() + c.arg[0], uint8_t(c.arg[1]));
+      return robot::stage_name(ctl().line.line() + c.arg[0], uint8_t(c.arg[1]));
     case kCmdSetSetting: {
       if (c.arg[0] >= 100) return configure(c.arg[0], c.arg[1]);
       const Status s = settings::check(c.arg[0], c.arg[1]);
@@ -347,13 +334,13 @@ uint8_t execute(const Command& c) {
     case kCmdSetZero:
       if (busy()) return kWait;
       for (uint8_t i = 0; i < kJ; ++i) {
-        g_planned.commanded[i] = robot::config.home[i];
-        g_planned.steps[i] = robot::home_steps[i];
+        ctl().planned.commanded[i] = robot::config().home[i];
+        ctl().planned.steps[i] = robot::home_steps()[i];
       }
-      stepper::set_positions(g_planned.steps);
-      coils::attach_servos(g_planned.steps);  // a servo's pulse is its position: they go home at once
-      g_homed = true;
-      g_last_steps = 0;
+      stepper::set_positions(ctl().planned.steps);
+      coils::attach_servos(ctl().planned.steps);  // a servo's pulse is its position: they go home at once
+      ctl().homed = true;
+      ctl().last_steps = 0;
       return kOk;
     case kCmdLine:
       return line_command(c);
@@ -367,45 +354,45 @@ void run_line(LineEvent ev) {
     reply(kLineTooLong);
     return;
   }
-  const Status s = parse_line(g_pending, g_line, robot::count());
+  const Status s = parse_line(ctl().pending, ctl().line, robot::count());
   if (s != kOk) {
     reply(s);
     return;
   }
-  const uint8_t r = execute(g_pending);
+  const uint8_t r = execute(ctl().pending);
   if (r == kWait) {
-    g_has_pending = true;
+    ctl().has_pending = true;
     return;
   }
   reply(r);
 }
 
-// Reads bytes until a line is complete (kept in g_held) or none are waiting.
+// Reads bytes until a line is complete (kept in ctl().held) or none are waiting.
 void read_ahead() {
-  while (g_held == kLineNone) {
+  while (ctl().held == kLineNone) {
     const int16_t c = hal::serial_read();
     if (c < 0) return;
-    g_held = g_line.feed(char(c));
+    ctl().held = ctl().line.feed(char(c));
   }
 }
 
 void service_lines() {
-  if (g_has_pending) {
+  if (ctl().has_pending) {
     // Valid when first run; what it waits for is checked cheaply (P's inverse kinematics
     // runs again only once there is room).
     // (A T still queueing its segments waits again when the queue fills.)
-    const uint8_t r = must_wait(g_pending) ? kWait : execute(g_pending);
+    const uint8_t r = must_wait(ctl().pending) ? kWait : execute(ctl().pending);
     if (r == kWait) {
       read_ahead();
       return;
     }
     reply(r);
-    g_has_pending = false;
+    ctl().has_pending = false;
   }
   read_ahead();
-  if (g_held != kLineNone && !stepper::stop_requested()) {  // a line after a '!' waits for rest
-    const LineEvent ev = g_held;
-    g_held = kLineNone;
+  if (ctl().held != kLineNone && !stepper::stop_requested()) {  // a line after a '!' waits for rest
+    const LineEvent ev = ctl().held;
+    ctl().held = kLineNone;
     run_line(ev);
   }
 }
@@ -413,21 +400,21 @@ void service_lines() {
 // '!': empty the queue and answer the waiting lines at once; once the arm is at rest, take
 // the position it reached and read lines again.
 void service_stop() {
-  if (!g_stop_flushed) {
+  if (!ctl().stop_flushed) {
     stepper::cut_pause();
-    g_cutting = false;
-    if (g_has_pending) {  // and the line read behind it, if any
+    ctl().cutting = false;
+    if (ctl().has_pending) {  // and the line read behind it, if any
       reply(kStopped);
-      if (g_held != kLineNone) reply(kStopped);
-      g_has_pending = false;
-      g_held = kLineNone;
+      if (ctl().held != kLineNone) reply(kStopped);
+      ctl().has_pending = false;
+      ctl().held = kLineNone;
     }
-    g_stop_flushed = true;
+    ctl().stop_flushed = true;
   }
   if (!stepper::busy()) {  // the queue kept the moves a stop at speed runs on into
     queue::clear();
     rederive_planned();
-    g_stop_flushed = false;
+    ctl().stop_flushed = false;
     stepper::clear_stop();
   }
 }
@@ -446,7 +433,7 @@ __attribute__((noinline)) uint8_t status_line(char* buf, uint8_t cap) {
   const uint8_t s = hal::interrupts_off();
   stepper::read_positions(r.steps);
   const bool stop = stepper::stop_requested(), homing = stepper::homing();
-  const bool running = stepper::busy(), homed = g_homed;
+  const bool running = stepper::busy(), homed = ctl().homed;
   const uint8_t queued = queue::count();
   r.gripper = stepper::gripper_percent();
   r.coils = coils::on();
@@ -475,21 +462,21 @@ __attribute__((noinline)) void setup() {
   coils::setup();
   queue::clear();
   stepper::setup();
-  g_line.clear();
-  g_has_pending = false;
-  g_held = kLineNone;
-  g_stop_flushed = false;
-  g_cutting = false;
+  ctl().line.clear();
+  ctl().has_pending = false;
+  ctl().held = kLineNone;
+  ctl().stop_flushed = false;
+  ctl().cutting = false;
   reset_position();
-  g_was_busy = false;
-  g_idle_since = hal::millis();
+  ctl().was_busy = false;
+  ctl().idle_since = hal::millis();
 }
 
 void poll() {
   if (stepper::take_fault()) {  // homing failed: position unknown, nothing queued runs
     queue::clear();
     rederive_planned();
-    g_homed = false;
+    ctl().homed = false;
   }
   if (stepper::stop_requested()) service_stop();
   if (!stepper::stop_requested()) {
@@ -497,13 +484,13 @@ void poll() {
     stepper::kick();
   }
   const uint32_t now = hal::millis();
-  const uint32_t release = settings::value[settings::kReleaseMs];
+  const uint32_t release = settings::value()[settings::kReleaseMs];
   if (busy()) {
-    g_was_busy = true;
-  } else if (g_was_busy) {  // the first pass at rest: the idle time starts
-    g_was_busy = false;
-    g_idle_since = now;
-  } else if (coils::on() && release != 0 && now - g_idle_since >= release) {
+    ctl().was_busy = true;
+  } else if (ctl().was_busy) {  // the first pass at rest: the idle time starts
+    ctl().was_busy = false;
+    ctl().idle_since = now;
+  } else if (coils::on() && release != 0 && now - ctl().idle_since >= release) {
     coils::release();
   }
 }
@@ -516,7 +503,7 @@ void on_realtime(char c) {
 
 // (Only the SITL calls these: on the Nano the linker drops them.)
 void configured() { adopt_configuration(); }
-const robot::State& planned() { return g_planned; }
-bool homed() { return g_homed; }
+const robot::State& planned() { return ctl().planned; }
+bool homed() { return ctl().homed; }
 
 }  // namespace firmware

@@ -4,11 +4,12 @@
 #include <articula/servo.h>
 
 #include "robot.h"
+#include "state.h"
 
 namespace gripper {
 
 uint16_t pulse_us(int32_t aperture) {
-  return articula::servo_pulse_us<float>(robot::config.servo_closed_deg, robot::config.servo_open_deg, aperture);
+  return articula::servo_pulse_us<float>(robot::config().servo_closed_deg, robot::config().servo_open_deg, aperture);
 }
 
 }  // namespace gripper

@@ -10,6 +10,19 @@
 
 #include "firmware.h"
 #include "hal.h"
+#include "state.h"
+
+// The firmware's state, each module's part at a fixed address (state.h). (= {}: constant
+// initialisation, all zero in .bss; without it avr-gcc runs the members' constructors at start-up.)
+namespace firmware {
+robot::Ram g_robot = {};
+settings::Ram g_settings = {};
+queue::Ram g_queue = {};
+coils::Ram g_coils = {};
+coils::Sequence g_coil_sequence = {};
+stepper::Ram g_stepper = {};
+controller::Ram g_controller = {};
+}  // namespace firmware
 
 int main() {
   hal::init();        // interrupts on, the receiver too: no byte is lost from here

@@ -42,6 +42,13 @@ struct Action {
   articula::PlanBlock plan;  // a kMove's steps and levels; steps 0 for the others
 };
 
+// The ring (state.h holds it; only queue.cpp touches it).
+struct Ram {
+  Action ring[kSize];
+  uint8_t head;            // the front
+  volatile uint8_t count;  // changed by both sides
+};
+
 void clear();
 uint8_t count();
 inline bool empty() { return count() == 0; }

@@ -2,6 +2,7 @@
 #include "robot.h"
 
 #include "hal.h"
+#include "state.h"
 #if defined(ARTICULA_CNC_SHIELD)
 #include "builtin_config_cnc.h"  // the MK2 Plus on A4988s in a CNC shield's sockets
 #elif defined(ARTICULA_SERVO_ARM)
@@ -14,11 +15,10 @@ using namespace articula;
 
 namespace robot {
 
-ConfiguredArm<kJoints> config;
-uint16_t checksum;
-int32_t home_steps[kJoints];
-
 namespace {
+// The configuration's state (robot.h), in the firmware's (state.h).
+inline Ram& rb() { return firmware::robot_ram(); }
+
 const uint16_t kAddress = kEepromAddress;
 const uint8_t kVersion = kEepromVersion;
 const uint16_t kImageAt = kEepromImageAt;
@@ -79,23 +79,23 @@ uint16_t image_crc(const Image& image, bool copy) {
 // Whether the EEPROM holds the configuration in use. Not after a blank (or corrupt) one: the
 // built-in image goes there before the first value is staged (as the settings' defaults are
 // written back), so that staged values change the configuration in use and nothing else. Not
-// at power-up: 178 bytes take the EEPROM 0.6 s to write.
-bool g_in_eeprom;
+// at power-up: 178 bytes take the EEPROM 0.6 s to write. (Ram::in_eeprom)
 
 void ensure_in_eeprom() {
-  if (g_in_eeprom) return;
+  if (rb().in_eeprom) return;
   image_crc(kBuiltInImage, true);
-  g_in_eeprom = true;
+  rb().in_eeprom = true;
 }
 
 
 // Puts a configuration read by config_read in use.
 void put_in_use(const ConfiguredArm<kJoints>& next, uint16_t sum) {
-  if (&next != &config) config = next;
-  checksum = sum;
+  Ram& r = rb();
+  if (&next != &r.config) r.config = next;
+  r.checksum = sum;
   for (uint8_t i = 0; i < kJoints; ++i) {
-    const MotorSpec& m = config.actuation.motors[i];
-    home_steps[i] = quantize_within_limits(m, config.home[i]);
+    const MotorSpec& m = r.config.actuation.motors[i];
+    r.home_steps[i] = quantize_within_limits(m, r.config.home[i]);
   }
 }
 }  // namespace
@@ -104,17 +104,18 @@ void put_in_use(const ConfiguredArm<kJoints>& next, uint16_t sum) {
 // own inlined call.)
 void use(const ConfiguredArm<kJoints>& next, uint16_t sum) { put_in_use(next, sum); }
 
-Millideg step_angle(uint8_t i, int32_t steps) { return steps_to_millideg(config.actuation.motors[i], steps); }
+Millideg step_angle(uint8_t i, int32_t steps) { return steps_to_millideg(config().actuation.motors[i], steps); }
 
 void setup() {
   // Read in place: nothing runs yet, and a copy would take ~250 bytes of the stack.
   uint16_t c = image_crc(kStaged, false);
-  g_in_eeprom = sealed(c) && config_read(config, kStaged, kDrives) == kConfigOk;
-  if (!g_in_eeprom) {
+  ConfiguredArm<kJoints>& arm = rb().config;
+  rb().in_eeprom = sealed(c) && config_read(arm, kStaged, kDrives) == kConfigOk;
+  if (!rb().in_eeprom) {
     c = image_crc(kBuiltInImage, false);
-    config_read(config, kBuiltInImage, kDrives);
+    config_read(arm, kBuiltInImage, kDrives);
   }
-  put_in_use(config, c);
+  put_in_use(arm, c);
 }
 
 Status stage(uint16_t n, int32_t thousandths) {

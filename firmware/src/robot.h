@@ -45,28 +45,37 @@ static const uint8_t kDrives = ARTICULA_FIRMWARE_DRIVES;
 typedef articula::Actuation<float, kJoints> Actuation;
 typedef articula::MotorState<kJoints> State;
 
-// The configuration in use: motors, coupling, home (motor angles), P's arm, servo, name.
-extern articula::ConfiguredArm<kJoints> config;
-// Its checksum (the I banner's K).
-extern uint16_t checksum;
-// The steps the home pose quantizes to.
-extern int32_t home_steps[kJoints];
+// The configuration's state (state.h holds it; only robot.cpp writes it).
+struct Ram {
+  articula::ConfiguredArm<kJoints> config;
+  uint16_t checksum;
+  int32_t home_steps[kJoints];
+  bool in_eeprom;  // the EEPROM holds the configuration in use (robot.cpp ensure_in_eeprom)
+};
 
-inline const Actuation& actuation() { return config.actuation; }
-inline uint8_t count() { return config.actuation.num_motors; }
-inline const articula::MotorSpec& motor(uint8_t i) { return config.actuation.motors[i]; }
+// The configuration in use: motors, coupling, home (motor angles), P's arm, servo, name.
+// (These three are defined in state.h: a file that uses them, or the helpers below, includes it.)
+inline articula::ConfiguredArm<kJoints>& config();
+// Its checksum (the I banner's K).
+inline uint16_t checksum();
+// The steps the home pose quantizes to.
+inline const int32_t* home_steps();
+
+inline const Actuation& actuation() { return config().actuation; }
+inline uint8_t count() { return config().actuation.num_motors; }
+inline const articula::MotorSpec& motor(uint8_t i) { return config().actuation.motors[i]; }
 // Whether the motors are on STEP/DIR drivers: a constant in a build that drives one family (the
 // other family's code is then never compiled in), the configuration's word in one with both.
 inline bool step_dir() {
   const uint8_t sd = uint8_t(1u << articula::kDriveStepDir);
-  return kDrives == sd || ((kDrives & sd) != 0 && config.drive == articula::kDriveStepDir);
+  return kDrives == sd || ((kDrives & sd) != 0 && config().drive == articula::kDriveStepDir);
 }
 // Whether the motors are hobby servos: a step is one Timer1 tick (0.5 us) more or less on the
 // motor's pulse, which the HAL takes as it takes a STEP pulse (hal::stage_pulse). Constant in
 // a build that drives only servos or none.
 inline bool servos() {
   const uint8_t sv = uint8_t(1u << articula::kDriveServo);
-  return kDrives == sv || ((kDrives & sv) != 0 && config.drive == articula::kDriveServo);
+  return kDrives == sv || ((kDrives & sv) != 0 && config().drive == articula::kDriveServo);
 }
 // Whether a step is a pulse to the HAL (STEP/DIR drivers and servos) rather than a coil pattern.
 inline bool pulsed() { return step_dir() || servos(); }

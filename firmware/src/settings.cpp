@@ -5,18 +5,18 @@
 
 #include "hal.h"
 #include "robot.h"
+#include "state.h"
 
 namespace settings {
 
-uint32_t value[kCount];
-
 namespace {
-uint8_t g_warning;
+// The settings' state (settings.h), in the firmware's (state.h).
+inline Ram& sr() { return firmware::settings_ram(); }
 
 void save() {
   uint8_t image[kImageSize];
   image[0] = kVersion;
-  memcpy(image + 1, value, 4 * kCount);  // both targets are little-endian
+  memcpy(image + 1, sr().value, 4 * kCount);  // both targets are little-endian
   const uint16_t crc = articula::crc16(image, kImageSize - 2);
   image[kImageSize - 2] = uint8_t(crc);
   image[kImageSize - 1] = uint8_t(crc >> 8);
@@ -30,17 +30,17 @@ void load() {
   const uint16_t crc = articula::crc16(image, kImageSize - 2);
   bool good = image[0] == kVersion && image[kImageSize - 2] == uint8_t(crc) && image[kImageSize - 1] == uint8_t(crc >> 8);
   if (good) {
-    memcpy(value, image + 1, 4 * kCount);
+    memcpy(sr().value, image + 1, 4 * kCount);
     for (uint8_t i = 0; i < kCount; ++i) {
       const articula::SettingRange r = articula::setting_range(i, robot::kJoints);
-      good = good && value[i] >= r.min && value[i] <= r.max;
+      good = good && sr().value[i] >= r.min && sr().value[i] <= r.max;
     }
   }
-  g_warning = 0;
+  sr().warning = 0;
   if (!good) {
-    for (uint8_t i = 0; i < kCount; ++i) value[i] = articula::setting_range(i, robot::kJoints).fallback;
+    for (uint8_t i = 0; i < kCount; ++i) sr().value[i] = articula::setting_range(i, robot::kJoints).fallback;
     save();
-    g_warning = articula::kSettingsReset;
+    sr().warning = articula::kSettingsReset;
   }
 }
 
@@ -52,7 +52,7 @@ articula::Status check(int32_t n, int32_t thousandths) {
 articula::Status set(int32_t n, int32_t thousandths) {
   const articula::Status s = check(n, thousandths);
   if (s != articula::kOk) return s;
-  value[n] = uint32_t(thousandths / 1000);
+  sr().value[n] = uint32_t(thousandths / 1000);
   save();
   return articula::kOk;
 }
@@ -60,8 +60,8 @@ articula::Status set(int32_t n, int32_t thousandths) {
 uint8_t take_warning() {
   // The main loop (info line) and the status report (an interrupt) both take it: once.
   const uint8_t s = hal::interrupts_off();
-  const uint8_t w = g_warning;
-  g_warning = 0;
+  const uint8_t w = sr().warning;
+  sr().warning = 0;
   hal::interrupts_restore(s);
   return w;
 }

@@ -30,8 +30,15 @@ static const uint8_t kVersion = 2;
 static const uint16_t kAddress = 256;
 static const uint16_t kImageSize = 1 + 4 * kCount + 2;
 
-// The current values (whole numbers in the units above).
-extern uint32_t value[kCount];
+// The settings' state (state.h holds it; only settings.cpp writes it).
+struct Ram {
+  uint32_t value[kCount];
+  uint8_t warning;  // take_warning()'s
+};
+
+// The current values (whole numbers in the units above), kCount of them. (Defined in state.h,
+// which every user of them includes.)
+inline uint32_t* value();
 
 // Reads the EEPROM; a blank or corrupt image (version or CRC wrong) loads the defaults,
 // writes them back, and raises the SettingsReset warning.

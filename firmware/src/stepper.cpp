@@ -5,6 +5,7 @@
 #include "hal.h"
 #include "queue.h"
 #include "settings.h"
+#include "state.h"
 
 using namespace articula;
 
@@ -15,64 +16,39 @@ const uint8_t kJ = robot::kJoints;
 
 enum Mode : uint8_t { kIdle, kMove, kPause, kSeek };
 
-volatile uint8_t g_running;  // set by the main loop (kick), cleared by the interrupt
-volatile uint8_t g_stop;     // '!' until the main loop has handled it at rest
-volatile uint8_t g_fault;    // homing failed or stopped
-volatile uint8_t g_mode;
-volatile uint8_t g_homing;
-uint8_t g_gripper;
-
-int32_t g_pos[kJ];
-LineStepper<kJ> g_line;
-StepProfile g_profile;
-
-// The step staged for the next deadline (hal::stage_coils): the HAL writes its coils first
-// thing at that deadline, on_timer() then books it.
-uint8_t g_next_mask;      // motors that step
-uint8_t g_next_negative;  // of those, the ones stepping towards fewer steps
-
-// From update_constants().
-MotionSettings g_motion;
-ProfileConstants g_constants;
-uint32_t g_homing_ticks;
-uint32_t g_seek_range[kJ];  // steps to search for a switch before giving up
-
-// Homing.
-uint8_t g_seek_mask;  // switch motors not yet found
-uint8_t g_seek_motor;
-uint32_t g_seek_left;
-int32_t g_home_target[kJ];
+// The step interrupt's state (stepper.h), in the firmware's (state.h).
+inline Ram& st() { return firmware::stepper_ram(); }
 
 // Stops the interrupt's work: nothing runs until the main loop kicks again.
 uint32_t halt() {
-  g_profile = StepProfile();  // at rest: the next move starts from rest
-  g_mode = kIdle;
-  g_homing = 0;
-  g_running = 0;
+  st().profile = StepProfile();  // at rest: the next move starts from rest
+  st().mode = kIdle;
+  st().homing = 0;
+  st().running = 0;
   return 0;
 }
 
 // The positions of the step staged for this deadline, now on the coils.
 void book_staged() {
-  const uint8_t mask = g_next_mask;
+  const uint8_t mask = st().next_mask;
   if (mask == 0) return;
-  g_next_mask = 0;
+  st().next_mask = 0;
   uint8_t bit = 1;
   for (uint8_t i = 0; i < kJ; ++i, bit = uint8_t(bit << 1)) {
     if ((mask & bit) == 0) continue;
-    if (g_next_negative & bit)
-      --g_pos[i];
+    if (st().next_negative & bit)
+      --st().pos[i];
     else
-      ++g_pos[i];
+      ++st().pos[i];
   }
 }
 
 // Works out the move's next step (the motors LineStepper says) and stages its coils.
 void stage_move_step() {
-  const uint8_t mask = g_line.next();
-  const uint8_t negative = g_line.negative;
-  g_next_mask = mask;
-  g_next_negative = negative;
+  const uint8_t mask = st().line.next();
+  const uint8_t negative = st().line.negative;
+  st().next_mask = mask;
+  st().next_negative = negative;
   uint8_t bit = 1;
   for (uint8_t i = 0; i < kJ; ++i, bit = uint8_t(bit << 1))
     if (mask & bit) coils::stage_step(i, (negative & bit) != 0);
@@ -93,18 +69,18 @@ uint32_t planned_exit() {
 // junction).
 uint32_t begin_move(const int32_t* target, uint32_t exit, uint16_t cruise4 = 0, bool stopping = false) {
   int32_t delta[kJ];
-  for (uint8_t i = 0; i < kJ; ++i) delta[i] = target[i] - g_pos[i];
-  g_line.start(delta, kJ);
-  if (g_line.dominant == 0) return 0;
+  for (uint8_t i = 0; i < kJ; ++i) delta[i] = target[i] - st().pos[i];
+  st().line.start(delta, kJ);
+  if (st().line.dominant == 0) return 0;
   if (!coils::on()) coils::energise();
-  const uint32_t cruise = max_of(uint32_t(cruise4) * 4, g_constants.cruise);
-  if (g_profile.level() > 0)
-    g_profile.follow(g_line.dominant, exit, cruise);
+  const uint32_t cruise = max_of(uint32_t(cruise4) * 4, st().constants.cruise);
+  if (st().profile.level() > 0)
+    st().profile.follow(st().line.dominant, exit, cruise);
   else
-    g_profile.start(g_line.dominant, g_constants, exit, cruise);
-  if (stopping) g_profile.stop();
-  g_mode = kMove;
-  const uint32_t t = g_profile.next_interval();
+    st().profile.start(st().line.dominant, st().constants, exit, cruise);
+  if (stopping) st().profile.stop();
+  st().mode = kMove;
+  const uint32_t t = st().profile.next_interval();
   stage_move_step();
   return t;
 }
@@ -112,14 +88,14 @@ uint32_t begin_move(const int32_t* target, uint32_t exit, uint16_t cruise4 = 0, 
 // The next switch motor to seek, or the final move of a Home action.
 uint32_t next_seek() {
   for (uint8_t i = 0; i < kJ; ++i) {
-    if (g_seek_mask & (1u << i)) {
-      g_seek_motor = i;
-      g_seek_left = g_seek_range[i];
-      g_mode = kSeek;
-      return g_homing_ticks;
+    if (st().seek_mask & (1u << i)) {
+      st().seek_motor = i;
+      st().seek_left = st().seek_range[i];
+      st().mode = kSeek;
+      return st().homing_ticks;
     }
   }
-  return begin_move(g_home_target, 0);
+  return begin_move(st().home_target, 0);
 }
 
 // Starts an action already taken off the queue (so the front is the one after it).
@@ -129,19 +105,19 @@ uint32_t begin(const queue::Action& a) {
       return begin_move(a.target, planned_exit(), a.plan.cruise4);
     case queue::kGripper:
       hal::set_servo_pulse(a.grip.pulse_us);
-      g_gripper = a.grip.percent;
+      st().gripper = a.grip.percent;
       // fall through - the servo's settle time is a pause, as D's is
     case queue::kDwell:
       if (a.grip.settle_ticks == 0) return 0;
-      g_mode = kPause;
+      st().mode = kPause;
       return a.grip.settle_ticks;
     case queue::kHome: {
-      g_homing = 1;
-      for (uint8_t i = 0; i < kJ; ++i) g_home_target[i] = a.target[i];
-      g_seek_mask = a.mask;
+      st().homing = 1;
+      for (uint8_t i = 0; i < kJ; ++i) st().home_target[i] = a.target[i];
+      st().seek_mask = a.mask;
       if (a.mask != 0 && !coils::on()) coils::energise();
       const uint32_t t = next_seek();
-      if (t == 0) g_homing = 0;
+      if (t == 0) st().homing = 0;
       return t;
     }
   }
@@ -151,9 +127,9 @@ uint32_t begin(const queue::Action& a) {
 // Starts queued actions until one takes time; stops the timer (0) when none is left or a
 // stop or fault says to start nothing more.
 uint32_t next_action() {
-  g_mode = kIdle;
-  g_homing = 0;
-  while (!g_stop && !g_fault && !queue::empty()) {
+  st().mode = kIdle;
+  st().homing = 0;
+  while (!st().stop && !st().fault && !queue::empty()) {
     // Popped first, so the front is the action after it; the slot is not overwritten while
     // this interrupt runs (only the main loop pushes), so no copy on the stack.
     const queue::Action& a = queue::front();
@@ -168,7 +144,7 @@ uint32_t next_action() {
 // '!' with the move ended and the arm still moving (a short move at speed): the stop goes on
 // along the path, into the next queued move, until the arm is at rest.
 uint32_t continue_stop() {
-  while (g_profile.level() != 0 && !g_homing && !queue::empty() && queue::front().kind == queue::kMove) {
+  while (st().profile.level() != 0 && !st().homing && !queue::empty() && queue::front().kind == queue::kMove) {
     const queue::Action& a = queue::front();  // (as in next_action)
     queue::pop();
     hal::action_began(a.kind);
@@ -179,36 +155,36 @@ uint32_t continue_stop() {
 }
 
 uint32_t seek_tick() {
-  const uint8_t m = g_seek_motor;
-  if (g_stop) {
-    g_fault = 1;
+  const uint8_t m = st().seek_motor;
+  if (st().stop) {
+    st().fault = 1;
     return halt();
   }
   if (hal::endstop(m)) {
-    g_pos[m] = g_home_target[m];  // the step of the motor's minimum angle
-    g_seek_mask = uint8_t(g_seek_mask & ~(1u << m));
+    st().pos[m] = st().home_target[m];  // the step of the motor's minimum angle
+    st().seek_mask = uint8_t(st().seek_mask & ~(1u << m));
     const uint32_t t = next_seek();
     if (t != 0) return t;
     return next_action();
   }
-  if (g_seek_left == 0) {
-    g_fault = 1;
+  if (st().seek_left == 0) {
+    st().fault = 1;
     return halt();
   }
-  --g_seek_left;
+  --st().seek_left;
   // Towards the minimum angle: fewer steps unless the motor turns the other way.
   const bool negative = robot::motor(m).direction > 0;
   coils::step(m, negative);
-  g_pos[m] += negative ? -1 : 1;
-  return g_homing_ticks;
+  st().pos[m] += negative ? -1 : 1;
+  return st().homing_ticks;
 }
 
 // The step of this deadline is on the coils already (staged by the previous call, written
 // by the HAL before this one) and booked: what remains is the next one.
 uint32_t move_tick() {
-  if (g_stop) g_profile.stop();
-  if (g_profile.done()) return g_stop ? continue_stop() : next_action();
-  const uint32_t t = g_profile.next_interval();
+  if (st().stop) st().profile.stop();
+  if (st().profile.done()) return st().stop ? continue_stop() : next_action();
+  const uint32_t t = st().profile.next_interval();
   stage_move_step();
   return t;
 }
@@ -216,75 +192,75 @@ uint32_t move_tick() {
 
 void setup() {
   hal::stop_step_timer();
-  g_next_mask = g_next_negative = 0;
-  g_stop = g_fault = 0;
+  st().next_mask = st().next_negative = 0;
+  st().stop = st().fault = 0;
   halt();  // (a setup again, as the SITL's power cycle, may come in the middle of a move)
-  g_gripper = 0;
+  st().gripper = 0;
   for (uint8_t i = 0; i < kJ; ++i) {
-    g_pos[i] = 0;
+    st().pos[i] = 0;
     const MotorSpec& m = robot::motor(i);
-    g_seek_range[i] = 2 * uint32_t(max_steps(m) - min_steps(m)) + 16;
+    st().seek_range[i] = 2 * uint32_t(max_steps(m) - min_steps(m)) + 16;
   }
   update_constants();
 }
 
-const ProfileConstants& constants() { return g_constants; }
+const ProfileConstants& constants() { return st().constants; }
 
 void update_constants() {
-  g_motion.tick_hz = hal::kTickHz;
-  g_motion.max_rate = settings::value[settings::kMaxRate];
-  g_motion.accel = settings::value[settings::kAccel];
+  st().motion.tick_hz = hal::kTickHz;
+  st().motion.max_rate = settings::value()[settings::kMaxRate];
+  st().motion.accel = settings::value()[settings::kAccel];
   // A servo arm's servos cap both ($138, $139: the robot file's speed and accel in ticks).
-  const articula::ConfiguredArm<robot::kJoints>& c = robot::config;
-  if (c.rate_cap != 0 && c.rate_cap < g_motion.max_rate) g_motion.max_rate = c.rate_cap;
-  if (c.accel_cap != 0 && c.accel_cap < g_motion.accel) g_motion.accel = c.accel_cap;
-  profile_constants(g_constants, g_motion);  // valid for every value the settings allow
-  const uint32_t rate = settings::value[settings::kHomingRate];
-  g_homing_ticks = (hal::kTickHz + rate / 2) / rate;
+  const articula::ConfiguredArm<robot::kJoints>& c = robot::config();
+  if (c.rate_cap != 0 && c.rate_cap < st().motion.max_rate) st().motion.max_rate = c.rate_cap;
+  if (c.accel_cap != 0 && c.accel_cap < st().motion.accel) st().motion.accel = c.accel_cap;
+  profile_constants(st().constants, st().motion);  // valid for every value the settings allow
+  const uint32_t rate = settings::value()[settings::kHomingRate];
+  st().homing_ticks = (hal::kTickHz + rate / 2) / rate;
 }
 
-const MotionSettings& motion_settings() { return g_motion; }
+const MotionSettings& motion_settings() { return st().motion; }
 
 void kick() {
-  if (g_running || g_stop || g_fault || queue::empty()) return;
+  if (st().running || st().stop || st().fault || queue::empty()) return;
   // Nothing runs, so the step timer is stopped and the step interrupt touches none of this
   // state: the action is set up with interrupts enabled (a move's set-up takes ~50 us, which
   // the servo's pulse edges and the serial interrupts do not wait for). Running from here
   // on, for the status report. A '!' meanwhile is seen by next_action() or at the first
   // deadline.
-  g_running = 1;
+  st().running = 1;
   const uint32_t t = next_action();
   if (t != 0) hal::start_step_timer(t);  // its own short critical section
 }
 
-bool busy() { return g_running != 0; }
+bool busy() { return st().running != 0; }
 
 void raise_exit() {
   const uint8_t s = hal::interrupts_off();
-  if (g_mode == kMove && !g_homing && !g_stop) g_profile.raise_exit(planned_exit());
+  if (st().mode == kMove && !st().homing && !st().stop) st().profile.raise_exit(planned_exit());
   hal::interrupts_restore(s);
 }
-bool homing() { return g_homing != 0; }
+bool homing() { return st().homing != 0; }
 
 void read_positions(int32_t* steps) {
   const uint8_t s = hal::interrupts_off();
-  for (uint8_t i = 0; i < kJ; ++i) steps[i] = g_pos[i];
+  for (uint8_t i = 0; i < kJ; ++i) steps[i] = st().pos[i];
   hal::interrupts_restore(s);
 }
 
 void set_positions(const int32_t* steps) {
   const uint8_t s = hal::interrupts_off();
-  for (uint8_t i = 0; i < kJ; ++i) g_pos[i] = steps[i];
+  for (uint8_t i = 0; i < kJ; ++i) st().pos[i] = steps[i];
   hal::interrupts_restore(s);
 }
 
-void request_stop() { g_stop = 1; }
-bool stop_requested() { return g_stop != 0; }
-void clear_stop() { g_stop = 0; }
+void request_stop() { st().stop = 1; }
+bool stop_requested() { return st().stop != 0; }
+void clear_stop() { st().stop = 0; }
 
 void cut_pause() {
   const uint8_t s = hal::interrupts_off();
-  if (g_mode == kPause) {
+  if (st().mode == kPause) {
     hal::stop_step_timer();
     halt();
   }
@@ -292,16 +268,16 @@ void cut_pause() {
 }
 
 bool take_fault() {
-  if (!g_fault) return false;
-  g_fault = 0;
+  if (!st().fault) return false;
+  st().fault = 0;
   return true;
 }
 
-uint8_t gripper_percent() { return g_gripper; }
+uint8_t gripper_percent() { return st().gripper; }
 
 uint32_t on_timer() {
   book_staged();
-  switch (g_mode) {
+  switch (st().mode) {
     case kMove:
       return move_tick();
     case kSeek:

@@ -27,6 +27,40 @@
 
 namespace stepper {
 
+// The step interrupt's state (state.h holds it; only stepper.cpp touches it).
+// (The profile and the line first: avr-gcc reaches a member's bytes through the Z pointer, two
+// bytes an access, only within 64 of its object's start; beyond, each takes a 4-byte direct
+// store, which a profile's clear in halt() would pay 30 times over.)
+struct Ram {
+  articula::StepProfile profile;
+  articula::LineStepper<robot::kJoints> line;
+  volatile uint8_t running;  // set by the main loop (kick), cleared by the interrupt
+  volatile uint8_t stop;     // '!' until the main loop has handled it at rest
+  volatile uint8_t fault;    // homing failed or stopped
+  volatile uint8_t mode;     // stepper.cpp's Mode
+  volatile uint8_t homing;
+  uint8_t gripper;
+
+  int32_t pos[robot::kJoints];
+
+  // The step staged for the next deadline (hal::stage_coils): the HAL writes its coils first
+  // thing at that deadline, on_timer() then books it.
+  uint8_t next_mask;      // motors that step
+  uint8_t next_negative;  // of those, the ones stepping towards fewer steps
+
+  // From update_constants().
+  articula::MotionSettings motion;
+  articula::ProfileConstants constants;
+  uint32_t homing_ticks;
+  uint32_t seek_range[robot::kJoints];  // steps to search for a switch before giving up
+
+  // Homing.
+  uint8_t seek_mask;  // switch motors not yet found
+  uint8_t seek_motor;
+  uint32_t seek_left;
+  int32_t home_target[robot::kJoints];
+};
+
 // Positions 0, nothing running, constants from the settings.
 void setup();
 // After a settings change (only while nothing runs).

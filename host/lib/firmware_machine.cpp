@@ -1,4 +1,4 @@
-// host/lib/firmware_machine.cpp - the one firmware of the host library (firmware_machine.h).
+// host/lib/firmware_machine.cpp - the firmware of the host library, powered up (firmware_machine.h).
 #include "firmware_machine.h"
 
 #include <string>
@@ -12,16 +12,6 @@
 namespace articula::host {
 
 static_assert(kFirmwareMotors == robot::kJoints, "the host's build of the firmware (host/CMakeLists.txt)");
-
-std::mutex& firmware_lock() {
-  static std::mutex m;
-  return m;
-}
-
-const void*& firmware_owner() {
-  static const void* owner = nullptr;
-  return owner;
-}
 
 ConfiguredArm<kFirmwareMotors> machine_arm(const Robot& robot) {
   if (!robot.has_motors)
@@ -50,9 +40,9 @@ void power_up(const Robot& robot, const ConfiguredArm<kFirmwareMotors>& arm, con
   for (int i = 0; i < robot.actuation.num_motors; ++i) {
     const MotorSpec& m = robot.actuation.motors[i];
     const int32_t at = quantize_within_limits(m, m.min);
-    sitl::hw.endstop_fitted[i] = true;
-    sitl::hw.endstop_at[i] = at;
-    sitl::hw.endstop_below[i] = at <= quantize_within_limits(m, m.max);
+    sitl::hw().endstop_fitted[i] = true;
+    sitl::hw().endstop_at[i] = at;
+    sitl::hw().endstop_below[i] = at <= quantize_within_limits(m, m.max);
   }
 }
 

@@ -165,42 +165,23 @@ const uint64_t kReplyWithin = 3600 * sitl::kSecond;
 }  // namespace
 
 FirmwareSession::FirmwareSession(const Robot& robot, const ControllerSettings& settings)
-    : robot_(robot), settings_(settings) {
-  machine_arm(robot_);
-  std::lock_guard<std::mutex> lock(firmware_lock());
-  own();
-}
-
-FirmwareSession::~FirmwareSession() {
-  std::lock_guard<std::mutex> lock(firmware_lock());
-  if (firmware_owner() == this) firmware_owner() = nullptr;
-}
-
-void FirmwareSession::own() {
-  if (firmware_owner() == this) return;
-  power_up(robot_, machine_arm(robot_), settings_);
-  firmware_owner() = this;
-  const sitl::Hardware& hw = sitl::hw;
+    : robot_(robot), settings_(settings), nano_(std::make_unique<sitl::Machine>()) {
+  const ConfiguredArm<kFirmwareMotors> arm = machine_arm(robot_);
+  const sitl::Machine::Use use(*nano_);
+  power_up(robot_, arm, settings_);
+  const sitl::Hardware& hw = sitl::hw();
   t0_ = hw.now;
-  // Every line again, at its tick: the same run up to now (nothing from it is taken again).
-  for (const Sent& x : sent_) {
-    sitl::run_to(t0_ + x.at);
-    put(x);
-  }
-  sitl::run_to(t0_ + now_);
   coils_ = hw.coil_log.size();
   actions_ = hw.actions.size();
   replies_ = hw.replies.size();
   queued_ = hw.queued.size();
-  next_begin_ = 0;
-  for (size_t q = 0; q < hw.queued.size(); ++q)
-    if (hw.queued[q].began != sitl::kNever) next_begin_ = q + 1;
 }
 
+FirmwareSession::~FirmwareSession() = default;
+
 Status FirmwareSession::send(const std::string& text, int line, uint64_t tick, Sender sender) {
-  std::lock_guard<std::mutex> lock(firmware_lock());
-  own();
-  const sitl::Hardware& hw = sitl::hw;
+  const sitl::Machine::Use use(*nano_);
+  const sitl::Hardware& hw = sitl::hw();
   uint64_t at = std::max(tick, now_);
   if (sender == kStreamed) at = std::max(at, wire_);
   sitl::run_to(t0_ + at);
@@ -215,7 +196,7 @@ Status FirmwareSession::send(const std::string& text, int line, uint64_t tick, S
   sent_.push_back(Sent{text, line, at, sender == kAtRest || sent_.empty()});
   put(sent_.back());
   if (bang) {
-    sitl::run_to(sitl::hw.now);
+    sitl::run_to(sitl::hw().now);
     now_ = hw.now - t0_;
     harvest();
     return kOk;
@@ -245,8 +226,7 @@ void FirmwareSession::put(const Sent& x) {
 }
 
 void FirmwareSession::run_to(uint64_t tick) {
-  std::lock_guard<std::mutex> lock(firmware_lock());
-  own();
+  const sitl::Machine::Use use(*nano_);
   if (tick <= now_) return;
   sitl::run_to(t0_ + tick);
   now_ = tick;
@@ -254,24 +234,21 @@ void FirmwareSession::run_to(uint64_t tick) {
 }
 
 uint64_t FirmwareSession::run_to_rest() {
-  std::lock_guard<std::mutex> lock(firmware_lock());
-  own();
-  const uint64_t give_up = sitl::hw.now + kReplyWithin;
-  while (!sitl::at_rest() && sitl::hw.now < give_up) machine_step();
-  now_ = sitl::hw.now - t0_;
+  const sitl::Machine::Use use(*nano_);
+  const uint64_t give_up = sitl::hw().now + kReplyWithin;
+  while (!sitl::at_rest() && sitl::hw().now < give_up) machine_step();
+  now_ = sitl::hw().now - t0_;
   harvest();
   return now_;
 }
 
 bool FirmwareSession::at_rest() {
-  std::lock_guard<std::mutex> lock(firmware_lock());
-  own();
+  const sitl::Machine::Use use(*nano_);
   return sitl::at_rest();
 }
 
 std::vector<Millideg> FirmwareSession::commanded() {
-  std::lock_guard<std::mutex> lock(firmware_lock());
-  own();
+  const sitl::Machine::Use use(*nano_);
   const robot::State& plan = firmware::planned();
   return std::vector<Millideg>(plan.commanded, plan.commanded + robot_.actuation.num_motors);
 }
@@ -286,7 +263,7 @@ std::vector<FirmwareSession::Event> FirmwareSession::take(uint64_t tick) {
 }
 
 void FirmwareSession::harvest() {
-  const sitl::Hardware& hw = sitl::hw;
+  const sitl::Hardware& hw = sitl::hw();
   const int n = robot_.actuation.num_motors;
   std::vector<std::pair<int, Event>> got;  // (its rank at a tie: a step, the timer's stop, a begin, a reply)
   // Replies, in the order of the lines; the actions queued before each, its line's.

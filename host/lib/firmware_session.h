@@ -6,9 +6,9 @@
 // with the robot's arm and the settings as predict_program() powers it up. It runs ahead of
 // the caller only as far as a reply needs (a line waits for it), so a line sent while the arm
 // moves is planned into the moves ahead as on the Nano; run_to() brings it to the caller's time.
-// Its state is global, one machine per process: a session that finds the machine used by
-// another (a prediction, another session) powers it up again and sends its own lines again at
-// their ticks, which gives the same run (the machine is deterministic), before it goes on.
+// Each session is a Nano of its own (sitl::Machine): sessions and predictions run side by side,
+// each on its own firmware, in one thread by turns or in threads of their own (one thread at a
+// time for one session).
 //
 //   FirmwareSession fw(robot, settings);
 //   fw.send("M 0 90 0", 1, now, FirmwareSession::kAtRest);  // its reply (Status)
@@ -31,6 +31,10 @@
 #include "predict.h"
 #include "program.h"
 #include "robot.h"
+
+namespace sitl {
+class Machine;
+}
 
 namespace articula::host {
 
@@ -120,13 +124,13 @@ class FirmwareSession {
     bool at_once;  // all its bytes in at `at` (the first line, a line at rest), or byte after byte
   };
   void put(const Sent& x);  // its bytes to the machine (its clock at x.at)
-  void own();          // the machine is this session's (powered up and replayed if it was not)
   void wait_reply(size_t replies);
   void harvest();      // the machine's new log entries into events_
 
   Robot robot_;
   ControllerSettings settings_;
-  std::vector<Sent> sent_;       // every line so far: what a replay sends again
+  std::unique_ptr<sitl::Machine> nano_;  // its own firmware (firmware/sitl/machine.h)
+  std::vector<Sent> sent_;       // every line so far
   std::deque<size_t> unanswered_;  // sent_ indexes still waiting for their reply
   uint64_t now_ = 0;             // the machine's clock (counted from power-up)
   uint64_t wire_ = 0;            // when the last reply is off the wire

@@ -38,7 +38,7 @@ NanoConfig nano_config(const Robot& robot);
 // it, firmware/sitl): the same source as the Nano's three.
 inline constexpr int kFirmwareMotors = 8;
 
-// The arm as the firmware holds it (robot::config): for a robot the Nano takes, the image of
+// The arm as the firmware holds it (robot::config()): for a robot the Nano takes, the image of
 // nano_config() read back as the firmware reads it; for one it does not (more motors, finer
 // microsteps, a coupling beyond three decimals), the same rules in float: the home pose u =
 // C^-1 q within the limits, P's closed form when the model is of its family, the servo.

@@ -12,7 +12,6 @@
 #include <cmath>
 #include <map>
 #include <memory>
-#include <mutex>
 #include <stdexcept>
 #include <optional>
 
@@ -242,10 +241,12 @@ Prediction predict_program(const Robot& robot_in, const Program& program, const 
   p.program = program.source;
   p.settings = settings;
 
-  std::lock_guard<std::mutex> lock(firmware_lock());
-  firmware_owner() = nullptr;
+  // A Nano of its own (firmware/sitl/machine.h), this thread's until the prediction is made:
+  // predictions run side by side, in threads of their own too.
+  const std::unique_ptr<sitl::Machine> nano = std::make_unique<sitl::Machine>();
+  const sitl::Machine::Use use(*nano);
   power_up(robot_in, arm, settings);
-  const sitl::Hardware& hw = sitl::hw;
+  const sitl::Hardware& hw = sitl::hw();
   const uint64_t t0 = hw.now;
   const size_t coils0 = hw.coil_log.size(), actions0 = hw.actions.size(), queued0 = hw.queued.size(),
                replies0 = hw.replies.size();

@@ -9,10 +9,13 @@
 #include <cmath>
 #include <fstream>
 #include <sstream>
+#include <thread>
 
+#include "firmware_session.h"
 #include "nano_config.h"
 #include "predict.h"
 #include "program.h"
+#include "records_json.h"
 #include "robot_file.h"
 #include "test_robots.h"
 
@@ -571,4 +574,57 @@ TEST(Predict, ArmsTheNanoCannotTakeRunOnTheHostsFirmware) {
   } catch (const PredictError& e) {
     EXPECT_NE(std::string(e.what()).find("9 motors: the firmware drives at most 8"), std::string::npos) << e.what();
   }
+}
+
+// Each prediction and each live session runs on a Nano of its own (sitl::Machine), not one
+// machine shared under a lock: predictions made in threads at the same time give the records
+// that one after the other gives, and a session's firmware goes on from where it was whatever
+// ran in between.
+TEST(Predict, PredictionsInThreadsGiveTheRecordsOfOneAfterTheOther) {
+  const Robot r = mk2();
+  const std::vector<std::string> programs = {
+      "M 10 80 -10\nG 50\nL 0 -30\nD 0.2\nP 250 0 150\nM 0 90 0\n",
+      "$0=900\nM -40 100 -20\nL 1 -25\nG 0\nM 30 70 5\nM 5 95 -5\n",
+      "T 250 40 120 30\nT 250 -40 120 30\nM 0 90 0\nD 0.1\n",
+  };
+  // (Each 40 times over: runs long enough for the threads' to overlap.)
+  const auto records = [&](size_t k) {
+    std::string text;
+    for (int n = 0; n < 40; ++n) text += programs[k];
+    const Program p = parse_protocol_program(text, "t" + std::to_string(k), r);
+    const Prediction got = predict_program(r, p);
+    for (const PredictRecord& rec : got.records) EXPECT_EQ(rec.reply, kOk) << text << " line " << rec.line;
+    return prediction_json(r, p, got).dump();
+  };
+  std::vector<std::string> alone;
+  for (size_t k = 0; k < programs.size(); ++k) alone.push_back(records(k));
+  for (size_t k = 0; k < programs.size(); ++k) EXPECT_NE(alone[k].find("\"end_tick\""), std::string::npos) << alone[k];
+
+  // Three at a time, each program twice over, in six threads.
+  std::vector<std::string> got(2 * programs.size());
+  std::vector<std::thread> threads;
+  for (size_t i = 0; i < got.size(); ++i) threads.emplace_back([&, i] { got[i] = records(i % programs.size()); });
+  for (std::thread& t : threads) t.join();
+  for (size_t i = 0; i < got.size(); ++i) EXPECT_EQ(got[i], alone[i % programs.size()]) << "thread " << i;
+
+  // A session with a prediction in the middle of its run: the same events as one alone.
+  const auto session = [&](bool interrupted) {
+    FirmwareSession fw(r);
+    std::string out;
+    const auto log = [&](uint64_t until) {
+      for (const FirmwareSession::Event& e : fw.take(until))
+        out += std::to_string(e.kind) + "@" + std::to_string(e.tick) + " ";
+    };
+    EXPECT_EQ(fw.send("M 20 100 0", 1, 0, FirmwareSession::kStreamed), kOk);
+    EXPECT_EQ(fw.send("M -20 80 -10", 2, 0, FirmwareSession::kStreamed), kOk);
+    fw.run_to(3 * kStepTickHz / 10);
+    log(fw.now());
+    if (interrupted) records(1);
+    EXPECT_EQ(fw.send("G 80", 3, fw.now(), FirmwareSession::kStreamed), kOk);
+    log(fw.run_to_rest());
+    return out;
+  };
+  const std::string alone_session = session(false);
+  EXPECT_GT(alone_session.size(), 100u) << alone_session;  // steps, begins, replies
+  EXPECT_EQ(session(true), alone_session);
 }

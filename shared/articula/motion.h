@@ -199,7 +199,8 @@ inline MotionError profile_constants(ProfileConstants& out, const MotionSettings
 // it would have been had the next line been there from the start.
 class StepProfile {
  public:
-  StepProfile()
+  // (constexpr: a static one is all zero in .bss, with no constructor run at start-up)
+  constexpr StepProfile()
       : left_(0), level_(0), c_(0), rem_(0), cruise_(0), first_(0), exit_(0), cruising_(false), latched_(false) {}
 
   // A move of total_steps from rest to rest. Invalid settings (validate()) give an empty

@@ -816,7 +816,8 @@ enum LineEvent : uint8_t { kLineNone = 0, kLineReady, kLineTooLongEnded };
 
 class LineAssembler {
  public:
-  LineAssembler() : len_(0), ready_len_(0), overflow_(false) {}
+  // (constexpr: a static one is all zero in .bss, with no constructor run at start-up)
+  constexpr LineAssembler() : buf_(), len_(0), ready_len_(0), overflow_(false) {}
 
   LineEvent feed(char c) {
     if (realtime_command(c) != kRealtimeNone) return kLineNone;

@@ -19,7 +19,7 @@ const char* const kFullSteps[2][4] = {{"1010", "0110", "0101", "1001"}, {"1100",
 const char* const kHalfSteps[2][8] = {{"1000", "1010", "0010", "0110", "0100", "0101", "0001", "1001"},
                                       {"1000", "1100", "0100", "0110", "0010", "0011", "0001", "1001"}};
 // The variant's: its configuration's drive.
-int drive_table() { return robot::config.drive == articula::kDriveUln2003 ? 1 : 0; }
+int drive_table() { return robot::config().drive == articula::kDriveUln2003 ? 1 : 0; }
 
 std::string pins(uint8_t pattern) {
   std::string s;
@@ -30,8 +30,8 @@ std::string pins(uint8_t pattern) {
 // The patterns written to one motor since `from` (an index into the coil log).
 std::vector<std::string> written(int motor, size_t from) {
   std::vector<std::string> out;
-  for (size_t i = from; i < sitl::hw.coil_log.size(); ++i)
-    if (sitl::hw.coil_log[i].motor == motor) out.push_back(pins(sitl::hw.coil_log[i].pattern));
+  for (size_t i = from; i < sitl::hw().coil_log.size(); ++i)
+    if (sitl::hw().coil_log[i].motor == motor) out.push_back(pins(sitl::hw().coil_log[i].pattern));
   return out;
 }
 
@@ -55,7 +55,7 @@ TEST(Coils, StartReleasedThenEnergiseOnTheFirstFullStepState) {
     EXPECT_EQ(written(m, 0), std::vector<std::string>{"0000"}) << m;
     EXPECT_EQ(coils::phase(uint8_t(m)), 1);
   }
-  const size_t from = sitl::hw.coil_log.size();
+  const size_t from = sitl::hw().coil_log.size();
   coils::energise();
   EXPECT_TRUE(coils::on());
   for (int m = 0; m < robot::kJoints; ++m) EXPECT_EQ(written(m, from), std::vector<std::string>{kFullSteps[drive_table()][0]}) << m;
@@ -76,12 +76,12 @@ TEST(Coils, SequencesForwardBackwardAndWrap) {
     const int period = half ? 8 : 4;
     const char* const* seq = half ? kHalfSteps[drive_table()] : kFullSteps[drive_table()];
     const int start = half ? 1 : 0;  // both start on the first full step (1010, or 1100)
-    size_t from = sitl::hw.coil_log.size();
+    size_t from = sitl::hw().coil_log.size();
     for (int k = 0; k < 2 * period + 3; ++k) coils::step(uint8_t(m), false);
     std::vector<std::string> w = written(m, from);
     ASSERT_EQ(w.size(), size_t(2 * period + 3));
     for (size_t k = 0; k < w.size(); ++k) EXPECT_EQ(w[k], seq[(start + 1 + int(k)) % period]) << "motor " << m << " forward " << k;
-    from = sitl::hw.coil_log.size();
+    from = sitl::hw().coil_log.size();
     for (int k = 0; k < 3 * period; ++k) coils::step(uint8_t(m), true);
     w = written(m, from);
     ASSERT_EQ(w.size(), size_t(3 * period));
@@ -94,7 +94,7 @@ TEST(Coils, SequencesForwardBackwardAndWrap) {
         EXPECT_TRUE(written(o, from).empty());
       }
     }
-    EXPECT_EQ(sitl::hw.position[m], 2 * period + 3 - 3 * period);
+    EXPECT_EQ(sitl::hw().position[m], 2 * period + 3 - 3 * period);
     EXPECT_EQ(sim::hal_errors(), "");
   }
 }
@@ -112,11 +112,11 @@ TEST(Coils, MovesDriveTheSequences) {
   EXPECT_EQ(sim::hal_errors(), "");
   const sim::Status st = sim::status();
   for (int m = 0; m < robot::kJoints; ++m) {
-    EXPECT_EQ(sitl::hw.position[m], st.steps[m]) << m;
+    EXPECT_EQ(sitl::hw().position[m], st.steps[m]) << m;
     EXPECT_NE(st.steps[m], 0) << m;
     // Every write of this motor after the first energising is a step of exactly one place.
     int energised = 0, steps = 0;
-    for (const sitl::CoilWrite& w : sitl::hw.coil_log) {
+    for (const sitl::CoilWrite& w : sitl::hw().coil_log) {
       if (w.motor != m) continue;
       if (w.step != 0) {
         ++steps;

@@ -19,7 +19,7 @@ namespace {
 
 // The image in the SITL EEPROM (staged or committed).
 std::vector<uint8_t> eeprom_image() {
-  const uint8_t* e = sitl::hw.eeprom + robot::kEepromAddress + 1;
+  const uint8_t* e = sitl::hw().eeprom + robot::kEepromAddress + 1;
   return std::vector<uint8_t>(e, e + kConfigImageSize);
 }
 
@@ -42,8 +42,8 @@ TEST(Config, AFreshMachineRunsItsArmAndSaysWhich) {
   sim::boot();
   const InfoReport info = banner();
   EXPECT_EQ(info.protocol, kProtocolVersion);
-  EXPECT_EQ(info.checksum, robot::checksum);
-  EXPECT_STREQ(info.name, robot::config.name);
+  EXPECT_EQ(info.checksum, robot::checksum());
+  EXPECT_STREQ(info.name, robot::config().name);
   EXPECT_EQ(info.num_joints, robot::count());
   if (std::string(info.name) == "MK2 Plus") {  // the arm a blank EEPROM gets (the halfstep variant's is preloaded)
     const uint8_t builtin[] = ARTICULA_BUILTIN_CONFIG;
@@ -60,7 +60,7 @@ TEST(Config, AFreshMachineRunsItsArmAndSaysWhich) {
 TEST(Config, StagedValuesChangeNothingUntilCommitted) {
   sim::boot();
   sim::command("$0=4000");
-  const uint16_t before = robot::checksum;
+  const uint16_t before = robot::checksum();
   const MotorSpec shoulder = robot::motor(1);
   // The shoulder motor turned round, on other gears, and a new name.
   EXPECT_EQ(sim::command("$112=" + std::to_string(-shoulder.direction)), "ok");
@@ -95,7 +95,7 @@ TEST(Config, StagedValuesChangeNothingUntilCommitted) {
   // A power cycle keeps it.
   sim::boot(false);
   EXPECT_EQ(banner().checksum, staged);
-  EXPECT_STREQ(robot::config.name, "Bench arm 2");
+  EXPECT_STREQ(robot::config().name, "Bench arm 2");
 }
 
 TEST(Config, EveryBadValueGetsItsOwnError) {
@@ -118,7 +118,7 @@ TEST(Config, EveryBadValueGetsItsOwnError) {
 
 TEST(Config, AnArmTheFirmwareCannotDriveIsRefusedAtTheCommit) {
   sim::boot();
-  const uint16_t before = robot::checksum;
+  const uint16_t before = robot::checksum();
   const MotorSpec base = robot::motor(0);
   // Each value in range, together not an arm: the zero beyond the maximum.
   EXPECT_EQ(sim::command("$105=" + std::to_string(base.max / 1000 + 5)), "ok");
@@ -136,33 +136,33 @@ TEST(Config, AnArmTheFirmwareCannotDriveIsRefusedAtTheCommit) {
 // own coil table.
 TEST(Config, ADriveThisBuildDoesNotDriveIsRefusedAtTheCommit) {
   sim::boot();
-  const uint16_t before = robot::checksum;
-  const uint8_t drive = robot::config.drive;
+  const uint16_t before = robot::checksum();
+  const uint8_t drive = robot::config().drive;
   for (int kind = 0; kind < articula::kDriveKinds; ++kind) {
     if (robot::kDrives & (1u << kind)) continue;
     EXPECT_EQ(sim::command("$131=" + std::to_string(kind)), "ok");
     EXPECT_EQ(sim::command(commit_line(eeprom_image())), "error:18") << kind;
     EXPECT_EQ(banner().checksum, before);
-    EXPECT_EQ(robot::config.drive, drive);
+    EXPECT_EQ(robot::config().drive, drive);
   }
   if (drive == articula::kDriveStepDir) {
     // A 4-wire drive for motors in 1/4 and 1/8 steps: refused (coils take full or half steps).
     EXPECT_EQ(sim::command("$131=0"), "ok");
     EXPECT_EQ(sim::command(commit_line(eeprom_image())), "error:18");
-    EXPECT_EQ(robot::config.drive, drive);
+    EXPECT_EQ(robot::config().drive, drive);
     return;
   }
   const int other = drive == articula::kDriveL298n ? articula::kDriveUln2003 : articula::kDriveL298n;
   EXPECT_EQ(sim::command("$131=" + std::to_string(other)), "ok");
   EXPECT_EQ(sim::command(commit_line(eeprom_image())), "ok");
-  EXPECT_EQ(robot::config.drive, other);
+  EXPECT_EQ(robot::config().drive, other);
   EXPECT_NE(banner().checksum, before);
   // Its coils follow the other table: the first full step energised is 1100 on a ULN2003,
   // 1010 on an L298N (bit 0 is IN1).
   EXPECT_EQ(sim::command("L 0 5"), "ok");
   ASSERT_TRUE(sim::run_until_at_rest());
   bool seen = false;
-  for (const sitl::CoilWrite& w : sitl::hw.coil_log)
+  for (const sitl::CoilWrite& w : sitl::hw().coil_log)
     if (w.motor == 0 && w.pattern != 0 && !seen) {
       EXPECT_EQ(w.pattern, other == articula::kDriveUln2003 ? 0x3 : 0x5);
       seen = true;
@@ -196,7 +196,7 @@ TEST(Config, StagingDoesNotWaitForRestButTheCommitDoes) {
   EXPECT_FALSE(sim::at_rest());  // answered while the arm still moves
   EXPECT_EQ(sim::command(commit_line(eeprom_image())), "ok");
   EXPECT_TRUE(sim::at_rest());  // answered once it stopped
-  EXPECT_STREQ(robot::config.name, "Busy arm");
+  EXPECT_STREQ(robot::config().name, "Busy arm");
   const sim::Status st = sim::status();
   for (int i = 0; i < robot::count(); ++i) EXPECT_EQ(st.steps[i], 0) << i;  // as at power-up
 }

@@ -31,7 +31,7 @@ std::vector<int32_t> steps_of(const sim::Status& s) { return std::vector<int32_t
 // Positions the pins gave up to (and including) tick t.
 std::vector<int64_t> pin_positions_at(uint64_t t) {
   std::vector<int64_t> p(kJ, 0);
-  for (const sitl::CoilWrite& w : sitl::hw.coil_log)
+  for (const sitl::CoilWrite& w : sitl::hw().coil_log)
     if (w.tick <= t && w.motor < kJ) p[w.motor] += w.step;
   return p;
 }
@@ -60,8 +60,8 @@ TEST(Controller, EveryLineOneReply) {
   ASSERT_TRUE(parse_info(info, l.data(), uint16_t(l.size()))) << l;
   EXPECT_EQ(info.protocol, kProtocolVersion);
   EXPECT_EQ(info.num_joints, kJ);
-  EXPECT_STREQ(info.name, robot::config.name);  // the robot file's (test_robot checks)
-  EXPECT_EQ(info.checksum, robot::checksum);
+  EXPECT_STREQ(info.name, robot::config().name);  // the robot file's (test_robot checks)
+  EXPECT_EQ(info.checksum, robot::checksum());
   EXPECT_EQ(info.version[0], 0);
   EXPECT_EQ(info.version[1], 1);
   EXPECT_EQ(info.version[2], 0);
@@ -188,11 +188,11 @@ TEST(Controller, OverlongLines) {
 TEST(Controller, StatusMidMove) {
   sim::boot();
   ASSERT_EQ(sim::command(m_line(60, 0, 0)), "ok");
-  ASSERT_TRUE(sim::run_until([] { return sitl::hw.position[0] != 0 && std::abs(sitl::hw.position[0]) > 40; },
+  ASSERT_TRUE(sim::run_until([] { return sitl::hw().position[0] != 0 && std::abs(sitl::hw().position[0]) > 40; },
                              10 * sim::kSecond));
   for (int k = 0; k < 5; ++k) {
     sim::take_lines();
-    const uint64_t t = sitl::hw.now;
+    const uint64_t t = sitl::hw().now;
     sim::send("?");
     const std::vector<std::string> lines = sim::take_lines();  // before any main-loop pass
     ASSERT_EQ(lines.size(), 1u);
@@ -229,7 +229,7 @@ namespace {
 // interrupts enabled once `when` holds (in the middle of its work on a line), once.
 void deliver_when(const std::function<bool()>& when, const std::string& bytes) {
   auto done = std::make_shared<bool>(false);
-  sitl::hw.interrupt_point = [when, bytes, done] {
+  sitl::hw().interrupt_point = [when, bytes, done] {
     if (*done || !when()) return;
     *done = true;
     for (char c : bytes) sitl::receive(c);
@@ -251,16 +251,16 @@ TEST(Controller, StatusDuringACommandIsAnsweredBeforeItsReply) {
   for (const std::string& l : lines_sent) {
     ASSERT_TRUE(sim::run_until_at_rest());
     sim::take_lines();
-    const uint64_t built = sitl::hw.reports_built;
+    const uint64_t built = sitl::hw().reports_built;
     // The '?' comes right after the line's LF has been read: the firmware is busy with it.
-    deliver_when([] { return sitl::hw.last_read == '\n'; }, "?");
-    sitl::hw.last_read = -1;
+    deliver_when([] { return sitl::hw().last_read == '\n'; }, "?");
+    sitl::hw().last_read = -1;
     sim::send(l + "\n");
     sim::tick();
-    sitl::hw.interrupt_point = nullptr;
+    sitl::hw().interrupt_point = nullptr;
     const std::vector<std::string> lines = sim::take_lines();
     ASSERT_EQ(lines.size(), 2u) << l;
-    EXPECT_EQ(sitl::hw.reports_built, built + 1);
+    EXPECT_EQ(sitl::hw().reports_built, built + 1);
     sim::Status st;
     ASSERT_TRUE(parse_status(st, lines[0].data(), uint16_t(lines[0].size()))) << lines[0];
     EXPECT_EQ(st.state, kStateIdle) << l;  // the move is not queued yet
@@ -280,13 +280,13 @@ TEST(Controller, StatusNeverSplitsALineAndABurstIsAnsweredOnce) {
   sim::status();
   sim::take_lines();
   for (const char* line : {"L 0 1", "I", "$", "X"}) {
-    const uint64_t w0 = sitl::hw.serial_writes;
-    const uint64_t built = sitl::hw.reports_built;
-    deliver_when([w0] { return sitl::hw.serial_writes == w0 + 1; }, "??");  // after the first byte
+    const uint64_t w0 = sitl::hw().serial_writes;
+    const uint64_t built = sitl::hw().reports_built;
+    deliver_when([w0] { return sitl::hw().serial_writes == w0 + 1; }, "??");  // after the first byte
     const std::string reply = sim::command(line);
-    sitl::hw.interrupt_point = nullptr;
+    sitl::hw().interrupt_point = nullptr;
     EXPECT_TRUE(is_reply(reply)) << line;
-    EXPECT_EQ(sitl::hw.reports_built, built + 1) << line;  // one report for both
+    EXPECT_EQ(sitl::hw().reports_built, built + 1) << line;  // one report for both
     // The output, line by line: the report whole, after the first line.
     std::vector<std::string> lines = sim::reports();
     lines.push_back(reply);
@@ -335,7 +335,7 @@ TEST(Controller, StopMidMove) {
   for (int k = 0; k < int(queue::kSize) + 3; ++k) burst += k % 2 ? "L 0 -30\n" : "L 0 30\n";
   sim::send(burst);
   // The first move starts, eight more fill the queue, one waits, one more is read.
-  ASSERT_TRUE(sim::run_until([] { return std::abs(sitl::hw.position[0]) > 30; }, 10 * sim::kSecond));
+  ASSERT_TRUE(sim::run_until([] { return std::abs(sitl::hw().position[0]) > 30; }, 10 * sim::kSecond));
   std::vector<std::string> lines = sim::take_lines();
   EXPECT_EQ(lines.size(), queue::kSize + 1u);
   for (const std::string& l : lines) EXPECT_EQ(l, "ok");
@@ -356,7 +356,7 @@ TEST(Controller, StopMidMove) {
   ASSERT_TRUE(sim::run_until([] { return !sim::take_lines().empty(); }, 10 * sim::kSecond));
   st = sim::status();
   EXPECT_EQ(st.state, kStateIdle);
-  for (int i = 0; i < kJ; ++i) EXPECT_EQ(st.steps[i], sitl::hw.position[i]);
+  for (int i = 0; i < kJ; ++i) EXPECT_EQ(st.steps[i], sitl::hw().position[i]);
   EXPECT_NE(st.steps[0], 0);
   // The commanded angle is now the reached step's angle (the A field): 0.5 degrees off it
   // is the step this move goes to (not where the discarded moves would have left it).
@@ -371,7 +371,7 @@ TEST(Controller, StopMidMove) {
   ASSERT_TRUE(sim::run_until_at_rest());
   st = sim::status();
   for (int i = 0; i < kJ; ++i) EXPECT_EQ(st.steps[i], 0);
-  for (int i = 0; i < kJ; ++i) EXPECT_EQ(sitl::hw.position[i], st.steps[i]);
+  for (int i = 0; i < kJ; ++i) EXPECT_EQ(sitl::hw().position[i], st.steps[i]);
   EXPECT_EQ(sim::hal_errors(), "");
 }
 
@@ -433,7 +433,7 @@ TEST(Controller, DwellWaitsInTheQueue) {
 // moves before it have ended, as a person typing would see it).
 TEST(Controller, ExampleSessionOfTheProtocolDocument) {
   sim::boot();
-  if (std::string(robot::config.name) != "MK2 Plus") GTEST_SKIP() << "the example is the MK2's";
+  if (std::string(robot::config().name) != "MK2 Plus") GTEST_SKIP() << "the example is the MK2's";
   std::ifstream doc(std::string(ARTICULA_SOURCE_DIR) + "/docs/protocol.md");
   ASSERT_TRUE(doc.good());
   std::string line;
@@ -472,16 +472,16 @@ TEST(SerialLine, ALineActsOnlyOnceItsLastFrameIsIn) {
   sim::boot();
   sim::status();  // takes the W:14 of the blank EEPROM
   sim::take_lines();
-  const uint64_t t0 = sitl::hw.now + 100;
+  const uint64_t t0 = sitl::hw().now + 100;
   const uint64_t lf = sim::send_at(t0, "L 0 10\n");
   EXPECT_EQ(lf, t0 + 7 * 170);
   const uint64_t lf2 = sim::send_at(t0, "L 0 -10\n");  // on the wire after the first line
   EXPECT_EQ(lf2, lf + 8 * 170);
   EXPECT_EQ(sim::on_the_line(), 15u);
   std::vector<std::string> seen;
-  while (sitl::hw.now + sim::kPollTicks <= lf) {  // every pass before the LF is in
+  while (sitl::hw().now + sim::kPollTicks <= lf) {  // every pass before the LF is in
     sim::tick();
-    for (const std::string& l : sim::take_lines()) seen.push_back(l + " @" + std::to_string(sitl::hw.now));
+    for (const std::string& l : sim::take_lines()) seen.push_back(l + " @" + std::to_string(sitl::hw().now));
   }
   EXPECT_TRUE(seen.empty()) << seen[0];
   EXPECT_TRUE(sim::steps_of(0).empty());

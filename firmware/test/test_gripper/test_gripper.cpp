@@ -19,7 +19,7 @@ namespace {
 // Worked out here in double: aperture in percent, between the configuration's angles (the
 // robot file's, test_robot checks).
 uint16_t expected_us(double percent) {
-  const double closed = robot::config.servo_closed_deg, open = robot::config.servo_open_deg;
+  const double closed = robot::config().servo_closed_deg, open = robot::config().servo_open_deg;
   double deg = closed + (open - closed) * percent / 100.0;
   deg = std::min(180.0, std::max(0.0, deg));
   return uint16_t(std::lround(544.0 + deg * (2400.0 - 544.0) / 180.0));
@@ -39,18 +39,18 @@ TEST(Gripper, PulseWidths) {
 
 TEST(Gripper, SAndGSetThePulse) {
   sim::boot();
-  EXPECT_TRUE(sitl::hw.servo_log.empty());  // no pulses before the first S or G
+  EXPECT_TRUE(sitl::hw().servo_log.empty());  // no pulses before the first S or G
   const struct {
     const char* line;
     double percent;
   } cases[] = {{"S 1", 0}, {"S 0", 100}, {"G 50", 50}, {"G 0", 0}, {"G 100", 100}, {"g 33.3", 33.3}, {"G 99.5", 99.5}};
   for (const auto& c : cases) {
-    const size_t before = sitl::hw.servo_log.size();
-    const uint64_t t = sitl::hw.now;
+    const size_t before = sitl::hw().servo_log.size();
+    const uint64_t t = sitl::hw().now;
     ASSERT_EQ(sim::command(c.line), "ok") << c.line;
-    ASSERT_EQ(sitl::hw.servo_log.size(), before + 1) << c.line;
-    EXPECT_EQ(sitl::hw.servo_log.back().tick, t) << c.line;
-    EXPECT_EQ(sitl::hw.servo_log.back().us, expected_us(c.percent)) << c.line;
+    ASSERT_EQ(sitl::hw().servo_log.size(), before + 1) << c.line;
+    EXPECT_EQ(sitl::hw().servo_log.back().tick, t) << c.line;
+    EXPECT_EQ(sitl::hw().servo_log.back().us, expected_us(c.percent)) << c.line;
     ASSERT_TRUE(sim::run_until_at_rest());
     EXPECT_EQ(sim::status().gripper, int(std::floor(c.percent + 0.5))) << c.line;
   }
@@ -64,9 +64,9 @@ TEST(Gripper, SettlePauseBeforeTheNextAction) {
   for (int settle_ms : {300, 0, 1234}) {
     sim::boot();
     ASSERT_EQ(sim::command("$5=" + std::to_string(settle_ms)), "ok");
-    const uint64_t t0 = sitl::hw.now;
+    const uint64_t t0 = sitl::hw().now;
     ASSERT_EQ(sim::command("S 1"), "ok");
-    const uint64_t t1 = sitl::hw.now;  // the move is queued at this pass
+    const uint64_t t1 = sitl::hw().now;  // the move is queued at this pass
     ASSERT_EQ(sim::command("L 0 5"), "ok");
     ASSERT_TRUE(sim::run_until_at_rest());
     const articula::MotionSettings s = sim::motion_settings_from_listing();
@@ -74,7 +74,7 @@ TEST(Gripper, SettlePauseBeforeTheNextAction) {
     p.start(100, s);
     const uint64_t first = p.next_interval();
     ASSERT_FALSE(sim::steps_of(0).empty());
-    EXPECT_EQ(sitl::hw.servo_log.back().tick, t0);
+    EXPECT_EQ(sitl::hw().servo_log.back().tick, t0);
     // Starts when the pause ends (at once when the move is queued later than that).
     EXPECT_EQ(sim::steps_of(0).front().tick, std::max(t1, t0 + uint64_t(settle_ms) * 2000) + first) << settle_ms;
   }

@@ -23,9 +23,9 @@ const int kJ = robot::kJoints;
 // Motor m's switch: pressed `at` steps (of the pins) towards its minimum angle.
 void fit_switch(int m, int64_t at) {
   const bool towards_fewer = robot::motor(uint8_t(m)).direction > 0;
-  sitl::hw.endstop_fitted[m] = true;
-  sitl::hw.endstop_at[m] = towards_fewer ? -at : at;
-  sitl::hw.endstop_below[m] = towards_fewer;
+  sitl::hw().endstop_fitted[m] = true;
+  sitl::hw().endstop_at[m] = towards_fewer ? -at : at;
+  sitl::hw().endstop_below[m] = towards_fewer;
 }
 
 void boot_with_switches(int mask) {
@@ -47,7 +47,7 @@ TEST(Homing, SeeksTheSwitchAndSetsThePosition) {
   EXPECT_EQ(sim::status().state, kStateAlarm);
   EXPECT_EQ(sim::command("L 0 1"), "error:12");
   fit_switch(0, 40);
-  const uint64_t t0 = sitl::hw.now;
+  const uint64_t t0 = sitl::hw().now;
   ASSERT_EQ(sim::command("H"), "ok");
   ASSERT_EQ(sim::command("L 0 10"), "ok");  // accepted behind H
   sim::tick();
@@ -67,11 +67,11 @@ TEST(Homing, SeeksTheSwitchAndSetsThePosition) {
   const MotorSpec& base = robot::motor(0);
   EXPECT_EQ(st.steps[0], quantize_within_limits(base, base.min + 10000));
   // The pins moved exactly that far from the switch.
-  const int64_t at_switch = sitl::hw.endstop_at[0];
-  EXPECT_EQ(sitl::hw.position[0] - at_switch, int64_t(st.steps[0]) - min_angle_step(0));
+  const int64_t at_switch = sitl::hw().endstop_at[0];
+  EXPECT_EQ(sitl::hw().position[0] - at_switch, int64_t(st.steps[0]) - min_angle_step(0));
   // Motors without a switch went to the home pose.
-  for (int i = 1; i < kJ; ++i) EXPECT_EQ(st.steps[i], robot::home_steps[i]) << i;
-  for (int i = 1; i < kJ; ++i) EXPECT_EQ(sitl::hw.position[i], robot::home_steps[i]) << i;
+  for (int i = 1; i < kJ; ++i) EXPECT_EQ(st.steps[i], robot::home_steps()[i]) << i;
+  for (int i = 1; i < kJ; ++i) EXPECT_EQ(sitl::hw().position[i], robot::home_steps()[i]) << i;
   EXPECT_EQ(sim::hal_errors(), "");
 }
 
@@ -82,7 +82,7 @@ TEST(Homing, EveryMotorInTurn) {
   boot_with_switches(all);
   ASSERT_EQ(sim::command("$4=1000"), "ok");
   for (int m = 0; m < kJ; ++m) fit_switch(m, 10 + 7 * m);
-  const uint64_t t0 = sitl::hw.now;
+  const uint64_t t0 = sitl::hw().now;
   ASSERT_EQ(sim::command("H"), "ok");
   ASSERT_TRUE(sim::run_until_at_rest(120 * sim::kSecond));
   const sim::Status st = sim::status();
@@ -94,7 +94,7 @@ TEST(Homing, EveryMotorInTurn) {
     ASSERT_EQ(s.size(), size_t(10 + 7 * m)) << m;
     EXPECT_GT(s.front().tick, prev_end) << m;  // after the motor before it
     prev_end = s.back().tick;
-    EXPECT_EQ(sitl::hw.position[m], sitl::hw.endstop_at[m]);
+    EXPECT_EQ(sitl::hw().position[m], sitl::hw().endstop_at[m]);
   }
 }
 
@@ -143,7 +143,7 @@ TEST(Homing, NoSwitchesNoAlarm) {
   fit_switch(0, 5);
   ASSERT_EQ(sim::command("H"), "ok");
   ASSERT_TRUE(sim::run_until_at_rest());
-  for (int i = 0; i < kJ; ++i) EXPECT_EQ(sim::status().steps[i], robot::home_steps[i]);
+  for (int i = 0; i < kJ; ++i) EXPECT_EQ(sim::status().steps[i], robot::home_steps()[i]);
 }
 
 #include "pio_main.h"  // PlatformIO runs each test folder as a program of its own

@@ -56,8 +56,8 @@ std::vector<std::string> stream(const std::vector<std::string>& lines, uint64_t 
 
 // The base (motor 0) turned by `total` degrees in `parts` equal M lines, from the home pose.
 std::vector<std::string> base_turn(double total, int parts) {
-  const double s = robot::config.home[1] / 1000.0, e = robot::config.home[2] / 1000.0;
-  const double b0 = robot::config.home[0] / 1000.0;
+  const double s = robot::config().home[1] / 1000.0, e = robot::config().home[2] / 1000.0;
+  const double b0 = robot::config().home[0] / 1000.0;
   std::vector<std::string> lines;
   for (int k = 1; k <= parts; ++k) lines.push_back(m_line(b0 + total * k / parts, s, e));
   return lines;
@@ -67,14 +67,14 @@ std::vector<std::string> base_turn(double total, int parts) {
 
 TEST(Planner, CollinearMovesRunAsOneWithoutAStop) {
   sim::boot();
-  const uint64_t t_one = sitl::hw.now;
+  const uint64_t t_one = sitl::hw().now;
   ASSERT_EQ(sim::command(base_turn(60, 1)[0]), "ok");
   ASSERT_TRUE(sim::run_until_at_rest());
   const std::vector<uint64_t> one = ticks_of(0, t_one);
   ASSERT_GT(one.size(), 100u);
 
   sim::boot();
-  const uint64_t t_split = sitl::hw.now;
+  const uint64_t t_split = sitl::hw().now;
   const std::vector<std::string> replies = stream(base_turn(60, 20));
   ASSERT_EQ(replies, std::vector<std::string>(20, "ok"));
   const std::vector<uint64_t> split = ticks_of(0, t_split);
@@ -100,7 +100,7 @@ TEST(Planner, JunctionSettingZeroIsRestToRestTickForTick) {
   sim::boot();
   ASSERT_EQ(sim::command("$6=0"), "ok");
   const MotionSettings s = sim::motion_settings();
-  const uint64_t t0 = sitl::hw.now;
+  const uint64_t t0 = sitl::hw().now;
   int32_t from = sim::status().steps[0];
   const std::vector<std::string> lines = base_turn(30, 5);
   ASSERT_EQ(stream(lines), std::vector<std::string>(5, "ok"));
@@ -125,11 +125,11 @@ TEST(Planner, JunctionSettingZeroIsRestToRestTickForTick) {
 
 TEST(Planner, ACornerSlowsToItsJunctionLevelNotToRest) {
   sim::boot();
-  const double b0 = robot::config.home[0] / 1000.0, s0 = robot::config.home[1] / 1000.0,
-               e0 = robot::config.home[2] / 1000.0;
+  const double b0 = robot::config().home[0] / 1000.0, s0 = robot::config().home[1] / 1000.0,
+               e0 = robot::config().home[2] / 1000.0;
   // 20 degrees of base, then the base and the shoulder together: a 45-degree turn in steps.
   const std::vector<std::string> lines = {m_line(b0 + 20, s0, e0), m_line(b0 + 40, s0 + 10, e0)};
-  const uint64_t t0 = sitl::hw.now;
+  const uint64_t t0 = sitl::hw().now;
   ASSERT_EQ(stream(lines), std::vector<std::string>(2, "ok"));
   const std::vector<uint64_t> base = ticks_of(0, t0);
   ASSERT_GT(base.size(), 60u);
@@ -143,7 +143,7 @@ TEST(Planner, ADwellSentWhileTheQueueIsFullWaitsForRoomAndIsAnsweredOk) {
   sim::boot();
   std::vector<std::string> lines = base_turn(34, queue::kSize + 3);
   lines.push_back("D 0.2");
-  lines.push_back(m_line(0, robot::config.home[1] / 1000.0, robot::config.home[2] / 1000.0));
+  lines.push_back(m_line(0, robot::config().home[1] / 1000.0, robot::config().home[2] / 1000.0));
   const std::vector<std::string> replies = stream(lines);
   EXPECT_EQ(replies, std::vector<std::string>(lines.size(), "ok"));
   // The wait happened: the last move's first step comes at least 0.2 s after the one before.
@@ -158,11 +158,11 @@ TEST(Planner, StopAtSpeedGoesOnAlongThePathIntoTheNextMove) {
   // As many lines as the firmware reads before it is at rest again: the one under way, 16
   // queued, one held unanswered and one read behind it (later ones would run after the stop).
   const std::vector<std::string> lines = base_turn(57, queue::kSize + 3);
-  const size_t ticks_per_turn = size_t(quantize_within_limits(robot::motor(0), robot::config.home[0] + 57000) -
+  const size_t ticks_per_turn = size_t(quantize_within_limits(robot::motor(0), robot::config().home[0] + 57000) -
                                        sim::status().steps[0]);
   std::string all;
   for (const std::string& l : lines) all += l + "\n";
-  const uint64_t t0 = sitl::hw.now;
+  const uint64_t t0 = sitl::hw().now;
   sim::send(all);
   ASSERT_TRUE(sim::run_until([&] { return ticks_of(0, t0).size() >= 60; }, 60 * sim::kSecond));
   sim::send("!");

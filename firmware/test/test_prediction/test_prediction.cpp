@@ -73,9 +73,9 @@ ShippedRun run_shipped(const Case& c) {
   sim::boot();
   sim::status();  // the W:14 of a blank EEPROM, taken
   sim::take_lines();
-  run.t0 = sitl::hw.now;
-  run.coil_writes0 = sitl::hw.coil_log.size();
-  run.actions0 = sitl::hw.actions.size();
+  run.t0 = sitl::hw().now;
+  run.coil_writes0 = sitl::hw().coil_log.size();
+  run.actions0 = sitl::hw().actions.size();
   run.got = sitl::run_lines(run.lines, c.sender == host::SenderModel::kRest ? sitl::kAtRest : sitl::kStreamed);
   return run;
 }
@@ -92,8 +92,8 @@ TEST_P(FirmwareMatchesThePrediction, RepliesStepsAndMoveEnds) {
 
   // Every deadline at which a motor stepped, from the coil writes (decoded by the SITL HAL).
   std::vector<uint64_t> steps;
-  for (size_t i = coil_writes0; i < sitl::hw.coil_log.size(); ++i) {
-    const sitl::CoilWrite& w = sitl::hw.coil_log[i];
+  for (size_t i = coil_writes0; i < sitl::hw().coil_log.size(); ++i) {
+    const sitl::CoilWrite& w = sitl::hw().coil_log[i];
     if (w.step != 0 && (steps.empty() || steps.back() != w.tick - t0)) steps.push_back(w.tick - t0);
   }
 
@@ -115,7 +115,7 @@ TEST_P(FirmwareMatchesThePrediction, RepliesStepsAndMoveEnds) {
   EXPECT_EQ(steps.size(), predicted_steps) << c.file << ": the firmware made other steps than predicted";
   const host::PredictRecord& last = p.records.back();
   for (size_t m = 0; m < last.steps.size() && m < size_t(robot::kJoints); ++m)
-    EXPECT_EQ(sitl::hw.position[m], last.steps[m]) << c.file << ": motor " << m << " at rest";
+    EXPECT_EQ(sitl::hw().position[m], last.steps[m]) << c.file << ": motor " << m << " at rest";
   EXPECT_EQ(sim::hal_errors(), "");
   std::printf("  %s, %s: %zu lines, %zu moves, %zu steps; last step at %.6f s (predicted %.6f s); worst move end %llu ticks\n",
               c.file, host::sender_name(c.sender), lines.size(), moves, steps.size(),
@@ -124,14 +124,14 @@ TEST_P(FirmwareMatchesThePrediction, RepliesStepsAndMoveEnds) {
 }
 
 // When each queued action begins and ends, read from the firmware itself: the actions it took
-// off its queue (hal::action_began) and when its step timer stopped (sitl::hw.actions, from
+// off its queue (hal::action_began) and when its step timer stopped (sitl::hw().actions, from
 // `from`), against the prediction. Every record that queued something and was not cut by a
 // '!': its first action began at its predicted start, of its kind, and its last one (a T's
 // last segment) ended at its predicted end, the log's next entry. The times the host's
 // prediction is to read from the running firmware (issue 39). Returns the records checked and
 // the actions they account for.
 std::pair<size_t, size_t> check_action_times(const host::Prediction& p, size_t from, uint64_t t0, const std::string& what) {
-  const std::vector<sitl::ActionEvent> log(sitl::hw.actions.begin() + long(from), sitl::hw.actions.end());
+  const std::vector<sitl::ActionEvent> log(sitl::hw().actions.begin() + long(from), sitl::hw().actions.end());
   size_t j = 0, records = 0, actions = 0;
   for (const host::PredictRecord& r : p.records) {
     if (!r.queued || r.cut) continue;
@@ -177,9 +177,9 @@ TEST_P(FirmwareMatchesThePrediction, EveryTimeOfTheScheduleReadFromTheFirmware) 
   const std::pair<size_t, size_t> checked = check_action_times(p, from, t0, c.file);
   size_t begun = 0;
   uint64_t rest = 0;  // the last time the step timer stopped
-  for (size_t i = from; i < sitl::hw.actions.size(); ++i) {
-    begun += sitl::hw.actions[i].kind != sitl::kTimerStopped;
-    if (sitl::hw.actions[i].kind == sitl::kTimerStopped) rest = sitl::hw.actions[i].tick - t0;
+  for (size_t i = from; i < sitl::hw().actions.size(); ++i) {
+    begun += sitl::hw().actions[i].kind != sitl::kTimerStopped;
+    if (sitl::hw().actions[i].kind == sitl::kTimerStopped) rest = sitl::hw().actions[i].tick - t0;
   }
   EXPECT_EQ(checked.second, begun) << c.file << ": the firmware began other actions than predicted";
   // The rest of what the prediction says: when each line is in; a line that queues nothing takes
@@ -284,9 +284,9 @@ class RandomProgramsMatchThePrediction : public ::testing::TestWithParam<RandomC
 // Position of every motor at `tick` from the coil log (steps the motors made), from `from`.
 std::vector<int64_t> position_at(uint64_t tick, size_t from) {
   std::vector<int64_t> pos(robot::kJoints, 0);
-  for (size_t i = 0; i < from; ++i) pos[sitl::hw.coil_log[i].motor] += sitl::hw.coil_log[i].step;
-  for (size_t i = from; i < sitl::hw.coil_log.size() && sitl::hw.coil_log[i].tick <= tick; ++i)
-    pos[sitl::hw.coil_log[i].motor] += sitl::hw.coil_log[i].step;
+  for (size_t i = 0; i < from; ++i) pos[sitl::hw().coil_log[i].motor] += sitl::hw().coil_log[i].step;
+  for (size_t i = from; i < sitl::hw().coil_log.size() && sitl::hw().coil_log[i].tick <= tick; ++i)
+    pos[sitl::hw().coil_log[i].motor] += sitl::hw().coil_log[i].step;
   return pos;
 }
 
@@ -313,8 +313,8 @@ TEST_P(RandomProgramsMatchThePrediction, RepliesStepsMoveEndsAndStops) {
   sim::boot();
   sim::status();
   sim::take_lines();
-  const uint64_t t0 = sitl::hw.now;
-  const size_t from = sitl::hw.coil_log.size(), actions_from = sitl::hw.actions.size();
+  const uint64_t t0 = sitl::hw().now;
+  const size_t from = sitl::hw().coil_log.size(), actions_from = sitl::hw().actions.size();
   const std::vector<sitl::Exchange> got =
       sitl::run_lines(lines, c.sender == host::SenderModel::kRest ? sitl::kAtRest : sitl::kStreamed, stops);
   ASSERT_EQ(got.size(), lines.size());
@@ -335,8 +335,8 @@ TEST_P(RandomProgramsMatchThePrediction, RepliesStepsMoveEndsAndStops) {
     EXPECT_EQ(got[j].reply, want) << "line " << r.line << ": " << lines[j];
   }
   std::vector<uint64_t> steps;
-  for (size_t i = from; i < sitl::hw.coil_log.size(); ++i) {
-    const sitl::CoilWrite& w = sitl::hw.coil_log[i];
+  for (size_t i = from; i < sitl::hw().coil_log.size(); ++i) {
+    const sitl::CoilWrite& w = sitl::hw().coil_log[i];
     if (w.step != 0 && (steps.empty() || steps.back() != w.tick - t0)) steps.push_back(w.tick - t0);
   }
   uint64_t predicted = 0;

@@ -49,7 +49,7 @@ TEST(Queue, RingBasics) {
   }
   queue::clear();
   EXPECT_TRUE(queue::empty());
-  EXPECT_EQ(sitl::hw.interrupts_off_depth, 0);
+  EXPECT_EQ(sitl::hw().interrupts_off_depth, 0);
 }
 
 // Eleven moves sent at once: the first starts, eight fill the queue (each answered ok at
@@ -62,13 +62,13 @@ TEST(Queue, FullQueueDelaysTheReply) {
   for (int k = 0; k < n; ++k) burst += k % 2 ? "L 0 -20\n" : "L 0 20\n";
   burst += "I\n";  // behind them all
   sim::send(burst);
-  ASSERT_TRUE(sim::run_until([] { return sitl::hw.position[0] != 0; }, 10 * sim::kSecond));
+  ASSERT_TRUE(sim::run_until([] { return sitl::hw().position[0] != 0; }, 10 * sim::kSecond));
   sim::run_until([] { return false; }, 100 * sim::kPollTicks);
   std::vector<std::string> lines = sim::take_lines();
   EXPECT_EQ(count(lines, "ok"), int(queue::kSize) + 1);
   EXPECT_EQ(lines.size(), queue::kSize + 1u);
   // Read: the nine queued lines, the waiting one and the one behind it; the rest not.
-  EXPECT_EQ(sitl::hw.rx.size(), std::string("I\n").size());
+  EXPECT_EQ(sitl::hw().rx.size(), std::string("I\n").size());
   // Realtime bytes still work: a status report at once, the queue full.
   const sim::Status st = sim::status();
   EXPECT_EQ(st.free_slots, 0);
@@ -76,7 +76,7 @@ TEST(Queue, FullQueueDelaysTheReply) {
   // The first move ends: the waiting line is queued and answered by the next pass, and
   // the held one becomes the waiting one.
   ASSERT_TRUE(sim::run_until([] { return !sim::take_lines().empty(); }, 20 * sim::kSecond));
-  const uint64_t replied = sitl::hw.now;
+  const uint64_t replied = sitl::hw().now;
   const std::vector<sim::Step> steps = sim::steps_of(0);
   size_t turn = 1;
   while (turn < steps.size() && steps[turn].dir == steps[0].dir) ++turn;
@@ -85,7 +85,7 @@ TEST(Queue, FullQueueDelaysTheReply) {
   EXPECT_LE(replied, first_end + 2 * sim::kPollTicks);
   EXPECT_EQ(turn, size_t(quantize_within_limits(robot::motor(0), robot::motor(0).zero + 20000)));
   EXPECT_EQ(sim::status().free_slots, 0);
-  EXPECT_EQ(sitl::hw.rx.size(), 0u);  // the I line is read now, behind the waiting move
+  EXPECT_EQ(sitl::hw().rx.size(), 0u);  // the I line is read now, behind the waiting move
   // Everything runs to its end; every line is answered once, in order.
   ASSERT_TRUE(sim::run_until_at_rest());
   lines = sim::take_lines();
@@ -137,10 +137,10 @@ TEST(Queue, ZeroAndSettingsWaitForRest) {
     EXPECT_EQ(reply, "ok");
     EXPECT_TRUE(sim::at_rest()) << wait;
     const uint64_t last = sim::steps_of(0).back().tick;
-    EXPECT_LE(last, sitl::hw.now) << wait;
+    EXPECT_LE(last, sitl::hw().now) << wait;
     if (wait[0] == 'Z') {  // the position is now the home pose
       const sim::Status st = sim::status();
-      for (int i = 0; i < kJ; ++i) EXPECT_EQ(st.steps[i], robot::home_steps[i]);
+      for (int i = 0; i < kJ; ++i) EXPECT_EQ(st.steps[i], robot::home_steps()[i]);
     }
   }
   EXPECT_EQ(sim::command("$"), "ok");

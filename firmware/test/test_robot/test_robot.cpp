@@ -99,29 +99,29 @@ std::string p_line(const Vec3<double>& p) {
 TEST(Robot, StructuresFromTheConfig) {
   sim::boot();
   EXPECT_EQ(robot::actuation().num_motors, kJ);
-  EXPECT_STREQ(robot::config.name, robot_file().name.c_str());
-  EXPECT_EQ(robot::config.servo_open_deg, float(robot_file().gripper.servo_open_deg));
-  EXPECT_EQ(robot::config.servo_closed_deg, float(robot_file().gripper.servo_closed_deg));
-  ASSERT_TRUE(robot::config.has_point);  // both test robots are yaw-pitch-pitch arms
+  EXPECT_STREQ(robot::config().name, robot_file().name.c_str());
+  EXPECT_EQ(robot::config().servo_open_deg, float(robot_file().gripper.servo_open_deg));
+  EXPECT_EQ(robot::config().servo_closed_deg, float(robot_file().gripper.servo_closed_deg));
+  ASSERT_TRUE(robot::config().has_point);  // both test robots are yaw-pitch-pitch arms
   YppArm<double> arm{};
   ASSERT_TRUE(ypp_from_model(arm, model()));
   ASSERT_TRUE(ypp_limits_from_actuation(arm, actuation()));
-  EXPECT_FLOAT_EQ(robot::config.arm.upper, float(arm.upper));
-  EXPECT_FLOAT_EQ(robot::config.arm.fore, float(arm.fore));
-  EXPECT_FLOAT_EQ(robot::config.arm.base_height, float(arm.base_height));
-  EXPECT_FLOAT_EQ(robot::config.arm.tool_forward, float(arm.tool_forward));
-  EXPECT_EQ(robot::config.arm.parallelogram, arm.parallelogram);
+  EXPECT_FLOAT_EQ(robot::config().arm.upper, float(arm.upper));
+  EXPECT_FLOAT_EQ(robot::config().arm.fore, float(arm.fore));
+  EXPECT_FLOAT_EQ(robot::config().arm.base_height, float(arm.base_height));
+  EXPECT_FLOAT_EQ(robot::config().arm.tool_forward, float(arm.tool_forward));
+  EXPECT_EQ(robot::config().arm.parallelogram, arm.parallelogram);
   for (int i = 0; i < 3; ++i) {
-    EXPECT_FLOAT_EQ(robot::config.arm.lo[i], float(arm.lo[i]));
-    EXPECT_FLOAT_EQ(robot::config.arm.hi[i], float(arm.hi[i]));
+    EXPECT_FLOAT_EQ(robot::config().arm.lo[i], float(arm.lo[i]));
+    EXPECT_FLOAT_EQ(robot::config().arm.hi[i], float(arm.hi[i]));
   }
   // Home: the robot file's joint values through C^-1, in millidegrees.
   const double q_home[3] = {robot_file().home[0], robot_file().home[1], robot_file().home[2]};
   double u[3];
   actuators_from_joints(u, actuation(), q_home);
   for (int i = 0; i < kJ; ++i) {
-    EXPECT_EQ(robot::config.home[i], Millideg(std::lround(rad_to_deg(u[i]) * 1000))) << i;
-    EXPECT_EQ(robot::home_steps[i], quantize_within_limits(robot::motor(uint8_t(i)), robot::config.home[i]));
+    EXPECT_EQ(robot::config().home[i], Millideg(std::lround(rad_to_deg(u[i]) * 1000))) << i;
+    EXPECT_EQ(robot::home_steps()[i], quantize_within_limits(robot::motor(uint8_t(i)), robot::config().home[i]));
   }
 }
 
@@ -188,7 +188,7 @@ TEST(Robot, UnreachablePointsAreRefused) {
   ASSERT_EQ(sim::command("L 0 5"), "ok");
   ASSERT_TRUE(sim::run_until_at_rest());
   const sim::Status before = sim::status();
-  const double reach = robot::config.arm.upper + robot::config.arm.fore + robot::config.arm.tool_forward;
+  const double reach = robot::config().arm.upper + robot::config().arm.fore + robot::config().arm.tool_forward;
   for (const Vec3<double>& p : {make_vec3(reach + 100, 0.0, 78.0), make_vec3(0.0, 0.0, -1000.0),
                                 make_vec3(-200.0, 0.0, 100.0),  // behind the base: beyond its +-90 degrees
                                 make_vec3(0.0, 0.0, 78.0)}) {
@@ -216,27 +216,27 @@ TEST(Robot, HomeAndZero) {
   ASSERT_TRUE(sim::run_until_at_rest());
   sim::Status st = sim::status();
   EXPECT_EQ(st.state, kStateIdle);
-  for (int i = 0; i < kJ; ++i) EXPECT_EQ(st.steps[i], robot::home_steps[i]) << i;
+  for (int i = 0; i < kJ; ++i) EXPECT_EQ(st.steps[i], robot::home_steps()[i]) << i;
   // The commanded angles are the home angles: 0.1 degree more lands where home + 0.1 does.
   ASSERT_EQ(sim::command("L 2 0.4"), "ok");
   ASSERT_TRUE(sim::run_until_at_rest());
-  EXPECT_EQ(sim::status().steps[2], quantize_within_limits(robot::motor(2), robot::config.home[2] + 400));
+  EXPECT_EQ(sim::status().steps[2], quantize_within_limits(robot::motor(2), robot::config().home[2] + 400));
   // Z: no move, the steps become the home steps, the pins stay where they are.
   ASSERT_EQ(sim::command("L 0 -15"), "ok");
   ASSERT_TRUE(sim::run_until_at_rest());
-  const std::vector<int64_t> pins(sitl::hw.position, sitl::hw.position + kJ);
-  const size_t writes = sitl::hw.coil_log.size();
+  const std::vector<int64_t> pins(sitl::hw().position, sitl::hw().position + kJ);
+  const size_t writes = sitl::hw().coil_log.size();
   ASSERT_EQ(sim::command("Z"), "ok");
-  EXPECT_EQ(sitl::hw.coil_log.size(), writes);
+  EXPECT_EQ(sitl::hw().coil_log.size(), writes);
   st = sim::status();
   for (int i = 0; i < kJ; ++i) {
-    EXPECT_EQ(st.steps[i], robot::home_steps[i]);
-    EXPECT_EQ(st.millideg[i], steps_to_millideg(robot::motor(uint8_t(i)), robot::home_steps[i]));
+    EXPECT_EQ(st.steps[i], robot::home_steps()[i]);
+    EXPECT_EQ(st.millideg[i], steps_to_millideg(robot::motor(uint8_t(i)), robot::home_steps()[i]));
   }
   ASSERT_EQ(sim::command("L 0 3"), "ok");
   ASSERT_TRUE(sim::run_until_at_rest());
-  const int32_t moved = quantize_within_limits(robot::motor(0), robot::config.home[0] + 3000) - robot::home_steps[0];
-  EXPECT_EQ(sitl::hw.position[0] - pins[0], moved);
+  const int32_t moved = quantize_within_limits(robot::motor(0), robot::config().home[0] + 3000) - robot::home_steps()[0];
+  EXPECT_EQ(sitl::hw().position[0] - pins[0], moved);
   EXPECT_EQ(sim::hal_errors(), "");
 }
 

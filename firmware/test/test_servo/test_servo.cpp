@@ -20,7 +20,7 @@ const char* kNotServos = "this arm's motors are steppers: Coils.* and StepDir.* 
 
 // The commit of the image staged in the SITL EEPROM (its CRC, as the host would send it).
 std::string commit_staged() {
-  const uint8_t* e = sitl::hw.eeprom + robot::kEepromAddress + 1;
+  const uint8_t* e = sitl::hw().eeprom + robot::kEepromAddress + 1;
   return "$199=" + std::to_string(articula::config_checksum(e));
 }
 
@@ -36,12 +36,12 @@ uint64_t shortest_interval(int motor, uint64_t from) {
 TEST(Servo, TheServosCapTheRateWhateverTheSettingsSay) {
   sim::boot();
   if (!robot::servos()) GTEST_SKIP() << kNotServos;
-  const uint16_t cap = robot::config.rate_cap;
+  const uint16_t cap = robot::config().rate_cap;
   ASSERT_GT(cap, 0u);
   ASSERT_LT(cap, 4000u);
   ASSERT_EQ(sim::command("$0=4000"), "ok");  // the most the settings take
   ASSERT_EQ(sim::command("$1=100000"), "ok");
-  const uint64_t from = sitl::hw.now;
+  const uint64_t from = sitl::hw().now;
   ASSERT_EQ(sim::command("L 0 40"), "ok");
   ASSERT_TRUE(sim::run_until_at_rest());
   ASSERT_GT(sim::steps_of(0, from).size(), 100u);
@@ -57,32 +57,32 @@ TEST(Servo, ItsPulsesGoOnAtRestAndAtHome) {
   if (!robot::servos()) GTEST_SKIP() << kNotServos;
   ASSERT_EQ(sim::command("L 0 10"), "ok");
   ASSERT_TRUE(sim::run_until_at_rest());
-  const int64_t moved = sitl::hw.position[0];
+  const int64_t moved = sitl::hw().position[0];
   EXPECT_NE(moved, 0);
   // The idle time passes: a servo arm's "release" changes nothing a servo sees.
-  const uint64_t later = sitl::hw.now + 3 * sim::kSecond;
-  sim::run_until([&] { return sitl::hw.now >= later; }, 4 * sim::kSecond);
-  EXPECT_EQ(sitl::hw.position[0], moved);
+  const uint64_t later = sitl::hw().now + 3 * sim::kSecond;
+  sim::run_until([&] { return sitl::hw().now >= later; }, 4 * sim::kSecond);
+  EXPECT_EQ(sitl::hw().position[0], moved);
   ASSERT_EQ(sim::command("L 0 -5"), "ok");  // moves again from where it was
   ASSERT_TRUE(sim::run_until_at_rest());
-  EXPECT_EQ(sim::status().steps[0], int32_t(sitl::hw.position[0]));
+  EXPECT_EQ(sim::status().steps[0], int32_t(sitl::hw().position[0]));
   // Z: the home pose's steps, and each servo is given the pulse for them at once.
   ASSERT_EQ(sim::command("Z"), "ok");
-  for (int i = 0; i < robot::count(); ++i) EXPECT_EQ(sim::status().steps[i], robot::home_steps[i]) << i;
+  for (int i = 0; i < robot::count(); ++i) EXPECT_EQ(sim::status().steps[i], robot::home_steps()[i]) << i;
   EXPECT_EQ(sim::hal_errors(), "");
 }
 
 TEST(Servo, TwoServosOnOnePinOrNoStepZeroPulseAreRefused) {
   sim::boot();
   if (!robot::servos()) GTEST_SKIP() << kNotServos;
-  const uint16_t before = robot::checksum;
+  const uint16_t before = robot::checksum();
   // The shoulder's servo on the base's pin.
-  ASSERT_EQ(sim::command("$136=" + std::to_string(robot::config.servo_pin[0])), "ok");
+  ASSERT_EQ(sim::command("$136=" + std::to_string(robot::config().servo_pin[0])), "ok");
   EXPECT_EQ(sim::command(commit_staged()), "error:18");
-  EXPECT_EQ(robot::checksum, before);
-  ASSERT_EQ(sim::command("$136=" + std::to_string(robot::config.servo_pin[1])), "ok");
+  EXPECT_EQ(robot::checksum(), before);
+  ASSERT_EQ(sim::command("$136=" + std::to_string(robot::config().servo_pin[1])), "ok");
   // No pulse at step 0 (a stepper arm's zero).
   ASSERT_EQ(sim::command("$132=0"), "ok");
   EXPECT_EQ(sim::command(commit_staged()), "error:18");
-  EXPECT_EQ(robot::checksum, before);
+  EXPECT_EQ(robot::checksum(), before);
 }

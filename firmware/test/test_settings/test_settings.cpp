@@ -62,7 +62,7 @@ TEST(Settings, BlankEepromLoadsDefaultsWritesThemAndWarnsOnce) {
   sim::boot(true);
   EXPECT_EQ(listing(), kDefaults);
   // Written back: version, the values, a CRC that checks.
-  const uint8_t* e = sitl::hw.eeprom + settings::kAddress;
+  const uint8_t* e = sitl::hw().eeprom + settings::kAddress;
   EXPECT_EQ(e[0], settings::kVersion);
   const uint16_t crc = articula::crc16(e, settings::kImageSize - 2);
   EXPECT_EQ(e[settings::kImageSize - 2], crc & 0xFF);
@@ -84,7 +84,7 @@ TEST(Settings, BlankEepromLoadsDefaultsWritesThemAndWarnsOnce) {
 TEST(Settings, CorruptImageLoadsDefaults) {
   for (uint16_t at = 0; at < settings::kImageSize; ++at) {
     store_some_settings();
-    sitl::hw.eeprom[settings::kAddress + at] ^= 0x10;
+    sitl::hw().eeprom[settings::kAddress + at] ^= 0x10;
     sim::boot(false);
     EXPECT_EQ(warning_of_info(), kSettingsReset) << "byte " << at;
     EXPECT_EQ(warning_of_status(), 0) << "byte " << at;
@@ -92,7 +92,7 @@ TEST(Settings, CorruptImageLoadsDefaults) {
   }
   // A good CRC over a value no setting allows (a future or foreign image): defaults too.
   store_some_settings();
-  uint8_t* e = sitl::hw.eeprom + settings::kAddress;
+  uint8_t* e = sitl::hw().eeprom + settings::kAddress;
   e[1] = e[2] = e[3] = e[4] = 0;  // $0 = 0
   const uint16_t crc = articula::crc16(e, settings::kImageSize - 2);
   e[settings::kImageSize - 2] = uint8_t(crc);
@@ -132,14 +132,14 @@ TEST(Settings, EverySettingRoundTrips) {
   ASSERT_EQ(sim::command("$"), "ok");
   EXPECT_EQ(sim::reports(), saved);
   // Setting a value it already has writes nothing.
-  const uint32_t written = sitl::hw.eeprom_bytes_written;
+  const uint32_t written = sitl::hw().eeprom_bytes_written;
   ASSERT_EQ(sim::command("$0=123"), "ok");
-  EXPECT_EQ(sitl::hw.eeprom_bytes_written, written);
+  EXPECT_EQ(sitl::hw().eeprom_bytes_written, written);
 }
 
 TEST(Settings, RefusedValuesChangeNothing) {
   sim::boot();
-  const uint32_t written = sitl::hw.eeprom_bytes_written;
+  const uint32_t written = sitl::hw().eeprom_bytes_written;
   for (int n = 0; n < settings::kCount; ++n) {
     const articula::SettingRange r = articula::setting_range(uint8_t(n), robot::kJoints);
     const std::string p = "$" + std::to_string(n) + "=";
@@ -154,7 +154,7 @@ TEST(Settings, RefusedValuesChangeNothing) {
   EXPECT_EQ(sim::command("$" + std::to_string(settings::kCount) + "=1"), "error:13");
   EXPECT_EQ(sim::command("$999=1"), "error:13");
   EXPECT_EQ(listing(), kDefaults);
-  EXPECT_EQ(sitl::hw.eeprom_bytes_written, written);
+  EXPECT_EQ(sitl::hw().eeprom_bytes_written, written);
   // The endstop mask allows one bit per motor.
   EXPECT_EQ(articula::setting_range(settings::kEndstops, robot::kJoints).max, (1u << robot::kJoints) - 1);
 }

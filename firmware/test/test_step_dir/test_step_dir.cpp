@@ -16,16 +16,16 @@ TEST(StepDir, DisabledAtStartEnabledForAMoveAndOffAgain) {
   sim::boot();
   if (!robot::step_dir()) GTEST_SKIP() << "this arm's motors are on coils: Coils.* tests them";
   EXPECT_FALSE(coils::on());
-  EXPECT_FALSE(sitl::hw.drivers_enabled);
+  EXPECT_FALSE(sitl::hw().drivers_enabled);
   coils::energise();
-  EXPECT_TRUE(sitl::hw.drivers_enabled);
-  for (int m = 0; m < robot::kJoints; ++m) EXPECT_NE(sitl::hw.pattern[m] & sitl::kEnabled, 0) << m;
+  EXPECT_TRUE(sitl::hw().drivers_enabled);
+  for (int m = 0; m < robot::kJoints; ++m) EXPECT_NE(sitl::hw().pattern[m] & sitl::kEnabled, 0) << m;
   coils::release();
-  EXPECT_FALSE(sitl::hw.drivers_enabled);
-  for (int m = 0; m < robot::kJoints; ++m) EXPECT_EQ(sitl::hw.pattern[m], 0) << m;
+  EXPECT_FALSE(sitl::hw().drivers_enabled);
+  for (int m = 0; m < robot::kJoints; ++m) EXPECT_EQ(sitl::hw().pattern[m], 0) << m;
   // A pulse with the drivers off moves nothing, and the decoder says so.
   coils::step(0, false);
-  EXPECT_EQ(sitl::hw.position[0], 0);
+  EXPECT_EQ(sitl::hw().position[0], 0);
   EXPECT_NE(sim::hal_errors().find("while the drivers are disabled"), std::string::npos);
 }
 
@@ -35,13 +35,13 @@ TEST(StepDir, APulseAStepTheWayDirSays) {
   for (int m = 0; m < robot::kJoints; ++m) {
     sim::boot();
     coils::energise();
-    const size_t from = sitl::hw.coil_log.size();
+    const size_t from = sitl::hw().coil_log.size();
     for (int k = 0; k < 7; ++k) coils::step(uint8_t(m), false);
     for (int k = 0; k < 10; ++k) coils::step(uint8_t(m), true);
-    EXPECT_EQ(sitl::hw.position[m], -3) << m;
+    EXPECT_EQ(sitl::hw().position[m], -3) << m;
     int up = 0, down = 0;
-    for (size_t i = from; i < sitl::hw.coil_log.size(); ++i) {
-      const sitl::CoilWrite& w = sitl::hw.coil_log[i];
+    for (size_t i = from; i < sitl::hw().coil_log.size(); ++i) {
+      const sitl::CoilWrite& w = sitl::hw().coil_log[i];
       EXPECT_EQ(int(w.motor), m);  // no other motor pulsed
       ASSERT_NE(w.pattern & sitl::kStepPulse, 0);
       (w.pattern & sitl::kDirHigh ? up : down) += 1;
@@ -64,10 +64,10 @@ TEST(StepDir, MovesPulseTheDrivers) {
   EXPECT_EQ(sim::hal_errors(), "");
   const sim::Status st = sim::status();
   for (int m = 0; m < robot::kJoints; ++m) {
-    EXPECT_EQ(sitl::hw.position[m], st.steps[m]) << m;
+    EXPECT_EQ(sitl::hw().position[m], st.steps[m]) << m;
     EXPECT_NE(st.steps[m], 0) << m;
     int pulses = 0;
-    for (const sitl::CoilWrite& w : sitl::hw.coil_log)
+    for (const sitl::CoilWrite& w : sitl::hw().coil_log)
       if (w.motor == m && (w.pattern & sitl::kStepPulse)) {
         ++pulses;
         EXPECT_TRUE(w.staged);

@@ -97,7 +97,7 @@ TEST(Stepper, StepTimesAreTheSharedProfileStepForStep) {
   const std::vector<int32_t> from = positions();
   const std::vector<Millideg> target = at_fractions(0.85, 0.2, 0.7);
   const std::vector<int32_t> to = quantized(target);
-  const uint64_t t0 = sitl::hw.now;  // the line is run by the next poll, at this time
+  const uint64_t t0 = sitl::hw().now;  // the line is run by the next poll, at this time
   ASSERT_EQ(sim::command(m_line(target.data())), "ok");
   ASSERT_TRUE(sim::run_until_at_rest());
   const auto expected = expected_steps(from.data(), to.data(), t0, s);
@@ -124,7 +124,7 @@ TEST(Stepper, SettingsShapeTheProfile) {
   const std::vector<int32_t> from = positions();
   const std::vector<Millideg> target = at_fractions(0.1, 0.9, 0.4);
   const std::vector<int32_t> to = quantized(target);
-  const uint64_t t0 = sitl::hw.now;
+  const uint64_t t0 = sitl::hw().now;
   ASSERT_EQ(sim::command(m_line(target.data())), "ok");
   ASSERT_TRUE(sim::run_until_at_rest());
   const auto expected = expected_steps(from.data(), to.data(), t0, s);
@@ -146,7 +146,7 @@ TEST(Stepper, QueuedMovesChainWithoutAGap) {
   const std::vector<Millideg> a = at_fractions(0.7, 0.3, 0.6), b = at_fractions(0.2, 0.6, 0.3),
                               c = at_fractions(0.6, 0.5, 0.5);
   const std::vector<int32_t> p0 = positions(), pa = quantized(a), pb = quantized(b), pc = quantized(c);
-  const uint64_t t0 = sitl::hw.now;
+  const uint64_t t0 = sitl::hw().now;
   ASSERT_EQ(sim::command(m_line(a.data())), "ok");
   ASSERT_EQ(sim::command(m_line(b.data())), "ok");
   ASSERT_EQ(sim::command(m_line(c.data())), "ok");
@@ -179,7 +179,7 @@ TEST(Stepper, CoordinatedMovesEndTogether) {
   sim::boot();
   const std::vector<Millideg> target = at_fractions(0.95, 0.15, 0.55);
   const std::vector<int32_t> from = positions(), to = quantized(target);
-  const uint64_t t0 = sitl::hw.now;
+  const uint64_t t0 = sitl::hw().now;
   ASSERT_EQ(sim::command(m_line(target.data())), "ok");
   ASSERT_TRUE(sim::run_until_at_rest());
   uint32_t n = 0;
@@ -215,13 +215,13 @@ TEST(Stepper, CoordinatedMovesEndTogether) {
 TEST(Stepper, CoilsReleasedAfterTheIdleTimeAndEnergisedBeforeTheNextMove) {
   sim::boot();
   EXPECT_EQ(sim::status().coils, false);
-  const size_t log0 = sitl::hw.coil_log.size();
-  const uint64_t t0 = sitl::hw.now;
+  const size_t log0 = sitl::hw().coil_log.size();
+  const uint64_t t0 = sitl::hw().now;
   ASSERT_EQ(sim::command("L 0 5"), "ok");
   // Energised (every motor, its current pattern) at the start, before the first step.
-  ASSERT_GE(sitl::hw.coil_log.size(), log0 + kJ);
+  ASSERT_GE(sitl::hw().coil_log.size(), log0 + kJ);
   for (int i = 0; i < kJ; ++i) {
-    const sitl::CoilWrite& w = sitl::hw.coil_log[log0 + size_t(i)];
+    const sitl::CoilWrite& w = sitl::hw().coil_log[log0 + size_t(i)];
     EXPECT_EQ(w.motor, i);
     EXPECT_EQ(w.tick, t0);
     EXPECT_NE(w.pattern, 0);
@@ -232,29 +232,29 @@ TEST(Stepper, CoilsReleasedAfterTheIdleTimeAndEnergisedBeforeTheNextMove) {
   const uint64_t end = sim::steps_of(0).back().tick;
   // Still on just before the release time (2000 ms), off just after.
   const uint64_t release = 2000 * (sim::kSecond / 1000);
-  ASSERT_TRUE(sim::run_until([&] { return sitl::hw.now + 4 * sim::kPollTicks >= end + release; }, 10 * sim::kSecond));
+  ASSERT_TRUE(sim::run_until([&] { return sitl::hw().now + 4 * sim::kPollTicks >= end + release; }, 10 * sim::kSecond));
   EXPECT_TRUE(sim::status().coils);
-  for (int i = 0; i < kJ; ++i) EXPECT_NE(sitl::hw.pattern[i], 0);
-  ASSERT_TRUE(sim::run_until([&] { return sitl::hw.pattern[0] == 0; }, sim::kSecond));
-  const uint64_t released = sitl::hw.now;
+  for (int i = 0; i < kJ; ++i) EXPECT_NE(sitl::hw().pattern[i], 0);
+  ASSERT_TRUE(sim::run_until([&] { return sitl::hw().pattern[0] == 0; }, sim::kSecond));
+  const uint64_t released = sitl::hw().now;
   // To the millisecond (millis() counts whole ones) and the main loop's pass.
   EXPECT_GE(released + 2000, end + release);
   EXPECT_LE(released, end + release + 2000 + 2 * sim::kPollTicks);
-  for (int i = 0; i < kJ; ++i) EXPECT_EQ(sitl::hw.pattern[i], 0);
+  for (int i = 0; i < kJ; ++i) EXPECT_EQ(sitl::hw().pattern[i], 0);
   EXPECT_FALSE(sim::status().coils);
   // The next move writes the same patterns back (no step), then steps on from them.
-  std::vector<int64_t> before(sitl::hw.position, sitl::hw.position + kJ);
-  const size_t log1 = sitl::hw.coil_log.size();
-  const uint64_t t1 = sitl::hw.now;
+  std::vector<int64_t> before(sitl::hw().position, sitl::hw().position + kJ);
+  const size_t log1 = sitl::hw().coil_log.size();
+  const uint64_t t1 = sitl::hw().now;
   ASSERT_EQ(sim::command("L 0 -5"), "ok");
   for (int i = 0; i < kJ; ++i) {
-    const sitl::CoilWrite& w = sitl::hw.coil_log[log1 + size_t(i)];
+    const sitl::CoilWrite& w = sitl::hw().coil_log[log1 + size_t(i)];
     EXPECT_EQ(w.tick, t1);
     EXPECT_NE(w.pattern, 0);
     EXPECT_EQ(w.step, 0);
   }
   ASSERT_TRUE(sim::run_until_at_rest());
-  EXPECT_EQ(sitl::hw.position[0], before[0] - int64_t(sim::steps_of(0, t1).size()));
+  EXPECT_EQ(sitl::hw().position[0], before[0] - int64_t(sim::steps_of(0, t1).size()));
   EXPECT_EQ(sim::hal_errors(), "");
   // $2=0: never released.
   ASSERT_EQ(sim::command("$2=0"), "ok");
@@ -274,12 +274,12 @@ TEST(Stepper, MoveStepsAreStagedAndSetUpWithInterruptsOn) {
   ASSERT_EQ(sim::command("$0=4000"), "ok");
   ASSERT_EQ(sim::command("$1=100000"), "ok");
   const std::vector<Millideg> target = at_fractions(0.9, 0.1, 0.95);
-  const size_t log0 = sitl::hw.coil_log.size();
+  const size_t log0 = sitl::hw().coil_log.size();
   ASSERT_EQ(sim::command(m_line(target.data())), "ok");
   ASSERT_TRUE(sim::run_until_at_rest());
   size_t steps = 0, energised = 0;
-  for (size_t k = log0; k < sitl::hw.coil_log.size(); ++k) {
-    const sitl::CoilWrite& w = sitl::hw.coil_log[k];
+  for (size_t k = log0; k < sitl::hw().coil_log.size(); ++k) {
+    const sitl::CoilWrite& w = sitl::hw().coil_log[k];
     if (w.step != 0) {
       ++steps;
       EXPECT_TRUE(w.staged) << "step " << k << " of motor " << int(w.motor) << " written by the step computation";
@@ -304,13 +304,13 @@ TEST(Stepper, StopDeceleratesAsStepProfileStop) {
     const MotionSettings s = sim::motion_settings_from_listing();
     const std::vector<Millideg> target = at_fractions(0.95, 0.1, 0.8);
     const std::vector<int32_t> from = positions(), to = quantized(target);
-    const uint64_t t0 = sitl::hw.now;
+    const uint64_t t0 = sitl::hw().now;
     ASSERT_EQ(sim::command(m_line(target.data())), "ok");
     uint32_t n = 0;
     for (int i = 0; i < kJ; ++i) n = std::max(n, uint32_t(std::abs(to[i] - from[i])));
     const uint64_t duration = profile_duration_ticks(n, s);
-    ASSERT_TRUE(sim::run_until([&] { return sitl::hw.now >= t0 + uint64_t(when * double(duration)); }, 60 * sim::kSecond));
-    const uint64_t t_stop = sitl::hw.now;
+    ASSERT_TRUE(sim::run_until([&] { return sitl::hw().now >= t0 + uint64_t(when * double(duration)); }, 60 * sim::kSecond));
+    const uint64_t t_stop = sitl::hw().now;
     sim::send("!");
     ASSERT_TRUE(sim::run_until_at_rest());
     const auto expected = expected_steps(from.data(), to.data(), t0, s, t_stop);
@@ -319,7 +319,7 @@ TEST(Stepper, StopDeceleratesAsStepProfileStop) {
     EXPECT_EQ(st.state, kStateIdle);
     for (int i = 0; i < kJ; ++i) {
       EXPECT_EQ(st.steps[i], from[i] + (to[i] > from[i] ? 1 : -1) * int32_t(expected[i].size())) << i;
-      EXPECT_EQ(sitl::hw.position[i], st.steps[i]) << i;
+      EXPECT_EQ(sitl::hw().position[i], st.steps[i]) << i;
     }
     if (when < 0.5) {
       EXPECT_NE(std::vector<int32_t>(st.steps, st.steps + kJ), to);  // it did stop short

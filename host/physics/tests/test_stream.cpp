@@ -44,12 +44,12 @@ TEST(Stream, LivePhysicsStepsAsTheVirtualNano) {
   std::vector<Status> replies;
   for (const std::string& line : lines) replies.push_back(sim.command(line));
 
-  // The virtual Nano alone, the same lines streamed (the simulation's firmware is powered up
-  // again and replays its lines when it next runs).
+  // The virtual Nano alone, the same lines streamed (the thread's first machine: the
+  // simulation's firmware is a machine of its own).
   const ConfiguredArm<kFirmwareMotors> arm = firmware_arm(r);
   sitl::boot(true, "", nullptr, &arm);
   sitl::take_lines();
-  const uint64_t t0 = sitl::hw.now;
+  const uint64_t t0 = sitl::hw().now;
   const std::vector<sitl::Exchange> got = sitl::run_lines(lines, sitl::kStreamed);
   ASSERT_EQ(got.size(), lines.size());
   for (size_t i = 0; i < lines.size(); ++i)
