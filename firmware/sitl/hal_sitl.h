@@ -30,7 +30,7 @@
 #include "coil_decoder.h"  // (virtual-nano/: the SITL reads the coils as the virtual Nanos do)
 #include "report.h"
 #include "../src/robot.h"  // (by its path: the host library has a robot.h of its own)
-#include "../src/state.h"
+#include "../src/ram.h"
 
 namespace sitl {
 
@@ -155,11 +155,7 @@ struct Hardware {
 
 // The hardware of the machine this thread runs now (machine.h: Machine::Use): what every hal::
 // call here reads and writes.
-#if defined(__EMSCRIPTEN__)
-extern __thread Hardware* g_hw;
-#else
-extern __thread Hardware* g_hw __attribute__((tls_model("initial-exec")));
-#endif
+extern ARTICULA_FIRMWARE_THREAD Hardware* g_hw;  // (firmware/src/ram.h)
 inline Hardware& hw() { return *g_hw; }
 
 // An entry of the action log at the current tick, with the firmware's step counts.

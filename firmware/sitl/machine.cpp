@@ -20,23 +20,20 @@ namespace sitl {
 // say share it: a program that needs one firmware needs no machine object).
 namespace {
 Machine g_first;
-__thread Machine* g_machine = &g_first;
+ARTICULA_FIRMWARE_THREAD Machine* g_machine = &g_first;
 }  // namespace
-#if defined(__EMSCRIPTEN__)
-__thread Hardware* g_hw = &g_first.hw;
-#else
-__thread Hardware* g_hw __attribute__((tls_model("initial-exec"))) = &g_first.hw;
-#endif
+ARTICULA_FIRMWARE_THREAD Hardware* g_hw = &g_first.hw;
 
 }  // namespace sitl
 
-namespace firmware {
-#if defined(__EMSCRIPTEN__)
-__thread State* g_state = &sitl::g_first.firmware;
-#else
-__thread State* g_state __attribute__((tls_model("initial-exec"))) = &sitl::g_first.firmware;
-#endif
-}  // namespace firmware
+// The firmware's parts (firmware/src/ram.h): the first machine's until a Use says otherwise.
+ARTICULA_FIRMWARE_THREAD robot::Ram* robot::g_ram = &sitl::g_first.firmware.robot;
+ARTICULA_FIRMWARE_THREAD settings::Ram* settings::g_ram = &sitl::g_first.firmware.settings;
+ARTICULA_FIRMWARE_THREAD queue::Ram* queue::g_ram = &sitl::g_first.firmware.queue;
+ARTICULA_FIRMWARE_THREAD coils::Ram* coils::g_ram = &sitl::g_first.firmware.coils;
+ARTICULA_FIRMWARE_THREAD coils::Sequence* coils::g_sequence = &sitl::g_first.firmware.coil_sequence;
+ARTICULA_FIRMWARE_THREAD stepper::Ram* stepper::g_ram = &sitl::g_first.firmware.stepper;
+ARTICULA_FIRMWARE_THREAD controller::Ram* controller::g_ram = &sitl::g_first.firmware.controller;
 
 namespace sitl {
 
@@ -47,7 +44,14 @@ Machine::Use::~Use() { take(was_); }
 void Machine::Use::take(Machine* m) {
   g_machine = m;
   g_hw = &m->hw;
-  firmware::g_state = &m->firmware;
+  firmware::State& f = m->firmware;
+  robot::g_ram = &f.robot;
+  settings::g_ram = &f.settings;
+  queue::g_ram = &f.queue;
+  coils::g_ram = &f.coils;
+  coils::g_sequence = &f.coil_sequence;
+  stepper::g_ram = &f.stepper;
+  controller::g_ram = &f.controller;
 }
 
 Machine& current() { return *g_machine; }

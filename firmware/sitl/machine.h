@@ -33,6 +33,7 @@
 #include <vector>
 
 #include "hal_sitl.h"
+#include "../src/state.h"  // (by its path, as hal_sitl.h includes robot.h)
 
 namespace sitl {
 

@@ -6,7 +6,6 @@
 
 #include "hal.h"
 #include "robot.h"
-#include "state.h"
 
 namespace coils {
 
@@ -14,8 +13,8 @@ using articula::kCoilSequence;
 
 namespace {
 // The coils' state (coils.h), in the firmware's (state.h).
-inline Ram& cs() { return firmware::coils_ram(); }
-inline Sequence& seq() { return firmware::coil_sequence(); }
+inline Ram& cs() { return ram(); }
+inline Sequence& seq() { return sequence(); }
 }  // namespace
 
 void attach_servos(const int32_t* steps) {

@@ -20,6 +20,7 @@
 #include <stdint.h>
 
 #include "robot.h"
+#include "ram.h"
 
 namespace coils {
 
@@ -34,6 +35,9 @@ struct Sequence {
   uint8_t phase[robot::kJoints];
   uint8_t stride[robot::kJoints];  // 2 in full steps, 1 in half steps
 };
+ARTICULA_FIRMWARE_RAM(Ram, ram)
+ARTICULA_FIRMWARE_RAM(Sequence, sequence)
+
 
 // The table is the core's articula::kCoilSequence (articula/drive.h): bit 0 is IN1 .. bit 3
 // IN4, [0] the L298N's, [1] the ULN2003's.

@@ -17,12 +17,12 @@
 #include <articula/protocol.h>
 
 #include "coils.h"
+#include "controller.h"
 #include "gripper.h"
 #include "hal.h"
 #include "queue.h"
 #include "robot.h"
 #include "settings.h"
-#include "state.h"
 #include "stepper.h"
 
 using namespace articula;
@@ -51,7 +51,7 @@ void write_line(const char* buf, const LineSink& end) {
 }
 
 // The controller's state (controller.h), in the firmware's (state.h).
-inline controller::Ram& ctl() { return firmware::controller_ram(); }
+inline controller::Ram& ctl() { return controller::ram(); }
 
 void reply(uint8_t status) {
   char buf[kReplySize];

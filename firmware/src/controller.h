@@ -8,6 +8,7 @@
 #include <articula/protocol.h>
 
 #include "robot.h"
+#include "ram.h"
 
 namespace controller {
 
@@ -33,6 +34,8 @@ struct Ram {
   Command pending;
   articula::LineAssembler line;
 };
+ARTICULA_FIRMWARE_RAM(Ram, ram)
+
 
 }  // namespace controller
 

@@ -5,7 +5,7 @@
 
 #include <stdint.h>
 
-#include "state.h"  // (robot.h, and the state its helpers read)
+#include "robot.h"
 
 namespace firmware {
 

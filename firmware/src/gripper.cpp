@@ -4,7 +4,6 @@
 #include <articula/servo.h>
 
 #include "robot.h"
-#include "state.h"
 
 namespace gripper {
 

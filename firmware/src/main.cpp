@@ -14,15 +14,13 @@
 
 // The firmware's state, each module's part at a fixed address (state.h). (= {}: constant
 // initialisation, all zero in .bss; without it avr-gcc runs the members' constructors at start-up.)
-namespace firmware {
-robot::Ram g_robot = {};
-settings::Ram g_settings = {};
-queue::Ram g_queue = {};
-coils::Ram g_coils = {};
-coils::Sequence g_coil_sequence = {};
-stepper::Ram g_stepper = {};
-controller::Ram g_controller = {};
-}  // namespace firmware
+robot::Ram robot::g_ram = {};
+settings::Ram settings::g_ram = {};
+queue::Ram queue::g_ram = {};
+coils::Ram coils::g_ram = {};
+coils::Sequence coils::g_sequence = {};
+stepper::Ram stepper::g_ram = {};
+controller::Ram controller::g_ram = {};
 
 int main() {
   hal::init();        // interrupts on, the receiver too: no byte is lost from here

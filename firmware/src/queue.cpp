@@ -2,13 +2,12 @@
 #include "queue.h"
 
 #include "hal.h"
-#include "state.h"
 
 namespace queue {
 
 namespace {
 // The queue's state (queue.h), in the firmware's (state.h).
-inline Ram& q() { return firmware::queue_ram(); }
+inline Ram& q() { return ram(); }
 
 // The ring's place k after `i` (both below kSize): a compare, not a division (kSize is no
 // power of two; the AVR has no divide instruction, and pop() runs in the step interrupt).

@@ -9,6 +9,7 @@
 #include <articula/planner.h>
 
 #include "robot.h"
+#include "ram.h"
 
 namespace queue {
 
@@ -48,6 +49,8 @@ struct Ram {
   uint8_t head;            // the front
   volatile uint8_t count;  // changed by both sides
 };
+ARTICULA_FIRMWARE_RAM(Ram, ram)
+
 
 void clear();
 uint8_t count();

@@ -2,7 +2,6 @@
 #include "robot.h"
 
 #include "hal.h"
-#include "state.h"
 #if defined(ARTICULA_CNC_SHIELD)
 #include "builtin_config_cnc.h"  // the MK2 Plus on A4988s in a CNC shield's sockets
 #elif defined(ARTICULA_SERVO_ARM)
@@ -17,7 +16,7 @@ namespace robot {
 
 namespace {
 // The configuration's state (robot.h), in the firmware's (state.h).
-inline Ram& rb() { return firmware::robot_ram(); }
+inline Ram& rb() { return ram(); }
 
 const uint16_t kAddress = kEepromAddress;
 const uint8_t kVersion = kEepromVersion;

@@ -6,6 +6,7 @@
 #define ARTICULA_FIRMWARE_ROBOT_H
 
 #include <articula/config.h>
+#include "ram.h"
 
 namespace robot {
 
@@ -52,14 +53,15 @@ struct Ram {
   int32_t home_steps[kJoints];
   bool in_eeprom;  // the EEPROM holds the configuration in use (robot.cpp ensure_in_eeprom)
 };
+ARTICULA_FIRMWARE_RAM(Ram, ram)
+
 
 // The configuration in use: motors, coupling, home (motor angles), P's arm, servo, name.
-// (These three are defined in state.h: a file that uses them, or the helpers below, includes it.)
-inline articula::ConfiguredArm<kJoints>& config();
+inline articula::ConfiguredArm<kJoints>& config() { return ram().config; }
 // Its checksum (the I banner's K).
-inline uint16_t checksum();
+inline uint16_t checksum() { return ram().checksum; }
 // The steps the home pose quantizes to.
-inline const int32_t* home_steps();
+inline const int32_t* home_steps() { return ram().home_steps; }
 
 inline const Actuation& actuation() { return config().actuation; }
 inline uint8_t count() { return config().actuation.num_motors; }

@@ -5,13 +5,12 @@
 
 #include "hal.h"
 #include "robot.h"
-#include "state.h"
 
 namespace settings {
 
 namespace {
 // The settings' state (settings.h), in the firmware's (state.h).
-inline Ram& sr() { return firmware::settings_ram(); }
+inline Ram& sr() { return ram(); }
 
 void save() {
   uint8_t image[kImageSize];

@@ -6,6 +6,7 @@
 
 #include <articula/config.h>
 #include <articula/settings.h>
+#include "ram.h"
 
 namespace settings {
 
@@ -35,10 +36,11 @@ struct Ram {
   uint32_t value[kCount];
   uint8_t warning;  // take_warning()'s
 };
+ARTICULA_FIRMWARE_RAM(Ram, ram)
 
-// The current values (whole numbers in the units above), kCount of them. (Defined in state.h,
-// which every user of them includes.)
-inline uint32_t* value();
+
+// The current values (whole numbers in the units above), kCount of them.
+inline uint32_t* value() { return ram().value; }
 
 // Reads the EEPROM; a blank or corrupt image (version or CRC wrong) loads the defaults,
 // writes them back, and raises the SettingsReset warning.

@@ -5,7 +5,6 @@
 #include "hal.h"
 #include "queue.h"
 #include "settings.h"
-#include "state.h"
 
 using namespace articula;
 
@@ -17,7 +16,7 @@ const uint8_t kJ = robot::kJoints;
 enum Mode : uint8_t { kIdle, kMove, kPause, kSeek };
 
 // The step interrupt's state (stepper.h), in the firmware's (state.h).
-inline Ram& st() { return firmware::stepper_ram(); }
+inline Ram& st() { return ram(); }
 
 // Stops the interrupt's work: nothing runs until the main loop kicks again.
 uint32_t halt() {

@@ -24,6 +24,7 @@
 #include <articula/motion.h>
 
 #include "robot.h"
+#include "ram.h"
 
 namespace stepper {
 
@@ -60,6 +61,8 @@ struct Ram {
   uint32_t seek_left;
   int32_t home_target[robot::kJoints];
 };
+ARTICULA_FIRMWARE_RAM(Ram, ram)
+
 
 // Positions 0, nothing running, constants from the settings.
 void setup();
