@@ -1418,7 +1418,17 @@ bool Simulation::object_carried(int i) const { return objects_[size_t(i)].carrie
 dBodyID Simulation::object_body(int i) const { return objects_[size_t(i)].body; }
 dGeomID Simulation::object_geom(int i) const { return objects_[size_t(i)].geom; }
 
-std::vector<int32_t> Simulation::lost_steps() const { return std::vector<int32_t>(offset_, offset_ + n_motors_); }
+std::vector<int32_t> Simulation::lost_steps() const {
+  std::vector<int32_t> out(offset_, offset_ + n_motors_);
+  // A servo rests anywhere within half its dead band of its pulse (servo_follow): its own loop's
+  // tolerance, not a step lost. Only what holds it back beyond that is off its command.
+  for (int i = 0; i < n_motors_; ++i)
+    if (servo_[i]) {
+      const int32_t v = out[size_t(i)], band = servo_band_[i];
+      out[size_t(i)] = v > band ? v - band : v < -band ? v + band : 0;
+    }
+  return out;
+}
 std::vector<int32_t> Simulation::counted_steps() const { return std::vector<int32_t>(counted_, counted_ + n_motors_); }
 
 std::vector<ArmPartInfo> Simulation::arm_parts() const {

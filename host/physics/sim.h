@@ -153,7 +153,8 @@ class Simulation {
   const std::vector<double>& joints() const { return q_; }
   const HostFrames& frames() const { return frames_; }
   double gripper_opening_mm() const { return opening_mm_; }
-  // Steps each motor has lost so far (physical - counted), and the controller's counts.
+  // Steps each motor has lost so far (physical - counted; a servo's, beyond half its dead band:
+  // what holds it back, not where its own loop lets it rest), and the controller's counts.
   std::vector<int32_t> lost_steps() const;
   std::vector<int32_t> counted_steps() const;
 

@@ -46,3 +46,46 @@ def test_the_exercises_lead_the_examples_menu(open_page):
     pg.wait("a.project.goal !== null && a.project.goal.title === 'Pick and place the block'")
     assert pg.page.is_visible("#exercise-check")
     assert pg.errors == []
+
+
+def test_run_works_the_program_out_again_after_the_physics_is_turned_off(open_page):
+    """What a class hit (issue 55, 2 and 6): a program run with the physics on, then the physics
+    turned off, and Run and Step did nothing but a red "no program loaded: send program_load
+    first" (the engine had dropped the time line, the page still played it); the corner under
+    the view kept the physics' clock and counts. Now Run works the program out again and plays
+    it, and the corner is the model's."""
+    pg = open_page("mk2plus")
+    pg.page.click("#tab-program") if pg.page.is_visible("#tab-program") else None
+    pg.page.fill("#editor", "M 0 90 0\nM 20 90 0\n")
+    pg.page.click("#run")
+    pg.wait("a.timeline !== null && !a.playing")
+    pg.page.select_option("#scene-select", "push")
+    pg.wait("a.physics && a.physics.on && a.physics.t > 0.2", timeout=20000)
+    pg.page.click("#run")
+    pg.wait("document.getElementById('view-status').textContent.includes('steps')", timeout=20000)
+    pg.page.select_option("#scene-select", value="")
+    pg.wait("!a.physics.on")
+    assert pg.page.text_content("#view-status") == ""
+    pg.page.click("#run")
+    pg.wait("a.timeline !== null && !a.playing", timeout=20000)
+    pg.wait("document.getElementById('program-status').textContent.startsWith('2 commands')")
+    assert pg.page.text_content("#view-status").startswith("t = ")
+    assert pg.hook("a.pageErrors") == [] and pg.errors == []
+
+
+def test_a_servo_arm_at_rest_in_the_physics_has_lost_no_steps(open_page):
+    """What a class hit (issue 55, 1): the meArm in the live physics, and the corner under the
+    view read "lost -10 10 -10", which a servo arm cannot lose: a servo rests anywhere within
+    half its dead band of its pulse. Now the corner gives its counts and no loss."""
+    pg = open_page("mearm")
+    pg.page.click("#tab-program") if pg.page.is_visible("#tab-program") else None
+    pg.page.fill("#editor", "L 0 20\nL 1 -20\n")
+    pg.page.select_option("#scene-select", "push")
+    pg.wait("a.physics && a.physics.on", timeout=20000)
+    pg.page.click("#run")
+    pg.wait("a.physics.t > 2.5 && document.getElementById('view-status').textContent.includes('steps')", timeout=40000)
+    corner = pg.page.text_content("#view-status")
+    assert "lost" not in corner, corner
+    pg.page.select_option("#scene-select", value="")
+    pg.wait("!a.physics.on")
+    assert pg.hook("a.pageErrors") == [] and pg.errors == []

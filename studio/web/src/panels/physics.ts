@@ -65,6 +65,8 @@ export function showScene(m: SceneMsg): void {
   $("physics-bar").hidden = m.name === null;
   $("events").hidden = m.name === null;
   fill($("events"));
+  // the physics' clock and counts under the view are not the model's (issue 55, 6)
+  if (m.name === null) $("view-status").textContent = "";
 }
 
 export function showPhysics(p: PhysicsMsg, robot: RobotMsg | null): void {

@@ -84,6 +84,14 @@ export function initProgram(studio: Studio): void {
     showExamples(r.programs);
     if (!r.keep_view) resetProgramView(); // keep_view: the same robot, other link lengths
   });
+  // The physics turned on, off or to another scene: the engine dropped the time line it had
+  // worked out (with the physics the world runs the program), so Run and Step work it out
+  // again rather than play one that is gone (issue 55, 2).
+  sig.changed.add((part) => {
+    if (part !== "scene" || !s.editor.timeline) return;
+    resetProgramView();
+    programStatus("The world changed: Run works the program out again and runs it.");
+  });
   // the arm connected: Run drives it (the choice beside Run); lost or closed: the model only
   sig.armConnected.add((on) => {
     $("drive-arm-row").hidden = !on;
