@@ -27,31 +27,20 @@ ARTICULA_FIRMWARE_THREAD Hardware* g_hw = &g_first.hw;
 }  // namespace sitl
 
 // The firmware's parts (firmware/src/ram.h): the first machine's until a Use says otherwise.
-ARTICULA_FIRMWARE_THREAD robot::Ram* robot::g_ram = &sitl::g_first.firmware.robot;
-ARTICULA_FIRMWARE_THREAD settings::Ram* settings::g_ram = &sitl::g_first.firmware.settings;
-ARTICULA_FIRMWARE_THREAD queue::Ram* queue::g_ram = &sitl::g_first.firmware.queue;
-ARTICULA_FIRMWARE_THREAD coils::Ram* coils::g_ram = &sitl::g_first.firmware.coils;
-ARTICULA_FIRMWARE_THREAD coils::Sequence* coils::g_sequence = &sitl::g_first.firmware.coil_sequence;
-ARTICULA_FIRMWARE_THREAD stepper::Ram* stepper::g_ram = &sitl::g_first.firmware.stepper;
-ARTICULA_FIRMWARE_THREAD controller::Ram* controller::g_ram = &sitl::g_first.firmware.controller;
+#define ARTICULA_FIRMWARE_POINTER(type, member, object) ARTICULA_FIRMWARE_THREAD type* object = &sitl::g_first.firmware.member;
+ARTICULA_FIRMWARE_PARTS(ARTICULA_FIRMWARE_POINTER)
+#undef ARTICULA_FIRMWARE_POINTER
 
 namespace sitl {
-
-Machine::Machine() : firmware(), hw(), loop() {}
 
 Machine::Use::Use(Machine& m) : was_(g_machine) { take(&m); }
 Machine::Use::~Use() { take(was_); }
 void Machine::Use::take(Machine* m) {
   g_machine = m;
   g_hw = &m->hw;
-  firmware::State& f = m->firmware;
-  robot::g_ram = &f.robot;
-  settings::g_ram = &f.settings;
-  queue::g_ram = &f.queue;
-  coils::g_ram = &f.coils;
-  coils::g_sequence = &f.coil_sequence;
-  stepper::g_ram = &f.stepper;
-  controller::g_ram = &f.controller;
+#define ARTICULA_FIRMWARE_TAKE(type, member, object) object = &m->firmware.member;
+  ARTICULA_FIRMWARE_PARTS(ARTICULA_FIRMWARE_TAKE)
+#undef ARTICULA_FIRMWARE_TAKE
 }
 
 Machine& current() { return *g_machine; }

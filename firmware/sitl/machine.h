@@ -161,7 +161,7 @@ std::string hal_errors();
 // (the host's line, the output read so far, run_lines()' bookkeeping).
 class Machine {
  public:
-  Machine();
+  Machine() = default;
   Machine(const Machine&) = delete;
   Machine& operator=(const Machine&) = delete;
 
@@ -201,7 +201,7 @@ class Machine {
     bool track_stops = false;  // inside run_lines()
   };
 
-  firmware::State firmware;
+  firmware::State firmware{};  // (value-initialised: all zero, as the Nano's RAM at reset)
   Hardware hw;
   Loop loop;
 };

@@ -14,13 +14,9 @@
 
 // The firmware's state, each module's part at a fixed address (state.h). (= {}: constant
 // initialisation, all zero in .bss; without it avr-gcc runs the members' constructors at start-up.)
-robot::Ram robot::g_ram = {};
-settings::Ram settings::g_ram = {};
-queue::Ram queue::g_ram = {};
-coils::Ram coils::g_ram = {};
-coils::Sequence coils::g_sequence = {};
-stepper::Ram stepper::g_ram = {};
-controller::Ram controller::g_ram = {};
+#define ARTICULA_FIRMWARE_OBJECT(type, member, object) type object = {};
+ARTICULA_FIRMWARE_PARTS(ARTICULA_FIRMWARE_OBJECT)
+#undef ARTICULA_FIRMWARE_OBJECT
 
 int main() {
   hal::init();        // interrupts on, the receiver too: no byte is lost from here

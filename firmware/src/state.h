@@ -22,16 +22,23 @@
 #include "settings.h"
 #include "stepper.h"
 
+// Every part, once: X(type, member of State, the accessor's object or pointer (ram.h)). State,
+// the Nano's objects (main.cpp) and the SITL's pointers (sitl/machine.cpp) are all made from it.
+#define ARTICULA_FIRMWARE_PARTS(X)                          \
+  X(robot::Ram, robot, robot::g_ram)                        \
+  X(settings::Ram, settings, settings::g_ram)               \
+  X(queue::Ram, queue, queue::g_ram)                        \
+  X(coils::Ram, coils, coils::g_ram)                        \
+  X(coils::Sequence, coil_sequence, coils::g_sequence)      \
+  X(stepper::Ram, stepper, stepper::g_ram)                  \
+  X(controller::Ram, controller, controller::g_ram)
+
 namespace firmware {
 
 struct State {
-  robot::Ram robot;
-  settings::Ram settings;
-  queue::Ram queue;
-  coils::Ram coils;
-  coils::Sequence coil_sequence;
-  stepper::Ram stepper;
-  controller::Ram controller;
+#define ARTICULA_FIRMWARE_MEMBER(type, member, object) type member;
+  ARTICULA_FIRMWARE_PARTS(ARTICULA_FIRMWARE_MEMBER)
+#undef ARTICULA_FIRMWARE_MEMBER
 };
 
 }  // namespace firmware
