@@ -193,15 +193,16 @@ Status FirmwareSession::send(const std::string& text, int line, uint64_t tick, S
   const bool bang = is_stop_line(text);
   // (As run_lines sends: the first line, and each at rest, all in at once; streamed, byte
   // after byte on the wire.)
-  sent_.push_back(Sent{text, line, at, sender == kAtRest || sent_.empty()});
-  put(sent_.back());
+  const Sent x{text, line, at, sender == kAtRest || !sent_any_};
+  sent_any_ = true;
+  put(x);
   if (bang) {
     sitl::run_to(sitl::hw().now);
     now_ = hw.now - t0_;
     harvest();
     return kOk;
   }
-  unanswered_.push_back(sent_.size() - 1);
+  unanswered_.push_back(x);
   const size_t want = hw.replies.size() + unanswered_.size();
   const uint64_t give_up = hw.now + kReplyWithin;
   while (hw.replies.size() < want && hw.now < give_up) machine_step();
@@ -270,7 +271,7 @@ void FirmwareSession::harvest() {
   for (; replies_ < hw.replies.size(); ++replies_) {
     const sitl::Reply& r = hw.replies[replies_];
     if (unanswered_.empty()) throw std::logic_error("the firmware answered a line it was never sent");
-    const Sent& x = sent_[unanswered_.front()];
+    const Sent x = std::move(unanswered_.front());
     unanswered_.pop_front();
     line_of_.resize(std::max(line_of_.size(), r.queued), x.line);
     for (; queued_ < r.queued; ++queued_) line_of_[queued_] = x.line;
@@ -288,7 +289,7 @@ void FirmwareSession::harvest() {
   // The actions queued for a line not answered yet: its.
   for (; queued_ < hw.queued.size(); ++queued_) {
     line_of_.resize(queued_ + 1, 0);
-    line_of_[queued_] = unanswered_.empty() ? 0 : sent_[unanswered_.front()].line;
+    line_of_[queued_] = unanswered_.empty() ? 0 : unanswered_.front().line;
   }
   for (; actions_ < hw.actions.size(); ++actions_) {
     const sitl::ActionEvent& a = hw.actions[actions_];

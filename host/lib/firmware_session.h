@@ -130,8 +130,8 @@ class FirmwareSession {
   Robot robot_;
   ControllerSettings settings_;
   std::unique_ptr<sitl::Machine> nano_;  // its own firmware (firmware/sitl/machine.h)
-  std::vector<Sent> sent_;       // every line so far
-  std::deque<size_t> unanswered_;  // sent_ indexes still waiting for their reply
+  bool sent_any_ = false;         // a line was sent (the first goes in at once)
+  std::deque<Sent> unanswered_;  // the lines still waiting for their reply, in order
   uint64_t now_ = 0;             // the machine's clock (counted from power-up)
   uint64_t wire_ = 0;            // when the last reply is off the wire
   std::deque<Event> events_;
