@@ -330,7 +330,9 @@ def test_one_firmware_configured_for_each_arm(bins, tmp_path, arm):
     # robot may be its build's built-in arm: then none is needed).
     transcript = (out / "transcripts" / "tool-points.txt").read_text()
     assert "|K:" in transcript and ("$199=" in transcript or arm in SHIPPED)
-    timed = [r for r in data if r["duration_err_pct"]]
+    # (Timed by the pins' cycle stamps: a move no pin shows is timed by the host's clock, which a
+    # busy machine stretches; the bound below is the pins'.)
+    timed = [r for r in data if r["duration_err_pct"] and r["duration_source"] == "pins"]
     assert len(timed) > 60
     worst_us = max(abs(float(r["duration_diff_us"])) for r in timed)
     worst_pct = max(abs(float(r["duration_err_pct"])) for r in timed)
