@@ -1,0 +1,91 @@
+// host/physics/arm_driver.h - what moves one arm of the world (world.h): for a robot with
+// motors its own firmware, firmware/src on a virtual Nano of its own (firmware_session.h), whose
+// coils' steps move the arm's body at their ticks; for a robot without motors the kinematic
+// model (run.h), whose actions the body follows as ideal position servos.
+#ifndef ARTICULA_PHYSICS_ARM_DRIVER_H
+#define ARTICULA_PHYSICS_ARM_DRIVER_H
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "firmware_session.h"
+#include "program.h"
+#include "run.h"
+#include "world.h"
+
+namespace articula::host {
+
+class ArmBody;
+
+class ArmDriver {
+ public:
+  // The controller powers up with the options' settings; it stays for the arm's life.
+  ArmDriver(ArmBody& body, const SimOptions& options);
+  ~ArmDriver();
+  ArmDriver(const ArmDriver&) = delete;
+  ArmDriver& operator=(const ArmDriver&) = delete;
+
+  // The program the arm runs from `now_tick`: each line sent to the firmware once the arm is at
+  // rest after the one before (as the harness and the studio's runner send), from where the
+  // firmware is; a robot without motors: the kinematic model from where it is (replacing what
+  // it queued). Commands refused become kRejected events when the clock reaches them.
+  void load_program(const Program& program, uint64_t now_tick);
+  // One protocol line (docs/protocol.md) to the firmware at `now_tick`, or as soon as the reply
+  // before is off the wire (a streamed program); its reply. A rejected line changes nothing.
+  Status command(const std::string& line, uint64_t now_tick);
+  bool busy() const;
+  double program_end() const { return program_end_s_; }
+
+  // The controller up to `until` (the end of a world step of dt s, at t_end): the firmware's
+  // events at their ticks (steps, actions, the gripper) or the kinematic model's actions.
+  void advance(uint64_t until, double t_end, double dt);
+  // The refusals whose time has come (t <= t_end), in order.
+  void take_rejections(double t_end, std::vector<SimEvent>& out);
+
+  // The firmware's session (null for a robot without motors): its records and clock.
+  const FirmwareSession* firmware() const { return firmware_.get(); }
+
+ private:
+  struct Action;
+
+  void reset_controller();
+  void enqueue(const Statement& st, uint64_t now_tick);
+  Status send(const Statement& st, uint64_t now_tick, FirmwareSession::Sender sender);
+  void rejected(uint64_t tick, int line, const std::string& text, Status s, const std::string& note);
+  void motor_events(uint64_t until);
+  void joint_follow(double t_end, double dt);
+  void begin_action(size_t index);
+  void end_action();
+
+  ArmBody& body_;
+  const Robot& robot_;
+  SimOptions opt_;
+  bool motors_ = false;
+  int n_joints_ = 0;
+
+  // The firmware itself on its virtual clock (a robot with motors; its lines from a program's
+  // statements: lines_, on a copy of the robot that RoboSim's l may change), or the kinematic
+  // model and what it has queued so far: where the queue ends, the joints and gripper it leaves.
+  std::unique_ptr<FirmwareSession> firmware_;
+  Robot lines_robot_;
+  std::unique_ptr<StatementLines> lines_;
+  std::unique_ptr<KinematicModel> kinematic_;
+  uint64_t queue_end_tick_ = 0;
+  std::vector<double> queued_q_, q_cmd_;
+  int queued_percent_ = -1;
+
+  // The kinematic model's program.
+  std::vector<Action> actions_;
+  size_t action_ = 0;  // the action running or next
+  bool action_running_ = false;
+  double program_end_s_ = 0;
+
+  std::vector<SimEvent> pending_;  // rejected commands, shown when the clock reaches them
+  size_t pending_next_ = 0;
+};
+
+}  // namespace articula::host
+
+#endif  // ARTICULA_PHYSICS_ARM_DRIVER_H
