@@ -91,6 +91,20 @@ struct Drive {
   std::vector<MotorDriver> motors;  // one per motor (L298N when the file says nothing)
 };
 
+// A digital I/O pin of the arm's board that the robot file names, for signals to and from other
+// arms and the world's devices (a cell's wires, cells/README.md): a free header pin, checked
+// against the board's one pin table with everything else the arm wires (wiring.h).
+enum IoMode { kIoOutput, kIoInput, kIoInputPullup };
+constexpr int kMaxIoPins = 4;  // a robot file names at most this many
+struct IoPin {
+  std::string name;  // as programs and wires name it: "ready"
+  int pin = -1;      // index into board::kHeaderPin
+  IoMode mode = kIoOutput;
+  bool input() const { return mode != kIoOutput; }
+};
+// "output", "input", "input_pullup": as the robot file writes a mode.
+const char* io_mode_id(IoMode m);
+
 struct Robot {
   std::string name;
   std::string description;
@@ -111,6 +125,14 @@ struct Robot {
 
   std::vector<LinkGeometry> links;
   Gripper gripper;
+  std::vector<IoPin> io;  // the named I/O pins, in file order
+
+  // The I/O pin of that name, or null.
+  const IoPin* io_pin(const std::string& name) const {
+    for (const IoPin& p : io)
+      if (p.name == name) return &p;
+    return nullptr;
+  }
 };
 
 // How the arm's motors are driven: the first motor's driver (the loader has every motor of one

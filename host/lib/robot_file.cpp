@@ -17,6 +17,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <cctype>
 #include <utility>
 
 namespace articula::host {
@@ -29,7 +30,7 @@ RobotFileError::RobotFileError(const std::string& file, const std::string& json_
 
 const std::map<std::string, std::vector<std::string>>& robot_file_fields() {
   static const std::map<std::string, std::vector<std::string>> fields = {
-      {"robot", {"$schema", "name", "description", "dh", "tool", "board", "motors", "coupling", "home", "links", "gripper"}},
+      {"robot", {"$schema", "name", "description", "dh", "tool", "board", "motors", "coupling", "home", "links", "gripper", "io"}},
       {"dh_row", {"a", "alpha", "d", "theta"}},
       {"length", {"value", "min", "max"}},
       {"joint", {"joint", "min", "max"}},
@@ -40,6 +41,7 @@ const std::map<std::string, std::vector<std::string>>& robot_file_fields() {
       {"torque", {"pull_out", "rotor_inertia"}},
       {"link", {"frame", "shapes"}},
       {"shape", {"type", "size", "mesh", "xyz", "rpy", "mass", "density"}},
+      {"io_pin", {"name", "pin", "mode"}},
       {"gripper", {"max_opening", "finger_length", "finger_thickness", "finger_height", "servo_open", "servo_closed"}},
   };
   return fields;
@@ -237,12 +239,13 @@ class Loader {
     if (robot_.has_motors) check_home_actuators(member(root, "home") != nullptr);
     if (const json* l = member(root, "links")) load_links(*l);
     if (const json* g = member(root, "gripper")) load_gripper(*g);
+    if (const json* io = member(root, "io")) load_io(*io);
     if (robot_.drive.given) {
       for (int i = 0; i < robot_.actuation.num_motors; ++i)
         if (robot_.drive.motors[std::size_t(i)].kind != kDriveServo)
           check_microsteps(robot_.actuation.motors[i], robot_.drive.motors[std::size_t(i)], child("/motors", std::size_t(i)));
-      check_wiring();
     }
+    if (robot_.drive.given || !robot_.io.empty()) check_wiring();
     return std::move(robot_);
   }
 
@@ -775,12 +778,47 @@ class Loader {
                                         " microsteps per full step (it takes " + join(modes) + ")");
   }
 
+  // "io": [{"name": "ready", "pin": "D12", "mode": "output" | "input" | "input_pullup"}, ...]:
+  // pins of the board the motors are wired to (check_wiring has them free).
+  void load_io(const json& j) {
+    const json& a = array(j, "/io");
+    if (!robot_.has_motors)
+      fail("/io", "I/O pins are pins of the board that drives the motors: this robot has no \"motors\"");
+    if (a.size() > std::size_t(kMaxIoPins))
+      fail("/io", "at most " + std::to_string(kMaxIoPins) + " I/O pins (got " + std::to_string(a.size()) + ")");
+    for (std::size_t k = 0; k < a.size(); ++k) {
+      const std::string path = child("/io", k);
+      fields(a[k], path, "io_pin");
+      IoPin p;
+      const std::string np = child(path, "name");
+      p.name = string(required(a[k], path, "name", " (what programs and wires call it: \"ready\")"), np);
+      bool ok = !p.name.empty() && p.name.size() <= 16 && std::isalpha(static_cast<unsigned char>(p.name[0]));
+      for (char c : p.name) ok = ok && (std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-');
+      if (!ok)
+        fail(np, "an I/O pin's name is 1 to 16 letters, digits, _ or -, starting with a letter (got " + in_quotes(p.name) + ")");
+      for (const IoPin& other : robot_.io)
+        if (other.name == p.name) fail(np, "duplicate I/O pin name " + in_quotes(p.name));
+      const std::string pp = child(path, "pin");
+      std::string why;
+      p.pin = header_pin(robot_.drive.board, string(required(a[k], path, "pin", " (a free header pin, \"D12\")"), pp), why);
+      if (p.pin < 0) fail(pp, why);
+      const std::string mp = child(path, "mode");
+      const std::string mode = string(required(a[k], path, "mode", " (output, input or input_pullup)"), mp);
+      bool known = false;
+      for (IoMode m : {kIoOutput, kIoInput, kIoInputPullup})
+        if (mode == io_mode_id(m)) p.mode = m, known = true;
+      if (!known) fail(mp, "unknown mode " + in_quotes(mode) + " (expected one of: output, input, input_pullup)");
+      robot_.io.push_back(p);
+    }
+  }
+
   // The board can give what every driver asks for, each pin once (wiring.cpp).
   void check_wiring() const {
     try {
       wire(robot_);
     } catch (const WiringError& e) {
       std::string where = "/board";
+      if (e.io >= 0) where = child(child("/io", std::size_t(e.io)), "pin");
       if (e.motor >= 0) {
         where = child("/motors", std::size_t(e.motor));
         if (!e.field.empty()) where = child(child(where, "driver"), e.field);

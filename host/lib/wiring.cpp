@@ -22,6 +22,15 @@ bool is_stepper(DriveKind k) { return k != kDriveServo; }
 
 }  // namespace
 
+const char* io_mode_id(IoMode m) {
+  switch (m) {
+    case kIoOutput: return "output";
+    case kIoInput: return "input";
+    case kIoInputPullup: return "input_pullup";
+  }
+  return "?";
+}
+
 int board_by_id(const std::string& id) {
   for (int b = 0; b < board::kBoards; ++b)
     if (id == board::kBoardInfo[b].id) return b;
@@ -65,7 +74,7 @@ Wiring wire(const Robot& robot) {
   // What each pin is already wired to, to refuse a second use with both named.
   std::vector<int> owner(board::kHeaderPins, -1);
   const auto add = [&](int pin, const std::string& signal, const std::string& part, int motor,
-                       const std::string& field) {
+                       const std::string& field, int io = -1) {
     if (owner[std::size_t(pin)] >= 0) {
       const Wire& first = w.wires[std::size_t(owner[std::size_t(pin)])];
       const std::string user = motor >= 0 ? name(std::size_t(motor)) + "'s " + part + " " + signal : part + " " + signal;
@@ -73,7 +82,8 @@ Wiring wire(const Robot& robot) {
                                                   : "the " + first.part + " " + first.signal;
       throw WiringError(motor, field,
                         "pin " + std::string(board::kHeaderPin[pin].pin) + " of the " + info.title + " would carry both " +
-                            other + " and " + user);
+                            other + " and " + user,
+                        io);
     }
     owner[std::size_t(pin)] = int(w.wires.size());
     w.wires.push_back(Wire{pin, signal, part, motor});
@@ -129,6 +139,11 @@ Wiring wire(const Robot& robot) {
     } else {
       add(d.pin, "signal", "servo", int(m), "pin");
     }
+  }
+  // The I/O pins the file names last: one on a pin the drive uses is the one at fault.
+  for (std::size_t k = 0; k < robot.io.size(); ++k) {
+    const IoPin& p = robot.io[k];
+    add(p.pin, io_mode_id(p.mode), "I/O " + quoted_name(p.name), -1, "pin", int(k));
   }
   return w;
 }

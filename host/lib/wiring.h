@@ -28,19 +28,21 @@ struct Wiring {
   std::vector<Wire> wires;  // the board's own (serial, LED, gripper), then each motor's
 };
 
-// A drive the board cannot give. `motor` is the motor at fault (-1: the board or the gripper),
-// `field` the part of its driver ("kind", "pin", "enable"; empty: the motor as a whole).
+// A drive the board cannot give. `motor` is the motor at fault (-1: the board, the gripper or an
+// I/O pin), `field` the part of its driver ("kind", "pin", "enable"; empty: the motor as a
+// whole), `io` the I/O pin at fault (-1: none).
 class WiringError : public std::runtime_error {
  public:
-  WiringError(int motor, std::string field, const std::string& problem)
-      : std::runtime_error(problem), motor(motor), field(std::move(field)) {}
+  WiringError(int motor, std::string field, const std::string& problem, int io = -1)
+      : std::runtime_error(problem), motor(motor), field(std::move(field)), io(io) {}
   int motor;
   std::string field;
+  int io;
 };
 
 // The arm's wiring. Throws WiringError when a motor's driver does not fit the board (STEP/DIR
 // without a CNC shield, an L298N on one, more steppers than slots, drivers of different kinds in
-// one arm) or when two things would share a pin.
+// one arm) or when two things would share a pin (an I/O pin on one the drive uses among them).
 Wiring wire(const Robot& robot);
 
 // The firmware build that drives the robot's motors: "articula-nano" (L298N, ULN2003; a robot

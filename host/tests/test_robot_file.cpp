@@ -1,5 +1,6 @@
 // Tests of the robot file loader (host/lib/robot_file.cpp), the shipped robots and the
 // JSON schema (robots/robot.schema.json).
+#include "mini_schema.h"
 #include "robot_file.h"
 
 #include "board.h"
@@ -24,6 +25,7 @@ namespace {
 
 using namespace articula;
 using namespace articula::host;
+using articula::test::MiniSchema;
 using json = nlohmann::json;
 namespace fs = std::filesystem;
 
@@ -301,109 +303,6 @@ TEST(ShippedRobots, ReadmeExampleLoads) {
 
 // ---------------------------------------------------------------- the schema
 
-// A validator for the part of JSON Schema 2020-12 that robot.schema.json uses. A keyword it
-// does not know is an error, so the schema cannot grow past what this test checks.
-class MiniSchema {
- public:
-  explicit MiniSchema(const json& root) : root_(root) {}
-
-  std::vector<std::string> errors(const json& doc) const {
-    std::vector<std::string> out;
-    check(root_, doc, "", out);
-    return out;
-  }
-
- private:
-  bool valid(const json& s, const json& v) const {
-    std::vector<std::string> e;
-    check(s, v, "", e);
-    return e.empty();
-  }
-
-  static bool has_type(const json& v, const std::string& t) {
-    if (t == "object") return v.is_object();
-    if (t == "array") return v.is_array();
-    if (t == "string") return v.is_string();
-    if (t == "boolean") return v.is_boolean();
-    if (t == "null") return v.is_null();
-    if (t == "number") return v.is_number();
-    if (t == "integer") return v.is_number() && std::floor(v.get<double>()) == v.get<double>();
-    throw std::logic_error("unknown type " + t);
-  }
-
-  void check(const json& s, const json& v, const std::string& path, std::vector<std::string>& out) const {
-    static const std::set<std::string> known = {
-        "$schema", "$id", "title", "description", "$comment", "default", "$defs",  // annotations
-        "$ref", "type", "properties", "additionalProperties", "required", "items", "minItems", "maxItems",
-        "minimum", "maximum", "exclusiveMinimum", "minLength", "enum", "const", "oneOf", "allOf", "not", "if",
-        "then", "else"};
-    if (s.is_boolean()) {
-      if (!s.get<bool>()) out.push_back(path + ": not allowed");
-      return;
-    }
-    for (const auto& kw : s.items())
-      if (!known.count(kw.key())) throw std::logic_error("schema keyword the test does not implement: " + kw.key());
-    auto err = [&](const std::string& m) { out.push_back(path + ": " + m); };
-
-    if (s.contains("$ref")) {
-      const std::string ref = s["$ref"];
-      if (ref.rfind("#/", 0) != 0) throw std::logic_error("only local $ref: " + ref);
-      check(root_.at(json::json_pointer(ref.substr(1))), v, path, out);
-    }
-    if (s.contains("type") && !has_type(v, s["type"])) err("not of type " + s["type"].get<std::string>());
-    if (s.contains("enum")) {
-      bool found = false;
-      for (const json& e : s["enum"]) found = found || e == v;
-      if (!found) err("not one of " + s["enum"].dump());
-    }
-    if (s.contains("const") && s["const"] != v) err("not " + s["const"].dump());
-    if (v.is_object()) {
-      const json empty = json::object();
-      const json& props = s.contains("properties") ? s["properties"] : empty;
-      for (const auto& item : v.items()) {
-        const std::string p = path + "/" + item.key();
-        if (props.contains(item.key()))
-          check(props[item.key()], item.value(), p, out);
-        else if (s.contains("additionalProperties"))
-          check(s["additionalProperties"], item.value(), p, out);
-      }
-      if (s.contains("required"))
-        for (const json& k : s["required"])
-          if (!v.contains(k.get<std::string>())) err("missing " + k.get<std::string>());
-    }
-    if (v.is_array()) {
-      if (s.contains("items"))
-        for (std::size_t i = 0; i < v.size(); ++i) check(s["items"], v[i], path + "/" + std::to_string(i), out);
-      if (s.contains("minItems") && v.size() < s["minItems"].get<std::size_t>()) err("too few items");
-      if (s.contains("maxItems") && v.size() > s["maxItems"].get<std::size_t>()) err("too many items");
-    }
-    if (v.is_number()) {
-      const double x = v.get<double>();
-      if (s.contains("minimum") && x < s["minimum"].get<double>()) err("below minimum");
-      if (s.contains("maximum") && x > s["maximum"].get<double>()) err("above maximum");
-      if (s.contains("exclusiveMinimum") && x <= s["exclusiveMinimum"].get<double>()) err("not above exclusiveMinimum");
-    }
-    if (v.is_string() && s.contains("minLength") && v.get<std::string>().size() < s["minLength"].get<std::size_t>())
-      err("too short");
-    if (s.contains("allOf"))
-      for (const json& sub : s["allOf"]) check(sub, v, path, out);
-    if (s.contains("oneOf")) {
-      int n = 0;
-      for (const json& sub : s["oneOf"]) n += valid(sub, v) ? 1 : 0;
-      if (n != 1) err("matches " + std::to_string(n) + " of oneOf");
-    }
-    if (s.contains("not") && valid(s["not"], v)) err("matches \"not\"");
-    if (s.contains("if")) {
-      if (valid(s["if"], v)) {
-        if (s.contains("then")) check(s["then"], v, path, out);
-      } else if (s.contains("else")) {
-        check(s["else"], v, path, out);
-      }
-    }
-  }
-
-  const json& root_;
-};
 
 json load_schema() { return json::parse(read_text(kRobots + "/robot.schema.json")); }
 
@@ -473,6 +372,9 @@ TEST(Schema, RejectsWhatTheLoaderRejects) {
       {"parameter as text", [](json& j) { j["dh"][0]["d"] = "78"; }},
       {"linked as a list", [](json& j) { j["dh"][3]["theta"]["linked"] = json::array({-1, -1}); }},
       {"tool with 2 numbers", [](json& j) { j["tool"]["xyz"] = {1, 2}; }},
+      {"an I/O pin without a mode", [](json& j) { j["io"] = json::parse(R"([{"name": "ready", "pin": "A5"}])"); }},
+      {"an I/O pin of no mode known", [](json& j) { j["io"] = json::parse(R"([{"name": "ready", "pin": "A5", "mode": "pwm"}])"); }},
+      {"an I/O pin on no header pin", [](json& j) { j["io"] = json::parse(R"([{"name": "ready", "pin": "D14", "mode": "input"}])"); }},
       {"motor field typo", [](json& j) { j["motors"][0]["gear_ratio"] = 1; }},
       {"motor direction 2", [](json& j) { j["motors"][0]["direction"] = 2; }},
       {"motor gear 0", [](json& j) { j["motors"][0]["gear"] = {0, 19}; }},
@@ -526,6 +428,8 @@ TEST(Schema, RejectsWhatTheLoaderRejects) {
          for (auto& m : j["motors"]) m["driver"] = {{"kind", "step-dir"}, {"chip", "drv8825"}, {"enable", "D8"}}, m["microsteps"] = 16;
        }},
       {"no drive named", [](json& j) { j.erase("board"); for (auto& m : j["motors"]) m.erase("driver"); }},
+      {"an I/O pin on the one pin the drive leaves free", [](json& j) {
+         j["io"] = json::parse(R"([{"name": "ready", "pin": "A5", "mode": "input_pullup"}])"); }},
       {"a d joint", [](json& j) { j["dh"][0]["d"] = {{"joint", "lift"}, {"min", 0}, {"max", 100}}; j["home"]["lift"] = 0;
                                    j.erase("motors"); j.erase("coupling"); j.erase("board"); }},
       {"no optional parts", [](json& j) { for (const char* k : {"description", "tool", "board", "motors", "coupling", "home", "links", "gripper"}) {
@@ -1377,3 +1281,71 @@ TEST(DriveErrors, BoardsKindsAndChips) {
 }
 
 }  // namespace
+
+// ---------------------------------------------------------------- I/O pins
+
+TEST(IoPins, NamedPinsOnFreeHeaderPinsAreWiredAfterTheDrive) {
+  json doc = servo_robot();
+  doc["io"] = json::parse(R"([{"name": "ready", "pin": "D12", "mode": "output"},
+                              {"name": "go", "pin": "A0", "mode": "input_pullup"},
+                              {"name": "part-in", "pin": "A1", "mode": "input"}])");
+  const Robot r = parse_robot(doc.dump(), "t.json");
+  ASSERT_EQ(r.io.size(), 3u);
+  EXPECT_EQ(r.io[0].name, "ready");
+  EXPECT_EQ(r.io[0].mode, kIoOutput);
+  EXPECT_FALSE(r.io[0].input());
+  EXPECT_EQ(r.io[1].mode, kIoInputPullup);
+  EXPECT_TRUE(r.io[2].input());
+  EXPECT_STREQ(board::kHeaderPin[r.io[1].pin].pin, "A0");
+  ASSERT_NE(r.io_pin("part-in"), nullptr);
+  EXPECT_EQ(r.io_pin("nothing"), nullptr);
+  const Wiring w = wire(r);
+  EXPECT_EQ(pin_of(w, "I/O \"ready\""), "D12");
+  EXPECT_EQ(pin_of(w, "I/O \"go\""), "A0");
+}
+
+TEST(IoPins, AStepperArmWithoutANamedBoardIsCheckedOnTheNano) {
+  json doc = base_robot();  // three L298Ns: D2..D12 and A0..A4 are the drive's
+  doc["io"] = json::parse(R"([{"name": "ready", "pin": "A5", "mode": "output"}])");
+  EXPECT_EQ(parse_robot(doc.dump(), "t.json").io.size(), 1u);
+  doc["io"][0]["pin"] = "D10";
+  EXPECT_TRUE(fails_with(doc, "/io/0/pin", {"pin D10 of the Arduino Nano", "L298N #1 IN3", "I/O \"ready\" output"}));
+}
+
+TEST(IoPins, BadPinsAreRefusedByName) {
+  json doc = servo_robot();
+  doc["io"] = json::parse(R"([{"name": "ready", "pin": "D9", "mode": "output"}])");
+  EXPECT_TRUE(fails_with(doc, "/io/0/pin", {"pin D9", "servo signal", "I/O \"ready\""}));
+  doc["io"][0]["pin"] = "D0";
+  EXPECT_TRUE(fails_with(doc, "/io/0/pin", {"USB serial RX"}));
+  doc["io"][0]["pin"] = "D14";
+  EXPECT_TRUE(fails_with(doc, "/io/0/pin", {"no pin \"D14\""}));
+  doc["io"][0]["pin"] = "A6";
+  EXPECT_TRUE(fails_with(doc, "/io/0/pin", {"analog input only"}));
+  doc["io"][0]["pin"] = "D12";
+  doc["io"][0]["mode"] = "pwm";
+  EXPECT_TRUE(fails_with(doc, "/io/0/mode", {"unknown mode \"pwm\"", "output, input, input_pullup"}));
+  doc["io"][0]["mode"] = "input";
+  doc["io"][0]["name"] = "2fast";
+  EXPECT_TRUE(fails_with(doc, "/io/0/name", {"starting with a letter", "\"2fast\""}));
+  doc["io"][0]["name"] = "go";
+  doc["io"].push_back(json::parse(R"({"name": "go", "pin": "A0", "mode": "output"})"));
+  EXPECT_TRUE(fails_with(doc, "/io/1/name", {"duplicate I/O pin name \"go\""}));
+  doc["io"][1]["name"] = "stop";
+  doc["io"][1]["pin"] = "D12";
+  EXPECT_TRUE(fails_with(doc, "/io/1/pin", {"pin D12", "I/O \"go\" input", "I/O \"stop\" output"}));
+  doc["io"][1].erase("mode");
+  EXPECT_TRUE(fails_with(doc, "/io/1/mode", {"missing required field \"mode\""}));
+  doc["io"] = json::array();
+  for (const char* pin : {"D4", "D5", "D6", "D7", "D8"})
+    doc["io"].push_back({{"name", std::string("p") + pin}, {"pin", pin}, {"mode", "output"}});
+  EXPECT_TRUE(fails_with(doc, "/io", {"at most 4 I/O pins (got 5)"}));
+}
+
+TEST(IoPins, ARobotWithoutMotorsHasNoBoardForThem) {
+  json doc = base_robot();
+  doc.erase("motors");
+  doc.erase("coupling");
+  doc["io"] = json::parse(R"([{"name": "ready", "pin": "D12", "mode": "output"}])");
+  EXPECT_TRUE(fails_with(doc, "/io", {"no \"motors\""}));
+}
