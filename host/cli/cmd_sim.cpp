@@ -1,6 +1,8 @@
 // articula sim ROBOT PROGRAM [--scene FILE]: the program on the arm as rigid bodies in the
 // Open Dynamics Engine (host/physics/sim.h): the trajectory (time, joints, tool, gripper,
 // objects) as CSV or JSON lines, and an event log (contacts, collisions, grasps, lost steps).
+// articula sim CELL: a cell's arms, each on its own firmware, in one world (cell_sim.h): the
+// events with the arm they concern, and how each arm ends.
 #include <unistd.h>
 
 #include <chrono>
@@ -12,6 +14,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "cell_sim.h"
 #include "cli_util.h"
 #include "commands.h"
 #include "program.h"
@@ -37,6 +40,7 @@ bool ends_with(const std::string& s, const std::string& tail) {
 std::string event_text(const host::SimEvent& e) {
   std::ostringstream o;
   o << fmt(e.t, 3) << " s";
+  if (!e.arm.empty()) o << "  " << e.arm;
   if (e.line > 0) o << "  line " << e.line;
   o << "  " << host::event_kind_name(e.kind);
   if (!e.a.empty()) o << ": " << e.a;
@@ -96,7 +100,8 @@ int run_sim(int argc, char** argv) {
                  "Trajectory columns: t_s, the joint values (deg or mm), the tool (mm, roll/pitch/yaw deg), the\n"
                  "gripper opening (mm) and each object's pose (mm, deg).\n"
                  "Exit code: 0 nothing went wrong, 1 a command was rejected, the arm was blocked or an object left\n"
-                 "the world, 2 a usage error (bad robot, program or scene).\n";
+                 "the world, 2 a usage error (bad robot, program or scene).\n"
+                 "A cell of several arms instead (cells/README.md): articula sim CELL (articula sim handover --help).\n";
     return 0;
   }
   const double sample_ms = args["sample"].as<double>(), dt_ms = args["dt"].as<double>(), extra = args["extra"].as<double>();
@@ -252,9 +257,158 @@ int run_sim(int argc, char** argv) {
   return trouble ? 1 : 0;
 }
 
+// articula sim CELL: every arm of the cell on its own firmware, in one world.
+int run_cell(int argc, char** argv) {
+  cxxopts::Options opts("articula sim",
+                        "A cell's arms in one world (Open Dynamics Engine): each arm on its own firmware (a virtual "
+                        "Nano each) where the cell file puts it, running its program from t = 0, all on one clock; "
+                        "what they do to the objects and to each other is reported.");
+  opts.custom_help("CELL [--program ARM=FILE ...] [--json] [--events FILE]");
+  opts.add_options()("program", "the program of one arm instead of the cell file's: ARM=FILE (again for another arm)",
+                     cxxopts::value<std::vector<std::string>>())(
+      "json", "how each arm ends, the objects and every event, as one JSON document on stdout")(
+      "events", "write the events as JSON lines to FILE (else: readable, on stderr)", cxxopts::value<std::string>())(
+      "dt", "world step, ms", cxxopts::value<double>()->default_value("1"))(
+      "extra", "seconds simulated after the last arm's program ends", cxxopts::value<double>()->default_value("1"))(
+      "quick-step", "ODE's iterative dWorldQuickStep instead of dWorldStep")(
+      "progress", "show a progress bar even when stderr is not a terminal")("h,help", "this help")(
+      "cell", "cell file or shipped cell name (cells/)", cxxopts::value<std::string>());
+  opts.parse_positional({"cell"});
+  const auto args = opts.parse(argc, argv);
+  if (args.count("help")) {
+    std::cout << opts.help()
+              << "A cell file (cells/README.md) puts several arms on one table: each a robot file with its base's\n"
+                 "place and heading, its program, and the wires between their I/O pins, in one scene of objects.\n"
+                 "Each arm runs its own firmware on its own virtual clock, stepped in lockstep with the others and\n"
+                 "with ODE; a step that would drive an arm into another is refused like any other collision, and\n"
+                 "the event names both arms and both parts. A block one gripper holds can be taken by the other's.\n"
+                 "Exit code: 0 nothing went wrong, 1 a command was rejected, an arm was blocked or an object left\n"
+                 "the world, 2 a usage error (a bad cell, robot, program or scene: the message names the file and\n"
+                 "the place in it).\n";
+    return 0;
+  }
+  const double dt_ms = args["dt"].as<double>(), extra = args["extra"].as<double>();
+  if (!(dt_ms > 0 && dt_ms <= 10)) throw UsageError("--dt must be in (0, 10] ms");
+  if (!(extra >= 0 && extra <= 3600)) throw UsageError("--extra must be in 0 .. 3600 s");
+  if (!args.count("cell")) throw UsageError("name a cell (a cell file, or a shipped cell: handover, two-arms)");
+  host::Cell cell;
+  try {
+    cell = host::load_cell_file(host::resolve_cell_path(args["cell"].as<std::string>()));
+  } catch (const host::CellError& e) {
+    throw UsageError(e.what());
+  }
+  if (args.count("program")) {
+    for (const std::string& spec : args["program"].as<std::vector<std::string>>()) {
+      const size_t eq = spec.find('=');
+      if (eq == std::string::npos || eq == 0 || eq + 1 == spec.size())
+        throw UsageError("--program takes ARM=FILE (got '" + spec + "')");
+      const std::string arm = spec.substr(0, eq), file = spec.substr(eq + 1);
+      const int a = cell.arm_index(arm);
+      try {
+        if (a < 0) host::set_cell_program(cell, arm, host::Program{});  // (says which arms there are)
+        host::set_cell_program(cell, arm, host::load_program(file, cell.arms[size_t(a)].robot));
+      } catch (const std::invalid_argument& e) {
+        throw UsageError(std::string("--program: ") + e.what());
+      } catch (const host::ProgramError& e) {
+        throw UsageError(std::string("--program ") + arm + ": " + e.what());
+      }
+    }
+  }
+  host::SimOptions so;
+  so.dt = dt_ms / 1000;
+  so.extra_time = extra;
+  so.quick_step = args.count("quick-step") > 0;
+  std::unique_ptr<host::CellSimulation> sim;
+  try {
+    sim = std::make_unique<host::CellSimulation>(cell, so);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(e.what());
+  }
+  std::ofstream events_file;
+  if (args.count("events")) {
+    events_file.open(args["events"].as<std::string>());
+    if (!events_file) throw UsageError("cannot write '" + args["events"].as<std::string>() + "'");
+  }
+  const bool json = args.count("json") > 0;
+  size_t shown = 0;
+  std::map<std::string, int> counts;
+  auto flush_events = [&]() {
+    const auto& ev = sim->world().events();
+    for (; shown < ev.size(); ++shown) {
+      ++counts[host::event_kind_name(ev[shown].kind)];
+      if (events_file.is_open())
+        events_file << host::event_json(ev[shown]).dump() << '\n';
+      else if (!json)
+        std::cerr << event_text(ev[shown]) << '\n';
+    }
+  };
+  const bool bar = args.count("progress") || (isatty(2) && sim->end_time() > 5);
+  const auto t0 = std::chrono::steady_clock::now();
+  flush_events();
+  double last_bar = 0;
+  while (!sim->done()) {
+    sim->step();
+    if (shown < sim->world().events().size()) {
+      if (bar) std::cerr << '\r' << std::string(70, ' ') << '\r';
+      flush_events();
+    }
+    if (bar && sim->time() - last_bar >= 0.25) {
+      last_bar = sim->time();
+      sim_progress(sim->time(), sim->end_time());
+    }
+  }
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (bar) std::cerr << '\r' << std::string(70, ' ') << '\r';
+  int trouble = 0;
+  for (const auto& e : sim->world().events()) trouble += is_trouble(e.kind);
+  const nlohmann::json arms = host::cell_arms_json(*sim);
+  if (json) {
+    nlohmann::json objects = nlohmann::json::array(), events = nlohmann::json::array();
+    const host::World& w = sim->world();
+    for (int i = 0; i < w.num_objects(); ++i) {
+      const Transform<double> T = w.object_pose(i);
+      const int carrier = w.object_carrier(i);
+      objects.push_back({{"name", w.object(i).name},
+                         {"xyz_mm", {T.p.x, T.p.y, T.p.z}},
+                         {"carried_by", carrier >= 0 ? nlohmann::json(w.body(carrier).name()) : nlohmann::json(nullptr)},
+                         {"removed", w.object_removed(i)}});
+    }
+    for (const auto& e : w.events()) events.push_back(host::event_json(e));
+    std::cout << nlohmann::json{{"cell", cell.name}, {"t", sim->time()}, {"arms", arms}, {"objects", objects},
+                                {"events", events}}
+                     .dump(2)
+              << '\n';
+  } else {
+    Table t({"arm", "robot", "program", "ends at (s)", "joints", "tool (mm)", "lost steps"});
+    for (const auto& a : arms) {
+      std::string q, tool, lost;
+      for (const auto& v : a["joints"]) q += (q.empty() ? "" : " ") + fmt(v.get<double>(), 1);
+      for (const auto& v : a["tool_mm"]) tool += (tool.empty() ? "" : " ") + fmt(v.get<double>(), 1);
+      for (const auto& v : a["lost_steps"]) lost += (lost.empty() ? "" : " ") + std::to_string(v.get<int>());
+      const std::string program = a["program"].get<std::string>();
+      t.add({a["name"].get<std::string>(), a["robot"].get<std::string>(), program.empty() ? "(none)" : program,
+             fmt(a["program_end_s"].get<double>(), 3), q, tool, lost.empty() ? "-" : lost});
+    }
+    std::cout << t.str();
+  }
+  std::ostringstream s;
+  s << cell.name << ": " << cell.arms.size() << " arms, simulated " << fmt(sim->time(), 3) << " s in " << fmt(wall, 3)
+    << " s (" << fmt(sim->time() / std::max(wall, 1e-9), 0) << "x real time); ";
+  if (counts.empty()) {
+    s << "no events";
+  } else {
+    bool first = true;
+    for (const auto& [k, n] : counts) s << (first ? "" : ", ") << n << " " << k, first = false;
+  }
+  std::cerr << s.str() << '\n';
+  return trouble ? 1 : 0;
+}
+
 }  // namespace
 
 int cmd_sim(int argc, char** argv) {
+  // A cell instead of a robot: `articula sim CELL`.
+  if (argc >= 2 && argv[1][0] != '-' && host::is_cell_reference(argv[1])) return run_cell(argc, argv);
   return run_sim(argc, argv);
 }
 

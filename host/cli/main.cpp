@@ -21,7 +21,7 @@ const CommandEntry kCommands[] = {
     {"quantize", articula::cli::cmd_quantize, "what whole motor steps make of protocol moves (L lines), in degrees and mm"},
     {"predict", articula::cli::cmd_predict, "what the real arm does with a program: steps, tool error, timing"},
     {"run", articula::cli::cmd_run, "run a program on the kinematic model: the pose after each command"},
-    {"sim", articula::cli::cmd_sim, "run a program on the arm as rigid bodies (ODE): trajectory, contacts, grasps"},
+    {"sim", articula::cli::cmd_sim, "run a program on the arm, or a cell of arms, as rigid bodies (ODE): contacts, grasps"},
     {"draw", articula::cli::cmd_draw, "a program that draws text or a shape with a pen in the gripper, reach checked"},
     {"configure", articula::cli::cmd_configure, "configure a Nano for a robot (its EEPROM), or print the lines that do"},
     {"wiring", articula::cli::cmd_wiring, "every wire of the arm: board pins to driver inputs, switches and servos"},

@@ -419,6 +419,7 @@ void ArmBody::action_begins(uint64_t tick, int line, bool firmware) {
 }
 
 void ArmBody::grip(double to_mm, double t0, double t1) {
+  grip_blocked_reported_ = false;
   grip_from_ = target_opening(t0);
   grip_to_ = to_mm;
   grip_t0_ = t0;
@@ -640,8 +641,11 @@ void ArmBody::gripper_follow(double t_end) {
   if (!ok) {
     grip_stalled_ = true;
     grip_stall_mm_ = opening_mm_;
-    event(SimEvent::Kind::kGripperBlocked, "gripper", "",
-          "the fingers stop at " + fmt_mm(opening_mm_) + " mm: something they cannot grasp is in the way");
+    if (!grip_blocked_reported_)  // once per gripper command (an opening held back tries again every step)
+      event(SimEvent::Kind::kGripperBlocked, "gripper", "",
+            "the fingers stop at " + fmt_mm(opening_mm_) + " mm: something they cannot " +
+                (closing ? "grasp is in the way" : "open past is in the way"));
+    grip_blocked_reported_ = true;
     return;
   }
   if (closing && !carrying) grasp_check();

@@ -67,7 +67,10 @@ class ArmBody {
   void action_begins(uint64_t tick, int line, bool firmware);
   void firmware_action_ends(uint64_t tick);
   // The gripper holds where it is until commanded otherwise.
-  void hold_grip() { grip_from_ = grip_to_ = opening_mm_; }
+  void hold_grip() {
+    grip_from_ = grip_to_ = opening_mm_;
+    grip_blocked_reported_ = false;
+  }
   // The gripper is commanded from wherever it is at t0 to `to_mm` by t1 (s).
   void grip(double to_mm, double t0, double t1);
   // Will the motors keep up with this move? (stall.h; an event when not)
@@ -162,6 +165,7 @@ class ArmBody {
   HostFrames frames_{}, frames_try_{};
   double opening_mm_ = 0;
   bool grip_stalled_ = false;
+  bool grip_blocked_reported_ = false;  // this gripper command's kGripperBlocked is out
   double grip_stall_mm_ = 0;
   bool arm_moved_ = false;  // a kinematic body moved during this world step
   bool blocked_reported_ = false;

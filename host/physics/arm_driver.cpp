@@ -209,6 +209,7 @@ void ArmDriver::motor_events(uint64_t until) {
     body_.set_event_tick(e.tick);
     switch (e.kind) {
       case FirmwareSession::Event::kStep:
+        if (log_steps_) step_log_.push_back({e.tick, e.mask, e.negative});
         body_.apply_steps(e.mask, e.negative);
         break;
       case FirmwareSession::Event::kBegin:

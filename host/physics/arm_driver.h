@@ -47,6 +47,16 @@ class ArmDriver {
   // The firmware's session (null for a robot without motors): its records and clock.
   const FirmwareSession* firmware() const { return firmware_.get(); }
 
+  // Every step the firmware's coils make, at its tick, once asked for (tests: an arm in a cell
+  // steps as it does alone).
+  struct StepRecord {
+    uint64_t tick;
+    uint8_t mask, negative;
+    bool operator==(const StepRecord& o) const { return tick == o.tick && mask == o.mask && negative == o.negative; }
+  };
+  void log_steps(bool on) { log_steps_ = on; }
+  const std::vector<StepRecord>& step_log() const { return step_log_; }
+
  private:
   struct Action;
 
@@ -84,6 +94,8 @@ class ArmDriver {
 
   std::vector<SimEvent> pending_;  // rejected commands, shown when the clock reaches them
   size_t pending_next_ = 0;
+  bool log_steps_ = false;
+  std::vector<StepRecord> step_log_;
 };
 
 }  // namespace articula::host

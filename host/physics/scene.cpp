@@ -18,7 +18,8 @@ namespace articula::host {
 
 SceneError::SceneError(const std::string& file, const std::string& json_path, const std::string& problem)
     : std::runtime_error(file + ": " + (json_path.empty() ? std::string() : json_path + ": ") + problem),
-      json_path_(json_path) {}
+      json_path_(json_path),
+      problem_(problem) {}
 
 double SceneObject::volume_m3() const {
   const double k = 1e-9;  // mm^3 -> m^3
@@ -213,6 +214,8 @@ Scene parse_scene(const std::string& json_text, const std::string& name) {
   }
   return Loader(name).scene(j);
 }
+
+Scene scene_from_json(const nlohmann::json& j, const std::string& name) { return Loader(name).scene(j); }
 
 Scene load_scene_file(const std::string& path) {
   std::ifstream f(path);

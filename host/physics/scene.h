@@ -5,6 +5,7 @@
 #define ARTICULA_PHYSICS_SCENE_H
 
 #include <articula/transform.h>
+#include <nlohmann/json_fwd.hpp>
 
 #include <array>
 #include <map>
@@ -47,13 +48,16 @@ class SceneError : public std::runtime_error {
  public:
   SceneError(const std::string& file, const std::string& json_path, const std::string& problem);
   const std::string& json_path() const { return json_path_; }
+  const std::string& problem() const { return problem_; }
 
  private:
-  std::string json_path_;
+  std::string json_path_, problem_;
 };
 
 Scene load_scene_file(const std::string& path);
 Scene parse_scene(const std::string& json_text, const std::string& name);
+// A scene written inside another file (a cell's "scene"): its paths are the object's own.
+Scene scene_from_json(const nlohmann::json& j, const std::string& name);
 // A scene given by name ("grasp-and-lift") is looked up in $ARTICULA_SCENES if set (and not
 // empty), otherwise in the shipped scenes/ folder as it was when the tools were built.
 std::string resolve_scene_path(const std::string& name_or_path);

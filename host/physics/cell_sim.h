@@ -1,0 +1,48 @@
+// host/physics/cell_sim.h - a cell (cell_file.h) in one world (world.h): every arm on its own
+// firmware (a virtual Nano each) or kinematic model, where the cell file puts it, running its
+// program from t = 0, all of them and the objects on one clock.
+#ifndef ARTICULA_PHYSICS_CELL_SIM_H
+#define ARTICULA_PHYSICS_CELL_SIM_H
+
+#include <nlohmann/json.hpp>
+
+#include "arm_body.h"
+#include "arm_driver.h"
+#include "cell_file.h"
+#include "world.h"
+
+namespace articula::host {
+
+class CellSimulation {
+ public:
+  // The cell's arms (named as in the file) and objects; each arm's program loaded at t = 0.
+  // Throws std::invalid_argument for what cannot be simulated (world.h).
+  CellSimulation(const Cell& cell, const SimOptions& options = {});
+
+  const Cell& cell() const { return cell_; }
+  World& world() { return world_; }
+  const World& world() const { return world_; }
+  int num_arms() const { return world_.num_arms(); }
+  const ArmBody& arm(int i) const { return world_.body(i); }
+  const ArmDriver& driver(int i) const { return world_.driver(i); }
+
+  void step() { world_.step(); }
+  void run_until(double t) { world_.run_until(t); }
+  double time() const { return world_.time(); }
+  // The last arm's program end, and extra_time after it.
+  double program_end() const;
+  double end_time() const { return program_end() + world_.options().extra_time; }
+  bool done() const { return time() >= end_time() - 1e-12 && !world_.busy(); }
+
+ private:
+  Cell cell_;
+  World world_;
+};
+
+// Each arm as it ends (or is now): name, robot, program, program_end_s, line, joints (deg or mm),
+// tool_mm (in the world), gripper_mm, counted_steps, lost_steps; `articula sim CELL --json`.
+nlohmann::json cell_arms_json(const CellSimulation& sim);
+
+}  // namespace articula::host
+
+#endif  // ARTICULA_PHYSICS_CELL_SIM_H

@@ -1,0 +1,339 @@
+// Tests host/physics/cell_sim.h and cell_file.h: several arms in one world, each on its own
+// firmware; what the cell loader refuses, by name.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <set>
+
+#include "../../tests/mini_schema.h"
+#include "cell_file.h"
+#include "cell_sim.h"
+#include "predict.h"
+#include "program.h"
+#include "robot_file.h"
+
+using namespace articula;
+using namespace articula::host;
+using json = nlohmann::json;
+
+namespace {
+
+const std::string kSrc = ARTICULA_SOURCE_DIR;
+
+std::string cell_error(const json& cell, const std::string& dir = kSrc + "/cells") {
+  try {
+    parse_cell(cell.dump(), "c.json", dir);
+  } catch (const CellError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// A robot file with I/O pins, written where a cell can name it: the meArm (a servo arm leaves
+// most pins free) with `io`.
+std::string mearm_with_io(const std::string& dir, const std::string& name, const json& io) {
+  json r = json::parse(std::ifstream(kSrc + "/robots/mearm.json"));
+  r["io"] = io;
+  r["name"] = name;
+  const std::string path = dir + "/" + name + ".json";
+  std::ofstream(path) << r.dump(2);
+  return path;
+}
+
+// An arm of a cell, far from the others: `n` arms on a circle 800 mm across.
+json arm_on_circle(const std::string& name, const std::string& robot, int i, int n, const json& program) {
+  const double a = 2 * M_PI * i / n;
+  return {{"name", name},
+          {"robot", robot},
+          {"base", {{"xyz", {400 * std::cos(a), 400 * std::sin(a), 0}}, {"yaw", a * 180 / M_PI + 180}}},
+          {"program", program}};
+}
+
+// Each arm's robot and program, for cells of 2, 3 and 4 arms that never meet: the MK2 on L298Ns,
+// the meArm on servos, the MK2 on a CNC shield's STEP/DIR drivers, the micro arm on ULN2003s.
+const std::vector<std::pair<std::string, json>> kArms = {
+    {"mk2plus", {"M 30 70 -20", "G 40", "L 0 -60", "T 250 -80 150 80", "M 0 90 0"}},
+    {"mearm", {"M 40 100 -10", "G 0", "M -30 80 10", "G 100"}},
+    {"mk2plus-cnc", {"$0=3000", "M -40 110 -10", "P 200 120 160", "M 0 90 0"}},
+    {"micro-arm-28byj48", {"L 0 30", "L 1 -20", "M 0 0 0"}},
+};
+
+class CellOfN : public ::testing::TestWithParam<int> {};
+
+// With no wire between them, every arm of a cell steps exactly as it does alone: its firmware's
+// every step at the same tick as in a cell of that arm alone, and at each of its lines' ends
+// the step counts its prediction alone (predict_program, each line at rest) gives, reached at
+// that very tick.
+TEST_P(CellOfN, EachArmStepsAsItsOwnPredictionAlone) {
+  const int n = GetParam();
+  json file = {{"name", "cell of " + std::to_string(n)}, {"arms", json::array()}};
+  for (int i = 0; i < n; ++i)
+    file["arms"].push_back(arm_on_circle("arm" + std::to_string(i), kArms[size_t(i)].first, i, n, kArms[size_t(i)].second));
+  const Cell cell = parse_cell(file.dump(), "cell.json", kSrc + "/cells");
+  ASSERT_EQ(cell.arms.size(), size_t(n));
+  CellSimulation sim(cell);
+  for (int i = 0; i < n; ++i) sim.world().driver(i).log_steps(true);
+  while (!sim.done()) sim.step();
+  for (const SimEvent& e : sim.world().events())
+    EXPECT_NE(e.kind, SimEvent::Kind::kCollision) << e.arm << ": " << e.a << " with " << e.b;
+
+  for (int i = 0; i < n; ++i) {
+    SCOPED_TRACE(cell.arms[size_t(i)].robot.name);
+    Cell one = cell;
+    one.arms = {cell.arms[size_t(i)]};
+    CellSimulation alone(one);
+    alone.world().driver(0).log_steps(true);
+    while (!alone.done()) alone.step();
+    const auto& in_cell = sim.driver(i).step_log();
+    const auto& by_itself = alone.driver(0).step_log();
+    ASSERT_GT(in_cell.size(), 50u);
+    EXPECT_TRUE(in_cell == by_itself) << in_cell.size() << " steps in the cell, " << by_itself.size() << " alone";
+
+    // Against the prediction: the counts at each move's end, and its last step at the tick the
+    // prediction ends it (a STEP/DIR build writes its pulses at the step timer's next deadline:
+    // the last one up to 1 ms after the move's end, alone as in a cell).
+    const Prediction pr = predict_program(cell.arms[size_t(i)].robot, cell.arms[size_t(i)].program);
+    const uint64_t staged = arm_drive(cell.arms[size_t(i)].robot) == kDriveStepDir ? uint64_t(kStepTickHz / 1000) : 0;
+    std::vector<int32_t> counts(size_t(cell.arms[size_t(i)].robot.actuation.num_motors), 0);
+    size_t k = 0;
+    int moves = 0;
+    for (const PredictRecord& rec : pr.records) {
+      ASSERT_EQ(rec.reply, kOk) << rec.text;
+      if (rec.action != PredictRecord::Action::kMove || rec.end_tick == 0) continue;
+      for (; k < in_cell.size() && in_cell[k].tick <= rec.end_tick + staged; ++k)
+        for (size_t m = 0; m < counts.size(); ++m)
+          if (in_cell[k].mask & (1u << m)) counts[m] += (in_cell[k].negative & (1u << m)) ? -1 : 1;
+      EXPECT_EQ(counts, rec.steps) << "line " << rec.line << " (" << rec.text << ") at tick " << rec.end_tick
+                                   << (k < in_cell.size() ? ", the next step at " + std::to_string(in_cell[k].tick) : "");
+      ASSERT_GT(k, 0u);
+      EXPECT_GE(in_cell[k - 1].tick, rec.end_tick) << "line " << rec.line << ": its last step";
+      EXPECT_LE(in_cell[k - 1].tick, rec.end_tick + staged) << "line " << rec.line << ": its last step";
+      ++moves;
+    }
+    EXPECT_GE(moves, 2);
+    EXPECT_EQ(sim.arm(i).counted_steps(), pr.records.back().steps);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Arms, CellOfN, ::testing::Values(2, 3, 4));
+
+// Two arms face each other and both reach for the middle: the first step that would put one into
+// the other is refused, and the event names both arms and both parts; neither goes through the
+// other.
+TEST(Cell, ACollisionBetweenArmsNamesBothArmsAndParts) {
+  const json file = json::parse(R"({"name": "clash", "arms": [
+      {"name": "west", "robot": "mk2plus", "base": {"xyz": [0, 0, 0]}, "program": ["M 0 50 -20"]},
+      {"name": "east", "robot": "mk2plus", "base": {"xyz": [560, 0, 0], "yaw": 180}, "program": ["M 0 50 -20"]}]})");
+  CellSimulation sim(parse_cell(file.dump(), "clash.json", kSrc + "/cells"));
+  while (!sim.done()) sim.step();
+  const SimEvent* clash = nullptr;
+  for (const SimEvent& e : sim.world().events())
+    if (e.kind == SimEvent::Kind::kCollision && !clash) clash = &e;
+  ASSERT_NE(clash, nullptr);
+  EXPECT_TRUE(clash->arm == "west" || clash->arm == "east") << clash->arm;
+  const std::string other = clash->arm == "west" ? "east" : "west";
+  EXPECT_EQ(clash->b.rfind(other + ": ", 0), 0u) << clash->b;  // the other arm's part, with its arm's name
+  EXPECT_TRUE(clash->a.rfind("link", 0) == 0 || clash->a.rfind("finger", 0) == 0) << clash->a;
+  EXPECT_TRUE(clash->has_point);
+  // Both ended short of their targets: steps lost, the controller unaware.
+  int lost = 0;
+  for (int i = 0; i < 2; ++i)
+    for (int32_t s : sim.arm(i).lost_steps()) lost += std::abs(s);
+  EXPECT_GT(lost, 0);
+  // And no part of one is inside the other deeper than the touch tolerance.
+  double worst = 0;
+  for (const auto& a : sim.arm(0).arm_parts())
+    for (const auto& b : sim.arm(1).arm_parts())
+      for (dGeomID g = dBodyGetFirstGeom(a.body); g; g = dBodyGetNextGeom(g))
+        for (dGeomID h = dBodyGetFirstGeom(b.body); h; h = dBodyGetNextGeom(h)) {
+          dContactGeom c[8];
+          const int k = dCollide(g, h, 8, c, sizeof(dContactGeom));
+          for (int j = 0; j < k; ++j) worst = std::max(worst, c[j].depth * 1000);
+        }
+  EXPECT_LT(worst, sim.world().options().touch_tolerance_mm + 1.5);
+}
+
+// The shipped handover: the giver grasps the block, the taker takes it from the giver's gripper
+// and sets it down on its own side; no arm touches the other.
+TEST(Cell, TheHandoverPassesTheBlockWithoutACollision) {
+  CellSimulation sim(load_cell_file(resolve_cell_path("handover")));
+  ASSERT_EQ(sim.num_arms(), 2);
+  std::vector<std::string> grasps;
+  while (!sim.done()) sim.step();
+  for (const SimEvent& e : sim.world().events()) {
+    EXPECT_NE(e.kind, SimEvent::Kind::kCollision) << e.arm << " " << e.a << " with " << e.b;
+    EXPECT_NE(e.kind, SimEvent::Kind::kRejected) << e.arm << " " << e.a << ": " << e.detail;
+    EXPECT_NE(e.kind, SimEvent::Kind::kStepsLost) << e.arm << ": " << e.detail;
+    if (e.kind == SimEvent::Kind::kGrasp) grasps.push_back(e.arm);
+  }
+  EXPECT_EQ(grasps, (std::vector<std::string>{"giver", "taker"}));
+  const World& w = sim.world();
+  ASSERT_EQ(w.num_objects(), 1);
+  EXPECT_EQ(w.object_carrier(0), -1);
+  const Transform<double> T = w.object_pose(0);
+  EXPECT_GT(T.p.x, 380);   // on the taker's side of the table (its base at x = 590)
+  EXPECT_LT(T.p.y, -200);  // where it turned to
+  EXPECT_NEAR(T.p.z, 50, 5);  // standing on the table
+}
+
+TEST(Cell, ShippedCellsLoadAndRun) {
+  int n = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(kSrc + "/cells")) {
+    if (entry.path().extension() != ".json" || entry.path().filename() == "cell.schema.json") continue;
+    SCOPED_TRACE(entry.path().string());
+    const Cell cell = load_cell_file(entry.path().string());
+    EXPECT_GE(cell.arms.size(), 2u);
+    CellSimulation sim(cell);
+    while (!sim.done()) sim.step();
+    for (const SimEvent& e : sim.world().events()) EXPECT_NE(e.kind, SimEvent::Kind::kRejected) << e.arm << " " << e.a;
+    ++n;
+  }
+  EXPECT_GE(n, 2);
+}
+
+// ---- the loader: each bad cell refused by name and place ----
+
+TEST(CellFile, BasesThatOverlapAreRefusedWithBothArms) {
+  const json file = json::parse(R"({"name": "x", "arms": [
+      {"name": "a", "robot": "mk2plus"},
+      {"name": "b", "robot": "mearm", "base": {"xyz": [100, 0, 0]}}]})");
+  const std::string e = cell_error(file);
+  EXPECT_NE(e.find("c.json: /arms/1/base: the bases of \"b\" and \"a\" overlap"), std::string::npos) << e;
+  EXPECT_NE(e.find("100 mm apart"), std::string::npos) << e;
+  // The meArm's base plate is 110 x 90 mm: 71 mm to its corners; the MK2's a 50 mm cylinder.
+  EXPECT_NEAR(base_footprint_mm(load_robot_file(resolve_robot_path("mearm"))), std::hypot(55.0, 45.0), 1e-9);
+  EXPECT_NEAR(base_footprint_mm(load_robot_file(resolve_robot_path("mk2plus"))), 50, 1e-9);
+  json apart = file;
+  apart["arms"][1]["base"]["xyz"] = {125, 0, 0};  // 50 + 71.1 < 125
+  EXPECT_EQ(cell_error(apart), "");
+}
+
+TEST(CellFile, WiresAreCheckedAgainstTheArmsPins) {
+  const std::string dir = ::testing::TempDir() + "/cells-io";
+  std::filesystem::create_directories(dir);
+  mearm_with_io(dir, "left", json::parse(R"([{"name": "ready", "pin": "D12", "mode": "output"},
+                                              {"name": "go", "pin": "A0", "mode": "input_pullup"}])"));
+  mearm_with_io(dir, "right", json::parse(R"([{"name": "done", "pin": "D12", "mode": "output"},
+                                               {"name": "start", "pin": "A0", "mode": "input"},
+                                               {"name": "also", "pin": "A1", "mode": "input"}])"));
+  json file = json::parse(R"({"name": "wired", "arms": [
+      {"name": "a", "robot": "left.json"},
+      {"name": "b", "robot": "right.json", "base": {"xyz": [400, 0, 0]}}],
+      "wires": [{"from": "a.ready", "to": "b.start"}, {"from": "b.done", "to": "a.go"}]})");
+  const Cell ok = parse_cell(file.dump(), "wired.json", dir);
+  ASSERT_EQ(ok.wires.size(), 2u);
+  EXPECT_EQ(ok.wires[0].from_arm, 0);
+  EXPECT_EQ(ok.io_name(ok.wires[0].from_arm, ok.wires[0].from_pin), "ready");
+  EXPECT_EQ(ok.io_name(ok.wires[0].to_arm, ok.wires[0].to_pin), "start");
+
+  json two_outputs = file;
+  two_outputs["wires"][1] = {{"from", "a.ready"}, {"to", "b.done"}};
+  EXPECT_NE(cell_error(two_outputs, dir).find("/wires/1: joins two outputs, a.ready and b.done"), std::string::npos)
+      << cell_error(two_outputs, dir);
+  json via_input = file;  // two outputs joined through an input's net
+  via_input["wires"][1] = {{"from", "b.done"}, {"to", "b.start"}};
+  EXPECT_NE(cell_error(via_input, dir).find("joins two outputs"), std::string::npos) << cell_error(via_input, dir);
+  json no_pin = file;
+  no_pin["wires"][0]["to"] = "b.begin";
+  EXPECT_EQ(cell_error(no_pin, dir),
+            "c.json: /wires/0/to: arm \"b\" has no I/O pin \"begin\" (its pins: done (output), start (input), also (input))");
+  json no_arm = file;
+  no_arm["wires"][0]["from"] = "c.ready";
+  EXPECT_EQ(cell_error(no_arm, dir), "c.json: /wires/0/from: the cell has no arm \"c\" (its arms: a, b)");
+  json inputs = file;
+  inputs["wires"].push_back({{"from", "b.also"}, {"to", "a.go"}});  // fine: a.go's net has b.done
+  EXPECT_EQ(cell_error(inputs, dir), "");
+  inputs["wires"][2] = {{"from", "b.also"}, {"to", "b.start"}};  // fine too: b.start's net has a.ready
+  EXPECT_EQ(cell_error(inputs, dir), "");
+  json only_inputs = file;
+  only_inputs["wires"] = json::parse(R"([{"from": "b.also", "to": "a.go"}])");
+  EXPECT_NE(cell_error(only_inputs, dir).find("/wires/0: joins only inputs"), std::string::npos) << cell_error(only_inputs, dir);
+  json bad_end = file;
+  bad_end["wires"][0]["from"] = "a";
+  EXPECT_NE(cell_error(bad_end, dir).find("/wires/0/from: a wire's end is \"arm.pin\""), std::string::npos);
+  json pinless = file;
+  pinless["arms"][1]["robot"] = "mearm";
+  EXPECT_NE(cell_error(pinless, dir).find("arm \"b\" has no I/O pin \"start\" (its robot, meArm, names none"),
+            std::string::npos)
+      << cell_error(pinless, dir);
+}
+
+TEST(CellFile, EveryOtherMistakeIsRefusedByName) {
+  const json good = json::parse(R"({"name": "x", "arms": [{"name": "a", "robot": "mk2plus", "program": ["M 0 80 0"]}]})");
+  EXPECT_EQ(cell_error(good), "");
+  std::vector<std::tuple<std::string, std::function<void(json&)>, std::string>> cases = {
+      {"no arms", [](json& j) { j.erase("arms"); }, "c.json: missing field \"arms\""},
+      {"empty arms", [](json& j) { j["arms"] = json::array(); }, "c.json: /arms: must be an array of at least one arm"},
+      {"unknown field", [](json& j) { j["robots"] = 1; }, "c.json: /robots: unknown field \"robots\""},
+      {"arm field", [](json& j) { j["arms"][0]["colour"] = "red"; }, "c.json: /arms/0/colour: unknown field"},
+      {"two names", [](json& j) { j["arms"].push_back(j["arms"][0]); j["arms"][1]["base"] = {{"xyz", {600, 0, 0}}}; },
+       "c.json: /arms/1/name: two arms are called \"a\" (/arms/0)"},
+      {"bad name", [](json& j) { j["arms"][0]["name"] = "arm 1"; }, "c.json: /arms/0/name: an arm's name is 1 to 16"},
+      {"no robot", [](json& j) { j["arms"][0]["robot"] = "robby"; }, "c.json: /arms/0/robot: the robot cannot be used: "},
+      {"base xyz", [](json& j) { j["arms"][0]["base"] = {{"xyz", {1, 2}}}; }, "c.json: /arms/0/base/xyz: must be [x, y, z]"},
+      {"yaw", [](json& j) { j["arms"][0]["base"] = {{"yaw", "north"}}; }, "c.json: /arms/0/base/yaw: must be a number"},
+      {"bad line", [](json& j) { j["arms"][0]["program"] = {"M 0 80 0", "Q 1"}; }, "c.json: /arms/0/program/1: for MK2 Plus: "},
+      {"no program file", [](json& j) { j["arms"][0]["program"] = "nowhere.arm"; }, "c.json: /arms/0/program: cannot read the program"},
+      {"scene", [](json& j) { j["scene"] = {{"objects", {{{"type", "box"}, {"size", {1, 0, 1}}}}}}; },
+       "c.json: /scene/objects/0/size/1: must be > 0"},
+      {"scene name", [](json& j) { j["scene"] = "nowhere"; }, "c.json: /scene: "},
+      {"too many", [](json& j) { for (int i = 0; i < 8; ++i) j["arms"].push_back(j["arms"][0]); },
+       "c.json: /arms: at most 8 arms (got 9)"},
+  };
+  for (auto& [what, change, want] : cases) {
+    json doc = good;
+    change(doc);
+    const std::string e = cell_error(doc);
+    EXPECT_EQ(e.rfind(want, 0), 0u) << what << ": " << e;
+  }
+  EXPECT_NE(cell_error(good).size(), 1u);
+  try {
+    parse_cell("{\"name\": \"x\",\n \"arms\": [}", "c.json", "");
+    ADD_FAILURE() << "no error";
+  } catch (const CellError& e) {
+    EXPECT_STREQ(e.what(), "c.json: not valid JSON at line 2, column 11");
+  }
+  Cell cell = parse_cell(good.dump(), "c.json", kSrc + "/cells");
+  try {
+    set_cell_program(cell, "b", Program{});
+    ADD_FAILURE() << "no error";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_STREQ(e.what(), "the cell \"x\" has no arm \"b\" (its arms: a)");
+  }
+}
+
+// The schema and the loader agree: the same fields, the shipped cells valid, what the loader
+// refuses for its shape refused by the schema too.
+TEST(CellFile, SchemaMatchesTheLoader) {
+  const json schema = json::parse(std::ifstream(kSrc + "/cells/cell.schema.json"));
+  const auto& fields = cell_file_fields();
+  auto keys = [](const json& props) {
+    std::set<std::string> out;
+    for (const auto& p : props.items()) out.insert(p.key());
+    return out;
+  };
+  EXPECT_EQ(keys(schema["properties"]), std::set<std::string>(fields.at("cell").begin(), fields.at("cell").end()));
+  for (const char* kind : {"arm", "base", "wire"})
+    EXPECT_EQ(keys(schema["$defs"][kind]["properties"]), std::set<std::string>(fields.at(kind).begin(), fields.at(kind).end()))
+        << kind;
+  const articula::test::MiniSchema validator(schema);
+  for (const auto& entry : std::filesystem::directory_iterator(kSrc + "/cells")) {
+    if (entry.path().extension() != ".json" || entry.path().filename() == "cell.schema.json") continue;
+    const auto errors = validator.errors(json::parse(std::ifstream(entry.path())));
+    EXPECT_TRUE(errors.empty()) << entry.path() << ": " << (errors.empty() ? "" : errors[0]);
+  }
+  const json good = json::parse(R"({"name": "x", "arms": [{"name": "a", "robot": "mk2plus"}]})");
+  for (auto change : std::vector<std::function<void(json&)>>{
+           [](json& j) { j["arms"][0]["name"] = "arm 1"; }, [](json& j) { j["arms"] = json::array(); },
+           [](json& j) { j["wires"] = {{{"from", "a"}, {"to", "b.x"}}}; },
+           [](json& j) { j["arms"][0]["base"] = {{"xyz", {1, 2}}}; }, [](json& j) { j.erase("arms"); }}) {
+    json doc = good;
+    change(doc);
+    EXPECT_FALSE(validator.errors(doc).empty()) << doc.dump();
+    EXPECT_NE(cell_error(doc), "") << doc.dump();
+  }
+}
+
+}  // namespace
