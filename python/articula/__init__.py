@@ -16,16 +16,20 @@ import os
 from pathlib import Path
 from typing import NamedTuple
 
-# An installed package carries the shipped robots and scenes; the tree's build finds them
+# An installed package carries the shipped robots, scenes and cells; the tree's build finds them
 # where they are. Names ("mk2plus", "grasp-and-lift") resolve through these variables.
 _data = Path(__file__).with_name("data")
 if (_data / "robots").is_dir():
     os.environ.setdefault("ARTICULA_ROBOTS", str(_data / "robots"))
 if (_data / "scenes").is_dir():
     os.environ.setdefault("ARTICULA_SCENES", str(_data / "scenes"))
+if (_data / "cells").is_dir():
+    os.environ.setdefault("ARTICULA_CELLS", str(_data / "cells"))
 
 from . import _core  # noqa: E402
 from ._core import (  # noqa: E402
+    Cell,
+    CellError,
     IkResult,
     LegacyError,
     ProgramError,
@@ -49,8 +53,8 @@ from ._core import (  # noqa: E402
 from ._records import Record  # noqa: E402
 
 __all__ = [
-    "Robot", "IkResult", "Program", "Sim", "Record", "Status", "STATUS", "status_text",
-    "RobotFileError", "ProgramError", "SceneError", "LegacyError", "IK_STATUS", "rpy_deg",
+    "Robot", "IkResult", "Program", "Sim", "Cell", "Record", "Status", "STATUS", "status_text",
+    "RobotFileError", "ProgramError", "SceneError", "CellError", "LegacyError", "IK_STATUS", "rpy_deg",
     "axis_errors", "table4", "measurement_question", "parse_plan", "table5", "tool_points", "joint_verdicts",
     "experiment_csv", "repeat_chains", "protocol_number", "line_command", "REPLY", "DEFAULT_SETTINGS", "STEP_TICK_HZ",
 ]

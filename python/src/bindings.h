@@ -94,6 +94,7 @@ nb::class_<PyRobot> bind_robot(nb::module_& m);
 // Programs: articula._core.detect_format, and Robot.predict / run / quantize / check_program.
 void bind_program(nb::module_& m, nb::class_<PyRobot>& robot);
 void bind_sim(nb::module_& m);
+void bind_cell(nb::module_& m);
 // The protocol: articula._core.parse_arm_line, first_interval_s, _status_table.
 void bind_protocol(nb::module_& m);
 void bind_experiment(nb::module_& m);

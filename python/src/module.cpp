@@ -11,6 +11,7 @@
 #include <numpy/arrayobject.h>
 
 #include "bindings.h"
+#include "cell_file.h"
 #include "robot_view.h"
 #include "legacy.h"
 #include "predict.h"
@@ -174,6 +175,7 @@ namespace {
 PyObject* g_robot_file_error = nullptr;
 PyObject* g_program_error = nullptr;
 PyObject* g_scene_error = nullptr;
+PyObject* g_cell_error = nullptr;
 PyObject* g_legacy_error = nullptr;
 
 void raise_with(PyObject* type, const char* message, std::initializer_list<std::pair<const char*, nb::object>> attrs) {
@@ -215,6 +217,7 @@ NB_MODULE(_core, m) {
   g_program_error = new_error(m, "ProgramError", "A program that cannot be read: '<file>:<line>: <problem>'; "
                                                  "the attribute line is the line.");
   g_scene_error = new_error(m, "SceneError", "A scene file that cannot be used: file, JSON path and problem.");
+  g_cell_error = new_error(m, "CellError", "A cell file that cannot be used: the file, the JSON path and the problem.");
   g_legacy_error = new_error(m, "LegacyError", "A legacy (thesis appendix C) robot file that cannot be read.");
   nb::register_exception_translator([](const std::exception_ptr& p, void*) {
     try {
@@ -227,6 +230,9 @@ NB_MODULE(_core, m) {
       raise_with(g_program_error, e.what(), {{"line", nb::int_(e.line())}});
     } catch (const host::SceneError& e) {
       raise_with(g_scene_error, e.what(), {{"json_path", nb::str(e.json_path().c_str())}});
+    } catch (const host::CellError& e) {
+      raise_with(g_cell_error, e.what(),
+                 {{"json_path", nb::str(e.json_path().c_str())}, {"problem", nb::str(e.problem().c_str())}});
     } catch (const host::LegacyError& e) {
       raise_with(g_legacy_error, e.what(), {});
     } catch (const host::PredictError& e) {
@@ -256,6 +262,7 @@ NB_MODULE(_core, m) {
   auto robot = bind_robot(m);
   bind_program(m, robot);
   bind_sim(m);
+  bind_cell(m);
   bind_protocol(m);
   bind_experiment(m);
 }

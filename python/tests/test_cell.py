@@ -1,0 +1,61 @@
+"""articula.Cell: a cell of arms from Python gives what `articula sim CELL --json` gives; each
+arm by name; programs in place of the file's; the errors name what is wrong."""
+
+import json
+
+import pytest
+
+import articula
+from conftest import cli
+
+
+def test_the_handover_equals_articula_sim_cell():
+    out = json.loads(cli("sim", "handover", "--json").stdout)
+    cell = articula.Cell("handover")
+    assert cell.arms == ["giver", "taker"]
+    cell.run()
+    assert cell.done
+    assert [e.to_dict() for e in cell.events()] == out["events"]
+    state = cell.state()
+    assert state.t == pytest.approx(out["t"])
+    for mine, theirs in zip(state.arms, out["arms"]):
+        assert mine.to_dict() == theirs
+    assert [e.arm for e in cell.events() if e.kind == "grasp"] == ["giver", "taker"]
+    taken = [e for e in cell.events() if e.kind == "grasp" and e.arm == "taker"][0]
+    assert "taken from giver" in taken.detail
+    assert state.objects[0].carried_by is None
+
+
+def test_each_arm_by_name_or_index_and_a_program_of_ones_own(tmp_path):
+    program = tmp_path / "wave.arm"
+    program.write_text("G 100\nM 30 100 0\n")
+    cell = articula.Cell("two-arms", programs={"mearm": program})
+    assert cell.arm("mearm").program == str(program)
+    cell.run()
+    mearm = cell.arm(1)
+    assert mearm.name == "mearm" and mearm.robot == "meArm"
+    assert mearm.joints[0] == pytest.approx(30, abs=1)
+    assert cell.arm("mk2").line == 11  # grasp-and-lift.arm's last line
+    cell.reset()
+    assert cell.time == 0 and cell.arm("mearm").joints == pytest.approx([0, 90, -90], abs=1e-9)
+
+
+def test_errors_name_the_arm_the_file_and_the_place(tmp_path):
+    with pytest.raises(KeyError, match=r"no arm 'robot' \(its arms: mk2, mearm\)"):
+        articula.Cell("two-arms", programs={"robot": "x.arm"})
+    with pytest.raises(KeyError, match="no arm 'nobody'"):
+        articula.Cell("handover").arm("nobody")
+    with pytest.raises(IndexError):
+        articula.Cell("handover").arm(2)
+    bad = tmp_path / "bad.json"
+    bad.write_text(json.dumps({"name": "x", "arms": [
+        {"name": "a", "robot": "mk2plus"}, {"name": "b", "robot": "mk2plus", "base": {"xyz": [50, 0, 0]}}]}))
+    with pytest.raises(articula.CellError, match="the bases of \"b\" and \"a\" overlap") as err:
+        articula.Cell(bad)
+    assert err.value.json_path == "/arms/1/base"
+    two = tmp_path / "two.arm"
+    two.write_text("M 10 20\n")  # two angles for an arm of three motors
+    with pytest.raises(articula.ProgramError, match="two.arm:1"):
+        articula.Cell("two-arms", programs={"mk2": two})
+    with pytest.raises(ValueError, match="dt"):
+        articula.Cell("handover", dt=0)
