@@ -6,7 +6,10 @@
 // abuse test's world (host/physics/tests/abuse_scene.h: every shipped robot, 25 random commands
 // through a busy scene) and gives, per robot and overall, simulated seconds per CPU second of the
 // simulation's steps, the worst 1 s of simulated time included (the figure the abuse test once
-// asserted, 50x: a speed is a benchmark's figure, not a unit test's).
+// asserted, 50x: a speed is a benchmark's figure, not a unit test's). BM_CellOfMk2s/N puts N of
+// BM_SimMk2Cube's arm, each with its cube and program and its own firmware, in one world
+// (cell_sim.h): world steps/s for 1, 2 and 4 arms, and `per_arm_us`, a world step's time per
+// arm (flat: the cost grows linearly with the arms).
 #include <benchmark/benchmark.h>
 
 #include <ctime>
@@ -14,6 +17,7 @@
 #include "bench_common.h"
 #include "abuse_scene.h"
 #include "bench_scene.h"
+#include "cell_sim.h"
 #include "program.h"
 #include "sim.h"
 
@@ -78,8 +82,45 @@ void BM_AbuseEveryRobot(benchmark::State& state) {
   state.counters["simulated_s"] = simulated / double(state.iterations());
 }
 
+// N MK2s facing out from a circle 1.2 m across (their reaches never meet), each with the cube in
+// front of it where bench_scene.h puts it, each running kMoves on its own firmware.
+void BM_CellOfMk2s(benchmark::State& state) {
+  const int n = int(state.range(0));
+  const Robot robot = bench::load("mk2plus");
+  Cell cell;
+  cell.name = "bench";
+  const SceneObject cube = cube_scene().objects[0];
+  for (int i = 0; i < n; ++i) {
+    CellArm a;
+    a.name = "arm" + std::to_string(i);
+    a.robot = robot;
+    a.yaw_deg = 360.0 * i / n;
+    const double yaw = a.yaw_deg * M_PI / 180;
+    a.xyz = make_vec3(600 * std::cos(yaw), 600 * std::sin(yaw), 0.0);
+    a.program = parse_protocol_program(kMoves, "bench.arm", robot);
+    SceneObject c = cube;
+    c.name = "cube" + std::to_string(i);
+    c.xyz = a.T_world_base() * cube.xyz;
+    cell.scene.objects.push_back(c);
+    cell.arms.push_back(a);
+  }
+  const int steps = 10000;
+  for (auto _ : state) {
+    state.PauseTiming();
+    CellSimulation sim(cell);
+    state.ResumeTiming();
+    for (int i = 0; i < steps; ++i) sim.step();
+    benchmark::DoNotOptimize(sim.world().object_pose(0).p.z);
+  }
+  state.SetItemsProcessed(int64_t(state.iterations()) * steps);
+  state.counters["arms"] = n;
+  state.counters["per_arm_us"] =
+      benchmark::Counter(double(steps) * n, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+}
+
 }  // namespace
 
+BENCHMARK(BM_CellOfMk2s)->Arg(1)->Arg(2)->Arg(4)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_AbuseEveryRobot)->Unit(benchmark::kMillisecond)->Iterations(1);
 BENCHMARK(BM_SimMk2Cube)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_SimMk2CubeIdle)->Unit(benchmark::kMillisecond);

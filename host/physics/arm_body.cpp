@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <functional>
 #include <stdexcept>
 
 #include "geometry.h"
@@ -24,6 +25,7 @@ struct ArmBody::Pair {
   int part_b = -1;    // kSelf, kOtherArm (a part of arm_b)
   int arm_b = -1;     // kOtherArm
   int object_b = -1;  // kStatic, kMovable, kCarriedStatic
+  int group = -1;     // what b belongs to, for the broad phase: 0 an object object_b, 1 the arm arm_b; -1 always checked
   double accepted = 0;  // depth at the last accepted pose, mm
   double settled = 0;   // kMovable: depth after the last world step, mm
 };
@@ -39,6 +41,90 @@ struct ArmBody::MeshData {
     if (data) dGeomTriMeshDataDestroy(data);
   }
 };
+
+namespace {
+
+// An axis-aligned box around geoms (ODE's AABBs), m.
+struct Box {
+  dReal b[6] = {1e30, -1e30, 1e30, -1e30, 1e30, -1e30};
+  void add(dGeomID g) {
+    dReal x[6];
+    dGeomGetAABB(g, x);
+    for (int k = 0; k < 6; k += 2) b[k] = std::min(b[k], x[k]), b[k + 1] = std::max(b[k + 1], x[k + 1]);
+  }
+  bool overlaps(const dReal* y) const {
+    return b[0] <= y[1] && y[0] <= b[1] && b[2] <= y[3] && y[2] <= b[3] && b[4] <= y[5] && y[4] <= b[5];
+  }
+  bool overlaps(const Box& o) const { return overlaps(o.b); }
+  bool overlaps(dGeomID g) const {
+    dReal y[6];
+    dGeomGetAABB(g, y);
+    return overlaps(y);
+  }
+};
+
+// The farthest a shape's points lie from its frame's origin, mm.
+double shape_extent(const Shape& s, const std::vector<dReal>* mesh_vertices) {
+  double r = 0;
+  switch (s.type) {
+    case Shape::Type::kBox: r = 0.5 * std::sqrt(s.size[0] * s.size[0] + s.size[1] * s.size[1] + s.size[2] * s.size[2]); break;
+    case Shape::Type::kCylinder: r = std::hypot(s.size[0], s.size[1] / 2); break;
+    case Shape::Type::kCapsule: r = s.size[0] + s.size[1] / 2; break;
+    case Shape::Type::kSphere: r = s.size[0]; break;
+    case Shape::Type::kMesh:
+      for (size_t k = 0; mesh_vertices && k + 2 < mesh_vertices->size(); k += 3)
+        r = std::max(r, std::sqrt((*mesh_vertices)[k] * (*mesh_vertices)[k] + (*mesh_vertices)[k + 1] * (*mesh_vertices)[k + 1] +
+                                  (*mesh_vertices)[k + 2] * (*mesh_vertices)[k + 2]) / kMm);
+      break;
+  }
+  const Vec3<double>& c = s.T_frame_shape.p;
+  return std::sqrt(c.x * c.x + c.y * c.y + c.z * c.z) + r;
+}
+
+// The largest magnitude a DH parameter can take: a joint variable's limits, a linked one's
+// offset and gains over the joints' limits, an adjustable length's range, else its value.
+double param_bound(const Robot& robot, int row, int param, double value) {
+  const HostModel& m = robot.model;
+  double out = std::fabs(value);
+  for (int j = 0; j < m.num_joints; ++j)
+    if (m.joints[j].row == row && m.joints[j].param == param)
+      out = std::max(std::fabs(m.joints[j].lo), std::fabs(m.joints[j].hi));
+  for (int l = 0; l < m.num_linked; ++l) {
+    const auto& p = m.linked[l];
+    if (p.row != row || p.param != param) continue;
+    double b = std::fabs(p.offset);
+    for (int j = 0; j < m.num_joints; ++j)
+      b += std::fabs(p.gain[j]) * std::max(std::fabs(m.joints[j].lo), std::fabs(m.joints[j].hi));
+    out = std::max(out, b);
+  }
+  if (param == -1 && size_t(row) < robot.length_ranges.size() && robot.length_ranges[size_t(row)].adjustable)
+    out = std::max(out, std::max(std::fabs(robot.length_ranges[size_t(row)].min), std::fabs(robot.length_ranges[size_t(row)].max)));
+  return out;
+}
+
+// A bound on the reach (ArmBody::reach_mm): each frame's origin within the sum of the offsets
+// before it, each shape within its extent of its frame's origin, the fingers of the tool's.
+double reach_bound(const Robot& robot, const std::vector<LinkGeometry>& links,
+                   const std::function<const std::vector<dReal>*(const Shape&)>& mesh_of) {
+  const HostModel& m = robot.model;
+  std::vector<double> origin(size_t(m.num_rows) + 1, 0.0);
+  for (int i = 0; i < m.num_rows; ++i)
+    origin[size_t(i) + 1] = origin[size_t(i)] + param_bound(robot, i, -1, m.rows[i].a) + param_bound(robot, i, kParamD, m.rows[i].d);
+  const Vec3<double>& t = m.T_last_tool.p;
+  const double tool = origin.back() + std::sqrt(t.x * t.x + t.y * t.y + t.z * t.z);
+  double reach = tool;
+  for (const LinkGeometry& l : links)
+    for (const Shape& s : l.shapes) reach = std::max(reach, origin[size_t(std::max(0, l.frame))] + shape_extent(s, mesh_of(s)));
+  if (robot.gripper.present) {
+    const Gripper& g = robot.gripper;
+    reach = std::max(reach, tool + std::sqrt(g.finger_length_mm * g.finger_length_mm / 4 +
+                                             std::pow(g.max_opening_mm / 2 + g.finger_thickness_mm, 2) +
+                                             g.finger_height_mm * g.finger_height_mm / 4));
+  }
+  return reach;
+}
+
+}  // namespace
 
 ArmBody::ArmBody(World& world, int index, const ArmPlacement& placement)
     : world_(world), index_(index), robot_(placement.robot), name_(placement.name),
@@ -87,6 +173,12 @@ ArmBody::ArmBody(World& world, int index, const ArmPlacement& placement)
       std::any_of(robot_.motor_torque.begin(), robot_.motor_torque.end(), [](const MotorTorque& t) { return t.given(); }))
     stall_ = std::make_unique<StallModel>(robot_);
 
+  reach_mm_ = reach_bound(robot_, arm_geometry(robot_), [this](const Shape& sh) -> const std::vector<dReal>* {
+    const std::string path = mesh_path(robot_, sh);
+    for (const auto& m : meshes_)
+      if (m->path == path) return &m->vertices;
+    return nullptr;
+  });
   q_.assign(size_t(n_joints_), 0.0);
   if (motors_) {
     joints_from_steps(q_.data(), robot_.actuation, counted_);
@@ -104,6 +196,7 @@ ArmBody::~ArmBody() {
 }
 
 double ArmBody::time() const { return world_.time(); }
+
 
 std::string ArmBody::label(const std::string& part) const { return name_.empty() ? part : name_ + ": " + part; }
 
@@ -189,17 +282,18 @@ void ArmBody::build_pairs() {
       }
       for (size_t oi = 0; oi < objects.size(); ++oi) {
         Pair q{objects[oi].movable ? Pair::kMovable : Pair::kStatic};
-        q.a = g, q.b = objects[oi].geom, q.part_a = int(pi), q.object_b = int(oi);
+        q.a = g, q.b = objects[oi].geom, q.part_a = int(pi), q.object_b = int(oi), q.group = 0;
         block_pairs_.push_back(q);
       }
-      // Every part of every other arm: each arm checks its own steps against where the others are.
+      // Every part of every other arm within reach: each arm checks its own steps against where
+      // the others are.
       for (int ai = 0; ai < world_.num_arms(); ++ai) {
-        if (ai == index_) continue;
+        if (ai == index_ || !within_reach(world_.body(ai))) continue;
         const auto& other = world_.body(ai).parts();
         for (size_t pj = 0; pj < other.size(); ++pj)
           for (dGeomID h : other[pj]->geoms) {
             Pair q{Pair::kOtherArm};
-            q.a = g, q.b = h, q.part_a = int(pi), q.arm_b = ai, q.part_b = int(pj);
+            q.a = g, q.b = h, q.part_a = int(pi), q.arm_b = ai, q.part_b = int(pj), q.group = 1;
             block_pairs_.push_back(q);
           }
       }
@@ -269,6 +363,15 @@ void ArmBody::build_pairs() {
     }
   }
   block_depth_.assign(block_pairs_.size(), 0.0);
+  // The broad phase pays where there is more than a few things to pass over.
+  near_object_.assign(objects.size(), 1);
+  near_arm_.assign(size_t(world_.num_arms()), 1);
+  broad_ = world_.num_arms() > 1;
+}
+
+bool ArmBody::within_reach(const ArmBody& other) const {
+  const Vec3<double> d = other.T_world_base_.p - T_world_base_.p;
+  return std::sqrt(d.x * d.x + d.y * d.y + d.z * d.z) <= reach_mm_ + other.reach_mm_ + 1;
 }
 
 void ArmBody::start() {
@@ -313,9 +416,31 @@ bool ArmBody::check_pose(int line) {
   const double tol = opt_.touch_tolerance_mm;
   int worst = -1;
   dContactGeom worst_c{};
+  // The broad phase: the box around every part of the arm that moves (and what it carries);
+  // an object or another arm wholly outside it cannot touch any of them. (The same pairs in the
+  // same order as without it: only pairs that could not overlap are passed over.)
+  if (broad_) {
+    Box arm_box;
+    for (const auto& p : parts_)
+      if (p->frame != 0)
+        for (dGeomID g : p->geoms) arm_box.add(g);
+    for (const auto& o : objects)
+      if (o.carrier == index_) arm_box.add(o.geom);
+    for (size_t oi = 0; oi < objects.size(); ++oi) near_object_[oi] = arm_box.overlaps(objects[oi].geom);
+    for (int ai = 0; ai < world_.num_arms(); ++ai) {
+      near_arm_[size_t(ai)] = false;
+      if (ai == index_) continue;
+      Box other;
+      for (const auto& p : world_.body(ai).parts())
+        for (dGeomID g : p->geoms) other.add(g);
+      near_arm_[size_t(ai)] = arm_box.overlaps(other);
+    }
+  }
   for (size_t k = 0; k < block_pairs_.size(); ++k) {
     Pair& q = block_pairs_[k];
     block_depth_[k] = 0;
+    if (broad_ && ((q.group == 0 && !near_object_[size_t(q.object_b)]) || (q.group == 1 && !near_arm_[size_t(q.arm_b)])))
+      continue;
     if (q.object_a >= 0 && objects[size_t(q.object_a)].carrier != index_) continue;
     if (q.kind == Pair::kMovable) {
       const World::Object& o = objects[size_t(q.object_b)];

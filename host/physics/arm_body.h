@@ -32,6 +32,11 @@ class ArmBody {
   int index() const { return index_; }
   const Transform<double>& T_world_base() const { return T_world_base_; }
   bool has_motors() const { return motors_; }
+  // How far from its base frame's origin any part of the arm can ever be, mm (a bound, over
+  // every joint value within its limits): two arms farther apart than their reaches' sum never
+  // meet, and the world checks no step of one against the other.
+  double reach_mm() const { return reach_mm_; }
+  bool within_reach(const ArmBody& other) const;
   int num_motors() const { return n_motors_; }
 
   // The arm as it physically is (after skipped steps): joint variables in model units, its DH
@@ -136,6 +141,7 @@ class ArmBody {
   std::string name_;
   Transform<double> T_world_base_ = Transform<double>::identity();
   bool placed_ = false;  // the base stands anywhere but at the world's origin
+  double reach_mm_ = 0;
   SimOptions opt_;
   bool motors_ = false;
   int n_motors_ = 0, n_joints_ = 0;
@@ -145,6 +151,8 @@ class ArmBody {
   int finger_[2] = {-1, -1};
   std::vector<Pair> block_pairs_;  // arm part vs ground/static/self/other arm/movable (squeeze), for step checks
   std::vector<double> block_depth_;  // scratch: the candidate's depth per block pair
+  bool broad_ = false;  // check_pose's broad phase: which objects and other arms the moving arm's box reaches
+  std::vector<uint8_t> near_object_, near_arm_;
 
   // Motor state: counted steps (what the firmware believes), physical = counted + offset.
   int32_t counted_[8]{}, offset_[8]{}, lost_in_action_[8]{};

@@ -5,11 +5,13 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <random>
 #include <set>
 
 #include "../../tests/mini_schema.h"
 #include "cell_file.h"
 #include "cell_sim.h"
+#include "geometry.h"
 #include "predict.h"
 #include "program.h"
 #include "robot_file.h"
@@ -191,6 +193,55 @@ TEST(Cell, ShippedCellsLoadAndRun) {
     ++n;
   }
   EXPECT_GE(n, 2);
+}
+
+// The reach bound that lets the world skip arms too far apart to meet is a bound: every corner of
+// every box (links and fingers), of a box just inside every capsule and cylinder, and the tool,
+// of every shipped robot, at random joint values within their
+// limits, lies within it.
+TEST(Cell, EveryPartOfEveryArmLiesWithinItsReach) {
+  std::mt19937 rng(7);
+  for (const auto& entry : std::filesystem::directory_iterator(kSrc + "/robots")) {
+    if (entry.path().extension() != ".json" || entry.path().filename() == "robot.schema.json") continue;
+    const Robot r = load_robot_file(entry.path().string());
+    SCOPED_TRACE(r.name);
+    Cell one;
+    one.name = "one";
+    CellArm a;
+    a.name = "a";
+    a.robot = r;
+    one.arms.push_back(a);
+    const double reach = CellSimulation(one).arm(0).reach_mm();
+    const std::vector<LinkGeometry> links = arm_geometry(r);
+    double farthest = 0;
+    for (int trial = 0; trial < 300; ++trial) {
+      std::vector<double> q(size_t(r.model.num_joints));
+      for (int j = 0; j < r.model.num_joints; ++j)
+        q[size_t(j)] = std::uniform_real_distribution<double>(r.model.joints[j].lo, r.model.joints[j].hi)(rng);
+      HostFrames f;
+      forward_kinematics(f, r.model, q.data());
+      auto corners = [&](const Transform<double>& T, double x, double y, double z) {
+        for (int k = 0; k < 8; ++k) {
+          const Vec3<double> p = T * make_vec3((k & 1 ? 0.5 : -0.5) * x, (k & 2 ? 0.5 : -0.5) * y, (k & 4 ? 0.5 : -0.5) * z);
+          farthest = std::max(farthest, std::sqrt(p.x * p.x + p.y * p.y + p.z * p.z));
+        }
+      };
+      for (const LinkGeometry& l : links)
+        for (const Shape& s : l.shapes) {
+          const Transform<double> T = f.T_base_frame[l.frame] * s.T_frame_shape;
+          if (s.type == Shape::Type::kBox) corners(T, s.size[0], s.size[1], s.size[2]);
+          if (s.type == Shape::Type::kCapsule || s.type == Shape::Type::kCylinder)  // the box around it
+            corners(T, std::sqrt(2.0) * s.size[0], std::sqrt(2.0) * s.size[0], s.size[1]);
+        }
+      corners(f.T_base_tool, 0, 0, 0);
+      if (r.gripper.present)
+        for (int side : {1, -1})
+          corners(finger_pose(r.gripper, f.T_base_tool, r.gripper.max_opening_mm, side), r.gripper.finger_length_mm,
+                  r.gripper.finger_thickness_mm, r.gripper.finger_height_mm);
+    }
+    EXPECT_LE(farthest, reach);
+    EXPECT_GT(farthest, 0.4 * reach);  // a bound, not a wild one
+  }
 }
 
 // ---- the loader: each bad cell refused by name and place ----
