@@ -363,21 +363,11 @@ int run_cell(int argc, char** argv) {
   for (const auto& e : sim->world().events()) trouble += is_trouble(e.kind);
   const nlohmann::json arms = host::cell_arms_json(*sim);
   if (json) {
-    nlohmann::json objects = nlohmann::json::array(), events = nlohmann::json::array();
-    const host::World& w = sim->world();
-    for (int i = 0; i < w.num_objects(); ++i) {
-      const Transform<double> T = w.object_pose(i);
-      const int carrier = w.object_carrier(i);
-      objects.push_back({{"name", w.object(i).name},
-                         {"xyz_mm", {T.p.x, T.p.y, T.p.z}},
-                         {"carried_by", carrier >= 0 ? nlohmann::json(w.body(carrier).name()) : nlohmann::json(nullptr)},
-                         {"removed", w.object_removed(i)}});
-    }
-    for (const auto& e : w.events()) events.push_back(host::event_json(e));
-    std::cout << nlohmann::json{{"cell", cell.name}, {"t", sim->time()}, {"arms", arms}, {"objects", objects},
-                                {"events", events}}
-                     .dump(2)
-              << '\n';
+    nlohmann::json out = host::cell_state_json(*sim), events = nlohmann::json::array();
+    for (const auto& e : sim->world().events()) events.push_back(host::event_json(e));
+    out["cell"] = cell.name;
+    out["events"] = events;
+    std::cout << out.dump(2) << '\n';
   } else {
     Table t({"arm", "robot", "program", "ends at (s)", "joints", "tool (mm)", "lost steps"});
     for (const auto& a : arms) {

@@ -50,4 +50,18 @@ nlohmann::json cell_arms_json(const CellSimulation& sim) {
   return out;
 }
 
+nlohmann::json cell_state_json(const CellSimulation& sim) {
+  const World& w = sim.world();
+  nlohmann::json objects = nlohmann::json::array();
+  for (int i = 0; i < w.num_objects(); ++i) {
+    const Transform<double> T = w.object_pose(i);
+    const int carrier = w.object_carrier(i);
+    objects.push_back({{"name", w.object(i).name},
+                       {"xyz_mm", {T.p.x, T.p.y, T.p.z}},
+                       {"carried_by", carrier >= 0 ? nlohmann::json(w.body(carrier).name()) : nlohmann::json(nullptr)},
+                       {"removed", w.object_removed(i)}});
+  }
+  return {{"t", sim.time()}, {"arms", cell_arms_json(sim)}, {"objects", objects}};
+}
+
 }  // namespace articula::host

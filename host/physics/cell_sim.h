@@ -42,6 +42,9 @@ class CellSimulation {
 // Each arm as it ends (or is now): name, robot, program, program_end_s, line, joints (deg or mm),
 // tool_mm (in the world), gripper_mm, counted_steps, lost_steps; `articula sim CELL --json`.
 nlohmann::json cell_arms_json(const CellSimulation& sim);
+// The cell now: t, arms (cell_arms_json), objects (name, xyz_mm, carried_by: the arm's name or
+// null, removed); `articula sim CELL --json`, Python's Cell.state, the web engine's.
+nlohmann::json cell_state_json(const CellSimulation& sim);
 
 }  // namespace articula::host
 

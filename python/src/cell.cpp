@@ -99,20 +99,7 @@ void bind_cell(nb::module_& m) {
            "which"_a,
            "One arm now (by name or index): name, robot, program, program_end_s, line, joints (deg or mm), tool_mm "
            "(on the table), gripper_mm, counted_steps, lost_steps.")
-      .def("state",
-           [](const PyCell& c) {
-             const host::World& w = c.sim->world();
-             nlohmann::json objects = nlohmann::json::array();
-             for (int i = 0; i < w.num_objects(); ++i) {
-               const Transform<double> T = w.object_pose(i);
-               const int carrier = w.object_carrier(i);
-               objects.push_back({{"name", w.object(i).name},
-                                  {"xyz_mm", {T.p.x, T.p.y, T.p.z}},
-                                  {"carried_by", carrier >= 0 ? nlohmann::json(w.body(carrier).name()) : nlohmann::json()},
-                                  {"removed", w.object_removed(i)}});
-             }
-             return record({{"t", c.sim->time()}, {"arms", host::cell_arms_json(*c.sim)}, {"objects", objects}});
-           },
+      .def("state", [](const PyCell& c) { return record(host::cell_state_json(*c.sim)); },
            "The cell now: t, arms (as arm()), objects (name, xyz_mm, carried_by: the arm holding it or None, removed).")
       .def("events",
            [](const PyCell& c, size_t since) {

@@ -79,6 +79,19 @@ SAME = [
     ("Sim.done", "Sim.done"),
     ("Sim.end_time", "Sim.endTime"),
     ("Sim.scene_name", "Sim.sceneName"),
+    ("Cell.__init__", "Cell.create"),
+    ("Cell.reset", "Cell.reset"),
+    ("Cell.step", "Cell.step"),
+    ("Cell.run_until", "Cell.runUntil"),
+    ("Cell.run", "Cell.run"),
+    ("Cell.arm", "Cell.arm"),
+    ("Cell.arms", "Cell.arms"),
+    ("Cell.state", "Cell.state"),
+    ("Cell.events", "Cell.events"),
+    ("Cell.name", "Cell.name"),
+    ("Cell.time", "Cell.time"),
+    ("Cell.done", "Cell.done"),
+    ("Cell.end_time", "Cell.endTime"),
     # the arm's protocol
     ("_status_table", "statusTable"),
     ("_status_table", "statusText"),
@@ -120,7 +133,7 @@ WEB_ONLY = {
     "Robot.ikScratch": "the hot path of ik on the heap array",
 }
 # Python's own plumbing, not operations.
-PYTHON_PLUMBING = {"ProgramError", "RobotFileError", "SceneError", "LegacyError", "IkResult"}
+PYTHON_PLUMBING = {"ProgramError", "RobotFileError", "SceneError", "CellError", "LegacyError", "IkResult"}
 
 
 def python_ops() -> set[str]:
@@ -151,7 +164,7 @@ globalThis.__dirname ??= {json.dumps(str(WASM_DIR))};
 const {{ default: create }} = await import(pathToFileURL({json.dumps(str(WASM_DIR / "engine.mjs"))}).href);
 const M = await create({{ wasmBinary: readFileSync({json.dumps(str(WASM_DIR / "engine.wasm"))}) }});
 const ops = [];
-for (const cls of ["Robot", "Sim", "Timeline"])
+for (const cls of ["Robot", "Sim", "Timeline", "Cell"])
   for (const k of Object.getOwnPropertyNames(M[cls].prototype))
     if (!["constructor", "delete", "isDeleted", "clone", "isAliasOf", "deleteLater"].includes(k)) ops.push(`${{cls}}.${{k}}`);
 for (const k of ["predict", "run", "quantize", "programFormat", "parseProgram", "programFit", "blocksProgram", "programActions", "protocolLine", "moveLine", "drawing", "reachMap", "ink", "drawingCheck", "statusText", "statusTable", "settingsTable", "penFields", "parseArmLine", "firstIntervalS", "lineCommand",

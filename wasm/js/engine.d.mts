@@ -71,6 +71,22 @@ export class Sim {
   readonly endTime: number;
   delete(): void;
 }
+export class Cell {
+  readonly name: string;
+  readonly arms: string[];
+  readonly dt: number;
+  step(n?: number): void;
+  runUntil(t: number): void;
+  run(): void;
+  arm(name: string): Record<string, unknown>;
+  state(): { t: number; arms: Record<string, unknown>[]; objects: { name: string; xyz_mm: number[]; carried_by: string | null; removed: boolean }[] };
+  events(since?: number): Record<string, unknown>[];
+  reset(): void;
+  readonly time: number;
+  readonly done: boolean;
+  readonly endTime: number;
+  delete(): void;
+}
 export interface TimelineRecord {
   line: number; command: string; reply: string; code: number; error: string; note: string;
   start_s: number; end_s: number; q: number[]; q_ideal: number[]; tool: number[]; tool_ideal: number[];

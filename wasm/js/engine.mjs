@@ -158,6 +158,37 @@ export class Sim {
   delete() { this.h.delete(); }
 }
 
+export class Cell {
+  /** A cell (cells/README.md) from its file's text; the robots, scenes and programs it names are
+   * read from the engine's files (writeFile: /robots/NAME.json, paths from `dir`). */
+  constructor(engine, text, name = "cell.json", dir = "/cells", dt = engine.M.defaultDt) {
+    this.h = new engine.M.Cell();
+    try {
+      loaded(this.h.create(text, name, dir, dt));
+    } catch (e) {
+      this.h.delete();
+      throw e;
+    }
+    this.name = this.h.name();
+    this.arms = checked(this.h.arms());
+    this.dt = dt;
+  }
+  step(n = 1) { this.h.step(n); }
+  runUntil(t) { this.h.runUntil(t); }
+  run() { this.h.run(); }
+  /** One arm now, by name: {name, robot, program, program_end_s, line, joints, tool_mm, gripper_mm,
+   * counted_steps, lost_steps}. */
+  arm(name) { return checked(this.h.arm(String(name))); }
+  /** {t, arms, objects: [{name, xyz_mm, carried_by, removed}]}. */
+  state() { return checked(this.h.state()); }
+  events(since = 0) { return checked(this.h.events(since)); }
+  reset() { this.h.reset(); }
+  get time() { return this.h.time(); }
+  get done() { return this.h.done(); }
+  get endTime() { return this.h.endTime(); }
+  delete() { this.h.delete(); }
+}
+
 export class Timeline {
   /** A program's time line on `robot` (host/lib/timeline.h): predicted (a robot with motors,
    * from power-up) or run from startQ (deg or mm). {start_q, duration, summary, format,
@@ -200,6 +231,7 @@ export class Engine {
   }
   sim(robot, sceneText, sceneName, dt) { return new Sim(this, robot, sceneText, sceneName, dt); }
   timeline(robot, text, name, startQ) { return new Timeline(this, robot, text, name, startQ); }
+  cell(text, name, dir, dt) { return new Cell(this, text, name, dir, dt); }
   statusText(code) { return this.M.statusText(code); }
   /** A line from the arm read by the core's parsers (host/lib/protocol_view.h): {kind: "reply" |
    * "status" | "info" | "setting" | "other", ...}. */

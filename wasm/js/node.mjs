@@ -1,5 +1,5 @@
 // wasm/js/node.mjs - the web engine in node, for the parity tests and the benchmark: loads
-// build/wasm/wasm/engine.mjs (or $ARTICULA_WASM_DIR) and puts the shipped robots and scenes
+// build/wasm/wasm/engine.mjs (or $ARTICULA_WASM_DIR) and puts the shipped robots, scenes, cells and programs
 // (and the drawing's font) into its files, where the studio's worker puts what it fetched; and the virtual Nano's
 // parts (nano.mjs) for the emulated Nano's tests.
 import { createRequire } from "node:module";
@@ -17,8 +17,8 @@ export async function nodeEngine(wasmDir = process.env.ARTICULA_WASM_DIR || join
   globalThis.__dirname ??= wasmDir;
   const { default: createEngine } = await import(pathToFileURL(join(wasmDir, "engine.mjs")).href);
   const engine = await loadEngine(createEngine, { wasmBinary: readFileSync(join(wasmDir, "engine.wasm")) });
-  for (const kind of ["robots", "scenes"])
-    for (const f of readdirSync(join(REPO, kind)).filter((f) => f.endsWith(".json")))
+  for (const kind of ["robots", "scenes", "cells", "programs"])
+    for (const f of readdirSync(join(REPO, kind)).filter((f) => /\.(json|arm|robosim)$/.test(f)))
       engine.writeFile(`/${kind}/${f}`, readFileSync(join(REPO, kind, f)));
   // the drawing's font, at the path the engine reads it from (host/lib/draw.h, default_font_path)
   const font = "/usr/share/hershey-fonts/futural.jhf";

@@ -22,6 +22,7 @@
 #include "robot_file.h"
 #include "robot_view.h"
 #include "scene.h"
+#include "cell_file.h"
 
 namespace articula::web {
 
@@ -45,6 +46,8 @@ std::string guarded(F&& f) {
     return error_json(e.what(), {{"file", e.file()}, {"json_path", e.json_path()}, {"problem", e.problem()}});
   } catch (const host::SceneError& e) {
     return error_json(e.what(), {{"json_path", e.json_path()}});
+  } catch (const host::CellError& e) {
+    return error_json(e.what(), {{"json_path", e.json_path()}, {"problem", e.problem()}});
   } catch (const json::exception& e) {
     return error_json(std::string("not the JSON expected: ") + e.what());
   } catch (const std::exception& e) {

@@ -231,6 +231,42 @@ test("the physics' tool path: stepPath's points are the tool point after those w
   r.delete();
 });
 
+const CELLS = readdirSync(join(REPO, "cells")).filter((f) => f.endsWith(".json") && !f.includes("schema"))
+  .map((f) => f.replace(/\.json$/, ""));
+
+describe("cells: every shipped cell, the same events and the same arms at the end as `articula sim CELL`", () => {
+  for (const name of CELLS)
+    test(name, (t) => {
+      const ref = cli("sim", name, "--json");
+      assert.ok(ref.status === 0 || ref.status === 1, `${name}: articula sim failed: ${ref.stderr}`);
+      const cell = engine.cell(readFileSync(join(REPO, "cells", `${name}.json`), "utf8"), `cells/${name}.json`, "/cells");
+      assert.deepEqual(cell.arms, ref.json.arms.map((a) => a.name));
+      cell.run();
+      assert.equal(cell.done, true);
+      const mine = cell.events();
+      assert.deepEqual(mine.map((e) => [Math.round(e.t * 1000), e.kind, e.arm, e.a, e.b]),
+        ref.json.events.map((e) => [Math.round(e.t * 1000), e.kind, e.arm, e.a, e.b]), `${name}: events`);
+      const st = cell.state();
+      st.arms.forEach((a, i) => {
+        const want = ref.json.arms[i];
+        close(a.joints, want.joints, 1e-9, `${name} ${a.name}: joints`);
+        assert.deepEqual(a.counted_steps, want.counted_steps, `${name} ${a.name}: steps`);
+        assert.deepEqual(a.lost_steps, want.lost_steps, `${name} ${a.name}: lost`);
+      });
+      st.objects.forEach((o, i) => close(o.xyz_mm, ref.json.objects[i].xyz_mm, 0.1, `${name} ${o.name}`));
+      t.diagnostic(`${cell.arms.length} arms, ${mine.length} events alike`);
+      assert.throws(() => engine.cell(JSON.stringify({ name: "x", arms: [{ name: "a", robot: "mk2plus" },
+        { name: "b", robot: "mk2plus", base: { xyz: [10, 0, 0] } }] }), "cells/x.json"), (e) => {
+        assert.ok(e instanceof EngineError);
+        assert.equal(e.json_path, "/arms/1/base");
+        assert.match(e.message, /cells\/x\.json: \/arms\/1\/base: the bases of "b" and "a" overlap/);
+        return true;
+      });
+      assert.throws(() => cell.arm("nobody"), /no arm 'nobody'/);
+      cell.delete();
+    });
+});
+
 describe("bad input gets the CLI's words, and the robot that was there stays", () => {
   test("a malformed robot file names the file, the JSON path and the problem", () => {
     const r = engine.robot("mk2plus");
