@@ -38,6 +38,7 @@ nlohmann::json cell_arms_json(const CellSimulation& sim) {
     const Transform<double> T = a.T_world_base() * b.frames().T_base_tool;
     out.push_back({{"name", b.name()},
                    {"robot", r.name},
+                   {"base", {{"xyz", {a.xyz.x, a.xyz.y, a.xyz.z}}, {"yaw", a.yaw_deg}, {"footprint_mm", a.footprint_mm}}},
                    {"program", a.program_ref},
                    {"program_end_s", sim.driver(i).program_end()},
                    {"line", b.current_line()},

@@ -39,7 +39,8 @@ class CellSimulation {
   World world_;
 };
 
-// Each arm as it ends (or is now): name, robot, program, program_end_s, line, joints (deg or mm),
+// Each arm as it ends (or is now): name, robot, base (xyz, yaw, footprint_mm: where it stands),
+// program, program_end_s, line, joints (deg or mm),
 // tool_mm (in the world), gripper_mm, counted_steps, lost_steps; `articula sim CELL --json`.
 nlohmann::json cell_arms_json(const CellSimulation& sim);
 // The cell now: t, arms (cell_arms_json), objects (name, xyz_mm, carried_by: the arm's name or

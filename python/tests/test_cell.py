@@ -59,3 +59,23 @@ def test_errors_name_the_arm_the_file_and_the_place(tmp_path):
         articula.Cell("two-arms", programs={"mk2": two})
     with pytest.raises(ValueError, match="dt"):
         articula.Cell("handover", dt=0)
+
+
+def test_plot_cell_draws_a_run_and_names_a_bad_cell(tmp_path):
+    import subprocess
+    import sys
+    from conftest import REPO
+
+    png = tmp_path / "handover.png"
+    p = subprocess.run([sys.executable, str(REPO / "scripts" / "plot-cell"), "handover", "--sample", "50", "-o", str(png)],
+                       capture_output=True, text=True, timeout=120)
+    assert p.returncode == 0, p.stderr
+    assert "10 events" in p.stdout
+    data = png.read_bytes()
+    assert data[:8] == b"\x89PNG\r\n\x1a\n" and len(data) > 20000
+    bad = tmp_path / "bad.json"
+    bad.write_text('{"name": "x", "arms": [{"name": "a", "robot": "robby"}]}')
+    p = subprocess.run([sys.executable, str(REPO / "scripts" / "plot-cell"), str(bad)], capture_output=True, text=True,
+                       timeout=120)
+    assert p.returncode == 2
+    assert "bad.json: /arms/0/robot: the robot cannot be used" in p.stderr
