@@ -72,3 +72,33 @@ test("after a failed homing the Run goes on at Alarm, as the harness does", asyn
   await link.disconnect();
   nano.delete();
 });
+
+// What a student types in the Send box gets the arm's own answer, not only its ok: `$` its
+// settings, `I` its banner, and a `?` (the realtime byte, no line's end) its status report.
+test("typed $, I and ? show what the arm prints", async (t) => {
+  const { link, messages, nano } = await linked();
+  const replyTo = (line) => until(messages, (m) => m.type === "arm_reply" && m.line === line);
+  await link.send("$");
+  const settings = await replyTo("$");
+  assert.equal(settings.reply, "ok");
+  assert.ok(settings.output.some((l) => /^\$0=\d+/.test(l)), `no $0 among: ${JSON.stringify(settings.output)}`);
+  assert.ok(settings.output.length >= 8, `${settings.output.length} settings`);
+  await link.send("I");
+  const info = await replyTo("I");
+  assert.equal(info.reply, "ok");
+  assert.equal(info.output.length, 1);
+  assert.match(info.output[0], /MK2 Plus/);
+  await link.send("?");
+  const status = await replyTo("?");
+  assert.equal(status.reply, "status", JSON.stringify(status));
+  assert.match(status.output[0], /^<(Idle|Run|Alarm)/);
+  assert.equal(messages.filter((m) => m.type === "arm_reply" && m.reply && m.reply.startsWith("error")).length, 0,
+    "nothing typed was refused");
+  await link.send("L 0 5");
+  const moved = await replyTo("L 0 5");
+  assert.equal(moved.reply, "ok");
+  assert.deepEqual(moved.output, []);
+  t.diagnostic(`$: ${settings.output.length} lines; I: ${info.output[0]}; ?: ${status.output[0]}`);
+  await link.disconnect();
+  nano.delete();
+});

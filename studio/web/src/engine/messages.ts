@@ -187,7 +187,9 @@ export type EngineMsg =
       configurable?: boolean; configuring?: { done: number; total: number; name: string } }
   | { type: "arm_configured"; name: string; checksum: number }
   | { type: "arm_reply"; line: string; reply: string | null; meaning?: string; error?: string;
-      predicted: { reply: string; steps: number[] | null; meaning: string; seconds?: number } }
+      // output: what the arm printed for the line before its reply (`$`'s settings, `I`'s
+      // banner; a typed `?`: its status report, with reply "status")
+      predicted: { reply: string; steps: number[] | null; meaning: string; seconds?: number }; output?: string[] }
   | { type: "arm_stopped" }
   | { type: "arm_program"; line?: number; command?: string; reply?: string; meaning?: string; done?: boolean;
       sent?: number; error?: string; stopped?: boolean; predicted?: { reply: string } }

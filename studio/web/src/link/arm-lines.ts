@@ -24,6 +24,7 @@ export const REPLY_MS = 5000;
 interface Outstanding {
   line: string;
   banner: boolean; // an `I` whose banner has not come yet
+  output: string[]; // what the arm printed for it before its reply (`$`'s settings, `I`'s banner)
   onBanner?: (p: Parsed & { line: string }) => void;
   onReply?: (p: Parsed & { line: string }) => void;
 }
@@ -99,6 +100,12 @@ export class ArmLines {
 
   /** A line and its reply (ok or error:N), within `ms` of the arm's time. */
   async request(line: string, ms = REPLY_MS): Promise<string> {
+    return (await this.exchange(line, ms)).reply;
+  }
+
+  /** A line, its reply, and every line the arm printed for it before the reply (the settings
+   * `$` lists, the banner `I` sends), within `ms` of the arm's time. */
+  async exchange(line: string, ms = REPLY_MS): Promise<{ reply: string; output: string[] }> {
     let resolve: (p: Parsed & { line: string }) => void = () => undefined;
     const got = new Promise<Parsed & { line: string }>((r) => (resolve = r));
     const entry = await this.writeLine(line, { onReply: resolve });
@@ -109,12 +116,12 @@ export class ArmLines {
       if (!this.open) throw new Error(`the port closed before '${line}' was answered`);
       throw new Error(`no reply to '${line}' within ${(ms / 1000).toFixed(ms % 1000 ? 1 : 0)} s`);
     }
-    return r.line;
+    return { reply: r.line, output: entry.output };
   }
 
   // A line to the arm, remembered until its reply comes.
   private async writeLine(line: string, waiter: Pick<Outstanding, "onBanner" | "onReply">): Promise<Outstanding> {
-    const entry: Outstanding = { line, banner: /^I\s*(#.*)?$/.test(line), ...waiter };
+    const entry: Outstanding = { line, banner: /^I\s*(#.*)?$/.test(line), output: [], ...waiter };
     this.unanswered.push(entry);
     this.note("sent", line.slice(0, 24));
     await this.write(line + "\n");
@@ -162,6 +169,7 @@ export class ArmLines {
       const asked = this.unanswered.find((o) => o.banner);
       if (!asked) return;
       asked.banner = false;
+      asked.output.push(line);
       const w = asked.onBanner;
       asked.onBanner = undefined;
       w?.({ ...p, line });
@@ -171,6 +179,9 @@ export class ArmLines {
       while (this.unanswered.length && this.unanswered[0].banner) this.unanswered.shift();
       const answered = this.unanswered.shift();
       answered?.onReply?.({ ...p, line });
+    } else if (this.unanswered.length) {
+      // Anything else the arm prints (a setting of `$`'s list) belongs to the oldest line unanswered.
+      this.unanswered[0].output.push(line);
     }
   }
 

@@ -12,7 +12,7 @@
 // Below it, link/arm-lines.ts: the serial line, its lines read and each reply matched to its line.
 import type { NanoConfig } from "../engine/messages";
 import { ArmLines, type Parsed, REPLY_MS, type ReadLine } from "./arm-lines";
-import type { SerialLike } from "./ports";
+import { type SerialLike, sleepOn } from "./ports";
 
 /** What the arm needs of the engine (the worker): a line from the arm read by the core's
  * parsers, with the arm's pose when it is a status report (one round trip); the model's
@@ -53,6 +53,7 @@ export class ArmLink {
   private history: string[] = []; // the lines the arm accepted, for the prediction
   private stopSentAt = 0;
   private idleWaiters: (() => void)[] = [];
+  private statusWaiters: ((line: string) => void)[] = []; // a typed `?`: the next report's text
   private state = "";
   private lastSteps: number[] = []; // the last status report's
   private programRunning = false;
@@ -212,6 +213,7 @@ export class ArmLink {
       this.history = [pose.line];
     }
     if (p.at_rest) for (const w of this.idleWaiters.splice(0)) w();
+    for (const w of this.statusWaiters.splice(0)) w(line);
     this.emit(msg);
   }
 
@@ -256,14 +258,37 @@ export class ArmLink {
   /** One protocol line, its reply; the model's prediction beside it. */
   send(line: string): Promise<void> {
     return this.serial(async () => {
+      if (line.trim() === "?") return this.sendQuestion();
       const predicted = await this.engine.predict(this.history, line);
-      const reply = await this.command(line, predicted.seconds ?? 0).catch((e) => {
+      const got = await this.command(line, predicted.seconds ?? 0, true).catch((e) => {
         this.emit({ type: "arm_reply", line, reply: null, error: (e as Error).message, predicted });
         return null;
       });
-      if (reply === null) return;
-      this.emit({ type: "arm_reply", line, reply, meaning: this.engine.meaning(reply), predicted });
+      if (got === null) return;
+      const { reply, output } = got;
+      this.emit({ type: "arm_reply", line, reply, meaning: this.engine.meaning(reply), predicted, output });
     });
+  }
+
+  // A `?` typed: the realtime byte alone (a `?` with a line's end would be a second, empty line:
+  // error:1), answered by the next status report, which the page shows as the arm's answer.
+  private async sendQuestion(): Promise<void> {
+    const predicted = { reply: "status", steps: null, meaning: "a status report, not a reply", seconds: 0 };
+    if (!this.connected) {
+      this.emit({ type: "arm_reply", line: "?", reply: null, error: "no arm connected: Connect first", predicted });
+      return;
+    }
+    let waiter: (line: string) => void = () => undefined;
+    const report = new Promise<string | null>((resolve) => {
+      waiter = resolve;
+      this.statusWaiters.push(waiter);
+      void sleepOn(this.now, REPLY_MS, () => !this.statusWaiters.includes(waiter) || !this.connected).then(() => resolve(null));
+    });
+    this.lines.write("?").catch((e) => this.lost(`cannot write: ${(e as Error).message}`));
+    const text = await report;
+    this.statusWaiters = this.statusWaiters.filter((w) => w !== waiter);
+    if (text === null) this.emit({ type: "arm_reply", line: "?", reply: null, error: `no status report within ${REPLY_MS / 1000} s`, predicted });
+    else this.emit({ type: "arm_reply", line: "?", reply: "status", meaning: "the arm's status report", predicted, output: [text] });
   }
 
   private serial<T>(f: () => Promise<T>): Promise<T> {
@@ -275,17 +300,19 @@ export class ArmLink {
   // `seconds`: the line's predicted duration. A queued line is answered once it has a place,
   // and a straight line (T) once its last segment has one: a line answered late waits that
   // much longer for its reply.
-  private async command(line: string, seconds = 0): Promise<string> {
+  private async command(line: string, seconds?: number): Promise<string>;
+  private async command(line: string, seconds: number, withOutput: true): Promise<{ reply: string; output: string[] }>;
+  private async command(line: string, seconds = 0, withOutput = false): Promise<string | { reply: string; output: string[] }> {
     if (!this.connected) throw new Error("no arm connected: Connect first");
     if (line.trim() === "!") {
       // A program's stop: the byte alone, no LF, and no reply to wait for (docs/protocol.md);
       // the next line is held by the arm until it is at rest.
       await this.lines.write("!");
-      return "ok";
+      return withOutput ? { reply: "ok", output: [] } : "ok";
     }
-    const reply = await this.lines.request(line, REPLY_MS + seconds * 1000);
-    if (reply === "ok") this.history.push(line);
-    return reply;
+    const got = await this.lines.exchange(line, REPLY_MS + seconds * 1000);
+    if (got.reply === "ok") this.history.push(line);
+    return withOutput ? got : got.reply;
   }
 
   /** One line for the Experiment panel: its reply beside the model's, then (accepted) the arm

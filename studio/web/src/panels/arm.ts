@@ -260,8 +260,14 @@ function armMessage(m: EngineMsg): void {
     case "arm_reply": {
       armReport.reply = m;
       const p = m.predicted;
-      const arm = m.reply === null ? `no answer: ${m.error}` : m.reply === "ok" ? "ok" : `${m.reply} (${m.meaning})`;
-      const model = p.reply === "ok" ? `ok${p.steps ? `, steps ${p.steps.join(" ")}` : ""}` : `${p.reply} (${p.meaning})`;
+      const output = m.output ?? [];
+      // What the arm printed for the line (a `?`'s report, `$`'s settings, `I`'s banner) is its
+      // answer as much as its ok: every line of it, as text.
+      const arm = m.reply === null ? `no answer: ${m.error}` : m.reply === "status" ? output.join("\n")
+        : [...output, m.reply === "ok" ? "ok" : `${m.reply} (${m.meaning})`].join("\n");
+      const model = p.reply === "status" ? "(a status report: the arm's state now, nothing to predict)"
+        : p.reply === "ok" ? `ok${p.steps ? `, steps ${p.steps.join(" ")}` : ""}${p.seconds ? `, ${p.seconds.toFixed(2)} s` : ""}`
+        : `${p.reply} (${p.meaning})`;
       $("arm-reply").className = `status ${m.reply === p.reply ? "" : "bad"}`;
       fill($("arm-reply"), grid(["sent", m.line], ["the arm", arm], ["the model", model]));
       return;
