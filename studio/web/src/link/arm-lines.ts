@@ -179,9 +179,11 @@ export class ArmLines {
       while (this.unanswered.length && this.unanswered[0].banner) this.unanswered.shift();
       const answered = this.unanswered.shift();
       answered?.onReply?.({ ...p, line });
-    } else if (this.unanswered.length) {
-      // Anything else the arm prints (a setting of `$`'s list) belongs to the oldest line unanswered.
-      this.unanswered[0].output.push(line);
+    } else {
+      // Anything else the arm prints (a setting of `$`'s list) belongs to the oldest line
+      // unanswered that is not an `I` waiting for its banner (one that was lost while the Nano
+      // started stays at the head until a reply clears it).
+      this.unanswered.find((o) => !o.banner)?.output.push(line);
     }
   }
 
