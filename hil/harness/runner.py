@@ -152,6 +152,31 @@ class PlanResult:
     configured: bool = False  # the harness wrote the robot's configuration before the plan
 
 
+
+def pin_span(steps: list, slack: list[int], start: list[int] | None, end: list[int]) -> tuple[float, float]:
+    """The first and last step of a move on the pins, in microseconds. A stepper's pins show its
+    steps and nothing else. A servo's pin on a tick's edge can alternate by one at rest (two
+    pulses decode apart): an alternation before the move (the host took its time to send the
+    line) or after it (it took its time to look) is not the move's. So a servo's move starts
+    after the last time its pin showed where it started, and ends the first time its pin shows
+    where it ends."""
+    first, last = steps[0].time_us, steps[-1].time_us
+    if not any(slack) or start is None:
+        return first, last
+    firsts, lasts = [], []
+    for m in sorted({r.motor for r in steps}):
+        mine = [r for r in steps if r.motor == m]
+        if not slack[m]:
+            firsts.append(mine[0].time_us)
+            lasts.append(mine[-1].time_us)
+            continue
+        at_start = [k for k, r in enumerate(mine) if r.steps == start[m]]
+        begin = mine[at_start[-1] + 1] if at_start and at_start[-1] + 1 < len(mine) else mine[0]
+        arrived = [r for r in mine if r.steps == end[m] and r.time_us >= begin.time_us]
+        firsts.append(begin.time_us)
+        lasts.append(arrived[0].time_us if arrived else mine[-1].time_us)
+    return min(firsts), max(lasts)
+
 class Runner:
     def __init__(self, target, robot: Robot, out_dir: Path, *, settings: dict[int, float] | None = None,
                  timeout: float = 5.0, poll: float = 0.01, progress=None, hooks=None,
@@ -503,7 +528,7 @@ class Runner:
                         time.sleep(0.005)
                         n_rows, pins = trace.sync()
                 rec.pins_before, rec.pins = pins_before, pins
-                pins_before = pins
+                pins_before_move, pins_before = pins_before, pins
                 rows = trace.rows[rows_before:n_rows]
                 steps = [r for r in rows if r.is_step]
                 # A servo that the command does not move may still show a one-tick change when two
@@ -513,7 +538,7 @@ class Runner:
                     steps = [r for r in steps if not rec.pin_slack[r.motor] or r.motor in moving]
                 rec.step_events = len(steps)
                 if steps:
-                    rec.first_step_us, rec.last_step_us = steps[0].time_us, steps[-1].time_us
+                    rec.first_step_us, rec.last_step_us = pin_span(steps, rec.pin_slack, pins_before_move, pins)
                 for r in rows:
                     if r.is_fault:
                         rec.coil_faults.append(f"motor {r.motor} {r.event} to {r.pattern} at {r.time_us / 1e6:.6f} s")

@@ -329,3 +329,28 @@ def test_the_reports_per_cent_rule_is_the_host_librarys():
 
     assert articula.axis_errors((2.0, 0, 0), (PCT_MIN_MM, 0, 0))["pct"][0] == 100.0
     assert articula.axis_errors((2.0, 0, 0), (PCT_MIN_MM - 0.001, 0, 0))["pct"][0] is None
+
+
+# ---- a move's span on the pins
+
+def test_a_servos_alternation_at_rest_is_not_part_of_its_move():
+    """A servo at rest on a tick's edge can show one tick and back (two pulses decode apart). On a
+    busy machine the host sends the next line, and looks at the pins after it, later in the
+    virtual Nano's time: an alternation before or after the move must not stretch its span."""
+    from hil.harness.runner import pin_span
+    from hil.harness.trace import TraceRow
+
+    def row(us, motor, steps):
+        return TraceRow(cycle=int(us * 16), motor=motor, steps=steps, pattern="", event="step+", time_us=us)
+
+    # motor 1 (a servo) moves 10 -> 14; it flickers to 11 and back 300 ms before the move, and to
+    # 15 and back 400 ms after it; motor 0 (a stepper, no slack) moves 0 -> 2 inside the move.
+    steps = [row(100_000, 1, 11), row(120_000, 1, 10),
+             row(400_000, 1, 11), row(410_000, 0, 1), row(420_000, 1, 12), row(440_000, 1, 14),
+             row(445_000, 0, 2),
+             row(800_000, 1, 15), row(820_000, 1, 14)]
+    assert pin_span(steps, [0, 1, 0], [0, 10, 0], [2, 14, 0]) == (400_000, 445_000)
+    # with no slack (steppers only) every step counts
+    assert pin_span(steps, [0, 0, 0], [0, 10, 0], [2, 14, 0]) == (100_000, 820_000)
+    # a servo that never showed where it started: its first change is the move's
+    assert pin_span(steps[2:6], [0, 1, 0], [0, 10, 0], [2, 14, 0]) == (400_000, 440_000)
