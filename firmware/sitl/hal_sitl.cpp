@@ -135,7 +135,10 @@ void reset(bool blank_eeprom) {
   sitl::Hardware& hw = sitl::hw();
   uint8_t keep[sizeof hw.eeprom];
   std::memcpy(keep, hw.eeprom, sizeof keep);
+  const uint32_t driven = hw.io_driven, external = hw.io_external;  // (what is wired to it stays)
   hw = Hardware();
+  hw.io_driven = driven;
+  hw.io_external = external;
   if (blank_eeprom)
     std::memset(hw.eeprom, 0xFF, sizeof hw.eeprom);
   else
@@ -148,7 +151,10 @@ using sitl::hw;
 
 namespace hal {
 
-void init() {}
+void init() {
+  // Every pin an input with its pull-up (the Nano's HAL: the free ones; the report shows those).
+  hw().io_high = (uint32_t(1) << articula::kIoPins) - 1;
+}
 
 void start() {
   sitl::Hardware& hw = sitl::hw();
@@ -262,6 +268,27 @@ bool endstop(uint8_t motor) {
   if (motor >= sitl::kMotors || !hw.endstop_fitted[motor]) return false;
   return hw.endstop_below[motor] ? hw.position[motor] <= hw.endstop_at[motor]
                                  : hw.position[motor] >= hw.endstop_at[motor];
+}
+
+uint32_t io_levels() {
+  const sitl::Hardware& hw = sitl::hw();
+  // An output reads its level; an input what drives it, else its pull-up (else nothing: 0).
+  return (hw.io_output & hw.io_high) | (~hw.io_output & hw.io_driven & hw.io_external) |
+         (~hw.io_output & ~hw.io_driven & hw.io_high);
+}
+
+void io_write(uint8_t pin, bool high) {
+  sitl::Hardware& hw = sitl::hw();
+  const uint32_t bit = uint32_t(1) << pin;
+  const bool was = (io_levels() & bit) != 0;
+  hw.io_output |= bit;
+  hw.io_high = high ? (hw.io_high | bit) : (hw.io_high & ~bit);
+  if (was != high) hw.io_log.push_back({hw.now, pin, high});
+}
+
+bool io_read(uint8_t pin) {
+  const uint32_t bit = uint32_t(1) << pin;
+  return (io_levels() & bit) != 0;
 }
 
 void start_step_timer(uint32_t first_ticks) {

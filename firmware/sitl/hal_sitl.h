@@ -145,6 +145,21 @@ struct Hardware {
   uint8_t pattern[kMotors] = {};
   std::vector<std::string> errors;  // decoding errors: an illegal pattern or jump
 
+  // The header pins (hal::io_*), bit n for header pin n: the firmware's outputs and the levels
+  // it set (an output's, or an input's pull-up), and the inputs something outside drives (a
+  // wire from another machine's output: a cell), with their levels. An input nothing drives
+  // reads its pull-up. Every output change is logged with its tick.
+  uint32_t io_output = 0;
+  uint32_t io_high = 0;
+  uint32_t io_driven = 0;
+  uint32_t io_external = 0;
+  struct IoChange {
+    uint64_t tick;
+    uint8_t pin;
+    bool high;
+  };
+  std::vector<IoChange> io_log;
+
   // Endstops: pressed while position <= at (below) or >= at (!below).
   bool endstop_fitted[kMotors] = {};
   int64_t endstop_at[kMotors] = {};

@@ -127,6 +127,32 @@ constexpr Pin kShieldEndstopPins[kShieldSockets] = {
     {kPortB, 1, "PB1 (D9)"}, {kPortB, 2, "PB2 (D10)"}, {kPortB, 3, "PB3 (D11)"}};
 constexpr Pin kShieldServoPin = {kPortC, 3, "PC3 (A3)"};
 
+// ---- the pins a program may use (protocol.h's O and W, the robot file's "io") ----
+//
+// A header pin's bit in a mask of header pins (bit n: kHeaderPin[n]).
+constexpr unsigned long header_bit(const Pin& p) {
+  return 1UL << (p.port == kPortD ? p.bit : p.port == kPortB ? 8 + p.bit : 14 + p.bit);
+}
+// What every build keeps: the serial line and the LED.
+constexpr unsigned long kKeptAlways = header_bit(kHeaderPin[0]) | header_bit(kHeaderPin[1]) | header_bit(kLedPin);
+// The 4-wire build: its three coil slots, their endstops and the gripper servo, used or not
+// (the firmware drives the slots it has): A5 is left.
+constexpr unsigned long kKeptByCoils =
+    kKeptAlways | (0xFUL << 4) | (0xFUL << 8) | (0xFUL << 14) | header_bit(kEndstopPins[0]) |
+    header_bit(kEndstopPins[1]) | header_bit(kEndstopPins[2]) | header_bit(kServoPin);
+// The shield build: STEP, DIR, EN, the limit switches and the gripper: D12, A0..A2, A4, A5 are
+// left (the shield's spindle, abort, hold, resume and I2C headers).
+constexpr unsigned long kKeptByShield =
+    kKeptAlways | header_bit(kShieldSocket[0].step) | header_bit(kShieldSocket[1].step) |
+    header_bit(kShieldSocket[2].step) | header_bit(kShieldSocket[0].dir) | header_bit(kShieldSocket[1].dir) |
+    header_bit(kShieldSocket[2].dir) | header_bit(kShieldEnable) | header_bit(kShieldEndstopPins[0]) |
+    header_bit(kShieldEndstopPins[1]) | header_bit(kShieldEndstopPins[2]) | header_bit(kShieldServoPin);
+// The servo build: the gripper's pin; the arm's servos are on the pins its configuration names,
+// which the firmware keeps besides.
+constexpr unsigned long kKeptByServos = kKeptAlways | header_bit(kServoPin);
+static_assert(kKeptByCoils == 0xFFFFFUL - (1UL << 19), "the 4-wire build leaves A5 only");
+static_assert(kKeptByShield == 0xFFFFFUL - (1UL << 12) - (7UL << 14) - (3UL << 18), "the shield leaves D12, A0..A2, A4, A5");
+
 }  // namespace board
 
 #endif  // ARTICULA_FIRMWARE_BOARD_H

@@ -134,7 +134,7 @@ Status solve_point(robot::State& next, const int32_t* um) {
 
 // The commands that take a place in the queue (D too: held while the queue is full, it
 // waited with no room and was answered error:255).
-bool is_queued(CommandType t) { return (t <= kCmdHome && t != kCmdNone) || t == kCmdDwell || t == kCmdLine; }
+bool is_queued(CommandType t) { return (t <= kCmdHome && t != kCmdNone) || (t >= kCmdDwell && t != kCmdName); }
 
 // What a valid line still waits for: room in the queue, or (Z, $n=v) the arm at rest with
 // nothing queued.
@@ -247,6 +247,16 @@ uint8_t queue_command(const Command& c) {
       if (queue::full()) return kWait;
       a.kind = queue::kDwell;
       a.grip.settle_ticks = uint32_t(c.arg[0]) * (hal::kTickHz / 1000);
+      push_planned(a);
+      return kOk;
+    case kCmdOutput:
+    case kCmdWaitInput:  // O pin level, W pin level seconds (the parser checked the ranges)
+      if (!robot::kHasIo || (robot::kept_pins() & (uint32_t(1) << c.arg[0]))) return kPinUnavailable;
+      if (queue::full()) return kWait;
+      a.kind = c.type == kCmdOutput ? queue::kOutput : queue::kWaitIn;
+      a.mask = uint8_t(c.arg[0]);
+      a.grip.percent = uint8_t(c.arg[1]);
+      a.grip.settle_ticks = uint32_t(c.arg[2]);  // W's milliseconds
       push_planned(a);
       return kOk;
     case kCmdHome: {
@@ -437,6 +447,7 @@ __attribute__((noinline)) uint8_t status_line(char* buf, uint8_t cap) {
   const uint8_t queued = queue::count();
   r.gripper = stepper::gripper_percent();
   r.coils = coils::on();
+  r.io = robot::kHasIo ? int32_t(hal::io_levels() & ~robot::kept_pins() & ((uint32_t(1) << kIoPins) - 1)) : -1;
   hal::interrupts_restore(s);
   r.state = stop                        ? kStateStop
             : homing                    ? kStateHome
@@ -473,10 +484,14 @@ __attribute__((noinline)) void setup() {
 }
 
 void poll() {
-  if (stepper::take_fault()) {  // homing failed: position unknown, nothing queued runs
+  const uint8_t fault = stepper::take_fault();
+  if (fault != stepper::kNoFault) {  // nothing queued runs
     queue::clear();
     rederive_planned();
-    ctl().homed = false;
+    if (fault == stepper::kHomingFailed)
+      ctl().homed = false;  // position unknown
+    else
+      settings::warn(kInputTimeout);  // (the next report says so)
   }
   if (stepper::stop_requested()) service_stop();
   if (!stepper::stop_requested()) {

@@ -39,6 +39,15 @@ void set_servo_pulse(uint16_t microseconds);
 // True while the endstop switch of `motor` is pressed (always false where none is wired).
 bool endstop(uint8_t motor);
 
+// Digital I/O on the header's pins (board.h's kHeaderPin index: D0..D13, A0..A5), for
+// protocol.h's O and W; the controller passes only pins its drive leaves free. At power-up
+// every pin the build keeps not is an input with its pull-up (it reads 1 with nothing on it).
+// io_write() makes the pin an output at `high` (for good: it stays one); io_read() reads a pin
+// (an output reads its own level); io_levels() reads every pin at once, bit n pin n.
+void io_write(uint8_t pin, bool high);
+bool io_read(uint8_t pin);
+uint32_t io_levels();
+
 // The step timer. After start_step_timer(t) the HAL calls firmware::on_step_timer() t ticks
 // later, and then again after each interval that call returns, measured from the previous
 // deadline (not from when the call finished), so intervals do not accumulate the call's

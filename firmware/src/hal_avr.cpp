@@ -226,6 +226,24 @@ volatile uint32_t g_millis;
 const uint16_t kServoPeriodTicks = 20000U * 2;      // 20 ms
 const uint16_t kServoMinUs = 200, kServoMaxUs = 3000;  // keeps the pulse inside the period
 
+// A header pin (board.h's kHeaderPin index: D0..D7 on port D, D8..D13 on B, A0..A5 on C) as its
+// PORT register, with its PIN and DDR registers two and one below it, and its bit.
+__attribute__((noinline)) volatile uint8_t* header_port(uint8_t pin, uint8_t& bit) {
+  static_assert(board::kHeaderPins == 20 && board::port_io(board::kPortD) == 0x0B && board::port_io(board::kPortB) == 0x05 &&
+                    board::port_io(board::kPortC) == 0x08,
+                "D0..D7 on PORTD, D8..D13 on PORTB, A0..A5 on PORTC");
+  uint8_t io = 0x0B;
+  if (pin >= 14) {
+    io = 0x08;
+    pin = uint8_t(pin - 14);
+  } else if (pin >= 8) {
+    io = 0x05;
+    pin = uint8_t(pin - 8);
+  }
+  bit = uint8_t(1u << pin);
+  return &_SFR_IO8(io);
+}
+
 #if defined(ARTICULA_SERVO_ARM)
 // The servo arm's build: a channel for each motor's servo and the gripper's last. In each
 // period every channel with a width gives its pulse in turn, kServoGapTicks apart; the period's
@@ -249,20 +267,6 @@ uint16_t g_servo_edge;                 // Timer1's count at the next edge (or th
 uint16_t g_servo_used;                 // ticks of the period used by its pulses and gaps so far
 uint16_t g_servo_width;                // the width of the pulse rising or falling next
 
-// Each of board.h's header pins as its PORT register (an I/O address) and its bit, in flash.
-struct HeaderIo {
-  uint8_t port_io;
-  uint8_t bit;
-};
-#define ARTICULA_HEADER_IO(i) \
-  { uint8_t(board::port_io(board::kHeaderPin[i].port)), uint8_t(1u << board::kHeaderPin[i].bit) }
-const HeaderIo kHeaderIo[board::kHeaderPins] PROGMEM = {
-    ARTICULA_HEADER_IO(0),  ARTICULA_HEADER_IO(1),  ARTICULA_HEADER_IO(2),  ARTICULA_HEADER_IO(3),
-    ARTICULA_HEADER_IO(4),  ARTICULA_HEADER_IO(5),  ARTICULA_HEADER_IO(6),  ARTICULA_HEADER_IO(7),
-    ARTICULA_HEADER_IO(8),  ARTICULA_HEADER_IO(9),  ARTICULA_HEADER_IO(10), ARTICULA_HEADER_IO(11),
-    ARTICULA_HEADER_IO(12), ARTICULA_HEADER_IO(13), ARTICULA_HEADER_IO(14), ARTICULA_HEADER_IO(15),
-    ARTICULA_HEADER_IO(16), ARTICULA_HEADER_IO(17), ARTICULA_HEADER_IO(18), ARTICULA_HEADER_IO(19)};
-static_assert(board::kHeaderPins == 20, "kHeaderIo lists every header pin");
 
 // After an edge (or the rest's end, `first`): arms the next channel's rise, or the period's rest.
 inline void servo_next(bool first) {
@@ -545,6 +549,19 @@ void init() {
   ARTICULA_LED_PORT &= uint8_t(~_BV(ARTICULA_LED_BIT));
   ARTICULA_LED_DDR |= _BV(ARTICULA_LED_BIT);
 
+  // The pins the build keeps not: inputs with their pull-ups, for O and W (an input with
+  // nothing on it reads 1).
+#if defined(ARTICULA_CNC_SHIELD)
+  const uint32_t kFree = ~board::kKeptByShield;
+#elif defined(ARTICULA_SERVO_ARM)
+  const uint32_t kFree = ~board::kKeptByServos;
+#else
+  const uint32_t kFree = ~board::kKeptByCoils;
+#endif
+  PORTD |= uint8_t(kFree);
+  PORTB |= uint8_t((kFree >> 8) & 0x3F);
+  PORTC |= uint8_t((kFree >> 14) & 0x3F);
+
   // Endstops: inputs with pull-ups.
   ARTICULA_ENDSTOP0_DDR &= uint8_t(~_BV(ARTICULA_ENDSTOP0_BIT));
   ARTICULA_ENDSTOP0_PORT |= _BV(ARTICULA_ENDSTOP0_BIT);
@@ -665,8 +682,8 @@ void set_servo_pulse(uint16_t microseconds) {
 void attach_servo(uint8_t motor, uint8_t pin, uint16_t ticks) {
 #if defined(ARTICULA_SERVO_ARM)
   if (motor >= kGripperChannel || pin >= board::kHeaderPins) return;
-  volatile uint8_t* const port = &_SFR_IO8(pgm_read_byte(&kHeaderIo[pin].port_io));
-  const uint8_t bit = pgm_read_byte(&kHeaderIo[pin].bit);
+  uint8_t bit;
+  volatile uint8_t* const port = header_port(pin, bit);
   const uint8_t sreg = interrupts_off();
   *port &= uint8_t(~bit);
   *(port - 1) |= bit;  // DDRx sits just below PORTx
@@ -694,6 +711,26 @@ bool endstop(uint8_t motor) {
       return false;
   }
 }
+
+void io_write(uint8_t pin, bool high) {
+  uint8_t bit;
+  volatile uint8_t* const port = header_port(pin, bit);
+  const uint8_t sreg = interrupts_off();  // (the step and servo interrupts write these ports too)
+  if (high)
+    *port |= bit;
+  else
+    *port &= uint8_t(~bit);
+  *(port - 1) |= bit;
+  interrupts_restore(sreg);
+}
+
+bool io_read(uint8_t pin) {
+  uint8_t bit;
+  volatile uint8_t* const port = header_port(pin, bit);
+  return (*(port - 2) & bit) != 0;
+}
+
+uint32_t io_levels() { return PIND | (uint32_t(PINB & 0x3F) << 8) | (uint32_t(PINC & 0x3F) << 14); }
 
 void start_step_timer(uint32_t first_ticks) {
   uint32_t t = first_ticks < kStartLead ? kStartLead : first_ticks;

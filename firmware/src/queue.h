@@ -24,6 +24,9 @@ enum Kind : uint8_t {
   kHome,     // seek the switches of `mask`, then move to target[] (the switch motors'
              // targets are the steps their switch stands for)
   kDwell,    // a pause of grip.settle_ticks (D), nothing else
+  kOutput,   // header pin `mask` to level grip.percent (O), in no time
+  kWaitIn,   // until header pin `mask` reads grip.percent, for at most grip.settle_ticks
+             // milliseconds (W); past that, the queue is dropped (stepper::take_fault)
 };
 
 struct Gripper {

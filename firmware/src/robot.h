@@ -6,6 +6,8 @@
 #define ARTICULA_FIRMWARE_ROBOT_H
 
 #include <articula/config.h>
+
+#include "board.h"
 #include "ram.h"
 
 namespace robot {
@@ -81,6 +83,20 @@ inline bool servos() {
 }
 // Whether a step is a pulse to the HAL (STEP/DIR drivers and servos) rather than a coil pattern.
 inline bool pulsed() { return step_dir() || servos(); }
+
+// Whether this build has digital I/O (protocol.h's O and W, the status report's I). The build
+// for servo arms has not: it has no flash left for it (docs/protocol.md); O and W give
+// kPinUnavailable there, and its reports carry no I. (The SITL, which drives every kind, has
+// it for the others.)
+static const bool kHasIo = kDrives != (1u << articula::kDriveServo);
+
+// The header pins the drive keeps (board.h's masks, bit n pin n): O and W take the others, and the
+// status report's I shows those. A servo arm keeps them all (kHasIo).
+inline uint32_t kept_pins() {
+  if (step_dir()) return board::kKeptByShield;
+  if (servos()) return (uint32_t(1) << articula::kIoPins) - 1;
+  return board::kKeptByCoils;
+}
 
 // steps_to_millideg(motor(i), steps), the status report's A field: the same value, from a
 // fraction reduced at setup, in 32-bit arithmetic for every step count it fits (all within

@@ -56,6 +56,8 @@ articula::Status set(int32_t n, int32_t thousandths) {
   return articula::kOk;
 }
 
+void warn(uint8_t code) { sr().warning = code; }
+
 uint8_t take_warning() {
   // The main loop (info line) and the status report (an interrupt) both take it: once.
   const uint8_t s = hal::interrupts_off();

@@ -55,6 +55,8 @@ articula::Status set(int32_t n, int32_t thousandths);
 // kSettingsReset once after load() fell back to the defaults, then 0: for the W field of
 // the next status or info report.
 uint8_t take_warning();
+// A status code for the next report to say once (a W that ran out of time: kInputTimeout).
+void warn(uint8_t code);
 
 }  // namespace settings
 

@@ -13,7 +13,10 @@ namespace stepper {
 namespace {
 const uint8_t kJ = robot::kJoints;
 
-enum Mode : uint8_t { kIdle, kMove, kPause, kSeek };
+enum Mode : uint8_t { kIdle, kMove, kPause, kWait, kSeek };
+
+// An input's wait looks at its pin once a millisecond.
+const uint32_t kWaitTicks = hal::kTickHz / 1000;
 
 // The step interrupt's state (stepper.h), in the firmware's (state.h).
 inline Ram& st() { return ram(); }
@@ -97,6 +100,19 @@ uint32_t next_seek() {
   return begin_move(st().home_target, 0);
 }
 
+// An input's wait: over when its pin reads the level (the next action starts), a fault when
+// its time is out; else it looks again in a millisecond.
+uint32_t wait_tick() {
+  if (hal::io_read(st().wait_pin) == (st().wait_level != 0)) return 0;
+  if (st().wait_left == 0) {
+    st().fault = kInputTimedOut;
+    return 0;
+  }
+  --st().wait_left;
+  st().mode = kWait;
+  return kWaitTicks;
+}
+
 // Starts an action already taken off the queue (so the front is the one after it).
 uint32_t begin(const queue::Action& a) {
   switch (a.kind) {
@@ -110,6 +126,15 @@ uint32_t begin(const queue::Action& a) {
       if (a.grip.settle_ticks == 0) return 0;
       st().mode = kPause;
       return a.grip.settle_ticks;
+    case queue::kOutput:
+      if (robot::kHasIo) hal::io_write(a.mask, a.grip.percent != 0);
+      return 0;
+    case queue::kWaitIn:
+      if (!robot::kHasIo) return 0;  // (never queued there)
+      st().wait_pin = a.mask;
+      st().wait_level = a.grip.percent;
+      st().wait_left = a.grip.settle_ticks;
+      return wait_tick();
     case queue::kHome: {
       st().homing = 1;
       for (uint8_t i = 0; i < kJ; ++i) st().home_target[i] = a.target[i];
@@ -156,7 +181,7 @@ uint32_t continue_stop() {
 uint32_t seek_tick() {
   const uint8_t m = st().seek_motor;
   if (st().stop) {
-    st().fault = 1;
+    st().fault = kHomingFailed;
     return halt();
   }
   if (hal::endstop(m)) {
@@ -167,7 +192,7 @@ uint32_t seek_tick() {
     return next_action();
   }
   if (st().seek_left == 0) {
-    st().fault = 1;
+    st().fault = kHomingFailed;
     return halt();
   }
   --st().seek_left;
@@ -259,17 +284,17 @@ void clear_stop() { st().stop = 0; }
 
 void cut_pause() {
   const uint8_t s = hal::interrupts_off();
-  if (st().mode == kPause) {
+  if (st().mode == kPause || st().mode == kWait) {
     hal::stop_step_timer();
     halt();
   }
   hal::interrupts_restore(s);
 }
 
-bool take_fault() {
-  if (!st().fault) return false;
-  st().fault = 0;
-  return true;
+uint8_t take_fault() {
+  const uint8_t f = st().fault;
+  st().fault = kNoFault;
+  return f;
 }
 
 uint8_t gripper_percent() { return st().gripper; }
@@ -283,6 +308,11 @@ uint32_t on_timer() {
       return seek_tick();
     case kPause:
       return next_action();
+    case kWait: {
+      if (!robot::kHasIo) return halt();
+      const uint32_t t = wait_tick();
+      return t != 0 ? t : next_action();
+    }
     default:
       return halt();
   }

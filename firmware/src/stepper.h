@@ -37,7 +37,7 @@ struct Ram {
   articula::LineStepper<robot::kJoints> line;
   volatile uint8_t running;  // set by the main loop (kick), cleared by the interrupt
   volatile uint8_t stop;     // '!' until the main loop has handled it at rest
-  volatile uint8_t fault;    // homing failed or stopped
+  volatile uint8_t fault;    // a Fault: homing failed or stopped, or an input's wait ran out
   volatile uint8_t mode;     // stepper.cpp's Mode
   volatile uint8_t homing;
   uint8_t gripper;
@@ -54,6 +54,10 @@ struct Ram {
   articula::ProfileConstants constants;
   uint32_t homing_ticks;
   uint32_t seek_range[robot::kJoints];  // steps to search for a switch before giving up
+
+  // An input's wait (W): its pin and level, and the milliseconds left.
+  uint8_t wait_pin, wait_level;
+  uint32_t wait_left;
 
   // Homing.
   uint8_t seek_mask;  // switch motors not yet found
@@ -96,12 +100,14 @@ void set_positions(const int32_t* steps);
 void request_stop();
 bool stop_requested();
 void clear_stop();
-// Ends a gripper pause at once (main loop, after a stop request).
+// Ends a gripper pause or an input's wait at once (main loop, after a stop request).
 void cut_pause();
 
-// Homing failed (a switch not found within twice the motor's range) or was stopped:
-// returns true once, then false. The interrupt has stopped and started nothing more.
-bool take_fault();
+// Why the interrupt stopped and started nothing more: homing failed (a switch not found within
+// twice the motor's range) or was stopped, or an input did not read its level in time (W).
+// take_fault() returns it once, then kNoFault.
+enum Fault : uint8_t { kNoFault, kHomingFailed, kInputTimedOut };
+uint8_t take_fault();
 
 // The gripper aperture of the last gripper action started, whole percent.
 uint8_t gripper_percent();

@@ -52,7 +52,7 @@ LINE_TIMEOUT = 15.0
 RUN_TIMEOUT = 30.0
 
 STATUS_RE = re.compile(r"^<(Idle|Run|Stop|Home|Alarm)((?:\|[A-Z]:[^|>]*)*)>$")
-INFO_RE = re.compile(r"^\[Articula\|V:\d+\.\d+\.\d+\|P:4\|J:3\|R:MK2 Plus\|K:21232(\|W:14)?\]$")
+INFO_RE = re.compile(r"^\[Articula\|V:\d+\.\d+\.\d+\|P:5\|J:3\|R:MK2 Plus\|K:21232(\|W:14)?\]$")
 
 
 @pytest.fixture(scope="session")

@@ -77,7 +77,7 @@ class FirmwareSession {
     uint64_t tick = 0;
     uint8_t mask = 0, negative = 0;  // kStep
     int line = 0;                    // kBegin: the line that queued it; kReply: the line answered
-    enum Action { kMove, kGripper, kHome, kDwell } action = kMove;  // kBegin (queue::Kind)
+    enum Action { kMove, kGripper, kHome, kDwell, kOutput, kWaitIn } action = kMove;  // kBegin (queue::Kind)
     std::vector<int32_t> delta;      // kBegin, kMove and kHome: its steps from the plan before it
     MotionSettings motion{};         // kBegin: $0 and $1 when it began
     int percent = -1;                // kBegin, kGripper: the aperture, whole percent

@@ -189,6 +189,10 @@ void command_notes(PredictRecord& r, const Command& cmd, const Robot& robot, con
         note_on(r, "seek time assumes each switch trips at its motor's minimum angle");
       break;
     case kCmdDwell: note_on(r, "waits; nothing moves"); break;
+    case kCmdOutput: note_on(r, "sets an output pin; nothing moves"); break;
+    case kCmdWaitInput:
+      note_on(r, "waits for an input: alone, nothing drives it and it reads 1 (its pull-up)");
+      break;
     default: break;
   }
 }

@@ -25,7 +25,7 @@ nlohmann::json arm_line_json(const std::string& text) {
     }
     return {{"kind", "status"}, {"state", kStateWords[st.state]}, {"at_rest", state_at_rest(st.state)}, {"steps", steps}, {"angles", angles},
             {"millideg", millideg}, {"gripper", st.gripper}, {"free", st.free_slots}, {"coils", st.coils},
-            {"warning", st.warning}};
+            {"io", st.io >= 0 ? json(st.io) : json(nullptr)}, {"warning", st.warning}};
   }
   InfoReport info;
   if (parse_info(info, line, len))

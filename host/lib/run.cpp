@@ -180,6 +180,16 @@ Status KinematicModel::run_command(RunRecord& r, const std::string& text) {
     case kCmdDwell:  // (the parser checked its range)
       r.dwell_s = cmd.arg[0] / 1000.0;
       return kOk;
+    case kCmdOutput:  // nothing on the model's pins: an output moves nothing
+      return kOk;
+    case kCmdWaitInput:
+      // Nothing drives the model's inputs: each reads its pull-up, 1. A wait for 0 runs out.
+      if (cmd.arg[1] == 0) {
+        r.dwell_s = cmd.arg[2] / 1000.0;
+        add_note(r, "nothing drives pin " + std::to_string(cmd.arg[0]) +
+                        " here (it reads 1): the wait runs out, and the arm's firmware drops what follows (error 21)");
+      }
+      return kOk;
     case kCmdName:  // the robot configuration: nothing to run
       return config_check_name(text.data() + cmd.arg[0], uint8_t(cmd.arg[1]));
     case kCmdSetSetting: {

@@ -69,7 +69,7 @@ class Status:
 
 @dataclass
 class Info:
-    """The banner, `[Articula|V:0.1.0|P:4|J:3|R:MK2 Plus|K:21232]`, read by the firmware's parser."""
+    """The banner, `[Articula|V:0.1.0|P:5|J:3|R:MK2 Plus|K:21232]`, read by the firmware's parser."""
     version: str
     protocol: int
     joints: int

@@ -7,8 +7,9 @@
 //   line     = [ word { sep arg } ] [ "#" comment ]     terminated by LF, CR before it ignored
 //   word     = letter | "$"                             a "$" is a word by itself: "$1=5" is
 //                                                       the words "$" and "1=5"
-//   arg      = joint | number | bit | setting
+//   arg      = joint | pin | number | bit | setting
 //   joint    = digit { digit }                          0-based index, below the joint count
+//   pin      = digit { digit }                          a header pin: D0..D13 are 0..13, A0..A5 14..19
 //   number   = [ "+" | "-" ] digits [ "." [ digits ] ] | [ "+" | "-" ] "." digits
 //              parsed exactly into thousandths; more decimals round half away from zero
 //   bit      = "0" | "1"
@@ -31,7 +32,8 @@
 namespace articula {
 
 // 1: the original L and S. 2: M, P, G, H, Z, I, settings, realtime bytes, reports.
-static const uint8_t kProtocolVersion = 4;  // 3: D (dwell). 4: the robot configuration (N, $1xx)
+// 3: D (dwell). 4: the robot configuration (N, $1xx). 5: digital I/O (O, W, the report's I).
+static const uint8_t kProtocolVersion = 5;
 
 static const uint8_t kMaxLineLength = 64;
 
@@ -54,7 +56,13 @@ enum CommandType : uint8_t {
   kCmdDwell,         // D <seconds>: wait, in the queue, before the next queued command
   kCmdName,          // N <text>: the robot's name, staged in the configuration (config.h)
   kCmdLine,          // T <x> <y> <z> <mm/s>: the tool along a straight line to a point (line.h)
+  kCmdOutput,        // O <pin> <0|1>: set an output pin, in the queue (after the moves before it)
+  kCmdWaitInput,     // W <pin> <0|1> <seconds>: wait, in the queue, until an input reads a level
 };
+
+// The header's digital pins, by index: D0..D13 are 0..13, A0..A5 are 14..19 (board.h's table).
+// O and W name them so; a pin the arm's drive uses is refused with kPinUnavailable.
+static const uint8_t kIoPins = 20;
 
 // The longest wait `D` takes, in milliseconds (thousandths of its seconds).
 static const int32_t kMaxDwellMs = 600000L;
@@ -64,6 +72,7 @@ static const int32_t kMaxLineSpeed = 1000000L;
 
 // Argument kinds in a pattern, and what a bad one gives:
 //   'j' joint index, below num_joints                       kBadJoint
+//   'k' header pin index, below kIoPins                      kPinUnavailable
 //   'n' number, in thousandths                              kBadNumber
 //   'b' bit, 0 or 1                                         kBadNumber, kValueOutOfRange
 //   'p' percent: a number from 0 to 100, in thousandths     kBadNumber, kValueOutOfRange
@@ -98,6 +107,8 @@ static const CommandSpec kCommandTable[] ARTICULA_IN_FLASH = {
     {'D', kCmdDwell, "w"},          // seconds
     {'N', kCmdName, "t"},           // the robot's name
     {'T', kCmdLine, "nnnv"},        // x, y, z in mm, the tool's speed in mm/s
+    {'O', kCmdOutput, "kb"},        // pin, level
+    {'W', kCmdWaitInput, "kbw"},    // pin, level, seconds at most
 };
 static const uint8_t kCommandCount = sizeof(kCommandTable) / sizeof(kCommandTable[0]);
 
@@ -280,6 +291,8 @@ inline Status parse_words(CommandType& type, uint8_t& argc, int32_t* arg, uint8_
       }
       if (*kind == 'j') {
         if (!detail::parse_index(v, s, n) || v >= num_joints) return kBadJoint;
+      } else if (*kind == 'k') {
+        if (!detail::parse_index(v, s, n) || v >= kIoPins) return kPinUnavailable;
       } else if (*kind == 'b') {
         if (n != 1 || !detail::is_digit(s[0])) return kBadNumber;
         v = s[0] - '0';
@@ -389,12 +402,15 @@ struct StatusReport {
   uint8_t gripper;              // G: aperture in percent, 0 closed .. 100 open
   uint8_t free_slots;           // Q: free places in the motion queue
   bool coils;                   // C: motor drivers energised
+  int32_t io;                   // I: the levels of the pins the drive leaves free, bit n for
+                                //    header pin n (kIoPins), 1 high; -1: not reported
   uint8_t warning;              // W: a status code said once (kSettingsReset); 0: none
 };
 
 // Bytes a buffer needs for any status report of `joints` joints, its LF and a NUL
 // (a step count takes at most 11 characters, an angle 12, and a comma each).
-constexpr uint16_t status_report_size(uint8_t joints) { return uint16_t(35 + 25 * joints); }
+// I's mask takes 7 more (up to 1,048,575, and its |I:).
+constexpr uint16_t status_report_size(uint8_t joints) { return uint16_t(45 + 25 * joints); }
 
 static const uint8_t kMaxRobotName = 24;
 
@@ -517,6 +533,7 @@ inline bool write_status(Sink& out, const StatusReport<MaxJoints>& r) {
   detail::write_field(out, 'G', r.gripper);
   detail::write_field(out, 'Q', r.free_slots);
   detail::write_field(out, 'C', r.coils);
+  if (r.io >= 0) detail::write_field(out, 'I', r.io);
   if (r.warning != 0) detail::write_field(out, 'W', r.warning);
   out.put('>');
   out.put('\n');
@@ -698,6 +715,7 @@ inline bool parse_status(StatusReport<MaxJoints>& out, const char* line, uint16_
   StatusReport<MaxJoints> r;
   r.state = MachineState(s);
   r.warning = 0;
+  r.io = -1;
   uint8_t seen = 0, steps = 0, angles = 0;
   const int32_t lo = -2147483647L - 1, hi = 2147483647L;
   while (pieces.next(p, n)) {
@@ -735,6 +753,11 @@ inline bool parse_status(StatusReport<MaxJoints>& out, const char* line, uint16_
         bit = 32;
         ok = detail::parse_int(x, v, vn, 1, 255);
         r.warning = uint8_t(x);
+        break;
+      case 'I':
+        bit = 64;
+        ok = detail::parse_int(x, v, vn, 0, (1L << kIoPins) - 1);
+        r.io = x;
         break;
       default:  // a field this host does not know
         break;

@@ -33,7 +33,9 @@ namespace articula {
   X(16, kNoClosedForm, "P and T need a yaw-pitch-pitch arm: this robot has no closed form") \
   X(17, kConfigChecksum, "robot configuration incomplete: its checksum differs")        \
   X(18, kConfigInvalid, "robot configuration unusable (a motor's steps, gear, limits or home)") \
-  X(19, kLineNotFollowed, "the straight line passes where the arm must change its pose (a singularity)")
+  X(19, kLineNotFollowed, "the straight line passes where the arm must change its pose (a singularity)") \
+  X(20, kPinUnavailable, "no such pin, or one the arm's drive uses (O, W: D0..D13 are 0..13, A0..A5 14..19)") \
+  X(21, kInputTimeout, "an input did not read its level in time (W): what was queued after it was dropped")
 
 enum Status : uint8_t {
 #define ARTICULA_STATUS_ENUM(code, name, text) name = code,

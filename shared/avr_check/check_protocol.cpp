@@ -4,7 +4,7 @@ using namespace articula;
 
 // What the firmware holds, at its size: a command for three joints, one line buffer.
 static_assert(sizeof(BasicCommand<kJoints + 1>) == 2 + 4 * (kJoints + 1), "a firmware command holds only its joints, or T's four numbers");
-static_assert(sizeof(StatusReport<kJoints>) <= 32, "a status report is built on the stack");
+static_assert(sizeof(StatusReport<kJoints>) <= 34, "a status report is built on the stack (its I: 4 bytes)");
 static_assert(sizeof(RealtimeCommand) == 1 && sizeof(MachineState) == 1, "one-byte enums");
 
 // A stand-in for the firmware's serial transmit buffer.

@@ -640,6 +640,25 @@ TEST(ParseLine, Settings) {
   for (const auto& c : bad) EXPECT_EQ(parse(c.first), c.second) << '"' << c.first << '"';
 }
 
+TEST(ParseLine, DigitalIo) {
+  // A header pin by index (D0..D13, A0..A5: 0..19), a level, W's seconds as D's.
+  EXPECT_TRUE(parses_to("O 19 1", kCmdOutput, {19, 1}));
+  EXPECT_TRUE(parses_to("o 0 0 # D0", kCmdOutput, {0, 0}));
+  EXPECT_TRUE(parses_to("W 18 0 2.5", kCmdWaitInput, {18, 0, 2500}));
+  EXPECT_TRUE(parses_to("W 12 1 0", kCmdWaitInput, {12, 1, 0}));
+  EXPECT_EQ(parse("O 20 1"), kPinUnavailable);
+  EXPECT_EQ(parse("O 1234 1"), kPinUnavailable);
+  EXPECT_EQ(parse("O -1 1"), kPinUnavailable);
+  EXPECT_EQ(parse("O A5 1"), kPinUnavailable);
+  EXPECT_EQ(parse("O 19 2"), kValueOutOfRange);
+  EXPECT_EQ(parse("O 19"), kMissingArgument);
+  EXPECT_EQ(parse("W 19 1"), kMissingArgument);
+  EXPECT_EQ(parse("W 19 1 601"), kValueOutOfRange);
+  EXPECT_EQ(parse("W 19 1 -1"), kValueOutOfRange);
+  EXPECT_EQ(parse("W 19 1 nan"), kBadNumber);
+  EXPECT_EQ(parse("W 19 1 5 5"), kExtraArgument);
+}
+
 TEST(ParseLine, EveryTableRowIsReachable) {
   // A valid line built from each row's pattern parses to that row's type: no row is shadowed
   // by another with the same word.
@@ -653,6 +672,7 @@ TEST(ParseLine, EveryTableRowIsReachable) {
       for (int i = 0; i < repeat; ++i) {
         switch (*k) {
           case 'j': line += " 2", args.push_back(2); break;
+          case 'k': line += " 19", args.push_back(19); break;
           case 'b': line += " 1", args.push_back(1); break;
           case 's': line += " 4=7", args.push_back(4), args.push_back(7000); break;
           case 't': line += " My arm ", args.push_back(2), args.push_back(6); break;  // offset, length
@@ -665,7 +685,7 @@ TEST(ParseLine, EveryTableRowIsReachable) {
     types.insert(row.type);
   }
   EXPECT_EQ(types.size(), size_t(kCommandCount));
-  EXPECT_EQ(kCommandCount, 13);
+  EXPECT_EQ(kCommandCount, 15);
 }
 
 // ---- Realtime bytes ----
@@ -764,6 +784,7 @@ StatusReport<3> example_status() {
   r.gripper = 100;
   r.free_slots = 15;
   r.coils = true;
+  r.io = -1;  // (a firmware without I/O: no I field)
   r.warning = 0;
   return r;
 }
@@ -846,6 +867,7 @@ TEST(Reports, StatusBufferSizeIsTightAndSafe) {
     r.gripper = 100;
     r.free_slots = 255;
     r.coils = true;
+    r.io = (1L << kIoPins) - 1;
     r.warning = 255;
     std::vector<char> buf(status_report_size(joints) + 8, '#');
     const uint16_t n = format_status(buf.data(), status_report_size(joints), r);
@@ -887,6 +909,7 @@ TEST(Reports, StatusRoundTripRandom) {
     r.gripper = uint8_t(pct(rng));
     r.free_slots = uint8_t(byte(rng));
     r.coils = coin(rng) & 1;
+    r.io = coin(rng) == 0 ? -1 : int32_t(rng() % (1UL << kIoPins));
     r.warning = coin(rng) == 0 ? uint8_t(1 + byte(rng) % 255) : 0;
     char buf[status_report_size(12)];
     const uint16_t n = format_status(buf, sizeof buf, r);
@@ -903,6 +926,7 @@ TEST(Reports, StatusRoundTripRandom) {
     ASSERT_EQ(back.gripper, r.gripper);
     ASSERT_EQ(back.free_slots, r.free_slots);
     ASSERT_EQ(back.coils, r.coils);
+    ASSERT_EQ(back.io, r.io);
     ASSERT_EQ(back.warning, r.warning);
     // The controller's line as the host reads it: without LF, or with CRLF.
     ASSERT_TRUE(parse_status(back, buf, uint16_t(n - 1)));
@@ -970,13 +994,13 @@ TEST(Reports, Info) {
   InfoReport info = {{0, 1, 0}, kProtocolVersion, 3, "MK2 Plus", 40233, 0};
   char buf[kInfoReportSize];
   uint16_t n = format_info(buf, sizeof buf, info);
-  EXPECT_EQ(std::string(buf, n), "[Articula|V:0.1.0|P:4|J:3|R:MK2 Plus|K:40233]\n");
+  EXPECT_EQ(std::string(buf, n), "[Articula|V:0.1.0|P:5|J:3|R:MK2 Plus|K:40233]\n");
   InfoReport back;
   ASSERT_TRUE(parse_info(back, buf, n));
   EXPECT_EQ(back.version[0], 0);
   EXPECT_EQ(back.version[1], 1);
   EXPECT_EQ(back.version[2], 0);
-  EXPECT_EQ(back.protocol, 4);
+  EXPECT_EQ(back.protocol, 5);
   EXPECT_EQ(back.checksum, 40233);
   EXPECT_EQ(back.num_joints, 3);
   EXPECT_STREQ(back.name, "MK2 Plus");
@@ -1073,11 +1097,28 @@ TEST(Reports, SinkFormIsTheBufferForm) {
   sink.s.clear();
   const InfoReport info = {{1, 2, 3}, kProtocolVersion, 3, "x", -1, 0};
   ASSERT_TRUE(write_info(sink, info));
-  EXPECT_EQ(sink.s, "[Articula|V:1.2.3|P:4|J:3|R:x]\n");
+  EXPECT_EQ(sink.s, "[Articula|V:1.2.3|P:5|J:3|R:x]\n");
   sink.s.clear();
   ASSERT_TRUE(write_setting(sink, 5, -1500));
   EXPECT_EQ(sink.s, "$5=-1.500\n");
   sink.s.clear();
   EXPECT_FALSE(write_setting(sink, 1000, 0));
   EXPECT_EQ(sink.s, "");
+}
+
+TEST(Reports, StatusIoField) {
+  // I: the free pins' levels, a mask; absent (-1) from a firmware without I/O.
+  StatusReport<3> r = example_status();
+  r.io = 1L << 19;
+  const std::string text = status_text_of(r);
+  EXPECT_NE(text.find("|C:1|I:524288>"), std::string::npos) << text;
+  StatusReport<3> back;
+  ASSERT_TRUE(parse_status(back, text.data(), uint16_t(text.size())));
+  EXPECT_EQ(back.io, 1L << 19);
+  const std::string old = "<Idle|S:0,0,0|A:0,0,0|G:0|Q:15|C:0>";
+  ASSERT_TRUE(parse_status(back, old.data(), uint16_t(old.size())));
+  EXPECT_EQ(back.io, -1);
+  for (const char* bad : {"<Idle|S:0|A:0|G:0|Q:15|C:0|I:1048576>", "<Idle|S:0|A:0|G:0|Q:15|C:0|I:-1>",
+                          "<Idle|S:0|A:0|G:0|Q:15|C:0|I:1|I:1>"})
+    EXPECT_FALSE(parse_status(back, bad, uint16_t(std::strlen(bad)))) << bad;
 }

@@ -99,7 +99,9 @@ TEST(Status, EnumValuesAreTheCodes) {
   EXPECT_EQ(kConfigChecksum, 17);
   EXPECT_EQ(kConfigInvalid, 18);
   EXPECT_EQ(kLineNotFollowed, 19);
-  EXPECT_EQ(kStatusCount, 20);
+  EXPECT_EQ(kPinUnavailable, 20);
+  EXPECT_EQ(kInputTimeout, 21);
+  EXPECT_EQ(kStatusCount, 22);
   EXPECT_STREQ(status_name(kLineTooLong), "LineTooLong");
   EXPECT_STREQ(status_text(kOk), "ok");
 }

@@ -429,6 +429,84 @@ TEST(Controller, DwellWaitsInTheQueue) {
   EXPECT_TRUE(sim::at_rest());
 }
 
+// O and W (protocol 5): an output set in queue order, after the move before it; a wait that
+// ends within a millisecond of its input's change and holds the move behind it until then; one
+// that runs out drops what follows and says W:21; pins the drive keeps refused.
+TEST(Controller, DigitalIoInQueueOrder) {
+  sim::boot();
+  sim::status();  // (the blank EEPROM's W:14)
+  const uint32_t kept = robot::kept_pins();
+  int pin = -1;
+  for (int p = 0; p < kIoPins && pin < 0; ++p)
+    if (!(kept & (1UL << p))) pin = p;
+  EXPECT_EQ(sim::command("O 1 1"), "error:20");  // D1: the serial line's TX
+  EXPECT_EQ(sim::command("W 20 1 1"), "error:20");
+  if (pin < 0) {  // (the servo build's drive keeps every pin: no I/O)
+    EXPECT_EQ(sim::command("O 19 1"), "error:20");
+    EXPECT_EQ(sim::command("W 19 1 1"), "error:20");
+    EXPECT_TRUE(sim::at_rest());
+    return;
+  }
+  const uint32_t bit = uint32_t(1) << pin;
+  const std::string p = std::to_string(pin);
+  sitl::Hardware& hw = sitl::hw();
+  // At power-up a free pin is an input with its pull-up: I shows it high.
+  EXPECT_EQ(uint32_t(sim::status().io), ~kept & ((1UL << kIoPins) - 1));
+
+  // W holds the move behind it until the input reads 0: something outside pulls it low 1 s in.
+  ASSERT_EQ(sim::command("W " + p + " 0 5"), "ok");
+  ASSERT_EQ(sim::command("L 0 10"), "ok");
+  sim::run_until([] { return false; }, sim::kSecond);  // (a second of the wait)
+  EXPECT_EQ(sim::status().state, kStateRun);
+  EXPECT_TRUE(sim::steps_of(0).empty());
+  const uint64_t low_at = hw.now;
+  hw.io_driven |= bit;
+  hw.io_external &= ~bit;
+  ASSERT_TRUE(sim::run_until_at_rest());
+  const std::vector<sim::Step> moved = sim::steps_of(0);
+  ASSERT_FALSE(moved.empty());
+  uint64_t began = 0;
+  for (const sitl::ActionEvent& e : hw.actions)
+    if (e.kind == queue::kMove) began = e.tick;
+  EXPECT_GE(began, low_at);
+  EXPECT_LE(began, low_at + sim::kSecond / 1000 + sim::kPollTicks);  // a look a millisecond
+  hw.io_driven &= ~bit;
+
+  // O after a move: the pin changes when the move's last step is made, not before.
+  ASSERT_EQ(sim::command("L 0 -10"), "ok");
+  ASSERT_EQ(sim::command("O " + p + " 0"), "ok");
+  ASSERT_TRUE(sim::run_until_at_rest());
+  ASSERT_FALSE(hw.io_log.empty());
+  EXPECT_EQ(hw.io_log.back().pin, pin);
+  EXPECT_FALSE(hw.io_log.back().high);
+  const uint64_t last_step = sim::steps_of(0).back().tick;
+  EXPECT_GE(hw.io_log.back().tick, last_step);
+  EXPECT_LE(hw.io_log.back().tick, last_step + sim::kSecond / 100);
+  EXPECT_EQ(uint32_t(sim::status().io) & bit, 0u);
+
+  // A wait that runs out: the move behind it is dropped, the next report says W:21, at rest.
+  const int32_t before = hw.position[0];
+  ASSERT_EQ(sim::command("W " + p + " 1 0.25"), "ok");  // (an output reads its own level: 0)
+  ASSERT_EQ(sim::command("L 0 10"), "ok");
+  ASSERT_TRUE(sim::run_until_at_rest());
+  const sim::Status s = sim::status();
+  EXPECT_EQ(s.warning, kInputTimeout);
+  EXPECT_EQ(s.state, kStateIdle);
+  EXPECT_EQ(hw.position[0], before);
+  EXPECT_EQ(sim::status().warning, 0);  // said once
+  // and the plan goes on from where the arm stands
+  ASSERT_EQ(sim::command("L 0 10"), "ok");
+  ASSERT_TRUE(sim::run_until_at_rest());
+  EXPECT_NE(hw.position[0], before);
+
+  // '!' ends a wait at once.
+  ASSERT_EQ(sim::command("W " + p + " 1 600"), "ok");
+  sim::run_until([] { return false; }, sim::kSecond / 10);
+  sim::send("!");
+  ASSERT_TRUE(sim::run_until_at_rest(sim::kSecond / 10));
+  EXPECT_EQ(sim::hal_errors(), "");
+}
+
 // The example session of docs/protocol.md, line by line, on the MK2 (each '?' after the
 // moves before it have ended, as a person typing would see it).
 TEST(Controller, ExampleSessionOfTheProtocolDocument) {
