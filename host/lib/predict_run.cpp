@@ -191,7 +191,8 @@ void command_notes(PredictRecord& r, const Command& cmd, const Robot& robot, con
     case kCmdDwell: note_on(r, "waits; nothing moves"); break;
     case kCmdOutput: note_on(r, "sets an output pin; nothing moves"); break;
     case kCmdWaitInput:
-      note_on(r, "waits for an input: alone, nothing drives it and it reads 1 (its pull-up)");
+      note_on(r, "waits for an input's level: alone, nothing drives an input (it reads 1, its pull-up; a pin O set "
+                 "reads its own level); a wait whose time runs out drops what was queued after it (W:21)");
       break;
     default: break;
   }

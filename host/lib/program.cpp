@@ -3,6 +3,8 @@
 
 #include <articula/protocol.h>
 
+#include "wiring.h"
+
 #include <cctype>
 #include <cmath>
 #include <fstream>
@@ -294,6 +296,9 @@ std::string explain_line_error(const std::string& line, Status status, const Rob
     case 'G': takes = "G takes 1 value: how far open, 0 (closed) to 100 (open) %"; break;
     case 'S': takes = "S takes 1 value: 1 closes the gripper, 0 opens it"; break;
     case 'D': takes = "D takes 1 value: the seconds to wait, 0 to " + std::to_string(kMaxDwellMs / 1000); break;
+    case 'O': takes = "O takes 2 values: a pin (D0..D13 are 0..13, A0..A5 14..19) and its level, 1 or 0"; break;
+    case 'W': takes = "W takes 3 values: a pin (D0..D13 are 0..13, A0..A5 14..19), the level to wait for (1 or 0) and the seconds at most, 0 to " +
+                      std::to_string(kMaxDwellMs / 1000); break;
     default: break;
   }
   switch (status) {
@@ -306,11 +311,15 @@ std::string explain_line_error(const std::string& line, Status status, const Rob
           return "'" + words[i] + "' is not a number: write digits, like 10 or -2.5";
       return "";
     case kUnknownCommand:
-      return "'" + words[0] + "' is not a command: a line starts with L, M, P, G, S, D, H, Z, I or $ (docs/protocol.md)";
+      return "'" + words[0] + "' is not a command: a line starts with L, M, P, T, G, S, D, O, W, H, Z, I or $ (docs/protocol.md)";
     case kBadJoint:
       return "the joints are numbered 0 to " + std::to_string(actuators - 1) + " (" + join_names(names) + ")";
     case kValueOutOfRange:
       return takes;
+    case kPinUnavailable:
+      if (!robot.has_motors) return "";
+      return std::string("O and W take a pin this arm's board leaves free: ") + io_pins_free_text(robot) +
+             " (D0..D13 are 0..13, A0..A5 14..19)";
     default:
       return "";
   }

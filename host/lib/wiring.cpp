@@ -148,6 +148,21 @@ Wiring wire(const Robot& robot) {
   return w;
 }
 
+uint32_t io_pins_free(const Robot& robot) {
+  const uint32_t all = (uint32_t(1) << board::kHeaderPins) - 1;
+  const DriveKind kind = arm_drive(robot);
+  if (kind == kDriveServo) return 0;
+  return all & ~uint32_t(kind == kDriveStepDir ? board::kKeptByShield : board::kKeptByCoils);
+}
+
+std::string io_pins_free_text(const Robot& robot) {
+  std::string out;
+  const uint32_t free = io_pins_free(robot);
+  for (int i = 0; i < board::kHeaderPins; ++i)
+    if (free & (uint32_t(1) << i)) out += (out.empty() ? "" : ", ") + std::string(board::kHeaderPin[i].pin);
+  return out.empty() ? "none" : out;
+}
+
 const char* firmware_build(const Robot& robot) {
   const DriveKind kind = arm_drive(robot);
   return kind == kDriveStepDir ? "articula-cnc" : kind == kDriveServo ? "articula-servo" : "articula-nano";

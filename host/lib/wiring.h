@@ -50,6 +50,13 @@ Wiring wire(const Robot& robot);
 // "articula-servo" (hobby servos on the board's pins). firmware/avr.cmake makes each.
 const char* firmware_build(const Robot& robot);
 
+// The header pins the robot's firmware build lets O and W use (protocol.h), bit n for header pin
+// n (board.h's kHeaderPin): those its drive keeps not (board.h's kKeptBy* masks). None for the
+// servo build (no I/O yet).
+uint32_t io_pins_free(const Robot& robot);
+// Their names, "A5" or "D12, A0, A1, A2, A4, A5"; "none" when there are none.
+std::string io_pins_free_text(const Robot& robot);
+
 // The wiring as data, for the CLI (`articula wiring`), Python (`Robot.wiring()`) and the page:
 // {"board": id, "board_title", "given" (the file names its drive), "firmware" (firmware_build),
 // "wires": [{"pin": "D4",

@@ -120,8 +120,15 @@ TEST(ProtocolProgram, EveryLineCheckedBeforeAnythingRuns) {
             "prog.arm:1: 'L 0 ten': error:3 bad number (expected digits with optional sign and decimal point): 'ten' is "
             "not a number: write digits, like 10 or -2.5");
   EXPECT_EQ(error_of("X\n", mk2(), false),
-            "prog.arm:1: 'X': error:2 unknown command: 'X' is not a command: a line starts with L, M, P, G, S, D, H, Z, "
-            "I or $ (docs/protocol.md)");
+            "prog.arm:1: 'X': error:2 unknown command: 'X' is not a command: a line starts with L, M, P, T, G, S, D, O, W, "
+            "H, Z, I or $ (docs/protocol.md)");
+  // O and W: the pins this arm's board leaves free, named (the MK2 on L298Ns: A5 alone)
+  EXPECT_EQ(error_of("O 20 1\n", mk2(), false),
+            "prog.arm:1: 'O 20 1': error:20 no such pin, or one the arm's drive uses (O, W: D0..D13 are 0..13, A0..A5 "
+            "14..19): O and W take a pin this arm's board leaves free: A5 (D0..D13 are 0..13, A0..A5 14..19)");
+  EXPECT_EQ(error_of("W 19 1\n", mk2(), false),
+            "prog.arm:1: 'W 19 1': error:4 missing argument: W takes 3 values: a pin (D0..D13 are 0..13, A0..A5 "
+            "14..19), the level to wait for (1 or 0) and the seconds at most, 0 to 600; this line gives 2");
   EXPECT_EQ(error_of("L 0 " + std::string(70, '1') + "\n", mk2(), false), "prog.arm:1: line longer than 64 bytes (error:7)");
 }
 

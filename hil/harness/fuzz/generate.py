@@ -17,7 +17,7 @@ from ..robot import Robot
 RUN_SETTINGS = {0: 4000, 1: 100000, 5: 0}
 # The firmware's settings and their defaults: shared/articula/settings.h, through the bindings.
 SETTING_DEFAULTS = {n: default for n, (_lo, _hi, default) in articula._core._settings_table.items()}
-UNKNOWN_LETTERS = [c for c in "ABCEFJKOQRUVWXY"]
+UNKNOWN_LETTERS = [c for c in "ABCEFJKQRUVXY"]  # (O and W are commands since protocol 5)
 REALTIME = (ord("?"), ord("!"))
 MAX_LINE = 64
 VALID_MARGIN = 1500  # thousandths of a degree: valid targets stay this far inside the limits
