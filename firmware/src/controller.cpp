@@ -447,7 +447,7 @@ __attribute__((noinline)) uint8_t status_line(char* buf, uint8_t cap) {
   const uint8_t queued = queue::count();
   r.gripper = stepper::gripper_percent();
   r.coils = coils::on();
-  r.io = robot::kHasIo ? int32_t(hal::io_levels() & ~robot::kept_pins() & ((uint32_t(1) << kIoPins) - 1)) : -1;
+  r.io = robot::kHasIo ? int32_t(hal::io_levels() & ~robot::kept_pins() & board::kAllHeaderPins) : -1;
   hal::interrupts_restore(s);
   r.state = stop                        ? kStateStop
             : homing                    ? kStateHome

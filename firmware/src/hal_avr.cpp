@@ -53,6 +53,7 @@
 #include "articula/protocol.h"
 #include "firmware.h"
 #include "pins.h"
+#include "robot.h"
 #include "report.h"
 
 namespace {
@@ -550,17 +551,13 @@ void init() {
   ARTICULA_LED_DDR |= _BV(ARTICULA_LED_BIT);
 
   // The pins the build keeps not: inputs with their pull-ups, for O and W (an input with
-  // nothing on it reads 1).
-#if defined(ARTICULA_CNC_SHIELD)
-  const uint32_t kFree = ~board::kKeptByShield;
-#elif defined(ARTICULA_SERVO_ARM)
-  const uint32_t kFree = ~board::kKeptByServos;
-#else
-  const uint32_t kFree = ~board::kKeptByCoils;
-#endif
-  PORTD |= uint8_t(kFree);
-  PORTB |= uint8_t((kFree >> 8) & 0x3F);
-  PORTC |= uint8_t((kFree >> 14) & 0x3F);
+  // nothing on it reads 1). (robot::kept_pins() is a constant in a build of one drive family.)
+  if (robot::kHasIo) {
+    const uint32_t free = ~robot::kept_pins();
+    PORTD |= uint8_t(free);
+    PORTB |= uint8_t((free >> 8) & 0x3F);
+    PORTC |= uint8_t((free >> 14) & 0x3F);
+  }
 
   // Endstops: inputs with pull-ups.
   ARTICULA_ENDSTOP0_DDR &= uint8_t(~_BV(ARTICULA_ENDSTOP0_BIT));

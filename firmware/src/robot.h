@@ -92,11 +92,8 @@ static const bool kHasIo = kDrives != (1u << articula::kDriveServo);
 
 // The header pins the drive keeps (board.h's masks, bit n pin n): O and W take the others, and the
 // status report's I shows those. A servo arm keeps them all (kHasIo).
-inline uint32_t kept_pins() {
-  if (step_dir()) return board::kKeptByShield;
-  if (servos()) return (uint32_t(1) << articula::kIoPins) - 1;
-  return board::kKeptByCoils;
-}
+inline uint32_t kept_pins() { return board::kept_by(step_dir(), servos()); }
+static_assert(board::kHeaderPins == articula::kIoPins, "O and W name the header's pins");
 
 // steps_to_millideg(motor(i), steps), the status report's A field: the same value, from a
 // fraction reduced at setup, in 32-bit arithmetic for every step count it fits (all within

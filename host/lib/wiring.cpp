@@ -149,10 +149,8 @@ Wiring wire(const Robot& robot) {
 }
 
 uint32_t io_pins_free(const Robot& robot) {
-  const uint32_t all = (uint32_t(1) << board::kHeaderPins) - 1;
   const DriveKind kind = arm_drive(robot);
-  if (kind == kDriveServo) return 0;
-  return all & ~uint32_t(kind == kDriveStepDir ? board::kKeptByShield : board::kKeptByCoils);
+  return uint32_t(board::kAllHeaderPins & ~board::kept_by(kind == kDriveStepDir, kind == kDriveServo));
 }
 
 std::string io_pins_free_text(const Robot& robot) {
