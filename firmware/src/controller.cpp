@@ -447,8 +447,10 @@ __attribute__((noinline)) uint8_t status_line(char* buf, uint8_t cap) {
   const uint8_t queued = queue::count();
   r.gripper = stepper::gripper_percent();
   r.coils = coils::on();
-  r.io = robot::kHasIo ? int32_t(hal::io_levels() & ~robot::kept_pins() & board::kAllHeaderPins) : -1;
   hal::interrupts_restore(s);
+  // (The pins' levels need no critical section: outside it, they keep the step interrupt's
+  // deadlines where they were.)
+  r.io = robot::kHasIo ? int32_t(hal::io_levels() & ~robot::kept_pins() & board::kAllHeaderPins) : -1;
   r.state = stop                        ? kStateStop
             : homing                    ? kStateHome
             : (running || queued != 0)  ? kStateRun
