@@ -136,9 +136,11 @@ void reset(bool blank_eeprom) {
   uint8_t keep[sizeof hw.eeprom];
   std::memcpy(keep, hw.eeprom, sizeof keep);
   const uint32_t driven = hw.io_driven, external = hw.io_external;  // (what is wired to it stays)
+  std::function<void()> sync = std::move(hw.io_sync);
   hw = Hardware();
   hw.io_driven = driven;
   hw.io_external = external;
+  hw.io_sync = std::move(sync);
   if (blank_eeprom)
     std::memset(hw.eeprom, 0xFF, sizeof hw.eeprom);
   else
@@ -242,7 +244,12 @@ void action_queued(const queue::Action& a) {
     q.percent = a.grip.percent;
     q.pulse_us = a.grip.pulse_us;
   }
-  if (a.kind == queue::kGripper || a.kind == queue::kDwell) q.settle_ticks = a.grip.settle_ticks;
+  if (a.kind == queue::kGripper || a.kind == queue::kDwell || a.kind == queue::kWaitIn)
+    q.settle_ticks = a.grip.settle_ticks;
+  if (a.kind == queue::kOutput || a.kind == queue::kWaitIn) {
+    q.pin = a.mask;
+    q.percent = a.grip.percent;
+  }
   q.max_rate = settings::value()[settings::kMaxRate];
   q.accel = settings::value()[settings::kAccel];
   q.steps = a.plan.steps;
@@ -271,7 +278,8 @@ bool endstop(uint8_t motor) {
 }
 
 uint32_t io_levels() {
-  const sitl::Hardware& hw = sitl::hw();
+  sitl::Hardware& hw = sitl::hw();
+  if (hw.io_driven && hw.io_sync) hw.io_sync();
   // An output reads its level; an input what drives it, else its pull-up (else nothing: 0).
   return (hw.io_output & hw.io_high) | (~hw.io_output & hw.io_driven & hw.io_external) |
          (~hw.io_output & ~hw.io_driven & hw.io_high);

@@ -72,10 +72,11 @@ struct QueuedAction {
   uint64_t tick;
   uint8_t kind;             // queue::Kind
   int32_t delta[kMotors];   // kMove, kHome: its steps, from the plan before it
-  uint8_t percent;          // kGripper: the aperture, whole percent, and its servo pulse
-  uint16_t pulse_us;
+  uint8_t percent;          // kGripper: the aperture, whole percent, and its servo pulse;
+  uint16_t pulse_us;        //   kOutput, kWaitIn: the level (0 or 1)
+  uint8_t pin;              // kOutput, kWaitIn: the header pin
   uint16_t steps, cruise4;  // kMove: its plan block (articula/planner.h)
-  uint32_t settle_ticks;    // kGripper, kDwell: its pause
+  uint32_t settle_ticks;    // kGripper, kDwell: its pause; kWaitIn: its limit, ms (0: none)
   uint32_t max_rate, accel;  // $0 and $1 when it was queued (they change only at rest)
   size_t began;             // its entry in Hardware::actions, or kNever
 };
@@ -159,6 +160,9 @@ struct Hardware {
     bool high;
   };
   std::vector<IoChange> io_log;
+  // Called before the firmware reads its pins while something outside drives one (io_driven):
+  // the host brings io_external up to the current tick (a cell's wires from other machines).
+  std::function<void()> io_sync;
 
   // Endstops: pressed while position <= at (below) or >= at (!below).
   bool endstop_fitted[kMotors] = {};

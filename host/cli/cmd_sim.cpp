@@ -53,7 +53,7 @@ std::string event_text(const host::SimEvent& e) {
 bool is_trouble(host::SimEvent::Kind k) {
   using K = host::SimEvent::Kind;
   return k == K::kCollision || k == K::kSelfCollision || k == K::kSqueeze || k == K::kStepsLost || k == K::kBlocked ||
-         k == K::kRejected || k == K::kObjectRemoved || k == K::kGripperBlocked;
+         k == K::kRejected || k == K::kObjectRemoved || k == K::kGripperBlocked || k == K::kDeadlock;
 }
 
 void sim_progress(double t, double end) {

@@ -228,10 +228,94 @@ void FirmwareSession::put(const Sent& x) {
 
 void FirmwareSession::run_to(uint64_t tick) {
   const sitl::Machine::Use use(*nano_);
+  if (feed_) {
+    run_feeding(t0_ + tick);
+    now_ = std::max(now_, sitl::hw().now - t0_);
+    harvest();
+    return;
+  }
   if (tick <= now_) return;
   sitl::run_to(t0_ + tick);
   now_ = tick;
   harvest();
+}
+
+// Event by event, so that a line goes at the very tick the arm comes to rest after the reply
+// before (as send() with kAtRest sends it).
+void FirmwareSession::run_feeding(uint64_t until) {
+  const sitl::Hardware& hw = sitl::hw();
+  for (;;) {
+    while (feed_ && hw.replies.size() >= feed_answers_ && sitl::at_rest())
+      if (!feed_next()) break;
+    if (hw.now >= until) return;
+    sitl::run_to(std::min(sitl::next_event(), until));
+  }
+}
+
+bool FirmwareSession::feed_next() {
+  const sitl::Hardware& hw = sitl::hw();
+  harvest();  // (the replies so far taken off unanswered_)
+  const uint64_t at = hw.now - t0_;
+  std::string text;
+  int line = 0;
+  if (!feed_(at, text, line)) {
+    feed_ = nullptr;
+    feed_ended_ = at;
+    return false;
+  }
+  const Sent x{text, line, at, true};  // (at rest: all of it in at once)
+  sent_any_ = true;
+  put(x);
+  if (!is_stop_line(text)) {
+    unanswered_.push_back(x);
+    feed_answers_ = hw.replies.size() + unanswered_.size();
+  }
+  return true;
+}
+
+void FirmwareSession::feed(Feed next) {
+  const sitl::Machine::Use use(*nano_);
+  feed_ = std::move(next);
+  feed_ended_ = 0;
+  feed_answers_ = sitl::hw().replies.size() + unanswered_.size();
+  run_feeding(sitl::hw().now);  // (the first line now, if the arm is at rest)
+  harvest();
+}
+
+void FirmwareSession::drive_inputs(uint32_t driven, std::function<uint32_t(uint64_t tick)> levels) {
+  const sitl::Machine::Use use(*nano_);
+  sitl::Hardware& hw = sitl::hw();
+  hw.io_driven = driven;
+  hw.io_sync = [this, levels = std::move(levels)] {
+    sitl::Hardware& h = sitl::hw();
+    h.io_external = levels(h.now - t0_);
+  };
+}
+
+bool FirmwareSession::output_level(int pin, uint64_t tick) {
+  const sitl::Machine::Use use(*nano_);
+  const auto& log = sitl::hw().io_log;
+  for (size_t k = log.size(); k-- > 0;)
+    if (log[k].pin == pin && log[k].tick <= t0_ + tick) return log[k].high;
+  return true;  // (every free pin powers up an input with its pull-up)
+}
+
+uint64_t FirmwareSession::clock() {
+  const sitl::Machine::Use use(*nano_);
+  return sitl::hw().now - t0_;
+}
+
+std::optional<FirmwareSession::InputWait> FirmwareSession::waiting() {
+  const sitl::Machine::Use use(*nano_);
+  const sitl::Hardware& hw = sitl::hw();
+  if (hw.actions.empty() || hw.actions.back().kind != queue::kWaitIn) return std::nullopt;
+  const size_t began = hw.actions.size() - 1;
+  for (size_t q = hw.queued.size(); q-- > 0;)
+    if (hw.queued[q].began == began) {
+      const sitl::QueuedAction& a = hw.queued[q];
+      return InputWait{a.pin, a.percent, a.settle_ticks, hw.actions.back().tick - t0_};
+    }
+  return std::nullopt;
 }
 
 uint64_t FirmwareSession::run_to_rest() {
@@ -266,7 +350,9 @@ std::vector<FirmwareSession::Event> FirmwareSession::take(uint64_t tick) {
 void FirmwareSession::harvest() {
   const sitl::Hardware& hw = sitl::hw();
   const int n = robot_.actuation.num_motors;
-  std::vector<std::pair<int, Event>> got;  // (its rank at a tie: a step, the timer's stop, a begin, a reply)
+  // (Its rank at a tie: a step, then the timer's stops and the begins in the order the firmware
+  // logged them (a wait met at once begins and stops at one tick), then a reply.)
+  std::vector<std::pair<int, Event>> got;
   // Replies, in the order of the lines; the actions queued before each, its line's.
   for (; replies_ < hw.replies.size(); ++replies_) {
     const sitl::Reply& r = hw.replies[replies_];
@@ -312,8 +398,12 @@ void FirmwareSession::harvest() {
     if (qa.kind == queue::kMove || qa.kind == queue::kHome) e.delta.assign(qa.delta, qa.delta + n);
     e.motion = MotionSettings{kStepTickHz, qa.max_rate, qa.accel};
     if (qa.kind == queue::kGripper) e.percent = qa.percent;
+    if (qa.kind == queue::kOutput || qa.kind == queue::kWaitIn) {
+      e.pin = qa.pin;
+      e.level = qa.percent;
+    }
     e.settle_ticks = qa.settle_ticks;
-    got.push_back({2, e});
+    got.push_back({1, e});
   }
   for (; coils_ < hw.coil_log.size(); ++coils_) {
     const sitl::CoilWrite& w = hw.coil_log[coils_];

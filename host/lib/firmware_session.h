@@ -85,6 +85,7 @@ class FirmwareSession {
     std::vector<int32_t> counted;    // kBegin, kIdle; kReply to Z: the firmware's step counts then
     Status status = kOk;             // kReply
     std::string text;                // kReply: the line
+    int pin = -1, level = -1;        // kBegin, kOutput and kWaitIn: the header pin and its level
   };
 
   enum Sender {
@@ -116,6 +117,35 @@ class FirmwareSession {
   // The controller's plan now: its commanded angles, millidegrees (for RoboSim's a).
   std::vector<Millideg> commanded();
 
+  // A program sent as the clock runs, not ahead of it (a cell's arms, whose waits depend on
+  // each other): whenever the arm is at rest after the reply to the line before, `next` is
+  // asked at that tick for the next line (its text and its line number); false: no more.
+  // Its replies are kReply events. Nothing else may be sent until it is over.
+  using Feed = std::function<bool(uint64_t tick, std::string& text, int& line)>;
+  void feed(Feed next);
+  // The feed still has lines to send or replies to wait for, or the arm is not at rest after
+  // its last line; when it is over, the tick it was (the arm at rest after its last reply).
+  bool feeding() const { return static_cast<bool>(feed_); }
+  uint64_t feed_ended() const { return feed_ended_; }
+
+  // Inputs driven from outside (a cell's wires): header pins `driven` (a bit per pin) read
+  // what `levels(tick)` gives at the tick the firmware reads them, asked then (it may run
+  // other machines up to that tick; never this one).
+  void drive_inputs(uint32_t driven, std::function<uint32_t(uint64_t tick)> levels);
+  // Header pin `pin`'s level as this machine drove it at `tick` (not after its clock): an
+  // output's, or its pull-up's (high) before it was ever set.
+  bool output_level(int pin, uint64_t tick);
+  // Where the machine's clock is, even in the middle of running (a wire's reader asks).
+  uint64_t clock();
+  // The input wait the firmware is in now (W), if any: its header pin, the level it waits
+  // for, and its limit in ms (0: none).
+  struct InputWait {
+    int pin = -1, level = 0;
+    uint32_t limit_ms = 0;
+    uint64_t since = 0;  // the tick it began
+  };
+  std::optional<InputWait> waiting();
+
  private:
   struct Sent {
     std::string text;
@@ -126,6 +156,8 @@ class FirmwareSession {
   void put(const Sent& x);  // its bytes to the machine (its clock at x.at)
   void wait_reply(size_t replies);
   void harvest();      // the machine's new log entries into events_
+  void run_feeding(uint64_t until);  // the machine's clock to `until`, sending the feed's lines
+  bool feed_next();                  // at rest after the last reply: the next line sent
 
   Robot robot_;
   ControllerSettings settings_;
@@ -139,6 +171,9 @@ class FirmwareSession {
   size_t coils_ = 0, actions_ = 0, replies_ = 0, queued_ = 0, next_begin_ = 0;
   std::vector<int> line_of_;     // each queued action's line (by its place in the machine's log)
   uint64_t t0_ = 0;              // the machine's clock at power-up
+  Feed feed_;                    // the program being fed (empty: none, or it has no more)
+  size_t feed_answers_ = 0;      // the machine's reply count that means the last fed line is answered (0: none waited for)
+  uint64_t feed_ended_ = 0;
 };
 
 }  // namespace articula::host

@@ -186,4 +186,9 @@ nlohmann::json wiring_json(const Robot& robot) {
   return out;
 }
 
+std::string header_pin_name(int pin) {
+  if (pin < 0 || pin >= int(board::kHeaderPins)) return "pin " + std::to_string(pin);
+  return board::kHeaderPin[pin].pin;
+}
+
 }  // namespace articula::host

@@ -65,6 +65,9 @@ std::string io_pins_free_text(const Robot& robot);
 // "error" says why.
 nlohmann::json wiring_json(const Robot& robot);
 
+// A header pin's name by its index ("D12", "A0"; "pin 20" past the header's last).
+std::string header_pin_name(int pin);
+
 // The index of a header pin's name ("D9", "A3") on `board`, or -1 with the reason in `why`
 // (no such pin, an analog-only input).
 int header_pin(int board, const std::string& name, std::string& why);

@@ -44,6 +44,7 @@ void ArmDriver::reset_controller() {
 }
 
 void ArmDriver::load_program(const Program& program, uint64_t now) {
+  fed_ = false;
   actions_.clear();
   action_ = 0;
   action_running_ = false;
@@ -59,6 +60,44 @@ void ArmDriver::load_program(const Program& program, uint64_t now) {
   }
   for (const Statement& st : program.statements) enqueue(st, now);
   program_end_s_ = double(queue_end_tick_) / kStepTickHz;
+}
+
+void ArmDriver::feed_program(const Program& program, uint64_t now) {
+  if (!motors_) {
+    load_program(program, now);
+    return;
+  }
+  actions_.clear();
+  action_ = 0;
+  action_running_ = false;
+  pending_.clear();
+  pending_next_ = 0;
+  reset_controller();
+  body_.hold_grip();
+  fed_ = true;
+  fed_program_ = program;
+  fed_next_ = 0;
+  fed_text_.clear();
+  firmware_->run_to(now);
+  firmware_->feed([this](uint64_t tick, std::string& text, int& line) {
+    while (fed_next_ < fed_program_.statements.size()) {
+      const Statement& st = fed_program_.statements[fed_next_++];
+      PredictRecord r;
+      if (!lines_->begin(st, r, text)) {  // (the host's own: it never reaches the firmware)
+        if (r.reply != kOk) rejected(tick, r.line, r.text, r.reply, r.note);
+        continue;
+      }
+      line = st.line;
+      fed_text_[st.line] = r.text;
+      return true;
+    }
+    return false;
+  });
+}
+
+double ArmDriver::program_end() const {
+  if (!fed_) return program_end_s_;
+  return double(firmware_->feeding() ? firmware_->now() : firmware_->feed_ended()) / kStepTickHz;
 }
 
 Status ArmDriver::command(const std::string& line, uint64_t now) {
@@ -207,6 +246,16 @@ void ArmDriver::motor_events(uint64_t until) {
   firmware_->run_to(until);
   for (const FirmwareSession::Event& e : firmware_->take(until)) {
     body_.set_event_tick(e.tick);
+    if (in_wait_ && (e.kind == FirmwareSession::Event::kBegin || e.kind == FirmwareSession::Event::kIdle)) {
+      signals_.back().end_tick = e.tick;
+      in_wait_ = false;
+    }
+    if (e.kind == FirmwareSession::Event::kBegin &&
+        (e.action == FirmwareSession::Event::kOutput || e.action == FirmwareSession::Event::kWaitIn)) {
+      const bool wait = e.action == FirmwareSession::Event::kWaitIn;
+      signals_.push_back({wait ? Signal::kWait : Signal::kOutput, e.line, e.pin, e.level, e.tick, 0});
+      in_wait_ = wait;
+    }
     switch (e.kind) {
       case FirmwareSession::Event::kStep:
         if (log_steps_) step_log_.push_back({e.tick, e.mask, e.negative});
@@ -226,7 +275,11 @@ void ArmDriver::motor_events(uint64_t until) {
         body_.recount(e.counted);
         break;
       case FirmwareSession::Event::kReply:
-        if (!e.counted.empty()) body_.recount(e.counted);  // (a refused line: an event since it was sent)
+        if (!e.counted.empty()) body_.recount(e.counted);
+        if (fed_ && e.status != kOk) {  // (a line sent otherwise: an event since it was sent)
+          const auto text = fed_text_.find(e.line);
+          rejected(e.tick, e.line, text != fed_text_.end() ? text->second : e.text, e.status, "");
+        }
         break;
     }
   }
@@ -258,7 +311,7 @@ void ArmDriver::joint_follow(double t_end, double dt) {
 }
 
 bool ArmDriver::busy() const {
-  if (motors_) return firmware_->pending() || !firmware_->at_rest();
+  if (motors_) return firmware_->pending() || firmware_->feeding() || !firmware_->at_rest();
   return action_ < actions_.size();
 }
 

@@ -6,6 +6,7 @@
 #define ARTICULA_PHYSICS_ARM_DRIVER_H
 
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -32,11 +33,17 @@ class ArmDriver {
   // firmware is; a robot without motors: the kinematic model from where it is (replacing what
   // it queued). Commands refused become kRejected events when the clock reaches them.
   void load_program(const Program& program, uint64_t now_tick);
+  // The same, each line sent as the clock comes to it rather than ahead of it (a cell's arms,
+  // whose waits depend on one another's outputs): the program's end is known once reached.
+  // For a robot without motors, load_program.
+  void feed_program(const Program& program, uint64_t now_tick);
   // One protocol line (docs/protocol.md) to the firmware at `now_tick`, or as soon as the reply
   // before is off the wire (a streamed program); its reply. A rejected line changes nothing.
   Status command(const std::string& line, uint64_t now_tick);
   bool busy() const;
-  double program_end() const { return program_end_s_; }
+  // When the program ends (the arm at rest after its last line); for a program fed as the
+  // clock runs, where its firmware's clock is until it has.
+  double program_end() const;
 
   // The controller up to `until` (the end of a world step of dt s, at t_end): the firmware's
   // events at their ticks (steps, actions, the gripper) or the kinematic model's actions.
@@ -46,6 +53,7 @@ class ArmDriver {
 
   // The firmware's session (null for a robot without motors): its records and clock.
   const FirmwareSession* firmware() const { return firmware_.get(); }
+  FirmwareSession* firmware() { return firmware_.get(); }
 
   // Every step the firmware's coils make, at its tick, once asked for (tests: an arm in a cell
   // steps as it does alone).
@@ -56,6 +64,18 @@ class ArmDriver {
   };
   void log_steps(bool on) { log_steps_ = on; }
   const std::vector<StepRecord>& step_log() const { return step_log_; }
+
+  // Every output the firmware set (O) and every input wait (W): when it began and when it
+  // ended (the next action began, or the step timer stopped), as the clock reaches them; a
+  // cell's timeline and its tests.
+  struct Signal {
+    enum Kind { kOutput, kWait } kind = kOutput;
+    int line = 0;
+    int pin = -1, level = 0;  // the header pin and its level (set, or waited for)
+    uint64_t tick = 0;        // set; the wait's beginning
+    uint64_t end_tick = 0;    // kWait: its end (0: still waiting)
+  };
+  const std::vector<Signal>& signals() const { return signals_; }
 
  private:
   struct Action;
@@ -92,10 +112,19 @@ class ArmDriver {
   bool action_running_ = false;
   double program_end_s_ = 0;
 
+  // A program fed as the clock runs (feed_program): its statements, the next one, and the text
+  // of each line sent (by line number) for its refusal.
+  bool fed_ = false;
+  Program fed_program_;
+  size_t fed_next_ = 0;
+  std::map<int, std::string> fed_text_;
+
   std::vector<SimEvent> pending_;  // rejected commands, shown when the clock reaches them
   size_t pending_next_ = 0;
   bool log_steps_ = false;
   std::vector<StepRecord> step_log_;
+  std::vector<Signal> signals_;
+  bool in_wait_ = false;  // signals_.back() is a wait not ended yet
 };
 
 }  // namespace articula::host

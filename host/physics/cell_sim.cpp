@@ -2,6 +2,10 @@
 #include "cell_sim.h"
 
 #include <algorithm>
+#include <optional>
+
+#include "firmware_session.h"
+#include "wiring.h"
 
 namespace articula::host {
 
@@ -17,8 +21,123 @@ std::vector<ArmPlacement> placements(const Cell& cell) {
 
 CellSimulation::CellSimulation(const Cell& cell, const SimOptions& options)
     : cell_(cell), world_(placements(cell), cell.scene, options) {
+  wire();
   for (size_t i = 0; i < cell_.arms.size(); ++i)
-    if (!cell_.arms[i].program.statements.empty()) world_.driver(int(i)).load_program(cell_.arms[i].program, 0);
+    if (!cell_.arms[i].program.statements.empty()) world_.driver(int(i)).feed_program(cell_.arms[i].program, 0);
+}
+
+// Each arm's inputs on a wire: before its firmware reads them at a tick, every arm that drives
+// one is run up to that tick (if it is not there yet: an arm in the middle of its own run, the
+// one whose read led here, is past it), and the level is its output's then.
+void CellSimulation::wire() {
+  for (int i = 0; i < num_arms(); ++i) {
+    FirmwareSession* fw = world_.driver(i).firmware();
+    std::vector<CellWire> in;
+    uint32_t driven = 0;
+    for (const CellWire& w : cell_.wires)
+      if (w.to_arm == i) {
+        in.push_back(w);
+        driven |= uint32_t(1) << cell_.arms[size_t(i)].robot.io[size_t(w.to_pin)].pin;
+      }
+    if (!fw || in.empty()) continue;  // (a robot without motors has no firmware to read them)
+    fw->drive_inputs(driven, [this, in](uint64_t tick) {
+      uint32_t levels = 0;
+      for (const CellWire& w : in) {
+        FirmwareSession* from = world_.driver(w.from_arm).firmware();
+        bool high = true;  // (an arm without firmware never drives its pin: its pull-up)
+        if (from) {
+          if (from->clock() < tick) from->run_to(tick);
+          high = from->output_level(cell_.arms[size_t(w.from_arm)].robot.io[size_t(w.from_pin)].pin, tick);
+        }
+        if (high) levels |= uint32_t(1) << cell_.arms[size_t(w.to_arm)].robot.io[size_t(w.to_pin)].pin;
+      }
+      return levels;
+    });
+  }
+}
+
+void CellSimulation::step() {
+  world_.step();
+  if (cell_.wires.empty()) return;
+  const std::string now = stuck();
+  if (!now.empty() && !stuck_) {
+    deadlock_ = now;
+    SimEvent e;
+    e.kind = SimEvent::Kind::kDeadlock;
+    e.t = time();
+    e.detail = now;
+    world_.add_event(e);
+  }
+  stuck_ = !now.empty();
+}
+
+void CellSimulation::run_until(double t) {
+  while (time() < t - 1e-12) step();
+}
+
+// A deadlock: no arm moves or will send another line, and each one still busy waits for a
+// level its input does not have now and that no arm will change before a wait runs out.
+std::string CellSimulation::stuck() {
+  struct Waiting {
+    int pin, level;
+    int from_arm = -1, from_io = -1;  // the wire's other end (-1: none)
+    int io = -1;                      // its own pin's entry in its robot's io (-1: not named)
+  };
+  std::vector<std::optional<Waiting>> waits(static_cast<size_t>(num_arms()));
+  bool any = false;
+  const uint64_t now = world_.now_tick();
+  for (int i = 0; i < num_arms(); ++i) {
+    ArmDriver& d = world_.driver(i);
+    if (!d.busy()) continue;
+    FirmwareSession* fw = d.firmware();
+    if (!fw) return "";
+    const std::optional<FirmwareSession::InputWait> w = fw->waiting();
+    if (!w) return "";
+    Waiting x{w->pin, w->level};
+    const Robot& r = cell_.arms[size_t(i)].robot;
+    for (size_t k = 0; k < r.io.size(); ++k)
+      if (r.io[k].pin == w->pin) x.io = int(k);
+    bool high = true;
+    for (const CellWire& c : cell_.wires)
+      if (c.to_arm == i && c.to_pin == x.io) {
+        x.from_arm = c.from_arm;
+        x.from_io = c.from_pin;
+        FirmwareSession* from = world_.driver(c.from_arm).firmware();
+        if (from) high = from->output_level(cell_.arms[size_t(c.from_arm)].robot.io[size_t(c.from_pin)].pin, now);
+      }
+    if (high == (w->level != 0)) return "";  // (its next look ends it)
+    waits[size_t(i)] = x;
+    any = true;
+  }
+  if (!any) return "";
+  std::string words;
+  std::vector<bool> told(waits.size(), false);
+  for (size_t i = 0; i < waits.size(); ++i) {
+    if (!waits[i] || told[i]) continue;
+    std::string chain;
+    for (size_t a = i; !told[a];) {
+      told[a] = true;
+      const Waiting& w = *waits[a];
+      const std::string level = w.level ? "high" : "low";
+      chain += (chain.empty() ? cell_.arms[a].name + " waits for " : ", which waits for ");
+      if (w.from_arm < 0) {
+        const std::string pin = header_pin_name(w.pin);
+        chain += (w.io >= 0 ? "its input `" + cell_.io_name(int(a), w.io) + "` (" + pin + ")" : "pin " + pin) +
+                 " to go " + level + ", which no wire drives";
+        break;
+      }
+      chain += "`" + cell_.io_name(w.from_arm, w.from_io) + "` from " + cell_.arms[size_t(w.from_arm)].name + " (" +
+               level + ")";
+      if (!waits[size_t(w.from_arm)]) {
+        chain += cell_.arms[size_t(w.from_arm)].program.statements.empty() ? ", which runs no program"
+                                                                           : ", which has ended its program";
+        break;
+      }
+      a = size_t(w.from_arm);
+    }
+    words += (words.empty() ? "" : "; ") + chain;
+  }
+  return words;
 }
 
 double CellSimulation::program_end() const {

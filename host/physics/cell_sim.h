@@ -1,6 +1,13 @@
 // host/physics/cell_sim.h - a cell (cell_file.h) in one world (world.h): every arm on its own
 // firmware (a virtual Nano each) or kinematic model, where the cell file puts it, running its
 // program from t = 0, all of them and the objects on one clock.
+//
+// The cell's wires carry each output's level to the inputs on its net at the tick it changes.
+// An arm's firmware reads its inputs only at its own ticks (a W's first look and then once a
+// millisecond, a status report): at each read the arms that drive it are first run up to that
+// tick (never past it), so every read sees every change made before it, whichever arm the
+// world steps first. Each arm's program goes line by line as the arm comes to rest, never
+// ahead of the clock, since a W's end depends on the other arms.
 #ifndef ARTICULA_PHYSICS_CELL_SIM_H
 #define ARTICULA_PHYSICS_CELL_SIM_H
 
@@ -26,17 +33,28 @@ class CellSimulation {
   const ArmBody& arm(int i) const { return world_.body(i); }
   const ArmDriver& driver(int i) const { return world_.driver(i); }
 
-  void step() { world_.step(); }
-  void run_until(double t) { world_.run_until(t); }
+  void step();
+  void run_until(double t);
   double time() const { return world_.time(); }
-  // The last arm's program end, and extra_time after it.
+  // The last arm's program end, and extra_time after it (while an arm's program still runs,
+  // where its clock is: each line goes as the arm comes to rest, not ahead).
   double program_end() const;
   double end_time() const { return program_end() + world_.options().extra_time; }
   bool done() const { return time() >= end_time() - 1e-12 && !world_.busy(); }
+  // The last deadlock, told in words: every arm still busy waits (W) for an input that no arm
+  // will change, until a wait runs out (W:21; then that arm's program goes on): "a waits for
+  // `ready` from b (low), which waits for `done` from a (low)"; "" if there was none. Each one
+  // is also a kDeadlock event when it begins.
+  const std::string& deadlock() const { return deadlock_; }
 
  private:
+  void wire();
+  std::string stuck();  // the deadlock now in words, or ""
+
   Cell cell_;
   World world_;
+  std::string deadlock_;
+  bool stuck_ = false;  // in a deadlock now
 };
 
 // Each arm as it ends (or is now): name, robot, base (xyz, yaw, footprint_mm: where it stands),

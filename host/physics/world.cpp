@@ -98,6 +98,7 @@ const char* event_kind_name(SimEvent::Kind k) {
     case SimEvent::Kind::kObjectRemoved: return "object_removed";
     case SimEvent::Kind::kNote: return "note";
     case SimEvent::Kind::kStall: return "stall";
+    case SimEvent::Kind::kDeadlock: return "deadlock";
   }
   return "?";
 }

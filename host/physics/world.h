@@ -68,6 +68,7 @@ struct SimEvent {
     kObjectRemoved,    // a body left the world box or its state stopped being finite
     kNote,             // information (self-collision pairs left out, ...)
     kStall,            // a move needs more torque of a motor than its pull-out curve gives: it would skip (stall.h)
+    kDeadlock,         // a cell's arms each wait for a signal that none will give (cell_sim.h): told in `detail`
   };
   Kind kind = Kind::kNote;
   double t = 0;         // s
@@ -141,6 +142,7 @@ class World {
   bool busy() const;
 
   const std::vector<SimEvent>& events() const { return events_; }
+  void add_event(const SimEvent& e) { events_.push_back(e); }
   // What touches what now (movable objects only; the arms' refused steps are events).
   std::vector<SimContact> contacts() const;
 

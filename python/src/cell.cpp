@@ -121,6 +121,8 @@ void bind_cell(nb::module_& m) {
       .def_prop_ro("name", [](const PyCell& c) { return c.cell.name; })
       .def_prop_ro("time", [](const PyCell& c) { return c.sim->time(); }, "simulated time, s")
       .def_prop_ro("done", [](const PyCell& c) { return c.sim->done(); })
+      .def_prop_ro("deadlock", [](const PyCell& c) { return c.sim->deadlock(); },
+                   "The last deadlock in words (the arms each waiting for a signal none will give), or ''.")
       .def_prop_ro("end_time", [](const PyCell& c) { return c.sim->end_time(); })
       .def("__repr__", [](const PyCell& c) {
         return "<Cell '" + c.cell.name + "': " + std::to_string(c.cell.arms.size()) + " arms, t = " +

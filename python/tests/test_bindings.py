@@ -92,6 +92,7 @@ SAME = [
     ("Cell.time", "Cell.time"),
     ("Cell.done", "Cell.done"),
     ("Cell.end_time", "Cell.endTime"),
+    ("Cell.deadlock", "Cell.deadlock"),
     # the arm's protocol
     ("_status_table", "statusTable"),
     ("_status_table", "statusText"),

@@ -59,6 +59,7 @@ class WebCell {
   double time() const { return sim_->time(); }
   bool done() const { return sim_->done(); }
   double end_time() const { return sim_->end_time(); }
+  std::string deadlock() const { return sim_->deadlock(); }
 
  private:
   host::SimOptions options_;
@@ -84,5 +85,6 @@ EMSCRIPTEN_BINDINGS(articula_cell) {
       .function("name", &WebCell::name)
       .function("time", &WebCell::time)
       .function("done", &WebCell::done)
-      .function("endTime", &WebCell::end_time);
+      .function("endTime", &WebCell::end_time)
+      .function("deadlock", &WebCell::deadlock);
 }

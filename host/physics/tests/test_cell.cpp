@@ -33,10 +33,11 @@ std::string cell_error(const json& cell, const std::string& dir = kSrc + "/cells
   return "";
 }
 
-// A robot file with I/O pins, written where a cell can name it: the meArm (a servo arm leaves
-// most pins free) with `io`.
-std::string mearm_with_io(const std::string& dir, const std::string& name, const json& io) {
-  json r = json::parse(std::ifstream(kSrc + "/robots/mearm.json"));
+// A robot file with I/O pins, written where a cell can name it: a shipped robot (the meArm: a
+// servo arm leaves most pins free) with `io`.
+std::string robot_with_io(const std::string& dir, const std::string& name, const json& io,
+                          const std::string& robot = "mearm") {
+  json r = json::parse(std::ifstream(kSrc + "/robots/" + robot + ".json"));
   r["io"] = io;
   r["name"] = name;
   const std::string path = dir + "/" + name + ".json";
@@ -180,6 +181,116 @@ TEST(Cell, TheHandoverPassesTheBlockWithoutACollision) {
   EXPECT_NEAR(T.p.z, 50, 5);  // standing on the table
 }
 
+// Two MK2s on CNC shields (their build leaves D12, A0-A2, A4, A5 free), each with an output
+// `ready` on A0 and an input `go` on A1, `a.ready` wired to `b.go` and `b.ready` to `a.go`.
+Cell wired_pair(const json& program_a, const json& program_b, bool b_first = false) {
+  const std::string dir = ::testing::TempDir() + "/cells-wired";
+  std::filesystem::create_directories(dir);
+  robot_with_io(dir, "mk2-io", json::parse(R"([{"name": "ready", "pin": "A0", "mode": "output"},
+                                                {"name": "go", "pin": "A1", "mode": "input_pullup"}])"),
+                "mk2plus-cnc");
+  json a = {{"name", "a"}, {"robot", "mk2-io.json"}, {"base", {{"xyz", {-300, 0, 0}}}}, {"program", program_a}};
+  json b = {{"name", "b"}, {"robot", "mk2-io.json"}, {"base", {{"xyz", {300, 0, 0}}, {"yaw", 180}}}, {"program", program_b}};
+  json file = {{"name", "wired"},
+               {"arms", b_first ? json::array({b, a}) : json::array({a, b})},
+               {"wires", json::parse(R"([{"from": "a.ready", "to": "b.go"}, {"from": "b.ready", "to": "a.go"}])")}};
+  return parse_cell(file.dump(), "wired.json", dir);
+}
+
+// A wait's end as the firmware makes it: it looks at its pin when it begins and then once a
+// millisecond (2,000 ticks), so it ends at the first look at or after the change.
+uint64_t first_look(uint64_t began, uint64_t change) {
+  const uint64_t ms = kStepTickHz / 1000;
+  return change <= began ? began : began + (change - began + ms - 1) / ms * ms;
+}
+
+// A handshake: a moves, then signals (ready low) and waits for b's answer; b waits for a's
+// signal, moves, answers, and moves on; a moves home once answered. Every wait ends at the first
+// look after the other arm's output changed, whichever arm the world steps first.
+TEST(Cell, EveryWaitEndsWhenTheOtherArmsOutputChanges) {
+  const json pa = {"M 30 80 -10", "O 14 0", "W 15 0 30", "M 0 90 0", "O 14 1"};
+  const json pb = {"W 15 0 30", "M -40 100 -20", "O 14 0", "W 15 1 30", "M 0 90 0"};
+  std::vector<std::vector<ArmDriver::Signal>> runs[2];
+  for (const bool b_first : {false, true}) {
+    const Cell cell = wired_pair(pa, pb, b_first);
+    CellSimulation sim(cell);
+    while (!sim.done()) sim.step();
+    EXPECT_EQ(sim.deadlock(), "");
+    for (const SimEvent& e : sim.world().events()) {
+      EXPECT_NE(e.kind, SimEvent::Kind::kRejected) << e.arm << " " << e.a << ": " << e.detail;
+      EXPECT_NE(e.kind, SimEvent::Kind::kCollision) << e.arm << " " << e.a << " with " << e.b;
+    }
+    const int ia = cell.arm_index("a"), ib = cell.arm_index("b");
+    const auto& sa = sim.driver(ia).signals();
+    const auto& sb = sim.driver(ib).signals();
+    ASSERT_EQ(sa.size(), 3u);  // O, W, O
+    ASSERT_EQ(sb.size(), 3u);  // W, O, W
+    EXPECT_EQ(sa[0].kind, ArmDriver::Signal::kOutput);
+    EXPECT_EQ(sb[0].kind, ArmDriver::Signal::kWait);
+    // b waited from the start for a's first signal, a for b's answer, b for a's last.
+    const uint64_t a_ready = sa[0].tick, b_ready = sb[1].tick, a_done = sa[2].tick;
+    EXPECT_GT(a_ready, kStepTickHz / 2);  // (after a's first move)
+    EXPECT_EQ(sb[0].end_tick, first_look(sb[0].tick, a_ready)) << "b's first wait";
+    EXPECT_EQ(sa[1].end_tick, first_look(sa[1].tick, b_ready)) << "a's wait";
+    EXPECT_EQ(sb[2].end_tick, first_look(sb[2].tick, a_done)) << "b's last wait";
+    EXPECT_GT(b_ready, sb[0].end_tick + kStepTickHz / 2);  // (after b's move)
+    EXPECT_GT(a_done, sa[1].end_tick + kStepTickHz / 2);   // (after a's move home)
+    runs[b_first] = {sa, sb};
+  }
+  // The same ticks whichever arm comes first in the file (and so is stepped first).
+  for (size_t arm = 0; arm < 2; ++arm)
+    for (size_t k = 0; k < 3; ++k) {
+      EXPECT_EQ(runs[0][arm][k].tick, runs[1][arm][k].tick) << arm << " " << k;
+      EXPECT_EQ(runs[0][arm][k].end_tick, runs[1][arm][k].end_tick) << arm << " " << k;
+    }
+}
+
+// Each arm waits for the other before it signals: a deadlock, told in words, until the first
+// wait runs out (W:21) and that arm's program goes on: its signal then ends the other's wait.
+TEST(Cell, ADeadlockIsToldInWords) {
+  const Cell cell = wired_pair({"M 20 80 0", "W 15 0 2", "O 14 0"}, {"W 15 0 4", "O 14 0"});
+  CellSimulation sim(cell);
+  while (!sim.done()) sim.step();
+  EXPECT_EQ(sim.deadlock(), "a waits for `ready` from b (low), which waits for `ready` from a (low)");
+  std::vector<double> told;
+  for (const SimEvent& e : sim.world().events())
+    if (e.kind == SimEvent::Kind::kDeadlock) {
+      told.push_back(e.t);
+      EXPECT_EQ(e.detail, sim.deadlock());
+    }
+  const auto& sa = sim.driver(0).signals();
+  const auto& sb = sim.driver(1).signals();
+  ASSERT_EQ(sa.size(), 2u);  // W (ran out), O
+  ASSERT_EQ(sb.size(), 2u);  // W (ended by a's O), O
+  ASSERT_EQ(told.size(), 1u);
+  EXPECT_NEAR(told[0], double(sa[0].tick) / kStepTickHz, 0.0015);  // (told as a's wait begins)
+  EXPECT_EQ(sa[0].end_tick - sa[0].tick, uint64_t(2 * kStepTickHz));  // a's ran out
+  EXPECT_EQ(sb[0].end_tick, first_look(sb[0].tick, sa[1].tick));    // and a's O ended b's
+  EXPECT_LT(sb[0].end_tick - sb[0].tick, uint64_t(4 * kStepTickHz));
+
+  // One arm waits for an arm whose program has ended; one for a pin no wire drives.
+  const Cell ended = wired_pair({"M 20 80 0"}, {"W 15 0 5"});
+  CellSimulation s2(ended);
+  while (!s2.done()) s2.step();
+  EXPECT_EQ(s2.deadlock(), "b waits for `ready` from a (low), which has ended its program");
+  const Cell loose = wired_pair({"W 16 0 1"}, json::array());
+  CellSimulation s3(loose);
+  while (!s3.done()) s3.step();
+  EXPECT_EQ(s3.deadlock(), "a waits for pin A2 to go low, which no wire drives");
+}
+
+// A wait runs out (W:21) after its seconds, and the arm's next lines go on.
+TEST(Cell, AWaitThatRunsOutLetsTheArmGoOn) {
+  const Cell cell = wired_pair({"W 15 0 0.5", "M 20 80 0"}, json::array());
+  CellSimulation sim(cell);
+  while (!sim.done()) sim.step();
+  EXPECT_EQ(sim.deadlock(), "a waits for `ready` from b (low), which runs no program");
+  const auto& s = sim.driver(0).signals();
+  ASSERT_EQ(s.size(), 1u);
+  EXPECT_EQ(s[0].end_tick - s[0].tick, uint64_t(kStepTickHz / 2));
+  EXPECT_NEAR(sim.arm(0).joints()[1] * 180 / M_PI, 80, 0.5);  // (the move after it ran)
+}
+
 TEST(Cell, ShippedCellsLoadAndRun) {
   int n = 0;
   for (const auto& entry : std::filesystem::directory_iterator(kSrc + "/cells")) {
@@ -264,9 +375,9 @@ TEST(CellFile, BasesThatOverlapAreRefusedWithBothArms) {
 TEST(CellFile, WiresAreCheckedAgainstTheArmsPins) {
   const std::string dir = ::testing::TempDir() + "/cells-io";
   std::filesystem::create_directories(dir);
-  mearm_with_io(dir, "left", json::parse(R"([{"name": "ready", "pin": "D12", "mode": "output"},
+  robot_with_io(dir, "left", json::parse(R"([{"name": "ready", "pin": "D12", "mode": "output"},
                                               {"name": "go", "pin": "A0", "mode": "input_pullup"}])"));
-  mearm_with_io(dir, "right", json::parse(R"([{"name": "done", "pin": "D12", "mode": "output"},
+  robot_with_io(dir, "right", json::parse(R"([{"name": "done", "pin": "D12", "mode": "output"},
                                                {"name": "start", "pin": "A0", "mode": "input"},
                                                {"name": "also", "pin": "A1", "mode": "input"}])"));
   json file = json::parse(R"({"name": "wired", "arms": [

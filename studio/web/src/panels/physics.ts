@@ -14,7 +14,7 @@ let s: Studio;
 let dragSent = 0;
 
 const TROUBLE = new Set(["collision", "self_collision", "squeeze", "steps_lost", "blocked", "rejected", "object_removed",
-  "gripper_blocked", "stall"]);
+  "gripper_blocked", "stall", "deadlock"]);
 
 /** An event in words a student reads (the engine's own words stay in its title, on hover). */
 export function eventWords(e: SimEvent): string {
@@ -33,6 +33,7 @@ export function eventWords(e: SimEvent): string {
     case "rejected": return `the arm refused line ${e.line}`;
     case "object_removed": return `${the(e.a)} fell off the world`;
     case "stall": return "a motor stalled: it could not turn the load";
+    case "deadlock": return `the arms wait for each other: ${e.detail ?? ""}`;
     default: return `${e.kind}: ${e.a}${e.b ? ` / ${e.b}` : ""}`;
   }
 }
