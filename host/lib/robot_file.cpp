@@ -246,6 +246,7 @@ class Loader {
           check_microsteps(robot_.actuation.motors[i], robot_.drive.motors[std::size_t(i)], child("/motors", std::size_t(i)));
     }
     if (robot_.drive.given || !robot_.io.empty()) check_wiring();
+    check_io_free();
     return std::move(robot_);
   }
 
@@ -810,6 +811,17 @@ class Loader {
       if (!known) fail(mp, "unknown mode " + in_quotes(mode) + " (expected one of: output, input, input_pullup)");
       robot_.io.push_back(p);
     }
+  }
+
+  // Every I/O pin one that the arm's firmware build lets O and W use (wiring.h's io_pins_free,
+  // from board.h: what the drive keeps): else programs could never set or read it.
+  void check_io_free() const {
+    const uint32_t free = io_pins_free(robot_);
+    for (std::size_t k = 0; k < robot_.io.size(); ++k)
+      if (!(free & (uint32_t(1) << robot_.io[k].pin)))
+        fail(child(child("/io", k), "pin"), "pin " + header_pin_name(robot_.io[k].pin) + " is not one this arm's firmware (" +
+                                                firmware_build(robot_) + ") lets O and W use: its free pins are " +
+                                                io_pins_free_text(robot_));
   }
 
   // The board can give what every driver asks for, each pin once (wiring.cpp).

@@ -25,7 +25,7 @@ CellError::CellError(const std::string& file, const std::string& json_path, cons
 const std::map<std::string, std::vector<std::string>>& cell_file_fields() {
   static const std::map<std::string, std::vector<std::string>> fields = {
       {"cell", {"$schema", "name", "description", "scene", "arms", "wires"}},
-      {"arm", {"name", "robot", "base", "program"}},
+      {"arm", {"name", "robot", "io", "base", "program"}},
       {"base", {"xyz", "yaw"}},
       {"wire", {"from", "to"}},
   };
@@ -203,10 +203,22 @@ class Loader {
     if (!j.contains("robot")) fail(path, "missing field \"robot\" (a shipped robot's name or a robot file)");
     arm.robot_ref = text(j["robot"], child(path, "robot"));
     const bool robot_path = arm.robot_ref.find('/') != std::string::npos || arm.robot_ref.find(".json") != std::string::npos;
+    const std::string robot_file = robot_path ? relative(arm.robot_ref) : resolve_robot_path(arm.robot_ref);
     try {
-      arm.robot = load_robot_file(robot_path ? relative(arm.robot_ref) : resolve_robot_path(arm.robot_ref));
+      arm.robot = load_robot_file(robot_file);
     } catch (const RobotFileError& e) {
       fail(child(path, "robot"), std::string("the robot cannot be used: ") + e.what());
+    }
+    // "io": the robot's I/O pins for this cell (as a robot file's "io", in its place), so a
+    // shipped robot is wired without a copy of its file; the robot file's reader checks them.
+    if (j.contains("io")) {
+      json r = json::parse(std::ifstream(robot_file));
+      r["io"] = j["io"];
+      try {
+        arm.robot = parse_robot(r.dump(), robot_file);
+      } catch (const RobotFileError& e) {
+        fail(child(path, "io"), std::string("the robot cannot have these I/O pins: ") + e.what());
+      }
     }
     if (j.contains("base")) {
       const std::string bp = child(path, "base");

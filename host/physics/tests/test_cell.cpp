@@ -33,10 +33,10 @@ std::string cell_error(const json& cell, const std::string& dir = kSrc + "/cells
   return "";
 }
 
-// A robot file with I/O pins, written where a cell can name it: a shipped robot (the meArm: a
-// servo arm leaves most pins free) with `io`.
+// A robot file with I/O pins, written where a cell can name it: a shipped robot (the MK2 on a
+// CNC shield leaves six pins free) with `io`.
 std::string robot_with_io(const std::string& dir, const std::string& name, const json& io,
-                          const std::string& robot = "mearm") {
+                          const std::string& robot) {
   json r = json::parse(std::ifstream(kSrc + "/robots/" + robot + ".json"));
   r["io"] = io;
   r["name"] = name;
@@ -291,6 +291,40 @@ TEST(Cell, AWaitThatRunsOutLetsTheArmGoOn) {
   EXPECT_NEAR(sim.arm(0).joints()[1] * 180 / M_PI, 80, 0.5);  // (the move after it ran)
 }
 
+// The shipped shared zone: two wires keep the arms out of each other's way (each enters the
+// zone between them only once the other says it is out); the same programs without their O and
+// W lines meet there.
+TEST(Cell, TheSharedZoneKeepsTheArmsApartAndWithoutItsWiresTheyMeet) {
+  const Cell guarded = load_cell_file(resolve_cell_path("shared-zone"));
+  ASSERT_EQ(guarded.wires.size(), 2u);
+  CellSimulation sim(guarded);
+  while (!sim.done()) sim.step();
+  int in_zone = 0;
+  for (const SimEvent& e : sim.world().events()) ADD_FAILURE() << event_json(e).dump();
+  for (int i = 0; i < 2; ++i) {
+    const auto& sig = sim.driver(i).signals();
+    for (const auto& x : sig) in_zone += x.kind == ArmDriver::Signal::kWait;
+    EXPECT_EQ(sim.arm(i).lost_steps(), std::vector<int32_t>(3, 0));
+  }
+  EXPECT_EQ(in_zone, 3);  // (the left arm waits twice, the right once)
+  EXPECT_EQ(sim.deadlock(), "");
+
+  Cell bare = guarded;
+  bare.wires.clear();
+  for (CellArm& a : bare.arms) {
+    Program p;
+    for (const Statement& st : a.program.statements)
+      if (st.text.empty() || (st.text[0] != 'O' && st.text[0] != 'W')) p.statements.push_back(st);
+    ASSERT_EQ(p.statements.size() + (&a == &bare.arms[0] ? 4 : 3), a.program.statements.size());
+    a.program = p;
+  }
+  CellSimulation loose(bare);
+  while (!loose.done()) loose.step();
+  int collisions = 0;
+  for (const SimEvent& e : loose.world().events()) collisions += e.kind == SimEvent::Kind::kCollision;
+  EXPECT_GT(collisions, 0);
+}
+
 TEST(Cell, ShippedCellsLoadAndRun) {
   int n = 0;
   for (const auto& entry : std::filesystem::directory_iterator(kSrc + "/cells")) {
@@ -376,10 +410,12 @@ TEST(CellFile, WiresAreCheckedAgainstTheArmsPins) {
   const std::string dir = ::testing::TempDir() + "/cells-io";
   std::filesystem::create_directories(dir);
   robot_with_io(dir, "left", json::parse(R"([{"name": "ready", "pin": "D12", "mode": "output"},
-                                              {"name": "go", "pin": "A0", "mode": "input_pullup"}])"));
+                                              {"name": "go", "pin": "A0", "mode": "input_pullup"}])"),
+                "mk2plus-cnc");
   robot_with_io(dir, "right", json::parse(R"([{"name": "done", "pin": "D12", "mode": "output"},
                                                {"name": "start", "pin": "A0", "mode": "input"},
-                                               {"name": "also", "pin": "A1", "mode": "input"}])"));
+                                               {"name": "also", "pin": "A1", "mode": "input"}])"),
+                "mk2plus-cnc");
   json file = json::parse(R"({"name": "wired", "arms": [
       {"name": "a", "robot": "left.json"},
       {"name": "b", "robot": "right.json", "base": {"xyz": [400, 0, 0]}}],
