@@ -26,6 +26,22 @@ def test_the_handover_equals_articula_sim_cell():
     assert state.objects[0].carried_by is None
 
 
+def test_the_shared_zone_takes_turns_and_a_deadlock_is_told(tmp_path):
+    cell = articula.Cell("shared-zone")
+    cell.run()
+    assert [e.kind for e in cell.events()] == []  # no collision: the wires keep them apart
+    assert cell.deadlock == ""
+    # Each arm waits for the other first: told in words, as an event, until a wait runs out.
+    (tmp_path / "left.arm").write_text("W 15 0 2\nO 14 0\n")
+    (tmp_path / "right.arm").write_text("W 15 0 3\nO 14 0\n")
+    stuck = articula.Cell("shared-zone", {"left": tmp_path / "left.arm", "right": tmp_path / "right.arm"})
+    stuck.run()
+    assert stuck.deadlock == "left waits for `left_zone` from right (low), which waits for `left_zone` from left (low)"
+    deadlocks = [e for e in stuck.events() if e.kind == "deadlock"]
+    assert len(deadlocks) == 1 and deadlocks[0].detail == stuck.deadlock
+    assert deadlocks[0].t < 0.01
+
+
 def test_each_arm_by_name_or_index_and_a_program_of_ones_own(tmp_path):
     program = tmp_path / "wave.arm"
     program.write_text("G 100\nM 30 100 0\n")
