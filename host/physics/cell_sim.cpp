@@ -146,6 +146,29 @@ double CellSimulation::program_end() const {
   return end;
 }
 
+namespace {
+
+// An arm's outputs set and inputs waited for, so far: kind ("output", "wait"), line, pin ("A0"),
+// name (as the arm's io names it; "" for a pin it does not name), level, t and, for a wait,
+// end_t (null while it waits).
+nlohmann::json signals_json(const CellSimulation& sim, int arm) {
+  nlohmann::json out = nlohmann::json::array();
+  const Robot& robot = sim.cell().arms[size_t(arm)].robot;
+  for (const ArmDriver::Signal& x : sim.driver(arm).signals()) {
+    std::string name;
+    for (const IoPin& p : robot.io)
+      if (p.pin == x.pin) name = p.name;
+    const bool wait = x.kind == ArmDriver::Signal::kWait;
+    nlohmann::json j = {{"kind", wait ? "wait" : "output"}, {"line", x.line},     {"pin", header_pin_name(x.pin)},
+                        {"name", name},                     {"level", x.level}, {"t", double(x.tick) / kStepTickHz}};
+    if (wait) j["end_t"] = x.end_tick ? nlohmann::json(double(x.end_tick) / kStepTickHz) : nlohmann::json(nullptr);
+    out.push_back(j);
+  }
+  return out;
+}
+
+}  // namespace
+
 nlohmann::json cell_arms_json(const CellSimulation& sim) {
   nlohmann::json out = nlohmann::json::array();
   for (int i = 0; i < sim.num_arms(); ++i) {
@@ -165,7 +188,8 @@ nlohmann::json cell_arms_json(const CellSimulation& sim) {
                    {"tool_mm", {T.p.x, T.p.y, T.p.z}},
                    {"gripper_mm", b.gripper_opening_mm()},
                    {"counted_steps", b.counted_steps()},
-                   {"lost_steps", b.lost_steps()}});
+                   {"lost_steps", b.lost_steps()},
+                   {"signals", signals_json(sim, i)}});
   }
   return out;
 }

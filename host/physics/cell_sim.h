@@ -59,7 +59,9 @@ class CellSimulation {
 
 // Each arm as it ends (or is now): name, robot, base (xyz, yaw, footprint_mm: where it stands),
 // program, program_end_s, line, joints (deg or mm),
-// tool_mm (in the world), gripper_mm, counted_steps, lost_steps; `articula sim CELL --json`.
+// tool_mm (in the world), gripper_mm, counted_steps, lost_steps, signals (each output it set and
+// input it waited for: kind "output" or "wait", line, pin, name, level, t, and a wait's end_t);
+// `articula sim CELL --json`.
 nlohmann::json cell_arms_json(const CellSimulation& sim);
 // The cell now: t, arms (cell_arms_json), objects (name, xyz_mm, carried_by: the arm's name or
 // null, removed); `articula sim CELL --json`, Python's Cell.state, the web engine's.

@@ -98,7 +98,8 @@ void bind_cell(nb::module_& m) {
            },
            "which"_a,
            "One arm now (by name or index): name, robot, program, program_end_s, line, joints (deg or mm), tool_mm "
-           "(on the table), gripper_mm, counted_steps, lost_steps.")
+           "(on the table), gripper_mm, counted_steps, lost_steps, signals (each output set and input waited for: kind "
+           "'output' or 'wait', line, pin, name, level, t, a wait's end_t).")
       .def("state", [](const PyCell& c) { return record(host::cell_state_json(*c.sim)); },
            "The cell now: t, arms (as arm()), objects (name, xyz_mm, carried_by: the arm holding it or None, removed).")
       .def("events",

@@ -31,12 +31,19 @@ def test_the_shared_zone_takes_turns_and_a_deadlock_is_told(tmp_path):
     cell.run()
     assert [e.kind for e in cell.events()] == []  # no collision: the wires keep them apart
     assert cell.deadlock == ""
+    # Its signals: the left arm waits twice, the right once, each wait ended by the other's O.
+    left, right = cell.arm("left").signals, cell.arm("right").signals
+    assert [(s.kind, s.name) for s in left] == [("wait", "go"), ("output", "done"), ("wait", "go"), ("output", "done")]
+    assert [(s.kind, s.name, s.level) for s in right] == [("output", "done", 0), ("wait", "go", 0), ("output", "done", 1)]
+    assert 0 <= left[0].end_t - right[0].t <= 0.001
+    assert 0 <= right[1].end_t - left[1].t <= 0.001
+    assert 0 <= left[2].end_t - right[2].t <= 0.001
     # Each arm waits for the other first: told in words, as an event, until a wait runs out.
     (tmp_path / "left.arm").write_text("W 15 0 2\nO 14 0\n")
     (tmp_path / "right.arm").write_text("W 15 0 3\nO 14 0\n")
     stuck = articula.Cell("shared-zone", {"left": tmp_path / "left.arm", "right": tmp_path / "right.arm"})
     stuck.run()
-    assert stuck.deadlock == "left waits for `left_zone` from right (low), which waits for `left_zone` from left (low)"
+    assert stuck.deadlock == "left waits for `done` from right (low), which waits for `done` from left (low)"
     deadlocks = [e for e in stuck.events() if e.kind == "deadlock"]
     assert len(deadlocks) == 1 and deadlocks[0].detail == stuck.deadlock
     assert deadlocks[0].t < 0.01
