@@ -268,6 +268,14 @@ TEST(Cell, ADeadlockIsToldInWords) {
   EXPECT_EQ(sb[0].end_tick, first_look(sb[0].tick, sa[1].tick));    // and a's O ended b's
   EXPECT_LT(sb[0].end_tick - sb[0].tick, uint64_t(4 * kStepTickHz));
 
+  // The shipped example: the same mistake in the shared zone, told the same way; the left arm's
+  // wait runs out and the arms then take their turns without meeting.
+  CellSimulation shipped(load_cell_file(resolve_cell_path("shared-zone-deadlock")));
+  while (!shipped.done()) shipped.step();
+  EXPECT_EQ(shipped.deadlock(), "left waits for `done` from right (low), which waits for `done` from left (low)");
+  for (const SimEvent& e : shipped.world().events())
+    EXPECT_EQ(e.kind, SimEvent::Kind::kDeadlock) << event_json(e).dump();
+
   // One arm waits for an arm whose program has ended; one for a pin no wire drives.
   const Cell ended = wired_pair({"M 20 80 0"}, {"W 15 0 5"});
   CellSimulation s2(ended);
