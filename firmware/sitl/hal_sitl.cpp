@@ -288,7 +288,7 @@ uint32_t io_levels() {
 void io_write(uint8_t pin, bool high) {
   sitl::Hardware& hw = sitl::hw();
   const uint32_t bit = uint32_t(1) << pin;
-  const bool was = (io_levels() & bit) != 0;
+  const bool was = (hw.io_high & bit) != 0;  // (what this Nano drove it to: its pull-up before)
   hw.io_output |= bit;
   hw.io_high = high ? (hw.io_high | bit) : (hw.io_high & ~bit);
   if (was != high) hw.io_log.push_back({hw.now, pin, high});

@@ -76,7 +76,7 @@ struct QueuedAction {
   uint16_t pulse_us;        //   kOutput, kWaitIn: the level (0 or 1)
   uint8_t pin;              // kOutput, kWaitIn: the header pin
   uint16_t steps, cruise4;  // kMove: its plan block (articula/planner.h)
-  uint32_t settle_ticks;    // kGripper, kDwell: its pause; kWaitIn: its limit, ms (0: none)
+  uint32_t settle_ticks;    // kGripper, kDwell: its pause; kWaitIn: its limit, ms (0: one look)
   uint32_t max_rate, accel;  // $0 and $1 when it was queued (they change only at rest)
   size_t began;             // its entry in Hardware::actions, or kNever
 };

@@ -313,7 +313,7 @@ std::optional<FirmwareSession::InputWait> FirmwareSession::waiting() {
   for (size_t q = hw.queued.size(); q-- > 0;)
     if (hw.queued[q].began == began) {
       const sitl::QueuedAction& a = hw.queued[q];
-      return InputWait{a.pin, a.percent, a.settle_ticks, hw.actions.back().tick - t0_};
+      return InputWait{a.pin, a.percent};
     }
   return std::nullopt;
 }

@@ -137,12 +137,9 @@ class FirmwareSession {
   bool output_level(int pin, uint64_t tick);
   // Where the machine's clock is, even in the middle of running (a wire's reader asks).
   uint64_t clock();
-  // The input wait the firmware is in now (W), if any: its header pin, the level it waits
-  // for, and its limit in ms (0: none).
+  // The input wait the firmware is in now (W), if any: its header pin and the level it waits for.
   struct InputWait {
     int pin = -1, level = 0;
-    uint32_t limit_ms = 0;
-    uint64_t since = 0;  // the tick it began
   };
   std::optional<InputWait> waiting();
 

@@ -43,8 +43,9 @@ void ArmDriver::reset_controller() {
   queued_percent_ = -1;
 }
 
-void ArmDriver::load_program(const Program& program, uint64_t now) {
-  fed_ = false;
+// A new program: what the last one queued and refused forgotten, the controller as it is.
+void ArmDriver::restart(uint64_t now, bool fed) {
+  fed_ = fed;
   actions_.clear();
   action_ = 0;
   action_running_ = false;
@@ -53,6 +54,10 @@ void ArmDriver::load_program(const Program& program, uint64_t now) {
   reset_controller();
   queue_end_tick_ = now;
   body_.hold_grip();
+}
+
+void ArmDriver::load_program(const Program& program, uint64_t now) {
+  restart(now, false);
   if (motors_) {  // each line once the arm is at rest after the one before, as the harness sends
     for (const Statement& st : program.statements) send(st, now, FirmwareSession::kAtRest);
     program_end_s_ = double(firmware_->run_to_rest()) / kStepTickHz;
@@ -67,14 +72,7 @@ void ArmDriver::feed_program(const Program& program, uint64_t now) {
     load_program(program, now);
     return;
   }
-  actions_.clear();
-  action_ = 0;
-  action_running_ = false;
-  pending_.clear();
-  pending_next_ = 0;
-  reset_controller();
-  body_.hold_grip();
-  fed_ = true;
+  restart(now, true);
   fed_program_ = program;
   fed_next_ = 0;
   fed_text_.clear();
@@ -246,15 +244,15 @@ void ArmDriver::motor_events(uint64_t until) {
   firmware_->run_to(until);
   for (const FirmwareSession::Event& e : firmware_->take(until)) {
     body_.set_event_tick(e.tick);
-    if (in_wait_ && (e.kind == FirmwareSession::Event::kBegin || e.kind == FirmwareSession::Event::kIdle)) {
+    if (!signals_.empty() && signals_.back().waiting() &&
+        (e.kind == FirmwareSession::Event::kBegin || e.kind == FirmwareSession::Event::kIdle)) {
+      signals_.back().ended = true;
       signals_.back().end_tick = e.tick;
-      in_wait_ = false;
     }
     if (e.kind == FirmwareSession::Event::kBegin &&
         (e.action == FirmwareSession::Event::kOutput || e.action == FirmwareSession::Event::kWaitIn)) {
       const bool wait = e.action == FirmwareSession::Event::kWaitIn;
-      signals_.push_back({wait ? Signal::kWait : Signal::kOutput, e.line, e.pin, e.level, e.tick, 0});
-      in_wait_ = wait;
+      signals_.push_back({wait ? Signal::kWait : Signal::kOutput, e.line, e.pin, e.level, e.tick, false, 0});
     }
     switch (e.kind) {
       case FirmwareSession::Event::kStep:

@@ -73,7 +73,9 @@ class ArmDriver {
     int line = 0;
     int pin = -1, level = 0;  // the header pin and its level (set, or waited for)
     uint64_t tick = 0;        // set; the wait's beginning
-    uint64_t end_tick = 0;    // kWait: its end (0: still waiting)
+    bool ended = false;       // kWait: it ended (it may end at the tick it began), at end_tick
+    uint64_t end_tick = 0;
+    bool waiting() const { return kind == kWait && !ended; }
   };
   const std::vector<Signal>& signals() const { return signals_; }
 
@@ -81,6 +83,7 @@ class ArmDriver {
   struct Action;
 
   void reset_controller();
+  void restart(uint64_t now_tick, bool fed);
   void enqueue(const Statement& st, uint64_t now_tick);
   Status send(const Statement& st, uint64_t now_tick, FirmwareSession::Sender sender);
   void rejected(uint64_t tick, int line, const std::string& text, Status s, const std::string& note);
@@ -124,7 +127,6 @@ class ArmDriver {
   bool log_steps_ = false;
   std::vector<StepRecord> step_log_;
   std::vector<Signal> signals_;
-  bool in_wait_ = false;  // signals_.back() is a wait not ended yet
 };
 
 }  // namespace articula::host

@@ -11,6 +11,13 @@ namespace articula::host {
 
 namespace {
 
+// The entry of the robot's io on header pin `pin` (-1: it names none there).
+int io_on_pin(const Robot& robot, int pin) {
+  for (size_t k = 0; k < robot.io.size(); ++k)
+    if (robot.io[k].pin == pin) return int(k);
+  return -1;
+}
+
 std::vector<ArmPlacement> placements(const Cell& cell) {
   std::vector<ArmPlacement> out;
   for (const CellArm& a : cell.arms) out.push_back({a.robot, a.name, a.T_world_base()});
@@ -24,6 +31,13 @@ CellSimulation::CellSimulation(const Cell& cell, const SimOptions& options)
   wire();
   for (size_t i = 0; i < cell_.arms.size(); ++i)
     if (!cell_.arms[i].program.statements.empty()) world_.driver(int(i)).feed_program(cell_.arms[i].program, 0);
+}
+
+// The level a wire carries at `tick`: its output's then, from that arm's log; an arm without
+// firmware never drives its pin (its pull-up: high).
+bool CellSimulation::wire_level(const CellWire& w, uint64_t tick) {
+  FirmwareSession* from = world_.driver(w.from_arm).firmware();
+  return !from || from->output_level(cell_.arms[size_t(w.from_arm)].robot.io[size_t(w.from_pin)].pin, tick);
 }
 
 // Each arm's inputs on a wire: before its firmware reads them at a tick, every arm that drives
@@ -44,12 +58,8 @@ void CellSimulation::wire() {
       uint32_t levels = 0;
       for (const CellWire& w : in) {
         FirmwareSession* from = world_.driver(w.from_arm).firmware();
-        bool high = true;  // (an arm without firmware never drives its pin: its pull-up)
-        if (from) {
-          if (from->clock() < tick) from->run_to(tick);
-          high = from->output_level(cell_.arms[size_t(w.from_arm)].robot.io[size_t(w.from_pin)].pin, tick);
-        }
-        if (high) levels |= uint32_t(1) << cell_.arms[size_t(w.to_arm)].robot.io[size_t(w.to_pin)].pin;
+        if (from && from->clock() < tick) from->run_to(tick);
+        if (wire_level(w, tick)) levels |= uint32_t(1) << cell_.arms[size_t(w.to_arm)].robot.io[size_t(w.to_pin)].pin;
       }
       return levels;
     });
@@ -94,16 +104,13 @@ std::string CellSimulation::stuck() {
     const std::optional<FirmwareSession::InputWait> w = fw->waiting();
     if (!w) return "";
     Waiting x{w->pin, w->level};
-    const Robot& r = cell_.arms[size_t(i)].robot;
-    for (size_t k = 0; k < r.io.size(); ++k)
-      if (r.io[k].pin == w->pin) x.io = int(k);
-    bool high = true;
+    x.io = io_on_pin(cell_.arms[size_t(i)].robot, w->pin);
+    bool high = true;  // (an input no wire drives reads its pull-up)
     for (const CellWire& c : cell_.wires)
       if (c.to_arm == i && c.to_pin == x.io) {
         x.from_arm = c.from_arm;
         x.from_io = c.from_pin;
-        FirmwareSession* from = world_.driver(c.from_arm).firmware();
-        if (from) high = from->output_level(cell_.arms[size_t(c.from_arm)].robot.io[size_t(c.from_pin)].pin, now);
+        high = wire_level(c, now);
       }
     if (high == (w->level != 0)) return "";  // (its next look ends it)
     waits[size_t(i)] = x;
@@ -155,13 +162,12 @@ nlohmann::json signals_json(const CellSimulation& sim, int arm) {
   nlohmann::json out = nlohmann::json::array();
   const Robot& robot = sim.cell().arms[size_t(arm)].robot;
   for (const ArmDriver::Signal& x : sim.driver(arm).signals()) {
-    std::string name;
-    for (const IoPin& p : robot.io)
-      if (p.pin == x.pin) name = p.name;
+    const int io = io_on_pin(robot, x.pin);
+    const std::string name = io >= 0 ? robot.io[size_t(io)].name : "";
     const bool wait = x.kind == ArmDriver::Signal::kWait;
     nlohmann::json j = {{"kind", wait ? "wait" : "output"}, {"line", x.line},     {"pin", header_pin_name(x.pin)},
                         {"name", name},                     {"level", x.level}, {"t", double(x.tick) / kStepTickHz}};
-    if (wait) j["end_t"] = x.end_tick ? nlohmann::json(double(x.end_tick) / kStepTickHz) : nlohmann::json(nullptr);
+    if (wait) j["end_t"] = x.ended ? nlohmann::json(double(x.end_tick) / kStepTickHz) : nlohmann::json(nullptr);
     out.push_back(j);
   }
   return out;

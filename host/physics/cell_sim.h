@@ -49,6 +49,7 @@ class CellSimulation {
 
  private:
   void wire();
+  bool wire_level(const CellWire& w, uint64_t tick);
   std::string stuck();  // the deadlock now in words, or ""
 
   Cell cell_;

@@ -230,6 +230,8 @@ TEST(Cell, EveryWaitEndsWhenTheOtherArmsOutputChanges) {
     // b waited from the start for a's first signal, a for b's answer, b for a's last.
     const uint64_t a_ready = sa[0].tick, b_ready = sb[1].tick, a_done = sa[2].tick;
     EXPECT_GT(a_ready, kStepTickHz / 2);  // (after a's first move)
+    for (const auto* sig : {&sa, &sb})
+      for (const ArmDriver::Signal& x : *sig) EXPECT_FALSE(x.waiting()) << "line " << x.line << " never ended";
     EXPECT_EQ(sb[0].end_tick, first_look(sb[0].tick, a_ready)) << "b's first wait";
     EXPECT_EQ(sa[1].end_tick, first_look(sa[1].tick, b_ready)) << "a's wait";
     EXPECT_EQ(sb[2].end_tick, first_look(sb[2].tick, a_done)) << "b's last wait";
