@@ -68,8 +68,8 @@ flash: firmware
 
 test: build
 	@echo "== tests (ctest) =="
-	ctest --test-dir $(BUILD) -j $(JOBS) --output-on-failure --output-junit ctest-junit.xml
-	@bash scripts/test-summary $(BUILD)/ctest-junit.xml
+	@rc=0; ctest --test-dir $(BUILD) -j $(JOBS) --output-on-failure --output-junit ctest-junit.xml || rc=$$?; \
+	bash scripts/test-summary $(BUILD)/ctest-junit.xml; exit $$rc
 
 test-loaded: build
 	@bash scripts/test-loaded $(BUILD) $(JOBS)
