@@ -487,6 +487,9 @@ TEST(CellFile, EveryOtherMistakeIsRefusedByName) {
       {"scene", [](json& j) { j["scene"] = {{"objects", {{{"type", "box"}, {"size", {1, 0, 1}}}}}}; },
        "c.json: /scene/objects/0/size/1: must be > 0"},
       {"scene name", [](json& j) { j["scene"] = "nowhere"; }, "c.json: /scene: "},
+      {"io pin not free", [](json& j) { j["arms"][0]["io"] = {{{"name", "go"}, {"pin", "D2"}, {"mode", "input"}}}; },
+       "c.json: /arms/0/io: the robot cannot have these I/O pins: "},
+      {"io not a list", [](json& j) { j["arms"][0]["io"] = "A0"; }, "c.json: /arms/0/io: the robot cannot have these I/O pins: "},
       {"too many", [](json& j) { for (int i = 0; i < 8; ++i) j["arms"].push_back(j["arms"][0]); },
        "c.json: /arms: at most 8 arms (got 9)"},
   };
