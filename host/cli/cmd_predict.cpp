@@ -9,6 +9,8 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "cell_file.h"
+#include "cell_sim.h"
 #include "cli_util.h"
 #include "commands.h"
 #include "predict.h"
@@ -35,12 +37,17 @@ std::string joined(const Vec3<double>& p, int decimals = 3) {
   return joined(std::vector<double>{p.x, p.y, p.z}, decimals);
 }
 
+int run_predict_in_cell(const cxxopts::ParseResult& args);
+int print_prediction(const cxxopts::ParseResult& args, const host::Robot& robot, const host::Program& program,
+                     const host::ControllerSettings& settings, const host::Prediction& p);
+
 int run_predict(int argc, char** argv) {
   cxxopts::Options opts("articula predict",
                         "What the real arm will do with a program, step-exact: for each command the motor steps, "
                         "the joint values they give, the ideal and the quantized tool position and their "
                         "difference, and the timing of the controller's queue.");
-  opts.custom_help("ROBOT PROGRAM [--json [--path]|--csv] [--settings n=v,...] [--sender rest|stream] [--stop-at S,...] [-o FILE]");
+  opts.custom_help("ROBOT PROGRAM [--json [--path]|--csv] [--settings n=v,...] [--sender rest|stream] [--stop-at S,...] [-o FILE]\n"
+                   "  articula predict CELL ARM [--json [--path]|--csv] [-o FILE]");
   opts.add_options()("json", "one JSON document")("csv", "CSV: a header and one row per command")(
       "path", "with --json: each move's tool position after every step (path_mm), as the arm spreads its steps")(
       "settings", "the controller's settings at power-up, e.g. \"0=800,1=3000\" ($0 max rate, $1 accel, ...)",
@@ -55,8 +62,9 @@ int run_predict(int argc, char** argv) {
       "STOP): where the arm comes to rest and what it never does",
       cxxopts::value<std::string>())("o,output", "write to FILE instead of standard output",
                                      cxxopts::value<std::string>())("h,help", "this help")(
-      "robot", "robot file or shipped robot name", cxxopts::value<std::string>())(
-      "program", "program file: RoboSim (.robosim) or protocol lines (.arm)", cxxopts::value<std::string>());
+      "robot", "robot file or shipped robot name (or a cell: its file or shipped name)", cxxopts::value<std::string>())(
+      "program", "program file: RoboSim (.robosim) or protocol lines (.arm) (for a cell: the arm's name)",
+      cxxopts::value<std::string>());
   opts.parse_positional({"robot", "program"});
   const auto args = opts.parse(argc, argv);
   if (args.count("help")) {
@@ -78,9 +86,14 @@ int run_predict(int argc, char** argv) {
            "answered; --stop-at sends it at a time instead. The arm decelerates along its path; the lines after\n"
            "it start from the steps it reached. Where that is depends on when the '!' arrives, to the step: the\n"
            "Nano's own time to read and answer a line is not modelled (its main loop takes no time there).\n"
+           "One arm of a cell (cells/README.md): articula predict CELL ARM predicts that arm's program from the\n"
+           "cell file as the cell runs it, each line at rest, its inputs driven through the cell's wires by the\n"
+           "other arms' firmwares running their own programs beside it: each W ends at the tick another arm's\n"
+           "output changed (articula sim CELL runs them all, with the world's objects).\n"
            "Exit code: 0 every command accepted, 1 some rejected, 2 a usage error (bad robot or program).\n";
     return 0;
   }
+  if (args.count("robot") && host::is_cell_reference(args["robot"].as<std::string>())) return run_predict_in_cell(args);
   const host::Robot robot = robot_argument(args);
   if (!robot.has_motors)
     throw UsageError(robot.name + " (" + robot.source +
@@ -111,7 +124,43 @@ int run_predict(int argc, char** argv) {
   }
   if (args.count("path") && output_format(args) != "json") throw UsageError("--path needs --json");
   const host::Prediction p = host::predict_program(robot, program, settings, sender, args.count("path") > 0);
+  return print_prediction(args, robot, program, settings, p);
+}
 
+// articula predict CELL ARM: one arm of a cell, its inputs driven through the cell's wires by
+// the other arms' firmwares (cell_sim.h's predict_in_cell).
+int run_predict_in_cell(const cxxopts::ParseResult& args) {
+  const std::string ref = args["robot"].as<std::string>();
+  for (const char* o : {"settings", "stop-at"})
+    if (args.count(o)) throw UsageError(std::string("--") + o + " is for a robot's program: a cell's arms power up as in the cell");
+  if (args["sender"].as<std::string>() != "rest")
+    throw UsageError("--sender: a cell's arms take each line once at rest after the one before (rest)");
+  if (args.count("path") && output_format(args) != "json") throw UsageError("--path needs --json");
+  host::Cell cell;
+  try {
+    cell = host::load_cell_file(host::resolve_cell_path(ref));
+  } catch (const host::CellError& e) {
+    throw UsageError(e.what());
+  }
+  std::string names;
+  for (const auto& a : cell.arms) names += (names.empty() ? "" : ", ") + a.name;
+  if (!args.count("program")) throw UsageError("name the arm of " + cell.name + " to predict (its arms: " + names + ")");
+  const std::string name = args["program"].as<std::string>();
+  int i = -1;
+  try {
+    i = host::cell_arm_index(cell, name);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(e.what());
+  }
+  const host::CellArm& arm = cell.arms[size_t(i)];
+  if (!arm.robot.has_motors)
+    throw UsageError("arm " + name + " (" + arm.robot.name + ") has no motors: there are no steps to predict");
+  const host::Prediction p = host::predict_in_cell(cell, name, args.count("path") > 0);
+  return print_prediction(args, arm.robot, arm.program, host::SimOptions().settings, p);
+}
+
+int print_prediction(const cxxopts::ParseResult& args, const host::Robot& robot, const host::Program& program,
+                     const host::ControllerSettings& settings, const host::Prediction& p) {
   const std::string format = output_format(args);
   const std::string out_path = args.count("output") ? args["output"].as<std::string>() : "";
   const bool robosim = program.format == host::Program::Format::kRoboSim;

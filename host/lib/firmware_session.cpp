@@ -245,7 +245,9 @@ void FirmwareSession::run_to(uint64_t tick) {
 void FirmwareSession::run_feeding(uint64_t until) {
   const sitl::Hardware& hw = sitl::hw();
   for (;;) {
-    while (feed_ && hw.replies.size() >= feed_answers_ && sitl::at_rest())
+    // The firmware reads what came and answers it at this very tick (as run_lines' sender
+    // sees it), before the next line goes or the clock moves on.
+    for (sitl::run_to(hw.now); feed_ && hw.replies.size() >= feed_answers_ && sitl::at_rest(); sitl::run_to(hw.now))
       if (!feed_next()) break;
     if (hw.now >= until) return;
     sitl::run_to(std::min(sitl::next_event(), until));

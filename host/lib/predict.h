@@ -21,6 +21,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -168,13 +169,22 @@ struct Prediction {
   double total_s() const { return double(total_ticks) / kStepTickHz; }
 };
 
+// Inputs driven from outside while the program runs (a cell's wires, cell_predict.h): the
+// header pins `pins` (a bit per pin) read `levels(tick)` (ticks from the first line, as the
+// records') at each tick the firmware reads them; it may run other arms' firmwares up to that
+// tick. None: every input reads its pull-up (or its own output).
+struct DrivenInputs {
+  uint32_t pins = 0;
+  std::function<uint32_t(uint64_t tick)> levels;
+};
+
 // Runs a whole program on the firmware (predict_run.cpp), each line as `sender` delivers it,
 // the timed '!'s at their ticks after the first step, the arm powered up with `settings`.
 // Throws PredictError for a robot without motors or one the firmware cannot drive (more than
 // eight motors), std::logic_error if the firmware's own accounts disagree (a bug).
 // With `path`, each record that moves keeps the tool at every step (PredictRecord::path).
 Prediction predict_program(const Robot& robot, const Program& program, const ControllerSettings& settings = {},
-                           const SenderModel& sender = {}, bool path = false);
+                           const SenderModel& sender = {}, bool path = false, const DrivenInputs& inputs = {});
 
 // RoboSim's h (0.0 open .. 0.5 closed) as G's aperture in thousandths of a percent:
 // 100 % - 200 % * h, rounded to a thousandth (h 0 -> 100000, 0.25 -> 50000, 0.5 -> 0).

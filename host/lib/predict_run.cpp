@@ -143,7 +143,7 @@ void note_on(PredictRecord& r, const std::string& note) { append_note(r.note, no
 
 // Notes on what a line did, for a reader: from its command, its reply and what it queued.
 void command_notes(PredictRecord& r, const Command& cmd, const Robot& robot, const int32_t* commanded_before,
-                   const uint32_t* settings, bool shifted) {
+                   const uint32_t* settings, bool shifted, uint32_t driven) {
   const int n = robot.actuation.num_motors;
   if (r.reply != kOk) {
     if (r.reply == kJointLimit && (cmd.type == kCmdRotate || cmd.type == kCmdMoveAbsolute)) {
@@ -191,8 +191,11 @@ void command_notes(PredictRecord& r, const Command& cmd, const Robot& robot, con
     case kCmdDwell: note_on(r, "waits; nothing moves"); break;
     case kCmdOutput: note_on(r, "sets an output pin; nothing moves"); break;
     case kCmdWaitInput:
-      note_on(r, "waits for an input's level: alone, nothing drives an input (it reads 1, its pull-up; a pin O set "
-                 "reads its own level); a wait whose time runs out drops what was queued after it (W:21)");
+      note_on(r, (cmd.arg[0] >= 0 && cmd.arg[0] < 32 && (driven >> cmd.arg[0]) & 1)
+                     ? "waits for an input's level, which a wire drives (another arm's output in the cell); a wait "
+                       "whose time runs out drops what was queued after it (W:21)"
+                     : "waits for an input's level: alone, nothing drives an input (it reads 1, its pull-up; a pin O "
+                       "set reads its own level); a wait whose time runs out drops what was queued after it (W:21)");
       break;
     default: break;
   }
@@ -238,7 +241,7 @@ void line_notes(PredictRecord& r, const Robot& robot, const ConfiguredArm<kFirmw
 }  // namespace
 
 Prediction predict_program(const Robot& robot_in, const Program& program, const ControllerSettings& settings,
-                           const SenderModel& sender, bool keep_path) {
+                           const SenderModel& sender, bool keep_path, const DrivenInputs& inputs) {
   const ConfiguredArm<kFirmwareMotors> arm = machine_arm(robot_in);
   const int motors = robot_in.actuation.num_motors;
   Prediction p;
@@ -251,8 +254,12 @@ Prediction predict_program(const Robot& robot_in, const Program& program, const 
   const std::unique_ptr<sitl::Machine> nano = std::make_unique<sitl::Machine>();
   const sitl::Machine::Use use(*nano);
   power_up(robot_in, arm, settings);
-  const sitl::Hardware& hw = sitl::hw();
+  sitl::Hardware& hw = sitl::hw();
   const uint64_t t0 = hw.now;
+  if (inputs.pins && inputs.levels) {
+    hw.io_driven = inputs.pins;
+    hw.io_sync = [&hw, t0, levels = inputs.levels] { hw.io_external = levels(hw.now - t0); };
+  }
   const size_t coils0 = hw.coil_log.size(), actions0 = hw.actions.size(), queued0 = hw.queued.size(),
                replies0 = hw.replies.size();
   const robot::State start = firmware::planned();
@@ -431,6 +438,7 @@ Prediction predict_program(const Robot& robot_in, const Program& program, const 
                                  got[size_t(source[k].line)].reply + " and its record differ");
         // (Its arguments, for the notes and a target: parsed again only when they are needed.)
         const bool args = r.command == kCmdSetSetting || r.command == kCmdMoveTool || r.command == kCmdLine ||
+                          (r.command == kCmdWaitInput && inputs.pins) ||
                           r.reply == kJointLimit || r.reply == kNoClosedForm;
         if (args) parse_protocol_line(cmd, r.protocol.empty() ? r.text : r.protocol, motors);
         cmd.type = r.command;
@@ -490,7 +498,7 @@ Prediction predict_program(const Robot& robot_in, const Program& program, const 
           note_on(r, "answered once the arm was at rest, " +
                           number_text(std::round(double(answered[k] - in[k]) / kStepTickHz * 1000) / 1000) +
                           " s after it came");
-        command_notes(r, cmd, model, before.commanded, now_settings, shifted);
+        command_notes(r, cmd, model, before.commanded, now_settings, shifted, inputs.pins);
         if (cmd.type == kCmdMoveTool || cmd.type == kCmdLine) {
           r.has_target = true;
           r.target = make_vec3(cmd.arg[0] / 1000.0, cmd.arg[1] / 1000.0, cmd.arg[2] / 1000.0);

@@ -413,11 +413,16 @@ bool is_cell_reference(const std::string& ref) {
   return ok && j.is_object() && j.contains("arms");
 }
 
-void set_cell_program(Cell& cell, const std::string& arm, const Program& program) {
+int cell_arm_index(const Cell& cell, const std::string& arm) {
   const int a = cell.arm_index(arm);
   if (a < 0)
     throw std::invalid_argument("the cell " + cell_loader::in_quotes(cell.name) + " has no arm " + cell_loader::in_quotes(arm) + " (its arms: " +
                                 cell_loader::names_of(cell) + ")");
+  return a;
+}
+
+void set_cell_program(Cell& cell, const std::string& arm, const Program& program) {
+  const int a = cell_arm_index(cell, arm);
   cell.arms[size_t(a)].program = program;
   cell.arms[size_t(a)].program_ref = program.source;
 }

@@ -82,8 +82,11 @@ const std::map<std::string, std::vector<std::string>>& cell_file_fields();
 // where they stand.
 double base_footprint_mm(const Robot& robot);
 
-// A program for one of the cell's arms, from a file or text: the arm must exist (CellError
-// naming the arms it has: std::invalid_argument).
+// The index of the cell's arm called `arm`; std::invalid_argument naming the arms it has if
+// there is none.
+int cell_arm_index(const Cell& cell, const std::string& arm);
+// A program for one of the cell's arms, from a file or text: the arm must exist (as
+// cell_arm_index).
 void set_cell_program(Cell& cell, const std::string& arm, const Program& program);
 
 }  // namespace articula::host

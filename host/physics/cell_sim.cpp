@@ -40,29 +40,34 @@ bool CellSimulation::wire_level(const CellWire& w, uint64_t tick) {
   return !from || from->output_level(cell_.arms[size_t(w.from_arm)].robot.io[size_t(w.from_pin)].pin, tick);
 }
 
-// Each arm's inputs on a wire: before its firmware reads them at a tick, every arm that drives
-// one is run up to that tick (if it is not there yet: an arm in the middle of its own run, the
-// one whose read led here, is past it), and the level is its output's then.
+uint32_t CellSimulation::driven_inputs(int arm) const {
+  uint32_t pins = 0;
+  for (const CellWire& w : cell_.wires)
+    if (w.to_arm == arm) pins |= uint32_t(1) << cell_.arms[size_t(arm)].robot.io[size_t(w.to_pin)].pin;
+  return pins;
+}
+
+// Every arm that drives one of them is run up to `tick` (if it is not there yet: an arm in the
+// middle of its own run, the one whose read led here, is past it), and the level is its
+// output's then.
+uint32_t CellSimulation::input_levels(int arm, uint64_t tick) {
+  uint32_t levels = 0;
+  for (const CellWire& w : cell_.wires) {
+    if (w.to_arm != arm) continue;
+    FirmwareSession* from = world_.driver(w.from_arm).firmware();
+    if (from && from->clock() < tick) from->run_to(tick);
+    if (wire_level(w, tick)) levels |= uint32_t(1) << cell_.arms[size_t(arm)].robot.io[size_t(w.to_pin)].pin;
+  }
+  return levels;
+}
+
+// Each arm's inputs on a wire read input_levels at the tick its firmware reads them.
 void CellSimulation::wire() {
   for (int i = 0; i < num_arms(); ++i) {
     FirmwareSession* fw = world_.driver(i).firmware();
-    std::vector<CellWire> in;
-    uint32_t driven = 0;
-    for (const CellWire& w : cell_.wires)
-      if (w.to_arm == i) {
-        in.push_back(w);
-        driven |= uint32_t(1) << cell_.arms[size_t(i)].robot.io[size_t(w.to_pin)].pin;
-      }
-    if (!fw || in.empty()) continue;  // (a robot without motors has no firmware to read them)
-    fw->drive_inputs(driven, [this, in](uint64_t tick) {
-      uint32_t levels = 0;
-      for (const CellWire& w : in) {
-        FirmwareSession* from = world_.driver(w.from_arm).firmware();
-        if (from && from->clock() < tick) from->run_to(tick);
-        if (wire_level(w, tick)) levels |= uint32_t(1) << cell_.arms[size_t(w.to_arm)].robot.io[size_t(w.to_pin)].pin;
-      }
-      return levels;
-    });
+    const uint32_t pins = driven_inputs(i);
+    if (fw && pins)  // (a robot without motors has no firmware to read them)
+      fw->drive_inputs(pins, [this, i](uint64_t tick) { return input_levels(i, tick); });
   }
 }
 
@@ -174,6 +179,20 @@ nlohmann::json signals_json(const CellSimulation& sim, int arm) {
 }
 
 }  // namespace
+
+Prediction predict_in_cell(const Cell& cell, const std::string& name, bool path) {
+  const int i = cell_arm_index(cell, name);
+  const CellArm& arm = cell.arms[size_t(i)];
+  if (!arm.robot.has_motors)
+    throw PredictError("arm " + name + " (" + arm.robot.name + ") has no motors: there are no steps to predict");
+  // The other arms run in the cell's simulation, whose world never steps: only their firmwares,
+  // each run as far as a read of this arm's inputs (or of theirs) needs. This arm runs there
+  // too, as the others' inputs read it, on the same firmware, program and inputs as here.
+  SimOptions options;
+  CellSimulation sim(cell, options);
+  DrivenInputs inputs{sim.driven_inputs(i), [&sim, i](uint64_t tick) { return sim.input_levels(i, tick); }};
+  return predict_program(arm.robot, arm.program, options.settings, SenderModel{}, path, inputs);
+}
 
 nlohmann::json cell_arms_json(const CellSimulation& sim) {
   nlohmann::json out = nlohmann::json::array();

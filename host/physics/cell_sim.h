@@ -47,6 +47,12 @@ class CellSimulation {
   // is also a kDeadlock event when it begins.
   const std::string& deadlock() const { return deadlock_; }
 
+  // Arm `arm`'s inputs that wires drive (a bit per header pin), and their levels at its tick
+  // `tick`: each driving arm's firmware is first run up to that tick (predict_in_cell's, and
+  // each firmware's own reads).
+  uint32_t driven_inputs(int arm) const;
+  uint32_t input_levels(int arm, uint64_t tick);
+
  private:
   void wire();
   bool wire_level(const CellWire& w, uint64_t tick);
@@ -57,6 +63,13 @@ class CellSimulation {
   std::string deadlock_;
   bool stuck_ = false;  // in a deadlock now
 };
+
+// What arm `arm` of the cell will do with its program, step-exact, in the cell: predict.h's
+// Prediction (each line sent once the arm is at rest, from t = 0, as in the cell), with its
+// inputs driven through the wires by the other arms' firmwares running their programs beside
+// it, so each W ends at the tick the other arm's output changed. Throws std::invalid_argument
+// for an arm the cell lacks, PredictError for one without motors.
+Prediction predict_in_cell(const Cell& cell, const std::string& arm, bool path = false);
 
 // Each arm as it ends (or is now): name, robot, base (xyz, yaw, footprint_mm: where it stands),
 // program, program_end_s, line, joints (deg or mm),

@@ -287,6 +287,36 @@ TEST(Cli, PredictJsonIsOneDocument) {
   EXPECT_EQ(j["summary"]["rejected"], 0);
 }
 
+// One arm of a cell: its waits end as the other arm's outputs change (alone, each of the
+// right arm's waits would run out after its 30 s), and the wrong arm or option is named.
+TEST(Cli, PredictOneArmOfACell) {
+  const Result r = run_stdout("predict shared-zone right --json");
+  ASSERT_EQ(r.code, 0) << r.out;
+  const auto j = nlohmann::json::parse(r.out);
+  ASSERT_GE(j["records"].size(), 3u);
+  int waits = 0;
+  for (const auto& rec : j["records"])
+    if (rec["command"].get<std::string>()[0] == 'W') {
+      ++waits;
+      EXPECT_LT(rec["seconds"].get<double>(), 29.0) << rec["command"];
+      EXPECT_NE(rec["note"].get<std::string>().find("a wire drives"), std::string::npos) << rec["note"];
+    }
+  EXPECT_GE(waits, 1);
+  const Result text = run("predict shared-zone right");
+  EXPECT_EQ(text.code, 0) << text.out;
+  EXPECT_NE(text.out.find("rejected, worst quantization error"), std::string::npos) << text.out;
+  const Result no_arm = run("predict shared-zone middle");
+  EXPECT_EQ(no_arm.code, 2);
+  EXPECT_NE(no_arm.out.find("the cell \"Shared zone\" has no arm \"middle\" (its arms: left, right)"), std::string::npos)
+      << no_arm.out;
+  const Result none = run("predict shared-zone");
+  EXPECT_EQ(none.code, 2);
+  EXPECT_NE(none.out.find("name the arm of Shared zone to predict (its arms: left, right)"), std::string::npos) << none.out;
+  const Result stream = run("predict shared-zone left --sender stream");
+  EXPECT_EQ(stream.code, 2);
+  EXPECT_NE(stream.out.find("--sender"), std::string::npos) << stream.out;
+}
+
 TEST(Cli, PredictAStraightLineWithThePathAtEveryStep) {
   // T: the text says how far the tool strays from the line; --json --path gives the tool after
   // every step of each move, the straight line's worst distance the largest of them.

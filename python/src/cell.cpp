@@ -113,6 +113,23 @@ void bind_cell(nb::module_& m) {
            "The events so far (or from index `since`), as `articula sim CELL --json` gives them: t, kind, arm (the arm "
            "whose action it is; none for a contact between objects), line, a, b (another arm's part: 'right: link 3'), "
            "point_mm, detail.")
+      .def("predict",
+           [](const PyCell& c, nb::handle which) {
+             const host::CellArm& arm = c.cell.arms[size_t(c.arm_index(which))];
+             if (!arm.robot.has_motors)
+               throw nb::value_error((arm.name + " (" + arm.robot.name + ") has no motors: there are no steps to predict").c_str());
+             host::Prediction p;
+             {
+               nb::gil_scoped_release release;
+               p = host::predict_in_cell(c.cell, arm.name);
+             }
+             return record(host::prediction_json(arm.robot, arm.program, p));
+           },
+           "which"_a,
+           "What one arm (by name or index) will do with its program in the cell, step for step, as Robot.predict "
+           "gives it (`articula predict CELL ARM --json`), with its inputs driven through the cell's wires by the "
+           "other arms' firmwares running their programs beside it: each W ends when the other arm's output "
+           "changed. Its own firmware, its own clock: the world's objects play no part.")
       .def("reset", [](PyCell& c) { c.build(); }, "Back to t = 0: every arm at power-up, its program loaded again.")
       .def_prop_ro("arms", [](const PyCell& c) {
         std::vector<std::string> out;

@@ -93,6 +93,7 @@ SAME = [
     ("Cell.done", "Cell.done"),
     ("Cell.end_time", "Cell.endTime"),
     ("Cell.deadlock", "Cell.deadlock"),
+    ("Cell.predict", "Cell.predict"),
     # the arm's protocol
     ("_status_table", "statusTable"),
     ("_status_table", "statusText"),

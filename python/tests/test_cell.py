@@ -38,6 +38,20 @@ def test_the_shared_zone_takes_turns_and_a_deadlock_is_told(tmp_path):
     assert 0 <= left[0].end_t - right[0].t <= 0.001
     assert 0 <= right[1].end_t - left[1].t <= 0.001
     assert 0 <= left[2].end_t - right[2].t <= 0.001
+    # Each arm predicted in the cell (articula predict CELL ARM): its O and W lines begin, and its
+    # W lines end, at the very times of the run.
+    for name, signals in (("left", left), ("right", right)):
+        p = cell.predict(name)
+        timed = [r for r in p.records if r.command[0] in "OW"]
+        assert [r.line for r in timed] == [s.line for s in signals]
+        for r, s in zip(timed, signals):
+            assert r.start_s == pytest.approx(s.t, abs=1e-9), (name, r.command)
+            if s.kind == "wait":
+                assert r.end_s == pytest.approx(s.end_t, abs=1e-9), (name, r.command)
+                assert "a wire drives" in r.note
+        assert p.records[-1].steps == cell.arm(name).counted_steps
+    with pytest.raises(KeyError, match=r"no arm 'middle' \(its arms: left, right\)"):
+        cell.predict("middle")
     # Each arm waits for the other first: told in words, as an event, until a wait runs out.
     (tmp_path / "left.arm").write_text("W 15 0 2\nO 14 0\n")
     (tmp_path / "right.arm").write_text("W 15 0 3\nO 14 0\n")

@@ -263,7 +263,23 @@ class Page:
         for event, f in self.listening.items():
             self.page.on(event, f)
         self.page.goto(as_tested(url + query, service_worker))
-        self.page.wait_for_function(f"() => window.articula && window.articula.ready && {ready}", timeout=20000 * PATIENCE)
+        try:
+            self.page.wait_for_function(f"() => window.articula && window.articula.ready && {ready}", timeout=20000 * PATIENCE)
+        except Exception as e:
+            raise AssertionError(f"the page ({url + query}, {'a parked page' if parked else 'a new page'}) never "
+                                 f"became ready ({ready}): {e}\nthe page: {self.state()}\nits console: {self.errors}") from None
+
+    def state(self):
+        """What the page was doing, for a failure: its history, the engine's unanswered requests,
+        its errors, its robot and project, what its status lines say."""
+        try:
+            return self.page.evaluate("() => { const a = window.articula; if (!a) return 'no window.articula'; "
+                                      "return { ready: a.ready, firstFrameAt: a.firstFrameAt, history: a.history, "
+                                      "engine: a.engineWaiting && a.engineWaiting(), errors: a.pageErrors, "
+                                      "robot: a.robot && a.robot.name, project: a.project && a.project.name, said: "
+                                      + STATUS_LINES_JS + " }; }")
+        except Exception as e2:  # the page is gone
+            return f"(no page: {e2})"
 
     # Predicates go to the page as functions: the site's Content-Security-Policy forbids
     # evaluating a bare expression string in it (eval), as it would any script not its own.
@@ -276,13 +292,7 @@ class Page:
         try:
             self.page.wait_for_function(f"() => {{ const a = window.articula; return {expr}; }}", timeout=timeout * PATIENCE)
         except Exception as e:
-            try:
-                state = self.page.evaluate("() => { const a = window.articula; return { history: a.history, "
-                                           "engine: a.engineWaiting(), errors: a.pageErrors, robot: a.robot && a.robot.name, "
-                                           "project: a.project && a.project.name, said: " + STATUS_LINES_JS + " }; }")
-            except Exception as e2:  # the page is gone
-                state = f"(no page: {e2})"
-            raise AssertionError(f"{expr} did not happen: {e}\nthe page: {state}") from None
+            raise AssertionError(f"{expr} did not happen: {e}\nthe page: {self.state()}") from None
 
     def tap_answered(self, selector: str, answered: str, within: float = 30.0, tries: int = 3) -> list:
         """A finger's tap on `selector` until the page answers (engines.answered_act): a tap the

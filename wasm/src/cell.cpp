@@ -7,6 +7,7 @@
 #include "cell_file.h"
 #include "cell_sim.h"
 #include "common.h"
+#include "records_json.h"
 
 namespace articula::web {
 
@@ -60,6 +61,14 @@ class WebCell {
   bool done() const { return sim_->done(); }
   double end_time() const { return sim_->end_time(); }
   std::string deadlock() const { return sim_->deadlock(); }
+  // One arm's prediction in the cell (host/physics/cell_sim.h's predict_in_cell) as
+  // `articula predict CELL ARM --json` gives it; the error as JSON.
+  std::string predict(const std::string& name) const {
+    return guarded([&] {
+      const host::CellArm& arm = sim_->cell().arms[size_t(host::cell_arm_index(sim_->cell(), name))];
+      return host::prediction_json(arm.robot, arm.program, host::predict_in_cell(sim_->cell(), name)).dump();
+    });
+  }
 
  private:
   host::SimOptions options_;
@@ -86,5 +95,6 @@ EMSCRIPTEN_BINDINGS(articula_cell) {
       .function("time", &WebCell::time)
       .function("done", &WebCell::done)
       .function("endTime", &WebCell::end_time)
-      .function("deadlock", &WebCell::deadlock);
+      .function("deadlock", &WebCell::deadlock)
+      .function("predict", &WebCell::predict);
 }

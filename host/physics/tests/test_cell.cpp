@@ -117,6 +117,17 @@ TEST_P(CellOfN, EachArmStepsAsItsOwnPredictionAlone) {
     }
     EXPECT_GE(moves, 2);
     EXPECT_EQ(sim.arm(i).counted_steps(), pr.records.back().steps);
+
+    // Predicted in the cell, with no wire to the others: as alone, line by line.
+    if (!cell.arms[size_t(i)].robot.has_motors) continue;
+    const Prediction in = predict_in_cell(cell, cell.arms[size_t(i)].name);
+    ASSERT_EQ(in.records.size(), pr.records.size());
+    for (size_t r = 0; r < pr.records.size(); ++r) {
+      EXPECT_EQ(in.records[r].start_tick, pr.records[r].start_tick) << "line " << pr.records[r].line;
+      EXPECT_EQ(in.records[r].end_tick, pr.records[r].end_tick) << "line " << pr.records[r].line;
+      EXPECT_EQ(in.records[r].steps, pr.records[r].steps) << "line " << pr.records[r].line;
+    }
+    EXPECT_EQ(in.total_ticks, pr.total_ticks);
   }
 }
 
@@ -245,6 +256,50 @@ TEST(Cell, EveryWaitEndsWhenTheOtherArmsOutputChanges) {
       EXPECT_EQ(runs[0][arm][k].tick, runs[1][arm][k].tick) << arm << " " << k;
       EXPECT_EQ(runs[0][arm][k].end_tick, runs[1][arm][k].end_tick) << arm << " " << k;
     }
+}
+
+// Each arm predicted in the cell (predict_in_cell): its records' W lines end, and its O lines
+// begin, at the very ticks the cell's simulation gives them; alone, nothing would set its input
+// and every W runs out.
+TEST(Cell, EachArmIsPredictedInTheCellWithTheOtherArmsSignals) {
+  const json pa = {"M 30 80 -10", "O 14 0", "W 15 0 30", "M 0 90 0", "O 14 1"};
+  const json pb = {"W 15 0 30", "M -40 100 -20", "O 14 0", "W 15 1 30", "M 0 90 0"};
+  const Cell cell = wired_pair(pa, pb);
+  CellSimulation sim(cell);
+  while (!sim.done()) sim.step();
+  for (const std::string name : {"a", "b"}) {
+    SCOPED_TRACE(name);
+    const int i = cell.arm_index(name);
+    const Prediction p = predict_in_cell(cell, name);
+    const auto& signals = sim.driver(i).signals();
+    ASSERT_EQ(signals.size(), 3u);
+    size_t k = 0;
+    for (const PredictRecord& r : p.records) {
+      EXPECT_EQ(r.reply, kOk) << r.text;
+      if (r.text[0] != 'O' && r.text[0] != 'W') continue;
+      ASSERT_LT(k, signals.size());
+      const ArmDriver::Signal& sig = signals[k++];
+      EXPECT_EQ(r.line, sig.line);
+      EXPECT_EQ(r.start_tick, sig.tick) << r.text;
+      if (sig.kind == ArmDriver::Signal::kWait) {
+        EXPECT_EQ(r.end_tick, sig.end_tick) << r.text;
+        EXPECT_LT(r.end_tick - r.start_tick, uint64_t(30 * kStepTickHz)) << r.text << ": it ran out";
+      }
+    }
+    EXPECT_EQ(k, signals.size());
+    EXPECT_EQ(double(p.total_ticks) / kStepTickHz, sim.driver(i).program_end());
+    EXPECT_EQ(sim.arm(i).counted_steps(), p.records.back().steps);
+  }
+  // Alone, b's first W waits its 30 s out and its program goes on.
+  const CellArm& b = cell.arms[size_t(cell.arm_index("b"))];
+  const Prediction alone = predict_program(b.robot, b.program);
+  EXPECT_EQ(alone.records[0].end_tick - alone.records[0].start_tick, uint64_t(30 * kStepTickHz));
+  try {
+    predict_in_cell(cell, "c");
+    ADD_FAILURE() << "no error";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_STREQ(e.what(), "the cell \"wired\" has no arm \"c\" (its arms: a, b)");
+  }
 }
 
 // Each arm waits for the other before it signals: a deadlock, told in words, until the first
