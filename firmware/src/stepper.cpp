@@ -223,7 +223,9 @@ void setup() {
   for (uint8_t i = 0; i < kJ; ++i) {
     st().pos[i] = 0;
     const MotorSpec& m = robot::motor(i);
-    st().seek_range[i] = 2 * uint32_t(max_steps(m) - min_steps(m)) + 16;
+    // (max_steps - min_steps: the whole steps at the two limits, without limit_steps' divisions)
+    const int32_t ends = quantize_within_limits(m, m.max) - quantize_within_limits(m, m.min);
+    st().seek_range[i] = 2 * uint32_t(ends < 0 ? -ends : ends) + 16;
   }
   update_constants();
 }

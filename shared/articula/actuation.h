@@ -127,10 +127,18 @@ inline int32_t max_steps(const MotorSpec& m) { return detail::limit_steps(m, tru
 
 // The step a commanded angle within the limits drives to: the nearest step, but never one
 // past a limit (the rule at the top of this file). Outside the limits: the nearest step.
+// (Equal to clamp(quantize, min_steps, max_steps) within the limits, without their divisions:
+// the nearest step is at most one step past a limit the angle is within, and step s's angle
+// is zero + direction * s * den / num, so s * den against (limit - zero) * num tells. For a
+// validated motor both products fit an int64: |limit - zero| * num <= 2e9 * 2^31, and s * den
+// is within den / 2 of (angle - zero) * num.)
 inline int32_t quantize_within_limits(const MotorSpec& m, Millideg angle) {
   const int32_t s = quantize(m, angle);
   if (angle < m.min || angle > m.max) return s;
-  return clamp(s, min_steps(m), max_steps(m));
+  const int64_t at = int64_t(m.direction) * s * detail::steps_den(m), num = detail::steps_num(m);
+  if (at > (int64_t(m.max) - m.zero) * num) return s - m.direction;
+  if (at < (int64_t(m.min) - m.zero) * num) return s + m.direction;
+  return s;
 }
 
 // Degrees per step at the actuator (the resolution a user sees).

@@ -257,6 +257,40 @@ TEST(Actuation, MinMaxStepsNeverBeyondALimit) {
   EXPECT_GT(steps_to_degrees<double>(with_direction(kShoulder, -1), -55), 130.0);
 }
 
+// quantize_within_limits checks a step past a limit without min_steps' and max_steps' divisions
+// (the Nano's flash): the same step as clamping to them, for random motors of both directions,
+// fine and coarse, at random angles and at the limits and a millidegree inside them, and at the
+// largest spans a validated motor may have.
+TEST(Actuation, QuantizeWithinLimitsIsTheNearestStepClampedToTheLimits) {
+  std::mt19937 rng(2026);
+  std::uniform_int_distribution<int32_t> lim(-400000, 400000);
+  std::uniform_int_distribution<int> gear(1, 5000);
+  std::uniform_int_distribution<int> micro(0, 5);
+  int clamped = 0;
+  auto check = [&](const MotorSpec& m, Millideg angle) {
+    const int32_t want = clamp(quantize(m, angle), min_steps(m), max_steps(m));
+    ASSERT_EQ(quantize_within_limits(m, angle), want) << "angle " << angle << " dir " << int(m.direction) << " gear "
+                                                      << m.gear_num << "/" << m.gear_den;
+    clamped += want != quantize(m, angle);
+  };
+  for (int i = 0; i < 20000; ++i) {
+    MotorSpec m = {uint16_t(i % 3 ? 200 : 48), uint8_t(1 << micro(rng)), int8_t(i % 2 ? 1 : -1), gear(rng), gear(rng), 0, 0, 0};
+    int32_t a = lim(rng), b = lim(rng), z = lim(rng);
+    if (a > b) std::swap(a, b);
+    m.min = a, m.max = b, m.zero = std::min(std::max(z, a), b);
+    if (validate(m) != kMotorOk) continue;
+    for (Millideg angle : {m.min, m.max, Millideg(m.min + 1), Millideg(m.max - 1), m.zero,
+                           Millideg(std::uniform_int_distribution<int32_t>(m.min, m.max)(rng))})
+      check(m, std::min(std::max(angle, m.min), m.max));
+  }
+  EXPECT_GT(clamped, 1000);  // (the limits' nearest steps often lie past them)
+  // The widest a validated motor may be: a million degrees each way, one step per degree.
+  const MotorSpec wide = {360, 1, -1, 1, 1, 0, -kMaxAbsMillideg, kMaxAbsMillideg};
+  ASSERT_EQ(validate(wide), kMotorOk);
+  for (Millideg angle : {-kMaxAbsMillideg, kMaxAbsMillideg, Millideg(-kMaxAbsMillideg + 499), Millideg(kMaxAbsMillideg - 501)})
+    check(wide, angle);
+}
+
 TEST(Actuation, RelativeMovesDoNotDrift) {
   Actuation<double, 3> a = mk2();
   a.motors[0].min = -kMaxAbsMillideg;  // +-1,000,000 deg: room for a long random walk
