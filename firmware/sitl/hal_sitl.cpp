@@ -285,6 +285,17 @@ uint32_t io_levels() {
          (~hw.io_output & ~hw.io_driven & hw.io_high);
 }
 
+void io_inputs(uint32_t pins) {
+  sitl::Hardware& hw = sitl::hw();
+  for (uint8_t pin = 0; pin < articula::kIoPins; ++pin) {
+    const uint32_t bit = uint32_t(1) << pin;
+    if (!(pins & bit)) continue;
+    if (!(hw.io_high & bit)) hw.io_log.push_back({hw.now, pin, true});  // (its pull-up: high again)
+    hw.io_output &= ~bit;
+    hw.io_high |= bit;
+  }
+}
+
 void io_write(uint8_t pin, bool high) {
   sitl::Hardware& hw = sitl::hw();
   const uint32_t bit = uint32_t(1) << pin;

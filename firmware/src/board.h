@@ -147,12 +147,14 @@ constexpr unsigned long kKeptByShield =
     header_bit(kShieldSocket[2].step) | header_bit(kShieldSocket[0].dir) | header_bit(kShieldSocket[1].dir) |
     header_bit(kShieldSocket[2].dir) | header_bit(kShieldEnable) | header_bit(kShieldEndstopPins[0]) |
     header_bit(kShieldEndstopPins[1]) | header_bit(kShieldEndstopPins[2]) | header_bit(kShieldServoPin);
-// Every header pin: a servo arm keeps them all for now (its build has no flash left for I/O).
+// The servo build: the gripper's servo; its joints' servos take the pins its configuration
+// names (robot::kept_pins, the host's io_pins_free add them).
+constexpr unsigned long kKeptByServos = kKeptAlways | header_bit(kServoPin);
 constexpr unsigned long kAllHeaderPins = (1UL << kHeaderPins) - 1;
 // The pins a drive keeps, by its family: the firmware's check of O and W (robot::kept_pins) and
 // the host's list of what they may use (wiring.h's io_pins_free).
 constexpr unsigned long kept_by(bool step_dir, bool servos) {
-  return step_dir ? kKeptByShield : servos ? kAllHeaderPins : kKeptByCoils;
+  return step_dir ? kKeptByShield : servos ? kKeptByServos : kKeptByCoils;
 }
 static_assert(kKeptByCoils == 0xFFFFFUL - (1UL << 19), "the 4-wire build leaves A5 only");
 static_assert(kKeptByShield == 0xFFFFFUL - (1UL << 12) - (7UL << 14) - (3UL << 18), "the shield leaves D12, A0..A2, A4, A5");

@@ -149,6 +149,7 @@ bool must_wait(const Command& c) {
 // A configuration put in use: the coils, the step constants, the position as at power-up.
 void adopt_configuration() {
   coils::setup();
+  hal::io_inputs(~robot::kept_pins() & board::kAllHeaderPins);  // (after the servos took theirs)
   stepper::update_constants();
   reset_position();
 }
@@ -251,7 +252,7 @@ uint8_t queue_command(const Command& c) {
       return kOk;
     case kCmdOutput:
     case kCmdWaitInput:  // O pin level, W pin level seconds (the parser checked the ranges)
-      if (!robot::kHasIo || (robot::kept_pins() & (uint32_t(1) << c.arg[0]))) return kPinUnavailable;
+      if (robot::kept_pins() & (uint32_t(1) << c.arg[0])) return kPinUnavailable;
       if (queue::full()) return kWait;
       a.kind = c.type == kCmdOutput ? queue::kOutput : queue::kWaitIn;
       a.mask = uint8_t(c.arg[0]);
@@ -450,7 +451,7 @@ __attribute__((noinline)) uint8_t status_line(char* buf, uint8_t cap) {
   hal::interrupts_restore(s);
   // (The pins' levels need no critical section: outside it, they keep the step interrupt's
   // deadlines where they were.)
-  r.io = robot::kHasIo ? int32_t(hal::io_levels() & ~robot::kept_pins() & board::kAllHeaderPins) : -1;
+  r.io = int32_t(hal::io_levels() & ~robot::kept_pins() & board::kAllHeaderPins);
   r.state = stop                        ? kStateStop
             : homing                    ? kStateHome
             : (running || queued != 0)  ? kStateRun

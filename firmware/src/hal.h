@@ -40,10 +40,12 @@ void set_servo_pulse(uint16_t microseconds);
 bool endstop(uint8_t motor);
 
 // Digital I/O on the header's pins (board.h's kHeaderPin index: D0..D13, A0..A5), for
-// protocol.h's O and W; the controller passes only pins its drive leaves free. At power-up
-// every pin the build keeps not is an input with its pull-up (it reads 1 with nothing on it).
-// io_write() makes the pin an output at `high` (for good: it stays one); io_read() reads a pin
-// (an output reads its own level); io_levels() reads every pin at once, bit n pin n.
+// protocol.h's O and W; the controller passes only pins its drive leaves free. io_inputs()
+// makes the pins `pins` (bit n pin n) inputs with their pull-ups (each reads 1 with nothing on
+// it): every pin the configuration keeps not, whenever one is put in use. io_write() makes the
+// pin an output at `high` (it stays one until then); io_read() reads a pin (an output reads its
+// own level); io_levels() reads every pin at once, bit n pin n.
+void io_inputs(uint32_t pins);
 void io_write(uint8_t pin, bool high);
 bool io_read(uint8_t pin);
 uint32_t io_levels();

@@ -550,14 +550,8 @@ void init() {
   ARTICULA_LED_PORT &= uint8_t(~_BV(ARTICULA_LED_BIT));
   ARTICULA_LED_DDR |= _BV(ARTICULA_LED_BIT);
 
-  // The pins the build keeps not: inputs with their pull-ups, for O and W (an input with
-  // nothing on it reads 1). (robot::kept_pins() is a constant in a build of one drive family.)
-  if (robot::kHasIo) {
-    const uint32_t free = ~robot::kept_pins();
-    PORTD |= uint8_t(free);
-    PORTB |= uint8_t((free >> 8) & 0x3F);
-    PORTC |= uint8_t((free >> 14) & 0x3F);
-  }
+  // (The pins O and W may use become inputs with their pull-ups once a configuration is in
+  // use: io_inputs. A servo arm's depend on it.)
 
   // Endstops: inputs with pull-ups.
   ARTICULA_ENDSTOP0_DDR &= uint8_t(~_BV(ARTICULA_ENDSTOP0_BIT));
@@ -707,6 +701,18 @@ bool endstop(uint8_t motor) {
     default:
       return false;
   }
+}
+
+void io_inputs(uint32_t pins) {
+  const uint8_t d = uint8_t(pins), b = uint8_t(pins >> 8) & 0x3F, c = uint8_t(pins >> 14) & 0x3F;
+  const uint8_t sreg = interrupts_off();  // (the step and servo interrupts write these ports too)
+  DDRD &= uint8_t(~d);
+  PORTD |= d;
+  DDRB &= uint8_t(~b);
+  PORTB |= b;
+  DDRC &= uint8_t(~c);
+  PORTC |= c;
+  interrupts_restore(sreg);
 }
 
 void io_write(uint8_t pin, bool high) {

@@ -84,15 +84,15 @@ inline bool servos() {
 // Whether a step is a pulse to the HAL (STEP/DIR drivers and servos) rather than a coil pattern.
 inline bool pulsed() { return step_dir() || servos(); }
 
-// Whether this build has digital I/O (protocol.h's O and W, the status report's I). The build
-// for servo arms has not: it has no flash left for it (docs/protocol.md); O and W give
-// kPinUnavailable there, and its reports carry no I. (The SITL, which drives every kind, has
-// it for the others.)
-static const bool kHasIo = kDrives != (1u << articula::kDriveServo);
-
 // The header pins the drive keeps (board.h's masks, bit n pin n): O and W take the others, and the
-// status report's I shows those. A servo arm keeps them all (kHasIo).
-inline uint32_t kept_pins() { return board::kept_by(step_dir(), servos()); }
+// status report's I shows those. A servo arm keeps its servos' signal pins, which its
+// configuration names ($135..$137), beside the serial line, the LED and the gripper's.
+inline uint32_t kept_pins() {
+  uint32_t kept = board::kept_by(step_dir(), servos());
+  if (servos())
+    for (uint8_t i = 0; i < count() && i < articula::kMaxConfigMotors; ++i) kept |= uint32_t(1) << config().servo_pin[i];
+  return kept;
+}
 static_assert(board::kHeaderPins == articula::kIoPins, "O and W name the header's pins");
 
 // steps_to_millideg(motor(i), steps), the status report's A field: the same value, from a

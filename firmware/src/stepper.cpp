@@ -127,10 +127,9 @@ uint32_t begin(const queue::Action& a) {
       st().mode = kPause;
       return a.grip.settle_ticks;
     case queue::kOutput:
-      if (robot::kHasIo) hal::io_write(a.mask, a.grip.percent != 0);
+      hal::io_write(a.mask, a.grip.percent != 0);
       return 0;
     case queue::kWaitIn:
-      if (!robot::kHasIo) return 0;  // (never queued there)
       st().wait_pin = a.mask;
       st().wait_level = a.grip.percent;
       st().wait_left = a.grip.settle_ticks;
@@ -311,7 +310,6 @@ uint32_t on_timer() {
     case kPause:
       return next_action();
     case kWait: {
-      if (!robot::kHasIo) return halt();
       const uint32_t t = wait_tick();
       return t != 0 ? t : next_action();
     }

@@ -150,7 +150,11 @@ Wiring wire(const Robot& robot) {
 
 uint32_t io_pins_free(const Robot& robot) {
   const DriveKind kind = arm_drive(robot);
-  return uint32_t(board::kAllHeaderPins & ~board::kept_by(kind == kDriveStepDir, kind == kDriveServo));
+  uint32_t free = uint32_t(board::kAllHeaderPins & ~board::kept_by(kind == kDriveStepDir, kind == kDriveServo));
+  if (kind == kDriveServo)  // (and its joints' servos, on the pins its file names)
+    for (const MotorDriver& m : robot.drive.motors)
+      if (m.pin >= 0) free &= ~(uint32_t(1) << m.pin);
+  return free;
 }
 
 std::string io_pins_free_text(const Robot& robot) {
