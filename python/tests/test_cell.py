@@ -63,6 +63,23 @@ def test_the_shared_zone_takes_turns_and_a_deadlock_is_told(tmp_path):
     assert deadlocks[0].t < 0.01
 
 
+def test_two_builds_one_signal_the_mearm_waits_for_the_mk2():
+    """The servo build (the meArm) reads a wire from the 4-wire build (the MK2): its W ends at the
+    first look after the MK2's O, in the run and in its prediction in the cell."""
+    cell = articula.Cell("signal")
+    cell.run()
+    mk2, mearm = cell.arm("mk2"), cell.arm("mearm")
+    assert [(s.kind, s.name, s.level) for s in mk2.signals] == [("output", "placed", 0)]
+    assert [(s.kind, s.name, s.level) for s in mearm.signals] == [("wait", "go", 0)]
+    assert mk2.signals[0].t > 2  # after the MK2 set the block down and went home
+    assert 0 <= mearm.signals[0].end_t - mk2.signals[0].t <= 0.001
+    predicted = cell.predict("mearm")
+    assert predicted.records[0].command == "W 14 0 30"
+    assert predicted.records[0].end_s == pytest.approx(mearm.signals[0].end_t, abs=1e-9)
+    assert predicted.records[1].start_s >= predicted.records[0].end_s
+    assert not [e for e in cell.events() if e.kind in ("collision", "rejected")]
+
+
 def test_each_arm_by_name_or_index_and_a_program_of_ones_own(tmp_path):
     program = tmp_path / "wave.arm"
     program.write_text("G 100\nM 30 100 0\n")
