@@ -147,9 +147,12 @@ bool must_wait(const Command& c) {
 }
 
 // A configuration put in use: the coils, the step constants, the position as at power-up.
+// The pins O and W may use: inputs with their pull-ups (after the servos took theirs).
+void free_pins_to_inputs() { hal::io_inputs(~robot::kept_pins() & board::kAllHeaderPins); }
+
 void adopt_configuration() {
   coils::setup();
-  hal::io_inputs(~robot::kept_pins() & board::kAllHeaderPins);  // (after the servos took theirs)
+  free_pins_to_inputs();
   stepper::update_constants();
   reset_position();
 }
@@ -474,6 +477,7 @@ __attribute__((noinline)) void setup() {
   robot::setup();
   settings::load();
   coils::setup();
+  free_pins_to_inputs();
   queue::clear();
   stepper::setup();
   ctl().line.clear();

@@ -266,6 +266,37 @@ def test_gripper_servo_pulse(tools, tmp_path):
     print(f"  servo: {servo['width_us']['min']}..{servo['width_us']['max']} us, median {median} us, for {expected_us} us")
 
 
+def test_digital_io_on_the_header_pins(tools, tmp_path):
+    """O and W on the Nano's own pins (the 4-wire build leaves A5, header pin 19): a W holds the
+    move behind it until something outside pulls the pin low (--input), within its millisecond
+    look; an O after a move changes the pin's level as the move's last step is made (--output).
+    The lines go in at power-up, paced, so both are queued long before the input changes."""
+    low_at = 1.0
+    nano = Nano(tmp_path, "--paced", "--input", f"A5:0@{low_at}", "--trace-steps", tmp_path / "w.csv",
+                first="W 19 0 5\nL 0 10\n")
+    report = nano.close()
+    steps = read_trace(tmp_path / "w.csv")
+    assert steps, "the move never ran"
+    first_us = steps[0][0]
+    assert report["io"]["inputs"] == [{"pin": "A5", "level": 0, "at_s": low_at}]
+    lag_us = first_us - low_at * 1e6
+    assert 0 <= lag_us <= 1000 + first_interval_us(600, 2000) + 100, lag_us  # a look a millisecond, then the first interval
+    print(f"  W: the move's first step {lag_us:.0f} us after the input went low")
+
+    nano = Nano(tmp_path, "--paced", "--output", "A5", "--trace-steps", tmp_path / "o.csv", first="L 0 10\nO 19 0\n")
+    report = nano.close()
+    steps = read_trace(tmp_path / "o.csv")
+    (out,) = report["io"]["outputs"]
+    assert out["pin"] == "A5"
+    # its pull-up at power-up (the configuration in use), then low once the move has ended
+    assert [c["level"] for c in out["changes"]] == [1, 0], out
+    assert out["changes"][0]["t_s"] < 0.1
+    last_us = steps[-1][0]
+    after_us = out["changes"][1]["t_s"] * 1e6 - last_us
+    assert 0 <= after_us <= 10000, after_us  # with the move's end (its last interval ends it), not before
+    print(f"  O: the pin low {after_us:.0f} us after the move's last step")
+
+
 def test_homing_with_endstop(tools, tmp_path):
     base_min = quantize("L 0 -90")[0]  # the base's minimum angle, where its switch sits
     assert base_min == -284

@@ -51,6 +51,12 @@ const char kHelp[] =
     "  --endstop M:STEPS    motor M's switch (0: D2, 1: D12, 2: A4) is closed (pin low) while\n"
     "                       the motor's decoded step position is <= STEPS (every motor starts\n"
     "                       at step 0); repeat for several motors\n"
+    "  --input PIN:LEVEL[@S]  from S seconds of simulated time (default 0) header pin PIN (A0,\n"
+    "                       D12) is driven to LEVEL (0 or 1) from outside: a wire from another\n"
+    "                       arm or a device, for the firmware's W (before it, the pin reads its\n"
+    "                       pull-up); repeat for more changes, in time order\n"
+    "  --output PIN         follow header pin PIN's level (the firmware's O): the report's io\n"
+    "                       gives each change and its time; repeat for more pins\n"
     "  --half-step M        count motor M in half steps from the start (default: a motor is\n"
     "                       counted in half steps once it shows a one-coil pattern)\n"
     "  --uln2003            the motors are unipolar (28BYJ-48s) on ULN2003 boards: their inputs\n"
@@ -157,6 +163,25 @@ Args parse_args(int argc, char** argv) {
           m >= vnano::VirtualNano::kMotors)
         usage_error("--endstop M:STEPS, M a motor 0 to 2, STEPS a whole number: not " + v);
       a.config.endstops.push_back({int(m), steps});
+    } else if (arg == "--input") {
+      // PIN:LEVEL[@S], e.g. A0:0@1.5
+      const std::string v = need("--input");
+      const size_t c = v.find(':'), at = v.find('@');
+      const int pin = c == std::string::npos ? -1 : vnano::header_pin(v.substr(0, c));
+      long long level = -1;
+      double s = 0;
+      const std::string lv = c == std::string::npos ? "" : v.substr(c + 1, at == std::string::npos ? std::string::npos : at - c - 1);
+      if (pin < 0 || !parse_int(lv, level) || (level != 0 && level != 1) ||
+          (at != std::string::npos && (!parse_double(v.substr(at + 1), s) || s < 0)) ||
+          (!a.config.inputs.empty() && s < a.config.inputs.back().at_s))
+        usage_error("--input PIN:LEVEL[@S], PIN a header pin (D2..D13, A0..A5), LEVEL 0 or 1, S seconds (0 or more, "
+                    "each no earlier than the one before): not " + v);
+      a.config.inputs.push_back({pin, int(level), s});
+    } else if (arg == "--output") {
+      const std::string v = need("--output");
+      const int pin = vnano::header_pin(v);
+      if (pin < 0) usage_error("--output PIN, a header pin (D2..D13, A0..A5): not " + v);
+      a.config.outputs.push_back(pin);
     } else if (arg == "--half-step") {
       long long m = 0;
       if (!parse_int(need("--half-step"), m) || m < 0 || m >= vnano::VirtualNano::kMotors)
@@ -203,7 +228,8 @@ Args parse_args(int argc, char** argv) {
       usage_error("one ELF only");
     }
     if (has_value && arg != "--elf" && arg != "--pty-link" && arg != "--report" && arg != "--seconds" &&
-        arg != "--endstop" && arg != "--half-step" && arg != "--gripper" && arg != "--trace-steps")
+        arg != "--endstop" && arg != "--half-step" && arg != "--gripper" && arg != "--trace-steps" && arg != "--input" &&
+        arg != "--output")
       usage_error(arg + " takes no value");
   }
   if (a.config.elf.empty()) a.config.elf = VNANO_DEFAULT_ELF;

@@ -91,6 +91,8 @@ void vector_running_cb(avr_irq_t*, uint32_t value, void* p) {
 
 }  // namespace
 
+avr_cycle_count_t input_due_cb(avr_t*, avr_cycle_count_t, void* p);
+
 VirtualNano::~VirtualNano() {
   if (avr_) avr_terminate(avr_);
 }
@@ -205,6 +207,19 @@ bool VirtualNano::load(const Config& config, std::string& error) {
     }
   }
   for (int p = 0; p < 3; ++p) apply_endstops(p);
+  for (const InputSpec& in : config.inputs)
+    if (in.pin < 0 || in.pin >= board::kHeaderPins || (in.level != 0 && in.level != 1) || !(in.at_s >= 0)) {
+      error = "--input: no header pin " + std::to_string(in.pin) + ", or a level not 0 or 1, or a time before 0";
+      return false;
+    }
+  // (simavr does not model the chip's pull-ups: a driven pin reads 1 before its first change,
+  // as its pull-up makes it with nothing driving it)
+  for (const InputSpec& in : config.inputs) driven_high_ |= driven_ |= 1u << in.pin;
+  for (int p = 0; p < 3; ++p) apply_endstops(p);
+  if (!config.inputs.empty()) {
+    const uint64_t first = on_input_due();  // (those at 0 s now)
+    if (first) avr_cycle_timer_register(avr_, first - avr_->cycle, input_due_cb, this);
+  }
 
   // Every interrupt vector: its flag ("pending") and its execution ("running").
   for (int i = 0; i < avr_->interrupts.vector_count; ++i) {
@@ -313,6 +328,10 @@ avr_cycle_count_t reply_sent_cb(avr_t*, avr_cycle_count_t, void* p) {
   return 0;
 }
 }  // namespace
+
+avr_cycle_count_t input_due_cb(avr_t*, avr_cycle_count_t, void* p) {
+  return static_cast<VirtualNano*>(p)->on_input_due();
+}
 
 avr_cycle_count_t stop_due_cb(avr_t*, avr_cycle_count_t, void* p) {
   return static_cast<VirtualNano*>(p)->on_stop_due();
@@ -453,6 +472,14 @@ void VirtualNano::on_port_write(int port, uint8_t value) {
   const uint64_t now = avr_->cycle;
   const uint8_t old = port_value_[port];
   port_value_[port] = value;
+  for (int pin : config_.outputs)
+    if (board::kHeaderPin[pin].port == port) {
+      const int level = (value >> board::kHeaderPin[pin].bit) & 1;
+      if (level != output_level_[pin]) {
+        output_level_[pin] = level;
+        output_changes_.push_back({pin, level, now});
+      }
+    }
   const bool enabled = !(port_value_[board::kShieldEnable.port] & (1u << board::kShieldEnable.bit));  // EN low
   for (Motor& m : motors_) {
     if (m.servo) {
@@ -590,6 +617,12 @@ void VirtualNano::apply_endstops(int port) {
     mask = uint8_t(mask | (1u << e.bit));
     if (!e.pressed) value = uint8_t(value | (1u << e.bit));
   }
+  for (int pin = 0; pin < board::kHeaderPins; ++pin) {  // (and the inputs driven from outside)
+    if (!(driven_ & (1u << pin)) || board::kHeaderPin[pin].port != port) continue;
+    const int bit = board::kHeaderPin[pin].bit;
+    mask = uint8_t(mask | (1u << bit));
+    if (driven_high_ & (1u << pin)) value = uint8_t(value | (1u << bit));
+  }
   if (!mask) return;
   avr_ioport_external_t ext;
   std::memset(&ext, 0, sizeof ext);
@@ -599,6 +632,24 @@ void VirtualNano::apply_endstops(int port) {
   avr_ioctl(avr_, AVR_IOCTL_IOPORT_SET_EXTERNAL(kPortNames[port]), &ext);
   for (const Endstop& e : endstops_)
     if (e.port == port) avr_raise_irq(pin_irq_[port][e.bit], e.pressed ? 0 : 1);
+  for (int pin = 0; pin < board::kHeaderPins; ++pin)
+    if ((driven_ & (1u << pin)) && board::kHeaderPin[pin].port == port)
+      avr_raise_irq(pin_irq_[port][board::kHeaderPin[pin].bit], (driven_high_ >> pin) & 1);
+}
+
+uint64_t VirtualNano::input_cycle(size_t k) const {
+  return uint64_t(std::llround(config_.inputs[k].at_s * freq_));
+}
+
+// Every change due now, then the cycle of the next (simavr's answer: 0 for none).
+uint64_t VirtualNano::on_input_due() {
+  while (inputs_applied_ < config_.inputs.size() && input_cycle(inputs_applied_) <= avr_->cycle) {
+    const InputSpec& in = config_.inputs[inputs_applied_++];
+    driven_ |= 1u << in.pin;
+    driven_high_ = in.level ? (driven_high_ | (1u << in.pin)) : (driven_high_ & ~(1u << in.pin));
+    apply_endstops(board::kHeaderPin[in.pin].port);
+  }
+  return inputs_applied_ < config_.inputs.size() ? input_cycle(inputs_applied_) : 0;
 }
 
 void VirtualNano::check_endstops(int motor) {
@@ -900,6 +951,17 @@ nlohmann::json VirtualNano::report() const {
     ends.push_back(j);
   }
   r["endstops"] = ends;
+  json outs = json::array();
+  for (int pin : config_.outputs) {
+    json changes = json::array();
+    for (const OutputChange& o : output_changes_)
+      if (o.pin == pin) changes.push_back({{"level", o.level}, {"t_s", double(o.cycle) / freq_}});
+    outs.push_back({{"pin", board::kHeaderPin[pin].pin}, {"changes", changes}});
+  }
+  json ins = json::array();
+  for (const InputSpec& in : config_.inputs)
+    ins.push_back({{"pin", board::kHeaderPin[in.pin].pin}, {"level", in.level}, {"at_s", in.at_s}});
+  r["io"] = {{"outputs", outs}, {"inputs", ins}};
 
   json st;
   st["requests"] = status_requests_;

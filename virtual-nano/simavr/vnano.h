@@ -50,6 +50,14 @@ struct ServoSpec {
   int64_t zero_ticks;
 };
 
+// An input driven from outside (a wire from another arm, a device): header pin `pin` reads
+// `level` from `at_s` seconds of simulated time on (before the first one, its pull-up).
+struct InputSpec {
+  int pin;
+  int level;
+  double at_s;
+};
+
 // A header pin by its name ("D9", "A3": board.h's header_index), or -1.
 int header_pin(const std::string& name);
 
@@ -58,6 +66,8 @@ struct Config {
   // The ELF is the servo build (articula-servo.elf): these motors are servos.
   std::vector<ServoSpec> servos;
   std::vector<EndstopSpec> endstops;
+  std::vector<InputSpec> inputs;  // in time order
+  std::vector<int> outputs;       // header pins whose level the report follows (O's)
   std::vector<int> half_step_motors;
   bool unipolar = false;       // the motors are 28BYJ-48s on ULN2003 boards (the unipolar table)
   // The ELF is the build for a CNC shield (articula-cnc.elf): the motors are on STEP/DIR
@@ -126,6 +136,8 @@ class VirtualNano {
   void on_reply_sent();
   // A timed '!' is due (Config::stop_at_s); the cycle the next one is, 0 if none.
   uint64_t on_stop_due();
+  // The next driven input's change is due (Config::inputs); the cycle the one after is, 0 if none.
+  uint64_t on_input_due();
 
  private:
   void schedule_stop();
@@ -245,6 +257,19 @@ class VirtualNano {
   Motor motors_[kMotors];
   uint8_t port_value_[3] = {0, 0, 0};
   std::vector<Endstop> endstops_;
+  // Driven inputs: the next change due, and each pin's level now (bit n header pin n).
+  size_t inputs_applied_ = 0;
+  uint32_t driven_ = 0, driven_high_ = 0;
+  uint64_t input_cycle(size_t k) const;
+  // Followed outputs: each change of the pin's level (its PORT bit: the output's level, or
+  // an input's pull-up), at its cycle.
+  struct OutputChange {
+    int pin;
+    int level;
+    uint64_t cycle;
+  };
+  std::vector<OutputChange> output_changes_;
+  int output_level_[32] = {};
   avr_irq_t* pin_irq_[3][8] = {};
   bool led_ = false;
   uint64_t epoch_ = 0;  // step timer runs (LED lit) so far

@@ -205,9 +205,10 @@ async function signature(link) {
   }
 }
 
-async function loadAddress(link, at) {
+// The page's address (`what`: the step it is part of, as a stall names it).
+async function loadAddress(link, at, what) {
   const word = at >> 1;
-  await command(link, [LOAD_ADDRESS, word & 0xff, word >> 8], 0, `the address ${hex2(at)}`);
+  await command(link, [LOAD_ADDRESS, word & 0xff, word >> 8], 0, `${what}, at ${hex2(at)}`);
 }
 
 /**
@@ -261,7 +262,7 @@ async function flashOnce(port, { pages, bytes }, baudRates, onProgress) {
     await command(link, [ENTER_PROGMODE], 0, "entering programming mode");
     phase = "write";
     for (const [at, data] of pages) {
-      await loadAddress(link, at);
+      await loadAddress(link, at, `writing page ${done + 1} of ${total}`);
       await command(link, [PROG_PAGE, 0, PAGE_BYTES, 0x46, ...data], 0, `writing page ${done + 1} of ${total}`);
       done++;
       progress();
@@ -269,7 +270,7 @@ async function flashOnce(port, { pages, bytes }, baudRates, onProgress) {
     phase = "verify";
     done = 0;
     for (const [at, data] of pages) {
-      await loadAddress(link, at);
+      await loadAddress(link, at, `reading back page ${done + 1} of ${total}`);
       const back = await command(link, [READ_PAGE, 0, PAGE_BYTES, 0x46], PAGE_BYTES, `reading back page ${done + 1} of ${total}`);
       const i = back.findIndex((b, k) => b !== data[k]);
       if (i >= 0)
