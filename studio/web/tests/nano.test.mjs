@@ -69,6 +69,32 @@ describe("the virtual Nano in the page (avr8js)", () => {
     n.delete();
   });
 
+  test("O and W on the header's pins: a W holds the move until the pin another drives goes low; O sets a pin", (t) => {
+    const n = nano();
+    n.runFor(0.3);
+    assert.equal(n.level("A5"), 1, "a free pin's pull-up, at power-up");
+    n.drive("A5", 1); // a wire from another arm's output, high
+    assert.deepEqual(n.ask("W 19 0 5"), ["ok"]);
+    assert.deepEqual(n.ask("L 0 10"), ["ok"]);
+    n.runFor(0.5);
+    assert.deepEqual(n.steps, [0, 0, 0], "the W holds the move behind it");
+    n.markSteps();
+    const low = n.cpu.cycles;
+    n.drive("A5", 0);
+    n.idle();
+    assert.deepEqual(n.steps, [32, 0, 0]);
+    // its first step: within the W's millisecond look and the move's first interval (31.6 ms)
+    const lagMs = ((n.firstStepCycle - low) / 16e6) * 1000;
+    assert.ok(lagMs > 0 && lagMs < 1 + 31.7 + 1, `the first step ${lagMs.toFixed(2)} ms after the pin went low`);
+    assert.deepEqual(n.ask("O 19 0"), ["ok"]);
+    n.idle();
+    assert.equal(n.level("A5"), 0, "O 19 0 set it low");
+    assert.match(n.ask("?")[0], /\|I:/);
+    assert.throws(() => n.level("D14"), /no header pin "D14"/);
+    t.diagnostic(`the move's first step ${lagMs.toFixed(2)} ms after the input went low`);
+    n.delete();
+  });
+
   test("a program's final steps are articula predict's, and settings survive a new Nano", () => {
     const n = nano();
     n.runFor(0.3);

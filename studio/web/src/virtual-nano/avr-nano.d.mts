@@ -25,6 +25,10 @@ export class VirtualNano {
   /** After any motor's step (its steps already counted), at the CPU's cycle. */
   onStep: ((cycle: number) => void) | null;
   send(data: string | ArrayLike<number>): void;
+  /** Drives header pin `pin` ("A5") from outside at `level` (0 or 1), as W reads it. */
+  drive(pin: string, level: number): void;
+  /** Header pin `pin`'s level as this Nano drives it: an output's (O), else its pull-up's. */
+  level(pin: string): number;
   readonly seconds: number;
   readonly steps: number[];
   readonly coilFaults: number;

@@ -112,7 +112,34 @@ export class VirtualNano {
     this.serial = new HostSerial(cpu, this.usart, CLOCK_HZ);
     this.spm = new SelfProgramming(cpu, flash, { pageBytes: PAGE_BYTES, bootStart: BOOT_START, busyCycles: SPM_BUSY_CYCLES });
     this.pins = new PinWatch(cpu, this.ports, parts, CLOCK_HZ, cnc, servos);
+    this.parts = parts;
     this.reset(RESET_POWER);
+  }
+
+  // ---- the header's pins for O and W (docs/protocol.md): a wire's level in, the firmware's out
+
+  /** The port and bit of header pin `pin` ("A5", "D12"); throws for a pin the Nano has not. */
+  headerPin(pin) {
+    const p = this.parts.headerPin(pin);
+    if (!p || !this.ports[p.port]) throw new Error(`the Nano has no header pin "${pin}"`);
+    return p;
+  }
+
+  /**
+   * Drives header pin `pin` from outside at `level` (0 or 1): another arm's wire, a device,
+   * as the firmware's W reads it. (avr8js models no pull-up: a pin nothing drives reads 0,
+   * where a Nano's pull-up reads 1; a wire gives its source's level from the start.)
+   */
+  drive(pin, level) {
+    const p = this.headerPin(pin);
+    this.ports[p.port].setPin(p.bit, !!level);
+  }
+
+  /** Header pin `pin`'s level as this Nano drives it: an output's (O), else its pull-up's (1 once set). */
+  level(pin) {
+    const p = this.headerPin(pin);
+    const port = { B: portBConfig, C: portCConfig, D: portDConfig }[p.port].PORT;
+    return (this.cpu.data[port] >> p.bit) & 1;
   }
 
   // ---- what its peripherals say, and hooks on them
