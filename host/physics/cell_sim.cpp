@@ -5,6 +5,7 @@
 #include <optional>
 
 #include "firmware_session.h"
+#include "robot_view.h"
 #include "wiring.h"
 
 namespace articula::host {
@@ -205,6 +206,7 @@ nlohmann::json cell_arms_json(const CellSimulation& sim) {
     const Transform<double> T = a.T_world_base() * b.frames().T_base_tool;
     out.push_back({{"name", b.name()},
                    {"robot", r.name},
+                   {"robot_ref", a.robot_ref},
                    {"base", {{"xyz", {a.xyz.x, a.xyz.y, a.xyz.z}}, {"yaw", a.yaw_deg}, {"footprint_mm", a.footprint_mm}}},
                    {"program", a.program_ref},
                    {"program_end_s", sim.driver(i).program_end()},
@@ -227,6 +229,7 @@ nlohmann::json cell_state_json(const CellSimulation& sim) {
     const int carrier = w.object_carrier(i);
     objects.push_back({{"name", w.object(i).name},
                        {"xyz_mm", {T.p.x, T.p.y, T.p.z}},
+                       {"pose", transform_json(T)},
                        {"carried_by", carrier >= 0 ? nlohmann::json(w.body(carrier).name()) : nlohmann::json(nullptr)},
                        {"removed", w.object_removed(i)}});
   }

@@ -71,14 +71,14 @@ class CellSimulation {
 // for an arm the cell lacks, PredictError for one without motors.
 Prediction predict_in_cell(const Cell& cell, const std::string& arm, bool path = false);
 
-// Each arm as it ends (or is now): name, robot, base (xyz, yaw, footprint_mm: where it stands),
+// Each arm as it ends (or is now): name, robot, robot_ref (as the cell file names it), base (xyz, yaw, footprint_mm: where it stands),
 // program, program_end_s, line, joints (deg or mm),
 // tool_mm (in the world), gripper_mm, counted_steps, lost_steps, signals (each output it set and
 // input it waited for: kind "output" or "wait", line, pin, name, level, t, and a wait's end_t);
 // `articula sim CELL --json`.
 nlohmann::json cell_arms_json(const CellSimulation& sim);
-// The cell now: t, arms (cell_arms_json), objects (name, xyz_mm, carried_by: the arm's name or
-// null, removed); `articula sim CELL --json`, Python's Cell.state, the web engine's.
+// The cell now: t, arms (cell_arms_json), objects (name, xyz_mm, pose: 16 numbers, row-major,
+// carried_by: the arm's name or null, removed); `articula sim CELL --json`, Python's Cell.state, the web engine's.
 nlohmann::json cell_state_json(const CellSimulation& sim);
 
 }  // namespace articula::host

@@ -9,6 +9,7 @@
 #include "cell_file.h"
 #include "cell_sim.h"
 #include "records_json.h"
+#include "sim_view.h"
 
 namespace articula::python {
 namespace {
@@ -137,6 +138,8 @@ void bind_cell(nb::module_& m) {
         return out;
       }, "the arms' names, in the file's order")
       .def_prop_ro("name", [](const PyCell& c) { return c.cell.name; })
+      .def_prop_ro("objects", [](const PyCell& c) { return record(host::scene_objects_json(c.cell.scene)); },
+                   "The scene's objects as the cell file gives them: name, type, size (mm), movable, mass_kg, friction.")
       .def_prop_ro("time", [](const PyCell& c) { return c.sim->time(); }, "simulated time, s")
       .def_prop_ro("done", [](const PyCell& c) { return c.sim->done(); })
       .def_prop_ro("deadlock", [](const PyCell& c) { return c.sim->deadlock(); },

@@ -94,6 +94,7 @@ SAME = [
     ("Cell.end_time", "Cell.endTime"),
     ("Cell.deadlock", "Cell.deadlock"),
     ("Cell.predict", "Cell.predict"),
+    ("Cell.objects", "Cell.objects"),
     # the arm's protocol
     ("_status_table", "statusTable"),
     ("_status_table", "statusText"),

@@ -93,7 +93,7 @@ async function blocklyCss(media) {
 }
 
 // The shipped files, and their index (the worker lists robots, scenes and programs from it).
-const index = { robots: [], scenes: [], programs: [], meshes: [], exercises: [], plans: [] };
+const index = { robots: [], scenes: [], cells: [], programs: [], meshes: [], exercises: [], plans: [] };
 function copyTree(from, to, keep) {
   for (const name of readdirSync(from).sort()) {
     const src = join(from, name), dst = join(to, name);
@@ -111,6 +111,9 @@ copyTree(join(repo, "programs"), join(out, "data/programs"), (n) => /\.(arm|robo
 index.robots = readdirSync(join(out, "data/robots")).filter(isData).map((n) => n.replace(/\.json$/, ""));
 index.scenes = readdirSync(join(out, "data/scenes")).filter(isData).map((n) => n.replace(/\.json$/, ""));
 index.programs = readdirSync(join(out, "data/programs"));
+// The cells (several arms, cells/README.md): of shipped robots, the page opens them by name.
+copyTree(join(repo, "cells"), join(out, "data/cells"), isData);
+index.cells = readdirSync(join(out, "data/cells")).filter(isData).map((n) => n.replace(/\.json$/, ""));
 copyTree(join(repo, "hil/plans"), join(out, "data/plans"), (n) => n.endsWith(".arm"));
 index.plans = readdirSync(join(out, "data/plans"));
 copyTree(join(repo, "exercises"), join(out, "data/exercises"), (n) => n.endsWith(".articula"));

@@ -74,12 +74,18 @@ export class Sim {
 export class Cell {
   readonly name: string;
   readonly arms: string[];
+  /** The scene's objects as the cell file gives them (name, type, size, movable, ...). */
+  readonly objects: Record<string, unknown>[];
   readonly dt: number;
+  /** The last deadlock in words, or "". */
+  readonly deadlock: string;
+  /** One arm's prediction in the cell, as Robot.predict gives it. */
+  predict(name: string): Record<string, unknown>;
   step(n?: number): void;
   runUntil(t: number): void;
   run(): void;
   arm(name: string): Record<string, unknown>;
-  state(): { t: number; arms: Record<string, unknown>[]; objects: { name: string; xyz_mm: number[]; carried_by: string | null; removed: boolean }[] };
+  state(): { t: number; arms: Record<string, unknown>[]; objects: { name: string; xyz_mm: number[]; pose: number[]; carried_by: string | null; removed: boolean }[] };
   events(since?: number): Record<string, unknown>[];
   reset(): void;
   readonly time: number;
@@ -116,6 +122,7 @@ export class Engine {
   robot(nameOrPath?: string): Robot;
   sim(robot: Robot, sceneText?: string, sceneName?: string, dt?: number): Sim;
   timeline(robot: Robot, text: string, name: string, startQ: number[]): Timeline;
+  cell(text: string, name?: string, dir?: string, dt?: number): Cell;
   statusText(code: number): string;
   firstIntervalS(maxRate: number, accel: number): number;
   /** A protocol line as the arm acts on it: before its comment, no blanks around it ("" for none). */

@@ -171,17 +171,22 @@ export class Cell {
     }
     this.name = this.h.name();
     this.arms = checked(this.h.arms());
+    this.objects = checked(this.h.objects());
     this.dt = dt;
   }
   step(n = 1) { this.h.step(n); }
   runUntil(t) { this.h.runUntil(t); }
   run() { this.h.run(); }
-  /** One arm now, by name: {name, robot, program, program_end_s, line, joints, tool_mm, gripper_mm,
-   * counted_steps, lost_steps}. */
+  /** One arm now, by name: {name, robot, robot_ref, base, program, program_end_s, line, joints, tool_mm,
+   * gripper_mm, counted_steps, lost_steps, signals}. */
   arm(name) { return checked(this.h.arm(String(name))); }
-  /** {t, arms, objects: [{name, xyz_mm, carried_by, removed}]}. */
+  /** {t, arms, objects: [{name, xyz_mm, pose, carried_by, removed}]}. */
   state() { return checked(this.h.state()); }
   events(since = 0) { return checked(this.h.events(since)); }
+  /** The last deadlock in words, or "". */
+  get deadlock() { return this.h.deadlock(); }
+  /** One arm's prediction in the cell, as Robot.predict gives it. */
+  predict(name) { return checked(this.h.predict(String(name))); }
   reset() { this.h.reset(); }
   get time() { return this.h.time(); }
   get done() { return this.h.done(); }

@@ -7,6 +7,7 @@
 #include "cell_file.h"
 #include "cell_sim.h"
 #include "common.h"
+#include "sim_view.h"
 #include "records_json.h"
 
 namespace articula::web {
@@ -57,6 +58,8 @@ class WebCell {
     return out.dump();
   }
   std::string name() const { return sim_->cell().name; }
+  // The scene's objects as the cell file gives them (sim_view.h's scene_objects_json).
+  std::string objects() const { return host::scene_objects_json(sim_->cell().scene).dump(); }
   double time() const { return sim_->time(); }
   bool done() const { return sim_->done(); }
   double end_time() const { return sim_->end_time(); }
@@ -92,6 +95,7 @@ EMSCRIPTEN_BINDINGS(articula_cell) {
       .function("state", &WebCell::state)
       .function("events", &WebCell::events)
       .function("name", &WebCell::name)
+      .function("objects", &WebCell::objects)
       .function("time", &WebCell::time)
       .function("done", &WebCell::done)
       .function("endTime", &WebCell::end_time)

@@ -26,6 +26,7 @@ import { drawReady, drawReport, initDraw } from "./panels/draw";
 import { followTool, ikReport, initIk, setLineTargets, showIk } from "./panels/ik";
 import { initJoints, showJointValues } from "./panels/joints";
 import { initPhysics, physicsReport, showPhysics, showScene } from "./panels/physics";
+import { cellChoices, cellReport, initCell, showCell, showCellFrame } from "./panels/cell";
 import { appendProgramLine, ghostShown, initProgram, programHandlers, programReady, programReport, showTime } from "./panels/program";
 import { blocksReport, initBlocks } from "./panels/blocks";
 import { initProjects, projectsReport } from "./panels/projects";
@@ -73,6 +74,7 @@ showOwn("drawing", () => drawReport.drawing);
 showOwn("drawings", () => drawReport.drawings);
 showOwn("paper", () => drawReport.paper);
 showOwn("goal", () => exerciseReport.goal);
+showOwn("cell", () => cellReport);
 showOwn("exercise", () => exerciseReport.exercise);
 showOwn("experiment", () => experimentReport.experiment);
 showOwn("ik", () => ikReport.ik);
@@ -113,6 +115,7 @@ initJoints(studio);
 initIk(studio);
 initProgram(studio);
 initPhysics(studio);
+initCell(studio);
 initArm(studio);
 initFlash(studio);
 initWiring(studio);
@@ -176,7 +179,11 @@ function handle(m: EngineMsg): void {
     case "program_error": return programHandlers.program_error(m);
     case "program_text": return programHandlers.program_text(m);
     case "teach": return programHandlers.teach(m);
+    case "cell": return void showCell(m);
+    case "cell_frame": return showCellFrame(m);
     case "scene":
+      cellChoices(m.cells ?? []);
+      if (m.name !== null && cellReport.name !== null) void showCell({ type: "cell", name: null }); // (a scene closed the cell)
       showScene(m);
       return editor.signals.changed.dispatch("scene");
     case "physics": return showPhysics(m, editor.robot);

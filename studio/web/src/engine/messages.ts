@@ -138,11 +138,36 @@ export interface SceneMsg {
   title: string;
   objects: SceneObjectInfo[];
   scenes: string[];
+  cells?: string[]; // the shipped cells (several arms), for the Cell menu
+}
+
+/** A cell opened (several arms, cells/README.md), or closed (name null). */
+export interface CellMsg {
+  type: "cell";
+  name: string | null;
+  title?: string;
+  objects?: SceneObjectInfo[];
+  arms?: { name: string; robot: RobotMsg; base: { xyz: number[]; yaw: number } }[];
+}
+
+/** A cell's world now: each arm's frames (in its base frame) and line, the objects, new events. */
+export interface CellFrameMsg {
+  type: "cell_frame";
+  t: number;
+  running: boolean;
+  done: boolean;
+  fresh?: boolean;
+  deadlock: string;
+  events: SimEvent[];
+  arms: { name: string; line: number; frames: Flat4x4[]; fingers?: Flat4x4[]; program_end_s: number;
+    signals: { kind: string; line: number; name: string; level: number; t: number; end_t?: number | null }[] }[];
+  objects: { name: string; pose: Flat4x4; removed: boolean; carried: boolean }[];
 }
 
 export interface SimEvent {
   t: number;
   kind: string;
+  arm?: string; // a cell's: the arm whose action it is
   line: number;
   a: string;
   b: string;
@@ -195,6 +220,8 @@ export type EngineMsg =
       sent?: number; error?: string; stopped?: boolean; predicted?: { reply: string } }
   | SceneMsg
   | PhysicsMsg
+  | CellMsg
+  | CellFrameMsg
   | { type: "sim_command"; line: string; seq?: number | null }
   | RobotMsg
   | PoseMsg

@@ -16,7 +16,7 @@ export interface RobotInfo {
 }
 
 /** The site's shipped files (data/index.json, which make web writes). */
-export interface SiteIndex { robots: string[]; scenes: string[]; programs: string[]; meshes: string[] }
+export interface SiteIndex { robots: string[]; scenes: string[]; cells?: string[]; programs: string[]; meshes: string[] }
 
 export const S = {
   engine: null as unknown as Engine,

@@ -11,6 +11,7 @@ import { EngineError, loadEngine } from "../../../../wasm/js/engine.mjs";
 import { BadMessage } from "./checks";
 import type { Msg, Out } from "./checks";
 import { armHandlers } from "./arm";
+import { CELL_INTENTS, cellControl, cellIntent, cellOpen, closeCell } from "./cell";
 import { blockHandlers } from "./blocks";
 import { drawHandlers } from "./draw";
 import { exerciseHandlers } from "./exercise";
@@ -32,7 +33,11 @@ const handlers: Record<string, Handler> = {
     if (S.sim) setTimeout(ensurePhysics, 0); // after these replies: the page has its robot first
     return [robotMessage(), sceneMessage(), physicsMessage(), poseMessage()];
   },
-  scene: sceneIntent,
+  scene: (m) => {
+    closeCell(); // (a scene is the single arm's physics again)
+    return sceneIntent(m);
+  },
+  cell: cellIntent,
   ...kinematicHandlers,
   ...programHandlers,
   ...armHandlers,
@@ -54,6 +59,7 @@ async function dispatch(m: unknown): Promise<Out[]> {
   const msg = m as Msg;
   const kind = msg.type;
   if (typeof kind !== "string") throw new BadMessage(`unknown message type ${JSON.stringify(kind) ?? "undefined"}`);
+  if (cellOpen() && CELL_INTENTS.has(kind)) return cellControl(kind);
   if (S.sim && PHYSICS_INTENTS.has(kind)) return physicsIntent(kind, msg, kinematic);
   if (PHYSICS_ONLY.has(kind)) throw new BadMessage("no physics: choose a scene first");
   const handler = Object.prototype.hasOwnProperty.call(handlers, kind) ? handlers[kind] : undefined;

@@ -196,6 +196,6 @@ export class EngineClient {
     }
     if (this.streaming()) this.streamMessages++;
     this.onMessage(m);
-    if (m.type === "physics") this.worker.postMessage({ type: "physics_ack" }); // taken: the next frame may come
+    if (m.type === "physics" || m.type === "cell_frame") this.worker.postMessage({ type: "physics_ack" }); // taken: the next frame may come
   }
 }

@@ -52,4 +52,5 @@ export interface Reports {
   flash: { busy: boolean; phase: string; done: number; total: number; error: string; errorKind: string;
            result: { bytes: number; pages: number; baud: number; seconds: number } | null };
   wiring: { board: string; firmware: string; wires: number; error: string }; // the Wiring view's (panels/wiring.ts)
+  cell: typeof import("../panels/cell").cellReport; // panels/cell.ts: the cell shown (name null: none), its arms, time, events, deadlock
 }

@@ -2,6 +2,7 @@
 // Serial, opened only when the user asks), its state beside the model's, a line to send with
 // the arm's reply and the model's prediction side by side, programs run on the arm, STOP.
 // Everything the arm says (its banner's robot name, its replies) is shown as text.
+import { cellRunning } from "./cell";
 import { ArmLink } from "../link/arm-link";
 import type { ArmStatusMsg, EngineMsg, NanoConfig } from "../engine/messages";
 import { VirtualNanoPort, webSerial } from "../link/ports";
@@ -160,7 +161,7 @@ export function stopEverything(): void {
     armReport.stopMs = null; // until the arm reports itself at rest
     void link!.stop();
   }
-  const moving = s.editor.playing || !!s.editor.physics?.running;
+  const moving = s.editor.playing || !!s.editor.physics?.running || cellRunning();
   if (moving) s.engine.send({ type: "pause" });
   s.editor.stops++;
   banner(arm ? "STOP: the arm slows to rest and forgets the lines it was given. Nothing more is sent."

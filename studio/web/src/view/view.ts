@@ -4,9 +4,10 @@
 // in view/: the shapes (shapes.ts), the physics scene's objects (objects.ts), what is laid over
 // the world (overlays.ts: paper, ink, paths, a goal) and the camera (camera.ts).
 import * as THREE from "three";
+import { CellArms } from "./cell-arms";
 import { OrbitControls } from "three/examples/jsm/controls/OrbitControls.js";
 import { TransformControls } from "three/examples/jsm/controls/TransformControls.js";
-import type { Flat4x4, PhysicsMsg, PoseMsg, RobotMsg, SceneObjectInfo } from "../engine/messages";
+import type { CellFrameMsg, CellMsg, Flat4x4, PhysicsMsg, PoseMsg, RobotMsg, SceneObjectInfo } from "../engine/messages";
 import { cameraStateOf, frameArm, lookFrom, onScreen, orbitKey, viewpointOf } from "./camera";
 import { SceneObjects } from "./objects";
 import { Overlays } from "./overlays";
@@ -47,6 +48,10 @@ export class View {
   /** The user moved the camera (an orbit, a zoom, a pan ended). */
   onViewChange: () => void = () => {};
   private ghostArm = new THREE.Group();
+  // A cell's arms (view/cell-arms.ts), shown instead of the single arm while a cell is open.
+  readonly cellArms = new CellArms(() => (this.dirty = true));
+  private cellReach = 0;
+  private cellFit = false;
   private grid: THREE.GridHelper | null = null;
   // From the last frame's origin to the tool point: the tool offset, drawn for every robot.
   private toolLine = new THREE.Line(new THREE.BufferGeometry(), new THREE.LineBasicMaterial({ color: 0x9a3412 }));
@@ -152,7 +157,7 @@ export class View {
     this.objects = new SceneObjects(this.camera, this.canvas, this.controls, () => (this.dirty = true),
       (object, target) => this.onDrag(object, target));
     const o = this.overlays;
-    this.scene.add(this.arm, this.ghostArm, this.objects.group, o.goal, this.liveArm, o.paths, o.drawing);
+    this.scene.add(this.arm, this.ghostArm, this.objects.group, o.goal, this.liveArm, o.paths, o.drawing, this.cellArms.group);
 
     // The IK target: a ball with its own axes, moved by the gizmo.
     const ball = new THREE.Mesh(
@@ -423,6 +428,28 @@ export class View {
     this.axes.forEach((a) => (a.visible = on));
   }
 
+  // ---- a cell of arms (view/cell-arms.ts)
+
+  /** A cell's arms shown (the single arm hidden), or the single arm again (null). */
+  showCell(m: CellMsg): Promise<void> {
+    const on = m.name !== null && !!m.arms;
+    this.arm.visible = !on;
+    if (on) this.ghostArm.visible = this.liveArm.visible = false;
+    this.target.visible = this.target.visible && !on;
+    // the camera takes in every arm where it stands, once its shapes are in
+    this.cellReach = on ? Math.max(...m.arms!.map((a) => Math.max(200, a.robot.reach_mm) + Math.hypot(a.base.xyz[0], a.base.xyz[1]))) : 0;
+    return this.cellArms.build(on ? m.arms! : null).then(() => (this.cellFit = on));
+  }
+
+  cellFrame(f: CellFrameMsg): void {
+    this.cellArms.pose(f);
+    if (this.cellFit) {  // the first frame with every arm posed and its shapes in: all of them in view
+      this.cellFit = false;
+      this.fit(false);
+    }
+    this.objects.physics({ type: "physics", on: true, objects: f.objects.map((o) => ({ ...o, movable: true })) });
+  }
+
   // ---- the physics scene (view/objects.ts)
 
   setObjects(objects: SceneObjectInfo[]): void {
@@ -480,7 +507,9 @@ export class View {
 
   // Frames the arm: from the front-right, a little above, the whole arm and its reach in view.
   fit(keepDirection = true): void {
-    if (frameArm(this.camera, this.controls, this.arm, this.reach, keepDirection)) this.dirty = true;
+    const cell = this.cellArms.count > 0;
+    if (frameArm(this.camera, this.controls, cell ? this.cellArms.group : this.arm, cell ? this.cellReach : this.reach, keepDirection))
+      this.dirty = true;
   }
 
   // Arrow keys orbit, + and - zoom (the thesis's keyboard camera).

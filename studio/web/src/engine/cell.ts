@@ -1,0 +1,162 @@
+// A cell (cells/README.md) in the engine's worker: several arms, each on its own firmware, in one
+// world (the engine's Cell: host/physics/cell_sim.h), stepped in real time and streamed to the
+// page a display frame at a time. Each arm is drawn from its robot's model at the joints the cell
+// gives it (the pose the single arm's physics shows), in its own base frame, which the page puts
+// where the cell file stands it. While a cell is open the single arm's physics is off.
+import { EngineError } from "../../../../wasm/js/engine.mjs";
+import type { Cell, Robot } from "../../../../wasm/js/engine.mjs";
+import { every } from "../pacer";
+import { BadMessage, round6, text } from "./checks";
+import type { Msg, Out } from "./checks";
+import { sceneMessage, startPhysics } from "./physics";
+import { fetchText, sceneFile, shippedRobot } from "./site";
+import { post, S, stopTasks } from "./state";
+import type { RobotInfo } from "./state";
+
+const FRAME_MS = 1000 / 60;
+const MAX_UNACKED = 3;
+let cell: Cell | null = null;
+let robots: Robot[] = [];
+let loop: { stop(): void } | null = null;
+let running = false;
+let eventsSent = 0;
+let dirty = false; // a frame the page has not had (a control, a reset)
+
+/** The intents a cell takes while it is open (the physics bar's and STOP's). */
+export const CELL_INTENTS = new Set(["physics_run", "physics_pause", "physics_step", "physics_reset", "play", "pause"]);
+export const cellOpen = () => cell !== null;
+
+interface ArmState { name: string; robot_ref: string; joints: number[]; gripper_mm: number; line: number;
+  base: { xyz: number[]; yaw: number }; program_end_s: number; signals: unknown[] }
+interface CellState { t: number; arms: ArmState[]; objects: { name: string; pose: number[]; removed: boolean; carried_by: string | null }[] }
+
+export function closeCell(): void {
+  loop?.stop();
+  loop = null;
+  cell?.delete();
+  cell = null;
+  for (const r of robots) r.delete();
+  robots = [];
+}
+
+// The files a shipped cell names, in the engine's files where its loader looks: the shipped
+// robots (/robots), scenes (/scenes) and programs (/programs, a cell's "../programs/x.arm").
+async function cellFiles(): Promise<void> {
+  for (const r of S.index.robots) {
+    const path = `/robots/${r}.json`;
+    if (!S.engine.exists(path)) S.engine.writeFile(path, await fetchText(`data/robots/${r}.json`));
+  }
+  for (const sc of S.index.scenes) {
+    const path = `/scenes/${sc}.json`;
+    if (!S.engine.exists(path)) S.engine.writeFile(path, await sceneFile(sc));
+  }
+  for (const [p, body] of S.programTexts) {
+    const path = `/programs/${p}`;
+    if (!S.engine.exists(path)) S.engine.writeFile(path, body);
+  }
+}
+
+function cellMessage(): Out {
+  if (!cell) return { type: "cell", name: null };
+  const st = cell.state() as unknown as CellState;
+  return {
+    type: "cell", name: cellName, title: cell.name, objects: cell.objects as unknown as Out[],
+    arms: st.arms.map((a, i) => ({ name: a.name, robot: robots[i].info as unknown as RobotInfo, base: a.base })),
+  };
+}
+
+let cellName: string | null = null;
+
+function frameMessage(): Out {
+  const c = cell!;
+  const st = c.state() as unknown as CellState;
+  const events = c.events(eventsSent) as unknown[];
+  eventsSent += events.length;
+  return {
+    type: "cell_frame", t: st.t, running, done: c.done, deadlock: c.deadlock, events,
+    arms: st.arms.map((a, i) => {
+      const p = robots[i].pose(a.joints, a.gripper_mm) as { frames: number[][]; fingers?: number[][] };
+      return { name: a.name, line: a.line, frames: p.frames.map((f) => f.map(round6)), fingers: p.fingers?.map((f) => f.map(round6)),
+        program_end_s: a.program_end_s, signals: a.signals };
+    }),
+    objects: st.objects.map((o) => ({ name: o.name, pose: o.pose.map(round6), removed: o.removed, carried: o.carried_by !== null })),
+  };
+}
+
+/** {type: "cell", name}: a shipped cell opened (its arms at power-up, running), or closed (null). */
+export async function cellIntent(m: Msg): Promise<Out[]> {
+  const name = m.name === null || m.name === undefined ? null : text(m, "name", 200);
+  stopTasks();
+  closeCell();
+  cellName = null;
+  if (name === null) return [{ type: "cell", name: null }];
+  if (!(S.index.cells ?? []).includes(name)) throw new BadMessage(`no shipped cell '${name}'`);
+  startPhysics(null);
+  const body = await fetchText(`data/cells/${name}.json`);
+  await cellFiles();
+  try {
+    const c = S.engine.cell(body, `${name}.json`, "/cells");
+    cell = c;
+    for (const a of (c.state() as unknown as CellState).arms) robots.push(await shippedRobot(a.robot_ref));
+  } catch (e) {
+    closeCell();
+    if (e instanceof EngineError) throw new BadMessage(e.message);
+    throw e;
+  }
+  cellName = name;
+  eventsSent = 0;
+  running = true;
+  S.unacked = 0;
+  startLoop();
+  return [sceneMessage(), cellMessage(), frameMessage()];
+}
+
+/** The physics bar's intents and STOP's pause, for the cell. */
+export function cellControl(kind: string): Out[] {
+  const c = cell!;
+  switch (kind) {
+    case "physics_run":
+    case "play":
+      running = true;
+      break;
+    case "physics_pause":
+    case "pause":
+      running = false;
+      break;
+    case "physics_step":
+      running = false;
+      c.step(Math.round(0.1 / c.dt));
+      break;
+    case "physics_reset":
+      c.reset();
+      eventsSent = 0;
+      running = false;
+      return [{ ...frameMessage(), fresh: true }];
+  }
+  dirty = true;
+  return [frameMessage()];
+}
+
+// Real time (times the page's speed), a frame to the page each display frame it has taken.
+function startLoop(): void {
+  let last = performance.now();
+  let owed = 0;
+  loop = every(FRAME_MS, () => {
+    const c = cell;
+    if (!c) return false;
+    const now = performance.now();
+    const wall = (now - last) / 1000;
+    last = now;
+    let n = 0;
+    if (running && !c.done) {
+      owed += Math.min(wall, 0.1) * S.speed;
+      n = Math.floor(owed / c.dt + 1e-9);
+      owed = Math.max(0, owed - n * c.dt);
+      c.step(n);
+    }
+    if (S.unacked >= MAX_UNACKED || (n === 0 && !dirty)) return; // (nothing new: no frame)
+    dirty = false;
+    S.unacked++;
+    post([frameMessage()]);
+  });
+}

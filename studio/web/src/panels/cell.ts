@@ -1,0 +1,99 @@
+// A cell of arms (cells/README.md) on the page: the Cell menu beside Physics opens a shipped
+// cell, its arms drawn in a colour each where the cell stands them (view/cell-arms.ts), all of
+// them on their own firmware in the engine (engine/cell.ts); the physics bar runs, pauses, steps
+// and resets it, STOP pauses it, and the events say which arm did what. A deadlock is told in
+// words under the view.
+import type { CellFrameMsg, CellMsg, SimEvent } from "../engine/messages";
+import type { Studio } from "../page/context";
+import { $, fill, h, setOptions } from "../page/dom";
+import { ARM_COLORS } from "../view/cell-arms";
+import { eventWords } from "./physics";
+
+/** What window.articula shows of the cell (main.ts wires it). */
+export const cellReport: {
+  name: string | null; title: string; arms: string[]; t: number; running: boolean; done: boolean; deadlock: string;
+  events: SimEvent[]; lines: number[]; signals: CellFrameMsg["arms"][number]["signals"][]; frames: number;
+} = { name: null, title: "", arms: [], t: 0, running: false, done: false, deadlock: "", events: [], lines: [], signals: [], frames: 0 };
+
+let s: Studio;
+
+const TROUBLE = new Set(["collision", "self_collision", "squeeze", "steps_lost", "blocked", "rejected", "object_removed",
+  "gripper_blocked", "stall", "deadlock"]);
+
+export const cellRunning = () => cellReport.name !== null && cellReport.running && !cellReport.done;
+
+export function initCell(studio: Studio): void {
+  s = studio;
+  $("cell-select").addEventListener("change", (e) => {
+    const v = (e.target as HTMLSelectElement).value;
+    s.engine.send({ type: "cell", name: v || null });
+  });
+}
+
+/** The shipped cells, for the menu (the engine's index, with the scenes). */
+export function cellChoices(cells: string[]): void {
+  const sel = $("cell-select") as HTMLSelectElement;
+  setOptions(sel, [{ value: "", label: "off" }, ...cells]);
+  $("cell-pick").hidden = cells.length === 0;
+}
+
+export async function showCell(m: CellMsg): Promise<void> {
+  cellReport.name = m.name;
+  cellReport.title = m.title ?? "";
+  cellReport.arms = (m.arms ?? []).map((a) => a.name);
+  cellReport.events = [];
+  cellReport.deadlock = "";
+  cellReport.frames = 0;
+  ($("cell-select") as HTMLSelectElement).value = m.name ?? "";
+  const on = m.name !== null;
+  if (on) ($("scene-select") as HTMLSelectElement).value = "";
+  $("physics-bar").hidden = !on && !s.editor.scene?.name;
+  $("events").hidden = !on && !s.editor.scene?.name;
+  fill($("events"));
+  // the arms' names in their colours, under the view
+  // (the colour through the CSSOM: the site's Content-Security-Policy refuses style attributes)
+  fill($("cell-legend"), ...(m.arms ?? []).map((a, k) => {
+    const key = h("i", { class: "key" });
+    key.style.background = `#${ARM_COLORS[k % ARM_COLORS.length].toString(16).padStart(6, "0")}`;
+    return h("span", {}, key, `${a.name} (${a.robot.name})`);
+  }));
+  $("cell-legend").hidden = !on;
+  if (on) {
+    s.view.setObjects(m.objects ?? []);
+    $("view-status").textContent = `${m.title}: ${cellReport.arms.length} arms, each on its own firmware`;
+  } else if (!s.editor.scene?.name) {
+    s.view.setObjects([]);
+    $("view-status").textContent = "";
+  }
+  await s.view.showCell(m);
+}
+
+export function showCellFrame(f: CellFrameMsg): void {
+  if (cellReport.name === null) return;
+  s.view.cellFrame(f);
+  cellReport.t = f.t;
+  cellReport.running = f.running;
+  cellReport.done = f.done;
+  cellReport.lines = f.arms.map((a) => a.line);
+  cellReport.signals = f.arms.map((a) => a.signals);
+  cellReport.frames++;
+  const log = $("events");
+  if (f.fresh) {
+    cellReport.events = [];
+    fill(log);
+  }
+  for (const e of f.events) {
+    cellReport.events.push(e);
+    const who = e.arm ? `${e.arm}: ` : "";
+    const cls = TROUBLE.has(e.kind) ? "trouble" : e.kind === "grasp" || e.kind === "release" ? "grasp" : null;
+    log.appendChild(h("div", { class: cls, title: `${e.t.toFixed(2)} s ${e.kind}: ${e.a}${e.b ? ` / ${e.b}` : ""}` },
+      `${e.t.toFixed(1)} s: ${who}${eventWords(e)}`));
+  }
+  while (log.childElementCount > 200) log.firstElementChild!.remove();
+  if (f.events.length) log.scrollTop = log.scrollHeight;
+  cellReport.deadlock = f.deadlock;
+  const waits = f.arms.filter((a) => a.signals.some((x) => x.kind === "wait" && x.end_t == null)).map((a) => a.name);
+  $("view-status").textContent = `t = ${f.t.toFixed(2)} s` + (f.done ? ", every program ended" : f.running ? "" : ", paused") +
+    (f.deadlock && waits.length > 1 ? `: stuck, ${f.deadlock}` : waits.length ? `: ${waits.join(", ")} waiting for a signal` : "");
+  $("phys-rtf").textContent = f.running && !f.done ? "running" : f.done ? "ended" : `paused at ${f.t.toFixed(2)} s`;
+}
