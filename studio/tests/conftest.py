@@ -207,11 +207,21 @@ class PagePool:
 
     def take(self, key):
         kept = self.idle.get(key)
-        if key is None or not kept:
-            self.opened += 1
-            return None
-        self.reused += 1
-        return kept.pop()
+        while key is not None and kept:
+            context, page = kept.pop()
+            try:  # (a parked page can die while it waits: its renderer gone beside a failed test's)
+                if not page.is_closed():
+                    page.evaluate("1")
+                    self.reused += 1
+                    return context, page
+            except Exception:
+                pass
+            try:
+                context.close()
+            except Exception:
+                pass
+        self.opened += 1
+        return None
 
     def park(self, key, context, page) -> bool:
         try:

@@ -567,7 +567,9 @@ def test_the_virtual_nano_in_the_page(open_page):
     # its servo pulse read back as the harness reads it (shared/articula/servo.h): the aperture asked for
     assert _send(pg, "G 40")["reply"] == "ok"
     pg.wait("a.arm.nano.gripper !== null && Math.abs(a.arm.nano.gripper - 40) < 1", timeout=10000)
-    assert "gripper 40 %" in pg.page.text_content("#arm-speed")
+    # (the pulse's edges carry the interrupt's entry latency, a few us: 40.6 % shows as 41)
+    shown = re.search(r"gripper (\d+) %", pg.page.text_content("#arm-speed"))
+    assert shown and abs(int(shown.group(1)) - 40) <= 1, pg.page.text_content("#arm-speed")
     _refused_on_both_sides(pg)
     assert "real time" in pg.page.text_content("#arm-speed")
     pg.page.screenshot(path=str(SHOTS / "studio-page-nano.png"))
