@@ -252,6 +252,7 @@ class Page:
         plain = not (tour or init_script or bypass_csp or service_worker)
         self.key = (id(browser), width, height, touch) if plain else None
         self.kept = True  # parked when closed, unless a test failed with it
+        self.closed = False
         parked = POOL.take(self.key)
         if parked:
             self.context, self.page = parked
@@ -324,7 +325,11 @@ class Page:
         """Closes the page; fails if the Content-Security-Policy refused anything (the page
         writes no inline style or script: a refusal is a broken feature in some engine). A page
         closed while an exception is on its way (a test's `finally` after a failure) is not
-        parked."""
+        parked. Closing it again does nothing (a test's own `finally` and the fixture both close it:
+        parked twice, one page would be handed to two tests)."""
+        if self.closed:
+            return
+        self.closed = True
         if sys.exc_info()[0] is not None:
             self.kept = False
         refused = [] if csp_refusals_expected or self.context is None else self.csp_refusals()

@@ -1,4 +1,4 @@
-"""A cell of arms in the page (cells/README.md): the Cell menu opens a shipped cell, its arms drawn
+"""A cell of arms in the page (cells/README.md): the Physics menu's cells open a shipped cell, its arms drawn
 in a colour each where the cell stands them, each on its own firmware in the page's engine; the
 events name the arm; a wait ends when the other arm's output changes, as `articula sim` has it;
 a deadlock is told in words; STOP pauses every arm."""
@@ -10,8 +10,8 @@ from conftest import SHOTS, cli_json
 
 def test_a_cell_of_two_arms_on_two_builds_runs_and_signals(open_page):
     pg = open_page("mk2plus")
-    assert pg.page.is_visible("#cell-select")
-    pg.page.select_option("#cell-select", "signal")
+    assert "cell:signal" in pg.page.eval_on_selector_all("#scene-select option", "os => os.map(o => o.value)")
+    pg.page.select_option("#scene-select", "cell:signal")
     pg.wait("a.cell.name === 'signal' && a.cell.arms.length === 2 && a.cell.frames > 0", timeout=30000)
     assert pg.hook("a.cell.arms") == ["mk2", "mearm"]
     # the meArm waits for the MK2's signal (2.65 s in): its wait ends at the first look after it
@@ -44,7 +44,7 @@ def test_a_cell_of_two_arms_on_two_builds_runs_and_signals(open_page):
 
 def test_a_deadlock_in_a_cell_is_told_in_words(open_page):
     pg = open_page("mk2plus")
-    pg.page.select_option("#cell-select", "shared-zone-deadlock")
+    pg.page.select_option("#scene-select", "cell:shared-zone-deadlock")
     pg.wait("a.cell.name === 'shared-zone-deadlock' && a.cell.deadlock !== ''", timeout=30000)
     words = "left waits for `done` from right (low), which waits for `done` from left (low)"
     assert pg.hook("a.cell.deadlock") == words

@@ -26,7 +26,7 @@ import { drawReady, drawReport, initDraw } from "./panels/draw";
 import { followTool, ikReport, initIk, setLineTargets, showIk } from "./panels/ik";
 import { initJoints, showJointValues } from "./panels/joints";
 import { initPhysics, physicsReport, showPhysics, showScene } from "./panels/physics";
-import { cellChoices, cellReport, initCell, showCell, showCellFrame } from "./panels/cell";
+import { cellReport, initCell, showCell, showCellFrame } from "./panels/cell";
 import { appendProgramLine, ghostShown, initProgram, programHandlers, programReady, programReport, showTime } from "./panels/program";
 import { blocksReport, initBlocks } from "./panels/blocks";
 import { initProjects, projectsReport } from "./panels/projects";
@@ -182,8 +182,7 @@ function handle(m: EngineMsg): void {
     case "cell": return void showCell(m);
     case "cell_frame": return showCellFrame(m);
     case "scene":
-      cellChoices(m.cells ?? []);
-      if (m.name !== null && cellReport.name !== null) void showCell({ type: "cell", name: null }); // (a scene closed the cell)
+      if (cellReport.name !== null) void showCell({ type: "cell", name: null }); // (a scene, or off, closed the cell)
       showScene(m);
       return editor.signals.changed.dispatch("scene");
     case "physics": return showPhysics(m, editor.robot);

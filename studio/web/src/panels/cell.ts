@@ -1,11 +1,10 @@
-// A cell of arms (cells/README.md) on the page: the Cell menu beside Physics opens a shipped
-// cell, its arms drawn in a colour each where the cell stands them (view/cell-arms.ts), all of
+// A cell of arms (cells/README.md) on the page: the Physics menu's cells open a shipped cell, its arms drawn in a colour each where the cell stands them (view/cell-arms.ts), all of
 // them on their own firmware in the engine (engine/cell.ts); the physics bar runs, pauses, steps
 // and resets it, STOP pauses it, and the events say which arm did what. A deadlock is told in
 // words under the view.
 import type { CellFrameMsg, CellMsg, SimEvent } from "../engine/messages";
 import type { Studio } from "../page/context";
-import { $, fill, h, setOptions } from "../page/dom";
+import { $, fill, h } from "../page/dom";
 import { ARM_COLORS } from "../view/cell-arms";
 import { eventWords } from "./physics";
 
@@ -24,17 +23,6 @@ export const cellRunning = () => cellReport.name !== null && cellReport.running 
 
 export function initCell(studio: Studio): void {
   s = studio;
-  $("cell-select").addEventListener("change", (e) => {
-    const v = (e.target as HTMLSelectElement).value;
-    s.engine.send({ type: "cell", name: v || null });
-  });
-}
-
-/** The shipped cells, for the menu (the engine's index, with the scenes). */
-export function cellChoices(cells: string[]): void {
-  const sel = $("cell-select") as HTMLSelectElement;
-  setOptions(sel, [{ value: "", label: "off" }, ...cells]);
-  $("cell-pick").hidden = cells.length === 0;
 }
 
 export async function showCell(m: CellMsg): Promise<void> {
@@ -44,9 +32,8 @@ export async function showCell(m: CellMsg): Promise<void> {
   cellReport.events = [];
   cellReport.deadlock = "";
   cellReport.frames = 0;
-  ($("cell-select") as HTMLSelectElement).value = m.name ?? "";
   const on = m.name !== null;
-  if (on) ($("scene-select") as HTMLSelectElement).value = "";
+  ($("scene-select") as HTMLSelectElement).value = on ? `cell:${m.name}` : s.editor.scene?.name ?? "";
   $("physics-bar").hidden = !on && !s.editor.scene?.name;
   $("events").hidden = !on && !s.editor.scene?.name;
   fill($("events"));

@@ -42,7 +42,9 @@ export function initPhysics(studio: Studio): void {
   s = studio;
   $("scene-select").addEventListener("change", (e) => {
     const v = (e.target as HTMLSelectElement).value;
-    s.engine.send({ type: "scene", name: v || null });
+    // a cell (several arms: panels/cell.ts), or a scene for the one arm (which closes a cell)
+    if (v.startsWith("cell:")) s.engine.send({ type: "cell", name: v.slice(5) });
+    else s.engine.send({ type: "scene", name: v || null });
   });
   $("phys-run").onclick = () => s.engine.send({ type: "physics_run" });
   $("phys-pause").onclick = () => s.engine.send({ type: "physics_pause" });
@@ -61,6 +63,8 @@ export function showScene(m: SceneMsg): void {
   s.editor.scene = m;
   const sel = $("scene-select") as HTMLSelectElement;
   setOptions(sel, [{ value: "", label: "off" }, ...m.scenes]);
+  if (m.cells?.length)
+    sel.appendChild(h("optgroup", { label: "several arms: a cell" }, ...m.cells.map((c) => h("option", { value: `cell:${c}` }, c))));
   sel.value = m.name ?? "";
   s.view.setObjects(m.objects);
   $("physics-bar").hidden = m.name === null;

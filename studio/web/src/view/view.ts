@@ -438,7 +438,9 @@ export class View {
     this.target.visible = this.target.visible && !on;
     // the camera takes in every arm where it stands, once its shapes are in
     this.cellReach = on ? Math.max(...m.arms!.map((a) => Math.max(200, a.robot.reach_mm) + Math.hypot(a.base.xyz[0], a.base.xyz[1]))) : 0;
-    return this.cellArms.build(on ? m.arms! : null).then(() => (this.cellFit = on));
+    return this.cellArms.build(on ? m.arms! : null).then(() => {
+      this.cellFit = on;
+    });
   }
 
   cellFrame(f: CellFrameMsg): void {
