@@ -93,6 +93,7 @@ int run_predict(int argc, char** argv) {
            "Exit code: 0 every command accepted, 1 some rejected, 2 a usage error (bad robot or program).\n";
     return 0;
   }
+  if (args.count("path") && output_format(args) != "json") throw UsageError("--path needs --json");
   if (args.count("robot") && host::is_cell_reference(args["robot"].as<std::string>())) return run_predict_in_cell(args);
   const host::Robot robot = robot_argument(args);
   if (!robot.has_motors)
@@ -122,7 +123,6 @@ int run_predict(int argc, char** argv) {
       sender.stop_ticks.push_back(uint64_t(std::llround(v * articula::kStepTickHz)));
     }
   }
-  if (args.count("path") && output_format(args) != "json") throw UsageError("--path needs --json");
   const host::Prediction p = host::predict_program(robot, program, settings, sender, args.count("path") > 0);
   return print_prediction(args, robot, program, settings, p);
 }
@@ -135,28 +135,24 @@ int run_predict_in_cell(const cxxopts::ParseResult& args) {
     if (args.count(o)) throw UsageError(std::string("--") + o + " is for a robot's program: a cell's arms power up as in the cell");
   if (args["sender"].as<std::string>() != "rest")
     throw UsageError("--sender: a cell's arms take each line once at rest after the one before (rest)");
-  if (args.count("path") && output_format(args) != "json") throw UsageError("--path needs --json");
   host::Cell cell;
   try {
     cell = host::load_cell_file(host::resolve_cell_path(ref));
   } catch (const host::CellError& e) {
     throw UsageError(e.what());
   }
-  std::string names;
-  for (const auto& a : cell.arms) names += (names.empty() ? "" : ", ") + a.name;
-  if (!args.count("program")) throw UsageError("name the arm of " + cell.name + " to predict (its arms: " + names + ")");
+  if (!args.count("program"))
+    throw UsageError("name the arm of " + cell.name + " to predict (its arms: " + host::cell_arm_names(cell) + ")");
   const std::string name = args["program"].as<std::string>();
-  int i = -1;
   try {
-    i = host::cell_arm_index(cell, name);
-  } catch (const std::invalid_argument& e) {
+    const host::Prediction p = host::predict_in_cell(cell, name, args.count("path") > 0);
+    const host::CellArm& arm = cell.arms[size_t(cell.arm_index(name))];
+    return print_prediction(args, arm.robot, arm.program, host::SimOptions().settings, p);
+  } catch (const std::invalid_argument& e) {  // (no such arm)
+    throw UsageError(e.what());
+  } catch (const host::PredictError& e) {  // (an arm without motors)
     throw UsageError(e.what());
   }
-  const host::CellArm& arm = cell.arms[size_t(i)];
-  if (!arm.robot.has_motors)
-    throw UsageError("arm " + name + " (" + arm.robot.name + ") has no motors: there are no steps to predict");
-  const host::Prediction p = host::predict_in_cell(cell, name, args.count("path") > 0);
-  return print_prediction(args, arm.robot, arm.program, host::SimOptions().settings, p);
 }
 
 int print_prediction(const cxxopts::ParseResult& args, const host::Robot& robot, const host::Program& program,

@@ -413,6 +413,8 @@ bool is_cell_reference(const std::string& ref) {
   return ok && j.is_object() && j.contains("arms");
 }
 
+std::string cell_arm_names(const Cell& cell) { return cell_loader::names_of(cell); }
+
 int cell_arm_index(const Cell& cell, const std::string& arm) {
   const int a = cell.arm_index(arm);
   if (a < 0)

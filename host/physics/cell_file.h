@@ -85,6 +85,8 @@ double base_footprint_mm(const Robot& robot);
 // The index of the cell's arm called `arm`; std::invalid_argument naming the arms it has if
 // there is none.
 int cell_arm_index(const Cell& cell, const std::string& arm);
+// The cell's arms' names, "a, b", for messages.
+std::string cell_arm_names(const Cell& cell);
 // A program for one of the cell's arms, from a file or text: the arm must exist (as
 // cell_arm_index).
 void set_cell_program(Cell& cell, const std::string& arm, const Program& program);

@@ -33,9 +33,7 @@ struct PyCell {
     const std::string name = nb::cast<std::string>(which);
     const int i = cell.arm_index(name);
     if (i < 0) {
-      std::string names;
-      for (const auto& a : cell.arms) names += (names.empty() ? "" : ", ") + a.name;
-      throw nb::key_error(("the cell has no arm '" + name + "' (its arms: " + names + ")").c_str());
+      throw nb::key_error(("the cell has no arm '" + name + "' (its arms: " + host::cell_arm_names(cell) + ")").c_str());
     }
     return i;
   }

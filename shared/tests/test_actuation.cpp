@@ -207,19 +207,22 @@ TEST(Actuation, MinMaxStepsHandComputed) {
   EXPECT_EQ(max_steps(m), 5);
 }
 
+// Random limits within +-400 degrees, and the zero clamped between them.
+static void random_limits(MotorSpec& m, std::mt19937& rng) {
+  std::uniform_int_distribution<int32_t> lim(-400000, 400000);
+  int32_t a = lim(rng), b = lim(rng), z = lim(rng);
+  if (a > b) std::swap(a, b);
+  m.min = a, m.max = b, m.zero = std::min(std::max(z, a), b);
+}
+
 TEST(Actuation, MinMaxStepsNeverBeyondALimit) {
   std::mt19937 rng(99);
-  std::uniform_int_distribution<int32_t> lim(-400000, 400000);
   std::uniform_int_distribution<int> gear(1, 120);
   std::uniform_int_distribution<int> micro(0, 4);
   int checked = 0;
   for (int i = 0; i < 5000; ++i) {
     MotorSpec m = {200, uint8_t(1 << micro(rng)), int8_t(i % 2 ? 1 : -1), gear(rng), gear(rng), 0, 0, 0};
-    int32_t a = lim(rng), b = lim(rng), z = lim(rng);
-    if (a > b) std::swap(a, b);
-    m.min = a;
-    m.max = b;
-    m.zero = std::min(std::max(z, a), b);
+    random_limits(m, rng);
     ASSERT_EQ(validate(m), kMotorOk);
     const int32_t lo = min_steps(m), hi = max_steps(m);
     // The angles of steps lo and hi lie inside [min, max]; one step further lies outside.
@@ -263,7 +266,6 @@ TEST(Actuation, MinMaxStepsNeverBeyondALimit) {
 // largest spans a validated motor may have.
 TEST(Actuation, QuantizeWithinLimitsIsTheNearestStepClampedToTheLimits) {
   std::mt19937 rng(2026);
-  std::uniform_int_distribution<int32_t> lim(-400000, 400000);
   std::uniform_int_distribution<int> gear(1, 5000);
   std::uniform_int_distribution<int> micro(0, 5);
   int clamped = 0;
@@ -275,9 +277,7 @@ TEST(Actuation, QuantizeWithinLimitsIsTheNearestStepClampedToTheLimits) {
   };
   for (int i = 0; i < 20000; ++i) {
     MotorSpec m = {uint16_t(i % 3 ? 200 : 48), uint8_t(1 << micro(rng)), int8_t(i % 2 ? 1 : -1), gear(rng), gear(rng), 0, 0, 0};
-    int32_t a = lim(rng), b = lim(rng), z = lim(rng);
-    if (a > b) std::swap(a, b);
-    m.min = a, m.max = b, m.zero = std::min(std::max(z, a), b);
+    random_limits(m, rng);
     if (validate(m) != kMotorOk) continue;
     for (Millideg angle : {m.min, m.max, Millideg(m.min + 1), Millideg(m.max - 1), m.zero,
                            Millideg(std::uniform_int_distribution<int32_t>(m.min, m.max)(rng))})

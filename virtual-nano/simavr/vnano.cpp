@@ -206,7 +206,6 @@ bool VirtualNano::load(const Config& config, std::string& error) {
       e.first_press_cycle = 0;
     }
   }
-  for (int p = 0; p < 3; ++p) apply_endstops(p);
   for (const InputSpec& in : config.inputs)
     if (in.pin < 0 || in.pin >= board::kHeaderPins || (in.level != 0 && in.level != 1) || !(in.at_s >= 0)) {
       error = "--input: no header pin " + std::to_string(in.pin) + ", or a level not 0 or 1, or a time before 0";
@@ -215,7 +214,7 @@ bool VirtualNano::load(const Config& config, std::string& error) {
   // (simavr does not model the chip's pull-ups: a driven pin reads 1 before its first change,
   // as its pull-up makes it with nothing driving it)
   for (const InputSpec& in : config.inputs) driven_high_ |= driven_ |= 1u << in.pin;
-  for (int p = 0; p < 3; ++p) apply_endstops(p);
+  for (int p = 0; p < 3; ++p) apply_external(p);
   if (!config.inputs.empty()) {
     const uint64_t first = on_input_due();  // (those at 0 s now)
     if (first) avr_cycle_timer_register(avr_, first - avr_->cycle, input_due_cb, this);
@@ -608,9 +607,9 @@ void VirtualNano::trace_row(const Motor& m, const char* event) {
                m.steps(), inputs_string(m).c_str(), event, us(double(avr_->cycle)));
 }
 
-// The switches of one port, as external levels: simavr applies them whenever it updates the
+// The switches and the driven inputs (--input) of one port, as external levels: simavr applies them whenever it updates the
 // port's pins (a PORTx write would otherwise put the pull-up's 1 back on a pressed switch).
-void VirtualNano::apply_endstops(int port) {
+void VirtualNano::apply_external(int port) {
   uint8_t mask = 0, value = 0;
   for (const Endstop& e : endstops_) {
     if (e.port != port) continue;
@@ -647,7 +646,7 @@ uint64_t VirtualNano::on_input_due() {
     const InputSpec& in = config_.inputs[inputs_applied_++];
     driven_ |= 1u << in.pin;
     driven_high_ = in.level ? (driven_high_ | (1u << in.pin)) : (driven_high_ & ~(1u << in.pin));
-    apply_endstops(board::kHeaderPin[in.pin].port);
+    apply_external(board::kHeaderPin[in.pin].port);
   }
   return inputs_applied_ < config_.inputs.size() ? input_cycle(inputs_applied_) : 0;
 }
@@ -665,7 +664,7 @@ void VirtualNano::check_endstops(int motor) {
         e.pressed_at_steps = pos;
       }
     }
-    apply_endstops(e.port);
+    apply_external(e.port);
   }
 }
 

@@ -206,7 +206,7 @@ class VirtualNano {
 
   void step_event(Motor& m, const CoilChange& c, uint8_t pattern);
   void trace_row(const Motor& m, const char* event);
-  void apply_endstops(int port);
+  void apply_external(int port);
   void check_endstops(int motor);
   void try_inject();
   void sync_uart_frame();

@@ -20,6 +20,7 @@ let robots: Robot[] = [];
 let loop: { stop(): void } | null = null;
 let running = false;
 let eventsSent = 0;
+let cellName: string | null = null; // the shipped cell open
 let dirty = false; // a frame the page has not had (a control, a reset)
 
 /** The intents a cell takes while it is open (the physics bar's and STOP's). */
@@ -64,8 +65,6 @@ function cellMessage(): Out {
     arms: st.arms.map((a, i) => ({ name: a.name, robot: robots[i].info as unknown as RobotInfo, base: a.base })),
   };
 }
-
-let cellName: string | null = null;
 
 function frameMessage(): Out {
   const c = cell!;

@@ -6,7 +6,7 @@ import type { CellFrameMsg, CellMsg, SimEvent } from "../engine/messages";
 import type { Studio } from "../page/context";
 import { $, fill, h } from "../page/dom";
 import { ARM_COLORS } from "../view/cell-arms";
-import { eventWords } from "./physics";
+import { logEvents } from "./physics";
 
 /** What window.articula shows of the cell (main.ts wires it). */
 export const cellReport: {
@@ -15,9 +15,6 @@ export const cellReport: {
 } = { name: null, title: "", arms: [], t: 0, running: false, done: false, deadlock: "", events: [], lines: [], signals: [], frames: 0 };
 
 let s: Studio;
-
-const TROUBLE = new Set(["collision", "self_collision", "squeeze", "steps_lost", "blocked", "rejected", "object_removed",
-  "gripper_blocked", "stall", "deadlock"]);
 
 export const cellRunning = () => cellReport.name !== null && cellReport.running && !cellReport.done;
 
@@ -64,20 +61,12 @@ export function showCellFrame(f: CellFrameMsg): void {
   cellReport.lines = f.arms.map((a) => a.line);
   cellReport.signals = f.arms.map((a) => a.signals);
   cellReport.frames++;
-  const log = $("events");
   if (f.fresh) {
     cellReport.events = [];
-    fill(log);
+    fill($("events"));
   }
-  for (const e of f.events) {
-    cellReport.events.push(e);
-    const who = e.arm ? `${e.arm}: ` : "";
-    const cls = TROUBLE.has(e.kind) ? "trouble" : e.kind === "grasp" || e.kind === "release" ? "grasp" : null;
-    log.appendChild(h("div", { class: cls, title: `${e.t.toFixed(2)} s ${e.kind}: ${e.a}${e.b ? ` / ${e.b}` : ""}` },
-      `${e.t.toFixed(1)} s: ${who}${eventWords(e)}`));
-  }
-  while (log.childElementCount > 200) log.firstElementChild!.remove();
-  if (f.events.length) log.scrollTop = log.scrollHeight;
+  cellReport.events.push(...f.events);
+  logEvents(f.events);
   cellReport.deadlock = f.deadlock;
   const waits = f.arms.filter((a) => a.signals.some((x) => x.kind === "wait" && x.end_t == null)).map((a) => a.name);
   $("view-status").textContent = `t = ${f.t.toFixed(2)} s` + (f.done ? ", every program ended" : f.running ? "" : ", paused") +

@@ -38,6 +38,20 @@ export function eventWords(e: SimEvent): string {
   }
 }
 
+/** Events into the view's log, in words (a cell's with the arm's name first), the engine's own
+ * words on hover; `each` after each one. The log keeps the last 200. */
+export function logEvents(events: SimEvent[], each: (e: SimEvent) => void = () => undefined): void {
+  const log = $("events");
+  for (const e of events) {
+    const detail = `${e.t.toFixed(2)} s ${e.kind}: ${e.a}${e.b ? ` / ${e.b}` : ""}${e.detail ? ` - ${e.detail}` : ""}`;
+    const cls = TROUBLE.has(e.kind) ? "trouble" : e.kind === "grasp" || e.kind === "release" ? "grasp" : null;
+    log.appendChild(h("div", { class: cls, title: detail }, `${e.t.toFixed(1)} s: ${e.arm ? `${e.arm}: ` : ""}${eventWords(e)}`));
+    each(e);
+  }
+  while (log.childElementCount > 200) log.firstElementChild!.remove();
+  if (events.length) log.scrollTop = log.scrollHeight;
+}
+
 export function initPhysics(studio: Studio): void {
   s = studio;
   $("scene-select").addEventListener("change", (e) => {
@@ -100,19 +114,13 @@ export function showPhysics(p: PhysicsMsg, robot: RobotMsg | null): void {
       : `${p.rtf.toFixed(2)}x real time${cap}`;
     rtf.className = `rtf ${p.behind ? "behind" : ""}`;
   }
-  const log = $("events");
-  for (const e of p.events ?? []) {
-    physicsReport.events.push(e);
-    const detail = `${e.t.toFixed(2)} s ${e.kind}: ${e.a}${e.b ? ` / ${e.b}` : ""}${e.detail ? ` - ${e.detail}` : ""}`;
-    const cls = TROUBLE.has(e.kind) ? "trouble" : e.kind === "grasp" || e.kind === "release" ? "grasp" : null;
-    log.appendChild(h("div", { class: cls, title: detail }, `${e.t.toFixed(1)} s: ${eventWords(e)}`));
+  physicsReport.events.push(...(p.events ?? []));
+  logEvents(p.events ?? [], (e) => {
     if (e.kind !== "contact_ended") {
       if (e.a) s.view.flash(e.a);
       if (e.b && e.b !== "ground") s.view.flash(e.b);
     }
-  }
-  while (log.childElementCount > 200) log.firstElementChild!.remove();
-  if (p.events?.length) log.scrollTop = log.scrollHeight;
+  });
   if (p.steps && robot?.motors.length) $("view-status").textContent = `t = ${p.t?.toFixed(2)} s, steps ${p.steps.join(" ")}` +
     (p.lost?.some((v) => v) ? `, lost ${p.lost.join(" ")}` : "");
 }
