@@ -53,3 +53,94 @@ def test_a_deadlock_in_a_cell_is_told_in_words(open_page):
     assert "the arms wait for each other" in pg.page.text_content("#events")
     pg.page.screenshot(path=str(SHOTS / "studio-cell-deadlock.png"))
     assert pg.errors == []
+
+
+def test_each_arm_has_its_program_in_a_tab_and_run_all_runs_them(open_page):
+    import json
+
+    from conftest import REPO
+
+    pg = open_page("mk2plus")
+    pg.page.select_option("#scene-select", "cell:signal")
+    pg.wait("a.cell.name === 'signal' && a.cell.frames > 0", timeout=30000)
+    # the cell's panels take the one robot's: its arms, their programs, the timeline
+    assert pg.page.is_visible("#cell-section") and pg.page.is_visible("#cell-arms-section")
+    assert not pg.page.is_visible("#ik-section") and not pg.page.is_visible("#program-section")
+    assert pg.page.eval_on_selector_all("#cell-tabs button", "bs => bs.map(b => b.textContent)") == ["mk2", "mearm"]
+    shipped = json.loads((REPO / "cells" / "signal.json").read_text())["arms"]
+    assert pg.page.input_value("#cell-program").split("\n") == shipped[0]["program"]
+    pg.page.click("#cell-tabs button >> nth=1")
+    assert pg.page.input_value("#cell-program").split("\n") == shipped[1]["program"]
+    assert "mk2.placed – mearm.go" in pg.page.text_content("#cell-wires")
+    # the timeline: each arm's lines as its own firmware runs them in the cell (the CLI's
+    # prediction in the cell, line for line), and an arrow from the MK2's output to the wait it ends
+    for k, arm in enumerate(["mk2", "mearm"]):
+        cli = [(r["line"], r["command"], round(r["start_s"], 6), round(r["end_s"], 6))
+               for r in cli_json("predict", "signal", arm)["records"] if r["command"]]
+        page = [(x["line"], x["command"], x["start_s"], x["end_s"]) for x in pg.hook(f"a.cell.timeline[{k}].lines")]
+        assert page == cli
+    assert pg.hook("a.cell.arrows") == 1
+    assert pg.page.locator("#cell-timeline rect.wait").count() == 1
+    # the arms' boxes say what each does: the meArm waits for the MK2's signal
+    pg.wait("a.cell.doing[1].includes('waits for go (A0) to read 0')")
+    # a line the meArm cannot run: refused by arm and line, and the cell runs on as it was
+    t0 = pg.hook("a.cell.t")
+    pg.page.fill("#cell-program", "W 14 0 30\nL 9 10\nG 0")
+    pg.page.click("#cell-run-all")
+    pg.wait("a.cell.refused !== ''")
+    assert pg.hook("a.cell.refused").startswith("mearm, line 2: ")
+    assert "Not run: mearm, line 2" in pg.page.text_content("#cell-program-state")
+    assert pg.hook("a.cell.t") >= t0 and pg.hook("a.cell.timeline[1].lines.length") == len(shipped[1]["program"])
+    assert pg.page.locator("#cell-tabs button >> nth=1").get_attribute("class") == "edited"
+    # Run all with the meArm's program edited: it waves at once, without waiting for the MK2
+    pg.page.fill("#cell-program", "G 100\nM 60 100 0\nG 0")
+    pg.page.click("#cell-run-all")
+    pg.wait("a.cell.timeline[1].lines.length === 3 && a.cell.t < 2 && a.cell.frames > 0")
+    assert pg.hook("a.cell.refused") == "" and pg.hook("a.cell.arrows") == 0
+    assert pg.hook("a.cell.programs[1]") == "G 100\nM 60 100 0\nG 0"
+    pg.wait("a.cell.doing[1].startsWith('line ')")
+    assert pg.hook("a.cell.signals[1].length") == 0  # no wait
+    # STOP stops every arm
+    pg.page.click("#stop")
+    pg.wait("a.cell.running === false")
+    # Shipped programs: every arm's as the cell comes, run from the start
+    pg.page.click("#cell-revert")
+    pg.wait("a.cell.timeline[1].lines.length === %d && a.cell.arrows === 1" % len(shipped[1]["program"]))
+    assert pg.page.locator("#cell-tabs button.edited").count() == 0
+    pg.page.click("#banner-close")  # (STOP's word)
+    pg.wait("a.cell.t > 3.5")  # the meArm's wait has ended at the MK2's signal, and it waves
+    pg.page.screenshot(path=str(SHOTS / "studio-cell-programs.png"))
+    # a scene closes the cell: the one robot's panels again
+    pg.page.select_option("#scene-select", "push")
+    pg.wait("a.cell.name === null")
+    assert pg.page.is_visible("#ik-section") and not pg.page.is_visible("#cell-section")
+    assert pg.errors == []
+
+
+def test_a_collision_between_arms_shows_on_both_links(open_page):
+    """The shared zone without its wires' O and W lines: the arms meet in the zone, and the
+    collision flashes the part of each arm it names."""
+    import json
+
+    from conftest import REPO
+
+    pg = open_page("mk2plus")
+    pg.page.select_option("#scene-select", "cell:shared-zone")
+    pg.wait("a.cell.name === 'shared-zone' && a.cell.frames > 0", timeout=30000)
+    arms = json.loads((REPO / "cells" / "shared-zone.json").read_text())["arms"]
+    progs = []
+    for a in arms:
+        lines = a["program"] if isinstance(a["program"], list) else (REPO / "cells" / a["program"]).read_text().split("\n")
+        progs.append("\n".join(x for x in lines if x.split()[:1] not in (["O"], ["W"])))
+    for k, text in enumerate(progs):
+        pg.page.click(f"#cell-tabs button >> nth={k}")
+        pg.page.fill("#cell-program", text)
+    pg.page.click("#cell-run-all")
+    pg.wait("a.cell.events.some(e => e.kind === 'collision' && e.b.includes(': '))", timeout=60000)
+    e = pg.hook("a.cell.events.find(e => e.kind === 'collision' && e.b.includes(': '))")
+    assert {e["arm"], e["b"].split(": ")[0]} == {"left", "right"}
+    flashed = pg.hook("a.cell.flashed")
+    assert f"{e['arm']}: {e['a']}" in flashed and e["b"] in flashed
+    other, part = e["b"].split(": ")
+    assert f"{e['arm']}: the {e['a']} hits {other}'s {part}" in pg.page.text_content("#events")
+    assert pg.errors == []

@@ -26,7 +26,7 @@ import { drawReady, drawReport, initDraw } from "./panels/draw";
 import { followTool, ikReport, initIk, setLineTargets, showIk } from "./panels/ik";
 import { initJoints, showJointValues } from "./panels/joints";
 import { initPhysics, physicsReport, showPhysics, showScene } from "./panels/physics";
-import { cellReport, initCell, showCell, showCellFrame } from "./panels/cell";
+import { cellReport, initCell, showCell, showCellFrame, showCellRefused } from "./panels/cell";
 import { appendProgramLine, ghostShown, initProgram, programHandlers, programReady, programReport, showTime } from "./panels/program";
 import { blocksReport, initBlocks } from "./panels/blocks";
 import { initProjects, projectsReport } from "./panels/projects";
@@ -115,7 +115,7 @@ initJoints(studio);
 initIk(studio);
 initProgram(studio);
 initPhysics(studio);
-initCell(studio);
+initCell(studio, { reveal: (id) => layout.reveal(id) });
 initArm(studio);
 initFlash(studio);
 initWiring(studio);
@@ -181,6 +181,7 @@ function handle(m: EngineMsg): void {
     case "teach": return programHandlers.teach(m);
     case "cell": return void showCell(m);
     case "cell_frame": return showCellFrame(m);
+    case "cell_refused": return showCellRefused(m);
     case "scene":
       if (cellReport.name !== null) void showCell({ type: "cell", name: null }); // (a scene, or off, closed the cell)
       showScene(m);

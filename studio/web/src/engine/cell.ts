@@ -21,6 +21,9 @@ let loop: { stop(): void } | null = null;
 let running = false;
 let eventsSent = 0;
 let cellName: string | null = null; // the shipped cell open
+let cellSource: Record<string, unknown> | null = null; // its file as shipped (JSON), for Run all's programs
+let programs: string[] = []; // each arm's program as it runs now (text, a line a line)
+let timeline: Out[] = []; // each arm's lines in time, as its firmware runs them in the cell
 let dirty = false; // a frame the page has not had (a control, a reset)
 
 /** The intents a cell takes while it is open (the physics bar's and STOP's). */
@@ -62,8 +65,51 @@ function cellMessage(): Out {
   const st = cell.state() as unknown as CellState;
   return {
     type: "cell", name: cellName, title: cell.name, objects: cell.objects as unknown as Out[],
-    arms: st.arms.map((a, i) => ({ name: a.name, robot: robots[i].info as unknown as RobotInfo, base: a.base })),
+    arms: st.arms.map((a, i) => ({ name: a.name, robot: robots[i].info as unknown as RobotInfo, base: a.base,
+      program: programs[i] ?? "", timeline: timeline[i] })),
+    // (checked by the loader: each end an arm's pin)
+    wires: ((cellSource?.wires ?? []) as { from: unknown; to: unknown }[]).map((w) => ({ from: String(w.from), to: String(w.to) })),
   };
+}
+
+// An arm's program as text: its lines in place, or the shipped program file it names
+// ("../programs/x.arm": the site's examples).
+function programText(p: unknown): string {
+  if (Array.isArray(p)) return p.map(String).join("\n");
+  if (typeof p === "string") return S.programTexts.get(p.split("/").pop() ?? "") ?? "";
+  return "";
+}
+
+// Each arm's lines in time (engine Cell.predict: its own firmware, the other arms' signals
+// through the wires), as the timeline draws them: what each line is (a move, a wait for an
+// input, an output, a dwell, the gripper) and when it runs. An arm without motors has none.
+function armTimeline(c: Cell, name: string): Out {
+  try {
+    const p = c.predict(name) as unknown as { records: { line: number; command: string; reply: string; start_s: number; end_s: number }[];
+      summary: { total_s: number } };
+    return {
+      end_s: round6(p.summary.total_s),
+      lines: p.records.filter((r) => r.command !== "").map((r) => ({
+        line: r.line, command: r.command, ok: r.reply === "ok", start_s: round6(r.start_s), end_s: round6(r.end_s),
+      })),
+    };
+  } catch (e) {
+    return { why: e instanceof Error ? e.message : String(e), lines: [] };
+  }
+}
+
+// The cell from its file's text: made, with its robots and each arm's timeline, or a refusal.
+async function makeCell(body: string, name: string): Promise<{ cell: Cell; robots: Robot[]; timeline: Out[] }> {
+  const c = S.engine.cell(body, `${name}.json`, "/cells");
+  const rs: Robot[] = [];
+  try {
+    for (const a of (c.state() as unknown as CellState).arms) rs.push(await shippedRobot(a.robot_ref));
+    return { cell: c, robots: rs, timeline: (c.state() as unknown as CellState).arms.map((a) => armTimeline(c, a.name)) };
+  } catch (e) {
+    c.delete();
+    for (const r of rs) r.delete();
+    throw e;
+  }
 }
 
 function frameMessage(): Out {
@@ -75,7 +121,7 @@ function frameMessage(): Out {
     type: "cell_frame", t: st.t, running, done: c.done, deadlock: c.deadlock, events,
     arms: st.arms.map((a, i) => {
       const p = robots[i].pose(a.joints, a.gripper_mm) as { frames: number[][]; fingers?: number[][] };
-      return { name: a.name, line: a.line, frames: p.frames.map((f) => f.map(round6)), fingers: p.fingers?.map((f) => f.map(round6)),
+      return { name: a.name, line: a.line, joints: a.joints.map(round6), frames: p.frames.map((f) => f.map(round6)), fingers: p.fingers?.map((f) => f.map(round6)),
         program_end_s: a.program_end_s, signals: a.signals };
     }),
     objects: st.objects.map((o) => ({ name: o.name, pose: o.pose.map(round6), removed: o.removed, carried: o.carried_by !== null })),
@@ -88,26 +134,60 @@ export async function cellIntent(m: Msg): Promise<Out[]> {
   stopTasks();
   closeCell();
   cellName = null;
+  cellSource = null;
   if (name === null) return [{ type: "cell", name: null }];
   if (!(S.index.cells ?? []).includes(name)) throw new BadMessage(`no shipped cell '${name}'`);
   startPhysics(null);
   const body = await fetchText(`data/cells/${name}.json`);
   await cellFiles();
+  let made;
   try {
-    const c = S.engine.cell(body, `${name}.json`, "/cells");
-    cell = c;
-    for (const a of (c.state() as unknown as CellState).arms) robots.push(await shippedRobot(a.robot_ref));
+    made = await makeCell(body, name);
   } catch (e) {
-    closeCell();
     if (e instanceof EngineError) throw new BadMessage(e.message);
     throw e;
   }
+  cellSource = JSON.parse(body) as Record<string, unknown>;
+  programs = ((cellSource.arms ?? []) as { program?: unknown }[]).map((a) => programText(a.program));
+  return opened(name, made);
+}
+
+function opened(name: string, made: { cell: Cell; robots: Robot[]; timeline: Out[] }): Out[] {
+  ({ cell, robots, timeline } = made);
   cellName = name;
   eventsSent = 0;
   running = true;
   S.unacked = 0;
   startLoop();
   return [sceneMessage(), cellMessage(), frameMessage()];
+}
+
+/** {type: "cell_run", programs: [text, ...]}: Run all. The open cell again from t = 0, each arm
+ * running the program given for it (in the cell's order of arms; its lines as the cell file's
+ * lines in place). A program the loader refuses leaves the cell as it was, and the refusal
+ * names the arm and the line: {type: "cell_refused", arm, line (1-based, or 0), text}. */
+export async function cellRunIntent(m: Msg): Promise<Out[]> {
+  if (!cell || !cellName || !cellSource) throw new BadMessage("no cell is open: choose one in the Physics menu");
+  const given = m.programs;
+  const arms = (cellSource.arms ?? []) as Record<string, unknown>[];
+  if (!Array.isArray(given) || given.length !== arms.length)
+    throw new BadMessage(`'programs' must be a list of ${arms.length} texts, one for each of the cell's arms`);
+  const texts = given.map((p, i) => text({ [`programs[${i}]`]: p }, `programs[${i}]`, 100_000));
+  const source = { ...cellSource, arms: arms.map((a, i) => ({ ...a, program: texts[i].split("\n") })) };
+  let made;
+  try {
+    made = await makeCell(JSON.stringify(source), cellName);
+  } catch (e) {
+    if (!(e instanceof EngineError)) throw e;
+    const where = /^\/arms\/(\d+)(?:\/program(?:\/(\d+))?)?/.exec(String((e as { json_path?: string }).json_path ?? ""));
+    const arm = where ? Number(where[1]) : -1;
+    return [{ type: "cell_refused", arm: arms[arm]?.name ?? null, line: where?.[2] !== undefined ? Number(where[2]) + 1 : 0,
+      text: String((e as { problem?: string }).problem ?? e.message) }];
+  }
+  stopTasks();
+  closeCell();
+  programs = texts;
+  return opened(cellName, made).slice(1); // (the scene is as it was)
 }
 
 /** The physics bar's intents and STOP's pause, for the cell. */

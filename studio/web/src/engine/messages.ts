@@ -147,7 +147,25 @@ export interface CellMsg {
   name: string | null;
   title?: string;
   objects?: SceneObjectInfo[];
-  arms?: { name: string; robot: RobotMsg; base: { xyz: number[]; yaw: number } }[];
+  arms?: { name: string; robot: RobotMsg; base: { xyz: number[]; yaw: number }; program: string; timeline: CellTimeline }[];
+  wires?: { from: string; to: string }[];
+}
+
+/** One arm's lines in time, as its own firmware runs them in the cell (engine Cell.predict), or
+ * why there are none (an arm without motors). */
+export interface CellTimeline {
+  end_s?: number;
+  why?: string;
+  lines: { line: number; command: string; ok: boolean; start_s: number; end_s: number }[];
+}
+
+/** Run all refused a program: the arm (null: not one arm's), its line (1-based; 0: the program
+ * as a whole) and why. The cell runs on as it was. */
+export interface CellRefusedMsg {
+  type: "cell_refused";
+  arm: string | null;
+  line: number;
+  text: string;
 }
 
 /** A cell's world now: each arm's frames (in its base frame) and line, the objects, new events. */
@@ -159,8 +177,8 @@ export interface CellFrameMsg {
   fresh?: boolean;
   deadlock: string;
   events: SimEvent[];
-  arms: { name: string; line: number; frames: Flat4x4[]; fingers?: Flat4x4[]; program_end_s: number;
-    signals: { kind: string; line: number; name: string; level: number; t: number; end_t?: number | null }[] }[];
+  arms: { name: string; line: number; joints?: number[]; frames: Flat4x4[]; fingers?: Flat4x4[]; program_end_s: number;
+    signals: { kind: string; line: number; pin: string; name: string; level: number; t: number; end_t?: number | null }[] }[];
   objects: { name: string; pose: Flat4x4; removed: boolean; carried: boolean }[];
 }
 
@@ -222,6 +240,7 @@ export type EngineMsg =
   | PhysicsMsg
   | CellMsg
   | CellFrameMsg
+  | CellRefusedMsg
   | { type: "sim_command"; line: string; seq?: number | null }
   | RobotMsg
   | PoseMsg

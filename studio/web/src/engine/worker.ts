@@ -11,7 +11,7 @@ import { EngineError, loadEngine } from "../../../../wasm/js/engine.mjs";
 import { BadMessage } from "./checks";
 import type { Msg, Out } from "./checks";
 import { armHandlers } from "./arm";
-import { CELL_INTENTS, cellControl, cellIntent, cellOpen, closeCell } from "./cell";
+import { CELL_INTENTS, cellControl, cellIntent, cellOpen, cellRunIntent, closeCell } from "./cell";
 import { blockHandlers } from "./blocks";
 import { drawHandlers } from "./draw";
 import { exerciseHandlers } from "./exercise";
@@ -38,6 +38,7 @@ const handlers: Record<string, Handler> = {
     return sceneIntent(m);
   },
   cell: cellIntent,
+  cell_run: cellRunIntent,
   ...kinematicHandlers,
   ...programHandlers,
   ...armHandlers,

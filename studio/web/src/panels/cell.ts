@@ -1,35 +1,104 @@
-// A cell of arms (cells/README.md) on the page: the Physics menu's cells open a shipped cell, its arms drawn in a colour each where the cell stands them (view/cell-arms.ts), all of
-// them on their own firmware in the engine (engine/cell.ts); the physics bar runs, pauses, steps
-// and resets it, STOP pauses it, and the events say which arm did what. A deadlock is told in
-// words under the view.
-import type { CellFrameMsg, CellMsg, SimEvent } from "../engine/messages";
+// A cell of arms (cells/README.md) on the page: the Physics menu's cells open a shipped cell, its
+// arms drawn in a colour each where the cell stands them (view/cell-arms.ts), all of them on their
+// own firmware in the engine (engine/cell.ts); the physics bar runs, pauses, steps and resets it,
+// STOP pauses it, and the events say which arm did what. A deadlock is told in words under the view.
+//
+// While a cell is open, the cell's panels take the one robot's (style.css, body.cell-open):
+// - the cell's arms (the Joints tab): each arm's line now, or what it waits for, and its joints;
+// - the cell's programs (the Program tab): a tab for each arm's program, Run all, and the
+//   timeline: each arm's lines in time as its own firmware runs them in the cell, moves in its
+//   colour, waits hatched, an arrow from each output to the wait it ends.
+// Every name and line from a cell file is shown as text, never markup.
+import type { CellFrameMsg, CellMsg, CellRefusedMsg, CellTimeline, SimEvent } from "../engine/messages";
 import type { Studio } from "../page/context";
-import { $, fill, h } from "../page/dom";
+import { $, fill, h, svgEl } from "../page/dom";
 import { ARM_COLORS } from "../view/cell-arms";
 import { logEvents } from "./physics";
+
+type Signal = CellFrameMsg["arms"][number]["signals"][number];
 
 /** What window.articula shows of the cell (main.ts wires it). */
 export const cellReport: {
   name: string | null; title: string; arms: string[]; t: number; running: boolean; done: boolean; deadlock: string;
-  events: SimEvent[]; lines: number[]; signals: CellFrameMsg["arms"][number]["signals"][]; frames: number;
-} = { name: null, title: "", arms: [], t: 0, running: false, done: false, deadlock: "", events: [], lines: [], signals: [], frames: 0 };
+  events: SimEvent[]; lines: number[]; signals: Signal[][]; frames: number;
+  programs: string[]; tab: number; refused: string; timeline: CellTimeline[]; arrows: number; doing: string[]; flashed: string[];
+} = { name: null, title: "", arms: [], t: 0, running: false, done: false, deadlock: "", events: [], lines: [], signals: [], frames: 0,
+  programs: [], tab: 0, refused: "", timeline: [], arrows: 0, doing: [], flashed: [] };
 
 let s: Studio;
+let reveal: (id: string) => void = () => undefined;
+let shipped: string[] = []; // each arm's program as the cell comes
+let texts: string[] = []; // as the tabs hold them (edited or not)
+let timelineEnd = 1; // s: the timeline's right edge
+let cursor: SVGLineElement | null = null;
+let timelineX = (t: number) => t;
+let lastCell: CellMsg | null = null; // the cell whose timeline is drawn
 
 export const cellRunning = () => cellReport.name !== null && cellReport.running && !cellReport.done;
+const colour = (k: number) => `#${ARM_COLORS[k % ARM_COLORS.length].toString(16).padStart(6, "0")}`;
 
-export function initCell(studio: Studio): void {
+export function initCell(studio: Studio, layout: { reveal: (id: string) => void }): void {
   s = studio;
+  reveal = layout.reveal;
+  const ed = $("cell-program") as HTMLTextAreaElement;
+  ed.addEventListener("input", () => {
+    texts[cellReport.tab] = ed.value;
+    cellReport.programs = [...texts];
+    markEdited();
+  });
+  $("cell-run-all").onclick = runAll;
+  // drawn at the width it is shown at: again when that changes (a tab shown, a turned tablet)
+  let drawnAt = 0;
+  new ResizeObserver(() => {
+    const w = $("cell-timeline").clientWidth;
+    if (lastCell && w > 0 && Math.abs(w - drawnAt) > 8) {
+      drawnAt = w;
+      drawTimeline(lastCell);
+    }
+  }).observe($("cell-timeline"));
+  $("cell-revert").onclick = () => {
+    texts = [...shipped];
+    showTab(cellReport.tab);
+    markEdited();
+    runAll();
+  };
+}
+
+/** Run all: every arm from the start, each with the program in its tab. */
+function runAll(): void {
+  cellReport.refused = "";
+  const st = $("cell-program-state");
+  st.className = "status";
+  st.textContent = "";
+  s.engine.send({ type: "cell_run", programs: texts });
+}
+
+function showTab(k: number): void {
+  cellReport.tab = k;
+  for (const [i, b] of Array.from($("cell-tabs").children).entries()) {
+    b.setAttribute("aria-selected", String(i === k));
+    (b as HTMLElement).tabIndex = i === k ? 0 : -1;
+  }
+  const ed = $("cell-program") as HTMLTextAreaElement;
+  ed.value = texts[k] ?? "";
+  ed.setAttribute("aria-label", `The program of ${cellReport.arms[k] ?? "the arm"}`);
+}
+
+function markEdited(): void {
+  for (const [i, b] of Array.from($("cell-tabs").children).entries()) b.classList.toggle("edited", texts[i] !== shipped[i]);
 }
 
 export async function showCell(m: CellMsg): Promise<void> {
+  const reopened = m.name !== null && m.name === cellReport.name; // Run all: the same cell again
   cellReport.name = m.name;
   cellReport.title = m.title ?? "";
   cellReport.arms = (m.arms ?? []).map((a) => a.name);
   cellReport.events = [];
   cellReport.deadlock = "";
   cellReport.frames = 0;
+  cellReport.flashed = [];
   const on = m.name !== null;
+  document.body.classList.toggle("cell-open", on);
   ($("scene-select") as HTMLSelectElement).value = on ? `cell:${m.name}` : s.editor.scene?.name ?? "";
   $("physics-bar").hidden = !on && !s.editor.scene?.name;
   $("events").hidden = !on && !s.editor.scene?.name;
@@ -38,18 +107,95 @@ export async function showCell(m: CellMsg): Promise<void> {
   // (the colour through the CSSOM: the site's Content-Security-Policy refuses style attributes)
   fill($("cell-legend"), ...(m.arms ?? []).map((a, k) => {
     const key = h("i", { class: "key" });
-    key.style.background = `#${ARM_COLORS[k % ARM_COLORS.length].toString(16).padStart(6, "0")}`;
+    key.style.background = colour(k);
     return h("span", {}, key, `${a.name} (${a.robot.name})`);
   }));
   $("cell-legend").hidden = !on;
   if (on) {
     s.view.setObjects(m.objects ?? []);
     $("view-status").textContent = `${m.title}: ${cellReport.arms.length} arms, each on its own firmware`;
+    showPrograms(m, reopened);
+    showArms(m);
+    cellReport.timeline = (m.arms ?? []).map((a) => a.timeline);
+    drawTimeline(m);
+    if (!reopened) reveal("cell-section");
   } else if (!s.editor.scene?.name) {
     s.view.setObjects([]);
     $("view-status").textContent = "";
   }
   await s.view.showCell(m);
+}
+
+// The tabs of the arms' programs: a new cell's as it comes; after Run all, as the tabs held them.
+function showPrograms(m: CellMsg, reopened: boolean): void {
+  const arms = m.arms ?? [];
+  if (!reopened) {
+    shipped = arms.map((a) => a.program);
+    texts = [...shipped];
+    cellReport.tab = 0;
+  }
+  cellReport.programs = [...texts];
+  fill($("cell-tabs"), ...arms.map((a, k) => {
+    const key = h("i", { class: "key" });
+    key.style.background = colour(k);
+    const b = h("button", { role: "tab", title: `${a.name}: the ${a.robot.name}'s program` }, key, a.name);
+    b.style.borderBottomColor = colour(k);
+    b.addEventListener("click", () => showTab(k));
+    return b;
+  }));
+  $("cell-tabs").onkeydown = (e) => {
+    const step = { ArrowRight: 1, ArrowLeft: -1 }[e.key];
+    if (step === undefined) return;
+    const k = (cellReport.tab + step + arms.length) % arms.length;
+    showTab(k);
+    ($("cell-tabs").children[k] as HTMLElement).focus();
+  };
+  showTab(Math.min(cellReport.tab, arms.length - 1));
+  markEdited();
+}
+
+/** Run all refused a program: its arm's tab, its line selected, and why. The cell runs on as it was. */
+export function showCellRefused(m: CellRefusedMsg): void {
+  const k = m.arm === null ? -1 : cellReport.arms.indexOf(m.arm);
+  if (k >= 0) showTab(k);
+  const where = `${m.arm ?? "the cell"}${m.line > 0 ? `, line ${m.line}` : ""}`;
+  cellReport.refused = `${where}: ${m.text}`;
+  const st = $("cell-program-state");
+  st.className = "status bad";
+  st.setAttribute("role", "alert");
+  st.textContent = `Not run: ${cellReport.refused}. The arms go on with the programs they had.`;
+  if (k >= 0 && m.line > 0) {
+    const ed = $("cell-program") as HTMLTextAreaElement;
+    const lines = ed.value.split("\n");
+    const start = lines.slice(0, m.line - 1).reduce((n, l) => n + l.length + 1, 0);
+    ed.focus();
+    ed.setSelectionRange(start, start + (lines[m.line - 1]?.length ?? 0));
+  }
+}
+
+// The cell's arms, a box each in its colour: its robot and firmware, and (each frame) its line or wait.
+function showArms(m: CellMsg): void {
+  fill($("cell-arms"), ...(m.arms ?? []).map((a, k) => {
+    const box = h("div", { class: "cell-arm" },
+      h("b", {}, a.name), ` · ${a.robot.name}` + (a.robot.firmware ? ` on ${a.robot.firmware}` : ""),
+      h("div", { class: "doing" }), h("div", { class: "joints" }));
+    box.style.borderLeftColor = colour(k);
+    return box;
+  }));
+  const wires = m.wires ?? [];
+  $("cell-wires").textContent = wires.length ? `Wires: ${wires.map((w) => `${w.from} – ${w.to}`).join(", ")}` : "No wires between the arms.";
+}
+
+// What an arm does at time t: its line now, the input it waits for, or that it has ended.
+function doing(k: number, a: CellFrameMsg["arms"][number], t: number): { text: string; kind: string } {
+  const wait = a.signals.find((x) => x.kind === "wait" && x.end_t == null);
+  if (wait)
+    return { kind: "waits", text: `line ${wait.line}: waits for ${wait.name || wait.pin} (${wait.pin}) to read ${wait.level}` +
+      `, since ${wait.t.toFixed(2)} s` };
+  const end = cellReport.timeline[k]?.end_s;
+  if (end !== undefined && t >= end) return { kind: "ended", text: `its program ended at ${end.toFixed(2)} s` };
+  const text = (texts[k] ?? "").split("\n")[a.line - 1]?.trim() ?? "";
+  return { kind: "", text: a.line > 0 ? `line ${a.line}: ${text}` : "at power-up" };
 }
 
 export function showCellFrame(f: CellFrameMsg): void {
@@ -66,10 +212,106 @@ export function showCellFrame(f: CellFrameMsg): void {
     fill($("events"));
   }
   cellReport.events.push(...f.events);
-  logEvents(f.events);
+  // the parts an event names flash: the arm's own (its name first), and what it met, another
+  // arm's part (named with that arm) or an object: a collision between arms shows on both links
+  logEvents(f.events, (e) => {
+    if (e.kind === "contact_ended") return;
+    for (const part of [e.a && (e.arm ? `${e.arm}: ${e.a}` : e.a), e.b !== "ground" && e.b])
+      if (part && s.view.flash(part) && cellReport.flashed.length < 100) cellReport.flashed.push(part);
+  });
   cellReport.deadlock = f.deadlock;
   const waits = f.arms.filter((a) => a.signals.some((x) => x.kind === "wait" && x.end_t == null)).map((a) => a.name);
   $("view-status").textContent = `t = ${f.t.toFixed(2)} s` + (f.done ? ", every program ended" : f.running ? "" : ", paused") +
     (f.deadlock && waits.length > 1 ? `: stuck, ${f.deadlock}` : waits.length ? `: ${waits.join(", ")} waiting for a signal` : "");
   $("phys-rtf").textContent = f.running && !f.done ? "running" : f.done ? "ended" : `paused at ${f.t.toFixed(2)} s`;
+  const boxes = $("cell-arms").children;
+  cellReport.doing = f.arms.map((a, k) => {
+    const d = doing(k, a, f.t);
+    const box = boxes[k];
+    if (box) {
+      const line = box.querySelector(".doing")!;
+      line.className = `doing ${d.kind}`;
+      line.textContent = d.text;
+      box.querySelector(".joints")!.textContent = a.joints ? `joints ${a.joints.map((q) => q.toFixed(1)).join("  ")}` : "";
+    }
+    return d.text;
+  });
+  if (cursor) {
+    const x = timelineX(Math.min(f.t, timelineEnd));
+    cursor.setAttribute("x1", String(x));
+    cursor.setAttribute("x2", String(x));
+  }
+}
+
+// The timeline: a row an arm, time across. Each line of its program where its firmware runs it
+// in the cell: a move (or the gripper, a dwell) in the arm's colour, a wait (W) hatched, an
+// output (O) a flag; an arrow from an output to each wait that ends at it (within 2 ms).
+const ROW = 28, LEFT = 58, RIGHT = 14, TOP = 6, AXIS = 18;
+function drawTimeline(m: CellMsg): void {
+  lastCell = m;
+  const svg = $("cell-timeline") as unknown as SVGSVGElement;
+  const WIDTH = Math.max(240, svg.clientWidth || 310); // (one unit a pixel where it is shown: its text at the page's size)
+  const arms = m.arms ?? [];
+  const rows = arms.map((a) => a.timeline ?? { lines: [] });
+  timelineEnd = Math.max(1, ...rows.map((r) => r.end_s ?? 0)) * 1.02;
+  const height = TOP + arms.length * ROW + AXIS;
+  svg.setAttribute("viewBox", `0 0 ${WIDTH} ${height}`);
+  svg.setAttribute("height", String(height));
+  timelineX = (t: number) => LEFT + (t / timelineEnd) * (WIDTH - LEFT - RIGHT);
+  const x = timelineX;
+  const defs = svgEl("defs");
+  const hatch = svgEl("pattern", { id: "cell-hatch", width: 4, height: 4, patternUnits: "userSpaceOnUse", patternTransform: "rotate(45)" });
+  hatch.append(svgEl("rect", { width: 4, height: 4, fill: "#fff4d6" }), svgEl("line", { x1: 0, y1: 0, x2: 0, y2: 4, stroke: "#d9a400", "stroke-width": 1.5 }));
+  const arrow = svgEl("marker", { id: "cell-arrow", viewBox: "0 0 6 6", refX: 5, refY: 3, markerWidth: 6, markerHeight: 6, orient: "auto" });
+  arrow.append(svgEl("path", { d: "M0,0 L6,3 L0,6 z", fill: "#b58100" }));
+  defs.append(hatch, arrow);
+  const parts: SVGElement[] = [defs];
+  const outputs: { k: number; t: number }[] = [];
+  const waits: { k: number; end: number }[] = [];
+  rows.forEach((r, k) => {
+    const y = TOP + k * ROW;
+    parts.push(svgEl("text", { x: 2, y: y + ROW / 2 + 3, class: "arm-name" }, arms[k].name));
+    parts.push(svgEl("line", { x1: LEFT, y1: y + ROW / 2, x2: WIDTH - RIGHT, y2: y + ROW / 2, class: "axis" }));
+    if (r.why) parts.push(svgEl("text", { x: LEFT + 4, y: y + ROW / 2 - 3 }, "no timeline: " + r.why.slice(0, 60)));
+    for (const l of r.lines) {
+      const word = l.command.trim().split(/\s+/)[0]?.toUpperCase() ?? "";
+      const tip = svgEl("title", {}, `${arms[k].name}, line ${l.line}: ${l.command}  ${l.start_s.toFixed(2)}–${l.end_s.toFixed(2)} s` +
+        (l.ok ? "" : " (refused)"));
+      if (!l.ok) {
+        const mark = svgEl("rect", { x: x(l.start_s) - 1.5, y: y + 4, width: 3, height: ROW - 8, class: "refused" });
+        mark.append(tip);
+        parts.push(mark);
+      } else if (word === "O") {
+        outputs.push({ k, t: l.start_s });
+        const flag = svgEl("path", { d: `M${x(l.start_s)},${y + ROW - 4} V${y + 3} l7,3 l-7,3`, stroke: "#b58100", "stroke-width": 1.4,
+          fill: "#f2c14e" });
+        flag.append(tip);
+        parts.push(flag);
+      } else if (l.end_s > l.start_s) {
+        const wait = word === "W";
+        if (wait) waits.push({ k, end: l.end_s });
+        const bar = svgEl("rect", { x: x(l.start_s), y: y + (wait ? 6 : 7), width: Math.max(1, x(l.end_s) - x(l.start_s)),
+          height: ROW - (wait ? 12 : 14), rx: 2, ...(wait ? { class: "wait" } : { fill: colour(k), opacity: word === "D" ? 0.35 : 0.85 }) });
+        bar.append(tip);
+        parts.push(bar);
+      }
+    }
+  });
+  // each output to the waits on other arms that end at it
+  let arrows = 0;
+  for (const w of waits)
+    for (const o of outputs)
+      if (o.k !== w.k && w.end >= o.t && w.end - o.t <= 0.002) {
+        const y0 = TOP + o.k * ROW + ROW / 2, y1 = TOP + w.k * ROW + ROW / 2;
+        parts.push(svgEl("path", { d: `M${x(o.t)},${y0 + (y1 > y0 ? 6 : -6)} L${x(w.end)},${y1 + (y1 > y0 ? -7 : 7)}`, class: "signal" }));
+        arrows++;
+      }
+  cellReport.arrows = arrows;
+  // the seconds below
+  const axisY = TOP + arms.length * ROW + 12;
+  const step = [1, 2, 5, 10, 20, 30, 60].find((d) => timelineEnd / d <= 6) ?? 120;
+  for (let t = 0; t <= timelineEnd; t += step) parts.push(svgEl("text", { x: x(t), y: axisY, "text-anchor": "middle" }, `${t} s`));
+  cursor = svgEl("line", { x1: x(0), y1: TOP, x2: x(0), y2: TOP + arms.length * ROW, class: "now" });
+  parts.push(cursor);
+  svg.replaceChildren(...parts);
 }

@@ -4,6 +4,8 @@
 // engine's reach map), and layers of strokes: the drawing, the line the arm will draw, the ink
 // the arm left, a hand's strokes, an exercise's target. The sheet can be dragged; in freehand
 // mode a finger or the mouse draws. Built with createElementNS: nothing is parsed as markup.
+import { svgEl as el } from "../page/dom";
+
 const NS = "http://www.w3.org/2000/svg";
 const MARGIN_MM = 12;
 
@@ -15,12 +17,6 @@ const STYLE: Record<Layer, { stroke: string; width: number; dash?: string; opaci
   ink: { stroke: "#111827", width: 0.8 },
   hand: { stroke: "#0f766e", width: 0.6, dash: "1.5 1" },
 };
-
-function el<K extends keyof SVGElementTagNameMap>(tag: K, attrs: Record<string, string | number> = {}): SVGElementTagNameMap[K] {
-  const e = document.createElementNS(NS, tag);
-  for (const [k, v] of Object.entries(attrs)) e.setAttribute(k, String(v));
-  return e;
-}
 
 // A table point [x, y] as the view's "right,down".
 const at = (p: number[]) => `${p[1].toFixed(2)},${p[0].toFixed(2)}`;

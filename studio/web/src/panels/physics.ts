@@ -18,7 +18,13 @@ const TROUBLE = new Set(["collision", "self_collision", "squeeze", "steps_lost",
 
 /** An event in words a student reads (the engine's own words stay in its title, on hover). */
 export function eventWords(e: SimEvent): string {
-  const the = (x: string) => (x.startsWith("link") || x.startsWith("finger") || x === "ground" || x === "gripper" ? `the ${x}` : `"${x}"`);
+  const part = (x: string) => x.startsWith("link") || x.startsWith("finger") || x === "base" || x === "ground" || x === "gripper";
+  const the = (x: string) => {
+    // in a cell, a part of an arm is "arm: link 2": the event's own arm's is its part, another's that arm's
+    const armPart = /^([A-Za-z][\w-]*): (.*)$/.exec(x);
+    if (armPart && part(armPart[2])) return armPart[1] === e.arm ? `the ${armPart[2]}` : `${armPart[1]}'s ${armPart[2]}`;
+    return part(x) ? `the ${x}` : `"${x}"`;
+  };
   switch (e.kind) {
     case "contact_started": return `${the(e.a)} touches ${the(e.b)}`;
     case "contact_ended": return `${the(e.a)} no longer touches ${the(e.b)}`;

@@ -3,13 +3,12 @@
 // the left, each driver, switch and servo on the right, a line from each pin to the input it
 // feeds, coloured by motor. Saved as SVG for printing: a student wires the arm from the paper.
 // Every name is text (textContent), never markup: a robot file is untrusted.
-import { $, download } from "../page/dom";
+import { $, download, svgEl as el } from "../page/dom";
 import type { Studio } from "../page/context";
 import type { RobotMsg } from "../engine/messages";
 
 type Wiring = NonNullable<RobotMsg["wiring"]>;
 
-const NS = "http://www.w3.org/2000/svg";
 const ROW = 22; // px a wire
 const PART_GAP = 10; // between two parts' boxes
 const HEAD = 16; // the name line of a part with several inputs
@@ -28,19 +27,10 @@ export function initWiring(studio: Studio): void {
   $("wiring-save").onclick = () => {
     const svg = $("wiring") as unknown as SVGSVGElement;
     const copy = svg.cloneNode(true) as SVGSVGElement;
-    const t = document.createElementNS(NS, "title");
-    t.textContent = `${s.editor.robot?.name ?? "arm"}: wiring`; // text, escaped by the serializer
+    const t = el("title", {}, `${s.editor.robot?.name ?? "arm"}: wiring`); // text, escaped by the serializer
     copy.prepend(t);
     download("wiring.svg", new XMLSerializer().serializeToString(copy), "image/svg+xml");
   };
-}
-
-function el<K extends keyof SVGElementTagNameMap>(tag: K, attrs: Record<string, string | number>, text?: string):
-  SVGElementTagNameMap[K] {
-  const e = document.createElementNS(NS, tag);
-  for (const [k, v] of Object.entries(attrs)) e.setAttribute(k, String(v));
-  if (text !== undefined) e.textContent = text;
-  return e;
 }
 
 function draw(w: Wiring | undefined, robotName: string): void {

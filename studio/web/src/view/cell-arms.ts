@@ -45,7 +45,7 @@ export class CellArms {
         for (const s of link.shapes)
           loading.push(shapeObject(s, link.frame === 0 ? dark : mat).then((m) => {
             if (!m) return;
-            m.name = `${a.name}: link ${link.frame}`;
+            m.name = `${a.name}: ${link.frame === 0 ? "base" : `link ${link.frame}`}`; // as the engine's events name it
             arm.frames[link.frame]?.add(m);
             this.changed();
           }));
@@ -54,6 +54,7 @@ export class CellArms {
         const geo = new THREE.BoxGeometry(g.finger_length_mm, g.finger_thickness_mm, g.finger_height_mm);
         for (let f = 0; f < 2; f++) {
           const m = new THREE.Mesh(geo, dark);
+          m.name = `${a.name}: finger ${f === 0 ? "left" : "right"}`;
           m.matrixAutoUpdate = false;
           arm.fingers.push(m);
           base.add(m);
@@ -74,6 +75,15 @@ export class CellArms {
       a.fingers?.forEach((m, i) => arm.fingers[i] && setMatrix(arm.fingers[i], m));
     });
     this.changed();
+  }
+
+  /** The meshes of a part as an event names it ("taker: link 3", "giver: finger left"). */
+  named(name: string): THREE.Mesh[] {
+    const found: THREE.Mesh[] = [];
+    this.group.traverse((o) => {
+      if (o.name === name && (o as THREE.Mesh).isMesh) found.push(o as THREE.Mesh);
+    });
+    return found;
   }
 
   get count(): number {

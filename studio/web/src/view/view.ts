@@ -462,15 +462,21 @@ export class View {
     this.objects.physics(p);
   }
 
-  // An event names parts ("link 2", "finger left", an object, "ground"): they flash.
-  flash(name: string): void {
+  // An event names parts ("link 2", "finger left", an object, "ground"; in a cell, an arm's
+  // "taker: link 3"): they flash.
+  flash(name: string): number {
+    const parts = this.cellArms.named(name);
+    for (const p of parts) this.objects.flash(p);
+    if (parts.length) return parts.length;
     let m: THREE.Object3D | undefined = this.objects.named(name);
     if (!m) {
       const frame = /^link (\d+)$/.exec(name);
       if (frame) m = this.frames[Number(frame[1])]?.children.find((c) => (c as THREE.Mesh).isMesh);
       else if (name.startsWith("finger")) m = this.fingers[name.endsWith("right") ? 1 : 0];
     }
-    if (m && (m as THREE.Mesh).isMesh) this.objects.flash(m as THREE.Mesh);
+    if (!m || !(m as THREE.Mesh).isMesh) return 0;
+    this.objects.flash(m as THREE.Mesh);
+    return 1;
   }
 
   // Where an object's centre is on the page (tests drag it).
