@@ -29,7 +29,6 @@ def test_a_cell_of_two_arms_on_two_builds_runs_and_signals(open_page):
     pg.page.wait_for_timeout(300)
     assert pg.hook("a.armPixels()") > 0.02
     assert pg.page.is_visible("#cell-legend") and "mearm (meArm)" in pg.page.text_content("#cell-legend")
-    pg.page.screenshot(path=str(SHOTS / "studio-cell-signal.png"))
     # STOP pauses every arm: the clock stands still
     pg.page.click("#stop")
     pg.wait("a.cell.running === false")
