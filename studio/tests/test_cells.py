@@ -143,3 +143,55 @@ def test_a_collision_between_arms_shows_on_both_links(open_page):
     other, part = e["b"].split(": ")
     assert f"{e['arm']}: the {e['a']} hits {other}'s {part}" in pg.page.text_content("#events")
     assert pg.errors == []
+
+
+def test_a_cell_and_its_programs_are_kept_in_the_project_undone_and_shared_by_link(open_page, browser, site):
+    from class_page import _fragment, _project
+    from conftest import Page
+
+    pg = open_page("mk2plus")
+    pg.page.select_option("#scene-select", "cell:signal")
+    pg.wait("a.cell.name === 'signal' && a.cell.frames > 0", timeout=30000)
+    pg.wait("a.project.dirty === false", timeout=10000)
+    pg.page.click("#cell-tabs button >> nth=1")
+    pg.page.fill("#cell-program", "G 100\nM 60 100 0\nG 0")
+    # an edit of a cell's program is a step of the History, and kept
+    pg.wait("document.querySelector('#undo').title.includes(\"the cell's programs\")")
+    pg.wait("a.project.saves > 0 && a.project.dirty === false", timeout=10000)
+    pg.page.click("#undo")
+    pg.wait("a.cell.programs[1].startsWith('W 14 0 30')", timeout=30000)
+    pg.page.click("#redo")
+    pg.wait("a.cell.programs[1] === 'G 100\\nM 60 100 0\\nG 0' && a.cell.timeline[1].lines.length === 3", timeout=30000)
+    # shared by link: the cell opens with the edited program in its tab, and runs it
+    pg.page.click("#share-button")
+    pg.wait("a.shareLink !== ''")
+    other = Page(browser, pg.hook("a.shareLink"), ready="window.articula.project.name.includes('from a link')")
+    try:
+        other.wait("a.cell.name === 'signal' && a.cell.timeline.length === 2", timeout=30000)
+        assert other.hook("a.cell.programs[1]") == "G 100\nM 60 100 0\nG 0"
+        assert other.hook("a.cell.timeline[1].lines.length") == 3
+        assert other.page.locator("#cell-tabs button.edited").count() == 1
+        assert other.errors == []
+    finally:
+        other.close()
+    # a link's cell that is not shipped, or a program an arm cannot run, is said, and nothing runs it
+    script = "<img src=x onerror=window.__pwned=1>"
+    for cell, words in [({"name": script, "programs": ["G 0"]}, "no shipped cell"),
+                        ({"name": "signal", "programs": ["G 100", f"L 9 10 {script}"]}, "mearm, line 1")]:
+        p = Page(browser, f"{site.url}#{_fragment(_project('Cell', mode='text', cell=cell))}",
+                 ready="window.articula.project.name.includes('from a link')")
+        try:
+            if words.startswith("no"):
+                p.page.wait_for_selector("#banner:not([hidden])")
+                assert words in p.page.text_content("#banner-text")
+                assert p.hook("a.cell.name") is None
+            else:
+                p.wait("a.cell.refused !== ''", timeout=30000)
+                assert p.hook("a.cell.refused").startswith(words)
+                assert p.hook("a.cell.programs[1]") == f"L 9 10 {script}"  # kept in its tab, as text
+                assert p.hook("a.cell.timeline[1].lines.length") == len(__import__("json").loads(
+                    (__import__("conftest").REPO / "cells" / "signal.json").read_text())["arms"][1]["program"])
+            assert p.page.evaluate("() => window.__pwned") is None
+        finally:
+            p.close()
+    assert pg.errors == []

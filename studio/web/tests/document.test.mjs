@@ -182,3 +182,18 @@ test("the pen's blocks unroll to the pen's actions and back", () => {
   const again = unroll(opsToWorkspace(ops.map(({ block, ...a }) => a)));
   assert.deepEqual(again.map(({ block, ...a }) => a), ops.map(({ block, ...a }) => a));
 });
+
+test("a project's cell of arms reads back with each arm's program; a bad one is refused by name", async () => {
+  const p = good();
+  p.cell = { name: "signal", programs: ["G 100\nO 19 0", "W 14 0 30\n<b>wave</b>"] };
+  const back = await projectOfFragment(await projectFragment(readProject(p)));
+  assert.deepEqual(back.cell, p.cell);
+  assert.equal(readProject(good()).cell, null); // (none: the one robot's project)
+  const bad = (cell) => refusal({ ...good(), cell });
+  assert.match(bad("signal"), /^cell must be an object/);
+  assert.match(bad({ name: "signal" }), /cell\.programs must be a list of 1 to 8 programs/);
+  assert.match(bad({ name: "signal", programs: Array(9).fill("G 0") }), /1 to 8/);
+  assert.match(bad({ name: "signal", programs: ["G 0", 7] }), /cell\.programs\[1\] must be text/);
+  assert.match(bad({ name: 3, programs: ["G 0"] }), /cell\.name must be text/);
+  assert.match(bad({ name: "signal", programs: ["x".repeat(1_000_001)] }), /cell\.programs\[0\] is longer than/);
+});

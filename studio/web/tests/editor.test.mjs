@@ -90,4 +90,10 @@ test("A project edit names what changed; the pose, the camera and the name are n
   assert.deepEqual(describeChange(inBlocks, dragged), { name: "the blocks", kind: "program-blocks" });
   // into blocks from text: the text still tells them apart
   assert.equal(describeChange(typed, { ...typed, program: { ...typed.program, mode: "blocks" } }).name, "the program as blocks");
+  // a cell opened is "the cell"; typing in its arms' programs joins into one step of its own kind
+  const cell = { ...a, cell: { name: "signal", programs: ["G 0", "W 14 0 30"] } };
+  assert.deepEqual(describeChange(a, cell), { name: "the cell", kind: "" });
+  const edited = { ...cell, cell: { name: "signal", programs: ["G 0", "G 100"] } };
+  assert.deepEqual(describeChange(cell, edited), { name: "the cell's programs", kind: "cell-text" });
+  assert.equal(describeChange(cell, { ...cell, cell: { name: "handover", programs: ["G 0", "G 0"] } }).name, "the cell");
 });

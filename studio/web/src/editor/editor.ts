@@ -7,7 +7,7 @@
 // link, the paper). main.ts makes it and wires the panels to it; `window.articula`
 // (page/hook.ts) is a read-only view of it.
 import type { ArmLink } from "../link/arm-link";
-import type { Experiment, Goal, Paper, Project } from "../project/document";
+import type { CellDoc, Experiment, Goal, Paper, Project } from "../project/document";
 import type { PhysicsMsg, PoseMsg, RobotMsg, SceneMsg, TimelineMsg } from "../engine/messages";
 import type { SerialLike } from "../link/ports";
 import { History } from "./history";
@@ -82,7 +82,7 @@ export interface ProjectOnScreen {
 /** What changed on screen, as the Editor's `changed` signal names it. */
 // ("project": another project opened, or an undo or a redo put on screen; "experiment", "name":
 // the measurements and the name, which are not the parts' but the document's own)
-export type ProjectPart = "robot" | "scene" | "program" | "blocks" | "pose" | "view" | "paper" | "experiment" | "name" | "project";
+export type ProjectPart = "robot" | "scene" | "cell" | "program" | "blocks" | "pose" | "view" | "paper" | "experiment" | "name" | "project";
 
 const none = (): never => {
   throw new Error("the Editor's part is not wired yet (main.ts)");
@@ -95,6 +95,7 @@ export class Editor {
   robot: RobotMsg | null = null; // the robot shown
   pose: PoseMsg | null = null; // its pose as last drawn
   scene: SceneMsg | null = null; // the scene and its objects
+  cell: CellDoc | null = null; // the cell of arms open, its programs as its tabs hold them (panels/cell.ts)
   physics: PhysicsMsg | null = null; // the physics' last step (null: never run)
   timeline: TimelineMsg | null = null; // the program's timeline (null: no program loaded)
   playing = false; // the program plays on the model

@@ -79,7 +79,7 @@ export class OpenProject implements ProjectOnScreen {
     if (r && r.robots.includes(stem) && r.source === `/robots/${stem}.json`) robot = { shipped: stem };
     else if (ed.robotFile) robot = ed.robotFile;
     return {
-      ...d, robot, scene: ed.scene?.name ?? "",
+      ...d, robot, scene: ed.scene?.name ?? "", cell: ed.cell && { name: ed.cell.name, programs: [...ed.cell.programs] },
       program: { mode: ed.blocks.mode(), name: ed.program.name(), text: ed.program.text(),
         blocks: ed.blocks.mode() === "blocks" || d.program.blocks ? ed.blocks.json() : null },
       pose: ed.pose ? { q: ed.pose.q, gripper: ed.pose.gripper } : d.pose,
@@ -179,6 +179,8 @@ export class OpenProject implements ProjectOnScreen {
       const files = d.robot.meshes.map((m) => ({ name: m.name, data: fromBase64(m.data).buffer }));
       this.engine.send({ type: "load_robot", text: f.text, filename: f.name, legacy: f.legacy, scale: f.scale, files }, files.map((x) => x.data as ArrayBuffer));
     }
+    // a cell (several arms) with the programs the project gives them (an undo's is on its way: showEdit)
+    if (d.cell && !this.undoing) this.engine.send({ type: "cell", name: d.cell.name, programs: d.cell.programs });
     ed.program.set(d.program.text, d.program.name);
     ed.paper.set(d.paper ?? null);
     ed.blocks.setMode(d.program.mode, true);
@@ -206,10 +208,13 @@ export class OpenProject implements ProjectOnScreen {
   // A step of the History: `doc`'s history parts on screen, the pose and the camera as they are.
   private showEdit(doc: Project): void {
     const now = this.document(), ed = this.ed;
-    this.doc = { ...this.doc, robot: doc.robot, scene: doc.scene, program: doc.program, goal: doc.goal, experiment: doc.experiment };
+    this.doc = { ...this.doc, robot: doc.robot, scene: doc.scene, cell: doc.cell, program: doc.program, goal: doc.goal,
+      experiment: doc.experiment };
     this.applying = true;
     const parts = changedParts(now, doc);
-    if (parts.includes("the scene")) this.engine.send({ type: "scene", name: doc.scene || null });
+    // (a scene, or none, closes a cell)
+    if (parts.includes("the scene") || (parts.includes("the cell") && !doc.cell)) this.engine.send({ type: "scene", name: doc.scene || null });
+    if (parts.includes("the cell") && doc.cell) this.engine.send({ type: "cell", name: doc.cell.name, programs: doc.cell.programs });
     if (parts.includes("the robot")) {
       this.undoing = true;
       this.undoTarget = doc;

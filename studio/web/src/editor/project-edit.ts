@@ -10,6 +10,7 @@ import type { Command } from "./history";
 const PARTS: { key: keyof Project; name: string }[] = [
   { key: "robot", name: "the robot" },
   { key: "scene", name: "the scene" },
+  { key: "cell", name: "the cell" },
   { key: "goal", name: "the exercise" },
   { key: "program", name: "the program" },
   { key: "experiment", name: "the measurements" },
@@ -35,6 +36,8 @@ export function changedParts(a: Project, b: Project): string[] {
 export function describeChange(a: Project, b: Project): { name: string; kind: string } | null {
   const parts = changedParts(a, b);
   if (parts.length === 0) return null;
+  if (parts.length === 1 && parts[0] === "the cell" && a.cell && b.cell && a.cell.name === b.cell.name)
+    return { name: "the cell's programs", kind: "cell-text" };
   if (parts.length === 1 && parts[0] === "the program") {
     const text = a.program.text !== b.program.text, blocks = !same(a.program.blocks, b.program.blocks);
     const mode = a.program.mode !== b.program.mode;

@@ -23,6 +23,7 @@ let eventsSent = 0;
 let cellName: string | null = null; // the shipped cell open
 let cellSource: Record<string, unknown> | null = null; // its file as shipped (JSON), for Run all's programs
 let programs: string[] = []; // each arm's program as it runs now (text, a line a line)
+let shipped: string[] = []; // each arm's program as the cell comes
 let timeline: Out[] = []; // each arm's lines in time, as its firmware runs them in the cell
 let dirty = false; // a frame the page has not had (a control, a reset)
 
@@ -66,7 +67,7 @@ function cellMessage(): Out {
   return {
     type: "cell", name: cellName, title: cell.name, objects: cell.objects as unknown as Out[],
     arms: st.arms.map((a, i) => ({ name: a.name, robot: robots[i].info as unknown as RobotInfo, base: a.base,
-      program: programs[i] ?? "", timeline: timeline[i] })),
+      program: programs[i] ?? "", shipped: shipped[i] ?? "", timeline: timeline[i] })),
     // (checked by the loader: each end an arm's pin)
     wires: ((cellSource?.wires ?? []) as { from: unknown; to: unknown }[]).map((w) => ({ from: String(w.from), to: String(w.to) })),
   };
@@ -128,7 +129,9 @@ function frameMessage(): Out {
   };
 }
 
-/** {type: "cell", name}: a shipped cell opened (its arms at power-up, running), or closed (null). */
+/** {type: "cell", name, programs?}: a shipped cell opened (its arms at power-up, running), or
+ * closed (null); `programs`: each arm's program in place of the cell's (as Run all's: a project's
+ * cell), refused as Run all refuses them (the cell then runs its own). */
 export async function cellIntent(m: Msg): Promise<Out[]> {
   const name = m.name === null || m.name === undefined ? null : text(m, "name", 200);
   stopTasks();
@@ -148,8 +151,11 @@ export async function cellIntent(m: Msg): Promise<Out[]> {
     throw e;
   }
   cellSource = JSON.parse(body) as Record<string, unknown>;
-  programs = ((cellSource.arms ?? []) as { program?: unknown }[]).map((a) => programText(a.program));
-  return opened(name, made);
+  shipped = ((cellSource.arms ?? []) as { program?: unknown }[]).map((a) => programText(a.program));
+  programs = [...shipped];
+  const out = opened(name, made);
+  if (m.programs === undefined || m.programs === null) return out;
+  return [...out, ...(await runPrograms(m.programs))];
 }
 
 function opened(name: string, made: { cell: Cell; robots: Robot[]; timeline: Out[] }): Out[] {
@@ -168,11 +174,21 @@ function opened(name: string, made: { cell: Cell; robots: Robot[]; timeline: Out
  * names the arm and the line: {type: "cell_refused", arm, line (1-based, or 0), text}. */
 export async function cellRunIntent(m: Msg): Promise<Out[]> {
   if (!cell || !cellName || !cellSource) throw new BadMessage("no cell is open: choose one in the Physics menu");
-  const given = m.programs;
+  return runPrograms(m.programs);
+}
+
+async function runPrograms(given: unknown): Promise<Out[]> {
+  if (!cellName || !cellSource) return [];
   const arms = (cellSource.arms ?? []) as Record<string, unknown>[];
   if (!Array.isArray(given) || given.length !== arms.length)
     throw new BadMessage(`'programs' must be a list of ${arms.length} texts, one for each of the cell's arms`);
   const texts = given.map((p, i) => text({ [`programs[${i}]`]: p }, `programs[${i}]`, 100_000));
+  if (cell && texts.every((t, i) => t === programs[i])) { // the programs it runs: from the start again
+    cell.reset();
+    eventsSent = 0;
+    running = true;
+    return [cellMessage(), { ...frameMessage(), fresh: true }];
+  }
   const source = { ...cellSource, arms: arms.map((a, i) => ({ ...a, program: texts[i].split("\n") })) };
   let made;
   try {
@@ -182,7 +198,7 @@ export async function cellRunIntent(m: Msg): Promise<Out[]> {
     const where = /^\/arms\/(\d+)(?:\/program(?:\/(\d+))?)?/.exec(String((e as { json_path?: string }).json_path ?? ""));
     const arm = where ? Number(where[1]) : -1;
     return [{ type: "cell_refused", arm: arms[arm]?.name ?? null, line: where?.[2] !== undefined ? Number(where[2]) + 1 : 0,
-      text: String((e as { problem?: string }).problem ?? e.message) }];
+      text: String((e as { problem?: string }).problem ?? e.message), programs: texts }];
   }
   stopTasks();
   closeCell();

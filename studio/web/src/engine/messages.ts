@@ -147,7 +147,7 @@ export interface CellMsg {
   name: string | null;
   title?: string;
   objects?: SceneObjectInfo[];
-  arms?: { name: string; robot: RobotMsg; base: { xyz: number[]; yaw: number }; program: string; timeline: CellTimeline }[];
+  arms?: { name: string; robot: RobotMsg; base: { xyz: number[]; yaw: number }; program: string; shipped: string; timeline: CellTimeline }[];
   wires?: { from: string; to: string }[];
 }
 
@@ -166,6 +166,7 @@ export interface CellRefusedMsg {
   arm: string | null;
   line: number;
   text: string;
+  programs: string[]; // the programs refused, as the tabs hold them
 }
 
 /** A cell's world now: each arm's frames (in its base frame) and line, the objects, new events. */

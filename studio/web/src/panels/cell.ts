@@ -43,8 +43,7 @@ export function initCell(studio: Studio, layout: { reveal: (id: string) => void 
   const ed = $("cell-program") as HTMLTextAreaElement;
   ed.addEventListener("input", () => {
     texts[cellReport.tab] = ed.value;
-    cellReport.programs = [...texts];
-    markEdited();
+    edited();
   });
   $("cell-run-all").onclick = runAll;
   // drawn at the width it is shown at: again when that changes (a tab shown, a turned tablet)
@@ -59,7 +58,7 @@ export function initCell(studio: Studio, layout: { reveal: (id: string) => void 
   $("cell-revert").onclick = () => {
     texts = [...shipped];
     showTab(cellReport.tab);
-    markEdited();
+    edited();
     runAll();
   };
 }
@@ -88,6 +87,15 @@ function markEdited(): void {
   for (const [i, b] of Array.from($("cell-tabs").children).entries()) b.classList.toggle("edited", texts[i] !== shipped[i]);
 }
 
+// The tabs' programs changed: the project keeps them (a step of the History, saved)
+function edited(): void {
+  cellReport.programs = [...texts];
+  markEdited();
+  if (cellReport.name === null) return;
+  s.editor.cell = { name: cellReport.name, programs: [...texts] };
+  s.editor.signals.changed.dispatch("cell");
+}
+
 export async function showCell(m: CellMsg): Promise<void> {
   const reopened = m.name !== null && m.name === cellReport.name; // Run all: the same cell again
   cellReport.name = m.name;
@@ -99,6 +107,7 @@ export async function showCell(m: CellMsg): Promise<void> {
   cellReport.flashed = [];
   const on = m.name !== null;
   document.body.classList.toggle("cell-open", on);
+  const was = JSON.stringify(s.editor.cell);
   ($("scene-select") as HTMLSelectElement).value = on ? `cell:${m.name}` : s.editor.scene?.name ?? "";
   $("physics-bar").hidden = !on && !s.editor.scene?.name;
   $("events").hidden = !on && !s.editor.scene?.name;
@@ -123,17 +132,17 @@ export async function showCell(m: CellMsg): Promise<void> {
     s.view.setObjects([]);
     $("view-status").textContent = "";
   }
+  s.editor.cell = on ? { name: m.name!, programs: [...texts] } : null;
+  if (JSON.stringify(s.editor.cell) !== was) s.editor.signals.changed.dispatch("cell");
   await s.view.showCell(m);
 }
 
-// The tabs of the arms' programs: a new cell's as it comes; after Run all, as the tabs held them.
+// The tabs of the arms' programs, as the arms run them (the cell's own, Run all's, a project's).
 function showPrograms(m: CellMsg, reopened: boolean): void {
   const arms = m.arms ?? [];
-  if (!reopened) {
-    shipped = arms.map((a) => a.program);
-    texts = [...shipped];
-    cellReport.tab = 0;
-  }
+  shipped = arms.map((a) => a.shipped);
+  texts = arms.map((a) => a.program);
+  if (!reopened) cellReport.tab = 0;
   cellReport.programs = [...texts];
   fill($("cell-tabs"), ...arms.map((a, k) => {
     const key = h("i", { class: "key" });
@@ -156,8 +165,12 @@ function showPrograms(m: CellMsg, reopened: boolean): void {
 
 /** Run all refused a program: its arm's tab, its line selected, and why. The cell runs on as it was. */
 export function showCellRefused(m: CellRefusedMsg): void {
+  if (m.programs.length === texts.length) { // (a project's cell opens with its own programs: they stay in the tabs)
+    texts = [...m.programs];
+    edited();
+  }
   const k = m.arm === null ? -1 : cellReport.arms.indexOf(m.arm);
-  if (k >= 0) showTab(k);
+  showTab(k >= 0 ? k : cellReport.tab);
   const where = `${m.arm ?? "the cell"}${m.line > 0 ? `, line ${m.line}` : ""}`;
   cellReport.refused = `${where}: ${m.text}`;
   const st = $("cell-program-state");

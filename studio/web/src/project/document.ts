@@ -64,7 +64,13 @@ export interface Project {
   goal: Goal | null;
   experiment?: Experiment | null;
   paper?: Paper | null; // Draw and write's sheet and pen (the robot file stays as it is)
+  cell?: CellDoc | null; // a cell of arms open (its robot, scene and program then stand aside)
 }
+
+/** A shipped cell (cells/), with each arm's program as the project has it, in the cell's order of arms. */
+export interface CellDoc { name: string; programs: string[] }
+
+const MAX_CELL_ARMS = 8; // (as cells/README.md allows)
 
 /** The sheet on the table (its size, centre, whether it lies landscape), its height and the pen's length, mm. */
 export interface Paper { sheet: "A4" | "A5" | "Letter"; at: number[]; landscape: boolean; z: number; pen: number }
@@ -252,7 +258,25 @@ export function readProject(x: unknown): Project {
     paper = { sheet: q.sheet, at: nums(q.at, "paper.at", 2, 10000), landscape: q.landscape === true, z: nums([q.z], "paper.z", 1, 10000)[0], pen };
   }
   return { format: FORMAT, version: VERSION, name, robot, scene, program, pose, view, goal: checkGoal(x.goal),
-    experiment: checkExperiment(x.experiment), paper };
+    experiment: checkExperiment(x.experiment), paper, cell: checkCell(x.cell) };
+}
+
+// (a cell's name and programs are checked here for their form; the engine's cell loader checks
+// that the cell is shipped and that each program fits its arm)
+function checkCell(c: unknown): CellDoc | null {
+  if (c === null || c === undefined) return null;
+  if (!isObj(c)) throw new ProjectError("cell must be an object");
+  const programs = c.programs;
+  if (!Array.isArray(programs) || programs.length < 1 || programs.length > MAX_CELL_ARMS)
+    throw new ProjectError(`cell.programs must be a list of 1 to ${MAX_CELL_ARMS} programs, one for each arm`);
+  return {
+    name: str(c, "name", "cell", MAX_NAME),
+    programs: programs.map((p, i) => {
+      if (typeof p !== "string") throw new ProjectError(`cell.programs[${i}] must be text`);
+      if (p.length > MAX_TEXT) throw new ProjectError(`cell.programs[${i}] is longer than ${MAX_TEXT.toLocaleString("en")} characters`);
+      return p;
+    }),
+  };
 }
 
 /** A project from a file's or a link's text. Throws ProjectError. */
