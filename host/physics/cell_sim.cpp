@@ -179,6 +179,13 @@ nlohmann::json signals_json(const CellSimulation& sim, int arm) {
   return out;
 }
 
+// The arm's I/O pins as its robot file (or the cell for it) names them.
+nlohmann::json io_json(const Robot& robot) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const IoPin& p : robot.io) out.push_back({{"name", p.name}, {"pin", header_pin_name(p.pin)}, {"mode", io_mode_id(p.mode)}});
+  return out;
+}
+
 }  // namespace
 
 Prediction predict_in_cell(const Cell& cell, const std::string& name, bool path) {
@@ -208,6 +215,7 @@ nlohmann::json cell_arms_json(const CellSimulation& sim) {
                    {"robot", r.name},
                    {"robot_ref", a.robot_ref},
                    {"base", {{"xyz", {a.xyz.x, a.xyz.y, a.xyz.z}}, {"yaw", a.yaw_deg}, {"footprint_mm", a.footprint_mm}}},
+                   {"io", io_json(r)},
                    {"program", a.program_ref},
                    {"program_end_s", sim.driver(i).program_end()},
                    {"line", b.current_line()},

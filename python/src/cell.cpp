@@ -96,7 +96,7 @@ void bind_cell(nb::module_& m) {
              return record(host::cell_arms_json(*c.sim)[size_t(c.arm_index(which))]);
            },
            "which"_a,
-           "One arm now (by name or index): name, robot, program, program_end_s, line, joints (deg or mm), tool_mm "
+           "One arm now (by name or index): name, robot, io (its I/O pins: name, pin, mode), program, program_end_s, line, joints (deg or mm), tool_mm "
            "(on the table), gripper_mm, counted_steps, lost_steps, signals (each output set and input waited for: kind "
            "'output' or 'wait', line, pin, name, level, t, a wait's end_t).")
       .def("state", [](const PyCell& c) { return record(host::cell_state_json(*c.sim)); },

@@ -195,3 +195,39 @@ def test_a_cell_and_its_programs_are_kept_in_the_project_undone_and_shared_by_li
         finally:
             p.close()
     assert pg.errors == []
+
+
+def test_a_cell_runs_on_two_virtual_nanos_wired_pin_to_pin_and_stop_stops_both(open_page):
+    """Each arm's own firmware hex (the MK2's articula-nano, the meArm's articula-servo) on a
+    virtual Nano of its own, configured for its arm; the MK2's output A5 drives the meArm's input
+    A0, so the meArm waits for it, as in the engine; STOP sends both the realtime `!`."""
+    pg = open_page("mk2plus")
+    pg.page.select_option("#scene-select", "cell:signal")
+    pg.wait("a.cell.name === 'signal' && a.cell.frames > 0", timeout=30000)
+    pg.page.select_option("#cell-run-on", "nanos")
+    pg.page.click("#cell-run-all")
+    pg.wait("a.cell.nanos !== null && a.cell.nanos.arms.every(x => x.connected)", timeout=60000)
+    assert pg.hook("a.cell.nanos.arms.map(x => x.error)") == ["", ""]
+    # the meArm waits on line 1 (W 14 0 30) until the MK2 has set A5 low (its last line, O 19 0)
+    pg.wait("a.cell.nanos.arms[1].line === 1 && a.cell.nanos.arms[0].line >= 2", timeout=30000)
+    pg.wait("a.cell.nanos.arms[0].done", timeout=60000)
+    assert pg.hook("a.cell.nanos.arms[0].levels.A5") == 0 and pg.hook("a.cell.nanos.drives") >= 2
+    pg.wait("a.cell.nanos.arms[1].line >= 2", timeout=30000)
+    assert pg.hook("a.cell.nanos.arms[0].error") == "" and not pg.hook("a.cell.nanos.arms[0].stopped")
+    # each arm drawn where its Nano reports it
+    assert pg.hook("a.cell.nanos.arms[0].reports") > 5 and pg.hook("a.cell.nanos.arms[1].reports") > 5
+    assert "On virtual Nanos" in pg.page.text_content("#view-status")
+    assert pg.hook("a.cell.doing[1]").startswith("line ")
+    # STOP: both Nanos stop, no further line
+    pg.page.click("#stop")
+    pg.wait("a.cell.nanos.arms.every(x => x.done)", timeout=30000)
+    assert pg.hook("a.cell.nanos.arms[1].stopped") is True and pg.hook("a.cell.nanos.stops") == 1
+    line = pg.hook("a.cell.nanos.arms[1].line")
+    pg.page.wait_for_timeout(500)
+    assert pg.hook("a.cell.nanos.arms[1].line") == line
+    rtf = pg.hook("a.cell.nanos.arms.map(x => x.rtf)")
+    assert all(r is not None and r > 0.5 for r in rtf), rtf
+    # back to the engine: the Nanos are let go
+    pg.page.select_option("#cell-run-on", "engine")
+    pg.wait("a.cell.nanos === null")
+    assert pg.errors == []

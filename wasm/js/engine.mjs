@@ -177,7 +177,7 @@ export class Cell {
   step(n = 1) { this.h.step(n); }
   runUntil(t) { this.h.runUntil(t); }
   run() { this.h.run(); }
-  /** One arm now, by name: {name, robot, robot_ref, base, program, program_end_s, line, joints, tool_mm,
+  /** One arm now, by name: {name, robot, robot_ref, base, io: [{name, pin, mode}], program, program_end_s, line, joints, tool_mm,
    * gripper_mm, counted_steps, lost_steps, signals}. */
   arm(name) { return checked(this.h.arm(String(name))); }
   /** {t, arms, objects: [{name, xyz_mm, pose, carried_by, removed}]}. */

@@ -122,6 +122,8 @@ export class Editor {
     stepTaken: new Signal<"undo" | "redo">(),
     // an exercise asked for by name (the examples menu, the projects list): the projects open it
     exerciseWanted: new Signal<string>(),
+    // STOP was pressed (the button or Escape): whatever moves, stops
+    stopped: new Signal<void>(),
     // the arm's link opened (true) or closed or lost (false)
     armConnected: new Signal<boolean>(),
     // the simulated world's speed changed (editor.speed)

@@ -3,9 +3,11 @@
 // status report; the model's prediction of a line after those the arm accepted; and the
 // robot shown as a Nano's configuration (its lines and checksum, or why a Nano cannot take it).
 import { EngineError } from "../../../../wasm/js/engine.mjs";
-import { numbers, text } from "./checks";
+import type { Robot } from "../../../../wasm/js/engine.mjs";
+import { numbers, round6, text } from "./checks";
 import type { Msg, Out } from "./checks";
-import { framesAt, info, S, toolForTip } from "./state";
+import { S, toolForTip } from "./state";
+import type { RobotInfo } from "./state";
 
 export const armHandlers: Record<string, (m: Msg) => Out[]> = {
   // One protocol line, formatted by the engine (host/lib/blocks.h, protocol_line): the page
@@ -22,42 +24,54 @@ export const armHandlers: Record<string, (m: Msg) => Out[]> = {
       return [{ type: "protocol_line", error: e.message }];
     }
   },
-  arm_read(m) {
-    const parsed = S.engine.parseArmLine(text(m, "line", 1000));
-    let pose: Out | null = null;
-    if (parsed.kind === "status" && parsed.angles.length === info().num_motors) {
-      const angles = numbers({ angles: parsed.angles }, "angles", [info().num_motors]);
-      const q = S.robot.jointsFromMotors(angles) as number[];
-      // the line that commands the reported angles: after a stop, what the arm holds
-      pose = { q, frames: framesAt(q), line: S.robot.protocolLine("M", angles) };
-    }
-    return [{ type: "arm_read", parsed, pose }];
-  },
-  arm_config() {
-    try {
-      return [{ type: "arm_config", config: S.robot.nanoConfig() }];
-    } catch (e) {
-      if (!(e instanceof EngineError)) throw e;
-      return [{ type: "arm_config", config: { error: e.message } }];
-    }
-  },
-  arm_predict(m) {
-    const raw = text(m, "line", 200);
-    // the line as the arm acts on it (the core's comment rule): a comment alone is no command
-    const line = S.engine.lineCommand(raw);
-    if (line === "") return [{ type: "arm_predicted", command: "", reply: "ok", steps: null, meaning: "" }];
-    const history = Array.isArray(m.history) ? (m.history as unknown[]).filter((x): x is string => typeof x === "string") : [];
-    let out: Out;
-    try {
-      const doc = S.robot.predict([...history, line].join("\n") + "\n", "arm.arm") as { records: Record<string, unknown>[] };
-      const rec = doc.records[doc.records.length - 1];
-      const code = rec.code as number;
-      out = { command: line, reply: code === 0 ? "ok" : `error:${code}`, steps: rec.steps, meaning: S.engine.statusText(code), seconds: rec.seconds };
-    } catch (e) {
-      if (!(e instanceof EngineError)) throw e;
-      const code = (S.robot.quantize([line])[0] as { code: number }).code;
-      out = { command: line, reply: `error:${code}`, steps: null, meaning: S.engine.statusText(code) };
-    }
-    return [{ type: "arm_predicted", ...out }];
-  },
+  arm_read: (m) => [armRead(S.robot, m)],
+  arm_config: () => [armConfig(S.robot)],
+  arm_predict: (m) => [armPredict(S.robot, m)],
 };
+
+// (each for a robot: the one shown, or an arm of a cell on a Nano of its own, engine/cell.ts)
+
+/** {type: "arm_read", parsed, pose}: an arm's line read; a status report's pose with it. */
+export function armRead(robot: Robot, m: Msg): Out {
+  const parsed = S.engine.parseArmLine(text(m, "line", 1000));
+  let pose: Out | null = null;
+  const n = (robot.info as unknown as RobotInfo).num_motors;
+  if (parsed.kind === "status" && parsed.angles.length === n) {
+    const angles = numbers({ angles: parsed.angles }, "angles", [n]);
+    const q = robot.jointsFromMotors(angles) as number[];
+    // the line that commands the reported angles: after a stop, what the arm holds
+    pose = { q, frames: (robot.pose(q).frames as number[][]).map((f) => f.map(round6)), line: robot.protocolLine("M", angles) };
+  }
+  return { type: "arm_read", parsed, pose };
+}
+
+/** {type: "arm_config", config}: the robot as a Nano's configuration, or why a Nano cannot take it. */
+export function armConfig(robot: Robot): Out {
+  try {
+    return { type: "arm_config", config: robot.nanoConfig() };
+  } catch (e) {
+    if (!(e instanceof EngineError)) throw e;
+    return { type: "arm_config", config: { error: e.message } };
+  }
+}
+
+/** {type: "arm_predicted", ...}: a line's prediction after those the arm accepted (`history`). */
+export function armPredict(robot: Robot, m: Msg): Out {
+  const raw = text(m, "line", 200);
+  // the line as the arm acts on it (the core's comment rule): a comment alone is no command
+  const line = S.engine.lineCommand(raw);
+  if (line === "") return { type: "arm_predicted", command: "", reply: "ok", steps: null, meaning: "" };
+  const history = Array.isArray(m.history) ? (m.history as unknown[]).filter((x): x is string => typeof x === "string") : [];
+  let out: Out;
+  try {
+    const doc = robot.predict([...history, line].join("\n") + "\n", "arm.arm") as { records: Record<string, unknown>[] };
+    const rec = doc.records[doc.records.length - 1];
+    const code = rec.code as number;
+    out = { command: line, reply: code === 0 ? "ok" : `error:${code}`, steps: rec.steps, meaning: S.engine.statusText(code), seconds: rec.seconds };
+  } catch (e) {
+    if (!(e instanceof EngineError)) throw e;
+    const code = (robot.quantize([line])[0] as { code: number }).code;
+    out = { command: line, reply: `error:${code}`, steps: null, meaning: S.engine.statusText(code) };
+  }
+  return { type: "arm_predicted", ...out };
+}

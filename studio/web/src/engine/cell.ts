@@ -6,11 +6,12 @@
 import { EngineError } from "../../../../wasm/js/engine.mjs";
 import type { Cell, Robot } from "../../../../wasm/js/engine.mjs";
 import { every } from "../pacer";
-import { BadMessage, round6, text } from "./checks";
+import { armConfig, armPredict, armRead } from "./arm";
+import { BadMessage, num, numbers, round6, text } from "./checks";
 import type { Msg, Out } from "./checks";
 import { sceneMessage, startPhysics } from "./physics";
 import { fetchText, sceneFile, shippedRobot } from "./site";
-import { post, S, stopTasks } from "./state";
+import { nanoBuild, post, S, stopTasks } from "./state";
 import type { RobotInfo } from "./state";
 
 const FRAME_MS = 1000 / 60;
@@ -31,7 +32,7 @@ let dirty = false; // a frame the page has not had (a control, a reset)
 export const CELL_INTENTS = new Set(["physics_run", "physics_pause", "physics_step", "physics_reset", "play", "pause"]);
 export const cellOpen = () => cell !== null;
 
-interface ArmState { name: string; robot_ref: string; joints: number[]; gripper_mm: number; line: number;
+interface ArmState { name: string; robot_ref: string; joints: number[]; gripper_mm: number; line: number; io: Out[];
   base: { xyz: number[]; yaw: number }; program_end_s: number; signals: unknown[] }
 interface CellState { t: number; arms: ArmState[]; objects: { name: string; pose: number[]; removed: boolean; carried_by: string | null }[] }
 
@@ -66,7 +67,8 @@ function cellMessage(): Out {
   const st = cell.state() as unknown as CellState;
   return {
     type: "cell", name: cellName, title: cell.name, objects: cell.objects as unknown as Out[],
-    arms: st.arms.map((a, i) => ({ name: a.name, robot: robots[i].info as unknown as RobotInfo, base: a.base,
+    arms: st.arms.map((a, i) => ({ name: a.name, robot: { ...robots[i].info as unknown as RobotInfo, ...nanoBuild(robots[i].info as unknown as RobotInfo) },
+      base: a.base, io: a.io,
       program: programs[i] ?? "", shipped: shipped[i] ?? "", timeline: timeline[i] })),
     // (checked by the loader: each end an arm's pin)
     wires: ((cellSource?.wires ?? []) as { from: unknown; to: unknown }[]).map((w) => ({ from: String(w.from), to: String(w.to) })),
@@ -255,3 +257,22 @@ function startLoop(): void {
     post([frameMessage()]);
   });
 }
+
+// A cell's arm on a Nano of its own (panels/cell-nanos.ts: its own virtual Nano or a real one):
+// the arm link's three questions (engine/arm.ts) for that arm's robot, {arm: its index}.
+function armRobot(m: Msg): Robot {
+  if (!cell) throw new BadMessage("no cell is open: choose one in the Physics menu");
+  return robots[num(m, "arm", 0, robots.length - 1) | 0];
+}
+export const cellArmHandlers: Record<string, (m: Msg) => Out[]> = {
+  cell_arm_read: (m) => [armRead(armRobot(m), m)],
+  cell_arm_config: (m) => [armConfig(armRobot(m))],
+  cell_arm_predict: (m) => [armPredict(armRobot(m), m)],
+  // {arm, q, gripper_mm}: the arm's frames (and fingers) at joints q, in its base frame
+  cell_arm_pose(m) {
+    const r = armRobot(m);
+    const n = (r.info as unknown as RobotInfo).num_joints;
+    const p = r.pose(numbers(m, "q", [n]), num(m, "gripper_mm", 0, 1000)) as { frames: number[][]; fingers?: number[][] };
+    return [{ type: "cell_arm_pose", frames: p.frames.map((f) => f.map(round6)), fingers: p.fingers?.map((f) => f.map(round6)) }];
+  },
+};

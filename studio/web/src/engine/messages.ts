@@ -147,7 +147,8 @@ export interface CellMsg {
   name: string | null;
   title?: string;
   objects?: SceneObjectInfo[];
-  arms?: { name: string; robot: RobotMsg; base: { xyz: number[]; yaw: number }; program: string; shipped: string; timeline: CellTimeline }[];
+  arms?: { name: string; robot: RobotMsg; base: { xyz: number[]; yaw: number }; io: { name: string; pin: string; mode: string }[];
+    program: string; shipped: string; timeline: CellTimeline }[];
   wires?: { from: string; to: string }[];
 }
 

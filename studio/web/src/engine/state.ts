@@ -88,8 +88,15 @@ export function robotMessage(): Out {
     type: "robot", name: r.name, description: r.description, source: r.source, joints: r.joints, dh: r.dh,
     num_rows: r.num_rows, home: r.home, motors: r.motors.map((m) => m.name), links, gripper: r.gripper,
     reach_mm: r.reach_mm, robots: S.index.robots, programs: examplesFor(S.robot), scenes: S.index.scenes,
-    import_notes: r.import_notes, firmware: r.wiring.firmware, wiring: r.wiring,
-    // a servo arm's servos, in motor order: the virtual Nano decodes their pins
+    import_notes: r.import_notes, wiring: r.wiring, ...nanoBuild(r),
+  };
+}
+
+/** What a virtual Nano needs to drive the robot: its firmware build, and a servo arm's servos
+ * in motor order (the virtual Nano decodes their pins). */
+export function nanoBuild(r: RobotInfo): { firmware: string; servos: { pin: string; zeroUs: number }[] | null } {
+  return {
+    firmware: r.wiring.firmware,
     servos: r.motors.length > 0 && r.motors.every((m) => m.driver?.kind === "servo")
       ? r.motors.map((m) => ({ pin: String(m.driver?.pin), zeroUs: Number(m.driver?.at?.[0]?.[0]) })) : null,
   };

@@ -11,7 +11,7 @@ import { EngineError, loadEngine } from "../../../../wasm/js/engine.mjs";
 import { BadMessage } from "./checks";
 import type { Msg, Out } from "./checks";
 import { armHandlers } from "./arm";
-import { CELL_INTENTS, cellControl, cellIntent, cellOpen, cellRunIntent, closeCell } from "./cell";
+import { CELL_INTENTS, cellArmHandlers, cellControl, cellIntent, cellOpen, cellRunIntent, closeCell } from "./cell";
 import { blockHandlers } from "./blocks";
 import { drawHandlers } from "./draw";
 import { exerciseHandlers } from "./exercise";
@@ -39,6 +39,7 @@ const handlers: Record<string, Handler> = {
   },
   cell: cellIntent,
   cell_run: cellRunIntent,
+  ...cellArmHandlers,
   ...kinematicHandlers,
   ...programHandlers,
   ...armHandlers,

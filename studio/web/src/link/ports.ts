@@ -75,6 +75,13 @@ export class VirtualNanoPort implements SerialLike {
   /** The flash's bytes after a flash (the bootloader wrote pages), for the next power-up. */
   image: Uint8Array | null = null;
   onState: ((s: NonNullable<VirtualNanoPort["state"]>) => void) | null = null;
+  /** The watched header pins' levels (watch()), as the Nano starts and whenever one changes. */
+  onLevels: ((levels: Record<string, number>) => void) | null = null;
+  /** Where its EEPROM is kept between pages (localStorage), null: nowhere (a cell's arm's Nano,
+   * configured for its arm each time it starts). */
+  eepromKey: string | null = EEPROM_KEY;
+  private driven = new Map<string, number>();
+  private watched: string[] = [];
   private worker: Worker | null = null;
   // clock(): the page's time while closed, the Nano's emulated time while open, never backwards
   private clockBase = 0;
@@ -132,9 +139,11 @@ export class VirtualNanoPort implements SerialLike {
         } else if (m.type === "state") {
           this.state = m;
           this.onState?.(m);
+        } else if (m.type === "levels") {
+          this.onLevels?.(m.levels);
         } else if (m.type === "eeprom") {
           // (storage full or off: the settings last as long as the page)
-          store(EEPROM_KEY, JSON.stringify(Array.from(m.bytes as Uint8Array)));
+          if (this.eepromKey) store(this.eepromKey, JSON.stringify(Array.from(m.bytes as Uint8Array)));
         } else if (m.type === "fatal") {
           end?.(new Error(m.message));
           reject(new Error(m.message));
@@ -146,15 +155,30 @@ export class VirtualNanoPort implements SerialLike {
       };
       let eeprom: Uint8Array | undefined;
       try {
-        const saved = stored(EEPROM_KEY);
+        const saved = this.eepromKey ? stored(this.eepromKey) : null;
         if (saved) eeprom = new Uint8Array(JSON.parse(saved));
       } catch {
         eeprom = undefined;
       }
       worker.postMessage({ type: "start", eeprom, image: this.image ?? undefined, baud: options.baudRate,
         servo: this.servo ?? undefined, speed: this.speed, cnc: this.onShield, servos: this.servoArm ?? undefined });
+      for (const [pin, level] of this.driven) worker.postMessage({ type: "drive", pin, level });
+      if (this.watched.length) worker.postMessage({ type: "watch", pins: this.watched });
     });
     this.closeStream = () => end?.();
+  }
+
+  /** Header pin `pin` ("A0") driven from outside at `level` (0 or 1), as a wire from another arm's
+   * output drives it, from now on (and from power-up, when it is not open yet). */
+  drive(pin: string, level: number): void {
+    this.driven.set(pin, level);
+    this.worker?.postMessage({ type: "drive", pin, level });
+  }
+
+  /** The header pins whose levels onLevels is told. */
+  watch(pins: string[]): void {
+    this.watched = [...pins];
+    this.worker?.postMessage({ type: "watch", pins: this.watched });
   }
 
   /** The page's speed changed: the Nano runs at it from now on. */

@@ -164,6 +164,7 @@ export function stopEverything(): void {
   const moving = s.editor.playing || !!s.editor.physics?.running || cellRunning();
   if (moving) s.engine.send({ type: "pause" });
   s.editor.stops++;
+  s.editor.signals.stopped.dispatch();
   banner(arm ? "STOP: the arm slows to rest and forgets the lines it was given. Nothing more is sent."
     : moving ? "STOP: the program is paused where it was." : "STOP: nothing was moving.", "info");
 }

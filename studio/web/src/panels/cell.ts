@@ -14,6 +14,8 @@ import type { Studio } from "../page/context";
 import { $, fill, h, svgEl } from "../page/dom";
 import { ARM_COLORS } from "../view/cell-arms";
 import { logEvents } from "./physics";
+import { CellNanos } from "./cell-nanos";
+import type { NanoRun } from "./cell-nanos";
 
 type Signal = CellFrameMsg["arms"][number]["signals"][number];
 
@@ -22,8 +24,9 @@ export const cellReport: {
   name: string | null; title: string; arms: string[]; t: number; running: boolean; done: boolean; deadlock: string;
   events: SimEvent[]; lines: number[]; signals: Signal[][]; frames: number;
   programs: string[]; tab: number; refused: string; timeline: CellTimeline[]; arrows: number; doing: string[]; flashed: string[];
+  nanos: NanoRun | null; // the arms on virtual Nanos (null: in the engine)
 } = { name: null, title: "", arms: [], t: 0, running: false, done: false, deadlock: "", events: [], lines: [], signals: [], frames: 0,
-  programs: [], tab: 0, refused: "", timeline: [], arrows: 0, doing: [], flashed: [] };
+  programs: [], tab: 0, refused: "", timeline: [], arrows: 0, doing: [], flashed: [], nanos: null };
 
 let s: Studio;
 let reveal: (id: string) => void = () => undefined;
@@ -34,7 +37,9 @@ let cursor: SVGLineElement | null = null;
 let timelineX = (t: number) => t;
 let lastCell: CellMsg | null = null; // the cell whose timeline is drawn
 
-export const cellRunning = () => cellReport.name !== null && cellReport.running && !cellReport.done;
+export const cellRunning = () => cellReport.name !== null && ((cellReport.running && !cellReport.done) || !!nanos?.run.running);
+let nanos: CellNanos | null = null; // the arms on virtual Nanos of their own, while they run there
+const onNanos = () => ($("cell-run-on") as HTMLSelectElement).value === "nanos";
 const colour = (k: number) => `#${ARM_COLORS[k % ARM_COLORS.length].toString(16).padStart(6, "0")}`;
 
 export function initCell(studio: Studio, layout: { reveal: (id: string) => void }): void {
@@ -45,7 +50,11 @@ export function initCell(studio: Studio, layout: { reveal: (id: string) => void 
     texts[cellReport.tab] = ed.value;
     edited();
   });
-  $("cell-run-all").onclick = runAll;
+  $("cell-run-all").onclick = () => void runAll();
+  $("cell-run-on").addEventListener("change", () => {
+    if (!onNanos()) void endNanos(); // (the engine's arms again: Run all runs them)
+  });
+  s.editor.signals.stopped.add(() => void nanos?.stop());
   // drawn at the width it is shown at: again when that changes (a tab shown, a turned tablet)
   let drawnAt = 0;
   new ResizeObserver(() => {
@@ -63,13 +72,58 @@ export function initCell(studio: Studio, layout: { reveal: (id: string) => void 
   };
 }
 
-/** Run all: every arm from the start, each with the program in its tab. */
-function runAll(): void {
+/** Run all: every arm from the start, each with the program in its tab: in the engine, or on
+ * virtual Nanos (the engine's cell, made with them, checks them and draws the timeline first). */
+async function runAll(): Promise<void> {
   cellReport.refused = "";
   const st = $("cell-program-state");
   st.className = "status";
   st.textContent = "";
-  s.engine.send({ type: "cell_run", programs: texts });
+  await endNanos();
+  if (!onNanos()) return s.engine.send({ type: "cell_run", programs: texts });
+  const reply = (await s.engine.call({ type: "cell_run", programs: texts })) as unknown as CellMsg | CellRefusedMsg;
+  if (reply.type === "cell_refused") return showCellRefused(reply);
+  await showCell(reply);
+  const n = new CellNanos(s, reply.arms ?? [], reply.wires ?? [], (k, frames, fingers) => {
+    if (nanos === n) s.view.cellArms.poseArm(k, frames, fingers);
+  }, () => nanos === n && showNanos(n));
+  nanos = n;
+  cellReport.nanos = n.run;
+  s.engine.send({ type: "physics_reset" }); // (its arms stand aside, at rest, and the objects where they start)
+  st.textContent = "Powering up a virtual Nano for each arm, and configuring it for its arm…";
+  await n.start(texts);
+  if (nanos === n && n.run.arms.every((a) => a.connected)) st.textContent = "";
+}
+
+async function endNanos(): Promise<void> {
+  const n = nanos;
+  nanos = null;
+  cellReport.nanos = null;
+  await n?.close();
+}
+
+// The arms on their Nanos: what each does, and each Nano's speed against real time.
+function showNanos(n: CellNanos): void {
+  const boxes = $("cell-arms").children;
+  cellReport.doing = n.run.arms.map((a, k) => {
+    const text = a.error ? `its Nano: ${a.error}` : !a.connected ? "its virtual Nano powers up…"
+      : a.done ? (a.stopped ? "stopped (STOP)" : "its program has ended") : a.line > 0 ? `line ${a.line}: ${(texts[k] ?? "").split("\n")[a.line - 1]?.trim() ?? ""}` : "ready";
+    const line = boxes[k]?.querySelector(".doing");
+    if (line) {
+      line.className = `doing ${a.error ? "waits" : a.done ? "ended" : ""}`;
+      line.textContent = text;
+    }
+    return text;
+  });
+  const speeds = n.run.arms.map((a) => `${a.name} ${a.rtf === null ? "…" : `${a.rtf.toFixed(2)}x`}`).join(", ");
+  $("view-status").textContent = `On virtual Nanos, t = ${n.run.t.toFixed(2)} s: ${speeds} real time` +
+    (n.run.arms.some((a) => a.behind) ? " (behind: this machine cannot keep up)" : "") + (n.run.running ? "" : ", every program ended");
+  $("phys-rtf").textContent = n.run.running ? "on virtual Nanos" : "ended";
+  if (cursor) {
+    const x = timelineX(Math.min(n.run.t, timelineEnd));
+    cursor.setAttribute("x1", String(x));
+    cursor.setAttribute("x2", String(x));
+  }
 }
 
 function showTab(k: number): void {
@@ -98,6 +152,7 @@ function edited(): void {
 
 export async function showCell(m: CellMsg): Promise<void> {
   const reopened = m.name !== null && m.name === cellReport.name; // Run all: the same cell again
+  if (!reopened) await endNanos();
   cellReport.name = m.name;
   cellReport.title = m.title ?? "";
   cellReport.arms = (m.arms ?? []).map((a) => a.name);
@@ -213,6 +268,8 @@ function doing(k: number, a: CellFrameMsg["arms"][number], t: number): { text: s
 
 export function showCellFrame(f: CellFrameMsg): void {
   if (cellReport.name === null) return;
+  // on virtual Nanos: the world's objects, the arms at power-up (a reset's), then as their Nanos report
+  if (nanos) return s.view.cellFrame(f, !!f.fresh);
   s.view.cellFrame(f);
   cellReport.t = f.t;
   cellReport.running = f.running;

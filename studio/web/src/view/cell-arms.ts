@@ -77,6 +77,15 @@ export class CellArms {
     this.changed();
   }
 
+  /** Arm k at the frames (and fingers) given, in its base frame (as its Nano reports it). */
+  poseArm(k: number, frames: number[][], fingers?: number[][]): void {
+    const arm = this.arms[k];
+    if (!arm) return;
+    frames.forEach((m, i) => arm.frames[i] && setMatrix(arm.frames[i], m));
+    fingers?.forEach((m, i) => arm.fingers[i] && setMatrix(arm.fingers[i], m));
+    this.changed();
+  }
+
   /** The meshes of a part as an event names it ("taker: link 3", "giver: finger left"). */
   named(name: string): THREE.Mesh[] {
     const found: THREE.Mesh[] = [];

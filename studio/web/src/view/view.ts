@@ -443,8 +443,10 @@ export class View {
     });
   }
 
-  cellFrame(f: CellFrameMsg): void {
-    this.cellArms.pose(f);
+  /** A cell's frame: its arms (unless `arms` is false: they are posed otherwise, as their Nanos
+   * report them) and its objects. */
+  cellFrame(f: CellFrameMsg, arms = true): void {
+    if (arms) this.cellArms.pose(f);
     if (this.cellFit) {  // the first frame with every arm posed and its shapes in: all of them in view
       this.cellFit = false;
       this.fit(false);

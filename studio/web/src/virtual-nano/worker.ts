@@ -14,12 +14,17 @@
 // the Nano sits on a CNC shield, its motors on STEP/DIR drivers, and runs the shield's build,
 // data/firmware/articula-cnc.hex, until it is flashed; servos: the robot's servos [{pin, zeroUs}], the
 // Nano runs the servo build, data/firmware/articula-servo.hex, its pins read by servo decoders),
-// {type: "rx", bytes}, {type: "signals", dtr}, {type: "speed", speed}, {type: "close"}.
+// {type: "rx", bytes}, {type: "signals", dtr}, {type: "speed", speed}, {type: "close"},
+// {type: "drive", pin, level} (a header pin driven from outside, as a wire from another arm's
+// output does: "A0", 0 or 1), {type: "watch", pins} (header pins whose levels the page wants).
+// A wire's level is held across a power-up.
 // Out: {type: "ready", flashBytes, ms}, {type: "tx", bytes}, {type: "state", seconds, steps,
 // faults, servoUs, gripper (the aperture its pulse asks for, %), flashWrites, rtf, capacity, behind, speed,
 // trail (Int32Array: each motor's steps after every step interrupt since the last state, row
 // after row: where the pen went, step by step)}, {type: "eeprom", bytes}, {type: "flash", bytes} (after
-// pages were written), {type: "closed"}, {type: "fatal", message}.
+// pages were written), {type: "closed"}, {type: "fatal", message}, {type: "levels", levels: {pin:
+// level}} (the watched pins' levels: once as the Nano starts, then whenever one changes, looked
+// at every slice of 5 ms or less).
 import { loadNanoParts } from "../../../../virtual-nano/web/nano-parts.mjs";
 import type { NanoParts } from "../../../../virtual-nano/web/nano-parts.mjs";
 import { CLOCK_HZ, VirtualNano } from "./avr-nano.mjs";
@@ -43,6 +48,9 @@ let servo: { closed: number; open: number } | null = null; // the robot's servo 
 let speed = 1;
 let rebase = false;
 const SPEED_RANGE = [0.05, 20];
+const driven = new Map<string, number>(); // header pins driven from outside, and their levels
+let watched: string[] = []; // header pins whose levels go to the page
+let levelsSent = ""; // (as last sent)
 // The motors' steps after each step interrupt: the firmware steps every motor of a tick in one
 // interrupt, microseconds apart; ticks are at least 250 us apart ($0 at most 4000 steps/s).
 // Steps closer than 100 us are one row. At most a million counts wait for the page.
@@ -69,6 +77,8 @@ async function start(eeprom: Uint8Array | undefined, image: Uint8Array | undefin
   stop();
   nano = new VirtualNano({ hex: hexes[build], parts, eeprom, bootloader, image, cnc, servos });
   nano.hostBaud = baud;
+  for (const [pin, level] of driven) nano.drive(pin, level);
+  levelsSent = "";
   nano.onByte = (b) => tx.push(b);
   trail = [];
   tickAt = -Infinity;
@@ -121,6 +131,7 @@ function run(): void {
     const before = n.seconds;
     n.runUntil(Math.round(Math.min(due, before + 0.05 * speed) * CLOCK_HZ));
     meter.slice(n.seconds - before, (performance.now() - now) / 1000);
+    postLevels(n);
     if (tx.length) {
       const bytes = new Uint8Array(tx);
       tx = [];
@@ -150,6 +161,19 @@ function run(): void {
   });
 }
 
+// The watched pins' levels, when they changed.
+function postLevels(n: VirtualNano): void {
+  if (!watched.length) return;
+  const levels: Record<string, number> = {};
+  for (const pin of watched) levels[pin] = n.level(pin);
+  const now = JSON.stringify(levels);
+  if (now === levelsSent) return;
+  levelsSent = now;
+  post({ type: "levels", levels });
+}
+
+const HEADER_PIN = /^(D([0-9]|1[0-3])|A[0-7])$/;
+
 /** The page's speed, when it is one (a number in SPEED_RANGE); 1 otherwise. */
 function setSpeed(x: unknown): void {
   const v = typeof x === "number" && x >= SPEED_RANGE[0] && x <= SPEED_RANGE[1] ? x : 1;
@@ -159,7 +183,8 @@ function setSpeed(x: unknown): void {
 
 self.onmessage = (e: MessageEvent) => {
   const m = e.data as { type?: string; bytes?: Uint8Array; eeprom?: Uint8Array; image?: Uint8Array; baud?: number; dtr?: boolean;
-    servo?: { closed: number; open: number }; speed?: number; cnc?: boolean; servos?: { pin: string; zeroUs: number }[] };
+    servo?: { closed: number; open: number }; speed?: number; cnc?: boolean; servos?: { pin: string; zeroUs: number }[];
+    pin?: unknown; level?: unknown; pins?: unknown[] };
   if (m?.type === "start") {
     cnc = m.cnc === true;
     servos = Array.isArray(m.servos) && m.servos.length > 0
@@ -173,6 +198,13 @@ self.onmessage = (e: MessageEvent) => {
     nano?.send(m.bytes);
   } else if (m?.type === "signals" && typeof m.dtr === "boolean") {
     nano?.setDtr(m.dtr);
+  } else if (m?.type === "drive" && typeof m.pin === "string" && HEADER_PIN.test(m.pin) && (m.level === 0 || m.level === 1)) {
+    driven.set(m.pin, m.level);
+    nano?.drive(m.pin, m.level);
+  } else if (m?.type === "watch" && Array.isArray(m.pins)) {
+    watched = m.pins.filter((p): p is string => typeof p === "string" && HEADER_PIN.test(p)).slice(0, 20);
+    levelsSent = "";
+    if (nano) postLevels(nano);
   } else if (m?.type === "speed") {
     setSpeed(m.speed);
   } else if (m?.type === "close") {
