@@ -10,7 +10,10 @@ Firefox and WebKit on an Xvfb display (software WebGL: llvmpipe), Chromium headl
     time): how many times real time the emulator alone could run, idle, and with three motors
     stepping while the page draws every frame (?fps=continuous);
   - live physics (the MK2 in scenes/push.json running demo.arm): the real-time factor, how fast
-    the stepping alone could run, and in how many readings it fell behind real time.
+    the stepping alone could run, and in how many readings it fell behind real time;
+  - a cell of two arms on two virtual Nanos (cells/signal.json: the MK2 on articula-nano, the
+    meArm on articula-servo, wired A5 to A0), both running: each Nano's real-time factor, how
+    fast it could run, in how many readings it fell behind; STOP to both stopped.
 
     .venv/bin/python bench/bench_engines.py [chromium firefox webkit]
 """
@@ -97,6 +100,27 @@ def physics(pg):
     return readings
 
 
+def cell_nanos(pg):
+    """The signal cell on two virtual Nanos (the MK2 on articula-nano, the meArm on articula-servo,
+    one wire): each Nano's speed against real time and how fast it could run, read every 0.5 s
+    while both run, then STOP to both stopped (ms)."""
+    pg.select("#scene-select", "cell:signal")
+    _wait(pg, "a.cell.name === 'signal' && a.cell.frames > 0")
+    pg.select("#cell-run-on", "nanos")
+    pg.click("#cell-run-all")
+    _wait(pg, "a.cell.nanos !== null && a.cell.nanos.arms.every(x => x.connected) && a.cell.nanos.running")
+    readings = []
+    for _ in range(16):
+        time.sleep(0.5)
+        r = pg.hook("a.cell.nanos.arms.map(x => [x.rtf, x.capacity, x.behind])")
+        if all(x[0] is not None and x[1] is not None for x in r):
+            readings.append(r)
+    t0 = time.perf_counter()
+    pg.click("#stop")
+    _wait(pg, "a.cell.nanos.arms.every(x => x.done)")
+    return readings, (time.perf_counter() - t0) * 1000
+
+
 def pct(xs, q):
     xs = sorted(xs)
     return xs[min(len(xs) - 1, int(q * len(xs)))]
@@ -124,6 +148,11 @@ def main(argv):
             idle, moving, rtf = nano(pg)
             errors += pg.page_errors()
             pg.close()
+            pg = engines.open(engine, site.url + "?robot=mk2plus")
+            _wait(pg, "a.ready && a.firstFrameAt > 0")
+            cell, stop_ms = cell_nanos(pg)
+            errors += pg.page_errors()
+            pg.close()
             version = getattr(engines.browsers.get(engine), "version", "") or "WebKitGTK"
             print(f"== {engine} {version}")
             print(f"  first frame: median {statistics.median(ff):.0f} ms (min {min(ff):.0f}, max {max(ff):.0f}; 3 loads)")
@@ -136,6 +165,12 @@ def main(argv):
             print(f"  live physics: real-time factor median {statistics.median(r['rtf'] for r in ph):.3f} "
                   f"(min {min(r['rtf'] for r in ph):.3f}); the stepping alone could run median "
                   f"{statistics.median(caps) if caps else 0:.0f}x; behind in {behind} of {len(ph)} readings")
+            arms = ("MK2 (articula-nano)", "meArm (articula-servo)")
+            print("  a cell of two arms on two virtual Nanos (signal, wired A5 to A0), both running: " + "; ".join(
+                f"{name} at median {statistics.median(r[k][0] for r in cell):.3f}x real time (min {min(r[k][0] for r in cell):.3f}), "
+                f"could run median {statistics.median(r[k][1] for r in cell):.1f}x (min {min(r[k][1] for r in cell):.1f}), "
+                f"behind in {sum(1 for r in cell if r[k][2])} of {len(cell)}" for k, name in enumerate(arms))
+                + f"; STOP to both stopped {stop_ms:.0f} ms")
             if errors:
                 print(f"  the page's errors: {errors}")
     finally:

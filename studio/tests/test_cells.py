@@ -230,4 +230,49 @@ def test_a_cell_runs_on_two_virtual_nanos_wired_pin_to_pin_and_stop_stops_both(o
     # back to the engine: the Nanos are let go
     pg.page.select_option("#cell-run-on", "engine")
     pg.wait("a.cell.nanos === null")
-    assert pg.errors == []
+    assert pg.errors == [] and pg.hook("a.pageErrors") == []
+
+
+def test_the_three_cell_exercises_are_not_met_as_given_and_met_once_solved(open_page):
+    """Each cell lesson ships as an exercise (exercises/*.articula with a cell): opened, its cell
+    runs the programs given; Check says which part fails and why; the shipped cell's own
+    programs solve it."""
+    import json
+
+    from conftest import REPO
+
+    def programs(cell):
+        return ["\n".join(a["program"]) for a in json.loads((REPO / "cells" / f"{cell}.json").read_text())["arms"]]
+
+    cases = [
+        ("take-turns-in-the-shared-zone.articula", "shared-zone", [
+            (False, "stuck at 4.1 s: left waits for `done` from right (low), which waits for `done` from left (low)"), (True, "no collision")]),
+        ("hand-the-block-over.articula", "handover", [(False, "mm from its place"), (True, "no collision")]),
+        ("wait-for-the-mk2.articula", "signal", [(False, "never waits for `go`"), (True, ""), (True, "no collision")]),
+    ]
+    pg = open_page("mk2plus")
+    for name, solved_by, given in cases:
+        doc = json.loads((REPO / "exercises" / name).read_text())
+        pg.page.click("#projects-button")
+        pg.page.select_option("#exercise-select", name)
+        pg.wait(f"a.project.goal !== null && a.project.goal.title === {json.dumps(doc['goal']['title'])} && "
+                f"a.cell.name === {json.dumps(doc['cell']['name'])} && a.cell.frames > 0", timeout=30000)
+        assert pg.hook("a.cell.programs") == doc["cell"]["programs"]
+        assert pg.page.is_visible("#exercise-check")  # (in the cell's panel: the program's is hidden)
+        pg.page.click("#exercise-check")
+        pg.wait("a.exercise !== null && a.exercise.parts.length > 0", timeout=60000)
+        parts = pg.hook("a.exercise.parts")
+        assert [p["met"] for p in parts] == [m for m, _ in given], (name, parts)
+        for p, (_, words) in zip(parts, given):
+            assert words in p["detail"], (name, p)
+        # the shipped cell's programs, typed into the tabs, solve it
+        for k, text in enumerate(programs(solved_by)):
+            pg.page.click(f"#cell-tabs button >> nth={k}")
+            pg.page.fill("#cell-program", text)
+        pg.wait("a.exercise === null || true")
+        prev = pg.hook("JSON.stringify(a.exercise)")
+        pg.page.click("#exercise-check")
+        pg.wait(f"JSON.stringify(a.exercise) !== {json.dumps(prev)}", timeout=60000)
+        assert pg.hook("a.exercise.met") is True, (name, pg.hook("a.exercise"))
+    pg.page.screenshot(path=str(SHOTS / "studio-cell-exercise.png"))
+    assert pg.errors == [] and pg.hook("a.pageErrors") == []

@@ -197,6 +197,26 @@ def test_the_virtual_nano_drives_as_predicted_and_is_flashed(page):
     assert pg.hook("a.arm.status.steps") == [0, 0, 0]
 
 
+def test_a_cell_of_two_arms_runs_on_two_virtual_nanos_and_stop_stops_both(page):
+    """The signal cell, each arm on a virtual Nano of its own (the MK2 on articula-nano, the
+    meArm on articula-servo), wired pin to pin: the meArm waits for the MK2's output, and STOP
+    stops both. How fast each keeps up is the benchmark's (bench_engines.py)."""
+    pg = page()
+    pg.select("#scene-select", "cell:signal")
+    pg.wait("a.cell.name === 'signal' && a.cell.frames > 0", 60 * PATIENCE, "the cell opened")
+    pg.select("#cell-run-on", "nanos")
+    pg.click("#cell-run-all")
+    pg.wait("a.cell.nanos !== null && a.cell.nanos.arms.every(x => x.connected)", 120 * PATIENCE, "both Nanos configured")
+    pg.wait("a.cell.nanos.arms[0].done", 120 * PATIENCE, "the MK2's program ended")
+    assert pg.hook("a.cell.nanos.arms[0].levels.A5") == 0
+    pg.wait("a.cell.nanos.arms[1].line >= 2", 60 * PATIENCE, "the meArm's wait ended at the MK2's signal")
+    pg.click("#stop")
+    pg.wait("a.cell.nanos.arms.every(x => x.done)", 60 * PATIENCE, "STOP stopped both")
+    assert pg.hook("a.cell.nanos.arms[1].stopped") is True
+    assert pg.hook("a.cell.nanos.arms.map(x => x.error)") == ["", ""]
+    assert pg.hook("a.pageErrors") == []
+
+
 # ---- a class's session (issue 21): the pick and place from blocks, in the physics, on the
 # virtual Nano, after a reload, and by link in a second profile
 

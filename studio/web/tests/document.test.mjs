@@ -52,7 +52,7 @@ test("hostile projects are refused with the part named, never half read", () => 
     [{ ...good(), view: { eye: [0, 0], target: [0, 0, 0] } }, "view.eye must be a list of 3 numbers"],
     [{ ...good(), goal: { title: "t", text: "x", parts: [] } }, "goal.parts must be a list of 1 to 50 parts"],
     [{ ...good(), goal: { title: "t", text: "x", parts: [{ kind: "reach", xyz: [1, 2, 3], tolerance_mm: 0 }] } }, "goal.parts[0].tolerance_mm must be above 0"],
-    [{ ...good(), goal: { title: "t", text: "x", parts: [{ kind: "teleport" }] } }, 'goal.parts[0].kind must be "reach", "object" or "drawing"'],
+    [{ ...good(), goal: { title: "t", text: "x", parts: [{ kind: "teleport" }] } }, 'goal.parts[0].kind must be "reach", "object", "drawing", "no_collision", "programs_end" or "waits_for"'],
     [{ ...good(), experiment: { points: "all" } }, "experiment.points must be a list"],
   ];
   for (const [x, said] of cases) {

@@ -33,7 +33,8 @@ export const CELL_INTENTS = new Set(["physics_run", "physics_pause", "physics_st
 export const cellOpen = () => cell !== null;
 
 interface ArmState { name: string; robot_ref: string; joints: number[]; gripper_mm: number; line: number; io: Out[];
-  base: { xyz: number[]; yaw: number }; program_end_s: number; signals: unknown[] }
+  base: { xyz: number[]; yaw: number }; program_end_s: number;
+  signals: { kind: string; line: number; name: string; level: number; t: number; end_t?: number | null }[] }
 interface CellState { t: number; arms: ArmState[]; objects: { name: string; pose: number[]; removed: boolean; carried_by: string | null }[] }
 
 export function closeCell(): void {
@@ -276,3 +277,40 @@ export const cellArmHandlers: Record<string, (m: Msg) => Out[]> = {
     return [{ type: "cell_arm_pose", frames: p.frames.map((f) => f.map(round6)), fingers: p.fingers?.map((f) => f.map(round6)) }];
   },
 };
+
+/** An exercise's Check on a cell (engine/exercise.ts): the shipped cell `doc.name` with the
+ * project's programs, run from power-up to every program's end and `settle` s more, and the
+ * world it leaves: each object's place, the collisions, the deadlocks and each wait, and when
+ * it ended (at another arm's output, or when its time ran out). */
+export async function cellOutcome(doc: { name: string; programs: string[] }, settle: number): Promise<{
+  objects: { name: string; pose: number[] }[]; events: { t: number; kind: string; arm?: string; a: string; b: string; detail?: string }[];
+  waits: { arm: string; line: number; name: string; t: number; end_t: number | null; by_output: boolean }[];
+}> {
+  if (!(S.index.cells ?? []).includes(doc.name)) throw new BadMessage(`no shipped cell '${doc.name}'`);
+  await cellFiles();
+  const source = JSON.parse(await fetchText(`data/cells/${doc.name}.json`)) as Record<string, unknown>;
+  const arms = (source.arms ?? []) as Record<string, unknown>[];
+  if (doc.programs.length !== arms.length) throw new BadMessage(`the cell '${doc.name}' has ${arms.length} arms: the project gives ${doc.programs.length} programs`);
+  const body = JSON.stringify({ ...source, arms: arms.map((a, i) => ({ ...a, program: doc.programs[i].split("\n") })) });
+  let c: Cell;
+  try {
+    c = S.engine.cell(body, `${doc.name}.json`, "/cells");
+  } catch (e) {
+    if (e instanceof EngineError) throw new BadMessage(e.message);
+    throw e;
+  }
+  try {
+    c.run();
+    c.runUntil(c.time + settle);
+    const st = c.state() as unknown as CellState;
+    const outputs = st.arms.flatMap((a) => a.signals.filter((x) => x.kind === "output").map((x) => ({ arm: a.name, t: x.t })));
+    // (a wait ends at its first look after the other arm's output: within a millisecond)
+    const waits = st.arms.flatMap((a) => a.signals.filter((x) => x.kind === "wait").map((x) => ({
+      arm: a.name, line: x.line, name: x.name, t: x.t, end_t: x.end_t ?? null,
+      by_output: x.end_t != null && (x.end_t === x.t || outputs.some((o) => o.arm !== a.name && x.end_t! >= o.t && x.end_t! - o.t <= 0.0011)),
+    })));
+    return { objects: st.objects, events: c.events(0) as never, waits };
+  } finally {
+    c.delete();
+  }
+}

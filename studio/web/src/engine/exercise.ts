@@ -8,6 +8,7 @@ import { info, powerUpQ, S } from "./state";
 import { sceneFile } from "./site";
 import type { DrawingPart, GoalPart } from "../project/document";
 import { ensureFont } from "./draw";
+import { cellOutcome } from "./cell";
 
 const SETTLE_S = 1.5; // the physics runs on this long after the program, for objects to come to rest
 
@@ -23,6 +24,66 @@ const f1 = (v: number) => v.toFixed(1);
 
 /** An object of the scene a goal moves, and how low the tool's point can come above it. */
 export interface GoalObject { name: string; size: number[]; xyz: number[]; lowest_tool_z: number | null }
+
+// How far outside its box an object's centre is (0: inside), as a part's result.
+function objectResult(p: Extract<GoalPart, { kind: "object" }>, objects: { name: string; pose: number[] }[]): PartResult {
+  const o = objects.find((x) => x.name === p.object);
+  if (!o) throw new BadMessage(`the scene has no object '${p.object}'`);
+  const at = [o.pose[3], o.pose[7], o.pose[11]];
+  const out = at.map((v, i) => Math.max(p.min[i] - v, 0, v - p.max[i]));
+  const d = Math.hypot(...out);
+  return { label: p.label || `${p.object} in its place`, met: d === 0, distance_mm: d,
+    detail: d === 0 ? `in place, at (${at.map(f1).join(", ")}) mm` : `${f1(d)} mm from its place: it is at (${at.map(f1).join(", ")}) mm` };
+}
+
+// A cell's exercise (the project's cell, with its arms' programs): its objects' places, no
+// collision, every program to its end.
+async function cellCheck(doc: { name?: unknown; programs?: unknown }, parts: GoalPart[]): Promise<Out> {
+  if (typeof doc.name !== "string" || !Array.isArray(doc.programs) || !doc.programs.every((p) => typeof p === "string"))
+    throw new BadMessage("'cell' must be {name, programs}");
+  const wrong = parts.find((p) => p.kind === "reach" || p.kind === "drawing");
+  if (wrong) throw new BadMessage(`a cell's exercise checks objects, collisions and the programs' ends, not '${wrong.kind}'`);
+  let w;
+  try {
+    w = await cellOutcome({ name: doc.name, programs: doc.programs as string[] }, SETTLE_S);
+  } catch (e) {
+    if (e instanceof BadMessage) return { type: "exercise_result", error: e.message, parts: [] };
+    throw e;
+  }
+  const results: PartResult[] = [];
+  for (const p of parts) {
+    if (p.kind === "object") results.push(objectResult(p, w.objects));
+    if (p.kind === "no_collision") {
+      const hits = w.events.filter((e) => e.kind === "collision" || e.kind === "self_collision" || e.kind === "squeeze");
+      const first = hits[0];
+      results.push({ label: p.label || "no arm hits anything", met: hits.length === 0, distance_mm: hits.length,
+        detail: first ? `${hits.length} collision${hits.length > 1 ? "s" : ""}: the first at ${f1(first.t)} s, ${first.arm ?? "the arm"}'s ${first.a} hit ${first.b}`
+          : "no collision" });
+    }
+    if (p.kind === "programs_end") {
+      const stuck = w.events.find((e) => e.kind === "deadlock");
+      const ranOut = w.waits.filter((x) => !x.by_output);
+      results.push({ label: p.label || "every arm's program runs to its end, each wait ended by the other arm's signal",
+        met: !stuck && ranOut.length === 0, distance_mm: ranOut.length + (stuck ? 1 : 0),
+        detail: stuck ? `stuck at ${f1(stuck.t)} s: ${stuck.detail ?? "the arms wait for each other"}` + (ranOut.length ? `; ${waitWords(ranOut[0])}` : "")
+          : ranOut.length ? waitWords(ranOut[0]) : "every wait ended at the other arm's signal" });
+    }
+    if (p.kind === "waits_for") {
+      const mine = w.waits.filter((x) => x.arm === p.arm && x.name === p.input);
+      const ended = mine.find((x) => x.by_output && x.end_t !== x.t);
+      results.push({ label: p.label || `${p.arm} waits for \`${p.input}\``, met: !!ended, distance_mm: ended ? 0 : 1,
+        detail: ended ? `it waited from ${f1(ended.t)} s until the signal came at ${f1(ended.end_t!)} s`
+          : mine.some((x) => !x.by_output) ? waitWords(mine.find((x) => !x.by_output)!)
+          : mine.length ? `its wait for \`${p.input}\` ended at once: the input already read that level`
+          : `${p.arm}'s program never waits for \`${p.input}\` (W on its pin)` });
+    }
+  }
+  return { type: "exercise_result", parts: results, met: results.every((r) => r.met) };
+}
+
+const waitWords = (x: { arm: string; line: number; name: string; t: number; end_t: number | null }) =>
+  x.end_t === null ? `${x.arm}'s wait for \`${x.name}\` (line ${x.line}) never ended`
+    : `${x.arm}'s wait for \`${x.name}\` (line ${x.line}) ran out after ${f1(x.end_t - x.t)} s: no arm gave the signal`;
 
 export const exerciseHandlers: Record<string, (m: Msg) => Promise<Out[]>> = {
   // What the student needs to see of a goal: each object it moves (its size, where it stands)
@@ -75,6 +136,8 @@ export const exerciseHandlers: Record<string, (m: Msg) => Promise<Out[]>> = {
     if (!Array.isArray(parts) || parts.length === 0) throw new BadMessage("'parts' must be a list of the goal's parts");
     const scene = typeof m.scene === "string" ? m.scene : "";
     const results: PartResult[] = [];
+    const cellDoc = m.cell as { name?: unknown; programs?: unknown } | null | undefined;
+    if (cellDoc) return [await cellCheck(cellDoc, parts)];
     const reach = parts.filter((p) => p.kind === "reach") as Extract<GoalPart, { kind: "reach" }>[];
     const objects = parts.filter((p) => p.kind === "object") as Extract<GoalPart, { kind: "object" }>[];
     const drawings = parts.filter((p) => p.kind === "drawing") as DrawingPart[];
@@ -106,16 +169,7 @@ export const exerciseHandlers: Record<string, (m: Msg) => Promise<Out[]>> = {
           sim.loadProgram(src, name);
           sim.runUntil(sim.endTime + SETTLE_S);
           const state = sim.state() as { objects: { name: string; pose: number[] }[] };
-          for (const p of objects) {
-            const o = state.objects.find((x) => x.name === p.object);
-            if (!o) throw new BadMessage(`the scene has no object '${p.object}'`);
-            const at = [o.pose[3], o.pose[7], o.pose[11]];
-            // how far outside the box it is (0 inside)
-            const out = at.map((v, i) => Math.max(p.min[i] - v, 0, v - p.max[i]));
-            const d = Math.hypot(...out);
-            results.push({ label: p.label || `${p.object} in its place`, met: d === 0, distance_mm: d,
-              detail: d === 0 ? `in place, at (${at.map(f1).join(", ")}) mm` : `${f1(d)} mm from its place: it is at (${at.map(f1).join(", ")}) mm` });
-          }
+          for (const p of objects) results.push(objectResult(p, state.objects));
         } finally {
           sim.delete();
         }

@@ -144,11 +144,13 @@ export class CellNanos {
         const q = x.q as number[];
         const g = this.arms[k].robot.gripper;
         const st = this.ports[k].state;
-        const opening = g && st?.gripper !== null && st?.gripper !== undefined ? (g.max_opening_mm * st.gripper) / 100 : 0;
-        void this.s.engine.call({ type: "cell_arm_pose", arm: k, q, gripper_mm: opening }).then((p) => {
+        // (the servo's pulse as an aperture: a pulse past the robot's closed or open angle is held to them)
+        const percent = Math.min(100, Math.max(0, st?.gripper ?? 0));
+        const opening = g && Number.isFinite(percent) ? (g.max_opening_mm * percent) / 100 : 0;
+        this.s.engine.call({ type: "cell_arm_pose", arm: k, q, gripper_mm: opening }).then((p) => {
           const pose = p as unknown as { frames: number[][]; fingers?: number[][] };
           if (!this.closed) this.onPose(k, pose.frames, pose.fingers);
-        });
+        }, (e: Error) => (arm.said = `its pose: ${e.message}`));
         this.run.t = (this.ports[0].clock() - this.run.startedAt) / 1000;
         break;
       }

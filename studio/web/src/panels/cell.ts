@@ -162,6 +162,9 @@ export async function showCell(m: CellMsg): Promise<void> {
   cellReport.flashed = [];
   const on = m.name !== null;
   document.body.classList.toggle("cell-open", on);
+  // an exercise's goal and Check go with the programs they check: the cell's, while one is open
+  if (on) $("cell-section").insertBefore($("exercise"), $("cell-tabs"));
+  else $("program-status").after($("exercise"));
   const was = JSON.stringify(s.editor.cell);
   ($("scene-select") as HTMLSelectElement).value = on ? `cell:${m.name}` : s.editor.scene?.name ?? "";
   $("physics-bar").hidden = !on && !s.editor.scene?.name;

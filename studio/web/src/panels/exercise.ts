@@ -45,7 +45,7 @@ function showGoal(g: Goal | null): void {
   fill($("exercise-result"));
   fill($("exercise-facts"));
   // the goal drawn: where the tool must go, where an object must end (a drawing's target: on the paper)
-  s.view.showGoal((g?.parts ?? []).filter((p) => p.kind !== "drawing") as Exclude<GoalPart, DrawingPart>[]);
+  s.view.showGoal((g?.parts ?? []).filter((p) => p.kind === "reach" || p.kind === "object") as Extract<GoalPart, { kind: "reach" | "object" }>[]);
   exerciseReport.goal = { drawn: s.view.goalShown(), facts: [] };
   const ask = g?.parts.find((p) => p.kind === "drawing" && p.ask) as DrawingPart | undefined;
   $("exercise-ask-row").hidden = !ask;
@@ -109,7 +109,7 @@ async function check(): Promise<void> {
   try {
     checkedText = s.editor.program.text();
     const r = await s.engine.call({ type: "exercise_check", parts: g.parts, text: s.editor.program.text(), name: s.editor.program.name(),
-      scene: g.scene || s.editor.project.doc.scene, answer: answer() }) as
+      scene: g.scene || s.editor.project.doc.scene, answer: answer(), cell: s.editor.cell }) as
       { parts: { label: string; met: boolean; detail: string; target?: number[][][]; ink?: number[][][] }[]; met?: boolean; error?: string };
     exerciseReport.exercise = r as unknown as typeof exerciseReport.exercise;
     if (r.error) return fill($("exercise-result"), h("li", { class: "bad" }, r.error));

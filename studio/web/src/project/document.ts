@@ -15,7 +15,13 @@ const MAX_BLOCKS_JSON = 2_000_000;
 export type GoalPart =
   | { kind: "reach"; xyz: number[]; tolerance_mm: number }
   | { kind: "object"; object: string; min: number[]; max: number[]; label: string }
-  | DrawingPart;
+  | DrawingPart
+  // a cell's (the project's cell, run from power-up with its arms' programs): no arm hits
+  // anything; every arm's program runs to its end with no wait running out and no deadlock
+  | { kind: "no_collision"; label: string }
+  | { kind: "programs_end"; label: string }
+  // ... and the arm waits (W) on its input, until another arm's output ends the wait
+  | { kind: "waits_for"; arm: string; input: string; label: string };
 
 /** A drawing to draw with a pen in the gripper: the ink of the program (its prediction) within
  * `tolerance_mm` of the target and covering it. The target is a drawing request (a shape, or
@@ -159,7 +165,10 @@ function checkGoal(g: unknown): Goal | null {
         return { kind: "drawing", target, ask, tolerance_mm: tol, z: nums([p.z ?? 0], `${where}.z`, 1, 1000)[0],
           pen: nums([p.pen ?? 0], `${where}.pen`, 1, 1000)[0], label: typeof p.label === "string" ? p.label.slice(0, MAX_NAME) : "" };
       }
-      throw new ProjectError(`${where}.kind must be "reach", "object" or "drawing"`);
+      const label = typeof p.label === "string" ? p.label.slice(0, MAX_NAME) : "";
+      if (p.kind === "no_collision" || p.kind === "programs_end") return { kind: p.kind, label };
+      if (p.kind === "waits_for") return { kind: "waits_for", arm: str(p, "arm", where, MAX_NAME), input: str(p, "input", where, MAX_NAME), label };
+      throw new ProjectError(`${where}.kind must be "reach", "object", "drawing", "no_collision", "programs_end" or "waits_for"`);
     }),
   };
 }
