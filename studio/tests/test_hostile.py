@@ -88,11 +88,14 @@ def nothing_ran(page) -> None:
     assert page.evaluate("window.__pwned") == 0
     assert page.evaluate("window.__violations") == []
     # no element the strings could have made: one script (the page's module), no image, no
-    # SVG, no javascript: link, no inline handler anywhere (the 3D view, the paper view and the
-    # wiring are the page's own drawings; they hold only the shapes and text nodes the page draws)
+    # SVG, no javascript: link, no inline handler anywhere (the 3D view, the paper view, the
+    # wiring and a cell's timeline are the page's own drawings; they hold only the shapes and
+    # text nodes the page draws)
     assert page.evaluate("document.scripts.length") == 1
     assert page.evaluate("""[...document.querySelectorAll('img, svg, a[href^="javascript"], iframe, object, embed')]
-        .filter(e => !e.closest('#view') && e.id !== 'paper-view' && e.id !== 'wiring').length""") == 0
+        .filter(e => !e.closest('#view') && !['paper-view', 'wiring', 'cell-timeline'].includes(e.id)).length""") == 0
+    assert page.evaluate("""[...document.querySelectorAll('#cell-timeline *')].map(e => e.localName)
+        .filter(n => !['defs', 'pattern', 'marker', 'g', 'rect', 'line', 'path', 'text', 'title'].includes(n))""") == []
     assert page.evaluate("""[...document.querySelectorAll('#paper-view *')].map(e => e.localName)
         .filter(n => !['g', 'rect', 'polyline', 'circle'].includes(n))""") == []
     assert page.evaluate("""[...document.querySelectorAll('#wiring *')].map(e => e.localName)

@@ -24,7 +24,7 @@ export function initExercise(studio: Studio, layout: { reveal: (id: string) => v
   reveal = layout.reveal;
   s.editor.signals.goalShown.add(showGoal);
   s.editor.signals.changed.add(() => {
-    if (checkedText === null || s.editor.program.text() === checkedText) return;
+    if (checkedText === null || checked() === checkedText) return;
     checkedText = null;
     exerciseReport.exercise = null;
     fill($("exercise-result"));
@@ -40,8 +40,12 @@ export function initExercise(studio: Studio, layout: { reveal: (id: string) => v
   });
 }
 
+// What a verdict is for: the program, or a cell's arms' programs (another one: no verdict yet)
+const checked = () => s.editor.program.text() + (s.editor.cell ? `\n${JSON.stringify(s.editor.cell)}` : "");
+
 function showGoal(g: Goal | null): void {
   $("exercise").hidden = !g;
+  exerciseReport.exercise = null;
   fill($("exercise-result"));
   fill($("exercise-facts"));
   // the goal drawn: where the tool must go, where an object must end (a drawing's target: on the paper)
@@ -107,7 +111,7 @@ async function check(): Promise<void> {
   if (!g) return;
   fill($("exercise-result"), h("li", null, "checking…"));
   try {
-    checkedText = s.editor.program.text();
+    checkedText = checked();
     const r = await s.engine.call({ type: "exercise_check", parts: g.parts, text: s.editor.program.text(), name: s.editor.program.name(),
       scene: g.scene || s.editor.project.doc.scene, answer: answer(), cell: s.editor.cell }) as
       { parts: { label: string; met: boolean; detail: string; target?: number[][][]; ink?: number[][][] }[]; met?: boolean; error?: string };
