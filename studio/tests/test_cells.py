@@ -259,6 +259,7 @@ def test_the_three_cell_exercises_are_not_met_as_given_and_met_once_solved(open_
                 f"a.cell.name === {json.dumps(doc['cell']['name'])} && a.cell.frames > 0", timeout=30000)
         assert pg.hook("a.cell.programs") == doc["cell"]["programs"]
         assert pg.page.is_visible("#exercise-check")  # (in the cell's panel: the program's is hidden)
+        assert not pg.page.is_visible("#cell-revert")  # (the cell's own programs would be the answer)
         prev = pg.hook("JSON.stringify(a.exercise)")  # (the last exercise's verdict, if any)
         pg.page.click("#exercise-check")
         pg.wait(f"a.exercise !== null && a.exercise.parts.length > 0 && JSON.stringify(a.exercise) !== {json.dumps(prev)}", timeout=60000)
