@@ -102,13 +102,20 @@ function armTimeline(c: Cell, name: string): Out {
   }
 }
 
+// A cell file's text with each arm's program in place of its own (its lines written in place).
+function withPrograms(source: Record<string, unknown>, texts: string[]): string {
+  const arms = (source.arms ?? []) as Record<string, unknown>[];
+  return JSON.stringify({ ...source, arms: arms.map((a, i) => ({ ...a, program: texts[i].split("\n") })) });
+}
+
 // The cell from its file's text: made, with its robots and each arm's timeline, or a refusal.
 async function makeCell(body: string, name: string): Promise<{ cell: Cell; robots: Robot[]; timeline: Out[] }> {
   const c = S.engine.cell(body, `${name}.json`, "/cells");
   const rs: Robot[] = [];
   try {
-    for (const a of (c.state() as unknown as CellState).arms) rs.push(await shippedRobot(a.robot_ref));
-    return { cell: c, robots: rs, timeline: (c.state() as unknown as CellState).arms.map((a) => armTimeline(c, a.name)) };
+    const arms = (c.state() as unknown as CellState).arms;
+    for (const a of arms) rs.push(await shippedRobot(a.robot_ref));
+    return { cell: c, robots: rs, timeline: arms.map((a) => armTimeline(c, a.name)) };
   } catch (e) {
     c.delete();
     for (const r of rs) r.delete();
@@ -192,10 +199,9 @@ async function runPrograms(given: unknown): Promise<Out[]> {
     running = true;
     return [cellMessage(), { ...frameMessage(), fresh: true }];
   }
-  const source = { ...cellSource, arms: arms.map((a, i) => ({ ...a, program: texts[i].split("\n") })) };
   let made;
   try {
-    made = await makeCell(JSON.stringify(source), cellName);
+    made = await makeCell(withPrograms(cellSource, texts), cellName);
   } catch (e) {
     if (!(e instanceof EngineError)) throw e;
     const where = /^\/arms\/(\d+)(?:\/program(?:\/(\d+))?)?/.exec(String((e as { json_path?: string }).json_path ?? ""));
@@ -291,10 +297,9 @@ export async function cellOutcome(doc: { name: string; programs: string[] }, set
   const source = JSON.parse(await fetchText(`data/cells/${doc.name}.json`)) as Record<string, unknown>;
   const arms = (source.arms ?? []) as Record<string, unknown>[];
   if (doc.programs.length !== arms.length) throw new BadMessage(`the cell '${doc.name}' has ${arms.length} arms: the project gives ${doc.programs.length} programs`);
-  const body = JSON.stringify({ ...source, arms: arms.map((a, i) => ({ ...a, program: doc.programs[i].split("\n") })) });
   let c: Cell;
   try {
-    c = S.engine.cell(body, `${doc.name}.json`, "/cells");
+    c = S.engine.cell(withPrograms(source, doc.programs), `${doc.name}.json`, "/cells");
   } catch (e) {
     if (e instanceof EngineError) throw new BadMessage(e.message);
     throw e;

@@ -104,26 +104,37 @@ async function endNanos(): Promise<void> {
 
 // The arms on their Nanos: what each does, and each Nano's speed against real time.
 function showNanos(n: CellNanos): void {
-  const boxes = $("cell-arms").children;
-  cellReport.doing = n.run.arms.map((a, k) => {
-    const text = a.error ? `its Nano: ${a.error}` : !a.connected ? "its virtual Nano powers up…"
-      : a.done ? (a.stopped ? "stopped (STOP)" : "its program has ended") : a.line > 0 ? `line ${a.line}: ${(texts[k] ?? "").split("\n")[a.line - 1]?.trim() ?? ""}` : "ready";
-    const line = boxes[k]?.querySelector(".doing");
-    if (line) {
-      line.className = `doing ${a.error ? "waits" : a.done ? "ended" : ""}`;
-      line.textContent = text;
-    }
-    return text;
-  });
+  cellReport.doing = n.run.arms.map((a, k) => showDoing(k, {
+    text: a.error ? `its Nano: ${a.error}` : !a.connected ? "its virtual Nano powers up…"
+      : a.done ? (a.stopped ? "stopped (STOP)" : "its program has ended") : a.line > 0 ? lineWords(k, a.line) : "ready",
+    kind: a.error ? "waits" : a.done ? "ended" : "",
+  }));
   const speeds = n.run.arms.map((a) => `${a.name} ${a.rtf === null ? "…" : `${a.rtf.toFixed(2)}x`}`).join(", ");
   $("view-status").textContent = `On virtual Nanos, t = ${n.run.t.toFixed(2)} s: ${speeds} real time` +
     (n.run.arms.some((a) => a.behind) ? " (behind: this machine cannot keep up)" : "") + (n.run.running ? "" : ", every program ended");
   $("phys-rtf").textContent = n.run.running ? "on virtual Nanos" : "ended";
-  if (cursor) {
-    const x = timelineX(Math.min(n.run.t, timelineEnd));
-    cursor.setAttribute("x1", String(x));
-    cursor.setAttribute("x2", String(x));
-  }
+  moveCursor(n.run.t);
+}
+
+// Arm k's box: what it does now (and its joints, where known); the words, for the report.
+function showDoing(k: number, d: { text: string; kind: string }, joints?: number[]): string {
+  const box = $("cell-arms").children[k];
+  if (!box) return d.text;
+  const line = box.querySelector(".doing")!;
+  line.className = `doing ${d.kind}`;
+  line.textContent = d.text;
+  if (joints) box.querySelector(".joints")!.textContent = `joints ${joints.map((q) => q.toFixed(1)).join("  ")}`;
+  return d.text;
+}
+
+const lineWords = (k: number, line: number) => `line ${line}: ${(texts[k] ?? "").split("\n")[line - 1]?.trim() ?? ""}`;
+
+// The timeline's cursor at the cell's time t (s).
+function moveCursor(t: number): void {
+  if (!cursor) return;
+  const x = String(timelineX(Math.min(t, timelineEnd)));
+  cursor.setAttribute("x1", x);
+  cursor.setAttribute("x2", x);
 }
 
 function showTab(k: number): void {
@@ -265,8 +276,7 @@ function doing(k: number, a: CellFrameMsg["arms"][number], t: number): { text: s
       `, since ${wait.t.toFixed(2)} s` };
   const end = cellReport.timeline[k]?.end_s;
   if (end !== undefined && t >= end) return { kind: "ended", text: `its program ended at ${end.toFixed(2)} s` };
-  const text = (texts[k] ?? "").split("\n")[a.line - 1]?.trim() ?? "";
-  return { kind: "", text: a.line > 0 ? `line ${a.line}: ${text}` : "at power-up" };
+  return { kind: "", text: a.line > 0 ? lineWords(k, a.line) : "at power-up" };
 }
 
 export function showCellFrame(f: CellFrameMsg): void {
@@ -297,23 +307,8 @@ export function showCellFrame(f: CellFrameMsg): void {
   $("view-status").textContent = `t = ${f.t.toFixed(2)} s` + (f.done ? ", every program ended" : f.running ? "" : ", paused") +
     (f.deadlock && waits.length > 1 ? `: stuck, ${f.deadlock}` : waits.length ? `: ${waits.join(", ")} waiting for a signal` : "");
   $("phys-rtf").textContent = f.running && !f.done ? "running" : f.done ? "ended" : `paused at ${f.t.toFixed(2)} s`;
-  const boxes = $("cell-arms").children;
-  cellReport.doing = f.arms.map((a, k) => {
-    const d = doing(k, a, f.t);
-    const box = boxes[k];
-    if (box) {
-      const line = box.querySelector(".doing")!;
-      line.className = `doing ${d.kind}`;
-      line.textContent = d.text;
-      box.querySelector(".joints")!.textContent = a.joints ? `joints ${a.joints.map((q) => q.toFixed(1)).join("  ")}` : "";
-    }
-    return d.text;
-  });
-  if (cursor) {
-    const x = timelineX(Math.min(f.t, timelineEnd));
-    cursor.setAttribute("x1", String(x));
-    cursor.setAttribute("x2", String(x));
-  }
+  cellReport.doing = f.arms.map((a, k) => showDoing(k, doing(k, a, f.t), a.joints));
+  moveCursor(f.t);
 }
 
 // The timeline: a row an arm, time across. Each line of its program where its firmware runs it
