@@ -132,8 +132,9 @@ int guarded(const char* command, int (*body)(int, char**), int argc, char** argv
     return body(int(args.size()), ptrs.data());
   } catch (const host::RobotFileError& e) {
     std::cerr << "articula " << command << ": " << e.what() << '\n';
-  } catch (const host::ProgramError& e) {
-    std::cerr << "articula " << command << ": " << e.what() << '\n';
+  } catch (const host::ProgramError& e) {  // a line for each line that cannot be read
+    std::istringstream lines(e.what());
+    for (std::string l; std::getline(lines, l);) std::cerr << "articula " << command << ": " << l << '\n';
   } catch (const UsageError& e) {
     std::cerr << "articula " << command << ": " << e.what() << " (see: articula " << command << " --help)\n";
   } catch (const cxxopts::exceptions::exception& e) {

@@ -326,7 +326,7 @@ class Compiler {
       q_ = joints_out(r_, res.q.data());
     } else {
       problem(b, "the tool cannot reach (" + protocol_number(xyz[0]) + ", " + protocol_number(xyz[1]) + ", " +
-                     protocol_number(xyz[2]) + ") mm: it is out of reach or beyond a joint's range");
+                     protocol_number(xyz[2]) + ") mm: " + ik_miss_words(r_, res));
     }
   }
 

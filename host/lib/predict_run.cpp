@@ -21,6 +21,7 @@
 #include "predict.h"
 #include "predict_detail.h"
 #include "records_json.h"
+#include "robot_view.h"
 
 // The firmware (firmware/src, built for the host's eight motors: firmware/sitl/sitl.cmake).
 #include "hal_sitl.h"
@@ -151,6 +152,11 @@ void command_notes(PredictRecord& r, const Command& cmd, const Robot& robot, con
       for (int i = 0; i < n; ++i)
         target[i] = cmd.type == kCmdMoveAbsolute ? cmd.arg[i] : commanded_before[i] + (i == cmd.arg[0] ? cmd.arg[1] : 0);
       note_on(r, limit_note(robot, target));
+    }
+    if (r.reply == kUnreachable && cmd.type == kCmdMoveTool) {  // how far, and what holds the tool back
+      const IkResult res = InverseKinematics(robot).solve(
+          IkTarget::at(make_vec3(cmd.arg[0] / 1000.0, cmd.arg[1] / 1000.0, cmd.arg[2] / 1000.0)), home_pose(robot));
+      note_on(r, ik_miss_words(robot, res));
     }
     if (r.reply == kNoClosedForm)
       note_on(r, std::string("the firmware ") + (cmd.type == kCmdLine ? "runs T" : "solves P") +
@@ -439,7 +445,7 @@ Prediction predict_program(const Robot& robot_in, const Program& program, const 
         // (Its arguments, for the notes and a target: parsed again only when they are needed.)
         const bool args = r.command == kCmdSetSetting || r.command == kCmdMoveTool || r.command == kCmdLine ||
                           (r.command == kCmdWaitInput && inputs.pins) ||
-                          r.reply == kJointLimit || r.reply == kNoClosedForm;
+                          r.reply == kJointLimit || r.reply == kNoClosedForm || r.reply == kUnreachable;
         if (args) parse_protocol_line(cmd, r.protocol.empty() ? r.text : r.protocol, motors);
         cmd.type = r.command;
         // Its actions: those queued since the reply before.

@@ -12,8 +12,22 @@
 
 namespace articula::host {
 
+namespace {
+std::string problems_text(const std::string& file, const std::vector<ProgramError::Problem>& problems) {
+  std::string s;
+  for (const ProgramError::Problem& p : problems)
+    s += (s.empty() ? "" : "\n") + file + ":" + std::to_string(p.line) + ": " + p.problem;
+  return s;
+}
+}  // namespace
+
 ProgramError::ProgramError(const std::string& file, int line, const std::string& problem, bool other_arm)
-    : std::runtime_error(file + ":" + std::to_string(line) + ": " + problem), line_(line), other_arm_(other_arm) {}
+    : ProgramError(file, std::vector<Problem>{{line, problem, other_arm}}) {}
+
+ProgramError::ProgramError(const std::string& file, std::vector<Problem> problems)
+    : std::runtime_error(problems_text(file, problems)), problems_(std::move(problems)) {
+  if (problems_.empty()) problems_.push_back({0, "cannot be read", false});
+}
 
 namespace {
 
@@ -187,21 +201,26 @@ Program parse_protocol_program(const std::string& text, const std::string& name,
   p.format = Program::Format::kProtocol;
   p.source = name;
   const int joints = robot.has_motors ? robot.actuation.num_motors : robot.model.num_joints;
+  std::vector<ProgramError::Problem> problems;  // every line that cannot be read
   std::istringstream in(text);
   std::string s;
   for (int n = 1; std::getline(in, s); ++n) {
     if (!s.empty() && s.back() == '\r') s.pop_back();
     const std::string t = trim_blanks(s);
     if (t.empty() || t[0] == '#') continue;
-    if (t.size() > kMaxLineLength)
-      throw ProgramError(name, n, "line longer than " + std::to_string(kMaxLineLength) + " bytes (error:7)");
+    if (t.size() > kMaxLineLength) {
+      problems.push_back({n, "line longer than " + std::to_string(kMaxLineLength) + " bytes (error:7)", false});
+      continue;
+    }
     Command cmd;
     const Status st = is_stop_line(t) ? kOk : parse_line(cmd, t.data(), uint8_t(t.size()), uint8_t(joints));
     if (st != kOk) {
       const std::string why = explain_line_error(t, st, robot);
-      throw ProgramError(name, n, "'" + t + "': error:" + std::to_string(int(st)) + " " + status_text(st) +
-                                      (why.empty() ? "" : ": " + why),
-                         st == kMissingArgument || st == kExtraArgument || st == kBadJoint);
+      problems.push_back({n,
+                          "'" + t + "': error:" + std::to_string(int(st)) + " " + status_text(st) +
+                              (why.empty() ? "" : ": " + why),
+                          st == kMissingArgument || st == kExtraArgument || st == kBadJoint});
+      continue;
     }
     Statement statement;
     statement.kind = Statement::Kind::kProtocol;
@@ -209,6 +228,7 @@ Program parse_protocol_program(const std::string& text, const std::string& name,
     statement.line = n;
     p.statements.push_back(statement);
   }
+  if (!problems.empty()) throw ProgramError(name, std::move(problems));
   return p;
 }
 
@@ -356,7 +376,7 @@ ProgramFit program_fit(const std::string& text, const std::string& name, const R
     f.fits = false;
     f.other_arm = e.other_arm();
     f.line = e.line();
-    f.problem = e.what();
+    f.problem = e.what();  // (every line that cannot be read)
   }
   return f;
 }

@@ -47,18 +47,28 @@ struct Program {
   std::vector<Statement> statements;
 };
 
-// A program that cannot be read: what() is "<file>:<line>: <problem>".
+// A program that cannot be read: what() is "<file>:<line>: <problem>", a line for each line
+// that cannot be read (a protocol program is read to its end, so that a student sees every
+// line to mend at once; a RoboSim one stops at its first: its values span lines).
 class ProgramError : public std::runtime_error {
  public:
-  // `other_arm`: the program is written for an arm of another shape (a wrong number of values
-  // for this robot's joints or motors, a joint it does not have), not broken for every arm.
+  struct Problem {
+    int line = 0;
+    std::string problem;
+    // the program is written for an arm of another shape (a wrong number of values for this
+    // robot's joints or motors, a joint it does not have), not broken for every arm
+    bool other_arm = false;
+  };
   ProgramError(const std::string& file, int line, const std::string& problem, bool other_arm = false);
-  int line() const { return line_; }
-  bool other_arm() const { return other_arm_; }
+  ProgramError(const std::string& file, std::vector<Problem> problems);  // at least one
+  // The first problem's.
+  int line() const { return problems_.front().line; }
+  bool other_arm() const { return problems_.front().other_arm; }
+  // Every line that cannot be read, in order.
+  const std::vector<Problem>& problems() const { return problems_; }
 
  private:
-  int line_;
-  bool other_arm_;
+  std::vector<Problem> problems_;
 };
 
 // The RoboSim letter of a statement kind ('m', 'a', ...); '?' for kProtocol.

@@ -1,4 +1,5 @@
 #include "records_json.h"
+#include "robot_view.h"
 
 #include <algorithm>
 #include <cctype>
@@ -150,6 +151,7 @@ nlohmann::json ik_result_json(const Robot& robot, const IkResult& res) {
                       {"orientation_error_deg", rad_to_deg(res.orientation_error_rad)},
                       {"iterations", res.iterations},
                       {"attempts", res.attempts}};
+  if (!res.reached()) j["why"] = ik_miss_words(robot, res);
   if (!res.limited_joints.empty()) {
     nlohmann::json names = nlohmann::json::array();
     for (int k : res.limited_joints) names.push_back(robot.joint_names[size_t(k)]);

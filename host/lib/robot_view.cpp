@@ -353,4 +353,47 @@ std::vector<double> ik_start(const Robot& r, const std::vector<double>* start) {
   return q;
 }
 
+namespace {
+std::string one_decimal(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.1f", std::fabs(v) < 0.05 ? 0.0 : v);
+  return buf;
+}
+std::string trimmed(double v) {  // a range's end as the robot file gives it: 135, 12.5
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6g", std::fabs(v) < 5e-7 ? 0.0 : v);
+  return buf;
+}
+}  // namespace
+
+std::string ik_miss_words(const Robot& r, const IkResult& res) {
+  if (res.reached()) return "";
+  const std::string near = "; the nearest the tool comes is " + one_decimal(res.position_error_mm) + " mm away";
+  if (res.status == IkStatus::kBudget) return "the search ran out of iterations while still coming nearer" + near;
+  if (res.beyond_reach) return "it is farther than the arm is long" + near;
+  if (res.status == IkStatus::kUnreachable) return "no pose of this arm comes nearer (no joint is at a limit)" + near;
+  const char* deg = "\xC2\xB0";
+  std::string held;
+  auto add = [&](const std::string& part) { held += (held.empty() ? "" : " and ") + part; };
+  for (int k : res.limited_joints) {
+    bool motor_too = false;  // a motor of the joint's name (the meArm's shoulder): said once, as the motor
+    for (int m : res.limited_motors) motor_too |= r.motor_names[size_t(m)] == r.joint_names[size_t(k)];
+    if (motor_too) continue;
+    const auto& j = r.model.joints[size_t(k)];
+    const char* unit = j.param == kParamD ? " mm" : deg;
+    add("the " + r.joint_names[size_t(k)] + " joint at " + one_decimal(joint_from_model(r, k, res.q[size_t(k)])) + unit +
+        " (its range " + trimmed(joint_from_model(r, k, j.lo)) + unit + " to " + trimmed(joint_from_model(r, k, j.hi)) +
+        unit + ")");
+  }
+  if (!res.limited_motors.empty()) {
+    const std::vector<double> m = motors_from_joints(r, res.q);
+    for (int k : res.limited_motors) {
+      const MotorSpec& spec = r.actuation.motors[size_t(k)];
+      add("the " + r.motor_names[size_t(k)] + " motor at " + one_decimal(m[size_t(k)]) + deg + " (its range " +
+          trimmed(spec.min / 1000.0) + deg + " to " + trimmed(spec.max / 1000.0) + deg + ")");
+    }
+  }
+  return "held back by " + (held.empty() ? std::string("a joint's range") : held) + near;
+}
+
 }  // namespace articula::host

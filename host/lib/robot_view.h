@@ -98,6 +98,12 @@ IkOptions ik_options(const std::string& solver, const std::vector<double>* weigh
                      int max_iterations, uint64_t seed);
 // Where a solve starts: `start` (deg or mm) or the home pose; model units.
 std::vector<double> ik_start(const Robot& r, const std::vector<double>* start);
+// Why a solve did not reach its target, in words a student reads ("" when it did): what holds
+// the tool back (the point farther than the arm is long, the arm's shape, or each joint and
+// motor at the end of its range, where it stands and its range: "held back by the shoulder
+// motor at 30.0° (its range 30° to 135°)"), then how near it comes. The blocks and the IK
+// panel say it alike (ik_result_json's "why").
+std::string ik_miss_words(const Robot& r, const IkResult& res);
 
 }  // namespace articula::host
 

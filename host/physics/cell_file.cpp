@@ -277,12 +277,10 @@ class Loader {
     try {
       arm.program = parse_program(body, source, arm.robot);
     } catch (const ProgramError& e) {
-      // what() is "<source>:<line>: <problem>": a line in place is its array entry.
-      const std::string what = e.what();
-      const std::string prefix = source + ":" + std::to_string(e.line()) + ": ";
-      const std::string problem = what.rfind(prefix, 0) == 0 ? what.substr(prefix.size()) : what;
+      // a line in place is its array entry (the first that cannot be read)
+      const std::string& problem = e.problems().front().problem;
       if (inline_lines && e.line() > 0) fail(child(path, size_t(e.line() - 1)), "for " + arm.robot.name + ": " + problem);
-      fail(path, "for " + arm.robot.name + ": " + what);
+      fail(path, "for " + arm.robot.name + ": " + e.what());
     }
     arm.program_ref = source;
   }

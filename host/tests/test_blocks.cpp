@@ -133,7 +133,7 @@ TEST(BlocksProgram, AnUnreachablePointAndABadSpeedAreProblemsOnTheirBlocks) {
   }));
   ASSERT_EQ(out["problems"].size(), 3u) << out.dump();
   EXPECT_EQ(out["problems"][0]["block"], "far");
-  EXPECT_EQ(out["problems"][0]["message"], "the tool cannot reach (900, 0, 0) mm: it is out of reach or beyond a joint's range");
+  EXPECT_EQ(out["problems"][0]["message"], "the tool cannot reach (900, 0, 0) mm: it is farther than the arm is long; the nearest the tool comes is 573.2 mm away");
   EXPECT_EQ(out["problems"][1]["message"], "the speed is from more than 0 to 1000 mm/s, not 2000 mm/s");
   EXPECT_EQ(out["problems"][2]["message"], "the gripper opens from 0 % to 100 %, not 120 %");
 }

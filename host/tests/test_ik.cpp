@@ -14,7 +14,9 @@
 #include <string>
 #include <vector>
 
+#include "records_json.h"
 #include "robot_file.h"
+#include "robot_view.h"
 
 namespace {
 
@@ -834,4 +836,25 @@ TEST(IkExperiment, ThesisSection54Redone) {
     std::printf("\nsuccesses: Jacobian transpose %d of 10, default %d of 10\n", jt_ok, d_ok);
   }
   EXPECT_EQ(default_failures, 0);
+}
+
+// Why a point is not reached, as a student reads it (the blocks' problem, the IK panel): what
+// holds the tool back, each joint or motor once, where it stands and its range; how near it comes.
+TEST(IkWords, AMissSaysWhatHoldsTheToolBackAndHowNearItComes) {
+  const Robot mearm = load_robot_file(std::string(ARTICULA_SOURCE_DIR) + "/robots/mearm.json");
+  const InverseKinematics ik(mearm);
+  const IkResult low = ik.solve(IkTarget::at({170, 0, 20}), home_pose(mearm));
+  ASSERT_EQ(low.status, IkStatus::kLimited);
+  const std::string w = ik_miss_words(mearm, low);
+  EXPECT_EQ(w.rfind("held back by the shoulder ", 0), 0u) << w;
+  EXPECT_NE(w.find("(its range 30\xC2\xB0 to 135\xC2\xB0)"), std::string::npos) << w;
+  EXPECT_NE(w.find("; the nearest the tool comes is 23.2 mm away"), std::string::npos) << w;
+  EXPECT_EQ(w.find("shoulder", w.find("shoulder") + 1), std::string::npos) << "named twice: " << w;
+  EXPECT_EQ(ik_result_json(mearm, low)["why"], w);
+  const IkResult far = ik.solve(IkTarget::at({900, 0, 0}), home_pose(mearm));
+  EXPECT_EQ(ik_miss_words(mearm, far).rfind("it is farther than the arm is long; the nearest the tool comes is ", 0), 0u);
+  const IkResult near = ik.solve(IkTarget::at({180, 0, 60}), home_pose(mearm));
+  ASSERT_TRUE(near.reached());
+  EXPECT_EQ(ik_miss_words(mearm, near), "");
+  EXPECT_FALSE(ik_result_json(mearm, near).contains("why"));
 }

@@ -179,3 +179,26 @@ TEST(ProgramFit, AProgramForAnotherArmIsToldFromABrokenOne) {
     EXPECT_NE(f.problem.find(name), std::string::npos) << f.problem;
   }
 }
+
+// A student mends every line at once: a protocol program is read to its end, and the error
+// names each line that cannot be read, in order (the first as line()).
+TEST(Programs, AProtocolProgramsErrorNamesEveryLineThatCannotBeRead) {
+  try {
+    parse_protocol_program("M 0 90 -90\nL 7 3\nG 50\nQ 1\n# fine\nM 0 90\n", "p.arm", mk2());
+    FAIL() << "no error";
+  } catch (const ProgramError& e) {
+    ASSERT_EQ(e.problems().size(), 3u);
+    EXPECT_EQ(e.line(), 2);
+    EXPECT_EQ(e.problems()[0].line, 2);
+    EXPECT_EQ(e.problems()[1].line, 4);
+    EXPECT_EQ(e.problems()[2].line, 6);
+    EXPECT_TRUE(e.problems()[0].other_arm);  // error:6, a joint the MK2 has not
+    EXPECT_NE(e.problems()[1].problem.find("'Q 1': error:2"), std::string::npos) << e.problems()[1].problem;
+    const std::string what = e.what();
+    EXPECT_EQ(what.substr(0, what.find('\n')), "p.arm:2: " + e.problems()[0].problem);
+    EXPECT_NE(what.find("\np.arm:4: 'Q 1'"), std::string::npos) << what;
+    EXPECT_NE(what.find("\np.arm:6: 'M 0 90'"), std::string::npos) << what;
+  }
+  // one bad line: the message is that line's alone, as before
+  EXPECT_EQ(error_of("M 0 90 -90\nQ 1\n", mk2(), false).find('\n'), std::string::npos);
+}

@@ -214,8 +214,9 @@ NB_MODULE(_core, m) {
   g_robot_file_error = new_error(m, "RobotFileError",
                                  "A robot file that cannot be used. The message names the file, the JSON path and the "
                                  "problem; so do the attributes file, json_path and problem.");
-  g_program_error = new_error(m, "ProgramError", "A program that cannot be read: '<file>:<line>: <problem>'; "
-                                                 "the attribute line is the line.");
+  g_program_error = new_error(m, "ProgramError", "A program that cannot be read: '<file>:<line>: <problem>' for "
+                                                 "each line that cannot be read; the attribute line is the first's, "
+                                                 "problems every (line, problem).");
   g_scene_error = new_error(m, "SceneError", "A scene file that cannot be used: file, JSON path and problem.");
   g_cell_error = new_error(m, "CellError", "A cell file that cannot be used: the file, the JSON path and the problem.");
   g_legacy_error = new_error(m, "LegacyError", "A legacy (thesis appendix C) robot file that cannot be read.");
@@ -227,7 +228,9 @@ NB_MODULE(_core, m) {
                  {{"file", nb::str(e.file().c_str())}, {"json_path", nb::str(e.json_path().c_str())},
                   {"problem", nb::str(e.problem().c_str())}});
     } catch (const host::ProgramError& e) {
-      raise_with(g_program_error, e.what(), {{"line", nb::int_(e.line())}});
+      nb::list problems;  // every line that cannot be read: (line, problem)
+      for (const auto& q : e.problems()) problems.append(nb::make_tuple(q.line, nb::str(q.problem.c_str())));
+      raise_with(g_program_error, e.what(), {{"line", nb::int_(e.line())}, {"problems", problems}});
     } catch (const host::SceneError& e) {
       raise_with(g_scene_error, e.what(), {{"json_path", nb::str(e.json_path().c_str())}});
     } catch (const host::CellError& e) {

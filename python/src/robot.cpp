@@ -300,6 +300,9 @@ nb::class_<PyRobot> bind_robot(nb::module_& m) {
                      for (int k : s.r.limited_motors) names.push_back(s.robot->motor_names[size_t(k)]);
                      return names;
                    })
+      .def_prop_ro("why", [](const PyIkResult& s) { return host::ik_miss_words(*s.robot, s.r); },
+                   "not reached: what holds the tool back (each joint or motor at a limit, where it stands and its "
+                   "range) and how near it comes, in words; '' when reached")
       .def("to_dict", [](const PyIkResult& s) { return json_to_python(host::ik_result_json(*s.robot, s.r)); },
            "the result as `articula ik --json` prints it")
       .def("__repr__", [](const PyIkResult& s) {

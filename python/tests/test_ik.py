@@ -51,6 +51,10 @@ def test_unreachable_and_limited_say_how_far_and_which():
     assert low.status in ("limited", "unreachable")
     if low.status == "limited":
         assert low.limited_by or low.limited_by_motors
+    # and in words, as the studio and the blocks say it
+    assert far.why == f"it is farther than the arm is long; the nearest the tool comes is {far.position_error_mm:.1f} mm away"
+    assert far.to_dict()["why"] == far.why
+    assert mk2.ik([235, 0, 213]).why == ""
 
 
 def test_targets_as_pose_and_as_matrix_agree():

@@ -86,6 +86,11 @@ def test_bad_programs_name_the_line(tmp_path):
     with pytest.raises(articula.ProgramError) as e:
         mk2.predict(bad)
     assert e.value.line == 2 and str(e.value).startswith("bad.arm:2:")
+    # every line that cannot be read, at once
+    with pytest.raises(articula.ProgramError) as e:
+        mk2.predict(articula.Program.parse("L 0 10\nL 7 1\nM 0 90 0\nQ\n", name="two.arm"))
+    assert e.value.line == 2 and [line for line, _ in e.value.problems] == [2, 4]
+    assert str(e.value).splitlines() == [f"two.arm:{line}: {problem}" for line, problem in e.value.problems]
     with pytest.raises(articula.ProgramError, match=r"short.robosim:1: m \(joint value\): 3 values expected, 2 given"):
         mk2.run(articula.Program.parse("m\n0\n90\n", name="short.robosim"))
     with pytest.raises(articula.ProgramError, match="short.robosim:3: joint shoulder 2 is outside 36 .. 130"):

@@ -40,8 +40,10 @@ template <typename F>
 std::string guarded(F&& f) {
   try {
     return f();
-  } catch (const host::ProgramError& e) {
-    return error_json(e.what(), {{"line", e.line()}});
+  } catch (const host::ProgramError& e) {  // every line that cannot be read, the first as `line`
+    json problems = json::array();
+    for (const auto& p : e.problems()) problems.push_back({{"line", p.line}, {"problem", p.problem}});
+    return error_json(e.what(), {{"line", e.line()}, {"problems", problems}});
   } catch (const host::RobotFileError& e) {
     return error_json(e.what(), {{"file", e.file()}, {"json_path", e.json_path()}, {"problem", e.problem()}});
   } catch (const host::SceneError& e) {

@@ -15,7 +15,7 @@ type IkArgs = { target: number[]; solver: string; start: number[]; weights?: num
 // `articula ik --json`'s result, and beyond_reach.
 interface IkResult {
   status: string; solver: string; q: number[]; position_error_mm: number; orientation_error_deg: number;
-  iterations: number; limited_by?: string[]; limited_by_motors?: string[]; beyond_reach: boolean;
+  iterations: number; limited_by?: string[]; limited_by_motors?: string[]; beyond_reach: boolean; why?: string;
 }
 
 // A target is the pen's tip when a pen is held (the engine solves for the tool point above it).
@@ -45,7 +45,7 @@ function ikReply(res: IkResult, seq: unknown): Out {
     type: "ik", status: res.status, solver: res.solver, position_error_mm: res.position_error_mm,
     orientation_error_deg: res.orientation_error_deg, iterations: res.iterations,
     limited_by: [...(res.limited_by ?? []), ...(res.limited_by_motors ?? [])], beyond_reach: res.beyond_reach,
-    seq: seq ?? null,
+    why: res.why ?? "", seq: seq ?? null,
   };
 }
 

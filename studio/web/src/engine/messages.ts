@@ -85,6 +85,8 @@ export interface IkMsg {
   iterations: number;
   limited_by: string[];
   beyond_reach: boolean;
+  // not reached: what holds the tool back and how near it comes (the engine's words: ik_miss_words)
+  why?: string;
   seq?: number | null;
   iteration?: number;
   done?: boolean;
@@ -249,7 +251,8 @@ export type EngineMsg =
   | IkMsg
   | TimelineMsg
   | { type: "robot_error"; message: string }
-  | { type: "program_error"; message: string; line: number }
+  // a program that cannot be read: every line that cannot be read (problems), the first as line
+  | { type: "program_error"; message: string; line: number; problems?: { line: number; problem: string }[] }
   | { type: "program_text"; name: string; text: string }
   | { type: "playing"; t: number; playing: boolean; ended?: boolean }
   | { type: "teach"; line: string }

@@ -38,7 +38,10 @@ export const programHandlers: Record<string, (m: Msg) => Out[] | Promise<Out[]>>
     try {
       tl = S.engine.timeline(S.robot, src, name, start);
     } catch (e) {
-      if (e instanceof EngineError) return [{ type: "program_error", message: e.message, line: (e as { line?: number }).line ?? 0 }];
+      if (e instanceof EngineError) {
+        const x = e as { line?: number; problems?: { line: number; problem: string }[] };
+        return [{ type: "program_error", message: e.message, line: x.line ?? 0, problems: x.problems ?? [] }];
+      }
       throw e;
     }
     dropTimeline();

@@ -140,15 +140,17 @@ export function showIk(m: IkMsg): void {
   const mm = (v: number | null) => (typeof v === "number" && Number.isFinite(v) ? v.toFixed(3) : "too far to measure:");
   const err = `${mm(m.position_error_mm)} mm` + (m.orientation_error_deg ? `, ${mm(m.orientation_error_deg)} deg` : "");
   let text = "";
+  // the engine's words for a miss: what holds the tool back, each joint or motor once with its range
+  const why = m.why && Number.isFinite(m.position_error_mm) ? m.why : "";
   if (m.status === "reached") text = `Reached (${m.solver}, ${m.iterations} iterations): ${err} from the target.`;
-  else if (m.status === "unreachable") text = `Unreachable: the arm stretches toward it and stays ${err} away` + (m.beyond_reach ? " (farther than the arm is long)." : ".");
-  else if (m.status === "limited") text = `Not reached: held back by the limit of ${m.limited_by.join(", ") || "a joint"}; ${err} away.`;
+  else if (m.status === "unreachable") text = why ? `Unreachable: ${why}.` : `Unreachable: the arm stretches toward it and stays ${err} away` + (m.beyond_reach ? " (farther than the arm is long)." : ".");
+  else if (m.status === "limited") text = why ? `Not reached: ${why}.` : `Not reached: held back by a joint's range; ${err} away.`;
   else text = `Not reached yet after ${m.iterations} iterations: ${err} away.`;
   if (m.type === "jt_frame") {
     text = `Jacobian transpose, iteration ${m.iteration}: ${err} away.`;
     if (m.done) {
       if (m.status === "reached") text += " Converged.";
-      else if (m.status === "limited") text += ` Stopped: held back by the limit of ${m.limited_by.join(", ") || "a joint"}.`;
+      else if (m.status === "limited") text += ` Stopped: ${why || "held back by a joint's range"}.`;
       else if (m.status === "unreachable") text += " Stopped: the target is out of reach; the arm stretches toward it.";
       else text += " Stopped: it stopped improving (stuck in a local minimum, or the arm 'fell in line').";
     }

@@ -1,7 +1,7 @@
 // The program panel: the editor with its line numbers and running line, the shipped examples,
 // open and save, Run (on the model, or on the arm when asked), Pause, Step, Reset, Teach, the
 // ghost, the plots of the time line. The engine predicts and plays; this panel shows.
-import type { PoseMsg, TimelineMsg } from "../engine/messages";
+import type { PoseMsg, TimelineMsg, TimelineRecord } from "../engine/messages";
 import type { Studio } from "../page/context";
 import { $, banner, download, fill, h } from "../page/dom";
 import type { Reports } from "../page/reports";
@@ -315,10 +315,11 @@ export const programHandlers = {
     }
     s.view.showPaths(path, lines);
     programReport.paths = { points: path.length / 3, lines: lines.length, worstMm: worst };
-    for (const r of m.records) if (r.reply !== "ok") s.editor.signals.lineRefused.dispatch({ line: r.line, message: `the arm refuses this: ${r.reply}, ${r.error}` });
+    // a refusal's note says why (the motor and its range, how far a point is out of reach)
+    const why = (r: TimelineRecord) => (r.note ? ` (${r.note.replace(/^.*?nothing changes; /, "")})` : "");
+    for (const r of m.records) if (r.reply !== "ok") s.editor.signals.lineRefused.dispatch({ line: r.line, message: `the arm refuses this: ${r.reply}, ${r.error}${why(r)}` });
     const rejected = m.records.filter((r) => r.reply !== "ok")
-      .map((r) => `line ${r.line}: ${r.command} → error:${r.code}, ${r.error}: nothing moves` +
-        (r.note ? ` (${r.note.replace(/^.*?nothing changes; /, "")})` : ""));
+      .map((r) => `line ${r.line}: ${r.command} → error:${r.code}, ${r.error}: nothing moves${why(r)}`);
     programStatus(`${m.records.length} commands, ${m.summary.rejected ?? 0} rejected` +
       (m.summary.worst_error_mm !== undefined ? `, worst quantization error ${m.summary.worst_error_mm.toFixed(3)} mm` : "") +
       (lines.length ? `, ${lines.length} straight line${lines.length > 1 ? "s" : ""}: the tool within ${worst.toFixed(2)} mm of ${lines.length > 1 ? "them" : "it"} at every step` : "") +
@@ -333,13 +334,20 @@ export const programHandlers = {
     s.editor.playing = m.playing;
     $("run").classList.toggle("active", m.playing);
   },
-  program_error(m: { message: string; line: number }): void {
+  program_error(m: { message: string; line: number; problems?: { line: number; problem: string }[] }): void {
     programReport.programError = m.message;
-    // the program on screen: its line, not a file's name
-    const said = m.line > 0 ? m.message.replace(/^.*?:\d+: /, `line ${m.line}: `) : m.message;
-    programStatus(said, [], true);
+    // the program on screen: its lines, not a file's name; every line that cannot be read at once
+    const problems = m.problems?.length ? m.problems : [{ line: m.line, problem: m.message.replace(/^.*?:\d+: /, "") }];
+    const said = problems.map((p) => (p.line > 0 ? `line ${p.line}: ${p.problem}` : m.message));
+    if (said.length === 1) programStatus(said[0], [], true);
+    else programStatus(`${said.length} lines cannot be read; nothing ran. Mend them and Run again:`, said, true);
     s.editor.signals.lineRunning.dispatch({ line: m.line, refused: true });
-    if (m.line > 0) s.editor.signals.lineRefused.dispatch({ line: m.line, message: said }); // from blocks: on the block it came from
+    const gutter = $("gutter").children;
+    problems.forEach((p, k) => {
+      const number = gutter[p.line - 1] as HTMLElement | undefined; // its number marked until the text changes
+      if (number) (number.classList.add("refused"), (number.title = said[k]));
+      if (p.line > 0) s.editor.signals.lineRefused.dispatch({ line: p.line, message: said[k] }); // from blocks: on the block it came from
+    });
   },
   program_text(m: { name: string; text: string }): void {
     setProgram(m.name, m.text);
