@@ -453,4 +453,73 @@ json program_actions_json(const Robot& robot, const std::string& text, const std
   return json{{"ops", out}, {"format", program.format == Program::Format::kRoboSim ? "robosim" : "protocol"}};
 }
 
+namespace {
+double round_to(double v, double step) { return std::round(v / step) * step + 0.0; }
+}  // namespace
+
+json example_places_json(const Robot& robot, const InverseKinematics& ik) {
+  const std::vector<double> start = ik_start(robot, nullptr);
+  HostFrames f;
+  forward_kinematics(f, robot.model, start.data());
+  const Vec3<double> home = f.T_base_tool.p;
+  const double reach = ik.reach_bound(), step = round_to(std::max(10.0, 0.1 * reach), 10);
+  IkOptions opt;
+  opt.position_tolerance_mm = 0.01;
+  auto reaches = [&](const Vec3<double>& p) { return ik.solve(IkTarget::at(p), start, opt).reached(); };
+  auto rounded = [&](const Vec3<double>& p, double to) {
+    return make_vec3(round_to(p.x, to), round_to(p.y, to), round_to(p.z, to));
+  };
+  // the tool: below the home pose's point (where a lesson's objects are), else at it
+  Vec3<double> tool = rounded(home, 1);
+  const Vec3<double> below = rounded(home - make_vec3(0.0, 0.0, 1.5 * step), 10), at_home = rounded(home, 10);
+  for (const Vec3<double>& c : {below, at_home})
+    if (reaches(c)) {
+      tool = c;
+      break;
+    }
+  // a straight line from there: out, down, in or up, every point of it reached
+  Vec3<double> line_to = tool;
+  const Vec3<double> ways[] = {make_vec3(step, 0.0, 0.0), make_vec3(0.0, 0.0, -step), make_vec3(-step, 0.0, 0.0),
+                               make_vec3(0.0, 0.0, step)};
+  for (const Vec3<double>& d : ways) {
+    bool all = true;
+    for (int k = 1; k <= 8 && all; ++k) all = reaches(tool + (k / 8.0) * d);
+    if (all) {
+      line_to = tool + d;
+      break;
+    }
+  }
+  // a pen and a place where it draws a square: the MK2's (a 120 mm pen, 40 mm at (250, 0)) if
+  // they fit, else a pen about half the home point's height, the square below it or at about
+  // half the reach
+  PenSettings pen;
+  const std::vector<Stroke> square = shape_strokes("square");
+  const double horizontal = std::hypot(home.x, home.y);
+  const double width = std::min(40.0, std::max(10.0, round_to(0.12 * reach, 10)));
+  struct Try {
+    double pen, x;
+  };
+  std::vector<Try> tries = {{120, 250}};
+  for (double share : {0.5, 0.6, 0.4, 0.7, 0.3})
+    for (double x : {horizontal, horizontal + step, horizontal - step, 0.6 * reach, 0.5 * reach, 0.7 * reach})
+      tries.push_back({std::max(10.0, round_to(share * home.z, 10)), round_to(x, 10)});
+  Try found = tries.front();
+  bool fits = false;
+  for (const Try& t : tries) {
+    if (t.x - width / 2 <= 0) continue;
+    pen.pen_mm = t.pen;
+    if (reaches_all(robot, ik, place_strokes(square, width, t.x, 0), pen)) {
+      found = t, fits = true;
+      break;
+    }
+  }
+  return {{"tool", {tool.x, tool.y, tool.z}},
+          {"line_to", {line_to.x, line_to.y, line_to.z}},
+          {"pen", found.pen},
+          {"paper_z", 0},
+          {"draw_at", {found.x, 0}},
+          {"draw_width", fits ? width : 40.0},
+          {"fits", fits}};
+}
+
 }  // namespace articula::host

@@ -61,6 +61,14 @@ nlohmann::json blocks_program_json(const Robot& robot, const InverseKinematics& 
 // "robosim"}; its comments kept, in order. Throws ProgramError (program.h) as the parser does.
 nlohmann::json program_actions_json(const Robot& robot, const std::string& text, const std::string& name);
 
+// Where the toolbox's blocks point for this arm, so that a block taken from it is one the arm
+// can do (a class's meArm reaches about 228 mm, the MK2 370): {"tool": [x, y, z] (a point the
+// tool reaches, below the home pose's), "line_to": [x, y, z] (a straight line from there the
+// tool follows), "pen": mm, "paper_z": mm, "draw_at": [x, y], "draw_width": mm (a pen that long
+// draws a square that wide there, as check_reach finds; "fits" false when none was found and
+// the MK2's are given)}. Round numbers: 10 mm where they reach, else 1 mm.
+nlohmann::json example_places_json(const Robot& robot, const InverseKinematics& ik);
+
 }  // namespace articula::host
 
 #endif  // ARTICULA_HOST_BLOCKS_H

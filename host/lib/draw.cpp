@@ -76,6 +76,12 @@ std::string toward(double d, const char* axis) {
 
 }  // namespace
 
+bool reaches_all(const Robot& robot, const InverseKinematics& ik, const std::vector<Stroke>& strokes,
+                 const PenSettings& pen) {
+  Reach reach(robot, ik, pen);
+  return reach.all(samples_of(strokes), 0, 0);
+}
+
 ReachCheck check_reach(const Robot& robot, const InverseKinematics& ik, const std::vector<Stroke>& strokes,
                        const PenSettings& pen) {
   ReachCheck out;

@@ -123,6 +123,9 @@ struct ReachCheck {
 };
 ReachCheck check_reach(const Robot& robot, const InverseKinematics& ik, const std::vector<Stroke>& strokes,
                        const PenSettings& pen);
+// The same question answered yes or no, at the first point it cannot reach (no advice).
+bool reaches_all(const Robot& robot, const InverseKinematics& ik, const std::vector<Stroke>& strokes,
+                 const PenSettings& pen);
 
 // Where on an area of the table (a sheet of paper) the pen reaches the paper: the centre of
 // every cell of `cell_mm`, row after row from min_x, each row from min_y; 1 where it reaches.

@@ -155,7 +155,7 @@ void command_notes(PredictRecord& r, const Command& cmd, const Robot& robot, con
     }
     if (r.reply == kUnreachable && cmd.type == kCmdMoveTool) {  // how far, and what holds the tool back
       const IkResult res = InverseKinematics(robot).solve(
-          IkTarget::at(make_vec3(cmd.arg[0] / 1000.0, cmd.arg[1] / 1000.0, cmd.arg[2] / 1000.0)), home_pose(robot));
+          IkTarget::at(make_vec3(cmd.arg[0] / 1000.0, cmd.arg[1] / 1000.0, cmd.arg[2] / 1000.0)), ik_start(robot, nullptr));
       note_on(r, ik_miss_words(robot, res));
     }
     if (r.reply == kNoClosedForm)

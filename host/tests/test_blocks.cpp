@@ -228,3 +228,34 @@ TEST(BlocksProgram, ThePensBlocksDrawWhatTheDrawingDraws) {
   EXPECT_EQ(far["problems"][0]["block"], "s");
   EXPECT_NE(far["problems"][0]["message"].get<std::string>().find("toward +x"), std::string::npos);
 }
+
+// The toolbox's blocks point where the arm reaches (issue 55, 3: a class's meArm reaches about
+// 228 mm, and "move the tool to 200, 0, 150" warned on every new block): on every shipped
+// robot, the tool's point and the straight line from it are reached, and where a pen and a
+// place were found, a square that wide is drawn there. The MK2 keeps the numbers it had.
+TEST(ExamplePlaces, EveryShippedArmReachesItsToolboxsPoints) {
+  int fitted = 0;
+  for (const char* name : {"mk2plus", "mk2plus-cnc", "mearm", "eezybot-mk2", "micro-arm-28byj48", "panda", "puma560",
+                           "thesis-example", "three-link-8dof"}) {
+    SCOPED_TRACE(name);
+    const Robot r = load_robot_file(std::string(ARTICULA_SOURCE_DIR) + "/robots/" + name + ".json");
+    const InverseKinematics ik(r);
+    const json p = example_places_json(r, ik);
+    const articula::Vec3<double> tool = articula::make_vec3(p["tool"][0].get<double>(), p["tool"][1].get<double>(), p["tool"][2].get<double>());
+    const articula::Vec3<double> to = articula::make_vec3(p["line_to"][0].get<double>(), p["line_to"][1].get<double>(), p["line_to"][2].get<double>());
+    EXPECT_TRUE(ik.solve(IkTarget::at(tool), ik_start(r, nullptr)).reached());
+    for (int k = 0; k <= 10; ++k)
+      EXPECT_TRUE(ik.solve(IkTarget::at(tool + (k / 10.0) * (to - tool)), ik_start(r, nullptr)).reached()) << k;
+    if (!p["fits"].get<bool>()) continue;
+    ++fitted;
+    PenSettings pen;
+    pen.pen_mm = p["pen"];
+    pen.paper_z = p["paper_z"];
+    EXPECT_TRUE(check_reach(r, ik, place_strokes(shape_strokes("square"), p["draw_width"], p["draw_at"][0], p["draw_at"][1]), pen).fits);
+  }
+  EXPECT_GE(fitted, 7);
+  const json mk2_places = example_places_json(mk2(), mk2_ik());
+  EXPECT_EQ(mk2_places["tool"], json({240, 0, 150}));
+  EXPECT_EQ(mk2_places["pen"], 120);
+  EXPECT_EQ(mk2_places["draw_at"], json({250, 0}));
+}

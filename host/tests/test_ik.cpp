@@ -843,7 +843,7 @@ TEST(IkExperiment, ThesisSection54Redone) {
 TEST(IkWords, AMissSaysWhatHoldsTheToolBackAndHowNearItComes) {
   const Robot mearm = load_robot_file(std::string(ARTICULA_SOURCE_DIR) + "/robots/mearm.json");
   const InverseKinematics ik(mearm);
-  const IkResult low = ik.solve(IkTarget::at({170, 0, 20}), home_pose(mearm));
+  const IkResult low = ik.solve(IkTarget::at({170, 0, 20}), ik_start(mearm, nullptr));
   ASSERT_EQ(low.status, IkStatus::kLimited);
   const std::string w = ik_miss_words(mearm, low);
   EXPECT_EQ(w.rfind("held back by the shoulder ", 0), 0u) << w;
@@ -851,9 +851,9 @@ TEST(IkWords, AMissSaysWhatHoldsTheToolBackAndHowNearItComes) {
   EXPECT_NE(w.find("; the nearest the tool comes is 23.2 mm away"), std::string::npos) << w;
   EXPECT_EQ(w.find("shoulder", w.find("shoulder") + 1), std::string::npos) << "named twice: " << w;
   EXPECT_EQ(ik_result_json(mearm, low)["why"], w);
-  const IkResult far = ik.solve(IkTarget::at({900, 0, 0}), home_pose(mearm));
+  const IkResult far = ik.solve(IkTarget::at({900, 0, 0}), ik_start(mearm, nullptr));
   EXPECT_EQ(ik_miss_words(mearm, far).rfind("it is farther than the arm is long; the nearest the tool comes is ", 0), 0u);
-  const IkResult near = ik.solve(IkTarget::at({180, 0, 60}), home_pose(mearm));
+  const IkResult near = ik.solve(IkTarget::at({180, 0, 60}), ik_start(mearm, nullptr));
   ASSERT_TRUE(near.reached());
   EXPECT_EQ(ik_miss_words(mearm, near), "");
   EXPECT_FALSE(ik_result_json(mearm, near).contains("why"));

@@ -170,6 +170,9 @@ void bind_program(nb::module_& m, nb::class_<PyRobot>& robot) {
            },
            "Where on an area of the table the pen reaches the paper: area=(min_x, min_y, max_x, max_y), cell (mm), z, "
            "pen. Returns {rows, cols, cell, area, reached}: '1' where it reaches, row after row (rows along x).")
+      .def("example_places", [](const PyRobot& self) { return json_to_python(host::example_places_json(self.r(), self.ik())); },
+           "Where the studio's toolbox blocks point for this arm, all within its reach: {tool, line_to (a straight "
+           "line from tool), pen, paper_z, draw_at, draw_width (a square that wide drawn there with that pen), fits}.")
       .def("protocol_line",
            [](const PyRobot& self, const std::string& word, const std::vector<double>& values) {
              if (word.size() != 1) throw nb::value_error("a protocol command is one letter");

@@ -32,7 +32,7 @@ SAME = [
     ("Robot.dh", "Robot.info"), ("Robot.joints", "Robot.info"), ("Robot.limits", "Robot.info"),
     ("Robot.home", "Robot.info"), ("Robot.motors", "Robot.info"), ("Robot.links", "Robot.info"),
     ("Robot.gripper", "Robot.info"), ("Robot.tool_offset", "Robot.info"), ("Robot.reach_mm", "Robot.info"),
-    ("Robot.wiring", "Robot.info"),
+    ("Robot.wiring", "Robot.info"), ("Robot.example_places", "Robot.info"),
     ("Robot.fk", "Robot.pose"), ("Robot.frames", "Robot.pose"), ("Robot.dh_table", "Robot.pose"),
     ("Robot.within_limits", "Robot.pose"), ("Robot.finger_poses", "Robot.pose"),
     ("Robot.jacobian", "Robot.jacobian"),

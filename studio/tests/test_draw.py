@@ -168,7 +168,7 @@ def test_hello_on_a5_on_the_virtual_nano_leaves_the_predicted_ink(open_page):
     pg.page.locator("#draw-section").scroll_into_view_if_needed()
     # the sheet: A5 on the table, the part the pen reaches shaded (the engine's reach map)
     pg.wait("a.paper.maps > 0", timeout=30000)
-    assert pg.hook("a.paper.area") == [120, -74, 330, 74]
+    assert pg.hook("a.paper.area") == [145, -74, 355, 74]  # A5 at (250, 0), where the MK2 draws
     share = pg.hook("a.paper.reachShare")
     assert 0.3 < share < 1, share
     shaded = pg.page.locator("#paper-view #reach rect").count()

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <memory>
 
+#include "blocks.h"
 #include "common.h"
 #include "geometry.h"
 #include "ik.h"
@@ -77,6 +78,7 @@ class WebRobot {
                   {"wiring", host::wiring_json(r)},
                   {"tool_offset", host::transform_json(r.model.T_last_tool)},
                   {"reach_mm", ik().reach_bound()},
+                  {"places", host::example_places_json(r, ik())},
                   {"import_notes", notes_}}
           .dump();
     });

@@ -4,6 +4,7 @@
 import * as Blockly from "blockly/core";
 import "blockly/blocks"; // repeat, variables, maths, procedures
 import * as En from "blockly/msg/en";
+import type { Places } from "../engine/messages";
 
 /** The joints the dropdowns offer: the robot shown (the page sets it). */
 let jointNames: { name: string; unit: string }[] = [{ name: "joint 0", unit: "deg" }];
@@ -136,8 +137,13 @@ export function defineBlocks(): void {
 
 const num = (n: number) => ({ shadow: { type: "math_number", fields: { NUM: n } } });
 
-/** The toolbox: the arm's blocks first, then a beginner's control. */
-export function toolbox(): Blockly.utils.toolbox.ToolboxDefinition {
+/** The toolbox: the arm's blocks first, then a beginner's control. Its points are where this
+ * arm reaches (the engine's places: the MK2's tool at 240, 0, 150, the meArm's at 150, 0, 110). */
+export function toolbox(p: Places | null = null): Blockly.utils.toolbox.ToolboxDefinition {
+  const tool = p?.tool ?? [240, 0, 150], to = p?.line_to ?? [280, 0, 150];
+  const at = p?.draw_at ?? [250, 0], width = p?.draw_width ?? 40;
+  const pen = p?.pen ?? 120, z = p?.paper_z ?? 0;
+  const penTo = [at[0] + width / 4, at[1]];
   return {
     kind: "categoryToolbox",
     contents: [
@@ -145,8 +151,8 @@ export function toolbox(): Blockly.utils.toolbox.ToolboxDefinition {
         { kind: "block", type: "arm_joint_to", inputs: { VALUE: num(30) } },
         { kind: "block", type: "arm_joint_by", inputs: { VALUE: num(30) } },
         { kind: "block", type: "arm_joints" },
-        { kind: "block", type: "arm_tool_to", inputs: { X: num(200), Y: num(0), Z: num(150) } },
-        { kind: "block", type: "arm_line_to", inputs: { X: num(240), Y: num(0), Z: num(140), SPEED: num(30) } },
+        { kind: "block", type: "arm_tool_to", inputs: { X: num(tool[0]), Y: num(tool[1]), Z: num(tool[2]) } },
+        { kind: "block", type: "arm_line_to", inputs: { X: num(to[0]), Y: num(to[1]), Z: num(to[2]), SPEED: num(30) } },
         { kind: "block", type: "arm_home" },
         { kind: "block", type: "arm_speed", inputs: { PERCENT: num(50) } },
         { kind: "block", type: "arm_comment" },
@@ -157,12 +163,12 @@ export function toolbox(): Blockly.utils.toolbox.ToolboxDefinition {
         { kind: "block", type: "arm_gripper_to", inputs: { PERCENT: num(50) } },
       ] },
       { kind: "category", name: "%{BKY_ARM_CATEGORY_PEN}", colour: "280", contents: [
-        { kind: "block", type: "arm_pen", inputs: { PEN: num(120), Z: num(0) } },
+        { kind: "block", type: "arm_pen", inputs: { PEN: num(pen), Z: num(z) } },
         { kind: "block", type: "arm_pen_down" },
         { kind: "block", type: "arm_pen_up" },
-        { kind: "block", type: "arm_pen_to", inputs: { X: num(260), Y: num(0) } },
-        { kind: "block", type: "arm_write", inputs: { WIDTH: num(40), X: num(250), Y: num(0) } },
-        { kind: "block", type: "arm_shape", inputs: { WIDTH: num(40), X: num(250), Y: num(0) } },
+        { kind: "block", type: "arm_pen_to", inputs: { X: num(penTo[0]), Y: num(penTo[1]) } },
+        { kind: "block", type: "arm_write", inputs: { WIDTH: num(width), X: num(at[0]), Y: num(at[1]) } },
+        { kind: "block", type: "arm_shape", inputs: { WIDTH: num(width), X: num(at[0]), Y: num(at[1]) } },
       ] },
       { kind: "category", name: "%{BKY_ARM_CATEGORY_CONTROL}", colour: "120", contents: [
         { kind: "block", type: "controls_repeat_ext", inputs: { TIMES: num(3) } },

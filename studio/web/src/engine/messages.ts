@@ -21,6 +21,10 @@ export interface Shape {
   format?: string;
 }
 
+export interface Places {
+  tool: number[]; line_to: number[]; pen: number; paper_z: number; draw_at: number[]; draw_width: number; fits: boolean;
+}
+
 export interface RobotMsg {
   type: "robot";
   name: string;
@@ -41,6 +45,9 @@ export interface RobotMsg {
     servo_closed_deg: number;
   };
   reach_mm: number;
+  // where the toolbox's blocks and a new sheet point for this arm, all within its reach (the
+  // engine's example_places_json: host/lib/blocks.h)
+  places: Places;
   // the firmware build that drives its motors: "articula-nano" (L298N, ULN2003), "articula-cnc"
   // (STEP/DIR drivers in a CNC shield), "articula-servo" (hobby servos)
   firmware: string;

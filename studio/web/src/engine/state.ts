@@ -4,13 +4,13 @@
 import type { Engine, Robot, Sim, Timeline } from "../../../../wasm/js/engine.mjs";
 import { clamp, round6 } from "./checks";
 import type { Out } from "./checks";
-import type { RobotMsg } from "./messages";
+import type { Places, RobotMsg } from "./messages";
 
 export interface RobotInfo {
   name: string; description: string; source: string; joints: { name: string }[]; dh: unknown[];
   num_rows: number; num_joints: number; num_motors: number; home: number[]; limits: [number, number][];
   motors: { name: string; zero: number; driver?: { kind: string; pin?: string; at?: number[][] } }[]; links: { frame: number; shapes: { type: string; size: number[];
-  pose: number[]; mesh?: string }[] }[]; gripper: null | { max_opening_mm: number }; reach_mm: number;
+  pose: number[]; mesh?: string }[] }[]; gripper: null | { max_opening_mm: number }; reach_mm: number; places: Places;
   import_notes: string[]; joint_names: string[];
   wiring: NonNullable<RobotMsg["wiring"]>; // host/lib/wiring.h: the firmware build for its drivers, and every wire
 }
@@ -87,7 +87,7 @@ export function robotMessage(): Out {
   return {
     type: "robot", name: r.name, description: r.description, source: r.source, joints: r.joints, dh: r.dh,
     num_rows: r.num_rows, home: r.home, motors: r.motors.map((m) => m.name), links, gripper: r.gripper,
-    reach_mm: r.reach_mm, robots: S.index.robots, programs: examplesFor(S.robot), scenes: S.index.scenes,
+    reach_mm: r.reach_mm, places: r.places, robots: S.index.robots, programs: examplesFor(S.robot), scenes: S.index.scenes,
     import_notes: r.import_notes, wiring: r.wiring, ...nanoBuild(r),
   };
 }

@@ -150,7 +150,7 @@ function ensureWorkspace(): void {
   Blockly.blockRendering.register("zelos", Renderer);
   if (s.editor.robot) setJoints(s.editor.robot.joints);
   ws = Blockly.inject($("blockly"), {
-    toolbox: toolbox(), css: false, sounds: false, media: "assets/blockly-media/", trashcan: true, renderer: "zelos", theme: Blockly.Themes.Classic,
+    toolbox: toolbox(s.editor.robot?.places ?? null), css: false, sounds: false, media: "assets/blockly-media/", trashcan: true, renderer: "zelos", theme: Blockly.Themes.Classic,
     zoom: { controls: true, startScale: 0.7, wheel: false }, move: { scrollbars: true, drag: true, wheel: true },
     grid: { spacing: 24, length: 2, colour: "#dde4ec", snap: true },
   });
@@ -219,10 +219,12 @@ function load(json: unknown): void {
   if (json) compile();
 }
 
-/** The robot changed: the joint menus follow it. */
+/** The robot changed: the joint menus follow it, and the toolbox's points are where it reaches. */
 function blocksRobot(r: RobotMsg): void {
   setJoints(r.joints);
-  if (ws) compile();
+  if (!ws) return;
+  ws.updateToolbox(toolbox(r.places));
+  compile();
 }
 
 /** Unrolls the blocks and asks the engine for their program. */

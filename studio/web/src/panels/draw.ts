@@ -12,6 +12,7 @@ import { $, download } from "../page/dom";
 import type { Reports } from "../page/reports";
 import { PaperView } from "./paper-view";
 import type { Paper } from "../project/document";
+import type { RobotMsg } from "../engine/messages";
 
 /** What the Draw panel has shown (window.articula shows it) (window.articula shows it; main.ts wires it). */
 export const drawReport: { drawing: Reports["drawing"]; drawings: number; paper: Reports["paper"] } = {
@@ -163,13 +164,19 @@ function clearDrawing(): void {
   s.view.showDrawing([], [], 0);
 }
 
-// A new sheet: A5 in front of the arm, and the pen the MK2 Plus holds (120 mm below its tool
-// point; a request without a pen has none: host/lib/draw.h).
-const DEFAULT_PAPER: Paper = { sheet: "A5", at: [225, 0], landscape: false, z: 0, pen: 120 };
+// A new sheet: A5 in front of the arm where its pen draws, and the pen it holds (the engine's
+// places for the arm: a 120 mm pen at 250 mm for the MK2 Plus, 70 mm at 170 mm for the meArm;
+// a request without a pen has none: host/lib/draw.h).
+function defaultPaper(r: RobotMsg | null = s.editor.robot): Paper {
+  const p = r?.places;
+  return { sheet: "A5", at: p ? [p.draw_at[0], p.draw_at[1]] : [250, 0], landscape: false, z: p?.paper_z ?? 0, pen: p?.pen ?? 120 };
+}
+const samePaper = (a: Paper, b: Paper) => JSON.stringify(a) === JSON.stringify(b);
+let shownDefault: Paper | null = null; // the last robot's new sheet (its paper follows the robot while untouched)
 
 function paperSettings(): Paper {
   const { paper: sheet, at, landscape } = sheetRequest();
-  const d = DEFAULT_PAPER;
+  const d = defaultPaper();
   const v = (x: number, fallback: number) => (Number.isFinite(x) ? x : fallback);
   return { sheet: sheet as Paper["sheet"], at: [v(at[0], d.at[0]), v(at[1], d.at[1])], landscape, z: v(num("draw-z"), d.z),
     pen: v(num("draw-pen"), d.pen) };
@@ -192,7 +199,7 @@ export function drawReady(): void {
 }
 
 function setPaper(p: Paper | null): void {
-  const q = p ?? DEFAULT_PAPER;
+  const q = p ?? defaultPaper();
   ($("draw-paper") as HTMLSelectElement).value = q.sheet;
   ($("draw-orient") as HTMLSelectElement).value = q.landscape ? "landscape" : "portrait";
   input("paper-x").value = String(q.at[0]);
@@ -261,10 +268,13 @@ export function initDraw(studio: Studio): void {
   for (const id of ["draw-paper", "draw-orient", "paper-x", "paper-y", "draw-z", "draw-kind", "draw-go"])
     $(id).addEventListener(id === "draw-go" ? "click" : "change", use);
   $("paper-view").addEventListener("pointerdown", use);
-  s.editor.signals.robotShown.add(() => {
+  s.editor.signals.robotShown.add((r) => {
     clearDrawing();
     inUse = false;
     holdPen(0);
+    // a sheet no one moved is the new arm's (the MK2's sheet is beyond a meArm's reach)
+    if (!goalActive && samePaper(paperSettings(), shownDefault ?? defaultPaper(null))) setPaper(defaultPaper(r));
+    shownDefault = defaultPaper(r);
     s.view.showSheet(null, 0);
     if (goalActive) use(); // a drawing exercise's robot: its paper and pen stay
     drawReport.drawing = null;

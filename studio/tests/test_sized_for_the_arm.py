@@ -1,0 +1,37 @@
+"""Sized for the arm shown (issue 55, item 3): a class with meArms found every toolbox block and
+the new sheet sized for the MK2 (its "move the tool to 200, 0, 150" is beyond a meArm's reach,
+so every new block warned). The toolbox's points and a new sheet are now the engine's places
+for the arm shown (host/lib/blocks.h example_places_json)."""
+
+from __future__ import annotations
+
+from class_page import _blocks, _drag_block
+
+
+def test_a_mearms_toolbox_blocks_are_moves_it_can_make(open_page):
+    pg = open_page("mearm", width=1366, height=768)
+    _blocks(pg)
+    tool = _drag_block(pg, "Move", "arm_tool_to", None)
+    line = _drag_block(pg, "Move", "arm_line_to", tool)
+    pg.wait("a.blocksCode !== null && !a.blocksPending && a.blocksCode.text.includes('T ')", timeout=20000)
+    text = pg.hook("a.blocksCode.text")
+    assert "P 150 0 110" in text and "T 170 0 110 30" in text, text
+    assert pg.hook("a.blockProblems") == [], pg.hook("a.blockProblems")
+    assert line
+    # and the pen's blocks draw where its pen reaches
+    pen = _drag_block(pg, "Pen", "arm_pen", line)
+    _drag_block(pg, "Pen", "arm_shape", pen)
+    pg.wait("a.blocksCode !== null && !a.blocksPending && a.blocksCode.text.includes('T 155 15 70 20')", timeout=20000)
+    assert pg.hook("a.blockProblems") == [], pg.hook("a.blockProblems")
+    assert pg.hook("a.pageErrors") == [] and pg.errors == []
+
+
+def test_a_new_sheet_lies_where_the_arm_shown_draws(open_page):
+    pg = open_page("mearm")
+    pg.wait("document.getElementById('draw-pen').value !== ''")
+    assert (pg.page.input_value("#paper-x"), pg.page.input_value("#draw-pen")) == ("170", "70")
+    # another arm: the untouched sheet follows it
+    pg.page.select_option("#robot-select", "mk2plus")
+    pg.wait("a.robot && a.robot.source.endsWith('mk2plus.json') && document.getElementById('draw-pen').value === '120'", timeout=20000)
+    assert pg.page.input_value("#paper-x") == "250"
+    assert pg.errors == []
