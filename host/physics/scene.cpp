@@ -33,7 +33,7 @@ double SceneObject::volume_m3() const {
 
 const std::map<std::string, std::vector<std::string>>& scene_file_fields() {
   static const std::map<std::string, std::vector<std::string>> fields = {
-      {"scene", {"$schema", "name", "description", "gravity", "ground", "world_box", "objects"}},
+      {"scene", {"$schema", "name", "description", "sized_for", "gravity", "ground", "world_box", "objects"}},
       {"ground", {"friction"}},
       {"world_box", {"min", "max"}},
       {"object", {"name", "type", "size", "xyz", "rpy", "movable", "mass", "density", "friction"}},
@@ -149,6 +149,11 @@ class Loader {
     sc.source = file_;
     if (j.contains("name")) sc.name = text(j["name"], "/name");
     if (j.contains("description")) sc.description = text(j["description"], "/description");
+    if (j.contains("sized_for")) {
+      const json& f = j["sized_for"];
+      if (!f.is_array()) fail("/sized_for", "must be an array of robot names");
+      for (size_t k = 0; k < f.size(); ++k) sc.sized_for.push_back(text(f[k], "/sized_for/" + std::to_string(k)));
+    }
     if (j.contains("gravity")) sc.gravity = vec3(j["gravity"], "/gravity");
     if (j.contains("ground")) {
       const json& g = j["ground"];

@@ -41,6 +41,9 @@ struct Scene {
   // Beyond this box (mm) a dynamic body is taken out of the world (an event says so).
   Vec3<double> world_min{-3000, -3000, -1000}, world_max{3000, 3000, 3000};
   std::vector<SceneObject> objects;
+  // The shipped robots its objects are placed for (file names without .json: "mearm"); empty:
+  // any arm. The studio offers a scene first to the arms it is sized for.
+  std::vector<std::string> sized_for;
 };
 
 // A scene file that cannot be used: "scenes/x.json: /objects/0/size/1: must be > 0 (got 0)".

@@ -182,6 +182,21 @@ def test_every_shipped_exercise_can_be_solved(open_page, tmp_path):
     for a, b in zip(reach[:-1], reach[1:]):
         a["next"] = {"block": b}
     solutions["reach-three-points.articula"] = {"blocks": {"languageVersion": 0, "blocks": [{**reach[0], "x": 20, "y": 20}]}}
+    # the meArm's, at its size (programs/grasp-and-lift-mearm.arm as blocks): straight down over the block
+    def numbers(**values):
+        return {k: {"shadow": {"type": "math_number", "fields": {"NUM": v}}} for k, v in values.items()}
+    mearm = [{"type": "arm_gripper_open"}, {"type": "arm_tool_to", "inputs": numbers(X=190, Y=0, Z=100)},
+             {"type": "arm_line_to", "inputs": numbers(X=190, Y=0, Z=42, SPEED=30)}, {"type": "arm_gripper_close"},
+             {"type": "arm_line_to", "inputs": numbers(X=190, Y=0, Z=100, SPEED=30)},
+             {"type": "arm_tool_to", "inputs": numbers(X=145.5, Y=122.1, Z=100)},
+             {"type": "arm_line_to", "inputs": numbers(X=145.5, Y=122.1, Z=44, SPEED=30)}, {"type": "arm_gripper_open"}]
+    for i, b in enumerate(mearm):
+        b["id"] = f"m{i}"
+    for a, b in zip(mearm[:-1], mearm[1:]):
+        a["next"] = {"block": b}
+    solutions["pick-and-place-mearm.articula"] = {"blocks": {"languageVersion": 0, "blocks": [{**mearm[0], "x": 20, "y": 20}]}}
+    assert sorted(solutions) == sorted(p.name for p in (REPO / "exercises").glob("*.articula")
+                                       if "cell" not in json.loads(p.read_text()) and "initials" not in p.name)
     pg = open_page("mk2plus")
     for name, blocks in solutions.items():
         doc = json.loads((REPO / "exercises" / name).read_text())

@@ -35,3 +35,22 @@ def test_a_new_sheet_lies_where_the_arm_shown_draws(open_page):
     pg.wait("a.robot && a.robot.source.endsWith('mk2plus.json') && document.getElementById('draw-pen').value === '120'", timeout=20000)
     assert pg.page.input_value("#paper-x") == "250"
     assert pg.errors == []
+
+
+def test_the_scene_menu_offers_the_arms_own_scenes_first(open_page):
+    """Before: every scene was the MK2's (grasp-and-lift's block at 305 mm, a meArm reaches
+    about 228). The meArm's own scene comes first; the MK2's are offered as placed for others."""
+    pg = open_page("mearm")
+    pg.wait("document.querySelectorAll('#scene-select option').length > 2")
+    groups = pg.page.eval_on_selector(
+        "#scene-select", "s => [[...s.children].filter(c => c.tagName === 'OPTION').map(o => o.value),"
+        " [...s.querySelectorAll('optgroup')].map(g => [g.label, [...g.children].map(o => o.value)])]")
+    own, others = groups
+    assert own == ["", "grasp-and-lift-mearm"], own
+    assert others[0][0] == "placed for other arms" and "grasp-and-lift" in others[0][1], others
+    # the MK2: the other way round
+    pg.page.select_option("#robot-select", "mk2plus")
+    pg.wait("a.robot && a.robot.source.endsWith('mk2plus.json')", timeout=20000)
+    pg.wait("[...document.querySelectorAll('#scene-select > option')].some(o => o.value === 'grasp-and-lift')")
+    assert "grasp-and-lift-mearm" in pg.page.eval_on_selector_all("#scene-select optgroup option", "os => os.map(o => o.value)")
+    assert pg.errors == []

@@ -93,7 +93,7 @@ async function blocklyCss(media) {
 }
 
 // The shipped files, and their index (the worker lists robots, scenes and programs from it).
-const index = { robots: [], scenes: [], cells: [], programs: [], meshes: [], exercises: [], plans: [] };
+const index = { robots: [], scenes: [], sceneSizedFor: {}, cells: [], programs: [], meshes: [], exercises: [], plans: [] };
 function copyTree(from, to, keep) {
   for (const name of readdirSync(from).sort()) {
     const src = join(from, name), dst = join(to, name);
@@ -110,6 +110,9 @@ copyTree(join(repo, "scenes"), join(out, "data/scenes"), isData);
 copyTree(join(repo, "programs"), join(out, "data/programs"), (n) => /\.(arm|robosim)$/.test(n));
 index.robots = readdirSync(join(out, "data/robots")).filter(isData).map((n) => n.replace(/\.json$/, ""));
 index.scenes = readdirSync(join(out, "data/scenes")).filter(isData).map((n) => n.replace(/\.json$/, ""));
+// which arms each scene is placed for (its "sized_for": the menu offers a scene first to them;
+// the engine's loader checks the whole file when it opens)
+for (const n of index.scenes) index.sceneSizedFor[n] = JSON.parse(readFileSync(join(out, `data/scenes/${n}.json`), "utf8")).sized_for ?? [];
 index.programs = readdirSync(join(out, "data/programs"));
 // The cells (several arms, cells/README.md): of shipped robots, the page opens them by name.
 copyTree(join(repo, "cells"), join(out, "data/cells"), isData);

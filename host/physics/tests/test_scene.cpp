@@ -53,6 +53,21 @@ TEST(Scene, ReadsEveryField) {
   EXPECT_FALSE(s.objects[1].movable);
   EXPECT_EQ(s.objects[1].name, "object 1");
   EXPECT_FALSE(parse_scene(R"({"ground": false})", "s.json").ground);
+  EXPECT_EQ(parse_scene(R"({"sized_for": ["mearm", "mk2plus"]})", "s.json").sized_for,
+            (std::vector<std::string>{"mearm", "mk2plus"}));
+}
+
+// Every shipped scene names the shipped robots it is placed for (the studio's menu offers it
+// to them first), and each one is a shipped robot.
+TEST(Scene, ShippedScenesSayWhichArmsTheyArePlacedFor) {
+  for (const auto& entry : std::filesystem::directory_iterator(std::string(ARTICULA_SOURCE_DIR) + "/scenes")) {
+    if (entry.path().extension() != ".json" || entry.path().filename() == "scene.schema.json") continue;
+    SCOPED_TRACE(entry.path().string());
+    const Scene s = load_scene_file(entry.path().string());
+    EXPECT_FALSE(s.sized_for.empty());
+    for (const std::string& r : s.sized_for)
+      EXPECT_TRUE(std::filesystem::exists(std::string(ARTICULA_SOURCE_DIR) + "/robots/" + r + ".json")) << r;
+  }
 }
 
 TEST(Scene, ErrorsNameTheJsonPointer) {
@@ -70,6 +85,7 @@ TEST(Scene, ErrorsNameTheJsonPointer) {
   EXPECT_EQ(error_of(R"({"objects": [{"name": "a", "type": "sphere", "size": [1]}, {"name": "a", "type": "sphere", "size": [1]}]})"),
             "s.json: /objects/1/name: duplicate name \"a\"");
   EXPECT_EQ(error_of(R"({"ground": {"friction": -1}})"), "s.json: /ground/friction: must be >= 0 (got -1)");
+  EXPECT_EQ(error_of(R"({"sized_for": "mearm"})"), "s.json: /sized_for: must be an array of robot names");
   EXPECT_EQ(error_of(R"({"objects": [{"type": "box", "size": [1, 1, 1], "xyz": [9000, 0, 0]}]})"),
             "s.json: /objects/0/xyz: outside the world box");
   EXPECT_EQ(error_of("{\n  \"ground\": tru\n}"), "s.json: not valid JSON at line 2, column 16");

@@ -147,6 +147,7 @@ export interface SceneMsg {
   title: string;
   objects: SceneObjectInfo[];
   scenes: string[];
+  sized_for?: Record<string, string[]>; // each scene's arms (none: any): the menu offers a scene to them first
   cells?: string[]; // the shipped cells (several arms), for the Cell menu
 }
 

@@ -41,7 +41,7 @@ export const restartPhysics = (scene: string) => startPhysics(scene);
 
 export function sceneMessage(): Out {
   return { type: "scene", name: S.sceneName, title: S.sim ? S.sim.sceneName : "", objects: S.sim ? S.sim.objects : [],
-    scenes: S.index.scenes, cells: S.index.cells ?? [] };
+    scenes: S.index.scenes, sized_for: S.index.sceneSizedFor ?? {}, cells: S.index.cells ?? [] };
 }
 
 export function physicsMessage(rtf: number | null = null, behind = false): Out {

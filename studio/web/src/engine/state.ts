@@ -16,7 +16,10 @@ export interface RobotInfo {
 }
 
 /** The site's shipped files (data/index.json, which make web writes). */
-export interface SiteIndex { robots: string[]; scenes: string[]; cells?: string[]; programs: string[]; meshes: string[] }
+export interface SiteIndex {
+  robots: string[]; scenes: string[]; cells?: string[]; programs: string[]; meshes: string[];
+  sceneSizedFor?: Record<string, string[]>; // each scene's "sized_for": the shipped robots its objects are placed for
+}
 
 export const S = {
   engine: null as unknown as Engine,

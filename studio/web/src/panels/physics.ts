@@ -60,6 +60,7 @@ export function logEvents(events: SimEvent[], each: (e: SimEvent) => void = () =
 
 export function initPhysics(studio: Studio): void {
   s = studio;
+  s.editor.signals.robotShown.add(() => s.editor.scene && sceneMenu(s.editor.scene)); // another arm, other scenes first
   $("scene-select").addEventListener("change", (e) => {
     const v = (e.target as HTMLSelectElement).value;
     // a cell (several arms: panels/cell.ts), or a scene for the one arm (which closes a cell)
@@ -79,13 +80,25 @@ export function initPhysics(studio: Studio): void {
   };
 }
 
-export function showScene(m: SceneMsg): void {
-  s.editor.scene = m;
+/** The scene menu: the scenes placed for the arm shown first, those placed for other arms after
+ * (said so), then the cells; the scene on. */
+function sceneMenu(m: SceneMsg): void {
   const sel = $("scene-select") as HTMLSelectElement;
-  setOptions(sel, [{ value: "", label: "off" }, ...m.scenes]);
+  // the scenes placed for the arm shown first; those placed for other arms after, said so
+  const stem = s.editor.robot?.source.split("/").pop()?.replace(/\.json$/, "") ?? "";
+  const fits = (n: string) => !(m.sized_for?.[n]?.length) || m.sized_for[n].includes(stem);
+  const mine = m.scenes.filter(fits), others = m.scenes.filter((n) => !fits(n));
+  setOptions(sel, [{ value: "", label: "off" }, ...mine]);
+  if (others.length)
+    sel.appendChild(h("optgroup", { label: "placed for other arms" }, ...others.map((n) => h("option", { value: n }, n))));
   if (m.cells?.length)
     sel.appendChild(h("optgroup", { label: "several arms: a cell" }, ...m.cells.map((c) => h("option", { value: `cell:${c}` }, c))));
   sel.value = m.name ?? "";
+}
+
+export function showScene(m: SceneMsg): void {
+  s.editor.scene = m;
+  sceneMenu(m);
   s.view.setObjects(m.objects);
   $("physics-bar").hidden = m.name === null;
   $("events").hidden = m.name === null;
