@@ -34,6 +34,7 @@ int run_wiring(int argc, char** argv) {
     t.add({x["pin"].get<std::string>(), x["part"].get<std::string>(), x["signal"].get<std::string>(),
            x["motor"].is_null() ? "" : x["motor"].get<std::string>()});
   std::cout << t.str();
+  for (const auto& note : w["supply"]) std::cout << "\n" << note.get<std::string>() << '\n';
   return 0;
 }
 

@@ -3,6 +3,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include <cstdio>
+
 #include "board.h"
 
 namespace articula::host {
@@ -170,10 +172,81 @@ const char* firmware_build(const Robot& robot) {
   return kind == kDriveStepDir ? "articula-cnc" : kind == kDriveServo ? "articula-servo" : "articula-nano";
 }
 
+namespace {
+// The jumpers under a STEP/DIR module for a microstep mode (standalone: no serial interface),
+// as its datasheet's table has them; "" when the chip has no such mode.
+std::string microstep_jumpers(const StepDirChip& chip, int microsteps) {
+  struct Mode {
+    const char* chip;
+    int microsteps;
+    const char* on;
+  };
+  static const Mode kModes[] = {
+      {"a4988", 1, "none"},           {"a4988", 2, "MS1"},           {"a4988", 4, "MS2"},
+      {"a4988", 8, "MS1 and MS2"},    {"a4988", 16, "MS1, MS2 and MS3"},
+      {"drv8825", 1, "none"},         {"drv8825", 2, "M0"},          {"drv8825", 4, "M1"},
+      {"drv8825", 8, "M0 and M1"},    {"drv8825", 16, "M2"},         {"drv8825", 32, "M0 and M2"},
+      {"tmc2208", 2, "MS1"},          {"tmc2208", 4, "MS2"},         {"tmc2208", 8, "none"},
+      {"tmc2208", 16, "MS1 and MS2"}, {"tmc2209", 8, "none"},        {"tmc2209", 16, "MS1 and MS2"},
+      {"tmc2209", 32, "MS1"},         {"tmc2209", 64, "MS2"},
+  };
+  for (const Mode& m : kModes)
+    if (std::string(m.chip) == chip.id && m.microsteps == microsteps) return m.on;
+  return "";
+}
+}  // namespace
+
+std::vector<std::string> supply_notes(const Robot& robot) {
+  std::vector<std::string> out;
+  if (!robot.has_motors || robot.drive.motors.empty()) return out;
+  const DriveKind kind = robot.drive.motors.front().kind;
+  const int n = int(robot.drive.motors.size());
+  if (kind == kDriveServo) {
+    const int servos = n + (robot.gripper.present ? 1 : 0);
+    char amps[16];
+    std::snprintf(amps, sizeof amps, "%.1f", servos * kServoStallAmps);
+    out.push_back("The servos' + to a 5 V supply that gives " + std::string(amps) + " A: each of the " +
+                  std::to_string(servos) + " servos (the gripper's too) draws up to about 0.65 A when it stalls; "
+                  "not the Nano's 5 V pin, which gives USB's 0.5 A and resets the Nano when the servos pull it down.");
+    out.push_back("The servos' - to that supply's GND, and that GND to one of the Nano's GND pins: one common ground, "
+                  "or the signals mean nothing to the servos.");
+  } else if (kind == kDriveStepDir) {
+    out.push_back("The shield's motor supply: 12 to 24 V to its power terminal (never through USB); its GND is the "
+                  "Nano's through the shield.");
+    std::vector<bool> said(size_t(n), false);  // the motors of one chip and mode in one sentence
+    for (int i = 0; i < n; ++i) {
+      if (said[size_t(i)]) continue;
+      const int chip_id = robot.drive.motors[size_t(i)].chip, micro = robot.actuation.motors[i].microsteps;
+      std::vector<std::string> names;
+      for (int k = i; k < n; ++k)
+        if (robot.drive.motors[size_t(k)].chip == chip_id && robot.actuation.motors[k].microsteps == micro)
+          said[size_t(k)] = true, names.push_back(robot.motor_names[size_t(k)]);
+      std::string list;
+      for (size_t k = 0; k < names.size(); ++k)
+        list += (k == 0 ? "" : k + 1 == names.size() ? " and " : ", ") + names[k];
+      const StepDirChip& chip = kStepDirChip[chip_id];
+      const std::string on = microstep_jumpers(chip, micro);
+      const bool one = names.size() == 1;
+      out.push_back(std::string(one ? "The " : "Each ") + chip.title + " (" + list + (one ? " motor" : " motors") + "): 1/" +
+                    std::to_string(micro) + " step, its microstep jumpers on: " +
+                    (on.empty() ? "(a mode the chip lacks)" : on) +
+                    "; its current limit set with its potentiometer to the motor's rated current before the first move.");
+    }
+  } else if (kind == kDriveUln2003) {
+    out.push_back("The ULN2003 boards' + and - to a 5 V supply (each 28BYJ-48 draws about 0.25 A), its GND joined to "
+                  "the Nano's GND.");
+  } else {
+    out.push_back("Each L298N's +12V and GND to the motors' supply (12 V for NEMA17s), that GND joined to the Nano's "
+                  "GND; keep the board's 5 V jumper on at 12 V or less.");
+  }
+  return out;
+}
+
 nlohmann::json wiring_json(const Robot& robot) {
   const board::BoardInfo& info = board::kBoardInfo[robot.drive.board];
   nlohmann::json out = {{"board", info.id}, {"board_title", info.title}, {"given", robot.drive.given},
-                        {"firmware", firmware_build(robot)}, {"wires", nlohmann::json::array()}};
+                        {"firmware", firmware_build(robot)}, {"wires", nlohmann::json::array()},
+                        {"supply", supply_notes(robot)}};
   if (!robot.has_motors) {
     out["error"] = "the robot has no motors: nothing to wire";
     return out;

@@ -59,11 +59,20 @@ std::string io_pins_free_text(const Robot& robot);
 
 // The wiring as data, for the CLI (`articula wiring`), Python (`Robot.wiring()`) and the page:
 // {"board": id, "board_title", "given" (the file names its drive), "firmware" (firmware_build),
+// "supply" (supply_notes),
 // "wires": [{"pin": "D4",
 // "signal": "IN1", "part": "L298N #0", "motor": "base" or null}]}; for an arm the board cannot
 // wire (a file that names no drive and has more motors than slots), "wires" is empty and
 // "error" says why.
 nlohmann::json wiring_json(const Robot& robot);
+
+// What the wires alone do not say, a sentence each: the supply the drive needs and its common
+// ground (servos: 5 V and their stall current, not the Nano's pin; L298N, ULN2003, the CNC
+// shield's motor supply), and on a CNC shield each driver's microstep jumpers for the file's
+// microsteps and its current limit. wiring_json's "supply".
+std::vector<std::string> supply_notes(const Robot& robot);
+// A 9 g hobby servo's stall current, A (the SG90's datasheet: about 0.65 A at 5 V).
+constexpr double kServoStallAmps = 0.65;
 
 // A header pin's name by its index ("D12", "A0"; "pin 20" past the header's last).
 std::string header_pin_name(int pin);

@@ -560,6 +560,17 @@ TEST(Cli, WiringListsEveryPinOfTheBoardTheFileNames) {
   int inputs = 0;
   for (const auto& w : j["wires"]) inputs += w["signal"].get<std::string>().rfind("IN", 0) == 0;
   EXPECT_EQ(inputs, 12);  // three L298Ns, four inputs each
+  // what the wires alone do not say (issue 55, 4): a CNC shield's jumpers for the file's 1/8
+  // step and its motor supply; a servo arm's 5 V supply for the stall current and one ground
+  r = run_stdout("wiring mk2plus-cnc");
+  EXPECT_NE(r.out.find("Each A4988 (base, shoulder and elbow motors): 1/8 step, its microstep jumpers on: MS1 and MS2; its current limit"),
+            std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("12 to 24 V to its power terminal"), std::string::npos) << r.out;
+  r = run_stdout("wiring mearm --json");
+  const nlohmann::json servo = nlohmann::json::parse(r.out);
+  ASSERT_EQ(servo["supply"].size(), 2u);
+  EXPECT_EQ(servo["supply"][0].get<std::string>().rfind("The servos' + to a 5 V supply that gives 2.6 A: each of the 4 servos", 0), 0u);
+  EXPECT_NE(servo["supply"][1].get<std::string>().find("one common ground"), std::string::npos);
   r = run("wiring panda");
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.out.find("cannot wire Franka Emika Panda: the robot has no motors"), std::string::npos) << r.out;

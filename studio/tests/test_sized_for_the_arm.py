@@ -54,3 +54,15 @@ def test_the_scene_menu_offers_the_arms_own_scenes_first(open_page):
     pg.wait("[...document.querySelectorAll('#scene-select > option')].some(o => o.value === 'grasp-and-lift')")
     assert "grasp-and-lift-mearm" in pg.page.eval_on_selector_all("#scene-select optgroup option", "os => os.map(o => o.value)")
     assert pg.errors == []
+
+
+def test_the_mearms_wiring_says_its_5_v_supply_and_common_ground(open_page):
+    """Before: the wiring view showed the signals only: no 5 V supply, no common ground, no word
+    of the servos' stall current (which resets a Nano powering them from its own pin)."""
+    pg = open_page("mearm")
+    pg.wait("a.wiring.wires > 0", timeout=15000)
+    supply = pg.page.eval_on_selector_all("#wiring-supply li", "ls => ls.map(l => l.textContent)")
+    assert len(supply) == 2, supply
+    assert supply[0].startswith("The servos' + to a 5 V supply that gives 2.6 A"), supply
+    assert "not the Nano's 5 V pin" in supply[0] and "one common ground" in supply[1], supply
+    assert pg.errors == []

@@ -636,6 +636,11 @@ def test_the_wiring_view_draws_every_wire_from_the_robot_file(open_page, tmp_pat
     texts = pg.page.eval_on_selector_all("#wiring text", "ts => ts.map(t => t.textContent)")
     for t in ("Arduino Uno on a CNC Shield V3", "D2", "STEP", "socket X (A4988), base", "D8", "EN", "A3"):
         assert t in texts, (t, texts)
+    # what the wires alone do not say: the motor supply, each driver's jumpers for the file's 1/8 step
+    supply = pg.page.eval_on_selector_all("#wiring-supply li", "ls => ls.map(l => l.textContent)")
+    assert supply[0].startswith("The shield's motor supply: 12 to 24 V"), supply
+    assert supply[1].startswith("Each A4988 (base, shoulder and elbow motors): 1/8 step, its microstep jumpers on: MS1 and MS2;"), supply
+    assert len(supply) == 2, supply
     pg.page.click("#wiring-box summary")
     pg.page.locator("#wiring-box").screenshot(path=str(SHOTS / "studio-wiring.png"))
     # a file whose motor is named like markup: drawn as the text it is

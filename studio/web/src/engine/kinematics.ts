@@ -45,7 +45,7 @@ function ikReply(res: IkResult, seq: unknown): Out {
     type: "ik", status: res.status, solver: res.solver, position_error_mm: res.position_error_mm,
     orientation_error_deg: res.orientation_error_deg, iterations: res.iterations,
     limited_by: [...(res.limited_by ?? []), ...(res.limited_by_motors ?? [])], beyond_reach: res.beyond_reach,
-    why: res.why ?? "", seq: seq ?? null,
+    why: res.why ?? "", pen_mm: S.pen, seq: seq ?? null,
   };
 }
 

@@ -55,7 +55,8 @@ export interface RobotMsg {
   servos?: { pin: string; zeroUs: number }[] | null;
   // every wire (host/lib/wiring.h): its board, and each pin and what it feeds; error: none
   wiring?: { board: string; board_title: string; given: boolean; firmware: string; error?: string;
-    wires: { pin: string; signal: string; part: string; motor: string | null }[] };
+    wires: { pin: string; signal: string; part: string; motor: string | null }[];
+    supply?: string[] }; // what the wires alone do not say: the supply, its ground, jumpers (host/lib/wiring.h)
   robots: string[];
   programs: string[];
   import_notes: string[];
@@ -94,6 +95,8 @@ export interface IkMsg {
   beyond_reach: boolean;
   // not reached: what holds the tool back and how near it comes (the engine's words: ik_miss_words)
   why?: string;
+  // a pen held (mm below the tool point; 0: none): the target was its tip
+  pen_mm?: number;
   seq?: number | null;
   iteration?: number;
   done?: boolean;

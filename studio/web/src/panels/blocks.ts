@@ -70,7 +70,14 @@ function setMode(m: "text" | "blocks", fromProject = false): void {
 
 // Blockly's zelos renderer, but its CSS from the site's own file (the build writes it into
 // app.css): a <style> Blockly would add is refused by the page's Content-Security-Policy.
+// On a touch screen every target is 44 px or more (docs/studio.md): zelos sizes its blocks in
+// grid units (a number's box is 8), so there a unit is 5.5 px, not 4 (which gave 23 px at the
+// desktop's scale 0.7), and the workspace starts at scale 1; the text keeps its size.
+const TOUCH = typeof matchMedia === "function" && matchMedia("(pointer: coarse)").matches;
 class Constants extends Blockly.zelos.ConstantProvider {
+  constructor() {
+    super(TOUCH ? 5.5 : undefined);
+  }
   protected override injectCSS_(): void {}
 }
 class Renderer extends Blockly.zelos.Renderer {
@@ -151,7 +158,7 @@ function ensureWorkspace(): void {
   if (s.editor.robot) setJoints(s.editor.robot.joints);
   ws = Blockly.inject($("blockly"), {
     toolbox: toolbox(s.editor.robot?.places ?? null), css: false, sounds: false, media: "assets/blockly-media/", trashcan: true, renderer: "zelos", theme: Blockly.Themes.Classic,
-    zoom: { controls: true, startScale: 0.7, wheel: false }, move: { scrollbars: true, drag: true, wheel: true },
+    zoom: { controls: true, startScale: TOUCH ? 1 : 0.7, wheel: false }, move: { scrollbars: true, drag: true, wheel: true },
     grid: { spacing: 24, length: 2, colour: "#dde4ec", snap: true },
   });
   ws.addChangeListener(onChange);

@@ -282,6 +282,7 @@ export function initDraw(studio: Studio): void {
   });
   s.editor.signals.nanoSteps.add(({ rows, motors }) => {
     nanoMotors = motors;
+    if (!inUse) return; // ink once there is a sheet and a pen (the panel used), not a pick and place's
     for (const v of rows) ink.nano.rows.push(v);
     askInk("nano");
   });

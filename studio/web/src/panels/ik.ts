@@ -156,6 +156,9 @@ export function showIk(m: IkMsg): void {
     }
     else if ((m.iteration ?? 0) >= 400) text += " Stopped after 400 iterations.";
   }
+  // with a pen in the gripper the target is its tip, not the tool point: said, or a student
+  // wonders why the tool stops above the ball
+  if (m.pen_mm) text = `The pen's tip (${m.pen_mm} mm below the tool point) is the target. ${text}`;
   if (s.editor.physics?.on && m.status === "reached")
     text += " In the physics the arm goes there unless something blocks it (the events in the view say so).";
   el.textContent = text;

@@ -3,7 +3,7 @@
 // the left, each driver, switch and servo on the right, a line from each pin to the input it
 // feeds, coloured by motor. Saved as SVG for printing: a student wires the arm from the paper.
 // Every name is text (textContent), never markup: a robot file is untrusted.
-import { $, download, svgEl as el } from "../page/dom";
+import { $, download, fill, h, svgEl as el } from "../page/dom";
 import type { Studio } from "../page/context";
 import type { RobotMsg } from "../engine/messages";
 
@@ -39,6 +39,8 @@ function draw(w: Wiring | undefined, robotName: string): void {
   const title = $("wiring-title");
   Object.assign(wiringStatus, { board: w?.board ?? "", firmware: w?.firmware ?? "", wires: 0, error: w?.error ?? "" });
   ($("wiring-save") as HTMLButtonElement).disabled = true;
+  // the supply, the common ground and a CNC shield's jumpers: a line each, as text
+  fill($("wiring-supply"), ...(w && !w.error ? w.supply ?? [] : []).map((t) => h("li", null, t)));
   if (!w || w.error) {
     title.textContent = w?.error ? `No wiring: ${w.error}.` : "No wiring.";
     svg.setAttribute("viewBox", "0 0 10 10");

@@ -1,0 +1,47 @@
+"""What a class found cut or too small (issue 55, item 9), each named after what a student saw:
+at a lab PC's 1366x768 the Plots tab ran off the panel's edge and the engine's chip off the
+header; on an upright tablet Blockly's categories were 25 px and its number fields 23 px tall,
+against the 44 px every touch target gets."""
+
+from __future__ import annotations
+
+TABS = """() => { const l = document.getElementById('dock-tabs'), r = l.getBoundingClientRect();
+  return { fits: l.scrollWidth <= l.clientWidth,
+           out: [...l.children].filter(t => { const b = t.getBoundingClientRect();
+             return b.left < r.left - 0.5 || b.right > r.right + 0.5 || t.scrollWidth > t.clientWidth; }).map(t => t.id) }; }"""
+HEADER = """() => [...document.querySelector('header').children].filter(e => !e.hidden && e.getBoundingClientRect().width > 0)
+  .filter(e => e.getBoundingClientRect().right > innerWidth + 0.5 || (e.id !== 'project-tools' && e.scrollWidth > e.clientWidth + 0.5))
+  .map(e => e.id || e.className)"""
+
+
+def test_at_1366_every_panel_tab_and_the_engine_chip_are_whole(open_page):
+    pg = open_page("mk2plus", width=1366, height=768)
+    assert pg.page.evaluate(TABS) == {"fits": True, "out": []}
+    # Blocks widen the panel; the project saved: its name gives way, the chips and STOP stay whole
+    pg.page.click("#tab-program")
+    pg.page.click("#mode-blocks")
+    pg.wait("a.programMode === 'blocks' && document.getElementById('project-saved').textContent !== ''")
+    assert pg.page.evaluate(TABS) == {"fits": True, "out": []}
+    assert pg.page.evaluate(HEADER) == []
+    chip = pg.page.locator("#conn").bounding_box()
+    assert chip["x"] + chip["width"] <= 1366, chip
+    assert pg.page.evaluate("() => document.documentElement.scrollWidth") <= 1366
+    assert pg.errors == []
+
+
+def test_on_a_tablet_blocks_categories_and_number_fields_are_44_px(open_page):
+    pg = open_page("mk2plus", width=768, height=1024, touch=True)
+    pg.page.tap("#tab-program")
+    pg.page.tap("#mode-blocks")
+    pg.page.locator("#blockly").scroll_into_view_if_needed()
+    pg.page.wait_for_selector("#blockly .blocklyToolboxCategory")
+    heights = pg.page.eval_on_selector_all("#blockly .blocklyToolboxCategory", "cs => cs.map(c => c.getBoundingClientRect().height)")
+    assert min(heights) >= 44, heights
+    pg.page.tap("#blockly .blocklyToolboxCategory:has-text('Move')")
+    pg.page.wait_for_selector("#blockly svg.blocklyToolboxFlyout g.arm_tool_to[data-id]")
+    # a number is a shadow block of its own, tapped to type in it
+    fields = pg.page.eval_on_selector_all("#blockly svg.blocklyToolboxFlyout g.arm_tool_to[data-id] g.math_number.blocklyShadow",
+                                          "fs => fs.map(f => f.getBoundingClientRect().height)")
+    assert len(fields) == 3 and min(fields) >= 44, fields
+    pg.page.screenshot(path="/tmp/articula-tablet-blocks.png")
+    assert pg.errors == []

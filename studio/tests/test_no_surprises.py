@@ -1,0 +1,46 @@
+"""Surprises a class met (issue 55, item 7), named after what a student saw: a pick and place run
+on the virtual Nano left pen ink on the floor (the default pen and paper counted though no one
+had chosen to draw), and with a pen held the IK aimed the pen's tip without saying so."""
+
+from __future__ import annotations
+
+
+def test_a_pick_and_place_on_the_virtual_nano_leaves_no_ink(open_page):
+    pg = open_page("mk2plus")
+    pg.page.click("#tab-arm") if pg.page.is_visible("#tab-arm") else None
+    pg.page.select_option("#arm-port", "page:virtual")
+    pg.page.click("#arm-connect")
+    pg.wait("a.arm.connected && a.arm.status !== null", timeout=30000)
+    pg.page.click("#tab-program") if pg.page.is_visible("#tab-program") else None
+    # down low (the tool about 60 mm above the floor: a 120 mm pen's tip would be in it) and back
+    pg.page.fill("#editor", "G 100\nM 0 50 -40\nG 0\nM 0 75 -20\n")
+    pg.page.check("#drive-arm")
+    pg.page.click("#run")
+    pg.wait("a.arm.programDone === true || a.arm.error !== ''", timeout=90000)
+    assert pg.hook("a.arm.error") == ""
+    pg.page.wait_for_timeout(600)  # (the ink is asked for at most every 250 ms)
+    assert pg.hook("a.paper.ink.points") == 0 and pg.hook("a.paper.ink.received") == 0
+    assert pg.page.locator("#paper-view #ink polyline").count() == 0
+    assert pg.errors == []
+
+
+def test_with_a_pen_held_the_ik_says_it_aims_the_pens_tip(open_page):
+    pg = open_page("mk2plus")
+    pg.page.click("#tab-ik") if pg.page.is_visible("#tab-ik") else None
+    for k, v in zip("xyz", (250, 0, 150)):
+        pg.page.fill(f"#t{k}", str(v))
+    pg.page.click("#solve")
+    pg.wait("a.ik && a.ik.status === 'reached'")
+    assert pg.page.text_content("#ik-status").startswith("Reached"), pg.page.text_content("#ik-status")
+    # the paper panel used: a pen in the gripper
+    pg.page.click("#tab-program") if pg.page.is_visible("#tab-program") else None
+    pg.page.locator("#draw-section").scroll_into_view_if_needed()
+    pg.page.fill("#draw-z", "10")
+    pg.page.dispatch_event("#draw-z", "change")
+    pg.page.click("#tab-ik") if pg.page.is_visible("#tab-ik") else None
+    pg.page.fill("#tz", "20")
+    pg.page.click("#solve")
+    pg.wait("a.ik && a.ik.pen_mm === 120")
+    said = pg.page.text_content("#ik-status")
+    assert said.startswith("The pen's tip (120 mm below the tool point) is the target. Reached"), said
+    assert pg.errors == []
