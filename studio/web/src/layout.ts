@@ -29,7 +29,7 @@ interface Tab {
 }
 
 const TABS: Tab[] = [
-  { id: "joints", label: "Joints", title: "Move the arm joint by joint; where its tool is", parts: ["cell-arms-section", "joints-section", "tool-section"] },
+  { id: "joints", label: "Joints", title: "Move the arm joint by joint; where its tool is", parts: ["cell-arms-section", "joints-section", "jog-section", "tool-section"] },
   { id: "ik", label: "IK", title: "Inverse kinematics: put the tool at a target", parts: ["ik-section"] },
   { id: "program", label: "Program", title: "Write, open and run a program", parts: ["cell-section", "program-section", "draw-section"] },
   { id: "arm", label: "Arm", title: "The real arm or the virtual Nano: connect, send, flash, the experiment", parts: ["arm-section", "experiment-section"] },

@@ -39,6 +39,7 @@ export interface ArmPart {
   send(line: string): boolean; // one line, as the Send box sends it; false: no arm
   choosePort(): Promise<{ port: SerialLike; label: string } | { why: string }>;
   disconnect(): Promise<void>;
+  pose(): number[] | null; // the joint values of the arm's last status report (null: none)
 }
 
 /** Draw and write's paper and pen, as a project keeps them (the draw panel answers for it). */
@@ -76,6 +77,7 @@ export interface ProjectOnScreen {
   saved(id: string, rev: number, doc: Project): void;
   setExperiment(e: Experiment): void;
   rename(name: string): void;
+  setNote(note: string): void;
   open(doc: Project, id?: string, rev?: number): Promise<void>;
 }
 
@@ -108,7 +110,7 @@ export class Editor {
   blocks: BlocksPart = { mode: () => "text", setMode: none, json: () => null, load: none, fromText: none, teach: none,
     dragging: () => false, pending: () => false };
   program: ProgramPart = { text: () => "", name: () => "program.arm", set: none };
-  arm: ArmPart = { link: () => null, run: none, send: () => false, choosePort: none, disconnect: async () => undefined };
+  arm: ArmPart = { link: () => null, run: none, send: () => false, choosePort: none, disconnect: async () => undefined, pose: () => null };
   paper: PaperPart = { get: none, set: none };
   robotFile: RobotFile | null = null;
   // the camera a project opens with, taken when its robot is first drawn (else the robot is framed)
@@ -151,6 +153,7 @@ export class Editor {
     experimentOpened: new Signal<Experiment | null>(),
     // another project is being put on screen (its robot loads first)
     projectOpened: new Signal<Project>(),
+    noteOpened: new Signal<string>(), // a project that carries a teacher's note is on screen (from a link, a file)
     // the exercise's goal on screen (null: the project is no exercise)
     goalShown: new Signal<Goal | null>(),
   };
@@ -158,7 +161,7 @@ export class Editor {
   project: ProjectOnScreen = {
     id: "", rev: 0, doc: null as unknown as Project, shown: null as unknown as ProjectOnScreen["shown"], applying: true, ready: false,
     keeper: { save: none, read: none }, busy: false, follow: none, start: none, document: none, note: none, saved: none,
-    setExperiment: none, rename: none, open: none,
+    setExperiment: none, rename: none, setNote: none, open: none,
   };
   // true while an edit is being put on screen (a robot loading): undo and redo wait for it,
   // in the order they were asked for (a student tapping Undo three times gets three steps)

@@ -109,6 +109,13 @@ export class OpenProject implements ProjectOnScreen {
   }
 
   /** A new name for the project on screen (not history). */
+  /** The teacher's note the project carries (shown first when it opens from a link or a file). */
+  setNote(note: string): void {
+    this.doc = { ...this.document(), note };
+    this.shown = { ...this.shown, doc: this.doc };
+    this.ed.signals.changed.dispatch("name");
+  }
+
   rename(name: string): void {
     this.doc = { ...this.document(), name };
     this.shown = { ...this.shown, doc: this.doc };
@@ -190,6 +197,8 @@ export class OpenProject implements ProjectOnScreen {
       if (ed.robot?.gripper) this.engine.send({ type: "gripper", percent: d.pose.gripper });
     }
     ed.signals.goalShown.dispatch(d.goal);
+    // a teacher's note, first, when the project comes from a link, a file or an exercise (not yet kept)
+    if (d.note && this.rev === 0 && !this.undoing) ed.signals.noteOpened.dispatch(d.note);
     ed.signals.experimentOpened.dispatch(d.experiment ?? null);
     this.shown = { id: this.id, rev: this.rev, doc: this.doc };
     // what the engine answers to these is the project as it was, not an edit

@@ -17,6 +17,7 @@ import { drawHandlers } from "./draw";
 import { exerciseHandlers } from "./exercise";
 import { experimentHandlers } from "./experiment";
 import { kinematicHandlers } from "./kinematics";
+import { jogHandlers } from "./jog";
 import { PHYSICS_INTENTS, PHYSICS_ONLY, ensurePhysics, physicsIntent, physicsMessage, sceneIntent, sceneMessage,
   startPhysics } from "./physics";
 import { programHandlers } from "./program";
@@ -41,6 +42,7 @@ const handlers: Record<string, Handler> = {
   cell_run: cellRunIntent,
   ...cellArmHandlers,
   ...kinematicHandlers,
+  ...jogHandlers,
   ...programHandlers,
   ...armHandlers,
   ...blockHandlers,
@@ -50,7 +52,7 @@ const handlers: Record<string, Handler> = {
 };
 
 // Intents that end a playing program or an animation.
-const STOPS_TASKS = new Set(["set_joint", "set_joints", "ik", "home", "zero", "program_load", "set_lengths"]);
+const STOPS_TASKS = new Set(["set_joint", "set_joints", "jog", "ik", "home", "zero", "program_load", "set_lengths"]);
 
 function kinematic(kind: string, m: Msg): Out[] {
   return handlers[kind](m) as Out[];

@@ -50,6 +50,10 @@ export class ArmLines {
               private readonly onStatus: (p: Parsed & { kind: "status" }, pose: NonNullable<ReadLine["pose"]>, line: string) => void,
               private readonly onGone: (why: string) => void) {}
 
+  /** Every line written to the arm and heard from it, as it goes (the arm panel's console);
+   * `status`: a status report (the console's filter hides them). */
+  onTraffic: ((dir: "sent" | "heard", line: string, status: boolean) => void) | null = null;
+
   /** The arm's time, ms: the virtual Nano's own clock, or the page's for a real port. */
   now: () => number = () => performance.now();
 
@@ -124,6 +128,7 @@ export class ArmLines {
     const entry: Outstanding = { line, banner: /^I\s*(#.*)?$/.test(line), output: [], ...waiter };
     this.unanswered.push(entry);
     this.note("sent", line.slice(0, 24));
+    this.onTraffic?.("sent", line, false);
     await this.write(line + "\n");
     return entry;
   }
@@ -161,6 +166,7 @@ export class ArmLines {
       this.reading--;
     }
     const { parsed: p, pose } = got;
+    this.onTraffic?.("heard", line, p.kind === "status");
     if (p.kind === "status" && pose) {
       this.onStatus(p, pose, line);
     } else if (p.kind === "info") {

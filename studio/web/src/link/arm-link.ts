@@ -61,6 +61,7 @@ export class ArmLink {
 
   constructor(private engine: ArmEngine, private emit: (m: Record<string, unknown>) => void) {
     this.lines = new ArmLines((line) => engine.read(line), (p, pose, line) => this.onStatus(p, pose, line), (why) => this.lost(why));
+    this.lines.onTraffic = (dir, line, status) => this.emit({ type: "arm_console", dir, line, status });
   }
 
   /** Opens the port, checks the banner names `robot`, starts the reports. */
@@ -398,6 +399,26 @@ export class ArmLink {
     });
   }
 
+  /** A program is being sent to the arm. */
+  get running(): boolean {
+    return this.programRunning;
+  }
+
+  /** The arm at rest (its last report said so). */
+  get atRest(): boolean {
+    return this.state === "Idle";
+  }
+
+  /** A held jog let go: the realtime `!` (the arm decelerates along its path to rest and its
+   * queue is emptied), without a STOP's messages. */
+  async halt(): Promise<void> {
+    if (!this.connected) return;
+    this.stopSentAt = performance.now();
+    this.fastUntil = this.stopSentAt + 1000;
+    this.lines.onTraffic?.("sent", "! (the jog let go)", false);
+    await this.lines.write("!").catch((e) => this.lost(`cannot write: ${(e as Error).message}`));
+  }
+
   /** STOP: the realtime `!` now, ahead of anything queued; no further program line. */
   async stop(): Promise<void> {
     if (!this.connected) return;
@@ -407,6 +428,7 @@ export class ArmLink {
     }
     this.stopSentAt = performance.now();
     this.fastUntil = this.stopSentAt + 1000;
+    this.lines.onTraffic?.("sent", "! (stop)", false);
     await this.lines.write("!").catch((e) => this.lost(`cannot write: ${(e as Error).message}`));
     this.emit({ type: "arm_stopped" });
   }

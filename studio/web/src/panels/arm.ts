@@ -16,7 +16,7 @@ import type { Reports } from "../page/reports";
 export const armReport: Reports["arm"] = {
   get connected() { return s?.editor.armConnected ?? false; },
   error: "", label: "", status: null, reply: null, stopMs: null, programLines: [], programDone: false, roundTrips: [], nano: null,
-  configurable: false, configured: null, checksum: null, lostTrace: [],
+  configurable: false, configured: null, checksum: null, lostTrace: [], console: 0,
 };
 
 let armRefusals: { line: number; command: string; reply: string; meaning: string }[] = []; // this run's refused lines
@@ -29,7 +29,8 @@ const say = (text: string, rejected: string[] = [], bad = false) => s.editor.sig
 export function initArm(studio: Studio): void {
   s = studio;
   // the arm while connected (or waiting to be configured), for the other panels
-  s.editor.arm = { link: () => link, run: runOnArm, send: sendToArm, choosePort, disconnect: disconnectArm };
+  s.editor.arm = { link: () => link, run: runOnArm, send: sendToArm, choosePort, disconnect: disconnectArm,
+    pose: () => armReport.status?.q ?? null };
   s.editor.signals.robotShown.add(armRobotShown);
   $("arm-connect").onclick = () => {
     const port = ($("arm-port") as HTMLSelectElement).value;
@@ -39,6 +40,11 @@ export function initArm(studio: Studio): void {
   $("arm-disconnect").onclick = () => void disconnectArm();
   $("arm-configure").onclick = () => void link?.configure();
   $("arm-send").onclick = sendLine;
+  $("console-clear").onclick = () => {
+    traffic.length = 0;
+    drawConsole();
+  };
+  $("console-status").addEventListener("change", drawConsole);
   $("arm-line").addEventListener("keydown", (e) => {
     if ((e as KeyboardEvent).key === "Enter") sendLine();
   });
@@ -97,7 +103,7 @@ async function connect(): Promise<void> {
     meaning: (reply) => s.engine.meaning(reply),
     reply: (name) => s.engine.reply(name),
     config: async () => ((await s.engine.call({ type: "arm_config" })) as unknown as { config: NanoConfig | { error: string } }).config,
-  }, (m) => armMessage(m as unknown as EngineMsg));
+  }, (m) => (m.type === "arm_console" ? consoleLine(m as unknown as Traffic) : armMessage(m as unknown as EngineMsg)));
   await link.connect(chosen.port, chosen.label, s.editor.robot?.name ?? "");
   if (!link.connected && !link.configurable) link = null;
 }
@@ -132,6 +138,32 @@ function virtualNano(): VirtualNanoPort {
     $("arm-speed").className = `rtf ${st.behind ? "behind" : ""}`;
   };
   return port;
+}
+
+// The console: every line sent to the arm and heard from it (the last CONSOLE_LINES), drawn at
+// most once a frame; status reports only when asked for (15 a second would bury the rest).
+type Traffic = { dir: "sent" | "heard"; line: string; status: boolean };
+const CONSOLE_LINES = 400;
+const traffic: (Traffic & { t: number })[] = [];
+let consoleQueued = false;
+function consoleLine(m: Traffic): void {
+  traffic.push({ ...m, t: performance.now() });
+  if (traffic.length > CONSOLE_LINES * 2) traffic.splice(0, traffic.length - CONSOLE_LINES * 2);
+  armReport.console = traffic.length;
+  if (!consoleQueued) {
+    consoleQueued = true;
+    requestAnimationFrame(drawConsole);
+  }
+}
+function drawConsole(): void {
+  consoleQueued = false;
+  const box = $("arm-console");
+  const statuses = ($("console-status") as HTMLInputElement).checked;
+  const atEnd = box.scrollTop + box.clientHeight >= box.scrollHeight - 4;
+  const shown = traffic.filter((m) => statuses || !m.status).slice(-CONSOLE_LINES);
+  fill(box, ...shown.map((m) => h("div", { class: m.dir === "sent" ? "sent" : m.status ? "status-line" : /^(error|ALARM)/.test(m.line) ? "err" : null },
+    `${m.dir === "sent" ? "→" : "←"} ${m.line}`)));
+  if (atEnd) box.scrollTop = box.scrollHeight;
 }
 
 function sendLine(): void {
@@ -187,6 +219,7 @@ function showArm(m: ArmMsg): void {
   $("arm-disconnect").hidden = !open;
   $("arm-configure-row").hidden = !m.configurable; // only when the Nano is another robot's
   $("arm-send-row").hidden = !m.connected;
+  $("arm-console-box").hidden = !open;
   $("view-legend").hidden = !m.connected; // the teal arm beside the model: which is which
   if (m.connected !== wasConnected) {
     wasConnected = m.connected;

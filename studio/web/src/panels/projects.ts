@@ -6,7 +6,7 @@
 import type { Studio } from "../page/context";
 import { $, banner, download, fill, h, setOptions } from "../page/dom";
 import type { Reports } from "../page/reports";
-import { MAX_FILE_BYTES, MAX_LINK, ProjectError, newProject, parseProject, projectFragment, readProject } from "../project/document";
+import { MAX_FILE_BYTES, MAX_LINK, MAX_NOTE, ProjectError, newProject, parseProject, projectFragment, readProject } from "../project/document";
 import type { Project } from "../project/document";
 import { freshName, saveNow, saving, setOnSaved, store } from "../project/autosave";
 import { newId } from "../project/store";
@@ -14,8 +14,8 @@ import type { Stored } from "../project/store";
 import { language } from "../page/environment";
 
 /** The Projects panel's share link (window.articula shows it; main.ts wires it). */
-export const projectsReport: { shareLink: string; shareCopied: string } = {
-  shareLink: "", shareCopied: "",
+export const projectsReport: { shareLink: string; shareCopied: string; noteShown: string } = {
+  shareLink: "", shareCopied: "", noteShown: "",
 };
 
 let s: Studio;
@@ -57,6 +57,16 @@ export function initProjects(studio: Studio): void {
   });
   $("share-button").onclick = () => void share();
   $("share-close").onclick = () => ($("share-dialog") as HTMLDialogElement).close();
+  // the teacher's note travels in the link: the link is made again as it is typed
+  let noteTimer = 0;
+  $("share-teacher-note").addEventListener("input", (e) => {
+    ed.project.setNote((e.target as HTMLTextAreaElement).value.slice(0, MAX_NOTE));
+    clearTimeout(noteTimer);
+    noteTimer = window.setTimeout(() => void share(), 300);
+  });
+  $("teacher-note-close").onclick = () => ($("teacher-note") as HTMLDialogElement).close();
+  // a project opened from a link or a file: its note first
+  ed.signals.noteOpened.add(showTeacherNote);
   $("share-copy").onclick = async () => {
     const t = $("share-link") as HTMLTextAreaElement;
     const b = $("share-copy") as HTMLButtonElement;
@@ -101,7 +111,7 @@ export function initProjects(studio: Studio): void {
   window.addEventListener("keydown", (e) => {
     if (e.key !== "Escape") return;
     closeList();
-    for (const id of ["share-dialog", "code-dialog"]) ($(id) as HTMLDialogElement).close();
+    for (const id of ["share-dialog", "code-dialog", "teacher-note"]) ($(id) as HTMLDialogElement).close();
   });
   fetch(new URL("data/index.json", document.baseURI)).then((r) => r.json()).then((idx: { exercises?: string[] }) => {
     setOptions($("exercise-select") as HTMLSelectElement, [{ value: "", label: "exercises…" }, ...(idx.exercises ?? [])]);
@@ -218,6 +228,15 @@ async function openFile(f: File): Promise<void> {
   }
 }
 
+/** The note a project carries (a teacher's, for whoever opens it), as text, before anything else. */
+function showTeacherNote(note: string): void {
+  $("teacher-note-text").textContent = note;
+  projectsReport.noteShown = note;
+  const d = $("teacher-note") as HTMLDialogElement;
+  if (!d.open) d.show();
+  ($("teacher-note-close") as HTMLButtonElement).focus();
+}
+
 async function openExercise(name: string): Promise<void> {
   closeList();
   try {
@@ -231,6 +250,8 @@ async function openExercise(name: string): Promise<void> {
 async function share(): Promise<void> {
   await saveNow();
   const doc = project().document();
+  const noteBox = $("share-teacher-note") as HTMLTextAreaElement;
+  if (document.activeElement !== noteBox) noteBox.value = doc.note ?? "";
   const d = $("share-dialog") as HTMLDialogElement;
   const fragment = await projectFragment(doc);
   const link = `${location.origin}${location.pathname}#${fragment}`;

@@ -10,6 +10,7 @@ export const MAX_FILE_BYTES = 30_000_000; // a .articula file, meshes included
 const MAX_TEXT = 1_000_000; // a program's or a robot file's text
 const MAX_NAME = 200;
 const MAX_BLOCKS_JSON = 2_000_000;
+export const MAX_NOTE = 2000; // a teacher's note, characters
 
 /** One part of an exercise's goal: the tool at a point, or an object inside a box. */
 export type GoalPart =
@@ -71,6 +72,7 @@ export interface Project {
   experiment?: Experiment | null;
   paper?: Paper | null; // Draw and write's sheet and pen (the robot file stays as it is)
   cell?: CellDoc | null; // a cell of arms open (its robot, scene and program then stand aside)
+  note?: string; // a teacher's note, shown first when the project opens from a link or a file ("": none)
 }
 
 /** A shipped cell (cells/), with each arm's program as the project has it, in the cell's order of arms. */
@@ -267,7 +269,8 @@ export function readProject(x: unknown): Project {
     paper = { sheet: q.sheet, at: nums(q.at, "paper.at", 2, 10000), landscape: q.landscape === true, z: nums([q.z], "paper.z", 1, 10000)[0], pen };
   }
   return { format: FORMAT, version: VERSION, name, robot, scene, program, pose, view, goal: checkGoal(x.goal),
-    experiment: checkExperiment(x.experiment), paper, cell: checkCell(x.cell) };
+    experiment: checkExperiment(x.experiment), paper, cell: checkCell(x.cell),
+    ...(x.note === undefined || x.note === null || x.note === "" ? {} : { note: str(x, "note", "project", MAX_NOTE) }) };
 }
 
 // (a cell's name and programs are checked here for their form; the engine's cell loader checks
