@@ -529,3 +529,48 @@ def test_write_hello_and_see_the_line_the_arm_will_draw(page):
     assert max(abs(p[k] - q[k]) for a, b in zip(ink, want["ink"]["strokes"]) for p, q in zip(a, b) for k in (0, 1)) < 1e-6
     pg.run("document.querySelector('#paper-view').scrollIntoView({ block: 'center' });")
     pg.screenshot(SHOTS / f"studio-draw-nano-{pg.engine}.png")
+
+
+# ---- issue 55, item 10: jog, record and the debugger in every engine (Chromium's deeper tests:
+# test_jog_and_console.py, test_debugger_and_record.py)
+
+def test_jog_record_and_a_breakpoint_on_the_virtual_nano(page):
+    """A jog button nudges the model; held on the virtual Nano it goes until let go, with no
+    lost step; Record writes the arm's pose; a breakpoint pauses the arm at rest after its line
+    and Step goes one line on."""
+    pg = page()
+    pg.select("#jog-frame", "table")
+    x0 = pg.hook("a.pose.tool.xyz[0]")
+    pg.click("[aria-label='x plus']")
+    pg.wait(f"a.jog.jogs === 1 && Math.abs(a.pose.tool.xyz[0] - {x0} - 1) < 1e-3", 30 * PATIENCE, "a nudge of 1 mm in x")
+    assert "in whole steps" in pg.hook("a.jog.said")
+    pg.select("#arm-port", "page:virtual")
+    pg.click("#arm-connect")
+    pg.wait("a.arm.connected && a.arm.status !== null && a.arm.status.state === 'Idle'", 60 * PATIENCE, "the virtual Nano connected")
+    # held: the press and its release as the page gets them from a finger or a mouse
+    pg.select("#jog-frame", "joint")
+    pg.run("document.querySelector(\"[aria-label='base plus']\").dispatchEvent(new PointerEvent('pointerdown', "
+           "{ bubbles: true, cancelable: true, pointerId: 7, isPrimary: true }))")
+    pg.wait("a.jog.held === 1 && a.arm.status.state === 'Run' && a.arm.status.steps[0] > 40", 60 * PATIENCE, "the held jog moving")
+    pg.run("window.dispatchEvent(new PointerEvent('pointerup', { bubbles: true, pointerId: 7 }))")
+    pg.wait("a.jog.lets === 1 && a.jog.said.includes('came to rest')", 60 * PATIENCE, "the held jog let go, at rest")
+    end = pg.hook("a.arm.status.steps[0]")
+    assert end < pg.hook("a.arm.reply.predicted.steps[0]"), "the jog was not ended by letting go"
+    pg.wait(f"a.arm.nano !== null && a.arm.nano.steps[0] === {end} && a.arm.nano.faults === 0", 30 * PATIENCE, "every step made")
+    # Record: the arm's pose as a line
+    pg.set_text("#editor", "")
+    pg.click("#teach")
+    pg.wait("document.querySelector('#editor').value.startsWith('M ')", 30 * PATIENCE, "the pose recorded")
+    # a breakpoint on line 1 of three, on the arm
+    pg.set_text("#editor", "L 0 -5\nL 0 -5\nL 0 -5\n")
+    pg.click("#gutter > div:nth-child(1)")
+    pg.wait("a.debug.breaks.length === 1", 10 * PATIENCE, "the breakpoint set")
+    pg.click("#run")
+    pg.wait("a.arm.pausedAt === 1 && a.arm.status.state === 'Idle'", 60 * PATIENCE, "paused after line 1")
+    pg.click("#step")
+    pg.wait("a.arm.pausedAt === 2 && a.arm.status.state === 'Idle'", 60 * PATIENCE, "paused after line 2")
+    pg.click("#run")
+    pg.wait("a.arm.programDone === true", 60 * PATIENCE, "the program ended")
+    assert pg.hook("a.arm.programLines.length") == 3
+    _link_held(pg)
+    assert pg.hook("a.pageErrors") == []

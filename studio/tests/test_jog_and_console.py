@@ -5,7 +5,7 @@ arm's console; a teacher's note that travels with a link."""
 from __future__ import annotations
 
 from class_page import _fragment, _project
-from conftest import PATIENCE, Page
+from conftest import SHOTS, Page
 
 
 def _joints_tab(pg):
@@ -18,7 +18,7 @@ def _connect_virtual_nano(pg):
         pg.page.click("#tab-arm")
     pg.page.select_option("#arm-port", "page:virtual")
     pg.page.click("#arm-connect")
-    pg.wait("a.arm.connected && a.arm.status !== null && a.arm.status.state === 'Idle'", timeout=60000 * PATIENCE)
+    pg.wait("a.arm.connected && a.arm.status !== null && a.arm.status.state === 'Idle'", timeout=60000)
 
 
 def test_a_jog_button_nudges_the_tool_and_says_what_whole_steps_make_of_it(open_page):
@@ -43,6 +43,7 @@ def test_a_jog_button_nudges_the_tool_and_says_what_whole_steps_make_of_it(open_
     pg.page.click("[aria-label='base plus']")
     pg.wait(f"a.jog.jogs === 2 && Math.abs(a.pose.q[0] - {q0} - 10) < 1e-6")
     assert "base: 10° asked, " in pg.page.text_content("#jog-said")
+    pg.page.screenshot(path=str(SHOTS / "studio-jog.png"))
     hi = pg.hook("a.robot.joints[0].max")
     pg.page.fill("[aria-label='base, deg'][type=number]", str(hi))
     pg.page.press("[aria-label='base, deg'][type=number]", "Enter")
@@ -95,11 +96,11 @@ def test_a_held_jog_on_the_virtual_nano_stops_within_its_deceleration_with_no_lo
     pg.page.mouse.move(box["x"] + box["width"] / 2, box["y"] + box["height"] / 2)
     pg.page.mouse.down()
     # held: one move towards the base's limit, on its way
-    pg.wait("a.jog.held === 1 && a.arm.status.state === 'Run' && a.arm.status.steps[0] > 60", timeout=30000 * PATIENCE)
+    pg.wait("a.jog.held === 1 && a.arm.status.state === 'Run' && a.arm.status.steps[0] > 60", timeout=30000)
     pg.page.mouse.up()
     let_go = pg.hook("a.arm.status.steps[0]")
-    pg.wait("a.jog.lets === 1 && a.arm.status.state === 'Idle'", timeout=30000 * PATIENCE)
-    pg.wait("a.jog.said.includes('came to rest')", timeout=10000 * PATIENCE)
+    pg.wait("a.jog.lets === 1 && a.arm.status.state === 'Idle'", timeout=30000)
+    pg.wait("a.jog.said.includes('came to rest')", timeout=10000)
     end = pg.hook("a.arm.status.steps[0]")
     # $0 600 steps/s and $1 2,000 steps/s²: 90 steps to slow down from the top rate, and the
     # reports' 67 ms between a report and the `!` (on the Nano's clock): 40 steps more
@@ -107,14 +108,14 @@ def test_a_held_jog_on_the_virtual_nano_stops_within_its_deceleration_with_no_lo
     limit_steps = pg.hook("a.arm.reply.predicted.steps[0]")
     assert end < limit_steps, "the held jog was not ended by letting go"
     # every STEP the firmware counted, its coils made (the pins against the firmware's count)
-    pg.wait(f"a.arm.nano !== null && a.arm.nano.steps[0] === {end}", timeout=10000 * PATIENCE)
+    pg.wait(f"a.arm.nano !== null && a.arm.nano.steps[0] === {end}", timeout=10000)
     assert pg.hook("a.arm.nano.faults") == 0
     # the model took the arm's pose
     pg.wait(f"Math.abs(a.pose.q[0] - a.arm.status.q[0]) < 1e-6")
     # a tap afterwards: one nudge of the arm from where it is
     pg.page.click("[aria-label='base minus']")
     pg.wait(f"a.arm.reply && a.arm.reply.reply === 'ok' && a.arm.status.state === 'Idle' && a.arm.status.steps[0] < {end}",
-            timeout=30000 * PATIENCE)
+            timeout=30000)
     assert pg.hook("a.arm.error") == ""
     assert pg.errors == []
 
@@ -124,7 +125,7 @@ def test_the_console_shows_what_the_arm_sends_with_its_reports_filtered(open_pag
     _connect_virtual_nano(pg)
     pg.page.fill("#arm-line", "$")
     pg.page.click("#arm-send")
-    pg.wait("a.arm.reply && a.arm.reply.line === '$' && a.arm.reply.reply === 'ok'", timeout=30000 * PATIENCE)
+    pg.wait("a.arm.reply && a.arm.reply.line === '$' && a.arm.reply.reply === 'ok'", timeout=30000)
     pg.page.wait_for_timeout(300)
     lines = pg.page.locator("#arm-console div").all_text_contents()
     assert "→ $" in lines and "← ok" in lines, lines
@@ -133,6 +134,10 @@ def test_the_console_shows_what_the_arm_sends_with_its_reports_filtered(open_pag
     pg.page.check("#console-status")
     pg.page.wait_for_timeout(400)
     assert any(line.startswith("← <Idle") for line in pg.page.locator("#arm-console div").all_text_contents())
+    pg.page.uncheck("#console-status")
+    pg.page.wait_for_timeout(200)
+    pg.page.screenshot(path=str(SHOTS / "studio-console.png"))
+    pg.page.check("#console-status")
     pg.page.click("#console-clear")
     pg.page.uncheck("#console-status")
     pg.page.wait_for_timeout(200)
@@ -155,6 +160,7 @@ def test_a_link_carries_a_teachers_note_shown_first_as_text(browser, site):
         opened.wait("a.noteShown !== ''")
         assert opened.page.is_visible("#teacher-note")
         assert opened.page.inner_text("#teacher-note-text") == "Pick up the block.\nThen put it in the box."
+        opened.page.screenshot(path=str(SHOTS / "studio-teacher-note.png"))
         opened.page.click("#teacher-note-close")
         assert not opened.page.is_visible("#teacher-note")
         assert opened.errors == []

@@ -91,6 +91,7 @@ showOwn("shareLink", () => projectsReport.shareLink);
 showOwn("shareCopied", () => projectsReport.shareCopied);
 showOwn("noteShown", () => projectsReport.noteShown);
 showOwn("jog", () => jogReport);
+showOwn("debug", () => ({ breaks: programReport.breaks, pausedAt: programReport.pausedAt, watch: programReport.watch }));
 showOwn("robotError", () => robotReport.robotError);
 showOwn("blockProblems", () => blocksReport.blockProblems);
 showOwn("blockStacks", () => blocksReport.blockStacks);

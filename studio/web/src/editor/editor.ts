@@ -20,7 +20,7 @@ export interface BlocksPart {
   json(): object | null; // the workspace as Blockly's JSON, what a project keeps
   load(json: unknown): void; // a project's blocks (null: none)
   fromText(): void; // the program's text as blocks
-  teach(q: number[]): void; // the pose shown, as a block at the end
+  record(m: { kind: string; q: number[]; xyz?: number[]; line: string }, name: string): void; // a pose recorded, as a block at the end (named: a function)
   dragging(): boolean; // a block is being dragged: what the workspace holds is not an edit yet
   pending(): boolean; // the blocks changed and their program is not made yet
 }
@@ -35,7 +35,7 @@ export interface ProgramPart {
 /** The arm's link (the arm panel answers for it). */
 export interface ArmPart {
   link(): ArmLink | null; // while connected
-  run(text: string): void; // a program on the arm, line by line
+  run(text: string, breaks?: Iterable<number>): void; // a program on the arm, line by line (pausing after `breaks`)
   send(line: string): boolean; // one line, as the Send box sends it; false: no arm
   choosePort(): Promise<{ port: SerialLike; label: string } | { why: string }>;
   disconnect(): Promise<void>;
@@ -107,7 +107,7 @@ export class Editor {
   speed = 1;
   stops = 0; // STOP pressed (the button or Escape), so far: a wait that began before a STOP ends
   taught = ""; // the last pose taught: a protocol line (text) or a block's values (blocks)
-  blocks: BlocksPart = { mode: () => "text", setMode: none, json: () => null, load: none, fromText: none, teach: none,
+  blocks: BlocksPart = { mode: () => "text", setMode: none, json: () => null, load: none, fromText: none, record: none,
     dragging: () => false, pending: () => false };
   program: ProgramPart = { text: () => "", name: () => "program.arm", set: none };
   arm: ArmPart = { link: () => null, run: none, send: () => false, choosePort: none, disconnect: async () => undefined, pose: () => null };
@@ -153,7 +153,12 @@ export class Editor {
     experimentOpened: new Signal<Experiment | null>(),
     // another project is being put on screen (its robot loads first)
     projectOpened: new Signal<Project>(),
-    noteOpened: new Signal<string>(), // a project that carries a teacher's note is on screen (from a link, a file)
+    // a project that carries a teacher's note is on screen (from a link, a file)
+    noteOpened: new Signal<string>(),
+    // a program on the arm paused after this line (0: it goes on, or ended)
+    armPaused: new Signal<number>(),
+    // the arm reported its joints (a status report, 15 a second while connected)
+    armReported: new Signal<number[]>(),
     // the exercise's goal on screen (null: the project is no exercise)
     goalShown: new Signal<Goal | null>(),
   };

@@ -116,11 +116,24 @@ export const kinematicHandlers: Record<string, (m: Msg) => Out[] | Promise<Out[]
     stopTasks();
     return [poseMessage()];
   },
-  // The current pose as a program line (RoboSim's Teach): `M` with the motor angles (joint
-  // variables for a robot without motors), or RoboSim's `m` and one value a line.
+  // Record: a pose as a program line (RoboSim's Teach): `M` with the motor angles (joint
+  // variables for a robot without motors), or RoboSim's `m` and one value a line; or the tool
+  // point as `P`, a straight line to it as `T` (the pen's tip's point when a pen is held: the
+  // line takes the tool point above it), the gripper as `G`. The pose is the one shown, or `q`
+  // (a connected arm's, from its steps: its `M` line replays to the same steps).
   teach(m) {
-    const line = m.format === "robosim" ? "m\n" + S.q.map((v) => v.toFixed(3)).join("\n") : moveLine(S.q);
-    return [{ type: "teach", line }];
+    const q = m.q === undefined || m.q === null ? S.q : numbers(m, "q", [info().num_joints]);
+    const kind = m.kind === undefined ? "M" : text(m, "kind", 1);
+    if (kind === "M")
+      return [{ type: "teach", kind, line: m.format === "robosim" ? "m\n" + q.map((v) => v.toFixed(3)).join("\n") : moveLine(q), q }];
+    if (kind === "G") {
+      if (!info().gripper) throw new BadMessage(`${info().name} has no gripper to record`);
+      return [{ type: "teach", kind, line: S.robot.protocolLine("G", [Math.round(S.gripper)]), q }];
+    }
+    if (kind !== "P" && kind !== "T") throw new BadMessage("'kind' must be M, P, T or G");
+    const xyz = (S.robot.pose(q) as { tool: { xyz: number[] } }).tool.xyz.map((v) => Math.round(v * 1000) / 1000);
+    const values = kind === "T" ? [...xyz, num(m, "speed", 0.1, 1000)] : xyz;
+    return [{ type: "teach", kind, line: S.robot.protocolLine(kind, values), q, xyz }];
   },
 
   // A shipped robot by name, or a robot file's text (JSON, or a thesis appendix C file with

@@ -250,7 +250,7 @@ export type EngineMsg =
       predicted: { reply: string; steps: number[] | null; meaning: string; seconds?: number }; output?: string[] }
   | { type: "arm_stopped" }
   | { type: "arm_program"; line?: number; command?: string; reply?: string; meaning?: string; done?: boolean;
-      sent?: number; error?: string; stopped?: boolean; predicted?: { reply: string } }
+      sent?: number; error?: string; stopped?: boolean; predicted?: { reply: string }; paused?: boolean; resumed?: boolean }
   | SceneMsg
   | PhysicsMsg
   | CellMsg
@@ -265,8 +265,8 @@ export type EngineMsg =
   // a program that cannot be read: every line that cannot be read (problems), the first as line
   | { type: "program_error"; message: string; line: number; problems?: { line: number; problem: string }[] }
   | { type: "program_text"; name: string; text: string }
-  | { type: "playing"; t: number; playing: boolean; ended?: boolean }
-  | { type: "teach"; line: string }
+  | { type: "playing"; t: number; playing: boolean; ended?: boolean; paused_at?: number } // paused_at: after a breakpoint's line
+  | { type: "teach"; kind: string; line: string; q: number[]; xyz?: number[] }
   | { type: "urdf"; name: string; xml: string }
   | { type: "error"; message: string; request?: string | null; id?: number }
   | { type: "arm_read"; id: number; parsed: unknown; pose: { q: number[]; frames: Flat4x4[] } | null }

@@ -8,6 +8,7 @@ import { RealTimeMeter, every } from "../pacer";
 import { BadMessage, num, numbers, round6, text } from "./checks";
 import type { Msg, Out } from "./checks";
 import { dropTimeline, info, moveLine, poseMessage, post, S, stopTasks } from "./state";
+import { lineNumbers } from "./program";
 import { sceneFile, sceneText } from "./site";
 
 const FRAME_MS = 1000 / 60;
@@ -116,6 +117,8 @@ export function physicsIntent(kind: string, m: Msg, kinematic: (kind: string, m:
     case "physics_run":
     case "play":
       running = true;
+      breaks = kind === "play" ? lineNumbers(m) : new Set();
+      lineNow = -1;
       return kind === "play" ? [{ type: "playing", t: s.time, playing: true }] : [];
     case "physics_pause":
     case "pause":
@@ -150,6 +153,10 @@ const MAX_UNACKED = 3;
 // frame still gets every point (a pen's ink is drawn from them). At most 100,000 points wait.
 const TRAIL_MAX = 300_000;
 let trail: number[] = [];
+// A program's breakpoints in the live physics: the world pauses once a breakpoint's line has
+// ended (looked at every display frame: the next line may have begun by up to a frame's time).
+let breaks = new Set<number>();
+let lineNow = -1; // the program's line at the last frame (-1: not looked at yet)
 export function ensurePhysics(): void {
   if (loop !== null || !S.sim || !S.greeted) return;
   S.unacked = 0;
@@ -185,6 +192,15 @@ export function ensurePhysics(): void {
       if (trail.length + path.length <= TRAIL_MAX) for (const v of path) trail.push(v);
       busy = (performance.now() - now) / 1000;
       stepped = n * s.dt;
+    }
+    if (running && breaks.size) {
+      const st = s.state() as { busy: boolean; line: number };
+      const line = st.busy ? st.line : 0;
+      if (breaks.has(lineNow) && line !== lineNow) {
+        running = false;
+        post([{ type: "playing", t: s.time, playing: false, paused_at: lineNow }]);
+      }
+      lineNow = line;
     }
     meter.slice(stepped, busy);
     const capacity = meter.capacity;

@@ -15,11 +15,22 @@ function needTimeline() {
 }
 
 // The arm at time s of the time line: the whole-step pose and the ideal one (the ghost).
-export function poseAt(s: number): Out {
+// (`ended`: the line that ends at s, named rather than the one that begins there: a pause
+// after a line shows that line)
+export function poseAt(s: number, ended?: number): Out {
   const p = needTimeline().at(s);
   S.q = p.q;
   if (p.gripper !== null) S.gripper = p.gripper;
-  return poseMessage(S.q, { t: p.t, line: p.line, steps: p.steps, error_mm: p.error_mm, ...ghostAt(p.q_ideal) });
+  return poseMessage(S.q, { t: p.t, line: ended ?? p.line, steps: p.steps, error_mm: p.error_mm, ...ghostAt(p.q_ideal) });
+}
+
+/** A message's `breaks`: the line numbers a run pauses after (none: an empty set). */
+export function lineNumbers(m: Msg): Set<number> {
+  const v = m.breaks;
+  if (v === undefined || v === null) return new Set();
+  if (!Array.isArray(v) || v.length > 100_000 || !v.every((x) => Number.isInteger(x) && x > 0))
+    throw new BadMessage("'breaks' must be a list of line numbers");
+  return new Set(v as number[]);
 }
 
 export const programHandlers: Record<string, (m: Msg) => Out[] | Promise<Out[]>> = {
@@ -58,21 +69,28 @@ export const programHandlers: Record<string, (m: Msg) => Out[] | Promise<Out[]>>
     S.speed = num(m, "speed", 0.05, 20);
     return [];
   },
+  // Plays from the clock to the end, or to the end of the first breakpoint's line ahead
+  // (`breaks`: line numbers; the arm at rest after it, as the firmware would leave it).
   play(m) {
     const tl = needTimeline();
     if ("speed" in m) S.speed = num(m, "speed", 0.05, 20);
+    const breaks = lineNumbers(m);
     stopTasks();
     if (S.t >= tl.duration) S.t = 0;
+    const at = tl.doc.records.filter((r) => breaks.has(r.line) && r.end_s > S.t + 1e-9).sort((a, b) => a.end_s - b.end_s)[0];
+    const until = at ? at.end_s : tl.duration;
     let last = performance.now();
     post([{ type: "playing", t: S.t, playing: true }]);
     const frame = () => {
       const now = performance.now();
-      S.t = Math.min(tl.duration, S.t + ((now - last) / 1000) * S.speed);
+      S.t = Math.min(until, S.t + ((now - last) / 1000) * S.speed);
       last = now;
-      post([poseAt(S.t)]);
-      if (S.t >= tl.duration) {
+      post([poseAt(S.t, S.t >= until && at ? at.line : undefined)]);
+      if (S.t >= until) {
         S.task = null;
-        post([{ type: "playing", t: S.t, playing: false, ended: true }]);
+        post([at && until < tl.duration + 1e-9 && S.t < tl.duration - 1e-9
+          ? { type: "playing", t: S.t, playing: false, paused_at: at.line }
+          : { type: "playing", t: S.t, playing: false, ended: true, ...(at ? { paused_at: at.line } : {}) }]);
         return;
       }
       S.task = setTimeout(frame, FRAME_MS);
@@ -90,7 +108,7 @@ export const programHandlers: Record<string, (m: Msg) => Out[] | Promise<Out[]>>
     stopTasks();
     const next = tl.doc.records.find((r) => r.end_s > S.t + 1e-9);
     S.t = next ? next.end_s : tl.duration;
-    return [poseAt(S.t), { type: "playing", t: S.t, playing: false }];
+    return [poseAt(S.t, next?.line), { type: "playing", t: S.t, playing: false, ...(next ? { paused_at: next.line } : {}) }];
   },
   seek(m) {
     const tl = needTimeline();

@@ -250,6 +250,7 @@ export class ArmLink {
     this.connected = false;
     this.configurable = false;
     this.programStop = true;
+    this.resume(); // (a program paused at a breakpoint ends)
     this.lines.note("lost", why);
     const trace = this.lines.takeTrace();
     this.emit({ type: "arm", connected: false, error: why, lost: true, trace });
@@ -330,7 +331,33 @@ export class ArmLink {
   }
 
   /** A protocol program, line by line: a line, its reply, then `?` until at rest (Idle or Alarm). */
-  runProgram(text: string): void {
+  // A program's debugging on the arm: the line numbers it pauses after (at rest), and the
+  // pause itself (resume() or step() ends it; a STOP too).
+  private breaks = new Set<number>();
+  private stepping = false;
+  private resumeWaiter: (() => void) | null = null;
+  /** Where the program waits (0: it does not). */
+  pausedAt = 0;
+
+  /** The breakpoints, changed while a program runs too. */
+  setBreaks(lines: Iterable<number>): void {
+    this.breaks = new Set(lines);
+  }
+  /** Pause after the line that is running (at rest), as a breakpoint would. */
+  pauseAfterLine(): void {
+    if (this.programRunning) this.stepping = true;
+  }
+  /** Go on from a pause: to the next breakpoint (step: one line). */
+  resume(step = false): void {
+    this.stepping = step;
+    const w = this.resumeWaiter;
+    this.resumeWaiter = null;
+    w?.();
+  }
+
+  runProgram(text: string, breaks: Iterable<number> = []): void {
+    this.setBreaks(breaks);
+    this.stepping = false;
     if (this.programRunning) {
       this.emit({ type: "error", message: "the arm is already running a program: stop it first" });
       return;
@@ -356,6 +383,14 @@ export class ArmLink {
           if (reply === "ok") {
             const limit = 3 * (predicted.seconds ?? 0) + 5;
             await this.idle(limit * 1000, n);
+          }
+          // a breakpoint, or a step or a pause asked for: here, at rest after the line, until told
+          if ((this.breaks.has(n) || this.stepping) && !this.programStop && lines.slice(n).some((l) => l.trim())) {
+            this.pausedAt = n;
+            this.emit({ type: "arm_program", paused: true, line: n });
+            await new Promise<void>((resolve) => (this.resumeWaiter = resolve));
+            this.pausedAt = 0;
+            this.emit({ type: "arm_program", resumed: true, line: n });
           }
         }
         this.emit({ type: "arm_program", done: true, sent });
@@ -424,6 +459,7 @@ export class ArmLink {
     if (!this.connected) return;
     if (this.programRunning) {
       this.programStop = true;
+      this.resume(); // (a program paused at a breakpoint ends)
       this.emit({ type: "arm_program", done: true, stopped: true });
     }
     this.stopSentAt = performance.now();
@@ -437,6 +473,8 @@ export class ArmLink {
     const was = this.connected || this.configurable;
     this.connected = false;
     this.configurable = false;
+    this.programStop = true;
+    this.resume(); // (a program paused at a breakpoint ends)
     await this.close();
     if (was) this.emit({ type: "arm", connected: false });
   }

@@ -33,7 +33,7 @@ export interface Reports {
   arm: { connected: boolean; error: string; label: string; status: ArmStatusMsg | null; reply: unknown; stopMs: number | null;
          programLines: unknown[]; programDone: boolean; roundTrips: number[]; nano: unknown;
          configurable: boolean; configured: { name: string; checksum: number } | null; checksum: number | null;
-         lostTrace: unknown[]; console: number }; // the link's last events when it was lost (panels/arm.ts)
+         lostTrace: unknown[]; console: number; pausedAt: number }; // the link's last events when it was lost (panels/arm.ts)
   // panels/experiment.ts: the pose waiting for its measurement, the engine's question, the
   // poses so far, the report's tables and CSV, lines where the arm differed from the model
   experiment: { running: boolean; waiting: { joint: number; angle: number; line: number; command: string; model: number[] } | null;
@@ -41,6 +41,7 @@ export interface Reports {
   shareLink: string; // the last link Share made
   shareCopied: string; // what "Copy the link" did last: "copied", "selected" (no clipboard), "" (not pressed)
   jog: { said: string; jogs: number; held: number; lets: number; last: { asked: number; whole: number | null; line: string } | null }; // panels/jog.ts
+  debug: { breaks: number[]; pausedAt: number; watch: Record<string, string> }; // panels/program.ts: breakpoints, where the model paused, the watch
   noteShown: string; // the teacher's note last shown as a project opened (panels/projects.ts)
   programMode: string; // "text" or "blocks"
   programName: string; // the program's file name (a typed one: "program.arm")

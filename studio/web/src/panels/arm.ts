@@ -16,7 +16,7 @@ import type { Reports } from "../page/reports";
 export const armReport: Reports["arm"] = {
   get connected() { return s?.editor.armConnected ?? false; },
   error: "", label: "", status: null, reply: null, stopMs: null, programLines: [], programDone: false, roundTrips: [], nano: null,
-  configurable: false, configured: null, checksum: null, lostTrace: [], console: 0,
+  configurable: false, configured: null, checksum: null, lostTrace: [], console: 0, pausedAt: 0,
 };
 
 let armRefusals: { line: number; command: string; reply: string; meaning: string }[] = []; // this run's refused lines
@@ -179,11 +179,12 @@ function sendToArm(line: string): boolean {
 }
 
 /** A program on the arm, line by line (the program panel's Run with "on the arm"). */
-function runOnArm(text: string): void {
+function runOnArm(text: string, breaks: Iterable<number> = []): void {
   armReport.programLines = [];
   armReport.programDone = false;
+  armReport.pausedAt = 0;
   armRefusals = [];
-  link?.runProgram(text);
+  link?.runProgram(text, breaks);
 }
 
 /** STOP: the arm's realtime `!` at once, and the model's program or physics paused. */
@@ -287,6 +288,7 @@ function armMessage(m: EngineMsg): void {
       if (m.stop_to_idle_ms !== undefined) armReport.stopMs = m.stop_to_idle_ms;
       s.view.liveFrames(m.frames);
       drawnReports.push(m);
+      s.editor.signals.armReported.dispatch(m.q);
       $("arm-state").className = "status ok";
       fill($("arm-state"), grid([armReport.label, `${m.state}, steps ${m.steps.join(" ")}`],
         ["angles", `${m.angles.map((a) => a.toFixed(2)).join(" ")} deg`], ["from the model", `${armDiff(m).toFixed(2)} mm (tool to tool)`]));
@@ -308,7 +310,16 @@ function armMessage(m: EngineMsg): void {
       return;
     }
     case "arm_program":
+      if (m.paused || m.resumed) {
+        armReport.pausedAt = m.paused ? m.line ?? 0 : 0;
+        s.editor.signals.lineRunning.dispatch({ line: m.line ?? 0, refused: false });
+        if (m.paused) say(`Paused on the arm, at rest after line ${m.line}: Run goes on, Step runs one line, STOP ends the program.`);
+        s.editor.signals.armPaused.dispatch(m.paused ? m.line ?? 0 : 0);
+        return;
+      }
       if (m.done) {
+        if (armReport.pausedAt) s.editor.signals.armPaused.dispatch(0);
+        armReport.pausedAt = 0;
         armReport.programDone = true;
         // every refusal stays in sight, under the summary
         const refused = armRefusals.map((r) => `line ${r.line}: ${r.command} → ${r.reply} (${r.meaning}): nothing moved`);

@@ -37,7 +37,7 @@ const changed = () => s.editor.signals.changed.dispatch("blocks");
 export function initBlocks(studio: Studio): void {
   s = studio;
   editor = s.editor;
-  editor.blocks = { mode: () => mode, setMode, json: workspaceJson, load: loadBlocks, fromText, teach: teachBlock,
+  editor.blocks = { mode: () => mode, setMode, json: workspaceJson, load: loadBlocks, fromText, record: recordBlock,
     dragging: () => !!ws?.isDragging(), pending: () => blocksPending };
   const sig = editor.signals;
   sig.robotShown.add(blocksRobot);
@@ -331,19 +331,36 @@ function fromText(): void {
   }, (err: Error) => blockProblem("", err.message, true));
 }
 
-/** Teach: the pose shown, as a block at the end of the program. */
-function teachBlock(q: number[]): void {
+/** Record: a pose as a block at the end of the program: the joints (to 0.001, so it replays to
+ * the same steps), the tool point, a straight line to it, or the gripper. Named, it is a
+ * function of that name (Blockly's own) holding the block, called there: a waypoint to call
+ * again from the Functions category. */
+function recordBlock(m: { kind: string; q: number[]; xyz?: number[]; line: string }, name: string): void {
   if (!ws) return;
-  const b = ws.newBlock("arm_joints");
-  b.setFieldValue(q.map((v) => String(Math.round(v * 10) / 10)).join(", "), "VALUES");
-  b.initSvg();
-  b.render();
-  const tops = ws.getTopBlocks(true).filter((t) => t !== b && t.type !== "procedures_defnoreturn");
+  const num = (v: number) => ({ shadow: { type: "math_number", fields: { NUM: Math.round(v * 1000) / 1000 } } });
+  const words = m.line.trim().split(/\s+/).map(Number);
+  const xyz = m.xyz ?? [0, 0, 0];
+  const block: Blockly.serialization.blocks.State =
+    m.kind === "P" ? { type: "arm_tool_to", inputs: { X: num(xyz[0]), Y: num(xyz[1]), Z: num(xyz[2]) } }
+    : m.kind === "T" ? { type: "arm_line_to", inputs: { X: num(xyz[0]), Y: num(xyz[1]), Z: num(xyz[2]), SPEED: num(words[4] ?? 30) } }
+    : m.kind === "G" ? { type: "arm_gripper_to", inputs: { PERCENT: num(words[1] ?? 0) } }
+    : { type: "arm_joints", fields: { VALUES: m.q.map((v) => String(Math.round(v * 1000) / 1000)).join(", ") } };
+  const tops = ws.getTopBlocks(true).filter((t) => t.type !== "procedures_defnoreturn");
   let last: Blockly.BlockSvg | null = tops[0] ?? null;
   while (last?.getNextBlock()) last = last.getNextBlock() as Blockly.BlockSvg | null;
-  if (last?.nextConnection && b.previousConnection) last.nextConnection.connect(b.previousConnection);
-  else b.moveBy(20, 20);
-  s.editor.taught = b.getFieldValue("VALUES");
+  let added: Blockly.BlockSvg;
+  if (name) {
+    // the function beside the program, then its call at the program's end
+    const right = Math.max(0, ...ws.getTopBlocks(false).map((t) => t.getBoundingRectangle().right)) + 30;
+    const def = Blockly.serialization.blocks.append({ type: "procedures_defnoreturn", x: right, y: 20, fields: { NAME: name },
+      inputs: { STACK: { block } } }, ws) as Blockly.BlockSvg;
+    added = Blockly.serialization.blocks.append({ type: "procedures_callnoreturn", extraState: { name: def.getFieldValue("NAME") } }, ws) as Blockly.BlockSvg;
+  } else {
+    added = Blockly.serialization.blocks.append(block, ws) as Blockly.BlockSvg;
+  }
+  if (last?.nextConnection && added.previousConnection) last.nextConnection.connect(added.previousConnection);
+  else added.moveBy(20, 20);
+  s.editor.taught = m.kind === "M" ? (block.fields as { VALUES: string }).VALUES : m.line;
 }
 
 function showCode(): void {

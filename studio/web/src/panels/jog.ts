@@ -18,6 +18,7 @@ export const jogReport = { said: "", jogs: 0, held: 0, lets: 0, last: null as nu
 let s: Studio;
 const HOLD_MS = 400; // a press held this long is a held jog
 const REPEAT_MS = 100; // the model's held jog: a nudge this often
+let pointerAt = -Infinity; // the last press of a jog button by a pointer (its click is that press's)
 let pressed: { jog: Jog; timer: number; repeat: number; onArm: boolean; held: boolean } | null = null;
 
 const frame = () => ($("jog-frame") as HTMLSelectElement).value as Frame;
@@ -49,6 +50,7 @@ function buildPad(r: RobotMsg): void {
       dir < 0 ? "−" : "+") as HTMLButtonElement;
       b.addEventListener("pointerdown", (e) => {
         e.preventDefault(); // (no text selection, no focus theft on a long press)
+        pointerAt = performance.now();
         try {
           b.setPointerCapture(e.pointerId);
         } catch {
@@ -56,9 +58,9 @@ function buildPad(r: RobotMsg): void {
         }
         press({ frame: f, axis: row.axis, dir });
       });
-      // the keyboard's Enter and Space: one nudge
-      b.addEventListener("click", (e) => {
-        if ((e as PointerEvent).detail === 0) void jogOnce({ frame: f, axis: row.axis, dir });
+      // a click no pointer pressed (the keyboard's Enter and Space, an assistive tool): one nudge
+      b.addEventListener("click", () => {
+        if (performance.now() - pointerAt > 1000) void jogOnce({ frame: f, axis: row.axis, dir });
       });
       return b;
     }))));

@@ -8,13 +8,15 @@ import type { Reports } from "../page/reports";
 import { language } from "../page/environment";
 
 /** The program panel's reports (window.articula shows it; main.ts wires it). */
-export const programReport: { paths: Reports["paths"]; pngCaption: string; programError: string; programName: string; runOnArm: boolean } = {
+export const programReport: { paths: Reports["paths"]; pngCaption: string; programError: string; programName: string; runOnArm: boolean;
+  breaks: number[]; pausedAt: number; watch: Record<string, string> } = {
   paths: { points: 0, lines: 0, worstMm: 0 }, pngCaption: "", programError: "", programName: "program.arm", runOnArm: false,
+  breaks: [], pausedAt: 0, watch: {},
 };
 
 let s: Studio;
 let currentProgram = "program.arm";
-let autoplay = false;
+let autoplay: number[] | null = null; // loading to play at once, with these breakpoints
 let showGhost = true;
 let lineShown = 0;
 const editor = () => $("editor") as HTMLTextAreaElement;
@@ -135,25 +137,44 @@ export function initProgram(studio: Studio): void {
     if (s.editor.blocks.mode() === "blocks") s.editor.blocks.fromText();
   });
   $("save-program").onclick = () => download(currentProgram, ed.value, "text/plain");
-  $("run").onclick = () => {
-    if (!ed.value.trim())
-      return programStatus("The program is empty: type commands (“What the commands mean” below says how), choose an example, or build it from Blocks.", [], true);
-    if (onTheArm()) return s.editor.arm.run(ed.value);
-    if (s.editor.timeline) s.engine.send({ type: "play", speed: playSpeed() });
-    else {
-      autoplay = true;
-      load();
-    }
+  $("run").onclick = () => run();
+  $("run-to").onclick = () => run(caretLine());
+  $("pause").onclick = () => {
+    const link = armProgram();
+    if (link) return link.pauseAfterLine(); // (at rest after the line running)
+    s.engine.send({ type: "pause" });
   };
-  $("pause").onclick = () => s.engine.send({ type: "pause" });
-  $("step").onclick = () => (s.editor.timeline ? s.engine.send({ type: "step" }) : load());
+  $("step").onclick = () => {
+    const link = armProgram();
+    if (link) return link.pausedAt ? link.resume(true) : link.pauseAfterLine();
+    if (s.editor.timeline) s.engine.send({ type: "step" });
+    else load();
+  };
   $("reset").onclick = () => (s.editor.timeline ? s.engine.send({ type: "rewind" }) : load());
-  $("teach").onclick = () => {
-    if (s.editor.blocks.mode() === "blocks" && s.editor.pose) return s.editor.blocks.teach(s.editor.pose.q);
-    const first = ed.value.split("\n").find((l) => l.trim() && !l.trim().startsWith("#")) ?? "";
-    const robosim = currentProgram.endsWith(".robosim") || /^\s*[a-z]\s*$/m.test(first);
-    s.engine.send({ type: "teach", format: robosim ? "robosim" : "protocol" });
-  };
+  $("teach").onclick = () => record();
+  // breakpoints: a line number clicked, or F9 on the caret's line (Ctrl+F8: run to the caret)
+  $("gutter").addEventListener("click", (e) => {
+    const el = (e.target as HTMLElement).closest("#gutter > div");
+    if (el) toggleBreak([...$("gutter").children].indexOf(el) + 1);
+  });
+  ed.addEventListener("keydown", (e) => {
+    if (e.key === "F9") {
+      e.preventDefault();
+      toggleBreak(caretLine());
+    } else if (e.key === "F8" && e.ctrlKey) {
+      e.preventDefault();
+      run(caretLine());
+    }
+  });
+  const scrub = $("scrub") as HTMLInputElement;
+  scrub.addEventListener("input", () => {
+    if (s.editor.timeline) s.engine.send({ type: "seek", t: parseFloat(scrub.value) });
+  });
+  s.editor.signals.armReported.add(() => s.editor.pose && showWatch(s.editor.pose));
+  s.editor.signals.armPaused.add((line) => {
+    programReport.pausedAt = line;
+    $("run").classList.toggle("active", false);
+  });
   $("show-ghost").addEventListener("change", (e) => {
     showGhost = (e.target as HTMLInputElement).checked;
     if (!showGhost && s.editor.pose) s.view.pose({ ...s.editor.pose, ghost: undefined });
@@ -166,6 +187,68 @@ export function initProgram(studio: Studio): void {
   };
   $("export-csv").onclick = () => s.editor.timeline && download("articula-timeline.csv", s.plots.csv(s.editor.timeline), "text/csv");
   editorChanged();
+}
+
+// A program on the arm (sent line by line now): its link; null: none runs.
+function armProgram() {
+  const link = s.editor.armConnected ? s.editor.arm.link() : null;
+  return link?.running ? link : null;
+}
+
+/** Run: on the arm or the model, pausing after each breakpoint's line (and after `to` too, for
+ * this run: Run to caret). A program paused goes on. */
+function run(to = 0): void {
+  const ed = editor();
+  if (!ed.value.trim())
+    return programStatus("The program is empty: type commands (“What the commands mean” below says how), choose an example, or build it from Blocks.", [], true);
+  const breaks = [...breakpoints, ...(to ? [to] : [])];
+  const link = armProgram();
+  if (link) {
+    link.setBreaks(breaks);
+    return link.resume();
+  }
+  if (onTheArm()) return s.editor.arm.run(ed.value, breaks);
+  programReport.pausedAt = 0;
+  if (s.editor.timeline) s.engine.send({ type: "play", speed: playSpeed(), breaks });
+  else {
+    autoplay = breaks;
+    load();
+  }
+}
+
+/** The caret's line, 1 on. */
+function caretLine(): number {
+  const ed = editor();
+  return ed.value.slice(0, ed.selectionStart).split("\n").length;
+}
+
+const breakpoints = new Set<number>();
+function toggleBreak(line: number): void {
+  if (line < 1) return;
+  if (breakpoints.has(line)) breakpoints.delete(line);
+  else breakpoints.add(line);
+  showBreaks();
+  armProgram()?.setBreaks(breakpoints);
+}
+function showBreaks(): void {
+  programReport.breaks = [...breakpoints].sort((a, b) => a - b);
+  [...$("gutter").children].forEach((el, i) => {
+    const on = breakpoints.has(i + 1);
+    el.classList.toggle("break", on);
+    el.setAttribute("aria-label", `line ${i + 1}${on ? ": a breakpoint" : ""}`);
+  });
+}
+
+/** Record: the pose (a connected arm's, else the model's) as a line or a block, named or not. */
+function record(): void {
+  const kind = ($("record-as") as HTMLSelectElement).value;
+  const q = s.editor.armConnected ? s.editor.arm.pose() : null;
+  const ed = editor();
+  const first = ed.value.split("\n").find((l) => l.trim() && !l.trim().startsWith("#")) ?? "";
+  const robosim = s.editor.blocks.mode() !== "blocks" && (currentProgram.endsWith(".robosim") || /^\s*[a-z]\s*$/m.test(first));
+  if (robosim && kind !== "M") return programStatus("A RoboSim program records the joints (m): choose “the joints (M)”.", [], true);
+  const speed = parseFloat(($("ik-line-speed") as HTMLInputElement | null)?.value ?? "") || 30;
+  s.engine.send({ type: "teach", kind, q, speed, format: robosim ? "robosim" : "protocol" });
 }
 
 /** The shipped examples, for the menu: the exercises first (a goal the page checks), then the
@@ -221,6 +304,7 @@ export function appendProgramLine(line: string): void {
 }
 
 function setProgram(name: string, text: string): void {
+  if (text !== editor().value) breakpoints.clear(); // another program: its own breakpoints
   editor().value = text;
   currentProgram = name;
   programReport.programName = name;
@@ -236,12 +320,15 @@ function editorChanged(): void {
   const ed = editor();
   const n = ed.value.split("\n").length;
   fill($("gutter"), ...Array.from({ length: n }, (_, i) => h("div", null, i + 1)));
+  for (const b of [...breakpoints]) if (b > n) breakpoints.delete(b);
+  showBreaks();
   $("gutter").scrollTop = ed.scrollTop;
   if (s.editor.timeline && commandsOf(ed.value) !== timelineCommands) {
     // what was worked out for the text before is not this text's: no old result on screen
     // (the same commands written again, as the blocks write them, keep it)
     s.editor.timeline = null;
     s.plots.clear();
+    $("scrub-row").hidden = true;
     s.view.showPaths([], []);
     programReport.paths = { points: 0, lines: 0, worstMm: 0 };
     programStatus("Changed: Play works it out and runs it.");
@@ -283,11 +370,34 @@ function programStatus(text: string, rejected: string[] = [], bad = false): void
 
 /** Where the time line's clock is: the running line, the playhead, the status under the view. */
 export function showTime(p: PoseMsg): void {
+  showWatch(p);
   if (p.t === undefined) return;
+  const scrub = $("scrub") as HTMLInputElement;
+  if (document.activeElement !== scrub) scrub.value = String(p.t);
+  $("scrub-t").textContent = `${p.t.toFixed(2)} s`;
   s.plots.playhead(p.t);
   s.editor.signals.lineRunning.dispatch({ line: p.line ?? 0, refused: false });
   const err = p.error_mm !== undefined ? `, quantization error ${p.error_mm.toFixed(3)} mm` : "";
   $("view-status").textContent = `t = ${p.t.toFixed(2)} s, line ${p.line ?? 0}${err}${p.steps ? `, steps ${p.steps.join(" ")}` : ""}`;
+}
+
+/** The watch: the joints, the tool point (the pen's tip with a pen), the gripper, and the line's
+ * whole-step error, at the instant shown (an arm's own, when it is connected, beside the model's). */
+function showWatch(p: PoseMsg): void {
+  const r = s.editor.robot;
+  if (!r) return;
+  if (!s.editor.timeline && !programReport.pausedAt && !armProgram()) return void fill($("watch")); // nothing to debug
+  const f = (v: number, d = 1) => v.toFixed(d);
+  const rows: [string, string][] = [
+    ["joints", `${p.q.map((v) => f(v)).join("  ")}`],
+    [p.tip ? "pen tip" : "tool", `${(p.tip ?? p.tool.xyz).map((v) => f(v)).join("  ")} mm`],
+  ];
+  if (r.gripper) rows.push(["gripper", `${f(p.gripper, 0)} % open`]);
+  if (p.line) rows.push(["line", `${p.line}${p.error_mm !== undefined ? `: whole steps put the tool ${f(p.error_mm, 3)} mm from the exact angles` : ""}`]);
+  const st = s.editor.armConnected ? s.editor.arm.pose() : null;
+  if (st) rows.push(["the arm", `${st.map((v) => f(v)).join("  ")}`]);
+  programReport.watch = Object.fromEntries(rows);
+  fill($("watch"), ...rows.map(([k, v]) => h("span", null, h("b", null, k), ` ${v}`)));
 }
 
 export const programHandlers = {
@@ -325,14 +435,22 @@ export const programHandlers = {
       (lines.length ? `, ${lines.length} straight line${lines.length > 1 ? "s" : ""}: the tool within ${worst.toFixed(2)} mm of ${lines.length > 1 ? "them" : "it"} at every step` : "") +
       `, ${m.duration.toFixed(2)} s` +
       (s.editor.armConnected ? ". On the model only: the arm did not move (tick “on the arm” beside Run to drive it)" : ""), rejected);
+    ($("scrub") as HTMLInputElement).max = String(m.duration);
+    $("scrub-row").hidden = false;
     if (autoplay) {
-      autoplay = false;
-      s.engine.send({ type: "play", speed: playSpeed() });
+      s.engine.send({ type: "play", speed: playSpeed(), breaks: autoplay });
+      autoplay = null;
     }
   },
-  playing(m: { playing: boolean }): void {
+  playing(m: { playing: boolean; paused_at?: number; ended?: boolean; t: number }): void {
     s.editor.playing = m.playing;
     $("run").classList.toggle("active", m.playing);
+    programReport.pausedAt = !m.playing && m.paused_at && !m.ended ? m.paused_at : 0;
+    if (programReport.pausedAt) {
+      s.editor.signals.lineRunning.dispatch({ line: m.paused_at!, refused: false });
+      programStatus(`Paused after line ${m.paused_at} at ${m.t.toFixed(2)} s${breakpoints.has(m.paused_at!) ? " (a breakpoint)" : ""}: ` +
+        "Run goes on, Step runs one line, the time line scrubs.");
+    }
   },
   program_error(m: { message: string; line: number; problems?: { line: number; problem: string }[] }): void {
     programReport.programError = m.message;
@@ -359,12 +477,20 @@ export const programHandlers = {
     }
     if (s.editor.blocks.mode() === "blocks") s.editor.blocks.fromText();
   },
-  teach(m: { line: string }): void {
-    s.editor.taught = m.line;
-    const ed = editor();
-    ed.value = ed.value.replace(/\s*$/, "") + (ed.value.trim() ? "\n" : "") + m.line + "\n";
-    editorChanged();
-    programStatus(`taught: ${m.line.replace(/\n/g, " ")}`);
+  teach(m: { line: string; kind: string; q: number[]; xyz?: number[] }): void {
+    const name = ($("record-name") as HTMLInputElement).value.trim().replace(/[#\n]/g, " ").slice(0, 40);
+    if (s.editor.blocks.mode() === "blocks") {
+      s.editor.blocks.record(m, name);
+    } else {
+      s.editor.taught = m.line;
+      const ed = editor();
+      const line = name && !m.line.includes("\n") ? `${m.line}  # ${name}` : m.line;
+      ed.value = ed.value.replace(/\s*$/, "") + (ed.value.trim() ? "\n" : "") + line + "\n";
+      editorChanged();
+    }
+    ($("record-name") as HTMLInputElement).value = "";
+    const from = s.editor.armConnected ? "the arm's pose" : "the pose";
+    programStatus(`recorded ${from}${name ? ` as “${name}”` : ""}: ${m.line.replace(/\n/g, " ")}`);
   },
 };
 
@@ -372,4 +498,5 @@ export const programHandlers = {
 function resetProgramView(): void {
   s.editor.timeline = null;
   s.plots.clear();
+  $("scrub-row").hidden = true;
 }
