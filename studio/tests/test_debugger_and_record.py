@@ -109,7 +109,7 @@ def test_a_recorded_waypoint_replays_to_the_same_steps_on_the_virtual_nano(open_
     pg.page.select_option("#arm-port", "page:virtual")
     pg.page.click("#arm-connect")
     pg.wait("a.arm.connected && a.arm.status !== null", timeout=60000)
-    # jogged to a pose no round number names: 1 degree asked, three times (3 whole steps each)
+    # jogged to a pose no round number names: 1 degree asked, three times
     _tab(pg, "joints")
     pg.page.select_option("#jog-frame", "joint")
     for i in range(3):
@@ -118,7 +118,9 @@ def test_a_recorded_waypoint_replays_to_the_same_steps_on_the_virtual_nano(open_
         pg.wait("a.arm.status.state === 'Idle'", timeout=30000)
     pg.page.wait_for_timeout(300)
     steps = pg.hook("a.arm.status.steps")
-    assert steps[0] == 9, steps  # 1 degree is 3.2 steps: 3 a nudge
+    # the taps add up (each from the last one's target): 3 degrees, in whole steps, as predicted
+    assert steps == pg.hook("a.arm.reply.predicted.steps"), steps
+    assert abs(pg.hook("a.arm.status.angles[0]") - 3) < 0.35, pg.hook("a.arm.status.angles")
     _tab(pg, "program")
     pg.page.fill("#editor", "")
     pg.page.fill("#record-name", "spot")

@@ -98,13 +98,15 @@ def test_a_held_jog_on_the_virtual_nano_stops_within_its_deceleration_with_no_lo
     # held: one move towards the base's limit, on its way
     pg.wait("a.jog.held === 1 && a.arm.status.state === 'Run' && a.arm.status.steps[0] > 60", timeout=30000)
     pg.page.mouse.up()
-    let_go = pg.hook("a.arm.status.steps[0]")
+    let_go, read_at = pg.hook("[a.arm.status.steps[0], a.arm.status.sent_ms]")
     pg.wait("a.jog.lets === 1 && a.arm.status.state === 'Idle'", timeout=30000)
     pg.wait("a.jog.said.includes('came to rest')", timeout=10000)
-    end = pg.hook("a.arm.status.steps[0]")
-    # $0 600 steps/s and $1 2,000 steps/s²: 90 steps to slow down from the top rate, and the
-    # reports' 67 ms between a report and the `!` (on the Nano's clock): 40 steps more
-    assert 0 <= end - let_go <= 90 + 40 + 10, (let_go, end)
+    end, halt_at = pg.hook("[a.arm.status.steps[0], a.jog.haltAt]")
+    # $0 600 steps/s and $1 2,000 steps/s²: 90 steps to slow down from the top rate; before the
+    # `!` was written, the arm went on at most at the top rate from the report read at let go
+    # (a report is up to 67 ms old when it is read: 15 a second)
+    before_stop = 600 * ((halt_at - read_at) / 1000 + 1 / 15)
+    assert 0 <= end - let_go <= 90 + before_stop + 5, (let_go, end, before_stop)
     limit_steps = pg.hook("a.arm.reply.predicted.steps[0]")
     assert end < limit_steps, "the held jog was not ended by letting go"
     # every STEP the firmware counted, its coils made (the pins against the firmware's count)
@@ -112,10 +114,13 @@ def test_a_held_jog_on_the_virtual_nano_stops_within_its_deceleration_with_no_lo
     assert pg.hook("a.arm.nano.faults") == 0
     # the model took the arm's pose
     pg.wait(f"Math.abs(a.pose.q[0] - a.arm.status.q[0]) < 1e-6")
-    # a tap afterwards: one nudge of the arm from where it is
-    pg.page.click("[aria-label='base minus']")
-    pg.wait(f"a.arm.reply && a.arm.reply.reply === 'ok' && a.arm.status.state === 'Idle' && a.arm.status.steps[0] < {end}",
-            timeout=30000)
+    # three quick taps afterwards: they add up, from where the arm came to rest (1 degree each)
+    angle, jogs = pg.hook("a.arm.status.angles[0]"), pg.hook("a.jog.jogs")
+    for _ in range(3):
+        pg.page.click("[aria-label='base minus']")
+    pg.wait(f"a.jog.jogs === {jogs + 3} && a.arm.reply && a.arm.reply.reply === 'ok'", timeout=30000)
+    pg.wait("a.arm.status.state === 'Idle' && a.arm.status.steps[0] === a.arm.reply.predicted.steps[0]", timeout=30000)
+    assert abs(pg.hook("a.arm.status.angles[0]") - (angle - 3)) < 0.35, (angle, pg.hook("a.arm.status.angles[0]"))
     assert pg.hook("a.arm.error") == ""
     assert pg.errors == []
 
@@ -178,3 +183,26 @@ def test_a_link_carries_a_teachers_note_shown_first_as_text(browser, site):
         assert hostile.page.locator("#teacher-note-text img").count() == 0
     finally:
         hostile.close()
+
+
+def test_by_touch_a_jog_a_breakpoint_and_a_record_on_a_tablet(open_page):
+    pg = open_page("mk2plus", width=768, height=1024, touch=True)
+    _joints_tab(pg)
+    pg.page.select_option("#jog-frame", "joint")
+    q0 = pg.hook("a.pose.q[0]")
+    pg.page.tap("[aria-label='base plus']")
+    pg.wait(f"a.jog.jogs === 1 && a.pose.q[0] > {q0}")
+    assert pg.page.locator("[aria-label='base plus']").bounding_box()["height"] >= 44
+    box = pg.page.locator("[aria-label='base minus']").bounding_box()
+    pg.page.touchscreen.tap(box["x"] + box["width"] / 2, box["y"] + box["height"] / 2)
+    pg.wait(f"a.jog.jogs === 2 && Math.abs(a.pose.q[0] - {q0}) < 1e-6")
+    pg.page.click("#tab-program")
+    pg.page.fill("#editor", "L 0 10\nL 0 10\nL 0 10\n")
+    pg.page.tap("#gutter > div:nth-child(2)")
+    pg.wait("a.debug.breaks.length === 1 && a.debug.breaks[0] === 2")
+    pg.page.tap("#run")
+    pg.wait("a.debug.pausedAt === 2", timeout=30000)
+    pg.page.fill("#editor", "")
+    pg.page.tap("#teach")
+    pg.wait("document.querySelector('#editor').value.startsWith('M ')")
+    assert pg.errors == []

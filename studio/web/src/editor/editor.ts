@@ -40,6 +40,7 @@ export interface ArmPart {
   choosePort(): Promise<{ port: SerialLike; label: string } | { why: string }>;
   disconnect(): Promise<void>;
   pose(): number[] | null; // the joint values of the arm's last status report (null: none)
+  restAt(): number; // when (performance.now(), ms) the page read the last report if it said Idle; -Infinity if not
 }
 
 /** Draw and write's paper and pen, as a project keeps them (the draw panel answers for it). */
@@ -110,7 +111,7 @@ export class Editor {
   blocks: BlocksPart = { mode: () => "text", setMode: none, json: () => null, load: none, fromText: none, record: none,
     dragging: () => false, pending: () => false };
   program: ProgramPart = { text: () => "", name: () => "program.arm", set: none };
-  arm: ArmPart = { link: () => null, run: none, send: () => false, choosePort: none, disconnect: async () => undefined, pose: () => null };
+  arm: ArmPart = { link: () => null, run: none, send: () => false, choosePort: none, disconnect: async () => undefined, pose: () => null, restAt: () => -Infinity };
   paper: PaperPart = { get: none, set: none };
   robotFile: RobotFile | null = null;
   // the camera a project opens with, taken when its robot is first drawn (else the robot is framed)

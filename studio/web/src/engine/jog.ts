@@ -111,6 +111,6 @@ export const jogHandlers: Record<string, (m: Msg) => Out[]> = {
       whole = round6(l);
       said += `, ${fmt(l)}${unit} in whole steps` + (off >= 0.05 ? ` (and ${fmt(off)} mm off the axis)` : "");
     }
-    return [{ type: "jog", moved: true, frame, said, asked: Number(asked), whole, line: moveLine(to) }, poseMessage(S.q, { seq: m.seq ?? null })];
+    return [{ type: "jog", moved: true, frame, said, asked: Number(asked), whole, line: moveLine(to), q: to }, poseMessage(S.q, { seq: m.seq ?? null })];
   },
 };

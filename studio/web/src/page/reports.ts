@@ -40,7 +40,7 @@ export interface Reports {
     question: string; points: unknown[]; tables: unknown; csv: string; mismatches: string[] };
   shareLink: string; // the last link Share made
   shareCopied: string; // what "Copy the link" did last: "copied", "selected" (no clipboard), "" (not pressed)
-  jog: { said: string; jogs: number; held: number; lets: number; last: { asked: number; whole: number | null; line: string } | null }; // panels/jog.ts
+  jog: { said: string; jogs: number; held: number; lets: number; last: { asked: number; whole: number | null; line: string } | null; haltAt: number }; // panels/jog.ts
   debug: { breaks: number[]; pausedAt: number; watch: Record<string, string> }; // panels/program.ts: breakpoints, where the model paused, the watch
   noteShown: string; // the teacher's note last shown as a project opened (panels/projects.ts)
   programMode: string; // "text" or "blocks"

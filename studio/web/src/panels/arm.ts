@@ -30,7 +30,8 @@ export function initArm(studio: Studio): void {
   s = studio;
   // the arm while connected (or waiting to be configured), for the other panels
   s.editor.arm = { link: () => link, run: runOnArm, send: sendToArm, choosePort, disconnect: disconnectArm,
-    pose: () => armReport.status?.q ?? null };
+    pose: () => armReport.status?.q ?? null,
+    restAt: () => (armReport.status?.state === "Idle" ? armReport.status.sent_ms - performance.timeOrigin : -Infinity) };
   s.editor.signals.robotShown.add(armRobotShown);
   $("arm-connect").onclick = () => {
     const port = ($("arm-port") as HTMLSelectElement).value;

@@ -13,7 +13,8 @@ type Frame = "joint" | "table" | "tool";
 interface Jog { frame: Frame; axis: number; dir: 1 | -1 }
 
 /** What the jog did last (window.articula.jog shows it; main.ts wires it). */
-export const jogReport = { said: "", jogs: 0, held: 0, lets: 0, last: null as null | { asked: number; whole: number | null; line: string } };
+export const jogReport = { said: "", jogs: 0, held: 0, lets: 0, last: null as null | { asked: number; whole: number | null; line: string },
+  haltAt: 0 }; // haltAt: when the last held jog's `!` was written (epoch ms)
 
 let s: Studio;
 const HOLD_MS = 400; // a press held this long is a held jog
@@ -28,6 +29,9 @@ const armLink = () => (s.editor.armConnected ? s.editor.arm.link() : null);
 export function initJog(studio: Studio): void {
   s = studio;
   s.editor.signals.robotShown.add(buildPad);
+  // another hand on the arm (STOP, a new connection): the next jog starts from its report
+  s.editor.signals.stopped.add(() => (armTarget = null));
+  s.editor.signals.armConnected.add(() => (armTarget = null));
   $("jog-frame").addEventListener("change", () => s.editor.robot && buildPad(s.editor.robot));
   // a press ends wherever the pointer is let go (or the page loses it)
   for (const ev of ["pointerup", "pointercancel", "blur"]) window.addEventListener(ev, () => letGo());
@@ -80,7 +84,7 @@ function press(jog: Jog): void {
       p.held = true;
       jogReport.held++;
       if (onArm) void holdOnArm(jog);
-      else p.repeat = window.setInterval(() => void jogOnce(jog), REPEAT_MS);
+      else p.repeat = window.setInterval(() => void jogOnce(jog, true), REPEAT_MS);
     }, HOLD_MS);
   });
 }
@@ -95,9 +99,13 @@ function letGo(): void {
   clearInterval(p.repeat);
   if (!p.held || !p.onArm) return;
   jogReport.lets++;
+  armTarget = null;
   const link = armLink();
   if (!link) return;
-  void link.halt().then(() => followArm());
+  void link.halt().then(() => {
+    jogReport.haltAt = performance.timeOrigin + performance.now();
+    followArm();
+  });
 }
 
 // After a held jog on the arm: the model where the arm came to rest.
@@ -124,13 +132,24 @@ function say(text: string, bad = false): void {
   el.className = `status ${bad ? "bad" : ""}`;
 }
 
+// Nudges one after another: each starts where the last one ended (quick taps add up).
+let queue: Promise<void> = Promise.resolve();
+let waiting = 0;
+function jogOnce(jog: Jog, repeat = false): Promise<void> {
+  if (repeat && waiting) return queue; // (a held jog's next nudge: only once the last is done)
+  waiting++;
+  const p = queue.then(() => jogNow(jog)).finally(() => waiting--);
+  queue = p.catch(() => undefined);
+  return p;
+}
+
 /** One nudge: the model's (the engine moves it), or the arm's from where it is. */
-async function jogOnce(jog: Jog): Promise<void> {
+async function jogNow(jog: Jog): Promise<void> {
   if (!s.editor.robot) return;
   const link = armLink();
   if (link?.running) return say("The arm is running a program: jog it when it is done (or STOP it).", true);
-  const from = link ? s.editor.arm.pose() : null;
-  let r: { moved?: boolean; said?: string; asked?: number; whole?: number | null; line?: string };
+  const from = link ? armFrom() : null;
+  let r: { moved?: boolean; said?: string; asked?: number; whole?: number | null; line?: string; q?: number[] };
   try {
     r = (await s.engine.call({ type: "jog", frame: jog.frame, axis: jog.axis, dir: jog.dir, step: stepNow(), from })) as typeof r;
   } catch (e) {
@@ -139,13 +158,26 @@ async function jogOnce(jog: Jog): Promise<void> {
   jogReport.jogs++;
   say(r.said ?? "", !r.moved);
   if (r.moved) jogReport.last = { asked: r.asked ?? 0, whole: r.whole ?? null, line: r.line ?? "" };
-  if (r.moved && link && r.line) void link.send(r.line);
+  if (r.moved && link && r.line) {
+    armTarget = r.q ?? null;
+    okAt = Infinity; // (no report counts until the arm has taken the line)
+    await link.send(r.line);
+    okAt = performance.now();
+  }
+}
+
+// Taps on an arm add up: each starts from the last one's target until the arm reports itself
+// at rest after taking it (a report read before its `ok` may be older than the line).
+let armTarget: number[] | null = null;
+let okAt = -Infinity;
+function armFrom(): number[] | null {
+  return armTarget && !(s.editor.arm.restAt() > okAt) ? armTarget : s.editor.arm.pose();
 }
 
 /** A held jog on the arm: one line as far as the jog may go, ended by `!` when let go. */
 async function holdOnArm(jog: Jog): Promise<void> {
   const link = armLink();
-  const from = s.editor.arm.pose();
+  const from = armFrom();
   if (!link || !from) return;
   // the tool's held speed follows the step: 1, 10 or 100 mm/s
   const r = (await s.engine.call({ type: "jog", frame: jog.frame, axis: jog.axis, dir: jog.dir, step: stepNow(), from,
