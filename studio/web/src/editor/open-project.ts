@@ -73,10 +73,9 @@ export class OpenProject implements ProjectOnScreen {
   /** The document as on screen now: the Editor's state and its parts. */
   document(): Project {
     const d = this.doc, ed = this.ed, r = ed.robot;
-    const stem = r?.source.split("/").pop()?.replace(/\.json$/, "") ?? "";
     let robot: Project["robot"] = d.robot;
-    // a shipped robot is read from /robots/; a file of the same name the user opened is not it
-    if (r && r.robots.includes(stem) && r.source === `/robots/${stem}.json`) robot = { shipped: stem };
+    // a shipped robot (the engine's word: a file of the same name the user opened is not it)
+    if (r?.shipped) robot = { shipped: r.shipped };
     else if (ed.robotFile) robot = ed.robotFile;
     return {
       ...d, robot, scene: ed.scene?.name ?? "", cell: ed.cell && { name: ed.cell.name, programs: [...ed.cell.programs] },

@@ -6,7 +6,7 @@
 import { EngineError } from "../../../../wasm/js/engine.mjs";
 import { BadMessage, text } from "./checks";
 import type { Msg, Out } from "./checks";
-import { info, S } from "./state";
+import { info, S, shippedName } from "./state";
 import type { Action, Op } from "../blocks/unroll";
 
 /** The program for a list of actions: protocol lines (what runs), RoboSim, and which block
@@ -26,8 +26,8 @@ export function opsOfProgram(src: string, name: string): { ops: Action[]; format
 /** The Python script that predicts the same program with `import articula`. */
 export function pythonScript(program: string): string {
   const r = info();
-  const shipped = S.index.robots.includes(r.source.split("/").pop()?.replace(/\.json$/, "") ?? "");
-  const robot = shipped ? `articula.Robot.load(${JSON.stringify(r.source.split("/").pop()!.replace(/\.json$/, ""))})`
+  const shipped = shippedName();
+  const robot = shipped ? `articula.Robot.load(${JSON.stringify(shipped)})`
     : `articula.Robot.load("my-robot.json")  # the robot file you opened`;
   const fn = r.num_motors ? "predict" : "run";
   return [

@@ -30,6 +30,7 @@ export interface RobotMsg {
   name: string;
   description: string;
   source: string;
+  shipped: string; // the shipped robot's name in the site's list ("": opened from a file; engine/state.ts shippedName)
   joints: Joint[];
   dh: Record<string, unknown>[];
   num_rows: number;

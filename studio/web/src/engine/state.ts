@@ -74,6 +74,13 @@ function meshUrl(path: string): string {
   return url;
 }
 
+/** The shipped robot shown, by its name in the site's list ("": a robot opened from a file). */
+export function shippedName(): string {
+  const source = info().source;
+  const stem = /^\/robots\/([^/]+)\.json$/.exec(source)?.[1] ?? "";
+  return S.index.robots.includes(stem) ? stem : "";
+}
+
 export function robotMessage(): Out {
   const r = info();
   const links = r.links.map((l) => ({
@@ -88,7 +95,7 @@ export function robotMessage(): Out {
     }),
   }));
   return {
-    type: "robot", name: r.name, description: r.description, source: r.source, joints: r.joints, dh: r.dh,
+    type: "robot", name: r.name, description: r.description, source: r.source, shipped: shippedName(), joints: r.joints, dh: r.dh,
     num_rows: r.num_rows, home: r.home, motors: r.motors.map((m) => m.name), links, gripper: r.gripper,
     reach_mm: r.reach_mm, places: r.places, robots: S.index.robots, programs: examplesFor(S.robot), scenes: S.index.scenes,
     import_notes: r.import_notes, wiring: r.wiring, ...nanoBuild(r),

@@ -85,8 +85,8 @@ export function initPhysics(studio: Studio): void {
 function sceneMenu(m: SceneMsg): void {
   const sel = $("scene-select") as HTMLSelectElement;
   // the scenes placed for the arm shown first; those placed for other arms after, said so
-  const stem = s.editor.robot?.source.split("/").pop()?.replace(/\.json$/, "") ?? "";
-  const fits = (n: string) => !(m.sized_for?.[n]?.length) || m.sized_for[n].includes(stem);
+  const shipped = s.editor.robot?.shipped ?? "";
+  const fits = (n: string) => !(m.sized_for?.[n]?.length) || m.sized_for[n].includes(shipped);
   const mine = m.scenes.filter(fits), others = m.scenes.filter((n) => !fits(n));
   setOptions(sel, [{ value: "", label: "off" }, ...mine]);
   if (others.length)

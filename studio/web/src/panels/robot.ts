@@ -65,11 +65,9 @@ export function showRobot(r: RobotMsg): void {
   $("robot-name").title = r.source;
   const sel = $("robot-select") as HTMLSelectElement;
   setOptions(sel, r.robots);
-  const stem = r.source.split("/").pop()?.replace(/\.json$/, "") ?? "";
-  const shipped = r.robots.includes(stem) && r.source === `/robots/${stem}.json`;
   // a robot opened from a file: named in the list (not chosen again from it)
-  if (!shipped) sel.append(h("option", { value: "", disabled: true }, `${r.name} (opened file)`));
-  sel.value = shipped ? stem : "";
+  if (!r.shipped) sel.append(h("option", { value: "", disabled: true }, `${r.name} (opened file)`));
+  sel.value = r.shipped;
   if (!r.keep_view) { // keep_view: the same robot, other link lengths
     if (r.import_notes.length) banner(`Imported. ${r.import_notes.length} things had no place in a robot file; the first: ${r.import_notes[0]}`, "info");
     needFit = built;
