@@ -1026,7 +1026,7 @@ std::string resolve_robot_path(const std::string& name_or_path) {
 std::string file_number(double v) {
   std::ostringstream o;
   o.precision(10);
-  o << v;
+  o << (v == 0 ? 0.0 : v);  // (never "-0")
   return o.str();
 }
 

@@ -6,6 +6,7 @@
 
 #include "board.h"
 #include "geometry.h"
+#include "robot_file.h"
 
 namespace articula::host {
 namespace {
@@ -359,11 +360,6 @@ std::string one_decimal(double v) {
   std::snprintf(buf, sizeof buf, "%.1f", std::fabs(v) < 0.05 ? 0.0 : v);
   return buf;
 }
-std::string trimmed(double v) {  // a range's end as the robot file gives it: 135, 12.5
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.6g", std::fabs(v) < 5e-7 ? 0.0 : v);
-  return buf;
-}
 }  // namespace
 
 std::string ik_miss_words(const Robot& r, const IkResult& res) {
@@ -382,7 +378,7 @@ std::string ik_miss_words(const Robot& r, const IkResult& res) {
     const auto& j = r.model.joints[size_t(k)];
     const char* unit = j.param == kParamD ? " mm" : deg;
     add("the " + r.joint_names[size_t(k)] + " joint at " + one_decimal(joint_from_model(r, k, res.q[size_t(k)])) + unit +
-        " (its range " + trimmed(joint_from_model(r, k, j.lo)) + unit + " to " + trimmed(joint_from_model(r, k, j.hi)) +
+        " (its range " + file_number(joint_from_model(r, k, j.lo)) + unit + " to " + file_number(joint_from_model(r, k, j.hi)) +
         unit + ")");
   }
   if (!res.limited_motors.empty()) {
@@ -390,7 +386,7 @@ std::string ik_miss_words(const Robot& r, const IkResult& res) {
     for (int k : res.limited_motors) {
       const MotorSpec& spec = r.actuation.motors[size_t(k)];
       add("the " + r.motor_names[size_t(k)] + " motor at " + one_decimal(m[size_t(k)]) + deg + " (its range " +
-          trimmed(spec.min / 1000.0) + deg + " to " + trimmed(spec.max / 1000.0) + deg + ")");
+          file_number(spec.min / 1000.0) + deg + " to " + file_number(spec.max / 1000.0) + deg + ")");
     }
   }
   return "held back by " + (held.empty() ? std::string("a joint's range") : held) + near;
