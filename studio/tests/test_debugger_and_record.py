@@ -35,6 +35,7 @@ def test_a_breakpoint_pauses_the_model_after_its_line_step_goes_one_line_and_the
     assert "Paused after line 2" in pg.page.text_content("#program-status")
     watch = pg.hook("a.debug.watch")
     assert watch["joints"].startswith("19.9") and watch["line"].startswith("2"), watch
+    pg.page.locator("#watch").scroll_into_view_if_needed()
     pg.page.screenshot(path=str(SHOTS / "studio-debugger.png"))
     pg.page.click("#step")
     pg.wait("Math.abs(a.pose.q[0] - 30) < 0.2")

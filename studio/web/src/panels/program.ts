@@ -393,7 +393,9 @@ function showWatch(p: PoseMsg): void {
     [p.tip ? "pen tip" : "tool", `${(p.tip ?? p.tool.xyz).map((v) => f(v)).join("  ")} mm`],
   ];
   if (r.gripper) rows.push(["gripper", `${f(p.gripper, 0)} % open`]);
-  if (p.line) rows.push(["line", `${p.line}${p.error_mm !== undefined ? `: whole steps put the tool ${f(p.error_mm, 3)} mm from the exact angles` : ""}`]);
+  if (p.line) rows.push(["line", `${p.line}`]);
+  // how far the whole steps put the tool from where the exact angles would
+  if (p.line && p.error_mm !== undefined) rows.push(["whole-step error", `${f(p.error_mm, 3)} mm`]);
   const st = s.editor.armConnected ? s.editor.arm.pose() : null;
   if (st) rows.push(["the arm", `${st.map((v) => f(v)).join("  ")}`]);
   programReport.watch = Object.fromEntries(rows);
