@@ -5,6 +5,8 @@
 
 #include <cstdio>
 
+#include <articula/settings.h>
+
 #include "board.h"
 
 namespace articula::host {
@@ -231,6 +233,23 @@ std::vector<std::string> supply_notes(const Robot& robot) {
                     std::to_string(micro) + " step, its microstep jumpers on: " +
                     (on.empty() ? "(a mode the chip lacks)" : on) +
                     "; its current limit set with its potentiometer to the motor's rated current before the first move.");
+    }
+    // microsteps ask for more steps a second than the firmware's default top rate gives (issue 55, 5)
+    int finest = 0;
+    for (int i = 1; i < n; ++i)
+      if (robot.actuation.motors[i].microsteps > robot.actuation.motors[finest].microsteps) finest = i;
+    const MotorSpec& m = robot.actuation.motors[finest];
+    const SettingRange rate = setting_range(kSetMaxRate, uint8_t(n));
+    if (m.microsteps > 2) {
+      const long turn = long(m.full_steps_per_rev) * m.microsteps;
+      char text[320];
+      std::snprintf(text, sizeof text,
+                    "At 1/%d step a motor turn is %ld steps: at the firmware's default top rate ($0, %lu steps/s) a turn "
+                    "takes %.1f s. Once the arm is connected, send $0=%lu (the most the firmware takes: a turn in %.1f s); "
+                    "the Nano keeps it in its EEPROM.",
+                    int(m.microsteps), turn, (unsigned long)rate.fallback, double(turn) / rate.fallback,
+                    (unsigned long)rate.max, double(turn) / rate.max);
+      out.push_back(text);
     }
   } else if (kind == kDriveUln2003) {
     out.push_back("The ULN2003 boards' + and - to a 5 V supply (each 28BYJ-48 draws about 0.25 A), its GND joined to "

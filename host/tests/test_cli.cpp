@@ -566,6 +566,9 @@ TEST(Cli, WiringListsEveryPinOfTheBoardTheFileNames) {
   EXPECT_NE(r.out.find("Each A4988 (base, shoulder and elbow motors): 1/8 step, its microstep jumpers on: MS1 and MS2; its current limit"),
             std::string::npos) << r.out;
   EXPECT_NE(r.out.find("12 to 24 V to its power terminal"), std::string::npos) << r.out;
+  // ... and the top rate its 1/8 step needs (issue 55, 5: the page never said $0=4000)
+  EXPECT_NE(r.out.find("At 1/8 step a motor turn is 1600 steps: at the firmware's default top rate ($0, 600 steps/s) a turn "
+                       "takes 2.7 s. Once the arm is connected, send $0=4000"), std::string::npos) << r.out;
   r = run_stdout("wiring mearm --json");
   const nlohmann::json servo = nlohmann::json::parse(r.out);
   ASSERT_EQ(servo["supply"].size(), 2u);
