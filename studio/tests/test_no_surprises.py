@@ -44,3 +44,21 @@ def test_with_a_pen_held_the_ik_says_it_aims_the_pens_tip(open_page):
     said = pg.page.text_content("#ik-status")
     assert said.startswith("The pen's tip (120 mm below the tool point) is the target. Reached"), said
     assert pg.errors == []
+
+
+def test_a_program_run_on_the_virtual_nano_plots_its_prediction_and_says_how_long_it_took(open_page):
+    """Issue 55, 6: after a run on the virtual Nano, Plots still said "Run a program to see...",
+    and nothing said that a run sent line by line takes longer than the prediction."""
+    pg = open_page("mk2plus")
+    pg.page.click("#tab-arm") if pg.page.is_visible("#tab-arm") else None
+    pg.page.select_option("#arm-port", "page:virtual")
+    pg.page.click("#arm-connect")
+    pg.wait("a.arm.connected && a.arm.status !== null", timeout=30000)
+    pg.page.click("#tab-program") if pg.page.is_visible("#tab-program") else None
+    pg.page.fill("#editor", "L 0 10\nL 0 -10\n")
+    pg.page.click("#run")
+    pg.wait("a.arm.programDone === true", timeout=60000)
+    said = pg.page.text_content("#program-status")
+    assert "all accepted in " in said and "s of the arm's time (the model: " in said, said
+    assert "Run a program to see" not in pg.page.text_content("#plots")
+    assert pg.errors == []

@@ -251,7 +251,8 @@ export type EngineMsg =
       predicted: { reply: string; steps: number[] | null; meaning: string; seconds?: number }; output?: string[] }
   | { type: "arm_stopped" }
   | { type: "arm_program"; line?: number; command?: string; reply?: string; meaning?: string; done?: boolean;
-      sent?: number; error?: string; stopped?: boolean; predicted?: { reply: string }; paused?: boolean; resumed?: boolean }
+      sent?: number; error?: string; stopped?: boolean; predicted?: { reply: string }; paused?: boolean; resumed?: boolean;
+      seconds?: number } // seconds: how long the program took on the arm's clock (less its pauses)
   | SceneMsg
   | PhysicsMsg
   | CellMsg

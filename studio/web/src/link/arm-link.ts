@@ -366,6 +366,8 @@ export class ArmLink {
     this.programStop = false;
     this.serial(async () => {
       let sent = 0;
+      const t0 = this.now(); // the arm's clock (the virtual Nano's own): how long the program took on it
+      let paused = 0; // ... less the time it waited at breakpoints
       try {
         const lines = text.split("\n");
         for (let n = 1; n <= lines.length; n++) {
@@ -388,12 +390,14 @@ export class ArmLink {
           if ((this.breaks.has(n) || this.stepping) && !this.programStop && lines.slice(n).some((l) => l.trim())) {
             this.pausedAt = n;
             this.emit({ type: "arm_program", paused: true, line: n });
+            const p0 = this.now();
             await new Promise<void>((resolve) => (this.resumeWaiter = resolve));
+            paused += this.now() - p0;
             this.pausedAt = 0;
             this.emit({ type: "arm_program", resumed: true, line: n });
           }
         }
-        this.emit({ type: "arm_program", done: true, sent });
+        this.emit({ type: "arm_program", done: true, sent, seconds: (this.now() - t0 - paused) / 1000 });
       } catch (e) {
         this.emit({ type: "arm_program", done: true, sent, error: (e as Error).message });
       } finally {

@@ -324,9 +324,14 @@ function armMessage(m: EngineMsg): void {
         armReport.programDone = true;
         // every refusal stays in sight, under the summary
         const refused = armRefusals.map((r) => `line ${r.line}: ${r.command} → ${r.reply} (${r.meaning}): nothing moved`);
+        // how long it took, beside the model's prediction (which queues the lines; the page sends
+        // each once the last has come to rest, as the harness does: a run takes longer)
+        const predicted = s.editor.timeline?.duration;
+        const took = m.seconds === undefined ? "" : ` in ${m.seconds.toFixed(1)} s of the arm's time` +
+          (predicted ? ` (the model: ${predicted.toFixed(1)} s with the lines queued; the page sends each line once the last has come to rest)` : "");
         say(m.error ? `The arm stopped: ${m.error}` : m.stopped ? "Stopped: no further line is sent."
-          : refused.length ? `The arm ran the program: ${m.sent} lines, ${refused.length} refused.`
-          : `The arm ran the program: ${m.sent} lines, all accepted.`, refused, !!m.error || refused.length > 0);
+          : refused.length ? `The arm ran the program: ${m.sent} lines, ${refused.length} refused${took}.`
+          : `The arm ran the program: ${m.sent} lines, all accepted${took}.`, refused, !!m.error || refused.length > 0);
         armRefusals = [];
       } else {
         s.editor.signals.lineRunning.dispatch({ line: m.line ?? 0, refused: m.reply !== "ok" });

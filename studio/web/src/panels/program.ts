@@ -17,6 +17,7 @@ export const programReport: { paths: Reports["paths"]; pngCaption: string; progr
 let s: Studio;
 let currentProgram = "program.arm";
 let autoplay: number[] | null = null; // loading to play at once, with these breakpoints
+let forArm = false; // loading the model's prediction of a program the arm runs: the arm's messages say how it goes
 let showGhost = true;
 let lineShown = 0;
 const editor = () => $("editor") as HTMLTextAreaElement;
@@ -207,7 +208,14 @@ function run(to = 0): void {
     link.setBreaks(breaks);
     return link.resume();
   }
-  if (onTheArm()) return s.editor.arm.run(ed.value, breaks);
+  if (onTheArm()) {
+    // the model's prediction beside it: the plots, and the time the run is compared with
+    if (!s.editor.timeline && !s.editor.physics?.on) { // (with the physics on a program load would restart the world)
+      forArm = true;
+      load();
+    }
+    return s.editor.arm.run(ed.value, breaks);
+  }
   programReport.pausedAt = 0;
   if (s.editor.timeline) s.engine.send({ type: "play", speed: playSpeed(), breaks });
   else {
@@ -432,6 +440,10 @@ export const programHandlers = {
     for (const r of m.records) if (r.reply !== "ok") s.editor.signals.lineRefused.dispatch({ line: r.line, message: `the arm refuses this: ${r.reply}, ${r.error}${why(r)}` });
     const rejected = m.records.filter((r) => r.reply !== "ok")
       .map((r) => `line ${r.line}: ${r.command} → error:${r.code}, ${r.error}: nothing moves${why(r)}`);
+    if (forArm) {
+      forArm = false;
+      return;
+    }
     programStatus(`${m.records.length} commands, ${m.summary.rejected ?? 0} rejected` +
       (m.summary.worst_error_mm !== undefined ? `, worst quantization error ${m.summary.worst_error_mm.toFixed(3)} mm` : "") +
       (lines.length ? `, ${lines.length} straight line${lines.length > 1 ? "s" : ""}: the tool within ${worst.toFixed(2)} mm of ${lines.length > 1 ? "them" : "it"} at every step` : "") +
