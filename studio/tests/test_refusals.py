@@ -4,6 +4,10 @@ of reach says what holds the tool back and how far it stays; a joint or motor is
 
 from __future__ import annotations
 
+import json
+
+from conftest import REPO
+
 
 def show_program_tab(pg) -> None:
     if pg.page.is_visible("#tab-program"):
@@ -57,4 +61,24 @@ def test_the_mearms_ik_names_what_holds_it_back_once_with_its_range(open_page):
     assert said.startswith("Not reached: held back by the shoulder motor at 30.0° (its range 30° to 135°)"), said
     assert said.endswith("; the nearest the tool comes is 23.2 mm away."), said
     assert said.count("shoulder") == 1, said
+    assert pg.errors == []
+
+
+def test_check_says_why_an_object_is_not_in_its_place(open_page, tmp_path):
+    """Issue 55, 8: Check said "161.6 mm from its place" and why the grasp failed was only in
+    the event log: it now says whether the gripper held the object, where it let it go, and the
+    first line the arm refused."""
+    doc = json.loads((REPO / "exercises" / "pick-and-place.articula").read_text())
+    doc["program"] = {"mode": "text", "name": "program.arm", "text": "G 100\nM 0 90 -60\nG 0\n", "blocks": None}
+    f = tmp_path / "miss.articula"
+    f.write_text(json.dumps(doc))
+    pg = open_page("mk2plus")
+    pg.page.click("#projects-button")
+    pg.page.set_input_files("#project-file", str(f))
+    pg.wait("a.project.goal !== null && a.programMode === 'text'")
+    pg.page.click("#exercise-check")
+    pg.wait("a.exercise !== null && a.exercise.parts.length > 0", timeout=30000)
+    detail = [p for p in pg.hook("a.exercise.parts") if not p["met"]][0]["detail"]
+    assert "mm from its place" in detail and "the gripper never held it" in detail, detail
+    assert "line 2 was refused (error:9" in detail, detail
     assert pg.errors == []

@@ -26,14 +26,38 @@ const f1 = (v: number) => v.toFixed(1);
 export interface GoalObject { name: string; size: number[]; xyz: number[]; lowest_tool_z: number | null }
 
 // How far outside its box an object's centre is (0: inside), as a part's result.
-function objectResult(p: Extract<GoalPart, { kind: "object" }>, objects: { name: string; pose: number[] }[]): PartResult {
+type SimEventJson = { kind: string; t: number; line: number; a: string; b: string; point_mm?: number[]; detail?: string };
+
+// What happened to an object that did not end in its place, from the physics' events: whether
+// the gripper held it and where it let it go, and the lines the arm refused (issue 55, 8: Check
+// said only how far it was; why was in the event log).
+function objectStory(name: string, events: SimEventJson[]): string {
+  const mine = (e: SimEventJson) => e.a === name || e.b === name;
+  const grasps = events.filter((e) => e.kind === "grasp" && mine(e));
+  const releases = events.filter((e) => e.kind === "release" && mine(e));
+  const refused = events.filter((e) => e.kind === "rejected");
+  const gone = events.find((e) => e.kind === "object_removed" && mine(e));
+  const said: string[] = [];
+  if (gone) said.push(`it left the world at ${f1(gone.t)} s`);
+  else if (!grasps.length) said.push("the gripper never held it");
+  else {
+    const g = grasps[0], r = releases.find((x) => x.t >= g.t);
+    said.push(`the gripper held it from line ${g.line}` + (r ? ` and let it go at line ${r.line}${r.point_mm ? `, at (${r.point_mm.map(f1).join(", ")}) mm` : ""}`
+      : ", and still holds it"));
+  }
+  if (refused.length) said.push(`line ${refused[0].line} was refused (${refused[0].detail ?? refused[0].a})` + (refused.length > 1 ? ` and ${refused.length - 1} more` : ""));
+  return said.join("; ");
+}
+
+function objectResult(p: Extract<GoalPart, { kind: "object" }>, objects: { name: string; pose: number[] }[], events: SimEventJson[] = []): PartResult {
   const o = objects.find((x) => x.name === p.object);
   if (!o) throw new BadMessage(`the scene has no object '${p.object}'`);
   const at = [o.pose[3], o.pose[7], o.pose[11]];
   const out = at.map((v, i) => Math.max(p.min[i] - v, 0, v - p.max[i]));
   const d = Math.hypot(...out);
   return { label: p.label || `${p.object} in its place`, met: d === 0, distance_mm: d,
-    detail: d === 0 ? `in place, at (${at.map(f1).join(", ")}) mm` : `${f1(d)} mm from its place: it is at (${at.map(f1).join(", ")}) mm` };
+    detail: d === 0 ? `in place, at (${at.map(f1).join(", ")}) mm`
+      : `${f1(d)} mm from its place: it is at (${at.map(f1).join(", ")}) mm` + (events.length ? `; ${objectStory(p.object, events)}` : "") };
 }
 
 // A cell's exercise (the project's cell, with its arms' programs): its objects' places, no
@@ -52,7 +76,7 @@ async function cellCheck(doc: { name?: unknown; programs?: unknown }, parts: Goa
   }
   const results: PartResult[] = [];
   for (const p of parts) {
-    if (p.kind === "object") results.push(objectResult(p, w.objects));
+    if (p.kind === "object") results.push(objectResult(p, w.objects, w.events as SimEventJson[]));
     if (p.kind === "no_collision") {
       const hits = w.events.filter((e) => e.kind === "collision" || e.kind === "self_collision" || e.kind === "squeeze");
       const first = hits[0];
@@ -169,7 +193,8 @@ export const exerciseHandlers: Record<string, (m: Msg) => Promise<Out[]>> = {
           sim.loadProgram(src, name);
           sim.runUntil(sim.endTime + SETTLE_S);
           const state = sim.state() as { objects: { name: string; pose: number[] }[] };
-          for (const p of objects) results.push(objectResult(p, state.objects));
+          const events = sim.events(0) as SimEventJson[];
+          for (const p of objects) results.push(objectResult(p, state.objects, events));
         } finally {
           sim.delete();
         }
