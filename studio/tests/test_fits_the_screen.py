@@ -45,3 +45,18 @@ def test_on_a_tablet_blocks_categories_and_number_fields_are_44_px(open_page):
     assert len(fields) == 3 and min(fields) >= 44, fields
     pg.page.screenshot(path="/tmp/articula-tablet-blocks.png")
     assert pg.errors == []
+
+
+def test_a_tap_on_a_sliders_track_does_not_jump_the_joint(open_page):
+    """Issue 55, 9: on the tablet a tap on a joint slider's track, away from its thumb, jumped
+    the joint by 56 degrees. The thumb is what a finger drags."""
+    pg = open_page("mk2plus", width=768, height=1024, touch=True)
+    if pg.page.is_visible("#tab-joints"):
+        pg.page.tap("#tab-joints")
+    q0 = pg.hook("a.pose.q[0]")
+    track = pg.page.locator("#joints input[type=range][data-joint='0']").bounding_box()
+    pg.page.touchscreen.tap(track["x"] + track["width"] - 6, track["y"] + track["height"] / 2)
+    pg.page.wait_for_timeout(600)
+    assert pg.hook("a.pose.q[0]") == q0
+    assert abs(float(pg.page.input_value("#joints input[type=range][data-joint='0']")) - q0) < 0.11
+    assert pg.errors == []

@@ -49,6 +49,14 @@ function buildJoints(r: RobotMsg): void {
       h("input", { type: "number", ...range, "aria-label": `a${row - 1}, mm` })));
   }
   fill(box, ...rows);
+  // On a touch screen a finger that lands on a slider's track, away from its thumb, moves
+  // nothing (a tap there jumped the joint by tens of degrees, issue 55, 9): the thumb is dragged.
+  box.querySelectorAll<HTMLInputElement>("input[type=range]").forEach((inp) => {
+    inp.addEventListener("touchstart", (e) => {
+      const t = e.touches[0];
+      if (t && !nearThumb(inp, t.clientX)) e.preventDefault();
+    }, { passive: false });
+  });
   box.querySelectorAll<HTMLInputElement>("input[data-joint]").forEach((inp) => {
     // typed: the box shows what the arm took (a value beyond the range, clamped) once done
     inp.addEventListener("change", () => {
@@ -76,6 +84,14 @@ function buildJoints(r: RobotMsg): void {
     });
   });
   $("gripper-row").hidden = !r.gripper;
+}
+
+const THUMB_PX = 22; // a slider's thumb on a touch screen (style.css), and a finger's slack beside it
+function nearThumb(inp: HTMLInputElement, x: number): boolean {
+  const r = inp.getBoundingClientRect();
+  const lo = Number(inp.min), hi = Number(inp.max);
+  const f = hi > lo ? (Number(inp.value) - lo) / (hi - lo) : 0;
+  return Math.abs(x - (r.left + THUMB_PX / 2 + f * (r.width - THUMB_PX))) <= THUMB_PX;
 }
 
 /** Sliders, gripper, the DH table and the tool pose follow a pose (not the slider in hand). */
