@@ -640,7 +640,9 @@ def test_the_wiring_view_draws_every_wire_from_the_robot_file(open_page, tmp_pat
     supply = pg.page.eval_on_selector_all("#wiring-supply li", "ls => ls.map(l => l.textContent)")
     assert supply[0].startswith("The shield's motor supply: 12 to 24 V"), supply
     assert supply[1].startswith("Each A4988 (base, shoulder and elbow motors): 1/8 step, its microstep jumpers on: MS1 and MS2;"), supply
-    assert len(supply) == 2, supply
+    # ... and the top rate 1/8 step needs: $0=4000 (issue 55, 5)
+    assert supply[2].startswith("At 1/8 step a motor turn is 1600 steps") and "send $0=4000" in supply[2], supply
+    assert len(supply) == 3, supply
     pg.page.click("#wiring-box summary")
     pg.page.locator("#wiring-box").screenshot(path=str(SHOTS / "studio-wiring.png"))
     # a file whose motor is named like markup: drawn as the text it is
