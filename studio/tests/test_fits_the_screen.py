@@ -5,6 +5,10 @@ against the 44 px every touch target gets."""
 
 from __future__ import annotations
 
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parents[2]
+
 TABS = """() => { const l = document.getElementById('dock-tabs'), r = l.getBoundingClientRect();
   return { fits: l.scrollWidth <= l.clientWidth,
            out: [...l.children].filter(t => { const b = t.getBoundingClientRect();
@@ -59,4 +63,37 @@ def test_a_tap_on_a_sliders_track_does_not_jump_the_joint(open_page):
     pg.page.wait_for_timeout(600)
     assert pg.hook("a.pose.q[0]") == q0
     assert abs(float(pg.page.input_value("#joints input[type=range][data-joint='0']")) - q0) < 0.11
+    assert pg.errors == []
+
+
+CODE_BOTTOM = """() => { const c = [document.getElementById('blockly'), document.getElementById('text-editor')]
+  .find(e => !e.hidden && e.offsetParent !== null); return c.getBoundingClientRect().bottom; }"""
+
+
+def test_in_an_exercise_the_code_comes_into_sight_once_the_student_starts(open_page):
+    """Issue 55, 9: at 1366x768 an exercise's task pushed the program below the window's bottom.
+    The task shows whole when the exercise opens; once the student works on the program it folds
+    to its title line, the program in sight, and a tap on that line opens it again."""
+    pg = open_page("mk2plus", width=1366, height=768)
+    pg.page.click("#projects-button")
+    pg.page.set_input_files("#project-file", str(REPO / "exercises" / "pick-and-place.articula"))
+    pg.wait("a.project.goal !== null && a.goal.facts.length > 1")
+    assert pg.page.is_visible("#exercise-text")
+    assert pg.page.evaluate(CODE_BOTTOM) > 768  # the task whole: the program's bottom cut
+    pg.page.click("#mode-text")  # (a change the student did not make in the program: the task stays)
+    pg.wait("a.programMode === 'text'")
+    assert pg.page.is_visible("#exercise-text")
+    pg.page.click("#editor")
+    pg.page.keyboard.press("Control+End")
+    pg.page.keyboard.type("\nG 100\n")
+    pg.wait("!document.getElementById('exercise-task').open")
+    assert pg.page.evaluate(CODE_BOTTOM) <= 768
+    assert pg.page.is_visible("#exercise-check")  # Check stays
+    # the title line opens the task again, and it stays open while the student types on
+    pg.page.click("#exercise-task > summary")
+    assert pg.page.is_visible("#exercise-text")
+    pg.page.click("#editor")
+    pg.page.keyboard.type("G 0\n")
+    pg.page.wait_for_timeout(300)
+    assert pg.page.is_visible("#exercise-text")
     assert pg.errors == []

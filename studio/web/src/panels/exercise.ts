@@ -15,6 +15,8 @@ export const exerciseReport: { goal: Reports["goal"]; exercise: Reports["exercis
 let s: Studio;
 let reveal: (id: string) => void = () => undefined;
 let checkedText: string | null = null; // the program the result shown is for
+let working = false; // the student has touched the program since the exercise opened
+let folded = false; // ... and the task was folded for it
 
 const goal = () => s.editor.project.doc.goal;
 const answer = () => ($("exercise-answer") as HTMLInputElement).value;
@@ -30,6 +32,20 @@ export function initExercise(studio: Studio, layout: { reveal: (id: string) => v
     fill($("exercise-result"));
   });
   $("exercise-check").onclick = () => void check();
+  // Once the student starts on the program (a change after their own touch or key in it), the
+  // task folds to its title line if the program is cut by the window's bottom: the code in sight
+  // (issue 55, 9). Once an exercise: opened again, it stays open.
+  for (const id of ["blockly", "editor"]) {
+    for (const kind of ["pointerdown", "keydown"]) $(id).addEventListener(kind, () => (working = true), { capture: true });
+  }
+  s.editor.signals.changed.add(() => {
+    const task = $("exercise-task") as HTMLDetailsElement;
+    if (!working || folded || !task.open || $("exercise").hidden) return;
+    const code = [$("blockly"), $("text-editor")].find((e) => !e.hidden && e.offsetParent !== null);
+    if (!code || code.getBoundingClientRect().bottom <= window.innerHeight) return;
+    folded = true;
+    task.open = false;
+  });
   let asked = 0;
   $("exercise-answer").addEventListener("input", () => { // the target follows what the student types
     clearTimeout(asked);
@@ -57,6 +73,8 @@ function showGoal(g: Goal | null): void {
   if (!g?.parts.some((p) => p.kind === "drawing")) s.editor.signals.drawingGoal.dispatch(null);
   if (!g) return;
   reveal("exercise"); // an exercise: its goal and the program in sight
+  ($("exercise-task") as HTMLDetailsElement).open = true;
+  working = folded = false;
   $("exercise-title").textContent = g.title;
   $("exercise-text").textContent = g.text;
   void goalFacts(g);
