@@ -108,7 +108,8 @@ def test_a_held_jog_on_the_virtual_nano_stops_within_its_deceleration_with_no_lo
     before_stop = 600 * ((halt_at - read_at) / 1000 + 1 / 15)
     assert 0 <= end - let_go <= 90 + before_stop + 5, (let_go, end, before_stop)
     limit_steps = pg.hook("a.arm.reply.predicted.steps[0]")
-    assert end < limit_steps, "the held jog was not ended by letting go"
+    assert end < limit_steps, ("the held jog was not ended by letting go", let_go, end, pg.hook("a.arm.reply"),
+                               pg.page.locator("#arm-console div").all_text_contents()[-30:])
     # every STEP the firmware counted, its coils made (the pins against the firmware's count)
     pg.wait(f"a.arm.nano !== null && a.arm.nano.steps[0] === {end}", timeout=10000)
     assert pg.hook("a.arm.nano.faults") == 0
