@@ -105,3 +105,32 @@ test("typed $, I and ? show what the arm prints", async (t) => {
   await link.disconnect();
   nano.delete();
 });
+
+// A Run sends each line once the arm reports the last at rest. The rest is heard from the first
+// report read after the line's `ok` (the arm answers in order: a report read before the `ok` may
+// say Idle from before the line was queued), so no line starts while the one before still moves,
+// and none waits the 150 ms the link used to wait for every line.
+test("a Run sends each line once the arm has come to rest after the last", async (t) => {
+  const { link, messages, nano } = await linked();
+  t.after(async () => {
+    await link.disconnect();
+    nano.delete();
+  });
+  link.runProgram("L 0 10\nL 0 -10\nL 0 5\nG 20\nL 0 0\n");
+  const end = await until(messages, (m) => m.type === "arm_program" && m.done);
+  assert.equal(end.error, undefined, `the Run ended with: ${end.error}`);
+  assert.equal(end.sent, 5);
+  // each line's message comes at its `ok`; before the next one's, a report at rest at the line's angle
+  const at = (m) => messages.indexOf(m);
+  const lines = messages.filter((m) => m.type === "arm_program" && !m.done);
+  const want = [10, 0, 5, 5, 5]; // (L turns a joint by its angle)
+  for (let i = 0; i + 1 < lines.length; i++) {
+    const between = messages.slice(at(lines[i]) + 1, at(lines[i + 1])).filter((m) => m.type === "arm_status");
+    const rest = between.filter((m) => m.state === "Idle");
+    assert.ok(rest.length > 0, `line ${i + 2} was sent with no report at rest after line ${i + 1}`);
+    assert.ok(Math.abs(rest.at(-1).angles[0] - want[i]) < 0.5, `after line ${i + 1} the base was at ${rest.at(-1).angles[0]}, not ${want[i]}`);
+    // ... and the line moved before it: the base's angle was not yet there at the first report
+    if (i < 3) assert.ok(between.some((m) => m.state === "Run"), `line ${i + 1} was never seen running`);
+  }
+  t.diagnostic(`5 lines in ${end.seconds.toFixed(2)} s of the arm's time`);
+});

@@ -50,6 +50,14 @@ export class ArmLink {
   private lastAsk = -Infinity; // the arm's time of the last `?`
   private lastPoll = 0;
   private fastUntil = 0;
+  // A line's predicted end, in the arm's time: `?` at 100 Hz around it, so its end is heard at once
+  private fastArm: [number, number] = [0, 0];
+  // Status reports read so far; the last that said at rest; the count when the last reply came.
+  // A report read after a line's `ok` was written after the line was queued (the arm answers in
+  // order): one that says at rest means the line has ended.
+  private reportSeq = 0;
+  private restSeq = 0;
+  private okSeq = 0;
   private history: string[] = []; // the lines the arm accepted, for the prediction
   private stopSentAt = 0;
   private idleWaiters: (() => void)[] = [];
@@ -203,6 +211,8 @@ export class ArmLink {
     this.askedAt = null; // (every `?` before it is answered)
     this.state = p.state;
     this.lastSteps = p.steps;
+    this.reportSeq++;
+    if (p.at_rest) this.restSeq = this.reportSeq;
     if (p.warning !== 0 && `error:${p.warning}` === this.engine.reply("SettingsReset")) return this.lost("the arm reset (its settings were reset to their defaults)");
     const msg: Record<string, unknown> = { type: "arm_status", state: p.state, steps: p.steps, angles: p.angles,
       q: pose.q, frames: pose.frames, text: line, rtt_ms: performance.now() - this.lastPoll,
@@ -234,7 +244,8 @@ export class ArmLink {
     // At 15 Hz of the arm's time: a virtual Nano starved by a busy machine runs slower than the
     // page, and a `?` every 67 ms of the page's time would be hundreds a second of its own.
     // (After a stop, every 10 ms of the page's: the stop's end is timed by the page.)
-    const fast = now < this.fastUntil;
+    const armNow = this.now();
+    const fast = now < this.fastUntil || (armNow >= this.fastArm[0] && armNow < this.fastArm[1]);
     if (fast || this.now() - this.lastAsk >= POLL_MS / 2) {
       this.lastPoll = now;
       this.lastAsk = this.now();
@@ -313,7 +324,17 @@ export class ArmLink {
       return withOutput ? { reply: "ok", output: [] } : "ok";
     }
     const got = await this.lines.exchange(line, REPLY_MS + seconds * 1000);
-    if (got.reply === "ok") this.history.push(line);
+    this.okSeq = this.reportSeq;
+    if (got.reply === "ok") {
+      this.history.push(line);
+      // heard at once when it ends: `?` at 100 Hz from 50 ms before its predicted end to 400 ms after
+      const end = this.now() + seconds * 1000;
+      this.fastArm = [end - 50, end + 400];
+      if (this.pollTimer !== null && this.connected) { // (the poll's next look: in 10 ms, not 67)
+        clearTimeout(this.pollTimer);
+        this.pollTimer = setTimeout(() => this.poll(), 10);
+      }
+    }
     return withOutput ? got : got.reply;
   }
 
@@ -406,8 +427,8 @@ export class ArmLink {
     });
   }
 
-  // Until the arm reports it is at rest (the first report after the line may still say Idle: a report
-  // counts from 150 ms of the arm's time on), a STOP, the link lost, or `ms` of the arm's time.
+  // Until the arm reports it is at rest (a report read after the line's `ok`: one read before it may
+  // say Idle from before the line was queued), a STOP, the link lost, or `ms` of the arm's time.
   // Looked at every 100 ms of the page's time as well as at each report: a link lost or an arm
   // that stopped reporting ends the wait (and the program) instead of leaving it waiting.
   private idle(ms: number, line: number): Promise<void> {
@@ -425,16 +446,11 @@ export class ArmLink {
         if (this.programStop) return end(resolve);
         if (this.now() - start > ms) end(() => reject(new Error(`line ${line}: the arm did not come to rest within ${Math.round(ms / 1000)} s`)));
       };
-      const onIdle = () => {
-        if (over) return;
-        if (this.now() - start > 150) end(resolve);
-        else this.idleWaiters.push(onIdle);
-      };
       const tick = setInterval(check, 100);
-      setTimeout(() => {
-        check();
-        if (!over) this.idleWaiters.push(onIdle);
-      }, 100);
+      check();
+      if (over) return;
+      if (this.restSeq > this.okSeq) return end(resolve); // (already heard, since the reply)
+      this.idleWaiters.push(() => end(resolve));
     });
   }
 

@@ -83,17 +83,32 @@ export class VirtualNanoPort implements SerialLike {
   private driven = new Map<string, number>();
   private watched: string[] = [];
   private worker: Worker | null = null;
-  // clock(): the page's time while closed, the Nano's emulated time while open, never backwards
+  // clock(): the page's time while closed, the Nano's emulated time while open, never backwards.
+  // The Nano's time comes with each thing it sends and with its state (10 a second); in between
+  // it runs on at the page's speed for up to 100 ms (a Nano behind is waited for, not outrun).
   private clockBase = 0;
   private wallBase = performance.now();
+  private nanoMs = 0; // the Nano's time at its last word
+  private nanoAt = 0; // ... and the page's then
+  private lastClock = 0;
 
   clock(): number {
-    return this.worker ? this.clockBase + (this.state?.seconds ?? 0) * 1000 : this.clockBase + performance.now() - this.wallBase;
+    const t = this.worker ? this.clockBase + this.nanoMs + Math.min(performance.now() - this.nanoAt, 100) * this.speed
+      : this.clockBase + performance.now() - this.wallBase;
+    this.lastClock = Math.max(this.lastClock, t);
+    return this.lastClock;
+  }
+  private heard(seconds: unknown): void {
+    if (typeof seconds !== "number") return;
+    this.nanoMs = seconds * 1000;
+    this.nanoAt = performance.now();
   }
 
   async open(options: { baudRate: number }): Promise<void> {
     if (this.worker) throw new Error("the virtual Nano is already open");
     this.clockBase = this.clock();
+    this.nanoMs = 0;
+    this.nanoAt = performance.now();
     this.state = null;
     const worker = new Worker(new URL("assets/nano-worker.js", document.baseURI), { type: "module" });
     this.worker = worker;
@@ -131,6 +146,7 @@ export class VirtualNanoPort implements SerialLike {
           this.flashBytes = m.flashBytes;
           resolve();
         } else if (m.type === "tx") {
+          this.heard(m.seconds);
           push?.(m.bytes);
         } else if (m.type === "flash") {
           this.image = m.bytes;
@@ -138,6 +154,7 @@ export class VirtualNanoPort implements SerialLike {
           this.closed?.();
         } else if (m.type === "state") {
           this.state = m;
+          this.heard(m.seconds);
           this.onState?.(m);
         } else if (m.type === "levels") {
           this.onLevels?.(m.levels);

@@ -324,11 +324,15 @@ function armMessage(m: EngineMsg): void {
         armReport.programDone = true;
         // every refusal stays in sight, under the summary
         const refused = armRefusals.map((r) => `line ${r.line}: ${r.command} → ${r.reply} (${r.meaning}): nothing moved`);
-        // how long it took, beside the model's prediction (which queues the lines; the page sends
-        // each once the last has come to rest, as the harness does: a run takes longer)
+        // how long it took, beside the model's prediction: its moves, each line sent once the last
+        // is at rest (as the page sends them); what the arm takes beyond it is each line's way
+        // there and back, which the model leaves out
         const predicted = s.editor.timeline?.duration;
-        const took = m.seconds === undefined ? "" : ` in ${m.seconds.toFixed(1)} s of the arm's time` +
-          (predicted ? ` (the model: ${predicted.toFixed(1)} s with the lines queued; the page sends each line once the last has come to rest)` : "");
+        const more = m.seconds !== undefined && predicted ? m.seconds - predicted : 0;
+        const took = m.seconds === undefined ? "" : ` in ${m.seconds.toFixed(1)} s of the arm's time` + (!predicted ? ""
+          : more < 0.05 ? ` (the model: ${predicted.toFixed(1)} s)`
+          : ` (the model: ${predicted.toFixed(1)} s of moves; the ${more.toFixed(1)} s more, ${Math.round((more * 1000) / Math.max(1, m.sent ?? 1))} ms a line, ` +
+            "is the Nano working each line out and the page hearing it come to rest)");
         say(m.error ? `The arm stopped: ${m.error}` : m.stopped ? "Stopped: no further line is sent."
           : refused.length ? `The arm ran the program: ${m.sent} lines, ${refused.length} refused${took}.`
           : `The arm ran the program: ${m.sent} lines, all accepted${took}.`, refused, !!m.error || refused.length > 0);

@@ -135,7 +135,7 @@ function run(): void {
     if (tx.length) {
       const bytes = new Uint8Array(tx);
       tx = [];
-      post({ type: "tx", bytes }, [bytes.buffer]);
+      post({ type: "tx", bytes, seconds: n.seconds }, [bytes.buffer]); // (the Nano's time: the page's clock of it)
     }
     if (now - lastState > 100) {
       lastState = now;
