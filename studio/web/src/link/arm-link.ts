@@ -391,17 +391,31 @@ export class ArmLink {
       let paused = 0; // ... less the time it waited at breakpoints
       try {
         const lines = text.split("\n");
+        // The next line's prediction is worked out while this one runs (the engine replays every
+        // line the arm accepted: on a long drawing that is tens of ms a line the arm would wait),
+        // after the lines the arm had accepted then: used if the arm has accepted none since.
+        type Predicted = Awaited<ReturnType<ArmEngine["predict"]>>;
+        let ahead: { n: number; accepted: number; p: Promise<Predicted> } | null = null;
+        const nextLine = (n: number) => lines.findIndex((l, i) => i >= n && l.trim() !== "") + 1; // (0: none)
         for (let n = 1; n <= lines.length; n++) {
           if (!lines[n - 1].trim()) continue;
           if (this.programStop) {
             this.emit({ type: "arm_program", done: true, stopped: true, sent });
             return;
           }
-          const predicted = await this.engine.predict(this.history, lines[n - 1]);
+          const predicted = ahead && ahead.n === n && ahead.accepted === this.history.length ? await ahead.p
+            : await this.engine.predict(this.history, lines[n - 1]);
+          ahead = null;
           const line = predicted.command; // (a comment alone is none)
           if (!line) continue;
           const reply = await this.command(line, predicted.seconds ?? 0);
           sent++;
+          const after = nextLine(n);
+          if (after) {
+            const p = this.engine.predict([...this.history], lines[after - 1]);
+            p.catch(() => undefined); // (not used after a STOP: its failure is nobody's)
+            ahead = { n: after, accepted: this.history.length, p };
+          }
           this.emit({ type: "arm_program", line: n, command: line, reply, meaning: this.engine.meaning(reply), predicted });
           if (reply === "ok") {
             const limit = 3 * (predicted.seconds ?? 0) + 5;
