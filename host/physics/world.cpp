@@ -439,10 +439,22 @@ void World::drag_object(int i, const Vec3<double>& target_mm) {
 
 void World::release_drag() {
   if (drag_object_ < 0) return;
+  placed_[drag_object_] = object_pose(drag_object_);
   Object& o = objects_[size_t(drag_object_)];
   dBodySetAngularDamping(o.body, 0);
   dBodyEnable(o.body);
   drag_object_ = -1;
+}
+
+Scene World::scene_as_placed() const {
+  Scene out = scene_;
+  for (const auto& [i, pose] : placed_) {
+    SceneObject& o = out.objects[size_t(i)];
+    o.xyz = pose.p;
+    const Vec3<double> rpy = matrix_to_rpy(pose.R);
+    o.rpy_deg = make_vec3(rpy.x * 180 / M_PI, rpy.y * 180 / M_PI, rpy.z * 180 / M_PI);
+  }
+  return out;
 }
 
 // The spring of a drag: a = w^2 (target - p) - 2 w v - g, w = 2 pi 4 Hz (critically damped,

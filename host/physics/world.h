@@ -29,6 +29,7 @@
 #include <ode/ode.h>
 
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -153,6 +154,9 @@ class World {
   void drag_object(int i, const Vec3<double>& target_mm);
   void release_drag();
   int dragged_object() const { return drag_object_; }
+  // The scene with every object a drag let go of standing where it was let go, turned as it
+  // was: where a student put it by hand, for the next run to start from (the studio's Run).
+  Scene scene_as_placed() const;
 
   int num_objects() const { return int(scene_.objects.size()); }
   const SceneObject& object(int i) const { return scene_.objects[size_t(i)]; }
@@ -208,6 +212,7 @@ class World {
   // A mouse drag: the object (-1 none) and where it is pulled, m.
   int drag_object_ = -1;
   double drag_target_[3] = {0, 0, 0};
+  std::map<int, Transform<double>> placed_;  // each object a drag let go of: where (mm)
 
   std::vector<SimEvent> events_;
   uint64_t steps_ = 0;

@@ -185,6 +185,10 @@ void bind_sim(nb::module_& m) {
       .def("release", [](PySim& s) { s.sim->release_drag(); }, "Lets go of a dragged object: it falls.")
       .def("reset", [](PySim& s) { s.build(); },
            "Back to t = 0: the arm at power-up, the objects where the scene puts them, no program.")
+      .def("restart",
+           [](PySim& s) { s.sim = std::make_unique<host::Simulation>(*s.robot, s.sim->scene_as_placed(), s.options); },
+           "Back to t = 0 as reset() does, but each object a drag let go of stands where it was let go "
+           "(the studio's Run after a student moved things by hand).")
       .def_prop_ro("time", [](const PySim& s) { return s.sim->time(); }, "simulated time, s")
       .def_prop_ro("steps", [](const PySim& s) { return s.sim->steps_taken(); })
       .def_prop_ro("dt", [](const PySim& s) { return s.options.dt; })

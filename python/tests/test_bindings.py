@@ -63,6 +63,7 @@ SAME = [
     # physics
     ("Sim.__init__", "Sim.create"),
     ("Sim.reset", "Sim.reset"),
+    ("Sim.restart", "Sim.restart"),
     ("Sim.step", "Sim.step"),
     ("Sim.step_path", "Sim.stepPath"),
     ("Sim.run_until", "Sim.runUntil"),

@@ -89,6 +89,11 @@ def test_a_dragged_box_follows_the_mouse_and_falls_back_to_rest():
     sim.step(1000)
     assert sim.state()["objects"][0]["pose"][2, 3] > 35
     sim.release()
+    let_go = sim.state()["objects"][0]["pose"]
+    # restart: from t = 0 with the box where the drag let go of it; reset: where the scene has it
+    sim.restart()
+    assert sim.time == 0
+    np.testing.assert_allclose(sim.state()["objects"][0]["pose"], let_go, atol=1e-9)
     sim.reset()
     assert sim.time == 0
     np.testing.assert_allclose(sim.state()["objects"][0]["pose"][:3, 3], start, atol=1e-9)

@@ -62,3 +62,41 @@ def test_a_program_run_on_the_virtual_nano_plots_its_prediction_and_says_how_lon
     assert "all accepted in " in said and "s of the arm's time (the model: " in said, said
     assert "Run a program to see" not in pg.page.text_content("#plots")
     assert pg.errors == []
+
+
+BOX = "a.physics.objects.find(o => o.name === 'box').pose"
+
+
+def test_an_object_dragged_by_hand_stays_there_at_run_and_reset_puts_it_back(open_page):
+    """Issue 55, 3: a block dragged closer to the arm went back to its place at Run. Run starts
+    the world again from power-up with each object where the student let go of it; Reset puts
+    every object back where the scene has it."""
+    pg = open_page("mk2plus", query="&scene=push")
+    pg.wait("a.physics && a.physics.on && a.physics.objects.length > 0")
+    pg.wait(f"Math.abs({BOX}[11] - 40) < 1.5", timeout=20000)
+    x0, y0 = pg.hook(f"[{BOX}[3], {BOX}[7]]")
+    x, y = pg.hook("a.objectScreen('box')")
+    pg.page.mouse.move(x, y)
+    pg.page.mouse.down()
+    for k in range(1, 16):
+        pg.page.mouse.move(x - 8 * k, y - 2 * k)
+        pg.page.wait_for_timeout(30)
+    pg.wait(f"Math.hypot({BOX}[3] - {x0}, {BOX}[7] - {y0}) > 40", timeout=15000)
+    pg.page.mouse.up()
+    # let go: it comes to rest on the ground, somewhere else
+    pg.wait(f"Math.abs({BOX}[11] - 40) < 1.5 && Math.abs({BOX}[10] - 1) < 0.01", timeout=20000)
+    pg.page.wait_for_timeout(500)
+    x1, y1 = pg.hook(f"[{BOX}[3], {BOX}[7]]")
+    assert ((x1 - x0) ** 2 + (y1 - y0) ** 2) ** 0.5 > 40
+    # Run: the world from power-up, the box where it was let go (as it fell from there)
+    pg.page.click("#tab-program") if pg.page.is_visible("#tab-program") else None
+    pg.page.fill("#editor", "L 0 5\n")
+    t = pg.hook("a.physics.t")
+    pg.page.click("#run")
+    pg.wait(f"a.physics.t < {t} && a.physics.t > 0.3", timeout=20000)
+    x2, y2 = pg.hook(f"[{BOX}[3], {BOX}[7]]")
+    assert abs(x2 - x1) < 3 and abs(y2 - y1) < 3, ((x1, y1), (x2, y2))
+    # Reset: where the scene has it
+    pg.page.click("#phys-reset")
+    pg.wait(f"Math.hypot({BOX}[3] - {x0}, {BOX}[7] - {y0}) < 2", timeout=20000)
+    assert pg.errors == []

@@ -64,7 +64,10 @@ export class Sim {
   state(): Record<string, unknown>;
   drag(name: string, xyz: number[]): void;
   release(): void;
+  /** From power-up, the objects where the scene file has them. */
   reset(): void;
+  /** From power-up, each object a drag let go of where it was let go. */
+  restart(): void;
   readonly time: number;
   readonly busy: boolean;
   readonly done: boolean;

@@ -150,7 +150,10 @@ export class Sim {
   state() { return checked(this.h.state()); }
   drag(name, xyz) { loaded(this.h.drag(String(name), xyz[0], xyz[1], xyz[2])); }
   release() { this.h.release(); }
+  /** From power-up, the objects where the scene file has them. */
   reset() { this.h.reset(); }
+  /** From power-up, each object a drag let go of where it was let go. */
+  restart() { this.h.restart(); }
   get time() { return this.h.time(); }
   get busy() { return this.h.busy(); }
   get done() { return this.h.done(); }

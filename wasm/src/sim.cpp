@@ -30,8 +30,14 @@ class WebSim {
       return std::string();
     });
   }
+  // From power-up, the objects where the scene file has them.
   void reset() {
     if (robot_) sim_ = std::make_unique<host::Simulation>(*robot_, scene_, options_);
+  }
+  // From power-up, each object a drag let go of where it was let go (Simulation::scene_as_placed):
+  // a program's run starts from where the student put things.
+  void restart() {
+    if (robot_ && sim_) sim_ = std::make_unique<host::Simulation>(*robot_, sim_->scene_as_placed(), options_);
   }
 
   void step(int n) {
@@ -106,6 +112,7 @@ EMSCRIPTEN_BINDINGS(articula_sim) {
       .constructor<>()
       .function("create", &WebSim::create)
       .function("reset", &WebSim::reset)
+      .function("restart", &WebSim::restart)
       .function("step", &WebSim::step)
       .function("stepPath", &WebSim::step_path)
       .function("runUntil", &WebSim::run_until)

@@ -94,3 +94,32 @@ TEST(World, BoxAtRestStaysAtRest) {
 }
 
 }  // namespace
+
+// A box a drag lets go of: the scene as placed has it there, turned as it was, and a world built
+// from that scene starts with it there (the studio's Run starts from where a student put it).
+TEST(World, ADraggedBoxStartsTheNextRunWhereItWasLetGo) {
+  Scene s;
+  s.objects.push_back(box("box", 40, make_vec3(250.0, 0.0, 20.0), 0.05));
+  s.objects.push_back(box("other", 40, make_vec3(250.0, 150.0, 20.0), 0.05));
+  Simulation sim(mk2(), s);
+  sim.run_until(0.2);
+  sim.drag_object(0, make_vec3(180.0, -60.0, 25.0));
+  sim.run_until(1.7);
+  sim.release_drag();
+  const Transform<double> let_go = sim.object_pose(0);
+  EXPECT_NEAR(let_go.p.x, 180, 5);
+  EXPECT_NEAR(let_go.p.y, -60, 5);
+  const Scene placed = sim.scene_as_placed();
+  EXPECT_NEAR(placed.objects[0].xyz.x, let_go.p.x, 1e-9);
+  EXPECT_NEAR(placed.objects[0].xyz.y, let_go.p.y, 1e-9);
+  EXPECT_NEAR(placed.objects[0].xyz.z, let_go.p.z, 1e-9);
+  EXPECT_EQ(placed.objects[1].xyz.y, 150) << "an object no drag let go of keeps the scene's place";
+  Simulation next(mk2(), placed);
+  const Transform<double> start = next.object_pose(0);
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(start.R.m[r][c], let_go.R.m[r][c], 1e-9) << r << c;
+  EXPECT_NEAR(start.p.x, let_go.p.x, 1e-9);
+  // ... and the scene given stays as it was
+  EXPECT_EQ(sim.scene_as_placed().objects.size(), 2u);
+  EXPECT_EQ(s.objects[0].xyz.x, 250);
+}

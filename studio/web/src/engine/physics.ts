@@ -81,8 +81,11 @@ export async function sceneIntent(m: Msg): Promise<Out[]> {
   return [sceneMessage(), physicsMessage(), poseMessage()];
 }
 
-function restart(): void {
-  S.sim!.reset();
+// The world from power-up: for a program's run (`placed`), each object a drag let go of where
+// it was let go (the student put it there); for Reset, every object where the scene file has it.
+function restart(placed = false): void {
+  if (placed) S.sim!.restart();
+  else S.sim!.reset();
   eventsSent = 0;
   pendingMove = pendingGrip = null;
   trail = [];
@@ -134,7 +137,7 @@ export function physicsIntent(kind: string, m: Msg, kinematic: (kind: string, m:
     case "program_load": {
       const replies = kinematic(kind, m);
       if (replies[0]?.type === "timeline") {
-        restart();
+        restart(true);
         s.loadProgram(m.text as string, (typeof m.name === "string" && m.name) || "program.arm");
         running = false;
       }
