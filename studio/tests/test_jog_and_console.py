@@ -91,12 +91,14 @@ def test_a_held_jog_on_the_virtual_nano_stops_within_its_deceleration_with_no_lo
     _connect_virtual_nano(pg)
     _joints_tab(pg)
     pg.page.select_option("#jog-frame", "joint")
+    start = pg.hook("a.arm.status.steps[0]")  # (a Nano a test before left turned: from there)
     button = pg.page.locator("[aria-label='base plus']")
     box = button.bounding_box()
     pg.page.mouse.move(box["x"] + box["width"] / 2, box["y"] + box["height"] / 2)
     pg.page.mouse.down()
     # held: one move towards the base's limit, on its way
-    pg.wait("a.jog.held === 1 && a.arm.status.state === 'Run' && a.arm.status.steps[0] > 60", timeout=30000)
+    # (60 steps beyond the start: more than the first tap's 1 degree, so the held line is under way)
+    pg.wait(f"a.jog.held === 1 && a.arm.status.state === 'Run' && a.arm.status.steps[0] > {start} + 60", timeout=30000)
     pg.page.mouse.up()
     let_go, read_at = pg.hook("[a.arm.status.steps[0], a.arm.status.sent_ms]")
     pg.wait("a.jog.lets === 1 && a.arm.status.state === 'Idle'", timeout=30000)
@@ -119,7 +121,9 @@ def test_a_held_jog_on_the_virtual_nano_stops_within_its_deceleration_with_no_lo
     angle, jogs = pg.hook("a.arm.status.angles[0]"), pg.hook("a.jog.jogs")
     for _ in range(3):
         pg.page.click("[aria-label='base minus']")
-    pg.wait(f"a.jog.jogs === {jogs + 3} && a.arm.reply && a.arm.reply.reply === 'ok'", timeout=30000)
+    # (the third tap's own reply: the arm may rest after the second before the third is sent)
+    pg.wait(f"a.jog.jogs === {jogs + 3} && a.arm.reply && a.arm.reply.reply === 'ok' && a.arm.reply.line === a.jog.last.line",
+            timeout=30000)
     pg.wait("a.arm.status.state === 'Idle' && a.arm.status.steps[0] === a.arm.reply.predicted.steps[0]", timeout=30000)
     assert abs(pg.hook("a.arm.status.angles[0]") - (angle - 3)) < 0.35, (angle, pg.hook("a.arm.status.angles[0]"))
     assert pg.hook("a.arm.error") == ""
