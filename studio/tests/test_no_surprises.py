@@ -4,14 +4,19 @@ had chosen to draw), and with a pen held the IK aimed the pen's tip without sayi
 
 from __future__ import annotations
 
+from test_studio import _connect_page_nano
+
+
+def _on_the_virtual_nano(pg):
+    """The page connected to its virtual Nano, the Program panel in sight."""
+    pg.page.click("#tab-arm") if pg.page.is_visible("#tab-arm") else None
+    _connect_page_nano(pg)
+    pg.page.click("#tab-program") if pg.page.is_visible("#tab-program") else None
+    return pg
+
 
 def test_a_pick_and_place_on_the_virtual_nano_leaves_no_ink(open_page):
-    pg = open_page("mk2plus")
-    pg.page.click("#tab-arm") if pg.page.is_visible("#tab-arm") else None
-    pg.page.select_option("#arm-port", "page:virtual")
-    pg.page.click("#arm-connect")
-    pg.wait("a.arm.connected && a.arm.status !== null", timeout=30000)
-    pg.page.click("#tab-program") if pg.page.is_visible("#tab-program") else None
+    pg = _on_the_virtual_nano(open_page("mk2plus"))
     # down low (the tool about 60 mm above the floor: a 120 mm pen's tip would be in it) and back
     pg.page.fill("#editor", "G 100\nM 0 50 -40\nG 0\nM 0 75 -20\n")
     pg.page.check("#drive-arm")
@@ -49,12 +54,7 @@ def test_with_a_pen_held_the_ik_says_it_aims_the_pens_tip(open_page):
 def test_a_program_run_on_the_virtual_nano_plots_its_prediction_and_says_how_long_it_took(open_page):
     """Issue 55, 6: after a run on the virtual Nano, Plots still said "Run a program to see...",
     and nothing said that a run sent line by line takes longer than the prediction."""
-    pg = open_page("mk2plus")
-    pg.page.click("#tab-arm") if pg.page.is_visible("#tab-arm") else None
-    pg.page.select_option("#arm-port", "page:virtual")
-    pg.page.click("#arm-connect")
-    pg.wait("a.arm.connected && a.arm.status !== null", timeout=30000)
-    pg.page.click("#tab-program") if pg.page.is_visible("#tab-program") else None
+    pg = _on_the_virtual_nano(open_page("mk2plus"))
     pg.page.fill("#editor", "L 0 10\nL 0 -10\n")
     pg.page.click("#run")
     pg.wait("a.arm.programDone === true", timeout=60000)
