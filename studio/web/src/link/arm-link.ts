@@ -246,9 +246,9 @@ export class ArmLink {
     // (After a stop, every 10 ms of the page's: the stop's end is timed by the page.)
     const armNow = this.now();
     const fast = now < this.fastUntil || (armNow >= this.fastArm[0] && armNow < this.fastArm[1]);
-    if (fast || this.now() - this.lastAsk >= POLL_MS / 2) {
+    if (fast || armNow - this.lastAsk >= POLL_MS / 2) {
       this.lastPoll = now;
-      this.lastAsk = this.now();
+      this.lastAsk = armNow;
       this.lines.note("?", String(this.lines.reading));
       if (this.askedAt === null) this.askedAt = this.now();
       this.lines.write("?").catch((e) => this.lost(`cannot write: ${(e as Error).message}`));
@@ -396,7 +396,9 @@ export class ArmLink {
         // after the lines the arm had accepted then: used if the arm has accepted none since.
         type Predicted = Awaited<ReturnType<ArmEngine["predict"]>>;
         let ahead: { n: number; accepted: number; p: Promise<Predicted> } | null = null;
-        const nextLine = (n: number) => lines.findIndex((l, i) => i >= n && l.trim() !== "") + 1; // (0: none)
+        // each line's number, and the next line with something on it (0: none)
+        const next: number[] = new Array(lines.length + 1).fill(0);
+        for (let n = lines.length - 1; n >= 1; n--) next[n] = lines[n].trim() ? n + 1 : next[n + 1];
         for (let n = 1; n <= lines.length; n++) {
           if (!lines[n - 1].trim()) continue;
           if (this.programStop) {
@@ -410,7 +412,7 @@ export class ArmLink {
           if (!line) continue;
           const reply = await this.command(line, predicted.seconds ?? 0);
           sent++;
-          const after = nextLine(n);
+          const after = next[n];
           if (after) {
             const p = this.engine.predict([...this.history], lines[after - 1]);
             p.catch(() => undefined); // (not used after a STOP: its failure is nobody's)
@@ -422,7 +424,7 @@ export class ArmLink {
             await this.idle(limit * 1000, n);
           }
           // a breakpoint, or a step or a pause asked for: here, at rest after the line, until told
-          if ((this.breaks.has(n) || this.stepping) && !this.programStop && lines.slice(n).some((l) => l.trim())) {
+          if ((this.breaks.has(n) || this.stepping) && !this.programStop && next[n]) {
             this.pausedAt = n;
             this.emit({ type: "arm_program", paused: true, line: n });
             const p0 = this.now();
