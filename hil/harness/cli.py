@@ -124,6 +124,8 @@ def parser() -> argparse.ArgumentParser:
                      help="with --port: seconds to wait after opening the port (a Nano resets; default 2)")
     run.add_argument("--keep-traces", action="store_true", help="keep the virtual Nano's step traces (CSV, large)")
     run.add_argument("--no-progress", action="store_true", help="no progress bar on stderr")
+    run.add_argument("--no-plots", action="store_true",
+                     help="a report without its PNG plots (quicker: the tables have every figure)")
     gen = sub.add_parser("generate", help="write a random plan", description="Writes a random plan (see run --random).")
     gen.add_argument("n", type=int, metavar="N", help="commands")
     gen.add_argument("--seed", type=int, default=1, metavar="S")
@@ -291,7 +293,7 @@ def _run(args, argv) -> int:
                      started=started.strftime("%Y-%m-%d %H:%M:%S"), wall_s=time.monotonic() - t0,
                      settings_override=args.settings or {}, measured_path=args.measured, has_pins=not args.port,
                      command_line=cmdline)
-    md = report.build(run, out, robot)
+    md = report.build(run, out, robot, plots=not args.no_plots)
     print(report.summary_text(run, md))
     if interrupted:
         print("python -m hil.harness: interrupted; the report covers the plans that ran", file=sys.stderr)

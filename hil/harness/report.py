@@ -1,6 +1,7 @@
 """The report folder: report.md and report.html (the same content), PNG plots (matplotlib,
-Agg), commands.csv (one row per command, every figure), and per plan the serial transcript
-and, on the virtual Nano, its JSON report.
+Agg; none with `--no-plots`, and matplotlib is then not even imported), commands.csv (one row
+per command, every figure), and per plan the serial transcript and, on the virtual Nano, its
+JSON report.
 """
 
 from __future__ import annotations
@@ -11,20 +12,25 @@ import math
 from dataclasses import dataclass
 from pathlib import Path
 
-import matplotlib
+import articula
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-
-import articula  # noqa: E402
-
-from .runner import PlanResult, Record  # noqa: E402
+from .runner import PlanResult, Record
 
 AXES = ("x", "y", "z")
 PCT_MIN_MM = 1.0  # a per-axis % needs a coordinate this far from 0 (kPctMinMm, host/lib/experiment.h; for the text)
 
 
 # ---------------------------------------------------------------- small helpers
+
+def _plt():
+    """matplotlib's pyplot on Agg, imported when the first plot is drawn (a second of a run)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return plt
+
 
 def f3(v, nd=3) -> str:
     if v is None:
@@ -227,6 +233,7 @@ def _plan_bounds(ax, results, offsets):
 
 
 def plot_steps(run: Run, path: Path, motors: list[str]) -> None:
+    plt = _plt()
     recs = run.records
     fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(10, 6), sharex=True, gridspec_kw={"height_ratios": [3, 1.2]})
     xs = list(range(len(recs)))
@@ -279,6 +286,7 @@ def plot_steps(run: Run, path: Path, motors: list[str]) -> None:
 
 
 def plot_quantization(run: Run, path: Path) -> None:
+    plt = _plt()
     recs = [r for r in run.records if r.pred is not None]
     xs = list(range(len(recs)))
     fig, ax = plt.subplots(figsize=(10, 3.8))
@@ -297,6 +305,7 @@ def plot_quantization(run: Run, path: Path) -> None:
 
 
 def plot_durations(run: Run, path: Path) -> None:
+    plt = _plt()
     timed = [r for r in run.records if r.duration_error_pct is not None]
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(10, 3.8))
     if timed:
@@ -322,6 +331,7 @@ def plot_durations(run: Run, path: Path) -> None:
 
 
 def plot_single_joint(rows, joint: int, motor: str, path: Path) -> None:
+    plt = _plt()
     jr = sorted((r for r in rows if r["joint"] == joint), key=lambda r: r["angle"])
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(10, 3.6))
     xs = [r["angle"] for r in jr]
@@ -348,6 +358,7 @@ def plot_single_joint(rows, joint: int, motor: str, path: Path) -> None:
 
 
 def plot_repeatability(rows, path: Path) -> None:
+    plt = _plt()
     fig, ax = plt.subplots(figsize=(7, 3.4))
     ns = [r["n"] for r in rows]
     ax.bar([n - 0.2 for n in ns], [r["dest_err"] for r in rows], width=0.4, label="at the destination (quantized vs ideal)")
@@ -527,11 +538,17 @@ def write_csv(run: Run, path: Path, motors: int, joints: int) -> None:
             w.writerow(row)
 
 
-def build(run: Run, out: Path, robot) -> Path:
+def build(run: Run, out: Path, robot, plots: bool = True) -> Path:
+    """The report folder `out`; without `plots`, no PNG (the report says so once)."""
     out.mkdir(parents=True, exist_ok=True)
     motors = [m.name for m in robot.motors]
     s = summary_figures(run)
     d = Doc()
+
+    def picture(name: str, alt: str, draw) -> None:
+        if plots:
+            draw(out / name)
+            d.img(name, alt)
     d.h(1, "Articula hardware-in-the-loop report")
     meta = [["run", f"{run.started}, {run.wall_s:.1f} s"], ["target", run.target]]
     if run.vnano:
@@ -550,6 +567,8 @@ def build(run: Run, out: Path, robot) -> Path:
     if run.measured_path:
         meta.append(["measured positions", f"`{run.measured_path}`"])
     meta.append(["command", f"`{run.command_line}`"])
+    if not plots:
+        meta.append(["plots", "not drawn (--no-plots): the tables below have every figure"])
     d.table(["", ""], meta)
 
     # ---- summary
@@ -593,8 +612,8 @@ def build(run: Run, out: Path, robot) -> Path:
            "firmware reports `Idle`; the coil events since the previous `Idle` are the command's own, "
            "`pins made`)." if run.has_pins else ". On a real port there are no pins to decode.")
         + " A command matches when the reply, the steps, the angles and (once set) the gripper agree.")
-    plot_steps(run, out / "steps.png", motors)
-    d.img("steps.png", "steps per motor after every command: prediction, firmware, pins")
+    picture("steps.png", "steps per motor after every command: prediction, firmware, pins",
+            lambda path: plot_steps(run, path, motors))
     for res in run.results:
         d.h(3, f"{res.plan.title} (`{res.plan.name}`)")
         for note in res.plan.notes:
@@ -618,8 +637,7 @@ def build(run: Run, out: Path, robot) -> Path:
     d.p("How far the tool is from where the commanded angles would put it, because every motor stops on a "
         "whole step: `articula predict`'s quantized tool position minus its ideal one, per axis, in the robot's "
         "base frame (x forward, z up, mm).")
-    plot_quantization(run, out / "quantization.png")
-    d.img("quantization.png", "predicted quantization error per axis")
+    picture("quantization.png", "predicted quantization error per axis", lambda path: plot_quantization(run, path))
     qrows = []
     for res in run.results:
         recs = [r for r in res.records if r.pred]
@@ -645,8 +663,7 @@ def build(run: Run, out: Path, robot) -> Path:
         d.p("Predicted: `articula predict`'s duration of each action. Measured with the host's clock, from "
             "sending the line to the first `Idle` status report: it includes the line's transmission and up to "
             "one polling interval, so it errs by some milliseconds.")
-    plot_durations(run, out / "durations.png")
-    d.img("durations.png", "predicted vs measured durations")
+    picture("durations.png", "predicted vs measured durations", lambda path: plot_durations(run, path))
     drows = []
     for res in run.results:
         timed = [r for r in res.records if r.duration_error_pct is not None]
@@ -725,8 +742,8 @@ def build(run: Run, out: Path, robot) -> Path:
                 f"joint {j} at {a:g} (line {r.line}, {_cmd(r)}: {r.reply or 'not run'})" for j, a, r in refused) + ".")
         for j in sorted({r["joint"] for r in sj_rows}):
             name = f"single-joint-{j}.png"
-            plot_single_joint(sj_rows, j, motors[j] if j < len(motors) else str(j), out / name)
-            d.img(name, f"error vs joint {j} angle")
+            picture(name, f"error vs joint {j} angle",
+                    lambda path, j=j: plot_single_joint(sj_rows, j, motors[j] if j < len(motors) else str(j), path))
 
     # ---- repeatability
     zero_tool = list(robot.tool_from_actuators(robot.zero_angles))
@@ -758,8 +775,7 @@ def build(run: Run, out: Path, robot) -> Path:
             trows.append(row)
         d.table(head, trows, right={0, 1, 2, 3, 4})
         name = f"repeatability-{Path(res.plan.name).stem}.png"
-        plot_repeatability(rows_r, out / name)
-        d.img(name, "repeatability")
+        picture(name, "repeatability", lambda path, rows_r=rows_r: plot_repeatability(rows_r, path))
 
     # ---- P targets
     prow = []

@@ -123,11 +123,14 @@ def test_random_plan(bins, tmp_path):
     out = tmp_path / "random"
     # The issue's acceptance: at least 1,000 random commands, 0 mismatches, 0 faults. Fast settings
     # ($0, $1, $5) keep it short: 1,000 commands in about 50 s.
-    p = harness(bins, "--random", 1000, "--seed", 11, "--settings", "0=4000,1=100000,5=20", "--out", out)
+    # (--no-plots: a report of tables only, none of matplotlib's work; test_shipped_plans... draws them)
+    p = harness(bins, "--random", 1000, "--seed", 11, "--settings", "0=4000,1=100000,5=20", "--out", out, "--no-plots")
     print(p.stdout, p.stderr)
     assert p.returncode == 0, p.stdout + p.stderr
     assert "steps matched: 1000/1000 (prediction = firmware = pins)" in p.stdout
     assert "faults: 0" in p.stdout
+    assert not list(out.glob("*.png"))
+    assert "| plots | not drawn (--no-plots): the tables below have every figure |" in (out / "report.md").read_text()
     plan = out / "random-1000-seed-11.arm"
     assert plan.is_file()
     data = rows(out)
@@ -153,7 +156,7 @@ def test_rejected_line_is_reported_with_its_plan_line(bins, tmp_path):
     plan = tmp_path / "reject.arm"
     plan.write_text("# a line the arm refuses, not marked #@ expect\nL 0 10\nL 1 100\nL 0 -10\n")
     out = tmp_path / "out"
-    p = harness(bins, plan, "--out", out)
+    p = harness(bins, plan, "--out", out, "--no-plots")
     print(p.stdout, p.stderr)
     assert p.returncode == 1
     assert "faults: 1" in p.stdout
@@ -173,7 +176,7 @@ def test_timeout_is_reported(bins, tmp_path):
     # the limit holds in the Nano's time (the pins' cycle stamps) as well as the wall clock's.
     plan.write_text("L 0 5\n$0=2\n#@ timeout 0.3\nL 0 80\nL 0 -85\n")
     out = tmp_path / "out"
-    p = harness(bins, plan, "--out", out)
+    p = harness(bins, plan, "--out", out, "--no-plots")
     print(p.stdout, p.stderr)
     assert p.returncode == 1
     assert p.wall < 30
@@ -316,7 +319,7 @@ def test_one_firmware_configured_for_each_arm(bins, tmp_path, arm):
     runs the same arms (studio/web/tests/nano-codesign.test.mjs)."""
     out = tmp_path / "report"
     # The plans' 73 commands and 130 random lines: at least 200 lines an arm (issue 40's bar).
-    p = harness(bins, *PLANS, "--robot", arm, "--random", 130, "--seed", 3, "--expect-predicted", "--out", out)
+    p = harness(bins, *PLANS, "--robot", arm, "--random", 130, "--seed", 3, "--expect-predicted", "--out", out, "--no-plots")
     print(p.stdout, p.stderr)
     assert p.returncode == 0, p.stdout + p.stderr
     data = rows(out)
@@ -365,7 +368,7 @@ def test_a_drawing_runs_on_the_firmware_step_for_step(bins, tmp_path):
         assert d.returncode == 0, d.stdout + d.stderr
         lines = [ln for ln in program.read_text().splitlines() if ln and not ln.startswith("#")]
         out = tmp_path / f"{name}-report"
-        p = harness(bins, program, "--expect-predicted", "--out", out, "--no-progress")
+        p = harness(bins, program, "--expect-predicted", "--out", out, "--no-progress", "--no-plots")
         assert p.returncode == 0, p.stdout + p.stderr
         assert f"steps matched: {len(lines)}/{len(lines)} (prediction = firmware = pins)" in p.stdout, p.stdout
         assert "result: every command matched" in p.stdout
