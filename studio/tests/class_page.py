@@ -79,6 +79,11 @@ def _drag_block(pg, category: str, kind: str, below: str | None) -> str:
         page.mouse.move(sx + 40, sy + 30, steps=4)
         page.mouse.move(tx + 6, ty + 8, steps=8)
         page.mouse.up()
+        if not below:  # the first block: once it is the one stack, it landed (on a busy machine a
+            try:       # drop the open flyout took deletes it: it is then dragged again)
+                pg.wait("a.blockStacks === 1", timeout=2000)
+            except AssertionError:
+                pass
         after = page.eval_on_selector_all(f"#blockly svg.blocklySvg g.{kind}[data-id]", "gs => gs.map(g => g.dataset.id)")
         new = [i for i in after if i not in before]
         if new:
