@@ -63,12 +63,19 @@ function nanoWith(bootloader, app = EMPTY) {
   return new VirtualNano({ hex: app, parts, bootloader: bootloader && readFileSync(bootloader, "utf8") });
 }
 
+// The Nano at most PACE times real time, as the page's worker runs it at most in real time: a
+// bootloader's waits for the host cost nothing to emulate (VirtualNano.skipPoll), so unpaced
+// its clock would run far ahead of the flasher's, and its watchdog (1 s) end the bootloader
+// between two of the flasher's commands.
+const PACE = 4;
+const pacedPort = (n) => Object.assign(new NanoPort(n), { pace: PACE });
+
 const written = (n) => n.flash.subarray(0, image.used).every((b, i) => b === image.flash[i]);
 
 describe("flashing the Nano from the page", { skip: !existsSync(OPTIBOOT) && "arduino-core-avr's bootloaders are not installed" }, () => {
   test("through Optiboot: written, verified, and the Nano answers I with the robot's banner", async (t) => {
     const n = nanoWith(OPTIBOOT);
-    const port = new NanoPort(n);
+    const port = pacedPort(n);
     assert.equal(await banner(port, 1), null, "a Nano with no program has no banner");
     const phases = new Set();
     let last = null;
@@ -95,7 +102,7 @@ describe("flashing the Nano from the page", { skip: !existsSync(OPTIBOOT) && "ar
     ]) {
       const hex = readFileSync(join(HEX, "..", file), "utf8");
       const n = new VirtualNano({ hex: EMPTY, parts, bootloader: readFileSync(OPTIBOOT, "utf8"), ...options });
-      const port = new NanoPort(n);
+      const port = pacedPort(n);
       const r = await flashNano(port, hex);
       assert.equal(r.bytes, parseHex(hex).used, file);
       const b = await banner(port);
@@ -107,18 +114,18 @@ describe("flashing the Nano from the page", { skip: !existsSync(OPTIBOOT) && "ar
 
   test("through the old bootloader (ATmegaBOOT, 57,600 baud) after Optiboot's rate finds nothing", { skip: !existsSync(OLD_BOOT) }, async (t) => {
     const n = nanoWith(OLD_BOOT);
-    const port = new NanoPort(n);
+    const port = pacedPort(n);
     const r = await flashNano(port, firmware);
     assert.equal(r.baud, 57600);
     assert.ok(written(n));
     assert.match((await banner(port)) ?? "", /R:MK2 Plus/);
-    t.diagnostic(`${r.bytes} bytes through ATmegaBOOT at ${r.baud} baud in ${r.seconds.toFixed(1)} s (wall, emulator unpaced)`);
+    t.diagnostic(`${r.bytes} bytes through ATmegaBOOT at ${r.baud} baud in ${r.seconds.toFixed(1)} s (wall, the emulator at most ${PACE}x real time)`);
     n.delete();
   });
 
   test("a flash cut off halfway, then flashed again, ends with a working firmware", async (t) => {
     const n = nanoWith(OPTIBOOT, firmware); // a firmware in place, as on a Nano in use
-    const port = new NanoPort(n);
+    const port = pacedPort(n);
     port.pullAfter = Math.floor(image.used / 2); // bytes: the cable goes about halfway
     await assert.rejects(flashNano(port, firmware), (e) => {
       assert.ok(e instanceof FlashError);
@@ -138,7 +145,7 @@ describe("flashing the Nano from the page", { skip: !existsSync(OPTIBOOT) && "ar
 
   test("a Nano that stops answering mid-flash: the flash starts again from the reset and ends verified", async (t) => {
     const n = nanoWith(OPTIBOOT, firmware);
-    const port = new NanoPort(n);
+    const port = pacedPort(n);
     port.muteAfter = Math.floor(image.used / 3); // a third of the way, its answers lost, this once
     port.muteOpens = 1;
     const attempts = [];
@@ -155,7 +162,7 @@ describe("flashing the Nano from the page", { skip: !existsSync(OPTIBOOT) && "ar
     // The first two GET_SYNCs reach the bootloader 300 ms late: the first one's answer comes in
     // the second's wait, and the second's after the sync has ended, before the signature's.
     const n = nanoWith(OPTIBOOT, firmware);
-    const port = new NanoPort(n);
+    const port = pacedPort(n);
     port.lagWrites = 2;
     port.lagMs = 300;
     const r = await flashNano(port, firmware);
@@ -168,7 +175,7 @@ describe("flashing the Nano from the page", { skip: !existsSync(OPTIBOOT) && "ar
 
   test("a Nano that never answers again: the stall is told in words, with what to do", async (t) => {
     const n = nanoWith(OPTIBOOT, firmware);
-    const port = new NanoPort(n);
+    const port = pacedPort(n);
     port.muteAfter = Math.floor(image.used / 3);
     port.muteOpens = Infinity;
     await assert.rejects(flashNano(port, firmware), (e) => {
@@ -190,7 +197,7 @@ describe("flashing the Nano from the page", { skip: !existsSync(OPTIBOOT) && "ar
       execute();
       n.flash[at] &= 0xfe;
     };
-    await assert.rejects(flashNano(new NanoPort(n), firmware), (e) => {
+    await assert.rejects(flashNano(pacedPort(n), firmware), (e) => {
       assert.equal(e.kind, "verify");
       assert.match(e.message, new RegExp(`^verify failed at 0x${at.toString(16).padStart(2, "0")}: wrote 0x[0-9a-f]{2}, read 0x[0-9a-f]{2}`));
       return true;
@@ -200,7 +207,7 @@ describe("flashing the Nano from the page", { skip: !existsSync(OPTIBOOT) && "ar
 
   test("no bootloader answers: a Nano without one, or a port at the wrong end", async () => {
     const n = new VirtualNano({ hex: firmware, parts }); // the firmware alone, no bootloader
-    const port = new NanoPort(n);
+    const port = pacedPort(n);
     await assert.rejects(flashNano(port, firmware), (e) => {
       assert.equal(e.kind, "no-bootloader");
       assert.match(e.message, /no answer from a bootloader at 115200 or 57600 baud: is it a Nano/);

@@ -53,14 +53,18 @@ export class NanoPort {
     const wall0 = performance.now(), nano0 = this.nano.seconds;
     const loop = () => {
       if (this.running !== run) return;
-      if (!this.pace || this.nano.seconds - nano0 < ((performance.now() - wall0) / 1000) * this.pace) this.nano.runFor(0.002);
+      // (ahead of the wall's time by `ahead` s: the Nano waits, the host's side runs)
+      const ahead = this.pace ? this.nano.seconds - nano0 - ((performance.now() - wall0) / 1000) * this.pace : -1;
+      if (ahead < 0) this.nano.runFor(0.002);
       while (this.inFlight.length && this.inFlight[0][0] <= this.clock()) this.nano.send(this.inFlight.shift()[1]);
       if (this.written - opened >= mute) this.out = [];
       if (this.out.length) {
         controller.enqueue(Uint8Array.from(this.out));
         this.out = [];
       }
-      setImmediate(loop);
+      // (waiting by a timer, not spinning: a paced Nano ahead of the wall costs no CPU)
+      if (ahead > 0.001) setTimeout(loop, Math.min(4, (ahead / this.pace) * 1000));
+      else setImmediate(loop);
     };
     loop();
   }

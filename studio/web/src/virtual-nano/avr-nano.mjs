@@ -31,6 +31,8 @@ const OP_RETI = 0x9518;
 const OP_SEI = 0x9478;
 const OP_SPM = 0x95e8;
 const OP_SLEEP = 0x9588;
+const OP_RJMP_BACK_4 = 0xcffc; // rjmp .-8: the end of `lds rd, A; sbrs/sbrc rd, b` (a poll)
+const OP_RJMP_BACK_3 = 0xcffd; // rjmp .-6: the end of `in rd, A; sbrs/sbrc rd, b`
 // OUT 0x3F, Rr: a write to SREG (the form 1011 1AAr rrrr AAAA with A = 0x3F)
 const isOutSreg = (op) => (op & 0xfe0f) === 0xbe0f;
 const FLASH_BYTES = 32 * 1024;
@@ -250,12 +252,44 @@ export class VirtualNano {
         }
         // SLEEP (avr8js runs it as a NOP; the firmware's idle is SEI, SLEEP): nothing runs
         // until an interrupt, unless tick() serves one now (the CPU then wakes at once)
+        if ((op === OP_RJMP_BACK_4 || op === OP_RJMP_BACK_3) && cpu.cycles < end) this.skipPoll(op, end);
         const pc = cpu.pc;
         cpu.tick();
         if (op === OP_SLEEP && cpu.data[SMCR] & SE && cpu.pc === pc) this.asleep = true;
         if (this.resetPending) this.reset(this.resetPending);
       }
     }
+  }
+
+  // A bootloader waits for the host's next byte in a loop that reads a status register until a
+  // bit changes (Optiboot's getch: `lds r24, UCSR0A; sbrs r24, RXC0; rjmp .-8`; its wait for
+  // SPM: `in r0, SPMCSR; sbrc r0, SELFPRGEN; rjmp .-6`), with interrupts off: the whole flash is
+  // such waits, each iteration the same. Such a register (no read hook: plain data) changes only
+  // when a clock event fires (a byte arrives, SPM ends, a timer counts) or an interrupt is
+  // served, so the clock jumps over the whole iterations before the next event (or `end`), as
+  // running them would leave the CPU: the same cycle count, registers and flags (lds, in, sbrs
+  // and rjmp change none). Called just after the loop's rjmp ran: the pc is at its read.
+  skipPoll(op, end) {
+    const cpu = this.cpu, prog = cpu.progMem, pc = cpu.pc;
+    const read = prog[pc];
+    let addr, words, cycles;
+    if (op === OP_RJMP_BACK_4 && (read & 0xfe0f) === 0x9000) {
+      addr = prog[pc + 1]; words = 2; cycles = 5; // lds (2) + sbrs not skipping (1) + rjmp (2)
+    } else if (op === OP_RJMP_BACK_3 && (read & 0xf800) === 0xb000) {
+      addr = 0x20 + ((read & 0x0f) | ((read >> 5) & 0x30)); words = 1; cycles = 4; // in (1) + 1 + 2
+    } else return;
+    const test = prog[pc + words];
+    const reg = (read >> 4) & 0x1f;
+    if ((test & 0xfc08) !== 0xfc00 || ((test >> 4) & 0x1f) !== reg || cpu.readHooks[addr]) return;
+    const set = (cpu.data[addr] >> (test & 7)) & 1;
+    const skipsIfSet = (test & 0x0200) !== 0; // sbrs; sbrc skips if clear
+    if (set === (skipsIfSet ? 1 : 0)) return; // the next read ends the loop
+    if (cpu.interruptsEnabled && cpu.nextInterrupt >= 0) return;
+    const next = cpu.nextClockEvent ? Math.min(cpu.nextClockEvent.cycles, end) : end;
+    const n = Math.floor((next - 1 - cpu.cycles) / cycles);
+    if (n <= 0) return;
+    cpu.cycles += n * cycles;
+    cpu.data[reg] = cpu.data[addr]; // (as the last read left it)
   }
 
   // The CPU asleep (the firmware's idle, hal::idle): nothing runs until an interrupt. The
