@@ -468,6 +468,29 @@ def test_grasp_and_lift_in_the_studio_as_articula_sim_does(open_page, tmp_path):
         pg.close()
 
 
+def test_a_page_drawing_5_frames_a_second_gets_the_worlds_state_at_most_10_times_a_second(open_page):
+    """?fps=5 (a slow computer; every test here): the live physics steps as often as ever, and
+    sends the page its state at most twice a frame (docs/studio.md): each state costs the page
+    a layout of its readouts, at every display frame about three times the page's CPU time."""
+    pg = _physics_page(open_page, "mk2plus", "grasp-and-lift", "&fps=5")
+    try:
+        pg.page.select_option("#program-select", "grasp-and-lift.arm")
+        pg.page.wait_for_function("() => document.querySelector('#editor').value.includes('G 0')")
+        pg.page.click("#run")
+        pg.wait("a.physics.running && a.physics.t > 0.2")
+        # two seconds of the page's clock: the messages that came (a pose and a world state each)
+        # and the world's time they carried
+        m, t, wall = pg.page.evaluate("""() => new Promise((done) => {
+            const a = window.articula, m0 = a.stream.messages, t0 = a.physics.t, w0 = performance.now();
+            setTimeout(() => done([a.stream.messages - m0, a.physics.t - t0, (performance.now() - w0) / 1000]), 2000);
+        })""")
+        states = m / 2 / wall
+        assert states <= 12, f"{states:.1f} states a second at ?fps=5"
+        assert t > 0.1 and states >= 2, (m, t, wall)  # the world ran, and the page heard of it
+    finally:
+        pg.close()
+
+
 def test_a_thousand_random_and_malformed_messages_never_break_the_engine(open_page):
     """Each is answered (an error reply, or what a valid one gets) in order; none is an internal
     error; the page keeps working."""

@@ -55,8 +55,10 @@ editor.project = new OpenProject(editor, engine, view);
 viewOf(editor);
 // The project shown first (a link's, this tab's after a reload, the last one, or a new one)
 // names the robot the engine loads first.
-chooseProject(editor, params).then((first) => engine.start(first), () =>
-  engine.start({ robot: params.get("robot") ?? undefined, scene: params.get("scene") ?? undefined }));
+// (The view's frame period too: a page that draws a frame every 200 ms, ?fps=5, gets the live
+// physics' state at most twice a frame, not at every display frame.)
+chooseProject(editor, params).then((first) => engine.start(first, view.frameMs), () =>
+  engine.start({ robot: params.get("robot") ?? undefined, scene: params.get("scene") ?? undefined }, view.frameMs));
 const studio: Studio = { engine, view, plots, editor };
 hook.armPixels = () => view.armPixels();
 hook.camera = () => view.cameraState();

@@ -245,6 +245,7 @@ export function cellControl(kind: string): Out[] {
 function startLoop(): void {
   let last = performance.now();
   let owed = 0;
+  let posted = -Infinity, stepped = false; // the last frame sent to the page; steps since
   loop = every(FRAME_MS, () => {
     const c = cell;
     if (!c) return false;
@@ -258,7 +259,13 @@ function startLoop(): void {
       owed = Math.max(0, owed - n * c.dt);
       c.step(n);
     }
-    if (S.unacked >= MAX_UNACKED || (n === 0 && !dirty)) return; // (nothing new: no frame)
+    if (n > 0) stepped = true;
+    if (S.unacked >= MAX_UNACKED || !(stepped || dirty)) return; // (nothing new: no frame)
+    // (at most a frame every S.postMs, the page's frame rate, unless something else changed;
+    // the events wait for the next, and the last steps' frame always comes)
+    if (!dirty && now - posted < S.postMs) return;
+    posted = now;
+    stepped = false;
     dirty = false;
     S.unacked++;
     post([frameMessage()]);

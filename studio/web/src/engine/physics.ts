@@ -167,6 +167,7 @@ export function ensurePhysics(): void {
   const meter = new RealTimeMeter(60);
   let last = performance.now();
   let owed = 0; // the world's seconds due and not yet stepped (less than a step)
+  let posted = -Infinity, postedRunning = running; // the last state sent to the page
   loop = every(FRAME_MS, () => {
     const s = S.sim;
     if (!s) {
@@ -209,6 +210,11 @@ export function ensurePhysics(): void {
     const capacity = meter.capacity;
     const behind = running && (wall > 0.1 || (capacity !== null && capacity < S.speed));
     if (S.unacked >= MAX_UNACKED) return; // (the page is behind: this frame is skipped, the physics runs on)
+    // (at most one state every S.postMs, and one at once when the world starts or stops: the
+    // events and the tool's trail wait for the next, none is lost)
+    if (now - posted < S.postMs && running === postedRunning) return;
+    posted = now;
+    postedRunning = running;
     const msg = physicsMessage(meter.rtf, behind);
     msg.capacity = capacity;
     msg.running = running;

@@ -93,7 +93,7 @@ export const programHandlers: Record<string, (m: Msg) => Out[] | Promise<Out[]>>
           : { type: "playing", t: S.t, playing: false, ended: true, ...(at ? { paused_at: at.line } : {}) }]);
         return;
       }
-      S.task = setTimeout(frame, FRAME_MS);
+      S.task = setTimeout(frame, Math.max(FRAME_MS, S.postMs)); // (the page's frame rate: S.postMs)
     };
     frame();
     return [];

@@ -34,6 +34,10 @@ export const S = {
   timeline: null as Timeline | null,
   t: 0, // the time line's clock, s
   speed: 1, // the simulated world against real time: the time line's playing and the live physics
+  // The least time between two states of the live physics sent to the page, ms: half the page's
+  // frame period (?fps=N, ?quality=low), or none (every display frame). The world steps as
+  // often either way; what the page shows (a readout, a plot's playhead) needs no more.
+  postMs: 0,
   task: null as ReturnType<typeof setTimeout> | null, // playback or the JT animation
   sceneName: null as string | null, // live physics: the scene (null: none)
   sim: null as Sim | null,

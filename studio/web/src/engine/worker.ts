@@ -91,7 +91,7 @@ function receive(m: unknown): void {
   });
 }
 
-// The first message is {type: "start", robot, scene}: the engine loads, the site's index is
+// The first message is {type: "start", robot, scene, frame_ms}: the engine loads, the site's index is
 // read, the robot shown first is loaded; then "ready" with the core's status table.
 async function start(first: Msg): Promise<void> {
   const t0 = performance.now();
@@ -108,6 +108,8 @@ async function start(first: Msg): Promise<void> {
     post([{ type: "robot_error", message: (e as Error).message }]);
   }
   S.q = [...info().home];
+  const frameMs = Number(first.frame_ms);
+  S.postMs = Number.isFinite(frameMs) ? Math.min(500, Math.max(0, frameMs / 2)) : 0;
   const scene = typeof first.scene === "string" && S.index.scenes.includes(first.scene) ? first.scene : null;
   if (scene) {
     await sceneFile(scene);

@@ -55,8 +55,8 @@ export class EngineClient {
   }
 
   /** Loads the engine and the robot (and scene) shown first. */
-  start(start: { robot?: string; scene?: string }): void {
-    this.worker.postMessage({ type: "start", ...start });
+  start(start: { robot?: string; scene?: string }, frameMs = 0): void {
+    this.worker.postMessage({ type: "start", ...start, frame_ms: frameMs });
   }
 
   /** An intent for the engine (dropped until it is ready), after every request still waiting. */

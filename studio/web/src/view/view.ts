@@ -84,6 +84,8 @@ export class View {
   // ?fps=N draws at most N a second (the last pose is always drawn): a very slow computer, or
   // a test that looks at where the arm ends, not at the motion (studio/tests: 5).
   private minFrameMs = 0;
+  /** The least time between two drawn frames, ms (0: every display frame). */
+  get frameMs(): number { return this.minFrameMs; }
   private lastDrawn = -Infinity;
 
   readonly software: boolean;
