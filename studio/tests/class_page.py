@@ -6,9 +6,12 @@ from __future__ import annotations
 
 import base64
 import json
+import time
 import zlib
 
 import pytest
+
+from conftest import PATIENCE
 
 
 
@@ -58,8 +61,22 @@ def _drag_block(pg, category: str, kind: str, below: str | None) -> str:
     shown = (f"() => {{ const f = document.querySelector('#blockly svg.blocklyToolboxFlyout'); "
              f"return f && getComputedStyle(f).display !== 'none' && f.querySelector('g.{kind}[data-id]') !== null; }}")
     new: list[str] = []
+    tried = []  # (each attempt: seconds, stacks, blocks in the workspace, new ids) for a failure
+    # The workspace's blocks (not the toolbox's, nor one still held by a drag: Blockly drags it on
+    # a layer of its own); and those added since `before`, outermost only (not a block's inner
+    # ones), whatever their type: a busy page can draw a new block's type some time after it
+    all_ids = "() => [...document.querySelectorAll('#blockly svg.blocklySvg g.blocklyBlockCanvas g[data-id]')].map(g => g.dataset.id)"
+    added = """(before) => [...document.querySelectorAll('#blockly svg.blocklySvg g.blocklyBlockCanvas g[data-id]')]
+        .filter(g => !before.includes(g.dataset.id))
+        .filter(g => { const p = g.parentElement.closest('g[data-id]'); return !p || before.includes(p.dataset.id); })
+        .map(g => g.dataset.id)"""
+    dropped = "() => !document.querySelector('#blockly .blocklyBlockDragSurface g[data-id]')"
+    under = """([x, y, kind]) => { const g = document.elementFromPoint(x, y)?.closest('g[data-id]');
+        return !!g && g.classList.contains(kind) && !!g.closest('svg.blocklyToolboxFlyout'); }"""
+    of_kind = "([ids, kind]) => ids.every(id => document.querySelector(`#blockly svg.blocklySvg g[data-id='${id}']`)?.classList.contains(kind))"
     for _ in range(3):  # a busy machine can turn a drag into a click: then again
-        before = set(page.eval_on_selector_all(f"#blockly svg.blocklySvg g.{kind}[data-id]", "gs => gs.map(g => g.dataset.id)"))
+        t0 = time.time()
+        before = page.evaluate(all_ids)
         for _ in range(3):  # a click on an open category closes it
             page.click(f"#blockly .blocklyToolboxCategory:has-text('{category}')")
             try:
@@ -67,7 +84,14 @@ def _drag_block(pg, category: str, kind: str, below: str | None) -> str:
                 break
             except Exception:
                 continue
-        sx, sy, _, _ = _block_rect(page, "blocklyToolboxFlyout", kind, by_type=True)
+        # the toolbox's block of that type under the pointer (a flyout a busy page is still laying
+        # out, or redraws for the robot, moves its blocks: a press measured before then grabs
+        # the block beside, a gripper set to 50 for an open gripper)
+        for _ in range(10):
+            sx, sy, _, _ = _block_rect(page, "blocklyToolboxFlyout", kind, by_type=True)
+            if page.evaluate(under, [sx + 6, sy + 8, kind]):
+                break
+            page.wait_for_timeout(200)
         if below:  # the block's own outline (its group also holds the blocks under it)
             x, y, _, height = _block_rect(page, "blocklySvg", below)
             tx, ty = x + 2, y + height + 2  # just under it: its own next connection is the nearest
@@ -79,13 +103,23 @@ def _drag_block(pg, category: str, kind: str, below: str | None) -> str:
         page.mouse.move(sx + 40, sy + 30, steps=4)
         page.mouse.move(tx + 6, ty + 8, steps=8)
         page.mouse.up()
-        if not below:  # the first block: once it is the one stack, it landed (on a busy machine a
-            try:       # drop the open flyout took deletes it: it is then dragged again)
-                pg.wait("a.blockStacks === 1", timeout=2000)
-            except AssertionError:
-                pass
-        after = page.eval_on_selector_all(f"#blockly svg.blocklySvg g.{kind}[data-id]", "gs => gs.map(g => g.dataset.id)")
-        new = [i for i in after if i not in before]
+        # the drop done (a busy page can be behind the mouse): then the workspace has one more
+        # block, or none when a drop on the open toolbox deleted it (or the drag became a click)
+        try:
+            page.wait_for_function(dropped, timeout=5000 * PATIENCE)
+        except Exception:
+            pass
+        new = page.evaluate(added, before)
+        try:  # (its type drawn: a busy page draws it after the block)
+            new and page.wait_for_function(of_kind, arg=[new, kind], timeout=2000 * PATIENCE)
+        except Exception:  # the block beside: undone, and dragged again
+            tried.append(("another block", new))
+            page.keyboard.press("Control+z")
+            page.wait_for_function(f"() => !{json.dumps(new)}.some(id => document.querySelector(`#blockly svg.blocklySvg g[data-id='${{id}}']`))",
+                                   timeout=5000 * PATIENCE)
+            new = []
+            continue
+        tried.append((round(time.time() - t0, 1), pg.hook("a.blockStacks"), len(page.evaluate(all_ids)), new))
         if new:
             break
     assert len(new) == 1, (kind, new)
@@ -105,7 +139,13 @@ def _drag_block(pg, category: str, kind: str, below: str | None) -> str:
             page.mouse.move(x + 30, y + 30, steps=4)
             page.mouse.move(bx + 8, by + bh + 6, steps=8)
             page.mouse.up()
-    pg.wait("a.blockStacks === 1 && !a.blocksPending", timeout=5000)
+    try:
+        pg.wait("a.blockStacks === 1 && !a.blocksPending", timeout=5000)
+    except AssertionError as e:  # (what the workspace held: a failure says which drag went wrong)
+        raise AssertionError(f"dragging {kind} under {below}: {new} appeared; blockStacks "
+                             f"{pg.hook('a.blockStacks')}, pending {pg.hook('a.blocksPending')}, "
+                             f"in the workspace {page.eval_on_selector_all('#blockly svg.blocklySvg g[data-id]', 'gs => gs.map(g => g.dataset.id).length')} "
+                             f"blocks; attempts {tried}; {e}") from None
     # whether it snapped under `below` shows in the program it makes (the callers check it)
     return new[0]
 
