@@ -50,11 +50,20 @@ export class NanoPort {
       },
     });
     const run = (this.running = {});
-    const wall0 = performance.now(), nano0 = this.nano.seconds;
+    const wall0 = performance.now();
+    let nano0 = this.nano.seconds;
     const loop = () => {
       if (this.running !== run) return;
       // (ahead of the wall's time by `ahead` s: the Nano waits, the host's side runs)
-      const ahead = this.pace ? this.nano.seconds - nano0 - ((performance.now() - wall0) / 1000) * this.pace : -1;
+      let ahead = this.pace ? this.nano.seconds - nano0 - ((performance.now() - wall0) / 1000) * this.pace : -1;
+      // (a process the machine left waiting does not make its Nano race to catch up: it falls
+      // 50 ms behind the wall at most, so the host's side, which waited as long, answers the
+      // Nano's bytes before the Nano is far on: a bootloader's watchdog (1 s) does not end a
+      // flash for the machine's load)
+      if (this.pace && ahead < -0.05) {
+        nano0 += ahead + 0.05;
+        ahead = -0.05;
+      }
       if (ahead < 0) this.nano.runFor(0.002);
       while (this.inFlight.length && this.inFlight[0][0] <= this.clock()) this.nano.send(this.inFlight.shift()[1]);
       if (this.written - opened >= mute) this.out = [];
