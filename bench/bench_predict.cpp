@@ -40,15 +40,14 @@ std::string read(const std::string& path) {
   return s.str();
 }
 
-// The protocol lines of a program file, comments and blank lines left out.
+// The protocol lines of a program file, comments and blank lines left out (the core's rule:
+// host::line_command).
 std::vector<std::string> lines_of(const std::string& text) {
   std::vector<std::string> out;
   std::stringstream s(text);
   std::string l;
   while (std::getline(s, l)) {
-    const size_t h = l.find('#');
-    if (h != std::string::npos) l = l.substr(0, h);
-    while (!l.empty() && (l.back() == ' ' || l.back() == '\r')) l.pop_back();
+    l = host::line_command(l);
     if (!l.empty()) out.push_back(l);
   }
   return out;
@@ -93,7 +92,7 @@ void predict(benchmark::State& state, std::string (*program)(), host::SenderMode
     benchmark::DoNotOptimize(ticks);
   }
   state.counters["lines"] = double(p.statements.size());
-  state.counters["arm_s"] = double(ticks) / 2e6;
+  state.counters["arm_s"] = double(ticks) / kStepTickHz;
 }
 
 void firmware(benchmark::State& state, std::string (*program)(), host::SenderModel::Kind kind) {
@@ -110,7 +109,7 @@ void firmware(benchmark::State& state, std::string (*program)(), host::SenderMod
     state.ResumeTiming();
   }
   state.counters["lines"] = double(lines.size());
-  state.counters["arm_s"] = double(ticks) / 2e6;
+  state.counters["arm_s"] = double(ticks) / kStepTickHz;
 }
 
 BENCHMARK_CAPTURE(predict, streams10k_rest, streams10k, host::SenderModel::kRest)->Unit(benchmark::kMillisecond);

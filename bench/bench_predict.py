@@ -27,12 +27,10 @@ FILES = ["hil/streams/circle.arm", "hil/streams/collinear-split.arm", "hil/strea
 
 
 def lines_of(text: str) -> list[str]:
-    out = []
-    for line in text.splitlines():
-        line = line.split("#", 1)[0].rstrip()
-        if line:
-            out.append(line)
-    return out
+    """The protocol lines of a program file, comments and blank lines left out (the core's
+    rule: articula.line_command)."""
+    from articula import line_command
+    return [c for c in map(line_command, text.splitlines()) if c]
 
 
 def streams10k() -> str:

@@ -1,4 +1,5 @@
 #include <articula/line.h>
+#include <articula/motion.h>
 #include "check_common.h"
 using namespace articula;
 // The firmware's straight line: a MK2-like arm, a line cut through the closed form, and a
@@ -27,6 +28,6 @@ void check_line() {
   cut.start(from, to, at, 3, 0.1f);
   Millideg end[3];
   long n = 0;
-  while (!cut.done() && cut.next(solver, end) == kOk) n += end[0] + segment_cruise4(uint32_t(end[1]), segment_ticks4(cut.segment_length(), g_in, 2000000UL));
+  while (!cut.done() && cut.next(solver, end) == kOk) n += end[0] + segment_cruise4(uint32_t(end[1]), segment_ticks4(cut.segment_length(), g_in, kStepTickHz));
   g_out = n;
 }

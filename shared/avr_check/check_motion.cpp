@@ -4,7 +4,7 @@ using namespace articula;
 // The firmware's sizes: 2 MHz ticks, three motors; every function of motion.h. In small
 // functions of their own: a frame above 63 bytes makes every access to a local longer.
 // The settings come from EEPROM at run time: nothing here may fold them into constants.
-static MotionSettings s_settings = {2000000UL, 1000UL, 4000UL};
+static MotionSettings s_settings = {kStepTickHz, 1000UL, 4000UL};
 
 __attribute__((noinline)) static long check_profile() {
   StepProfile p;
