@@ -421,9 +421,10 @@ def test_a_dragged_object_moves_and_falls_back_to_rest(open_page):
         pg.wait("(() => { const p = a.physics.objects.find(o => o.name === 'box').pose; "
                 "return Math.abs(p[11] - 40) < 1.5 && Math.abs(p[10] - 1) < 0.01; })()", timeout=20000)
         t = pg.hook("a.physics.t")
-        pg.page.wait_for_timeout(500)
+        # still running (a world at rest tells the page its clock once a second), and the box
+        # stays put
+        pg.wait(f"a.physics.t > {t}", timeout=5000)
         rest = pg.hook("a.physics.objects.find(o => o.name === 'box').pose")
-        assert pg.hook("a.physics.t") > t  # still running, and the box stays put
         assert rest[11] == pytest.approx(40, abs=1.5) and abs(rest[10] - 1) < 0.01
         assert pg.errors == []
     finally:

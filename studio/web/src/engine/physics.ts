@@ -160,6 +160,7 @@ let trail: number[] = [];
 // ended (looked at every display frame: the next line may have begun by up to a frame's time).
 let breaks = new Set<number>();
 let lineNow = -1; // the program's line at the last frame (-1: not looked at yet)
+const REST_POST_MS = 1000; // a world at rest: a state a second
 export function ensurePhysics(): void {
   if (loop !== null || !S.sim || !S.greeted) return;
   S.unacked = 0;
@@ -167,7 +168,8 @@ export function ensurePhysics(): void {
   const meter = new RealTimeMeter(60);
   let last = performance.now();
   let owed = 0; // the world's seconds due and not yet stepped (less than a step)
-  let posted = -Infinity, postedRunning = running; // the last state sent to the page
+  let posted = -Infinity, postedRunning = running, postedStill = "", postedT = 0; // the last state sent to the page
+  let postedTool: number[] | null = null;
   loop = every(FRAME_MS, () => {
     const s = S.sim;
     if (!s) {
@@ -213,13 +215,29 @@ export function ensurePhysics(): void {
     // (at most one state every S.postMs, and one at once when the world starts or stops: the
     // events and the tool's trail wait for the next, none is lost)
     if (now - posted < S.postMs && running === postedRunning) return;
+    const msg = physicsMessage(meter.rtf, behind);
+    const pose = poseMessage();
+    // (a world at rest - the arm idle, every object where it was, nothing new - is told once a
+    // second, its clock's readout: each state costs the page a frame and a layout, and an idle
+    // scene took a third of a core in Chromium with SwiftShader)
+    // (the tool's path since: one point over and over, or a new one)
+    const tool = trail.length ? trail.slice(0, 3) : null;
+    const toolStill = trail.every((v, i) => v === trail[i % 3]);
+    const still = JSON.stringify([msg.objects, msg.contacts, msg.steps, msg.lost, pose.q, pose.gripper, tool ?? postedTool]);
+    const atRest = running === postedRunning && !msg.busy && (msg.events as unknown[]).length === 0 &&
+      toolStill && still === postedStill && (msg.t as number) >= postedT; // (an earlier t: a reset)
+    if (tool) postedTool = tool;
+    if (atRest && now - posted < REST_POST_MS) {
+      trail.length = 0; // (the same point again adds nothing to the path)
+      return;
+    }
     posted = now;
     postedRunning = running;
-    const msg = physicsMessage(meter.rtf, behind);
+    postedStill = still;
+    postedT = msg.t as number;
     msg.capacity = capacity;
     msg.running = running;
     S.unacked++;
-    const pose = poseMessage();
     pose.trail = trail.splice(0); // (every point since the last frame the page was sent)
     post([pose, msg]);
   });
