@@ -227,10 +227,7 @@ export function ensurePhysics(): void {
     const atRest = running === postedRunning && !msg.busy && (msg.events as unknown[]).length === 0 &&
       toolStill && still === postedStill && (msg.t as number) >= postedT; // (an earlier t: a reset)
     if (tool) postedTool = tool;
-    if (atRest && now - posted < REST_POST_MS) {
-      trail.length = 0; // (the same point again adds nothing to the path)
-      return;
-    }
+    if (atRest && now - posted < REST_POST_MS) return; // (the tool's points wait for it, none lost)
     posted = now;
     postedRunning = running;
     postedStill = still;
