@@ -99,6 +99,9 @@ def test_a_held_jog_on_the_virtual_nano_stops_within_its_deceleration_with_no_lo
     # held: one move towards the base's limit, on its way
     # (60 steps beyond the start: more than the first tap's 1 degree, so the held line is under way)
     pg.wait(f"a.jog.held === 1 && a.arm.status.state === 'Run' && a.arm.status.steps[0] > {start} + 60", timeout=30000)
+    # where the held line goes (the base's limit), read now: after the let go the page sends the
+    # arm a line of its own, whose reply then is the last
+    limit_steps = pg.hook("a.arm.reply.predicted.steps[0]")
     pg.page.mouse.up()
     let_go, read_at = pg.hook("[a.arm.status.steps[0], a.arm.status.sent_ms]")
     pg.wait("a.jog.lets === 1 && a.arm.status.state === 'Idle'", timeout=30000)
@@ -109,7 +112,6 @@ def test_a_held_jog_on_the_virtual_nano_stops_within_its_deceleration_with_no_lo
     # (a report is up to 67 ms old when it is read: 15 a second)
     before_stop = 600 * ((halt_at - read_at) / 1000 + 1 / 15)
     assert 0 <= end - let_go <= 90 + before_stop + 5, (let_go, end, before_stop)
-    limit_steps = pg.hook("a.arm.reply.predicted.steps[0]")
     assert end < limit_steps, ("the held jog was not ended by letting go", let_go, end, pg.hook("a.arm.reply"),
                                pg.page.locator("#arm-console div").all_text_contents()[-30:])
     # every STEP the firmware counted, its coils made (the pins against the firmware's count)
