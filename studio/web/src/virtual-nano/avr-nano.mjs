@@ -250,9 +250,10 @@ export class VirtualNano {
           op = prog[cpu.pc];
           avrInstruction(cpu);
         }
+        // a bootloader's poll of a status register: over at once to the next clock event
+        if ((op === OP_RJMP_BACK_4 || op === OP_RJMP_BACK_3) && cpu.cycles < end) this.skipPoll(op, end);
         // SLEEP (avr8js runs it as a NOP; the firmware's idle is SEI, SLEEP): nothing runs
         // until an interrupt, unless tick() serves one now (the CPU then wakes at once)
-        if ((op === OP_RJMP_BACK_4 || op === OP_RJMP_BACK_3) && cpu.cycles < end) this.skipPoll(op, end);
         const pc = cpu.pc;
         cpu.tick();
         if (op === OP_SLEEP && cpu.data[SMCR] & SE && cpu.pc === pc) this.asleep = true;
