@@ -153,13 +153,28 @@ class PlanResult:
 
 
 
+def after_line(rows: list, lo: int, hi: int, pins: list[int]) -> tuple[int, list[int]]:
+    """Where a command's own rows start among rows[lo:hi] (read since its line went out, when
+    the pins were `pins`): after the trace's first `line` row, the firmware's receipt of the
+    line's LF in the Nano's time. Returns that index and the pins as they were there. Without
+    a `line` row (an older virtual Nano), lo and `pins`."""
+    at = list(pins)
+    for k in range(lo, hi):
+        r = rows[k]
+        if r.event == "line":
+            return k + 1, at
+        if 0 <= r.motor < len(at):
+            at[r.motor] = r.steps
+    return lo, list(pins)
+
+
 def pin_span(steps: list, slack: list[int], start: list[int] | None, end: list[int]) -> tuple[float, float]:
-    """The first and last step of a move on the pins, in microseconds. A stepper's pins show its
-    steps and nothing else. A servo's pin on a tick's edge can alternate by one at rest (two
-    pulses decode apart): an alternation before the move (the host took its time to send the
-    line) or after it (it took its time to look) is not the move's. So a servo's move starts
-    after the last time its pin showed where it started, and ends the first time its pin shows
-    where it ends."""
+    """The first and last step of a move on the pins, in microseconds, from the rows after the
+    firmware had its line and the pins as they were then (`start`). A stepper's pins show its steps and
+    nothing else. A servo's pin on a tick's edge can alternate by one at rest (two pulses decode
+    apart): an alternation before the move starts (the line is on its way) or after it (the host
+    took its time to look) is not the move's. So a servo's move starts after the last time its
+    pin showed where it started, and ends the first time its pin shows where it ends."""
     first, last = steps[0].time_us, steps[-1].time_us
     if not any(slack) or start is None:
         return first, last
@@ -456,6 +471,8 @@ class Runner:
             run_deadline = cmd.timeout or (self.timeout + 3.0 * (pred.seconds if pred else 0.0))
             if self.hooks and hasattr(self.hooks, "before_send"):
                 self.hooks.before_send(self, rec)
+            if trace:
+                rows_at_send, pins_at_send = trace.sync()
             try:
                 self._expect_info = cmd.word == "I"
                 rec.t_sent = time.monotonic()
@@ -528,17 +545,30 @@ class Runner:
                         time.sleep(0.005)
                         n_rows, pins = trace.sync()
                 rec.pins_before, rec.pins = pins_before, pins
-                pins_before_move, pins_before = pins_before, pins
+                pins_before = pins
                 rows = trace.rows[rows_before:n_rows]
-                steps = [r for r in rows if r.is_step]
                 # A servo that the command does not move may still show a one-tick change when two
                 # pulses on a tick's edge decode alike (servo_decoder.h): not this move's.
+                moving = None
                 if pred is not None and pred_before is not None and any(rec.pin_slack):
                     moving = {i for i, (a, b) in enumerate(zip(pred.steps, pred_before)) if a != b}
-                    steps = [r for r in steps if not rec.pin_slack[r.motor] or r.motor in moving]
+
+                def move_steps(window):
+                    return [r for r in window if r.is_step
+                            and (moving is None or not rec.pin_slack[r.motor] or r.motor in moving)]
+
+                steps = move_steps(rows)
                 rec.step_events = len(steps)
-                if steps:
-                    rec.first_step_us, rec.last_step_us = pin_span(steps, rec.pin_slack, pins_before_move, pins)
+                # The move's span counts the rows after the firmware had the line (the trace's
+                # `line` row: its LF in the Nano's time), from the pins as they were then. A
+                # servo's pin at rest may flip by one at any time; the virtual Nano's clock runs
+                # on between the command before and this line (it sleeps through it, however
+                # long the host takes), and a flip back to where the move starts, dated as the
+                # move's first change, made a CI run measure a move 2 s longer than predicted.
+                start_at, start_pins = after_line(trace.rows, max(rows_at_send, rows_before), n_rows, pins_at_send)
+                sent = move_steps(trace.rows[start_at:n_rows])
+                if sent:
+                    rec.first_step_us, rec.last_step_us = pin_span(sent, rec.pin_slack, start_pins, pins)
                 for r in rows:
                     if r.is_fault:
                         rec.coil_faults.append(f"motor {r.motor} {r.event} to {r.pattern} at {r.time_us / 1e6:.6f} s")
@@ -547,7 +577,7 @@ class Runner:
                                             f"{len(rec.coil_faults)} coil fault(s): " + "; ".join(rec.coil_faults[:3])))
                 # Duration from the cycle stamps: the first interval (no pin shows a move's
                 # start) plus the span from the first step to the last.
-                if steps and pred is not None and pred.seconds > 0:
+                if sent and pred is not None and pred.seconds > 0:
                     rec.first_interval_s = first_interval_s(self.current_settings, pred)
                     rec.measured_s = rec.first_interval_s + (rec.last_step_us - rec.first_step_us) / 1e6
                     rec.measured_source = "pins"

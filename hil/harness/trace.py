@@ -1,7 +1,8 @@
 """What the virtual Nano's pins did, read while it runs.
 
-`articula-vnano --trace-steps FILE` writes one CSV row per coil event
-(`cycle,motor,steps,pattern,event,time_us`, hil/README.md) through C stdio. A regular file
+`articula-vnano --trace-steps FILE` writes one CSV row per coil event, and one per line the
+firmware received (event `line`, motor -1) (`cycle,motor,steps,pattern,event,time_us`,
+hil/README.md), through C stdio. A regular file
 is block-buffered, so its last rows are only on disk at exit; a terminal is line-buffered.
 So the harness gives the virtual Nano a pseudo-terminal of its own as the trace file (raw
 mode: no CR added) and reads it in a thread. The virtual Nano writes a coil event's row the
@@ -33,6 +34,11 @@ class TraceRow:
     @property
     def is_step(self) -> bool:
         return self.event in ("step+", "step-")
+
+    @property
+    def is_coil(self) -> bool:
+        """A motor's row; not a `line` row (the firmware had a line's LF)."""
+        return self.motor >= 0
 
     @property
     def is_fault(self) -> bool:

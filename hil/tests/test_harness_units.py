@@ -354,3 +354,28 @@ def test_a_servos_alternation_at_rest_is_not_part_of_its_move():
     assert pin_span(steps, [0, 0, 0], [0, 10, 0], [2, 14, 0]) == (100_000, 820_000)
     # a servo that never showed where it started: its first change is the move's
     assert pin_span(steps[2:6], [0, 1, 0], [0, 10, 0], [2, 14, 0]) == (400_000, 440_000)
+
+
+def test_a_moves_rows_start_where_the_firmware_had_its_line():
+    """The virtual Nano's clock runs on between one command and the next line (it sleeps through
+    the wait, however long the host takes), so rows read after the line went out can still be
+    from before the firmware had it. The trace's `line` row (the LF's receipt, in the Nano's
+    time) divides them. A servo at 10 whose pin flipped to 9 before it, and stayed there, then
+    moved 10 -> 6: the move is not dated from the flip (a CI run measured a move 2 s longer
+    than predicted that way)."""
+    from hil.harness.runner import after_line, pin_span
+    from hil.harness.trace import TraceRow
+
+    def row(us, motor, steps, event="step-"):
+        return TraceRow(cycle=int(us * 16), motor=motor, steps=steps, pattern="", event=event, time_us=us)
+
+    rows = [row(50_000, 0, 3, "step+"),  # read with the command before
+            row(100_000, 1, 9), row(2_000_000, -1, 7, "line"),
+            row(2_030_000, 1, 8), row(2_050_000, 1, 7), row(2_090_000, 1, 6)]
+    at, pins = after_line(rows, 1, len(rows), [3, 10, 0])
+    assert (at, pins) == (3, [3, 9, 0])
+    assert pin_span(rows[at:], [0, 1, 0], pins, [3, 6, 0]) == (2_030_000, 2_090_000)
+    # from every row since the send, from the pins then: dated from the flip, 1.93 s early
+    assert pin_span([r for r in rows[1:] if r.is_step], [0, 1, 0], [3, 10, 0], [3, 6, 0])[0] == 100_000
+    # no `line` row (an older virtual Nano): the rows since the send, the pins at the send
+    assert after_line(rows[:2], 1, 2, [3, 10, 0]) == (1, [3, 10, 0])

@@ -378,6 +378,12 @@ def test_target_status_latency_and_p_time(tools, tmp_path):
     lf_us = replies[before_p]["request_us"] + (len(p_line) + 1) * frame_us  # at the earliest
     steps = [t for t, _ in read_trace(tmp_path / "trace.csv") if t > lf_us]
     assert steps, "the P's move made no step"
+    # The trace dates each LF the firmware received (event `line`, motor -1, steps its count):
+    # where the harness divides a command's pins from the rest before it.
+    with (tmp_path / "trace.csv").open() as f:
+        lines = [(float(r["time_us"]), int(r["motor"]), int(r["steps"])) for r in csv.DictReader(f) if r["event"] == "line"]
+    assert [(m, n) for _, m, n in lines] == [(-1, k) for k in range(4)], lines  # I, M, P and P
+    assert lf_us <= lines[-1][0] < steps[0], (lf_us, lines[-1], steps[0])
     delay_min = min(m["deadline_delay_us"]["min"] for m in report["motors"] if m["deadline_delay_us"]["count"])
     move_start_us = steps[0] - delay_min - first_interval_us(600, 2000)  # $0, $1: the defaults
     p_us = move_start_us - lf_us

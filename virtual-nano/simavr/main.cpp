@@ -72,6 +72,7 @@ const char kHelp[] =
     "  --gripper CLOSED:OPEN  servo angles in degrees of the closed and open gripper (the\n"
     "                       robot file's servo_closed, servo_open), to report the aperture\n"
     "  --trace-steps FILE   CSV of every coil event: cycle,motor,steps,pattern,event,time_us\n"
+    "                       (and of every line's LF in: motor -1, event line)\n"
     "  --paced              lines go in one at a time: each starts on the wire when the reply to\n"
     "                       the one before has been sent whole (a host that waits for each reply,\n"
     "                       taking no time itself: `articula predict --sender stream`); a line\n"

@@ -240,6 +240,7 @@ class VirtualNano {
   void release_line();
   std::string out_;
   uint64_t bytes_in_ = 0, bytes_out_ = 0;
+  uint64_t lines_in_ = 0;  // LFs the host sent (the trace's `line` rows count them)
   uint64_t frame_cycles_ = 0, simavr_frame_cycles_ = 0;
   // '?': arrival cycles of status requests not yet answered; the reply being sent.
   std::deque<uint64_t> status_waiting_;

@@ -48,7 +48,7 @@ def run_fuzz(args, robot: Robot, vnano: str | None, elf: str | None, command_lin
                 return trace.sync()
 
             def coil_events(a, b):
-                return trace.rows[a:b]
+                return [r for r in trace.rows[a:b] if r.is_coil]
 
         progress = _progress_printer(args.lines) if not args.no_progress else None
         fz = Fuzzer(link, robot, args.seed, pins=pins, coil_events=coil_events, timeout=args.timeout,
