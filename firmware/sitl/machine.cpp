@@ -140,15 +140,7 @@ void boot(bool blank_eeprom, const std::string& during_setup, const uint8_t* con
   sitl::reset(blank_eeprom);
   if (config != nullptr) {
     // The arm as `articula configure ROBOT` would have left it in EEPROM.
-    // (robot.h's layout: the version, the image, its CRC-16 low byte first)
-    uint8_t* e = sitl::hw().eeprom;
-    if (blank_eeprom || e[robot::kEepromAddress] != robot::kEepromVersion) {
-      const uint16_t crc = articula::config_checksum(config);
-      e[robot::kEepromAddress] = robot::kEepromVersion;
-      std::memcpy(e + robot::kEepromImageAt, config, articula::kConfigImageSize);
-      e[robot::kEepromCrcAt] = uint8_t(crc);
-      e[robot::kEepromCrcAt + 1] = uint8_t(crc >> 8);
-    }
+    if (blank_eeprom || sitl::hw().eeprom[robot::kEepromAddress] != robot::kEepromVersion) robot::store(config);
   }
   lp() = Machine::Loop();
   current().firmware = firmware::State();  // the RAM as at a reset: all zero, as the Nano's C start-up leaves it

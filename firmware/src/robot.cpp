@@ -103,6 +103,11 @@ void put_in_use(const ConfiguredArm<kJoints>& next, uint16_t sum) {
 // own inlined call.)
 void use(const ConfiguredArm<kJoints>& next, uint16_t sum) { put_in_use(next, sum); }
 
+void store(const uint8_t* image) {
+  hal::eeprom_write(kImageAt, image, kConfigImageSize);
+  seal(crc16(image, kConfigImageSize));
+}
+
 Millideg step_angle(uint8_t i, int32_t steps) { return steps_to_millideg(config().actuation.motors[i], steps); }
 
 void setup() {

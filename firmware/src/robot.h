@@ -109,6 +109,11 @@ void setup();
 // firmware::configured().
 void use(const articula::ConfiguredArm<kJoints>& next, uint16_t sum);
 
+// Writes an image to EEPROM as `articula configure` leaves it there (the version, the image,
+// its CRC): what setup() then reads. (Only the SITL calls it, for an arm configured before
+// power-up; on the Nano the linker drops it.)
+void store(const uint8_t* image);
+
 // `$1xx=v` and `N text`: checked (config_check, config_check_name) and written to the
 // staged image in EEPROM; nothing else changes.
 articula::Status stage(uint16_t n, int32_t thousandths);
