@@ -73,17 +73,21 @@ def test_run_works_the_program_out_again_after_the_physics_is_turned_off(open_pa
     assert pg.hook("a.pageErrors") == [] and pg.errors == []
 
 
-def test_a_servo_arm_at_rest_in_the_physics_has_lost_no_steps(open_page):
-    """What a class hit (issue 55, 1): the meArm in the live physics, and the corner under the
-    view read "lost -10 10 -10", which a servo arm cannot lose: a servo rests anywhere within
-    half its dead band of its pulse. Now the corner gives its counts and no loss."""
+def test_a_servo_arm_in_the_physics_runs_its_gripper_line_and_loses_no_steps(open_page):
+    """What a class hit (issue 55, 1): the meArm in the live physics, grasp-and-lift, the program
+    `L 0 20 / L 1 -20 / G 0`: the two L lines ran, then nothing for over 40 s, and the corner
+    under the view read "lost -10 10 -10", which a servo arm cannot lose (a servo rests anywhere
+    within half its dead band of its pulse). Now the gripper line runs, the program ends, and the
+    corner gives the counts and no loss."""
     pg = open_page("mearm")
     pg.page.click("#tab-program") if pg.page.is_visible("#tab-program") else None
-    pg.page.fill("#editor", "L 0 20\nL 1 -20\n")
-    pg.page.select_option("#scene-select", "push")
+    pg.page.select_option("#scene-select", "grasp-and-lift-mearm")
     pg.wait("a.physics && a.physics.on", timeout=20000)
+    pg.page.fill("#editor", "L 0 20\nL 1 -20\nG 0\n")
     pg.page.click("#run")
-    pg.wait("a.physics.t > 2.5 && document.getElementById('view-status').textContent.includes('steps')", timeout=40000)
+    # (a freeze: busy for ever, the gripper never closed)
+    pg.wait("!a.physics.busy && a.pose.gripper === 0 && Math.round(a.pose.q[0]) === 20 && Math.round(a.pose.q[2]) === -70 && "
+            "document.getElementById('view-status').textContent.includes('steps')", timeout=40000)
     corner = pg.page.text_content("#view-status")
     assert "lost" not in corner, corner
     pg.page.select_option("#scene-select", value="")
