@@ -14,6 +14,7 @@
 #include "program.h"
 #include "records_json.h"
 #include "robot_view.h"
+#include "wiring.h"
 
 namespace articula::host {
 
@@ -229,6 +230,25 @@ class Compiler {
         }
       }
       pen_down_ = false;
+    } else if (op == "output" || op == "wait_input") {
+      // A signal to another arm or a device (protocol.h's O and W): a header pin the arm's
+      // drive leaves free (wiring.h), high or low; a wait at most 600 s.
+      const double pin = number_of(o, "pin", b), level = number_of(o, "level", b);
+      std::vector<double> v{pin, level};
+      const uint32_t free = io_pins_free(r_);
+      const bool whole = pin == std::floor(pin) && pin >= 0 && pin < 32;
+      if (!whole || !(free & (uint32_t(1) << int(pin))))
+        problem(b, r_.name + "'s board leaves " + io_pins_free_text(r_) + " for signals, not " +
+                       (whole ? header_pin_name(int(pin)) : "pin " + protocol_number(pin)));
+      if (level != 0 && level != 1) problem(b, "a pin is high (1) or low (0), not " + protocol_number(level));
+      if (op == "wait_input") {
+        const double s = number_of(o, "seconds", b);
+        if (s < 0 || s > 600) problem(b, "a wait for a signal lasts 0 to 600 seconds, not " + protocol_number(s));
+        v.push_back(s);
+      }
+      const std::string l = protocol_line(r_, op == "output" ? 'O' : 'W', v);
+      emit(b, {l});
+      rs_.push_back("# (a signal, no RoboSim) " + l);
     } else if (op == "raw") {
       const std::string t = one_line(text_of(o, "text"));
       emit(b, {t});
@@ -432,6 +452,8 @@ json program_actions_json(const Robot& robot, const std::string& text, const std
       else if (cmd == "G") op = {{"op", "gripper"}, {"percent", a[0]}};
       else if (cmd == "S") op = {{"op", "gripper"}, {"percent", a[0] != 0 ? 0 : 100}};
       else if (cmd == "D") op = {{"op", "wait"}, {"seconds", a[0]}};
+      else if (cmd == "O") op = {{"op", "output"}, {"pin", a[0]}, {"level", a[1]}};
+      else if (cmd == "W") op = {{"op", "wait_input"}, {"pin", a[0]}, {"level", a[1]}, {"seconds", a[2]}};
       else op = {{"op", "raw"}, {"text", st.at("text")}};
     } else {
       const std::vector<double> v = st.at("values").get<std::vector<double>>();

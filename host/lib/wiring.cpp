@@ -265,7 +265,13 @@ nlohmann::json wiring_json(const Robot& robot) {
   const board::BoardInfo& info = board::kBoardInfo[robot.drive.board];
   nlohmann::json out = {{"board", info.id}, {"board_title", info.title}, {"given", robot.drive.given},
                         {"firmware", firmware_build(robot)}, {"wires", nlohmann::json::array()},
-                        {"supply", supply_notes(robot)}};
+                        {"supply", supply_notes(robot)}, {"io_pins", nlohmann::json::array()}};
+  const uint32_t free = io_pins_free(robot);
+  out["header_pins"] = nlohmann::json::array();
+  for (int i = 0; i < board::kHeaderPins; ++i) {
+    out["header_pins"].push_back(board::kHeaderPin[i].pin);
+    if (free & (uint32_t(1) << i)) out["io_pins"].push_back({{"pin", i}, {"name", board::kHeaderPin[i].pin}});
+  }
   if (!robot.has_motors) {
     out["error"] = "the robot has no motors: nothing to wire";
     return out;

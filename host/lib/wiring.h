@@ -51,15 +51,16 @@ Wiring wire(const Robot& robot);
 const char* firmware_build(const Robot& robot);
 
 // The header pins the robot's firmware build lets O and W use (protocol.h), bit n for header pin
-// n (board.h's kHeaderPin): those its drive keeps not (board.h's kKeptBy* masks). None for the
-// servo build (no I/O yet).
+// n (board.h's kHeaderPin): those its drive keeps not (board.h's kKeptBy* masks; a servo arm's
+// joints' signal pins too).
 uint32_t io_pins_free(const Robot& robot);
 // Their names, "A5" or "D12, A0, A1, A2, A4, A5"; "none" when there are none.
 std::string io_pins_free_text(const Robot& robot);
 
 // The wiring as data, for the CLI (`articula wiring`), Python (`Robot.wiring()`) and the page:
 // {"board": id, "board_title", "given" (the file names its drive), "firmware" (firmware_build),
-// "supply" (supply_notes),
+// "supply" (supply_notes), "io_pins" ([{"pin": 19, "name": "A5"}]: io_pins_free, for O and W),
+// "header_pins" (every header pin's name by its index: "D0" .. "A5"),
 // "wires": [{"pin": "D4",
 // "signal": "IN1", "part": "L298N #0", "motor": "base" or null}]}; for an arm the board cannot
 // wire (a file that names no drive and has more motors than slots), "wires" is empty and

@@ -259,3 +259,35 @@ TEST(ExamplePlaces, EveryShippedArmReachesItsToolboxsPoints) {
   EXPECT_EQ(mk2_places["pen"], 120);
   EXPECT_EQ(mk2_places["draw_at"], json({250, 0}));
 }
+
+TEST(BlocksProgram, SignalBlocksBecomeOAndWOnTheDrivesFreePinsAndReadBack) {
+  // The MK2's L298Ns leave A5 (19) alone: a signal there, a wait on it, and both read back.
+  const json ops = json::array({
+      {{"op", "output"}, {"pin", 19}, {"level", 1}, {"block", "o"}},
+      {{"op", "wait_input"}, {"pin", 19}, {"level", 0}, {"seconds", 5}, {"block", "w"}},
+  });
+  const json out = compile(ops);
+  EXPECT_TRUE(out["problems"].empty()) << out.dump();
+  const std::vector<std::string> lines = lines_of(out["text"]);
+  ASSERT_EQ(lines.size(), 3u) << out.dump();
+  EXPECT_EQ(lines[1], "O 19 1");
+  EXPECT_EQ(lines[2], "W 19 0 5");
+  EXPECT_EQ(out["lines"][1], "o");
+  EXPECT_EQ(out["lines"][2], "w");
+  const json back = program_actions_json(mk2(), out["text"], "signals.arm");
+  ASSERT_EQ(back["ops"].size(), 3u) << back.dump();
+  EXPECT_EQ(back["ops"][1], json({{"op", "output"}, {"pin", 19.0}, {"level", 1.0}}));
+  EXPECT_EQ(back["ops"][2], json({{"op", "wait_input"}, {"pin", 19.0}, {"level", 0.0}, {"seconds", 5.0}}));
+
+  // A pin the motors use, a level that is neither, a wait too long: each a problem on its block.
+  const json bad = compile(json::array({
+      {{"op", "output"}, {"pin", 4}, {"level", 1}, {"block", "d4"}},
+      {{"op", "output"}, {"pin", 19}, {"level", 2}, {"block", "two"}},
+      {{"op", "wait_input"}, {"pin", 19}, {"level", 1}, {"seconds", 700}, {"block", "long"}},
+  }));
+  ASSERT_EQ(bad["problems"].size(), 3u) << bad.dump();
+  EXPECT_EQ(bad["problems"][0]["block"], "d4");
+  EXPECT_EQ(bad["problems"][0]["message"], "MK2 Plus's board leaves A5 for signals, not D4");
+  EXPECT_EQ(bad["problems"][1]["message"], "a pin is high (1) or low (0), not 2");
+  EXPECT_EQ(bad["problems"][2]["message"], "a wait for a signal lasts 0 to 600 seconds, not 700");
+}

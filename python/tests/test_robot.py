@@ -340,3 +340,7 @@ def test_wiring_follows_the_robot_files_board_and_drivers():
     assert [w["pin"] for w in nano["wires"] if w["motor"] == "base"] == ["D4", "D5", "D6", "D7", "D2"]
     assert articula.Robot.load("mk2plus").motors[0]["driver"] == {"kind": "l298n"}
     assert "no motors" in articula.Robot.load("panda").wiring()["error"]
+    # the pins each drive leaves for signals (O and W), which the page's signal blocks offer
+    assert nano["io_pins"] == [{"pin": 19, "name": "A5"}]
+    assert [p["name"] for p in cnc["io_pins"]] == ["D12", "A0", "A1", "A2", "A4", "A5"]
+    assert nano["header_pins"][0] == "D0" and nano["header_pins"][19] == "A5" and len(nano["header_pins"]) == 20

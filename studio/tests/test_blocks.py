@@ -312,3 +312,32 @@ def test_variables_arithmetic_and_procedures_unroll_into_lines(open_page, tmp_pa
     lines = [l for l in pg.hook("a.blocksCode.text").splitlines() if l and not l.startswith("#")]
     # step 10, 15, 20 doubled: the base to 20, 30, 40; then wave(-20) and wave(25)
     assert lines == ["M 20 90 0", "M 30 90 0", "M 40 90 0", "M -20 90 0", "G 0", "M 25 90 0", "G 0"], lines
+
+
+def test_the_signal_blocks_offer_the_pins_the_arm_leaves_free_and_send_o_and_w(open_page):
+    """Issue 52: blocks for a cell's wires. The meArm's servos leave most of the header free: the
+    Signals category's "set pin" offers those pins first, and becomes `O 2 1`; a pin its servos
+    use is offered after them as the arm's, and chosen, its block says it is not free here."""
+    pg = open_page("mearm")
+    _blocks(pg)
+    code = "(a.blocksPending || !a.blocksCode ? [] : a.blocksCode.text.split('\\n').filter(l => /^[A-Z]/.test(l)))"
+    for i, kind in enumerate(("arm_output", "arm_wait_input"), 1):
+        pg.page.click("#blockly .blocklyToolboxCategory:has-text('Signals')")  # (a tapped block closes the flyout)
+        pg.page.wait_for_selector(f"#blockly svg.blocklyToolboxFlyout g.{kind}[data-id]")
+        pg.page.locator(f"#blockly svg.blocklyToolboxFlyout g.{kind}[data-id] > path.blocklyPath").first.click(position={"x": 6, "y": 8})
+        pg.wait(f"a.blockStacks === 1 && {code}.length === {i}", timeout=10000)
+    assert pg.hook(code) == ["O 2 1", "W 2 1 30"]
+    assert pg.hook("a.blockProblems") == []
+    # the pin menu of the block in the program: the free pins first, the servos' after them
+    pg.page.locator("#blockly svg.blocklySvg g.arm_output[data-id] .blocklyDropdownText").first.click()
+    items = pg.page.locator(".blocklyDropDownDiv .blocklyMenuItem")
+    items.first.wait_for()
+    names = [t.strip() for t in items.all_text_contents()]
+    assert names[:3] == ["D2", "D4", "D5"], names
+    assert "D9 (the arm's)" in names and names.index("D9 (the arm's)") > names.index("A5"), names
+    items.filter(has_text="D9 (the arm's)").first.click()
+    pg.wait(f"{code}.length === 2 && a.blockProblems.length === 1", timeout=10000)
+    assert pg.hook(code)[0] == "O 9 1"
+    problem = pg.hook("a.blockProblems[0].message")
+    assert problem.startswith("meArm's board leaves D2, D4") and problem.endswith("for signals, not D9"), problem
+    assert pg.errors == []

@@ -183,6 +183,16 @@ test("the pen's blocks unroll to the pen's actions and back", () => {
   assert.deepEqual(again.map(({ block, ...a }) => a), ops.map(({ block, ...a }) => a));
 });
 
+test("the signal blocks unroll to O and W actions and back", () => {
+  const program = chain(
+    { type: "arm_output", id: "o", fields: { PIN: "19", LEVEL: "1" } },
+    { type: "arm_wait_input", id: "w", fields: { PIN: "14", LEVEL: "0" }, inputs: { SECONDS: num(30) } });
+  const ops = unroll(ws(program));
+  assert.deepEqual(ops, [{ op: "output", pin: 19, level: 1, block: "o" }, { op: "wait_input", pin: 14, level: 0, seconds: 30, block: "w" }]);
+  const again = unroll(opsToWorkspace(ops.map(({ block, ...a }) => a)));
+  assert.deepEqual(again.map(({ block, ...a }) => a), ops.map(({ block, ...a }) => a));
+});
+
 test("a project's cell of arms reads back with each arm's program; a bad one is refused by name", async () => {
   const p = good();
   p.cell = { name: "signal", programs: ["G 100\nO 19 0", "W 14 0 30\n<b>wave</b>"] };

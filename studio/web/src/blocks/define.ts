@@ -12,6 +12,20 @@ export function setJoints(joints: { name: string; unit: string }[]): void {
   if (joints.length) jointNames = joints;
 }
 
+/** The pins the signal blocks offer: the robot shown's free ones first, then the rest of the
+ * header (a program made for another arm keeps its pin; the engine says it is not free here). */
+let pins: { free: { pin: number; name: string }[]; header: string[] } = { free: [{ pin: 19, name: "A5" }], header: [] };
+export function setPins(free: { pin: number; name: string }[], header: string[]): void {
+  pins = { free, header };
+}
+const pinOptions = (): [string, string][] => {
+  const out: [string, string][] = pins.free.map((p) => [p.name, String(p.pin)]);
+  pins.header.forEach((name, i) => {
+    if (!pins.free.some((p) => p.pin === i)) out.push([`${name} (${Blockly.Msg.ARM_PIN_TAKEN})`, String(i)]);
+  });
+  return out.length ? out : [["A5", "19"]];
+};
+
 export const ARM_MESSAGES: Record<string, string> = {
   ARM_JOINT_TO: "turn %1 to %2",
   ARM_JOINT_BY: "turn %1 by %2",
@@ -36,6 +50,14 @@ export const ARM_MESSAGES: Record<string, string> = {
   ARM_SHAPE_CIRCLE: "a circle",
   ARM_SHAPE_STAR: "a star",
   ARM_CATEGORY_PEN: "Pen",
+  ARM_CATEGORY_SIGNALS: "Signals",
+  ARM_OUTPUT: "set pin %1 %2",
+  ARM_WAIT_INPUT: "wait until pin %1 is %2, at most %3 seconds",
+  ARM_HIGH: "high",
+  ARM_LOW: "low",
+  ARM_PIN_TAKEN: "the arm's",
+  ARM_TIP_OUTPUT: "A signal to another arm or a device (a conveyor's relay): the pin goes high or low once the moves before it have ended",
+  ARM_TIP_WAIT_INPUT: "The arm keeps still until the pin reads high or low (another arm's signal, a light barrier); if that takes longer, it stops there",
   ARM_TIP_PEN: "A pen held in the gripper: how far its tip is below the tool point, and how high the paper lies. Say it before the other pen blocks",
   ARM_TIP_PEN_DOWN: "The pen straight down onto the paper, where it is: from now on it draws",
   ARM_TIP_PEN_UP: "The pen lifted off the paper, where it is: it moves without drawing",
@@ -130,6 +152,13 @@ export function defineBlocks(): void {
       ["%{BKY_ARM_SHAPE_SQUARE}", "square"], ["%{BKY_ARM_SHAPE_CIRCLE}", "circle"], ["%{BKY_ARM_SHAPE_STAR}", "star"]] },
       { type: "input_value", name: "WIDTH", check: "Number" }, { type: "input_value", name: "X", check: "Number" }, { type: "input_value", name: "Y", check: "Number" }],
       inputsInline: true, previousStatement: null, nextStatement: null, colour: 280, tooltip: "%{BKY_ARM_TIP_SHAPE}" },
+    { type: "arm_output", message0: "%{BKY_ARM_OUTPUT}", args0: [{ type: "field_dropdown", name: "PIN", options: pinOptions },
+      { type: "field_dropdown", name: "LEVEL", options: [["%{BKY_ARM_HIGH}", "1"], ["%{BKY_ARM_LOW}", "0"]] }],
+      previousStatement: null, nextStatement: null, colour: 160, tooltip: "%{BKY_ARM_TIP_OUTPUT}" },
+    { type: "arm_wait_input", message0: "%{BKY_ARM_WAIT_INPUT}", args0: [{ type: "field_dropdown", name: "PIN", options: pinOptions },
+      { type: "field_dropdown", name: "LEVEL", options: [["%{BKY_ARM_HIGH}", "1"], ["%{BKY_ARM_LOW}", "0"]] },
+      { type: "input_value", name: "SECONDS", check: "Number" }],
+      inputsInline: true, previousStatement: null, nextStatement: null, colour: 160, tooltip: "%{BKY_ARM_TIP_WAIT_INPUT}" },
     { type: "arm_raw", message0: "%{BKY_ARM_RAW}", args0: [{ type: "field_input", name: "TEXT", text: "", spellcheck: false }],
       previousStatement: null, nextStatement: null, colour: 0, tooltip: "%{BKY_ARM_TIP_RAW}" },
   ]);
@@ -144,6 +173,7 @@ export function toolbox(p: Places | null = null): Blockly.utils.toolbox.ToolboxD
   const at = p?.draw_at ?? [250, 0], width = p?.draw_width ?? 40;
   const pen = p?.pen ?? 120, z = p?.paper_z ?? 0;
   const penTo = [at[0] + width / 4, at[1]];
+  const pin = String(pins.free[0]?.pin ?? 19);
   return {
     kind: "categoryToolbox",
     contents: [
@@ -169,6 +199,10 @@ export function toolbox(p: Places | null = null): Blockly.utils.toolbox.ToolboxD
         { kind: "block", type: "arm_pen_to", inputs: { X: num(penTo[0]), Y: num(penTo[1]) } },
         { kind: "block", type: "arm_write", inputs: { WIDTH: num(width), X: num(at[0]), Y: num(at[1]) } },
         { kind: "block", type: "arm_shape", inputs: { WIDTH: num(width), X: num(at[0]), Y: num(at[1]) } },
+      ] },
+      { kind: "category", name: "%{BKY_ARM_CATEGORY_SIGNALS}", colour: "160", contents: [
+        { kind: "block", type: "arm_output", fields: { PIN: pin, LEVEL: "1" } },
+        { kind: "block", type: "arm_wait_input", fields: { PIN: pin, LEVEL: "1" }, inputs: { SECONDS: num(30) } },
       ] },
       { kind: "category", name: "%{BKY_ARM_CATEGORY_CONTROL}", colour: "120", contents: [
         { kind: "block", type: "controls_repeat_ext", inputs: { TIMES: num(3) } },

@@ -15,6 +15,8 @@ export type Op =
   | { op: "gripper"; percent: number; block: string }
   | { op: "speed"; percent: number; block: string }
   | { op: "wait"; seconds: number; block: string }
+  | { op: "output"; pin: number; level: number; block: string }
+  | { op: "wait_input"; pin: number; level: number; seconds: number; block: string }
   | { op: "home"; block: string }
   | { op: "comment"; text: string; block: string }
   | { op: "raw"; text: string; block: string }
@@ -40,7 +42,7 @@ export class BlockError extends Error {
 export const BLOCK_TYPES = new Set([
   "arm_joint_to", "arm_joint_by", "arm_joints", "arm_tool_to", "arm_line_to", "arm_home", "arm_gripper_open", "arm_gripper_close",
   "arm_gripper_to", "arm_speed", "arm_wait", "arm_comment", "arm_raw", "arm_pen", "arm_pen_down", "arm_pen_up", "arm_pen_to",
-  "arm_write", "arm_shape", "controls_repeat_ext", "variables_set", "variables_get",
+  "arm_write", "arm_shape", "arm_output", "arm_wait_input", "controls_repeat_ext", "variables_set", "variables_get",
   "math_change", "math_number", "math_arithmetic", "procedures_defnoreturn", "procedures_callnoreturn",
 ]);
 
@@ -131,6 +133,9 @@ function statement(b: J, ctx: Ctx): void {
     case "arm_speed": return push(ctx, { op: "speed", percent: n("PERCENT"), block: id });
     case "arm_wait": return push(ctx, { op: "wait", seconds: n("SECONDS"), block: id });
     case "arm_home": return push(ctx, { op: "home", block: id });
+    case "arm_output": return push(ctx, { op: "output", pin: Number(field(b, "PIN")), level: Number(field(b, "LEVEL")), block: id });
+    case "arm_wait_input":
+      return push(ctx, { op: "wait_input", pin: Number(field(b, "PIN")), level: Number(field(b, "LEVEL")), seconds: n("SECONDS"), block: id });
     case "arm_comment": return push(ctx, { op: "comment", text: String(field(b, "TEXT") ?? ""), block: id });
     case "arm_raw": return push(ctx, { op: "raw", text: String(field(b, "TEXT") ?? ""), block: id });
     case "arm_pen": return push(ctx, { op: "pen", pen: n("PEN"), z: n("Z"), block: id });
@@ -222,6 +227,8 @@ export function opsToWorkspace(ops: Action[]): J {
       case "speed": return { type: "arm_speed", inputs: { PERCENT: num(o.percent) } };
       case "wait": return { type: "arm_wait", inputs: { SECONDS: num(o.seconds) } };
       case "home": return { type: "arm_home" };
+      case "output": return { type: "arm_output", fields: { PIN: String(o.pin), LEVEL: String(o.level) } };
+      case "wait_input": return { type: "arm_wait_input", fields: { PIN: String(o.pin), LEVEL: String(o.level) }, inputs: { SECONDS: num(o.seconds) } };
       case "comment": return { type: "arm_comment", fields: { TEXT: o.text } };
       case "raw": return { type: "arm_raw", fields: { TEXT: o.text } };
       case "pen": return { type: "arm_pen", inputs: { PEN: num(o.pen), Z: num(o.z) } };

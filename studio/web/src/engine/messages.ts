@@ -57,7 +57,9 @@ export interface RobotMsg {
   // every wire (host/lib/wiring.h): its board, and each pin and what it feeds; error: none
   wiring?: { board: string; board_title: string; given: boolean; firmware: string; error?: string;
     wires: { pin: string; signal: string; part: string; motor: string | null }[];
-    supply?: string[] }; // what the wires alone do not say: the supply, its ground, jumpers (host/lib/wiring.h)
+    supply?: string[]; // what the wires alone do not say: the supply, its ground, jumpers (host/lib/wiring.h)
+    io_pins?: { pin: number; name: string }[]; // the pins the drive leaves for O and W (signals)
+    header_pins?: string[] }; // every header pin's name by its index ("D0" .. "A5")
   robots: string[];
   programs: string[];
   import_notes: string[];

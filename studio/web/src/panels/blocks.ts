@@ -9,7 +9,7 @@ import type { Editor } from "../editor/editor";
 import type { Studio } from "../page/context";
 import { $ } from "../page/dom";
 import type { Reports } from "../page/reports";
-import { defineBlocks, setJoints, toolbox } from "../blocks/define";
+import { defineBlocks, setJoints, setPins, toolbox } from "../blocks/define";
 import { BlockError, opsToWorkspace, unroll } from "../blocks/unroll";
 import type { RobotMsg } from "../engine/messages";
 
@@ -155,7 +155,7 @@ function ensureWorkspace(): void {
   touchDragsOneBlock();
   Blockly.blockRendering.unregister("zelos");
   Blockly.blockRendering.register("zelos", Renderer);
-  if (s.editor.robot) setJoints(s.editor.robot.joints);
+  if (s.editor.robot) robotMenus(s.editor.robot);
   ws = Blockly.inject($("blockly"), {
     toolbox: toolbox(s.editor.robot?.places ?? null), css: false, sounds: false, media: "assets/blockly-media/", trashcan: true, renderer: "zelos", theme: Blockly.Themes.Classic,
     zoom: { controls: true, startScale: TOUCH ? 1 : 0.7, wheel: false }, move: { scrollbars: true, drag: true, wheel: true },
@@ -226,9 +226,15 @@ function load(json: unknown): void {
   if (json) compile();
 }
 
-/** The robot changed: the joint menus follow it, and the toolbox's points are where it reaches. */
-function blocksRobot(r: RobotMsg): void {
+// The menus that are the robot's: its joints, and the pins its drive leaves for signals.
+function robotMenus(r: { joints: RobotMsg["joints"]; wiring?: RobotMsg["wiring"] }): void {
   setJoints(r.joints);
+  setPins(r.wiring?.io_pins ?? [], r.wiring?.header_pins ?? []);
+}
+
+/** The robot changed: the joint and pin menus follow it, and the toolbox's points are where it reaches. */
+function blocksRobot(r: RobotMsg): void {
+  robotMenus(r);
   if (!ws) return;
   ws.updateToolbox(toolbox(r.places));
   compile();
