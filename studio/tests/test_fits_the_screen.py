@@ -30,6 +30,17 @@ def test_at_1366_every_panel_tab_and_the_engine_chip_are_whole(open_page):
     chip = pg.page.locator("#conn").bounding_box()
     assert chip["x"] + chip["width"] <= 1366, chip
     assert pg.page.evaluate("() => document.documentElement.scrollWidth") <= 1366
+    # opening the toolbox's categories moves nothing sideways (a class saw the page shift 9 px):
+    # the blocks' area, the panel and the page stay where they were, nothing scrolled
+    where = """() => [document.getElementById('blockly').getBoundingClientRect().x,
+      document.querySelector('.dock').getBoundingClientRect().x, scrollX,
+      [...document.querySelectorAll('body *')].filter(e => e.scrollLeft > 0 && !e.closest('#blockly')).length]"""
+    before = pg.page.evaluate(where)
+    for name in ("Move", "Signals", "Numbers"):
+        pg.page.click(f"#blockly .blocklyToolboxCategory:has-text('{name}')")
+        pg.page.wait_for_selector("#blockly svg.blocklyToolboxFlyout g[data-id]")
+        assert pg.page.evaluate(where) == before, (name, before)
+        assert pg.page.evaluate("() => document.documentElement.scrollWidth") <= 1366
     assert pg.errors == []
 
 
