@@ -36,7 +36,7 @@ const std::map<std::string, std::vector<std::string>>& scene_file_fields() {
       {"scene", {"$schema", "name", "description", "sized_for", "gravity", "ground", "world_box", "objects"}},
       {"ground", {"friction"}},
       {"world_box", {"min", "max"}},
-      {"object", {"name", "type", "size", "xyz", "rpy", "movable", "mass", "density", "friction"}},
+      {"object", {"name", "type", "size", "xyz", "rpy", "movable", "mass", "density", "friction", "belt"}},
   };
   return fields;
 }
@@ -140,6 +140,11 @@ class Loader {
       fail(path + (j.contains("mass") ? "/mass" : "/density"),
            "mass " + num(o.mass_kg()) + " kg is outside 0.00001 .. 100 kg (the arm's world)");
     if (j.contains("friction")) o.friction = non_negative(j["friction"], path + "/friction");
+    if (j.contains("belt")) {
+      o.belt = number(j["belt"], path + "/belt");
+      if (o.movable || o.type != SceneObject::Type::kBox) fail(path + "/belt", "a belt is a static box (its top face moves)");
+      if (std::fabs(o.belt) > 1000) fail(path + "/belt", "a belt runs at most 1000 mm/s either way (got " + num(o.belt) + ")");
+    }
     return o;
   }
 

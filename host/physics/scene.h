@@ -26,6 +26,9 @@ struct SceneObject {
   double mass = 0;     // kg, movable objects; 0 = from density
   double density = 0;  // kg/m^3 when mass is 0
   double friction = 0.8;  // Coulomb coefficient mu
+  // A static box as a conveyor belt: its top face moves at this speed (mm/s, negative: the
+  // other way) along the box's own x axis, and carries what lies on it. 0: not a belt.
+  double belt = 0;
 
   double volume_m3() const;
   double mass_kg() const { return mass > 0 ? mass : density * volume_m3(); }

@@ -44,6 +44,7 @@ class Simulation {
   void drag_object(int i, const Vec3<double>& target_mm) { world_.drag_object(i, target_mm); }
   void release_drag() { world_.release_drag(); }
   int dragged_object() const { return world_.dragged_object(); }
+  void set_belt(int i, double mm_s) { world_.set_belt(i, mm_s); }  // (World::set_belt)
   Scene scene_as_placed() const { return world_.scene_as_placed(); }  // (World::scene_as_placed)
 
   // What touches what now (movable objects only; the arm's refused steps are events).

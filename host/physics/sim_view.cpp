@@ -42,7 +42,8 @@ nlohmann::json scene_objects_json(const Scene& scene) {
                    {"size", {o.size[0], o.size[1], o.size[2]}},
                    {"movable", o.movable},
                    {"mass_kg", o.movable ? o.mass_kg() : 0.0},
-                   {"friction", o.friction}});
+                   {"friction", o.friction},
+                   {"belt", o.belt}});
   return out;
 }
 

@@ -16,7 +16,8 @@ namespace articula::host {
 // pose), objects (name, pose, movable, carried, removed), contacts ({a, b, point_mm}).
 nlohmann::json sim_state_json(const Simulation& sim);
 
-// The scene's objects: name, type (box, cylinder, sphere), size (mm), movable, mass_kg, friction.
+// The scene's objects: name, type (box, cylinder, sphere), size (mm), movable, mass_kg, friction,
+// belt (mm/s; 0: not a belt).
 nlohmann::json scene_objects_json(const Scene& scene);
 
 }  // namespace articula::host

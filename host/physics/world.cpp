@@ -194,6 +194,11 @@ void World::build_scene() {
     } else {
       dGeomSetPosition(o.geom, so.xyz.x * kMm, so.xyz.y * kMm, so.xyz.z * kMm);
       dGeomSetRotation(o.geom, Rd);
+      if (so.belt != 0) {
+        o.belt = true;
+        o.belt_m_s = so.belt * kMm;
+        for (int r = 0; r < 3; ++r) o.belt_dir[r] = R.m[r][0], o.belt_up[r] = R.m[r][2];
+      }
     }
     objects_.push_back(o);
   }
@@ -240,7 +245,15 @@ void World::event(SimEvent::Kind k, int arm, const std::string& a, const std::st
   events_.push_back(e);
 }
 
-void World::add_contact(dGeomID a, dGeomID b, double mu, int touch_index, bool joints) {
+void World::set_belt(int i, double mm_s) {
+  if (i < 0 || size_t(i) >= objects_.size() || !objects_[size_t(i)].belt)
+    throw std::invalid_argument("object " + std::to_string(i) + " is not a belt");
+  if (!std::isfinite(mm_s) || std::fabs(mm_s) > 1000)
+    throw std::invalid_argument("a belt runs at most 1000 mm/s either way");
+  objects_[size_t(i)].belt_m_s = mm_s * kMm;
+}
+
+void World::add_contact(dGeomID a, dGeomID b, double mu, int touch_index, bool joints, const Object* belt) {
   if (!aabb_overlap(a, b)) {
     if (touched_now_[size_t(touch_index)] == 2) touched_now_[size_t(touch_index)] = 0;
     return;
@@ -255,7 +268,8 @@ void World::add_contact(dGeomID a, dGeomID b, double mu, int touch_index, bool j
   touched_now_[size_t(touch_index)] = 1;
   if (!joints) return;
   dBodyID ba = dGeomGetBody(a), bb = dGeomGetBody(b);
-  if (ba && !dBodyIsEnabled(ba)) {
+  const bool carries = belt && belt->belt_m_s != 0;  // a running belt wakes what lies on it
+  if (ba && !dBodyIsEnabled(ba) && !carries) {
     // Asleep and only grazed (an arm creeping along it, a step away from it): let it sleep;
     // a real push goes deeper than the surface layer within a step.
     double depth = 0;
@@ -272,6 +286,15 @@ void World::add_contact(dGeomID a, dGeomID b, double mu, int touch_index, bool j
     c.surface.mu = mu;
     c.surface.soft_erp = 0.2;
     c.surface.soft_cfm = 1e-5;
+    // On a belt's top face (the contact's normal along its up: ODE's normal points into the
+    // first geom, the object lying on it) the surface moves: ODE's contact motion along the
+    // belt's x. Its sides and ends are still.
+    if (belt && belt->belt_m_s != 0 &&
+        (cg[i].normal[0] * belt->belt_up[0] + cg[i].normal[1] * belt->belt_up[1] + cg[i].normal[2] * belt->belt_up[2]) > 0.9) {
+      c.surface.mode |= dContactFDir1 | dContactMotion1;
+      for (int r = 0; r < 3; ++r) c.fdir1[r] = belt->belt_dir[r];
+      c.surface.motion1 = belt->belt_m_s;
+    }
     dJointID j = dJointCreateContact(world_, contacts_, &c);
     dJointAttach(j, ba, bb);
   }
@@ -298,7 +321,8 @@ void World::collide_objects() {
       if (p.removed) continue;
       const double mu = std::sqrt(o.mu * p.mu);
       if (!p.movable) {
-        if (dBodyIsEnabled(o.body)) add_contact(o.geom, p.geom, mu, base + 1 + oj);
+        if (dBodyIsEnabled(o.body) || (p.belt && p.belt_m_s != 0))
+          add_contact(o.geom, p.geom, mu, base + 1 + oj, true, p.belt ? &p : nullptr);
       } else if (p.carried()) {
         if (dBodyIsEnabled(o.body) || bodies_[size_t(p.carrier)]->moved()) add_contact(o.geom, p.geom, mu, base + 1 + oj);
       } else if (oj > oi) {

@@ -154,6 +154,9 @@ class World {
   void drag_object(int i, const Vec3<double>& target_mm);
   void release_drag();
   int dragged_object() const { return drag_object_; }
+  // A belt's speed (mm/s; 0 stops it): object i must be a belt of the scene (SceneObject::belt).
+  // Throws std::invalid_argument otherwise.
+  void set_belt(int i, double mm_s);
   // The scene with every object a drag let go of standing where it was let go, turned as it
   // was: where a student put it by hand, for the next run to start from (the studio's Run).
   Scene scene_as_placed() const;
@@ -179,6 +182,9 @@ class World {
     bool movable = false, removed = false;
     int carrier = -1;  // the arm that carries it (-1: none)
     double mu = 0.8;
+    bool belt = false;       // a conveyor belt (static): its top face moves
+    double belt_m_s = 0;     // its speed now, along belt_dir
+    double belt_dir[3] = {1, 0, 0}, belt_up[3] = {0, 0, 1};  // its x and its top face's normal, world
     Transform<double> T_tool_obj = Transform<double>::identity();  // carried: pose in its carrier's tool frame, mm
     Transform<double> T_carry = Transform<double>::identity();     // carried: accepted pose, mm
     Transform<double> T_carry_prev = Transform<double>::identity();
@@ -188,7 +194,7 @@ class World {
 
   void build_scene();
   void collide_objects();
-  void add_contact(dGeomID a, dGeomID b, double mu, int touch_index, bool joints = true);
+  void add_contact(dGeomID a, dGeomID b, double mu, int touch_index, bool joints = true, const Object* belt = nullptr);
   void after_step();
   void apply_drag();
   // An event of the world's own (contacts, objects leaving): dated at the end of the world step,

@@ -89,6 +89,15 @@ TEST(Scene, ErrorsNameTheJsonPointer) {
   EXPECT_EQ(error_of(R"({"objects": [{"type": "box", "size": [1, 1, 1], "xyz": [9000, 0, 0]}]})"),
             "s.json: /objects/0/xyz: outside the world box");
   EXPECT_EQ(error_of("{\n  \"ground\": tru\n}"), "s.json: not valid JSON at line 2, column 16");
+  // a belt: a static box, at most 1000 mm/s either way, a finite number
+  EXPECT_EQ(error_of(R"({"objects": [{"type": "box", "size": [30, 30, 30], "movable": true, "belt": 50}]})"),
+            "s.json: /objects/0/belt: a belt is a static box (its top face moves)");
+  EXPECT_EQ(error_of(R"({"objects": [{"type": "sphere", "size": [1], "belt": 50}]})"),
+            "s.json: /objects/0/belt: a belt is a static box (its top face moves)");
+  EXPECT_EQ(error_of(R"({"objects": [{"type": "box", "size": [1, 1, 1], "belt": -2000}]})"),
+            "s.json: /objects/0/belt: a belt runs at most 1000 mm/s either way (got -2000)");
+  EXPECT_EQ(error_of(R"({"objects": [{"type": "box", "size": [1, 1, 1], "belt": "fast"}]})"),
+            "s.json: /objects/0/belt: must be a number");
   EXPECT_THROW(load_scene_file("/nonexistent/scene.json"), SceneError);
 }
 

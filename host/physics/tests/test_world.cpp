@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 
 #include "robot_file.h"
 #include "sim.h"
@@ -91,6 +92,59 @@ TEST(World, BoxAtRestStaysAtRest) {
   int started = 0;
   for (const auto& e : sim.events()) started += e.kind == SimEvent::Kind::kContactStarted;
   EXPECT_EQ(started, 1);  // the ground, once
+}
+
+// A conveyor belt (issue 53): a static box 1.4 m long whose top face runs at 100 mm/s along its
+// x, turned 30 degrees about z. A 25 mm cube dropped on it travels at the belt's speed (within
+// 5 %, timed over a metre of its way), neither sinks into it nor sticks to it, and stands still
+// once the belt stops; started again, the belt wakes it.
+TEST(World, ACubeOnARunningBeltTravelsAtTheBeltsSpeedAndStopsWithIt) {
+  Scene s;
+  s.ground = true;
+  SceneObject belt;
+  belt.name = "belt";
+  belt.type = SceneObject::Type::kBox;
+  belt.size = {1400, 100, 40};
+  const double yaw = 30 * M_PI / 180;
+  belt.xyz = make_vec3(-200.0, 500.0, 20.0);
+  belt.rpy_deg = make_vec3(0.0, 0.0, 30.0);
+  belt.belt = 100;
+  belt.friction = 0.8;
+  s.objects.push_back(belt);
+  // the cube near the belt's back end (600 mm behind its centre), just above its top
+  const double back = -600;
+  s.objects.push_back(box("cube", 25, make_vec3(-200.0 + back * std::cos(yaw), 500.0 + back * std::sin(yaw), 53.0), 0.011));
+  Simulation sim(mk2(), s);
+  // along the belt's x from its centre, and across
+  auto along = [&](const Transform<double>& T) { return (T.p.x + 200) * std::cos(yaw) + (T.p.y - 500) * std::sin(yaw); };
+  auto across = [&](const Transform<double>& T) { return -(T.p.x + 200) * std::sin(yaw) + (T.p.y - 500) * std::cos(yaw); };
+  double t0 = -1, t1 = -1, lowest = 1e9;
+  for (double t = 0.01; t < 14 && t1 < 0; t += 0.01) {
+    sim.run_until(t);
+    const Transform<double> T = sim.object_pose(1);
+    if (t > 1) lowest = std::min(lowest, T.p.z);
+    if (t0 < 0 && along(T) >= back + 50) t0 = t;
+    if (t1 < 0 && along(T) >= back + 1050) t1 = t;
+  }
+  ASSERT_GT(t0, 0) << "the cube never moved";
+  ASSERT_GT(t1, 0) << "the cube did not travel a metre in 14 s";
+  const double speed = 1000 / (t1 - t0);
+  std::printf("  belt 100 mm/s: the cube %.2f mm/s over a metre, lowest %.2f mm (its rest 52.5)\n", speed, lowest);
+  EXPECT_NEAR(speed, 100, 5) << "mm/s over a metre";
+  EXPECT_GT(lowest, 40 + 12.5 - 0.5) << "the cube sank into the belt";
+  EXPECT_NEAR(across(sim.object_pose(1)), 0, 2) << "the cube drifted across the belt";
+  // stopped: the cube stays where it is (no creep, nothing stuck to a moving surface)
+  sim.set_belt(0, 0);
+  sim.run_until(sim.time() + 0.5);
+  const Transform<double> at_stop = sim.object_pose(1);
+  sim.run_until(sim.time() + 2);
+  EXPECT_NEAR(along(sim.object_pose(1)), along(at_stop), 0.5) << "the cube moved on a stopped belt";
+  // asleep on the stopped belt, then the belt runs backwards: it carries the cube back
+  sim.run_until(sim.time() + 3);
+  sim.set_belt(0, -100);
+  sim.run_until(sim.time() + 2);
+  EXPECT_LT(along(sim.object_pose(1)), along(at_stop) - 150) << "a started belt did not wake the cube";
+  EXPECT_THROW(sim.set_belt(1, 10), std::invalid_argument);  // the cube is no belt
 }
 
 }  // namespace

@@ -145,6 +145,7 @@ export interface SceneObjectInfo {
   size: number[];
   movable: boolean;
   mass_kg: number;
+  belt?: number; // mm/s: a conveyor belt's top face (0: not a belt)
 }
 
 export interface SceneMsg {
