@@ -134,3 +134,41 @@ test("a Run sends each line once the arm has come to rest after the last", async
   }
   t.diagnostic(`5 lines in ${end.seconds.toFixed(2)} s of the arm's time`);
 });
+
+test("a reply the page was slow to read is the arm's answer, not a timeout (a busy page's engine)", async () => {
+  // On half a core the page's engine read each line seconds late; a reply behind a status
+  // report waited in the page while the virtual Nano's clock ran past its 5 s deadline.
+  const { ArmLines } = await load("link/arm-lines.ts");
+  let clock = 0;
+  let push = null;
+  const port = {
+    readable: new ReadableStream({ start(c) { push = (t) => c.enqueue(new TextEncoder().encode(t)); } }),
+    writable: new WritableStream({
+      write(chunk) {
+        const line = new TextDecoder().decode(chunk).trim();
+        if (line === "M 0 90 0") push("<Run|S:0,0,0|A:0.000,90.000,0.000|G:0>\nok\n"); // answered at once
+      },
+    }),
+    async open() {}, async close() {},
+    clock: () => clock,
+  };
+  // the engine's reading of a status report takes 8 s of the arm's time (the page was busy)
+  const read = async (line) => {
+    if (line.startsWith("<")) {
+      for (let i = 0; i < 80; i++) {
+        clock += 100;
+        await new Promise((r) => setTimeout(r, 1));
+      }
+      return { parsed: { kind: "status" }, pose: null };
+    }
+    return { parsed: { kind: line === "ok" ? "reply" : "other" }, pose: null };
+  };
+  const lines = new ArmLines(read, () => undefined, () => undefined);
+  await lines.openPort(port);
+  assert.equal(await lines.request("M 0 90 0"), "ok");
+  // and an arm that never answers still times out, in its own time
+  const silent = lines.request("G 50", 1000);
+  const tick = setInterval(() => (clock += 50), 1);
+  await assert.rejects(silent, /no reply to 'G 50' within 1 s/);
+  clearInterval(tick);
+});

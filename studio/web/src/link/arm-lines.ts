@@ -57,6 +57,16 @@ export class ArmLines {
   /** The arm's time, ms: the virtual Nano's own clock, or the page's for a real port. */
   now: () => number = () => performance.now();
 
+  // A reply's deadline counts the arm's time less the time the page spent reading what the arm
+  // had sent: each line waits for the engine's worker, which a busy page keeps waiting, and a
+  // reply behind a status report is the arm's answer the page has not yet heard. (On half a
+  // core the virtual Nano's replies were given up 5 s of its time after the line while they
+  // waited in the page: "no reply to 'P 500 0 100' within 5 s".) A silent arm times out as ever.
+  private pausedMs = 0;
+  private pausedFrom: number | null = null;
+  /** The arm's time for waiting on an answer (the time the page spent reading left out). */
+  readonly replyClock = (): number => (this.pausedFrom ?? this.now()) - this.pausedMs;
+
   get open(): boolean {
     return this.port !== null;
   }
@@ -90,13 +100,13 @@ export class ArmLines {
   // `I` until the banner comes (the firmware may still be starting). An `I` asked again
   // while the first is unanswered is answered too: its banner and reply are its own.
   async banner(): Promise<Parsed & { line: string }> {
-    const end = this.now() + BANNER_MS;
+    const end = this.replyClock() + BANNER_MS;
     let resolve: (p: Parsed & { line: string }) => void = () => undefined;
     const got = new Promise<Parsed & { line: string }>((r) => (resolve = r));
-    while (this.now() < end) {
+    while (this.replyClock() < end) {
       await this.writeLine("I", { onBanner: resolve });
       let answered = false;
-      const r = await Promise.race([got.then((p) => ((answered = true), p)), sleepOn(this.now, 600, () => answered || !this.open).then(() => null)]);
+      const r = await Promise.race([got.then((p) => ((answered = true), p)), sleepOn(this.replyClock, 600, () => answered || !this.open).then(() => null)]);
       if (r) return r;
     }
     throw new Error(`no answer to I within ${BANNER_MS / 1000} s: is it a Nano with Articula's firmware, at ${BAUD} baud?`);
@@ -114,7 +124,7 @@ export class ArmLines {
     const got = new Promise<Parsed & { line: string }>((r) => (resolve = r));
     const entry = await this.writeLine(line, { onReply: resolve });
     let answered = false;
-    const r = await Promise.race([got.then((p) => ((answered = true), p)), sleepOn(this.now, ms, () => answered || !this.open).then(() => null)]);
+    const r = await Promise.race([got.then((p) => ((answered = true), p)), sleepOn(this.replyClock, ms, () => answered || !this.open).then(() => null)]);
     if (!r) {
       entry.onReply = undefined; // a late reply is still this line's
       if (!this.open) throw new Error(`the port closed before '${line}' was answered`);
@@ -158,12 +168,15 @@ export class ArmLines {
     // The engine reads it in its worker, which a busy page can keep waiting: while it does, the
     // arm is not silent (it answered).
     this.note("line", line.slice(0, 24));
-    this.reading++;
+    if (this.reading++ === 0) this.pausedFrom = this.now();
     let got: ReadLine;
     try {
       got = await this.read(line);
     } finally {
-      this.reading--;
+      if (--this.reading === 0 && this.pausedFrom !== null) {
+        this.pausedMs += Math.max(0, this.now() - this.pausedFrom);
+        this.pausedFrom = null;
+      }
     }
     const { parsed: p, pose } = got;
     this.onTraffic?.("heard", line, p.kind === "status");

@@ -295,7 +295,7 @@ export class ArmLink {
     const report = new Promise<string | null>((resolve) => {
       waiter = resolve;
       this.statusWaiters.push(waiter);
-      void sleepOn(this.now, REPLY_MS, () => !this.statusWaiters.includes(waiter) || !this.connected).then(() => resolve(null));
+      void sleepOn(this.lines.replyClock, REPLY_MS, () => !this.statusWaiters.includes(waiter) || !this.connected).then(() => resolve(null));
     });
     this.lines.write("?").catch((e) => this.lost(`cannot write: ${(e as Error).message}`));
     const text = await report;
