@@ -549,15 +549,26 @@ def test_jog_record_and_a_breakpoint_on_the_virtual_nano(page):
     pg.select("#arm-port", "page:virtual")
     pg.click("#arm-connect")
     pg.wait("a.arm.connected && a.arm.status !== null && a.arm.status.state === 'Idle'", 60 * PATIENCE, "the virtual Nano connected")
+    # the base far from its +90 degree limit first: the held line's way there (537 steps)
+    # outlasts a busy machine's let go (from 0, 284 steps did not: the arm rested on the limit)
+    pg.set_text("#arm-line", "M -80 90 0")
+    pg.click("#arm-send")
+    pg.wait("a.arm.reply && a.arm.reply.line === 'M -80 90 0' && a.arm.status.state === 'Idle' && "
+            "a.arm.status.steps[0] === a.arm.reply.predicted.steps[0]", 60 * PATIENCE, "the base at -80 degrees")
+    start = pg.hook("a.arm.status.steps[0]")
     # held: the press and its release as the page gets them from a finger or a mouse
     pg.select("#jog-frame", "joint")
     pg.run("document.querySelector(\"[aria-label='base plus']\").dispatchEvent(new PointerEvent('pointerdown', "
            "{ bubbles: true, cancelable: true, pointerId: 7, isPrimary: true }))")
-    pg.wait("a.jog.held === 1 && a.arm.status.state === 'Run' && a.arm.status.steps[0] > 40", 60 * PATIENCE, "the held jog moving")
+    pg.wait(f"a.jog.held === 1 && a.arm.status.state === 'Run' && a.arm.status.steps[0] > {start} + 40", 60 * PATIENCE,
+            "the held jog moving")
+    # where the held line goes (the limit), read while it runs: after the let go the page's own
+    # line is the last reply
+    limit_steps = pg.hook("a.arm.reply.predicted.steps[0]")
     pg.run("window.dispatchEvent(new PointerEvent('pointerup', { bubbles: true, pointerId: 7 }))")
     pg.wait("a.jog.lets === 1 && a.jog.said.includes('came to rest')", 60 * PATIENCE, "the held jog let go, at rest")
     end = pg.hook("a.arm.status.steps[0]")
-    assert end < pg.hook("a.arm.reply.predicted.steps[0]"), "the jog was not ended by letting go"
+    assert end < limit_steps, ("the jog was not ended by letting go", start, end, limit_steps)
     pg.wait(f"a.arm.nano !== null && a.arm.nano.steps[0] === {end} && a.arm.nano.faults === 0", 30 * PATIENCE, "every step made")
     # Record: the arm's pose as a line
     pg.set_text("#editor", "")
