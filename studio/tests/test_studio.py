@@ -820,13 +820,20 @@ def test_a_speed_in_a_link_that_is_none_is_said_as_text_and_the_world_keeps_real
 
 # A stand-in for navigator.serial (headless Chromium has no serial device to offer): its port
 # carries the same bytes to and from the virtual Nano's worker, so the page's Web Serial code
-# path is the real one, all but the browser API. unplug() makes the port vanish mid-read.
+# path is the real one, all but the browser API. unplug() makes the port vanish mid-read. At
+# another rate than the Nano's 115,200 it opens, as a real port does, and nothing is understood
+# either way (the flasher tries the old bootloader's 57,600 when Optiboot does not answer).
 SERIAL_STAND_IN = """
 (() => {
   let unplug = null;
   class StandInPort {
     async open({ baudRate }) {
-      if (baudRate !== 115200) throw new Error('wrong baud rate ' + baudRate);
+      if (baudRate !== 115200) {
+        this.worker = null;
+        this.readable = new ReadableStream({ start() {} });
+        this.writable = new WritableStream({ write() {} });
+        return;
+      }
       const w = new Worker(new URL('assets/nano-worker.js', document.baseURI), { type: 'module' });
       let ctl;
       this.readable = new ReadableStream({ start(c) { ctl = c; } });
@@ -843,7 +850,7 @@ SERIAL_STAND_IN = """
       this.worker = w;
     }
     async setSignals({ dataTerminalReady }) {
-      if (dataTerminalReady !== undefined) this.worker.postMessage({ type: 'signals', dtr: dataTerminalReady });
+      if (dataTerminalReady !== undefined) this.worker?.postMessage({ type: 'signals', dtr: dataTerminalReady });
     }
     async close() { this.worker?.terminate(); }
     getInfo() { return { usbVendorId: 0x1a86, usbProductId: 0x7523 }; }
