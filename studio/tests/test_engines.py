@@ -562,8 +562,7 @@ def test_jog_record_and_a_breakpoint_on_the_virtual_nano(page):
            "{ bubbles: true, cancelable: true, pointerId: 7, isPrimary: true }))")
     pg.wait(f"a.jog.held === 1 && a.arm.status.state === 'Run' && a.arm.status.steps[0] > {start} + 40", 60 * PATIENCE,
             "the held jog moving")
-    # where the held line goes (the limit), read while it runs: after the let go the page's own
-    # line is the last reply
+    # where the held line goes (the limit), read while it runs
     limit_steps = pg.hook("a.arm.reply.predicted.steps[0]")
     pg.run("window.dispatchEvent(new PointerEvent('pointerup', { bubbles: true, pointerId: 7 }))")
     pg.wait("a.jog.lets === 1 && a.jog.said.includes('came to rest')", 60 * PATIENCE, "the held jog let go, at rest")

@@ -20,6 +20,7 @@ let s: Studio;
 const HOLD_MS = 400; // a press held this long is a held jog
 const REPEAT_MS = 100; // the model's held jog: a nudge this often
 let pointerAt = -Infinity; // the last press of a jog button by a pointer (its click is that press's)
+let halting: Promise<void> | null = null; // a held jog let go, until the arm is at rest (the next jog waits)
 let pressed: { jog: Jog; timer: number; repeat: number; onArm: boolean; held: boolean } | null = null;
 
 const frame = () => ($("jog-frame") as HTMLSelectElement).value as Frame;
@@ -62,9 +63,11 @@ function buildPad(r: RobotMsg): void {
         }
         press({ frame: f, axis: row.axis, dir });
       });
-      // a click no pointer pressed (the keyboard's Enter and Space, an assistive tool): one nudge
-      b.addEventListener("click", () => {
-        if (performance.now() - pointerAt > 1000) void jogOnce({ frame: f, axis: row.axis, dir });
+      // a click no pointer pressed (the keyboard's Enter and Space, an assistive tool: a click of
+      // no count): one nudge. A pointer's click is its press's, however long it was held: after a
+      // held jog it would be a nudge from a report older than the let go, behind the arm.
+      b.addEventListener("click", (e) => {
+        if (e.detail === 0 && performance.now() - pointerAt > 1000) void jogOnce({ frame: f, axis: row.axis, dir });
       });
       return b;
     }))));
@@ -102,27 +105,34 @@ function letGo(): void {
   armTarget = null;
   const link = armLink();
   if (!link) return;
-  void link.halt().then(() => {
+  const h: Promise<void> = link.halt().then(() => {
     jogReport.haltAt = performance.timeOrigin + performance.now();
-    followArm();
+    return followArm();
+  }).finally(() => {
+    if (halting === h) halting = null;
   });
+  halting = h;
 }
 
-// After a held jog on the arm: the model where the arm came to rest.
-function followArm(): void {
+// After a held jog on the arm: the model where the arm came to rest (a report read after the `!`
+// was written: one read before it is from before the arm slowed down).
+function followArm(): Promise<void> {
   const start = performance.now();
-  const look = () => {
-    const q = s.editor.arm.pose();
-    const link = armLink();
-    if (!link) return;
-    if (link.atRest && q && performance.now() - start > 200) {
-      s.engine.request({ type: "set_joints", q });
-      say(`${jogReport.said.replace(/ \(let go to stop\)$/, "")}: let go, the arm came to rest there`);
-      return;
-    }
-    if (performance.now() - start < 30000) setTimeout(look, 100);
-  };
-  look();
+  return new Promise((done) => {
+    const look = () => {
+      const q = s.editor.arm.pose();
+      const link = armLink();
+      if (!link) return done();
+      if (link.atRest && q && s.editor.arm.restAt() > start) {
+        s.engine.request({ type: "set_joints", q });
+        say(`${jogReport.said.replace(/ \(let go to stop\)$/, "")}: let go, the arm came to rest there`);
+        return done();
+      }
+      if (performance.now() - start < 30000) setTimeout(look, 100);
+      else done();
+    };
+    look();
+  });
 }
 
 function say(text: string, bad = false): void {
@@ -148,6 +158,9 @@ async function jogNow(jog: Jog): Promise<void> {
   if (!s.editor.robot) return;
   const link = armLink();
   if (link?.running) return say("The arm is running a program: jog it when it is done (or STOP it).", true);
+  // a held jog let go: the arm is slowing down, and its reports lag behind it; a nudge starts
+  // where it comes to rest (from an older report it would go back)
+  if (link && halting) await halting;
   const from = link ? armFrom() : null;
   let r: { moved?: boolean; said?: string; asked?: number; whole?: number | null; line?: string; q?: number[] };
   try {
