@@ -158,6 +158,22 @@ describe("flashing the Nano from the page", { skip: !existsSync(OPTIBOOT) && "ar
     n.delete();
   });
 
+  test("a sync missed at every rate (a busy page, a lost reset): the flash starts again from the reset and ends verified", async (t) => {
+    const n = nanoWith(OPTIBOOT, firmware);
+    const port = pacedPort(n);
+    port.muteAfter = 0; // every answer lost, at 115,200 and then at 57,600, on the first try only
+    port.muteOpens = 2;
+    const attempts = [];
+    const r = await flashNano(port, firmware, { onProgress: (p) => attempts.includes(p.attempt) || attempts.push(p.attempt) });
+    assert.deepEqual(attempts, [1, 2]);
+    assert.equal(r.attempts, 2);
+    assert.equal(r.baud, 115200);
+    assert.ok(written(n));
+    assert.match((await banner(port)) ?? "", /R:MK2 Plus/);
+    t.diagnostic(`no sync on the first try, flashed on the second: ${r.pages} pages in ${r.seconds.toFixed(1)} s of the wall's time`);
+    n.delete();
+  });
+
   test("answers to the sync that come late (a busy machine) are passed over: the flash ends verified", async (t) => {
     // The first two GET_SYNCs reach the bootloader 300 ms late: the first one's answer comes in
     // the second's wait, and the second's after the sync has ended, before the signature's.

@@ -214,8 +214,8 @@ async function loadAddress(link, at, what) {
 /**
  * Writes `hexText` to the Nano on `port` (closed on entry and on return) and reads it back.
  * onProgress({ phase: "connect" | "write" | "verify" | "done", done, total, baud, attempt }).
- * A flash that stalls (no byte for STALL_MS) starts again from the reset, up to `tries` times
- * in all (attempt counts them); the bootloader takes every try, whatever the last one wrote.
+ * A flash that stalls (no byte for STALL_MS), or that no bootloader answered at any rate, starts
+ * again from the reset, up to `tries` times in all (attempt counts them); the bootloader takes every try, whatever the last one wrote.
  * Resolves to { bytes, pages, baud, seconds, attempts }; throws a FlashError.
  */
 export async function flashNano(port, hexText, { onProgress = () => {}, baudRates = BAUD_RATES, tries = TRIES } = {}) {
@@ -226,7 +226,10 @@ export async function flashNano(port, hexText, { onProgress = () => {}, baudRate
       const r = await flashOnce(port, image, baudRates, (p) => onProgress({ ...p, attempt }));
       return { ...r, seconds: (performance.now() - t0) / 1000, attempts: attempt };
     } catch (e) {
-      if (!(e instanceof FlashError && e.kind === "stalled")) throw e;
+      // a stall, or no sync at any rate (a bootloader's window missed by a busy page, or a
+      // reset the adapter lost): from the reset again
+      const again = e instanceof FlashError && (e.kind === "stalled" || (e.kind === "no-bootloader" && e.unsynced));
+      if (!again || (attempt >= tries && e.kind !== "stalled")) throw e;
       if (attempt >= tries)
         throw new FlashError("stalled", `${e.message}, ${attempt === 1 ? "once" : `${attempt} times`}. ` +
           "Is the machine very busy, or the cable loose? Flash again: the Nano keeps its bootloader");
@@ -252,9 +255,12 @@ async function flashOnce(port, { pages, bytes }, baudRates, onProgress) {
       link = null;
       await port.close();
     }
-    if (!link)
-      throw new FlashError("no-bootloader", `no answer from a bootloader at ${baudRates.join(" or ")} baud: is it a Nano ` +
+    if (!link) {
+      const e = new FlashError("no-bootloader", `no answer from a bootloader at ${baudRates.join(" or ")} baud: is it a Nano ` +
         "(new or old bootloader), and is no other program (a serial monitor, the arm panel) using the port?");
+      e.unsynced = true; // (tried again from the reset while tries are left)
+      throw e;
+    }
     const sig = await signature(link);
     if (sig.some((b, i) => b !== SIGNATURE[i]))
       throw new FlashError("signature", `the chip's signature is ${sig.map(hex2).join(" ")}, not an ATmega328P's ` +
