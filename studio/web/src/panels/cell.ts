@@ -25,8 +25,9 @@ export const cellReport: {
   events: SimEvent[]; lines: number[]; signals: Signal[][]; frames: number;
   programs: string[]; tab: number; refused: string; timeline: CellTimeline[]; arrows: number; doing: string[]; flashed: string[];
   nanos: NanoRun | null; // the arms on virtual Nanos (null: in the engine)
+  said: string[][]; // each arm's box's words so far, each once (the last 40): what a passing wait said
 } = { name: null, title: "", arms: [], t: 0, running: false, done: false, deadlock: "", events: [], lines: [], signals: [], frames: 0,
-  programs: [], tab: 0, refused: "", timeline: [], arrows: 0, doing: [], flashed: [], nanos: null };
+  programs: [], tab: 0, refused: "", timeline: [], arrows: 0, doing: [], flashed: [], nanos: null, said: [] };
 
 let s: Studio;
 let reveal: (id: string) => void = () => undefined;
@@ -118,6 +119,8 @@ function showNanos(n: CellNanos): void {
 
 // Arm k's box: what it does now (and its joints, where known); the words, for the report.
 function showDoing(k: number, d: { text: string; kind: string }, joints?: number[]): string {
+  const said = (cellReport.said[k] ??= []);
+  if (!said.includes(d.text)) said.splice(0, Math.max(0, said.push(d.text) - 40));
   const box = $("cell-arms").children[k];
   if (!box) return d.text;
   const line = box.querySelector(".doing")!;
@@ -167,6 +170,7 @@ export async function showCell(m: CellMsg): Promise<void> {
   cellReport.name = m.name;
   cellReport.title = m.title ?? "";
   cellReport.arms = (m.arms ?? []).map((a) => a.name);
+  cellReport.said = [];
   cellReport.events = [];
   cellReport.deadlock = "";
   cellReport.frames = 0;
