@@ -24,7 +24,8 @@ CellError::CellError(const std::string& file, const std::string& json_path, cons
 
 const std::map<std::string, std::vector<std::string>>& cell_file_fields() {
   static const std::map<std::string, std::vector<std::string>> fields = {
-      {"cell", {"$schema", "name", "description", "scene", "arms", "wires"}},
+      {"cell", {"$schema", "name", "description", "scene", "arms", "devices", "wires"}},
+      {"device", {"name", "kind", "object", "from", "to"}},
       {"arm", {"name", "robot", "io", "base", "program"}},
       {"base", {"xyz", "yaw"}},
       {"wire", {"from", "to"}},
@@ -39,6 +40,12 @@ Transform<double> CellArm::T_world_base() const {
 int Cell::arm_index(const std::string& arm) const {
   for (size_t i = 0; i < arms.size(); ++i)
     if (arms[i].name == arm) return int(i);
+  return -1;
+}
+
+int Cell::device_index(const std::string& device) const {
+  for (size_t i = 0; i < devices.size(); ++i)
+    if (devices[i].name == device) return int(i);
   return -1;
 }
 
@@ -135,6 +142,7 @@ class Loader {
     if (arms.size() > size_t(kMaxCellArms))
       fail("/arms", "at most " + std::to_string(kMaxCellArms) + " arms (got " + std::to_string(arms.size()) + ")");
     for (size_t k = 0; k < arms.size(); ++k) load_arm(arms[k], child("/arms", k));
+    if (j.contains("devices")) load_devices(j["devices"]);
     if (j.contains("wires")) load_wires(j["wires"]);
     return std::move(cell_);
   }
@@ -285,15 +293,89 @@ class Loader {
     arm.program_ref = source;
   }
 
-  // "arm.pin" -> (arm, pin), or a refusal that says what the cell has.
+  Vec3<double> point(const json& j, const std::string& path) const {
+    if (!j.is_array() || j.size() != 3) fail(path, "must be [x, y, z] in mm (3 numbers)");
+    return make_vec3(number(j[0], child(path, 0)), number(j[1], child(path, 1)), number(j[2], child(path, 2)));
+  }
+
+  // "devices": belts and light barriers the wires reach (cell_file.h's CellDevice).
+  void load_devices(const json& d) {
+    if (!d.is_array()) fail("/devices", "must be an array of devices ({\"name\": \"gate\", \"kind\": \"barrier\", ...})");
+    for (size_t k = 0; k < d.size(); ++k) {
+      const std::string path = child("/devices", k);
+      const json& j = d[k];
+      fields(j, path, "device");
+      CellDevice dev;
+      if (!j.contains("name")) fail(path, "missing field \"name\" (what wires call the device)");
+      dev.name = text(j["name"], child(path, "name"));
+      if (!good_name(dev.name))
+        fail(child(path, "name"),
+             "a device's name is 1 to 16 letters, digits, _ or -, starting with a letter (got " + in_quotes(dev.name) + ")");
+      if (cell_.arm_index(dev.name) >= 0 || cell_.device_index(dev.name) >= 0)
+        fail(child(path, "name"), "the cell already has an arm or a device called " + in_quotes(dev.name));
+      if (!j.contains("kind")) fail(path, "missing field \"kind\" (\"belt\" or \"barrier\")");
+      const std::string kind = text(j["kind"], child(path, "kind"));
+      auto only = [&](std::initializer_list<const char*> needs, std::initializer_list<const char*> not_for) {
+        for (const char* f : needs)
+          if (!j.contains(f)) fail(path, "a " + kind + " needs the field " + in_quotes(f));
+        for (const char* f : not_for)
+          if (j.contains(f)) fail(child(path, f), "a " + kind + " has no field " + in_quotes(f));
+      };
+      if (kind == "belt") {
+        dev.kind = CellDevice::Kind::kBelt;
+        only({"object"}, {"from", "to"});
+        const std::string obj = text(j["object"], child(path, "object"));
+        std::string belts;
+        for (size_t o = 0; o < cell_.scene.objects.size(); ++o) {
+          const SceneObject& so = cell_.scene.objects[o];
+          if (so.belt != 0) belts += (belts.empty() ? "" : ", ") + so.name;
+          if (so.name == obj) dev.object = int(o);
+        }
+        if (dev.object < 0 || cell_.scene.objects[size_t(dev.object)].belt == 0)
+          fail(child(path, "object"), "the scene has no belt " + in_quotes(obj) +
+                                          (belts.empty() ? " (none of its objects is a belt: an object's \"belt\" speed)"
+                                                         : " (its belts: " + belts + ")"));
+        for (const CellDevice& other : cell_.devices)
+          if (other.kind == CellDevice::Kind::kBelt && other.object == dev.object)
+            fail(child(path, "object"), "the belt " + in_quotes(obj) + " is already the device " + in_quotes(other.name));
+      } else if (kind == "barrier") {
+        dev.kind = CellDevice::Kind::kBarrier;
+        only({"from", "to"}, {"object"});
+        dev.from = point(j["from"], child(path, "from"));
+        dev.to = point(j["to"], child(path, "to"));
+        const double len = norm(dev.to - dev.from);
+        if (len < 1) fail(child(path, "to"), "a beam is at least 1 mm long (its ends are " + fmt(len) + " mm apart)");
+        if (len > 5000) fail(child(path, "to"), "a beam is at most 5 m long (its ends are " + fmt(len) + " mm apart)");
+      } else {
+        fail(child(path, "kind"), "must be \"belt\" or \"barrier\" (got " + in_quotes(kind) + ")");
+      }
+      cell_.devices.push_back(std::move(dev));
+    }
+  }
+
+  // A device's end of a wire, as End's first: past the arms (kDevice + its index).
+  static constexpr int kDevice = 1000;
+
+  // "arm.pin" or "device.pin" -> (arm, pin) or (kDevice + device, 0), or a refusal that says
+  // what the cell has.
   std::pair<int, int> end_of(const json& j, const std::string& path) const {
     const std::string s = text(j, path);
     const size_t dot = s.find('.');
     if (dot == std::string::npos || dot == 0 || dot + 1 == s.size())
-      fail(path, "a wire's end is \"arm.pin\" (got " + in_quotes(s) + ")");
+      fail(path, "a wire's end is \"arm.pin\" or \"device.pin\" (got " + in_quotes(s) + ")");
     const std::string arm = s.substr(0, dot), pin = s.substr(dot + 1);
+    const int dev = cell_.device_index(arm);
+    if (dev >= 0) {
+      const CellDevice& d = cell_.devices[size_t(dev)];
+      if (pin != d.pin())
+        fail(path, "the " + std::string(d.kind_name()) + " " + in_quotes(arm) + " has one pin, " + in_quotes(d.pin()) +
+                       " (got " + in_quotes(pin) + ")");
+      return {kDevice + dev, 0};
+    }
     const int a = cell_.arm_index(arm);
-    if (a < 0) fail(path, "the cell has no arm " + in_quotes(arm) + " (its arms: " + names_of(cell_) + ")");
+    if (a < 0)
+      fail(path, "the cell has no arm or device " + in_quotes(arm) + " (its arms: " + names_of(cell_) +
+                     (cell_.devices.empty() ? "" : "; its devices: " + device_names()) + ")");
     const Robot& r = cell_.arms[size_t(a)].robot;
     for (size_t k = 0; k < r.io.size(); ++k)
       if (r.io[k].name == pin) return {a, int(k)};
@@ -324,9 +406,16 @@ class Loader {
       return i;
     };
     auto label = [&](End e) {
+      if (e.first >= kDevice) {
+        const CellDevice& d = cell_.devices[size_t(e.first - kDevice)];
+        return d.name + "." + d.pin();
+      }
       return cell_.arms[size_t(e.first)].name + "." + cell_.arms[size_t(e.first)].robot.io[size_t(e.second)].name;
     };
-    auto is_output = [&](End e) { return !cell_.arms[size_t(e.first)].robot.io[size_t(e.second)].input(); };
+    auto is_output = [&](End e) {
+      if (e.first >= kDevice) return cell_.devices[size_t(e.first - kDevice)].output();
+      return !cell_.arms[size_t(e.first)].robot.io[size_t(e.second)].input();
+    };
     for (size_t k = 0; k < w.size(); ++k) {
       const std::string path = child("/wires", k);
       fields(w[k], path, "wire");
@@ -352,10 +441,19 @@ class Loader {
         if (root(int(o)) == root(int(i)) && is_output(ends[o])) driver = int(o);
       if (driver < 0) fail(first_wire[i], "joins only inputs (" + label(ends[i]) + " among them): no output drives it");
       CellWire cw;
-      cw.from_arm = ends[size_t(driver)].first, cw.from_pin = ends[size_t(driver)].second;
-      cw.to_arm = ends[i].first, cw.to_pin = ends[i].second;
+      const End from = ends[size_t(driver)], to = ends[i];
+      if (from.first >= kDevice) cw.from_device = from.first - kDevice;
+      else cw.from_arm = from.first, cw.from_pin = from.second;
+      if (to.first >= kDevice) cw.to_device = to.first - kDevice;
+      else cw.to_arm = to.first, cw.to_pin = to.second;
       cell_.wires.push_back(cw);
     }
+  }
+
+  std::string device_names() const {
+    std::string out;
+    for (const CellDevice& d : cell_.devices) out += (out.empty() ? "" : ", ") + d.name;
+    return out;
   }
 
   std::string file_, dir_;

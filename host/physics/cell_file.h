@@ -32,12 +32,31 @@ struct CellArm {
   Transform<double> T_world_base() const;
 };
 
-// One wire as the cell carries it: an output of one arm to an input of another (or of the same)
-// arm. The file's wires join pins into nets of one output each; the cell has a wire from that
-// output to every input on its net.
+// A device on the table that the cell's wires reach, with one pin each (cells/README.md):
+//   - a belt ("run", an input): one of the scene's belts (SceneObject::belt), which runs at its
+//     speed while its input is low and stands while it is high, as through a relay module's
+//     active-low input (an output at rest, high, leaves it standing); with no wire to it, it runs;
+//   - a light barrier ("beam", an output): an infrared beam between two points, its output high
+//     while the beam is clear and low while one of the scene's objects breaks it, as a break-beam
+//     module's on a pull-up input. The cell looks once a world step.
+struct CellDevice {
+  enum class Kind { kBelt, kBarrier };
+  std::string name;
+  Kind kind = Kind::kBelt;
+  int object = -1;                      // a belt: the scene object it runs
+  Vec3<double> from{0, 0, 0}, to{0, 0, 0};  // a barrier: its beam's ends, mm, on the table
+  const char* pin() const { return kind == Kind::kBelt ? "run" : "beam"; }
+  bool output() const { return kind == Kind::kBarrier; }
+  const char* kind_name() const { return kind == Kind::kBelt ? "belt" : "barrier"; }
+};
+
+// One wire as the cell carries it: an output (of an arm or a device) to an input of an arm or a
+// device. The file's wires join pins into nets of one output each; the cell has a wire from
+// that output to every input on its net.
 struct CellWire {
-  int from_arm = -1, from_pin = -1;  // the output (index into the arm's robot.io)
-  int to_arm = -1, to_pin = -1;      // the input
+  int from_arm = -1, from_pin = -1;  // the output (index into the arm's robot.io); -1: a device's
+  int to_arm = -1, to_pin = -1;      // the input; -1: a device's
+  int from_device = -1, to_device = -1;  // the device whose pin it is (-1: an arm's)
 };
 
 struct Cell {
@@ -45,8 +64,10 @@ struct Cell {
   std::string source;  // the file it was read from
   Scene scene;         // the table: ground and objects (its own or a scene file's)
   std::vector<CellArm> arms;
+  std::vector<CellDevice> devices;
   std::vector<CellWire> wires;
   int arm_index(const std::string& name) const;
+  int device_index(const std::string& name) const;
   // An arm's I/O pin's name (robot.io).
   const std::string& io_name(int arm, int pin) const { return arms[size_t(arm)].robot.io[size_t(pin)].name; }
 };

@@ -28,15 +28,22 @@ std::vector<ArmPlacement> placements(const Cell& cell) {
 }  // namespace
 
 CellSimulation::CellSimulation(const Cell& cell, const SimOptions& options)
-    : cell_(cell), world_(placements(cell), cell.scene, options) {
+    : cell_(cell),
+      world_(placements(cell), cell.scene, options),
+      device_level_(cell.devices.size(), 1),
+      beam_by_(cell.devices.size()) {
   wire();
+  look_at_beams(false);
+  run_belts(false);
   for (size_t i = 0; i < cell_.arms.size(); ++i)
     if (!cell_.arms[i].program.statements.empty()) world_.driver(int(i)).feed_program(cell_.arms[i].program, 0);
 }
 
 // The level a wire carries at `tick`: its output's then, from that arm's log; an arm without
-// firmware never drives its pin (its pull-up: high).
+// firmware never drives its pin (its pull-up: high). A barrier's: its beam as the world was at
+// its last step.
 bool CellSimulation::wire_level(const CellWire& w, uint64_t tick) {
+  if (w.from_device >= 0) return device_level_[size_t(w.from_device)] != 0;
   FirmwareSession* from = world_.driver(w.from_arm).firmware();
   return !from || from->output_level(cell_.arms[size_t(w.from_arm)].robot.io[size_t(w.from_pin)].pin, tick);
 }
@@ -55,7 +62,7 @@ uint32_t CellSimulation::input_levels(int arm, uint64_t tick) {
   uint32_t levels = 0;
   for (const CellWire& w : cell_.wires) {
     if (w.to_arm != arm) continue;
-    FirmwareSession* from = world_.driver(w.from_arm).firmware();
+    FirmwareSession* from = w.from_device >= 0 ? nullptr : world_.driver(w.from_arm).firmware();
     if (from && from->clock() < tick) from->run_to(tick);
     if (wire_level(w, tick)) levels |= uint32_t(1) << cell_.arms[size_t(arm)].robot.io[size_t(w.to_pin)].pin;
   }
@@ -72,8 +79,56 @@ void CellSimulation::wire() {
   }
 }
 
+void CellSimulation::device_event(int k, const std::string& by, const std::string& detail) {
+  SimEvent e;
+  e.kind = SimEvent::Kind::kDevice;
+  e.t = time();
+  e.a = cell_.devices[size_t(k)].name;
+  e.b = by;
+  e.detail = detail;
+  world_.add_event(e);
+}
+
+// A belt with a wire to its input runs while the wire is low (a relay module's active-low
+// input: an output at rest, high, leaves it standing); one without a wire runs.
+void CellSimulation::run_belts(bool tell) {
+  const uint64_t now = world_.now_tick();
+  for (const CellWire& w : cell_.wires) {
+    if (w.to_device < 0) continue;
+    const size_t k = size_t(w.to_device);
+    const CellDevice& d = cell_.devices[k];
+    const bool level = wire_level(w, now);
+    if (level == (device_level_[k] != 0) && tell) continue;
+    device_level_[k] = level;
+    world_.set_belt(d.object, level ? 0 : world_.object(d.object).belt);
+    if (tell) device_event(int(k), "", level ? "stands" : "runs");
+  }
+}
+
+bool CellSimulation::belt_running(int k) const {
+  for (const CellWire& w : cell_.wires)
+    if (w.to_device == k) return !device_level(k);
+  return true;
+}
+
+void CellSimulation::look_at_beams(bool tell) {
+  for (size_t k = 0; k < cell_.devices.size(); ++k) {
+    const CellDevice& d = cell_.devices[k];
+    if (d.kind != CellDevice::Kind::kBarrier) continue;
+    const std::string by = world_.beam_blocker(d.from, d.to);
+    if (by == beam_by_[k]) continue;
+    const bool was_clear = beam_by_[k].empty();
+    beam_by_[k] = by;
+    device_level_[k] = by.empty();
+    if (tell && (was_clear || by.empty()))  // (broken, or clear again: not one object for another)
+      device_event(int(k), by, by.empty() ? "the beam is clear" : "the beam is broken");
+  }
+}
+
 void CellSimulation::step() {
+  if (!cell_.devices.empty()) run_belts(true);
   world_.step();
+  if (!cell_.devices.empty()) look_at_beams(true);
   if (cell_.wires.empty()) return;
   const std::string now = stuck();
   if (!now.empty() && !stuck_) {
@@ -114,6 +169,7 @@ std::string CellSimulation::stuck() {
     bool high = true;  // (an input no wire drives reads its pull-up)
     for (const CellWire& c : cell_.wires)
       if (c.to_arm == i && c.to_pin == x.io) {
+        if (c.from_device >= 0) return "";  // (the world may break or clear the beam yet)
         x.from_arm = c.from_arm;
         x.from_io = c.from_pin;
         high = wire_level(c, now);
@@ -241,7 +297,22 @@ nlohmann::json cell_state_json(const CellSimulation& sim) {
                        {"carried_by", carrier >= 0 ? nlohmann::json(w.body(carrier).name()) : nlohmann::json(nullptr)},
                        {"removed", w.object_removed(i)}});
   }
-  return {{"t", sim.time()}, {"arms", cell_arms_json(sim)}, {"objects", objects}};
+  nlohmann::json devices = nlohmann::json::array();
+  for (size_t k = 0; k < sim.cell().devices.size(); ++k) {
+    const CellDevice& d = sim.cell().devices[k];
+    nlohmann::json j = {{"name", d.name}, {"kind", d.kind_name()}, {"pin", d.pin()}, {"level", sim.device_level(int(k))}};
+    if (d.kind == CellDevice::Kind::kBelt) {
+      j["object"] = w.object(d.object).name;
+      j["running"] = sim.belt_running(int(k));
+    } else {
+      j["from_mm"] = {d.from.x, d.from.y, d.from.z};
+      j["to_mm"] = {d.to.x, d.to.y, d.to.z};
+      const std::string& by = sim.beam_broken_by(int(k));
+      j["broken_by"] = by.empty() ? nlohmann::json(nullptr) : nlohmann::json(by);
+    }
+    devices.push_back(j);
+  }
+  return {{"t", sim.time()}, {"arms", cell_arms_json(sim)}, {"objects", objects}, {"devices", devices}};
 }
 
 }  // namespace articula::host

@@ -53,13 +53,26 @@ class CellSimulation {
   uint32_t driven_inputs(int arm) const;
   uint32_t input_levels(int arm, uint64_t tick);
 
+  // Device k's pin's level now (cell_file.h: a belt's input, a barrier's output), and what
+  // breaks a barrier's beam ("" none).
+  bool device_level(int k) const { return device_level_[size_t(k)] != 0; }
+  bool belt_running(int k) const;
+  const std::string& beam_broken_by(int k) const { return beam_by_[size_t(k)]; }
+
  private:
   void wire();
   bool wire_level(const CellWire& w, uint64_t tick);
+  // The belts' inputs at the world's tick (run or stand), and the barriers' beams as the world
+  // is: each change an event (kDevice) when `tell`.
+  void run_belts(bool tell);
+  void look_at_beams(bool tell);
+  void device_event(int k, const std::string& by, const std::string& detail);
   std::string stuck();  // the deadlock now in words, or ""
 
   Cell cell_;
   World world_;
+  std::vector<uint8_t> device_level_;  // each device's pin, as device_level()
+  std::vector<std::string> beam_by_;
   std::string deadlock_;
   bool stuck_ = false;  // in a deadlock now
 };
@@ -78,7 +91,9 @@ Prediction predict_in_cell(const Cell& cell, const std::string& arm, bool path =
 // `articula sim CELL --json`.
 nlohmann::json cell_arms_json(const CellSimulation& sim);
 // The cell now: t, arms (cell_arms_json), objects (name, xyz_mm, pose: 16 numbers, row-major,
-// carried_by: the arm's name or null, removed); `articula sim CELL --json`, Python's Cell.state, the web engine's.
+// carried_by: the arm's name or null, removed), devices (name, kind, pin, level: its pin's now;
+// a belt's object and running, a barrier's from_mm, to_mm and broken_by: an object's name or
+// null); `articula sim CELL --json`, Python's Cell.state, the web engine's.
 nlohmann::json cell_state_json(const CellSimulation& sim);
 
 }  // namespace articula::host

@@ -99,6 +99,7 @@ const char* event_kind_name(SimEvent::Kind k) {
     case SimEvent::Kind::kNote: return "note";
     case SimEvent::Kind::kStall: return "stall";
     case SimEvent::Kind::kDeadlock: return "deadlock";
+    case SimEvent::Kind::kDevice: return "device";
   }
   return "?";
 }
@@ -251,6 +252,22 @@ void World::set_belt(int i, double mm_s) {
   if (!std::isfinite(mm_s) || std::fabs(mm_s) > 1000)
     throw std::invalid_argument("a belt runs at most 1000 mm/s either way");
   objects_[size_t(i)].belt_m_s = mm_s * kMm;
+}
+
+std::string World::beam_blocker(const Vec3<double>& from_mm, const Vec3<double>& to_mm) const {
+  const Vec3<double> d = to_mm - from_mm;
+  const double len = norm(d);
+  if (!(len > 0)) return "";
+  dGeomID ray = dCreateRay(nullptr, len * kMm);
+  dGeomRaySet(ray, from_mm.x * kMm, from_mm.y * kMm, from_mm.z * kMm, d.x / len, d.y / len, d.z / len);
+  std::string by;
+  for (size_t i = 0; i < objects_.size() && by.empty(); ++i) {
+    if (objects_[i].removed || !objects_[i].geom) continue;
+    dContactGeom c;
+    if (dCollide(ray, objects_[i].geom, 1, &c, sizeof c) > 0) by = scene_.objects[i].name;
+  }
+  dGeomDestroy(ray);
+  return by;
 }
 
 void World::add_contact(dGeomID a, dGeomID b, double mu, int touch_index, bool joints, const Object* belt) {

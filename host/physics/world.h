@@ -70,6 +70,8 @@ struct SimEvent {
     kNote,             // information (self-collision pairs left out, ...)
     kStall,            // a move needs more torque of a motor than its pull-out curve gives: it would skip (stall.h)
     kDeadlock,         // a cell's arms each wait for a signal that none will give (cell_sim.h): told in `detail`
+    kDevice,           // a cell's device changed (cell_file.h): a belt starts or stops, a beam is broken
+                       // (`b`: by what) or clear again; `a` the device, `detail` in words
   };
   Kind kind = Kind::kNote;
   double t = 0;         // s
@@ -157,6 +159,9 @@ class World {
   // A belt's speed (mm/s; 0 stops it): object i must be a belt of the scene (SceneObject::belt).
   // Throws std::invalid_argument otherwise.
   void set_belt(int i, double mm_s);
+  // The first of the scene's objects (not removed) that the segment from..to (mm, on the table)
+  // passes through, by name ("" none): a light barrier's beam.
+  std::string beam_blocker(const Vec3<double>& from_mm, const Vec3<double>& to_mm) const;
   // The scene with every object a drag let go of standing where it was let go, turned as it
   // was: where a student put it by hand, for the next run to start from (the studio's Run).
   Scene scene_as_placed() const;

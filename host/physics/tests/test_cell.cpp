@@ -396,7 +396,7 @@ TEST(Cell, ShippedCellsLoadAndRun) {
     if (entry.path().extension() != ".json" || entry.path().filename() == "cell.schema.json") continue;
     SCOPED_TRACE(entry.path().string());
     const Cell cell = load_cell_file(entry.path().string());
-    EXPECT_GE(cell.arms.size(), 2u);
+    EXPECT_GE(cell.arms.size() + cell.devices.size(), 2u);
     CellSimulation sim(cell);
     while (!sim.done()) sim.step();
     for (const SimEvent& e : sim.world().events()) EXPECT_NE(e.kind, SimEvent::Kind::kRejected) << e.arm << " " << e.a;
@@ -504,7 +504,7 @@ TEST(CellFile, WiresAreCheckedAgainstTheArmsPins) {
             "c.json: /wires/0/to: arm \"b\" has no I/O pin \"begin\" (its pins: done (output), start (input), also (input))");
   json no_arm = file;
   no_arm["wires"][0]["from"] = "c.ready";
-  EXPECT_EQ(cell_error(no_arm, dir), "c.json: /wires/0/from: the cell has no arm \"c\" (its arms: a, b)");
+  EXPECT_EQ(cell_error(no_arm, dir), "c.json: /wires/0/from: the cell has no arm or device \"c\" (its arms: a, b)");
   json inputs = file;
   inputs["wires"].push_back({{"from", "b.also"}, {"to", "a.go"}});  // fine: a.go's net has b.done
   EXPECT_EQ(cell_error(inputs, dir), "");
@@ -603,3 +603,163 @@ TEST(CellFile, SchemaMatchesTheLoader) {
 }
 
 }  // namespace
+
+// A station of the class's lessons (issue 53): a belt the arm runs from an output (through a
+// relay), a light barrier across it on an input. The MK2 on a CNC shield leaves D12 and A0 free.
+json station(const std::string& dir) {
+  robot_with_io(dir, "station-arm", json::parse(R"([{"name": "belt_on", "pin": "D12", "mode": "output"},
+                                                     {"name": "part", "pin": "A0", "mode": "input_pullup"}])"),
+                "mk2plus-cnc");
+  // the belt along the table's y (its own x turned 90 degrees), 600 mm long, its top 10 mm up;
+  // the block at its far end; the beam across it at y = 12, 25 mm up
+  return json::parse(R"({"name": "station",
+    "scene": {"objects": [
+      {"name": "belt", "type": "box", "size": [600, 80, 10], "xyz": [600, -250, 5], "rpy": [0, 0, 90], "belt": 100},
+      {"name": "block", "type": "box", "size": [24, 24, 40], "xyz": [600, -450, 30], "movable": true, "mass": 0.03}]},
+    "arms": [{"name": "a", "robot": "station-arm.json", "program": ["O 12 0", "W 14 0 20", "O 12 1"]}],
+    "devices": [{"name": "conveyor", "kind": "belt", "object": "belt"},
+                {"name": "gate", "kind": "barrier", "from": [540, 12, 25], "to": [660, 12, 25]}],
+    "wires": [{"from": "a.belt_on", "to": "conveyor.run"}, {"from": "gate.beam", "to": "a.part"}]})");
+}
+
+TEST(CellDevices, TheArmRunsTheBeltUntilTheBarrierSeesTheBlock) {
+  const std::string dir = ::testing::TempDir() + "/cells-station";
+  std::filesystem::create_directories(dir);
+  const Cell cell = parse_cell(station(dir).dump(), "station.json", dir);
+  ASSERT_EQ(cell.devices.size(), 2u);
+  ASSERT_EQ(cell.wires.size(), 2u);
+  CellSimulation sim(cell);
+  const int block = 1;
+  // at power-up the arm's D12 is at rest, high: the belt stands until the arm's O 12 0; the
+  // beam is clear
+  EXPECT_FALSE(sim.belt_running(0));
+  EXPECT_TRUE(sim.device_level(1));
+  sim.run_until(0.5);
+  EXPECT_TRUE(sim.belt_running(0));
+  std::vector<std::pair<double, double>> ys;  // (t, the block's y) every 0.1 s
+  while (!sim.done() && sim.time() < 15) {
+    sim.step();
+    if (sim.world().steps_taken() % 100 == 0) ys.emplace_back(sim.time(), sim.world().object_pose(block).p.y);
+  }
+  ASSERT_TRUE(sim.done());
+  // the events: the beam broken by the block, then the belt stands
+  double broken_t = -1, stands_t = -1;
+  for (const SimEvent& e : sim.world().events()) {
+    if (e.kind != SimEvent::Kind::kDevice) continue;
+    if (e.a == "gate" && e.detail == "the beam is broken") {
+      EXPECT_EQ(e.b, "block");
+      if (broken_t < 0) broken_t = e.t;
+    }
+    if (e.a == "conveyor" && e.detail == "stands" && stands_t < 0) stands_t = e.t;
+  }
+  ASSERT_GT(broken_t, 0);
+  ASSERT_GE(stands_t, broken_t);
+  // the W ended at the tick the beam broke: within a physics step and the firmware's 1 ms look
+  const auto& sig = sim.driver(0).signals();
+  ASSERT_EQ(sig.size(), 3u);
+  ASSERT_EQ(sig[1].kind, ArmDriver::Signal::kWait);
+  ASSERT_TRUE(sig[1].ended);
+  const double wait_end = double(sig[1].end_tick) / kStepTickHz;
+  EXPECT_GE(wait_end, broken_t - 0.001);
+  EXPECT_LE(wait_end, broken_t + 0.002) << "the wait ended " << (wait_end - broken_t) * 1000 << " ms after the beam broke";
+  // the block's front face (y + 12) at the beam when it broke it: 450 mm at 100 mm/s, once the
+  // belt ran
+  double runs_t = -1;
+  for (const SimEvent& e : sim.world().events())
+    if (e.kind == SimEvent::Kind::kDevice && e.a == "conveyor" && e.detail == "runs" && runs_t < 0) runs_t = e.t;
+  ASSERT_GE(runs_t, 0);
+  EXPECT_NEAR(broken_t - runs_t, 4.5, 0.3);
+  // on the running belt, at its speed (within 5 %, over 2 s)
+  auto y_at = [&](double t) {
+    for (const auto& p : ys)
+      if (p.first >= t - 1e-9) return p.second;
+    return ys.back().second;
+  };
+  const double v = (y_at(3.0) - y_at(1.0)) / 2.0;
+  EXPECT_NEAR(v, 100.0, 5.0) << "mm/s on the belt";
+  // stopped with it: no creep once the belt stands, on top of it (no sinking)
+  EXPECT_LT(std::fabs(y_at(stands_t + 2.0) - y_at(stands_t + 0.3)), 0.5);
+  EXPECT_NEAR(sim.world().object_pose(block).p.z, 30.0, 1.0);
+  EXPECT_NEAR(sim.world().object_pose(block).p.y, 0.0, 3.0);
+  // the state says so
+  const json state = cell_state_json(sim);
+  ASSERT_EQ(state["devices"].size(), 2u);
+  EXPECT_EQ(state["devices"][0]["running"], false);
+  EXPECT_EQ(state["devices"][0]["level"], true);
+  EXPECT_EQ(state["devices"][1]["broken_by"], "block");
+  EXPECT_EQ(state["devices"][1]["level"], false);
+}
+
+TEST(CellDevices, WithoutItsRelayTheBlockNeverComesAndTheWaitRunsOut) {
+  // the belt runs the wrong way: the block never reaches the beam, and the wait runs out (W:21)
+  const std::string dir = ::testing::TempDir() + "/cells-station2";
+  std::filesystem::create_directories(dir);
+  json file = station(dir);
+  file["scene"]["objects"][0]["belt"] = -100;  // the belt runs the other way: the block falls off its end
+  file["arms"][0]["program"] = json::parse(R"(["O 12 0", "W 14 0 2", "O 12 1"])");
+  CellSimulation sim(parse_cell(file.dump(), "station.json", dir));
+  sim.run_until(6);
+  bool broken = false;
+  for (const SimEvent& e : sim.world().events()) broken = broken || (e.kind == SimEvent::Kind::kDevice && e.a == "gate" && e.detail == "the beam is broken");
+  EXPECT_FALSE(broken);
+  const auto& sig = sim.driver(0).signals();
+  ASSERT_GE(sig.size(), 2u);
+  EXPECT_TRUE(sig[1].ended);
+  EXPECT_NEAR(double(sig[1].end_tick - sig[1].tick) / kStepTickHz, 2.0, 0.01) << "the W's 2 s";
+  EXPECT_LT(sim.world().object_pose(1).p.y, -500);  // carried away from the beam
+  EXPECT_TRUE(sim.deadlock().empty()) << "a wait on a barrier is no deadlock: " << sim.deadlock();
+}
+
+TEST(CellFile, DevicesAreRefusedByName) {
+  const std::string dir = ::testing::TempDir() + "/cells-station3";
+  std::filesystem::create_directories(dir);
+  const json ok = station(dir);
+  EXPECT_EQ(cell_error(ok, dir), "");
+  auto with = [&](const std::string& pointer, const json& v) {
+    json f = ok;
+    f[json::json_pointer(pointer)] = v;
+    return cell_error(f, dir);
+  };
+  EXPECT_EQ(with("/devices/0/object", "block"),
+            "c.json: /devices/0/object: the scene has no belt \"block\" (its belts: belt)");
+  EXPECT_EQ(with("/devices/0/kind", "relay"), "c.json: /devices/0/kind: must be \"belt\" or \"barrier\" (got \"relay\")");
+  EXPECT_EQ(with("/devices/1/name", "a"), "c.json: /devices/1/name: the cell already has an arm or a device called \"a\"");
+  EXPECT_EQ(with("/devices/1/name", "conveyor"),
+            "c.json: /devices/1/name: the cell already has an arm or a device called \"conveyor\"");
+  EXPECT_EQ(with("/devices/1/name", "<b>x</b>"),
+            "c.json: /devices/1/name: a device's name is 1 to 16 letters, digits, _ or -, starting with a letter (got \"<b>x</b>\")");
+  EXPECT_EQ(with("/devices/1/to", json::parse("[540, 12, 25]")), "c.json: /devices/1/to: a beam is at least 1 mm long (its ends are 0 mm apart)");
+  EXPECT_EQ(with("/devices/1/to/0", nullptr), "c.json: /devices/1/to/0: must be a number");
+  EXPECT_EQ(with("/devices/1/object", "belt"), "c.json: /devices/1/object: a barrier has no field \"object\"");
+  EXPECT_EQ(with("/wires/0/to", "conveyor.go"), "c.json: /wires/0/to: the belt \"conveyor\" has one pin, \"run\" (got \"go\")");
+  EXPECT_EQ(with("/wires/1/to", "conveyor.run"),
+            "c.json: /wires/1: joins two outputs, a.belt_on and gate.beam: an output drives a wire, and the other ends must be inputs");
+  EXPECT_EQ(with("/wires", json::parse(R"([{"from": "conveyor.run", "to": "a.part"}])")),
+            "c.json: /wires/0: joins only inputs (conveyor.run among them): no output drives it");
+  // the barrier straight to the belt's relay: it stands while the beam is broken
+  EXPECT_EQ(with("/wires", json::parse(R"([{"from": "gate.beam", "to": "conveyor.run"}])")), "");
+  json two_belts = ok;
+  two_belts["devices"].push_back({{"name", "again"}, {"kind", "belt"}, {"object", "belt"}});
+  EXPECT_EQ(cell_error(two_belts, dir), "c.json: /devices/2/object: the belt \"belt\" is already the device \"conveyor\"");
+}
+
+// The shipped station (cells/conveyor.json): the belt brings the block to the beam, stands, and
+// the MK2 picks the block off it and sets it down beside the belt.
+TEST(CellDevices, TheShippedConveyorEndsWithTheBlockPickedOffTheBelt) {
+  CellSimulation sim(load_cell_file(kSrc + "/cells/conveyor.json"));
+  while (!sim.done()) sim.step();
+  int grasps = 0, stands = 0;
+  for (const SimEvent& e : sim.world().events()) {
+    EXPECT_NE(e.kind, SimEvent::Kind::kCollision) << e.a << " " << e.b;
+    EXPECT_NE(e.kind, SimEvent::Kind::kRejected) << e.a;
+    grasps += e.kind == SimEvent::Kind::kGrasp;
+    stands += e.kind == SimEvent::Kind::kDevice && e.a == "conveyor" && e.detail == "stands";
+  }
+  EXPECT_EQ(grasps, 1);
+  EXPECT_EQ(stands, 1);
+  EXPECT_EQ(sim.arm(0).lost_steps(), (std::vector<int32_t>{0, 0, 0}));
+  const Vec3<double> p = sim.world().object_pose(1).p;  // off the belt (x 275..335 up to y 150), on the ground
+  EXPECT_GT(std::hypot(p.x - 305, std::max(0.0, p.y - 150)), 40) << p.x << " " << p.y;
+  EXPECT_LT(p.z, 60);
+  EXPECT_TRUE(sim.beam_broken_by(1).empty()) << "the beam is clear again";
+}
