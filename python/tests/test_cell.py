@@ -133,3 +133,17 @@ def test_plot_cell_draws_a_run_and_names_a_bad_cell(tmp_path):
                        timeout=120)
     assert p.returncode == 2
     assert "bad.json: /arms/0/robot: the robot cannot be used" in p.stderr
+
+
+def test_a_cells_belt_and_light_barrier_from_python():
+    """cells/conveyor.json: the arm runs the belt, the block breaks the barrier's beam, the
+    arm's wait ends there and the belt stands (the same core as the CLI and the page)."""
+    cell = articula.Cell("conveyor")
+    cell.run()
+    devices = [(e.a, e.b, e.detail) for e in cell.events() if e.kind == "device"]
+    assert devices[:3] == [("conveyor", "", "runs"), ("gate", "block", "the beam is broken"), ("conveyor", "", "stands")]
+    broken = next(e.t for e in cell.events() if e.kind == "device" and e.b == "block")
+    wait = cell.arm("mk2").signals[1]
+    assert wait.kind == "wait" and 0 <= wait.end_t - broken <= 0.002
+    belt, gate = cell.state().devices
+    assert (belt.kind, belt.running, gate.kind, gate.broken_by) == ("belt", False, "barrier", None)

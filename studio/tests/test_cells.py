@@ -41,6 +41,31 @@ def test_a_cell_of_two_arms_on_two_builds_runs_and_signals(open_page):
     assert pg.errors == []
 
 
+def test_a_belt_and_a_light_barrier_on_the_arms_wires_in_the_page(open_page):
+    """cells/conveyor.json in the page: the MK2 runs the belt through its relay, the block breaks
+    the barrier's beam, the arm's wait ends there and stops the belt, and the arm picks the block
+    off it; each device's change in words, at the CLI's times."""
+    pg = open_page("mk2plus")
+    pg.page.select_option("#scene-select", "cell:conveyor")
+    pg.wait("a.cell.name === 'conveyor' && a.cell.frames > 0", timeout=30000)
+    # the arm's wait (W on the barrier's input) ends once the block breaks the beam
+    pg.wait("a.cell.signals[0].length > 1 && a.cell.signals[0][1].end_t != null", timeout=60000)
+    devices = pg.hook("a.cell.events.filter(e => e.kind === 'device').map(e => [e.a, e.b, e.detail, e.t])")
+    assert [d[:3] for d in devices[:3]] == [["conveyor", "", "runs"], ["gate", "block", "the beam is broken"],
+                                           ["conveyor", "", "stands"]], devices
+    wait = pg.hook("a.cell.signals[0][1]")
+    assert 0 <= wait["end_t"] - devices[1][3] <= 0.002, (wait, devices)
+    # as the CLI runs it
+    cli = [e for e in cli_json("sim", "conveyor")["events"] if e["kind"] == "device"]
+    assert [(e["a"], e["detail"], round(e["t"], 6)) for e in cli[:3]] == [(d[0], d[2], round(d[3], 6)) for d in devices[:3]]
+    text = pg.page.text_content("#events")
+    assert 'the belt "conveyor" runs' in text and '"block" breaks the beam of "gate"' in text
+    pg.page.screenshot(path=str(SHOTS / "studio-cell-conveyor.png"))
+    # then the arm picks the block off the belt
+    pg.wait("a.cell.events.some(e => e.kind === 'grasp' && e.b === 'block')", timeout=60000)
+    assert pg.errors == []
+
+
 def test_a_deadlock_in_a_cell_is_told_in_words(open_page):
     pg = open_page("mk2plus")
     pg.page.select_option("#scene-select", "cell:shared-zone-deadlock")

@@ -4,6 +4,7 @@
 // gives it (the pose the single arm's physics shows), in its own base frame, which the page puts
 // where the cell file stands it. While a cell is open the single arm's physics is off.
 import { EngineError } from "../../../../wasm/js/engine.mjs";
+import type { CellDevice } from "./messages";
 import type { Cell, Robot } from "../../../../wasm/js/engine.mjs";
 import { every } from "../pacer";
 import { armConfig, armPredict, armRead } from "./arm";
@@ -35,7 +36,8 @@ export const cellOpen = () => cell !== null;
 interface ArmState { name: string; robot_ref: string; joints: number[]; gripper_mm: number; line: number; io: Out[];
   base: { xyz: number[]; yaw: number }; program_end_s: number;
   signals: { kind: string; line: number; name: string; level: number; t: number; end_t?: number | null }[] }
-interface CellState { t: number; arms: ArmState[]; objects: { name: string; pose: number[]; removed: boolean; carried_by: string | null }[] }
+interface CellState { t: number; arms: ArmState[]; objects: { name: string; pose: number[]; removed: boolean; carried_by: string | null }[];
+  devices?: CellDevice[] }
 
 export function closeCell(): void {
   loop?.stop();
@@ -71,8 +73,9 @@ function cellMessage(): Out {
     arms: st.arms.map((a, i) => ({ name: a.name, robot: { ...robots[i].info as unknown as RobotInfo, ...nanoBuild(robots[i].info as unknown as RobotInfo) },
       base: a.base, io: a.io,
       program: programs[i] ?? "", shipped: shipped[i] ?? "", timeline: timeline[i] })),
-    // (checked by the loader: each end an arm's pin)
+    // (checked by the loader: each end an arm's or a device's pin)
     wires: ((cellSource?.wires ?? []) as { from: unknown; to: unknown }[]).map((w) => ({ from: String(w.from), to: String(w.to) })),
+    devices: st.devices ?? [],
   };
 }
 
@@ -136,6 +139,7 @@ function frameMessage(): Out {
         program_end_s: a.program_end_s, signals: a.signals };
     }),
     objects: st.objects.map((o) => ({ name: o.name, pose: o.pose.map(round6), removed: o.removed, carried: o.carried_by !== null })),
+    devices: st.devices ?? [],
   };
 }
 

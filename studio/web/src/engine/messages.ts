@@ -159,6 +159,13 @@ export interface SceneMsg {
 }
 
 /** A cell opened (several arms, cells/README.md), or closed (name null). */
+/** A cell's device (cells/README.md): a belt the wires run, a light barrier on a wire. */
+export interface CellDevice {
+  name: string; kind: "belt" | "barrier"; pin: string; level: boolean;
+  object?: string; running?: boolean; // a belt
+  from_mm?: number[]; to_mm?: number[]; broken_by?: string | null; // a barrier
+}
+
 export interface CellMsg {
   type: "cell";
   name: string | null;
@@ -167,6 +174,7 @@ export interface CellMsg {
   arms?: { name: string; robot: RobotMsg; base: { xyz: number[]; yaw: number }; io: { name: string; pin: string; mode: string }[];
     program: string; shipped: string; timeline: CellTimeline }[];
   wires?: { from: string; to: string }[];
+  devices?: CellDevice[];
 }
 
 /** One arm's lines in time, as its own firmware runs them in the cell (engine Cell.predict), or
@@ -199,6 +207,7 @@ export interface CellFrameMsg {
   arms: { name: string; line: number; joints?: number[]; frames: Flat4x4[]; fingers?: Flat4x4[]; program_end_s: number;
     signals: { kind: string; line: number; pin: string; name: string; level: number; t: number; end_t?: number | null }[] }[];
   objects: { name: string; pose: Flat4x4; removed: boolean; carried: boolean }[];
+  devices?: CellDevice[];
 }
 
 export interface SimEvent {

@@ -3,7 +3,7 @@
 // of one colour per arm so that a student tells them apart (the single arm's colours are per
 // link). The single arm is hidden while a cell is shown (view.ts's showCell).
 import * as THREE from "three";
-import type { CellFrameMsg, CellMsg } from "../engine/messages";
+import type { CellDevice, CellFrameMsg, CellMsg } from "../engine/messages";
 import { setMatrix, shapeObject } from "./shapes";
 
 /** One colour per arm, in the cell file's order. */
@@ -14,9 +14,13 @@ interface Arm {
   fingers: THREE.Mesh[];
 }
 
+// A light barrier's beam: red while clear, amber while an object breaks it (a module's LED).
+const BEAM_CLEAR = 0xd62828, BEAM_BROKEN = 0xf4a261;
+
 export class CellArms {
   readonly group = new THREE.Group();
   private arms: Arm[] = [];
+  private beams = new Map<string, THREE.Mesh>(); // each barrier's beam, by the device's name
 
   constructor(private readonly changed: () => void) {}
 
@@ -24,6 +28,7 @@ export class CellArms {
   build(arms: NonNullable<CellMsg["arms"]> | null): Promise<void> {
     this.group.clear();
     this.arms = [];
+    this.beams.clear();
     const loading: Promise<void>[] = [];
     (arms ?? []).forEach((a, k) => {
       const color = ARM_COLORS[k % ARM_COLORS.length];
@@ -64,6 +69,42 @@ export class CellArms {
     });
     this.changed();
     return Promise.all(loading).then(() => undefined);
+  }
+
+  /** The cell's light barriers: a thin beam between its ends, with a post at each (none: none). */
+  devices(devices: CellDevice[] | undefined): void {
+    for (const m of this.beams.values()) this.group.remove(m.parent ?? m);
+    this.beams.clear();
+    for (const d of devices ?? []) {
+      if (d.kind !== "barrier" || !d.from_mm || !d.to_mm) continue;
+      const a = new THREE.Vector3(...d.from_mm), b = new THREE.Vector3(...d.to_mm);
+      const holder = new THREE.Group();
+      holder.name = `barrier ${d.name}`;
+      const beam = new THREE.Mesh(new THREE.CylinderGeometry(1.2, 1.2, a.distanceTo(b), 8),
+        new THREE.MeshBasicMaterial({ color: BEAM_CLEAR, transparent: true, opacity: 0.85 }));
+      beam.position.copy(a).add(b).multiplyScalar(0.5);
+      beam.quaternion.setFromUnitVectors(new THREE.Vector3(0, 1, 0), b.clone().sub(a).normalize());
+      holder.add(beam);
+      // the sender and the receiver: a small dark post under each end, down to the table
+      const post = new THREE.MeshStandardMaterial({ color: 0x2b2d42, roughness: 0.6 });
+      for (const p of [a, b]) {
+        const h = Math.max(8, p.z + 6);
+        const m = new THREE.Mesh(new THREE.BoxGeometry(10, 10, h), post);
+        m.position.set(p.x, p.y, p.z + 6 - h / 2);
+        holder.add(m);
+      }
+      this.group.add(holder);
+      this.beams.set(d.name, beam);
+    }
+    this.changed();
+  }
+
+  /** Each barrier's beam as the frame has it: red while clear, amber while broken. */
+  showBeams(devices: CellDevice[] | undefined): void {
+    for (const d of devices ?? []) {
+      const beam = this.beams.get(d.name);
+      if (beam) (beam.material as THREE.MeshBasicMaterial).color.setHex(d.broken_by ? BEAM_BROKEN : BEAM_CLEAR);
+    }
   }
 
   /** Each arm at the frames the engine sent. */

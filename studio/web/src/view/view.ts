@@ -441,6 +441,7 @@ export class View {
     // the camera takes in every arm where it stands, once its shapes are in
     this.cellReach = on ? Math.max(...m.arms!.map((a) => Math.max(200, a.robot.reach_mm) + Math.hypot(a.base.xyz[0], a.base.xyz[1]))) : 0;
     return this.cellArms.build(on ? m.arms! : null).then(() => {
+      this.cellArms.devices(on ? m.devices : undefined);
       this.cellFit = on;
     });
   }
@@ -449,6 +450,7 @@ export class View {
    * report them) and its objects. */
   cellFrame(f: CellFrameMsg, arms = true): void {
     if (arms) this.cellArms.pose(f);
+    this.cellArms.showBeams(f.devices);
     if (this.cellFit) {  // the first frame with every arm posed and its shapes in: all of them in view
       this.cellFit = false;
       this.fit(false);
