@@ -235,10 +235,28 @@ nlohmann::json signals_json(const CellSimulation& sim, int arm) {
   return out;
 }
 
-// The arm's I/O pins as its robot file (or the cell for it) names them.
-nlohmann::json io_json(const Robot& robot) {
+// The arm's I/O pins as its robot file (or the cell for it) names them, each with its header
+// pin's number (as O and W write it) and, for an input on a wire, what drives it ("arm.pin" or
+// "device.pin"; null: nothing) and whether that is a device (its level comes from the world).
+nlohmann::json io_json(const Cell& cell, int arm) {
   nlohmann::json out = nlohmann::json::array();
-  for (const IoPin& p : robot.io) out.push_back({{"name", p.name}, {"pin", header_pin_name(p.pin)}, {"mode", io_mode_id(p.mode)}});
+  const Robot& robot = cell.arms[size_t(arm)].robot;
+  for (size_t k = 0; k < robot.io.size(); ++k) {
+    const IoPin& p = robot.io[k];
+    nlohmann::json j = {{"name", p.name}, {"pin", header_pin_name(p.pin)}, {"number", p.pin}, {"mode", io_mode_id(p.mode)},
+                        {"driven_by", nullptr}, {"by_device", false}};
+    for (const CellWire& w : cell.wires) {
+      if (w.to_arm != arm || w.to_pin != int(k)) continue;
+      if (w.from_device >= 0) {
+        const CellDevice& d = cell.devices[size_t(w.from_device)];
+        j["driven_by"] = d.name + "." + d.pin();
+        j["by_device"] = true;
+      } else {
+        j["driven_by"] = cell.arms[size_t(w.from_arm)].name + "." + cell.io_name(w.from_arm, w.from_pin);
+      }
+    }
+    out.push_back(j);
+  }
   return out;
 }
 
@@ -271,7 +289,7 @@ nlohmann::json cell_arms_json(const CellSimulation& sim) {
                    {"robot", r.name},
                    {"robot_ref", a.robot_ref},
                    {"base", {{"xyz", {a.xyz.x, a.xyz.y, a.xyz.z}}, {"yaw", a.yaw_deg}, {"footprint_mm", a.footprint_mm}}},
-                   {"io", io_json(r)},
+                   {"io", io_json(sim.cell(), i)},
                    {"program", a.program_ref},
                    {"program_end_s", sim.driver(i).program_end()},
                    {"line", b.current_line()},

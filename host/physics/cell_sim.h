@@ -85,6 +85,7 @@ class CellSimulation {
 Prediction predict_in_cell(const Cell& cell, const std::string& arm, bool path = false);
 
 // Each arm as it ends (or is now): name, robot, robot_ref (as the cell file names it), base (xyz, yaw, footprint_mm: where it stands),
+// io (each pin: name, pin "A0", number 14, mode, driven_by "arm.pin" / "device.pin" or null, by_device),
 // program, program_end_s, line, joints (deg or mm),
 // tool_mm (in the world), gripper_mm, counted_steps, lost_steps, signals (each output it set and
 // input it waited for: kind "output" or "wait", line, pin, name, level, t, and a wait's end_t);

@@ -320,12 +320,20 @@ export async function cellOutcome(doc: { name: string; programs: string[] }, set
     c.runUntil(c.time + settle);
     const st = c.state() as unknown as CellState;
     const outputs = st.arms.flatMap((a) => a.signals.filter((x) => x.kind === "output").map((x) => ({ arm: a.name, t: x.t })));
-    // (a wait ends at its first look after the other arm's output: within a millisecond)
+    const events = c.events(0) as unknown as { t: number; kind: string; a: string }[];
+    // (a wait ends at its first look after the other arm's output: within a millisecond; after a
+    // device's change (a beam broken), at its first look after the world step that made it)
+    const byDevice = (a: ArmState, name: string, end: number) => {
+      const io = (a.io as { name: string; driven_by: string | null; by_device: boolean }[]).find((p) => p.name === name);
+      const device = io?.by_device ? io.driven_by?.split(".")[0] : undefined;
+      return !!device && events.some((e) => e.kind === "device" && e.a === device && end - e.t >= -0.0011 && end - e.t <= 0.0021);
+    };
     const waits = st.arms.flatMap((a) => a.signals.filter((x) => x.kind === "wait").map((x) => ({
       arm: a.name, line: x.line, name: x.name, t: x.t, end_t: x.end_t ?? null,
-      by_output: x.end_t != null && (x.end_t === x.t || outputs.some((o) => o.arm !== a.name && x.end_t! >= o.t && x.end_t! - o.t <= 0.0011)),
+      by_output: x.end_t != null && (x.end_t === x.t || outputs.some((o) => o.arm !== a.name && x.end_t! >= o.t && x.end_t! - o.t <= 0.0011) ||
+        byDevice(a, x.name, x.end_t)),
     })));
-    return { objects: st.objects, events: c.events(0) as never, waits };
+    return { objects: st.objects, events: events as never, waits };
   } finally {
     c.delete();
   }

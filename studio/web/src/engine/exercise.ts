@@ -107,7 +107,7 @@ async function cellCheck(doc: { name?: unknown; programs?: unknown }, parts: Goa
 
 const waitWords = (x: { arm: string; line: number; name: string; t: number; end_t: number | null }) =>
   x.end_t === null ? `${x.arm}'s wait for \`${x.name}\` (line ${x.line}) never ended`
-    : `${x.arm}'s wait for \`${x.name}\` (line ${x.line}) ran out after ${f1(x.end_t - x.t)} s: no arm gave the signal`;
+    : `${x.arm}'s wait for \`${x.name}\` (line ${x.line}) ran out after ${f1(x.end_t - x.t)} s: no signal came`;
 
 export const exerciseHandlers: Record<string, (m: Msg) => Promise<Out[]>> = {
   // What the student needs to see of a goal: each object it moves (its size, where it stands)

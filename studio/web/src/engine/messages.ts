@@ -171,7 +171,8 @@ export interface CellMsg {
   name: string | null;
   title?: string;
   objects?: SceneObjectInfo[];
-  arms?: { name: string; robot: RobotMsg; base: { xyz: number[]; yaw: number }; io: { name: string; pin: string; mode: string }[];
+  arms?: { name: string; robot: RobotMsg; base: { xyz: number[]; yaw: number }; io: { name: string; pin: string; number: number; mode: string;
+    driven_by: string | null; by_device: boolean }[];
     program: string; shipped: string; timeline: CellTimeline }[];
   wires?: { from: string; to: string }[];
   devices?: CellDevice[];

@@ -361,11 +361,18 @@ function drawTimeline(m: CellMsg): void {
         parts.push(flag);
       } else if (l.end_s > l.start_s) {
         const wait = word === "W";
-        if (wait) waits.push({ k, end: l.end_s });
+        // a wait on a device (a light barrier): when an object comes, only the physics knows; the
+        // prediction runs it to its time
+        const device = wait ? arms[k].io?.find((p) => p.by_device && String(p.number) === l.command.trim().split(/\s+/)[1]) : undefined;
+        if (wait && !device) waits.push({ k, end: l.end_s });
+        if (device) tip.textContent = `${arms[k].name}, line ${l.line}: ${l.command}: waits for ${device.driven_by} from ` +
+          `${l.start_s.toFixed(2)} s, at most until ${l.end_s.toFixed(2)} s; when an object breaks the beam, the physics says`;
         const bar = svgEl("rect", { x: x(l.start_s), y: y + (wait ? 6 : 7), width: Math.max(1, x(l.end_s) - x(l.start_s)),
-          height: ROW - (wait ? 12 : 14), rx: 2, ...(wait ? { class: "wait" } : { fill: colour(k), opacity: word === "D" ? 0.35 : 0.85 }) });
+          height: ROW - (wait ? 12 : 14), rx: 2,
+          ...(wait ? { class: device ? "wait unknown" : "wait" } : { fill: colour(k), opacity: word === "D" ? 0.35 : 0.85 }) });
         bar.append(tip);
         parts.push(bar);
+        if (device) parts.push(svgEl("text", { x: x(l.start_s) + 4, y: y + ROW / 2 + 3, class: "unknown" }, `? ${device.driven_by}`));
       }
     }
   });
