@@ -25,7 +25,7 @@ CellError::CellError(const std::string& file, const std::string& json_path, cons
 const std::map<std::string, std::vector<std::string>>& cell_file_fields() {
   static const std::map<std::string, std::vector<std::string>> fields = {
       {"cell", {"$schema", "name", "description", "scene", "arms", "devices", "wires"}},
-      {"device", {"name", "kind", "object", "from", "to"}},
+      {"device", {"name", "kind", "object", "from", "to", "objects", "at", "every"}},
       {"arm", {"name", "robot", "io", "base", "program"}},
       {"base", {"xyz", "yaw"}},
       {"wire", {"from", "to"}},
@@ -313,7 +313,7 @@ class Loader {
              "a device's name is 1 to 16 letters, digits, _ or -, starting with a letter (got " + in_quotes(dev.name) + ")");
       if (cell_.arm_index(dev.name) >= 0 || cell_.device_index(dev.name) >= 0)
         fail(child(path, "name"), "the cell already has an arm or a device called " + in_quotes(dev.name));
-      if (!j.contains("kind")) fail(path, "missing field \"kind\" (\"belt\" or \"barrier\")");
+      if (!j.contains("kind")) fail(path, "missing field \"kind\" (\"belt\", \"barrier\" or \"feeder\")");
       const std::string kind = text(j["kind"], child(path, "kind"));
       auto only = [&](std::initializer_list<const char*> needs, std::initializer_list<const char*> not_for) {
         for (const char* f : needs)
@@ -323,7 +323,7 @@ class Loader {
       };
       if (kind == "belt") {
         dev.kind = CellDevice::Kind::kBelt;
-        only({"object"}, {"from", "to"});
+        only({"object"}, {"from", "to", "objects", "at", "every"});
         const std::string obj = text(j["object"], child(path, "object"));
         std::string belts;
         for (size_t o = 0; o < cell_.scene.objects.size(); ++o) {
@@ -340,14 +340,42 @@ class Loader {
             fail(child(path, "object"), "the belt " + in_quotes(obj) + " is already the device " + in_quotes(other.name));
       } else if (kind == "barrier") {
         dev.kind = CellDevice::Kind::kBarrier;
-        only({"from", "to"}, {"object"});
+        only({"from", "to"}, {"object", "objects", "at", "every"});
         dev.from = point(j["from"], child(path, "from"));
         dev.to = point(j["to"], child(path, "to"));
         const double len = norm(dev.to - dev.from);
         if (len < 1) fail(child(path, "to"), "a beam is at least 1 mm long (its ends are " + fmt(len) + " mm apart)");
         if (len > 5000) fail(child(path, "to"), "a beam is at most 5 m long (its ends are " + fmt(len) + " mm apart)");
+      } else if (kind == "feeder") {
+        dev.kind = CellDevice::Kind::kFeeder;
+        only({"objects", "at"}, {"object", "from", "to"});
+        const json& objs = j["objects"];
+        const std::string op = child(path, "objects");
+        if (!objs.is_array() || objs.empty() || objs.size() > 50)
+          fail(op, "must be the names of 1 to 50 of the scene's movable objects, in the order it puts them out");
+        for (size_t m = 0; m < objs.size(); ++m) {
+          const std::string name = text(objs[m], child(op, m));
+          int found = -1;
+          for (size_t o = 0; o < cell_.scene.objects.size(); ++o)
+            if (cell_.scene.objects[o].name == name) found = int(o);
+          if (found < 0) fail(child(op, m), "the scene has no object " + in_quotes(name));
+          if (!cell_.scene.objects[size_t(found)].movable)
+            fail(child(op, m), in_quotes(name) + " is not movable: a feeder puts out movable objects");
+          for (const CellDevice& other : cell_.devices)
+            if (std::find(other.magazine.begin(), other.magazine.end(), found) != other.magazine.end())
+              fail(child(op, m), in_quotes(name) + " is already in the feeder " + in_quotes(other.name));
+          if (std::find(dev.magazine.begin(), dev.magazine.end(), found) != dev.magazine.end())
+            fail(child(op, m), in_quotes(name) + " is twice in this feeder");
+          dev.magazine.push_back(found);
+        }
+        dev.at = point(j["at"], child(path, "at"));
+        if (j.contains("every")) {
+          dev.every_s = number(j["every"], child(path, "every"));
+          if (dev.every_s < 0.5 || dev.every_s > 3600)
+            fail(child(path, "every"), "a feeder puts one out every 0.5 to 3600 seconds (got " + fmt(dev.every_s) + ")");
+        }
       } else {
-        fail(child(path, "kind"), "must be \"belt\" or \"barrier\" (got " + in_quotes(kind) + ")");
+        fail(child(path, "kind"), "must be \"belt\", \"barrier\" or \"feeder\" (got " + in_quotes(kind) + ")");
       }
       cell_.devices.push_back(std::move(dev));
     }

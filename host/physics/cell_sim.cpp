@@ -31,8 +31,13 @@ CellSimulation::CellSimulation(const Cell& cell, const SimOptions& options)
     : cell_(cell),
       world_(placements(cell), cell.scene, options),
       device_level_(cell.devices.size(), 1),
-      beam_by_(cell.devices.size()) {
+      beam_by_(cell.devices.size()),
+      feeds_(cell.devices.size()) {
   wire();
+  for (size_t k = 0; k < cell_.devices.size(); ++k)
+    for (int o : cell_.devices[k].magazine) world_.stow_object(o);
+  for (const CellWire& w : cell_.wires)
+    if (w.to_device >= 0) feeds_[size_t(w.to_device)].wired = true;
   look_at_beams(false);
   run_belts(false);
   for (size_t i = 0; i < cell_.arms.size(); ++i)
@@ -97,6 +102,7 @@ void CellSimulation::run_belts(bool tell) {
     if (w.to_device < 0) continue;
     const size_t k = size_t(w.to_device);
     const CellDevice& d = cell_.devices[k];
+    if (d.kind != CellDevice::Kind::kBelt) continue;
     const bool level = wire_level(w, now);
     if (level == (device_level_[k] != 0) && tell) continue;
     device_level_[k] = level;
@@ -109,6 +115,49 @@ bool CellSimulation::belt_running(int k) const {
   for (const CellWire& w : cell_.wires)
     if (w.to_device == k) return !device_level(k);
   return true;
+}
+
+int CellSimulation::feeder_left(int k) const {
+  return int(cell_.devices[size_t(k)].magazine.size() - feeds_[size_t(k)].next);
+}
+
+// A feeder puts out its next object at each fall of its input (high to low; with no wire, every
+// every_s from t = 0), as soon as its outlet is clear.
+void CellSimulation::run_feeders() {
+  const uint64_t now = world_.now_tick();
+  for (size_t k = 0; k < cell_.devices.size(); ++k) {
+    const CellDevice& d = cell_.devices[k];
+    if (d.kind != CellDevice::Kind::kFeeder) continue;
+    Feed& f = feeds_[k];
+    if (f.wired) {
+      for (const CellWire& w : cell_.wires) {
+        if (w.to_device != int(k)) continue;
+        const bool level = wire_level(w, now);
+        if (!level && device_level_[k]) ++f.owed;  // (a fall)
+        device_level_[k] = level;
+      }
+    } else if (time() >= f.next_t - 1e-12) {
+      ++f.owed;
+      f.next_t += d.every_s;
+    }
+    if (f.owed == 0) continue;
+    if (f.next >= d.magazine.size()) {
+      f.owed = 0;
+      if (!f.empty_told) device_event(int(k), "", "is empty");
+      f.empty_told = true;
+      continue;
+    }
+    const int obj = d.magazine[f.next];
+    if (!world_.put_out(obj, d.at)) {
+      if (!f.waiting_told) device_event(int(k), "", "waits: its outlet is taken");
+      f.waiting_told = true;
+      continue;
+    }
+    ++f.next;
+    --f.owed;
+    f.waiting_told = false;
+    device_event(int(k), world_.object(obj).name, "puts one out");
+  }
 }
 
 void CellSimulation::look_at_beams(bool tell) {
@@ -126,7 +175,10 @@ void CellSimulation::look_at_beams(bool tell) {
 }
 
 void CellSimulation::step() {
-  if (!cell_.devices.empty()) run_belts(true);
+  if (!cell_.devices.empty()) {
+    run_belts(true);
+    run_feeders();
+  }
   world_.step();
   if (!cell_.devices.empty()) look_at_beams(true);
   if (cell_.wires.empty()) return;
@@ -322,6 +374,13 @@ nlohmann::json cell_state_json(const CellSimulation& sim) {
     if (d.kind == CellDevice::Kind::kBelt) {
       j["object"] = w.object(d.object).name;
       j["running"] = sim.belt_running(int(k));
+    } else if (d.kind == CellDevice::Kind::kFeeder) {
+      nlohmann::json names = nlohmann::json::array();
+      for (int o : d.magazine) names.push_back(w.object(o).name);
+      j["objects"] = names;
+      j["at_mm"] = {d.at.x, d.at.y, d.at.z};
+      j["every_s"] = d.every_s;
+      j["left"] = sim.feeder_left(int(k));
     } else {
       j["from_mm"] = {d.from.x, d.from.y, d.from.z};
       j["to_mm"] = {d.to.x, d.to.y, d.to.z};

@@ -58,6 +58,8 @@ class CellSimulation {
   bool device_level(int k) const { return device_level_[size_t(k)] != 0; }
   bool belt_running(int k) const;
   const std::string& beam_broken_by(int k) const { return beam_by_[size_t(k)]; }
+  // How many objects feeder k still holds.
+  int feeder_left(int k) const;
 
  private:
   void wire();
@@ -65,6 +67,7 @@ class CellSimulation {
   // The belts' inputs at the world's tick (run or stand), and the barriers' beams as the world
   // is: each change an event (kDevice) when `tell`.
   void run_belts(bool tell);
+  void run_feeders();
   void look_at_beams(bool tell);
   void device_event(int k, const std::string& by, const std::string& detail);
   std::string stuck();  // the deadlock now in words, or ""
@@ -73,6 +76,14 @@ class CellSimulation {
   World world_;
   std::vector<uint8_t> device_level_;  // each device's pin, as device_level()
   std::vector<std::string> beam_by_;
+  struct Feed {
+    size_t next = 0;     // its magazine's next object
+    int owed = 0;        // puts-out asked for and not yet made (the outlet was taken)
+    double next_t = 0;   // with no wire: the next one's time
+    bool wired = false;  // a wire reaches its input
+    bool waiting_told = false, empty_told = false;
+  };
+  std::vector<Feed> feeds_;  // per device (a feeder's)
   std::string deadlock_;
   bool stuck_ = false;  // in a deadlock now
 };
@@ -94,7 +105,8 @@ nlohmann::json cell_arms_json(const CellSimulation& sim);
 // The cell now: t, arms (cell_arms_json), objects (name, xyz_mm, pose: 16 numbers, row-major,
 // carried_by: the arm's name or null, removed), devices (name, kind, pin, level: its pin's now;
 // a belt's object and running, a barrier's from_mm, to_mm and broken_by: an object's name or
-// null); `articula sim CELL --json`, Python's Cell.state, the web engine's.
+// null, a feeder's objects, at_mm, every_s and left); `articula sim CELL --json`, Python's
+// Cell.state, the web engine's.
 nlohmann::json cell_state_json(const CellSimulation& sim);
 
 }  // namespace articula::host

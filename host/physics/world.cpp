@@ -270,6 +270,50 @@ std::string World::beam_blocker(const Vec3<double>& from_mm, const Vec3<double>&
   return by;
 }
 
+void World::stow_object(int i) {
+  if (i < 0 || size_t(i) >= objects_.size() || !objects_[size_t(i)].movable)
+    throw std::invalid_argument("object " + std::to_string(i) + " is not a movable object");
+  Object& o = objects_[size_t(i)];
+  if (drag_object_ == i) release_drag();
+  o.removed = true;
+  o.carrier = -1;
+  dBodySetLinearVel(o.body, 0, 0, 0);
+  dBodySetAngularVel(o.body, 0, 0, 0);
+  dBodyDisable(o.body);
+  dGeomDisable(o.geom);
+}
+
+bool World::put_out(int i, const Vec3<double>& xyz_mm) {
+  if (i < 0 || size_t(i) >= objects_.size() || !objects_[size_t(i)].movable)
+    throw std::invalid_argument("object " + std::to_string(i) + " is not a movable object");
+  Object& o = objects_[size_t(i)];
+  const SceneObject& so = scene_.objects[size_t(i)];
+  const Transform<double> T = make_transform(
+      rpy_to_matrix(so.rpy_deg.x * M_PI / 180, so.rpy_deg.y * M_PI / 180, so.rpy_deg.z * M_PI / 180), xyz_mm);
+  set_body_pose(o.body, T);  // (its geom follows: tried there before it joins the world)
+  dGeomEnable(o.geom);
+  auto overlaps = [&](dGeomID other) {
+    dContactGeom c;
+    return other && other != o.geom && dGeomIsEnabled(other) && dCollide(o.geom, other, 1, &c, sizeof c) > 0 &&
+           c.depth > 1e-4;  // (touching is fine: 0.1 mm)
+  };
+  bool taken = false;
+  for (size_t j = 0; j < objects_.size() && !taken; ++j) taken = !objects_[j].removed && overlaps(objects_[j].geom);
+  for (const auto& b : bodies_)
+    for (const auto& part : b->parts())
+      for (dGeomID g : part->geoms) taken = taken || overlaps(g);
+  if (taken) {
+    dGeomDisable(o.geom);
+    return false;
+  }
+  o.removed = false;
+  dBodySetLinearVel(o.body, 0, 0, 0);
+  dBodySetAngularVel(o.body, 0, 0, 0);
+  dBodyEnable(o.body);
+  o.last_good[0] = xyz_mm.x * kMm, o.last_good[1] = xyz_mm.y * kMm, o.last_good[2] = xyz_mm.z * kMm;
+  return true;
+}
+
 void World::add_contact(dGeomID a, dGeomID b, double mu, int touch_index, bool joints, const Object* belt) {
   if (!aabb_overlap(a, b)) {
     if (touched_now_[size_t(touch_index)] == 2) touched_now_[size_t(touch_index)] = 0;

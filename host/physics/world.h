@@ -162,6 +162,12 @@ class World {
   // The first of the scene's objects (not removed) that the segment from..to (mm, on the table)
   // passes through, by name ("" none): a light barrier's beam.
   std::string beam_blocker(const Vec3<double>& from_mm, const Vec3<double>& to_mm) const;
+  // A feeder's magazine (cell_file.h): movable object i taken out of the world, as if it had left
+  // it (object_removed() is true; no event), until put_out() puts it at xyz_mm (its centre, turned
+  // as the scene turns it, at rest) if nothing (an object, an arm's part) stands there; false if
+  // something does. Throws std::invalid_argument for a static or unknown object.
+  void stow_object(int i);
+  bool put_out(int i, const Vec3<double>& xyz_mm);
   // The scene with every object a drag let go of standing where it was let go, turned as it
   // was: where a student put it by hand, for the next run to start from (the studio's Run).
   Scene scene_as_placed() const;

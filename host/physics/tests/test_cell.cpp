@@ -722,7 +722,7 @@ TEST(CellFile, DevicesAreRefusedByName) {
   };
   EXPECT_EQ(with("/devices/0/object", "block"),
             "c.json: /devices/0/object: the scene has no belt \"block\" (its belts: belt)");
-  EXPECT_EQ(with("/devices/0/kind", "relay"), "c.json: /devices/0/kind: must be \"belt\" or \"barrier\" (got \"relay\")");
+  EXPECT_EQ(with("/devices/0/kind", "relay"), "c.json: /devices/0/kind: must be \"belt\", \"barrier\" or \"feeder\" (got \"relay\")");
   EXPECT_EQ(with("/devices/1/name", "a"), "c.json: /devices/1/name: the cell already has an arm or a device called \"a\"");
   EXPECT_EQ(with("/devices/1/name", "conveyor"),
             "c.json: /devices/1/name: the cell already has an arm or a device called \"conveyor\"");
@@ -762,4 +762,102 @@ TEST(CellDevices, TheShippedConveyorEndsWithTheBlockPickedOffTheBelt) {
   EXPECT_GT(std::hypot(p.x - 305, std::max(0.0, p.y - 150)), 40) << p.x << " " << p.y;
   EXPECT_LT(p.z, 60);
   EXPECT_TRUE(sim.beam_broken_by(1).empty()) << "the beam is clear again";
+}
+
+// A feeder with no wire puts one out every `every` s at its outlet, waits while the last one
+// still stands there, and says when it is empty; its magazine is out of the world until then.
+TEST(CellDevices, AFeederPutsOneOutAtATimeWhenItsOutletIsClear) {
+  const std::string dir = ::testing::TempDir() + "/cells-feeder";
+  std::filesystem::create_directories(dir);
+  json file = station(dir);
+  file["scene"]["objects"][1]["name"] = "b1";
+  file["scene"]["objects"].push_back({{"name", "b2"}, {"type", "box"}, {"size", {24, 24, 40}}, {"xyz", {0, 0, 0}}, {"movable", true}, {"mass", 0.03}});
+  file["scene"]["objects"].push_back({{"name", "b3"}, {"type", "box"}, {"size", {24, 24, 40}}, {"xyz", {0, 0, 0}}, {"movable", true}, {"mass", 0.03}});
+  // the belt always on (no wire to it), the feeder on its own every 1 s at the belt's far end
+  file["devices"] = json::parse(R"([{"name": "conveyor", "kind": "belt", "object": "belt"},
+                                    {"name": "feed", "kind": "feeder", "objects": ["b1", "b2", "b3"], "at": [600, -500, 30], "every": 1}])");
+  file["wires"] = json::array();
+  file["arms"][0]["program"] = json::array();
+  CellSimulation sim(parse_cell(file.dump(), "station.json", dir));
+  EXPECT_TRUE(sim.world().object_removed(1) && sim.world().object_removed(2) && sim.world().object_removed(3));
+  EXPECT_EQ(sim.feeder_left(1), 3);
+  sim.run_until(3.5);
+  std::vector<std::pair<double, std::string>> put;
+  int empty = 0;
+  for (const SimEvent& e : sim.world().events())
+    if (e.kind == SimEvent::Kind::kDevice && e.a == "feed") {
+      if (e.detail == "puts one out") put.emplace_back(e.t, e.b);
+      empty += e.detail == "is empty";
+    }
+  ASSERT_EQ(put.size(), 3u);
+  EXPECT_EQ(put[0], (std::pair<double, std::string>{0.0, "b1"}));
+  EXPECT_NEAR(put[1].first, 1.0, 1e-9);
+  EXPECT_EQ(put[2].second, "b3");
+  EXPECT_EQ(empty, 1);
+  EXPECT_EQ(sim.feeder_left(1), 0);
+  // each rides the belt from the outlet: 100 mm/s, a second apart
+  for (int o = 1; o <= 3; ++o) EXPECT_FALSE(sim.world().object_removed(o));
+  EXPECT_NEAR(sim.world().object_pose(1).p.y - sim.world().object_pose(2).p.y, 100, 10);
+  EXPECT_NEAR(sim.world().object_pose(1).p.z, 30, 1);
+
+  // the belt stands (its relay wired to an arm's output at rest): the first block stays at the
+  // outlet, and the feeder waits for it, told once
+  json still = file;
+  still["wires"] = json::parse(R"([{"from": "a.belt_on", "to": "conveyor.run"}])");
+  CellSimulation held(parse_cell(still.dump(), "station.json", dir));
+  held.run_until(3.5);
+  int out = 0, waits = 0;
+  for (const SimEvent& e : held.world().events()) {
+    out += e.kind == SimEvent::Kind::kDevice && e.detail == "puts one out";
+    waits += e.kind == SimEvent::Kind::kDevice && e.detail == "waits: its outlet is taken";
+  }
+  EXPECT_EQ(out, 1);
+  EXPECT_EQ(waits, 1);
+  EXPECT_TRUE(held.world().object_removed(2));
+  EXPECT_EQ(held.feeder_left(1), 2);
+}
+
+// The shipped station (cells/station.json): the arm asks the feeder for each of three blocks,
+// the belt brings it to the barrier, and the arm puts it into the bin: all three in it.
+TEST(CellDevices, TheShippedStationPutsThreeBlocksIntoTheBin) {
+  CellSimulation sim(load_cell_file(kSrc + "/cells/station.json"));
+  while (!sim.done()) sim.step();
+  int grasps = 0;
+  for (const SimEvent& e : sim.world().events()) {
+    EXPECT_NE(e.kind, SimEvent::Kind::kCollision) << e.a << " " << e.b;
+    EXPECT_NE(e.kind, SimEvent::Kind::kRejected) << e.a;
+    grasps += e.kind == SimEvent::Kind::kGrasp;
+  }
+  EXPECT_EQ(grasps, 3);
+  const World& w = sim.world();
+  for (int i = 0; i < w.num_objects(); ++i) {
+    if (w.object(i).name.rfind("block", 0) != 0) continue;
+    const Vec3<double> p = w.object_pose(i).p;  // inside the bin's walls (x 138..262, y 114..246)
+    EXPECT_TRUE(p.x > 138 && p.x < 262 && p.y > 114 && p.y < 246 && p.z < 60) << w.object(i).name << " " << p.x << " " << p.y << " " << p.z;
+  }
+}
+
+TEST(CellFile, FeedersAreRefusedByName) {
+  const std::string dir = ::testing::TempDir() + "/cells-feeder2";
+  std::filesystem::create_directories(dir);
+  json ok = station(dir);
+  ok["devices"].push_back(json::parse(R"({"name": "feed", "kind": "feeder", "objects": ["block"], "at": [600, -450, 30]})"));
+  EXPECT_EQ(cell_error(ok, dir), "");
+  auto with = [&](const std::string& pointer, const json& v) {
+    json f = ok;
+    f[json::json_pointer(pointer)] = v;
+    return cell_error(f, dir);
+  };
+  EXPECT_EQ(with("/devices/2/objects/0", "belt"),
+            "c.json: /devices/2/objects/0: \"belt\" is not movable: a feeder puts out movable objects");
+  EXPECT_EQ(with("/devices/2/objects/0", "nothing"), "c.json: /devices/2/objects/0: the scene has no object \"nothing\"");
+  EXPECT_EQ(with("/devices/2/objects", json::parse(R"(["block", "block"])")),
+            "c.json: /devices/2/objects/1: \"block\" is twice in this feeder");
+  EXPECT_EQ(with("/devices/2/objects", json::array()),
+            "c.json: /devices/2/objects: must be the names of 1 to 50 of the scene's movable objects, in the order it puts them out");
+  EXPECT_EQ(with("/devices/2/every", 0.1), "c.json: /devices/2/every: a feeder puts one out every 0.5 to 3600 seconds (got 0)");
+  EXPECT_EQ(with("/devices/2/from", json::parse("[0, 0, 0]")), "c.json: /devices/2/from: a feeder has no field \"from\"");
+  json twice = ok;
+  twice["devices"].push_back(json::parse(R"({"name": "feed2", "kind": "feeder", "objects": ["block"], "at": [0, 0, 30]})"));
+  EXPECT_EQ(cell_error(twice, dir), "c.json: /devices/3/objects/0: \"block\" is already in the feeder \"feed\"");
 }

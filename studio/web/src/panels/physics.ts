@@ -40,8 +40,10 @@ export function eventWords(e: SimEvent): string {
     case "object_removed": return `${the(e.a)} fell off the world`;
     case "stall": return "a motor stalled: it could not turn the load";
     case "deadlock": return `the arms wait for each other: ${e.detail ?? ""}`;
-    case "device": // (a cell's belt and light barrier: cells/README.md)
+    case "device": // (a cell's belt, light barrier and feeder: cells/README.md)
       if (e.detail === "runs" || e.detail === "stands") return `the belt ${the(e.a)} ${e.detail}`;
+      if (e.detail === "puts one out") return `the feeder ${the(e.a)} puts out ${the(e.b)}`;
+      if (e.detail === "is empty" || e.detail?.startsWith("waits")) return `the feeder ${the(e.a)} ${e.detail}`;
       return e.b ? `${the(e.b)} breaks the beam of ${the(e.a)}` : `the beam of ${the(e.a)} is clear`;
     default: return `${e.kind}: ${e.a}${e.b ? ` / ${e.b}` : ""}`;
   }
