@@ -70,6 +70,22 @@ def test_a_belt_and_a_light_barrier_on_the_arms_wires_in_the_page(open_page):
     assert pg.errors == []
 
 
+def test_the_station_feeds_its_first_block_onto_the_belt_in_the_page(open_page):
+    """cells/station.json in the page: the feeder puts out the first block at once (the arm's
+    output falls), the belt brings it, as the CLI runs it; the feeder's other blocks are out of
+    the world, and not drawn, until it puts them out."""
+    pg = open_page("mk2plus")
+    pg.page.select_option("#scene-select", "cell:station")
+    pg.wait("a.cell.name === 'station' && a.cell.frames > 0", timeout=30000)
+    pg.wait("a.cell.events.some(e => e.kind === 'device' && e.a === 'gate' && e.b === 'block1')", timeout=60000)
+    devices = pg.hook("a.cell.events.filter(e => e.kind === 'device').map(e => [e.a, e.b, e.detail, e.t])")
+    cli = [e for e in cli_json("sim", "station")["events"] if e["kind"] == "device"]
+    assert [(d[0], d[1], d[2], round(d[3], 6)) for d in devices] == [(e["a"], e["b"], e["detail"], round(e["t"], 6)) for e in cli[:len(devices)]]
+    assert 'the feeder "feeder" puts out "block1"' in pg.page.text_content("#events")
+    assert pg.hook("a.objectScreen('block1')") is not None and pg.hook("a.objectScreen('block2')") is None
+    assert pg.errors == []
+
+
 def test_a_deadlock_in_a_cell_is_told_in_words(open_page):
     pg = open_page("mk2plus")
     pg.page.select_option("#scene-select", "cell:shared-zone-deadlock")

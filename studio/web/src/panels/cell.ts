@@ -372,7 +372,10 @@ function drawTimeline(m: CellMsg): void {
           ...(wait ? { class: device ? "wait unknown" : "wait" } : { fill: colour(k), opacity: word === "D" ? 0.35 : 0.85 }) });
         bar.append(tip);
         parts.push(bar);
-        if (device) parts.push(svgEl("text", { x: x(l.start_s) + 4, y: y + ROW / 2 + 3, class: "unknown" }, `? ${device.driven_by}`));
+        // (its pin's name where the bar has room for it: about 6 px a letter)
+        const label = `? ${device?.driven_by ?? ""}`;
+        if (device) parts.push(svgEl("text", { x: x(l.start_s) + 3, y: y + ROW / 2 + 3, class: "unknown" },
+          x(l.end_s) - x(l.start_s) > label.length * 6 + 6 ? label : "?"));
       }
     }
   });

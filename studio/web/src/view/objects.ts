@@ -121,7 +121,7 @@ export class SceneObjects {
   // Where an object's centre is on the page (tests drag it).
   objectScreen(name: string): number[] | null {
     const m = this.objects.get(name);
-    if (!m) return null;
+    if (!m || !m.visible) return null; // (none, or out of the world: a feeder's, one fallen off)
     return onScreen(this.camera, this.canvas, new THREE.Vector3().setFromMatrixPosition(m.matrixWorld));
   }
 }
