@@ -143,6 +143,14 @@ class Loader {
       fail("/arms", "at most " + std::to_string(kMaxCellArms) + " arms (got " + std::to_string(arms.size()) + ")");
     for (size_t k = 0; k < arms.size(); ++k) load_arm(arms[k], child("/arms", k));
     if (j.contains("devices")) load_devices(j["devices"]);
+    // (its objects inside one another: a scene written in place is checked here, where the
+    // feeders' magazines, out of the world at the start, are known)
+    std::vector<int> stowed;
+    for (const CellDevice& d : cell_.devices) stowed.insert(stowed.end(), d.magazine.begin(), d.magazine.end());
+    const SceneOverlap overlap = first_overlap(cell_.scene, stowed);
+    if (overlap.object >= 0)
+      fail((j.contains("scene") && j["scene"].is_object() ? "/scene" : "") + std::string("/objects/") + std::to_string(overlap.object),
+           overlap.problem);
     if (j.contains("wires")) load_wires(j["wires"]);
     return std::move(cell_);
   }

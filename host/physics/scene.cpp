@@ -3,11 +3,13 @@
 #include "scene.h"
 
 #include "robot_file.h"
+#include "world_detail.h"
 
 #include <cstdlib>
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -222,10 +224,66 @@ Scene parse_scene(const std::string& json_text, const std::string& name) {
     }
     throw SceneError(name, "", "not valid JSON at line " + std::to_string(line) + ", column " + std::to_string(col));
   }
-  return Loader(name).scene(j);
+  Scene scene = Loader(name).scene(j);
+  const SceneOverlap o = first_overlap(scene);
+  if (o.object >= 0) throw SceneError(name, "/objects/" + std::to_string(o.object), o.problem);
+  return scene;
 }
 
 Scene scene_from_json(const nlohmann::json& j, const std::string& name) { return Loader(name).scene(j); }
+
+SceneOverlap first_overlap(const Scene& scene, const std::vector<int>& left_out) {
+  detail::init_ode();
+  // (collision only, so in the file's mm: a depth comes out in mm)
+  std::vector<dGeomID> g(scene.objects.size(), nullptr);
+  for (size_t i = 0; i < scene.objects.size(); ++i) {
+    if (std::find(left_out.begin(), left_out.end(), int(i)) != left_out.end()) continue;
+    const SceneObject& o = scene.objects[i];
+    switch (o.type) {
+      case SceneObject::Type::kBox: g[i] = dCreateBox(nullptr, o.size[0], o.size[1], o.size[2]); break;
+      case SceneObject::Type::kCylinder: g[i] = dCreateCylinder(nullptr, o.size[0], o.size[1]); break;
+      case SceneObject::Type::kSphere: g[i] = dCreateSphere(nullptr, o.size[0]); break;
+    }
+    dMatrix3 R;
+    detail::to_ode(rpy_to_matrix(o.rpy_deg.x * M_PI / 180, o.rpy_deg.y * M_PI / 180, o.rpy_deg.z * M_PI / 180), R);
+    dGeomSetPosition(g[i], o.xyz.x, o.xyz.y, o.xyz.z);
+    dGeomSetRotation(g[i], R);
+  }
+  dGeomID ground = scene.ground ? dCreatePlane(nullptr, 0, 0, 1, 0) : nullptr;
+  auto depth = [](dGeomID a, dGeomID b) {
+    dContactGeom c[8];
+    const int n = dCollide(a, b, 8, c, sizeof(dContactGeom));
+    double d = 0;
+    for (int k = 0; k < n; ++k) d = std::max(d, double(c[k].depth));
+    return d;
+  };
+  auto mm = [](double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.1f", v);
+    return std::string(buf);
+  };
+  SceneOverlap out;
+  for (size_t j = 0; j < g.size() && out.object < 0; ++j) {
+    if (!g[j]) continue;
+    const SceneObject& b = scene.objects[j];
+    if (b.movable && ground) {
+      const double d = depth(g[j], ground);
+      if (d > 0.5)
+        out = {int(j), "\"" + b.name + "\" is sunk " + mm(d) + " mm into the ground at the start: raise it (its lowest point at z = 0 or above)"};
+    }
+    for (size_t i = 0; i < j && out.object < 0; ++i) {
+      if (!g[i] || (!b.movable && !scene.objects[i].movable)) continue;
+      const double d = depth(g[i], g[j]);
+      if (d > 0.5)
+        out = {int(j), "\"" + b.name + "\" stands " + mm(d) + " mm inside \"" + scene.objects[i].name + "\" (/objects/" +
+                           std::to_string(i) + ") at the start: move one of them"};
+    }
+  }
+  for (dGeomID x : g)
+    if (x) dGeomDestroy(x);
+  if (ground) dGeomDestroy(ground);
+  return out;
+}
 
 Scene load_scene_file(const std::string& path) {
   std::ifstream f(path);

@@ -60,6 +60,17 @@ class SceneError : public std::runtime_error {
   std::string json_path_, problem_;
 };
 
+// Two objects of the scene that stand inside one another at the start (deeper than 0.5 mm; at
+// least one of them movable: static ones may meet, as a table's walls do), or a movable one sunk
+// into the ground: in words, with the later one's index (-1: none). The objects `left_out` (a
+// feeder's magazine) are not in the world yet. parse_scene and load_scene_file refuse such a
+// scene; a cell's loader asks once it knows its feeders.
+struct SceneOverlap {
+  int object = -1;
+  std::string problem;
+};
+SceneOverlap first_overlap(const Scene& scene, const std::vector<int>& left_out = {});
+
 Scene load_scene_file(const std::string& path);
 Scene parse_scene(const std::string& json_text, const std::string& name);
 // A scene written inside another file (a cell's "scene"): its paths are the object's own.

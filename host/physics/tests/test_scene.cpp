@@ -38,9 +38,9 @@ TEST(Scene, ShippedScenesLoad) {
 TEST(Scene, ReadsEveryField) {
   const Scene s = parse_scene(R"({"gravity": [0, 0, -1.62], "ground": {"friction": 0.3},
       "world_box": {"min": [-1, -2, -3], "max": [4, 5, 6]},
-      "objects": [{"name": "c", "type": "cylinder", "size": [10, 50], "xyz": [1, 2, 3], "rpy": [0, 90, 0],
+      "objects": [{"name": "c", "type": "cylinder", "size": [3, 50], "xyz": [1, 2, 3], "rpy": [0, 90, 0],
                    "movable": true, "density": 1000, "friction": 0.4},
-                  {"type": "sphere", "size": [5]}]})",
+                  {"type": "sphere", "size": [2], "xyz": [-1, -2, -3]}]})",
                               "s.json");
   EXPECT_DOUBLE_EQ(s.gravity.z, -1.62);
   EXPECT_TRUE(s.ground);
@@ -48,7 +48,7 @@ TEST(Scene, ReadsEveryField) {
   EXPECT_DOUBLE_EQ(s.world_max.y, 5);
   ASSERT_EQ(s.objects.size(), 2u);
   EXPECT_EQ(s.objects[0].type, SceneObject::Type::kCylinder);
-  EXPECT_NEAR(s.objects[0].mass_kg(), 1000 * M_PI * 0.01 * 0.01 * 0.05, 1e-12);
+  EXPECT_NEAR(s.objects[0].mass_kg(), 1000 * M_PI * 0.003 * 0.003 * 0.05, 1e-12);
   EXPECT_DOUBLE_EQ(s.objects[0].rpy_deg.y, 90);
   EXPECT_FALSE(s.objects[1].movable);
   EXPECT_EQ(s.objects[1].name, "object 1");
@@ -117,3 +117,28 @@ TEST(Scene, SchemaMatchesTheLoader) {
 }
 
 }  // namespace
+
+// Objects inside one another at the start (a movable one among them), or a movable one sunk into
+// the ground, are refused by name and place: ODE would throw them apart at the first step.
+TEST(Scene, ObjectsInsideOneAnotherAtTheStartAreRefused) {
+  auto error = [](const std::string& text) {
+    try {
+      parse_scene(text, "s.json");
+    } catch (const SceneError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_EQ(error(R"({"objects": [{"name": "a", "type": "box", "size": [40, 40, 40], "xyz": [0, 0, 20], "movable": true},
+                                 {"name": "b", "type": "box", "size": [40, 40, 40], "xyz": [30, 0, 20], "movable": true}]})"),
+            "s.json: /objects/1: \"b\" stands 10.0 mm inside \"a\" (/objects/0) at the start: move one of them");
+  EXPECT_EQ(error(R"({"objects": [{"name": "a", "type": "sphere", "size": [10], "xyz": [0, 0, 4], "movable": true}]})"),
+            "s.json: /objects/0: \"a\" is sunk 6.0 mm into the ground at the start: raise it (its lowest point at z = 0 or above)");
+  // touching is fine (a block on another, on the ground); static ones may meet (a bin's walls)
+  EXPECT_EQ(error(R"({"objects": [{"name": "a", "type": "box", "size": [40, 40, 40], "xyz": [0, 0, 20], "movable": true},
+                                 {"name": "b", "type": "box", "size": [40, 40, 40], "xyz": [0, 0, 60], "movable": true},
+                                 {"name": "w1", "type": "box", "size": [100, 8, 50], "xyz": [200, 0, 25]},
+                                 {"name": "w2", "type": "box", "size": [8, 100, 50], "xyz": [200, 0, 25]}]})"),
+            "");
+  EXPECT_EQ(error(R"({"ground": false, "objects": [{"name": "a", "type": "sphere", "size": [10], "xyz": [0, 0, -40], "movable": true}]})"), "");
+}
