@@ -183,6 +183,17 @@ void bind_sim(nb::module_& m) {
            "Pulls a movable object (index or name) toward target (x, y, z) mm with a damped spring, as a mouse "
            "drag: it is carried among the other bodies, not teleported. Until release().")
       .def("release", [](PySim& s) { s.sim->release_drag(); }, "Lets go of a dragged object: it falls.")
+      .def("set_belt",
+           [](PySim& s, nb::handle which, double mm_s) {
+             try {
+               s.sim->set_belt(s.object_index(which), mm_s);
+             } catch (const std::invalid_argument& e) {
+               throw nb::value_error(e.what());
+             }
+           },
+           "belt"_a, "mm_s"_a,
+           "Runs a conveyor belt of the scene (index or name; an object with a \"belt\" speed) at mm_s along its "
+           "own x (negative: the other way; 0 stops it, and what lies on it stays there).")
       .def("reset", [](PySim& s) { s.build(); },
            "Back to t = 0: the arm at power-up, the objects where the scene puts them, no program.")
       .def("restart",

@@ -150,3 +150,28 @@ def test_bad_scenes_and_options_raise(tmp_path):
         articula.Sim(mk2, dt=0.5)
     with pytest.raises(ValueError, match="setting"):
         articula.Sim(mk2, settings={42: 1})
+
+
+def test_a_belt_runs_at_the_speed_set_and_stops(tmp_path):
+    """set_belt: a cube on a belt rides at its speed, and stays when it stops."""
+    scene = tmp_path / "belt.json"
+    scene.write_text(json.dumps({"objects": [
+        {"name": "belt", "type": "box", "size": [1200, 80, 10], "xyz": [0, -500, 5], "belt": 1},
+        {"name": "cube", "type": "box", "size": [25, 25, 25], "xyz": [-500, -500, 22.5], "movable": True, "mass": 0.02}]}))
+    sim = articula.Sim(articula.Robot.load("mk2plus"), str(scene))
+    sim.set_belt("belt", 100)
+    sim.run_until(1.0)
+    x = lambda: sim.state()["objects"][1]["pose"][0, 3]  # noqa: E731 (the cube's x, mm)
+    x0 = x()
+    sim.run_until(3.0)
+    x1 = x()
+    assert (x1 - x0) / 2 == pytest.approx(100, rel=0.05)
+    sim.set_belt(0, 0)
+    sim.run_until(3.5)
+    x2 = x()
+    sim.run_until(5.0)
+    assert abs(x() - x2) < 0.5
+    with pytest.raises(ValueError, match="not a belt"):
+        sim.set_belt("cube", 10)
+    with pytest.raises(ValueError, match="at most 1000 mm/s"):
+        sim.set_belt("belt", 5000)
