@@ -17,6 +17,7 @@ int cmd_sim(int argc, char** argv);
 int cmd_configure(int argc, char** argv);
 int cmd_draw(int argc, char** argv);
 int cmd_wiring(int argc, char** argv);
+int cmd_mat(int argc, char** argv);
 
 }  // namespace articula::cli
 

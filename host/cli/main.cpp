@@ -25,6 +25,7 @@ const CommandEntry kCommands[] = {
     {"draw", articula::cli::cmd_draw, "a program that draws text or a shape with a pen in the gripper, reach checked"},
     {"configure", articula::cli::cmd_configure, "configure a Nano for a robot (its EEPROM), or print the lines that do"},
     {"wiring", articula::cli::cmd_wiring, "every wire of the arm: board pins to driver inputs, switches and servos"},
+    {"mat", articula::cli::cmd_mat, "the table's mat of a cell or a scene: a 1:1 drawing from above (SVG) to print"},
     {"export-urdf", articula::cli::cmd_export_urdf, "the robot as URDF, for ROS tools"},
     {"import-legacy", articula::cli::cmd_import_legacy, "convert the original system's robot text file (thesis appendix C)"},
 };
