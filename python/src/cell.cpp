@@ -8,6 +8,7 @@
 #include "bindings.h"
 #include "cell_file.h"
 #include "cell_sim.h"
+#include "mat.h"
 #include "records_json.h"
 #include "sim_view.h"
 
@@ -130,6 +131,9 @@ void bind_cell(nb::module_& m) {
            "other arms' firmwares running their programs beside it: each W ends when the other arm's output "
            "changed. Its own firmware, its own clock: the world's objects play no part.")
       .def("reset", [](PyCell& c) { c.build(); }, "Back to t = 0: every arm at power-up, its program loaded again.")
+      .def("mat_svg", [](const PyCell& c) { return host::mat_svg(c.cell); },
+           "The table's mat: a 1:1 drawing from above (SVG, mm) to print at 100 % and lay the real parts on "
+           "(`articula mat CELL`).")
       .def_prop_ro("arms", [](const PyCell& c) {
         std::vector<std::string> out;
         for (const auto& a : c.cell.arms) out.push_back(a.name);

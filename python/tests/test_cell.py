@@ -147,3 +147,11 @@ def test_a_cells_belt_and_light_barrier_from_python():
     assert wait.kind == "wait" and 0 <= wait.end_t - broken <= 0.002
     belt, gate = cell.state().devices
     assert (belt.kind, belt.running, gate.kind, gate.broken_by) == ("belt", False, "barrier", None)
+
+
+def test_a_cells_mat_to_print_is_the_clis():
+    """Cell.mat_svg: the table from above at 1:1, as `articula mat CELL` writes it."""
+    svg = articula.Cell("station").mat_svg()
+    assert svg.startswith("<?xml") and svg.rstrip().endswith("</svg>")
+    assert "gate: light barrier, 10 mm up" in svg and "feeder: the feeder's 3 come out here" in svg
+    assert cli("mat", "station", ok=(0,)).stdout == svg

@@ -5,7 +5,10 @@ a deadlock is told in words; STOP pauses every arm."""
 
 from __future__ import annotations
 
-from conftest import SHOTS, cli_json
+import subprocess
+from pathlib import Path
+
+from conftest import SHOTS, cli_json, cli_path
 
 
 def test_a_cell_of_two_arms_on_two_builds_runs_and_signals(open_page):
@@ -67,6 +70,14 @@ def test_a_belt_and_a_light_barrier_on_the_arms_wires_in_the_page(open_page):
     pg.page.screenshot(path=str(SHOTS / "studio-cell-conveyor.png"))
     # then the arm picks the block off the belt
     pg.wait("a.cell.events.some(e => e.kind === 'grasp' && e.b === 'block')", timeout=60000)
+    # the table's mat to print: the file the CLI writes (articula mat conveyor)
+    with pg.page.expect_download() as got:
+        pg.page.click("#cell-mat")
+    assert got.value.suggested_filename == "conveyor-mat.svg"
+    mat = Path(got.value.path()).read_text()
+    cli = subprocess.run([cli_path(), "mat", "conveyor"], capture_output=True, text=True, timeout=60)
+    assert cli.returncode == 0 and mat == cli.stdout
+    assert "gate: light barrier, 10 mm up" in mat and 'width="' in mat
     assert pg.errors == []
 
 

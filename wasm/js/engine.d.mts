@@ -82,6 +82,8 @@ export class Cell {
   readonly dt: number;
   /** The last deadlock in words, or "". */
   readonly deadlock: string;
+  /** The table's mat: an SVG document, 1:1 in mm (host/physics/mat.h). */
+  matSvg(): string;
   /** One arm's prediction in the cell, as Robot.predict gives it. */
   predict(name: string): Record<string, unknown>;
   step(n?: number): void;

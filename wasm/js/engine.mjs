@@ -188,6 +188,8 @@ export class Cell {
   events(since = 0) { return checked(this.h.events(since)); }
   /** The last deadlock in words, or "". */
   get deadlock() { return this.h.deadlock(); }
+  /** The table's mat: an SVG document, 1:1 in mm (host/physics/mat.h). */
+  matSvg() { return this.h.matSvg(); }
   /** One arm's prediction in the cell, as Robot.predict gives it. */
   predict(name) { return checked(this.h.predict(String(name))); }
   reset() { this.h.reset(); }

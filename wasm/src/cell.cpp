@@ -6,6 +6,7 @@
 
 #include "cell_file.h"
 #include "cell_sim.h"
+#include "mat.h"
 #include "common.h"
 #include "sim_view.h"
 #include "records_json.h"
@@ -64,6 +65,8 @@ class WebCell {
   bool done() const { return sim_->done(); }
   double end_time() const { return sim_->end_time(); }
   std::string deadlock() const { return sim_->deadlock(); }
+  // The table's mat (host/physics/mat.h): an SVG document, 1:1 in mm.
+  std::string mat_svg() const { return host::mat_svg(sim_->cell()); }
   // One arm's prediction in the cell (host/physics/cell_sim.h's predict_in_cell) as
   // `articula predict CELL ARM --json` gives it; the error as JSON.
   std::string predict(const std::string& name) const {
@@ -100,5 +103,6 @@ EMSCRIPTEN_BINDINGS(articula_cell) {
       .function("done", &WebCell::done)
       .function("endTime", &WebCell::end_time)
       .function("deadlock", &WebCell::deadlock)
+      .function("matSvg", &WebCell::mat_svg)
       .function("predict", &WebCell::predict);
 }

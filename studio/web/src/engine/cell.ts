@@ -283,6 +283,11 @@ function armRobot(m: Msg): Robot {
   return robots[num(m, "arm", 0, robots.length - 1) | 0];
 }
 export const cellArmHandlers: Record<string, (m: Msg) => Out[]> = {
+  // the open cell's mat: a 1:1 drawing from above (SVG, mm) to print (host/physics/mat.h)
+  cell_mat() {
+    if (!cell || !cellName) throw new BadMessage("no cell is open: choose one in the Physics menu");
+    return [{ type: "cell_mat", name: cellName, svg: cell.matSvg() }];
+  },
   cell_arm_read: (m) => [armRead(armRobot(m), m)],
   cell_arm_config: (m) => [armConfig(armRobot(m))],
   cell_arm_predict: (m) => [armPredict(armRobot(m), m)],

@@ -11,7 +11,7 @@
 // Every name and line from a cell file is shown as text, never markup.
 import type { CellFrameMsg, CellMsg, CellRefusedMsg, CellTimeline, SimEvent } from "../engine/messages";
 import type { Studio } from "../page/context";
-import { $, fill, h, svgEl } from "../page/dom";
+import { $, download, fill, h, svgEl } from "../page/dom";
 import { ARM_COLORS } from "../view/cell-arms";
 import { logEvents } from "./physics";
 import { CellNanos } from "./cell-nanos";
@@ -26,8 +26,9 @@ export const cellReport: {
   programs: string[]; tab: number; refused: string; timeline: CellTimeline[]; arrows: number; doing: string[]; flashed: string[];
   nanos: NanoRun | null; // the arms on virtual Nanos (null: in the engine)
   said: string[][]; // each arm's box's words so far, each once (the last 40): what a passing wait said
+  mats: number; // mats saved (Mat to print)
 } = { name: null, title: "", arms: [], t: 0, running: false, done: false, deadlock: "", events: [], lines: [], signals: [], frames: 0,
-  programs: [], tab: 0, refused: "", timeline: [], arrows: 0, doing: [], flashed: [], nanos: null, said: [] };
+  programs: [], tab: 0, refused: "", timeline: [], arrows: 0, doing: [], flashed: [], nanos: null, said: [], mats: 0 };
 
 let s: Studio;
 let reveal: (id: string) => void = () => undefined;
@@ -65,6 +66,16 @@ export function initCell(studio: Studio, layout: { reveal: (id: string) => void 
       drawTimeline(lastCell);
     }
   }).observe($("cell-timeline"));
+  // the table's mat, as a file to print (an SVG the engine draws: names in it are text)
+  $("cell-mat").onclick = async () => {
+    try {
+      const r = (await s.engine.call({ type: "cell_mat" })) as unknown as { name: string; svg: string };
+      download(`${r.name}-mat.svg`, r.svg, "image/svg+xml");
+      cellReport.mats++;
+    } catch (e) {
+      $("cell-program-state").textContent = (e as Error).message;
+    }
+  };
   $("cell-revert").onclick = () => {
     texts = [...shipped];
     showTab(cellReport.tab);
