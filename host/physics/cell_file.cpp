@@ -25,7 +25,7 @@ CellError::CellError(const std::string& file, const std::string& json_path, cons
 const std::map<std::string, std::vector<std::string>>& cell_file_fields() {
   static const std::map<std::string, std::vector<std::string>> fields = {
       {"cell", {"$schema", "name", "description", "scene", "arms", "devices", "wires"}},
-      {"device", {"name", "kind", "object", "from", "to", "objects", "at", "every"}},
+      {"device", {"name", "kind", "object", "from", "to", "objects", "at", "every", "size"}},
       {"arm", {"name", "robot", "io", "base", "program"}},
       {"base", {"xyz", "yaw"}},
       {"wire", {"from", "to"}},
@@ -321,7 +321,7 @@ class Loader {
              "a device's name is 1 to 16 letters, digits, _ or -, starting with a letter (got " + in_quotes(dev.name) + ")");
       if (cell_.arm_index(dev.name) >= 0 || cell_.device_index(dev.name) >= 0)
         fail(child(path, "name"), "the cell already has an arm or a device called " + in_quotes(dev.name));
-      if (!j.contains("kind")) fail(path, "missing field \"kind\" (\"belt\", \"barrier\" or \"feeder\")");
+      if (!j.contains("kind")) fail(path, "missing field \"kind\" (\"belt\", \"barrier\", \"switch\" or \"feeder\")");
       const std::string kind = text(j["kind"], child(path, "kind"));
       auto only = [&](std::initializer_list<const char*> needs, std::initializer_list<const char*> not_for) {
         for (const char* f : needs)
@@ -331,7 +331,7 @@ class Loader {
       };
       if (kind == "belt") {
         dev.kind = CellDevice::Kind::kBelt;
-        only({"object"}, {"from", "to", "objects", "at", "every"});
+        only({"object"}, {"from", "to", "objects", "at", "every", "size"});
         const std::string obj = text(j["object"], child(path, "object"));
         std::string belts;
         for (size_t o = 0; o < cell_.scene.objects.size(); ++o) {
@@ -348,7 +348,7 @@ class Loader {
             fail(child(path, "object"), "the belt " + in_quotes(obj) + " is already the device " + in_quotes(other.name));
       } else if (kind == "barrier") {
         dev.kind = CellDevice::Kind::kBarrier;
-        only({"from", "to"}, {"object", "objects", "at", "every"});
+        only({"from", "to"}, {"object", "objects", "at", "every", "size"});
         dev.from = point(j["from"], child(path, "from"));
         dev.to = point(j["to"], child(path, "to"));
         const double len = norm(dev.to - dev.from);
@@ -356,7 +356,7 @@ class Loader {
         if (len > 5000) fail(child(path, "to"), "a beam is at most 5 m long (its ends are " + fmt(len) + " mm apart)");
       } else if (kind == "feeder") {
         dev.kind = CellDevice::Kind::kFeeder;
-        only({"objects", "at"}, {"object", "from", "to"});
+        only({"objects", "at"}, {"object", "from", "to", "size"});
         const json& objs = j["objects"];
         const std::string op = child(path, "objects");
         if (!objs.is_array() || objs.empty() || objs.size() > 50)
@@ -382,8 +382,15 @@ class Loader {
           if (dev.every_s < 0.5 || dev.every_s > 3600)
             fail(child(path, "every"), "a feeder puts one out every 0.5 to 3600 seconds (got " + fmt(dev.every_s) + ")");
         }
+      } else if (kind == "switch") {
+        dev.kind = CellDevice::Kind::kSwitch;
+        only({"at", "size"}, {"object", "from", "to", "objects", "every"});
+        dev.at = point(j["at"], child(path, "at"));
+        dev.size = point(j["size"], child(path, "size"));
+        for (const double v : {dev.size.x, dev.size.y, dev.size.z})
+          if (!(v >= 1 && v <= 500)) fail(child(path, "size"), "a switch's box is 1 to 500 mm each way");
       } else {
-        fail(child(path, "kind"), "must be \"belt\", \"barrier\" or \"feeder\" (got " + in_quotes(kind) + ")");
+        fail(child(path, "kind"), "must be \"belt\", \"barrier\", \"switch\" or \"feeder\" (got " + in_quotes(kind) + ")");
       }
       cell_.devices.push_back(std::move(dev));
     }

@@ -39,22 +39,30 @@ struct CellArm {
 //   - a light barrier ("beam", an output): an infrared beam between two points, its output high
 //     while the beam is clear and low while one of the scene's objects breaks it, as a break-beam
 //     module's on a pull-up input. The cell looks once a world step;
+//   - a switch ("pressed", an output): a touch or limit switch's actuator, a box on the table;
+//     its output low while a movable object or an arm's part is inside it (a switch closing to ground
+//     on a pull-up input), high otherwise. Looked at once a world step, as a barrier;
 //   - a feeder ("feed", an input): a magazine of the scene's movable objects, out of the world
 //     until it puts them out, one at a time, at its outlet: at each fall of its input (high to
 //     low), or with no wire to it every `every_s` seconds from t = 0; while something stands at
 //     the outlet it waits.
 struct CellDevice {
-  enum class Kind { kBelt, kBarrier, kFeeder };
+  enum class Kind { kBelt, kBarrier, kFeeder, kSwitch };
   std::string name;
   Kind kind = Kind::kBelt;
   int object = -1;                      // a belt: the scene object it runs
   Vec3<double> from{0, 0, 0}, to{0, 0, 0};  // a barrier: its beam's ends, mm, on the table
   std::vector<int> magazine;            // a feeder: its objects, in the order it puts them out
-  Vec3<double> at{0, 0, 0};             // and where (each one's centre, mm)
+  Vec3<double> at{0, 0, 0};             // and where (each one's centre, mm); a switch: its box's centre
+  Vec3<double> size{0, 0, 0};           // a switch: its box, mm
   double every_s = 5;                   // and how often with no wire to its input
-  const char* pin() const { return kind == Kind::kBelt ? "run" : kind == Kind::kBarrier ? "beam" : "feed"; }
-  bool output() const { return kind == Kind::kBarrier; }
-  const char* kind_name() const { return kind == Kind::kBelt ? "belt" : kind == Kind::kBarrier ? "barrier" : "feeder"; }
+  const char* pin() const {
+    return kind == Kind::kBelt ? "run" : kind == Kind::kBarrier ? "beam" : kind == Kind::kSwitch ? "pressed" : "feed";
+  }
+  bool output() const { return kind == Kind::kBarrier || kind == Kind::kSwitch; }
+  const char* kind_name() const {
+    return kind == Kind::kBelt ? "belt" : kind == Kind::kBarrier ? "barrier" : kind == Kind::kSwitch ? "switch" : "feeder";
+  }
 };
 
 // One wire as the cell carries it: an output (of an arm or a device) to an input of an arm or a

@@ -163,14 +163,15 @@ void CellSimulation::run_feeders() {
 void CellSimulation::look_at_beams(bool tell) {
   for (size_t k = 0; k < cell_.devices.size(); ++k) {
     const CellDevice& d = cell_.devices[k];
-    if (d.kind != CellDevice::Kind::kBarrier) continue;
-    const std::string by = world_.beam_blocker(d.from, d.to);
+    if (d.kind != CellDevice::Kind::kBarrier && d.kind != CellDevice::Kind::kSwitch) continue;
+    const bool beam = d.kind == CellDevice::Kind::kBarrier;
+    const std::string by = beam ? world_.beam_blocker(d.from, d.to) : world_.box_presser(d.at, d.size);
     if (by == beam_by_[k]) continue;
     const bool was_clear = beam_by_[k].empty();
     beam_by_[k] = by;
     device_level_[k] = by.empty();
     if (tell && (was_clear || by.empty()))  // (broken, or clear again: not one object for another)
-      device_event(int(k), by, by.empty() ? "the beam is clear" : "the beam is broken");
+      device_event(int(k), by, beam ? (by.empty() ? "the beam is clear" : "the beam is broken") : (by.empty() ? "is let go" : "is pressed"));
   }
 }
 
@@ -381,6 +382,11 @@ nlohmann::json cell_state_json(const CellSimulation& sim) {
       j["at_mm"] = {d.at.x, d.at.y, d.at.z};
       j["every_s"] = d.every_s;
       j["left"] = sim.feeder_left(int(k));
+    } else if (d.kind == CellDevice::Kind::kSwitch) {
+      j["at_mm"] = {d.at.x, d.at.y, d.at.z};
+      j["size_mm"] = {d.size.x, d.size.y, d.size.z};
+      const std::string& by = sim.beam_broken_by(int(k));
+      j["pressed_by"] = by.empty() ? nlohmann::json(nullptr) : nlohmann::json(by);
     } else {
       j["from_mm"] = {d.from.x, d.from.y, d.from.z};
       j["to_mm"] = {d.to.x, d.to.y, d.to.z};

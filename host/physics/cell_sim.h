@@ -53,8 +53,8 @@ class CellSimulation {
   uint32_t driven_inputs(int arm) const;
   uint32_t input_levels(int arm, uint64_t tick);
 
-  // Device k's pin's level now (cell_file.h: a belt's input, a barrier's output), and what
-  // breaks a barrier's beam ("" none).
+  // Device k's pin's level now (cell_file.h: a belt's input, a barrier's or a switch's output),
+  // and what breaks a barrier's beam or presses a switch ("" none).
   bool device_level(int k) const { return device_level_[size_t(k)] != 0; }
   bool belt_running(int k) const;
   const std::string& beam_broken_by(int k) const { return beam_by_[size_t(k)]; }
@@ -105,7 +105,7 @@ nlohmann::json cell_arms_json(const CellSimulation& sim);
 // The cell now: t, arms (cell_arms_json), objects (name, xyz_mm, pose: 16 numbers, row-major,
 // carried_by: the arm's name or null, removed), devices (name, kind, pin, level: its pin's now;
 // a belt's object and running, a barrier's from_mm, to_mm and broken_by: an object's name or
-// null, a feeder's objects, at_mm, every_s and left); `articula sim CELL --json`, Python's
+// null, a switch's at_mm, size_mm and pressed_by, a feeder's objects, at_mm, every_s and left); `articula sim CELL --json`, Python's
 // Cell.state, the web engine's.
 nlohmann::json cell_state_json(const CellSimulation& sim);
 

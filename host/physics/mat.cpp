@@ -122,6 +122,7 @@ std::string drawing(const std::string& title, const Scene& scene, const std::vec
   for (const CellDevice& d : devices) {
     if (d.kind == CellDevice::Kind::kBarrier) take(d.from.x, d.from.y, 8), take(d.to.x, d.to.y, 8);
     if (d.kind == CellDevice::Kind::kFeeder) take(d.at.x, d.at.y, 20);
+    if (d.kind == CellDevice::Kind::kSwitch) take(d.at.x, d.at.y, std::hypot(d.size.x, d.size.y) / 2 + 8);
   }
   const double m = 20, foot = 24;  // margins, mm; the foot holds the scale bar and the title
   const double W = std::ceil(x1 - x0 + 2 * m), H = std::ceil(y1 - y0 + 2 * m + foot);
@@ -196,6 +197,11 @@ std::string drawing(const std::string& title, const Scene& scene, const std::vec
         s << "<rect x=\"" << num(e.x - x0 + m - 4) << "\" y=\"" << num(y1 - e.y + m - 4) << "\" width=\"8\" height=\"8\" fill=\"#2b2d42\"/>\n";
       s << "<text x=\"" << X((d.from.x + d.to.x) / 2) << "\" y=\"" << Y((d.from.y + d.to.y) / 2 + 7) << "\" font-size=\"3.5\" text-anchor=\"middle\" fill=\"#d62828\">"
         << esc(d.name) << ": light barrier, " << num(d.from.z) << " mm up</text>\n";
+    } else if (d.kind == CellDevice::Kind::kSwitch) {
+      s << "<rect x=\"" << num(d.at.x - d.size.x / 2 - x0 + m) << "\" y=\"" << num(y1 - d.at.y - d.size.y / 2 + m) << "\" width=\""
+        << num(d.size.x) << "\" height=\"" << num(d.size.y) << "\" fill=\"#2a9d8f\" fill-opacity=\"0.25\" stroke=\"#2a9d8f\" stroke-width=\"0.5\"/>\n"
+        << "<text x=\"" << X(d.at.x) << "\" y=\"" << Y(d.at.y - d.size.y / 2 - 5) << "\" font-size=\"3.5\" text-anchor=\"middle\" fill=\"#2a9d8f\">"
+        << esc(d.name) << ": switch, " << num(d.at.z - d.size.z / 2) << " to " << num(d.at.z + d.size.z / 2) << " mm up</text>\n";
     } else if (d.kind == CellDevice::Kind::kFeeder) {
       s << "<path d=\"M" << num(d.at.x - x0 + m - 8) << "," << Y(d.at.y) << " h16 M" << X(d.at.x) << "," << num(y1 - d.at.y + m - 8)
         << " v16\" stroke=\"#b58100\" stroke-width=\"0.6\"/>\n"

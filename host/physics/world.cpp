@@ -270,6 +270,24 @@ std::string World::beam_blocker(const Vec3<double>& from_mm, const Vec3<double>&
   return by;
 }
 
+std::string World::box_presser(const Vec3<double>& centre_mm, const Vec3<double>& size_mm) const {
+  dGeomID box = dCreateBox(nullptr, size_mm.x * kMm, size_mm.y * kMm, size_mm.z * kMm);
+  dGeomSetPosition(box, centre_mm.x * kMm, centre_mm.y * kMm, centre_mm.z * kMm);
+  auto inside = [&](dGeomID g) {
+    dContactGeom c;
+    return g && dGeomIsEnabled(g) && dCollide(box, g, 1, &c, sizeof c) > 0;
+  };
+  std::string by;
+  for (size_t i = 0; i < objects_.size() && by.empty(); ++i)
+    if (objects_[i].movable && !objects_[i].removed && inside(objects_[i].geom)) by = scene_.objects[i].name;
+  for (const auto& b : bodies_)
+    for (const auto& part : b->parts())
+      for (dGeomID g : part->geoms)
+        if (by.empty() && inside(g)) by = (bodies_.size() > 1 ? b->name() + ": " : std::string()) + part->name;
+  dGeomDestroy(box);
+  return by;
+}
+
 void World::stow_object(int i) {
   if (i < 0 || size_t(i) >= objects_.size() || !objects_[size_t(i)].movable)
     throw std::invalid_argument("object " + std::to_string(i) + " is not a movable object");

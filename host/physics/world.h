@@ -162,6 +162,10 @@ class World {
   // The first of the scene's objects (not removed) that the segment from..to (mm, on the table)
   // passes through, by name ("" none): a light barrier's beam.
   std::string beam_blocker(const Vec3<double>& from_mm, const Vec3<double>& to_mm) const;
+  // The first thing inside the box of `size_mm` at `centre_mm` (upright, on the table): a movable
+  // object (not removed; a static one is the switch's mount) or an arm's part ("link 2", "right: finger left" in a world of several), by
+  // name ("" none): a touch or limit switch's actuator.
+  std::string box_presser(const Vec3<double>& centre_mm, const Vec3<double>& size_mm) const;
   // A feeder's magazine (cell_file.h): movable object i taken out of the world, as if it had left
   // it (object_removed() is true; no event), until put_out() puts it at xyz_mm (its centre, turned
   // as the scene turns it, at rest) if nothing (an object, an arm's part) stands there; false if

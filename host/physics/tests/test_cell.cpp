@@ -722,7 +722,7 @@ TEST(CellFile, DevicesAreRefusedByName) {
   };
   EXPECT_EQ(with("/devices/0/object", "block"),
             "c.json: /devices/0/object: the scene has no belt \"block\" (its belts: belt)");
-  EXPECT_EQ(with("/devices/0/kind", "relay"), "c.json: /devices/0/kind: must be \"belt\", \"barrier\" or \"feeder\" (got \"relay\")");
+  EXPECT_EQ(with("/devices/0/kind", "relay"), "c.json: /devices/0/kind: must be \"belt\", \"barrier\", \"switch\" or \"feeder\" (got \"relay\")");
   EXPECT_EQ(with("/devices/1/name", "a"), "c.json: /devices/1/name: the cell already has an arm or a device called \"a\"");
   EXPECT_EQ(with("/devices/1/name", "conveyor"),
             "c.json: /devices/1/name: the cell already has an arm or a device called \"conveyor\"");
@@ -860,4 +860,34 @@ TEST(CellFile, FeedersAreRefusedByName) {
   json twice = ok;
   twice["devices"].push_back(json::parse(R"({"name": "feed2", "kind": "feeder", "objects": ["block"], "at": [0, 0, 30]})"));
   EXPECT_EQ(cell_error(twice, dir), "c.json: /devices/3/objects/0: \"block\" is already in the feeder \"feed\"");
+}
+
+// A switch: the block on the belt presses it (the arm's wait ends there, and the belt stands, as
+// with the barrier), and an arm's own part presses one where it stands.
+TEST(CellDevices, ASwitchIsPressedByAnObjectOrAnArmsPart) {
+  const std::string dir = ::testing::TempDir() + "/cells-switch";
+  std::filesystem::create_directories(dir);
+  json file = station(dir);
+  file["devices"][1] = json::parse(R"({"name": "gate", "kind": "switch", "at": [600, 22, 25], "size": [60, 20, 30]})");
+  // and one around the tool at power-up (235, 0, 213 mm)
+  file["devices"].push_back(json::parse(R"({"name": "tip", "kind": "switch", "at": [235, 0, 213], "size": [30, 30, 30]})"));
+  file["wires"][1]["from"] = "gate.pressed";
+  CellSimulation sim(parse_cell(file.dump(), "station.json", dir));
+  EXPECT_FALSE(sim.device_level(2));
+  EXPECT_EQ(sim.beam_broken_by(2).rfind("link ", 0), 0u) << sim.beam_broken_by(2);  // (the arm's own part)
+  EXPECT_TRUE(sim.device_level(1));
+  while (!sim.done() && sim.time() < 15) sim.step();
+  double pressed_t = -1;
+  for (const SimEvent& e : sim.world().events())
+    if (e.kind == SimEvent::Kind::kDevice && e.a == "gate" && e.detail == "is pressed" && pressed_t < 0) {
+      EXPECT_EQ(e.b, "block");
+      pressed_t = e.t;
+    }
+  ASSERT_GT(pressed_t, 0);
+  const auto& sig = sim.driver(0).signals();
+  ASSERT_GE(sig.size(), 2u);
+  const double wait_end = double(sig[1].end_tick) / kStepTickHz;
+  EXPECT_GE(wait_end, pressed_t - 0.001);
+  EXPECT_LE(wait_end, pressed_t + 0.002);
+  EXPECT_EQ(cell_state_json(sim)["devices"][1]["pressed_by"], "block");
 }

@@ -44,6 +44,8 @@ export function eventWords(e: SimEvent): string {
       if (e.detail === "runs" || e.detail === "stands") return `the belt ${the(e.a)} ${e.detail}`;
       if (e.detail === "puts one out") return `the feeder ${the(e.a)} puts out ${the(e.b)}`;
       if (e.detail === "is empty" || e.detail?.startsWith("waits")) return `the feeder ${the(e.a)} ${e.detail}`;
+      if (e.detail === "is pressed") return `${the(e.b)} presses the switch ${the(e.a)}`;
+      if (e.detail === "is let go") return `the switch ${the(e.a)} is let go`;
       return e.b ? `${the(e.b)} breaks the beam of ${the(e.a)}` : `the beam of ${the(e.a)} is clear`;
     default: return `${e.kind}: ${e.a}${e.b ? ` / ${e.b}` : ""}`;
   }
