@@ -159,11 +159,13 @@ export interface SceneMsg {
 }
 
 /** A cell opened (several arms, cells/README.md), or closed (name null). */
-/** A cell's device (cells/README.md): a belt the wires run, a light barrier on a wire. */
+/** A cell's device (cells/README.md): a belt and a feeder the wires run, a light barrier and a switch on a wire. */
 export interface CellDevice {
-  name: string; kind: "belt" | "barrier"; pin: string; level: boolean;
+  name: string; kind: "belt" | "barrier" | "switch" | "feeder"; pin: string; level: boolean;
   object?: string; running?: boolean; // a belt
   from_mm?: number[]; to_mm?: number[]; broken_by?: string | null; // a barrier
+  at_mm?: number[]; size_mm?: number[]; pressed_by?: string | null; // a switch (at_mm: a feeder's outlet too)
+  objects?: string[]; every_s?: number; left?: number; // a feeder
 }
 
 export interface CellMsg {

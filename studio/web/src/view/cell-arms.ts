@@ -16,11 +16,13 @@ interface Arm {
 
 // A light barrier's beam: red while clear, amber while an object breaks it (a module's LED).
 const BEAM_CLEAR = 0xd62828, BEAM_BROKEN = 0xf4a261;
+// A switch's actuator: teal, brighter while pressed.
+const SWITCH_FREE = 0x2a9d8f, SWITCH_PRESSED = 0x52e0c4;
 
 export class CellArms {
   readonly group = new THREE.Group();
   private arms: Arm[] = [];
-  private beams = new Map<string, THREE.Mesh>(); // each barrier's beam, by the device's name
+  private beams = new Map<string, THREE.Mesh>(); // each barrier's beam and switch's box, by the device's name
 
   constructor(private readonly changed: () => void) {}
 
@@ -73,9 +75,18 @@ export class CellArms {
 
   /** The cell's light barriers: a thin beam between its ends, with a post at each (none: none). */
   devices(devices: CellDevice[] | undefined): void {
-    for (const m of this.beams.values()) this.group.remove(m.parent ?? m);
+    for (const m of this.beams.values()) this.group.remove(m.parent && m.parent !== this.group ? m.parent : m);
     this.beams.clear();
     for (const d of devices ?? []) {
+      if (d.kind === "switch" && d.at_mm && d.size_mm) { // a switch's actuator: a translucent box
+        const box = new THREE.Mesh(new THREE.BoxGeometry(d.size_mm[0], d.size_mm[1], d.size_mm[2]),
+          new THREE.MeshBasicMaterial({ color: SWITCH_FREE, transparent: true, opacity: 0.35, depthWrite: false }));
+        box.position.set(d.at_mm[0], d.at_mm[1], d.at_mm[2]);
+        box.name = `switch ${d.name}`;
+        this.group.add(box);
+        this.beams.set(d.name, box);
+        continue;
+      }
       if (d.kind !== "barrier" || !d.from_mm || !d.to_mm) continue;
       const a = new THREE.Vector3(...d.from_mm), b = new THREE.Vector3(...d.to_mm);
       const holder = new THREE.Group();
@@ -103,7 +114,9 @@ export class CellArms {
   showBeams(devices: CellDevice[] | undefined): void {
     for (const d of devices ?? []) {
       const beam = this.beams.get(d.name);
-      if (beam) (beam.material as THREE.MeshBasicMaterial).color.setHex(d.broken_by ? BEAM_BROKEN : BEAM_CLEAR);
+      if (!beam) continue;
+      const colour = d.kind === "switch" ? (d.pressed_by ? SWITCH_PRESSED : SWITCH_FREE) : d.broken_by ? BEAM_BROKEN : BEAM_CLEAR;
+      (beam.material as THREE.MeshBasicMaterial).color.setHex(colour);
     }
   }
 
