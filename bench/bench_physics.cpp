@@ -9,7 +9,8 @@
 // asserted, 50x: a speed is a benchmark's figure, not a unit test's). BM_CellOfMk2s/N puts N of
 // BM_SimMk2Cube's arm, each with its cube and program and its own firmware, in one world
 // (cell_sim.h): world steps/s for 1, 2 and 4 arms, and `per_arm_us`, a world step's time per
-// arm (flat: the cost grows linearly with the arms).
+// arm (flat: the cost grows linearly with the arms). BM_BeltAndCubes/N: a running belt carrying N
+// cubes beside the arm at rest, against the bare world (N = 0): issue 53's figure.
 #include <benchmark/benchmark.h>
 
 #include <ctime>
@@ -118,8 +119,46 @@ void BM_CellOfMk2s(benchmark::State& state) {
       benchmark::Counter(double(steps) * n, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
 }
 
+// Issue 53's figure: a running belt carrying N 25 mm cubes (in rows of five on a 2 m belt,
+// 100 mm/s), the arm at rest, against the same world bare (N = 0: the ground and the arm only);
+// world steps per second, 2 s simulated per iteration (the cubes stay on the belt).
+void BM_BeltAndCubes(benchmark::State& state) {
+  const int n = int(state.range(0));
+  const Robot robot = bench::load("mk2plus");
+  Scene scene;
+  if (n > 0) {
+    SceneObject belt;
+    belt.name = "belt";
+    belt.size = {2000, 240, 10};
+    belt.xyz = make_vec3(600.0, 0.0, 5.0);
+    belt.rpy_deg = make_vec3(0.0, 0.0, 90.0);
+    belt.belt = 100;
+    scene.objects.push_back(belt);
+  }
+  for (int i = 0; i < n; ++i) {
+    SceneObject c;
+    c.name = "cube" + std::to_string(i);
+    c.size = {25, 25, 25};
+    c.xyz = make_vec3(600.0 - 80 + 40 * (i % 5), -900.0 + 45 * (i / 5), 22.5);
+    c.movable = true;
+    c.mass = 0.016;
+    scene.objects.push_back(c);
+  }
+  const int steps = 2000;
+  for (auto _ : state) {
+    state.PauseTiming();
+    Simulation sim(robot, scene);
+    state.ResumeTiming();
+    for (int i = 0; i < steps; ++i) sim.step();
+    benchmark::DoNotOptimize(sim.time());
+  }
+  state.SetItemsProcessed(int64_t(state.iterations()) * steps);
+  state.counters["objects"] = n;
+}
+
 }  // namespace
 
+BENCHMARK(BM_BeltAndCubes)->Arg(0)->Arg(10)->Arg(50)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_CellOfMk2s)->Arg(1)->Arg(2)->Arg(4)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_AbuseEveryRobot)->Unit(benchmark::kMillisecond)->Iterations(1);
 BENCHMARK(BM_SimMk2Cube)->Unit(benchmark::kMillisecond);
