@@ -123,7 +123,9 @@ function showNanos(n: CellNanos): void {
   }));
   const speeds = n.run.arms.map((a) => `${a.name} ${a.rtf === null ? "…" : `${a.rtf.toFixed(2)}x`}`).join(", ");
   $("view-status").textContent = `On virtual Nanos, t = ${n.run.t.toFixed(2)} s: ${speeds} real time` +
-    (n.run.arms.some((a) => a.behind) ? " (behind: this machine cannot keep up)" : "") + (n.run.running ? "" : ", every program ended");
+    (n.run.arms.some((a) => a.behind) ? " (behind: this machine cannot keep up)" : "") + (n.run.running ? "" : ", every program ended") +
+    // (the belts, barriers, switches and feeders are the physics': the Nanos' wires reach the arms only)
+    (lastCell?.devices?.length ? "; the cell's devices need the physics: here they stand, and a wait on one runs out" : "");
   $("phys-rtf").textContent = n.run.running ? "on virtual Nanos" : "ended";
   moveCursor(n.run.t);
 }
