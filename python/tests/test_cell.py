@@ -155,3 +155,15 @@ def test_a_cells_mat_to_print_is_the_clis():
     assert svg.startswith("<?xml") and svg.rstrip().endswith("</svg>")
     assert "gate: light barrier, 10 mm up" in svg and "feeder: the feeder's 3 come out here" in svg
     assert cli("mat", "station", ok=(0,)).stdout == svg
+
+
+def test_the_station_puts_three_blocks_into_the_bin():
+    """cells/station.json from Python: the feeder puts out three blocks, one at a time as the arm
+    asks, and each ends in the bin (inside its four walls)."""
+    cell = articula.Cell("station")
+    cell.run()
+    fed = [e.b for e in cell.events() if e.kind == "device" and e.detail == "puts one out"]
+    assert fed == ["block1", "block2", "block3"]
+    blocks = [o for o in cell.state().objects if o.name.startswith("block")]
+    assert all(138 < o.xyz_mm[0] < 262 and 114 < o.xyz_mm[1] < 246 and not o.removed for o in blocks), blocks
+    assert not [e for e in cell.events() if e.kind in ("collision", "rejected")]
