@@ -10,25 +10,12 @@
 #include "draw_detail.h"
 #include "predict.h"
 #include "program.h"
+#include "xml_text.h"
 #include "robot_view.h"
 
 namespace articula::host {
 
 using namespace draw_detail;
-
-namespace {
-std::string svg_text(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    if (c == '<') out += "&lt;";
-    else if (c == '>') out += "&gt;";
-    else if (c == '&') out += "&amp;";
-    else if (c == '"') out += "&quot;";
-    else out += c;
-  }
-  return out;
-}
-}  // namespace
 
 bool pen_on_paper(const Vec3<double>& tool, const PenSettings& pen) {
   return tool.z - pen.pen_mm < pen.paper_z + pen.lift_mm / 2;
@@ -224,7 +211,7 @@ std::string drawing_svg(const Drawing& d, const PredictedInk& ink, const std::st
                 "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%.1fmm\" height=\"%.1fmm\" viewBox=\"0 0 %.3f %.3f\">\n",
                 w, h, w, h);
   std::string out = "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n" + std::string(head);
-  out += "<title>" + svg_text(title) + "</title>\n";
+  out += "<title>" + xml_text(title) + "</title>\n";
   out += "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
   out += "<g id=\"ideal\" fill=\"none\" stroke=\"#1d4ed8\" stroke-width=\"0.6\" stroke-linecap=\"round\" "
          "stroke-linejoin=\"round\" opacity=\"0.45\">\n";

@@ -1,6 +1,8 @@
 // host/lib/urdf.cpp - URDF export (urdf.h).
 #include "urdf.h"
 
+#include "xml_text.h"
+
 #include <cmath>
 #include <iomanip>
 #include <sstream>
@@ -18,20 +20,6 @@ std::string xml_number(double v) {
   std::ostringstream o;
   o << std::setprecision(12) << v;
   return o.str();
-}
-
-std::string xml_text(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
-    }
-  }
-  return out;
 }
 
 // Free text inside an XML comment: escaped, and no "--" (which XML forbids there).

@@ -1,6 +1,8 @@
 // host/physics/mat.cpp - see mat.h.
 #include "mat.h"
 
+#include "xml_text.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -32,22 +34,6 @@ std::vector<P> hull(std::vector<P> pts) {
   }
   h.resize(k - 1);
   return h;
-}
-
-// Text for the SVG: never markup.
-std::string esc(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      case '\'': out += "&#39;"; break;
-      default: out += c;
-    }
-  }
-  return out;
 }
 
 std::string num(double v) {
@@ -132,7 +118,7 @@ std::string drawing(const std::string& title, const Scene& scene, const std::vec
   s << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
     << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << num(W) << "mm\" height=\"" << num(H) << "mm\" viewBox=\"0 0 "
     << num(W) << " " << num(H) << "\" font-family=\"sans-serif\">\n"
-    << "<title>" << esc(title) << ": the table's mat, 1:1 in mm</title>\n"
+    << "<title>" << xml_text(title) << ": the table's mat, 1:1 in mm</title>\n"
     << "<rect x=\"0.5\" y=\"0.5\" width=\"" << num(W - 1) << "\" height=\"" << num(H - 1) << "\" fill=\"white\" stroke=\"#888\" stroke-width=\"0.3\"/>\n";
   // the grid every 50 mm, and the axes through the arm's (or the table's) origin
   s << "<g stroke=\"#ddd\" stroke-width=\"0.2\">\n";
@@ -173,7 +159,7 @@ std::string drawing(const std::string& title, const Scene& scene, const std::vec
       label += " (belt, " + num(std::fabs(o.belt)) + " mm/s)";
     }
     s << "<text x=\"" << X(ol.centre.x) << "\" y=\"" << num(y1 - ol.centre.y + m + 1.3) << "\" font-size=\"3.5\" text-anchor=\"middle\" fill=\"#222\">"
-      << esc(label) << "</text>\n";
+      << xml_text(label) << "</text>\n";
   }
   // the arms: each base's footprint, and which way it faces (its x)
   for (const Arm& a : arms) {
@@ -183,7 +169,7 @@ std::string drawing(const std::string& title, const Scene& scene, const std::vec
       << "<line x1=\"" << X(a.xyz.x) << "\" y1=\"" << Y(a.xyz.y) << "\" x2=\"" << X(a.xyz.x + c * (r + 15)) << "\" y2=\""
       << Y(a.xyz.y + sn * (r + 15)) << "\" stroke=\"#3d5a80\" stroke-width=\"0.6\"/>\n"
       << "<text x=\"" << X(a.xyz.x) << "\" y=\"" << Y(a.xyz.y - r - 5) << "\" font-size=\"4\" text-anchor=\"middle\" fill=\"#3d5a80\">"
-      << esc(a.name) << "</text>\n";
+      << xml_text(a.name) << "</text>\n";
   }
   if (arms.empty())
     s << "<circle cx=\"" << X(0) << "\" cy=\"" << Y(0) << "\" r=\"3\" fill=\"none\" stroke=\"#3d5a80\" stroke-width=\"0.5\"/>\n"
@@ -196,17 +182,17 @@ std::string drawing(const std::string& title, const Scene& scene, const std::vec
       for (const Vec3<double>& e : {d.from, d.to})
         s << "<rect x=\"" << num(e.x - x0 + m - 4) << "\" y=\"" << num(y1 - e.y + m - 4) << "\" width=\"8\" height=\"8\" fill=\"#2b2d42\"/>\n";
       s << "<text x=\"" << X((d.from.x + d.to.x) / 2) << "\" y=\"" << Y((d.from.y + d.to.y) / 2 + 7) << "\" font-size=\"3.5\" text-anchor=\"middle\" fill=\"#d62828\">"
-        << esc(d.name) << ": light barrier, " << num(d.from.z) << " mm up</text>\n";
+        << xml_text(d.name) << ": light barrier, " << num(d.from.z) << " mm up</text>\n";
     } else if (d.kind == CellDevice::Kind::kSwitch) {
       s << "<rect x=\"" << num(d.at.x - d.size.x / 2 - x0 + m) << "\" y=\"" << num(y1 - d.at.y - d.size.y / 2 + m) << "\" width=\""
         << num(d.size.x) << "\" height=\"" << num(d.size.y) << "\" fill=\"#2a9d8f\" fill-opacity=\"0.25\" stroke=\"#2a9d8f\" stroke-width=\"0.5\"/>\n"
         << "<text x=\"" << X(d.at.x) << "\" y=\"" << Y(d.at.y - d.size.y / 2 - 5) << "\" font-size=\"3.5\" text-anchor=\"middle\" fill=\"#2a9d8f\">"
-        << esc(d.name) << ": switch, " << num(d.at.z - d.size.z / 2) << " to " << num(d.at.z + d.size.z / 2) << " mm up</text>\n";
+        << xml_text(d.name) << ": switch, " << num(d.at.z - d.size.z / 2) << " to " << num(d.at.z + d.size.z / 2) << " mm up</text>\n";
     } else if (d.kind == CellDevice::Kind::kFeeder) {
       s << "<path d=\"M" << num(d.at.x - x0 + m - 8) << "," << Y(d.at.y) << " h16 M" << X(d.at.x) << "," << num(y1 - d.at.y + m - 8)
         << " v16\" stroke=\"#b58100\" stroke-width=\"0.6\"/>\n"
         << "<text x=\"" << X(d.at.x) << "\" y=\"" << Y(d.at.y + 12) << "\" font-size=\"3.5\" text-anchor=\"middle\" fill=\"#b58100\">"
-        << esc(d.name) << ": the feeder's " << d.magazine.size() << " come out here</text>\n";
+        << xml_text(d.name) << ": the feeder's " << d.magazine.size() << " come out here</text>\n";
     }
   }
   // the scale bar and the title
@@ -214,7 +200,7 @@ std::string drawing(const std::string& title, const Scene& scene, const std::vec
   s << "<path d=\"M" << num(m) << "," << num(by) << " h100 M" << num(m) << "," << num(by - 2) << " v4 M" << num(m + 100) << ","
     << num(by - 2) << " v4\" stroke=\"#000\" stroke-width=\"0.5\"/>\n"
     << "<text x=\"" << num(m + 50) << "\" y=\"" << num(by - 3) << "\" font-size=\"3.5\" text-anchor=\"middle\">100 mm: measure it on the print</text>\n"
-    << "<text x=\"" << num(m + 108) << "\" y=\"" << num(by + 1.3) << "\" font-size=\"3.5\">" << esc(title)
+    << "<text x=\"" << num(m + 108) << "\" y=\"" << num(by + 1.3) << "\" font-size=\"3.5\">" << xml_text(title)
     << ": print at 100 % (actual size), grid 50 mm</text>\n"
     << "</svg>\n";
   return s.str();
