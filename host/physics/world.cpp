@@ -368,7 +368,7 @@ void World::add_contact(dGeomID a, dGeomID b, double mu, int touch_index, bool j
     // On a belt's top face (the contact's normal along its up: ODE's normal points into the
     // first geom, the object lying on it) the surface moves: ODE's contact motion along the
     // belt's x. Its sides and ends are still.
-    if (belt && belt->belt_m_s != 0 &&
+    if (carries &&
         (cg[i].normal[0] * belt->belt_up[0] + cg[i].normal[1] * belt->belt_up[1] + cg[i].normal[2] * belt->belt_up[2]) > 0.9) {
       c.surface.mode |= dContactFDir1 | dContactMotion1;
       for (int r = 0; r < 3; ++r) c.fdir1[r] = belt->belt_dir[r];

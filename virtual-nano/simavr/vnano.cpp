@@ -406,10 +406,12 @@ void VirtualNano::try_inject() {
   rx_arrival_ = avr_->cycle + uart_->cycles_per_byte;
   // A line's end in the trace (motor -1, event `line`): the pins' rows before it are from before
   // the firmware had the line, whatever the host's clock said when it sent it.
-  if (b == '\n' && config_.trace)
-    std::fprintf(config_.trace, "%" PRIu64 ",-1,%" PRIu64 ",,line,%.4f\n", uint64_t(rx_arrival_), lines_in_,
-                 us(double(rx_arrival_)));
-  if (b == '\n') ++lines_in_;
+  if (b == '\n') {
+    if (config_.trace)
+      std::fprintf(config_.trace, "%" PRIu64 ",-1,%" PRIu64 ",,line,%.4f\n", uint64_t(rx_arrival_), lines_in_,
+                   us(double(rx_arrival_)));
+    ++lines_in_;
+  }
 
   avr_raise_irq(uart_in_, b);
   injecting_ = false;
