@@ -1,6 +1,7 @@
 // host/physics/mat.cpp - see mat.h.
 #include "mat.h"
 
+#include "ik.h"
 #include "xml_text.h"
 
 #include <algorithm>
@@ -85,6 +86,8 @@ struct Arm {
   std::string name;
   Vec3<double> xyz;
   double yaw_deg, footprint_mm;
+  P reach_centre;  // where its tool can touch the table: within reach_mm of this point (a bound)
+  double reach_mm;
 };
 
 std::string drawing(const std::string& title, const Scene& scene, const std::vector<Arm>& arms,
@@ -161,6 +164,12 @@ std::string drawing(const std::string& title, const Scene& scene, const std::vec
     s << "<text x=\"" << X(ol.centre.x) << "\" y=\"" << num(y1 - ol.centre.y + m + 1.3) << "\" font-size=\"3.5\" text-anchor=\"middle\" fill=\"#222\">"
       << xml_text(label) << "</text>\n";
   }
+  // each arm's reach on the table: its tool's point touches the table nowhere outside (a bound,
+  // so not everywhere inside); drawn under the rest, not widening the sheet
+  for (const Arm& a : arms)
+    if (a.reach_mm > 0)
+      s << "<circle cx=\"" << X(a.reach_centre.x) << "\" cy=\"" << Y(a.reach_centre.y) << "\" r=\"" << num(a.reach_mm)
+        << "\" fill=\"#3d5a80\" fill-opacity=\"0.04\" stroke=\"#3d5a80\" stroke-width=\"0.3\" stroke-dasharray=\"4 2\"/>\n";
   // the arms: each base's footprint, and which way it faces (its x)
   for (const Arm& a : arms) {
     const double r = std::max(a.footprint_mm, 20.0), c = std::cos(a.yaw_deg * M_PI / 180), sn = std::sin(a.yaw_deg * M_PI / 180);
@@ -170,6 +179,9 @@ std::string drawing(const std::string& title, const Scene& scene, const std::vec
       << Y(a.xyz.y + sn * (r + 15)) << "\" stroke=\"#3d5a80\" stroke-width=\"0.6\"/>\n"
       << "<text x=\"" << X(a.xyz.x) << "\" y=\"" << Y(a.xyz.y - r - 5) << "\" font-size=\"4\" text-anchor=\"middle\" fill=\"#3d5a80\">"
       << xml_text(a.name) << "</text>\n";
+    if (a.reach_mm > 0)
+      s << "<text x=\"" << X(a.xyz.x) << "\" y=\"" << Y(a.xyz.y - r - 10) << "\" font-size=\"3\" text-anchor=\"middle\" fill=\"#3d5a80\">"
+        << "its reach on the table: inside the dashed circle</text>\n";
   }
   if (arms.empty())
     s << "<circle cx=\"" << X(0) << "\" cy=\"" << Y(0) << "\" r=\"3\" fill=\"none\" stroke=\"#3d5a80\" stroke-width=\"0.5\"/>\n"
@@ -210,7 +222,12 @@ std::string drawing(const std::string& title, const Scene& scene, const std::vec
 
 std::string mat_svg(const Cell& cell) {
   std::vector<Arm> arms;
-  for (const CellArm& a : cell.arms) arms.push_back({a.name, a.xyz, a.yaw_deg, a.footprint_mm});
+  for (const CellArm& a : cell.arms) {
+    const InverseKinematics ik(a.robot);
+    const Vec3<double> c = a.T_world_base() * ik.reach_centre();
+    const double r = ik.reach_bound(), h = std::max(0.0, r * r - c.z * c.z);
+    arms.push_back({a.name, a.xyz, a.yaw_deg, a.footprint_mm, {c.x, c.y}, std::sqrt(h)});
+  }
   return drawing(cell.name, cell.scene, arms, cell.devices);
 }
 

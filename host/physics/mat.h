@@ -1,6 +1,7 @@
 // host/physics/mat.h - the table's mat: a drawing from above, at 1:1 in millimetres, of a scene
 // or a cell, for a class to print and lay the real parts on: each object's outline on the table
-// (dashed: a movable one) and its name, each arm's base and which way it faces, each light
+// (dashed: a movable one) and its name, each arm's base, which way it faces and its reach on the
+// table (a bound: its tool touches the table nowhere outside it), each light
 // barrier's beam, each belt's way, each feeder's outlet, a 50 mm grid, the axes, and a 100 mm
 // scale bar to check the print's scale. `articula mat`, Python's Cell.mat_svg and Scene's, the
 // studio's "Print the mat". Every name is written as text (escaped), never as markup.

@@ -49,6 +49,9 @@ TEST(Mat, ACellsArmsBeltBarrierAndFeeder) {
   const Cell cell = load_cell_file(kSrc + "/cells/station.json");
   const std::string svg = mat_svg(cell);
   EXPECT_NE(svg.find(">mk2</text>"), std::string::npos);
+  // its reach on the table: a dashed circle about the base's shoulder axis, within its reach bound
+  EXPECT_NE(svg.find("its reach on the table: inside the dashed circle"), std::string::npos);
+  EXPECT_NE(svg.find("stroke-dasharray=\"4 2\""), std::string::npos);
   EXPECT_NE(svg.find("gate: light barrier, 10 mm up"), std::string::npos);
   EXPECT_NE(svg.find("feeder: the feeder's 3 come out here"), std::string::npos);
   EXPECT_NE(svg.find("belt (belt, 100 mm/s)"), std::string::npos);
