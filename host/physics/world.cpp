@@ -247,8 +247,10 @@ void World::event(SimEvent::Kind k, int arm, const std::string& a, const std::st
 }
 
 void World::set_belt(int i, double mm_s) {
-  if (i < 0 || size_t(i) >= objects_.size() || !objects_[size_t(i)].belt)
-    throw std::invalid_argument("object " + std::to_string(i) + " is not a belt");
+  if (i < 0 || size_t(i) >= objects_.size())
+    throw std::invalid_argument("no object " + std::to_string(i) + ": the scene has " + std::to_string(objects_.size()));
+  if (!objects_[size_t(i)].belt)
+    throw std::invalid_argument("\"" + scene_.objects[size_t(i)].name + "\" is not a belt (a static box with a \"belt\" speed)");
   if (!std::isfinite(mm_s) || std::fabs(mm_s) > 1000)
     throw std::invalid_argument("a belt runs at most 1000 mm/s either way");
   objects_[size_t(i)].belt_m_s = mm_s * kMm;

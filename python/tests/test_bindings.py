@@ -74,6 +74,7 @@ SAME = [
     ("Sim.objects", "Sim.objects"),
     ("Sim.drag", "Sim.drag"),
     ("Sim.release", "Sim.release"),
+    ("Sim.set_belt", "Sim.setBelt"),
     ("Sim.time", "Sim.time"),
     ("Sim.dt", "Sim.dt"),
     ("Sim.busy", "Sim.busy"),
@@ -94,6 +95,7 @@ SAME = [
     ("Cell.done", "Cell.done"),
     ("Cell.end_time", "Cell.endTime"),
     ("Cell.deadlock", "Cell.deadlock"),
+    ("Cell.mat_svg", "Cell.matSvg"),
     ("Cell.predict", "Cell.predict"),
     ("Cell.objects", "Cell.objects"),
     # the arm's protocol

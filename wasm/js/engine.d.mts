@@ -64,6 +64,8 @@ export class Sim {
   state(): Record<string, unknown>;
   drag(name: string, xyz: number[]): void;
   release(): void;
+  /** Runs a belt of the scene (its object's name) at mm/s along its own x; 0 stops it. */
+  setBelt(name: string, mmS: number): void;
   /** From power-up, the objects where the scene file has them. */
   reset(): void;
   /** From power-up, each object a drag let go of where it was let go. */

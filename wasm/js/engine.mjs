@@ -150,6 +150,8 @@ export class Sim {
   state() { return checked(this.h.state()); }
   drag(name, xyz) { loaded(this.h.drag(String(name), xyz[0], xyz[1], xyz[2])); }
   release() { this.h.release(); }
+  /** Runs a belt of the scene (its object's name) at mm/s along its own x; 0 stops it. */
+  setBelt(name, mmS) { loaded(this.h.setBelt(String(name), Number(mmS))); }
   /** From power-up, the objects where the scene file has them. */
   reset() { this.h.reset(); }
   /** From power-up, each object a drag let go of where it was let go. */

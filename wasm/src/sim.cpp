@@ -87,6 +87,18 @@ class WebSim {
     });
   }
   void release() { sim_->release_drag(); }
+  // A belt of the scene (the object `name`, with a "belt" speed) run at mm_s (0 stops it); "" or
+  // the error as JSON (World::set_belt's words).
+  std::string set_belt(const std::string& name, double mm_s) {
+    return guarded([&] {
+      for (int i = 0; i < sim_->num_objects(); ++i)
+        if (sim_->object(i).name == name) {
+          sim_->set_belt(i, mm_s);
+          return std::string();
+        }
+      throw std::invalid_argument("setBelt: no object named '" + name + "' in the scene");
+    });
+  }
 
   double time() const { return sim_->time(); }
   double dt() const { return options_.dt; }
@@ -123,6 +135,7 @@ EMSCRIPTEN_BINDINGS(articula_sim) {
       .function("objects", &WebSim::objects)
       .function("drag", &WebSim::drag)
       .function("release", &WebSim::release)
+      .function("setBelt", &WebSim::set_belt)
       .function("time", &WebSim::time)
       .function("dt", &WebSim::dt)
       .function("busy", &WebSim::busy)

@@ -233,6 +233,29 @@ test("the physics' tool path: stepPath's points are the tool point after those w
   r.delete();
 });
 
+test("setBelt runs a scene's belt (a cube rides it at its speed) and refuses an object that is none", () => {
+  const r = engine.robot("mk2plus");
+  const scene = JSON.stringify({ objects: [
+    { name: "belt", type: "box", size: [1200, 80, 10], xyz: [0, -500, 5], belt: 1 },
+    { name: "cube", type: "box", size: [25, 25, 25], xyz: [-500, -500, 22.5], movable: true, mass: 0.02 }] });
+  const sim = engine.sim(r, scene, "belt.json");
+  sim.setBelt("belt", 100);
+  sim.runUntil(1);
+  const x = () => sim.state().objects[1].pose[3];
+  const x0 = x();
+  sim.runUntil(3);
+  assert.ok(Math.abs((x() - x0) / 2 - 100) < 5, `${(x() - x0) / 2} mm/s`);
+  assert.throws(() => sim.setBelt("cube", 10), (e) => e instanceof EngineError && /"cube" is not a belt/.test(e.message));
+  sim.delete();
+  r.delete();
+});
+
+test("a cell's mat is the CLI's (articula mat)", () => {
+  const c = engine.cell(readFileSync(join(REPO, "cells", "station.json"), "utf8"), "station.json", "/cells");
+  assert.equal(c.matSvg(), execFileSync(CLI, ["mat", "station"], { encoding: "utf8" }));
+  c.delete();
+});
+
 const CELLS = readdirSync(join(REPO, "cells")).filter((f) => f.endsWith(".json") && !f.includes("schema"))
   .map((f) => f.replace(/\.json$/, ""));
 
