@@ -4,8 +4,6 @@ arm's console; a teacher's note that travels with a link."""
 
 from __future__ import annotations
 
-import time
-
 from class_page import _fragment, _project
 from conftest import SHOTS, Page
 
@@ -105,22 +103,19 @@ def test_a_held_jog_on_the_virtual_nano_stops_within_its_deceleration_with_no_lo
     box = button.bounding_box()
     pg.page.mouse.move(box["x"] + box["width"] / 2, box["y"] + box["height"] / 2)
     pg.page.mouse.down()
-    pressed_at = time.monotonic()
     # held: one move towards the base's limit, on its way
     # (60 steps beyond the start: more than the first tap's 1 degree, so the held line is under way)
     pg.wait(f"a.jog.held === 1 && a.arm.status.state === 'Run' && a.arm.status.steps[0] > {start} + 60", timeout=30000)
     # where the held line goes (the base's limit), read while it runs
     limit_steps = pg.hook("a.arm.reply.predicted.steps[0]")
     jogs = pg.hook("a.jog.jogs")
-    # held over a second, as a student's press is (the mouse's click that ends it comes then too)
-    time.sleep(max(0.0, 1.2 - (time.monotonic() - pressed_at)))
     pg.page.mouse.up()
     let_go, read_at, rtt = pg.hook("[a.arm.status.steps[0], a.arm.status.sent_ms, a.arm.status.rtt_ms]")
     pg.wait("a.jog.lets === 1 && a.arm.status.state === 'Idle'", timeout=30000)
     pg.wait("a.jog.said.includes('came to rest')", timeout=10000)
     end, halt_at = pg.hook("[a.arm.status.steps[0], a.jog.haltAt]")
-    # the press's click (a mouse's, after a press held over a second) is no nudge of its own: from
-    # a report older than the let go, on a busy machine it sent the arm back behind it
+    # the press's click is no nudge of its own (a mouse's click after a press held over a second,
+    # as on a busy machine: a nudge from a report older than the let go sent the arm back)
     assert pg.hook("a.jog.jogs") == jogs, "letting go of a held jog nudged the arm"
     # $0 600 steps/s and $1 2,000 steps/s²: 90 steps to slow down from the top rate; before the
     # `!` reached the Nano, the arm went on at most at the top rate from the report read at let go
