@@ -288,10 +288,23 @@ void FirmwareSession::drive_inputs(uint32_t driven, std::function<uint32_t(uint6
   const sitl::Machine::Use use(*nano_);
   sitl::Hardware& hw = sitl::hw();
   hw.io_driven = driven;
-  hw.io_sync = [this, levels = std::move(levels)] {
+  levels_ = std::move(levels);
+  hw.io_sync = [this] {
     sitl::Hardware& h = sitl::hw();
-    h.io_external = levels(h.now - t0_);
+    h.io_external = levels_(h.now - t0_);
   };
+}
+
+bool FirmwareSession::input_level(int pin, uint64_t tick) {
+  const uint32_t bit = uint32_t(1) << pin;
+  bool output = false, driven = false;
+  {
+    const sitl::Machine::Use use(*nano_);
+    output = (sitl::hw().io_output & bit) != 0;
+    driven = (sitl::hw().io_driven & bit) && levels_;
+  }
+  if (output) return output_level(pin, tick);
+  return driven ? (levels_(tick) & bit) != 0 : true;  // (levels_ may run other machines: not inside Use)
 }
 
 bool FirmwareSession::output_level(int pin, uint64_t tick) {

@@ -135,6 +135,10 @@ class FirmwareSession {
   // Header pin `pin`'s level as this machine drove it at `tick` (not after its clock): an
   // output's, or its pull-up's (high) before it was ever set.
   bool output_level(int pin, uint64_t tick);
+  // Header pin `pin`'s level as the firmware reads it at `tick`: an output's, what drives an
+  // input on a wire (`levels`), else its pull-up's (high). (Asked for a tick the machine has
+  // run to: what its own read then saw.)
+  bool input_level(int pin, uint64_t tick);
   // Where the machine's clock is, even in the middle of running (a wire's reader asks).
   uint64_t clock();
   // The input wait the firmware is in now (W), if any: its header pin and the level it waits for.
@@ -168,6 +172,7 @@ class FirmwareSession {
   size_t coils_ = 0, actions_ = 0, replies_ = 0, queued_ = 0, next_begin_ = 0;
   std::vector<int> line_of_;     // each queued action's line (by its place in the machine's log)
   uint64_t t0_ = 0;              // the machine's clock at power-up
+  std::function<uint32_t(uint64_t tick)> levels_;  // drive_inputs'
   Feed feed_;                    // the program being fed (empty: none, or it has no more)
   size_t feed_answers_ = 0;      // the machine's reply count that means the last fed line is answered (0: none waited for)
   uint64_t feed_ended_ = 0;

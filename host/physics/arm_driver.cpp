@@ -246,8 +246,10 @@ void ArmDriver::motor_events(uint64_t until) {
     body_.set_event_tick(e.tick);
     if (!signals_.empty() && signals_.back().waiting() &&
         (e.kind == FirmwareSession::Event::kBegin || e.kind == FirmwareSession::Event::kIdle)) {
-      signals_.back().ended = true;
-      signals_.back().end_tick = e.tick;
+      Signal& w = signals_.back();
+      w.ended = true;
+      w.end_tick = e.tick;
+      w.met = firmware_->input_level(w.pin, e.tick) == (w.level != 0);  // (else it ran out)
     }
     if (e.kind == FirmwareSession::Event::kBegin &&
         (e.action == FirmwareSession::Event::kOutput || e.action == FirmwareSession::Event::kWaitIn)) {

@@ -75,6 +75,7 @@ class ArmDriver {
     uint64_t tick = 0;        // set; the wait's beginning
     bool ended = false;       // kWait: it ended (it may end at the tick it began), at end_tick
     uint64_t end_tick = 0;
+    bool met = false;         // kWait, ended: its input read its level (else it ran out: a fault)
     bool waiting() const { return kind == kWait && !ended; }
   };
   const std::vector<Signal>& signals() const { return signals_; }

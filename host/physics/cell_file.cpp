@@ -209,11 +209,7 @@ class Loader {
   void load_arm(const json& j, const std::string& path) {
     fields(j, path, "arm");
     CellArm arm;
-    if (!j.contains("name")) fail(path, "missing field \"name\" (what events, wires and programs call the arm)");
-    arm.name = text(j["name"], child(path, "name"));
-    if (!good_name(arm.name))
-      fail(child(path, "name"),
-           "an arm's name is 1 to 16 letters, digits, _ or -, starting with a letter (got " + in_quotes(arm.name) + ")");
+    arm.name = name_field(j, path, "arm", "what events, wires and programs call the arm");
     const int twin = cell_.arm_index(arm.name);
     if (twin >= 0) fail(child(path, "name"), "two arms are called " + in_quotes(arm.name) + " (/arms/" + std::to_string(twin) + ")");
     if (!j.contains("robot")) fail(path, "missing field \"robot\" (a shipped robot's name or a robot file)");
@@ -314,11 +310,7 @@ class Loader {
       const json& j = d[k];
       fields(j, path, "device");
       CellDevice dev;
-      if (!j.contains("name")) fail(path, "missing field \"name\" (what wires call the device)");
-      dev.name = text(j["name"], child(path, "name"));
-      if (!good_name(dev.name))
-        fail(child(path, "name"),
-             "a device's name is 1 to 16 letters, digits, _ or -, starting with a letter (got " + in_quotes(dev.name) + ")");
+      dev.name = name_field(j, path, "device", "what wires call the device");
       if (cell_.arm_index(dev.name) >= 0 || cell_.device_index(dev.name) >= 0)
         fail(child(path, "name"), "the cell already has an arm or a device called " + in_quotes(dev.name));
       if (!j.contains("kind")) fail(path, "missing field \"kind\" (\"belt\", \"barrier\", \"switch\" or \"feeder\")");
@@ -334,11 +326,9 @@ class Loader {
         only({"object"}, {"from", "to", "objects", "at", "every", "size"});
         const std::string obj = text(j["object"], child(path, "object"));
         std::string belts;
-        for (size_t o = 0; o < cell_.scene.objects.size(); ++o) {
-          const SceneObject& so = cell_.scene.objects[o];
+        for (const SceneObject& so : cell_.scene.objects)
           if (so.belt != 0) belts += (belts.empty() ? "" : ", ") + so.name;
-          if (so.name == obj) dev.object = int(o);
-        }
+        dev.object = scene_object(obj);
         if (dev.object < 0 || cell_.scene.objects[size_t(dev.object)].belt == 0)
           fail(child(path, "object"), "the scene has no belt " + in_quotes(obj) +
                                           (belts.empty() ? " (none of its objects is a belt: an object's \"belt\" speed)"
@@ -363,9 +353,7 @@ class Loader {
           fail(op, "must be the names of 1 to 50 of the scene's movable objects, in the order it puts them out");
         for (size_t m = 0; m < objs.size(); ++m) {
           const std::string name = text(objs[m], child(op, m));
-          int found = -1;
-          for (size_t o = 0; o < cell_.scene.objects.size(); ++o)
-            if (cell_.scene.objects[o].name == name) found = int(o);
+          const int found = scene_object(name);
           if (found < 0) fail(child(op, m), "the scene has no object " + in_quotes(name));
           if (!cell_.scene.objects[size_t(found)].movable)
             fail(child(op, m), in_quotes(name) + " is not movable: a feeder puts out movable objects");
@@ -491,6 +479,24 @@ class Loader {
       else cw.to_arm = to.first, cw.to_pin = to.second;
       cell_.wires.push_back(cw);
     }
+  }
+
+  // An arm's or a device's "name": present, and a name wires can write ("arm.pin").
+  std::string name_field(const json& j, const std::string& path, const std::string& what, const char* used_for) {
+    if (!j.contains("name")) fail(path, "missing field \"name\" (" + std::string(used_for) + ")");
+    std::string name = text(j["name"], child(path, "name"));
+    if (!good_name(name))
+      fail(child(path, "name"), "a" + std::string(what == "arm" ? "n " : " ") + what +
+                                    "'s name is 1 to 16 letters, digits, _ or -, starting with a letter (got " +
+                                    in_quotes(name) + ")");
+    return name;
+  }
+
+  // The scene's object called name, -1 if none (the last one, should two share it).
+  int scene_object(const std::string& name) const {
+    for (size_t o = cell_.scene.objects.size(); o-- > 0;)
+      if (cell_.scene.objects[o].name == name) return int(o);
+    return -1;
   }
 
   std::string device_names() const {

@@ -31,14 +31,14 @@ CellSimulation::CellSimulation(const Cell& cell, const SimOptions& options)
     : cell_(cell),
       world_(placements(cell), cell.scene, options),
       device_level_(cell.devices.size(), 1),
-      beam_by_(cell.devices.size()),
+      sensed_by_(cell.devices.size()),
       feeds_(cell.devices.size()) {
   wire();
   for (size_t k = 0; k < cell_.devices.size(); ++k)
     for (int o : cell_.devices[k].magazine) world_.stow_object(o);
   for (const CellWire& w : cell_.wires)
     if (w.to_device >= 0) feeds_[size_t(w.to_device)].wired = true;
-  look_at_beams(false);
+  look_at_sensors(false);
   run_belts(false);
   for (size_t i = 0; i < cell_.arms.size(); ++i)
     if (!cell_.arms[i].program.statements.empty()) world_.driver(int(i)).feed_program(cell_.arms[i].program, 0);
@@ -160,15 +160,15 @@ void CellSimulation::run_feeders() {
   }
 }
 
-void CellSimulation::look_at_beams(bool tell) {
+void CellSimulation::look_at_sensors(bool tell) {
   for (size_t k = 0; k < cell_.devices.size(); ++k) {
     const CellDevice& d = cell_.devices[k];
     if (d.kind != CellDevice::Kind::kBarrier && d.kind != CellDevice::Kind::kSwitch) continue;
     const bool beam = d.kind == CellDevice::Kind::kBarrier;
     const std::string by = beam ? world_.beam_blocker(d.from, d.to) : world_.box_presser(d.at, d.size);
-    if (by == beam_by_[k]) continue;
-    const bool was_clear = beam_by_[k].empty();
-    beam_by_[k] = by;
+    if (by == sensed_by_[k]) continue;
+    const bool was_clear = sensed_by_[k].empty();
+    sensed_by_[k] = by;
     device_level_[k] = by.empty();
     if (tell && (was_clear || by.empty()))  // (broken, or clear again: not one object for another)
       device_event(int(k), by, beam ? (by.empty() ? "the beam is clear" : "the beam is broken") : (by.empty() ? "is let go" : "is pressed"));
@@ -181,7 +181,7 @@ void CellSimulation::step() {
     run_feeders();
   }
   world_.step();
-  if (!cell_.devices.empty()) look_at_beams(true);
+  if (!cell_.devices.empty()) look_at_sensors(true);
   if (cell_.wires.empty()) return;
   const std::string now = stuck();
   if (!now.empty() && !stuck_) {
@@ -272,7 +272,7 @@ namespace {
 
 // An arm's outputs set and inputs waited for, so far: kind ("output", "wait"), line, pin ("A0"),
 // name (as the arm's io names it; "" for a pin it does not name), level, t and, for a wait,
-// end_t (null while it waits).
+// end_t and met (null while it waits; met: it read its level, false: it ran out).
 nlohmann::json signals_json(const CellSimulation& sim, int arm) {
   nlohmann::json out = nlohmann::json::array();
   const Robot& robot = sim.cell().arms[size_t(arm)].robot;
@@ -282,7 +282,10 @@ nlohmann::json signals_json(const CellSimulation& sim, int arm) {
     const bool wait = x.kind == ArmDriver::Signal::kWait;
     nlohmann::json j = {{"kind", wait ? "wait" : "output"}, {"line", x.line},     {"pin", header_pin_name(x.pin)},
                         {"name", name},                     {"level", x.level}, {"t", double(x.tick) / kStepTickHz}};
-    if (wait) j["end_t"] = x.ended ? nlohmann::json(double(x.end_tick) / kStepTickHz) : nlohmann::json(nullptr);
+    if (wait) {
+      j["end_t"] = x.ended ? nlohmann::json(double(x.end_tick) / kStepTickHz) : nlohmann::json(nullptr);
+      j["met"] = x.ended ? nlohmann::json(x.met) : nlohmann::json(nullptr);
+    }
     out.push_back(j);
   }
   return out;
@@ -385,12 +388,12 @@ nlohmann::json cell_state_json(const CellSimulation& sim) {
     } else if (d.kind == CellDevice::Kind::kSwitch) {
       j["at_mm"] = {d.at.x, d.at.y, d.at.z};
       j["size_mm"] = {d.size.x, d.size.y, d.size.z};
-      const std::string& by = sim.beam_broken_by(int(k));
+      const std::string& by = sim.sensed_by(int(k));
       j["pressed_by"] = by.empty() ? nlohmann::json(nullptr) : nlohmann::json(by);
     } else {
       j["from_mm"] = {d.from.x, d.from.y, d.from.z};
       j["to_mm"] = {d.to.x, d.to.y, d.to.z};
-      const std::string& by = sim.beam_broken_by(int(k));
+      const std::string& by = sim.sensed_by(int(k));
       j["broken_by"] = by.empty() ? nlohmann::json(nullptr) : nlohmann::json(by);
     }
     devices.push_back(j);

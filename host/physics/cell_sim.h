@@ -54,28 +54,28 @@ class CellSimulation {
   uint32_t input_levels(int arm, uint64_t tick);
 
   // Device k's pin's level now (cell_file.h: a belt's input, a barrier's or a switch's output),
-  // and what breaks a barrier's beam or presses a switch ("" none).
+  // and what a sensor senses: what breaks a barrier's beam or presses a switch ("" none).
   bool device_level(int k) const { return device_level_[size_t(k)] != 0; }
   bool belt_running(int k) const;
-  const std::string& beam_broken_by(int k) const { return beam_by_[size_t(k)]; }
+  const std::string& sensed_by(int k) const { return sensed_by_[size_t(k)]; }
   // How many objects feeder k still holds.
   int feeder_left(int k) const;
 
  private:
   void wire();
   bool wire_level(const CellWire& w, uint64_t tick);
-  // The belts' inputs at the world's tick (run or stand), and the barriers' beams as the world
-  // is: each change an event (kDevice) when `tell`.
+  // The belts' inputs at the world's tick (run or stand); the barriers and switches as the
+  // world is: each change an event (kDevice) when `tell`.
   void run_belts(bool tell);
   void run_feeders();
-  void look_at_beams(bool tell);
+  void look_at_sensors(bool tell);
   void device_event(int k, const std::string& by, const std::string& detail);
   std::string stuck();  // the deadlock now in words, or ""
 
   Cell cell_;
   World world_;
   std::vector<uint8_t> device_level_;  // each device's pin, as device_level()
-  std::vector<std::string> beam_by_;
+  std::vector<std::string> sensed_by_;
   struct Feed {
     size_t next = 0;     // its magazine's next object
     int owed = 0;        // puts-out asked for and not yet made (the outlet was taken)

@@ -55,7 +55,7 @@ struct Outline {
 };
 
 Outline outline(const SceneObject& o) {
-  const Mat3<double> R = rpy_to_matrix(o.rpy_deg.x * M_PI / 180, o.rpy_deg.y * M_PI / 180, o.rpy_deg.z * M_PI / 180);
+  const Mat3<double> R = o.rotation();
   Outline out;
   out.centre = {o.xyz.x, o.xyz.y};
   double hx = 0, hy = 0, hz = 0;
@@ -150,7 +150,7 @@ std::string drawing(const std::string& title, const Scene& scene, const std::vec
     }
     std::string label = o.name;
     if (o.belt != 0) {
-      const Mat3<double> R = rpy_to_matrix(o.rpy_deg.x * M_PI / 180, o.rpy_deg.y * M_PI / 180, o.rpy_deg.z * M_PI / 180);
+      const Mat3<double> R = o.rotation();
       const double sign = o.belt > 0 ? 1 : -1, len = std::min(60.0, o.size[0] / 3);
       const double dx = R.m[0][0] * sign, dy = R.m[1][0] * sign, n = std::hypot(dx, dy);
       if (n > 1e-9) {

@@ -33,6 +33,11 @@ double SceneObject::volume_m3() const {
   return 0;
 }
 
+Mat3<double> SceneObject::rotation() const {
+  constexpr double k = M_PI / 180;
+  return rpy_to_matrix(rpy_deg.x * k, rpy_deg.y * k, rpy_deg.z * k);
+}
+
 const std::map<std::string, std::vector<std::string>>& scene_file_fields() {
   static const std::map<std::string, std::vector<std::string>> fields = {
       {"scene", {"$schema", "name", "description", "sized_for", "gravity", "ground", "world_box", "objects"}},
@@ -245,7 +250,7 @@ SceneOverlap first_overlap(const Scene& scene, const std::vector<int>& left_out)
       case SceneObject::Type::kSphere: g[i] = dCreateSphere(nullptr, o.size[0]); break;
     }
     dMatrix3 R;
-    detail::to_ode(rpy_to_matrix(o.rpy_deg.x * M_PI / 180, o.rpy_deg.y * M_PI / 180, o.rpy_deg.z * M_PI / 180), R);
+    detail::to_ode(o.rotation(), R);
     dGeomSetPosition(g[i], o.xyz.x, o.xyz.y, o.xyz.z);
     dGeomSetRotation(g[i], R);
   }

@@ -31,6 +31,7 @@ struct SceneObject {
   double belt = 0;
 
   double volume_m3() const;
+  Mat3<double> rotation() const;  // from rpy_deg, the one place it is turned into a matrix
   double mass_kg() const { return mass > 0 ? mass : density * volume_m3(); }
 };
 

@@ -175,7 +175,7 @@ void World::build_scene() {
       case SceneObject::Type::kCylinder: o.geom = dCreateCylinder(nullptr, so.size[0] * kMm, so.size[1] * kMm); break;
       case SceneObject::Type::kSphere: o.geom = dCreateSphere(nullptr, so.size[0] * kMm); break;
     }
-    const Mat3<double> R = rpy_to_matrix(so.rpy_deg.x * M_PI / 180, so.rpy_deg.y * M_PI / 180, so.rpy_deg.z * M_PI / 180);
+    const Mat3<double> R = so.rotation();
     dMatrix3 Rd;
     to_ode(R, Rd);
     if (so.movable) {
@@ -309,7 +309,7 @@ bool World::put_out(int i, const Vec3<double>& xyz_mm) {
   Object& o = objects_[size_t(i)];
   const SceneObject& so = scene_.objects[size_t(i)];
   const Transform<double> T = make_transform(
-      rpy_to_matrix(so.rpy_deg.x * M_PI / 180, so.rpy_deg.y * M_PI / 180, so.rpy_deg.z * M_PI / 180), xyz_mm);
+      so.rotation(), xyz_mm);
   set_body_pose(o.body, T);  // (its geom follows: tried there before it joins the world)
   dGeomEnable(o.geom);
   auto overlaps = [&](dGeomID other) {

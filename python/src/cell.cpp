@@ -99,7 +99,8 @@ void bind_cell(nb::module_& m) {
            "which"_a,
            "One arm now (by name or index): name, robot, io (its I/O pins: name, pin, mode), program, program_end_s, line, joints (deg or mm), tool_mm "
            "(on the table), gripper_mm, counted_steps, lost_steps, signals (each output set and input waited for: kind "
-           "'output' or 'wait', line, pin, name, level, t, a wait's end_t).")
+           "'output' or 'wait', line, pin, name, level, t, a wait's end_t and met: True when its input read the level, False "
+           "when it ran out).")
       .def("state", [](const PyCell& c) { return record(host::cell_state_json(*c.sim)); },
            "The cell now: t, arms (as arm()), objects (name, xyz_mm, carried_by: the arm holding it or None, removed).")
       .def("events",

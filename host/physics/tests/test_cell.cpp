@@ -248,6 +248,7 @@ TEST(Cell, EveryWaitEndsWhenTheOtherArmsOutputChanges) {
     EXPECT_EQ(sb[2].end_tick, first_look(sb[2].tick, a_done)) << "b's last wait";
     EXPECT_GT(b_ready, sb[0].end_tick + kStepTickHz / 2);  // (after b's move)
     EXPECT_GT(a_done, sa[1].end_tick + kStepTickHz / 2);   // (after a's move home)
+    EXPECT_TRUE(sb[0].met && sa[1].met && sb[2].met) << "each wait read its level";
     runs[b_first] = {sa, sb};
   }
   // The same ticks whichever arm comes first in the file (and so is stepped first).
@@ -324,6 +325,8 @@ TEST(Cell, ADeadlockIsToldInWords) {
   EXPECT_EQ(sa[0].end_tick - sa[0].tick, uint64_t(2 * kStepTickHz));  // a's ran out
   EXPECT_EQ(sb[0].end_tick, first_look(sb[0].tick, sa[1].tick));    // and a's O ended b's
   EXPECT_LT(sb[0].end_tick - sb[0].tick, uint64_t(4 * kStepTickHz));
+  EXPECT_FALSE(sa[0].met) << "a's wait ran out";
+  EXPECT_TRUE(sb[0].met) << "b's read a's signal";
 
   // The shipped example: the same mistake in the shared zone, told the same way; the left arm's
   // wait runs out and the arms then take their turns without meeting.
@@ -659,6 +662,7 @@ TEST(CellDevices, TheArmRunsTheBeltUntilTheBarrierSeesTheBlock) {
   ASSERT_EQ(sig.size(), 3u);
   ASSERT_EQ(sig[1].kind, ArmDriver::Signal::kWait);
   ASSERT_TRUE(sig[1].ended);
+  EXPECT_TRUE(sig[1].met) << "the wait read the beam's level";
   const double wait_end = double(sig[1].end_tick) / kStepTickHz;
   EXPECT_GE(wait_end, broken_t - 0.001);
   EXPECT_LE(wait_end, broken_t + 0.002) << "the wait ended " << (wait_end - broken_t) * 1000 << " ms after the beam broke";
@@ -706,6 +710,7 @@ TEST(CellDevices, WithoutItsRelayTheBlockNeverComesAndTheWaitRunsOut) {
   ASSERT_GE(sig.size(), 2u);
   EXPECT_TRUE(sig[1].ended);
   EXPECT_NEAR(double(sig[1].end_tick - sig[1].tick) / kStepTickHz, 2.0, 0.01) << "the W's 2 s";
+  EXPECT_FALSE(sig[1].met) << "it ran out";
   EXPECT_LT(sim.world().object_pose(1).p.y, -500);  // carried away from the beam
   EXPECT_TRUE(sim.deadlock().empty()) << "a wait on a barrier is no deadlock: " << sim.deadlock();
 }
@@ -761,7 +766,7 @@ TEST(CellDevices, TheShippedConveyorEndsWithTheBlockPickedOffTheBelt) {
   const Vec3<double> p = sim.world().object_pose(1).p;  // off the belt (x 275..335 up to y 150), on the ground
   EXPECT_GT(std::hypot(p.x - 305, std::max(0.0, p.y - 150)), 40) << p.x << " " << p.y;
   EXPECT_LT(p.z, 60);
-  EXPECT_TRUE(sim.beam_broken_by(1).empty()) << "the beam is clear again";
+  EXPECT_TRUE(sim.sensed_by(1).empty()) << "the beam is clear again";
 }
 
 // A feeder with no wire puts one out every `every` s at its outlet, waits while the last one
@@ -874,7 +879,7 @@ TEST(CellDevices, ASwitchIsPressedByAnObjectOrAnArmsPart) {
   file["wires"][1]["from"] = "gate.pressed";
   CellSimulation sim(parse_cell(file.dump(), "station.json", dir));
   EXPECT_FALSE(sim.device_level(2));
-  EXPECT_EQ(sim.beam_broken_by(2).rfind("link ", 0), 0u) << sim.beam_broken_by(2);  // (the arm's own part)
+  EXPECT_EQ(sim.sensed_by(2).rfind("link ", 0), 0u) << sim.sensed_by(2);  // (the arm's own part)
   EXPECT_TRUE(sim.device_level(1));
   while (!sim.done() && sim.time() < 15) sim.step();
   double pressed_t = -1;

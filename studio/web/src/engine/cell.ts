@@ -35,7 +35,7 @@ export const cellOpen = () => cell !== null;
 
 interface ArmState { name: string; robot_ref: string; joints: number[]; gripper_mm: number; line: number; io: Out[];
   base: { xyz: number[]; yaw: number }; program_end_s: number;
-  signals: { kind: string; line: number; name: string; level: number; t: number; end_t?: number | null }[] }
+  signals: { kind: string; line: number; name: string; level: number; t: number; end_t?: number | null; met?: boolean | null }[] }
 interface CellState { t: number; arms: ArmState[]; objects: { name: string; pose: number[]; removed: boolean; carried_by: string | null }[];
   devices?: CellDevice[] }
 
@@ -306,7 +306,7 @@ export const cellArmHandlers: Record<string, (m: Msg) => Out[]> = {
  * it ended (at another arm's output, or when its time ran out). */
 export async function cellOutcome(doc: { name: string; programs: string[] }, settle: number): Promise<{
   objects: { name: string; pose: number[] }[]; events: { t: number; kind: string; arm?: string; a: string; b: string; detail?: string }[];
-  waits: { arm: string; line: number; name: string; t: number; end_t: number | null; by_output: boolean }[];
+  waits: { arm: string; line: number; name: string; t: number; end_t: number | null; met: boolean }[];
 }> {
   if (!(S.index.cells ?? []).includes(doc.name)) throw new BadMessage(`no shipped cell '${doc.name}'`);
   await cellFiles();
@@ -324,21 +324,11 @@ export async function cellOutcome(doc: { name: string; programs: string[] }, set
     c.run();
     c.runUntil(c.time + settle);
     const st = c.state() as unknown as CellState;
-    const outputs = st.arms.flatMap((a) => a.signals.filter((x) => x.kind === "output").map((x) => ({ arm: a.name, t: x.t })));
-    const events = c.events(0) as unknown as { t: number; kind: string; a: string }[];
-    // (a wait ends at its first look after the other arm's output: within a millisecond; after a
-    // device's change (a beam broken), at its first look after the world step that made it)
-    const byDevice = (a: ArmState, name: string, end: number) => {
-      const io = (a.io as { name: string; driven_by: string | null; by_device: boolean }[]).find((p) => p.name === name);
-      const device = io?.by_device ? io.driven_by?.split(".")[0] : undefined;
-      return !!device && events.some((e) => e.kind === "device" && e.a === device && end - e.t >= -0.0011 && end - e.t <= 0.0021);
-    };
+    const events = c.events(0) as never;
     const waits = st.arms.flatMap((a) => a.signals.filter((x) => x.kind === "wait").map((x) => ({
-      arm: a.name, line: x.line, name: x.name, t: x.t, end_t: x.end_t ?? null,
-      by_output: x.end_t != null && (x.end_t === x.t || outputs.some((o) => o.arm !== a.name && x.end_t! >= o.t && x.end_t! - o.t <= 0.0011) ||
-        byDevice(a, x.name, x.end_t)),
+      arm: a.name, line: x.line, name: x.name, t: x.t, end_t: x.end_t ?? null, met: x.met === true,
     })));
-    return { objects: st.objects, events: events as never, waits };
+    return { objects: st.objects, events, waits };
   } finally {
     c.delete();
   }

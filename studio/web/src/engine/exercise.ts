@@ -86,7 +86,7 @@ async function cellCheck(doc: { name?: unknown; programs?: unknown }, parts: Goa
     }
     if (p.kind === "programs_end") {
       const stuck = w.events.find((e) => e.kind === "deadlock");
-      const ranOut = w.waits.filter((x) => !x.by_output);
+      const ranOut = w.waits.filter((x) => !x.met);
       results.push({ label: p.label || "every arm's program runs to its end, each wait ended by the other arm's signal",
         met: !stuck && ranOut.length === 0, distance_mm: ranOut.length + (stuck ? 1 : 0),
         detail: stuck ? `stuck at ${f1(stuck.t)} s: ${stuck.detail ?? "the arms wait for each other"}` + (ranOut.length ? `; ${waitWords(ranOut[0])}` : "")
@@ -94,10 +94,10 @@ async function cellCheck(doc: { name?: unknown; programs?: unknown }, parts: Goa
     }
     if (p.kind === "waits_for") {
       const mine = w.waits.filter((x) => x.arm === p.arm && x.name === p.input);
-      const ended = mine.find((x) => x.by_output && x.end_t !== x.t);
+      const ended = mine.find((x) => x.met && x.end_t !== x.t);
       results.push({ label: p.label || `${p.arm} waits for \`${p.input}\``, met: !!ended, distance_mm: ended ? 0 : 1,
         detail: ended ? `it waited from ${f1(ended.t)} s until the signal came at ${f1(ended.end_t!)} s`
-          : mine.some((x) => !x.by_output) ? waitWords(mine.find((x) => !x.by_output)!)
+          : mine.some((x) => !x.met) ? waitWords(mine.find((x) => !x.met)!)
           : mine.length ? `its wait for \`${p.input}\` ended at once: the input already read that level`
           : `${p.arm}'s program never waits for \`${p.input}\` (W on its pin)` });
     }

@@ -208,7 +208,7 @@ export interface CellFrameMsg {
   deadlock: string;
   events: SimEvent[];
   arms: { name: string; line: number; joints?: number[]; frames: Flat4x4[]; fingers?: Flat4x4[]; program_end_s: number;
-    signals: { kind: string; line: number; pin: string; name: string; level: number; t: number; end_t?: number | null }[] }[];
+    signals: { kind: string; line: number; pin: string; name: string; level: number; t: number; end_t?: number | null; met?: boolean | null }[] }[];
   objects: { name: string; pose: Flat4x4; removed: boolean; carried: boolean }[];
   devices?: CellDevice[];
 }
