@@ -20,13 +20,20 @@ set(ARTICULA_RAM_BUDGET 1600 CACHE STRING "firmware static RAM (.data + .bss) bu
 #   articula-servo hobby-servo arms (meArm, EEZYbotARM MK2): a servo on any header pin the
 #                  configuration names, Timer1's pulses (ARTICULA_SERVO_ARM)
 file(GLOB firmware_sources CONFIGURE_DEPENDS ${ARTICULA_FIRMWARE_DIR}/src/*.cpp)
-# -mcall-prologues: functions save and restore their registers through one shared routine
-# (1.3 KB less flash; a few cycles more per call, none in the interrupt handlers themselves).
-# -mstrict-X: the X register only as a pointer, as the AVR addresses it (240 B less).
-# -fno-gcse: no global common subexpression elimination, which -Os pays for in size here
-# (110 B less).
-set(firmware_flags -Os -mcall-prologues -mstrict-X -fno-gcse -fno-move-loop-invariants -fno-jump-tables -fno-tree-dominator-opts -ffunction-sections -fdata-sections -fno-exceptions
-                   -fno-threadsafe-statics -flto)
+# The flags, from firmware/flags.txt (PlatformIO takes them from there too): each "name: flags"
+# line as firmware_<name>_flags.
+file(STRINGS ${ARTICULA_FIRMWARE_DIR}/flags.txt flag_lines REGEX "^[a-z]+:")
+set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS ${ARTICULA_FIRMWARE_DIR}/flags.txt)
+foreach(line IN LISTS flag_lines)
+  string(REGEX MATCH "^([a-z]+): *(.*)$" unused "${line}")
+  separate_arguments(firmware_${CMAKE_MATCH_1}_flags UNIX_COMMAND "${CMAKE_MATCH_2}")
+endforeach()
+foreach(name language warnings size link)
+  if(NOT firmware_${name}_flags)
+    message(FATAL_ERROR "firmware/flags.txt: no line \"${name}: ...\"")
+  endif()
+endforeach()
+set(firmware_flags ${firmware_size_flags})
 
 # The simavr metadata (MCU name and clock) in a .mmcu section, so simavr and the virtual Nano
 # run this very ELF without being told what it is. simavr 1.6 needs the section at 0x910000
@@ -40,7 +47,7 @@ if(EXISTS ${simavr_header})
   configure_file(${simavr_header} ${CMAKE_CURRENT_BINARY_DIR}/simavr_include/simavr/avr/avr_mcu_section.h COPYONLY)
   add_library(simavr_mcu_section OBJECT ${ARTICULA_FIRMWARE_DIR}/sim/simavr_mcu_section.c)
   target_include_directories(simavr_mcu_section PRIVATE ${CMAKE_CURRENT_BINARY_DIR}/simavr_include)
-  target_compile_options(simavr_mcu_section PRIVATE ${ARTICULA_WARNINGS} -fno-lto)
+  target_compile_options(simavr_mcu_section PRIVATE ${firmware_warnings_flags} -fno-lto)
 else()
   message(STATUS "no ${simavr_header} (libsimavr-dev): the ELF has no simavr metadata; "
                  "run it with simavr -m atmega328p -f 16000000")
@@ -51,10 +58,9 @@ function(articula_avr_firmware name)
   set_target_properties(${name} PROPERTIES SUFFIX ".elf")
   target_include_directories(${name} PRIVATE ${ARTICULA_FIRMWARE_DIR}/src ${ARTICULA_SHARED_DIR})
   target_compile_definitions(${name} PRIVATE ${ARGN})
-  target_compile_options(${name} PRIVATE ${ARTICULA_WARNINGS} ${firmware_flags})
-  # -mrelax: the linker turns calls and jumps within reach into rcall and rjmp (2 bytes less
-  # each, a cycle faster).
-  target_link_options(${name} PRIVATE ${firmware_flags} -fuse-linker-plugin -Wl,--gc-sections -mrelax)
+  target_compile_options(${name} PRIVATE ${firmware_warnings_flags} $<$<COMPILE_LANGUAGE:CXX>:${firmware_language_flags}>
+                                         ${firmware_flags})
+  target_link_options(${name} PRIVATE ${firmware_flags} ${firmware_link_flags})
   target_link_libraries(${name} PRIVATE m)
   if(TARGET simavr_mcu_section)
     target_sources(${name} PRIVATE $<TARGET_OBJECTS:simavr_mcu_section>)
