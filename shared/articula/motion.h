@@ -335,13 +335,14 @@ class StepProfile {
 // jumps down to it. Level n is the speed f / c_n with c_n >= 0.979 c0 / (2 sqrt(n + 1)) on
 // the recurrence (2.1 % short of the ideal at n = 1, less beyond) and c0 = f sqrt(2 / a): at
 // most sqrt(2 a (n + 1)) / 0.979 steps/s. So n + 1 <= 0.479 r^2 / a for the cruise rate
-// r = f / cruise keeps it below; 15/32 (0.469) leaves room for whole ticks. Integers only
-// (r is at most $0's 4000 steps/s: r^2 * 15 fits in 32 bits). A cruise no slower than the
-// settings' needs no cap (0xFFFF: any level).
+// r = f / cruise keeps it below; 15/32 (0.469) leaves room for whole ticks. Integers only,
+// exact for every r below 2^16 (r^2 in 32 bits; r^2 * 15 would not be above 16,921 steps/s):
+// floor(15 r^2 / 32) = 15 floor(r^2 / 32) + floor(15 (r^2 mod 32) / 32). A cruise no slower
+// than the settings' needs no cap (0xFFFF: any level).
 inline uint16_t cruise_level_cap(const MotionSettings& s, uint32_t settings_cruise, uint32_t cruise) {
   if (cruise <= settings_cruise || s.accel == 0) return 0xFFFF;
   const uint32_t r = s.tick_hz / cruise;
-  const uint32_t n = r * r * 15 / 32 / s.accel;
+  const uint32_t n = uint32_t(uint64_t(r * r) * 15 >> 5) / s.accel;
   return n == 0 ? 0 : n > 0xFFFF ? 0xFFFF : uint16_t(n - 1);
 }
 

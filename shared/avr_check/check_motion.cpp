@@ -38,5 +38,6 @@ void check_motion() {
   uint64_t times[2] = {0, 0};
   const long host = long(profile_duration_ticks(uint32_t(g_out), s_settings)) +
                     long(profile_step_times(times, 2, 10, s_settings)) + long(times[1]);
-  g_out = host + check_profile() + check_constants() + check_line_stepper() + motion_error_text(validate(s_settings))[0];
+  g_out = host + check_profile() + check_constants() + check_line_stepper() + motion_error_text(validate(s_settings))[0] +
+          cruise_level_cap(s_settings, uint32_t(g_out), uint32_t(g_out) + 1);
 }

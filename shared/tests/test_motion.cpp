@@ -587,3 +587,30 @@ TEST(LineStepper, DrivesAProfileTogether) {
 }
 
 }  // namespace
+
+// The planner's level cap is floor(floor(15 r^2 / 32) / accel) - 1 for every cruise rate r a
+// 16-bit rate can be, far beyond 16,921 steps/s where r^2 * 15 leaves 32 bits (the old
+// formula's limit), at the accelerations the settings allow.
+TEST(LevelCap, IsExactForEveryRateBelow65536) {
+  for (uint32_t accel : {1u, 1000u, 100000u, 1000000u}) {
+    const MotionSettings s{kStepTickHz, 4000, accel};
+    for (uint32_t cruise = kMinStepTicks; cruise < 4000; ++cruise) {  // r = 100,000 .. 500 steps/s
+      const uint32_t r = kStepTickHz / cruise;
+      if (r > 0xFFFF) continue;
+      const uint64_t n = uint64_t(r) * r * 15 / 32 / accel;
+      const uint16_t want = n == 0 ? 0 : n > 0xFFFF ? 0xFFFF : uint16_t(n - 1);
+      ASSERT_EQ(cruise_level_cap(s, 1, cruise), want) << "r " << r << " steps/s, accel " << accel;
+    }
+  }
+  // every r itself, on a 16 MHz tick (cruise 256 .. 32,000: r = 62,500 .. 500)
+  const MotionSettings s16{16000000, 4000, 40000};
+  for (uint32_t cruise = 245; cruise < 40000; ++cruise) {
+    const uint32_t r = s16.tick_hz / cruise;
+    const uint64_t n = uint64_t(r) * r * 15 / 32 / s16.accel;
+    ASSERT_EQ(cruise_level_cap(s16, 1, cruise), n == 0 ? 0 : n > 0xFFFF ? 0xFFFF : uint16_t(n - 1)) << "r " << r;
+  }
+  // where the old formula wrapped: 30,000 and 40,000 steps/s at 100,000 steps/s^2
+  const MotionSettings fast{kStepTickHz, 40000, 100000};
+  EXPECT_EQ(cruise_level_cap(fast, 1, kStepTickHz / 30000), uint16_t(uint64_t(30303) * 30303 * 15 / 32 / 100000 - 1));
+  EXPECT_EQ(cruise_level_cap(fast, 1, kStepTickHz / 40000), uint16_t(uint64_t(40000) * 40000 * 15 / 32 / 100000 - 1));
+}
