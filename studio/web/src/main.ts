@@ -27,6 +27,7 @@ import { followTool, ikReport, initIk, setLineTargets, showIk } from "./panels/i
 import { initJoints, showJointValues } from "./panels/joints";
 import { initJog, jogReport } from "./panels/jog";
 import { initPhysics, physicsReport, showPhysics, showScene } from "./panels/physics";
+import { initSceneEdit, sceneEditRefused, showSceneEdit } from "./panels/scene-edit";
 import { cellReport, initCell, showCell, showCellFrame, showCellRefused } from "./panels/cell";
 import { appendProgramLine, ghostShown, initProgram, programHandlers, programReady, programReport, showTime } from "./panels/program";
 import { blocksReport, initBlocks } from "./panels/blocks";
@@ -64,6 +65,7 @@ hook.armPixels = () => view.armPixels();
 hook.camera = () => view.cameraState();
 hook.viewpoint = () => view.viewpoint();
 hook.objectScreen = (n) => view.objectScreen(n);
+hook.pointScreen = (p) => view.pointScreen(p);
 hook.engineSend = (msg) => engine.post(msg);
 viewOfEngine(engine);
 // (the first pose shown: the page is ready; the first frame drawn with the arm in it)
@@ -122,6 +124,7 @@ initJog(studio);
 initIk(studio);
 initProgram(studio);
 initPhysics(studio);
+initSceneEdit(studio);
 initCell(studio, { reveal: (id) => layout.reveal(id) });
 initArm(studio);
 initFlash(studio);
@@ -192,6 +195,7 @@ function handle(m: EngineMsg): void {
     case "scene":
       if (cellReport.name !== null) void showCell({ type: "cell", name: null }); // (a scene, or off, closed the cell)
       showScene(m);
+      showSceneEdit(m);
       return editor.signals.changed.dispatch("scene");
     case "physics": return showPhysics(m, editor.robot);
     case "sim_command":
@@ -200,6 +204,7 @@ function handle(m: EngineMsg): void {
       return;
     case "error":
       noteError(m.message);
+      sceneEditRefused();
       engine.replyArrived();
       return banner(m.message);
   }

@@ -207,3 +207,16 @@ test("a project's cell of arms reads back with each arm's program; a bad one is 
   assert.match(bad({ name: 3, programs: ["G 0"] }), /cell\.name must be text/);
   assert.match(bad({ name: "signal", programs: ["x".repeat(1_000_001)] }), /cell\.programs\[0\] is longer than/);
 });
+
+test("a scene of one's own (the project's world) reads back through a link; its form is checked, its contents left to the engine", async () => {
+  const world = { name: "Your scene", objects: [{ name: "cube 1", type: "box", size: [25, 25, 25], xyz: [200, 0, 12.5], movable: true }] };
+  const p = { ...good(), world };
+  assert.deepEqual(readProject(p).world, world);
+  assert.deepEqual((await projectOfFragment(await projectFragment(p))).world, world);
+  assert.equal("world" in readProject(good()), false); // none: no field
+  assert.equal("world" in readProject({ ...good(), world: null }), false);
+  assert.match(refusal({ ...good(), world: [1, 2] }), /^world must be a scene/);
+  assert.match(refusal({ ...good(), world: "cluttered" }), /^world must be a scene/);
+  const big = { name: "big", objects: Array.from({ length: 2000 }, (_, i) => ({ name: `cube ${i}`, type: "box", size: [25, 25, 25], xyz: [i * 30, 0, 12.5] })) };
+  assert.match(refusal({ ...good(), world: big }), /^world is longer than 100,000 characters/);
+});

@@ -78,7 +78,7 @@ export class OpenProject implements ProjectOnScreen {
     if (r?.shipped) robot = { shipped: r.shipped };
     else if (ed.robotFile) robot = ed.robotFile;
     return {
-      ...d, robot, scene: ed.scene?.name ?? "", cell: ed.cell && { name: ed.cell.name, programs: [...ed.cell.programs] },
+      ...d, robot, scene: ed.scene?.name ?? "", world: ed.scene?.world ?? null, cell: ed.cell && { name: ed.cell.name, programs: [...ed.cell.programs] },
       program: { mode: ed.blocks.mode(), name: ed.program.name(), text: ed.program.text(),
         blocks: ed.blocks.mode() === "blocks" || d.program.blocks ? ed.blocks.json() : null },
       pose: ed.pose ? { q: ed.pose.q, gripper: ed.pose.gripper } : d.pose,
@@ -158,7 +158,7 @@ export class OpenProject implements ProjectOnScreen {
     this.undoing = false;
     this.ed.signals.projectOpened.dispatch(doc);
     const robot = "shipped" in doc.robot ? doc.robot.shipped : null;
-    this.engine.send({ type: "scene", name: doc.scene || null });
+    this.engine.send({ type: "scene", name: doc.scene || null, world: doc.world ?? null });
     if (robot) this.engine.send({ type: "load_robot", name: robot });
     else this.robotShown();
     if (rev === 0) { // not kept yet: kept once on screen
@@ -187,6 +187,8 @@ export class OpenProject implements ProjectOnScreen {
     }
     // a cell (several arms) with the programs the project gives them (an undo's is on its way: showEdit)
     if (d.cell && !this.undoing) this.engine.send({ type: "cell", name: d.cell.name, programs: d.cell.programs });
+    // a scene of the student's own (the engine started with the shipped one it was built on)
+    else if (d.world && !this.undoing) this.engine.send({ type: "scene", name: d.scene || null, world: d.world });
     ed.program.set(d.program.text, d.program.name);
     ed.paper.set(d.paper ?? null);
     ed.blocks.setMode(d.program.mode, true);
@@ -216,12 +218,12 @@ export class OpenProject implements ProjectOnScreen {
   // A step of the History: `doc`'s history parts on screen, the pose and the camera as they are.
   private showEdit(doc: Project): void {
     const now = this.document(), ed = this.ed;
-    this.doc = { ...this.doc, robot: doc.robot, scene: doc.scene, cell: doc.cell, program: doc.program, goal: doc.goal,
+    this.doc = { ...this.doc, robot: doc.robot, scene: doc.scene, world: doc.world, cell: doc.cell, program: doc.program, goal: doc.goal,
       experiment: doc.experiment };
     this.applying = true;
     const parts = changedParts(now, doc);
     // (a scene, or none, closes a cell)
-    if (parts.includes("the scene") || (parts.includes("the cell") && !doc.cell)) this.engine.send({ type: "scene", name: doc.scene || null });
+    if (parts.includes("the scene") || parts.includes("your scene") || (parts.includes("the cell") && !doc.cell)) this.engine.send({ type: "scene", name: doc.scene || null, world: doc.world ?? null });
     if (parts.includes("the cell") && doc.cell) this.engine.send({ type: "cell", name: doc.cell.name, programs: doc.cell.programs });
     if (parts.includes("the robot")) {
       this.undoing = true;

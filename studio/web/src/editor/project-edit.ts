@@ -10,6 +10,7 @@ import type { Command } from "./history";
 const PARTS: { key: keyof Project; name: string }[] = [
   { key: "robot", name: "the robot" },
   { key: "scene", name: "the scene" },
+  { key: "world", name: "your scene" },
   { key: "cell", name: "the cell" },
   { key: "goal", name: "the exercise" },
   { key: "program", name: "the program" },

@@ -152,6 +152,7 @@ export interface SceneMsg {
   type: "scene";
   name: string | null; // null: no physics
   title: string;
+  world?: Record<string, unknown> | null; // a scene of the student's own (the scene editor's), as its file
   objects: SceneObjectInfo[];
   scenes: string[];
   sized_for?: Record<string, string[]>; // each scene's arms (none: any): the menu offers a scene to them first

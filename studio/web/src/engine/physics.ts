@@ -23,12 +23,16 @@ export const PHYSICS_INTENTS = new Set(["set_joint", "set_joints", "home", "zero
   "physics_run", "physics_pause", "physics_step", "physics_reset", "program_load", "play", "pause"]);
 export const PHYSICS_ONLY = new Set(["drag", "release", "physics_run", "physics_pause", "physics_step", "physics_reset"]);
 
-// The arm in a scene, simulated from power-up; null: no physics, the kinematic model.
-export function startPhysics(name: string | null): void {
-  const next = name === null ? null : S.engine.sim(S.robot, name ? sceneText(name) : "", `scenes/${name}.json`);
+// The arm in a scene, simulated from power-up; null: no physics, the kinematic model. `world`:
+// a scene of the student's own, as its file's text (the scene editor's), in place of the
+// shipped scene `name` it started from; the engine's loader checks it as any scene file.
+export function startPhysics(name: string | null, world: string | null = null): void {
+  const next = world !== null ? S.engine.sim(S.robot, world, "your scene")
+    : name === null ? null : S.engine.sim(S.robot, name ? sceneText(name) : "", `scenes/${name}.json`);
   S.sim?.delete();
   S.sim = next;
-  S.sceneName = name;
+  S.sceneName = world !== null ? name ?? "" : name;
+  S.sceneWorld = world;
   eventsSent = 0;
   pendingMove = pendingGrip = null;
   if (S.sim) {
@@ -38,10 +42,14 @@ export function startPhysics(name: string | null): void {
 }
 
 /** A new robot in the same scene. */
-export const restartPhysics = (scene: string) => startPhysics(scene);
+export const restartPhysics = (scene: string) => startPhysics(scene, S.sceneWorld);
+
+// The largest scene of a student's own, as text: far above a class's table (500 objects).
+const MAX_WORLD = 100_000;
 
 export function sceneMessage(): Out {
   return { type: "scene", name: S.sceneName, title: S.sim ? S.sim.sceneName : "", objects: S.sim ? S.sim.objects : [],
+    world: S.sceneWorld === null ? null : JSON.parse(S.sceneWorld),
     scenes: S.index.scenes, sized_for: S.index.sceneSizedFor ?? {}, cells: S.index.cells ?? [] };
 }
 
@@ -69,10 +77,25 @@ export async function sceneIntent(m: Msg): Promise<Out[]> {
     name = text(m, "name", 200);
     if (name && !S.index.scenes.includes(name)) throw new BadMessage(`no shipped scene '${name}'`);
   }
+  let world: string | null = null;
+  if (m.world !== null && m.world !== undefined) {
+    if (typeof m.world !== "object" || Array.isArray(m.world)) throw new BadMessage("scene: 'world' must be a scene (an object: scenes/README.md)");
+    world = JSON.stringify(m.world);
+    if (world.length > MAX_WORLD) throw new BadMessage(`your scene is ${world.length} characters: at most ${MAX_WORLD}`);
+  }
+  if (world !== null) {
+    // checked first, as any scene file (a refused edit changes nothing: the world on stays)
+    try {
+      S.engine.sim(S.robot, world, "your scene").delete();
+    } catch (e) {
+      if (e instanceof EngineError) throw new BadMessage(e.message);
+      throw e;
+    }
+  }
   stopTasks();
   if (name) await sceneFile(name);
   try {
-    startPhysics(name);
+    startPhysics(name, world);
   } catch (e) {
     if (e instanceof EngineError) throw new BadMessage(e.message);
     throw e;

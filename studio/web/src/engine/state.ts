@@ -40,6 +40,7 @@ export const S = {
   postMs: 0,
   task: null as ReturnType<typeof setTimeout> | null, // playback or the JT animation
   sceneName: null as string | null, // live physics: the scene (null: none)
+  sceneWorld: null as string | null, // a scene of the student's own (its file's text), in place of sceneName's
   sim: null as Sim | null,
   greeted: false, // the page said hello: it has the robot, poses may stream
   // physics frames posted that the page has not taken yet (physics_ack): the stream waits at a

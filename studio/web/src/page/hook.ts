@@ -32,6 +32,7 @@ export interface Hook extends Reports {
   physics: PhysicsMsg | null;
   simCommand: string; // the last line a pose became for the simulated controller
   objectScreen: (name: string) => number[] | null;
+  pointScreen: (p: number[]) => number[]; // where a point of the world (mm) is on the page (CSS px)
   stream: { messages: number }; // physics and pose messages while the physics runs
   armPixels: () => number;
   camera: () => { distance: number; azimuth: number }; // the view's camera (view.ts cameraState)
@@ -61,7 +62,7 @@ export const hook = {
   lastError: "", teach: "", fps: 0, framesDrawn: 0, firstFrameAt: 0,
   latency: [], messages: 0, targetScreen: [0, 0], armPixels: () => 0,
   camera: () => ({ distance: 0, azimuth: 0 }), viewpoint: () => ({ eye: [], target: [] }),
-  scene: null, physics: null, simCommand: "", objectScreen: () => null,
+  scene: null, physics: null, simCommand: "", objectScreen: () => null, pointScreen: () => [0, 0],
   stream: { messages: 0 }, errors: 0, errorLog: [], pageErrors: [], internalErrors: [], engineStartMs: 0, engineSend: () => undefined, engineWaiting: () => [],
   layout: { mode: "", plotsInTab: false, tab: "" }, webgl: true, language: "", storage: true,
   project: { id: "", name: "", robot: "", program: "", blocks: null, mode: "text", rev: 0, goal: null, persistent: true, dirty: false,

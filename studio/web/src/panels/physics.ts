@@ -71,6 +71,7 @@ export function initPhysics(studio: Studio): void {
   $("scene-select").addEventListener("change", (e) => {
     const v = (e.target as HTMLSelectElement).value;
     // a cell (several arms: panels/cell.ts), or a scene for the one arm (which closes a cell)
+    if (v === YOURS) return;
     if (v.startsWith("cell:")) s.engine.send({ type: "cell", name: v.slice(5) });
     else s.engine.send({ type: "scene", name: v || null });
   });
@@ -95,13 +96,16 @@ function sceneMenu(m: SceneMsg): void {
   const shipped = s.editor.robot?.shipped ?? "";
   const fits = (n: string) => !(m.sized_for?.[n]?.length) || m.sized_for[n].includes(shipped);
   const mine = m.scenes.filter(fits), others = m.scenes.filter((n) => !fits(n));
-  setOptions(sel, [{ value: "", label: "off" }, ...mine]);
+  // a scene of the student's own first (the scene editor's: panels/scene-edit.ts)
+  setOptions(sel, [{ value: "", label: "off" }, ...(m.world ? [{ value: YOURS, label: m.title || "your scene" }] : []), ...mine]);
   if (others.length)
     sel.appendChild(h("optgroup", { label: "placed for other arms" }, ...others.map((n) => h("option", { value: n }, n))));
   if (m.cells?.length)
     sel.appendChild(h("optgroup", { label: "several arms: a cell" }, ...m.cells.map((c) => h("option", { value: `cell:${c}` }, c))));
-  sel.value = m.name ?? "";
+  sel.value = m.world ? YOURS : m.name ?? "";
 }
+
+const YOURS = "@yours"; // the menu's entry for a scene of the student's own
 
 export function showScene(m: SceneMsg): void {
   s.editor.scene = m;

@@ -65,6 +65,7 @@ export interface Project {
   name: string;
   robot: { shipped: string } | { file: { name: string; text: string; legacy: boolean; scale: number }; meshes: { name: string; data: string }[] };
   scene: string; // "" for none
+  world?: object | null; // a scene of the student's own (a scene file's JSON: scenes/README.md), in place of `scene`
   program: { mode: "text" | "blocks"; name: string; text: string; blocks: object | null };
   pose: { q: number[]; gripper: number } | null;
   view?: { eye: number[]; target: number[] } | null; // the camera (mm)
@@ -79,6 +80,7 @@ export interface Project {
 export interface CellDoc { name: string; programs: string[] }
 
 const MAX_CELL_ARMS = 8; // (as cells/README.md allows)
+const MAX_WORLD = 100_000; // a scene of the student's own, as text (the engine's limit too)
 
 /** The sheet on the table (its size, centre, whether it lies landscape), its height and the pen's length, mm. */
 export interface Paper { sheet: "A4" | "A5" | "Letter"; at: number[]; landscape: boolean; z: number; pen: number }
@@ -243,6 +245,13 @@ export function readProject(x: unknown): Project {
     };
   } else throw new ProjectError("robot must name a shipped robot or hold a robot file");
   const scene = x.scene === undefined || x.scene === null ? "" : str(x, "scene", "project", MAX_NAME);
+  // (its form only; the engine's scene loader checks what is in it, as any scene file's)
+  let world: object | null = null;
+  if (x.world !== null && x.world !== undefined) {
+    if (!isObj(x.world)) throw new ProjectError("world must be a scene (an object)");
+    if (JSON.stringify(x.world).length > MAX_WORLD) throw new ProjectError(`world is longer than ${MAX_WORLD.toLocaleString("en")} characters`);
+    world = x.world;
+  }
   const p = x.program;
   if (!isObj(p)) throw new ProjectError("program must be an object");
   const mode = p.mode === "blocks" ? "blocks" : p.mode === "text" ? "text" : null;
@@ -268,7 +277,7 @@ export function readProject(x: unknown): Project {
     if (pen < 0) throw new ProjectError("paper.pen must be 0 mm or more");
     paper = { sheet: q.sheet, at: nums(q.at, "paper.at", 2, 10000), landscape: q.landscape === true, z: nums([q.z], "paper.z", 1, 10000)[0], pen };
   }
-  return { format: FORMAT, version: VERSION, name, robot, scene, program, pose, view, goal: checkGoal(x.goal),
+  return { format: FORMAT, version: VERSION, name, robot, scene, ...(world ? { world } : {}), program, pose, view, goal: checkGoal(x.goal),
     experiment: checkExperiment(x.experiment), paper, cell: checkCell(x.cell),
     ...(x.note === undefined || x.note === null || x.note === "" ? {} : { note: str(x, "note", "project", MAX_NOTE) }) };
 }

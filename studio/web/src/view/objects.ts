@@ -14,6 +14,9 @@ export class SceneObjects {
   private raycaster = new THREE.Raycaster();
   private dragPlane = new THREE.Plane();
   private dragging: { name: string; offset: THREE.Vector3 } | null = null;
+  /** The scene editor's drop: the next press on the view gives the point of the surface under
+   * the pointer (mm: an object's face or the ground) and whether Shift was held; null: none. */
+  placing: ((point: number[], free: boolean) => void) | null = null;
 
   /** changed(): the view draws its next frame; onDrag(object, target): an object pulled to
    * target (mm), or let go (null). */
@@ -87,7 +90,27 @@ export class SceneObjects {
     return new THREE.Vector2(((e.clientX - r.left) / r.width) * 2 - 1, -((e.clientY - r.top) / r.height) * 2 + 1);
   }
 
+  // The surface under the pointer: the nearest visible object's face that looks up, else the
+  // ground (z = 0); null where the pointer points at the sky.
+  private surface(e: PointerEvent): number[] | null {
+    this.raycaster.setFromCamera(this.pointer(e), this.camera);
+    this.group.updateMatrixWorld(true); // (the view brings it up to date only as it draws)
+    const hit = this.raycaster.intersectObjects([...this.objects.values()].filter((m) => m.visible))[0];
+    if (hit && hit.face && hit.face.normal.clone().transformDirection(hit.object.matrixWorld).z > 0.7) return hit.point.toArray();
+    const p = new THREE.Vector3();
+    return this.raycaster.ray.intersectPlane(new THREE.Plane(new THREE.Vector3(0, 0, 1), 0), p) ? p.toArray() : null;
+  }
+
   private grab(e: PointerEvent): void {
+    if (e.button === 0 && this.placing) {
+      const at = this.surface(e);
+      if (!at) return;
+      e.stopImmediatePropagation();
+      const place = this.placing;
+      this.placing = null;
+      place(at, e.shiftKey);
+      return;
+    }
     if (e.button !== 0 || !this.objects.size) return;
     this.raycaster.setFromCamera(this.pointer(e), this.camera);
     const hit = this.raycaster.intersectObjects([...this.objects.values()].filter((m) => m.userData.movable && m.visible))[0];
@@ -116,6 +139,11 @@ export class SceneObjects {
     this.onDrag(this.dragging.name, null);
     this.dragging = null;
     this.controls.enabled = true;
+  }
+
+  // Where a point (mm) is on the page (tests drop objects there).
+  pointScreen(p: number[]): number[] {
+    return onScreen(this.camera, this.canvas, new THREE.Vector3(p[0], p[1], p[2]));
   }
 
   // Where an object's centre is on the page (tests drag it).

@@ -486,6 +486,20 @@ export class View {
   }
 
   // Where an object's centre is on the page (tests drag it).
+  pointScreen(p: number[]): number[] {
+    return this.objects.pointScreen(p);
+  }
+  /** The scene editor's drop (SceneObjects.placing); null: none. The pointer shows a cross meanwhile. */
+  set placing(f: ((point: number[], free: boolean) => void) | null) {
+    this.objects.placing = f && ((p, free) => {
+      this.canvas.style.cursor = "";
+      f(p, free);
+    });
+    this.canvas.style.cursor = f ? "crosshair" : "";
+  }
+  get placing(): ((point: number[], free: boolean) => void) | null {
+    return this.objects.placing;
+  }
   objectScreen(name: string): number[] | null {
     return this.objects.objectScreen(name);
   }
