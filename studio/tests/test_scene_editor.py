@@ -137,3 +137,26 @@ def test_a_links_scene_with_markup_names_is_shown_as_text_and_a_bad_one_refused_
         assert p.hook("a.scene.world") is None
     finally:
         p.close()
+
+
+def test_on_a_tablet_a_finger_drops_an_object_and_types_its_place(open_page):
+    """An upright tablet with touch: the Robot tab holds the scene editor; a tap on the palette
+    and a tap on the view drop a cube there, and its typed y moves it."""
+    pg = open_page("mk2plus", width=768, height=1024, touch=True)
+    pg.wait("a.project.name !== '' && a.scene !== null", timeout=20000)
+    pg.page.tap("#tab-robot")
+    pg.page.locator("#scene-palette [data-add=cube]").scroll_into_view_if_needed()
+    pg.page.tap("#scene-palette [data-add=cube]")
+    x, y = pg.hook("a.pointScreen([150, 50, 0])")
+    assert 0 < x < 768 and 0 < y < 1024, (x, y)
+    pg.page.touchscreen.tap(x, y)
+    pg.wait("a.scene && a.scene.world && a.scene.world.objects.length === 1", timeout=30000)
+    assert _world(pg)["objects"][0]["xyz"] == [150, 50, 12.5]
+    field = "[data-object='cube 1'][data-field='y']"
+    pg.page.tap(field)
+    pg.page.fill(field, "-40")
+    pg.page.press(field, "Enter")
+    pg.wait("a.scene.world.objects[0].xyz[1] === -40", timeout=15000)
+    assert pg.hook("a.scene.objects.map(o => o.name)") == ["cube 1"]
+    pg.page.screenshot(path=str(SHOTS / "studio-scene-editor-tablet.png"))
+    assert pg.errors == []

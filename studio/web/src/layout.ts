@@ -33,7 +33,7 @@ const TABS: Tab[] = [
   { id: "ik", label: "IK", title: "Inverse kinematics: put the tool at a target", parts: ["ik-section"] },
   { id: "program", label: "Program", title: "Write, open and run a program", parts: ["cell-section", "program-section", "draw-section"] },
   { id: "arm", label: "Arm", title: "The real arm or the virtual Nano: connect, send, flash, the experiment", parts: ["arm-section", "experiment-section"] },
-  { id: "robot", label: "Robot", title: "Choose or open a robot, its scene, its DH table", parts: ["robot-tools", "dh-section"] },
+  { id: "robot", label: "Robot", title: "Choose or open a robot, its scene, its DH table", parts: ["robot-tools", "scene-edit-section", "dh-section"] },
   { id: "plots", label: "Plots", title: "The program's time line as plots", parts: ["plots-panel"] },
 ];
 const MENUS = "robot-tools"; // the robot's menus: in the header unless the layout is stacked

@@ -156,7 +156,8 @@ export function showSceneEdit(m: SceneMsg): void {
   editing = false;
   rows(m);
   $("scene-save").toggleAttribute("disabled", !m.world);
-  $("scene-edit-note").textContent = m.world ? `${m.title}: ${(m.world.objects as unknown[] | undefined)?.length ?? 0} objects, yours to change (undo takes an edit back).`
+  const n = (m.world?.objects as unknown[] | undefined)?.length ?? 0;
+  $("scene-edit-note").textContent = m.world ? `${m.title}: ${n} object${n === 1 ? "" : "s"}, yours to change (undo takes an edit back).`
     : m.name ? `The shipped scene "${m.title}": add an object and it becomes yours (the shipped file stays as it is).`
     : "Add an object and the physics turns on, with your own scene.";
 }
