@@ -189,6 +189,9 @@ class Loader {
     if (j.contains("objects")) {
       const json& objs = j["objects"];
       if (!objs.is_array()) fail("/objects", "must be an array");
+      // (a class's table holds tens; each object is tried against every other at the start)
+      if (objs.size() > kMaxSceneObjects)
+        fail("/objects", "a scene holds at most " + std::to_string(kMaxSceneObjects) + " objects (got " + std::to_string(objs.size()) + ")");
       std::set<std::string> names;
       for (size_t i = 0; i < objs.size(); ++i) {
         const std::string p = "/objects/" + std::to_string(i);

@@ -35,6 +35,9 @@ struct SceneObject {
   double mass_kg() const { return mass > 0 ? mass : density * volume_m3(); }
 };
 
+// The most objects a scene file may hold.
+constexpr size_t kMaxSceneObjects = 500;
+
 struct Scene {
   std::string name;
   std::string description;

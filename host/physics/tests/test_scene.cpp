@@ -89,6 +89,9 @@ TEST(Scene, ErrorsNameTheJsonPointer) {
   EXPECT_EQ(error_of(R"({"objects": [{"type": "box", "size": [1, 1, 1], "xyz": [9000, 0, 0]}]})"),
             "s.json: /objects/0/xyz: outside the world box");
   EXPECT_EQ(error_of("{\n  \"ground\": tru\n}"), "s.json: not valid JSON at line 2, column 16");
+  std::string many = R"({"objects": [)";
+  for (int i = 0; i < 501; ++i) many += std::string(i ? "," : "") + R"({"name": "c)" + std::to_string(i) + R"(", "type": "sphere", "size": [1]})";
+  EXPECT_EQ(error_of(many + "]}"), "s.json: /objects: a scene holds at most 500 objects (got 501)");
   // a belt: a static box, at most 1000 mm/s either way, a finite number
   EXPECT_EQ(error_of(R"({"objects": [{"type": "box", "size": [30, 30, 30], "movable": true, "belt": 50}]})"),
             "s.json: /objects/0/belt: a belt is a static box (its top face moves)");
