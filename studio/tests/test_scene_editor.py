@@ -160,3 +160,20 @@ def test_on_a_tablet_a_finger_drops_an_object_and_types_its_place(open_page):
     assert pg.hook("a.scene.objects.map(o => o.name)") == ["cube 1"]
     pg.page.screenshot(path=str(SHOTS / "studio-scene-editor-tablet.png"))
     assert pg.errors == []
+
+
+def test_a_shipped_scene_becomes_ones_own_and_its_file_stays(open_page):
+    """An object added to the shipped scene on screen: its objects and the new one are yours
+    ("... (yours)"); the shipped scene is still offered as it was."""
+    pg = open_page("mk2plus")
+    pg.page.select_option("#scene-select", "push")
+    pg.wait("a.scene && a.scene.name === 'push' && a.scene.objects.length > 0", timeout=30000)
+    shipped = sorted(o["name"] for o in pg.hook("a.scene.objects"))
+    _drop(pg, "cube", [0, -250, 0], len(shipped) + 1)
+    w = _world(pg)
+    assert w["name"].endswith("(yours)") and sorted(_objects(w)) == sorted(shipped + ["cube 1"])
+    assert pg.page.eval_on_selector("#scene-select", "s => s.value") == "@yours"
+    pg.page.select_option("#scene-select", "push")
+    pg.wait("a.scene.world === null && a.scene.name === 'push'", timeout=30000)
+    assert sorted(o["name"] for o in pg.hook("a.scene.objects")) == shipped
+    assert pg.errors == []

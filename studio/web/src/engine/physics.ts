@@ -27,8 +27,16 @@ export const PHYSICS_ONLY = new Set(["drag", "release", "physics_run", "physics_
 // a scene of the student's own, as its file's text (the scene editor's), in place of the
 // shipped scene `name` it started from; the engine's loader checks it as any scene file.
 export function startPhysics(name: string | null, world: string | null = null): void {
-  const next = world !== null ? S.engine.sim(S.robot, world, "your scene")
+  usePhysics(newSim(name, world), name, world);
+}
+
+// The simulation of startPhysics (built first: a scene the loader refuses changes nothing).
+function newSim(name: string | null, world: string | null): typeof S.sim {
+  return world !== null ? S.engine.sim(S.robot, world, "your scene")
     : name === null ? null : S.engine.sim(S.robot, name ? sceneText(name) : "", `scenes/${name}.json`);
+}
+
+function usePhysics(next: typeof S.sim, name: string | null, world: string | null): void {
   S.sim?.delete();
   S.sim = next;
   S.sceneName = world !== null ? name ?? "" : name;
@@ -83,23 +91,17 @@ export async function sceneIntent(m: Msg): Promise<Out[]> {
     world = JSON.stringify(m.world);
     if (world.length > MAX_WORLD) throw new BadMessage(`your scene is ${world.length} characters: at most ${MAX_WORLD}`);
   }
-  if (world !== null) {
-    // checked first, as any scene file (a refused edit changes nothing: the world on stays)
-    try {
-      S.engine.sim(S.robot, world, "your scene").delete();
-    } catch (e) {
-      if (e instanceof EngineError) throw new BadMessage(e.message);
-      throw e;
-    }
-  }
-  stopTasks();
   if (name) await sceneFile(name);
+  // built first, as any scene file is loaded: a refused one (a student's edit) changes nothing
+  let next: typeof S.sim;
   try {
-    startPhysics(name, world);
+    next = newSim(name, world);
   } catch (e) {
     if (e instanceof EngineError) throw new BadMessage(e.message);
     throw e;
   }
+  stopTasks();
+  usePhysics(next, name, world);
   dropTimeline();
   return [sceneMessage(), physicsMessage(), poseMessage()];
 }

@@ -25,7 +25,7 @@ export const PALETTE: { key: string; label: string; title: string; make: Omit<Ob
 
 let s: Studio;
 const YOURS = "Your scene"; // a scene of one's own built on the bare table
-let startFrom: World | null = null; // the scene the next edit builds on (fetched for a shipped one)
+let shipped: { name: string; world: World } | null = null; // the shipped scene's file an edit builds on (fetched once)
 let editing = false; // an edit sent, the engine's answer not here yet
 
 const round1 = (v: number) => Math.round(v * 10) / 10;
@@ -39,20 +39,17 @@ async function current(): Promise<World> {
   const m = s.editor.scene;
   if (m?.world) return structuredClone(m.world) as World;
   if (m?.name) {
-    if (startFrom?.__from === m.name) return structuredClone(startFrom);
-    const r = await fetch(`data/scenes/${encodeURIComponent(m.name)}.json`);
-    if (r.ok) {
-      const w = (await r.json()) as World;
-      startFrom = { ...w, __from: m.name };
-      return structuredClone(w);
+    if (shipped?.name !== m.name) {
+      const r = await fetch(`data/scenes/${encodeURIComponent(m.name)}.json`);
+      if (r.ok) shipped = { name: m.name, world: (await r.json()) as World };
     }
+    if (shipped?.name === m.name) return structuredClone(shipped.world);
   }
   return { name: YOURS, objects: [] };
 }
 
 function send(w: World): void {
   s.editor.signals.settle.dispatch(); // (the edit before is a step of its own: each drop, each typed value)
-  delete w.__from;
   const name = String(w.name ?? "");
   if (name !== YOURS && !name.endsWith("(yours)")) w.name = name ? `${name} (yours)`.slice(0, 120) : YOURS;
   editing = true;
@@ -90,10 +87,6 @@ function hint(text: string): void {
 
 function choose(key: string): void {
   const p = PALETTE.find((x) => x.key === key)!;
-  if (s.view.placing) {
-    s.view.placing = null;
-    hint("");
-  }
   hint(`${p.label}: click or tap where it goes (on the table or on top of something; it snaps to 5 mm, Shift: free). Escape: not now.`);
   s.view.placing = (at, free) => {
     hint("");
